@@ -1,0 +1,32 @@
+"""The package as a user meets it: the command, its groups, the import boundary."""
+
+import subprocess
+import sys
+
+import pytest
+
+from workbench.cli import GROUPS, main
+
+
+def test_help_lists_every_group(capsys):
+    assert main(["--help"]) == 0
+    out = capsys.readouterr().out
+    for group in ("a2l", "sim", "measure", "cal", "flash", "dbc", "gui", "demo", "info"):
+        assert f"    {group} " in out
+
+
+def test_unknown_group_is_a_usage_error(capsys):
+    assert main(["frobnicate"]) == 2
+    assert "invalid choice" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("group", [g for g, _ in GROUPS])
+def test_every_group_answers_help_or_says_not_built(group, capsys):
+    code = main([group, "--help"])
+    out, err = capsys.readouterr()
+    assert code == 0 and group in out
+
+
+def test_import_workbench_loads_no_qt():
+    code = "import sys, workbench, workbench.cli; sys.exit(any(m.startswith(('PySide6', 'pyqtgraph')) for m in sys.modules))"
+    assert subprocess.run([sys.executable, "-c", code]).returncode == 0

@@ -1,0 +1,40 @@
+"""Names the thesis's CAN library gives to the calibrations it creates (chapter 6.3).
+
+* every CAN signal (RX and TX) gets a fix switch: ``cf<SIGNAL>_EN`` (uint8 0/1) and
+  ``cf<SIGNAL>_VALUE`` (the signal's *raw* value, an integer of the signal's width,
+  shown in physical units through a COMPU_METHOD built from factor/offset);
+* every TX message gets a transmission enable ``cs<MessageName>_En`` (uint8 0/1);
+* a received signal is published as ``cs<MessageName>_<Signal>``, with the message's
+  diagnostic ``cs<MessageName>_Status`` (tCANRxStatus) and ``cs<MessageName>_BitStatus``.
+
+While ``_EN`` is 1 the signal's value is replaced by ``_VALUE``.
+"""
+
+from __future__ import annotations
+
+FIX_ENABLE_SUFFIX = "_EN"
+FIX_VALUE_SUFFIX = "_VALUE"
+
+
+def fix_enable_name(signal: str) -> str:
+    return f"cf{signal.upper()}{FIX_ENABLE_SUFFIX}"
+
+
+def fix_value_name(signal: str) -> str:
+    return f"cf{signal.upper()}{FIX_VALUE_SUFFIX}"
+
+
+def tx_enable_name(message: str) -> str:
+    return f"cs{message}_En"
+
+
+def rx_signal_name(message: str, signal: str) -> str:
+    return f"cs{message}_{signal}"
+
+
+def raw_c_type(length: int, is_signed: bool) -> str:
+    """The Simulink coder type that holds a signal's raw value of ``length`` bits."""
+    for width in (8, 16, 32, 64):
+        if length <= width:
+            return f"{'int' if is_signed else 'uint'}{width}_T"
+    raise ValueError(f"a CAN signal cannot be {length} bits long")

@@ -1,0 +1,96 @@
+"""The ``workbench`` command: one sub-command group per module of this package.
+
+Each group module has ``add_subparser(subparsers)`` that registers its commands and
+sets ``func`` to a handler taking the parsed namespace and returning an exit code.
+Handlers import the library lazily, so ``workbench --help`` stays fast.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import importlib.util
+import logging
+import sys
+
+from workbench import __version__
+from workbench.errors import WorkbenchError
+
+# (group, one-line help); the group's commands live in ``workbench.cli.<group>``.
+# A group whose module does not exist yet is listed and says so when run.
+GROUPS: list[tuple[str, str]] = [
+    ("a2l", "merge, update from ELF, check and diff A2L files"),
+    ("sim", "run the simulated FLCU ECU (XCP slave) on a CAN bus"),
+    ("dbc", "CAN database tools: message table, fix calibrations, driver callbacks"),
+    ("info", "show ECU identification, EPK and protection state"),
+    ("measure", "read signals by name (polling or DAQ), optionally record MDF4"),
+    ("cal", "read/write calibrations by name, fix overrides, datasets"),
+    ("flash", "flash the CALIB or APPLICATIVE region from an s19/hex"),
+    ("gui", "open the calibration workbench window"),
+    ("demo", "start the simulated ECU and the GUI connected to it"),
+]
+
+
+def _not_built(group: str):
+    def handler(args: argparse.Namespace) -> int:
+        raise WorkbenchError(f"'workbench {group}' is not built yet")
+
+    return handler
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="workbench",
+        description="XCP/A2L calibration and measurement workbench.",
+    )
+    parser.add_argument("--version", action="version", version=f"workbench {__version__}")
+    parser.add_argument("--debug", action="store_true", help="show tracebacks and debug logging")
+    subparsers = parser.add_subparsers(title="command groups", dest="group", metavar="GROUP")
+    for group, help_text in GROUPS:
+        module = f"{__name__}.{group}"
+        if importlib.util.find_spec(module) is None:
+            sub = subparsers.add_parser(group, help=f"{help_text} (not built yet)")
+            sub.set_defaults(func=_not_built(group))
+            continue
+        try:
+            importlib.import_module(module).add_subparser(subparsers, group, help_text)
+        except ImportError as exc:  # an optional dependency is missing
+            sub = subparsers.add_parser(group, help=f"{help_text} (unavailable)")
+            sub.set_defaults(func=_unavailable(group, exc))
+    return parser
+
+
+def _unavailable(group: str, exc: ImportError):
+    def handler(args: argparse.Namespace) -> int:
+        raise WorkbenchError(f"'workbench {group}' is unavailable: {exc}")
+
+    return handler
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; returns the exit code (0 ok, 1 failed, 2 bad input)."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # argparse: --help/--version exit 0, usage errors 2
+        return int(exc.code or 0)
+    if args.debug:
+        logging.basicConfig(level=logging.DEBUG, format="%(levelname)s %(name)s: %(message)s")
+    func = getattr(args, "func", None)
+    if func is None:
+        parser.print_help(sys.stderr if args.group is None else sys.stdout)
+        return 2
+    try:
+        return int(func(args) or 0)
+    except WorkbenchError as exc:
+        if args.debug:
+            raise
+        print(f"error: {exc}", file=sys.stderr)
+        return exc.exit_code
+    except KeyboardInterrupt:
+        print("error: interrupted", file=sys.stderr)
+        return 130
+
+
+def entry_point() -> None:
+    sys.exit(main())

@@ -1,0 +1,44 @@
+"""Options shared by the commands that talk to an ECU or a bus (DESIGN: CLI conventions)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from typing import Any
+
+DEFAULT_CHANNELS = {"virtual": "workbench", "udp_multicast": "239.74.163.2"}
+
+
+def add_bus_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--interface/--channel/--bitrate`` as python-can spells them, plus ``--host/--port`` for Ethernet."""
+    group = parser.add_argument_group("bus")
+    group.add_argument("--interface", "-i", default="udp_multicast",
+                       help="python-can interface: udp_multicast (default), virtual, socketcan, vector, pcan, kvaser, ...")
+    group.add_argument("--channel", "-c", default=None,
+                       help="python-can channel (default: 239.74.163.2 for udp_multicast)")
+    group.add_argument("--bitrate", "-b", type=int, default=None, help="CAN bit rate in bit/s (default: from the A2L)")
+    group.add_argument("--host", default=None, help="XCP on Ethernet: ECU host (instead of CAN)")
+    group.add_argument("--port", type=int, default=None, help="XCP on Ethernet: ECU port")
+
+
+def bus_config(args: argparse.Namespace, bitrate: int | None = None) -> dict[str, Any]:
+    """The python-can ``Bus(**config)`` keyword arguments the options select."""
+    config: dict[str, Any] = {"interface": args.interface}
+    channel = args.channel or DEFAULT_CHANNELS.get(args.interface)
+    if channel is not None:
+        config["channel"] = channel
+    if args.bitrate or bitrate:
+        config["bitrate"] = args.bitrate or bitrate
+    if args.interface == "udp_multicast":
+        config["receive_own_messages"] = False
+    return config
+
+
+def add_output_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--json", action="store_true", help="print machine-readable JSON instead of text")
+
+
+def print_json(data: Any) -> None:
+    json.dump(data, sys.stdout, indent=2, default=str)
+    sys.stdout.write("\n")

@@ -1,0 +1,80 @@
+"""The workbench's exception tree.
+
+Every error a user can cause or meet derives from :class:`WorkbenchError`; the CLI
+prints its message on one line and exits with :attr:`WorkbenchError.exit_code`
+(1: the operation failed, 2: the input was bad). Foreign exceptions (pyxcp,
+pyelftools, cantools) are translated at the package boundary with ``raise ... from``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+class WorkbenchError(Exception):
+    """Base of all workbench errors: an operation failed (exit code 1)."""
+
+    exit_code = 1
+
+
+class InputError(WorkbenchError):
+    """The user's input (file, option, value) is wrong (exit code 2)."""
+
+    exit_code = 2
+
+
+class A2lParseError(InputError):
+    """A malformed A2L file, located at ``path:line:column`` (1-based)."""
+
+    def __init__(self, message: str, path: str | Path | None = None, line: int = 0, column: int = 0):
+        self.reason = message
+        self.path = str(path) if path is not None else "<string>"
+        self.line = line
+        self.column = column
+        super().__init__(f"{self.path}:{line}:{column}: {message}")
+
+
+class UnknownSymbolError(WorkbenchError, KeyError):
+    """A name (A2L object, ELF symbol, DBC message/signal) that does not exist."""
+
+    exit_code = 2
+
+    def __init__(self, name: str, where: str = ""):
+        self.name = name
+        self.where = where
+        super().__init__(name)
+
+    def __str__(self) -> str:  # KeyError would quote the name
+        return f"unknown symbol {self.name!r}" + (f" in {self.where}" if self.where else "")
+
+
+class XcpCommandError(WorkbenchError):
+    """The ECU answered an XCP command with a negative response."""
+
+    def __init__(self, command: str, code: int, name: str = ""):
+        self.command = command
+        self.code = code
+        self.name = name or f"0x{code:02X}"
+        super().__init__(f"XCP {command} failed: {self.name} (0x{code:02X})")
+
+
+class XcpTimeoutError(WorkbenchError, TimeoutError):
+    """The ECU did not answer an XCP command in time."""
+
+    def __init__(self, command: str, timeout_s: float):
+        self.command = command
+        self.timeout_s = timeout_s
+        super().__init__(f"XCP {command}: no response within {timeout_s * 1000:.0f} ms")
+
+
+class EpkMismatchError(WorkbenchError):
+    """The EPK in the ECU differs from the one in the A2L/image."""
+
+    def __init__(self, expected: str, actual: str):
+        self.expected = expected
+        self.actual = actual
+        super().__init__(f"EPK mismatch: file has {expected!r}, ECU has {actual!r}")
+
+
+class Cancelled(WorkbenchError):
+    """A long job was cancelled through its progress object."""
