@@ -1,0 +1,17 @@
+"""Memory images (s19/hex via bincopy), flash regions with the ranges a file fills, XCP checksums."""
+
+from workbench.image.checksum import ChecksumType, checksum
+from workbench.image.image import ERASED, AddressRange, MemoryImage, load_image
+from workbench.image.regions import Region, region_of, split_by_region
+
+__all__ = [
+    "ERASED",
+    "AddressRange",
+    "ChecksumType",
+    "MemoryImage",
+    "Region",
+    "checksum",
+    "load_image",
+    "region_of",
+    "split_by_region",
+]

@@ -1,0 +1,146 @@
+"""Memory images: which bytes an s19/hex file puts at which addresses (bincopy underneath).
+
+A :class:`MemoryImage` is sparse: it holds only the address ranges a file fills, so
+flashing programs exactly what the file holds and never a whole region (thesis 5.4:
+"Partial: FC0000h-FC000Dh FC0010h-FC0C22h FDFFF0h-FDFFFFh").
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import bincopy
+
+from workbench.errors import InputError
+from workbench.fileio import atomic_write_text
+
+ERASED = 0xFF
+
+
+@dataclass(frozen=True, order=True)
+class AddressRange:
+    """The half-open byte range ``[start, end)``."""
+
+    start: int
+    end: int
+
+    @property
+    def size(self) -> int:
+        return self.end - self.start
+
+    def __str__(self) -> str:  # the flash tools' notation: inclusive end, hex with an "h"
+        return f"{self.start:X}h-{self.end - 1:X}h"
+
+
+class MemoryImage:
+    """Bytes at addresses, as loaded from an S-record or Intel HEX file, or built in code."""
+
+    def __init__(self) -> None:
+        self._bin = bincopy.BinFile()
+
+    @classmethod
+    def from_bytes(cls, address: int, data: bytes) -> MemoryImage:
+        image = cls()
+        image.add(address, data)
+        return image
+
+    def add(self, address: int, data: bytes, overwrite: bool = False) -> None:
+        """Put ``data`` at ``address``; raises :class:`InputError` if it overlaps held bytes and not ``overwrite``."""
+        try:
+            self._bin.add_binary(bytes(data), address=address, overwrite=overwrite)
+        except bincopy.AddDataError as exc:
+            raise InputError(f"image data at 0x{address:X} overlaps bytes already in the image") from exc
+
+    @property
+    def segments(self) -> list[tuple[int, bytes]]:
+        """The contiguous ``(address, data)`` pieces, in address order."""
+        return [(seg.minimum_address, bytes(seg.data)) for seg in self._bin.segments]
+
+    @property
+    def ranges(self) -> list[AddressRange]:
+        return [AddressRange(seg.minimum_address, seg.maximum_address) for seg in self._bin.segments]
+
+    @property
+    def size(self) -> int:
+        """Number of bytes the image holds (gaps excluded)."""
+        return sum(r.size for r in self.ranges)
+
+    def read(self, address: int, size: int, fill: int = ERASED) -> bytes:
+        """``size`` bytes from ``address``; bytes the image does not hold read as ``fill``."""
+        out = bytearray([fill]) * size
+        end = address + size
+        for start, data in self.segments:
+            lo, hi = max(start, address), min(start + len(data), end)
+            if lo < hi:
+                out[lo - address : hi - address] = data[lo - start : hi - start]
+        return bytes(out)
+
+    def crop(self, start: int, end: int) -> MemoryImage:
+        """A new image with only the bytes inside ``[start, end)``."""
+        cropped = MemoryImage()
+        for seg_start, data in self.segments:
+            lo, hi = max(seg_start, start), min(seg_start + len(data), end)
+            if lo < hi:
+                cropped.add(lo, data[lo - seg_start : hi - seg_start])
+        return cropped
+
+    def to_srec(self, data_bytes_per_record: int = 32) -> str:
+        """The image as Motorola S-records with 32-bit addresses (S3/S7)."""
+        return self._bin.as_srec(number_of_data_bytes=data_bytes_per_record, address_length_bits=32)
+
+    def to_ihex(self) -> str:
+        return self._bin.as_ihex()
+
+    def save(self, path: str | Path) -> None:
+        """Write the image atomically; ``.hex``/``.ihex`` gives Intel HEX, anything else S-records."""
+        path = Path(path)
+        text = self.to_ihex() if path.suffix.lower() in (".hex", ".ihex") else self.to_srec()
+        atomic_write_text(path, text)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, MemoryImage) and self.segments == other.segments
+
+    def __repr__(self) -> str:
+        return f"MemoryImage({' '.join(map(str, self.ranges)) or 'empty'})"
+
+
+def load_image(path: str | Path) -> MemoryImage:
+    """Load an S-record (s19/s28/s37/srec/mot) or Intel HEX file.
+
+    :raises InputError: the file is missing or malformed; the message names ``path:line``.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="ascii", errors="replace")
+    except FileNotFoundError as exc:
+        raise InputError(f"{path}: no such file") from exc
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read ({exc.strerror})") from exc
+    first = next((line.strip() for line in text.splitlines() if line.strip()), "")
+    if first.startswith("S"):
+        add = "add_srec"
+    elif first.startswith(":"):
+        add = "add_ihex"
+    else:
+        raise InputError(f"{path}:1: neither S-records nor Intel HEX")
+    image = MemoryImage()
+    try:
+        getattr(image._bin, add)(text)
+    except (bincopy.Error, ValueError, IndexError) as exc:
+        line, reason = _locate_bad_record(text, add)
+        raise InputError(f"{path}:{line}: {reason or exc}") from exc
+    return image
+
+
+def _locate_bad_record(text: str, add: str) -> tuple[int, str]:
+    """The 1-based line of the first record bincopy rejects (run only after a failure)."""
+    probe = bincopy.BinFile()
+    for number, line in enumerate(text.splitlines(), 1):
+        if not line.strip():
+            continue
+        try:
+            getattr(probe, add)(line, overwrite=True)
+        except (bincopy.Error, ValueError, IndexError) as exc:
+            return number, str(exc)
+    return 0, ""
