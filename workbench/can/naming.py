@@ -8,6 +8,9 @@
   diagnostic ``cs<MessageName>_Status`` (tCANRxStatus) and ``cs<MessageName>_BitStatus``.
 
 While ``_EN`` is 1 the signal's value is replaced by ``_VALUE``.
+
+The driver's mailboxes (the thesis's ``canMap``, chapter 6.3.2) are named per network and
+role: ``CAN2_MSG_TX_000``, ``CAN2_MSG_RX_000``, ...
 """
 
 from __future__ import annotations
@@ -32,9 +35,26 @@ def rx_signal_name(message: str, signal: str) -> str:
     return f"cs{message}_{signal}"
 
 
-def raw_c_type(length: int, is_signed: bool) -> str:
-    """The Simulink coder type that holds a signal's raw value of ``length`` bits."""
+def raw_c_type(length: int, is_signed: bool, is_float: bool = False) -> str:
+    """The Simulink coder type that holds a signal's raw value of ``length`` bits.
+
+    An IEEE float signal (DBC ``SIG_VALTYPE_`` 1 or 2) is held as ``real32_T``/``real_T``.
+
+    :raises ValueError: a length no CAN signal can have.
+    """
+    if is_float:
+        if length not in (32, 64):
+            raise ValueError(f"a float CAN signal is 32 or 64 bits long, not {length}")
+        return "real32_T" if length == 32 else "real_T"
     for width in (8, 16, 32, 64):
         if length <= width:
             return f"{'int' if is_signed else 'uint'}{width}_T"
     raise ValueError(f"a CAN signal cannot be {length} bits long")
+
+
+CAN_NETWORKS = ("CAN1", "CAN2", "CAN3", "CAN4")
+
+
+def mailbox_name(network: str, role: str, index: int) -> str:
+    """The driver's mailbox (frame) id, e.g. ``mailbox_name("CAN2", "TX", 0)`` is ``CAN2_MSG_TX_000``."""
+    return f"{network}_MSG_{role}_{index:03d}"

@@ -1,0 +1,176 @@
+"""Loading a DBC file with cantools, with every problem turned into an :class:`InputError`.
+
+cantools parses; this module adds what the workbench needs around it:
+
+* the file is decoded as UTF-8 (with or without BOM) and, failing that, as Windows-1252
+  (CANdb++'s encoding), so umlauts in comments never stop a load;
+* signals keep their DBC file order (cantools sorts them by start bit by default);
+* loading is not strict: overlapping signals or signals beyond the DLC are left to
+  :mod:`workbench.can.validation`, which reports them all with names and lines;
+* cantools' exceptions and log warnings become one-line :class:`InputError` s naming the
+  file and, where the position is known, the line; its "Overwriting message" warnings
+  about duplicate names/ids are dropped because the validation reports those itself;
+* the line of every ``BO_`` and ``SG_`` is indexed, so findings can point into the file.
+
+A standard id above 0x7FF (no bit 31 in the ``BO_`` id) makes cantools refuse the whole
+file. :func:`load_dbc` reports it as an error at that line; with ``tolerant=True`` (for
+``workbench dbc check``) the message is loaded as extended instead and listed in
+:attr:`DbcFile.oversized_standard_ids`, so the check can go on and report everything.
+"""
+
+from __future__ import annotations
+
+import logging
+import re
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import cantools.database
+from cantools.database.can import Database
+
+from workbench.errors import InputError
+
+log = logging.getLogger(__name__)
+
+_EXTENDED_FLAG = 0x80000000
+_STANDARD_ID_MAX = 0x7FF
+_MESSAGE_LINE = re.compile(r"^\s*BO_\s+(\d+)\s+(\w+)\s*:", re.MULTILINE)
+_SIGNAL_LINE = re.compile(r"^\s*SG_\s+(\w+)\s")
+# Keywords after which the DBC grammar puts a message id (BA_/CM_ ... BO_ <id>, VAL_ <id> ...).
+_ID_REFERENCE = r"\b(BO_|SG_|VAL_|SIG_VALTYPE_|BO_TX_BU_|SG_MUL_VAL_|SIG_GROUP_)(\s+){id}\b"
+_MESSAGE_IN_ERROR = re.compile(r"in message '?(\w+)'?")
+_POSITION_IN_ERROR = re.compile(r" at line \d+, column \d+")
+_OVERWRITE_WARNING = "Overwriting message"
+
+
+@dataclass(frozen=True)
+class DbcFile:
+    """A loaded DBC: the cantools database plus where each message and signal is in the file."""
+
+    path: Path
+    database: Database
+    message_lines: dict[str, int] = field(default_factory=dict)
+    """Message name → 1-based line of its ``BO_`` (the first one when a name is doubled)."""
+    signal_lines: dict[tuple[str, str], int] = field(default_factory=dict)
+    """(message name, signal name) → 1-based line of its ``SG_``."""
+    oversized_standard_ids: tuple[str, ...] = ()
+    """Messages whose ``BO_`` id is above 0x7FF without the extended flag (tolerant loads only)."""
+
+    def line_of(self, message: str, signal: str | None = None) -> int:
+        """The line of a message's ``BO_`` or of one of its signals' ``SG_`` (0 when unknown)."""
+        if signal is not None and (message, signal) in self.signal_lines:
+            return self.signal_lines[(message, signal)]
+        return self.message_lines.get(message, 0)
+
+    def where(self, message: str | None = None, signal: str | None = None) -> str:
+        """``path:line`` for error messages (just the path when the line is unknown)."""
+        line = self.line_of(message, signal) if message else 0
+        return f"{self.path}:{line}" if line else str(self.path)
+
+
+def load_dbc(path: str | Path, *, tolerant: bool = False) -> DbcFile:
+    """Load one DBC file.
+
+    :param tolerant: load a standard id above 0x7FF as extended instead of failing
+        (the check reports it).
+    :raises InputError: the file cannot be read or cantools rejects it (``path:line: reason``).
+    """
+    path = Path(path)
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read: {exc.strerror or exc}") from exc
+    text = _decode(raw)
+    message_lines, signal_lines = _index_lines(text)
+    oversized = _oversized_standard_ids(text)
+    if oversized and not tolerant:
+        name, frame_id, line = oversized[0]
+        raise InputError(
+            f"{path}:{line}: message {name}: standard id 0x{frame_id:X} does not fit in 11 bits "
+            f"(an extended id needs bit 31 set in the BO_ id: {frame_id | _EXTENDED_FLAG})"
+        )
+    for _name, frame_id, _line in oversized:
+        text = re.sub(_ID_REFERENCE.format(id=frame_id), rf"\g<1>\g<2>{frame_id | _EXTENDED_FLAG}", text)
+    database = _parse(path, text, message_lines)
+    return DbcFile(path, database, message_lines, signal_lines, tuple(name for name, _, _ in oversized))
+
+
+def _decode(raw: bytes) -> str:
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        return raw.decode("cp1252", errors="replace")
+
+
+def _index_lines(text: str) -> tuple[dict[str, int], dict[tuple[str, str], int]]:
+    message_lines: dict[str, int] = {}
+    signal_lines: dict[tuple[str, str], int] = {}
+    current: str | None = None
+    for number, line in enumerate(text.splitlines(), start=1):
+        message = _MESSAGE_LINE.match(line)
+        if message:
+            current = message.group(2)
+            message_lines.setdefault(current, number)
+            continue
+        signal = _SIGNAL_LINE.match(line)
+        if signal and current is not None:
+            signal_lines.setdefault((current, signal.group(1)), number)
+        elif line.strip():
+            current = None
+    return message_lines, signal_lines
+
+
+def _oversized_standard_ids(text: str) -> list[tuple[str, int, int]]:
+    found = []
+    for match in _MESSAGE_LINE.finditer(text):
+        frame_id = int(match.group(1))
+        if _STANDARD_ID_MAX < frame_id < _EXTENDED_FLAG:
+            found.append((match.group(2), frame_id, text.count("\n", 0, match.start()) + 1))
+    return found
+
+
+class _Collect(logging.Handler):
+    def __init__(self) -> None:
+        super().__init__(logging.WARNING)
+        self.messages: list[str] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.messages.append(record.getMessage())
+
+
+def _parse(path: Path, text: str, message_lines: dict[str, int]) -> Database:
+    cantools_log = logging.getLogger("cantools")
+    collector = _Collect()
+    cantools_log.addHandler(collector)
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            database = cantools.database.load_string(text, database_format="dbc", strict=False, sort_signals=None)
+    except (cantools.database.Error, ValueError) as exc:
+        cause = getattr(exc, "e_dbc", None) or exc
+        raise InputError(_located(path, cause, message_lines)) from exc
+    finally:
+        cantools_log.removeHandler(collector)
+    problems = [m for m in collector.messages if not m.startswith(_OVERWRITE_WARNING)]
+    problems += [str(w.message) for w in caught]
+    if problems:
+        raise InputError(f"{path}: {_one_line(problems[0])}")
+    if not isinstance(database, Database):
+        raise InputError(f"{path}: not a CAN database")
+    return database
+
+
+def _located(path: Path, error: BaseException, message_lines: dict[str, int]) -> str:
+    reason = _one_line(str(error))
+    line = getattr(error, "line", None)
+    if line:
+        return f"{path}:{line}:{getattr(error, 'column', 0)}: {_POSITION_IN_ERROR.sub('', reason)}"
+    mentioned = _MESSAGE_IN_ERROR.search(reason)
+    if mentioned and mentioned.group(1) in message_lines:
+        return f"{path}:{message_lines[mentioned.group(1)]}: {reason}"
+    return f"{path}: {reason}"
+
+
+def _one_line(text: str) -> str:
+    return " ".join(text.split())

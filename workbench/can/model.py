@@ -1,0 +1,238 @@
+"""The thesis's Message and SignalOfMsg classes (chapter 6.3.2), built from a loaded DBC.
+
+Periods and timeouts come from the DBC message attributes ``GenMsgCycleTime`` and
+``GenMsgTimeoutTime`` (milliseconds; an attribute's ``BA_DEF_DEF_`` default applies when
+the message has none, and 0 counts as missing). A message without a timeout gets three
+times its period, as the thesis's import does; :attr:`Message.timeout_is_default` says so
+and the validation reports the missing attribute.
+
+A message's role is relative to one node of the DBC: the node sends it (TX), or the node
+receives at least one of its signals (RX); any other message is not in that node's table
+(role ``None``). Mailboxes are assigned later by :mod:`workbench.can.mailboxes`.
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass, field
+
+from cantools.database.can import Message as CantoolsMessage
+from cantools.database.can import Signal as CantoolsSignal
+
+from workbench.can.dbc_file import DbcFile
+from workbench.can.naming import raw_c_type
+from workbench.errors import InputError
+
+PERIOD_ATTRIBUTE = "GenMsgCycleTime"
+TIMEOUT_ATTRIBUTE = "GenMsgTimeoutTime"
+FRAME_FORMAT_ATTRIBUTE = "VFrameFormat"
+DEFAULT_TIMEOUT_PERIODS = 3
+
+
+class Role(str, enum.Enum):
+    """Direction of a message seen from the chosen node."""
+
+    TX = "TX"
+    RX = "RX"
+
+
+@dataclass(frozen=True)
+class SignalOfMsg:
+    """One signal of a message, with the thesis's SignalOfMsg properties."""
+
+    name: str
+    bit_start: int
+    """The DBC start bit (Intel: the LSB; Motorola: the MSB in DBC bit numbering)."""
+    length: int
+    """Bits."""
+    byte_order: str
+    """``"Intel"`` (little endian) or ``"Motorola"`` (big endian)."""
+    is_signed: bool
+    is_float: bool
+    factor: float
+    offset: float
+    minimum: float | None
+    """Physical minimum from the DBC, ``None`` when the DBC gives none (``[0|0]``)."""
+    maximum: float | None
+    unit: str
+    comment: str
+    receivers: tuple[str, ...] = ()
+    multiplexer_ids: tuple[int, ...] | None = None
+    """The multiplexer values that select this signal; ``None`` for a plain signal."""
+
+    @property
+    def value_type(self) -> str:
+        if self.is_float:
+            return "float32" if self.length == 32 else "float64"
+        return "signed" if self.is_signed else "unsigned"
+
+    @property
+    def raw_c_type(self) -> str:
+        """The rtwtypes type of the raw value (``uint16_T``, ``int8_T``, ``real32_T`` ...)."""
+        return raw_c_type(self.length, self.is_signed, self.is_float)
+
+    def to_dict(self) -> dict:
+        return {
+            "Name": self.name,
+            "BitStart": self.bit_start,
+            "Length": self.length,
+            "ByteOrder": self.byte_order,
+            "ValueType": self.value_type,
+            "Factor": self.factor,
+            "Offset": self.offset,
+            "Min": self.minimum,
+            "Max": self.maximum,
+            "Unit": self.unit,
+            "Comment": self.comment,
+        }
+
+
+@dataclass(frozen=True)
+class Message:
+    """One CAN message with the thesis's Message properties."""
+
+    name: str
+    frame_id: int
+    network: str
+    """``CAN1`` … ``CAN4``."""
+    dlc: int
+    """Payload length in bytes."""
+    period_ms: int | None
+    """``None`` when the DBC gives no (or a zero) ``GenMsgCycleTime``."""
+    timeout_ms: int | None
+    timeout_is_default: bool
+    """True when the timeout is the thesis's default (3 × period) for a missing attribute."""
+    extended: bool
+    role: Role | None
+    signals: tuple[SignalOfMsg, ...]
+    senders: tuple[str, ...] = ()
+    comment: str = ""
+    enable: bool = True
+    """Whether the driver sends/receives the message; the DBC has no such flag, so always True."""
+    mailbox: str | None = None
+    """``CAN2_MSG_TX_000`` …, ``None`` for a message outside the node's table."""
+    unique_id: bool = True
+    """False when another message on the same network has the same id and format."""
+    source: DbcFile | None = field(default=None, compare=False, repr=False)
+
+    @property
+    def type(self) -> str:
+        return "ext" if self.extended else "std"
+
+    @property
+    def is_intel(self) -> bool:
+        """True unless a signal is Motorola (big endian): picks the driver's PDU init data."""
+        return all(signal.byte_order == "Intel" for signal in self.signals)
+
+    def where(self, signal: str | None = None) -> str:
+        """``file:line`` of the message's ``BO_`` (or a signal's ``SG_``) for messages."""
+        return self.source.where(self.name, signal) if self.source else self.name
+
+    def to_dict(self) -> dict:
+        return {
+            "Name": self.name,
+            "ID": f"0x{self.frame_id:X}",
+            "NetworkType": self.network,
+            "UniqueID": self.unique_id,
+            "DLC": self.dlc,
+            "Period": self.period_ms,
+            "Timeout": self.timeout_ms,
+            "TimeoutIsDefault": self.timeout_is_default,
+            "Enable": self.enable,
+            "Type": self.type,
+            "MboxId": self.mailbox,
+            "Role": self.role.value if self.role else None,
+            "Comment": self.comment,
+            "Signals": [signal.to_dict() for signal in self.signals],
+        }
+
+
+def check_node(dbc: DbcFile, node: str) -> None:
+    """:raises InputError: ``node`` is not one of the DBC's ``BU_`` nodes."""
+    nodes = [n.name for n in dbc.database.nodes]
+    if node not in nodes:
+        raise InputError(f"{dbc.path}: node {node!r} is not in this DBC (nodes: {', '.join(nodes) or 'none'})")
+
+
+def messages_of(dbc: DbcFile, network: str, node: str | None) -> list[Message]:
+    """Every message of ``dbc`` in file order, with its role relative to ``node`` (no mailboxes yet).
+
+    :raises InputError: ``node`` is given but not a node of the DBC.
+    """
+    if node is not None:
+        check_node(dbc, node)
+    return [_message(dbc, message, network, node) for message in dbc.database.messages]
+
+
+def role_of(message: CantoolsMessage, node: str | None) -> Role | None:
+    if node is None:
+        return None
+    if node in message.senders:
+        return Role.TX
+    if any(node in signal.receivers for signal in message.signals):
+        return Role.RX
+    return None
+
+
+def message_attribute_ms(dbc: DbcFile, message: CantoolsMessage, name: str) -> int | None:
+    """A positive millisecond attribute of a message, its DBC default, or ``None`` (missing or 0)."""
+    attributes = message.dbc.attributes if message.dbc else {}
+    if name in attributes:
+        value = attributes[name].value
+    else:
+        definition = dbc.database.dbc.attribute_definitions.get(name) if dbc.database.dbc else None
+        value = definition.default_value if definition is not None else None
+    try:
+        value = int(value)
+    except (TypeError, ValueError):
+        return None
+    return value if value > 0 else None
+
+
+def _message(dbc: DbcFile, message: CantoolsMessage, network: str, node: str | None) -> Message:
+    period = message_attribute_ms(dbc, message, PERIOD_ATTRIBUTE)
+    timeout = message_attribute_ms(dbc, message, TIMEOUT_ATTRIBUTE)
+    timeout_is_default = timeout is None
+    if timeout is None and period is not None:
+        timeout = DEFAULT_TIMEOUT_PERIODS * period
+    return Message(
+        name=message.name,
+        frame_id=message.frame_id,
+        network=network,
+        dlc=message.length,
+        period_ms=period,
+        timeout_ms=timeout,
+        timeout_is_default=timeout_is_default,
+        extended=message.is_extended_frame,
+        role=role_of(message, node),
+        signals=tuple(_signal(signal) for signal in message.signals),
+        senders=tuple(message.senders),
+        comment=_comment(message.comment),
+        source=dbc,
+    )
+
+
+def _signal(signal: CantoolsSignal) -> SignalOfMsg:
+    return SignalOfMsg(
+        name=signal.name,
+        bit_start=signal.start,
+        length=signal.length,
+        byte_order="Intel" if signal.byte_order == "little_endian" else "Motorola",
+        is_signed=signal.is_signed,
+        is_float=signal.is_float,
+        factor=signal.scale,
+        offset=signal.offset,
+        minimum=signal.minimum,
+        maximum=signal.maximum,
+        unit=signal.unit or "",
+        comment=_comment(signal.comment),
+        receivers=tuple(signal.receivers),
+        multiplexer_ids=tuple(signal.multiplexer_ids) if signal.multiplexer_ids is not None else None,
+    )
+
+
+def _comment(comment) -> str:
+    """cantools gives a str, or a dict of language → str for multilingual (ARXML-style) comments."""
+    if isinstance(comment, dict):
+        comment = next(iter(comment.values()), "")
+    return comment or ""

@@ -1,0 +1,210 @@
+"""DBC problems a user would hit, reported with file, line, message and signal.
+
+Checks, each a :class:`Finding` with a ``code``:
+
+* ``overlap`` — two signals of a message share a bit (multiplexed signals only when they
+  can be present together);
+* ``beyond-dlc`` — a signal has bits outside the message's DLC;
+* ``duplicate-id`` — two messages of one network have the same id and frame format
+  (across all DBCs given for that network); ``duplicate-name`` — the same for names;
+* ``missing-period`` — no (or a zero) ``GenMsgCycleTime``; ``missing-timeout`` — no
+  ``GenMsgTimeoutTime`` (the table then uses 3 × period, as the thesis does);
+* ``id-format`` — an id above 0x7FF without the extended flag, or a message's explicit
+  ``VFrameFormat`` that disagrees with the flag (only the attribute set on the message
+  counts: a ``BA_DEF_DEF_`` default says nothing about one message);
+* ``fixcal-collision`` — signals of different messages that would define the same
+  ``cf<SIGNAL>_EN``/``_VALUE`` calibration (among the node's messages when a node is given).
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from collections.abc import Sequence
+from dataclasses import dataclass
+from itertools import combinations
+from pathlib import Path
+
+from workbench.can.dbc_file import DbcFile
+from workbench.can.fixcal import describe_owners, fixcal_collisions
+from workbench.can.naming import FIX_VALUE_SUFFIX
+from workbench.can.model import (
+    FRAME_FORMAT_ATTRIBUTE,
+    PERIOD_ATTRIBUTE,
+    TIMEOUT_ATTRIBUTE,
+    Message,
+    SignalOfMsg,
+    check_node,
+    messages_of,
+)
+
+_EXTENDED_FORMATS = ("ExtendedCAN", "ExtendedCAN_FD", "J1939PG")
+_STANDARD_FORMATS = ("StandardCAN", "StandardCAN_FD")
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One problem in a DBC, located at ``path:line``."""
+
+    code: str
+    path: Path
+    line: int
+    message: str | None
+    signal: str | None
+    text: str
+
+    def __str__(self) -> str:
+        where = f"{self.path}:{self.line}" if self.line else str(self.path)
+        subject = ".".join(part for part in (self.message, self.signal) if part)
+        return f"{where}: {subject}: {self.text}" if subject else f"{where}: {self.text}"
+
+    def to_dict(self) -> dict:
+        return {"code": self.code, "file": str(self.path), "line": self.line,
+                "message": self.message, "signal": self.signal, "text": self.text}
+
+
+def bit_positions(signal: SignalOfMsg) -> list[int]:
+    """The payload bits a signal occupies, as byte · 8 + bit (bit 0 = LSB of the byte)."""
+    if signal.byte_order == "Intel":
+        return list(range(signal.bit_start, signal.bit_start + signal.length))
+    positions, position = [], signal.bit_start
+    for _ in range(signal.length):  # Motorola: from the MSB down, then into the next byte's bit 7
+        positions.append(position)
+        position = position + 15 if position % 8 == 0 else position - 1
+    return positions
+
+
+def check(dbcs: Sequence[tuple[DbcFile, str]], node: str | None = None) -> list[Finding]:
+    """Every finding in ``dbcs`` ((DBC, network) pairs), in file and line order.
+
+    :raises InputError: ``node`` is given but is not a node of one of the DBCs.
+    """
+    if node is not None:
+        for dbc, _network in dbcs:
+            check_node(dbc, node)
+    per_dbc = [(dbc, messages_of(dbc, network, None)) for dbc, network in dbcs]
+    everything = [message for _, messages in per_dbc for message in messages]
+    findings: list[Finding] = []
+    for dbc, messages in per_dbc:
+        for message in messages:
+            findings += _layout_findings(message)
+            findings += _attribute_findings(message)
+            findings += _format_findings(dbc, message)
+    findings += _duplicate_findings(everything)
+    in_scope = [m for dbc, network in dbcs for m in messages_of(dbc, network, node) if node is None or m.role]
+    findings += _collision_findings(in_scope)
+    return sorted(findings, key=lambda f: (str(f.path), f.line, f.code))
+
+
+def _finding(code: str, message: Message, signal: str | None, text: str) -> Finding:
+    dbc = message.source
+    line = dbc.line_of(message.name, signal) if dbc else 0
+    return Finding(code, dbc.path if dbc else Path(message.name), line, message.name, signal, text)
+
+
+def _layout_findings(message: Message) -> list[Finding]:
+    findings = []
+    size = message.dlc * 8
+    bits = {signal.name: bit_positions(signal) for signal in message.signals}
+    for signal in message.signals:
+        outside = [b for b in bits[signal.name] if not 0 <= b < size]
+        if outside:
+            findings.append(_finding(
+                "beyond-dlc", message, signal.name,
+                f"bits {min(outside)}..{max(outside)} lie beyond the DLC of {message.dlc} bytes",
+            ))
+    for first, second in combinations(message.signals, 2):
+        if not _can_coexist(first, second):
+            continue
+        shared = set(bits[first.name]) & set(bits[second.name])
+        if shared:
+            findings.append(_finding(
+                "overlap", message, second.name,
+                f"overlaps {first.name} in bit{'s' if len(shared) > 1 else ''} {_bit_list(shared)}",
+            ))
+    return findings
+
+
+def _can_coexist(first: SignalOfMsg, second: SignalOfMsg) -> bool:
+    if first.multiplexer_ids is None or second.multiplexer_ids is None:
+        return True
+    return bool(set(first.multiplexer_ids) & set(second.multiplexer_ids))
+
+
+def _bit_list(bits: set[int]) -> str:
+    ordered = sorted(bits)
+    return f"{ordered[0]}..{ordered[-1]}" if len(ordered) > 1 else str(ordered[0])
+
+
+def _attribute_findings(message: Message) -> list[Finding]:
+    findings = []
+    if message.period_ms is None:
+        findings.append(_finding("missing-period", message, None, f"no {PERIOD_ATTRIBUTE} (or 0): the period is unknown"))
+    if message.timeout_is_default:
+        consequence = (f"using 3 × period = {message.timeout_ms} ms" if message.timeout_ms is not None
+                       else "and no period to derive it from")
+        findings.append(_finding("missing-timeout", message, None, f"no {TIMEOUT_ATTRIBUTE}: {consequence}"))
+    return findings
+
+
+def _format_findings(dbc: DbcFile, message: Message) -> list[Finding]:
+    if message.name in dbc.oversized_standard_ids:
+        return [_finding(
+            "id-format", message, None,
+            f"id 0x{message.frame_id:X} needs 29 bits but the BO_ id lacks the extended flag "
+            f"(write {message.frame_id | 0x80000000})",
+        )]
+    frame_format = _explicit_frame_format(dbc, message.name)
+    if frame_format in _EXTENDED_FORMATS and not message.extended:
+        return [_finding("id-format", message, None, f"{FRAME_FORMAT_ATTRIBUTE} is {frame_format} but the id is standard")]
+    if frame_format in _STANDARD_FORMATS and message.extended:
+        return [_finding("id-format", message, None, f"{FRAME_FORMAT_ATTRIBUTE} is {frame_format} but the id is extended")]
+    return []
+
+
+def _explicit_frame_format(dbc: DbcFile, name: str) -> str | None:
+    database = dbc.database
+    definition = database.dbc.attribute_definitions.get(FRAME_FORMAT_ATTRIBUTE) if database.dbc else None
+    for message in database.messages:
+        if message.name != name or not message.dbc or FRAME_FORMAT_ATTRIBUTE not in message.dbc.attributes:
+            continue
+        value = message.dbc.attributes[FRAME_FORMAT_ATTRIBUTE].value
+        choices = definition.choices if definition is not None and definition.choices else None
+        if isinstance(value, int) and choices and 0 <= value < len(choices):
+            return choices[value]
+        return str(value)
+    return None
+
+
+def _duplicate_findings(messages: list[Message]) -> list[Finding]:
+    findings = []
+    by_id: dict[tuple, list[Message]] = defaultdict(list)
+    by_name: dict[tuple, list[Message]] = defaultdict(list)
+    for message in messages:
+        by_id[(message.network, message.frame_id, message.extended)].append(message)
+        by_name[(message.network, message.name)].append(message)
+    for (network, frame_id, extended), owners in by_id.items():
+        for message in owners[1:]:
+            findings.append(_finding(
+                "duplicate-id", message, None,
+                f"{'extended' if extended else 'standard'} id 0x{frame_id:X} is also used on {network} by "
+                + ", ".join(f"{other.name} ({other.where()})" for other in owners if other is not message),
+            ))
+    for (network, name), owners in by_name.items():
+        for message in owners[1:]:
+            findings.append(_finding(
+                "duplicate-name", message, None,
+                f"message name also used on {network} at " + ", ".join(o.where() for o in owners if o is not message),
+            ))
+    return findings
+
+
+def _collision_findings(messages: list[Message]) -> list[Finding]:
+    findings = []
+    for name, owners in fixcal_collisions(messages).items():
+        first_message, first_signal = owners[0]
+        findings.append(_finding(
+            "fixcal-collision", first_message, first_signal.name,
+            f"{name.removesuffix(FIX_VALUE_SUFFIX)}_EN/{FIX_VALUE_SUFFIX} would also be defined by "
+            f"{describe_owners(owners[1:])}",
+        ))
+    return findings
