@@ -47,29 +47,29 @@ class FixCalibration:
     c_type: str
     """rtwtypes name: ``uint8_T``, ``uint16_T``, ``int8_T``, ``real32_T`` ..."""
     initial_raw: int | float
-    message: str
-    frame_id: int
-    signal: str | None
-    factor: float = 1.0
-    """phys = raw · factor + offset."""
-    offset: float = 0.0
+    message: Message
+    signal: SignalOfMsg | None = None
+    """The signal of a ``_EN``/``_VALUE`` pair; ``None`` for a TX enable."""
     lower: float = 0.0
-    """Physical lower limit."""
+    """Physical lower limit (phys = raw · factor + offset for a ``_VALUE``)."""
     upper: float = 1.0
-    unit: str = ""
 
     @property
     def description(self) -> str:
-        where = f"{self.message} (0x{self.frame_id:X})"
+        """The A2L long identifier and C comment, worded as the demo ECU's A2L does."""
         if self.kind is FixKind.TX_ENABLE:
-            return f"Transmission enable of {where}, 0/1"
+            return f"Transmission enable of {self.message.name}"
+        signal = self.signal
         if self.kind is FixKind.FIX_ENABLE:
-            return f"Fix enable of {self.signal} in {where}: 1 = send/use {fix_value_name(self.signal)}"
-        return f"Fix value of {self.signal} in {where}, raw"
+            return f"Fix switch of CAN signal {signal.name} (1: use {fix_value_name(signal.name)})"
+        what = f": {signal.comment}" if signal.comment else ""
+        resolution = "" if signal.factor == 1 else f", {format_number(signal.factor)} {signal.unit}".rstrip() + "/bit"
+        return f"Fixed raw value of CAN signal {signal.name}{what} ({signal.length} bit{resolution})"
 
-    @property
-    def is_identity(self) -> bool:
-        return self.factor == 1 and self.offset == 0
+
+def format_number(value: float) -> str:
+    """``1``, ``0.01``, ``-40``, ``1e-06``: integral values without a decimal point."""
+    return str(int(value)) if float(value).is_integer() else repr(float(value))
 
 
 def fixcal_collisions(messages: Iterable[Message]) -> dict[str, list[tuple[Message, SignalOfMsg]]]:
@@ -104,13 +104,10 @@ def fix_calibrations(messages: Iterable[Message]) -> list[FixCalibration]:
     calibrations: list[FixCalibration] = []
     for message in messages:
         if message.role is Role.TX:
-            calibrations.append(FixCalibration(
-                tx_enable_name(message.name), FixKind.TX_ENABLE, "uint8_T", 1, message.name, message.frame_id, None,
-            ))
+            calibrations.append(FixCalibration(tx_enable_name(message.name), FixKind.TX_ENABLE, "uint8_T", 1, message))
         for signal in message.signals:
             calibrations.append(FixCalibration(
-                fix_enable_name(signal.name), FixKind.FIX_ENABLE, "uint8_T", 0, message.name, message.frame_id,
-                signal.name,
+                fix_enable_name(signal.name), FixKind.FIX_ENABLE, "uint8_T", 0, message, signal,
             ))
             calibrations.append(_fix_value(message, signal))
     return calibrations
@@ -133,9 +130,7 @@ def _fix_value(message: Message, signal: SignalOfMsg) -> FixCalibration:
     upper = physical[1] if signal.maximum is None else min(max(signal.maximum, physical[0]), physical[1])
     return FixCalibration(
         fix_value_name(signal.name), FixKind.FIX_VALUE, signal.raw_c_type,
-        _initial_raw(signal, lower, upper, raw_low, raw_high),
-        message.name, message.frame_id, signal.name,
-        factor=signal.factor, offset=signal.offset, lower=lower, upper=upper, unit=signal.unit,
+        _initial_raw(signal, lower, upper, raw_low, raw_high), message, signal, lower, upper,
     )
 
 

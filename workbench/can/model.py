@@ -59,6 +59,10 @@ class SignalOfMsg:
     receivers: tuple[str, ...] = ()
     multiplexer_ids: tuple[int, ...] | None = None
     """The multiplexer values that select this signal; ``None`` for a plain signal."""
+    choices: tuple[tuple[int, str], ...] = ()
+    """The DBC value descriptions (``VAL_``), raw value → text, ascending."""
+    value_table: str | None = None
+    """The name of the DBC ``VAL_TABLE_`` whose entries equal :attr:`choices`, if any."""
 
     @property
     def value_type(self) -> str:
@@ -93,8 +97,8 @@ class Message:
 
     name: str
     frame_id: int
-    network: str
-    """``CAN1`` … ``CAN4``."""
+    network: str | None
+    """``CAN1`` … ``CAN4``; ``None`` where no network was chosen (fix calibrations, checks)."""
     dlc: int
     """Payload length in bytes."""
     period_ms: int | None
@@ -154,14 +158,15 @@ def check_node(dbc: DbcFile, node: str) -> None:
         raise InputError(f"{dbc.path}: node {node!r} is not in this DBC (nodes: {', '.join(nodes) or 'none'})")
 
 
-def messages_of(dbc: DbcFile, network: str, node: str | None) -> list[Message]:
+def messages_of(dbc: DbcFile, network: str | None, node: str | None) -> list[Message]:
     """Every message of ``dbc`` in file order, with its role relative to ``node`` (no mailboxes yet).
 
     :raises InputError: ``node`` is given but not a node of the DBC.
     """
     if node is not None:
         check_node(dbc, node)
-    return [_message(dbc, message, network, node) for message in dbc.database.messages]
+    value_tables = _value_tables(dbc)
+    return [_message(dbc, message, network, node, value_tables) for message in dbc.database.messages]
 
 
 def role_of(message: CantoolsMessage, node: str | None) -> Role | None:
@@ -189,7 +194,8 @@ def message_attribute_ms(dbc: DbcFile, message: CantoolsMessage, name: str) -> i
     return value if value > 0 else None
 
 
-def _message(dbc: DbcFile, message: CantoolsMessage, network: str, node: str | None) -> Message:
+def _message(dbc: DbcFile, message: CantoolsMessage, network: str | None, node: str | None,
+             value_tables: dict[str, tuple[tuple[int, str], ...]]) -> Message:
     period = message_attribute_ms(dbc, message, PERIOD_ATTRIBUTE)
     timeout = message_attribute_ms(dbc, message, TIMEOUT_ATTRIBUTE)
     timeout_is_default = timeout is None
@@ -205,14 +211,25 @@ def _message(dbc: DbcFile, message: CantoolsMessage, network: str, node: str | N
         timeout_is_default=timeout_is_default,
         extended=message.is_extended_frame,
         role=role_of(message, node),
-        signals=tuple(_signal(signal) for signal in message.signals),
+        signals=tuple(_signal(signal, value_tables) for signal in message.signals),
         senders=tuple(message.senders),
         comment=_comment(message.comment),
         source=dbc,
     )
 
 
-def _signal(signal: CantoolsSignal) -> SignalOfMsg:
+def _value_tables(dbc: DbcFile) -> dict[str, tuple[tuple[int, str], ...]]:
+    tables = dbc.database.dbc.value_tables if dbc.database.dbc else None
+    return {name: _sorted_choices(table) for name, table in (tables or {}).items()}
+
+
+def _sorted_choices(choices) -> tuple[tuple[int, str], ...]:
+    return tuple(sorted((int(value), str(text)) for value, text in (choices or {}).items()))
+
+
+def _signal(signal: CantoolsSignal, value_tables: dict[str, tuple[tuple[int, str], ...]]) -> SignalOfMsg:
+    choices = _sorted_choices(signal.choices)
+    table = next((name for name, entries in value_tables.items() if choices and entries == choices), None)
     return SignalOfMsg(
         name=signal.name,
         bit_start=signal.start,
@@ -228,6 +245,8 @@ def _signal(signal: CantoolsSignal) -> SignalOfMsg:
         comment=_comment(signal.comment),
         receivers=tuple(signal.receivers),
         multiplexer_ids=tuple(signal.multiplexer_ids) if signal.multiplexer_ids is not None else None,
+        choices=choices,
+        value_table=table,
     )
 
 

@@ -46,8 +46,14 @@ class CanTable:
         }
 
 
+def guess_network(path: str | Path) -> str | None:
+    """The one ``CAN1``–``CAN4`` in a DBC's file name (``FLCU_CAN2.dbc`` → CAN2), else ``None``."""
+    found = {match.upper() for match in _NETWORK_IN_NAME.findall(Path(path).stem)}
+    return found.pop() if len(found) == 1 else None
+
+
 def network_of(path: str | Path, network: str | None = None) -> str:
-    """The network of a DBC: ``network`` when given, else the ``CAN1``–``CAN4`` in its file name.
+    """The network of a DBC: ``network`` when given, else :func:`guess_network`.
 
     :raises InputError: ``network`` is not CAN1–CAN4, or the file name names none (or several).
     """
@@ -55,10 +61,10 @@ def network_of(path: str | Path, network: str | None = None) -> str:
         if network.upper() not in CAN_NETWORKS:
             raise InputError(f"unknown network {network!r} (expected one of {', '.join(CAN_NETWORKS)})")
         return network.upper()
-    found = {match.upper() for match in _NETWORK_IN_NAME.findall(Path(path).stem)}
-    if len(found) != 1:
+    guessed = guess_network(path)
+    if guessed is None:
         raise InputError(f"{path}: cannot tell the network from the file name; give --network CAN1..CAN4")
-    return found.pop()
+    return guessed
 
 
 def load_networks(paths: Sequence[str | Path], network: str | None = None) -> list[tuple[DbcFile, str]]:

@@ -73,8 +73,11 @@ def bit_positions(signal: SignalOfMsg) -> list[int]:
     return positions
 
 
-def check(dbcs: Sequence[tuple[DbcFile, str]], node: str | None = None) -> list[Finding]:
+def check(dbcs: Sequence[tuple[DbcFile, str | None]], node: str | None = None) -> list[Finding]:
     """Every finding in ``dbcs`` ((DBC, network) pairs), in file and line order.
+
+    Duplicate ids and names are looked for among the DBCs of one network; a DBC without a
+    network is compared with itself only.
 
     :raises InputError: ``node`` is given but is not a node of one of the DBCs.
     """
@@ -180,20 +183,21 @@ def _duplicate_findings(messages: list[Message]) -> list[Finding]:
     by_id: dict[tuple, list[Message]] = defaultdict(list)
     by_name: dict[tuple, list[Message]] = defaultdict(list)
     for message in messages:
-        by_id[(message.network, message.frame_id, message.extended)].append(message)
-        by_name[(message.network, message.name)].append(message)
-    for (network, frame_id, extended), owners in by_id.items():
+        bus = message.network or str(message.source.path if message.source else "")
+        by_id[(bus, message.frame_id, message.extended)].append(message)
+        by_name[(bus, message.name)].append(message)
+    for (bus, frame_id, extended), owners in by_id.items():
         for message in owners[1:]:
             findings.append(_finding(
                 "duplicate-id", message, None,
-                f"{'extended' if extended else 'standard'} id 0x{frame_id:X} is also used on {network} by "
+                f"{'extended' if extended else 'standard'} id 0x{frame_id:X} is also used by "
                 + ", ".join(f"{other.name} ({other.where()})" for other in owners if other is not message),
             ))
-    for (network, name), owners in by_name.items():
+    for (_bus, _name), owners in by_name.items():
         for message in owners[1:]:
             findings.append(_finding(
                 "duplicate-name", message, None,
-                f"message name also used on {network} at " + ", ".join(o.where() for o in owners if o is not message),
+                "message name also used at " + ", ".join(o.where() for o in owners if o is not message),
             ))
     return findings
 

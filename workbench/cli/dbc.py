@@ -1,0 +1,153 @@
+"""``workbench dbc``: the thesis's CAN library (chapter 6.3) on cantools, without MATLAB.
+
+* ``table`` — the message table with the thesis's Message/SignalOfMsg properties;
+* ``fixcal`` — the fix calibrations as a C header/source pair and an A2L fragment;
+* ``callbacks`` — the CAN driver configuration between the ``// <initCbk>`` markers of api.c;
+* ``check`` — DBC problems (exit 1 when there are findings).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from workbench.cli.options import print_json
+
+_NETWORK_HELP = ("CAN1..CAN4 for every DBC given (default: the CANn in each file name, "
+                 "e.g. FLCU_CAN2.dbc is on CAN2)")
+_ROLE_HELP = ("the ECU node the roles are relative to: a message it sends is TX, one whose signals it "
+              "receives is RX, any other is not in its table")
+_ORDER_HELP = (
+    "order in which a DBC's messages take the mailboxes of their network and role: "
+    "file (default: the first TX message of the file is CAN2_MSG_TX_000), reverse (the thesis's "
+    "figures: FLCU_TO_PCM_003 = CAN2_MSG_TX_000), id, name. A further DBC on the same network "
+    "takes the next free mailboxes (the thesis's canMap)"
+)
+_TIMEOUT_NOTE = ("Periods and timeouts come from GenMsgCycleTime/GenMsgTimeoutTime (ms); a message "
+                 "without a timeout gets 3 x its period, as the thesis's import does.")
+
+
+def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: str) -> None:
+    parser = subparsers.add_parser(name, help=help_text, description=__doc__,
+                                   formatter_class=argparse.RawDescriptionHelpFormatter)
+    commands = parser.add_subparsers(title="commands", dest="command", metavar="COMMAND", required=True)
+
+    table = commands.add_parser(
+        "table", help="message table: Name, ID, DLC, Period, Timeout, Role, MboxId and the signals",
+        description="The message table of one or more DBCs. " + _TIMEOUT_NOTE,
+    )
+    table.add_argument("dbc", nargs="+", metavar="FILE.dbc")
+    table.add_argument("--network", help=_NETWORK_HELP)
+    table.add_argument("--node", help=_ROLE_HELP + " (without it: no roles and no mailboxes)")
+    table.add_argument("--order", choices=["file", "reverse", "id", "name"], default="file", help=_ORDER_HELP)
+    output = table.add_mutually_exclusive_group()
+    output.add_argument("--csv", action="store_true", help="one CSV row per signal")
+    output.add_argument("--json", action="store_true", help="messages with their signals as JSON")
+    table.set_defaults(func=_table)
+
+    fixcal = commands.add_parser(
+        "fixcal", help="cf<SIGNAL>_EN/_VALUE and cs<Message>_En calibrations as C and A2L",
+        description=(
+            "Fix calibrations of every signal the node sends or receives: cf<SIGNAL>_EN (uint8 0/1, "
+            "initially 0) and cf<SIGNAL>_VALUE (the raw value in the integer type of the signal's width, "
+            "shown in physical units through a COMPU_METHOD from factor/offset, limits from the DBC "
+            "min/max), and cs<Message>_En (uint8 0/1, initially 1) for every message it sends. Writes "
+            "<dbc>_fixcal.h/.c (definitions in .cal_ram through the CAL_RAM macro, rtwtypes types) and "
+            "<dbc>_fixcal.a2l (a complete small A2L whose CHARACTERISTICs wait for `workbench a2l update`)."
+        ),
+    )
+    fixcal.add_argument("dbc", metavar="FILE.dbc")
+    fixcal.add_argument("--node", required=True, help=_ROLE_HELP)
+    fixcal.add_argument("-o", "--output", default=".", metavar="DIR", help="folder for the files (default: .)")
+    parts = fixcal.add_mutually_exclusive_group()
+    parts.add_argument("--a2l-only", action="store_true", help="write only the A2L fragment")
+    parts.add_argument("--c-only", action="store_true", help="write only the C header and source")
+    fixcal.set_defaults(func=_fixcal)
+
+    callbacks = commands.add_parser(
+        "callbacks", help="regenerate the CAN driver configuration between the // <initCbk> markers of api.c",
+        description=(
+            "Regenerate the driver configuration calls (API_CAN_setPduInitValues, CanNetwork_SetTxPeriod/"
+            "SetTxDlc/EnableDisableSendMessages, SetRxPeriod/SetRxTimeout/SetRxDlc/"
+            "EnableDisableReceivedMessages) of the node's messages, TX then RX in mailbox order, between the "
+            "lines '// <initCbk>' and '// </initCbk>' of api.c (exactly one of each, start first). Everything "
+            "outside the markers stays byte for byte; the file is written atomically and only when it "
+            "changes. " + _TIMEOUT_NOTE
+        ),
+    )
+    callbacks.add_argument("dbc", nargs="+", metavar="FILE.dbc")
+    callbacks.add_argument("--api", required=True, metavar="api.c", help="the C file with the markers")
+    callbacks.add_argument("--network", help=_NETWORK_HELP)
+    callbacks.add_argument("--node", required=True, help=_ROLE_HELP)
+    callbacks.add_argument("--order", choices=["file", "reverse", "id", "name"], default="file", help=_ORDER_HELP)
+    callbacks.set_defaults(func=_callbacks)
+
+    check = commands.add_parser(
+        "check", help="report DBC problems (exit 1 when there are any)",
+        description=(
+            "Report overlapping signals, signals beyond the DLC, duplicate ids and names (across the DBCs "
+            "of one network), missing GenMsgCycleTime/GenMsgTimeoutTime, standard/extended mismatches "
+            "(an id above 0x7FF without the extended flag, a VFrameFormat that disagrees) and fix "
+            "calibration name collisions. Exit 0: no findings; 1: findings; 2: a file cannot be read."
+        ),
+    )
+    check.add_argument("dbc", nargs="+", metavar="FILE.dbc")
+    check.add_argument("--network", help="CAN1..CAN4 for every DBC given (default: from the file name; "
+                                         "DBCs without one are compared with themselves only)")
+    check.add_argument("--node", help="look for fix-calibration collisions among this node's messages only")
+    check.add_argument("--json", action="store_true", help="findings as JSON")
+    check.set_defaults(func=_check)
+
+
+def _table(args: argparse.Namespace) -> int:
+    from workbench.can.mailboxes import MailboxOrder
+    from workbench.can.table import build_table, load_networks
+    from workbench.can.table_export import table_csv, table_text
+
+    table = build_table(load_networks(args.dbc, args.network), args.node, MailboxOrder(args.order))
+    if args.json:
+        print_json(table.to_dict())
+    else:
+        sys.stdout.write(table_csv(table) if args.csv else table_text(table))
+    return 0
+
+
+def _fixcal(args: argparse.Namespace) -> int:
+    from workbench.can.dbc_file import load_dbc
+    from workbench.can.fixcal_output import fixcal_files
+
+    files = fixcal_files(load_dbc(args.dbc), args.node, c=not args.a2l_only, a2l=not args.c_only)
+    for path in files.write(args.output):
+        print(path)
+    print(f"{len(files.calibrations)} calibrations for {args.node}", file=sys.stderr)
+    return 0
+
+
+def _callbacks(args: argparse.Namespace) -> int:
+    from workbench.can.callbacks import write_callbacks
+    from workbench.can.mailboxes import MailboxOrder
+    from workbench.can.table import build_table, load_networks
+
+    table = build_table(load_networks(args.dbc, args.network), args.node, MailboxOrder(args.order))
+    changed = write_callbacks(args.api, table.messages)
+    print(f"{args.api}: {'regenerated' if changed else 'unchanged'} "
+          f"({len(table.messages)} messages of {args.node})")
+    return 0
+
+
+def _check(args: argparse.Namespace) -> int:
+    from workbench.can.dbc_file import load_dbc
+    from workbench.can.table import guess_network, network_of
+    from workbench.can.validation import check
+
+    dbcs = [(load_dbc(path, tolerant=True), network_of(path, args.network) if args.network else guess_network(path))
+            for path in args.dbc]
+    findings = check(dbcs, args.node)
+    if args.json:
+        print_json([finding.to_dict() for finding in findings])
+    else:
+        for finding in findings:
+            print(finding)
+        print(f"{len(findings)} finding{'s' if len(findings) != 1 else ''} in {len(dbcs)} "
+              f"file{'s' if len(dbcs) != 1 else ''}", file=sys.stderr)
+    return 1 if findings else 0
