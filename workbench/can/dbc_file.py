@@ -35,8 +35,8 @@ log = logging.getLogger(__name__)
 
 _EXTENDED_FLAG = 0x80000000
 _STANDARD_ID_MAX = 0x7FF
-_MESSAGE_LINE = re.compile(r"^\s*BO_\s+(\d+)\s+(\w+)\s*:", re.MULTILINE)
-_SIGNAL_LINE = re.compile(r"^\s*SG_\s+(\w+)\s")
+_MESSAGE_LINE = re.compile(r"^[ \t]*BO_[ \t]+(\d+)[ \t]+(\w+)[ \t]*:", re.MULTILINE)
+_SIGNAL_LINE = re.compile(r"^[ \t]*SG_[ \t]+(\w+)\s")
 # Keywords after which the DBC grammar puts a message id (BA_/CM_ ... BO_ <id>, VAL_ <id> ...).
 _ID_REFERENCE = r"\b(BO_|SG_|VAL_|SIG_VALTYPE_|BO_TX_BU_|SG_MUL_VAL_|SIG_GROUP_)(\s+){id}\b"
 _MESSAGE_IN_ERROR = re.compile(r"in message '?(\w+)'?")
@@ -50,22 +50,24 @@ class DbcFile:
 
     path: Path
     database: Database
-    message_lines: dict[str, int] = field(default_factory=dict)
-    """Message name → 1-based line of its ``BO_`` (the first one when a name is doubled)."""
-    signal_lines: dict[tuple[str, str], int] = field(default_factory=dict)
-    """(message name, signal name) → 1-based line of its ``SG_``."""
+    message_lines: dict[str, tuple[int, ...]] = field(default_factory=dict)
+    """Message name → 1-based lines of its ``BO_`` s (more than one when the name is doubled)."""
+    signal_lines: dict[tuple[int, str], int] = field(default_factory=dict)
+    """(line of the message's ``BO_``, signal name) → 1-based line of the signal's ``SG_``."""
     oversized_standard_ids: tuple[str, ...] = ()
     """Messages whose ``BO_`` id is above 0x7FF without the extended flag (tolerant loads only)."""
 
-    def line_of(self, message: str, signal: str | None = None) -> int:
-        """The line of a message's ``BO_`` or of one of its signals' ``SG_`` (0 when unknown)."""
-        if signal is not None and (message, signal) in self.signal_lines:
-            return self.signal_lines[(message, signal)]
-        return self.message_lines.get(message, 0)
+    def message_line(self, name: str, occurrence: int = 0) -> int:
+        """The line of the ``occurrence``-th ``BO_`` named ``name`` (0 when unknown)."""
+        lines = self.message_lines.get(name, ())
+        return lines[occurrence] if occurrence < len(lines) else 0
 
-    def where(self, message: str | None = None, signal: str | None = None) -> str:
+    def signal_line(self, message_line: int, signal: str) -> int:
+        """The line of a signal's ``SG_`` in the message at ``message_line`` (that line when unknown)."""
+        return self.signal_lines.get((message_line, signal), message_line)
+
+    def where(self, line: int) -> str:
         """``path:line`` for error messages (just the path when the line is unknown)."""
-        line = self.line_of(message, signal) if message else 0
         return f"{self.path}:{line}" if line else str(self.path)
 
 
@@ -104,20 +106,20 @@ def _decode(raw: bytes) -> str:
 
 
 def _index_lines(text: str) -> tuple[dict[str, int], dict[tuple[str, str], int]]:
-    message_lines: dict[str, int] = {}
-    signal_lines: dict[tuple[str, str], int] = {}
-    current: str | None = None
+    message_lines: dict[str, tuple[int, ...]] = {}
+    signal_lines: dict[tuple[int, str], int] = {}
+    current = 0
     for number, line in enumerate(text.splitlines(), start=1):
         message = _MESSAGE_LINE.match(line)
         if message:
-            current = message.group(2)
-            message_lines.setdefault(current, number)
+            current = number
+            message_lines[message.group(2)] = message_lines.get(message.group(2), ()) + (number,)
             continue
         signal = _SIGNAL_LINE.match(line)
-        if signal and current is not None:
+        if signal and current:
             signal_lines.setdefault((current, signal.group(1)), number)
         elif line.strip():
-            current = None
+            current = 0
     return message_lines, signal_lines
 
 
@@ -139,7 +141,7 @@ class _Collect(logging.Handler):
         self.messages.append(record.getMessage())
 
 
-def _parse(path: Path, text: str, message_lines: dict[str, int]) -> Database:
+def _parse(path: Path, text: str, message_lines: dict[str, tuple[int, ...]]) -> Database:
     cantools_log = logging.getLogger("cantools")
     collector = _Collect()
     cantools_log.addHandler(collector)
@@ -161,14 +163,14 @@ def _parse(path: Path, text: str, message_lines: dict[str, int]) -> Database:
     return database
 
 
-def _located(path: Path, error: BaseException, message_lines: dict[str, int]) -> str:
+def _located(path: Path, error: BaseException, message_lines: dict[str, tuple[int, ...]]) -> str:
     reason = _one_line(str(error))
     line = getattr(error, "line", None)
     if line:
         return f"{path}:{line}:{getattr(error, 'column', 0)}: {_POSITION_IN_ERROR.sub('', reason)}"
     mentioned = _MESSAGE_IN_ERROR.search(reason)
     if mentioned and mentioned.group(1) in message_lines:
-        return f"{path}:{message_lines[mentioned.group(1)]}: {reason}"
+        return f"{path}:{message_lines[mentioned.group(1)][0]}: {reason}"
     return f"{path}: {reason}"
 
 

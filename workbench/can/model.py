@@ -14,6 +14,7 @@ receives at least one of its signals (RX); any other message is not in that node
 from __future__ import annotations
 
 import enum
+from collections import Counter
 from dataclasses import dataclass, field
 
 from cantools.database.can import Message as CantoolsMessage
@@ -118,6 +119,8 @@ class Message:
     unique_id: bool = True
     """False when another message on the same network has the same id and format."""
     source: DbcFile | None = field(default=None, compare=False, repr=False)
+    line: int = 0
+    """1-based line of the message's ``BO_`` in :attr:`source` (0 when unknown)."""
 
     @property
     def type(self) -> str:
@@ -129,8 +132,10 @@ class Message:
         return all(signal.byte_order == "Intel" for signal in self.signals)
 
     def where(self, signal: str | None = None) -> str:
-        """``file:line`` of the message's ``BO_`` (or a signal's ``SG_``) for messages."""
-        return self.source.where(self.name, signal) if self.source else self.name
+        """``file:line`` of the message's ``BO_`` (or of a signal's ``SG_``), for error messages."""
+        if self.source is None:
+            return self.name
+        return self.source.where(self.source.signal_line(self.line, signal) if signal else self.line)
 
     def to_dict(self) -> dict:
         return {
@@ -166,7 +171,13 @@ def messages_of(dbc: DbcFile, network: str | None, node: str | None) -> list[Mes
     if node is not None:
         check_node(dbc, node)
     value_tables = _value_tables(dbc)
-    return [_message(dbc, message, network, node, value_tables) for message in dbc.database.messages]
+    seen: Counter[str] = Counter()
+    messages = []
+    for message in dbc.database.messages:
+        line = dbc.message_line(message.name, seen[message.name])
+        seen[message.name] += 1
+        messages.append(_message(dbc, message, network, node, value_tables, line))
+    return messages
 
 
 def role_of(message: CantoolsMessage, node: str | None) -> Role | None:
@@ -195,7 +206,7 @@ def message_attribute_ms(dbc: DbcFile, message: CantoolsMessage, name: str) -> i
 
 
 def _message(dbc: DbcFile, message: CantoolsMessage, network: str | None, node: str | None,
-             value_tables: dict[str, tuple[tuple[int, str], ...]]) -> Message:
+             value_tables: dict[str, tuple[tuple[int, str], ...]], line: int) -> Message:
     period = message_attribute_ms(dbc, message, PERIOD_ATTRIBUTE)
     timeout = message_attribute_ms(dbc, message, TIMEOUT_ATTRIBUTE)
     timeout_is_default = timeout is None
@@ -215,6 +226,7 @@ def _message(dbc: DbcFile, message: CantoolsMessage, network: str | None, node: 
         senders=tuple(message.senders),
         comment=_comment(message.comment),
         source=dbc,
+        line=line,
     )
 
 

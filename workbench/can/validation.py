@@ -100,7 +100,7 @@ def check(dbcs: Sequence[tuple[DbcFile, str | None]], node: str | None = None) -
 
 def _finding(code: str, message: Message, signal: str | None, text: str) -> Finding:
     dbc = message.source
-    line = dbc.line_of(message.name, signal) if dbc else 0
+    line = (dbc.signal_line(message.line, signal) if signal else message.line) if dbc else 0
     return Finding(code, dbc.path if dbc else Path(message.name), line, message.name, signal, text)
 
 

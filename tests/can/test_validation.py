@@ -1,0 +1,213 @@
+"""DBC loading errors and every validation finding, on crafted bad DBCs."""
+
+from __future__ import annotations
+
+import pytest
+from crafted import timing
+
+from workbench import demo
+from workbench.can.dbc_file import load_dbc
+from workbench.can.model import SignalOfMsg
+from workbench.can.validation import bit_positions, check
+from workbench.errors import InputError
+
+SIGNAL = '"" PEER'
+
+
+def _findings(path, network="CAN2", node=None):
+    return check([(load_dbc(path, tolerant=True), network)], node)
+
+
+def _codes(findings):
+    return [(f.code, f.message, f.signal, f.line) for f in findings]
+
+
+def test_demo_flcu_dbc_is_clean():
+    assert _findings(demo.dbc_can2()) == []
+    assert _findings(demo.dbc_can2(), node="FLCU") == []
+
+
+def test_overlapping_signals(write_dbc):
+    path = write_dbc(
+        "BO_ 16 M: 2 ECU\n"
+        f" SG_ A : 0|4@1+ (1,0) [0|15] {SIGNAL}\n"
+        f" SG_ B : 2|4@1+ (1,0) [0|15] {SIGNAL}\n"
+        f" SG_ C : 8|8@1+ (1,0) [0|255] {SIGNAL}\n",
+        timing(16, 10, 30),
+    )
+    (finding,) = _findings(path)
+    assert _codes([finding]) == [("overlap", "M", "B", 15)]
+    assert str(finding) == f"{path}:15: M.B: overlaps A in bits 2..3"
+
+
+def test_motorola_signal_overlap_and_layout(write_dbc):
+    # Motorola 7|16: byte 0 bits 7..0 then byte 1 bits 15..8; it meets the Intel signal in byte 1.
+    signal = SignalOfMsg("X", 7, 16, "Motorola", False, False, 1, 0, None, None, "", "")
+    assert bit_positions(signal) == [7, 6, 5, 4, 3, 2, 1, 0, 15, 14, 13, 12, 11, 10, 9, 8]
+    path = write_dbc(
+        "BO_ 16 M: 3 ECU\n"
+        f" SG_ BIG : 7|16@0+ (1,0) [0|65535] {SIGNAL}\n"
+        f" SG_ LITTLE : 12|4@1+ (1,0) [0|15] {SIGNAL}\n"
+        f" SG_ FREE : 16|8@1+ (1,0) [0|255] {SIGNAL}\n",
+        timing(16, 10, 30),
+    )
+    assert _codes(_findings(path)) == [("overlap", "M", "LITTLE", 15)]
+
+
+def test_multiplexed_signals_overlap_only_under_the_same_selector(write_dbc):
+    path = write_dbc(
+        "BO_ 16 M: 2 ECU\n"
+        f" SG_ MUX M : 0|4@1+ (1,0) [0|15] {SIGNAL}\n"
+        f" SG_ ONE m1 : 8|8@1+ (1,0) [0|255] {SIGNAL}\n"
+        f" SG_ TWO m2 : 8|8@1+ (1,0) [0|255] {SIGNAL}\n"
+        f" SG_ ALSO_ONE m1 : 12|4@1+ (1,0) [0|15] {SIGNAL}\n",
+        timing(16, 10, 30),
+    )
+    assert _codes(_findings(path)) == [("overlap", "M", "ALSO_ONE", 17)]
+
+
+def test_signal_beyond_dlc(write_dbc):
+    path = write_dbc(f"BO_ 16 M: 1 ECU\n SG_ WIDE : 4|8@1+ (1,0) [0|255] {SIGNAL}\n", timing(16, 10, 30))
+    (finding,) = _findings(path)
+    assert _codes([finding]) == [("beyond-dlc", "M", "WIDE", 14)]
+    assert "bits 8..11 lie beyond the DLC of 1 bytes" in str(finding)
+
+
+def test_duplicate_ids_and_names_in_one_file(write_dbc):
+    path = write_dbc(
+        f"BO_ 16 FIRST: 1 ECU\n SG_ A : 0|8@1+ (1,0) [0|255] {SIGNAL}\n\n"
+        f"BO_ 16 SECOND: 1 ECU\n SG_ B : 0|8@1+ (1,0) [0|255] {SIGNAL}\n\n"
+        f"BO_ 17 FIRST: 1 ECU\n SG_ C : 0|8@1+ (1,0) [0|255] {SIGNAL}\n",
+        timing(16, 10, 30) + timing(17, 10, 30),
+    )
+    codes = _codes(_findings(path))
+    assert ("duplicate-id", "SECOND", None, 16) in codes
+    assert ("duplicate-name", "FIRST", None, 19) in codes  # the second BO_ named FIRST
+
+
+def test_duplicate_ids_across_dbcs_of_one_network(write_dbc):
+    first = write_dbc(f"BO_ 16 A: 1 ECU\n SG_ S : 0|8@1+ (1,0) [0|255] {SIGNAL}\n", timing(16, 10, 30), name="a.dbc")
+    second = write_dbc(f"BO_ 16 B: 1 ECU\n SG_ T : 0|8@1+ (1,0) [0|255] {SIGNAL}\n", timing(16, 10, 30), name="b.dbc")
+    same_network = check([(load_dbc(first), "CAN2"), (load_dbc(second), "CAN2")])
+    assert [(f.code, f.message, f.path.name) for f in same_network] == [("duplicate-id", "B", "b.dbc")]
+    assert f"also used by A ({first}:13)" in str(same_network[0])
+    assert check([(load_dbc(first), "CAN2"), (load_dbc(second), "CAN3")]) == []
+    assert check([(load_dbc(first), None), (load_dbc(second), None)]) == []  # no network: each file alone
+
+
+def test_extended_and_standard_ids_do_not_collide(write_dbc):
+    path = write_dbc(
+        f"BO_ 16 STD: 1 ECU\n SG_ A : 0|8@1+ (1,0) [0|255] {SIGNAL}\n\n"
+        f"BO_ 2147483664 EXT: 1 ECU\n SG_ B : 0|8@1+ (1,0) [0|255] {SIGNAL}\n",
+        timing(16, 10, 30) + timing(2147483664, 10, 30) + 'BA_ "VFrameFormat" BO_ 2147483664 1;\n',
+    )
+    assert _findings(path) == []
+
+
+def test_missing_period_and_timeout(write_dbc):
+    path = write_dbc(
+        f"BO_ 16 NO_TIMEOUT: 1 ECU\n SG_ A : 0|8@1+ (1,0) [0|255] {SIGNAL}\n\n"
+        f"BO_ 17 NOTHING: 1 ECU\n SG_ B : 0|8@1+ (1,0) [0|255] {SIGNAL}\n",
+        timing(16, 20),
+    )
+    findings = _findings(path)
+    assert _codes(findings) == [
+        ("missing-timeout", "NO_TIMEOUT", None, 13),
+        ("missing-period", "NOTHING", None, 16),
+        ("missing-timeout", "NOTHING", None, 16),
+    ]
+    assert "no GenMsgTimeoutTime: using 3 × period = 60 ms" in str(findings[0])
+    assert "no period to derive it from" in str(findings[2])
+
+
+def test_attribute_default_counts_as_given(write_dbc):
+    path = write_dbc(f"BO_ 16 M: 1 ECU\n SG_ A : 0|8@1+ (1,0) [0|255] {SIGNAL}\n")
+    text = path.read_text().replace('BA_DEF_DEF_ "GenMsgCycleTime" 0;', 'BA_DEF_DEF_ "GenMsgCycleTime" 50;')
+    path.write_text(text.replace('BA_DEF_DEF_ "GenMsgTimeoutTime" 0;', 'BA_DEF_DEF_ "GenMsgTimeoutTime" 500;'))
+    assert _findings(path) == []
+
+
+def test_standard_id_above_0x7ff_is_reported_by_check_and_refused_elsewhere(write_dbc):
+    path = write_dbc(
+        f"BO_ 2048 TOO_BIG: 1 ECU\n SG_ A : 0|8@1+ (1,0) [0|255] {SIGNAL}\n",
+        timing(2048, 10, 30) + 'CM_ BO_ 2048 "kept with its message";\n',
+    )
+    (finding,) = _findings(path)
+    assert _codes([finding]) == [("id-format", "TOO_BIG", None, 13)]
+    assert "id 0x800 needs 29 bits" in str(finding) and "write 2147485696" in str(finding)
+    assert load_dbc(path, tolerant=True).database.messages[0].comment == "kept with its message"
+    with pytest.raises(InputError, match=r":13: message TOO_BIG: standard id 0x800 does not fit in 11 bits"):
+        load_dbc(path)
+
+
+def test_vframeformat_disagreeing_with_the_id(write_dbc):
+    path = write_dbc(
+        f"BO_ 16 SAYS_EXTENDED: 1 ECU\n SG_ A : 0|8@1+ (1,0) [0|255] {SIGNAL}\n\n"
+        f"BO_ 2147483665 SAYS_STANDARD: 1 ECU\n SG_ B : 0|8@1+ (1,0) [0|255] {SIGNAL}\n",
+        timing(16, 10, 30) + timing(2147483665, 10, 30)
+        + 'BA_ "VFrameFormat" BO_ 16 1;\nBA_ "VFrameFormat" BO_ 2147483665 0;\n',
+    )
+    findings = _findings(path)
+    assert _codes(findings) == [("id-format", "SAYS_EXTENDED", None, 13), ("id-format", "SAYS_STANDARD", None, 16)]
+    assert "VFrameFormat is ExtendedCAN but the id is standard" in str(findings[0])
+    assert "VFrameFormat is StandardCAN but the id is extended" in str(findings[1])
+
+
+def test_fixcal_name_collisions(write_dbc):
+    path = write_dbc(
+        f"BO_ 16 A: 1 ECU\n SG_ Level : 0|8@1+ (1,0) [0|255] {SIGNAL}\n\n"
+        f"BO_ 17 B: 1 PEER\n SG_ LEVEL : 0|8@1+ (1,0) [0|255] \"\" ECU\n\n"
+        f"BO_ 18 C: 1 PEER\n SG_ Level : 0|8@1+ (1,0) [0|255] \"\" Vector__XXX\n",
+        timing(16, 10, 30) + timing(17, 10, 30) + timing(18, 10, 30),
+    )
+    (finding,) = _findings(path)
+    assert _codes([finding]) == [("fixcal-collision", "A", "Level", 14)]
+    assert "cfLEVEL_EN/_VALUE would also be defined by B.LEVEL, C.Level" in str(finding)
+    (for_ecu,) = _findings(path, node="ECU")  # C is not in ECU's table
+    assert "defined by B.LEVEL" in str(for_ecu) and "C.Level" not in str(for_ecu)
+
+
+def test_can3_validation_dbc_shares_signal_names_between_messages():
+    findings = _findings(demo.dbc_can3(), network="CAN3")
+    assert {f.code for f in findings} == {"fixcal-collision"}
+    assert [f.signal for f in findings] == [f"Sgn{i}" for i in range(1, 9)]
+
+
+def test_unknown_node_in_check():
+    with pytest.raises(InputError, match="node 'BCM'"):
+        _findings(demo.dbc_can2(), node="BCM")
+
+
+def test_syntax_error_names_file_line_and_column(write_dbc):
+    path = write_dbc(f"BO_ 16 M: 1 ECU\n SG_ A 0|8@1+ (1,0) [0|255] {SIGNAL}\n")
+    with pytest.raises(InputError) as error:
+        load_dbc(path)
+    message = str(error.value)
+    assert message.startswith(f"{path}:14:8: Invalid syntax") and "\n" not in message
+
+
+def test_cantools_value_errors_become_one_line_input_errors(write_dbc):
+    path = write_dbc(f"BO_ 16 M: 1 ECU\n SG_ A : 0|8@1+ (1,0) [0|255] {SIGNAL}\n", 'VAL_ 99 A 1 "one" ;\n')
+    with pytest.raises(InputError, match=r"unused VAL_ entries in DBC: VAL_ 99 A$"):
+        load_dbc(path)
+
+
+def test_unreadable_file(tmp_path):
+    with pytest.raises(InputError, match=r"missing\.dbc: cannot read"):
+        load_dbc(tmp_path / "missing.dbc")
+
+
+def test_windows_1252_comments_load(write_dbc):
+    path = write_dbc(f"BO_ 16 M: 1 ECU\n SG_ A : 0|8@1+ (1,0) [0|255] {SIGNAL}\n", timing(16, 10, 30))
+    path.write_bytes(path.read_bytes() + 'CM_ SG_ 16 A "Öldruck in °C";\n'.encode("cp1252"))
+    assert load_dbc(path).database.messages[0].signals[0].comment == "Öldruck in °C"
+
+
+def test_signals_keep_file_order(write_dbc):
+    path = write_dbc(
+        f"BO_ 16 M: 2 ECU\n SG_ HIGH : 8|8@1+ (1,0) [0|255] {SIGNAL}\n SG_ LOW : 0|8@1+ (1,0) [0|255] {SIGNAL}\n",
+        timing(16, 10, 30),
+    )
+    dbc = load_dbc(path)
+    assert [s.name for s in dbc.database.messages[0].signals] == ["HIGH", "LOW"]
+    assert (dbc.message_line("M"), dbc.signal_line(13, "LOW"), dbc.message_line("M", 1)) == (13, 15, 0)
