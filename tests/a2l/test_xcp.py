@@ -1,0 +1,111 @@
+"""read_xcp_config: the IF_DATA XCP of a file, read through the generic IF_DATA tree."""
+
+import pytest
+
+from workbench import demo
+from workbench.a2l import load, loads
+from workbench.a2l.ifdata import Word, read_if_data
+from workbench.a2l.xcp import XcpDaqListCanId, read_xcp_config
+from workbench.errors import A2lParseError
+
+
+@pytest.fixture
+def config(fixtures):
+    return read_xcp_config(load(fixtures / "xcp_ecu.a2l"))
+
+
+def test_protocol_layer(config):
+    assert config.protocol_version == 0x0104
+    assert config.timeouts.t1 == pytest.approx(0.025)
+    assert config.timeouts.t7 == pytest.approx(0.050)
+    assert (config.max_cto, config.max_dto) == (8, 8)
+    assert config.byte_order == "MSB_FIRST"
+    assert config.address_granularity == 2
+    assert config.optional_commands == {"GET_ID", "SHORT_UPLOAD"}
+    assert config.communication_mode.interleaved_queue_size == 4
+    assert not config.communication_mode.master_block_mode
+    assert config.seed_and_key_function == "SeedNKey.dll"
+
+
+def test_daq_properties_and_events(config):
+    daq = config.daq
+    assert (daq.config_type, daq.max_daq, daq.max_event_channels, daq.min_daq) == ("STATIC", 2, 2, 1)
+    assert daq.identification_field == "RELATIVE_WORD" and daq.pid_size == 3
+    assert daq.granularity == 2 and daq.max_odt_entry_size == 6
+    assert daq.overload_indication == "OVERLOAD_INDICATION_PID" and daq.prescaler_supported
+    assert daq.timestamp.size == 2 and daq.timestamp.unit_s == pytest.approx(1e-6)
+    assert daq.timestamp.ticks == 10 and daq.timestamp.fixed
+    assert daq.timestamp.resolution_s == pytest.approx(1e-5)
+    fast, background = daq.events
+    assert (fast.number, fast.name, fast.short_name, fast.priority) == (0, "10 ms task", "10ms", 0x10)
+    assert fast.period_s == pytest.approx(0.010)
+    assert background.period_s is None and background.direction == "DAQ_STIM"
+    assert daq.event("bg") is background
+
+
+def test_pages_segments_and_sectors(config):
+    assert config.max_segments == 1 and config.freeze_supported
+    (segment,) = config.segments
+    assert (segment.memory_segment, segment.address, segment.size) == ("Cal", 0x20000000, 0x1000)
+    assert (segment.number, segment.page_count) == (1, 2)
+    assert segment.checksum_type == "XCP_ADD_44"
+    assert segment.pages[0].init_segment == 1
+    assert segment.pages[1].xcp_write_access == "XCP_WRITE_ACCESS_WITH_ECU_ONLY"
+    assert segment.address_mappings[0].destination == 0x9000
+    (sector,) = config.pgm.sectors
+    assert (sector.name, sector.address, sector.length, sector.clear_sequence) == ("Code", 0, 0x8000, 1)
+
+
+def test_can_extended_ids_and_daq_list_ids(config):
+    can = config.can
+    assert can.can_id_master == 0x12345 and can.can_id_master_is_extended
+    assert can.can_id_slave == 0x12346 and can.can_id_slave_is_extended
+    assert can.can_id_broadcast == 0x100
+    assert (can.baudrate, can.sample_point, can.max_dlc_required) == (500000, 75, False)
+    assert can.daq_list_can_ids == (XcpDaqListCanId(0, 0x310, True), XcpDaqListCanId(1, None, False))
+    assert (can.max_dlc, can.fd_data_baudrate) == (64, 2000000)
+
+
+def test_ethernet(config):
+    assert (config.udp.port, config.udp.host) == (5555, "192.168.0.10")
+    assert (config.tcp.protocol, config.tcp.port, config.tcp.host) == ("TCP", 5556, "ecu.local")
+
+
+def test_mod_par_accessors(fixtures):
+    doc = load(fixtures / "xcp_ecu.a2l")
+    assert doc.epk() == "EPK_2024_01" and doc.addr_epk() == 0x8000
+    assert [(s.name, s.memory_type, s.address, s.size) for s in doc.memory_segments()] == [
+        ("Code", "FLASH", 0, 0x8000), ("Cal", "RAM", 0x20000000, 0x1000)]
+
+
+def test_generic_if_data_tree(fixtures):
+    doc = load(fixtures / "xcp_ecu.a2l")
+    (if_data,) = doc.module().children_named("IF_DATA")
+    tree = read_if_data(if_data)
+    assert tree.values == ("XCP",) and isinstance(tree.values[0], Word)
+    event = tree.block("DAQ").blocks("EVENT")[0]
+    assert event.values[:4] == ("10 ms task", "10ms", 0, "DAQ")
+    assert not isinstance(event.values[0], Word) and isinstance(event.values[3], Word)
+    assert event.location[1:] == (38, 9)
+
+
+def test_demo_master_states_the_demo_contract():
+    config = read_xcp_config(load(demo.master_a2l()))
+    assert (config.can.can_id_master, config.can.can_id_slave) == (0x7F0, 0x7F1)
+    assert not config.can.can_id_master_is_extended
+    assert config.can.baudrate == 1_000_000 and config.max_cto == config.max_dto == 8
+    assert config.daq.identification_field == "ABSOLUTE" and config.daq.max_odt_entry_size == 4
+    assert config.daq.timestamp.size == 4 and config.daq.timestamp.unit_s == pytest.approx(1e-5)
+    assert [(e.number, e.name, e.period_s) for e in config.daq.events] == [
+        (0, "Task4ms", pytest.approx(0.004)), (1, "Task50ms", pytest.approx(0.05)),
+        (2, "Task100ms", pytest.approx(0.1))]
+    (segment,) = config.segments
+    assert segment.address_mappings[0].source == 0x40000000
+    assert segment.address_mappings[0].destination == 0xFC0000
+
+
+def test_missing_if_data_is_an_error():
+    doc = loads('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n/begin MODULE M ""\n/end MODULE\n/end PROJECT\n')
+    with pytest.raises(A2lParseError, match="no IF_DATA XCP") as info:
+        read_xcp_config(doc)
+    assert info.value.line == 3

@@ -1,0 +1,410 @@
+"""An A2L file held as its original bytes plus token and block indexes.
+
+:func:`load` reads a file (splicing ``/include``\\ s), tokenizes, pairs the blocks and
+validates them against the ASAP2 keyword table. Nothing is converted to objects up
+front: a :class:`Block` is a light view (document + row number) and values are
+parsed when asked for, so reading a 10 MB file costs a fraction of a second and
+writing it back unchanged gives the same bytes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from workbench.a2l import grammar
+from workbench.a2l.includes import splice_includes
+from workbench.a2l.source import SourceFile, SourceMap, read_source, source_from_text
+from workbench.a2l.tokens import Tokens
+from workbench.a2l.tree import BlockTable, find_directives, parse_blocks
+from workbench.a2l.values import is_int, is_number, parse_int, parse_number, parse_string
+from workbench.errors import A2lParseError
+
+__all__ = ["A2lDocument", "Block", "MemorySegment", "load", "loads"]
+
+
+def load(path: str | Path, *, validate: bool = True) -> "A2lDocument":
+    """Read the A2L file at ``path`` (with its ``/include``\\ s spliced in).
+
+    ``validate`` checks every known block against the ASAP2 keyword table (parameter
+    count and kinds, keywords in the right place). Raises :class:`InputError` when the
+    file cannot be read and :class:`A2lParseError` (path, line, column) when it is malformed.
+    """
+    return A2lDocument.from_source(read_source(path), validate=validate)
+
+
+def loads(text: str, path: str | Path | None = None, *, validate: bool = True) -> "A2lDocument":
+    """Parse A2L text; ``path`` names it in errors and anchors relative ``/include``\\ s."""
+    return A2lDocument.from_source(source_from_text(text, path), validate=validate)
+
+
+@dataclass(frozen=True)
+class MemorySegment:
+    """A MOD_PAR MEMORY_SEGMENT; ``address`` and ``size`` in bytes."""
+
+    name: str
+    long_identifier: str
+    prg_type: str  # CODE, DATA, OFFLINE_DATA, VARIABLES, ...
+    memory_type: str  # FLASH, RAM, EEPROM, ...
+    attribute: str  # INTERN / EXTERN
+    address: int
+    size: int
+    block: "Block"
+
+    def contains(self, address: int, size: int = 1) -> bool:
+        return self.address <= address and address + size <= self.address + self.size
+
+
+class A2lDocument:
+    """One A2L file (includes spliced in): bytes, tokens and the block tree over them."""
+
+    def __init__(self, data: bytes, source_map: SourceMap, tokens: Tokens, blocks: BlockTable, includes: int = 0):
+        self.data = data
+        self.source_map = source_map
+        self.tokens = tokens
+        self.blocks = blocks
+        self.include_count = includes
+        self._begin = blocks.begin.tolist()
+        self._end = blocks.end.tolist()
+
+    @classmethod
+    def from_source(cls, source: SourceFile, *, validate: bool = True) -> "A2lDocument":
+        data, source_map, tokens, includes = splice_includes(source)
+        begins, ends, _ = find_directives(tokens, source_map)
+        document = cls(data, source_map, tokens, parse_blocks(tokens, begins, ends, source_map), includes)
+        if validate:
+            from workbench.a2l.validate import validate_document
+
+            validate_document(document)
+        return document
+
+    # -- the file as a whole -------------------------------------------------------
+    @property
+    def source(self) -> SourceFile:
+        """The main file (the one loaded; included files are in :attr:`source_map`)."""
+        return self.source_map.main
+
+    @property
+    def path(self) -> Path | None:
+        return self.source.path
+
+    @property
+    def name(self) -> str:
+        return self.source.name
+
+    @property
+    def encoding(self) -> str:
+        return self.source.encoding
+
+    def position(self, offset: int) -> tuple[str, int, int]:
+        """(file, line, column) of a byte offset of :attr:`data`, in the file it came from."""
+        return self.source_map.position(offset)
+
+    def token_position(self, token: int) -> tuple[str, int, int]:
+        return self.position(self.tokens.starts_list[token])
+
+    def error(self, message: str, token: int) -> A2lParseError:
+        """An :class:`A2lParseError` located at ``token``."""
+        return self.source_map.error(message, self.tokens.starts_list[token])
+
+    # -- token values --------------------------------------------------------------
+    def raw(self, token: int) -> bytes:
+        return self.tokens.raw(token)
+
+    def text(self, token: int) -> str:
+        """A token as text: a string without quotes, anything else as written."""
+        raw = self.tokens.raw(token)
+        if raw[:1] == b'"':
+            return parse_string(raw, self.encoding)
+        return raw.decode(self.encoding)
+
+    def int_value(self, token: int) -> int:
+        """An integer token; raises :class:`A2lParseError` at it when it is not one."""
+        raw = self.tokens.raw(token)
+        if not is_int(raw):
+            raise self.error(f"expected an integer, found '{raw.decode(self.encoding)}'", token)
+        return parse_int(raw)
+
+    def number_value(self, token: int) -> int | float:
+        raw = self.tokens.raw(token)
+        if not is_number(raw):
+            raise self.error(f"expected a number, found '{raw.decode(self.encoding)}'", token)
+        return parse_number(raw)
+
+    def value(self, token: int) -> int | float | str:
+        """A number if the token is one, else its text."""
+        raw = self.tokens.raw(token)
+        if is_number(raw):
+            return parse_number(raw)
+        return self.text(token)
+
+    # -- blocks ----------------------------------------------------------------------
+    def block(self, index: int) -> "Block":
+        return Block(self, index)
+
+    def top_blocks(self) -> list["Block"]:
+        return [Block(self, int(i)) for i in self.blocks.children(-1)]
+
+    def blocks_named(self, keyword: str) -> list["Block"]:
+        """Every block with this keyword, anywhere, in document order."""
+        return [Block(self, i) for i, kw in enumerate(self.blocks.keyword) if kw == keyword]
+
+    @property
+    def project(self) -> "Block":
+        for block in self.top_blocks():
+            if block.keyword == "PROJECT":
+                return block
+        raise A2lParseError("no /begin PROJECT in the file", self.name, 1, 1)
+
+    @property
+    def modules(self) -> list["Block"]:
+        return self.project.children_named("MODULE")
+
+    def module(self, name: str | None = None) -> "Block":
+        """The MODULE called ``name``, or the only one when ``name`` is None."""
+        modules = self.modules
+        if name is None:
+            if len(modules) != 1:
+                raise A2lParseError(f"expected exactly one MODULE, found {len(modules)}", self.name,
+                                    *self.project.position[1:])
+            return modules[0]
+        for module in modules:
+            if module.name == name:
+                return module
+        raise A2lParseError(f"no MODULE named {name!r}", self.name, *self.project.position[1:])
+
+    def mod_par(self, module: str | None = None) -> "Block | None":
+        return self.module(module).first("MOD_PAR")
+
+    def mod_common(self, module: str | None = None) -> "Block | None":
+        return self.module(module).first("MOD_COMMON")
+
+    def epk_token(self, module: str | None = None) -> int | None:
+        """The token of MOD_PAR's EPK string, if there is one."""
+        mod_par = self.mod_par(module)
+        option = mod_par.option("EPK") if mod_par is not None else None
+        return option[0] if option else None
+
+    def epk(self, module: str | None = None) -> str | None:
+        """MOD_PAR EPK: the software identifier the ECU must report."""
+        token = self.epk_token(module)
+        return self.text(token) if token is not None else None
+
+    def addr_epk(self, module: str | None = None) -> int | None:
+        """MOD_PAR ADDR_EPK: where the ECU holds its EPK string."""
+        mod_par = self.mod_par(module)
+        option = mod_par.option("ADDR_EPK") if mod_par is not None else None
+        return self.int_value(option[0]) if option else None
+
+    def memory_segments(self, module: str | None = None) -> list[MemorySegment]:
+        mod_par = self.mod_par(module)
+        if mod_par is None:
+            return []
+        segments = []
+        for block in mod_par.children_named("MEMORY_SEGMENT"):
+            args = block.args
+            if len(args) < 7:
+                raise self.error("MEMORY_SEGMENT needs name, description, type, memory, attribute, address, size",
+                                 block.keyword_token)
+            name, long_id, prg, memory, attribute = (self.text(t) for t in args[:5])
+            segments.append(MemorySegment(name, long_id, prg, memory, attribute,
+                                          self.int_value(args[5]), self.int_value(args[6]), block))
+        return segments
+
+    def objects(self, keyword: str, module: str | None = None) -> list["Block"]:
+        """The MODULE's direct children with this keyword (MEASUREMENT, CHARACTERISTIC ...)."""
+        return self.module(module).children_named(keyword)
+
+    def option_tokens(self, block_keyword: str, option: str) -> dict[int, int]:
+        """For every block with ``block_keyword`` that has the keyword ``option`` at its own level:
+        block index -> token index of that keyword. Found with vectorized searches, not a walk."""
+        tokens = self.tokens.matching(option.encode("ascii"))
+        if not len(tokens):
+            return {}
+        owners = self._innermost_blocks(tokens)
+        keyword = self.blocks.keyword
+        skip = len(grammar.BLOCKS[block_keyword].params) if block_keyword in grammar.BLOCKS else 0
+        result: dict[int, int] = {}
+        for token, owner in zip(tokens.tolist(), owners.tolist()):
+            # a token before the options is a positional parameter that happens to spell the keyword
+            if owner >= 0 and keyword[owner] == block_keyword and token >= self._begin[owner] + 2 + skip:
+                result.setdefault(owner, token)
+        return result
+
+    def _innermost_blocks(self, tokens: np.ndarray) -> np.ndarray:
+        """The innermost block containing each token (-1: top level)."""
+        begin, end, parent = self.blocks.begin, self.blocks.end, self.blocks.parent
+        owner = np.searchsorted(begin, tokens, side="right") - 1
+        while True:
+            valid = owner >= 0
+            outside = np.zeros(len(owner), dtype=bool)
+            outside[valid] = end[owner[valid]] < tokens[valid]
+            if not outside.any():
+                return owner
+            owner[outside] = parent[owner[outside]]
+
+
+class Block:
+    """A view of one ``/begin KEYWORD ... /end KEYWORD`` block of a document."""
+
+    __slots__ = ("doc", "index")
+
+    def __init__(self, doc: A2lDocument, index: int):
+        self.doc = doc
+        self.index = index
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, Block) and other.doc is self.doc and other.index == self.index
+
+    def __hash__(self) -> int:
+        return hash((id(self.doc), self.index))
+
+    def __repr__(self) -> str:
+        name = self.name
+        return f"<Block {self.keyword}{' ' + name if name else ''} at {self.position[1]}:{self.position[2]}>"
+
+    @property
+    def keyword(self) -> str:
+        return self.doc.blocks.keyword[self.index]
+
+    @property
+    def spec(self) -> grammar.BlockSpec | None:
+        return grammar.BLOCKS.get(self.keyword)
+
+    @property
+    def begin_token(self) -> int:
+        """The ``/begin`` token."""
+        return self.doc._begin[self.index]
+
+    @property
+    def keyword_token(self) -> int:
+        return self.doc._begin[self.index] + 1
+
+    @property
+    def end_token(self) -> int:
+        """The ``/end`` token (the closing keyword is the next one)."""
+        return self.doc._end[self.index]
+
+    @property
+    def span(self) -> tuple[int, int]:
+        """Byte offsets from ``/begin`` to the end of the closing keyword."""
+        tokens = self.doc.tokens
+        return tokens.starts_list[self.begin_token], tokens.ends_list[self.end_token + 1]
+
+    @property
+    def position(self) -> tuple[str, int, int]:
+        """(file, line, column) of the ``/begin``."""
+        return self.doc.token_position(self.begin_token)
+
+    @property
+    def parent(self) -> "Block | None":
+        parent = int(self.doc.blocks.parent[self.index])
+        return Block(self.doc, parent) if parent >= 0 else None
+
+    @property
+    def children(self) -> list["Block"]:
+        return [Block(self.doc, i) for i in self.doc.blocks.children(self.index).tolist()]
+
+    def children_named(self, keyword: str) -> list["Block"]:
+        keywords = self.doc.blocks.keyword
+        return [Block(self.doc, i) for i in self.doc.blocks.children(self.index).tolist() if keywords[i] == keyword]
+
+    def first(self, keyword: str) -> "Block | None":
+        found = self.children_named(keyword)
+        return found[0] if found else None
+
+    @property
+    def own_tokens(self) -> list[int]:
+        """Tokens at this block's level after its keyword (child blocks left out)."""
+        doc = self.doc
+        tokens: list[int] = []
+        position = self.keyword_token + 1
+        for child in doc.blocks.children(self.index).tolist():
+            tokens.extend(range(position, doc._begin[child]))
+            position = doc._end[child] + 2
+        tokens.extend(range(position, self.end_token))
+        return tokens
+
+    @property
+    def args(self) -> list[int]:
+        """The positional parameters (name first) as the keyword table defines them;
+        every own token for a block the table does not know."""
+        return self.layout()[0]
+
+    @property
+    def name(self) -> str | None:
+        """The first parameter when the block has a name or tag (MEASUREMENT x, IF_DATA XCP)."""
+        spec = self.spec
+        if spec is not None and (not spec.params or spec.params[0] != "ident") and not spec.free:
+            return None
+        first = self.keyword_token + 1
+        if first >= self.end_token:
+            return None
+        raw = self.doc.tokens.raw(first)
+        return None if raw[:1] in (b'"', b"/") else raw.decode(self.doc.encoding)
+
+    @property
+    def name_token(self) -> int:
+        return self.keyword_token + 1
+
+    def layout(self) -> tuple[list[int], list[tuple[str, list[int]]]]:
+        """(positional parameter tokens, [(option keyword, its parameter tokens), ...]).
+
+        Lenient: a keyword the table does not know takes the tokens up to the next
+        known keyword. :mod:`workbench.a2l.validate` is the strict counterpart.
+        """
+        own = self.own_tokens
+        spec = self.spec
+        if spec is None or spec.free:
+            return own, []
+        count = len(spec.params)
+        if spec.repeat and len(own) >= count:
+            raw = self.doc.raw(own[count - 1])
+            if is_int(raw):
+                count += parse_int(raw) * len(spec.repeat)
+        if spec.items:
+            count = len(own)
+            for i, token in enumerate(own):
+                if self.doc.raw(token).decode("latin-1") in spec.options:
+                    count = i
+                    break
+        return own[:count], _options(self.doc, own[count:])
+
+    def option(self, keyword: str) -> list[int] | None:
+        """The parameter tokens of the first ``keyword`` option at this level, or None."""
+        for name, params in self.layout()[1]:
+            if name == keyword:
+                return params
+        return None
+
+    def options(self, keyword: str) -> list[list[int]]:
+        return [params for name, params in self.layout()[1] if name == keyword]
+
+    def text(self) -> str:
+        start, end = self.span
+        return self.doc.data[start:end].decode(self.doc.encoding)
+
+
+def _options(doc: A2lDocument, tokens: list[int]) -> list[tuple[str, list[int]]]:
+    options: list[tuple[str, list[int]]] = []
+    i = 0
+    while i < len(tokens):
+        keyword = doc.raw(tokens[i]).decode("latin-1")
+        kinds = grammar.OPTIONS.get(keyword)
+        i += 1
+        if kinds == ("int*",):
+            start = i
+            while i < len(tokens) and is_int(doc.raw(tokens[i])):
+                i += 1
+            options.append((keyword, tokens[start:i]))
+        elif kinds is not None:
+            options.append((keyword, tokens[i : i + len(kinds)]))
+            i += len(kinds)
+        else:
+            start = i
+            while i < len(tokens) and doc.raw(tokens[i]).decode("latin-1") not in grammar.OPTIONS:
+                i += 1
+            options.append((keyword, tokens[start:i]))
+    return options

@@ -1,0 +1,163 @@
+"""A2L file bytes: encoding and newline detection, and offset -> file:line:column.
+
+The reader works on the file's bytes (every A2L keyword and number is ASCII), so
+unchanged bytes are written back untouched whatever the encoding. Text is decoded
+only where a value is needed. An A2L is UTF-8 (with or without BOM) or, when it is
+not valid UTF-8, latin-1 (the two encodings met in the wild).
+"""
+
+from __future__ import annotations
+
+import bisect
+import codecs
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from workbench.errors import A2lParseError, InputError
+
+_UTF8_BOM = codecs.BOM_UTF8
+_UNSUPPORTED_BOMS = (
+    (codecs.BOM_UTF32_LE, "UTF-32"), (codecs.BOM_UTF32_BE, "UTF-32"),
+    (codecs.BOM_UTF16_LE, "UTF-16"), (codecs.BOM_UTF16_BE, "UTF-16"),
+)
+
+
+@dataclass(eq=False)
+class SourceFile:
+    """One A2L file as read: its bytes after the BOM, and how to write it back the same way."""
+
+    path: Path | None
+    data: bytes = field(repr=False)
+    encoding: str  # "utf-8" or "latin-1"
+    bom: bytes = b""
+    newline: str = "\n"
+    _line_starts: np.ndarray | None = field(default=None, repr=False)
+
+    @property
+    def name(self) -> str:
+        return str(self.path) if self.path is not None else "<string>"
+
+    def line_starts(self) -> np.ndarray:
+        """Byte offsets at which each line starts (line 1 at index 0)."""
+        if self._line_starts is None:
+            sep = ord("\r") if self.newline == "\r" else ord("\n")
+            breaks = np.flatnonzero(np.frombuffer(self.data, np.uint8) == sep) + 1
+            self._line_starts = np.concatenate(([0], breaks)).astype(np.int64)
+        return self._line_starts
+
+    def position(self, offset: int) -> tuple[int, int]:
+        """1-based (line, column) of a byte offset; the column counts characters, not bytes."""
+        starts = self.line_starts()
+        line = int(np.searchsorted(starts, offset, side="right"))
+        line_start = int(starts[line - 1])
+        column = len(self.data[line_start:offset].decode(self.encoding, "replace")) + 1
+        return line, column
+
+    def error(self, message: str, offset: int) -> A2lParseError:
+        line, column = self.position(offset)
+        return A2lParseError(message, self.name, line, column)
+
+
+def read_source(path: str | Path) -> SourceFile:
+    """Read an A2L file; raises :class:`InputError` if it cannot be read and
+    :class:`A2lParseError` if it is not text in a supported encoding."""
+    path = Path(path)
+    try:
+        raw = path.read_bytes()
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file") from None
+    except IsADirectoryError:
+        raise InputError(f"{path}: is a folder, not an A2L file") from None
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read ({exc.strerror})") from None
+    return decode_source(raw, path)
+
+
+def source_from_text(text: str, path: str | Path | None = None) -> SourceFile:
+    """A source made from a string (tests, generated text); it is stored as UTF-8."""
+    return decode_source(text.encode("utf-8"), Path(path) if path is not None else None)
+
+
+def decode_source(raw: bytes, path: Path | None) -> SourceFile:
+    """Detect BOM, encoding and newline style of ``raw``."""
+    name = str(path) if path is not None else "<string>"
+    for bom, label in _UNSUPPORTED_BOMS:
+        if raw.startswith(bom):
+            raise A2lParseError(f"{label} encoded A2L files are not supported; save it as UTF-8", name, 1, 1)
+    bom = _UTF8_BOM if raw.startswith(_UTF8_BOM) else b""
+    data = raw[len(bom):]
+    try:
+        data.decode("utf-8")
+        encoding = "utf-8"
+    except UnicodeDecodeError as exc:
+        if bom:
+            probe = SourceFile(path, data, "latin-1")
+            line, column = probe.position(exc.start)
+            raise A2lParseError(
+                f"invalid UTF-8 byte 0x{data[exc.start]:02X} although the file starts with a UTF-8 BOM",
+                name, line, column,
+            ) from None
+        encoding = "latin-1"
+    nul = data.find(b"\0")
+    source = SourceFile(path, data, encoding, bom, _detect_newline(data))
+    if nul >= 0:
+        raise source.error("NUL byte: this is a binary file, not an A2L file", nul)
+    return source
+
+
+def _detect_newline(data: bytes) -> str:
+    first = data.find(b"\n")
+    if first > 0 and data[first - 1 : first] == b"\r":
+        return "\r\n"
+    if first < 0 and b"\r" in data:
+        return "\r"
+    return "\n"
+
+
+@dataclass(frozen=True)
+class Segment:
+    """A run of a document's buffer that was copied from one file (includes are spliced in)."""
+
+    offset: int  # where the run starts in the document buffer
+    length: int
+    source: SourceFile
+    source_offset: int  # where the run starts in ``source.data``
+
+
+class SourceMap:
+    """Maps offsets of a document buffer (a file with its includes spliced in) back to files."""
+
+    def __init__(self, segments: list[Segment]):
+        self.segments = segments
+        self._offsets = [segment.offset for segment in segments]
+
+    @classmethod
+    def single(cls, source: SourceFile) -> "SourceMap":
+        return cls([Segment(0, len(source.data), source, 0)])
+
+    @property
+    def main(self) -> SourceFile:
+        return self.segments[0].source
+
+    def locate(self, offset: int) -> tuple[SourceFile, int]:
+        """The file a buffer offset came from, and the offset inside that file."""
+        index = max(bisect.bisect_right(self._offsets, offset) - 1, 0)
+        segment = self.segments[index]
+        return segment.source, segment.source_offset + (offset - segment.offset)
+
+    def position(self, offset: int) -> tuple[str, int, int]:
+        """(file name, line, column) of a buffer offset."""
+        source, local = self.locate(offset)
+        return (source.name, *source.position(local))
+
+    def error(self, message: str, offset: int) -> A2lParseError:
+        source, local = self.locate(offset)
+        return source.error(message, local)
+
+    def files(self) -> list[SourceFile]:
+        seen: dict[int, SourceFile] = {}
+        for segment in self.segments:
+            seen.setdefault(id(segment.source), segment.source)
+        return list(seen.values())

@@ -1,0 +1,139 @@
+"""Split A2L bytes into tokens without making an object per token.
+
+One compiled regex finds the strings and comments (the only places where whitespace
+does not separate tokens); numpy then finds every token's start and end offset. A
+10 MB file becomes two int64 arrays in a few hundred milliseconds; the bytes of a
+token are sliced out only when someone asks for them.
+"""
+
+from __future__ import annotations
+
+import itertools
+import re
+
+import numpy as np
+
+from workbench.a2l.source import SourceMap
+
+# A string ("..." with \x escapes or "" for a quote), a block comment or a line
+# comment. The trailing '"?' and '\Z' let an unterminated one match so that it can
+# be reported at its start instead of silently swallowing the file.
+_OPAQUE = re.compile(rb'"[^"\\]*(?:(?:\\.|"")[^"\\]*)*"?|/\*.*?(?:\*/|\Z)|//[^\n]*', re.S)
+
+_IN_COMMENT, _IN_STRING = 1, 2
+
+
+class Tokens:
+    """Token ``i`` is ``data[starts[i]:ends[i]]``; strings keep their quotes."""
+
+    __slots__ = ("data", "starts", "ends", "_starts_list", "_ends_list")
+
+    def __init__(self, data: bytes, starts: np.ndarray, ends: np.ndarray):
+        self.data = data
+        self.starts = starts
+        self.ends = ends
+        self._starts_list: list[int] | None = None
+        self._ends_list: list[int] | None = None
+
+    def __len__(self) -> int:
+        return len(self.starts)
+
+    @property
+    def starts_list(self) -> list[int]:
+        """``starts`` as Python ints (indexing a list is much faster than a numpy array)."""
+        if self._starts_list is None:
+            self._starts_list = self.starts.tolist()
+        return self._starts_list
+
+    @property
+    def ends_list(self) -> list[int]:
+        if self._ends_list is None:
+            self._ends_list = self.ends.tolist()
+        return self._ends_list
+
+    def raw(self, index: int) -> bytes:
+        return self.data[self.starts_list[index] : self.ends_list[index]]
+
+    def raw_many(self, indices) -> list[bytes]:
+        data, starts, ends = self.data, self.starts_list, self.ends_list
+        return [data[starts[i] : ends[i]] for i in indices]
+
+    def first_bytes(self) -> np.ndarray:
+        """The first byte of every token (``"`` for strings, ``/`` for directives ...)."""
+        return np.frombuffer(self.data, np.uint8)[self.starts] if len(self.starts) else np.zeros(0, np.uint8)
+
+    def matching(self, word: bytes, candidates: np.ndarray | None = None) -> np.ndarray:
+        """Indices of the tokens (among ``candidates``, default all) whose bytes equal ``word``."""
+        indices = np.arange(len(self.starts)) if candidates is None else candidates
+        lengths = self.ends[indices] - self.starts[indices]
+        indices = indices[lengths == len(word)]
+        if not len(indices) or not word:
+            return indices
+        buffer = np.frombuffer(self.data, np.uint8)
+        starts = self.starts[indices]
+        keep = np.ones(len(indices), dtype=bool)
+        for k, char in enumerate(word):
+            keep &= buffer[starts + k] == char
+        return indices[keep]
+
+
+def tokenize(data: bytes, source_map: SourceMap) -> Tokens:
+    """Tokenize ``data``; raises :class:`A2lParseError` at an unterminated string or comment."""
+    size = len(data)
+    if size == 0:
+        empty = np.zeros(0, dtype=np.int64)
+        return Tokens(data, empty, empty)
+    buffer = np.frombuffer(data, np.uint8)
+    flat = itertools.chain.from_iterable(match.span() for match in _OPAQUE.finditer(data))
+    spans = np.fromiter(flat, dtype=np.int64).reshape(-1, 2)
+    opaque_starts, opaque_ends = spans[:, 0], spans[:, 1]
+    is_string = buffer[opaque_starts] == 0x22
+    _check_terminated(data, buffer, opaque_starts, opaque_ends, is_string, source_map)
+    # region code per byte: 0 between, 1 in a comment, 2 in a string
+    edges = np.empty(2 * len(spans) + 2, dtype=np.int64)
+    edges[0], edges[-1] = 0, size
+    edges[1:-1] = spans.ravel()
+    codes = np.zeros(len(edges) - 1, dtype=np.uint8)
+    codes[1::2] = np.where(is_string, _IN_STRING, _IN_COMMENT)
+    region = np.repeat(codes, np.diff(edges))
+    solid = buffer > 0x20  # every A2L blank (space, tab, CR, LF, FF, VT) is a control character or space
+    solid &= region == 0
+    solid |= region == _IN_STRING
+    # a token boundary is a change between solid and blank, or either end of a string
+    boundary = np.ones(size + 1, dtype=bool)
+    np.not_equal(solid[1:], solid[:-1], out=boundary[1:size])
+    boundary[opaque_starts[is_string]] = True
+    boundary[opaque_ends[is_string]] = True
+    cuts = np.flatnonzero(boundary)
+    head = cuts[:-1] if cuts[-1] == size else cuts
+    tail = cuts[1:] if cuts[0] == 0 else cuts
+    return Tokens(data, head[solid[head]], tail[solid[tail - 1]])
+
+
+def _check_terminated(data: bytes, buffer: np.ndarray, starts: np.ndarray, ends: np.ndarray,
+                      is_string: np.ndarray, source_map: SourceMap) -> None:
+    """Raise at the first string or block comment that runs to the end of the file."""
+    last = buffer[ends - 1]
+    length = ends - starts
+    bad_string = is_string & ((length < 2) | (last != 0x22))
+    is_block_comment = ~is_string & (buffer[np.minimum(starts + 1, len(buffer) - 1)] == 0x2A)
+    bad_comment = is_block_comment & ((length < 4) | (last != 0x2F) | (buffer[ends - 2] != 0x2A))
+    # a string whose closing quote is escaped (\" at the end of the file)
+    suspicious = np.flatnonzero(is_string & ~bad_string & (buffer[ends - 2] == 0x5C) & (length > 2))
+    for index in suspicious.tolist():
+        bad_string[index] = _escaped_quote_at_end(data, int(starts[index]), int(ends[index]))
+    bad = np.flatnonzero(bad_string | bad_comment)
+    if len(bad):
+        first = int(bad[0])
+        what = "string (no closing '\"')" if is_string[first] else "comment (no closing '*/')"
+        raise source_map.error(f"unterminated {what}", int(starts[first]))
+
+
+def _escaped_quote_at_end(data: bytes, start: int, end: int) -> bool:
+    """True when the closing quote the regex stopped at is really an escaped one (``\\"`` at EOF)."""
+    backslashes = 0
+    position = end - 2
+    while position > start and data[position] == 0x5C:
+        backslashes += 1
+        position -= 1
+    return backslashes % 2 == 1

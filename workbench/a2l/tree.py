@@ -1,0 +1,131 @@
+"""The ``/begin KEYWORD ... /end KEYWORD`` block tree over a token table.
+
+Blocks are rows of a few numpy arrays (document order); pairing begins with ends is
+done with a sort by nesting level instead of a Python stack walk over every event.
+When the file is malformed a plain stack walk finds the first problem in file order
+and reports it with its position.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from workbench.a2l.source import SourceMap
+from workbench.a2l.tokens import Tokens
+
+_IDENT_START = np.zeros(256, dtype=bool)
+_IDENT_START[list(b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_")] = True
+
+
+@dataclass
+class BlockTable:
+    """Block ``b`` spans tokens ``begin[b]`` (``/begin``) to ``end[b] + 1`` (the keyword after ``/end``)."""
+
+    begin: np.ndarray
+    end: np.ndarray
+    keyword: list[str]
+    parent: np.ndarray  # -1 for a top-level block
+    _child_order: np.ndarray
+    _child_offsets: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.begin)
+
+    def children(self, block: int) -> np.ndarray:
+        """Indices of the direct children of ``block`` (-1: the top level), in document order."""
+        slot = block + 1
+        return self._child_order[self._child_offsets[slot] : self._child_offsets[slot + 1]]
+
+
+def find_directives(tokens: Tokens, source_map: SourceMap) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Token indices of ``/begin``, ``/end`` and ``/include``; any other ``/word`` is an error."""
+    slash = np.flatnonzero(tokens.first_bytes() == ord("/"))
+    begins = tokens.matching(b"/begin", slash)
+    ends = tokens.matching(b"/end", slash)
+    includes = tokens.matching(b"/include", slash)
+    if len(begins) + len(ends) + len(includes) != len(slash):
+        known = np.concatenate((begins, ends, includes))
+        stray = int(np.setdiff1d(slash, known)[0])
+        raise source_map.error(
+            f"unexpected '{_shown(tokens.raw(stray))}' (expected /begin, /end or /include)",
+            tokens.starts_list[stray],
+        )
+    return begins, ends, includes
+
+
+def parse_blocks(tokens: Tokens, begins: np.ndarray, ends: np.ndarray, source_map: SourceMap) -> BlockTable:
+    """Pair every ``/begin X`` with its ``/end X``; raises :class:`A2lParseError` at the first mismatch."""
+    _check_keywords_follow(tokens, begins, "/begin", source_map)
+    _check_keywords_follow(tokens, ends, "/end", source_map)
+    events = np.concatenate((begins, ends))
+    signs = np.concatenate((np.ones(len(begins), np.int64), -np.ones(len(ends), np.int64)))
+    by_position = np.argsort(events, kind="stable")
+    events, signs = events[by_position], signs[by_position]
+    depth = np.cumsum(signs)
+    if len(depth) and (depth.min() < 0 or depth[-1] != 0):
+        _diagnose(tokens, events, signs, source_map)
+    # A begin at level L is closed by the next end at level L (depth before that end).
+    level = np.where(signs > 0, depth, depth + 1)
+    paired = np.lexsort((events, level))
+    begin = events[paired[0::2]]
+    end = events[paired[1::2]]
+    in_order = np.argsort(begin)
+    begin, end, block_level = begin[in_order], end[in_order], level[paired[0::2]][in_order]
+    keywords = [raw.decode("latin-1") for raw in tokens.raw_many((begin + 1).tolist())]
+    closing = [raw.decode("latin-1") for raw in tokens.raw_many((end + 1).tolist())]
+    if keywords != closing:
+        _diagnose(tokens, events, signs, source_map)
+    parent = _parents(begin, block_level)
+    child_order = np.argsort(parent, kind="stable")
+    child_offsets = np.concatenate(([0], np.cumsum(np.bincount(parent + 1, minlength=len(begin) + 1))))
+    return BlockTable(begin, end, keywords, parent, child_order, child_offsets)
+
+
+def _parents(begin: np.ndarray, level: np.ndarray) -> np.ndarray:
+    """The enclosing block of each block: the last one a level up that began before it."""
+    parent = np.full(len(begin), -1, dtype=np.int64)
+    for depth in range(2, int(level.max(initial=1)) + 1):
+        outer = np.flatnonzero(level == depth - 1)
+        inner = np.flatnonzero(level == depth)
+        parent[inner] = outer[np.searchsorted(begin[outer], begin[inner]) - 1]
+    return parent
+
+
+def _check_keywords_follow(tokens: Tokens, directives: np.ndarray, name: str, source_map: SourceMap) -> None:
+    after = directives + 1
+    bad = after >= len(tokens)
+    ok = ~bad
+    bad[ok] = ~_IDENT_START[tokens.first_bytes()[after[ok]]]
+    if bad.any():
+        where = int(directives[np.argmax(bad)])
+        raise source_map.error(f"{name} must be followed by a block keyword", tokens.starts_list[where])
+
+
+def _diagnose(tokens: Tokens, events: np.ndarray, signs: np.ndarray, source_map: SourceMap) -> None:
+    """Walk the begin/end events with a stack and raise at the first problem in file order."""
+    stack: list[tuple[str, int]] = []
+    for token, sign in zip(events.tolist(), signs.tolist()):
+        keyword = tokens.raw(token + 1).decode("latin-1")
+        offset = tokens.starts_list[token]
+        if sign > 0:
+            stack.append((keyword, offset))
+            continue
+        if not stack:
+            raise source_map.error(f"/end {keyword} without a matching /begin {keyword}", offset)
+        open_keyword, open_offset = stack.pop()
+        if open_keyword != keyword:
+            _, line, column = source_map.position(open_offset)
+            raise source_map.error(
+                f"/end {keyword} found while /begin {open_keyword} (line {line}, column {column}) is still open",
+                offset,
+            )
+    if stack:
+        keyword, offset = stack[-1]
+        raise source_map.error(f"/begin {keyword} is never closed (missing /end {keyword})", offset)
+
+
+def _shown(raw: bytes, limit: int = 40) -> str:
+    text = raw.decode("latin-1")
+    return text if len(text) <= limit else text[: limit - 3] + "..."

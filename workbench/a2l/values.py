@@ -1,0 +1,70 @@
+"""A2L token values: numbers, strings and identifiers, parsed and formatted in the file's style."""
+
+from __future__ import annotations
+
+import re
+
+INT_RE = re.compile(rb"[+-]?(?:0[xX][0-9a-fA-F]+|[0-9]+)")
+FLOAT_RE = re.compile(rb"[+-]?(?:0[xX][0-9a-fA-F]+|(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|(?i:inf|nan))")
+IDENT_RE = re.compile(rb"[A-Za-z_][A-Za-z0-9_.\[\]]*")
+_UNESCAPES = {b'\\"': '"', b"\\\\": "\\", b'""': '"', b"\\n": "\n", b"\\t": "\t", b"\\r": "\r", b"\\'": "'"}
+_ESCAPE_RE = re.compile(rb'\\["\\ntr\']|""')
+
+
+def is_int(raw: bytes) -> bool:
+    return INT_RE.fullmatch(raw) is not None
+
+
+def is_number(raw: bytes) -> bool:
+    return FLOAT_RE.fullmatch(raw) is not None
+
+
+def is_string(raw: bytes) -> bool:
+    return raw[:1] == b'"'
+
+
+def is_ident(raw: bytes) -> bool:
+    return IDENT_RE.fullmatch(raw) is not None
+
+
+def parse_int(raw: bytes) -> int:
+    """An A2L integer (decimal or 0x hex, optional sign); raises ValueError otherwise."""
+    if not is_int(raw):
+        raise ValueError(f"not an integer: {raw.decode('latin-1')!r}")
+    return int(raw, 0) if raw.lstrip(b"+-")[:2].lower() == b"0x" else int(raw, 10)
+
+
+def parse_number(raw: bytes) -> int | float:
+    """An A2L number: an int when written as one, else a float; raises ValueError otherwise."""
+    if is_int(raw):
+        return parse_int(raw)
+    if not is_number(raw):
+        raise ValueError(f"not a number: {raw.decode('latin-1')!r}")
+    return float(raw)
+
+
+def parse_string(raw: bytes, encoding: str) -> str:
+    """The text of a quoted A2L string token (quotes removed, escapes resolved)."""
+    body = raw[1:-1]
+    if b"\\" not in body and b'""' not in body:
+        return body.decode(encoding)
+    return _ESCAPE_RE.sub(lambda m: _UNESCAPES[m.group()].encode(encoding), body).decode(encoding)
+
+
+def quote_string(text: str, encoding: str) -> bytes:
+    """``text`` as an A2L string token in ``encoding`` (quotes and backslashes escaped)."""
+    return b'"' + text.replace("\\", "\\\\").replace('"', '\\"').encode(encoding) + b'"'
+
+
+def format_int_like(old: bytes, value: int) -> bytes:
+    """``value`` written the way ``old`` was: hex stays hex with the same prefix, letter case and
+    (where the value fits) digit count; decimal stays decimal."""
+    stripped = old.lstrip(b"+-")
+    if stripped[:2].lower() != b"0x":
+        return str(value).encode("ascii")
+    prefix, digits = stripped[:2], stripped[2:]
+    sign = "-" if value < 0 else ""
+    text = f"{abs(value):0{len(digits)}X}"
+    if any(97 <= c <= 102 for c in digits) and not any(65 <= c <= 70 for c in digits):
+        text = text.lower()
+    return sign.encode("ascii") + prefix + text.encode("ascii")
