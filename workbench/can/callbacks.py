@@ -108,13 +108,10 @@ def splice(path: str | Path, content: bytes, generated: Sequence[str]) -> bytes:
     """
     lines = content.splitlines(keepends=True)
     markers = _find_markers(Path(path), lines)
-    start_line = lines[markers.start]
-    if not start_line.endswith((b"\n", b"\r")):  # a start marker on the last line without a newline
-        start_line += markers.newline
     body = b"".join(
-        (markers.indent + line.encode("ascii") if line else b"") + markers.newline for line in generated
+        (markers.indent + line.encode("utf-8") if line else b"") + markers.newline for line in generated
     )
-    return b"".join(lines[: markers.start]) + start_line + body + b"".join(lines[markers.end:])
+    return b"".join(lines[: markers.start + 1]) + body + b"".join(lines[markers.end:])
 
 
 def write_callbacks(api_path: str | Path, messages: Iterable[Message]) -> bool:

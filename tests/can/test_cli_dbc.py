@@ -1,0 +1,121 @@
+"""`workbench dbc ...`: outputs, exit codes 0/1/2 and one-line errors."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import shutil
+
+from crafted import timing
+
+from workbench import demo
+from workbench.cli import main
+
+FLCU = str(demo.dbc_can2())
+CAN3 = str(demo.dbc_can3())
+
+
+def test_table_text(capsys):
+    assert main(["dbc", "table", FLCU, "--node", "FLCU"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].split() == ["MboxId", "Role", "Name", "ID", "NetworkType", "Type", "DLC", "Period", "Timeout",
+                                "Enable", "UniqueID"]
+    assert lines[2].split() == ["CAN2_MSG_TX_000", "TX", "FLCU_TO_PCM_001", "0x167", "CAN2", "std", "4", "100", "300",
+                                "yes", "yes"]
+    assert lines[3].split()[:5] == ["FuelLevelLow", "0", "1", "Intel", "unsigned"]
+
+
+def test_table_json_reverse_order(capsys):
+    assert main(["dbc", "table", CAN3, "--node", "EAXLE", "--order", "reverse", "--json"]) == 0
+    table = json.loads(capsys.readouterr().out)
+    assert len(table["messages"]) == 64 and table["order"] == "reverse"
+    c3rxaaa = next(m for m in table["messages"] if m["Name"] == "C3RXAAA")
+    assert {k: c3rxaaa[k] for k in ("ID", "DLC", "Period", "Timeout", "MboxId", "Role", "Type", "UniqueID")} == {
+        "ID": "0x300", "DLC": 1, "Period": 100, "Timeout": 300, "MboxId": "CAN3_MSG_RX_031", "Role": "RX",
+        "Type": "std", "UniqueID": True}
+    assert c3rxaaa["Signals"][0]["Name"] == "Sgn1"
+
+
+def test_table_csv_has_one_row_per_signal(capsys):
+    assert main(["dbc", "table", FLCU, "--node", "FLCU", "--csv"]) == 0
+    rows = list(csv.DictReader(io.StringIO(capsys.readouterr().out)))
+    assert len(rows) == 13
+    assert (rows[1]["MboxId"], rows[1]["Signal"], rows[1]["Factor"], rows[1]["Unit"]) == (
+        "CAN2_MSG_TX_000", "FuelLevel", "0.01", "%")
+
+
+def test_table_marks_default_timeouts_and_messages_outside_the_table(write_dbc, capsys):
+    path = write_dbc(
+        'BO_ 1 MINE: 1 ECU\n SG_ S : 0|8@1+ (1,0) [0|255] "" PEER\n\n'
+        'BO_ 2 OTHER: 1 PEER\n SG_ T : 0|8@1+ (1,0) [0|255] "" Vector__XXX\n',
+        timing(1, 10) + timing(2, 10, 30),
+    )
+    assert main(["dbc", "table", str(path), "--node", "ECU"]) == 0
+    out = capsys.readouterr().out
+    assert " 30*" in out and "* no GenMsgTimeoutTime in the DBC: 3 x period" in out
+    assert "not in ECU's table (neither sent nor received by it): OTHER" in out
+
+
+def test_table_bad_input_is_exit_2_with_one_line(tmp_path, capsys):
+    assert main(["dbc", "table", str(tmp_path / "nope_CAN2.dbc")]) == 2
+    assert main(["dbc", "table", FLCU, "--node", "XYZ"]) == 2
+    shutil.copy(FLCU, tmp_path / "vehicle.dbc")
+    assert main(["dbc", "table", str(tmp_path / "vehicle.dbc")]) == 2
+    errors = capsys.readouterr().err.splitlines()
+    assert len(errors) == 3 and all(line.startswith("error: ") for line in errors)
+    assert "give --network" in errors[2]
+    assert main(["dbc", "table", FLCU, "--order", "sideways"]) == 2  # argparse usage error
+
+
+def test_fixcal_writes_the_three_files(tmp_path, capsys):
+    assert main(["dbc", "fixcal", FLCU, "--node", "FLCU", "-o", str(tmp_path)]) == 0
+    out, err = capsys.readouterr()
+    assert [line.rsplit("/", 1)[-1] for line in out.splitlines()] == [
+        "FLCU_CAN2_fixcal.h", "FLCU_CAN2_fixcal.c", "FLCU_CAN2_fixcal.a2l"]
+    assert "29 calibrations for FLCU" in err
+    assert main(["dbc", "fixcal", FLCU, "--node", "FLCU", "-o", str(tmp_path / "a2l"), "--a2l-only"]) == 0
+    assert [p.name for p in (tmp_path / "a2l").iterdir()] == ["FLCU_CAN2_fixcal.a2l"]
+    assert main(["dbc", "fixcal", FLCU, "--node", "FLCU", "--a2l-only", "--c-only"]) == 2
+
+
+def test_fixcal_refuses_collisions(tmp_path, capsys):
+    assert main(["dbc", "fixcal", CAN3, "--node", "EAXLE", "-o", str(tmp_path)]) == 2
+    assert "cfSGN1_VALUE would be defined by" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_callbacks_round_trip_on_the_demo_api_c(tmp_path, capsys):
+    api = shutil.copy(demo.path("assets", "ecu", "api.c"), tmp_path / "api.c")
+    before = api.read_bytes()
+    assert main(["dbc", "callbacks", FLCU, "--api", str(api), "--node", "FLCU"]) == 0
+    assert "unchanged (5 messages of FLCU)" in capsys.readouterr().out
+    assert main(["dbc", "callbacks", FLCU, "--api", str(api), "--node", "FLCU", "--order", "reverse"]) == 0
+    assert "regenerated" in capsys.readouterr().out and api.read_bytes() != before
+    assert main(["dbc", "callbacks", FLCU, "--api", str(api), "--node", "FLCU"]) == 0
+    assert api.read_bytes() == before
+
+
+def test_callbacks_marker_error_is_exit_2(tmp_path, capsys):
+    api = tmp_path / "api.c"
+    api.write_text("void f(void) {\n// <initCbk>\n}\n")
+    assert main(["dbc", "callbacks", FLCU, "--api", str(api), "--node", "FLCU"]) == 2
+    assert capsys.readouterr().err == f"error: {api}: no '// </initCbk>' marker line\n"
+
+
+def test_check_exit_codes(write_dbc, capsys):
+    assert main(["dbc", "check", FLCU]) == 0
+    assert "0 findings in 1 file" in capsys.readouterr().err
+    bad = write_dbc('BO_ 2048 BIG: 1 ECU\n SG_ S : 4|8@1+ (1,0) [0|255] "" PEER\n')
+    assert main(["dbc", "check", str(bad), "--json"]) == 1
+    codes = [f["code"] for f in json.loads(capsys.readouterr().out)]
+    assert sorted(codes) == ["beyond-dlc", "id-format", "missing-period", "missing-timeout"]
+    assert main(["dbc", "check", CAN3]) == 1
+    out = capsys.readouterr().out.splitlines()
+    assert len(out) == 8 and all(":" in line and "would also be defined by" in line for line in out)
+
+
+def test_check_unreadable_dbc_is_exit_2(write_dbc, capsys):
+    bad = write_dbc('BO_ 16 M: 1 ECU\n SG_ S 0|8@1+ (1,0) [0|255] "" PEER\n')
+    assert main(["dbc", "check", str(bad)]) == 2
+    assert capsys.readouterr().err.startswith(f"error: {bad}:14:8: Invalid syntax")

@@ -1,0 +1,178 @@
+"""Fix calibrations: the demo ECU's names, the A2L fragment (pya2ldb) and the C pair (gcc)."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+
+import pya2l.model as model
+import pytest
+from elftools.elf.elffile import ELFFile
+from pya2l import import_a2l
+from pya2l.api.validate import Level, Validator
+
+from workbench import demo
+from workbench.can.dbc_file import load_dbc
+from workbench.can.fixcal import FixKind, fix_calibrations
+from workbench.can.fixcal_c import c_literal
+from workbench.can.fixcal_output import fixcal_files
+from workbench.can.model import messages_of
+from workbench.can.naming import raw_c_type
+from workbench.errors import InputError
+
+ECU_SOURCES = demo.path("assets", "ecu")
+CAL_RAM_DEFINITION = re.compile(r"^CAL_RAM\s+(\w+)\s+(c[fs]\w+)\s*=\s*([^;]+);", re.MULTILINE)
+C_SIZES = {"uint8_T": 1, "int8_T": 1, "uint16_T": 2, "int16_T": 2, "uint32_T": 4, "int32_T": 4, "real32_T": 4}
+
+
+def _flcu_files(**parts):
+    return fixcal_files(load_dbc(demo.dbc_can2()), "FLCU", **parts)
+
+
+def _definitions(text: str) -> set[tuple[str, str, str]]:
+    return {(name, c_type, value.strip()) for c_type, name, value in CAL_RAM_DEFINITION.findall(text)}
+
+
+def test_flcu_fixcals_equal_the_demo_ecu_sources():
+    demo_definitions = set()
+    for source in sorted(ECU_SOURCES.glob("*.c")):
+        demo_definitions |= _definitions(source.read_text())
+    generated = _definitions(_flcu_files().texts["FLCU_CAN2_fixcal.c"])
+    assert len(generated) == 29
+    assert generated == demo_definitions
+
+
+def test_calibration_kinds_types_and_limits():
+    calibrations = {c.name: c for c in _flcu_files().calibrations}
+    assert [n for n, c in calibrations.items() if c.kind is FixKind.TX_ENABLE] == [
+        "csFLCU_TO_PCM_001_En", "csFLCU_TO_PCM_002_En", "csFLCU_TO_PCM_003_En"]
+    level = calibrations["cfFUELLEVEL_VALUE"]
+    assert (level.c_type, level.initial_raw, level.lower, level.upper) == ("uint16_T", 0, 0, 100)
+    assert (level.signal.factor, level.signal.unit) == (0.01, "%")
+    assert level.description == ("Fixed raw value of CAN signal FuelLevel: Indicates the actual fuel level "
+                                 "(16 bit, 0.01 %/bit)")
+    assert calibrations["cfENABLEFLCU_EN"].description == "Fix switch of CAN signal EnableFLCU (1: use cfENABLEFLCU_VALUE)"
+
+
+def test_limits_without_dbc_range_and_initial_value_nearest_zero(write_dbc):
+    path = write_dbc(
+        'BO_ 16 M: 4 ECU\n'
+        ' SG_ Temp : 0|8@1+ (1,-40) [0|0] "degC" PEER\n'
+        ' SG_ Torque : 8|12@1- (0.5,0) [-100|100] "Nm" PEER\n'
+        ' SG_ Level : 20|4@1+ (2,10) [14|30] "" PEER\n',
+    )
+    calibrations = {c.name: c for c in fix_calibrations(messages_of(load_dbc(path), None, "ECU"))}
+    temp = calibrations["cfTEMP_VALUE"]
+    assert (temp.c_type, temp.lower, temp.upper, temp.initial_raw) == ("uint8_T", -40, 215, 40)
+    torque = calibrations["cfTORQUE_VALUE"]
+    assert (torque.c_type, torque.lower, torque.upper, torque.initial_raw) == ("int16_T", -100, 100, 0)
+    level = calibrations["cfLEVEL_VALUE"]
+    assert (level.lower, level.upper, level.initial_raw) == (14, 30, 2)  # raw 2 = 14, the nearest to 0
+
+
+def test_colliding_names_are_refused():
+    with pytest.raises(InputError, match=r"CAN3_validation\.dbc:\d+: cfSGN1_VALUE would be defined by C3RXAAA\.Sgn1, "
+                                         r"C3RXAAB\.Sgn1, C3RXAAC\.Sgn1 and 61 more \(and 7 more names\)"):
+        fixcal_files(load_dbc(demo.dbc_can3()), "EAXLE")
+
+
+def test_raw_c_types():
+    assert [raw_c_type(n, False) for n in (1, 8, 9, 16, 17, 32, 33, 64)] == [
+        "uint8_T", "uint8_T", "uint16_T", "uint16_T", "uint32_T", "uint32_T", "uint64_T", "uint64_T"]
+    assert raw_c_type(12, True) == "int16_T"
+    assert (raw_c_type(32, True, is_float=True), raw_c_type(64, True, is_float=True)) == ("real32_T", "real_T")
+    with pytest.raises(ValueError):
+        raw_c_type(65, False)
+    with pytest.raises(ValueError):
+        raw_c_type(16, False, is_float=True)
+
+
+def test_c_literals():
+    assert [c_literal("uint8_T", 1), c_literal("int16_T", -3), c_literal("real32_T", 0.5), c_literal("real_T", 0)] == [
+        "1U", "-3", "0.5F", "0.0"]
+    assert c_literal("int32_T", -(1 << 31)) == "(-2147483647 - 1)"
+    assert c_literal("uint64_T", 7) == "7ULL"
+
+
+def test_parts_can_be_chosen_and_written(tmp_path):
+    assert list(_flcu_files(c=False).texts) == ["FLCU_CAN2_fixcal.a2l"]
+    assert list(_flcu_files(a2l=False).texts) == ["FLCU_CAN2_fixcal.h", "FLCU_CAN2_fixcal.c"]
+    written = _flcu_files().write(tmp_path / "out")
+    assert sorted(p.name for p in written) == ["FLCU_CAN2_fixcal.a2l", "FLCU_CAN2_fixcal.c", "FLCU_CAN2_fixcal.h"]
+
+
+@pytest.fixture(scope="module")
+def fragment(tmp_path_factory):
+    path = tmp_path_factory.mktemp("a2l") / "FLCU_CAN2_fixcal.a2l"
+    path.write_text(_flcu_files(c=False).texts[path.name])
+    session = import_a2l(str(path), in_memory=True, encoding="utf-8", progress_bar=False, loglevel="ERROR")
+    yield session
+    session.close()
+
+
+def test_a2l_fragment_is_read_by_pya2ldb(fragment):
+    assert [d.text for d in Validator(fragment)() if d.type >= Level.ERROR] == []
+    module = fragment.query(model.Module).one()
+    assert module.name == "FLCU_CAN2_fixcal"
+    characteristics = {c.name: c for c in fragment.query(model.Characteristic).all()}
+    assert list(characteristics) == [c.name for c in _flcu_files().calibrations]
+    level = characteristics["cfFUELLEVEL_VALUE"]
+    assert (level.type, level.address, level.deposit, level.conversion) == ("VALUE", 0, "Scalar_UWORD", "CM_CAN_0p01_Percent")
+    assert (level.lowerLimit, level.upperLimit) == (0, 100)
+    assert characteristics["csFLCU_TO_PCM_001_En"].conversion == "CM_OnOff"
+    assert characteristics["cfTANK1PSDIAGSTATUS_VALUE"].conversion == "CM_Std_eDiagStatusT"
+    methods = {m.name: m for m in fragment.query(model.CompuMethod).all()}
+    assert set(methods) == {c.conversion for c in characteristics.values()}
+    linear = methods["CM_CAN_0p01_bar"]
+    assert (linear.conversionType, linear.unit, linear.coeffs_linear.a, linear.coeffs_linear.b) == ("LINEAR", "bar", 0.01, 0)
+    tables = {t.name: t for t in fragment.query(model.CompuVtab).all()}
+    assert [(p.inVal, p.outVal) for p in tables["VTAB_Std_eDiagStatusT"].pairs][:2] == [(0, "NO_ERROR"), (1, "SHORT_TO_GND")]
+    assert {r.name for r in fragment.query(model.RecordLayout).all()} == {"Scalar_UBYTE", "Scalar_UWORD"}
+
+
+def _blocks(text: str) -> dict[str, str]:
+    """Named A2L blocks (COMPU_METHOD, COMPU_VTAB, RECORD_LAYOUT, CHARACTERISTIC) by name."""
+    found = {}
+    for match in re.finditer(r"/begin (COMPU_METHOD|COMPU_VTAB|RECORD_LAYOUT|CHARACTERISTIC)\s+(?:/\*[^*]*\*/\s*)?(\w+)"
+                             r".*?/end \1", text, re.S):
+        found[match.group(2)] = re.sub(r"\s*/\* Long Identifier\s*\*/ \"[^\"]*\"", "", match.group(0))
+    return found
+
+
+def test_a2l_definitions_equal_the_demo_fragments_so_they_merge():
+    demo_blocks = {}
+    for module in ("CANRX", "CANTX"):
+        demo_blocks.update(_blocks(demo.path("a2l", "modules", f"{module}.a2l").read_text()))
+    generated = _blocks(_flcu_files(c=False).texts["FLCU_CAN2_fixcal.a2l"])
+    assert len(generated) == 29 + 10 + 2
+    assert {name: text for name, text in generated.items() if demo_blocks.get(name) != text} == {}
+
+
+@pytest.mark.gcc
+@pytest.mark.skipif(shutil.which("gcc") is None, reason="needs a host gcc")
+def test_generated_c_compiles_into_cal_ram(tmp_path):
+    files = _flcu_files(a2l=False)
+    files.write(tmp_path)
+    obj = tmp_path / "fixcal.o"
+    subprocess.run(
+        ["gcc", "-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror", "-I", str(ECU_SOURCES),
+         "-c", str(tmp_path / "FLCU_CAN2_fixcal.c"), "-o", str(obj)],
+        check=True, capture_output=True, text=True,
+    )
+    with obj.open("rb") as handle:
+        elf = ELFFile(handle)
+        cal_ram = elf.get_section_by_name(".cal_ram")
+        index = next(i for i, s in enumerate(elf.iter_sections()) if s.name == ".cal_ram")
+        symbols = {s.name: s for s in elf.get_section_by_name(".symtab").iter_symbols()}
+        for calibration in files.calibrations:
+            symbol = symbols[calibration.name]
+            assert symbol["st_shndx"] == index and symbol["st_size"] == C_SIZES[calibration.c_type]
+            value = cal_ram.data()[symbol["st_value"]:symbol["st_value"] + symbol["st_size"]]
+            assert int.from_bytes(value, "little") == calibration.initial_raw, calibration.name
+    # next to the demo's flcu_types.h, which defines the same CAL_RAM macro
+    subprocess.run(
+        ["gcc", "-std=c99", "-Wall", "-Werror", "-I", str(ECU_SOURCES), "-include", "flcu_types.h",
+         "-c", str(tmp_path / "FLCU_CAN2_fixcal.c"), "-o", str(obj)],
+        check=True, capture_output=True, text=True,
+    )
