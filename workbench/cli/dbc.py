@@ -13,6 +13,13 @@ import sys
 
 from workbench.cli.options import print_json
 
+_GROUP_DESCRIPTION = """\
+The thesis's CAN library (chapter 6.3) from a DBC, without MATLAB:
+  table      the message table with the thesis's Message/SignalOfMsg properties
+  fixcal     the fix calibrations as a C header/source pair and an A2L fragment
+  callbacks  the CAN driver configuration between the // <initCbk> markers of api.c
+  check      DBC problems (exit 1 when there are findings)
+Exit codes: 0 success, 1 findings (check) or a failed write, 2 bad input."""
 _NETWORK_HELP = ("CAN1..CAN4 for every DBC given (default: the CANn in each file name, "
                  "e.g. FLCU_CAN2.dbc is on CAN2)")
 _ROLE_HELP = ("the ECU node the roles are relative to: a message it sends is TX, one whose signals it "
@@ -28,7 +35,7 @@ _TIMEOUT_NOTE = ("Periods and timeouts come from GenMsgCycleTime/GenMsgTimeoutTi
 
 
 def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: str) -> None:
-    parser = subparsers.add_parser(name, help=help_text, description=__doc__,
+    parser = subparsers.add_parser(name, help=help_text, description=_GROUP_DESCRIPTION,
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
     commands = parser.add_subparsers(title="commands", dest="command", metavar="COMMAND", required=True)
 
