@@ -106,6 +106,13 @@ def test_pya2ldb_imports_the_file_without_errors(a2l, name):
         assert len(objects) == len(re.findall(rf"/begin\s+{keyword}\b", text)), keyword
 
 
+def test_files_are_utf8(a2l):
+    for path in [MASTER, MASTER.parent / "XCP.aml", *FRAGMENTS]:
+        path.read_bytes().decode("utf-8")  # raises on anything else
+    units = {m.name: m.unit for m in _module(a2l["FLCU_master"]).compu_method}
+    assert units["CM_us"] == "µs"
+
+
 def test_identically_named_definitions_are_identical(a2l):
     """A merge folds a COMPU_METHOD, COMPU_VTAB or RECORD_LAYOUT defined in several files only if they agree."""
     seen: dict[tuple[str, str], dict[str, str]] = {}
