@@ -77,6 +77,21 @@ def test_colliding_names_are_refused():
         fixcal_files(load_dbc(demo.dbc_can3()), "EAXLE")
 
 
+def test_signal_without_a_c_type_is_refused(write_dbc):
+    path = write_dbc('BO_ 16 M: 8 ECU\n SG_ F : 0|16@1- (1,0) [0|0] "" PEER\n', "SIG_VALTYPE_ 16 F : 1;\n")
+    with pytest.raises(InputError, match=r"crafted_CAN2\.dbc:14: M\.F: a float CAN signal is 32 or 64 bits long"):
+        fixcal_files(load_dbc(path), "ECU")
+
+
+def test_float_signal_value_is_a_real32(write_dbc):
+    path = write_dbc('BO_ 16 M: 8 ECU\n SG_ F : 0|32@1- (1,0) [-5|5] "V" PEER\n', "SIG_VALTYPE_ 16 F : 1;\n")
+    files = fixcal_files(load_dbc(path), "ECU")
+    value = next(c for c in files.calibrations if c.name == "cfF_VALUE")
+    assert (value.c_type, value.initial_raw, value.lower, value.upper) == ("real32_T", 0.0, -5, 5)
+    assert "CAL_RAM real32_T cfF_VALUE = 0.0F;" in files.texts["crafted_CAN2_fixcal.c"]
+    assert "Scalar_FLOAT32_IEEE" in files.texts["crafted_CAN2_fixcal.a2l"]
+
+
 def test_raw_c_types():
     assert [raw_c_type(n, False) for n in (1, 8, 9, 16, 17, 32, 33, 64)] == [
         "uint8_T", "uint8_T", "uint16_T", "uint16_T", "uint32_T", "uint32_T", "uint64_T", "uint64_T"]

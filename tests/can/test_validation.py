@@ -73,6 +73,18 @@ def test_signal_beyond_dlc(write_dbc):
     assert "bits 8..11 lie beyond the DLC of 1 bytes" in str(finding)
 
 
+def test_signal_whose_raw_value_fits_no_c_type(write_dbc):
+    path = write_dbc(
+        "BO_ 16 M: 8 ECU\n"
+        f" SG_ HALF : 0|16@1- (1,0) [0|0] {SIGNAL}\n"
+        f" SG_ SINGLE : 16|32@1- (1,0) [0|0] {SIGNAL}\n",
+        timing(16, 10, 30) + "SIG_VALTYPE_ 16 HALF : 1;\nSIG_VALTYPE_ 16 SINGLE : 1;\n",
+    )
+    (finding,) = _findings(path)
+    assert _codes([finding]) == [("signal-type", "M", "HALF", 14)]
+    assert finding.text == "a float CAN signal is 32 or 64 bits long, not 16"
+
+
 def test_duplicate_ids_and_names_in_one_file(write_dbc):
     path = write_dbc(
         f"BO_ 16 FIRST: 1 ECU\n SG_ A : 0|8@1+ (1,0) [0|255] {SIGNAL}\n\n"

@@ -92,7 +92,8 @@ def fix_calibrations(messages: Iterable[Message]) -> list[FixCalibration]:
 
     Per message in the given order: the TX enable (TX only), then ``_EN``/``_VALUE`` per signal.
 
-    :raises InputError: two signals map to the same calibration name.
+    :raises InputError: two signals map to the same calibration name, or a signal's raw value
+        fits no C type (longer than 64 bits, a float of other than 32/64 bits).
     """
     messages = [m for m in messages if m.role is not None]
     collisions = fixcal_collisions(messages)
@@ -128,8 +129,12 @@ def _fix_value(message: Message, signal: SignalOfMsg) -> FixCalibration:
     physical = sorted((raw_low * signal.factor + signal.offset, raw_high * signal.factor + signal.offset))
     lower = physical[0] if signal.minimum is None else min(max(signal.minimum, physical[0]), physical[1])
     upper = physical[1] if signal.maximum is None else min(max(signal.maximum, physical[0]), physical[1])
+    try:
+        c_type = signal.raw_c_type
+    except ValueError as exc:
+        raise InputError(f"{message.where(signal.name)}: {message.name}.{signal.name}: {exc}") from exc
     return FixCalibration(
-        fix_value_name(signal.name), FixKind.FIX_VALUE, signal.raw_c_type,
+        fix_value_name(signal.name), FixKind.FIX_VALUE, c_type,
         _initial_raw(signal, lower, upper, raw_low, raw_high), message, signal, lower, upper,
     )
 

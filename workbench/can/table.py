@@ -87,7 +87,7 @@ def build_table(dbcs: Sequence[tuple[DbcFile, str]], node: str | None, order: Ma
     mailboxes = Mailboxes(order)
     table = [message for messages in per_dbc for message in mailboxes.assign(messages)]
     networks = list(dict.fromkeys(network for _, network in dbcs))
-    table.sort(key=lambda m: (networks.index(m.network), _ROLE_ORDER[m.role], m.mailbox))
+    table.sort(key=lambda m: (networks.index(m.network), _ROLE_ORDER[m.role]))  # stable: mailbox order stays
     others = tuple(m for m in everything if m.role is None)
     return CanTable(node, order, tuple(table), others)
 

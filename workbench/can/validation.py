@@ -4,7 +4,8 @@ Checks, each a :class:`Finding` with a ``code``:
 
 * ``overlap`` — two signals of a message share a bit (multiplexed signals only when they
   can be present together);
-* ``beyond-dlc`` — a signal has bits outside the message's DLC;
+* ``beyond-dlc`` — a signal has bits outside the message's DLC; ``signal-type`` — a signal
+  whose raw value fits no C type (over 64 bits, or a float of other than 32/64 bits);
 * ``duplicate-id`` — two messages of one network have the same id and frame format
   (across all DBCs given for that network); ``duplicate-name`` — the same for names;
 * ``missing-period`` — no (or a zero) ``GenMsgCycleTime``; ``missing-timeout`` — no
@@ -26,7 +27,7 @@ from pathlib import Path
 
 from workbench.can.dbc_file import DbcFile
 from workbench.can.fixcal import describe_owners, fixcal_collisions
-from workbench.can.naming import FIX_VALUE_SUFFIX
+from workbench.can.naming import FIX_VALUE_SUFFIX, raw_c_type
 from workbench.can.model import (
     FRAME_FORMAT_ATTRIBUTE,
     PERIOD_ATTRIBUTE,
@@ -109,6 +110,9 @@ def _layout_findings(message: Message) -> list[Finding]:
     size = message.dlc * 8
     bits = {signal.name: bit_positions(signal) for signal in message.signals}
     for signal in message.signals:
+        problem = _c_type_problem(signal)
+        if problem:
+            findings.append(_finding("signal-type", message, signal.name, problem))
         outside = [b for b in bits[signal.name] if not 0 <= b < size]
         if outside:
             findings.append(_finding(
@@ -125,6 +129,14 @@ def _layout_findings(message: Message) -> list[Finding]:
                 f"overlaps {first.name} in bit{'s' if len(shared) > 1 else ''} {_bit_list(shared)}",
             ))
     return findings
+
+
+def _c_type_problem(signal: SignalOfMsg) -> str | None:
+    try:
+        raw_c_type(signal.length, signal.is_signed, signal.is_float)
+    except ValueError as exc:
+        return str(exc)
+    return None
 
 
 def _can_coexist(first: SignalOfMsg, second: SignalOfMsg) -> bool:
