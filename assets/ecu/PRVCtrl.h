@@ -34,6 +34,7 @@ extern real32_T xsDC;              /* PRV duty cycle [%] */
 extern real32_T xsPRV_KP;     /* [%/bar] */
 extern real32_T xsPRV_KI;     /* [%/(bar s)] */
 extern real32_T xsPRV_KD;     /* [% s/bar] */
+extern real32_T xsPRV_I_BAND; /* integrate while |e| <= band [bar] */
 extern real32_T xsPRV_DC_MIN; /* [%] */
 extern real32_T xsPRV_DC_MAX; /* [%] */
 extern real32_T xaPRV_FF_TARGET[PRVCTRL_FF_TARGET_POINTS];     /* [bar] */
