@@ -5,6 +5,8 @@ from __future__ import annotations
 import re
 import shutil
 import subprocess
+import sys
+from pathlib import Path
 
 import pya2l.model as model
 import pytest
@@ -27,7 +29,7 @@ C_SIZES = {"uint8_T": 1, "int8_T": 1, "uint16_T": 2, "int16_T": 2, "uint32_T": 4
 
 
 def _flcu_files(**parts):
-    return fixcal_files(load_dbc(demo.dbc_can2()), "FLCU", **parts)
+    return fixcal_files(load_dbc(demo.dbc_can2()), "FLCU", master_a2l=demo.master_a2l(), **parts)
 
 
 def _definitions(text: str) -> set[tuple[str, str, str]]:
@@ -162,6 +164,40 @@ def test_a2l_definitions_equal_the_demo_fragments_so_they_merge():
     generated = _blocks(_flcu_files(c=False).texts["FLCU_CAN2_fixcal.a2l"])
     assert len(generated) == 29 + 10 + 2
     assert {name: text for name, text in generated.items() if demo_blocks.get(name) != text} == {}
+
+
+def _mod_common(text: str) -> str:
+    return re.search(r"/begin MOD_COMMON.*?/end MOD_COMMON", text, re.S).group(0)
+
+
+def test_a2l_mod_common_is_the_masters_as_in_every_demo_fragment(tmp_path):
+    generated = _flcu_files(c=False).texts["FLCU_CAN2_fixcal.a2l"]
+    assert _mod_common(generated) == _mod_common(demo.path("a2l", "modules", "CANTX.a2l").read_text())
+    without_master = fixcal_files(load_dbc(demo.dbc_can2()), "FLCU", c=False).texts["FLCU_CAN2_fixcal.a2l"]
+    assert "MOD_COMMON" not in without_master
+    with pytest.raises(InputError, match=r"nope\.a2l: cannot read"):
+        fixcal_files(load_dbc(demo.dbc_can2()), "FLCU", master_a2l=tmp_path / "nope.a2l")
+
+
+_A2LTOOL = shutil.which("a2ltool", path=str(Path(sys.executable).parent)) or shutil.which("a2ltool")
+
+
+@pytest.mark.skipif(_A2LTOOL is None, reason="a2ltool is not installed (pip install -e .[dev])")
+def test_a2l_fragment_passes_a2ltool_and_merges_into_the_master(tmp_path):
+    fragment = tmp_path / "FLCU_CAN2_fixcal.a2l"
+    fragment.write_text(_flcu_files(c=False).texts[fragment.name])
+
+    def a2ltool(*args) -> str:
+        done = subprocess.run([_A2LTOOL, *map(str, args)], capture_output=True, text=True, check=True)
+        return done.stdout + done.stderr
+
+    assert "No problems found" in a2ltool(fragment, "--check", "--strict")
+    merged = tmp_path / "merged.a2l"
+    a2ltool(demo.master_a2l(), "--merge", fragment, "--output", merged)
+    merged_text = merged.read_text()
+    assert ".MERGE" not in merged_text  # the master's CM_OnOff, CM_CAN_0p01_bar ... are the same
+    master_count = demo.master_a2l().read_text(encoding="utf-8").count("/begin CHARACTERISTIC")
+    assert merged_text.count("/begin CHARACTERISTIC") == master_count + 29
 
 
 @pytest.mark.gcc

@@ -12,6 +12,9 @@ merge silently:
 * ``_VALUE`` otherwise: LINEAR ``CM_CAN_<factor>[_<offset>][_<unit>]`` (``CM_CAN_0p01_bar``:
   phys = 0.01 · raw + 0), or ``CM_Identity`` for factor 1, offset 0 and no unit;
 * record layouts ``Scalar_<datatype>`` (``Scalar_UBYTE``, ``Scalar_UWORD`` ...).
+
+The MOD_COMMON (byte order, alignments: a property of the target, not of the DBC) is the
+master A2L's, as every demo fragment carries it; without a master the fragment has none.
 """
 
 from __future__ import annotations
@@ -29,17 +32,7 @@ A2L_DATATYPES = {
     "real32_T": "FLOAT32_IEEE", "real_T": "FLOAT64_IEEE",
 }
 _ON_OFF = ("CM_OnOff", "VTAB_OnOff")
-_MOD_COMMON = """\
-    /begin MOD_COMMON ""
-      BYTE_ORDER MSB_LAST
-      ALIGNMENT_BYTE 1
-      ALIGNMENT_WORD 2
-      ALIGNMENT_LONG 4
-      ALIGNMENT_INT64 8
-      ALIGNMENT_FLOAT32_IEEE 4
-      ALIGNMENT_FLOAT64_IEEE 8
-    /end MOD_COMMON
-"""
+_MOD_COMMON = re.compile(r'/begin\s+MOD_COMMON\s+"(?:[^"\\]|\\.)*"(.*?)/end\s+MOD_COMMON', re.S)
 _UNIT_WORDS = {"%": "Percent", "°": "deg", "/": "_per_"}
 
 
@@ -52,8 +45,20 @@ class _Conversion:
     """(name, COMPU_VTAB block) for a verbal conversion."""
 
 
-def a2l_fragment(calibrations: Sequence[FixCalibration], module: str, title: str) -> str:
-    """The A2L text: PROJECT/MODULE ``module`` (an identifier) described by ``title``."""
+def mod_common_lines(a2l_text: str) -> tuple[str, ...]:
+    """The keyword lines inside an A2L's MOD_COMMON (stripped); empty when it has none."""
+    match = _MOD_COMMON.search(a2l_text)
+    if match is None:
+        return ()
+    return tuple(line.strip() for line in match.group(1).splitlines() if line.strip())
+
+
+def a2l_fragment(calibrations: Sequence[FixCalibration], module: str, title: str,
+                 mod_common: Sequence[str] = ()) -> str:
+    """The A2L text: PROJECT/MODULE ``module`` (an identifier) described by ``title``.
+
+    :param mod_common: the MOD_COMMON keyword lines (:func:`mod_common_lines` of the master).
+    """
     conversions: dict[str, _Conversion] = {}
     layouts: set[str] = set()
     characteristics = []
@@ -72,7 +77,10 @@ def a2l_fragment(calibrations: Sequence[FixCalibration], module: str, title: str
         f'/begin PROJECT {module} "{_string(title)}"\n',
         f'  /begin HEADER "{_string(title)}"\n    VERSION "1.0.0"\n  /end HEADER\n',
         f'  /begin MODULE {module} "{_string(title)}"\n',
-        _MOD_COMMON,
+    ]
+    if mod_common:
+        parts += ['    /begin MOD_COMMON ""\n', *(f"      {line}\n" for line in mod_common), "    /end MOD_COMMON\n"]
+    parts += [
         "\n", *characteristics,
         "\n", *(conversions[name].text for name in sorted(conversions)),
     ]

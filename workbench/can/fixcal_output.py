@@ -8,10 +8,10 @@ from pathlib import Path
 
 from workbench.can.dbc_file import DbcFile
 from workbench.can.fixcal import FixCalibration, fix_calibrations
-from workbench.can.fixcal_a2l import a2l_fragment
+from workbench.can.fixcal_a2l import a2l_fragment, mod_common_lines
 from workbench.can.fixcal_c import c_header, c_source
 from workbench.can.model import messages_of
-from workbench.errors import WorkbenchError
+from workbench.errors import InputError, WorkbenchError
 from workbench.fileio import atomic_write_text
 
 
@@ -39,10 +39,13 @@ class FixcalFiles:
         return written
 
 
-def fixcal_files(dbc: DbcFile, node: str, *, c: bool = True, a2l: bool = True) -> FixcalFiles:
+def fixcal_files(dbc: DbcFile, node: str, *, c: bool = True, a2l: bool = True,
+                 master_a2l: str | Path | None = None) -> FixcalFiles:
     """The C pair and/or A2L fragment of ``node``'s fix calibrations in ``dbc`` (file order).
 
-    :raises InputError: ``node`` is not in the DBC, or two signals map to one calibration name.
+    :param master_a2l: the project's master A2L, whose MOD_COMMON the fragment repeats.
+    :raises InputError: ``node`` is not in the DBC, two signals map to one calibration name,
+        or the master A2L cannot be read.
     """
     calibrations = tuple(fix_calibrations(messages_of(dbc, None, node)))
     basename = re.sub(r"\W", "_", dbc.path.stem) + "_fixcal"
@@ -54,5 +57,13 @@ def fixcal_files(dbc: DbcFile, node: str, *, c: bool = True, a2l: bool = True) -
         texts[f"{basename}.h"] = c_header(calibrations, basename, title)
         texts[f"{basename}.c"] = c_source(calibrations, basename, title)
     if a2l:
-        texts[f"{basename}.a2l"] = a2l_fragment(calibrations, basename, title)
+        mod_common = mod_common_lines(_read_text(master_a2l)) if master_a2l is not None else ()
+        texts[f"{basename}.a2l"] = a2l_fragment(calibrations, basename, title, mod_common)
     return FixcalFiles(calibrations, texts)
+
+
+def _read_text(path: str | Path) -> str:
+    try:
+        return Path(path).read_bytes().decode("utf-8", errors="replace")
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read: {exc.strerror or exc}") from exc

@@ -66,6 +66,9 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     fixcal.add_argument("dbc", metavar="FILE.dbc")
     fixcal.add_argument("--node", required=True, help=_ROLE_HELP)
     fixcal.add_argument("-o", "--output", default=".", metavar="DIR", help="folder for the files (default: .)")
+    fixcal.add_argument("--master", metavar="A2L", default=None,
+                        help="master A2L whose MOD_COMMON (byte order, alignments) the fragment repeats "
+                             "(default: the demo project's a2l/FLCU_master.a2l)")
     parts = fixcal.add_mutually_exclusive_group()
     parts.add_argument("--a2l-only", action="store_true", help="write only the A2L fragment")
     parts.add_argument("--c-only", action="store_true", help="write only the C header and source")
@@ -120,10 +123,12 @@ def _table(args: argparse.Namespace) -> int:
 
 
 def _fixcal(args: argparse.Namespace) -> int:
+    from workbench import demo
     from workbench.can.dbc_file import load_dbc
     from workbench.can.fixcal_output import fixcal_files
 
-    files = fixcal_files(load_dbc(args.dbc), args.node, c=not args.a2l_only, a2l=not args.c_only)
+    master = args.master if args.master is not None else demo.master_a2l()
+    files = fixcal_files(load_dbc(args.dbc), args.node, c=not args.a2l_only, a2l=not args.c_only, master_a2l=master)
     for path in files.write(args.output):
         print(path)
     print(f"{len(files.calibrations)} calibrations for {args.node}", file=sys.stderr)
