@@ -154,7 +154,12 @@ def _parse(path: Path, text: str, message_lines: dict[str, tuple[int, ...]]) -> 
         raise InputError(_located(path, cause, message_lines)) from exc
     finally:
         cantools_log.removeHandler(collector)
-    problems = [m for m in collector.messages if not m.startswith(_OVERWRITE_WARNING)]
+    problems = []
+    for message in collector.messages:
+        if message.startswith(_OVERWRITE_WARNING):
+            log.debug("%s: cantools: %s", path, message)  # a duplicate the validation reports
+        else:
+            problems.append(message)
     problems += [str(w.message) for w in caught]
     if problems:
         raise InputError(f"{path}: {_one_line(problems[0])}")
