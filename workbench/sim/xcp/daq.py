@@ -1,0 +1,301 @@
+"""Dynamic DAQ: allocation, ODT entries, list modes, start/stop and sampling at the task events.
+
+Limits the slave enforces (they are what GET_DAQ_PROCESSOR_INFO / GET_DAQ_RESOLUTION_INFO
+and the A2L publish, see :class:`DaqParameters`):
+
+* allocation order FREE_DAQ → ALLOC_DAQ → ALLOC_ODT (every list) → ALLOC_ODT_ENTRY
+  (every ODT); anything else, or allocating the same list/ODT twice, is ERR_SEQUENCE;
+* absolute ODT numbers: one PID per ODT of all lists (0x00..0xFB), so at most 252 ODTs;
+* an ODT entry holds 1..MAX_ODT_ENTRY_SIZE_DAQ bytes (ERR_OUT_OF_RANGE otherwise);
+* an ODT's entries must fit the DTO: MAX_DTO − 1 (PID) bytes, and in the first ODT of a list
+  also minus the 4-byte timestamp, which every list carries (TIMESTAMP_FIXED): more
+  entries than that is ERR_OUT_OF_RANGE at ALLOC_ODT_ENTRY, more bytes ERR_DAQ_CONFIG at WRITE_DAQ;
+* no STIM, no PID_OFF, no ALTERNATING/DTO_CTR modes, no bit-wise entries (bit offset 0xFF only).
+
+DTO layout: ``PID [timestamp, first ODT only] data…`` with PID = FIRST_PID of the list + ODT number.
+"""
+
+from __future__ import annotations
+
+import struct
+from dataclasses import dataclass, field
+from enum import IntEnum
+from typing import TYPE_CHECKING
+
+from workbench.sim.memory import MemoryAccessError
+from workbench.sim.xcp.parameters import EVENT_TIME_UNIT_1MS
+from workbench.sim.xcp.protocol import Cmd, Err, XcpNegative, need
+
+if TYPE_CHECKING:
+    from workbench.sim.xcp.slave import XcpSlave
+
+MODE_ALTERNATING = 0x01
+MODE_DIRECTION_STIM = 0x02
+MODE_DTO_CTR = 0x08
+MODE_TIMESTAMP = 0x10
+MODE_PID_OFF = 0x20
+NO_BIT_OFFSET = 0xFF
+PROPERTY_DYNAMIC = 0x01
+PROPERTY_PRESCALER = 0x02
+PROPERTY_TIMESTAMP = 0x10
+EVENT_PROPERTY_DAQ = 0x04
+EVENT_CONSISTENCY_DAQ = 0x40
+KEY_BYTE_AE_SAME_FOR_ALL = 0x30  # identification field absolute (00), address extension fixed (11)
+UNLIMITED_LISTS = 0xFF
+
+
+class _Stage(IntEnum):
+    FREED = 0
+    DAQ = 1
+    ODT = 2
+    ENTRY = 3
+
+
+@dataclass
+class OdtEntry:
+    address: int = 0
+    size: int = 0  # 0: not written yet (contributes nothing)
+
+
+@dataclass
+class DaqList:
+    odts: list[list[OdtEntry]] | None = None  # None until ALLOC_ODT
+    first_pid: int = 0
+    event: int | None = None
+    prescaler: int = 1
+    priority: int = 0
+    selected: bool = False
+    running: bool = False
+    samples_skipped: int = field(default=0, repr=False)
+
+
+class DaqProcessor:
+    def __init__(self, slave: XcpSlave):
+        self.slave = slave
+        self.params = slave.params.daq
+        self.events = {e.number: e for e in slave.params.events}
+        self.free()
+
+    def free(self) -> None:
+        self.lists: list[DaqList] = []
+        self._stage = _Stage.FREED
+        self._odt_count = 0
+        self._ptr: tuple[int, int, int] | None = None
+
+    @property
+    def running(self) -> bool:
+        return any(daq.running for daq in self.lists)
+
+    def handlers(self):
+        return {
+            Cmd.GET_DAQ_PROCESSOR_INFO: self._get_processor_info,
+            Cmd.GET_DAQ_RESOLUTION_INFO: self._get_resolution_info,
+            Cmd.GET_DAQ_EVENT_INFO: self._get_event_info,
+            Cmd.GET_DAQ_CLOCK: self._get_daq_clock,
+            Cmd.FREE_DAQ: self._free_daq,
+            Cmd.ALLOC_DAQ: self._alloc_daq,
+            Cmd.ALLOC_ODT: self._alloc_odt,
+            Cmd.ALLOC_ODT_ENTRY: self._alloc_odt_entry,
+            Cmd.SET_DAQ_PTR: self._set_daq_ptr,
+            Cmd.WRITE_DAQ: self._write_daq,
+            Cmd.SET_DAQ_LIST_MODE: self._set_daq_list_mode,
+            Cmd.START_STOP_DAQ_LIST: self._start_stop_daq_list,
+            Cmd.START_STOP_SYNCH: self._start_stop_synch,
+        }
+
+    def odt_capacity(self, odt: int) -> int:
+        """Data bytes an ODT can carry: the DTO minus the PID, minus the timestamp in ODT 0."""
+        payload = self.slave.params.max_dto - 1
+        return payload - self.params.timestamp_size if odt == 0 else payload
+
+    # --- information ---------------------------------------------------------------------------
+
+    def _get_processor_info(self, req: bytes) -> bytes:
+        properties = PROPERTY_DYNAMIC | PROPERTY_PRESCALER | PROPERTY_TIMESTAMP
+        return struct.pack("<BHHBB", properties, self.params.max_daq, len(self.events), 0, KEY_BYTE_AE_SAME_FOR_ALL)
+
+    def _get_resolution_info(self, req: bytes) -> bytes:
+        size_code = {1: 1, 2: 2, 4: 4}[self.params.timestamp_size]
+        timestamp_mode = self.params.timestamp_unit << 4 | 0x08 | size_code  # 0x08: TIMESTAMP_FIXED
+        return struct.pack(
+            "<BBBBBH", self.params.granularity, self.params.max_odt_entry_size, 1, 0, timestamp_mode,
+            self.params.timestamp_ticks,
+        )
+
+    def _get_event_info(self, req: bytes) -> bytes:
+        need(req, 4)
+        number = struct.unpack_from("<H", req, 2)[0]
+        event = self.events.get(number)
+        if event is None:
+            raise XcpNegative(Err.OUT_OF_RANGE)
+        address, length = self.slave.info.index[f"event:{number}"]
+        self.slave.mta = address
+        return bytes([
+            EVENT_CONSISTENCY_DAQ | EVENT_PROPERTY_DAQ, UNLIMITED_LISTS, length, event.cycle_ms,
+            EVENT_TIME_UNIT_1MS, event.priority,
+        ])
+
+    def _get_daq_clock(self, req: bytes) -> bytes:
+        return struct.pack("<BBBI", 0, 0, 0, self.slave.target.timestamp_ticks() & 0xFFFFFFFF)
+
+    # --- allocation ------------------------------------------------------------------------------
+
+    def _list(self, req: bytes, offset: int = 2) -> tuple[int, DaqList]:
+        number = struct.unpack_from("<H", req, offset)[0]
+        if number >= len(self.lists):
+            raise XcpNegative(Err.OUT_OF_RANGE)
+        return number, self.lists[number]
+
+    def _free_daq(self, req: bytes) -> bytes:
+        self.free()
+        return b""
+
+    def _alloc_daq(self, req: bytes) -> bytes:
+        need(req, 4)
+        if self._stage != _Stage.FREED or self.lists:
+            raise XcpNegative(Err.SEQUENCE)
+        count = struct.unpack_from("<H", req, 2)[0]
+        if count > self.params.max_daq:
+            raise XcpNegative(Err.MEMORY_OVERFLOW)
+        self.lists = [DaqList() for _ in range(count)]
+        self._stage = _Stage.DAQ
+        return b""
+
+    def _alloc_odt(self, req: bytes) -> bytes:
+        need(req, 5)
+        if self._stage not in (_Stage.DAQ, _Stage.ODT):
+            raise XcpNegative(Err.SEQUENCE)
+        _, daq = self._list(req)
+        if daq.odts is not None:
+            raise XcpNegative(Err.SEQUENCE)
+        count = req[4]
+        if self._odt_count + count > self.params.max_odt_total:
+            raise XcpNegative(Err.MEMORY_OVERFLOW)
+        daq.first_pid = self._odt_count
+        daq.odts = [None] * count  # type: ignore[list-item]  # entries come with ALLOC_ODT_ENTRY
+        self._odt_count += count
+        self._stage = _Stage.ODT
+        return b""
+
+    def _alloc_odt_entry(self, req: bytes) -> bytes:
+        need(req, 6)
+        if self._stage not in (_Stage.ODT, _Stage.ENTRY):
+            raise XcpNegative(Err.SEQUENCE)
+        _, daq = self._list(req)
+        odt, count = req[4], req[5]
+        if daq.odts is None or odt >= len(daq.odts):
+            raise XcpNegative(Err.OUT_OF_RANGE)
+        if daq.odts[odt] is not None:
+            raise XcpNegative(Err.SEQUENCE)
+        if count > self.odt_capacity(odt) // self.params.granularity:
+            raise XcpNegative(Err.OUT_OF_RANGE)
+        daq.odts[odt] = [OdtEntry() for _ in range(count)]
+        self._stage = _Stage.ENTRY
+        return b""
+
+    # --- configuration -----------------------------------------------------------------------------
+
+    def _set_daq_ptr(self, req: bytes) -> bytes:
+        need(req, 6)
+        number, daq = self._list(req)
+        odt, entry = req[4], req[5]
+        if daq.odts is None or odt >= len(daq.odts) or daq.odts[odt] is None or entry >= len(daq.odts[odt]):
+            raise XcpNegative(Err.OUT_OF_RANGE)
+        if daq.running:
+            raise XcpNegative(Err.DAQ_ACTIVE)
+        self._ptr = (number, odt, entry)
+        return b""
+
+    def _write_daq(self, req: bytes) -> bytes:
+        need(req, 8)
+        if self._ptr is None:
+            raise XcpNegative(Err.SEQUENCE)
+        number, odt, index = self._ptr
+        daq = self.lists[number]
+        entries = daq.odts[odt]
+        if index >= len(entries):
+            raise XcpNegative(Err.OUT_OF_RANGE)  # the pointer ran past the ODT's last entry
+        if daq.running:
+            raise XcpNegative(Err.DAQ_ACTIVE)
+        bit_offset, size, extension = req[1], req[2], req[3]
+        address = struct.unpack_from("<I", req, 4)[0]
+        if bit_offset != NO_BIT_OFFSET or extension != 0:
+            raise XcpNegative(Err.OUT_OF_RANGE)
+        if not 0 < size <= self.params.max_odt_entry_size or size % self.params.granularity:
+            raise XcpNegative(Err.OUT_OF_RANGE)
+        try:
+            self.slave.target.memory.area_at(address, size)
+        except MemoryAccessError:
+            raise XcpNegative(Err.OUT_OF_RANGE) from None
+        used = sum(e.size for i, e in enumerate(entries) if i != index)
+        if used + size > self.odt_capacity(odt):
+            raise XcpNegative(Err.DAQ_CONFIG)
+        entries[index] = OdtEntry(address, size)
+        self._ptr = (number, odt, index + 1)
+        return b""
+
+    def _set_daq_list_mode(self, req: bytes) -> bytes:
+        need(req, 8)
+        mode = req[1]
+        _, daq = self._list(req)
+        event, prescaler, priority = struct.unpack_from("<H", req, 4)[0], req[6], req[7]
+        if daq.running:
+            raise XcpNegative(Err.DAQ_ACTIVE)
+        if mode & ~MODE_TIMESTAMP:
+            raise XcpNegative(Err.MODE_NOT_VALID)  # STIM, PID_OFF, ALTERNATING, DTO_CTR unsupported
+        if event not in self.events or prescaler == 0:
+            raise XcpNegative(Err.OUT_OF_RANGE)
+        daq.event, daq.prescaler, daq.priority = event, prescaler, priority
+        return b""
+
+    def _start_stop_daq_list(self, req: bytes) -> bytes:
+        need(req, 4)
+        mode = req[1]
+        _, daq = self._list(req)
+        if mode > 2:
+            raise XcpNegative(Err.MODE_NOT_VALID)
+        if mode and (daq.event is None or daq.odts is None or None in daq.odts):
+            raise XcpNegative(Err.DAQ_CONFIG)
+        if mode == 0:
+            daq.running = daq.selected = False
+        elif mode == 1:
+            daq.running, daq.samples_skipped = True, 0
+        else:
+            daq.selected = True
+        return bytes([daq.first_pid])
+
+    def _start_stop_synch(self, req: bytes) -> bytes:
+        need(req, 2)
+        mode = req[1]
+        if mode > 2:
+            raise XcpNegative(Err.MODE_NOT_VALID)
+        for daq in self.lists:
+            if mode == 0:
+                daq.running = False
+            elif daq.selected:
+                daq.running, daq.samples_skipped = mode == 1, 0
+            daq.selected = False
+        return b""
+
+    # --- sampling ---------------------------------------------------------------------------------
+
+    def on_event(self, channel: int, timestamp_ticks: int) -> list[bytes]:
+        """The DTOs of every running list on ``channel``, sampled now."""
+        frames = []
+        memory_read = self.slave.read
+        for daq in self.lists:
+            if not daq.running or daq.event != channel:
+                continue
+            daq.samples_skipped += 1
+            if daq.samples_skipped < daq.prescaler:
+                continue
+            daq.samples_skipped = 0
+            for odt, entries in enumerate(daq.odts):
+                frame = bytearray([daq.first_pid + odt])
+                if odt == 0:
+                    frame += (timestamp_ticks & 0xFFFFFFFF).to_bytes(self.params.timestamp_size, "little")
+                for entry in entries:
+                    if entry.size:
+                        frame += memory_read(entry.address, entry.size)
+                frames.append(bytes(frame))
+        return frames

@@ -1,0 +1,43 @@
+"""The XCP driver's constant strings, laid out in the boot ROM so masters can UPLOAD them.
+
+GET_ID, GET_DAQ_EVENT_INFO and GET_SECTOR_INFO (mode 2) answer with a length and point
+the MTA at the text; the texts live here, NUL-separated, in a read-only area.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from workbench.sim.memory_map import MemoryMap
+from workbench.sim.xcp.parameters import XcpParameters
+
+GET_ID_ASCII = 0
+GET_ID_ASAM_MC2_NAME = 1
+
+
+@dataclass(frozen=True)
+class InfoRom:
+    start: int
+    data: bytes
+    index: dict[str, tuple[int, int]]  # key -> (address, length)
+
+    @classmethod
+    def build(cls, params: XcpParameters, memory_map: MemoryMap) -> InfoRom:
+        texts = {f"id:{GET_ID_ASCII}": params.ecu_text, f"id:{GET_ID_ASAM_MC2_NAME}": params.asam_mc2_name}
+        texts.update({f"event:{e.number}": e.name for e in params.events})
+        texts.update({f"sector:{n}": f"{region}_{i}" for n, (region, i) in enumerate(_sector_names(memory_map))})
+        data = bytearray()
+        index = {}
+        for key, text in texts.items():
+            encoded = text.encode("ascii")
+            index[key] = (memory_map.info_rom_start + len(data), len(encoded))
+            data += encoded + b"\0"
+        return cls(memory_map.info_rom_start, bytes(data), index)
+
+
+def _sector_names(memory_map: MemoryMap) -> list[tuple[str, int]]:
+    names, counters = [], {}
+    for region, _ in memory_map.sectors:
+        counters[region] = counters.get(region, -1) + 1
+        names.append((region, counters[region]))
+    return names

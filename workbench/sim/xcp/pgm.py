@@ -1,0 +1,137 @@
+"""Flash programming: PROGRAM_START … PROGRAM_RESET with flash semantics and master block mode.
+
+* PROGRAM_START halts the application (the flash driver runs) and is refused while DAQ runs;
+* PROGRAM_CLEAR (absolute mode only) erases whole sectors of one region from the MTA;
+  a range that does not start and end on sector boundaries is ERR_OUT_OF_RANGE;
+* PROGRAM/PROGRAM_NEXT/PROGRAM_MAX write only erased bytes inside one flash region
+  (ERR_OUT_OF_RANGE outside, ERR_ACCESS_DENIED onto written bytes); a block is checked
+  whole at its first frame; PROGRAM with size 0 ends a segment;
+* PROGRAM_RESET answers, then resets the ECU (boot checks the application-valid key).
+"""
+
+from __future__ import annotations
+
+import struct
+from typing import TYPE_CHECKING
+
+from workbench.sim.memory import MemoryAccessError
+from workbench.sim.xcp.protocol import Cmd, Err, PowerLost, Writer, XcpNegative, memory_error, need
+
+if TYPE_CHECKING:
+    from workbench.sim.xcp.slave import XcpSlave
+
+COMM_MODE_PGM_MASTER_BLOCK = 0x01
+PGM_ABSOLUTE_MODE = 0x01
+PGM_NON_SEQUENTIAL_SUPPORTED = 0x40
+CLEAR_ABSOLUTE = 0x00
+
+
+class ProgrammingCommands:
+    def __init__(self, slave: XcpSlave):
+        self.slave = slave
+        self.active = False
+
+    def handlers(self):
+        return {
+            Cmd.PROGRAM_START: self._program_start,
+            Cmd.PROGRAM_CLEAR: self._program_clear,
+            Cmd.PROGRAM: self._program,
+            Cmd.PROGRAM_NEXT: self._program_next,
+            Cmd.PROGRAM_MAX: self._program_max,
+            Cmd.PROGRAM_RESET: self._program_reset,
+            Cmd.GET_PGM_PROCESSOR_INFO: self._get_pgm_processor_info,
+            Cmd.GET_SECTOR_INFO: self._get_sector_info,
+        }
+
+    @property
+    def _memory(self):
+        return self.slave.target.memory
+
+    def _require_active(self) -> None:
+        if not self.active:
+            raise XcpNegative(Err.SEQUENCE)
+
+    def _frame_arrived(self) -> None:
+        """Count a PROGRAM data frame; an injected power loss strikes before it is written."""
+        if self.slave.faults.on_program_frame():
+            self.slave.target.power_loss()
+            raise PowerLost
+
+    def _check(self, address: int, size: int) -> None:
+        try:
+            self._memory.check_program(address, size)
+        except MemoryAccessError as exc:
+            raise memory_error(exc) from None
+
+    def _write(self, address: int, data: bytes) -> None:
+        try:
+            self._memory.program(address, data)
+        except MemoryAccessError as exc:
+            raise memory_error(exc) from None
+
+    def _program_start(self, req: bytes) -> bytes:
+        if self.slave.daq.running:
+            raise XcpNegative(Err.DAQ_ACTIVE)
+        self.active = True
+        self.slave.target.halt_application()
+        params = self.slave.params
+        return bytes([0, COMM_MODE_PGM_MASTER_BLOCK, params.max_cto, params.max_bs, params.min_st_100us, 0])
+
+    def _program_clear(self, req: bytes) -> bytes:
+        need(req, 8)
+        self._require_active()
+        if req[1] != CLEAR_ABSOLUTE:
+            raise XcpNegative(Err.OUT_OF_RANGE)  # functional clearing is not supported
+        size = struct.unpack_from("<I", req, 4)[0]
+        try:
+            self._memory.erase(self.slave.mta, size)
+        except MemoryAccessError as exc:
+            raise memory_error(exc) from None
+        return b""
+
+    def _program(self, req: bytes) -> bytes | None:
+        need(req, 2)
+        self._require_active()
+        if req[1] == 0:
+            return b""  # end of a memory segment
+        self._frame_arrived()
+        return self.slave.start_block(req, Cmd.PROGRAM_NEXT, Writer(self._check, self._write))
+
+    def _program_next(self, req: bytes) -> bytes | None:
+        self._require_active()
+        self._frame_arrived()
+        return self.slave.continue_block(req, Cmd.PROGRAM_NEXT)
+
+    def _program_max(self, req: bytes) -> bytes:
+        count = self.slave.params.max_cto - 1
+        need(req, 1 + count)
+        self._require_active()
+        self._frame_arrived()
+        self.slave.require_mta_in(count)
+        self._write(self.slave.mta, req[1 : 1 + count])
+        self.slave.mta += count
+        return b""
+
+    def _program_reset(self, req: bytes) -> bytes:
+        self.slave.target.reset()
+        return b""
+
+    def _get_pgm_processor_info(self, req: bytes) -> bytes:
+        sectors = len(self.slave.target.memory_map.sectors)
+        return bytes([PGM_ABSOLUTE_MODE | PGM_NON_SEQUENTIAL_SUPPORTED, sectors])
+
+    def _get_sector_info(self, req: bytes) -> bytes:
+        need(req, 3)
+        mode, number = req[1], req[2]
+        sectors = self.slave.target.memory_map.sectors
+        if number >= len(sectors):
+            raise XcpNegative(Err.OUT_OF_RANGE)
+        _, sector = sectors[number]
+        if mode == 2:
+            address, length = self.slave.info.index[f"sector:{number}"]
+            self.slave.mta = address
+            return bytes([length])
+        if mode > 1:
+            raise XcpNegative(Err.MODE_NOT_VALID)
+        value = sector.start if mode == 0 else sector.size
+        return struct.pack("<BBBI", number, number, 0, value)  # clear/program sequence = sector order
