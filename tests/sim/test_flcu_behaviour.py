@@ -17,6 +17,7 @@ from workbench.sim.flcu import (
     PWMOUT_PRV,
     CanRxStatus,
     DiagStatus,
+    FlcuApplication,
     RxPduInfo,
     TankCtrlState,
     Variables,
@@ -181,3 +182,13 @@ def test_fuel_level_and_unknown_symbols():
         rig.variables.f32("zsNOPE")
     plain = Variables(rig.memory, {name: s.address for name, s in rig.elf.symbols.items()})
     assert plain.f32("zsEWMA_ALPHA") == np.float32(0.2)
+
+
+def test_the_twin_writes_exactly_the_c_applications_measurements():
+    rig = Rig()
+    in_ram = {
+        s.name
+        for s in rig.elf.symbols.values()
+        if s.kind == "object" and s.section in (".bss", ".data") and not s.name.startswith(("API_", "CanNetwork_"))
+    }
+    assert sorted(FlcuApplication.MEASUREMENTS) == sorted(in_ram)

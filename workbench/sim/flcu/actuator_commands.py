@@ -4,23 +4,21 @@ from __future__ import annotations
 
 import numpy as np
 
+from workbench.sim.flcu.rt import HALF, HUNDRED, ZERO
 from workbench.sim.flcu.hardware import DOUT_LED, DOUT_OTV1, DOUT_OTV2, PWMOUT_PRV, DiagStatus, Hardware
 from workbench.sim.flcu.variables import Variables
 
 MEASUREMENTS = ("xsOTV1Cmd", "xsOTV2Cmd", "xsLEDCmd", "xsPRVDutyCmd")
-_ZERO = np.float32(0.0)
-_HUNDRED = np.float32(100.0)
-_HALF = np.float32(0.5)
 DUTY_STEPS_PER_PERCENT = 100
 
 
 def duty_steps(duty_percent: np.float32) -> int:
     """The PWM driver's 0.01 % steps: round(duty * 100), saturated to [0, 10000]; NaN gives 0."""
-    if not duty_percent > _ZERO:
+    if not duty_percent > ZERO:
         return 0
-    if duty_percent >= _HUNDRED:
+    if duty_percent >= HUNDRED:
         return 100 * DUTY_STEPS_PER_PERCENT
-    return int(duty_percent * _HUNDRED + _HALF)
+    return int(duty_percent * HUNDRED + HALF)
 
 
 class ActuatorCommands:
@@ -31,14 +29,14 @@ class ActuatorCommands:
     def initialize(self) -> None:
         for name in MEASUREMENTS[:3]:
             self._v.set_u8(name, 0)
-        self._v.set_f32("xsPRVDutyCmd", _ZERO)
+        self._v.set_f32("xsPRVDutyCmd", ZERO)
 
     def step(self) -> None:
         v = self._v
         otv1 = v.u8("xsValve1State") if v.u8("xsOTV1DiagStatus") == DiagStatus.NO_ERROR else 0
         otv2 = v.u8("xsValve2State") if v.u8("xsOTV2DiagStatus") == DiagStatus.NO_ERROR else 0
         led = v.u8("xsLEDEn")
-        duty = v.f32("xsDC") if v.u8("xsPRVDiagStatus") == DiagStatus.NO_ERROR else _ZERO
+        duty = v.f32("xsDC") if v.u8("xsPRVDiagStatus") == DiagStatus.NO_ERROR else ZERO
         for name, value in zip(MEASUREMENTS[:3], (otv1, otv2, led)):
             v.set_u8(name, value)
         v.set_f32("xsPRVDutyCmd", duty)

@@ -13,6 +13,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from workbench.sim.flcu import actuator_commands, can_rx, can_tx, fuel_level, press_sens, prv_ctrl, tank_ctrl, utils
 from workbench.sim.flcu.actuator_commands import ActuatorCommands
 from workbench.sim.flcu.can_rx import CanRx
 from workbench.sim.flcu.can_tx import CanTx
@@ -36,6 +37,17 @@ class FlcuApplication:
 
     # period [s], method, XCP DAQ event number; tasks due at the same instant run in this order
     TASKS = ((0.004, "task_4ms", 0), (0.050, "task_50ms", 1), (0.100, "task_100ms", 2))
+    # every measurement and state the application writes, module by module
+    MEASUREMENTS = (
+        *press_sens.MEASUREMENTS,
+        *utils.MEASUREMENTS,
+        *fuel_level.MEASUREMENTS,
+        *tank_ctrl.MEASUREMENTS,
+        *prv_ctrl.MEASUREMENTS,
+        *actuator_commands.MEASUREMENTS,
+        *can_rx.MEASUREMENTS,
+        *can_tx.MEASUREMENTS,
+    )
 
     def __init__(self, memory: Memory, symbols: Mapping[str, object], hardware: Hardware):
         variables = Variables(memory, symbols)

@@ -10,10 +10,9 @@ from __future__ import annotations
 import numpy as np
 
 from workbench.sim.flcu.hardware import Hardware
+from workbench.sim.flcu.rt import HALF, ZERO
 from workbench.sim.flcu.variables import Variables
 
-_ZERO = np.float32(0.0)
-_HALF = np.float32(0.5)
 _U16_MAX = np.float32(65535.0)
 _FACTOR_0_01 = np.float32(0.01)
 MESSAGES = (("FLCU_TO_PCM_001", 4), ("FLCU_TO_PCM_002", 4), ("FLCU_TO_PCM_003", 8))
@@ -34,11 +33,11 @@ _DIAG_SIGNALS = (
 def raw_u16(phys: np.float32, factor: np.float32) -> int:
     """``CANTX_rawU16``: round(phys / factor) saturated to [0, 65535]; NaN gives 0."""
     raw = phys / factor
-    if not raw > _ZERO:
+    if not raw > ZERO:
         return 0
     if raw >= _U16_MAX:
         return 65535
-    return int(raw + _HALF)
+    return int(raw + HALF)
 
 
 class CanTx:

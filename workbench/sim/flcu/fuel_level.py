@@ -2,14 +2,10 @@
 
 from __future__ import annotations
 
-import numpy as np
-
+from workbench.sim.flcu.rt import HUNDRED, TWO, ZERO
 from workbench.sim.flcu.variables import Variables
 
 MEASUREMENTS = ("xsLEDEn", "xsFuelLevel")
-_TWO = np.float32(2.0)
-_HUNDRED = np.float32(100.0)
-_ZERO = np.float32(0.0)
 
 
 class FuelLevel:
@@ -26,9 +22,9 @@ class FuelLevel:
         tank2 = v.f32("zsTank2Pressure")
         empty = v.f32("xsEMPTY_TANK_THR")
         v.set_u8("xsLEDEn", tank1 < empty and tank2 < empty)
-        level = ((tank1 + tank2) / (_TWO * v.f32("xsFULL_TANK_PRESS"))) * _HUNDRED
-        if level > _HUNDRED:
-            level = _HUNDRED
-        elif level < _ZERO:
-            level = _ZERO
+        level = ((tank1 + tank2) / (TWO * v.f32("xsFULL_TANK_PRESS"))) * HUNDRED
+        if level > HUNDRED:
+            level = HUNDRED
+        elif level < ZERO:
+            level = ZERO
         v.set_f32("xsFuelLevel", level)

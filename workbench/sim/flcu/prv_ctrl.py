@@ -11,18 +11,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from workbench.sim.flcu.rt import look2, saturate
+from workbench.sim.flcu.rt import HALF, ZERO, look2, saturate
 from workbench.sim.flcu.variables import Variables
 
 TS = np.float32(0.05)
-_HALF = np.float32(0.5)
-_ZERO = np.float32(0.0)
 FF_TARGET_POINTS = 6
 FF_MANIFOLD_POINTS = 5
 # DW_PRVCtrl_T member offsets
 _INTEGRATOR, _ERROR, _DERROR = 0, 4, 8
-MEASUREMENTS = ("xsRailPressureErr", "xsPidP", "xsPidI", "xsPidD", "xsPidFF", "xsDC")
-STATES = ("PRVCtrl_DW",)
+MEASUREMENTS = ("xsRailPressureErr", "xsPidP", "xsPidI", "xsPidD", "xsPidFF", "xsDC", "PRVCtrl_DW")
 
 
 class PRVCtrl:
@@ -30,12 +27,12 @@ class PRVCtrl:
         self._v = variables
 
     def _reset(self) -> None:
-        for name in MEASUREMENTS[1:]:
-            self._v.set_f32(name, _ZERO)
+        for name in MEASUREMENTS[1:6]:
+            self._v.set_f32(name, ZERO)
         self._v.set_raw("PRVCtrl_DW", bytes(12))
 
     def initialize(self) -> None:
-        self._v.set_f32("xsRailPressureErr", _ZERO)
+        self._v.set_f32("xsRailPressureErr", ZERO)
         self._reset()
 
     def step(self) -> None:
@@ -60,13 +57,13 @@ class PRVCtrl:
         )
         proportional = v.f32("xsPRV_KP") * error
         integral = v.f32("PRVCtrl_DW", _INTEGRATOR)
-        if (-error if error < _ZERO else error) <= v.f32("xsPRV_I_BAND"):
+        if (-error if error < ZERO else error) <= v.f32("xsPRV_I_BAND"):
             integral = integral + (v.f32("xsPRV_KI") * error) * TS
         integral = saturate(integral, dc_min - feed_forward, dc_max - feed_forward)
         d_error = error - v.f32("PRVCtrl_DW", _ERROR)
-        derivative = v.f32("xsPRV_KD") * (((d_error + v.f32("PRVCtrl_DW", _DERROR)) * _HALF) / TS)
+        derivative = v.f32("xsPRV_KD") * (((d_error + v.f32("PRVCtrl_DW", _DERROR)) * HALF) / TS)
         duty = saturate(((proportional + integral) + derivative) + feed_forward, dc_min, dc_max)
-        for name, value in zip(MEASUREMENTS[1:], (proportional, integral, derivative, feed_forward, duty)):
+        for name, value in zip(MEASUREMENTS[1:6], (proportional, integral, derivative, feed_forward, duty)):
             v.set_f32(name, value)
         v.set_f32("PRVCtrl_DW", integral, _INTEGRATOR)
         v.set_f32("PRVCtrl_DW", error, _ERROR)

@@ -13,7 +13,10 @@ import numpy as np
 
 f32 = np.float32
 ZERO = f32(0.0)
+HALF = f32(0.5)
 ONE = f32(1.0)
+TWO = f32(2.0)
+HUNDRED = f32(100.0)
 
 
 def saturate(value: np.float32, lower: np.float32, upper: np.float32) -> np.float32:

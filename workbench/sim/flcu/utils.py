@@ -2,9 +2,8 @@
 
 from __future__ import annotations
 
-import numpy as np
-
 from workbench.sim.flcu.hardware import DOUT_LED, DOUT_OTV1, DOUT_OTV2, PWMOUT_PRV, DiagStatus, Hardware
+from workbench.sim.flcu.rt import ZERO
 from workbench.sim.flcu.variables import Variables
 
 _SENSOR_STATUSES = ("xsTank1PSDiagStatus", "xsTank2PSDiagStatus", "xsManifoldPSDiagStatus", "xsRailPSDiagStatus")
@@ -34,7 +33,7 @@ class Utils:
 
         def deviates(tank: str) -> bool:
             diff = manifold - v.f32(tank)
-            return (-diff if diff < np.float32(0.0) else diff) > tolerance
+            return (-diff if diff < ZERO else diff) > tolerance
 
         if sensor[2] == DiagStatus.NO_ERROR and (
             (v.u8("xsOTV1Cmd") != 0 and deviates("zsTank1Pressure"))
