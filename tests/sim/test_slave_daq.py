@@ -38,7 +38,7 @@ def write_daq(probe, daq_list, odt, entry, *elements):
 def test_processor_and_resolution_info(daq):
     properties, max_daq, max_event, min_daq, key = struct.unpack("<BHHBB", daq.ok(Cmd.GET_DAQ_PROCESSOR_INFO))
     assert properties == 0x13  # dynamic, prescaler, timestamps
-    assert (max_daq, max_event, min_daq, key) == (16, 3, 0, 0x30)
+    assert (max_daq, max_event, min_daq, key) == (16, 3, 0, 0x00)  # absolute PIDs, address extension free
     gran, max_entry, _, _, ts_mode, ticks = struct.unpack("<BBBBBH", daq.ok(Cmd.GET_DAQ_RESOLUTION_INFO))
     assert (gran, max_entry, ts_mode, ticks) == (1, 4, 0x4C, 1)  # 10 us, fixed, 4 bytes
 

@@ -21,7 +21,7 @@ def pgm(xcp):
 
 def start(probe):
     response = probe.ok(Cmd.PROGRAM_START)
-    assert response == bytes([0, 0x01, 8, 43, 0, 0])  # master block mode, MAX_BS 43, MIN_ST 0
+    assert response == bytes([0, 0x01, 8, 42, 0, 0])  # master block mode, MAX_BS 42, MIN_ST 0
     return response
 
 
@@ -44,14 +44,19 @@ def program(probe, address, data):
 
 
 def test_pgm_processor_and_sector_info(pgm):
-    assert pgm.ok(Cmd.GET_PGM_PROCESSOR_INFO) == bytes([0x41, len(HDS9.sectors)])
-    calib_first = next(i for i, (region, _) in enumerate(HDS9.sectors) if region == "CALIB")
-    _, _, _, start_address = struct.unpack("<BBBI", pgm.ok(Cmd.GET_SECTOR_INFO, 0, calib_first))
-    _, _, _, length = struct.unpack("<BBBI", pgm.ok(Cmd.GET_SECTOR_INFO, 1, calib_first))
-    assert (start_address, length) == (0xFC0000, 0x4000)
-    name_length = pgm.ok(Cmd.GET_SECTOR_INFO, 2, calib_first)[0]
-    assert pgm.upload(name_length) == b"CALIB_0"
-    assert pgm.err(Cmd.GET_SECTOR_INFO, 0, len(HDS9.sectors)) == Err.OUT_OF_RANGE
+    assert pgm.ok(Cmd.GET_PGM_PROCESSOR_INFO) == bytes([0x43, 3])  # absolute + functional, non-sequential
+    infos = []
+    for number in range(3):
+        clear_seq, program_seq, _, address = struct.unpack("<BBBI", pgm.ok(Cmd.GET_SECTOR_INFO, 0, number))
+        length = struct.unpack("<BBBI", pgm.ok(Cmd.GET_SECTOR_INFO, 1, number))[3]
+        name = pgm.upload(pgm.ok(Cmd.GET_SECTOR_INFO, 2, number)[0])
+        infos.append((name, address, length, clear_seq, program_seq))
+    assert infos == [
+        (b"APPLICATIVE", 0x840000, 0x780000, 1, 0),
+        (b"CALIB", 0xFC0000, 0x20000, 2, 1),
+        (b"SHARED", 0xFE0000, 0x4000, 0, 2),  # the key: cleared first, programmed last
+    ]
+    assert pgm.err(Cmd.GET_SECTOR_INFO, 0, 3) == Err.OUT_OF_RANGE
 
 
 def test_full_calib_program_in_block_mode_then_reset(pgm, ecu):
@@ -72,16 +77,21 @@ def test_full_calib_program_in_block_mode_then_reset(pgm, ecu):
 def test_flash_rules(pgm, ecu):
     assert pgm.err(Cmd.PROGRAM_CLEAR, 0, 0, 0, struct.pack("<I", 0x4000)) == Err.SEQUENCE  # before PROGRAM_START
     start(pgm)
-    assert clear(pgm, CALIB.start + 0x10, 0x4000) == [bytes([0xFE, Err.OUT_OF_RANGE])]  # not sector aligned
+    assert clear(pgm, CALIB.start, 0x4000) == [bytes([0xFE, Err.OUT_OF_RANGE])]  # not the whole sector
     assert clear(pgm, 0x40000000, 0x4000) == [bytes([0xFE, Err.OUT_OF_RANGE])]  # RAM is not flash
-    assert pgm.err(Cmd.PROGRAM_CLEAR, 1, 0, 0, struct.pack("<I", 0)) == Err.OUT_OF_RANGE  # functional mode
+    assert clear(pgm, 0x800000, 0x40000) == [bytes([0xFE, Err.WRITE_PROTECTED])]  # BOOT
+    assert pgm.err(Cmd.PROGRAM_CLEAR, 1, 0, 0, struct.pack("<I", 0x08)) == Err.OUT_OF_RANGE  # no such area
+    assert pgm.err(Cmd.PROGRAM_CLEAR, 2, 0, 0, struct.pack("<I", 0x01)) == Err.MODE_NOT_VALID
+    pgm.set_mta(0x800000)
+    assert pgm.err(Cmd.PROGRAM, 4, b"boot") == Err.WRITE_PROTECTED
     pgm.set_mta(CALIB.start)
     assert pgm.err(Cmd.PROGRAM, 4, b"abcd") == Err.ACCESS_DENIED  # not erased
     pgm.set_mta(0x40000000)
     assert pgm.err(Cmd.PROGRAM, 4, b"abcd") == Err.OUT_OF_RANGE  # not flash
     pgm.set_mta(CALIB.end - 4)
     assert pgm.err(Cmd.PROGRAM, 8, b"abcdef") == Err.OUT_OF_RANGE  # block runs out of the region
-    clear(pgm, CALIB.end - 0x4000, 0x4000)
+    assert pgm.ok(Cmd.PROGRAM_CLEAR, 1, 0, 0, struct.pack("<I", 0x01)) == b""  # functional: calibration area
+    assert ecu.read(CALIB.start, 4) == b"\xff" * 4
     pgm.set_mta(CALIB.end - 7)
     assert pgm.ok(Cmd.PROGRAM_MAX, b"1234567") == b""
     assert ecu.read(CALIB.end - 7, 7) == b"1234567"
@@ -89,7 +99,7 @@ def test_flash_rules(pgm, ecu):
 
 def test_program_next_out_of_sequence(pgm):
     start(pgm)
-    clear(pgm, CALIB.start, 0x4000)
+    clear(pgm, CALIB.start, CALIB.size)
     assert pgm.err(Cmd.PROGRAM_NEXT, 6, bytes(6)) == Err.SEQUENCE
     pgm.set_mta(CALIB.start)
     pgm.silent(Cmd.PROGRAM, 12, bytes(6))
@@ -137,7 +147,7 @@ def test_power_loss_at_the_nth_program_frame_keeps_what_was_written():
     probe.unlock(Resource.PGM)
     start(probe)
     clear(probe, SHARED.start, SHARED.size)  # the flash tool clears the key first
-    clear(probe, CALIB.start, 0x4000)
+    clear(probe, CALIB.start, CALIB.size)
     ecu.faults.power_loss_at_program(3)
     probe.set_mta(CALIB.start)
     probe.silent(Cmd.PROGRAM, 18, b"AAAAAA")

@@ -151,4 +151,4 @@ def test_disconnect_ends_the_session(xcp):
 
 def test_comm_mode_info(xcp):
     _, optional, _, max_bs, min_st, queue, _ = xcp.ok(Cmd.GET_COMM_MODE_INFO)
-    assert optional == 0x01 and max_bs * 6 >= 255 and min_st == 0 and queue == 0
+    assert optional == 0x01 and (1 + max_bs) * 6 >= 255 and min_st == 0 and queue == 0

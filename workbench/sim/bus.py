@@ -12,6 +12,8 @@ from __future__ import annotations
 import logging
 import queue
 import threading
+import time
+from collections import deque
 from collections.abc import Callable
 
 import can
@@ -22,13 +24,43 @@ log = logging.getLogger(__name__)
 
 TX_BUFFER_FRAMES = 256
 _POLL_S = 0.05
+ECHOING_INTERFACES = frozenset({"udp_multicast"})  # they hand a node its own frames back
+
+
+class EchoFilter:
+    """Recognises the frames this node sent when the bus hands them back (udp_multicast does).
+
+    Echoes come back in sending order, so each received frame is compared with the oldest
+    frame still unconfirmed; entries older than ``max_age_s`` are forgotten.
+    """
+
+    def __init__(self, max_age_s: float = 1.0):
+        self._pending: deque[tuple[float, int, bool, bytes]] = deque(maxlen=4096)
+        self._lock = threading.Lock()
+        self._max_age_s = max_age_s
+
+    def sent(self, message: can.Message) -> None:
+        with self._lock:
+            self._pending.append((time.monotonic(), message.arbitration_id, message.is_extended_id, bytes(message.data)))
+
+    def is_echo(self, message: can.Message) -> bool:
+        key = (message.arbitration_id, message.is_extended_id, bytes(message.data))
+        with self._lock:
+            now = time.monotonic()
+            while self._pending and now - self._pending[0][0] > self._max_age_s:
+                self._pending.popleft()
+            if self._pending and self._pending[0][1:] == key:
+                self._pending.popleft()
+                return True
+        return False
 
 
 class Transmitter:
-    def __init__(self, bus: can.BusABC, clock: BusClock | None = None, name: str = "bus"):
+    def __init__(self, bus: can.BusABC, clock: BusClock | None = None, name: str = "bus", echoes: EchoFilter | None = None):
         self.bus = bus
         self.clock = clock
         self.name = name
+        self._echoes = echoes
         self.sent = 0
         self.dropped = 0
         self._queue: queue.Queue[can.Message | None] = queue.Queue(TX_BUFFER_FRAMES)
@@ -59,6 +91,8 @@ class Transmitter:
 
     def _put_on_bus(self, message: can.Message) -> None:
         try:
+            if self._echoes is not None:
+                self._echoes.sent(message)
             self.bus.send(message)
             self.sent += 1
         except can.CanError as exc:
@@ -79,10 +113,18 @@ class Receiver:
     long on a real bus), so request-response round trips include both frames' time.
     """
 
-    def __init__(self, bus: can.BusABC, on_frame: Callable[[can.Message], None], clock: BusClock | None = None, name: str = "bus"):
+    def __init__(
+        self,
+        bus: can.BusABC,
+        on_frame: Callable[[can.Message], None],
+        clock: BusClock | None = None,
+        name: str = "bus",
+        echoes: EchoFilter | None = None,
+    ):
         self.bus = bus
         self._on_frame = on_frame
         self._clock = clock
+        self._echoes = echoes
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, name=f"sim-rx-{name}", daemon=True)
         self._thread.start()
@@ -100,6 +142,8 @@ class Receiver:
                     return
                 raise
             if message is None or message.is_error_frame:
+                continue
+            if self._echoes is not None and self._echoes.is_echo(message):
                 continue
             if self._clock is not None:
                 self._clock.wait_until(self._clock.occupy(message))

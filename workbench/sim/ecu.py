@@ -72,7 +72,8 @@ class SimulatedEcu:
             region raise :class:`~workbench.sim.memory.MemoryAccessError`.
         :param layout: what the application build puts where (from its ELF).
         :param application: builds the application at every start: ``(memory, symbols, hardware)``.
-        :param hardware: the BSW the application calls; its ``reset()`` runs at every power-on.
+        :param hardware: the BSW the application calls; its ``reset()`` runs at every power-on,
+            its ``safe_state()`` whenever the application stops (power off, programming).
         """
         self.params = params or XcpParameters()
         self.memory_map = memory_map
@@ -137,16 +138,18 @@ class SimulatedEcu:
 
     def power_off(self) -> None:
         """Cut the power: RAM and the XCP session are lost, flash keeps what was written."""
-        self._stop_tasks()
+        self._stop_application()
         self.application = None
         self.memory.clear_ram()
         self.slave.reset()
         self.state = EcuState.OFF
 
-    def _stop_tasks(self) -> None:
+    def _stop_application(self) -> None:
         for task in self._tasks:
             self.scheduler.cancel(task)
         self._tasks.clear()
+        if self._hardware is not None:
+            self._hardware.safe_state()
 
     # --- what the XCP slave asks of its ECU ----------------------------------------------------
 
@@ -160,7 +163,7 @@ class SimulatedEcu:
         return (self.scheduler.now_us - self._power_on_us) * 1000 // tick_ns
 
     def halt_application(self) -> None:
-        self._stop_tasks()
+        self._stop_application()
         if self.state is EcuState.APPLICATION:
             self.state = EcuState.HALTED
 

@@ -2,7 +2,7 @@
 
 This is the chip, not the application: flash regions with their sectors, the CAL RAM
 window that overlays CAL ROM, ordinary RAM, where the application-valid key lives, and
-the boot ROM that holds the XCP driver's strings.
+the boot ROM that holds the XCP driver's strings, and which flash XCP may program.
 """
 
 from __future__ import annotations
@@ -13,8 +13,20 @@ from workbench.image import AddressRange, Region
 
 
 @dataclass(frozen=True)
+class FlashSector:
+    """A sector of XCP programming (GET_SECTOR_INFO numbers them in :attr:`MemoryMap.sectors` order)."""
+
+    name: str
+    range: AddressRange
+    clear_sequence: int  # the order a flash tool clears sectors in
+    program_sequence: int  # the order it programs them in
+    functional_bit: int  # PROGRAM_CLEAR functional mode: 0x01 calibration, 0x02 code, 0x04 NVRAM
+
+
+@dataclass(frozen=True)
 class MemoryMap:
     flash: tuple[Region, ...]
+    sectors: tuple[FlashSector, ...]  # what XCP may clear and program; flash outside them is protected
     cal_ram: AddressRange  # the working page; mirrors CAL ROM byte for byte
     cal_rom_start: int  # where CAL ROM (the reference page) starts in flash
     ram: AddressRange
@@ -37,20 +49,38 @@ class MemoryMap:
     def ram_windows(self) -> dict[str, AddressRange]:
         return {"CALRAM": self.cal_ram, "RAM": self.ram}
 
-    @property
-    def sectors(self) -> list[tuple[str, AddressRange]]:
-        """Every flash sector as ``(region name, range)``, numbered in this order by GET_SECTOR_INFO."""
-        return [(region.name, sector) for region in self.flash for sector in region.sectors]
+    def protected(self, address: int, size: int) -> bool:
+        """True when part of ``[address, address + size)`` is flash that no programmable sector covers."""
+        end = address + size
+        return any(lo < end and address < hi for lo, hi in self._unprogrammable())
 
+    def _unprogrammable(self) -> list[tuple[int, int]]:
+        gaps = []
+        for region in self.flash:
+            cursor = region.start
+            for sector in sorted((s.range for s in self.sectors if region.contains(s.range.start)), key=lambda r: r.start):
+                if sector.start > cursor:
+                    gaps.append((cursor, sector.start))
+                cursor = max(cursor, sector.end)
+            if cursor < region.end:
+                gaps.append((cursor, region.end))
+        return gaps
 
 APP_VALID_KEY = 0x5AA5C33C  # boot_key.h
 
+# One sector per region, as the A2L's PGM block lists them; BOOT is not programmable over XCP.
+# A flash tool clears the key (SHARED) first and programs it last.
 HDS9 = MemoryMap(
     flash=(
-        Region("BOOT", 0x800000, 0x40000, sector_size=0x10000),
-        Region("APPLICATIVE", 0x840000, 0x780000, sector_size=0x40000),
-        Region("CALIB", 0xFC0000, 0x20000, sector_size=0x4000),
-        Region("SHARED", 0xFE0000, 0x4000, sector_size=0x4000),
+        Region("BOOT", 0x800000, 0x40000),
+        Region("APPLICATIVE", 0x840000, 0x780000),
+        Region("CALIB", 0xFC0000, 0x20000),
+        Region("SHARED", 0xFE0000, 0x4000),
+    ),
+    sectors=(
+        FlashSector("APPLICATIVE", AddressRange(0x840000, 0xFC0000), 1, 0, 0x02),
+        FlashSector("CALIB", AddressRange(0xFC0000, 0xFE0000), 2, 1, 0x01),
+        FlashSector("SHARED", AddressRange(0xFE0000, 0xFE4000), 0, 2, 0x04),
     ),
     cal_ram=AddressRange(0x40000000, 0x40020000),
     cal_rom_start=0xFC0000,

@@ -21,7 +21,7 @@ from typing import Any
 import can
 
 from workbench.errors import WorkbenchError
-from workbench.sim.bus import Receiver, Transmitter
+from workbench.sim.bus import ECHOING_INTERFACES, EchoFilter, Receiver, Transmitter
 from workbench.sim.can2 import Can2Driver
 from workbench.sim.can_timing import BusClock
 from workbench.sim.ecu import EcuState, SimulatedEcu
@@ -94,8 +94,9 @@ class Simulator:
             raise
         clocks = {name: BusClock(self.bitrate) if self.bitrate else None for name in self._buses}
         for name, bus in self._distinct_buses():
-            self._transmitters[name] = Transmitter(bus, clocks[name], name)
-            self._receivers.append(Receiver(bus, self._receiver_for(name), clocks[name], name))
+            echoes = EchoFilter() if self._echoes(name, bus) else None
+            self._transmitters[name] = Transmitter(bus, clocks[name], name, echoes)
+            self._receivers.append(Receiver(bus, self._receiver_for(name), clocks[name], name, echoes))
         if "CAN2" not in self._transmitters:
             self._transmitters["CAN2"] = self._transmitters["CAN1"]
         self.ecu.dto_sink = self._send_dto
@@ -124,6 +125,11 @@ class Simulator:
                 raise WorkbenchError(f"cannot open {name} bus ({where}): {exc}") from exc
             self._buses[name] = bus
             self._owned.append(bus)
+
+    def _echoes(self, name: str, bus: can.BusABC) -> bool:
+        spec = self._specs[name]
+        interface = spec.get("interface") if isinstance(spec, Mapping) else type(bus).__name__
+        return interface in ECHOING_INTERFACES or type(bus).__name__ == "UdpMulticastBus"
 
     def _distinct_buses(self) -> list[tuple[str, can.BusABC]]:
         seen: list[tuple[str, can.BusABC]] = []

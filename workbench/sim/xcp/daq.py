@@ -40,7 +40,7 @@ PROPERTY_PRESCALER = 0x02
 PROPERTY_TIMESTAMP = 0x10
 EVENT_PROPERTY_DAQ = 0x04
 EVENT_CONSISTENCY_DAQ = 0x40
-KEY_BYTE_AE_SAME_FOR_ALL = 0x30  # identification field absolute (00), address extension fixed (11)
+KEY_BYTE = 0x00  # identification field absolute, address extension free (only extension 0 exists), default optimisation
 UNLIMITED_LISTS = 0xFF
 
 
@@ -112,7 +112,7 @@ class DaqProcessor:
 
     def _get_processor_info(self, req: bytes) -> bytes:
         properties = PROPERTY_DYNAMIC | PROPERTY_PRESCALER | PROPERTY_TIMESTAMP
-        return struct.pack("<BHHBB", properties, self.params.max_daq, len(self.events), 0, KEY_BYTE_AE_SAME_FOR_ALL)
+        return struct.pack("<BHHBB", properties, self.params.max_daq, len(self.events), 0, KEY_BYTE)
 
     def _get_resolution_info(self, req: bytes) -> bytes:
         size_code = {1: 1, 2: 2, 4: 4}[self.params.timestamp_size]

@@ -25,7 +25,7 @@ class InfoRom:
     def build(cls, params: XcpParameters, memory_map: MemoryMap) -> InfoRom:
         texts = {f"id:{GET_ID_ASCII}": params.ecu_text, f"id:{GET_ID_ASAM_MC2_NAME}": params.asam_mc2_name}
         texts.update({f"event:{e.number}": e.name for e in params.events})
-        texts.update({f"sector:{n}": f"{region}_{i}" for n, (region, i) in enumerate(_sector_names(memory_map))})
+        texts.update({f"sector:{n}": sector.name for n, sector in enumerate(memory_map.sectors)})
         data = bytearray()
         index = {}
         for key, text in texts.items():
@@ -34,10 +34,3 @@ class InfoRom:
             data += encoded + b"\0"
         return cls(memory_map.info_rom_start, bytes(data), index)
 
-
-def _sector_names(memory_map: MemoryMap) -> list[tuple[str, int]]:
-    names, counters = [], {}
-    for region, _ in memory_map.sectors:
-        counters[region] = counters.get(region, -1) + 1
-        names.append((region, counters[region]))
-    return names

@@ -49,7 +49,7 @@ class XcpParameters:
     baudrate: int = 1_000_000
     max_cto: int = 8
     max_dto: int = 8
-    max_bs: int = 43  # frames of a master block (DOWNLOAD/PROGRAM block mode): 43 * 6 >= 255 bytes
+    max_bs: int = 42  # _NEXT frames of a master block after its DOWNLOAD/PROGRAM: (1 + 42) * 6 >= 255 bytes
     min_st_100us: int = 0
     protected: Resource = Resource.CAL_PAG | Resource.DAQ | Resource.PGM  # locked at CONNECT until UNLOCK
     checksum_type: ChecksumType = ChecksumType.CRC_32
@@ -69,3 +69,8 @@ class XcpParameters:
     def max_data_per_frame(self) -> int:
         """Data bytes of a DOWNLOAD/PROGRAM/…_NEXT frame (command and count byte excluded)."""
         return self.max_cto - 2
+
+    @property
+    def max_block_bytes(self) -> int:
+        """Largest master block: the first frame and MAX_BS _NEXT frames (ASAM: MAX_BS counts the _NEXT packets)."""
+        return min(255, (1 + self.max_bs) * self.max_data_per_frame)

@@ -1,11 +1,13 @@
 """Flash programming: PROGRAM_START … PROGRAM_RESET with flash semantics and master block mode.
 
 * PROGRAM_START halts the application (the flash driver runs) and is refused while DAQ runs;
-* PROGRAM_CLEAR (absolute mode only) erases whole sectors of one region from the MTA;
-  a range that does not start and end on sector boundaries is ERR_OUT_OF_RANGE;
-* PROGRAM/PROGRAM_NEXT/PROGRAM_MAX write only erased bytes inside one flash region
-  (ERR_OUT_OF_RANGE outside, ERR_ACCESS_DENIED onto written bytes); a block is checked
-  whole at its first frame; PROGRAM with size 0 ends a segment;
+* PROGRAM_CLEAR erases whole sectors: in absolute mode from the MTA (a range that does not
+  start and end on sector boundaries is ERR_OUT_OF_RANGE), in functional mode the sectors
+  whose bit is in the range (0x01 calibration = CALIB, 0x02 code = APPLICATIVE, 0x04 NVRAM = SHARED);
+* PROGRAM/PROGRAM_NEXT/PROGRAM_MAX write only erased bytes inside one sector
+  (ERR_OUT_OF_RANGE outside flash, ERR_WRITE_PROTECTED in flash no sector covers (BOOT),
+  ERR_ACCESS_DENIED onto written bytes); a block is checked whole at its first frame;
+  PROGRAM with size 0 ends a segment;
 * PROGRAM_RESET answers, then resets the ECU (boot checks the application-valid key).
 """
 
@@ -22,8 +24,10 @@ if TYPE_CHECKING:
 
 COMM_MODE_PGM_MASTER_BLOCK = 0x01
 PGM_ABSOLUTE_MODE = 0x01
+PGM_FUNCTIONAL_MODE = 0x02
 PGM_NON_SEQUENTIAL_SUPPORTED = 0x40
 CLEAR_ABSOLUTE = 0x00
+CLEAR_FUNCTIONAL = 0x01
 
 
 class ProgrammingCommands:
@@ -58,12 +62,15 @@ class ProgrammingCommands:
             raise PowerLost
 
     def _check(self, address: int, size: int) -> None:
+        if self.slave.target.memory_map.protected(address, size):
+            raise XcpNegative(Err.WRITE_PROTECTED)
         try:
             self._memory.check_program(address, size)
         except MemoryAccessError as exc:
             raise memory_error(exc) from None
 
     def _write(self, address: int, data: bytes) -> None:
+        self._check(address, len(data))
         try:
             self._memory.program(address, data)
         except MemoryAccessError as exc:
@@ -80,13 +87,24 @@ class ProgrammingCommands:
     def _program_clear(self, req: bytes) -> bytes:
         need(req, 8)
         self._require_active()
-        if req[1] != CLEAR_ABSOLUTE:
-            raise XcpNegative(Err.OUT_OF_RANGE)  # functional clearing is not supported
-        size = struct.unpack_from("<I", req, 4)[0]
-        try:
-            self._memory.erase(self.slave.mta, size)
-        except MemoryAccessError as exc:
-            raise memory_error(exc) from None
+        mode, clear_range = req[1], struct.unpack_from("<I", req, 4)[0]
+        memory_map = self.slave.target.memory_map
+        if mode == CLEAR_ABSOLUTE:
+            ranges = [(self.slave.mta, clear_range)]
+        elif mode == CLEAR_FUNCTIONAL:
+            chosen = [s for s in memory_map.sectors if s.functional_bit & clear_range]
+            if not chosen or clear_range & ~sum(s.functional_bit for s in memory_map.sectors):
+                raise XcpNegative(Err.OUT_OF_RANGE)
+            ranges = [(s.range.start, s.range.size) for s in chosen]
+        else:
+            raise XcpNegative(Err.MODE_NOT_VALID)
+        for address, size in ranges:
+            if memory_map.protected(address, size):
+                raise XcpNegative(Err.WRITE_PROTECTED)
+            try:
+                self._memory.erase(address, size)
+            except MemoryAccessError as exc:
+                raise memory_error(exc) from None
         return b""
 
     def _program(self, req: bytes) -> bytes | None:
@@ -117,8 +135,8 @@ class ProgrammingCommands:
         return b""
 
     def _get_pgm_processor_info(self, req: bytes) -> bytes:
-        sectors = len(self.slave.target.memory_map.sectors)
-        return bytes([PGM_ABSOLUTE_MODE | PGM_NON_SEQUENTIAL_SUPPORTED, sectors])
+        properties = PGM_ABSOLUTE_MODE | PGM_FUNCTIONAL_MODE | PGM_NON_SEQUENTIAL_SUPPORTED
+        return bytes([properties, len(self.slave.target.memory_map.sectors)])
 
     def _get_sector_info(self, req: bytes) -> bytes:
         need(req, 3)
@@ -126,12 +144,12 @@ class ProgrammingCommands:
         sectors = self.slave.target.memory_map.sectors
         if number >= len(sectors):
             raise XcpNegative(Err.OUT_OF_RANGE)
-        _, sector = sectors[number]
+        sector = sectors[number]
         if mode == 2:
             address, length = self.slave.info.index[f"sector:{number}"]
             self.slave.mta = address
             return bytes([length])
         if mode > 1:
             raise XcpNegative(Err.MODE_NOT_VALID)
-        value = sector.start if mode == 0 else sector.size
-        return struct.pack("<BBBI", number, number, 0, value)  # clear/program sequence = sector order
+        value = sector.range.start if mode == 0 else sector.range.size
+        return struct.pack("<BBBI", sector.clear_sequence, sector.program_sequence, 0, value)

@@ -245,7 +245,7 @@ class XcpSlave:
         need(req, 2)
         count = req[1]
         per_frame = self.params.max_data_per_frame
-        if count == 0 or count > self.params.max_bs * per_frame:
+        if count == 0 or count > self.params.max_block_bytes:
             raise XcpNegative(Err.OUT_OF_RANGE)
         first = min(count, per_frame)
         need(req, 2 + first)

@@ -1,0 +1,32 @@
+"""pyxcp as an independent XCP master for the simulator's tests (built from a config object, quiet)."""
+
+from __future__ import annotations
+
+import logging
+
+from pyxcp.config import create_application_from_config
+from pyxcp.master import Master
+
+from workbench.sim.seedkey import compute_key
+
+
+def pyxcp_master(interface: str, channel: str, can_id_master: int = 0x7F0, can_id_slave: int = 0x7F1,
+                 policy=None, timeout_s: float = 2.0) -> Master:
+    """A pyxcp Master on a python-can bus; never reads ``sys.argv``, logs only criticals."""
+    app = create_application_from_config(
+        {"Transport": {"CAN": {"interface": interface, "channel": channel, "can_id_master": can_id_master,
+                               "can_id_slave": can_id_slave}}},
+        log_level=logging.CRITICAL,
+    )
+    app.transport.timeout = timeout_s
+    logging.getLogger("pyxcp").setLevel(logging.CRITICAL)
+    master = Master("can", config=app, policy=policy)
+    # pyxcp calls the plugin as f(resource, seed); the A2L names compute_key(seed, resource)
+    master.seed_n_key_function = lambda resource, seed: compute_key(bytes(seed), resource)
+    return master
+
+
+def connect(master: Master) -> None:
+    master.connect()
+    if master.slaveProperties.optionalCommMode:
+        master.getCommModeInfo()

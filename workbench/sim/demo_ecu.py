@@ -1,0 +1,146 @@
+"""The FLCU demo ECU assembled from its files: ELF (layout, symbols), s19 (flash), A2L (XCP), DBC (CAN2).
+
+From the A2L come the CAN ids, the baud rate, the EPK address, the DAQ events and the
+BUILD_CHECKSUM type; the DAQ limits are the simulator's own (:class:`DaqParameters`), and
+the A2L must state the same (a test checks it). The s19 never holds the application-valid
+key (``.app_key`` is NOLOAD): the factory programs it after the image, as a flash tool
+does, unless ``valid_key=False``.
+"""
+
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+from workbench import demo
+from workbench.a2l import A2lDocument, XcpConfig, read_xcp_config
+from workbench.a2l import load as load_a2l
+from workbench.can.dbc_file import DbcFile, load_dbc
+from workbench.elf import ElfSymbols
+from workbench.errors import InputError
+from workbench.image import ChecksumType, load_image
+from workbench.sim.bsw import Bsw
+from workbench.sim.can2 import Can2Driver
+from workbench.sim.ecu import SimulatedEcu
+from workbench.sim.faults import FaultPlan
+from workbench.sim.flcu import FlcuApplication
+from workbench.sim.layout import ApplicationLayout
+from workbench.sim.memory_map import HDS9
+from workbench.sim.pcm import PcmNode
+from workbench.sim.plant import FuelSystemPlant
+from workbench.sim.scheduler import Scheduler
+from workbench.sim.xcp.parameters import EventChannel, XcpParameters
+from workbench.sim.xcp.protocol import Resource
+
+ECU_NODE = "FLCU"
+PLANT_STEP_S = 0.001
+EXTENDED_FLAG = 0x80000000
+
+
+@dataclass
+class DemoFiles:
+    a2l: Path
+    elf: Path
+    s19: Path
+    dbc: Path
+
+    @classmethod
+    def defaults(cls) -> DemoFiles:
+        """The demo's files; the merged A2L when it exists, else the master A2L (same IF_DATA XCP)."""
+        a2l = demo.a2l() if demo.a2l().exists() else demo.master_a2l()
+        return cls(a2l, demo.elf(), demo.s19(), demo.dbc_can2())
+
+
+@dataclass
+class DemoEcu:
+    """The assembled ECU and the parts a simulator or a test wires to it."""
+
+    ecu: SimulatedEcu
+    can2: Can2Driver
+    plant: FuelSystemPlant
+    a2l: A2lDocument
+    dbc: DbcFile
+    files: DemoFiles
+
+    def pcm_node(self, enable: bool = True, target_bar: float = 25.0) -> PcmNode:
+        """A residual-bus PCM for this ECU's CAN2 database."""
+        return PcmNode(self.dbc, enable, target_bar)
+
+
+def xcp_parameters(doc: A2lDocument, config: XcpConfig) -> XcpParameters:
+    """The slave's parameters from an A2L: ids, baud rate, EPK, events, checksum; DAQ limits stay the simulator's.
+
+    :raises InputError: the A2L lacks XCP on CAN, an EPK, or asks for frames classic CAN cannot carry.
+    """
+    where = doc.path or "<A2L>"
+    if config.can is None:
+        raise InputError(f"{where}: IF_DATA XCP has no XCP_ON_CAN block; the simulated ECU speaks XCP on CAN")
+    if (config.max_cto, config.max_dto) != (8, 8):
+        raise InputError(f"{where}: MAX_CTO/MAX_DTO must be 8 on classic CAN, the A2L says {config.max_cto}/{config.max_dto}")
+    epk, epk_address = doc.epk(), doc.addr_epk()
+    if epk is None or epk_address is None:
+        raise InputError(f"{where}: MOD_PAR needs EPK and ADDR_EPK")
+    can = config.can
+    defaults = XcpParameters()
+    events = defaults.events
+    if config.daq is not None and config.daq.events:
+        events = tuple(
+            EventChannel(e.number, e.name, e.period_s or 0.0, e.priority) for e in config.daq.events
+        )
+    checksum = next((s.checksum_type for s in config.segments if s.checksum_type), None)
+    mode = config.communication_mode
+    return XcpParameters(
+        can_id_master=can.can_id_master | (EXTENDED_FLAG if can.can_id_master_is_extended else 0),
+        can_id_slave=can.can_id_slave | (EXTENDED_FLAG if can.can_id_slave_is_extended else 0),
+        baudrate=can.baudrate or defaults.baudrate,
+        max_bs=mode.max_bs if mode is not None and mode.max_bs else defaults.max_bs,
+        checksum_type=ChecksumType[checksum.removeprefix("XCP_")] if checksum else defaults.checksum_type,
+        epk_address=epk_address,
+        epk_length=len(epk),
+        asam_mc2_name=Path(str(doc.path)).stem if doc.path else defaults.asam_mc2_name,
+        events=events,
+    )
+
+
+def build_demo_ecu(
+    files: DemoFiles | None = None,
+    *,
+    valid_key: bool = True,
+    unlocked: bool = False,
+    scheduler: Scheduler | None = None,
+    faults: FaultPlan | None = None,
+    rng: random.Random | None = None,
+) -> DemoEcu:
+    """The FLCU ECU with its plant on one scheduler (the plant steps every millisecond), not powered yet.
+
+    ``unlocked`` serves CAL/PAG, DAQ and PGM without seed & key.
+
+    :raises InputError: a file is missing or malformed.
+    """
+    files = files or DemoFiles.defaults()
+    doc = load_a2l(files.a2l)
+    params = xcp_parameters(doc, read_xcp_config(doc))
+    if unlocked:
+        params = replace(params, protected=Resource(0))
+    elf = ElfSymbols(files.elf)
+    flash = load_image(files.s19)
+    if valid_key:
+        flash.add(HDS9.app_key_address, HDS9.app_key, overwrite=True)
+    scheduler = scheduler or Scheduler()
+    dbc = load_dbc(files.dbc)
+    can2 = Can2Driver(dbc, ECU_NODE, lambda: scheduler.now_s)
+    plant = FuelSystemPlant()
+    scheduler.add(PLANT_STEP_S, lambda: plant.step(PLANT_STEP_S), "plant", order=-2)
+    ecu = SimulatedEcu(
+        flash,
+        ApplicationLayout.from_elf(elf, HDS9),
+        FlcuApplication,
+        hardware=Bsw(plant, can2),
+        params=params,
+        memory_map=HDS9,
+        scheduler=scheduler,
+        faults=faults,
+        rng=rng,
+    )
+    return DemoEcu(ecu, can2, plant, doc, dbc, files)
