@@ -66,8 +66,9 @@ class A2lDocument:
         self.tokens = tokens
         self.blocks = blocks
         self.include_count = includes
-        self._begin = blocks.begin.tolist()
-        self._end = blocks.end.tolist()
+        self.block_begin: list[int] = blocks.begin.tolist()  # per block: its /begin token
+        self.block_end: list[int] = blocks.end.tolist()  # per block: its /end token
+        self._by_keyword: dict[str, list[int]] | None = None
 
     @classmethod
     def from_source(cls, source: SourceFile, *, validate: bool = True) -> "A2lDocument":
@@ -106,8 +107,10 @@ class A2lDocument:
         return self.position(self.tokens.starts_list[token])
 
     def error(self, message: str, token: int) -> A2lParseError:
-        """An :class:`A2lParseError` located at ``token``."""
-        return self.source_map.error(message, self.tokens.starts_list[token])
+        """An :class:`A2lParseError` located at ``token`` (its buffer offset kept as ``offset`` for sorting)."""
+        error = self.source_map.error(message, self.tokens.starts_list[token])
+        error.offset = self.tokens.starts_list[token]
+        return error
 
     # -- token values --------------------------------------------------------------
     def raw(self, token: int) -> bytes:
@@ -149,7 +152,16 @@ class A2lDocument:
 
     def blocks_named(self, keyword: str) -> list["Block"]:
         """Every block with this keyword, anywhere, in document order."""
-        return [Block(self, i) for i, kw in enumerate(self.blocks.keyword) if kw == keyword]
+        return [Block(self, i) for i in self.block_indices(keyword)]
+
+    def block_indices(self, keyword: str) -> list[int]:
+        """Indices of every block with this keyword, in document order."""
+        if self._by_keyword is None:
+            grouped: dict[str, list[int]] = {}
+            for index, name in enumerate(self.blocks.keyword):
+                grouped.setdefault(name, []).append(index)
+            self._by_keyword = grouped
+        return self._by_keyword.get(keyword, [])
 
     @property
     def project(self) -> "Block":
@@ -229,7 +241,7 @@ class A2lDocument:
         result: dict[int, int] = {}
         for token, owner in zip(tokens.tolist(), owners.tolist()):
             # a token before the options is a positional parameter that happens to spell the keyword
-            if owner >= 0 and keyword[owner] == block_keyword and token >= self._begin[owner] + 2 + skip:
+            if owner >= 0 and keyword[owner] == block_keyword and token >= self.block_begin[owner] + 2 + skip:
                 result.setdefault(owner, token)
         return result
 
@@ -276,16 +288,16 @@ class Block:
     @property
     def begin_token(self) -> int:
         """The ``/begin`` token."""
-        return self.doc._begin[self.index]
+        return self.doc.block_begin[self.index]
 
     @property
     def keyword_token(self) -> int:
-        return self.doc._begin[self.index] + 1
+        return self.doc.block_begin[self.index] + 1
 
     @property
     def end_token(self) -> int:
         """The ``/end`` token (the closing keyword is the next one)."""
-        return self.doc._end[self.index]
+        return self.doc.block_end[self.index]
 
     @property
     def span(self) -> tuple[int, int]:
@@ -322,8 +334,8 @@ class Block:
         tokens: list[int] = []
         position = self.keyword_token + 1
         for child in doc.blocks.children(self.index).tolist():
-            tokens.extend(range(position, doc._begin[child]))
-            position = doc._end[child] + 2
+            tokens.extend(range(position, doc.block_begin[child]))
+            position = doc.block_end[child] + 2
         tokens.extend(range(position, self.end_token))
         return tokens
 

@@ -192,3 +192,13 @@ NAMED_MODULE_BLOCKS = frozenset({
     "TYPEDEF_BLOB", "TYPEDEF_CHARACTERISTIC", "TYPEDEF_MEASUREMENT", "TYPEDEF_STRUCTURE", "UNIT",
     "USER_RIGHTS",
 })
+
+# Blocks whose names share one namespace in a MODULE (a name may be defined once per namespace).
+NAMESPACES: dict[str, str] = {
+    **dict.fromkeys(("AXIS_PTS", "BLOB", "CHARACTERISTIC", "INSTANCE", "MEASUREMENT"), "object"),
+    **dict.fromkeys(("COMPU_TAB", "COMPU_VTAB", "COMPU_VTAB_RANGE"), "conversion table"),
+    **dict.fromkeys(("TYPEDEF_AXIS", "TYPEDEF_BLOB", "TYPEDEF_CHARACTERISTIC", "TYPEDEF_MEASUREMENT",
+                     "TYPEDEF_STRUCTURE"), "typedef"),
+    **{keyword: keyword.lower().replace("_", " ") for keyword in (
+        "COMPU_METHOD", "RECORD_LAYOUT", "UNIT", "FUNCTION", "GROUP", "FRAME", "TRANSFORMER", "USER_RIGHTS")},
+}

@@ -9,11 +9,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from workbench.a2l.source import Segment, SourceFile, SourceMap, read_source
+from workbench.a2l.source import Segment, SourceFile, SourceMap, read_source, transcoded
 from workbench.a2l.tokens import Tokens, tokenize
 from workbench.a2l.tree import find_directives
 from workbench.a2l.values import parse_string
-from workbench.errors import A2lParseError, InputError
+from workbench.errors import InputError
 
 
 def splice_includes(source: SourceFile, encoding: str | None = None,
@@ -28,7 +28,7 @@ def splice_includes(source: SourceFile, encoding: str | None = None,
     """
     encoding = encoding or source.encoding
     if source.encoding != encoding:
-        source = _transcoded(source, encoding)
+        source = transcoded(source, encoding)
     source_map = SourceMap.single(source)
     tokens = tokenize(source.data, source_map)
     _, _, includes = find_directives(tokens, source_map)
@@ -71,16 +71,3 @@ def _include_path(source: SourceFile, raw: bytes, offset: int) -> Path:
     name = parse_string(raw, source.encoding) if raw[:1] == b'"' else raw.decode(source.encoding)
     base = source.path.parent if source.path is not None else Path.cwd()
     return base / name
-
-
-def _transcoded(source: SourceFile, encoding: str) -> SourceFile:
-    text = source.data.decode(source.encoding)
-    try:
-        data = text.encode(encoding)
-    except UnicodeEncodeError as exc:
-        line, column = source.position(len(text[: exc.start].encode(source.encoding)))
-        raise A2lParseError(
-            f"character {text[exc.start]!r} cannot be written in {encoding} (the including file's encoding)",
-            source.name, line, column,
-        ) from None
-    return SourceFile(source.path, data, encoding, b"", source.newline)

@@ -116,6 +116,20 @@ def _detect_newline(data: bytes) -> str:
     return "\n"
 
 
+def transcoded(source: SourceFile, encoding: str) -> SourceFile:
+    """``source`` re-encoded; raises :class:`A2lParseError` at a character ``encoding`` cannot hold."""
+    text = source.data.decode(source.encoding)
+    try:
+        data = text.encode(encoding)
+    except UnicodeEncodeError as exc:
+        line, column = source.position(len(text[: exc.start].encode(source.encoding)))
+        raise A2lParseError(
+            f"character {text[exc.start]!r} cannot be written in {encoding} (the including file's encoding)",
+            source.name, line, column,
+        ) from None
+    return SourceFile(source.path, data, encoding, b"", source.newline)
+
+
 @dataclass(frozen=True)
 class Segment:
     """A run of a document's buffer that was copied from one file (includes are spliced in)."""

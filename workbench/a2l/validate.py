@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 
 from workbench.a2l import grammar
 from workbench.a2l.values import FLOAT_RE, IDENT_RE, INT_RE
+from workbench.errors import A2lParseError
 
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
@@ -19,14 +20,22 @@ if TYPE_CHECKING:
 _KIND_NAMES = {"ident": "a name", "str": "a string", "int": "an integer", "float": "a number", "int*": "an integer"}
 
 
-def validate_document(doc: "A2lDocument") -> None:
-    """Raise :class:`A2lParseError` at the first violation of the keyword table."""
-    _Validator(doc).run()
+def validate_document(doc: "A2lDocument", errors: list[A2lParseError] | None = None) -> None:
+    """Raise :class:`A2lParseError` at the first violation of the keyword table (in file
+    order), or, when ``errors`` is a list, append every violation (one per block) to it."""
+    found: list[A2lParseError] = []
+    _Validator(doc, found).run()
+    found.sort(key=lambda error: getattr(error, "offset", 0))
+    if errors is not None:
+        errors.extend(found)
+    elif found:
+        raise found[0]
 
 
 class _Validator:
-    def __init__(self, doc: "A2lDocument"):
+    def __init__(self, doc: "A2lDocument", errors: list[A2lParseError]):
         self.doc = doc
+        self.errors = errors
         self.data = doc.data
         self.starts = doc.tokens.starts_list
         self.ends = doc.tokens.ends_list
@@ -36,7 +45,7 @@ class _Validator:
 
     def run(self) -> None:
         doc = self.doc
-        begin, end, keywords = doc._begin, doc._end, doc.blocks.keyword
+        begin, end, keywords = doc.block_begin, doc.block_end, doc.blocks.keyword
         parent = doc.blocks.parent.tolist()
         skip_until = -1  # token index: everything before it is inside a free block
         # own tokens per block, collected in one pass over the blocks in document order
@@ -52,7 +61,7 @@ class _Validator:
             cursor[-1] = e + 2
             keyword = keywords[block]
             spec = grammar.BLOCKS.get(keyword)
-            self._check_placement(block, keyword, parent[block], keywords)
+            self._guarded(self._check_placement, block, keyword, parent[block], keywords)
             if spec is not None and spec.free:
                 skip_until = e
                 continue
@@ -62,43 +71,49 @@ class _Validator:
         while len(stack) > 1:
             self._close(stack, cursor, gaps, end)
         gaps[-1].extend(range(cursor[-1], len(doc.tokens)))
-        self._check_top_level(gaps[-1])
+        self._guarded(self._check_top_level, gaps[-1])
+
+    def _guarded(self, check, *args) -> None:
+        try:
+            check(*args)
+        except A2lParseError as exc:
+            self.errors.append(exc)
 
     def _close(self, stack, cursor, gaps, end) -> None:
         block = stack.pop()
         start = cursor.pop()
         own = gaps.pop(block)
         own.extend(range(start, end[block]))
-        self._check_block(block, own)
+        self._guarded(self._check_block, block, own)
 
     def _check_placement(self, block: int, keyword: str, parent: int, keywords: list[str]) -> None:
         if parent < 0:
             if keyword not in grammar.TOP_LEVEL_BLOCKS:
                 raise self.doc.error(f"/begin {keyword} is not allowed at the top level (expected PROJECT)",
-                                     self.doc._begin[block] + 1)
+                                     self.doc.block_begin[block] + 1)
             return
         parent_keyword = keywords[parent]
         parent_spec = grammar.BLOCKS.get(parent_keyword)
         if parent_spec is None or keyword in parent_spec.blocks:
             return
         what = "unknown block" if keyword not in grammar.BLOCKS else "block"
-        raise self.doc.error(f"{what} /begin {keyword} is not allowed in {parent_keyword}", self.doc._begin[block] + 1)
+        raise self.doc.error(f"{what} /begin {keyword} is not allowed in {parent_keyword}", self.doc.block_begin[block] + 1)
 
     def _check_block(self, block: int, own: list[int]) -> None:
         keyword = self.doc.blocks.keyword[block]
         spec = grammar.BLOCKS.get(keyword)
         if spec is None:
             return
-        position = self._check_params(keyword, spec.params, own, 0, self.doc._end[block])
+        position = self._check_params(keyword, spec.params, own, 0, self.doc.block_end[block])
         if spec.repeat:
             count_raw = self.raw(own[len(spec.params) - 1])
             groups = int(count_raw, 0) if INT_RE.fullmatch(count_raw) else 0
-            position = self._check_params(keyword, spec.repeat * groups, own, position, self.doc._end[block])
+            position = self._check_params(keyword, spec.repeat * groups, own, position, self.doc.block_end[block])
         if spec.items:
             while position < len(own) and self.raw(own[position]).decode("latin-1") not in spec.options:
                 self._check_kind(spec.items, own[position], f"{keyword} entry")
                 position += 1
-        self._check_options(keyword, spec, own, position, self.doc._end[block])
+        self._check_options(keyword, spec, own, position, self.doc.block_end[block])
 
     def _check_params(self, keyword: str, kinds, own: list[int], position: int, end_token: int) -> int:
         for kind in kinds:

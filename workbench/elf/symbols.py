@@ -27,6 +27,7 @@ class Section:
     size: int
     loaded: bool  # occupies bytes in the file (not NOBITS/.bss)
     allocated: bool  # part of the memory image (SHF_ALLOC)
+    file_offset: int = 0  # where its bytes start in the ELF file (when ``loaded``)
 
     def contains(self, address: int, size: int = 1) -> bool:
         return self.address <= address and address + size <= self.address + self.size
@@ -80,6 +81,7 @@ class ElfSymbols:
                 size=size,
                 loaded=sec["sh_type"] != "SHT_NOBITS",
                 allocated=bool(sec["sh_flags"] & 0x2),
+                file_offset=sec["sh_offset"],
             )
         return sections
 
@@ -123,6 +125,16 @@ class ElfSymbols:
             return self._symbols[name]
         except KeyError:
             raise UnknownSymbolError(name, str(self.path)) from None
+
+    def read(self, address: int, size: int) -> bytes | None:
+        """The initial bytes at ``address`` (a VMA) from the file, or None when no loaded
+        section holds all of them (``.bss``, or outside every section)."""
+        section = self.section_of(address)
+        if section is None or not section.loaded or not section.contains(address, size):
+            return None
+        with open(self.path, "rb") as handle:
+            handle.seek(section.file_offset + address - section.address)
+            return handle.read(size)
 
     def section_of(self, address: int) -> Section | None:
         for section in self.sections.values():

@@ -1,0 +1,247 @@
+"""``check``: syntax, references, names and memory placement of an A2L, each finding located.
+
+Checks: every block against the keyword table; references to COMPU_METHOD,
+RECORD_LAYOUT, FUNCTION, conversion tables, units, measurements, axes, groups and
+memory segments; names defined twice; objects that overlap; objects outside every
+MEMORY_SEGMENT; calibrations outside a RAM data segment (CAL RAM). With an ELF, every
+object's symbol must exist and its address must match.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from workbench.a2l.datatypes import DATATYPES
+from workbench.a2l.document import A2lDocument, Block, load
+from workbench.a2l.grammar import NAMESPACES
+from workbench.a2l.reports import Finding, Report, Severity, finding_at
+from workbench.a2l.update.targets import collect_targets
+from workbench.a2l.validate import validate_document
+from workbench.elf.debugdata import DebugData
+from workbench.errors import A2lParseError
+from workbench.progress import Progress, report as report_progress
+
+__all__ = ["check", "check_file"]
+
+# (block, positional index (name = 0), what it names, namespace it refers to, values that mean "none")
+_POSITIONAL_REFERENCES = [
+    ("MEASUREMENT", 3, "COMPU_METHOD", "compu method", ("NO_COMPU_METHOD",)),
+    ("CHARACTERISTIC", 4, "RECORD_LAYOUT", "record layout", ()),
+    ("CHARACTERISTIC", 6, "COMPU_METHOD", "compu method", ("NO_COMPU_METHOD",)),
+    ("AXIS_PTS", 3, "input quantity", "object", ("NO_INPUT_QUANTITY",)),
+    ("AXIS_PTS", 4, "RECORD_LAYOUT", "record layout", ()),
+    ("AXIS_PTS", 6, "COMPU_METHOD", "compu method", ("NO_COMPU_METHOD",)),
+    ("AXIS_DESCR", 1, "input quantity", "object", ("NO_INPUT_QUANTITY",)),
+    ("AXIS_DESCR", 2, "COMPU_METHOD", "compu method", ("NO_COMPU_METHOD",)),
+    ("INSTANCE", 2, "TYPEDEF", "typedef", ()),
+]
+# (block, option keyword, namespace)
+_OPTION_REFERENCES = [
+    ("AXIS_DESCR", "AXIS_PTS_REF", "object"), ("AXIS_DESCR", "CURVE_AXIS_REF", "object"),
+    ("COMPU_METHOD", "COMPU_TAB_REF", "conversion table"), ("COMPU_METHOD", "REF_UNIT", "unit"),
+    ("COMPU_METHOD", "STATUS_STRING_REF", "conversion table"), ("UNIT", "REF_UNIT", "unit"),
+    ("CHARACTERISTIC", "COMPARISON_QUANTITY", "object"),
+    *((block, "REF_MEMORY_SEGMENT", "memory segment") for block in ("MEASUREMENT", "CHARACTERISTIC", "AXIS_PTS")),
+]
+# name-list block -> namespace of its entries
+_LIST_REFERENCES = {
+    "DEF_CHARACTERISTIC": "object", "REF_CHARACTERISTIC": "object", "IN_MEASUREMENT": "object",
+    "OUT_MEASUREMENT": "object", "LOC_MEASUREMENT": "object", "REF_MEASUREMENT": "object",
+    "SUB_FUNCTION": "function", "FUNCTION_LIST": "function", "SUB_GROUP": "group", "MAP_LIST": "object",
+    "VIRTUAL": "object", "REF_GROUP": "group",
+}
+_CALIBRATIONS = ("CHARACTERISTIC", "AXIS_PTS")
+
+
+@dataclass(frozen=True)
+class _Placed:
+    name: str
+    keyword: str
+    address: int
+    size: int
+    token: int
+
+
+def check_file(a2l: str | Path, elf: str | Path | None = None, *, cache_dir: str | Path | None = None,
+               use_cache: bool = True, progress: Progress | None = None) -> Report:
+    """Load ``a2l`` (syntax errors become findings where the file can still be read) and check it."""
+    doc = load(a2l, validate=False)
+    if elf is None:
+        return check(doc, progress=progress)
+    with DebugData(elf, cache_dir=cache_dir, use_cache=use_cache) as debug:
+        return check(doc, debug, progress=progress)
+
+
+def check(doc: A2lDocument, debug: DebugData | None = None, *, progress: Progress | None = None) -> Report:
+    """Every problem of ``doc`` as a finding; the report is clean (``not findings``) only when none."""
+    report = Report("check")
+    syntax: list[A2lParseError] = []
+    validate_document(doc, syntax)
+    for error in syntax:
+        report.add(Finding("syntax", "", error.reason, error.path, error.line, error.column, "",
+                           Severity.ERROR))
+    report_progress(progress, 1, 4, "checking references")
+    for module in doc.modules:
+        names = _namespaces(doc, module, report)
+        _references(doc, module, names, report)
+        report_progress(progress, 2, 4, "checking memory")
+        placed = _placements(doc, module, debug, report)
+        _overlaps(doc, placed, report)
+        _segments(doc, module, placed, report)
+    report_progress(progress, 4, 4, "checked")
+    report.findings.sort(key=lambda f: (f.file, f.line, f.column))
+    return report
+
+
+def _namespaces(doc: A2lDocument, module: Block, report: Report) -> dict[str, dict[str, Block]]:
+    names: dict[str, dict[str, Block]] = {}
+    for block in module.children:
+        namespace = NAMESPACES.get(block.keyword)
+        if namespace is None or not block.name:
+            continue
+        known = names.setdefault(namespace, {})
+        if block.name in known:
+            first = known[block.name].position
+            report.add(finding_at(doc, block.name_token, "duplicate-name", block.name,
+                                  f"{block.keyword} {block.name} is defined twice (first at line {first[1]})",
+                                  block.keyword, Severity.ERROR))
+            continue
+        known[block.name] = block
+    mod_par = module.first("MOD_PAR")
+    if mod_par is not None:
+        names["memory segment"] = {b.name: b for b in mod_par.children_named("MEMORY_SEGMENT") if b.name}
+    return names
+
+
+def _references(doc: A2lDocument, module: Block, names: dict[str, dict[str, Block]], report: Report) -> None:
+    def expect(token: int, namespace: str, owner: Block, what: str, none: tuple[str, ...] = ()) -> None:
+        target = doc.text(token)
+        if target in none or target in names.get(namespace, {}):
+            return
+        report.add(finding_at(doc, token, "undefined-reference", target,
+                              f"{owner.keyword}{' ' + owner.name if owner.name else ''}: {what} {target} "
+                              "is not defined",
+                              owner.keyword, Severity.ERROR))
+
+    for keyword, index, what, namespace, none in _POSITIONAL_REFERENCES:
+        for block in doc.blocks_named(keyword):
+            args = block.args
+            if index < len(args):
+                expect(args[index], namespace, block, what, none)
+    for keyword, option, namespace in _OPTION_REFERENCES:
+        for block in doc.blocks_named(keyword):
+            for params in block.options(option):
+                if params:
+                    expect(params[0], namespace, block, option)
+    for keyword, namespace in _LIST_REFERENCES.items():
+        for block in doc.blocks_named(keyword):
+            owner = block.parent or block
+            for token in block.args:
+                expect(token, namespace, owner, f"{keyword} entry")
+
+
+def _placements(doc: A2lDocument, module: Block, debug: DebugData | None, report: Report) -> list[_Placed]:
+    """Address and size of every object that has both (sizes from the ELF when given, else the A2L)."""
+    layouts = _record_layout_sizes(doc)
+    placed = []
+    for keyword in ("MEASUREMENT", "CHARACTERISTIC", "AXIS_PTS", "BLOB"):
+        for target in collect_targets(doc, keyword):
+            if target.address_token is None or doc.block(target.block).parent != module:
+                continue
+            try:
+                address = doc.int_value(target.address_token)
+            except A2lParseError:
+                continue  # already a syntax finding
+            size = None
+            if debug is not None:
+                symbol = debug.find(target.symbol)
+                if symbol is None:
+                    report.add(finding_at(doc, target.name_token, "symbol-not-found", target.name,
+                                          f"{keyword} {target.name}: {debug.resolve_error(target.symbol)}",
+                                          keyword, Severity.ERROR))
+                else:
+                    size = symbol.size
+                    expected = symbol.address + target.symbol_offset
+                    if expected != address:
+                        report.add(finding_at(doc, target.address_token, "address-mismatch", target.name,
+                                              f"{keyword} {target.name}: the A2L says 0x{address:X}, "
+                                              f"{debug.path.name} says 0x{expected:X}", keyword, Severity.ERROR))
+            if size is None:
+                size = _a2l_size(doc, doc.block(target.block), layouts)
+            if size:
+                placed.append(_Placed(target.name, keyword, address, size, target.address_token))
+    return placed
+
+
+def _a2l_size(doc: A2lDocument, block: Block, layouts: dict[str, int]) -> int | None:
+    args = block.args
+    keyword = block.keyword
+    if keyword == "BLOB":
+        return doc.int_value(args[3]) if len(args) > 3 else None
+    if keyword == "MEASUREMENT":
+        element = DATATYPES.get(doc.text(args[2]), (None,))[0] if len(args) > 2 else None
+    elif keyword == "CHARACTERISTIC" and len(args) > 4 and doc.text(args[2]) in ("VALUE", "VAL_BLK"):
+        element = layouts.get(doc.text(args[4]))
+    else:
+        return None  # curves, maps and axes: only the ELF knows their size
+    if element is None:
+        return None
+    count = 1
+    for option in ("MATRIX_DIM", "ARRAY_SIZE", "NUMBER"):
+        params = block.option(option)
+        if params:
+            for token in params:
+                count *= max(doc.int_value(token), 1)
+            break
+    return element * count
+
+
+def _record_layout_sizes(doc: A2lDocument) -> dict[str, int]:
+    sizes = {}
+    for block in doc.blocks_named("RECORD_LAYOUT"):
+        params = block.option("FNC_VALUES")
+        if params and len(params) > 1 and doc.text(params[1]) in DATATYPES:
+            sizes[block.name] = DATATYPES[doc.text(params[1])][0]
+    return sizes
+
+
+def _overlaps(doc: A2lDocument, placed: list[_Placed], report: Report) -> None:
+    """Partial overlaps are errors; an object that only repeats another's bytes is a warning.
+    An object inside a larger one (a struct member, an array element) is a deliberate view."""
+    ordered = sorted(placed, key=lambda p: (p.address, -p.size))
+    reach: _Placed | None = None  # the object reaching furthest so far
+    for item in ordered:
+        if reach is not None and item.address < reach.address + reach.size:
+            end, reach_end = item.address + item.size, reach.address + reach.size
+            if item.address == reach.address and item.size == reach.size:
+                report.add(finding_at(doc, item.token, "same-address", item.name,
+                                      f"{item.keyword} {item.name} occupies the same {item.size} byte(s) at "
+                                      f"0x{item.address:X} as {reach.keyword} {reach.name}", item.keyword,
+                                      Severity.WARNING))
+            elif end > reach_end:
+                report.add(finding_at(doc, item.token, "overlap", item.name,
+                                      f"{item.keyword} {item.name} (0x{item.address:X}, {item.size} bytes) overlaps "
+                                      f"{reach.keyword} {reach.name} (0x{reach.address:X}, {reach.size} bytes)",
+                                      item.keyword, Severity.ERROR))
+            if end <= reach_end:
+                continue
+        reach = item
+
+
+def _segments(doc: A2lDocument, module: Block, placed: list[_Placed], report: Report) -> None:
+    segments = doc.memory_segments(module.name)
+    if not segments:
+        return
+    cal_ram = [s for s in segments if s.memory_type == "RAM" and s.prg_type in ("DATA", "CALIBRATION_VARIABLES")]
+    for item in placed:
+        inside = [s for s in segments if s.contains(item.address, item.size)]
+        if not inside:
+            report.add(finding_at(doc, item.token, "outside-memory", item.name,
+                                  f"{item.keyword} {item.name} (0x{item.address:X}, {item.size} bytes) lies outside "
+                                  "every MEMORY_SEGMENT", item.keyword, Severity.ERROR))
+        elif item.keyword in _CALIBRATIONS and cal_ram and not any(s in cal_ram for s in inside):
+            report.add(finding_at(doc, item.token, "calibration-outside-cal-ram", item.name,
+                                  f"{item.keyword} {item.name} at 0x{item.address:X} is in {inside[0].name} "
+                                  f"({inside[0].prg_type} {inside[0].memory_type}), not in a DATA RAM segment "
+                                  f"({', '.join(s.name for s in cal_ram)})", item.keyword, Severity.ERROR))

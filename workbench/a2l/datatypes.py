@@ -1,0 +1,42 @@
+"""ASAP2 data types: their sizes and ranges, and which one a C type needs."""
+
+from __future__ import annotations
+
+from workbench.elf.ctypes_model import CType
+
+# data type -> (size in bytes, encoding)
+DATATYPES: dict[str, tuple[int, str]] = {
+    "UBYTE": (1, "unsigned"), "SBYTE": (1, "signed"), "UWORD": (2, "unsigned"), "SWORD": (2, "signed"),
+    "ULONG": (4, "unsigned"), "SLONG": (4, "signed"), "A_UINT64": (8, "unsigned"), "A_INT64": (8, "signed"),
+    "FLOAT16_IEEE": (2, "float"), "FLOAT32_IEEE": (4, "float"), "FLOAT64_IEEE": (8, "float"),
+}
+_BY_SIZE_AND_ENCODING = {value: key for key, value in DATATYPES.items()}
+
+
+def datatype_for(ctype: CType) -> str | None:
+    """The ASAP2 data type of a scalar C type (arrays: of their element), None for structs and the like."""
+    while ctype.kind == "array" and ctype.element is not None:
+        ctype = ctype.element
+    if ctype.kind not in ("base", "enum", "pointer"):
+        return None
+    encoding = {"bool": "unsigned", "address": "unsigned"}.get(ctype.encoding or "unsigned", ctype.encoding)
+    return _BY_SIZE_AND_ENCODING.get((ctype.size, encoding))
+
+
+def datatype_range(datatype: str) -> tuple[float, float] | None:
+    """The values an integer data type can hold (None for floats and unknown names)."""
+    found = DATATYPES.get(datatype)
+    if found is None or found[1] == "float":
+        return None
+    size, encoding = found
+    bits = 8 * size
+    return (0, 2**bits - 1) if encoding == "unsigned" else (-(2 ** (bits - 1)), 2 ** (bits - 1) - 1)
+
+
+def array_dims(ctype: CType) -> tuple[int, ...]:
+    """All dimensions of a (possibly nested) C array, outermost first; () for a scalar."""
+    dims: tuple[int, ...] = ()
+    while ctype.kind == "array" and ctype.element is not None:
+        dims += ctype.dims
+        ctype = ctype.element
+    return dims

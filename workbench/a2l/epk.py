@@ -1,0 +1,107 @@
+"""The EPK (EPROM identifier): read it from the ELF, set MOD_PAR ``EPK`` and ``ADDR_EPK`` to it.
+
+The ELF holds the EPK as a string variable (``EPK``/``epk``, or one named by the
+caller) or in a section ``.epk``; the A2L must state both the string and where the
+ECU keeps it, so that a master can compare the two before writing anything.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from workbench.a2l.edits import Edit, indentation_of, newline_bytes, replace_token
+from workbench.a2l.reports import Finding, Severity, finding_at
+from workbench.a2l.values import format_int_like, quote_string
+from workbench.errors import InputError
+
+if TYPE_CHECKING:
+    from workbench.a2l.document import A2lDocument, Block
+    from workbench.elf.debugdata import DebugData
+
+__all__ = ["ElfEpk", "epk_edits", "read_elf_epk"]
+
+DEFAULT_EPK_SYMBOLS = ("EPK", "epk")
+EPK_SECTIONS = (".epk", "epk")
+
+
+@dataclass(frozen=True)
+class ElfEpk:
+    text: str
+    address: int
+    source: str  # the symbol or section it was read from
+
+
+def read_elf_epk(debug: "DebugData", symbol: str | None = None) -> ElfEpk | None:
+    """The EPK string of the ELF and its address, or None when the ELF has none.
+
+    ``symbol`` names the variable to read; by default ``EPK``/``epk``, then a section
+    ``.epk``. Raises :class:`InputError` when the named symbol is missing or its bytes
+    are not printable ASCII.
+    """
+    candidates = [symbol] if symbol else list(DEFAULT_EPK_SYMBOLS)
+    for name in candidates:
+        found = debug.find(name)
+        if found is None or not found.size:
+            continue
+        raw = debug.elf.read(found.address, found.size)
+        if raw is not None:
+            return ElfEpk(_text(raw, name, debug), found.address, name)
+    if symbol:
+        raise InputError(f"{debug.path}: no initialised EPK variable {symbol!r}")
+    for name in EPK_SECTIONS:
+        section = debug.elf.sections.get(name)
+        if section is not None and section.loaded and section.size:
+            raw = debug.elf.read(section.address, section.size)
+            if raw is not None:
+                return ElfEpk(_text(raw, name, debug), section.address, name)
+    return None
+
+
+def _text(raw: bytes, name: str, debug: "DebugData") -> str:
+    text = raw.split(b"\0", 1)[0]
+    if not text or any(byte < 0x20 or byte > 0x7E for byte in text):
+        raise InputError(f"{debug.path}: the EPK in {name!r} is not a printable ASCII string: {raw!r}")
+    return text.decode("ascii")
+
+
+def epk_edits(doc: "A2lDocument", epk: ElfEpk, module: "Block") -> tuple[list[Edit], list[Finding]]:
+    """Edits that make MOD_PAR's EPK and ADDR_EPK state ``epk`` (inserted when missing)."""
+    mod_par = module.first("MOD_PAR")
+    if mod_par is None:
+        file, line, column = module.position
+        return [], [Finding("epk-not-set", module.name or "", "the MODULE has no MOD_PAR to hold the EPK",
+                            file, line, column, "MODULE", Severity.INFO)]
+    edits: list[Edit] = []
+    findings: list[Finding] = []
+    inserts: list[bytes] = []
+    current_text = mod_par.option("EPK")
+    if current_text:
+        token = current_text[0]
+        if doc.text(token) != epk.text:
+            findings.append(finding_at(doc, token, "epk-updated", "EPK",
+                                       f"EPK {doc.text(token)!r} -> {epk.text!r} (from {epk.source})", "MOD_PAR"))
+            edits.append(replace_token(doc, token, quote_string(epk.text, doc.encoding)))
+    else:
+        inserts.append(b"EPK " + quote_string(epk.text, doc.encoding))
+        findings.append(finding_at(doc, mod_par.keyword_token, "epk-inserted", "EPK",
+                                   f"EPK {epk.text!r} added (from {epk.source})", "MOD_PAR"))
+    current_address = mod_par.option("ADDR_EPK")
+    if current_address:
+        token = current_address[0]
+        old = doc.int_value(token)
+        if old != epk.address:
+            findings.append(finding_at(doc, token, "epk-updated", "ADDR_EPK",
+                                       f"ADDR_EPK 0x{old:X} -> 0x{epk.address:X}", "MOD_PAR"))
+            edits.append(replace_token(doc, token, format_int_like(doc.raw(token), epk.address)))
+    else:
+        inserts.append(f"ADDR_EPK 0x{epk.address:X}".encode("ascii"))
+        findings.append(finding_at(doc, mod_par.keyword_token, "epk-inserted", "ADDR_EPK",
+                                   f"ADDR_EPK 0x{epk.address:X} added", "MOD_PAR"))
+    if inserts:
+        args = mod_par.args
+        anchor = doc.tokens.ends_list[args[-1] if args else mod_par.keyword_token]
+        indent = indentation_of(doc.data, doc.tokens.starts_list[mod_par.begin_token]) + b"  "
+        newline = newline_bytes(doc)
+        edits.append(Edit(anchor, anchor, b"".join(newline + indent + line for line in inserts)))
+    return edits, findings

@@ -1,0 +1,268 @@
+"""``merge``: module fragments into a master A2L (the thesis's ASAP2 Merger step).
+
+The master supplies PROJECT, MODULE, MOD_PAR, MOD_COMMON, IF_DATA and A2ML; each
+fragment's MODULE content is inserted verbatim (comments and layout kept) before
+the master's ``/end MODULE``, minus what the master already has. A name defined
+twice is compared token by token: identical definitions merge silently (reported
+as info), different ones follow the :class:`ConflictPolicy`. Every decision is a
+finding in the returned report.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from workbench.a2l import grammar
+from workbench.a2l.grammar import NAMESPACES
+from workbench.a2l.document import A2lDocument, Block, load
+from workbench.a2l.edits import Edit, apply_edits, newline_bytes, remove_block, replace_token, write_output
+from workbench.a2l.reports import ConflictPolicy, Finding, Report, Severity, finding_at
+from workbench.a2l.source import SourceFile, transcoded
+from workbench.errors import WorkbenchError
+from workbench.progress import Progress, report as report_progress
+
+__all__ = ["ConflictPolicy", "MergeFailed", "MergeResult", "merge", "merge_files"]
+
+MASTER_ONLY = frozenset({"MOD_PAR", "MOD_COMMON", "IF_DATA", "A2ML"})
+
+
+@dataclass
+class MergeResult:
+    data: bytes  # the merged buffer, in the master's encoding (without BOM)
+    report: Report
+
+
+class MergeFailed(WorkbenchError):
+    """Conflicting definitions under ``ConflictPolicy.ERROR``; carries the report."""
+
+    def __init__(self, report: Report):
+        self.report = report
+        conflicts = report.of_kind("conflict")
+        shown = "; ".join(f"{f.name} ({f.location})" for f in conflicts[:3])
+        more = f" and {len(conflicts) - 3} more" if len(conflicts) > 3 else ""
+        super().__init__(f"{len(conflicts)} conflicting definition(s): {shown}{more} "
+                         "(choose --on-conflict keep-first, keep-last or rename)")
+        self.exit_code = 1
+
+
+@dataclass
+class _Definition:
+    block: Block
+    origin: int  # 0: master, n: fragment n
+
+    @property
+    def keyword(self) -> str:
+        return self.block.keyword
+
+
+@dataclass
+class _Plan:
+    """What happens to one fragment's MODULE content."""
+
+    doc: A2lDocument
+    module: Block
+    skipped: list[Block] = field(default_factory=list)
+    renames: dict[str, str] = field(default_factory=dict)
+    contributed: int = 0
+
+
+def merge(master: A2lDocument, fragments: list[A2lDocument], *, policy: ConflictPolicy = ConflictPolicy.ERROR,
+          progress: Progress | None = None) -> MergeResult:
+    """Merge ``fragments`` into ``master``'s MODULE (see the module docstring).
+
+    Raises :class:`MergeFailed` on conflicts under ``ConflictPolicy.ERROR`` and
+    :class:`A2lParseError` when a fragment cannot be written in the master's encoding.
+    """
+    report = Report("merge")
+    module = master.module()
+    definitions: dict[tuple[str, str], _Definition] = {}
+    for block in module.children:
+        if block.keyword in NAMESPACES and block.name:
+            definitions.setdefault((NAMESPACES[block.keyword], block.name), _Definition(block, 0))
+    master_edits: list[Edit] = []
+    plans: list[_Plan] = []
+    taken = {name for _, name in definitions}
+    for number, fragment in enumerate(fragments, start=1):
+        report_progress(progress, number - 1, len(fragments), "merging fragments")
+        plan = _Plan(fragment, fragment.module())
+        plans.append(plan)
+        for block in plan.module.children:
+            _decide(master, block, number, plan, plans, definitions, taken, policy, master_edits, report)
+        report.add(Finding("merged", plan.module.name or "", f"{plan.contributed} block(s) merged from "
+                           f"{_short(fragment)}", fragment.name, *plan.module.position[1:], "MODULE"))
+    report_progress(progress, len(fragments), len(fragments), "merging fragments")
+    if policy is ConflictPolicy.ERROR and report.of_kind("conflict"):
+        raise MergeFailed(report)
+    if master.include_count:
+        report.add(Finding("includes-inlined", master.name, f"{master.include_count} /include(s) of the master "
+                           "written inline: the output is self-contained", master.name, 1, 1))
+    end_line = master.data.rfind(b"\n", 0, master.tokens.starts_list[module.end_token]) + 1
+    inserted = b"".join(_render(plan, master) for plan in plans)
+    master_edits.append(Edit(end_line, end_line, inserted))
+    return MergeResult(apply_edits(master.data, master_edits), report)
+
+
+def merge_files(master: str | Path, fragments: list[str | Path], output: str | Path, *,
+                policy: ConflictPolicy = ConflictPolicy.ERROR, progress: Progress | None = None) -> Report:
+    """Load, merge and write ``output`` atomically; the output is parsed again as a check."""
+    master_doc = load(master)
+    result = merge(master_doc, [load(path) for path in fragments], policy=policy, progress=progress)
+    A2lDocument.from_source(_as_source(master_doc, result.data), validate=True)
+    write_output(master_doc, result.data, output)
+    return result.report
+
+
+def _decide(master: A2lDocument, block: Block, origin: int, plan: _Plan, plans: list[_Plan],
+            definitions: dict[tuple[str, str], _Definition], taken: set[str], policy: ConflictPolicy,
+            master_edits: list[Edit], report: Report) -> None:
+    doc = plan.doc
+    keyword = block.keyword
+    if keyword in MASTER_ONLY:
+        plan.skipped.append(block)
+        if keyword == "MOD_COMMON":
+            _compare_mod_common(master, block, report)
+        else:
+            report.add(finding_at(doc, block.keyword_token, "ignored", keyword,
+                                  f"{keyword} of {_short(doc)} ignored: the master's applies", keyword))
+        return
+    namespace = NAMESPACES.get(keyword)
+    name = block.name
+    if namespace is None or not name:
+        plan.contributed += 1
+        return
+    key = (namespace, name)
+    existing = definitions.get(key)
+    if existing is None:
+        definitions[key] = _Definition(block, origin)
+        taken.add(name)
+        plan.contributed += 1
+        return
+    if _signature(existing.block) == _signature(block):
+        plan.skipped.append(block)
+        report.add(finding_at(doc, block.keyword_token, "duplicate-identical", name,
+                              f"{keyword} {name} of {_short(doc)} is identical to the one in "
+                              f"{_short(existing.block.doc)}: merged", keyword))
+        return
+    where = f"{existing.block.position[0]}:{existing.block.position[1]}"
+    if policy is ConflictPolicy.ERROR:
+        report.add(finding_at(doc, block.keyword_token, "conflict", name,
+                              f"{keyword} {name} differs from the definition at {where}", keyword, Severity.ERROR))
+    elif policy is ConflictPolicy.KEEP_FIRST:
+        plan.skipped.append(block)
+        report.add(finding_at(doc, block.keyword_token, "kept-first", name,
+                              f"{keyword} {name}: kept the definition at {where}, dropped this one", keyword,
+                              Severity.WARNING))
+    elif policy is ConflictPolicy.KEEP_LAST:
+        if existing.origin == 0:
+            start, end = existing.block.span
+            master_edits.append(Edit(start, end, _fit(block.doc, master, block.doc.data[slice(*block.span)])))
+            plan.skipped.append(block)
+        else:
+            plans[existing.origin - 1].skipped.append(existing.block)
+            plans[existing.origin - 1].contributed -= 1
+            plan.contributed += 1
+        definitions[key] = _Definition(block, origin)
+        report.add(finding_at(doc, block.keyword_token, "kept-last", name,
+                              f"{keyword} {name}: this definition replaces the one at {where}", keyword,
+                              Severity.WARNING))
+    else:
+        new_name = _unique(f"{name}_{plan.module.name}", taken)
+        taken.add(new_name)
+        plan.renames[name] = new_name
+        definitions[(namespace, new_name)] = _Definition(block, origin)
+        plan.contributed += 1
+        report.add(finding_at(doc, block.keyword_token, "renamed", name,
+                              f"{keyword} {name} of {_short(doc)} renamed to {new_name} (differs from {where})",
+                              keyword, Severity.WARNING))
+
+
+def _render(plan: _Plan, master: A2lDocument) -> bytes:
+    """The fragment's MODULE content as it goes into the master."""
+    doc, module = plan.doc, plan.module
+    args = module.args
+    header_end = doc.tokens.ends_list[args[-1] if args else module.keyword_token]
+    start = doc.data.find(b"\n", header_end) + 1 or header_end
+    end = doc.data.rfind(b"\n", 0, doc.tokens.starts_list[module.end_token]) + 1
+    end = max(end, start)
+    edits = [remove_block(doc, block) for block in plan.skipped] + _rename_edits(plan, start, end)
+    body = apply_edits(doc.data[start:end], [Edit(e.start - start, e.end - start, e.text)
+                                             for e in edits if start <= e.start and e.end <= end])
+    newline = newline_bytes(master)
+    header = f"    /* ---- merged from {_short(doc)} ---- */".encode("ascii")
+    return newline + header + newline + _fit(doc, master, body)
+
+
+def _fit(doc: A2lDocument, master: A2lDocument, data: bytes) -> bytes:
+    """Fragment bytes in the master's encoding and newline style."""
+    if doc.encoding != master.encoding:
+        data = transcoded(SourceFile(doc.path, data, doc.encoding), master.encoding).data
+    if doc.source.newline != master.source.newline:
+        data = data.replace(newline_bytes(doc), b"\n").replace(b"\n", newline_bytes(master))
+    return data
+
+
+def _rename_edits(plan: _Plan, start: int, end: int) -> list[Edit]:
+    if not plan.renames:
+        return []
+    doc = plan.doc
+    edits = []
+    encoded = {old.encode(doc.encoding): new.encode(doc.encoding) for old, new in plan.renames.items()}
+    for token in range(len(doc.tokens)):
+        if not start <= doc.tokens.starts_list[token] < end:
+            continue
+        new = encoded.get(doc.raw(token))
+        if new is not None:
+            edits.append(replace_token(doc, token, new))
+    edits += _keep_symbol_links(plan, start, end)
+    return edits
+
+
+def _keep_symbol_links(plan: _Plan, start: int, end: int) -> list[Edit]:
+    """A renamed object without SYMBOL_LINK gets one naming its old name, so update still finds it."""
+    doc = plan.doc
+    edits = []
+    for block in plan.module.children:
+        if block.keyword in grammar.ADDRESSED_OBJECTS and block.name in plan.renames and block.option("SYMBOL_LINK") is None:
+            anchor = doc.tokens.ends_list[block.args[-1]]
+            edits.append(Edit(anchor, anchor, f' SYMBOL_LINK "{block.name}" 0'.encode(doc.encoding)))
+    return edits
+
+
+def _compare_mod_common(master: A2lDocument, block: Block, report: Report) -> None:
+    doc = block.doc
+    master_common = master.mod_common()
+    if master_common is None:
+        return
+    ours = {name: [doc.raw(t) for t in params] for name, params in block.layout()[1]}
+    theirs = {name: [master.raw(t) for t in params] for name, params in master_common.layout()[1]}
+    differing = sorted(name for name in ours if name in theirs and ours[name] != theirs[name])
+    if differing:
+        report.add(finding_at(doc, block.keyword_token, "mod-common-differs", "MOD_COMMON",
+                              f"MOD_COMMON of {_short(doc)} differs from the master's in {', '.join(differing)}; "
+                              "the master's applies", "MOD_COMMON", Severity.WARNING))
+    else:
+        report.add(finding_at(doc, block.keyword_token, "ignored", "MOD_COMMON",
+                              f"MOD_COMMON of {_short(doc)} agrees with the master's", "MOD_COMMON"))
+
+
+def _signature(block: Block) -> list[bytes]:
+    """The block's tokens (comments and layout do not count)."""
+    doc = block.doc
+    return doc.tokens.raw_many(range(block.begin_token, block.end_token + 2))
+
+
+def _unique(name: str, taken: set[str]) -> str:
+    candidate, counter = name, 2
+    while candidate in taken:
+        candidate = f"{name}_{counter}"
+        counter += 1
+    return candidate
+
+
+def _short(doc: A2lDocument) -> str:
+    return doc.path.name if doc.path is not None else doc.name
+
+
+def _as_source(master: A2lDocument, data: bytes) -> SourceFile:
+    return SourceFile(master.path, data, master.encoding, master.source.bom, master.source.newline)

@@ -1,0 +1,111 @@
+"""Results as data: findings with a kind, a name and a file:line:column, and the modes that choose them.
+
+The CLI prints findings as text or JSON, the GUI lists them; nothing here formats for
+one face only.
+"""
+
+from __future__ import annotations
+
+import enum
+from collections import Counter
+from dataclasses import asdict, dataclass, field
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from workbench.a2l.document import A2lDocument
+
+__all__ = ["ConflictPolicy", "Finding", "Report", "Severity", "UpdateMode", "finding_at"]
+
+
+class UpdateMode(enum.Enum):
+    """What ``update`` does with an object whose symbol is not in the ELF."""
+
+    DEFAULT = "default"  # keep it (address unchanged) and report it
+    STRICT = "strict"  # any miss is an error: nothing is written
+    REMOVE_MISSING = "remove-missing"  # drop it (and the references to it) and report it
+
+
+class ConflictPolicy(enum.Enum):
+    """What ``merge`` does with two different definitions of one name."""
+
+    ERROR = "error"
+    KEEP_FIRST = "keep-first"
+    KEEP_LAST = "keep-last"
+    RENAME = "rename"
+
+
+class Severity(enum.IntEnum):
+    INFO = 0
+    WARNING = 1
+    ERROR = 2
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One thing an operation did or found, located in a file (line and column 1-based)."""
+
+    kind: str  # e.g. "address-updated", "symbol-not-found", "renamed", "undefined-reference"
+    name: str  # the A2L object (or symbol) concerned
+    message: str
+    file: str = ""
+    line: int = 0
+    column: int = 0
+    block: str = ""  # MEASUREMENT, CHARACTERISTIC ...
+    severity: Severity = Severity.INFO
+
+    @property
+    def location(self) -> str:
+        return f"{self.file}:{self.line}:{self.column}" if self.file else ""
+
+    def __str__(self) -> str:
+        where = f"{self.location}: " if self.file else ""
+        return f"{where}{self.severity.name.lower()}: {self.message}"
+
+    def to_dict(self) -> dict:
+        data = asdict(self)
+        data["severity"] = self.severity.name.lower()
+        return data
+
+
+def finding_at(doc: "A2lDocument", token: int, kind: str, name: str, message: str, block: str = "",
+               severity: Severity = Severity.INFO) -> Finding:
+    """A finding located at a token of ``doc``."""
+    file, line, column = doc.token_position(token)
+    return Finding(kind, name, message, file, line, column, block, severity)
+
+
+@dataclass
+class Report:
+    """The findings of one operation, in the order they were made."""
+
+    operation: str
+    findings: list[Finding] = field(default_factory=list)
+
+    def add(self, finding: Finding) -> None:
+        self.findings.append(finding)
+
+    def extend(self, findings) -> None:
+        self.findings.extend(findings)
+
+    def of_kind(self, kind: str) -> list[Finding]:
+        return [f for f in self.findings if f.kind == kind]
+
+    @property
+    def errors(self) -> list[Finding]:
+        return [f for f in self.findings if f.severity >= Severity.ERROR]
+
+    @property
+    def warnings(self) -> list[Finding]:
+        return [f for f in self.findings if f.severity == Severity.WARNING]
+
+    @property
+    def ok(self) -> bool:
+        return not self.errors
+
+    def counts(self) -> dict[str, int]:
+        """How many findings of each kind."""
+        return dict(Counter(f.kind for f in self.findings))
+
+    def to_dict(self) -> dict:
+        return {"operation": self.operation, "ok": self.ok, "counts": self.counts(),
+                "findings": [f.to_dict() for f in self.findings]}

@@ -1,0 +1,179 @@
+"""``workbench a2l``: merge, update from ELF, check and diff A2L files (the thesis's ASAP2 Merger/Updater).
+
+Thin commands over :mod:`workbench.a2l`; every result is a report of findings that
+prints as one line each (``file:line:column: severity: message``) or as ``--json``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from workbench.cli.options import print_json
+
+_DESCRIPTION = """\
+The A2L tool chain of a build:
+  merge   fragments into a master A2L (the master's MOD_PAR, MOD_COMMON and IF_DATA apply)
+  update  every address (and with --types data types, sizes, limits) and the EPK from an ELF
+  check   syntax, references, duplicate names and memory placement, with file:line:column
+  diff    object-level differences of two A2L files
+Outputs keep the input's text: only the changed tokens differ.
+Exit codes: 0 success (check: clean, diff: no differences), 1 the operation failed or found
+problems, 2 bad input (malformed A2L, not an ELF, bad option)."""
+
+
+def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: str) -> None:
+    parser = subparsers.add_parser(name, help=help_text, description=_DESCRIPTION,
+                                   formatter_class=argparse.RawDescriptionHelpFormatter)
+    commands = parser.add_subparsers(title="commands", dest="command", metavar="COMMAND", required=True)
+
+    merge = commands.add_parser("merge", help="merge module fragments into a master A2L",
+                                description="Insert each fragment's MODULE content into the master's MODULE. "
+                                "Identical definitions of a name merge silently; different ones are an error "
+                                "unless --on-conflict says otherwise. /include files are written inline.")
+    merge.add_argument("master", metavar="MASTER.a2l")
+    merge.add_argument("fragments", nargs="+", metavar="FRAGMENT.a2l")
+    merge.add_argument("-o", "--output", required=True, metavar="OUT.a2l", help="file to write (atomically)")
+    merge.add_argument("--on-conflict", choices=["error", "keep-first", "keep-last", "rename"], default="error",
+                       help="two different definitions of one name: fail (default), keep the first, keep the "
+                            "last, or rename the later one NAME_<MODULE> (every rename is reported)")
+    _output_options(merge)
+    merge.set_defaults(func=_merge)
+
+    update = commands.add_parser("update", help="set every address (and the EPK) from an ELF",
+                                 description="Set MEASUREMENT ECU_ADDRESS, CHARACTERISTIC/AXIS_PTS/BLOB/INSTANCE "
+                                 "addresses and MOD_PAR EPK/ADDR_EPK from the ELF's DWARF (struct members a.b, "
+                                 "array elements a[3] or a._3_, SYMBOL_LINK) or its .symtab. Objects whose "
+                                 "symbol is missing are reported and kept unless told otherwise.")
+    update.add_argument("a2l", metavar="IN.a2l")
+    update.add_argument("elf", metavar="ELF")
+    update.add_argument("-o", "--output", required=True, metavar="OUT.a2l",
+                        help="file to write (atomically; may be IN.a2l itself)")
+    missing = update.add_mutually_exclusive_group()
+    missing.add_argument("--remove-missing", action="store_true",
+                         help="drop objects whose symbol is not in the ELF (and their name-list references)")
+    missing.add_argument("--strict", action="store_true", help="any symbol missing is an error; nothing is written")
+    update.add_argument("--types", action="store_true",
+                        help="also check and update data types, array sizes, bit masks and limits from DWARF")
+    update.add_argument("--no-epk", action="store_true", help="leave MOD_PAR EPK and ADDR_EPK alone")
+    update.add_argument("--epk-symbol", metavar="NAME", help="the ELF variable holding the EPK (default: EPK/epk, "
+                        "then the .epk section)")
+    _cache_options(update)
+    _output_options(update)
+    update.set_defaults(func=_update)
+
+    check = commands.add_parser("check", help="syntax, references, names and memory placement",
+                                description="Report every problem with file:line:column: syntax, undefined "
+                                "COMPU_METHOD/RECORD_LAYOUT/FUNCTION/... references, duplicate names, overlapping "
+                                "objects, objects outside every MEMORY_SEGMENT, calibrations outside CAL RAM; with "
+                                "--elf also symbols missing from the ELF and addresses that differ. Exit 0 only "
+                                "when clean.")
+    check.add_argument("a2l", metavar="A2L")
+    check.add_argument("--elf", metavar="ELF", help="also check every object's symbol and address against this ELF")
+    _cache_options(check)
+    _output_options(check)
+    check.set_defaults(func=_check)
+
+    diff = commands.add_parser("diff", help="object-level differences of two A2L files",
+                               description="Objects added, removed and changed (with the fields that changed) "
+                               "from A to B. Exit 0 when there is no difference, 1 when there is.")
+    diff.add_argument("a", metavar="A.a2l")
+    diff.add_argument("b", metavar="B.a2l")
+    diff.add_argument("--json", action="store_true", help="print machine-readable JSON instead of text")
+    diff.set_defaults(func=_diff)
+
+
+def _output_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--json", action="store_true", help="print the report as JSON")
+    parser.add_argument("-v", "--verbose", action="store_true", help="list every finding, not only problems")
+
+
+def _cache_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--cache-dir", metavar="DIR", help="folder of the ELF index cache (default: the user's "
+                        "cache folder, e.g. ~/.cache/workbench/elf-index)")
+    parser.add_argument("--no-cache", action="store_true", help="neither read nor write the ELF index cache")
+
+
+def _merge(args: argparse.Namespace) -> int:
+    from workbench.a2l.merge import MergeFailed, merge_files
+    from workbench.a2l.reports import ConflictPolicy
+    from workbench.cli.progressbar import ProgressBar
+
+    try:
+        with ProgressBar("merging", enabled=None if not args.json else False) as progress:
+            report = merge_files(args.master, args.fragments, args.output,
+                                 policy=ConflictPolicy(args.on_conflict), progress=progress)
+    except MergeFailed as exc:
+        _print_report(exc.report, args, summary=str(exc))
+        return 1
+    merged = sum(1 for f in report.findings if f.kind == "merged")
+    _print_report(report, args, summary=f"merged {merged} fragment(s) into {args.output}", output=args.output)
+    return 0
+
+
+def _update(args: argparse.Namespace) -> int:
+    from workbench.a2l.reports import UpdateMode
+    from workbench.a2l.update import UpdateFailed, update_file
+    from workbench.cli.progressbar import ProgressBar
+
+    mode = UpdateMode.STRICT if args.strict else UpdateMode.REMOVE_MISSING if args.remove_missing else UpdateMode.DEFAULT
+    try:
+        with ProgressBar("updating", enabled=None if not args.json else False) as progress:
+            report = update_file(args.a2l, args.elf, args.output, mode=mode, types=args.types, epk=not args.no_epk,
+                                 epk_symbol=args.epk_symbol, cache_dir=args.cache_dir, use_cache=not args.no_cache,
+                                 progress=progress)
+    except UpdateFailed as exc:
+        _print_report(exc.report, args, summary=f"{exc}; nothing written")
+        return 1
+    parts = []
+    for keyword, tally in report.tally.items():
+        parts.append(f"{keyword} " + ", ".join(f"{count} {outcome}" for outcome, count in sorted(tally.items())))
+    summary = f"wrote {args.output}: " + ("; ".join(parts) if parts else "no objects")
+    _print_report(report, args, summary=summary, output=args.output)
+    return 0
+
+
+def _check(args: argparse.Namespace) -> int:
+    from workbench.a2l.check import check_file
+    from workbench.cli.progressbar import ProgressBar
+
+    with ProgressBar("checking", enabled=None if not args.json else False) as progress:
+        report = check_file(args.a2l, args.elf, cache_dir=args.cache_dir, use_cache=not args.no_cache,
+                            progress=progress)
+    args.verbose = True  # every check finding is a problem
+    clean = not report.findings
+    _print_report(report, args, summary=f"{args.a2l}: " + ("clean" if clean else f"{len(report.findings)} problem(s)"))
+    return 0 if clean else 1
+
+
+def _diff(args: argparse.Namespace) -> int:
+    from workbench.a2l.diff import diff_files
+
+    entries = diff_files(args.a, args.b)
+    if args.json:
+        print_json({"a": args.a, "b": args.b, "differences": [entry.to_dict() for entry in entries]})
+    else:
+        for entry in entries:
+            where = entry.new_location or entry.old_location
+            print(f"{where}: {entry.status} {entry.keyword} {entry.name}")
+            for change in entry.changes:
+                print(f"    {change.field}: {change.old if change.old is not None else '(none)'} -> "
+                      f"{change.new if change.new is not None else '(none)'}")
+        counts = {status: sum(1 for e in entries if e.status == status) for status in ("added", "removed", "changed")}
+        print(", ".join(f"{count} {status}" for status, count in counts.items()), file=sys.stderr)
+    return 1 if entries else 0
+
+
+def _print_report(report, args: argparse.Namespace, summary: str, output: str | None = None) -> None:
+    if args.json:
+        data = report.to_dict()
+        data["summary"] = summary
+        if output is not None:
+            data["output"] = str(Path(output))
+        print_json(data)
+        return
+    for finding in report.findings:
+        if args.verbose or finding.severity > 0:
+            print(finding)
+    print(summary, file=sys.stderr)

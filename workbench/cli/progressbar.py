@@ -1,0 +1,41 @@
+"""A rich progress bar on stderr that implements :class:`workbench.progress.Progress`.
+
+Shown only when stderr is a terminal (and disappears when done), so pipes, CI logs
+and ``--json`` output stay clean. Ctrl-C marks it cancelled; the job then raises
+:class:`~workbench.errors.Cancelled` at its next check point.
+"""
+
+from __future__ import annotations
+
+import sys
+
+from rich.console import Console
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+
+class ProgressBar:
+    """``with ProgressBar("updating") as progress: job(progress=progress)``."""
+
+    def __init__(self, description: str, enabled: bool | None = None):
+        self.description = description
+        self.enabled = sys.stderr.isatty() if enabled is None else enabled
+        self.cancelled = False
+        self._bar: Progress | None = None
+        self._task = None
+
+    def __enter__(self) -> "ProgressBar":
+        if self.enabled:
+            self._bar = Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                                 TimeElapsedColumn(), console=Console(stderr=True), transient=True)
+            self._bar.start()
+            self._task = self._bar.add_task(self.description, total=None)
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self._bar is not None:
+            self._bar.stop()
+
+    def update(self, done: int, total: int, label: str = "") -> None:
+        if self._bar is not None:
+            self._bar.update(self._task, completed=done, total=total or None,
+                             description=label or self.description)

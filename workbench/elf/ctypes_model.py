@@ -1,0 +1,141 @@
+"""C types as the A2L tool chain needs them: sizes, struct members, arrays, bitfields.
+
+:class:`TypeResolver` turns a DWARF type DIE into a :class:`CType`, looking through
+typedefs and const/volatile qualifiers (remembering the outermost typedef name).
+Pointers are not followed, so self-referencing structs are finite.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+from workbench.elf import dwarf
+
+_ENCODINGS = {0x01: "address", 0x02: "bool", 0x04: "float", 0x05: "signed", 0x06: "signed",
+              0x07: "unsigned", 0x08: "unsigned", 0x10: "unsigned"}  # 0x06/0x08: (un)signed char, 0x10: UTF
+
+
+@dataclass(frozen=True)
+class CMember:
+    name: str
+    offset: int  # bytes from the start of the struct (the storage unit of a bitfield)
+    type: "CType"
+    bit_size: int | None = None  # bitfields only
+    bit_position: int | None = None  # bitfields: lowest bit inside the storage unit (0 = LSB)
+
+
+@dataclass(frozen=True)
+class CType:
+    kind: str  # base, enum, struct, union, array, pointer, function, void
+    size: int  # bytes
+    name: str | None = None  # the C name (struct tag, base type name), None when anonymous
+    encoding: str | None = None  # base and enum: signed, unsigned, float, bool, address
+    members: tuple[CMember, ...] = ()
+    element: "CType | None" = None  # arrays
+    dims: tuple[int, ...] = ()  # arrays: element counts, outermost first
+    typedef: str | None = field(default=None, compare=False)  # e.g. real32_T
+
+    def member(self, name: str) -> CMember | None:
+        for member in self.members:
+            if member.name == name:
+                return member
+        return None
+
+    @property
+    def display_name(self) -> str:
+        return self.typedef or self.name or self.kind
+
+
+VOID = CType("void", 0)
+
+
+class TypeResolver:
+    """Builds :class:`CType` objects from DWARF, memoised by DIE offset."""
+
+    def __init__(self, reader: dwarf.DwarfReader, cache: dict[int, CType] | None = None):
+        self.reader = reader
+        self.cache: dict[int, CType] = cache if cache is not None else {}
+        self.added = 0  # types resolved by this resolver (the disk cache is rewritten when > 0)
+
+    def resolve(self, offset: int | None) -> CType:
+        if offset is None:
+            return VOID
+        found = self.cache.get(offset)
+        if found is None:
+            found = self._build(offset)
+            self.cache[offset] = found
+            self.added += 1
+        return found
+
+    def _build(self, offset: int) -> CType:
+        die = self.reader.die(offset)
+        if die is None:
+            return VOID
+        attrs, tag = die.attrs, die.tag
+        name = attrs.get(dwarf.AT_NAME)
+        name = name if isinstance(name, str) else None
+        if tag == dwarf.TAG_TYPEDEF:
+            target = self.resolve(attrs.get(dwarf.AT_TYPE))
+            return replace(target, typedef=name)
+        if tag in (dwarf.TAG_CONST, dwarf.TAG_VOLATILE, dwarf.TAG_RESTRICT, dwarf.TAG_ATOMIC):
+            return self.resolve(attrs.get(dwarf.AT_TYPE))
+        size = attrs.get(dwarf.AT_BYTE_SIZE)
+        size = size if isinstance(size, int) else 0
+        if tag == dwarf.TAG_BASE:
+            return CType("base", size, name, _ENCODINGS.get(attrs.get(dwarf.AT_ENCODING), "unsigned"))
+        if tag == dwarf.TAG_ENUM:
+            underlying = attrs.get(dwarf.AT_TYPE)
+            encoding = self.resolve(underlying).encoding if underlying is not None else "unsigned"
+            return CType("enum", size, name, encoding or "unsigned")
+        if tag in (dwarf.TAG_POINTER, dwarf.TAG_REFERENCE):
+            return CType("pointer", size or die.unit.address_size, name, "address")
+        if tag == dwarf.TAG_SUBROUTINE_TYPE:
+            return CType("function", 0, name)
+        if tag in (dwarf.TAG_STRUCT, dwarf.TAG_UNION, dwarf.TAG_CLASS):
+            members = tuple(self._member(child) for child in self.reader.children(die) if child.tag == dwarf.TAG_MEMBER)
+            kind = "union" if tag == dwarf.TAG_UNION else "struct"
+            return CType(kind, size, name, members=tuple(m for m in members if m is not None))
+        if tag == dwarf.TAG_ARRAY:
+            return self._array(die)
+        return CType("void", size, name)
+
+    def _array(self, die: dwarf.Die) -> CType:
+        element = self.resolve(die.attrs.get(dwarf.AT_TYPE))
+        dims = []
+        for child in self.reader.children(die):
+            if child.tag != dwarf.TAG_SUBRANGE:
+                continue
+            count = child.attrs.get(dwarf.AT_COUNT)
+            upper = child.attrs.get(dwarf.AT_UPPER_BOUND)
+            if isinstance(count, int):
+                dims.append(count)
+            elif isinstance(upper, int):
+                dims.append(upper + 1)
+            else:
+                dims.append(0)  # flexible array member
+        dims = dims or [0]
+        total = element.size
+        for dim in dims:
+            total *= dim
+        return CType("array", total, element=element, dims=tuple(dims))
+
+    def _member(self, die: dwarf.Die) -> CMember | None:
+        attrs = die.attrs
+        name = attrs.get(dwarf.AT_NAME)
+        member_type = self.resolve(attrs.get(dwarf.AT_TYPE))
+        offset = dwarf.member_offset(attrs.get(dwarf.AT_MEMBER_LOCATION))
+        bit_size = attrs.get(dwarf.AT_BIT_SIZE)
+        if not isinstance(bit_size, int):
+            return CMember(name if isinstance(name, str) else "", offset or 0, member_type)
+        storage = attrs.get(dwarf.AT_BYTE_SIZE) or member_type.size or 1
+        data_bit_offset = attrs.get(dwarf.AT_DATA_BIT_OFFSET)
+        if isinstance(data_bit_offset, int):  # DWARF 4+: bits from the start of the struct
+            start = (data_bit_offset // (8 * storage)) * storage
+            within = data_bit_offset - 8 * start
+            if self.reader.order == ">":  # counted from the most significant bit on big-endian targets
+                within = 8 * storage - within - bit_size
+            return CMember(name if isinstance(name, str) else "", start, member_type, bit_size, within)
+        # DWARF 2/3: DW_AT_bit_offset counts from the MSB of the storage unit at the member offset
+        bit_offset = attrs.get(dwarf.AT_BIT_OFFSET) or 0
+        return CMember(name if isinstance(name, str) else "", offset or 0, member_type, bit_size,
+                       8 * storage - bit_offset - bit_size)

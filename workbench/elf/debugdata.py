@@ -1,0 +1,180 @@
+"""One view of an ELF's debug information, whichever source answers (a2ltool's ``DebugData``).
+
+:class:`DebugData` resolves A2L symbol paths (``a.b[2].c``) to address, size and C
+type: from DWARF when the ELF has it, from ``.symtab`` otherwise (plain names only).
+The DWARF variable list and every type resolved are cached on disk, so a second
+run against the same ELF does not read DWARF at all.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+from pathlib import Path
+
+from elftools.elf.elffile import ELFFile
+
+from workbench.elf import dwarf
+from workbench.elf.cache import IndexCache
+from workbench.elf.ctypes_model import CType, TypeResolver
+from workbench.elf.paths import PathError, split_path, walk
+from workbench.elf.symbols import ElfSymbols
+from workbench.errors import InputError, UnknownSymbolError
+from workbench.progress import Progress
+
+log = logging.getLogger(__name__)
+
+_DWARF_SECTIONS = (".debug_info", ".debug_abbrev", ".debug_str", ".debug_line_str", ".debug_str_offsets",
+                   ".debug_addr")
+
+
+@dataclass(frozen=True)
+class ResolvedSymbol:
+    """Where a symbol path lives: ``address`` and ``size`` in bytes."""
+
+    path: str
+    address: int
+    size: int
+    type: CType | None  # None when only .symtab knew the symbol
+    source: str  # "dwarf" or "symtab"
+    bit_size: int | None = None  # bitfield members
+    bit_position: int | None = None  # lowest bit of a bitfield in its storage unit
+
+
+@dataclass(frozen=True)
+class _Variable:
+    address: int | None
+    type_offset: int | None
+
+
+class DebugData:
+    """Symbols and types of one ELF file.
+
+    ``cache_dir``: folder of the index cache (None: the user's cache folder);
+    ``use_cache=False`` neither reads nor writes it. Raises :class:`InputError` for a
+    file that is not an ELF.
+    """
+
+    def __init__(self, elf_path: str | Path, *, cache_dir: str | Path | None = None, use_cache: bool = True,
+                 progress: Progress | None = None):
+        self.path = Path(elf_path)
+        self.elf = ElfSymbols(self.path)
+        self._cache = IndexCache(cache_dir) if use_cache else None
+        self._reader: dwarf.DwarfReader | None = None
+        cached = self._cache.load(self.path) if self._cache is not None else None
+        self.from_cache = cached is not None
+        if cached is not None:
+            self._variables: dict[str, _Variable] = cached["variables"]
+            self._types: dict[int, CType] = cached["types"]
+        else:
+            self._variables = self._read_variables(progress) if self.elf.has_dwarf else {}
+            self._types = {}
+        self._resolver: TypeResolver | None = None
+        self._stored_types = len(self._types) if cached is not None else -1
+
+    def __enter__(self) -> "DebugData":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.save()
+
+    @property
+    def has_dwarf(self) -> bool:
+        return bool(self._variables)
+
+    @property
+    def little_endian(self) -> bool:
+        return self.elf.little_endian
+
+    def variable_names(self) -> list[str]:
+        return list(self._variables) if self._variables else [
+            name for name, symbol in self.elf.symbols.items() if symbol.kind == "object"]
+
+    def resolve(self, path: str) -> ResolvedSymbol:
+        """Address, size and type of an A2L symbol path; raises :class:`UnknownSymbolError`
+        (with the reason) when the ELF does not have it."""
+        if path.isidentifier():  # the common case: a plain variable name
+            base, steps = path, []
+        else:
+            try:
+                base, steps = split_path(path)
+            except PathError as exc:
+                raise UnknownSymbolError(path, str(exc)) from None
+        variable = self._variables.get(base)
+        symbol = self.elf.symbols.get(base)
+        if variable is not None:
+            address = variable.address if variable.address is not None else (symbol.address if symbol else None)
+            if address is None:
+                raise UnknownSymbolError(path, "the variable has no static address (optimised out?)")
+            ctype = self._type(variable.type_offset)
+            try:
+                offset, reached, bit_size, bit_position = walk(ctype, steps)
+            except PathError as exc:
+                raise UnknownSymbolError(path, str(exc)) from None
+            return ResolvedSymbol(path, address + offset, reached.size, reached, "dwarf", bit_size, bit_position)
+        if symbol is not None and symbol.kind != "function":
+            if steps:
+                raise UnknownSymbolError(path, f"{self.path.name} has no DWARF type of {base!r} to find members in")
+            return ResolvedSymbol(path, symbol.address, symbol.size, None, "symtab")
+        raise UnknownSymbolError(path, self.path.name)
+
+    def find(self, path: str) -> ResolvedSymbol | None:
+        try:
+            return self.resolve(path)
+        except UnknownSymbolError:
+            return None
+
+    def resolve_error(self, path: str) -> str:
+        """Why ``path`` cannot be resolved ("" when it can)."""
+        try:
+            self.resolve(path)
+        except UnknownSymbolError as exc:
+            return f"not in {exc.where}" if exc.where == self.path.name else exc.where
+        return ""
+
+    def save(self) -> None:
+        """Write the index cache if this run added to it."""
+        if self._cache is None or not self._variables:
+            return
+        if len(self._types) != self._stored_types:
+            self._cache.store(self.path, {"variables": self._variables, "types": self._types})
+            self._stored_types = len(self._types)
+
+    # -- DWARF ------------------------------------------------------------------------------
+    def _dwarf(self) -> dwarf.DwarfReader:
+        if self._reader is None:
+            try:
+                with open(self.path, "rb") as handle:
+                    elf = ELFFile(handle)
+                    sections = {}
+                    for name in _DWARF_SECTIONS:
+                        section = elf.get_section_by_name(name)
+                        if section is not None:
+                            sections[name] = section.data()
+            except OSError as exc:
+                raise InputError(f"{self.path}: cannot read ({exc.strerror})") from None
+            self._reader = dwarf.DwarfReader(sections, self.elf.little_endian)
+        return self._reader
+
+    def _read_variables(self, progress: Progress | None) -> dict[str, _Variable]:
+        try:
+            found = self._dwarf().global_variables(progress)
+        except (dwarf.DwarfError, IndexError, ValueError) as exc:
+            raise InputError(f"{self.path}: unreadable DWARF ({exc})") from None
+        variables: dict[str, _Variable] = {}
+        for variable in found:
+            known = variables.get(variable.name)
+            # a definition (with an address) wins over a declaration met earlier
+            if known is None or (known.address is None and variable.address is not None):
+                variables[variable.name] = _Variable(variable.address, variable.type_offset)
+        return variables
+
+    def _type(self, offset: int | None) -> CType:
+        if offset is not None and offset in self._types:
+            return self._types[offset]
+        if self._resolver is None:
+            self._resolver = TypeResolver(self._dwarf(), self._types)
+        try:
+            return self._resolver.resolve(offset)
+        except (dwarf.DwarfError, IndexError, ValueError) as exc:
+            raise InputError(f"{self.path}: unreadable DWARF type at 0x{offset or 0:x} ({exc})") from None
