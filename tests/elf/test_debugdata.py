@@ -1,0 +1,129 @@
+"""DebugData resolves A2L symbol paths the way the compiler laid them out.
+
+types.c stores, for the paths in EXPECTED, ``&path`` and ``sizeof(path)`` in two
+arrays; the compiler is the oracle, read back through .symtab and the file bytes.
+"""
+
+import shutil
+import struct
+
+import pytest
+from conftest import DWARF_ELFS, FIXTURES
+
+from workbench.elf.debugdata import DebugData
+from workbench.elf.symbols import ElfSymbols
+from workbench.errors import InputError, UnknownSymbolError
+
+# A2L spellings of the paths in types.c's expected_address[], in order
+EXPECTED = ["zsScalar", "zvLut", "zvLut.Table[3]", "outer.b.c", "outer.arr[2].d[1]", "outer.arr._3_",
+            "matrix[2][3]", "matrix._4_", "vector._7_", "bits.after", "u.bytes[2]", "state", "node.value",
+            "outer.last", "hidden_counter", "csConstant"]
+
+
+def compiler_truth(path):
+    elf = ElfSymbols(path)
+    width = 8 if elf.elfclass == 64 else 4
+    addresses = elf.read(elf.symbol("expected_address").address, width * len(EXPECTED))
+    sizes = elf.read(elf.symbol("expected_size").address, 4 * len(EXPECTED))
+    fmt = "<" + ("Q" if width == 8 else "I") * len(EXPECTED)
+    return dict(zip(EXPECTED, zip(struct.unpack(fmt, addresses), struct.unpack("<" + "I" * len(EXPECTED), sizes))))
+
+
+@pytest.mark.parametrize("elf_name", DWARF_ELFS)
+def test_paths_resolve_to_the_compilers_addresses_and_sizes(elf_name):
+    truth = compiler_truth(FIXTURES / elf_name)
+    debug = DebugData(FIXTURES / elf_name, use_cache=False)
+    for path, (address, size) in truth.items():
+        found = debug.resolve(path)
+        assert (found.address, found.size, found.source) == (address, size, "dwarf"), path
+
+
+@pytest.mark.parametrize("elf_name", DWARF_ELFS)
+def test_types_through_typedefs_qualifiers_enums_and_pointers(elf_name):
+    debug = DebugData(FIXTURES / elf_name, use_cache=False)
+    scalar = debug.resolve("zsScalar").type
+    assert (scalar.kind, scalar.encoding, scalar.size, scalar.typedef) == ("base", "float", 4, "real32_T")
+    assert debug.resolve("csConstant").type.typedef == "uint8_T"
+    lut = debug.resolve("zvLut").type
+    assert lut.kind == "struct" and lut.typedef == "zvLut_str" and [m.name for m in lut.members] == ["BP1", "Table"]
+    assert debug.resolve("matrix").type.dims == (5, 6)
+    assert debug.resolve("matrix[1]").type.dims == (6,)
+    state = debug.resolve("state").type
+    assert state.kind == "enum" and state.size == 4 and state.typedef == "tState"
+    assert debug.resolve("node").type.member("next").type.kind == "pointer"
+    assert debug.resolve("u").type.kind == "union"
+    assert debug.resolve("big").type.encoding == "signed"
+
+
+@pytest.mark.parametrize("elf_name", DWARF_ELFS)
+def test_bitfields_give_storage_unit_and_bit_position(elf_name):
+    debug = DebugData(FIXTURES / elf_name, use_cache=False)
+    base = debug.resolve("bits").address
+    found = [(debug.resolve(f"bits.{name}").address - base, debug.resolve(f"bits.{name}").bit_size,
+              debug.resolve(f"bits.{name}").bit_position) for name in ("low", "mid", "high")]
+    assert found == [(0, 3, 0), (0, 5, 3), (0, 12, 8)]
+
+
+def test_bad_paths_say_why():
+    debug = DebugData(FIXTURES / "types_dwarf5.elf", use_cache=False)
+    with pytest.raises(UnknownSymbolError, match="has no member 'nope'"):
+        debug.resolve("outer.nope")
+    with pytest.raises(UnknownSymbolError, match="index 4 is outside the array of 4"):
+        debug.resolve("outer.arr[4]")
+    with pytest.raises(UnknownSymbolError, match="has no index"):
+        debug.resolve("zsScalar[0]")
+    with pytest.raises(UnknownSymbolError, match="not_there"):
+        debug.resolve("not_there")
+    assert debug.find("outer..b") is None
+
+
+def test_symtab_fallback_without_dwarf():
+    debug = DebugData(FIXTURES / "types_symtab.elf", use_cache=False)
+    truth = compiler_truth(FIXTURES / "types_symtab.elf")
+    assert not debug.has_dwarf
+    found = debug.resolve("outer")
+    assert (found.source, found.type, found.address) == ("symtab", None, compiler_truth(FIXTURES / "types_dwarf5.elf")
+                                                         ["outer.b.c"][0] - 2)
+    assert debug.resolve("hidden_counter").address == truth["hidden_counter"][0]
+    with pytest.raises(UnknownSymbolError, match="no DWARF type"):
+        debug.resolve("outer.b.c")
+    with pytest.raises(UnknownSymbolError):
+        debug.resolve("_start")  # a function is not a variable
+
+
+def test_index_is_cached_and_a_rebuilt_elf_is_not_served_stale(tmp_path):
+    elf = tmp_path / "copy.elf"
+    shutil.copy(FIXTURES / "types_dwarf5.elf", elf)
+    cache = tmp_path / "cache"
+    with DebugData(elf, cache_dir=cache) as first:
+        assert not first.from_cache
+        first.resolve("outer.arr[2].d[1]")
+    assert len(list(cache.iterdir())) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["cache", "copy.elf"]  # nothing beside the user's file
+    with DebugData(elf, cache_dir=cache) as second:
+        assert second.from_cache
+        assert second.resolve("outer.arr[2].d[1]") == first.resolve("outer.arr[2].d[1]")
+        assert second._reader is None  # answered from the cache without reading DWARF
+    shutil.copy(FIXTURES / "types_m32.elf", elf)  # "rebuilt": another size, header and mtime
+    with DebugData(elf, cache_dir=cache) as third:
+        assert not third.from_cache
+        assert third.resolve("outer.b.c").address == compiler_truth(FIXTURES / "types_m32.elf")["outer.b.c"][0]
+
+
+def test_unreadable_cache_is_a_miss(tmp_path):
+    cache = tmp_path / "cache"
+    with DebugData(FIXTURES / "types_dwarf5.elf", cache_dir=cache):
+        pass
+    for entry in cache.iterdir():
+        entry.write_bytes(b"not a pickle")
+    with DebugData(FIXTURES / "types_dwarf5.elf", cache_dir=cache) as debug:
+        assert not debug.from_cache and debug.resolve("zsScalar")
+
+
+def test_not_an_elf(tmp_path):
+    bad = tmp_path / "bad.elf"
+    bad.write_bytes(b"ASAP2_VERSION 1 71\n")
+    with pytest.raises(InputError, match="not a readable ELF"):
+        DebugData(bad, use_cache=False)
+    with pytest.raises(InputError, match="no such file"):
+        DebugData(tmp_path / "missing.elf", use_cache=False)
