@@ -1,0 +1,121 @@
+"""pyxcp against a separate ``workbench sim`` process on ``udp_multicast`` — the two-process workflow."""
+
+from __future__ import annotations
+
+import logging
+import random
+import signal
+import struct
+import subprocess
+import sys
+import time
+
+import pytest
+from pyxcp.daq_stim import DaqList, DaqOnlinePolicy
+from pyxcp_master import connect, pyxcp_master
+
+from workbench import demo
+from workbench.elf import ElfSymbols
+from workbench.image import load_image
+from workbench.sim.memory_map import HDS9
+
+pytestmark = pytest.mark.slow
+CALIB = HDS9.region("CALIB")
+
+
+@pytest.fixture
+def sim_process():
+    """``workbench sim`` on a multicast group of its own, with the PCM; yields the group."""
+    group = f"239.74.{random.randint(164, 250)}.{random.randint(1, 250)}"
+    process = subprocess.Popen(
+        [sys.executable, "-c", "from workbench.cli import entry_point; entry_point()", "sim",
+         "--interface", "udp_multicast", "--channel", group, "--pcm", "--duration", "120"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )
+    banner = []
+    for line in process.stdout:
+        banner.append(line)
+        if line.startswith("serving"):
+            break
+    else:
+        process.kill()
+        pytest.fail(f"workbench sim did not start: {''.join(banner)} {process.stderr.read()}")
+    assert any(group in line for line in banner) and any("0x7F0" in line for line in banner)
+    process.banner = "".join(banner)
+    yield group, process
+    if process.poll() is None:
+        process.kill()
+        process.wait()
+
+
+class Samples(DaqOnlinePolicy):
+    def __init__(self, daq_lists):
+        super().__init__(daq_lists, logger=logging.getLogger("pyxcp.daq"))
+        self.pid_off = False  # pyxcp 0.29 sets it only when it builds the global application itself
+        self.rows = []
+
+    def on_daq_list(self, daq_list, timestamp0, timestamp1, payload):
+        names = [header[0] for header in self.daq_lists[daq_list].headers]
+        self.rows.append((timestamp1, dict(zip(names, payload))))
+
+
+def test_pyxcp_against_a_workbench_sim_process(sim_process):
+    group, process = sim_process
+    symbols = ElfSymbols(demo.elf())
+    s19 = load_image(demo.s19())
+    threshold = symbols.symbol("xsSWITCH_TANK_THR").address
+    names = [("zsRailPressure", "F32"), ("xsSWITCH_TANK_THR", "F32"), ("xsFULL_TANK_PRESS", "F32")]
+    policy = Samples([DaqList(name="task50", event_num=1, stim=False, enable_timestamps=True,
+                              measurements=[(n, symbols.symbol(n).address, 0, k) for n, k in names],
+                              priority=0, prescaler=1)])
+    with pyxcp_master("udp_multicast", group, policy=policy) as master:
+        connect(master)
+        epk = master.identifier(5)
+        assert epk in process.banner
+        assert bytes(master.shortUpload(4, threshold)) == s19.read(HDS9.rom_address(threshold), 4)
+        master.cond_unlock()  # seed & key for CAL/PAG, DAQ and PGM
+        master.push(threshold, 0, struct.pack("<f", 21.5))
+        assert struct.unpack("<f", bytes(master.shortUpload(4, threshold)))[0] == 21.5
+
+        policy.setup()
+        policy.start()
+        time.sleep(1.0)
+        policy.stop()
+        rows = list(policy.rows)
+        assert len(rows) >= 10
+        ticks = [timestamp for timestamp, _ in rows]
+        assert all((b - a) % 50_000_000 == 0 and b > a for a, b in zip(ticks, ticks[1:]))
+        assert {row["xsSWITCH_TANK_THR"] for _, row in rows} == {21.5}
+        assert {row["xsFULL_TANK_PRESS"] for _, row in rows} == {700.0}
+        assert rows[-1][1]["zsRailPressure"] > rows[0][1]["zsRailPressure"]  # the PCM's target drives the rail up
+
+        patched = s19.crop(CALIB.start, CALIB.end)
+        patched.add(HDS9.rom_address(threshold), struct.pack("<f", 30.0), overwrite=True)
+        master.programStart()
+        master.setMta(CALIB.start)
+        master.programClear(0, CALIB.size)
+        for start, data in patched.segments:
+            master.flash_program(start, data)
+        master.programReset()
+
+    with pyxcp_master("udp_multicast", group) as master:
+        _connect_after_reset(master)
+        assert struct.unpack("<f", bytes(master.shortUpload(4, threshold)))[0] == 30.0  # new CAL ROM -> CAL RAM
+        master.disconnect()
+
+    process.send_signal(signal.SIGINT)
+    out, err = process.communicate(timeout=10)
+    assert process.returncode == 0, err
+    assert "stopped" in out and "Traceback" not in err
+
+
+def _connect_after_reset(master) -> None:
+    deadline = time.monotonic() + 5
+    while True:
+        try:
+            connect(master)
+            return
+        except Exception:
+            if time.monotonic() > deadline:
+                raise
+            time.sleep(0.1)

@@ -1,0 +1,103 @@
+"""Fault injection through the Simulator on a virtual bus, seen by a raw python-can master."""
+
+from __future__ import annotations
+
+import itertools
+import struct
+
+import can
+import pytest
+from mini_ecu import CAL_GAIN, make_ecu
+
+from workbench.sim.server import Simulator
+from workbench.sim.xcp.protocol import Cmd, Err
+
+_channels = itertools.count()
+GET_STATUS = bytes([Cmd.GET_STATUS])
+CONNECT = bytes([Cmd.CONNECT, 0])
+
+
+class RawMaster:
+    def __init__(self, channel: str):
+        self.bus = can.Bus(interface="virtual", channel=channel)
+
+    def send(self, cto: bytes) -> None:
+        self.bus.send(can.Message(arbitration_id=0x7F0, is_extended_id=False, data=cto))
+
+    def responses(self, timeout_s: float = 0.15) -> list[bytes]:
+        """Every response frame until the bus stays quiet for ``timeout_s``."""
+        out = []
+        while (message := self.bus.recv(timeout_s)) is not None:
+            if message.arbitration_id == 0x7F1:
+                out.append(bytes(message.data))
+        return out
+
+    def request(self, cto: bytes) -> list[bytes]:
+        self.send(cto)
+        return self.responses()
+
+
+@pytest.fixture
+def rig():
+    ecu = make_ecu()
+    channel = f"sim-faults-{next(_channels)}"
+    with Simulator(ecu, {"interface": "virtual", "channel": channel}, time_scale=None) as sim:
+        master = RawMaster(channel)
+        assert master.request(CONNECT)[0][0] == 0xFF
+        yield sim, master
+        master.bus.shutdown()
+
+
+def test_drop_the_next_response(rig):
+    sim, master = rig
+    sim.ecu.faults.drop_frame(1)
+    assert master.request(GET_STATUS) == []
+    assert len(master.request(GET_STATUS)) == 1
+    assert sim.ecu.faults.fired == ["drop tx frame 2"]
+
+
+def test_duplicate_and_delay_responses(rig):
+    sim, master = rig
+    sim.ecu.faults.duplicate_frame(1)
+    first = master.request(GET_STATUS)
+    assert len(first) == 2 and first[0] == first[1]
+    sim.ecu.faults.delay_frame(1, 0.2)
+    master.send(GET_STATUS)
+    master.send(bytes([Cmd.SHORT_UPLOAD, 4, 0, 0]) + struct.pack("<I", CAL_GAIN))
+    responses = master.responses(timeout_s=0.5)
+    assert responses[0] == b"\xff" + struct.pack("<f", 2.0)  # the delayed GET_STATUS answer comes second
+    assert responses[1][0] == 0xFF and len(responses[1]) == 6
+
+
+def test_received_frames_can_be_dropped_or_duplicated(rig):
+    sim, master = rig
+    sim.ecu.faults.drop_frame(1, direction="rx")
+    assert master.request(GET_STATUS) == []
+    sim.ecu.faults.duplicate_frame(1, direction="rx")
+    assert len(master.request(GET_STATUS)) == 2
+
+
+def test_reject_the_nth_command_of_a_kind(rig):
+    sim, master = rig
+    sim.ecu.faults.reject_command(2, Err.CMD_BUSY, command=Cmd.SHORT_UPLOAD)
+    upload = bytes([Cmd.SHORT_UPLOAD, 4, 0, 0]) + struct.pack("<I", CAL_GAIN)
+    assert master.request(upload)[0][0] == 0xFF
+    assert master.request(GET_STATUS)[0][0] == 0xFF  # other commands do not count
+    assert master.request(upload) == [bytes([0xFE, Err.CMD_BUSY])]
+    assert master.request(upload)[0][0] == 0xFF
+
+
+def test_power_off_silences_and_power_on_serves_again(rig):
+    sim, master = rig
+    sim.power_off()
+    assert master.request(CONNECT) == []
+    sim.power_on()
+    assert master.request(CONNECT)[0][0] == 0xFF
+
+
+def test_fault_arguments_are_checked():
+    ecu = make_ecu()
+    with pytest.raises(ValueError, match="counts from 1"):
+        ecu.faults.drop_frame(0)
+    with pytest.raises(ValueError, match="direction"):
+        ecu.faults.drop_frame(1, direction="both")

@@ -1,0 +1,73 @@
+"""Random CTOs of random lengths: every one is answered (or meets a documented silence), nothing breaks."""
+
+from __future__ import annotations
+
+import logging
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from mini_ecu import XcpProbe, make_ecu
+
+from workbench.sim.xcp.parameters import XcpParameters
+from workbench.sim.xcp.protocol import PID_ERR, PID_RES, Cmd, Err, Resource
+
+BLOCK_COMMANDS = {Cmd.DOWNLOAD, Cmd.DOWNLOAD_NEXT, Cmd.PROGRAM, Cmd.PROGRAM_NEXT}
+command_byte = st.one_of(st.sampled_from([int(c) for c in Cmd]), st.integers(0, 0xFF))
+cto = st.one_of(
+    st.just(b""),
+    st.tuples(command_byte, st.binary(max_size=7)).map(lambda parts: bytes([parts[0]]) + parts[1]),
+)
+
+
+class _Errors(logging.Handler):
+    def __init__(self):
+        super().__init__(logging.ERROR)
+        self.messages: list[str] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.messages.append(record.getMessage())
+
+
+def _run(ctos: list[bytes], protected: Resource) -> None:
+    ecu = make_ecu(params=XcpParameters(protected=protected))
+    ecu.power_on()
+    probe = XcpProbe(ecu)
+    connected = False
+    errors = _Errors()
+    logger = logging.getLogger("workbench.sim")
+    logger.addHandler(errors)
+    try:
+        for frame in [bytes([Cmd.CONNECT, 0])] + ctos:
+            packets = ecu.handle_cto(frame)
+            command = frame[0] if frame else None
+            if not packets:
+                allowed = frame == b"" or (not connected and command != Cmd.CONNECT) or (
+                    connected and command in BLOCK_COMMANDS)
+                assert allowed, f"no answer to {frame.hex(' ')} (connected={connected})"
+                continue
+            assert connected or command == Cmd.CONNECT, f"{frame.hex(' ')} answered while disconnected"
+            for packet in packets:
+                assert packet[0] in (PID_RES, PID_ERR) and len(packet) <= 8, packet.hex(" ")
+            if packets[0][0] == PID_ERR:
+                assert len(packets) == 1 and packets[0][1] in set(Err), packets[0].hex(" ")
+                if command == Cmd.UNLOCK and packets[0][1] == Err.ACCESS_LOCKED:
+                    connected = False  # a wrong key ends the session
+            elif command == Cmd.CONNECT:
+                connected = True
+            elif command in (Cmd.DISCONNECT, Cmd.PROGRAM_RESET):
+                connected = False
+        # the slave keeps serving
+        probe.connect()
+        assert probe.ok(Cmd.GET_STATUS)
+        assert probe.short_upload(0xFC0000, 4) == ecu.read(0xFC0000, 4)
+    finally:
+        logger.removeHandler(errors)
+    assert not errors.messages  # the slave's catch-all for its own bugs never fired
+
+
+@pytest.mark.parametrize("protected", [Resource.CAL_PAG | Resource.DAQ | Resource.PGM, Resource(0)], ids=["locked", "open"])
+@settings(max_examples=150, deadline=None)
+@given(ctos=st.lists(cto, max_size=40))
+def test_random_ctos(protected, ctos):
+    _run(ctos, protected)
