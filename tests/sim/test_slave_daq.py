@@ -37,10 +37,10 @@ def write_daq(probe, daq_list, odt, entry, *elements):
 
 def test_processor_and_resolution_info(daq):
     properties, max_daq, max_event, min_daq, key = struct.unpack("<BHHBB", daq.ok(Cmd.GET_DAQ_PROCESSOR_INFO))
-    assert properties == 0x13  # dynamic, prescaler, timestamps
+    assert properties == 0x11  # dynamic, timestamps (no prescaler)
     assert (max_daq, max_event, min_daq, key) == (16, 3, 0, 0x00)  # absolute PIDs, address extension free
     gran, max_entry, _, _, ts_mode, ticks = struct.unpack("<BBBBBH", daq.ok(Cmd.GET_DAQ_RESOLUTION_INFO))
-    assert (gran, max_entry, ts_mode, ticks) == (1, 4, 0x4C, 1)  # 10 us, fixed, 4 bytes
+    assert (gran, max_entry, ts_mode, ticks) == (1, 4, 0x44, 1)  # 10 us, 4 bytes, not fixed
 
 
 def test_event_info_names_the_task(daq):
@@ -52,9 +52,9 @@ def test_event_info_names_the_task(daq):
 
 def test_dtos_on_the_50ms_event(daq):
     alloc(daq, [2], [(0, 0, 1), (0, 1, 2)])
+    daq.ok(Cmd.SET_DAQ_LIST_MODE, 0x10, struct.pack("<HH", 0, 1), 1, 0)  # timestamps on
     write_daq(daq, 0, 0, 0, (COUNTER, 3))  # 3 data bytes after PID + timestamp
     write_daq(daq, 0, 1, 0, (OUTPUT, 4), (CAL_GAIN, 2))
-    daq.ok(Cmd.SET_DAQ_LIST_MODE, 0x10, struct.pack("<HH", 0, 1), 1, 0)
     assert daq.ok(Cmd.START_STOP_DAQ_LIST, 2, struct.pack("<H", 0)) == b"\x00"  # select; FIRST_PID 0
     daq.ok(Cmd.START_STOP_SYNCH, 1)
     assert daq.ok(Cmd.GET_STATUS)[0] & 0x40  # DAQ running
@@ -70,15 +70,17 @@ def test_dtos_on_the_50ms_event(daq):
     assert len(daq.dtos) == 4
 
 
-def test_prescaler_and_pids_of_a_second_list(daq):
-    alloc(daq, [1, 1], [(0, 0, 1), (1, 0, 1)])
+def test_a_list_without_timestamps_and_the_pids_of_a_second_list(daq):
+    alloc(daq, [1, 1], [(0, 0, 1), (1, 0, 2)])
     write_daq(daq, 0, 0, 0, (COUNTER, 1))
-    write_daq(daq, 1, 0, 0, (COUNTER, 1))
-    daq.ok(Cmd.SET_DAQ_LIST_MODE, 0x10, struct.pack("<HH", 1, 0), 5, 0)  # every 5th 4 ms event
+    write_daq(daq, 1, 0, 0, (COUNTER, 4), (OUTPUT, 3))  # 7 bytes: the whole DTO without a timestamp
+    daq.ok(Cmd.SET_DAQ_LIST_MODE, 0x00, struct.pack("<HH", 1, 0), 1, 0)
     assert daq.ok(Cmd.START_STOP_DAQ_LIST, 1, struct.pack("<H", 1)) == b"\x01"
-    daq.ecu.advance(0.04)
-    assert [d[0] for d in daq.dtos] == [1, 1]
+    daq.ecu.advance(0.008)
+    assert len(daq.dtos) == 2 and all(d[0] == 1 and len(d) == 8 for d in daq.dtos)
+    assert daq.dtos[-1][1:] == daq.ecu.read(COUNTER, 4) + daq.ecu.read(OUTPUT, 3)
     assert daq.err(Cmd.START_STOP_DAQ_LIST, 1, struct.pack("<H", 0)) == Err.DAQ_CONFIG  # list 0 has no event
+    assert daq.err(Cmd.SET_DAQ_LIST_MODE, 0x00, struct.pack("<HH", 0, 0), 2, 0) == Err.OUT_OF_RANGE  # no prescaler
 
 
 def test_entry_larger_than_max_odt_entry_size_is_out_of_range(daq):
@@ -90,19 +92,27 @@ def test_entry_larger_than_max_odt_entry_size_is_out_of_range(daq):
 
 def test_odt_over_the_dto_is_a_daq_config_error(daq):
     alloc(daq, [2], [(0, 0, 2), (0, 1, 2)])
+    daq.ok(Cmd.SET_DAQ_LIST_MODE, 0x10, struct.pack("<HH", 0, 1), 1, 0)
     daq.ok(Cmd.SET_DAQ_PTR, 0, struct.pack("<H", 0), 0, 0)
     daq.ok(Cmd.WRITE_DAQ, 0xFF, 2, 0, struct.pack("<I", COUNTER))
-    # the first ODT carries the 4-byte timestamp: 3 data bytes only
+    # a timestamped first ODT carries 3 data bytes only
     assert daq.err(Cmd.WRITE_DAQ, 0xFF, 2, 0, struct.pack("<I", COUNTER)) == Err.DAQ_CONFIG
     daq.ok(Cmd.SET_DAQ_PTR, 0, struct.pack("<H", 0), 1, 0)
     daq.ok(Cmd.WRITE_DAQ, 0xFF, 4, 0, struct.pack("<I", COUNTER))
     assert daq.err(Cmd.WRITE_DAQ, 0xFF, 4, 0, struct.pack("<I", COUNTER)) == Err.DAQ_CONFIG  # 8 > 7
 
 
+def test_timestamps_cannot_be_turned_on_over_a_full_first_odt(daq):
+    alloc(daq, [1], [(0, 0, 2)])
+    write_daq(daq, 0, 0, 0, (COUNTER, 4), (OUTPUT, 2))  # 6 bytes: fine without a timestamp
+    assert daq.err(Cmd.SET_DAQ_LIST_MODE, 0x10, struct.pack("<HH", 0, 1), 1, 0) == Err.DAQ_CONFIG
+    daq.ok(Cmd.SET_DAQ_LIST_MODE, 0x00, struct.pack("<HH", 0, 1), 1, 0)
+
+
 def test_more_entries_than_an_odt_can_carry(daq):
     alloc(daq, [2], [])
-    assert daq.err(Cmd.ALLOC_ODT_ENTRY, 0, struct.pack("<H", 0), 0, 4) == Err.OUT_OF_RANGE  # 3 bytes left after timestamp
-    daq.ok(Cmd.ALLOC_ODT_ENTRY, 0, struct.pack("<H", 0), 0, 3)
+    assert daq.err(Cmd.ALLOC_ODT_ENTRY, 0, struct.pack("<H", 0), 0, 8) == Err.OUT_OF_RANGE  # 7 bytes after the PID
+    daq.ok(Cmd.ALLOC_ODT_ENTRY, 0, struct.pack("<H", 0), 0, 7)
     assert daq.err(Cmd.ALLOC_ODT_ENTRY, 0, struct.pack("<H", 0), 1, 8) == Err.OUT_OF_RANGE
 
 

@@ -8,8 +8,10 @@ and the A2L publish, see :class:`DaqParameters`):
 * absolute ODT numbers: one PID per ODT of all lists (0x00..0xFB), so at most 252 ODTs;
 * an ODT entry holds 1..MAX_ODT_ENTRY_SIZE_DAQ bytes (ERR_OUT_OF_RANGE otherwise);
 * an ODT's entries must fit the DTO: MAX_DTO − 1 (PID) bytes, and in the first ODT of a list
-  also minus the 4-byte timestamp, which every list carries (TIMESTAMP_FIXED): more
-  entries than that is ERR_OUT_OF_RANGE at ALLOC_ODT_ENTRY, more bytes ERR_DAQ_CONFIG at WRITE_DAQ;
+  whose mode asks for timestamps also minus the 4-byte timestamp: more entries than the DTO
+  holds is ERR_OUT_OF_RANGE at ALLOC_ODT_ENTRY, more bytes ERR_DAQ_CONFIG at WRITE_DAQ, and a
+  SET_DAQ_LIST_MODE that turns timestamps on over a full first ODT is ERR_DAQ_CONFIG too;
+* timestamps are selectable per list (not TIMESTAMP_FIXED); no prescaler (it must be 1);
 * no STIM, no PID_OFF, no ALTERNATING/DTO_CTR modes, no bit-wise entries (bit offset 0xFF only).
 
 DTO layout: ``PID [timestamp, first ODT only] data…`` with PID = FIRST_PID of the list + ODT number.
@@ -18,7 +20,7 @@ DTO layout: ``PID [timestamp, first ODT only] data…`` with PID = FIRST_PID of 
 from __future__ import annotations
 
 import struct
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from enum import IntEnum
 from typing import TYPE_CHECKING
 
@@ -36,7 +38,6 @@ MODE_TIMESTAMP = 0x10
 MODE_PID_OFF = 0x20
 NO_BIT_OFFSET = 0xFF
 PROPERTY_DYNAMIC = 0x01
-PROPERTY_PRESCALER = 0x02
 PROPERTY_TIMESTAMP = 0x10
 EVENT_PROPERTY_DAQ = 0x04
 EVENT_CONSISTENCY_DAQ = 0x40
@@ -62,11 +63,10 @@ class DaqList:
     odts: list[list[OdtEntry]] | None = None  # None until ALLOC_ODT
     first_pid: int = 0
     event: int | None = None
-    prescaler: int = 1
+    timestamps: bool = False
     priority: int = 0
     selected: bool = False
     running: bool = False
-    samples_skipped: int = field(default=0, repr=False)
 
 
 class DaqProcessor:
@@ -103,20 +103,20 @@ class DaqProcessor:
             Cmd.START_STOP_SYNCH: self._start_stop_synch,
         }
 
-    def odt_capacity(self, odt: int) -> int:
-        """Data bytes an ODT can carry: the DTO minus the PID, minus the timestamp in ODT 0."""
+    def odt_capacity(self, odt: int, timestamps: bool) -> int:
+        """Data bytes an ODT can carry: the DTO minus the PID, minus the timestamp in a timestamped ODT 0."""
         payload = self.slave.params.max_dto - 1
-        return payload - self.params.timestamp_size if odt == 0 else payload
+        return payload - self.params.timestamp_size if odt == 0 and timestamps else payload
 
     # --- information ---------------------------------------------------------------------------
 
     def _get_processor_info(self, req: bytes) -> bytes:
-        properties = PROPERTY_DYNAMIC | PROPERTY_PRESCALER | PROPERTY_TIMESTAMP
+        properties = PROPERTY_DYNAMIC | PROPERTY_TIMESTAMP
         return struct.pack("<BHHBB", properties, self.params.max_daq, len(self.events), 0, KEY_BYTE)
 
     def _get_resolution_info(self, req: bytes) -> bytes:
         size_code = {1: 1, 2: 2, 4: 4}[self.params.timestamp_size]
-        timestamp_mode = self.params.timestamp_unit << 4 | 0x08 | size_code  # 0x08: TIMESTAMP_FIXED
+        timestamp_mode = self.params.timestamp_unit << 4 | size_code  # TIMESTAMP_FIXED (0x08) not set
         return struct.pack(
             "<BBBBBH", self.params.granularity, self.params.max_odt_entry_size, 1, 0, timestamp_mode,
             self.params.timestamp_ticks,
@@ -187,7 +187,7 @@ class DaqProcessor:
             raise XcpNegative(Err.OUT_OF_RANGE)
         if daq.odts[odt] is not None:
             raise XcpNegative(Err.SEQUENCE)
-        if count > self.odt_capacity(odt) // self.params.granularity:
+        if count > self.odt_capacity(odt, timestamps=False) // self.params.granularity:
             raise XcpNegative(Err.OUT_OF_RANGE)
         daq.odts[odt] = [OdtEntry() for _ in range(count)]
         self._stage = _Stage.ENTRY
@@ -228,7 +228,7 @@ class DaqProcessor:
         except MemoryAccessError:
             raise XcpNegative(Err.OUT_OF_RANGE) from None
         used = sum(e.size for i, e in enumerate(entries) if i != index)
-        if used + size > self.odt_capacity(odt):
+        if used + size > self.odt_capacity(odt, daq.timestamps):
             raise XcpNegative(Err.DAQ_CONFIG)
         entries[index] = OdtEntry(address, size)
         self._ptr = (number, odt, index + 1)
@@ -243,9 +243,12 @@ class DaqProcessor:
             raise XcpNegative(Err.DAQ_ACTIVE)
         if mode & ~MODE_TIMESTAMP:
             raise XcpNegative(Err.MODE_NOT_VALID)  # STIM, PID_OFF, ALTERNATING, DTO_CTR unsupported
-        if event not in self.events or prescaler == 0:
+        if event not in self.events or prescaler != 1:
             raise XcpNegative(Err.OUT_OF_RANGE)
-        daq.event, daq.prescaler, daq.priority = event, prescaler, priority
+        timestamps = bool(mode & MODE_TIMESTAMP)
+        if timestamps and daq.odts and daq.odts[0] and sum(e.size for e in daq.odts[0]) > self.odt_capacity(0, True):
+            raise XcpNegative(Err.DAQ_CONFIG)  # the first ODT leaves no room for the timestamp
+        daq.event, daq.timestamps, daq.priority = event, timestamps, priority
         return b""
 
     def _start_stop_daq_list(self, req: bytes) -> bytes:
@@ -259,7 +262,7 @@ class DaqProcessor:
         if mode == 0:
             daq.running = daq.selected = False
         elif mode == 1:
-            daq.running, daq.samples_skipped = True, 0
+            daq.running = True
         else:
             daq.selected = True
         return bytes([daq.first_pid])
@@ -273,7 +276,7 @@ class DaqProcessor:
             if mode == 0:
                 daq.running = False
             elif daq.selected:
-                daq.running, daq.samples_skipped = mode == 1, 0
+                daq.running = mode == 1
             daq.selected = False
         return b""
 
@@ -286,13 +289,9 @@ class DaqProcessor:
         for daq in self.lists:
             if not daq.running or daq.event != channel:
                 continue
-            daq.samples_skipped += 1
-            if daq.samples_skipped < daq.prescaler:
-                continue
-            daq.samples_skipped = 0
             for odt, entries in enumerate(daq.odts):
                 frame = bytearray([daq.first_pid + odt])
-                if odt == 0:
+                if odt == 0 and daq.timestamps:
                     frame += (timestamp_ticks & 0xFFFFFFFF).to_bytes(self.params.timestamp_size, "little")
                 for entry in entries:
                     if entry.size:

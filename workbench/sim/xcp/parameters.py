@@ -36,7 +36,7 @@ class DaqParameters:
     max_odt_total: int = 0xFC  # one absolute PID (0x00..0xFB) per ODT of all lists
     max_odt_entry_size: int = 4  # MAX_ODT_ENTRY_SIZE_DAQ, bytes: smaller than a DTO's payload on purpose
     granularity: int = 1  # GRANULARITY_ODT_ENTRY_SIZE_DAQ
-    timestamp_size: int = 4  # DWORD, present in the first ODT of every list (TIMESTAMP_FIXED)
+    timestamp_size: int = 4  # DWORD, in the first ODT of each list whose mode asks for timestamps
     timestamp_unit: int = TIMESTAMP_UNIT_10US
     timestamp_ticks: int = 1
     timestamp_tick_s: float = 10e-6
