@@ -1,0 +1,77 @@
+"""check: every finding kind with its position; a clean file has none."""
+
+from pathlib import Path
+
+from workbench import demo
+from workbench.a2l import loads
+from workbench.a2l.check import check, check_file
+from workbench.elf.debugdata import DebugData
+
+ELF = Path(__file__).parents[1] / "elf" / "fixtures" / "types_dwarf5.elf"
+
+TEXT = """ASAP2_VERSION 1 71
+/begin PROJECT P ""
+  /begin MODULE M ""
+    /begin MOD_PAR ""
+      /begin MEMORY_SEGMENT Flash "" DATA FLASH INTERN 0x1000 0x100 -1 -1 -1 -1 -1 /end MEMORY_SEGMENT
+      /begin MEMORY_SEGMENT CalRam "" DATA RAM INTERN 0x2000 0x100 -1 -1 -1 -1 -1 /end MEMORY_SEGMENT
+    /end MOD_PAR
+    /begin COMPU_METHOD CM "" IDENTICAL "%6.2" "" /end COMPU_METHOD
+    /begin RECORD_LAYOUT RL FNC_VALUES 1 ULONG ROW_DIR DIRECT /end RECORD_LAYOUT
+    /begin MEASUREMENT ok "" ULONG CM 1 0 0 1 ECU_ADDRESS 0x2000 /end MEASUREMENT
+    /begin MEASUREMENT badcm "" UBYTE CM_MISSING 1 0 0 1 ECU_ADDRESS 0x2010 /end MEASUREMENT
+    /begin MEASUREMENT partial "" ULONG CM 1 0 0 1 ECU_ADDRESS 0x2002 /end MEASUREMENT
+    /begin MEASUREMENT twin "" ULONG CM 1 0 0 1 ECU_ADDRESS 0x2000 /end MEASUREMENT
+    /begin MEASUREMENT nowhere "" UWORD CM 1 0 0 1 ECU_ADDRESS 0x9000 /end MEASUREMENT
+    /begin MEASUREMENT ok "" UBYTE CM 1 0 0 1 ECU_ADDRESS 0x2020 /end MEASUREMENT
+    /begin CHARACTERISTIC inflash "" VALUE 0x1000 RL 0 CM 0 1 /end CHARACTERISTIC
+    /begin CHARACTERISTIC badrl "" VALUE 0x2030 RL_MISSING 0 CM 0 1 /end CHARACTERISTIC
+    /begin FUNCTION F "" /begin SUB_FUNCTION G /end SUB_FUNCTION /begin OUT_MEASUREMENT ok ghost /end OUT_MEASUREMENT /end FUNCTION
+  /end MODULE
+/end PROJECT
+"""
+
+
+def test_every_problem_is_found_with_its_position():
+    report = check(loads(TEXT, "bad.a2l"))
+    found = {(f.kind, f.name, f.line, f.column) for f in report.findings}
+    assert found == {
+        ("undefined-reference", "CM_MISSING", 11, 39),
+        ("overlap", "partial", 12, 64),
+        ("same-address", "twin", 13, 61),
+        ("outside-memory", "nowhere", 14, 64),
+        ("duplicate-name", "ok", 15, 24),
+        ("calibration-outside-cal-ram", "inflash", 16, 44),
+        ("undefined-reference", "RL_MISSING", 17, 49),
+        ("undefined-reference", "G", 18, 46),
+        ("undefined-reference", "ghost", 18, 92),
+    }
+    messages = {f.name: f.message for f in report.findings}
+    assert messages["inflash"].startswith("CHARACTERISTIC inflash at 0x1000 is in Flash (DATA FLASH)")
+    assert messages["G"] == "FUNCTION F: SUB_FUNCTION entry G is not defined"
+    assert str(report.findings[0]).startswith("bad.a2l:11:39: error: MEASUREMENT badcm: COMPU_METHOD CM_MISSING")
+
+
+def test_syntax_problems_are_all_reported():
+    text = TEXT.replace("ECU_ADDRESS 0x2010", "ECU_ADDRESS 0x20Z0").replace("FNC_VALUES 1 ULONG", "FNC_VALUE 1 ULONG")
+    syntax = [f for f in check(loads(text, validate=False)).findings if f.kind == "syntax"]
+    assert [(f.line, f.column) for f in syntax] == [(9, 29), (11, 70)]
+    assert syntax[0].message == "unknown keyword FNC_VALUE is not allowed in RECORD_LAYOUT"
+    assert "bad number '0x20Z0'" in syntax[1].message
+
+
+def test_against_the_elf_addresses_and_symbols():
+    text = ('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n'
+            '    /begin MEASUREMENT zsScalar "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1 ECU_ADDRESS 0x403004 /end MEASUREMENT\n'
+            '    /begin MEASUREMENT gone "" UBYTE NO_COMPU_METHOD 1 0 0 1 ECU_ADDRESS 0x403000 /end MEASUREMENT\n'
+            '  /end MODULE\n/end PROJECT\n')
+    report = check(loads(text, "x.a2l"), DebugData(ELF, use_cache=False))
+    assert {(f.kind, f.name, f.line) for f in report.findings} == {
+        ("address-mismatch", "zsScalar", 4), ("symbol-not-found", "gone", 5)}
+    mismatch = report.of_kind("address-mismatch")[0]
+    assert "the A2L says 0x403004, types_dwarf5.elf says 0x403000" in mismatch.message
+
+
+def test_the_demo_a2l_is_clean_against_its_elf():
+    report = check_file(demo.a2l(), demo.elf(), use_cache=False)
+    assert report.findings == []

@@ -1,0 +1,143 @@
+"""merge: fragments into a master, nested includes, identical and conflicting definitions under each policy."""
+
+import pytest
+from pya2l_oracle import pya2l_import
+
+from workbench.a2l import load, loads
+from workbench.a2l.merge import MergeFailed, merge, merge_files
+from workbench.a2l.reports import ConflictPolicy
+
+MASTER = """/* master */
+ASAP2_VERSION 1 71
+/begin PROJECT P "project"
+  /begin MODULE ECU "the ECU"
+    /begin MOD_PAR "ecu"
+      /begin MEMORY_SEGMENT Ram "" DATA RAM INTERN 0x1000 0x1000 -1 -1 -1 -1 -1 /end MEMORY_SEGMENT
+    /end MOD_PAR
+    /begin MOD_COMMON "" BYTE_ORDER MSB_LAST /end MOD_COMMON
+    /begin COMPU_METHOD CM "shared" IDENTICAL "%6.2" "" /end COMPU_METHOD
+    /begin RECORD_LAYOUT RL FNC_VALUES 1 UBYTE ROW_DIR DIRECT /end RECORD_LAYOUT
+  /end MODULE
+/end PROJECT
+"""
+
+
+def fragment(module: str, body: str, common: str = "MSB_LAST") -> str:
+    return (f'ASAP2_VERSION 1 71\n/begin PROJECT {module} ""\n  /begin MODULE {module} "fragment"\n'
+            f'    /begin MOD_COMMON "" BYTE_ORDER {common} /end MOD_COMMON\n{body}  /end MODULE\n/end PROJECT\n')
+
+
+def measurement(name: str, conversion: str = "CM", upper: int = 255, comment: str = "") -> str:
+    return (f'    {comment}/begin MEASUREMENT {name} "" UBYTE {conversion} 1 0 0 {upper}\n'
+            f'      ECU_ADDRESS 0x0\n    /end MEASUREMENT\n')
+
+
+SAME_CM = '    /begin COMPU_METHOD CM "shared"   IDENTICAL "%6.2" "" /* same tokens */ /end COMPU_METHOD\n'
+OTHER_CM = '    /begin COMPU_METHOD CM "other" LINEAR "%6.2" "" COEFFS_LINEAR 2 0 /end COMPU_METHOD\n'
+
+
+def run(fragments, policy=ConflictPolicy.ERROR, master=MASTER):
+    return merge(loads(master, "master.a2l"), [loads(text, f"f{i}.a2l") for i, text in enumerate(fragments)],
+                 policy=policy)
+
+
+def test_fragment_content_goes_verbatim_into_the_masters_module():
+    body = "    /* sensors */\n" + measurement("a") + SAME_CM + measurement("b")
+    result = run([fragment("Sensors", body)])
+    text = result.data.decode()
+    doc = loads(text)
+    assert [b.name for b in doc.objects("MEASUREMENT")] == ["a", "b"]
+    assert len(doc.objects("COMPU_METHOD")) == 1  # identical: merged silently
+    assert "    /* ---- merged from f0.a2l ---- */\n    /* sensors */\n    /begin MEASUREMENT a" in text
+    assert text.startswith(MASTER.split("  /end MODULE")[0])  # the master's text is untouched
+    assert text.endswith("    /end MEASUREMENT\n  /end MODULE\n/end PROJECT\n")
+    assert len(doc.modules[0].children_named("MOD_COMMON")) == 1
+    kinds = result.report.counts()
+    assert kinds == {"duplicate-identical": 1, "ignored": 1, "merged": 1}
+
+
+def test_different_mod_common_is_reported():
+    result = run([fragment("Big", measurement("a"), common="MSB_FIRST")])
+    (finding,) = result.report.of_kind("mod-common-differs")
+    assert "BYTE_ORDER" in finding.message and finding.line == 4
+
+
+def test_conflict_is_an_error_by_default():
+    with pytest.raises(MergeFailed, match=r"1 conflicting definition\(s\): CM \(f0.a2l:5:12\)") as info:
+        run([fragment("A", OTHER_CM + measurement("a"))])
+    assert info.value.exit_code == 1
+    (conflict,) = info.value.report.of_kind("conflict")
+    assert "differs from the definition at master.a2l:9" in conflict.message
+
+
+def test_keep_first_keeps_the_masters_definition():
+    result = run([fragment("A", OTHER_CM + measurement("a"))], ConflictPolicy.KEEP_FIRST)
+    doc = loads(result.data.decode())
+    (cm,) = doc.objects("COMPU_METHOD")
+    assert doc.text(cm.args[1]) == "shared"
+    assert result.report.of_kind("kept-first")[0].name == "CM"
+
+
+def test_keep_last_replaces_the_master_and_earlier_fragments():
+    result = run([fragment("A", OTHER_CM + measurement("x", upper=1)), fragment("B", measurement("x", upper=2))],
+                 ConflictPolicy.KEEP_LAST)
+    doc = loads(result.data.decode())
+    (cm,) = doc.objects("COMPU_METHOD")
+    assert doc.text(cm.args[1]) == "other"  # replaced in the master, in place
+    (x,) = doc.objects("MEASUREMENT")
+    assert doc.text(x.args[7]) == "2" and doc.block_begin[x.index] > doc.block_begin[cm.index]
+    assert [f.name for f in result.report.of_kind("kept-last")] == ["CM", "x"]
+
+
+def test_rename_renames_the_definition_and_the_fragments_references():
+    body = OTHER_CM + measurement("a") + measurement("x", upper=7)
+    result = run([fragment("A", measurement("x")), fragment("B", body)], ConflictPolicy.RENAME)
+    doc = loads(result.data.decode())
+    names = sorted(b.name for b in doc.objects("COMPU_METHOD"))
+    assert names == ["CM", "CM_B"]
+    by_name = {b.name: b for b in doc.objects("MEASUREMENT")}
+    assert sorted(by_name) == ["a", "x", "x_B"]
+    assert doc.text(by_name["a"].args[3]) == "CM_B"  # B's reference follows B's renamed COMPU_METHOD
+    assert doc.text(by_name["x"].args[3]) == "CM"
+    link = by_name["x_B"].option("SYMBOL_LINK")  # the renamed object still finds its variable
+    assert doc.text(link[0]) == "x" and doc.int_value(link[1]) == 0
+    renamed = {f.name: f.message for f in result.report.of_kind("renamed")}
+    assert set(renamed) == {"CM", "x"} and "renamed to x_B" in renamed["x"]
+
+
+def test_nested_includes_in_master_and_fragments(tmp_path):
+    (tmp_path / "inc").mkdir()
+    (tmp_path / "master.a2l").write_text(MASTER.replace('    /begin COMPU_METHOD CM', '    /include "inc/cm.a2l"\n'
+                                                        '    /begin COMPU_METHOD CM0'))
+    (tmp_path / "inc" / "cm.a2l").write_text('/include "more.a2l"\n')
+    (tmp_path / "inc" / "more.a2l").write_text('    /begin UNIT U "" "x" DERIVED /end UNIT\n')
+    (tmp_path / "frag.a2l").write_text(fragment("F", '    /include "frag_objects.a2l"\n'))
+    (tmp_path / "frag_objects.a2l").write_text(measurement("m", "CM0") + '    /include "inc/more.a2l"\n')
+    out = tmp_path / "out.a2l"
+    report = merge_files(tmp_path / "master.a2l", [tmp_path / "frag.a2l"], out)
+    doc = load(out)
+    assert b"/include" not in out.read_bytes()
+    assert [b.name for b in doc.objects("MEASUREMENT")] == ["m"] and len(doc.objects("UNIT")) == 1
+    assert report.of_kind("includes-inlined") and report.of_kind("duplicate-identical")[0].name == "U"
+
+
+def test_encodings_and_newlines_follow_the_master(tmp_path):
+    master = tmp_path / "master.a2l"
+    master.write_bytes(MASTER.replace("\n", "\r\n").encode("utf-8"))
+    frag = tmp_path / "frag.a2l"
+    body = measurement("level").replace('level ""', 'level "Füllstand"')
+    frag.write_bytes(fragment("F", body).replace('"fragment"', '"Größe"').encode("latin-1"))
+    out = tmp_path / "out.a2l"
+    merge_files(master, [frag], out)
+    data = out.read_bytes()
+    assert "Größe".encode("utf-8") not in data  # the fragment's MODULE header is not copied
+    assert "Füllstand".encode("utf-8") in data and b"\n" not in data.replace(b"\r\n", b"")
+
+
+def test_pya2ldb_accepts_the_merged_demo(tmp_path):
+    from workbench import demo
+
+    out = tmp_path / "merged.a2l"
+    merge_files(demo.master_a2l(), demo.fragment_a2ls(), out)
+    counts = pya2l_import(out)
+    assert counts["MEASUREMENT"] == sum(len(load(p).objects("MEASUREMENT")) for p in demo.fragment_a2ls())

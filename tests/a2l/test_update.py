@@ -1,0 +1,181 @@
+"""update: addresses (DWARF and .symtab), SYMBOL_LINK, EPK, --types, missing symbols under each mode."""
+
+import difflib
+from pathlib import Path
+
+import pytest
+from pya2l_oracle import pya2l_import
+
+from workbench.a2l import load, loads
+from workbench.a2l.reports import UpdateMode
+from workbench.a2l.update import UpdateFailed, update, update_file
+from workbench.a2l.values import is_number
+from workbench.elf.debugdata import DebugData
+from workbench.elf.symbols import ElfSymbols
+
+ELF_FIXTURES = Path(__file__).parents[1] / "elf" / "fixtures"
+ELF = ELF_FIXTURES / "types_dwarf5.elf"
+STRIPPED = ELF_FIXTURES / "types_symtab.elf"
+
+
+@pytest.fixture(scope="module")
+def debug():
+    return DebugData(ELF, use_cache=False)
+
+
+@pytest.fixture
+def source(fixtures):
+    return fixtures / "types.a2l"
+
+
+def addresses(doc):
+    """name -> address of every object, read back through the document."""
+    found = {}
+    for block in doc.objects("MEASUREMENT"):
+        option = block.option("ECU_ADDRESS")
+        found[block.name] = doc.int_value(option[0]) if option else None
+    for keyword, index in (("CHARACTERISTIC", 3), ("AXIS_PTS", 2), ("BLOB", 2)):
+        for block in doc.objects(keyword):
+            found[block.name] = doc.int_value(block.args[index])
+    return found
+
+
+def test_every_address_comes_from_the_elf(source, debug):
+    result = update(load(source), debug)
+    got = addresses(loads(result.data.decode()))
+    symtab = ElfSymbols(ELF).symbols
+    assert got["zsScalar"] == symtab["zsScalar"].address
+    assert got["outer.b.c"] == debug.resolve("outer.b.c").address == symtab["outer"].address + 2
+    assert got["outer.arr._2_.d[1]"] == debug.resolve("outer.arr[2].d[1]").address
+    assert got["MatrixElement"] == symtab["matrix"].address + (2 * 6 + 3) * 4  # SYMBOL_LINK "matrix[2]" + 12
+    assert got["vector"] == symtab["vector"].address  # ECU_ADDRESS was missing: inserted
+    assert got["zvLut"] == got["zvLut.BP1"] == symtab["zvLut"].address
+    assert got["csConstant"] == symtab["csConstant"].address and got["u"] == symtab["u"].address
+    assert got["missing_var"] == 0x1234  # kept as it was
+    assert result.report.tally["MEASUREMENT"] == {"updated": 6, "not-found": 1}
+
+
+def test_only_changed_tokens_differ(source, debug):
+    original = source.read_bytes().decode()
+    result = update(load(source), debug, epk=False)
+    matcher = difflib.SequenceMatcher(None, original.splitlines(), result.data.decode().splitlines(), autojunk=False)
+    old_lines, new_lines = original.splitlines(), result.data.decode().splitlines()
+    replaced, inserted = 0, []
+    for tag, a0, a1, b0, b1 in matcher.get_opcodes():
+        if tag == "insert":
+            inserted += new_lines[b0:b1]
+        elif tag == "replace":
+            assert a1 - a0 == b1 - b0
+            for before, after in zip(old_lines[a0:a1], new_lines[b0:b1]):
+                different = [(x, y) for x, y in zip(before.split(" "), after.split(" ")) if x != y]
+                assert len(before.split(" ")) == len(after.split(" ")) and len(different) == 1, (before, after)
+                assert all(is_number(x.encode()) and is_number(y.encode()) for x, y in different)
+                replaced += 1
+        else:
+            assert tag == "equal", (tag, old_lines[a0:a1])
+    assert replaced == 9 and inserted == ["      ECU_ADDRESS 0x403140"]
+    assert "ECU_ADDRESS 0x00403000 /* placeholder, 8 hex digits */" in new_lines[17]  # hex width kept
+    assert new_lines[20] == "      ECU_ADDRESS 4206722"  # decimal stays decimal
+
+
+def test_epk_string_and_address_from_the_elf(source, debug):
+    result = update(load(source), debug)
+    doc = loads(result.data.decode())
+    epk_section = ElfSymbols(ELF).sections[".epk"]
+    assert doc.epk() == "12000020250101" and doc.addr_epk() == epk_section.address
+    assert {f.name for f in result.report.of_kind("epk-updated")} == {"EPK", "ADDR_EPK"}
+
+
+def test_epk_is_inserted_when_mod_par_lacks_it(debug):
+    text = ('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n    /begin MOD_PAR "x"\n'
+            '    /end MOD_PAR\n  /end MODULE\n/end PROJECT\n')
+    result = update(loads(text), debug)
+    doc = loads(result.data.decode())
+    assert doc.epk() == "12000020250101" and doc.addr_epk() == ElfSymbols(ELF).sections[".epk"].address
+    assert b'    /begin MOD_PAR "x"\n      EPK "12000020250101"\n      ADDR_EPK 0x4020C0\n' in result.data
+
+
+def test_missing_symbols_are_kept_and_reported_by_default(source, debug):
+    result = update(load(source), debug)
+    (missing,) = result.report.of_kind("symbol-not-found")
+    assert (missing.name, missing.line, missing.block) == ("missing_var", 36, "MEASUREMENT")
+    assert "not in types_dwarf5.elf" in missing.message
+    assert b"missing_var" in result.data
+
+
+def test_remove_missing_drops_the_object_and_its_references(source, debug):
+    result = update(load(source), debug, mode=UpdateMode.REMOVE_MISSING)
+    assert b"missing_var" not in result.data
+    doc = loads(result.data.decode())
+    assert [t for t in doc.blocks_named("REF_MEASUREMENT")[0].args] and \
+        [doc.text(t) for t in doc.blocks_named("REF_MEASUREMENT")[0].args] == ["zsScalar", "outer.b.c"]
+    assert {f.kind for f in result.report.findings} >= {"removed", "reference-removed"}
+    assert b"    /begin MEASUREMENT missing_var" not in result.data and b"\n\n\n" not in result.data
+
+
+def test_strict_mode_fails_and_writes_nothing(source, tmp_path):
+    out = tmp_path / "out.a2l"
+    with pytest.raises(UpdateFailed, match=r"1 object\(s\) not found .*missing_var \(.*types.a2l:36:24\)") as info:
+        update_file(source, ELF, out, mode=UpdateMode.STRICT, use_cache=False)
+    assert info.value.exit_code == 1 and not out.exists()
+    assert info.value.report.errors[0].name == "missing_var"
+
+
+def test_symtab_fallback_updates_plain_names_only(source):
+    result = update(load(source), DebugData(STRIPPED, use_cache=False))
+    got = addresses(loads(result.data.decode()))
+    assert got["zsScalar"] == ElfSymbols(STRIPPED).symbols["zsScalar"].address
+    missing = {f.name for f in result.report.of_kind("symbol-not-found")}
+    assert {"outer.b.c", "MatrixElement", "zvLut.BP1", "missing_var"} <= missing
+    assert any("no DWARF type" in f.message for f in result.report.of_kind("symbol-not-found"))
+
+
+def test_types_correct_datatype_dims_bitmask_and_limits(debug):
+    text = ('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n'
+            '    /begin MEASUREMENT vector "" UBYTE NO_COMPU_METHOD 1 0 -5 1e6\n      ECU_ADDRESS 0x0\n'
+            '      MATRIX_DIM 3\n    /end MEASUREMENT\n'
+            '    /begin MEASUREMENT bits.high "" UWORD NO_COMPU_METHOD 1 0 0 4095\n      ECU_ADDRESS 0x0\n'
+            '    /end MEASUREMENT\n'
+            '    /begin MEASUREMENT outer "" UWORD NO_COMPU_METHOD 1 0 0 1\n      ECU_ADDRESS 0x0\n'
+            '    /end MEASUREMENT\n'
+            '    /begin BLOB u "" 0x0 1 /end BLOB\n'
+            '  /end MODULE\n/end PROJECT\n')
+    result = update(loads(text), debug, types=True, epk=False)
+    doc = loads(result.data.decode())
+    vector, bits, outer = doc.objects("MEASUREMENT")
+    assert [doc.text(t) for t in vector.args[2:]] == ["UWORD", "NO_COMPU_METHOD", "1", "0", "0", "65535"]
+    assert [doc.int_value(t) for t in vector.option("MATRIX_DIM")] == [10]
+    assert doc.text(bits.args[2]) == "ULONG" and doc.int_value(bits.option("BIT_MASK")[0]) == 0xFFF00
+    assert doc.text(outer.args[2]) == "UWORD"  # a struct cannot be one data type: reported, not changed
+    assert result.report.of_kind("type-not-scalar")[0].name == "outer"
+    assert doc.int_value(doc.objects("BLOB")[0].args[3]) == 4
+    kinds = result.report.counts()
+    assert kinds["datatype-updated"] == 2 and kinds["limits-updated"] == 2 and kinds["size-updated"] == 2
+
+
+def test_encoding_and_newlines_survive(tmp_path, source, debug):
+    text = source.read_text().replace('"update fixture"', '"Prüfstand Größe"').replace("\n", "\r\n")
+    latin = tmp_path / "latin1.a2l"
+    latin.write_bytes(text.encode("latin-1"))
+    out = tmp_path / "out.a2l"
+    update_file(latin, ELF, out, use_cache=False)
+    data = out.read_bytes()
+    assert "Prüfstand Größe".encode("latin-1") in data and b"\r\n" in data and b"\n" not in data.replace(b"\r\n", b"")
+    assert b"      ECU_ADDRESS 0x403140\r\n" in data  # inserted lines use the file's newline
+
+
+def test_update_in_place_only_when_output_names_the_input(tmp_path, source):
+    copy = tmp_path / "in.a2l"
+    copy.write_bytes(source.read_bytes())
+    update_file(copy, ELF, tmp_path / "out.a2l", use_cache=False)
+    assert copy.read_bytes() == source.read_bytes()
+    update_file(copy, ELF, copy, use_cache=False)
+    assert copy.read_bytes() == (tmp_path / "out.a2l").read_bytes()
+
+
+def test_pya2ldb_accepts_the_updated_file(tmp_path, source):
+    out = tmp_path / "out.a2l"
+    update_file(source, ELF, out, types=True, use_cache=False)
+    counts = pya2l_import(out)
+    assert (counts["MEASUREMENT"], counts["CHARACTERISTIC"], counts["AXIS_PTS"]) == (7, 2, 1)
+    assert dict(counts["ECU_ADDRESS"])["zsScalar"] == ElfSymbols(ELF).symbols["zsScalar"].address
