@@ -1,0 +1,44 @@
+"""``workbench sim``: banner, clean stop, one-line errors."""
+
+from __future__ import annotations
+
+import json
+
+from workbench.cli import main
+
+
+def test_serves_for_a_duration_and_stops_cleanly(capsys):
+    assert main(["sim", "--interface", "virtual", "--channel", "cli-sim-1", "--pcm", "--duration", "0.3"]) == 0
+    out = capsys.readouterr().out
+    assert "master 0x7F0 -> ECU, ECU -> master 0x7F1" in out
+    assert "EPK          10300020250301" in out and "TargetRailPressure 25.0 bar" in out
+    assert out.rstrip().endswith("workbench sim: stopped")
+
+
+def test_json_banner(capsys):
+    assert main(["sim", "--interface", "virtual", "--channel", "cli-sim-2", "--json", "--duration", "0.1",
+                 "--bitrate", "500000", "--no-app-key"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    assert (info["state"], info["bitrate"], info["can_id_master"]) == ("boot", 500000, 0x7F0)
+
+
+def test_bad_input_is_one_line_and_exit_2(capsys, tmp_path):
+    assert main(["sim", "--interface", "virtual", "--s19", str(tmp_path / "none.s19")]) == 2
+    assert capsys.readouterr().err.strip() == f"error: {tmp_path / 'none.s19'}: no such file"
+    assert main(["sim", "--interface", "virtual", "--pcm", "--pcm-target", "80"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: --pcm-target:") and err.count("\n") == 1
+    assert main(["sim", "--time-scale", "0"]) == 2
+
+
+def test_unknown_interface_fails_in_one_line(capsys):
+    assert main(["sim", "--interface", "no_such_interface", "--duration", "0.1"]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("error: cannot open CAN1 bus (no_such_interface") and err.count("\n") == 1
+
+
+def test_help_names_the_options(capsys):
+    assert main(["sim", "--help"]) == 0
+    out = capsys.readouterr().out
+    for option in ("--pcm", "--pcm-target", "--can2-channel", "--bitrate", "--time-scale", "--unlocked", "--a2l", "--elf", "--s19"):
+        assert option in out
