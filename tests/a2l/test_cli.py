@@ -1,0 +1,88 @@
+"""workbench a2l: exit codes 0/1/2, one-line errors, JSON reports."""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from workbench.cli import main
+
+ELF = Path(__file__).parents[1] / "elf" / "fixtures" / "types_dwarf5.elf"
+
+
+@pytest.fixture
+def types_a2l(fixtures):
+    return fixtures / "types.a2l"
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_update_writes_and_reports(capsys, tmp_path, types_a2l):
+    out = tmp_path / "out.a2l"
+    code, stdout, stderr = run(capsys, "a2l", "update", str(types_a2l), str(ELF), "-o", str(out),
+                               "--cache-dir", str(tmp_path / "cache"))
+    assert code == 0 and out.exists()
+    assert "warning: MEASUREMENT missing_var: not in types_dwarf5.elf" in stdout
+    assert "address" not in stdout  # info findings only with -v
+    assert stderr.startswith(f"wrote {out}: MEASUREMENT 1 not-found, 6 updated")
+
+
+def test_update_json_and_strict(capsys, tmp_path, types_a2l):
+    out = tmp_path / "out.a2l"
+    code, stdout, _ = run(capsys, "a2l", "update", str(types_a2l), str(ELF), "-o", str(out), "--strict",
+                          "--no-cache", "--json")
+    report = json.loads(stdout)
+    assert code == 1 and not out.exists()
+    assert report["ok"] is False and report["counts"]["symbol-not-found"] == 1
+    (missing,) = [f for f in report["findings"] if f["kind"] == "symbol-not-found"]
+    assert (missing["name"], missing["line"], missing["severity"]) == ("missing_var", 36, "error")
+
+
+def test_bad_input_exits_2_with_one_line(capsys, tmp_path, types_a2l):
+    bad = tmp_path / "bad.a2l"
+    bad.write_text('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n')
+    code, stdout, stderr = run(capsys, "a2l", "update", str(bad), str(ELF), "-o", str(tmp_path / "o.a2l"))
+    assert code == 2 and stderr == f"error: {bad}:2:1: /begin PROJECT is never closed (missing /end PROJECT)\n"
+    code, _, stderr = run(capsys, "a2l", "update", str(types_a2l), str(types_a2l), "-o", str(tmp_path / "o.a2l"))
+    assert code == 2 and "not a readable ELF file" in stderr and stderr.count("\n") == 1
+    code, _, stderr = run(capsys, "a2l", "update", str(types_a2l), str(ELF))
+    assert code == 2 and "-o/--output" in stderr
+
+
+def test_merge_conflict_exits_1(capsys, tmp_path):
+    text = ('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n /begin MODULE M ""\n'
+            '  /begin COMPU_METHOD CM "" IDENTICAL "%{}" "" /end COMPU_METHOD\n /end MODULE\n/end PROJECT\n')
+    (tmp_path / "a.a2l").write_text(text.format("4.1"))
+    (tmp_path / "b.a2l").write_text(text.format("4.2"))
+    out = tmp_path / "out.a2l"
+    code, stdout, stderr = run(capsys, "a2l", "merge", str(tmp_path / "a.a2l"), str(tmp_path / "b.a2l"), "-o", str(out))
+    assert code == 1 and not out.exists() and "conflicting definition" in stderr
+    assert f"{tmp_path / 'b.a2l'}:4:10: error: COMPU_METHOD CM differs" in stdout
+    code, _, _ = run(capsys, "a2l", "merge", str(tmp_path / "a.a2l"), str(tmp_path / "b.a2l"), "-o", str(out),
+                     "--on-conflict", "rename")
+    assert code == 0 and b"CM_M" in out.read_bytes()
+
+
+def test_check_exit_codes(capsys, tmp_path, types_a2l):
+    code, stdout, stderr = run(capsys, "a2l", "check", str(types_a2l))
+    assert code == 1 and "outside every MEMORY_SEGMENT" in stdout and "problem(s)" in stderr
+    out = tmp_path / "out.a2l"
+    run(capsys, "a2l", "update", str(types_a2l), str(ELF), "-o", str(out), "--remove-missing", "--no-cache")
+    code, stdout, stderr = run(capsys, "a2l", "check", str(out), "--elf", str(ELF), "--no-cache")
+    assert (code, stdout, stderr) == (0, "", f"{out}: clean\n")
+
+
+def test_diff_exit_codes_and_json(capsys, tmp_path, types_a2l):
+    out = tmp_path / "out.a2l"
+    run(capsys, "a2l", "update", str(types_a2l), str(ELF), "-o", str(out), "--no-cache")
+    code, stdout, _ = run(capsys, "a2l", "diff", str(types_a2l), str(types_a2l))
+    assert code == 0 and stdout == ""
+    code, stdout, _ = run(capsys, "a2l", "diff", str(types_a2l), str(out), "--json")
+    differences = json.loads(stdout)["differences"]
+    assert code == 1 and {d["name"] for d in differences} >= {"zsScalar", "MOD_PAR"}
+    scalar = next(d for d in differences if d["name"] == "zsScalar")
+    assert scalar["changes"] == [{"field": "ECU_ADDRESS", "old": "0x00000000", "new": "0x00403000"}]

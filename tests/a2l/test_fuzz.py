@@ -1,0 +1,63 @@
+"""Random mutations of real A2L files: the reader parses them or raises A2lParseError, nothing else."""
+
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from workbench import demo
+from workbench.a2l.check import check
+from workbench.a2l.document import A2lDocument
+from workbench.a2l.source import decode_source
+from workbench.a2l.xcp import read_xcp_config
+from workbench.errors import A2lParseError
+
+FILES = [demo.master_a2l(), *demo.fragment_a2ls()[:3], Path(__file__).parent / "fixtures" / "xcp_ecu.a2l",
+         Path(__file__).parent / "fixtures" / "types.a2l"]
+SNIPPETS = [b"/begin", b"/end", b"/include", b'"', b"/*", b"*/", b"//", b"\n", b"0x", b"0x1G", b"-", b".", b"1e",
+            b"MEASUREMENT", b"ECU_ADDRESS", b"IF_DATA", b"\xef\xbb\xbf", b"\xff\xfe", b"\xc3", b"\x00", b"\\",
+            b"/begin MODULE", b"/end MODULE", b"ASAP2_VERSION"]
+
+mutation = st.one_of(
+    st.tuples(st.just("delete"), st.floats(0, 1), st.integers(1, 200)),
+    st.tuples(st.just("insert"), st.floats(0, 1), st.one_of(st.sampled_from(SNIPPETS), st.binary(min_size=1, max_size=8))),
+    st.tuples(st.just("duplicate"), st.floats(0, 1), st.integers(1, 400)),
+    st.tuples(st.just("truncate"), st.floats(0, 1), st.just(0)),
+)
+
+
+def mutate(data: bytes, operations) -> bytes:
+    for kind, where, argument in operations:
+        position = int(where * len(data))
+        if kind == "delete":
+            data = data[:position] + data[position + argument:]
+        elif kind == "insert":
+            data = data[:position] + argument + data[position:]
+        elif kind == "duplicate":
+            data = data[:position] + data[position:position + argument] + data[position:]
+        else:
+            data = data[:position]
+    return data
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(index=st.integers(0, len(FILES) - 1), operations=st.lists(mutation, min_size=1, max_size=4))
+def test_mutated_files_parse_or_raise_a2l_parse_error(index, operations):
+    data = mutate(FILES[index].read_bytes(), operations)
+    try:
+        doc = A2lDocument.from_source(decode_source(data, FILES[index]))
+    except A2lParseError as error:
+        assert error.line >= 1 and error.column >= 1 and str(error).startswith(str(FILES[index]))
+        return
+    # a document that parsed can be used: checking it never fails with anything but our error
+    for action in (lambda: check(doc), lambda: read_xcp_config(doc)):
+        try:
+            action()
+        except A2lParseError:
+            pass
+
+
+@pytest.mark.parametrize("path", FILES, ids=lambda p: p.name)
+def test_unmutated_files_parse(path):
+    A2lDocument.from_source(decode_source(path.read_bytes(), path))
