@@ -65,8 +65,8 @@ def test_duplicate_and_delay_responses(rig):
     master.send(GET_STATUS)
     master.send(bytes([Cmd.SHORT_UPLOAD, 4, 0, 0]) + struct.pack("<I", CAL_GAIN))
     responses = master.responses(timeout_s=0.5)
-    assert responses[0] == b"\xff" + struct.pack("<f", 2.0)  # the delayed GET_STATUS answer comes second
-    assert responses[1][0] == 0xFF and len(responses[1]) == 6
+    assert responses[0] == b"\xff" + struct.pack("<f", 2.0) + bytes(3)  # padded to DLC 8 (MAX_DLC_REQUIRED)
+    assert responses[1][0] == 0xFF and len(responses) == 2  # the delayed GET_STATUS answer comes second
 
 
 def test_received_frames_can_be_dropped_or_duplicated(rig):
@@ -83,7 +83,7 @@ def test_reject_the_nth_command_of_a_kind(rig):
     upload = bytes([Cmd.SHORT_UPLOAD, 4, 0, 0]) + struct.pack("<I", CAL_GAIN)
     assert master.request(upload)[0][0] == 0xFF
     assert master.request(GET_STATUS)[0][0] == 0xFF  # other commands do not count
-    assert master.request(upload) == [bytes([0xFE, Err.CMD_BUSY])]
+    assert master.request(upload) == [bytes([0xFE, Err.CMD_BUSY]).ljust(8, b"\0")]
     assert master.request(upload)[0][0] == 0xFF
 
 

@@ -94,6 +94,7 @@ def xcp_parameters(doc: A2lDocument, config: XcpConfig) -> XcpParameters:
         can_id_master=can.can_id_master | (EXTENDED_FLAG if can.can_id_master_is_extended else 0),
         can_id_slave=can.can_id_slave | (EXTENDED_FLAG if can.can_id_slave_is_extended else 0),
         baudrate=can.baudrate or defaults.baudrate,
+        max_dlc_required=can.max_dlc_required,
         max_bs=mode.max_bs if mode is not None and mode.max_bs else defaults.max_bs,
         checksum_type=ChecksumType[checksum.removeprefix("XCP_")] if checksum else defaults.checksum_type,
         epk_address=epk_address,

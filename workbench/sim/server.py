@@ -239,6 +239,8 @@ class Simulator:
         self._send_xcp(packet, droppable=True)
 
     def _send_xcp(self, packet: bytes, droppable: bool = False) -> None:
+        if self.ecu.params.max_dlc_required:
+            packet = packet.ljust(8, b"\0")
         identifier, extended = self._slave_id
         frame = can.Message(arbitration_id=identifier, is_extended_id=extended, data=packet)
         transmitter = self._transmitters["CAN1"]
