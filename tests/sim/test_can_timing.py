@@ -7,7 +7,10 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from mini_ecu import make_ecu
+
 from workbench.sim.can_timing import BusClock, _crc15, frame_bits
+from workbench.sim.server import Simulator
 
 
 def message(identifier: int, data: bytes, extended: bool = False) -> can.Message:
@@ -74,3 +77,16 @@ def test_an_idle_bus_starts_the_next_frame_now():
 def test_bitrate_must_be_positive():
     with pytest.raises(ValueError):
         BusClock(0)
+
+
+def test_the_simulator_books_both_frames_of_a_round_trip():
+    ecu = make_ecu()
+    master = can.Bus(interface="virtual", channel="timing-rig")
+    with Simulator(ecu, {"interface": "virtual", "channel": "timing-rig"}, bitrate=125_000, time_scale=None) as sim:
+        request = message(0x7F0, bytes([0xFF, 0]))
+        master.send(request)
+        response = master.recv(2.0)
+        assert response is not None and response.arbitration_id == 0x7F1
+        clock = sim.bus_clock("CAN1")
+        assert clock.frames == 2 and clock.bits == frame_bits(request) + frame_bits(response)
+    master.shutdown()

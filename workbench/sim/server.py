@@ -172,6 +172,11 @@ class Simulator:
         with self.lock:
             self.ecu.advance(seconds)
 
+    def bus_clock(self, name: str = "CAN1") -> BusClock | None:
+        """The timing model of a bus (``CAN1``/``CAN2``), None without ``bitrate`` or before :meth:`start`."""
+        transmitter = self._transmitters.get(name)
+        return transmitter.clock if transmitter is not None else None
+
     @property
     def now_s(self) -> float:
         return self.ecu.scheduler.now_s
