@@ -200,6 +200,14 @@ def test_a2l_fragment_passes_a2ltool_and_merges_into_the_master(tmp_path):
     master_count = demo.master_a2l().read_text(encoding="utf-8").count("/begin CHARACTERISTIC")
     assert merged_text.count("/begin CHARACTERISTIC") == master_count + 29
 
+    # with the demo's own CANRX/CANTX fragments, which define the same 29 calibrations
+    modules = demo.path("a2l", "modules")
+    a2ltool(demo.master_a2l(), "--merge", modules / "CANRX.a2l", "--merge", modules / "CANTX.a2l",
+            "--merge", fragment, "--output", merged)
+    merged_text = merged.read_text()
+    assert ".MERGE" not in merged_text  # identical definitions fold, different ones would be renamed
+    assert merged_text.count("/begin CHARACTERISTIC") == master_count + 29
+
 
 @pytest.mark.gcc
 @pytest.mark.skipif(shutil.which("gcc") is None, reason="needs a host gcc")
