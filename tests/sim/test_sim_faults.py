@@ -101,3 +101,17 @@ def test_fault_arguments_are_checked():
         ecu.faults.drop_frame(0)
     with pytest.raises(ValueError, match="direction"):
         ecu.faults.drop_frame(1, direction="both")
+
+
+def test_close_is_idempotent_and_closes_only_the_buses_it_opened():
+    ecu = make_ecu()
+    mine = can.Bus(interface="virtual", channel="sim-owned")
+    sim = Simulator(ecu, mine, {"interface": "virtual", "channel": "sim-owned-can2"}, time_scale=1.0).start()
+    opened = sim.buses["CAN2"]
+    sim.close()
+    sim.close()
+    assert sim.closed
+    with pytest.raises(can.CanOperationError):
+        opened.send(can.Message(arbitration_id=1))
+    mine.send(can.Message(arbitration_id=1))  # the caller's bus stays open
+    mine.shutdown()

@@ -172,6 +172,11 @@ class Simulator:
         with self.lock:
             self.ecu.advance(seconds)
 
+    @property
+    def buses(self) -> dict[str, can.BusABC]:
+        """The open buses by role (``CAN1``, and ``CAN2`` when it is a bus of its own)."""
+        return dict(self._buses)
+
     def bus_clock(self, name: str = "CAN1") -> BusClock | None:
         """The timing model of a bus (``CAN1``/``CAN2``), None without ``bitrate`` or before :meth:`start`."""
         transmitter = self._transmitters.get(name)
