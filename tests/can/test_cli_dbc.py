@@ -79,10 +79,14 @@ def test_fixcal_writes_the_three_files(tmp_path, capsys):
     assert main(["dbc", "fixcal", FLCU, "--node", "FLCU", "--a2l-only", "--c-only"]) == 2
 
 
-def test_fixcal_refuses_collisions(tmp_path, capsys):
+def test_fixcal_refuses_collisions_and_suggests_qualified_names(tmp_path, capsys):
     assert main(["dbc", "fixcal", CAN3, "--node", "EAXLE", "-o", str(tmp_path)]) == 2
-    assert "cfSGN1_VALUE would be defined by" in capsys.readouterr().err
+    error = capsys.readouterr().err
+    assert "cfSGN1_VALUE would be defined by" in error and error.endswith("(--qualified) avoid this\n")
     assert list(tmp_path.iterdir()) == []
+    assert main(["dbc", "fixcal", CAN3, "--node", "EAXLE", "-o", str(tmp_path), "--qualified"]) == 0
+    assert "608 calibrations for EAXLE" in capsys.readouterr().err
+    assert "CAL_RAM uint8_T cfC3RXAAA_SGN1_EN = 0U;" in (tmp_path / "CAN3_validation_fixcal.c").read_text()
 
 
 def test_callbacks_round_trip_on_the_demo_api_c(tmp_path, capsys):
@@ -113,6 +117,8 @@ def test_check_exit_codes(write_dbc, capsys):
     assert main(["dbc", "check", CAN3]) == 1
     out = capsys.readouterr().out.splitlines()
     assert len(out) == 8 and all(":" in line and "would also be defined by" in line for line in out)
+    assert all(line.endswith("message-qualified names (--qualified) avoid this") for line in out)
+    assert main(["dbc", "check", CAN3, "--qualified"]) == 0
 
 
 def test_check_unreadable_dbc_is_exit_2(write_dbc, capsys):

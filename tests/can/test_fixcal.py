@@ -20,7 +20,7 @@ from workbench.can.fixcal import FixKind, fix_calibrations
 from workbench.can.fixcal_c import c_literal
 from workbench.can.fixcal_output import fixcal_files
 from workbench.can.model import messages_of
-from workbench.can.naming import raw_c_type
+from workbench.can.naming import fix_enable_name, fix_value_name, raw_c_type
 from workbench.errors import InputError
 
 ECU_SOURCES = demo.path("assets", "ecu")
@@ -73,10 +73,31 @@ def test_limits_without_dbc_range_and_initial_value_nearest_zero(write_dbc):
     assert (level.lower, level.upper, level.initial_raw) == (14, 30, 2)  # raw 2 = 14, the nearest to 0
 
 
-def test_colliding_names_are_refused():
+def test_colliding_names_are_refused_with_the_remedy():
     with pytest.raises(InputError, match=r"CAN3_validation\.dbc:\d+: cfSGN1_VALUE would be defined by C3RXAAA\.Sgn1, "
-                                         r"C3RXAAB\.Sgn1, C3RXAAC\.Sgn1 and 61 more \(and 7 more names\)"):
+                                         r"C3RXAAB\.Sgn1, C3RXAAC\.Sgn1 and 61 more \(and 7 more names\); "
+                                         r"message-qualified names \(--qualified\) avoid this$"):
         fixcal_files(load_dbc(demo.dbc_can3()), "EAXLE")
+
+
+def test_qualified_names_carry_the_message():
+    assert (fix_enable_name("Sgn1", "C3RXAAA"), fix_value_name("Sgn1", "C3RXAAA")) == (
+        "cfC3RXAAA_SGN1_EN", "cfC3RXAAA_SGN1_VALUE")
+    assert (fix_enable_name("FuelLevel"), fix_value_name("FuelLevel")) == ("cfFUELLEVEL_EN", "cfFUELLEVEL_VALUE")
+    calibrations = fix_calibrations(messages_of(load_dbc(demo.dbc_can3()), None, "EAXLE"), qualified=True)
+    names = [c.name for c in calibrations]
+    assert len(names) == len(set(names)) == 32 + 2 * 2 * (4 * 36)  # TX enables; 2 per signal, 1..8 signals
+    assert names[:4] == ["cfC3RXAAA_SGN1_EN", "cfC3RXAAA_SGN1_VALUE", "cfC3RXAAB_SGN1_EN", "cfC3RXAAB_SGN1_VALUE"]
+    assert "csC3TXAAA_En" in names and "cfC3TXABF_SGN8_VALUE" in names
+    enable = calibrations[0]
+    assert enable.description == "Fix switch of CAN signal Sgn1 (1: use cfC3RXAAA_SGN1_VALUE)"
+
+
+def test_same_message_collision_is_refused_without_suggesting_qualified_names(write_dbc):
+    path = write_dbc('BO_ 16 M: 2 ECU\n SG_ Level : 0|8@1+ (1,0) [0|0] "" PEER\n SG_ LEVEL : 8|8@1+ (1,0) [0|0] "" PEER\n')
+    for qualified in (False, True):
+        with pytest.raises(InputError, match=r"crafted_CAN2\.dbc:15: cfM?_?LEVEL_VALUE would be defined by M\.Level, M\.LEVEL$"):
+            fixcal_files(load_dbc(path), "ECU", qualified=qualified)
 
 
 def test_signal_without_a_c_type_is_refused(write_dbc):
@@ -119,11 +140,15 @@ def test_parts_can_be_chosen_and_written(tmp_path):
     assert sorted(p.name for p in written) == ["FLCU_CAN2_fixcal.a2l", "FLCU_CAN2_fixcal.c", "FLCU_CAN2_fixcal.h"]
 
 
+def _import_a2l(path: Path, text: str):
+    path.write_text(text, encoding="utf-8")
+    return import_a2l(str(path), in_memory=True, encoding="utf-8", progress_bar=False, loglevel="ERROR")
+
+
 @pytest.fixture(scope="module")
 def fragment(tmp_path_factory):
     path = tmp_path_factory.mktemp("a2l") / "FLCU_CAN2_fixcal.a2l"
-    path.write_text(_flcu_files(c=False).texts[path.name])
-    session = import_a2l(str(path), in_memory=True, encoding="utf-8", progress_bar=False, loglevel="ERROR")
+    session = _import_a2l(path, _flcu_files(c=False).texts[path.name])
     yield session
     session.close()
 
@@ -146,6 +171,18 @@ def test_a2l_fragment_is_read_by_pya2ldb(fragment):
     tables = {t.name: t for t in fragment.query(model.CompuVtab).all()}
     assert [(p.inVal, p.outVal) for p in tables["VTAB_Std_eDiagStatusT"].pairs][:2] == [(0, "NO_ERROR"), (1, "SHORT_TO_GND")]
     assert {r.name for r in fragment.query(model.RecordLayout).all()} == {"Scalar_UBYTE", "Scalar_UWORD"}
+
+
+def test_qualified_can3_fragment_is_read_by_pya2ldb(tmp_path):
+    files = fixcal_files(load_dbc(demo.dbc_can3()), "EAXLE", c=False, master_a2l=demo.master_a2l(), qualified=True)
+    session = _import_a2l(tmp_path / "CAN3_validation_fixcal.a2l", files.texts["CAN3_validation_fixcal.a2l"])
+    try:
+        assert [d.text for d in Validator(session)() if d.type >= Level.ERROR] == []
+        characteristics = [c.name for c in session.query(model.Characteristic).all()]
+        assert characteristics == [c.name for c in files.calibrations]
+        assert {c.conversion for c in session.query(model.Characteristic).all()} == {"CM_OnOff", "CM_Identity"}
+    finally:
+        session.close()
 
 
 def _blocks(text: str) -> dict[str, str]:
@@ -211,13 +248,16 @@ def test_a2l_fragment_passes_a2ltool_and_merges_into_the_master(tmp_path):
 
 @pytest.mark.gcc
 @pytest.mark.skipif(shutil.which("gcc") is None, reason="needs a host gcc")
-def test_generated_c_compiles_into_cal_ram(tmp_path):
-    files = _flcu_files(a2l=False)
+@pytest.mark.parametrize(("dbc", "node", "qualified"), [("FLCU_CAN2.dbc", "FLCU", False),
+                                                        ("CAN3_validation.dbc", "EAXLE", True)])
+def test_generated_c_compiles_into_cal_ram(tmp_path, dbc, node, qualified):
+    files = fixcal_files(load_dbc(demo.path("dbc", dbc)), node, a2l=False, qualified=qualified)
     files.write(tmp_path)
+    source = tmp_path / dbc.replace(".dbc", "_fixcal.c")
     obj = tmp_path / "fixcal.o"
     subprocess.run(
         ["gcc", "-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror", "-I", str(ECU_SOURCES),
-         "-c", str(tmp_path / "FLCU_CAN2_fixcal.c"), "-o", str(obj)],
+         "-c", str(source), "-o", str(obj)],
         check=True, capture_output=True, text=True,
     )
     with obj.open("rb") as handle:
@@ -233,6 +273,6 @@ def test_generated_c_compiles_into_cal_ram(tmp_path):
     # next to the demo's flcu_types.h, which defines the same CAL_RAM macro
     subprocess.run(
         ["gcc", "-std=c99", "-Wall", "-Werror", "-I", str(ECU_SOURCES), "-include", "flcu_types.h",
-         "-c", str(tmp_path / "FLCU_CAN2_fixcal.c"), "-o", str(obj)],
+         "-c", str(source), "-o", str(obj)],
         check=True, capture_output=True, text=True,
     )

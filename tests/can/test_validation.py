@@ -183,6 +183,7 @@ def test_can3_validation_dbc_shares_signal_names_between_messages():
     findings = _findings(demo.dbc_can3(), network="CAN3")
     assert {f.code for f in findings} == {"fixcal-collision"}
     assert [f.signal for f in findings] == [f"Sgn{i}" for i in range(1, 9)]
+    assert check([(load_dbc(demo.dbc_can3()), "CAN3")], qualified=True) == []  # cfC3RXAAA_SGN1_EN ...
 
 
 def test_unknown_node_in_check():

@@ -9,10 +9,11 @@ For every signal of a message the node sends or receives:
   range when the DBC gives none); initially the raw value nearest to physical 0;
 
 and for every message the node sends, ``cs<Message>_En`` — ``uint8_T`` 0/1, initially 1.
-All of them live in CAL RAM (``.cal_ram``). Two signals of different messages that map to
-the same name (``Sgn1`` in two messages, ``Level`` and ``LEVEL``) would define one
-calibration twice: :func:`fixcal_collisions` finds them and :func:`fix_calibrations`
-refuses them.
+All of them live in CAL RAM (``.cal_ram``). Two signals that map to the same name (``Sgn1``
+in two messages, ``Level`` and ``LEVEL``) would define one calibration twice:
+:func:`fixcal_collisions` finds them and :func:`fix_calibrations` refuses them. With
+``qualified=True`` the names carry the message (``cfC3RXAAA_SGN1_EN``, see
+:mod:`workbench.can.naming`), which keeps signals of different messages apart.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 from workbench.can.model import Message, Role, SignalOfMsg
-from workbench.can.naming import fix_enable_name, fix_value_name, tx_enable_name
+from workbench.can.naming import FIX_ENABLE_SUFFIX, FIX_VALUE_SUFFIX, fix_enable_name, fix_value_name, tx_enable_name
 from workbench.errors import InputError
 
 _FLOAT32_MAX = 3.4028234663852886e38
@@ -61,7 +62,8 @@ class FixCalibration:
             return f"Transmission enable of {self.message.name}"
         signal = self.signal
         if self.kind is FixKind.FIX_ENABLE:
-            return f"Fix switch of CAN signal {signal.name} (1: use {fix_value_name(signal.name)})"
+            value_name = self.name.removesuffix(FIX_ENABLE_SUFFIX) + FIX_VALUE_SUFFIX
+            return f"Fix switch of CAN signal {signal.name} (1: use {value_name})"
         what = f": {signal.comment}" if signal.comment else ""
         resolution = "" if signal.factor == 1 else f", {format_number(signal.factor)} {signal.unit}".rstrip() + "/bit"
         return f"Fixed raw value of CAN signal {signal.name}{what} ({signal.length} bit{resolution})"
@@ -72,12 +74,16 @@ def format_number(value: float) -> str:
     return str(int(value)) if float(value).is_integer() else repr(float(value))
 
 
-def fixcal_collisions(messages: Iterable[Message]) -> dict[str, list[tuple[Message, SignalOfMsg]]]:
-    """Fix-calibration names claimed by more than one signal: name → the (message, signal)s."""
+def fixcal_collisions(messages: Iterable[Message], *, qualified: bool = False,
+                      ) -> dict[str, list[tuple[Message, SignalOfMsg]]]:
+    """Fix-calibration names claimed by more than one signal: name → the (message, signal)s.
+
+    :param qualified: with message-qualified names (``cf<MESSAGE>_<SIGNAL>_…``).
+    """
     claims: dict[str, list[tuple[Message, SignalOfMsg]]] = defaultdict(list)
     for message in messages:
         for signal in message.signals:
-            claims[fix_value_name(signal.name)].append((message, signal))
+            claims[fix_value_name(signal.name, message.name if qualified else None)].append((message, signal))
     return {name: owners for name, owners in claims.items() if len(owners) > 1}
 
 
@@ -87,30 +93,40 @@ def describe_owners(owners: list[tuple[Message, SignalOfMsg]], listed: int = 3) 
     return text + (f" and {len(owners) - listed} more" if len(owners) > listed else "")
 
 
-def fix_calibrations(messages: Iterable[Message]) -> list[FixCalibration]:
+def collision_remedy(messages: list[Message], qualified: bool) -> str:
+    """``message-qualified names (--qualified) avoid this`` when they would, else ``""``."""
+    if qualified or fixcal_collisions(messages, qualified=True):
+        return ""
+    return "message-qualified names (--qualified) avoid this"
+
+
+def fix_calibrations(messages: Iterable[Message], *, qualified: bool = False) -> list[FixCalibration]:
     """The calibrations of the messages in a node's table (messages without a role are skipped).
 
     Per message in the given order: the TX enable (TX only), then ``_EN``/``_VALUE`` per signal.
 
+    :param qualified: message-qualified fix names, ``cf<MESSAGE>_<SIGNAL>_EN``/``_VALUE``.
     :raises InputError: two signals map to the same calibration name, or a signal's raw value
         fits no C type (longer than 64 bits, a float of other than 32/64 bits).
     """
     messages = [m for m in messages if m.role is not None]
-    collisions = fixcal_collisions(messages)
+    collisions = fixcal_collisions(messages, qualified=qualified)
     if collisions:
         name, owners = next(iter(collisions.items()))
         more = f" (and {len(collisions) - 1} more names)" if len(collisions) > 1 else ""
+        remedy = collision_remedy(messages, qualified)
         raise InputError(f"{owners[1][0].where(owners[1][1].name)}: {name} would be defined by "
-                         f"{describe_owners(owners)}{more}")
+                         f"{describe_owners(owners)}{more}{'; ' + remedy if remedy else ''}")
     calibrations: list[FixCalibration] = []
     for message in messages:
         if message.role is Role.TX:
             calibrations.append(FixCalibration(tx_enable_name(message.name), FixKind.TX_ENABLE, "uint8_T", 1, message))
+        qualifier = message.name if qualified else None
         for signal in message.signals:
             calibrations.append(FixCalibration(
-                fix_enable_name(signal.name), FixKind.FIX_ENABLE, "uint8_T", 0, message, signal,
+                fix_enable_name(signal.name, qualifier), FixKind.FIX_ENABLE, "uint8_T", 0, message, signal,
             ))
-            calibrations.append(_fix_value(message, signal))
+            calibrations.append(_fix_value(message, signal, fix_value_name(signal.name, qualifier)))
     return calibrations
 
 
@@ -124,7 +140,7 @@ def raw_range(signal: SignalOfMsg) -> tuple[float, float]:
     return 0, (1 << signal.length) - 1
 
 
-def _fix_value(message: Message, signal: SignalOfMsg) -> FixCalibration:
+def _fix_value(message: Message, signal: SignalOfMsg, name: str) -> FixCalibration:
     raw_low, raw_high = raw_range(signal)
     physical = sorted((raw_low * signal.factor + signal.offset, raw_high * signal.factor + signal.offset))
     lower = physical[0] if signal.minimum is None else min(max(signal.minimum, physical[0]), physical[1])
@@ -134,7 +150,7 @@ def _fix_value(message: Message, signal: SignalOfMsg) -> FixCalibration:
     except ValueError as exc:
         raise InputError(f"{message.where(signal.name)}: {message.name}.{signal.name}: {exc}") from exc
     return FixCalibration(
-        fix_value_name(signal.name), FixKind.FIX_VALUE, c_type,
+        name, FixKind.FIX_VALUE, c_type,
         _initial_raw(signal, lower, upper, raw_low, raw_high), message, signal, lower, upper,
     )
 

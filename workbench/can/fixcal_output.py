@@ -40,14 +40,15 @@ class FixcalFiles:
 
 
 def fixcal_files(dbc: DbcFile, node: str, *, c: bool = True, a2l: bool = True,
-                 master_a2l: str | Path | None = None) -> FixcalFiles:
+                 master_a2l: str | Path | None = None, qualified: bool = False) -> FixcalFiles:
     """The C pair and/or A2L fragment of ``node``'s fix calibrations in ``dbc`` (file order).
 
     :param master_a2l: the project's master A2L, whose MOD_COMMON the fragment repeats.
+    :param qualified: message-qualified names ``cf<MESSAGE>_<SIGNAL>_EN``/``_VALUE``.
     :raises InputError: ``node`` is not in the DBC, two signals map to one calibration name,
         or the master A2L cannot be read.
     """
-    calibrations = tuple(fix_calibrations(messages_of(dbc, None, node)))
+    calibrations = tuple(fix_calibrations(messages_of(dbc, None, node), qualified=qualified))
     basename = re.sub(r"\W", "_", dbc.path.stem) + "_fixcal"
     if basename[0].isdigit():  # C and A2L identifiers cannot start with a digit
         basename = f"dbc_{basename}"

@@ -2,7 +2,11 @@
 
 * every CAN signal (RX and TX) gets a fix switch: ``cf<SIGNAL>_EN`` (uint8 0/1) and
   ``cf<SIGNAL>_VALUE`` (the signal's *raw* value, an integer of the signal's width,
-  shown in physical units through a COMPU_METHOD built from factor/offset);
+  shown in physical units through a COMPU_METHOD built from factor/offset). The signal
+  name is upper-cased: ``FuelLevel`` → ``cfFUELLEVEL_EN``. Where signal names repeat
+  across messages (the CAN3 validation DBC has ``Sgn1`` in 64 messages) the names can be
+  message-qualified, as the thesis names the published signal (``csC3RXAAA_Sgn1``):
+  ``cf<MESSAGE>_<SIGNAL>_EN`` → ``cfC3RXAAA_SGN1_EN``;
 * every TX message gets a transmission enable ``cs<MessageName>_En`` (uint8 0/1);
 * a received signal is published as ``cs<MessageName>_<Signal>``, with the message's
   diagnostic ``cs<MessageName>_Status`` (tCANRxStatus) and ``cs<MessageName>_BitStatus``.
@@ -19,12 +23,20 @@ FIX_ENABLE_SUFFIX = "_EN"
 FIX_VALUE_SUFFIX = "_VALUE"
 
 
-def fix_enable_name(signal: str) -> str:
-    return f"cf{signal.upper()}{FIX_ENABLE_SUFFIX}"
+def fix_stem(signal: str, message: str | None = None) -> str:
+    """``cf<SIGNAL>``, or ``cf<MESSAGE>_<SIGNAL>`` when ``message`` is given: the fix names without suffix."""
+    qualified = f"{message}_{signal}" if message else signal
+    return f"cf{qualified.upper()}"
 
 
-def fix_value_name(signal: str) -> str:
-    return f"cf{signal.upper()}{FIX_VALUE_SUFFIX}"
+def fix_enable_name(signal: str, message: str | None = None) -> str:
+    """``cf<SIGNAL>_EN`` (``cf<MESSAGE>_<SIGNAL>_EN`` with ``message``)."""
+    return fix_stem(signal, message) + FIX_ENABLE_SUFFIX
+
+
+def fix_value_name(signal: str, message: str | None = None) -> str:
+    """``cf<SIGNAL>_VALUE`` (``cf<MESSAGE>_<SIGNAL>_VALUE`` with ``message``)."""
+    return fix_stem(signal, message) + FIX_VALUE_SUFFIX
 
 
 def tx_enable_name(message: str) -> str:

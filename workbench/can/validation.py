@@ -13,8 +13,9 @@ Checks, each a :class:`Finding` with a ``code``:
 * ``id-format`` — an id above 0x7FF without the extended flag, or a message's explicit
   ``VFrameFormat`` that disagrees with the flag (only the attribute set on the message
   counts: a ``BA_DEF_DEF_`` default says nothing about one message);
-* ``fixcal-collision`` — signals of different messages that would define the same
-  ``cf<SIGNAL>_EN``/``_VALUE`` calibration (among the node's messages when a node is given).
+* ``fixcal-collision`` — signals that would define the same ``cf<SIGNAL>_EN``/``_VALUE``
+  calibration (among the node's messages when a node is given; with ``qualified`` the
+  message-qualified ``cf<MESSAGE>_<SIGNAL>_…`` names are checked).
 """
 
 from __future__ import annotations
@@ -26,8 +27,8 @@ from itertools import combinations
 from pathlib import Path
 
 from workbench.can.dbc_file import DbcFile
-from workbench.can.fixcal import describe_owners, fixcal_collisions
-from workbench.can.naming import FIX_VALUE_SUFFIX, raw_c_type
+from workbench.can.fixcal import collision_remedy, describe_owners, fixcal_collisions
+from workbench.can.naming import FIX_ENABLE_SUFFIX, FIX_VALUE_SUFFIX, raw_c_type
 from workbench.can.model import (
     FRAME_FORMAT_ATTRIBUTE,
     PERIOD_ATTRIBUTE,
@@ -74,11 +75,14 @@ def bit_positions(signal: SignalOfMsg) -> list[int]:
     return positions
 
 
-def check(dbcs: Sequence[tuple[DbcFile, str | None]], node: str | None = None) -> list[Finding]:
+def check(dbcs: Sequence[tuple[DbcFile, str | None]], node: str | None = None, *,
+          qualified: bool = False) -> list[Finding]:
     """Every finding in ``dbcs`` ((DBC, network) pairs), in file and line order.
 
     Duplicate ids and names are looked for among the DBCs of one network; a DBC without a
     network is compared with itself only.
+
+    :param qualified: look for collisions of the message-qualified fix-calibration names.
 
     :raises InputError: ``node`` is given but is not a node of one of the DBCs.
     """
@@ -95,7 +99,7 @@ def check(dbcs: Sequence[tuple[DbcFile, str | None]], node: str | None = None) -
             findings += _format_findings(dbc, message)
     findings += _duplicate_findings(everything)
     in_scope = [m for dbc, network in dbcs for m in messages_of(dbc, network, node) if node is None or m.role]
-    findings += _collision_findings(in_scope)
+    findings += _collision_findings(in_scope, qualified)
     return sorted(findings, key=lambda f: (str(f.path), f.line, f.code))
 
 
@@ -214,13 +218,14 @@ def _duplicate_findings(messages: list[Message]) -> list[Finding]:
     return findings
 
 
-def _collision_findings(messages: list[Message]) -> list[Finding]:
+def _collision_findings(messages: list[Message], qualified: bool) -> list[Finding]:
     findings = []
-    for name, owners in fixcal_collisions(messages).items():
+    remedy = collision_remedy(messages, qualified)
+    for name, owners in fixcal_collisions(messages, qualified=qualified).items():
         first_message, first_signal = owners[0]
         findings.append(_finding(
             "fixcal-collision", first_message, first_signal.name,
-            f"{name.removesuffix(FIX_VALUE_SUFFIX)}_EN/{FIX_VALUE_SUFFIX} would also be defined by "
-            f"{describe_owners(owners[1:])}",
+            f"{name.removesuffix(FIX_VALUE_SUFFIX)}{FIX_ENABLE_SUFFIX}/{FIX_VALUE_SUFFIX} would also be defined by "
+            f"{describe_owners(owners[1:])}" + (f"; {remedy}" if remedy else ""),
         ))
     return findings

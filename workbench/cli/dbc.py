@@ -30,6 +30,8 @@ _ORDER_HELP = (
     "figures: FLCU_TO_PCM_003 = CAN2_MSG_TX_000), id, name. A further DBC on the same network "
     "takes the next free mailboxes (the thesis's canMap)"
 )
+_QUALIFIED_HELP = ("message-qualified names cf<MESSAGE>_<SIGNAL>_EN/_VALUE (e.g. cfC3RXAAA_SGN1_EN), for DBCs "
+                   "whose messages share signal names")
 _TIMEOUT_NOTE = ("Periods and timeouts come from GenMsgCycleTime/GenMsgTimeoutTime (ms); a message "
                  "without a timeout gets 3 x its period, as the thesis's import does.")
 
@@ -63,6 +65,7 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
             "<dbc>_fixcal.a2l (a complete small A2L whose CHARACTERISTICs wait for `workbench a2l update`)."
         ),
     )
+    fixcal.add_argument("--qualified", action="store_true", help=_QUALIFIED_HELP)
     fixcal.add_argument("dbc", metavar="FILE.dbc")
     fixcal.add_argument("--node", required=True, help=_ROLE_HELP)
     fixcal.add_argument("-o", "--output", default=".", metavar="DIR", help="folder for the files (default: .)")
@@ -105,6 +108,8 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     check.add_argument("--network", help="CAN1..CAN4 for every DBC given (default: from the file name; "
                                          "DBCs without one are compared with themselves only)")
     check.add_argument("--node", help="look for fix-calibration collisions among this node's messages only")
+    check.add_argument("--qualified", action="store_true",
+                       help="look for collisions of the message-qualified fix-calibration names")
     check.add_argument("--json", action="store_true", help="findings as JSON")
     check.set_defaults(func=_check)
 
@@ -128,7 +133,8 @@ def _fixcal(args: argparse.Namespace) -> int:
     from workbench.can.fixcal_output import fixcal_files
 
     master = args.master if args.master is not None else demo.master_a2l()
-    files = fixcal_files(load_dbc(args.dbc), args.node, c=not args.a2l_only, a2l=not args.c_only, master_a2l=master)
+    files = fixcal_files(load_dbc(args.dbc), args.node, c=not args.a2l_only, a2l=not args.c_only, master_a2l=master,
+                         qualified=args.qualified)
     for path in files.write(args.output):
         print(path)
     print(f"{len(files.calibrations)} calibrations for {args.node}", file=sys.stderr)
@@ -154,7 +160,7 @@ def _check(args: argparse.Namespace) -> int:
 
     dbcs = [(load_dbc(path, tolerant=True), network_of(path, args.network) if args.network else guess_network(path))
             for path in args.dbc]
-    findings = check(dbcs, args.node)
+    findings = check(dbcs, args.node, qualified=args.qualified)
     if args.json:
         print_json([finding.to_dict() for finding in findings])
     else:
