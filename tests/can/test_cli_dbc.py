@@ -7,6 +7,7 @@ import io
 import json
 import shutil
 
+import pytest
 from crafted import timing
 
 from workbench import demo
@@ -66,6 +67,25 @@ def test_table_bad_input_is_exit_2_with_one_line(tmp_path, capsys):
     assert len(errors) == 3 and all(line.startswith("error: ") for line in errors)
     assert "give --network" in errors[2]
     assert main(["dbc", "table", FLCU, "--order", "sideways"]) == 2  # argparse usage error
+
+
+@pytest.mark.parametrize("command", [["table", "--network", "CAN2"], ["check"], ["fixcal", "--node", "FLCU"],
+                                     ["callbacks", "--node", "FLCU", "--network", "CAN2", "--api", "api.c"]])
+@pytest.mark.parametrize("make_input", ["missing", "folder", "empty", "binary", "garbage"])
+def test_bad_dbc_is_exit_2_with_one_line_and_writes_nothing(tmp_path, monkeypatch, capsys, command, make_input):
+    monkeypatch.chdir(tmp_path)
+    dbc = tmp_path / "input.dbc"
+    if make_input == "folder":
+        dbc.mkdir()
+    elif make_input != "missing":
+        dbc.write_bytes({"empty": b"", "binary": demo.path("assets", "FLCU.elf").read_bytes()[:4096],
+                         "garbage": b"\xff" * 5000}[make_input])
+    api = shutil.copy(demo.path("assets", "ecu", "api.c"), tmp_path / "api.c").read_bytes()
+    before = sorted(p.name for p in tmp_path.iterdir())
+    assert main(["dbc", command[0], str(dbc), *command[1:]]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.startswith(f"error: {dbc}") and err.count("\n") == 1 and len(err) < 300
+    assert sorted(p.name for p in tmp_path.iterdir()) == before and (tmp_path / "api.c").read_bytes() == api
 
 
 def test_fixcal_writes_the_three_files(tmp_path, capsys):

@@ -210,6 +210,37 @@ def test_unreadable_file(tmp_path):
         load_dbc(tmp_path / "missing.dbc")
 
 
+@pytest.mark.parametrize(
+    ("content", "error"),
+    [
+        (b"", r"empty\.dbc: not a DBC: the file is empty$"),
+        (b"  \r\n\n", r"empty\.dbc: not a DBC: the file is empty$"),
+        (b"\x7fELF\x01\x01\x01\x00\x00", r"empty\.dbc: not a DBC: binary content \(a NUL byte at offset 7\)$"),
+    ],
+)
+def test_empty_and_binary_files_are_not_dbcs(tmp_path, content, error):
+    path = tmp_path / "empty.dbc"
+    path.write_bytes(content)
+    with pytest.raises(InputError, match=error):
+        load_dbc(path)
+
+
+def test_utf16_with_bom_loads(tmp_path):
+    path = tmp_path / "FLCU_CAN2.dbc"
+    path.write_bytes(demo.dbc_can2().read_text(encoding="utf-8").encode("utf-16"))  # BOM + UTF-16
+    assert [m.name for m in load_dbc(path).database.messages][:2] == ["PCM_TO_FLCU_001", "PCM_TO_FLCU_002"]
+
+
+def test_syntax_error_quotes_a_short_excerpt_without_control_characters(write_dbc):
+    path = write_dbc(f'BO_ 16 M: 1 ECU\n SG_ {"A" * 100} : 0|8@1+ (1,0) [0|0] "" PEER ? {"b" * 100}\n')
+    with pytest.raises(InputError) as error:
+        load_dbc(path)
+    assert str(error.value) == f'{path}:14:136: Invalid syntax: "… : 0|8@1+ (1,0) [0|0] "" PEER >>!<<? {"b" * 28}…"'
+    path = write_dbc("BO_ 16 M: 1 ECU\x01\n")
+    with pytest.raises(InputError, match=r':13:16: Invalid syntax: "BO_ 16 M: 1 ECU>>!<<\?"$'):
+        load_dbc(path)
+
+
 def test_windows_1252_comments_load(write_dbc):
     path = write_dbc(f"BO_ 16 M: 1 ECU\n SG_ A : 0|8@1+ (1,0) [0|255] {SIGNAL}\n", timing(16, 10, 30))
     path.write_bytes(path.read_bytes() + 'CM_ SG_ 16 A "Öldruck in °C";\n'.encode("cp1252"))

@@ -2,13 +2,16 @@
 
 cantools parses; this module adds what the workbench needs around it:
 
-* the file is decoded as UTF-8 (with or without BOM) and, failing that, as Windows-1252
-  (CANdb++'s encoding), so umlauts in comments never stop a load;
+* the file is decoded as UTF-8 (with or without BOM), as UTF-16 when it starts with a
+  UTF-16 BOM, and, failing that, as Windows-1252 (CANdb++'s encoding), so umlauts in
+  comments never stop a load; an empty file or one with NUL bytes (a binary, not a DBC)
+  is refused before cantools sees it;
 * signals keep their DBC file order (cantools sorts them by start bit by default);
 * loading is not strict: overlapping signals or signals beyond the DLC are left to
   :mod:`workbench.can.validation`, which reports them all with names and lines;
 * cantools' exceptions and log warnings become one-line :class:`InputError` s naming the
-  file and, where the position is known, the line; its "Overwriting message" warnings
+  file and, where the position is known, the line (a syntax error quotes a few characters
+  around the spot, not the whole line); its "Overwriting message" warnings
   about duplicate names/ids are dropped because the validation reports those itself;
 * the line of every ``BO_`` and ``SG_`` is indexed, so findings can point into the file.
 
@@ -20,6 +23,7 @@ file. :func:`load_dbc` reports it as an error at that line; with ``tolerant=True
 
 from __future__ import annotations
 
+import codecs
 import logging
 import re
 import warnings
@@ -42,6 +46,9 @@ _ID_REFERENCE = r"\b(BO_|SG_|VAL_|SIG_VALTYPE_|BO_TX_BU_|SG_MUL_VAL_|SIG_GROUP_)
 _MESSAGE_IN_ERROR = re.compile(r"in message '?(\w+)'?")
 _POSITION_IN_ERROR = re.compile(r" at line \d+, column \d+")
 _OVERWRITE_WARNING = "Overwriting message"
+_SYNTAX_EXCERPT = re.compile(r'"(.*)>>!<<(.*)"$')
+_EXCERPT_CHARS = 30
+_UTF16_BOMS = (codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)
 
 
 @dataclass(frozen=True)
@@ -83,7 +90,7 @@ def load_dbc(path: str | Path, *, tolerant: bool = False) -> DbcFile:
         raw = path.read_bytes()
     except OSError as exc:
         raise InputError(f"{path}: cannot read: {exc.strerror or exc}") from exc
-    text = _decode(raw)
+    text = _decode(path, raw)
     message_lines, signal_lines = _index_lines(text)
     oversized = _oversized_standard_ids(text)
     if oversized and not tolerant:
@@ -98,11 +105,23 @@ def load_dbc(path: str | Path, *, tolerant: bool = False) -> DbcFile:
     return DbcFile(path, database, message_lines, signal_lines, tuple(name for name, _, _ in oversized))
 
 
-def _decode(raw: bytes) -> str:
-    try:
-        return raw.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        return raw.decode("cp1252", errors="replace")
+def _decode(path: Path, raw: bytes) -> str:
+    """The text of a DBC file.
+
+    :raises InputError: the file is empty or binary.
+    """
+    if raw.startswith(_UTF16_BOMS):
+        text = raw.decode("utf-16", errors="replace")
+    elif b"\0" in raw:
+        raise InputError(f"{path}: not a DBC: binary content (a NUL byte at offset {raw.index(0)})")
+    else:
+        try:
+            text = raw.decode("utf-8-sig")
+        except UnicodeDecodeError:
+            text = raw.decode("cp1252", errors="replace")
+    if not text.strip():
+        raise InputError(f"{path}: not a DBC: the file is empty")
+    return text
 
 
 def _index_lines(text: str) -> tuple[dict[str, int], dict[tuple[str, str], int]]:
@@ -172,12 +191,27 @@ def _located(path: Path, error: BaseException, message_lines: dict[str, tuple[in
     reason = _one_line(str(error))
     line = getattr(error, "line", None)
     if line:
-        return f"{path}:{line}:{getattr(error, 'column', 0)}: {_POSITION_IN_ERROR.sub('', reason)}"
+        return f"{path}:{line}:{getattr(error, 'column', 0)}: {_short_excerpt(_POSITION_IN_ERROR.sub('', reason))}"
     mentioned = _MESSAGE_IN_ERROR.search(reason)
     if mentioned and mentioned.group(1) in message_lines:
         return f"{path}:{message_lines[mentioned.group(1)][0]}: {reason}"
     return f"{path}: {reason}"
 
 
+def _short_excerpt(reason: str) -> str:
+    """A syntax error's quoted line cut to a few characters either side of cantools' ``>>!<<``."""
+    match = _SYNTAX_EXCERPT.search(reason)
+    if match is None:
+        return reason
+    before, after = match.group(1), match.group(2)
+    if len(before) > _EXCERPT_CHARS:
+        before = "…" + before[-_EXCERPT_CHARS:]
+    if len(after) > _EXCERPT_CHARS:
+        after = after[:_EXCERPT_CHARS] + "…"
+    return f'{reason[:match.start()]}"{before}>>!<<{after}"'
+
+
 def _one_line(text: str) -> str:
-    return " ".join(text.split())
+    """``text`` on one line, without control characters (a stray byte must not garble the terminal)."""
+    printable = "".join(char if char.isprintable() or char.isspace() else "?" for char in text)
+    return " ".join(printable.split())
