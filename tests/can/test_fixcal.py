@@ -138,6 +138,8 @@ def test_parts_can_be_chosen_and_written(tmp_path):
     assert list(_flcu_files(a2l=False).texts) == ["FLCU_CAN2_fixcal.h", "FLCU_CAN2_fixcal.c"]
     written = _flcu_files().write(tmp_path / "out")
     assert sorted(p.name for p in written) == ["FLCU_CAN2_fixcal.a2l", "FLCU_CAN2_fixcal.c", "FLCU_CAN2_fixcal.h"]
+    with pytest.raises(InputError, match=r"FLCU_CAN2_fixcal\.h: not a folder"):
+        _flcu_files().write(written[0])
 
 
 def _import_a2l(path: Path, text: str):
@@ -215,6 +217,8 @@ def test_a2l_mod_common_is_the_masters_as_in_every_demo_fragment(tmp_path):
     assert "MOD_COMMON" not in without_master
     with pytest.raises(InputError, match=r"nope\.a2l: cannot read"):
         fixcal_files(load_dbc(demo.dbc_can2()), "FLCU", master_a2l=tmp_path / "nope.a2l")
+    with pytest.raises(InputError, match=r"FLCU_CAN2\.dbc: not an A2L file \(no /begin PROJECT\)$"):
+        fixcal_files(load_dbc(demo.dbc_can2()), "FLCU", master_a2l=demo.dbc_can2())
 
 
 _A2LTOOL = shutil.which("a2ltool", path=str(Path(sys.executable).parent)) or shutil.which("a2ltool")

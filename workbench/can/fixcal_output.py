@@ -14,6 +14,8 @@ from workbench.can.model import messages_of
 from workbench.errors import InputError, WorkbenchError
 from workbench.fileio import atomic_write_text
 
+_PROJECT = re.compile(r"/begin\s+PROJECT\b")
+
 
 @dataclass(frozen=True)
 class FixcalFiles:
@@ -25,9 +27,12 @@ class FixcalFiles:
     def write(self, directory: str | Path) -> list[Path]:
         """Write every file (atomically) into ``directory``; returns the paths.
 
+        :raises InputError: ``directory`` exists and is not a folder.
         :raises WorkbenchError: a file cannot be written.
         """
         directory = Path(directory)
+        if directory.exists() and not directory.is_dir():
+            raise InputError(f"{directory}: not a folder (the output folder of the fix calibrations)")
         written = []
         for name, text in self.texts.items():
             path = directory / name
@@ -46,7 +51,7 @@ def fixcal_files(dbc: DbcFile, node: str, *, c: bool = True, a2l: bool = True,
     :param master_a2l: the project's master A2L, whose MOD_COMMON the fragment repeats.
     :param qualified: message-qualified names ``cf<MESSAGE>_<SIGNAL>_EN``/``_VALUE``.
     :raises InputError: ``node`` is not in the DBC, two signals map to one calibration name,
-        or the master A2L cannot be read.
+        or the master A2L cannot be read or is no A2L.
     """
     calibrations = tuple(fix_calibrations(messages_of(dbc, None, node), qualified=qualified))
     basename = re.sub(r"\W", "_", dbc.path.stem) + "_fixcal"
@@ -58,13 +63,16 @@ def fixcal_files(dbc: DbcFile, node: str, *, c: bool = True, a2l: bool = True,
         texts[f"{basename}.h"] = c_header(calibrations, basename, title)
         texts[f"{basename}.c"] = c_source(calibrations, basename, title)
     if a2l:
-        mod_common = mod_common_lines(_read_text(master_a2l)) if master_a2l is not None else ()
+        mod_common = mod_common_lines(_read_a2l(master_a2l)) if master_a2l is not None else ()
         texts[f"{basename}.a2l"] = a2l_fragment(calibrations, basename, title, mod_common)
     return FixcalFiles(calibrations, texts)
 
 
-def _read_text(path: str | Path) -> str:
+def _read_a2l(path: str | Path) -> str:
     try:
-        return Path(path).read_bytes().decode("utf-8", errors="replace")
+        text = Path(path).read_bytes().decode("utf-8", errors="replace")
     except OSError as exc:
         raise InputError(f"{path}: cannot read: {exc.strerror or exc}") from exc
+    if not _PROJECT.search(text):
+        raise InputError(f"{path}: not an A2L file (no /begin PROJECT)")
+    return text
