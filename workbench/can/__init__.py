@@ -20,8 +20,11 @@ from workbench.can.naming import (
     fix_value_name,
     mailbox_name,
     raw_c_type,
+    rx_bit_status_name,
     rx_signal_name,
+    rx_status_name,
     tx_enable_name,
 )
 
-__all__ = ["fix_enable_name", "fix_value_name", "mailbox_name", "raw_c_type", "rx_signal_name", "tx_enable_name"]
+__all__ = ["fix_enable_name", "fix_value_name", "mailbox_name", "raw_c_type", "rx_bit_status_name", "rx_signal_name",
+           "rx_status_name", "tx_enable_name"]

@@ -47,6 +47,16 @@ def rx_signal_name(message: str, signal: str) -> str:
     return f"cs{message}_{signal}"
 
 
+def rx_status_name(message: str) -> str:
+    """``cs<Message>_Status``: the message's tCANRxStatus (the highest-priority error)."""
+    return f"cs{message}_Status"
+
+
+def rx_bit_status_name(message: str) -> str:
+    """``cs<Message>_BitStatus``: one bit per RX error (bit0 DLC ... bit4 SignalOutOfRange)."""
+    return f"cs{message}_BitStatus"
+
+
 def raw_c_type(length: int, is_signed: bool, is_float: bool = False) -> str:
     """The Simulink coder type that holds a signal's raw value of ``length`` bits.
 

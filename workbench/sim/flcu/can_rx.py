@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from workbench.can.naming import fix_enable_name, fix_value_name, rx_bit_status_name, rx_status_name
 from workbench.sim.flcu.hardware import CanRxStatus, Hardware, RxPduInfo
 from workbench.sim.flcu.variables import Variables
 
@@ -17,6 +18,8 @@ BIT_DLC, BIT_TIMEOUT, BIT_NEWDATA, BIT_CHID, BIT_SIG_OUT_OF_RANGE = 0x01, 0x02, 
 _TARGET_FACTOR = np.float32(0.01)
 _TARGET_MAX = np.float32(50.0)
 PDU_SIZE = 13
+_ENABLE_FIX = (fix_enable_name("EnableFLCU"), fix_value_name("EnableFLCU"))
+_TARGET_FIX = (fix_enable_name("TargetRailPressure"), fix_value_name("TargetRailPressure"))
 _U8_OUTPUTS = (
     "csPCM_TO_FLCU_001_EnableFLCU",
     "csPCM_TO_FLCU_001_Status",
@@ -78,16 +81,16 @@ class CanRx:
 
     def _publish_status(self, message: str, pdu: RxPduInfo, signal_out_of_range: bool) -> None:
         status, bits = message_status(pdu, signal_out_of_range)
-        self._v.set_u8(f"cs{message}_Status", status)
-        self._v.set_u8(f"cs{message}_BitStatus", bits)
+        self._v.set_u8(rx_status_name(message), status)
+        self._v.set_u8(rx_bit_status_name(message), bits)
 
     def step(self) -> None:
         v = self._v
         # PCM_TO_FLCU_001: EnableFLCU 0|1@1+ (1,0) [0|1]; a 1-bit signal cannot leave its range
         pdu = self._read_pdu("PCM_TO_FLCU_001")
         enable = pdu.data[0] & 0x01
-        if v.u8("cfENABLEFLCU_EN") == 1:
-            enable = v.u8("cfENABLEFLCU_VALUE")
+        if v.u8(_ENABLE_FIX[0]) == 1:
+            enable = v.u8(_ENABLE_FIX[1])
         v.set_u8("csPCM_TO_FLCU_001_EnableFLCU", enable)
         self._publish_status("PCM_TO_FLCU_001", pdu, False)
 
@@ -97,7 +100,7 @@ class CanRx:
         out_of_range = bool(target > _TARGET_MAX)
         if out_of_range:
             target = _TARGET_MAX
-        if v.u8("cfTARGETRAILPRESSURE_EN") == 1:
-            target = np.float32(v.u16("cfTARGETRAILPRESSURE_VALUE")) * _TARGET_FACTOR
+        if v.u8(_TARGET_FIX[0]) == 1:
+            target = np.float32(v.u16(_TARGET_FIX[1])) * _TARGET_FACTOR
         v.set_f32("csPCM_TO_FLCU_002_TargetRailPressure", target)
         self._publish_status("PCM_TO_FLCU_002", pdu, out_of_range)
