@@ -11,10 +11,16 @@ import pytest
 from crafted import timing
 
 from workbench import demo
+from workbench.can.mailboxes import MailboxOrder
 from workbench.cli import main
+from workbench.cli.dbc import MAILBOX_ORDERS
 
 FLCU = str(demo.dbc_can2())
 CAN3 = str(demo.dbc_can3())
+
+
+def test_order_choices_are_the_mailbox_orders():
+    assert MAILBOX_ORDERS == tuple(order.value for order in MailboxOrder)
 
 
 def test_table_text(capsys):

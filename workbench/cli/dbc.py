@@ -24,6 +24,8 @@ _NETWORK_HELP = ("CAN1..CAN4 for every DBC given (default: the CANn in each file
                  "e.g. FLCU_CAN2.dbc is on CAN2)")
 _ROLE_HELP = ("the ECU node the roles are relative to: a message it sends is TX, one whose signals it "
               "receives is RX, any other is not in its table")
+# workbench.can.mailboxes.MailboxOrder's values, spelled here so that --help needs no cantools
+MAILBOX_ORDERS = ("file", "reverse", "id", "name")
 _ORDER_HELP = (
     "order in which a DBC's messages take the mailboxes of their network and role: "
     "file (default: the first TX message of the file is CAN2_MSG_TX_000), reverse (the thesis's "
@@ -45,10 +47,7 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
         "table", help="message table: Name, ID, DLC, Period, Timeout, Role, MboxId and the signals",
         description="The message table of one or more DBCs. " + _TIMEOUT_NOTE,
     )
-    table.add_argument("dbc", nargs="+", metavar="FILE.dbc")
-    table.add_argument("--network", help=_NETWORK_HELP)
-    table.add_argument("--node", help=_ROLE_HELP + " (without it: no roles and no mailboxes)")
-    table.add_argument("--order", choices=["file", "reverse", "id", "name"], default="file", help=_ORDER_HELP)
+    _add_table_arguments(table, node_help=_ROLE_HELP + " (without it: no roles and no mailboxes)", node_required=False)
     output = table.add_mutually_exclusive_group()
     output.add_argument("--csv", action="store_true", help="one CSV row per signal")
     output.add_argument("--json", action="store_true", help="messages with their signals as JSON")
@@ -65,9 +64,9 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
             "<dbc>_fixcal.a2l (a complete small A2L whose CHARACTERISTICs wait for `workbench a2l update`)."
         ),
     )
-    fixcal.add_argument("--qualified", action="store_true", help=_QUALIFIED_HELP)
     fixcal.add_argument("dbc", metavar="FILE.dbc")
     fixcal.add_argument("--node", required=True, help=_ROLE_HELP)
+    fixcal.add_argument("--qualified", action="store_true", help=_QUALIFIED_HELP)
     fixcal.add_argument("-o", "--output", default=".", metavar="DIR", help="folder for the files (default: .)")
     fixcal.add_argument("--master", metavar="A2L", default=None,
                         help="master A2L whose MOD_COMMON (byte order, alignments) the fragment repeats "
@@ -88,11 +87,8 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
             "changes. " + _TIMEOUT_NOTE
         ),
     )
-    callbacks.add_argument("dbc", nargs="+", metavar="FILE.dbc")
+    _add_table_arguments(callbacks, node_help=_ROLE_HELP, node_required=True)
     callbacks.add_argument("--api", required=True, metavar="api.c", help="the C file with the markers")
-    callbacks.add_argument("--network", help=_NETWORK_HELP)
-    callbacks.add_argument("--node", required=True, help=_ROLE_HELP)
-    callbacks.add_argument("--order", choices=["file", "reverse", "id", "name"], default="file", help=_ORDER_HELP)
     callbacks.set_defaults(func=_callbacks)
 
     check = commands.add_parser(
@@ -112,6 +108,14 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
                        help="look for collisions of the message-qualified fix-calibration names")
     check.add_argument("--json", action="store_true", help="findings as JSON")
     check.set_defaults(func=_check)
+
+
+def _add_table_arguments(parser: argparse.ArgumentParser, *, node_help: str, node_required: bool) -> None:
+    """The DBCs, their network, the node and the mailbox order: what a node's message table needs."""
+    parser.add_argument("dbc", nargs="+", metavar="FILE.dbc")
+    parser.add_argument("--network", help=_NETWORK_HELP)
+    parser.add_argument("--node", required=node_required, help=node_help)
+    parser.add_argument("--order", choices=MAILBOX_ORDERS, default="file", help=_ORDER_HELP)
 
 
 def _table(args: argparse.Namespace) -> int:
