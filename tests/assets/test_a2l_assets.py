@@ -372,8 +372,8 @@ def test_can_fix_calibrations_follow_the_dbc(a2l):
         if home == "CANTX":
             assert objects[naming.tx_enable_name(message.name)][0] == "CANTX"
         else:
-            for suffix in ("Status", "BitStatus"):
-                assert objects[f"cs{message.name}_{suffix}"][0] == "CANRX"
+            for status in (naming.rx_status_name(message.name), naming.rx_bit_status_name(message.name)):
+                assert objects[status][0] == "CANRX"
         for signal in message.signals:
             if home == "CANRX":
                 assert objects[naming.rx_signal_name(message.name, signal.name)][0] == "CANRX"
@@ -384,6 +384,7 @@ def test_can_fix_calibrations_follow_the_dbc(a2l):
             layouts = {layout.name: layout for layout in _module(a2l[home]).record_layout}
             assert layouts[value.deposit].fnc_values.datatype == C_RAW_TYPES[naming.raw_c_type(signal.length, signal.is_signed)]
             assert (value.lowerLimit, value.upperLimit) == (signal.minimum, signal.maximum), signal.name
+            assert f": {signal.comment} (" in value.longIdentifier, signal.name  # the DBC comment describes it
             conversion, module = conversions[value.conversion]
             if signal.choices:
                 table = next(t for t in module.compu_vtab if t.name == conversion.compu_tab_ref.conversionTable)

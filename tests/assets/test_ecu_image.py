@@ -108,8 +108,10 @@ def test_every_can_signal_has_its_fix_calibrations_and_every_tx_message_its_enab
             enable = elf.symbol(naming.tx_enable_name(message.name))
             assert enable.section == ".cal_ram" and s19[_rom_address(enable.address)] == 1
         else:
-            for suffix in ("Status", "BitStatus", *(s.name for s in message.signals)):
-                assert elf.symbol(f"cs{message.name}_{suffix}").section == ".bss"
+            published = (naming.rx_status_name(message.name), naming.rx_bit_status_name(message.name),
+                         *(naming.rx_signal_name(message.name, s.name) for s in message.signals))
+            for name in published:
+                assert elf.symbol(name).section == ".bss", name
 
 
 def test_cal_ram_load_image_is_in_the_s19(elf, s19):
