@@ -45,6 +45,22 @@ def test_can3_table_has_the_thesis_validation_messages():
     assert [m.mailbox for m in tx] == [f"CAN3_MSG_TX_{i:03d}" for i in range(32)]
 
 
+# Rows of figure 76 that the thesis's text renders legibly: (name, id, DLC, cycle time ms). The
+# DBC follows them; where the figure's text is garbled it continues their five-period cycle.
+FIGURE_76_ROWS = [
+    ("C3RXAAA", 0x300, 1, 100), ("C3RXAAB", 0x301, 2, 50), ("C3RXAAI", 0x308, 1, 10), ("C3RXAAJ", 0x309, 2, 1000),
+    ("C3RXAAK", 0x310, 3, 100), ("C3RXAAQ", 0x316, 1, 50), ("C3RXABA", 0x326, 3, 50), ("C3RXABF", 0x331, 8, 50),
+    ("C3TXAAA", 0x600, 1, 1000), ("C3TXAAB", 0x601, 2, 100), ("C3TXAAJ", 0x609, 2, 10), ("C3TXAAK", 0x610, 3, 1000),
+    ("C3TXAAL", 0x611, 4, 100), ("C3TXAAM", 0x612, 5, 50),
+]
+
+
+def test_can3_table_has_the_legible_rows_of_figure_76():
+    messages = {m.name: m for m in _can3().messages}
+    rows = [(name, messages[name].frame_id, messages[name].dlc, messages[name].period_ms) for name, *_ in FIGURE_76_ROWS]
+    assert rows == FIGURE_76_ROWS
+
+
 def test_can3_figure_77_under_reverse_order():
     table = _can3(MailboxOrder.REVERSE)
     c3rxaaa = next(m for m in table.messages if m.name == "C3RXAAA")
