@@ -187,6 +187,29 @@ def test_qualified_can3_fragment_is_read_by_pya2ldb(tmp_path):
         session.close()
 
 
+def test_conversions_that_would_share_a_name_keep_their_own(write_dbc, tmp_path):
+    """°C and degC both spell CM_CAN_1_degC; Mode has other value texts in B than in A."""
+    path = write_dbc(
+        'BO_ 16 A: 3 ECU\n SG_ T : 0|8@1+ (1,0) [0|0] "°C" PEER\n SG_ Mode : 8|8@1+ (1,0) [0|0] "" PEER\n'
+        ' SG_ Tiny : 16|8@1+ (1e-06,0) [0|0] "V" PEER\n\n'
+        'BO_ 17 B: 2 ECU\n SG_ T : 0|8@1+ (1,0) [0|0] "degC" PEER\n SG_ Mode : 8|8@1+ (1,0) [0|0] "" PEER\n',
+        'VAL_ 16 Mode 0 "Off" 1 "On" ;\nVAL_ 17 Mode 0 "Idle" 3 "Run" ;\n',
+    )
+    files = fixcal_files(load_dbc(path), "ECU", c=False, qualified=True)
+    session = _import_a2l(tmp_path / "crafted.a2l", files.texts["crafted_CAN2_fixcal.a2l"])
+    try:
+        characteristics = {c.name: c.conversion for c in session.query(model.Characteristic).all()}
+        methods = {m.name: m for m in session.query(model.CompuMethod).all()}
+        tables = {t.name: {p.inVal: p.outVal for p in t.pairs} for t in session.query(model.CompuVtab).all()}
+    finally:
+        session.close()
+    assert [characteristics[f"cf{m}_T_VALUE"] for m in "AB"] == ["CM_CAN_1_degC", "CM_CAN_1_degC_2"]
+    assert [methods[characteristics[f"cf{m}_T_VALUE"]].unit for m in "AB"] == ["°C", "degC"]
+    assert [characteristics[f"cf{m}_MODE_VALUE"] for m in "AB"] == ["CM_CAN_Mode", "CM_CAN_B_Mode"]
+    assert (tables["VTAB_CAN_Mode"], tables["VTAB_CAN_B_Mode"]) == ({0: "Off", 1: "On"}, {0: "Idle", 3: "Run"})
+    assert methods["CM_CAN_1em06_V"].format == "%8.6"  # one raw step is 0.000001 V
+
+
 def _blocks(text: str) -> dict[str, str]:
     """Named A2L blocks (COMPU_METHOD, COMPU_VTAB, RECORD_LAYOUT, CHARACTERISTIC) by name, as written."""
     found = {}
