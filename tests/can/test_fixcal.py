@@ -106,6 +106,14 @@ def test_signal_without_a_c_type_is_refused(write_dbc):
         fixcal_files(load_dbc(path), "ECU")
 
 
+def test_file_names_are_ascii_identifiers(write_dbc):
+    path = write_dbc('BO_ 16 M: 1 ECU\n SG_ S : 0|8@1+ (1,0) [0|0] "" PEER\n', name="2 Fahrzeug-Bus_ü.dbc")
+    files = fixcal_files(load_dbc(path), "ECU")
+    assert list(files.texts) == ["dbc_2_Fahrzeug_Bus___fixcal.h", "dbc_2_Fahrzeug_Bus___fixcal.c",
+                                 "dbc_2_Fahrzeug_Bus___fixcal.a2l"]
+    assert "#ifndef DBC_2_FAHRZEUG_BUS___FIXCAL_H" in files.texts["dbc_2_Fahrzeug_Bus___fixcal.h"]
+
+
 def test_float_signal_value_is_a_real32(write_dbc):
     path = write_dbc('BO_ 16 M: 8 ECU\n SG_ F : 0|32@1- (1,0) [-5|5] "V" PEER\n', "SIG_VALTYPE_ 16 F : 1;\n")
     files = fixcal_files(load_dbc(path), "ECU")

@@ -54,7 +54,7 @@ def fixcal_files(dbc: DbcFile, node: str, *, c: bool = True, a2l: bool = True,
         or the master A2L cannot be read or is no A2L.
     """
     calibrations = tuple(fix_calibrations(messages_of(dbc, None, node), qualified=qualified))
-    basename = re.sub(r"\W", "_", dbc.path.stem) + "_fixcal"
+    basename = re.sub(r"[^A-Za-z0-9_]", "_", dbc.path.stem) + "_fixcal"  # a C and ASAP2 identifier: ASCII
     if basename[0].isdigit():  # C and A2L identifiers cannot start with a digit
         basename = f"dbc_{basename}"
     title = f"Fix calibrations of the CAN signals of {dbc.path.name} for node {node}"
