@@ -47,13 +47,13 @@ _INDENT = re.compile(rb"^[ \t]*")
 def callback_lines(messages: Iterable[Message]) -> list[str]:
     """The generated lines (without indentation or line endings) for the node's messages.
 
-    :raises InputError: a message lacks the period (or, received, the timeout) the driver needs.
+    :raises InputError: a message lacks the period the driver needs (a missing timeout is 3 × period).
     """
     lines: list[str] = []
     for message in messages:
         if message.role is None or message.mailbox is None:
             continue
-        if message.period_ms is None or (message.role is Role.RX and message.timeout_ms is None):
+        if message.period_ms is None:
             raise InputError(f"{message.where()}: message {message.name} has no period "
                              "(GenMsgCycleTime); the driver configuration needs one")
         mailbox, enable = message.mailbox, "TRUE" if message.enable else "FALSE"
