@@ -7,7 +7,7 @@ from crafted import timing
 
 from workbench import demo
 from workbench.can.dbc_file import load_dbc
-from workbench.can.model import SignalOfMsg
+from workbench.can.model import SignalOfMsg, messages_of
 from workbench.can.validation import bit_positions, check
 from workbench.errors import InputError
 
@@ -83,6 +83,8 @@ def test_signal_whose_raw_value_fits_no_c_type(write_dbc):
     (finding,) = _findings(path)
     assert _codes([finding]) == [("signal-type", "M", "HALF", 14)]
     assert finding.text == "a float CAN signal is 32 or 64 bits long, not 16"
+    (message,) = messages_of(load_dbc(path), None, None)
+    assert [s.value_type for s in message.signals] == ["float16", "float32"]  # as the DBC says, not float64
 
 
 def test_duplicate_ids_and_names_in_one_file(write_dbc):

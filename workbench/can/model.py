@@ -67,8 +67,9 @@ class SignalOfMsg:
 
     @property
     def value_type(self) -> str:
+        """``unsigned``, ``signed`` or ``float<length>`` (IEEE: float32, float64)."""
         if self.is_float:
-            return "float32" if self.length == 32 else "float64"
+            return f"float{self.length}"
         return "signed" if self.is_signed else "unsigned"
 
     @property
