@@ -45,7 +45,7 @@ class RawMaster:
         self.bus = can.Bus(interface="virtual", channel=channel)
 
     def request(self, cto: bytes, timeout_s: float = 1.0) -> bytes:
-        self.bus.send(can.Message(arbitration_id=MASTER, is_extended_id=False, data=cto))
+        self.bus.send(can.Message(arbitration_id=MASTER, is_extended_id=False, data=cto.ljust(8, b"\0")))  # MAX_DLC_REQUIRED
         while (message := self.bus.recv(timeout_s)) is not None:
             if message.arbitration_id == SLAVE:
                 return bytes(message.data)
@@ -72,7 +72,8 @@ def round_trips_raw(bitrate: int | None, seconds: float) -> float:
 def round_trips_pyxcp(bitrate: int | None, seconds: float) -> float:
     sim, channel = _simulator(bitrate)
     app = create_application_from_config(
-        {"Transport": {"CAN": {"interface": "virtual", "channel": channel, "can_id_master": MASTER, "can_id_slave": SLAVE}}},
+        {"Transport": {"CAN": {"interface": "virtual", "channel": channel, "can_id_master": MASTER, "can_id_slave": SLAVE,
+                             "max_dlc_required": True}}},
         log_level=logging.CRITICAL,
     )
     with sim, Master("can", config=app) as master:

@@ -12,10 +12,11 @@ from workbench.sim.seedkey import compute_key
 
 def pyxcp_master(interface: str, channel: str, can_id_master: int = 0x7F0, can_id_slave: int = 0x7F1,
                  policy=None, timeout_s: float = 2.0) -> Master:
-    """A pyxcp Master on a python-can bus; never reads ``sys.argv``, logs only criticals."""
+    """A pyxcp Master on a python-can bus that pads its frames to DLC 8 as the demo A2L's MAX_DLC_REQUIRED asks;
+    never reads ``sys.argv``, logs only criticals."""
     app = create_application_from_config(
         {"Transport": {"CAN": {"interface": interface, "channel": channel, "can_id_master": can_id_master,
-                               "can_id_slave": can_id_slave}}},
+                               "can_id_slave": can_id_slave, "max_dlc_required": True}}},
         log_level=logging.CRITICAL,
     )
     app.transport.timeout = timeout_s

@@ -83,7 +83,7 @@ def test_the_simulator_books_both_frames_of_a_round_trip():
     ecu = make_ecu()
     master = can.Bus(interface="virtual", channel="timing-rig")
     with Simulator(ecu, {"interface": "virtual", "channel": "timing-rig"}, bitrate=125_000, time_scale=None) as sim:
-        request = message(0x7F0, bytes([0xFF, 0]))
+        request = message(0x7F0, bytes([0xFF, 0]).ljust(8, b"\0"))  # padded: MAX_DLC_REQUIRED
         master.send(request)
         response = master.recv(2.0)
         assert response is not None and response.arbitration_id == 0x7F1

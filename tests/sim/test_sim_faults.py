@@ -8,6 +8,7 @@ import struct
 import can
 import pytest
 from mini_ecu import CAL_GAIN, make_ecu
+from raw_master import RawMaster
 
 from workbench.sim.server import Simulator
 from workbench.sim.xcp.protocol import Cmd, Err
@@ -17,35 +18,13 @@ GET_STATUS = bytes([Cmd.GET_STATUS])
 CONNECT = bytes([Cmd.CONNECT, 0])
 
 
-class RawMaster:
-    def __init__(self, channel: str):
-        self.bus = can.Bus(interface="virtual", channel=channel)
-
-    def send(self, cto: bytes) -> None:
-        self.bus.send(can.Message(arbitration_id=0x7F0, is_extended_id=False, data=cto))
-
-    def responses(self, timeout_s: float = 0.15) -> list[bytes]:
-        """Every response frame until the bus stays quiet for ``timeout_s``."""
-        out = []
-        while (message := self.bus.recv(timeout_s)) is not None:
-            if message.arbitration_id == 0x7F1:
-                out.append(bytes(message.data))
-        return out
-
-    def request(self, cto: bytes) -> list[bytes]:
-        self.send(cto)
-        return self.responses()
-
-
 @pytest.fixture
 def rig():
     ecu = make_ecu()
     channel = f"sim-faults-{next(_channels)}"
-    with Simulator(ecu, {"interface": "virtual", "channel": channel}, time_scale=None) as sim:
-        master = RawMaster(channel)
+    with Simulator(ecu, {"interface": "virtual", "channel": channel}, time_scale=None) as sim, RawMaster(channel) as master:
         assert master.request(CONNECT)[0][0] == 0xFF
         yield sim, master
-        master.bus.shutdown()
 
 
 def test_drop_the_next_response(rig):
@@ -67,6 +46,13 @@ def test_duplicate_and_delay_responses(rig):
     responses = master.responses(timeout_s=0.5)
     assert responses[0] == b"\xff" + struct.pack("<f", 2.0) + bytes(3)  # padded to DLC 8 (MAX_DLC_REQUIRED)
     assert responses[1][0] == 0xFF and len(responses) == 2  # the delayed GET_STATUS answer comes second
+
+
+def test_master_frames_shorter_than_dlc_8_are_ignored(rig):
+    sim, master = rig
+    assert master.request(GET_STATUS, pad=False) == []  # MAX_DLC_REQUIRED binds the master too
+    assert master.request(GET_STATUS)[0][0] == 0xFF
+    assert sim.ecu.faults.fired == []
 
 
 def test_received_frames_can_be_dropped_or_duplicated(rig):

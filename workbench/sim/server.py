@@ -32,6 +32,7 @@ from workbench.sim.scheduler import US_PER_S
 log = logging.getLogger(__name__)
 
 EXTENDED_FLAG = 0x80000000
+MAX_DLC = 8  # classic CAN
 MAX_LAG_S = 0.5  # a clock further behind than this skips ahead instead of catching up
 _CLOCK_POLL_S = 0.05
 
@@ -74,6 +75,7 @@ class Simulator:
         self._master_id = split_can_id(ecu.params.can_id_master)
         self._slave_id = split_can_id(ecu.params.can_id_slave)
         self._pcm_task = None
+        self._short_frame_seen = False
         self.started = False
         self.closed = False
 
@@ -234,6 +236,13 @@ class Simulator:
         return on_frame
 
     def _on_xcp(self, message: can.Message) -> None:
+        if message.is_remote_frame or (self.ecu.params.max_dlc_required and message.dlc != MAX_DLC):
+            # MAX_DLC_REQUIRED binds the master too: a shorter frame is no XCP packet (AUTOSAR CanXcp ignores it)
+            level = logging.DEBUG if self._short_frame_seen else logging.WARNING
+            self._short_frame_seen = True
+            log.log(level, "XCP frame with DLC %d ignored: the A2L says MAX_DLC_REQUIRED, the master must pad to 8",
+                    message.dlc)
+            return
         fault = self.ecu.faults.on_frame("rx")
         if fault is not None and fault.action is FrameAction.DROP:
             return
@@ -250,7 +259,7 @@ class Simulator:
 
     def _send_xcp(self, packet: bytes, droppable: bool = False) -> None:
         if self.ecu.params.max_dlc_required:
-            packet = packet.ljust(8, b"\0")
+            packet = packet.ljust(MAX_DLC, b"\0")
         identifier, extended = self._slave_id
         frame = can.Message(arbitration_id=identifier, is_extended_id=extended, data=packet)
         transmitter = self._transmitters["CAN1"]

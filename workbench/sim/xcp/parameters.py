@@ -47,7 +47,7 @@ class XcpParameters:
     can_id_master: int = 0x7F0  # master -> slave (bit 31 set: extended id)
     can_id_slave: int = 0x7F1  # slave -> master, responses and DTOs
     baudrate: int = 1_000_000
-    max_dlc_required: bool = True  # XCP_ON_CAN MAX_DLC_REQUIRED: the slave pads its frames to DLC 8
+    max_dlc_required: bool = True  # XCP_ON_CAN MAX_DLC_REQUIRED: frames both ways have DLC 8 (shorter ones are ignored)
     max_cto: int = 8
     max_dto: int = 8
     max_bs: int = 42  # _NEXT frames of a master block after its DOWNLOAD/PROGRAM: (1 + 42) * 6 >= 255 bytes
