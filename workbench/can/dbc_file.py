@@ -151,7 +151,9 @@ def _oversized_standard_ids(text: str) -> list[tuple[str, int, int]]:
     return found
 
 
-class _Collect(logging.Handler):
+class _WarningCollector(logging.Handler):
+    """Keeps the messages of the cantools warnings logged during one load."""
+
     def __init__(self) -> None:
         super().__init__(logging.WARNING)
         self.messages: list[str] = []
@@ -162,7 +164,7 @@ class _Collect(logging.Handler):
 
 def _parse(path: Path, text: str, message_lines: dict[str, tuple[int, ...]]) -> Database:
     cantools_log = logging.getLogger("cantools")
-    collector = _Collect()
+    collector = _WarningCollector()
     cantools_log.addHandler(collector)
     try:
         with warnings.catch_warnings(record=True) as caught:
