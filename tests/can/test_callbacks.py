@@ -135,6 +135,15 @@ def test_message_without_period_is_refused_before_writing(tmp_path, write_dbc):
     assert api.read_bytes() == API_C
 
 
+def test_a_node_without_messages_does_not_empty_the_block(tmp_path, write_dbc):
+    dbc = write_dbc('BO_ 16 M: 1 ECU\n SG_ A : 0|8@1+ (1,0) [0|255] "" PEER\n', nodes="ECU PEER OTHER")
+    api = tmp_path / "api.c"
+    api.write_bytes(API_C)
+    with pytest.raises(InputError, match=r"api\.c: the node sends and receives no message"):
+        write_callbacks(api, build_table(load_networks([dbc]), "OTHER").messages)
+    assert api.read_bytes() == API_C
+
+
 def test_motorola_message_gets_motorola_init_data(write_dbc):
     dbc = write_dbc(
         'BO_ 16 M: 2 ECU\n SG_ A : 7|16@0+ (1,0) [0|65535] "" PEER\n',

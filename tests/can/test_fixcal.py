@@ -100,6 +100,12 @@ def test_same_message_collision_is_refused_without_suggesting_qualified_names(wr
             fixcal_files(load_dbc(path), "ECU", qualified=qualified)
 
 
+def test_a_node_without_messages_has_no_fix_calibrations(write_dbc):
+    path = write_dbc('BO_ 16 M: 1 ECU\n SG_ A : 0|8@1+ (1,0) [0|255] "" PEER\n', nodes="ECU PEER OTHER")
+    with pytest.raises(InputError, match=r"crafted_CAN2\.dbc: node OTHER neither sends nor receives a message"):
+        fixcal_files(load_dbc(path), "OTHER")
+
+
 def test_signal_without_a_c_type_is_refused(write_dbc):
     path = write_dbc('BO_ 16 M: 8 ECU\n SG_ F : 0|16@1- (1,0) [0|0] "" PEER\n', "SIG_VALTYPE_ 16 F : 1;\n")
     with pytest.raises(InputError, match=r"crafted_CAN2\.dbc:14: M\.F: a float CAN signal is 32 or 64 bits long"):

@@ -119,10 +119,15 @@ def write_callbacks(api_path: str | Path, messages: Iterable[Message]) -> bool:
 
     Nothing is written when the result equals the file, or when an error is raised.
 
-    :raises InputError: the file cannot be read, its markers are wrong, or a message lacks a period.
+    :raises InputError: the file cannot be read, its markers are wrong, a message lacks a period,
+        or no message has a mailbox (a node without messages would empty the block).
     :raises WorkbenchError: the file cannot be written.
     """
     api_path = Path(api_path)
+    messages = list(messages)
+    if not any(message.role is not None and message.mailbox is not None for message in messages):
+        raise InputError(f"{api_path}: the node sends and receives no message; its driver configuration "
+                         "is left as it is")
     generated = callback_lines(messages)
     try:
         content = api_path.read_bytes()

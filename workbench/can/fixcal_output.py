@@ -50,10 +50,12 @@ def fixcal_files(dbc: DbcFile, node: str, *, c: bool = True, a2l: bool = True,
 
     :param master_a2l: the project's master A2L, whose MOD_COMMON the fragment repeats.
     :param qualified: message-qualified names ``cf<MESSAGE>_<SIGNAL>_EN``/``_VALUE``.
-    :raises InputError: ``node`` is not in the DBC, two signals map to one calibration name,
-        or the master A2L cannot be read or is no A2L.
+    :raises InputError: ``node`` is not in the DBC or has no messages, two signals map to one
+        calibration name, or the master A2L cannot be read or is no A2L.
     """
     calibrations = tuple(fix_calibrations(messages_of(dbc, None, node), qualified=qualified))
+    if not calibrations:
+        raise InputError(f"{dbc.path}: node {node} neither sends nor receives a message: no fix calibrations")
     basename = re.sub(r"[^A-Za-z0-9_]", "_", dbc.path.stem) + "_fixcal"  # a C and ASAP2 identifier: ASCII
     if basename[0].isdigit():  # C and A2L identifiers cannot start with a digit
         basename = f"dbc_{basename}"
