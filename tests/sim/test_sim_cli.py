@@ -1,8 +1,15 @@
-"""``workbench sim``: banner, clean stop, one-line errors."""
+"""``workbench sim``: banner, clean stop (also by Ctrl-C/SIGTERM in a real process), one-line errors."""
 
 from __future__ import annotations
 
 import json
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import pytest
 
 from workbench.cli import main
 
@@ -42,3 +49,39 @@ def test_help_names_the_options(capsys):
     out = capsys.readouterr().out
     for option in ("--pcm", "--pcm-target", "--can2-channel", "--bitrate", "--time-scale", "--unlocked", "--a2l", "--elf", "--s19"):
         assert option in out
+
+
+def _serving_process(*args: str) -> subprocess.Popen:
+    """``workbench sim`` in a process of its own, once it says it serves (fails after 30 s)."""
+    process = subprocess.Popen(
+        [sys.executable, "-c", "from workbench.cli import entry_point; entry_point()", "sim", *args],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )
+    serving = threading.Event()
+
+    def watch() -> None:
+        for line in process.stdout:
+            if line.startswith("serving"):
+                serving.set()
+                return
+
+    threading.Thread(target=watch, daemon=True).start()
+    if not serving.wait(30):
+        process.kill()
+        out, err = process.communicate(timeout=10)
+        pytest.fail(f"workbench sim did not start: {out} {err}")
+    return process
+
+
+@pytest.mark.parametrize("signal_number", [signal.SIGINT, signal.SIGTERM], ids=["ctrl-c", "sigterm"])
+def test_a_signal_stops_the_process_cleanly(signal_number):
+    process = _serving_process("--interface", "virtual", "--channel", f"cli-sim-signal-{signal_number}", "--pcm",
+                               "--bitrate", "1000000")
+    time.sleep(0.3)  # the clock, the PCM and the transmitter are running
+    process.send_signal(signal_number)
+    try:
+        out, err = process.communicate(timeout=15)
+    finally:
+        process.kill()
+    assert process.returncode == 0, err
+    assert out.rstrip().endswith("workbench sim: stopped") and err == ""
