@@ -2,6 +2,7 @@
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -10,6 +11,7 @@ from workbench import demo
 from workbench.a2l.check import check
 from workbench.a2l.document import A2lDocument
 from workbench.a2l.source import decode_source
+from workbench.a2l.tokens import _OPAQUE, _simple_opaque_spans
 from workbench.a2l.xcp import read_xcp_config
 from workbench.errors import A2lParseError
 
@@ -61,3 +63,12 @@ def test_mutated_files_parse_or_raise_a2l_parse_error(index, operations):
 @pytest.mark.parametrize("path", FILES, ids=lambda p: p.name)
 def test_unmutated_files_parse(path):
     A2lDocument.from_source(decode_source(path.read_bytes(), path))
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(index=st.integers(0, len(FILES) - 1), operations=st.lists(mutation, min_size=0, max_size=4))
+def test_numpy_string_and_comment_finder_agrees_with_the_regex(index, operations):
+    data = mutate(FILES[index].read_bytes(), operations)
+    simple = _simple_opaque_spans(data, np.frombuffer(data, np.uint8))
+    if simple is not None:  # None: the file is not simple, and the regex decides alone
+        assert simple.tolist() == [list(match.span()) for match in _OPAQUE.finditer(data)]

@@ -6,14 +6,16 @@ arrays; the compiler is the oracle, read back through .symtab and the file bytes
 
 import shutil
 import struct
+from pathlib import Path
 
 import pytest
-from conftest import DWARF_ELFS, FIXTURES
 
 from workbench.elf.debugdata import DebugData
 from workbench.elf.symbols import ElfSymbols
 from workbench.errors import InputError, UnknownSymbolError
 
+FIXTURES = Path(__file__).parent / "fixtures"
+DWARF_ELFS = ["types_dwarf5.elf", "types_dwarf4.elf", "types_dwarf2.elf", "types_m32.elf"]
 # A2L spellings of the paths in types.c's expected_address[], in order
 EXPECTED = ["zsScalar", "zvLut", "zvLut.Table[3]", "outer.b.c", "outer.arr[2].d[1]", "outer.arr._3_",
             "matrix[2][3]", "matrix._4_", "vector._7_", "bits.after", "u.bytes[2]", "state", "node.value",

@@ -7,9 +7,9 @@ was read with; text inserted by an edit uses the file's newline style.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from operator import itemgetter
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 from workbench.fileio import atomic_write_bytes
 
@@ -17,8 +17,7 @@ if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument, Block
 
 
-@dataclass(frozen=True, order=True)
-class Edit:
+class Edit(NamedTuple):
     start: int  # byte offset in the document buffer
     end: int  # exclusive; == start for an insertion
     text: bytes
@@ -28,7 +27,7 @@ def apply_edits(data: bytes, edits: list[Edit]) -> bytes:
     """``data`` with every edit applied; edits must not overlap (insertions at one offset keep their order)."""
     if not edits:
         return data
-    ordered = sorted(edits, key=lambda e: (e.start, e.end))
+    ordered = sorted(edits, key=_start)
     pieces = []
     position = 0
     for edit in ordered:
@@ -39,6 +38,9 @@ def apply_edits(data: bytes, edits: list[Edit]) -> bytes:
         position = edit.end
     pieces.append(data[position:])
     return b"".join(pieces)
+
+
+_start = itemgetter(0)  # stable: insertions at one offset keep their order
 
 
 def replace_token(doc: "A2lDocument", token: int, text: bytes) -> Edit:

@@ -8,13 +8,13 @@ from __future__ import annotations
 
 import enum
 from collections import Counter
-from dataclasses import asdict, dataclass, field
-from typing import TYPE_CHECKING
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, NamedTuple
 
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
 
-__all__ = ["ConflictPolicy", "Finding", "Report", "Severity", "UpdateMode", "finding_at"]
+__all__ = ["ConflictPolicy", "Finding", "Report", "Severity", "UpdateMode", "finding_at", "findings_at"]
 
 
 class UpdateMode(enum.Enum):
@@ -40,9 +40,11 @@ class Severity(enum.IntEnum):
     ERROR = 2
 
 
-@dataclass(frozen=True)
-class Finding:
-    """One thing an operation did or found, located in a file (line and column 1-based)."""
+class Finding(NamedTuple):
+    """One thing an operation did or found, located in a file (line and column 1-based).
+
+    A named tuple, not a dataclass: an update of a large file makes tens of thousands.
+    """
 
     kind: str  # e.g. "address-updated", "symbol-not-found", "renamed", "undefined-reference"
     name: str  # the A2L object (or symbol) concerned
@@ -62,7 +64,7 @@ class Finding:
         return f"{where}{self.severity.name.lower()}: {self.message}"
 
     def to_dict(self) -> dict:
-        data = asdict(self)
+        data = self._asdict()
         data["severity"] = self.severity.name.lower()
         return data
 
@@ -72,6 +74,15 @@ def finding_at(doc: "A2lDocument", token: int, kind: str, name: str, message: st
     """A finding located at a token of ``doc``."""
     file, line, column = doc.token_position(token)
     return Finding(kind, name, message, file, line, column, block, severity)
+
+
+def findings_at(doc: "A2lDocument", items: list[tuple]) -> list[Finding]:
+    """Many findings at once: ``items`` are (token, kind, name, message, block, severity) tuples;
+    their positions are computed in one vectorized pass."""
+    starts = doc.tokens.starts_list
+    positions = doc.source_map.positions([starts[item[0]] for item in items])
+    return [Finding(kind, name, message, file, line, column, block, severity)
+            for (_, kind, name, message, block, severity), (file, line, column) in zip(items, positions)]
 
 
 @dataclass

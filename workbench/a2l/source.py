@@ -55,6 +55,16 @@ class SourceFile:
         column = len(self.data[line_start:offset].decode(self.encoding, "replace")) + 1
         return line, column
 
+    def positions(self, offsets: list[int]) -> list[tuple[int, int]]:
+        """:meth:`position` of many offsets at once (one vectorized search)."""
+        starts = self.line_starts()
+        lines = np.searchsorted(starts, offsets, side="right").tolist()
+        line_starts = starts[np.asarray(lines, dtype=np.int64) - 1].tolist() if offsets else []
+        data, encoding = self.data, self.encoding
+        return [(line, offset - start + 1 if data[start:offset].isascii()
+                 else len(data[start:offset].decode(encoding, "replace")) + 1)
+                for line, start, offset in zip(lines, line_starts, offsets)]
+
     def error(self, message: str, offset: int) -> A2lParseError:
         line, column = self.position(offset)
         return A2lParseError(message, self.name, line, column)
@@ -165,6 +175,13 @@ class SourceMap:
         """(file name, line, column) of a buffer offset."""
         source, local = self.locate(offset)
         return (source.name, *source.position(local))
+
+    def positions(self, offsets: list[int]) -> list[tuple[str, int, int]]:
+        """:meth:`position` of many buffer offsets (vectorized when the buffer is one file)."""
+        if len(self.segments) == 1:
+            source = self.main
+            return [(source.name, line, column) for line, column in source.positions(offsets)]
+        return [self.position(offset) for offset in offsets]
 
     def error(self, message: str, offset: int) -> A2lParseError:
         source, local = self.locate(offset)

@@ -26,7 +26,7 @@ _IN_COMMENT, _IN_STRING = 1, 2
 class Tokens:
     """Token ``i`` is ``data[starts[i]:ends[i]]``; strings keep their quotes."""
 
-    __slots__ = ("data", "starts", "ends", "_starts_list", "_ends_list")
+    __slots__ = ("data", "starts", "ends", "_starts_list", "_ends_list", "_lengths", "_matches")
 
     def __init__(self, data: bytes, starts: np.ndarray, ends: np.ndarray):
         self.data = data
@@ -34,6 +34,8 @@ class Tokens:
         self.ends = ends
         self._starts_list: list[int] | None = None
         self._ends_list: list[int] | None = None
+        self._lengths: np.ndarray | None = None
+        self._matches: dict[bytes, np.ndarray] = {}
 
     def __len__(self) -> int:
         return len(self.starts)
@@ -64,9 +66,17 @@ class Tokens:
 
     def matching(self, word: bytes, candidates: np.ndarray | None = None) -> np.ndarray:
         """Indices of the tokens (among ``candidates``, default all) whose bytes equal ``word``."""
-        indices = np.arange(len(self.starts)) if candidates is None else candidates
-        lengths = self.ends[indices] - self.starts[indices]
-        indices = indices[lengths == len(word)]
+        if candidates is None:
+            found = self._matches.get(word)
+            if found is None:
+                if self._lengths is None:
+                    self._lengths = self.ends - self.starts
+                found = self._matches[word] = self._compare(word, np.flatnonzero(self._lengths == len(word)))
+            return found
+        lengths = self.ends[candidates] - self.starts[candidates]
+        return self._compare(word, candidates[lengths == len(word)])
+
+    def _compare(self, word: bytes, indices: np.ndarray) -> np.ndarray:
         if not len(indices) or not word:
             return indices
         buffer = np.frombuffer(self.data, np.uint8)
@@ -84,8 +94,7 @@ def tokenize(data: bytes, source_map: SourceMap) -> Tokens:
         empty = np.zeros(0, dtype=np.int64)
         return Tokens(data, empty, empty)
     buffer = np.frombuffer(data, np.uint8)
-    flat = itertools.chain.from_iterable(match.span() for match in _OPAQUE.finditer(data))
-    spans = np.fromiter(flat, dtype=np.int64).reshape(-1, 2)
+    spans = opaque_spans(data, buffer)
     opaque_starts, opaque_ends = spans[:, 0], spans[:, 1]
     is_string = buffer[opaque_starts] == 0x22
     _check_terminated(data, buffer, opaque_starts, opaque_ends, is_string, source_map)
@@ -108,6 +117,59 @@ def tokenize(data: bytes, source_map: SourceMap) -> Tokens:
     head = cuts[:-1] if cuts[-1] == size else cuts
     tail = cuts[1:] if cuts[0] == 0 else cuts
     return Tokens(data, head[solid[head]], tail[solid[tail - 1]])
+
+
+def opaque_spans(data: bytes, buffer: np.ndarray) -> np.ndarray:
+    """(start, end) of every string and comment, in order, as an (n, 2) array."""
+    spans = _simple_opaque_spans(data, buffer)
+    if spans is None:
+        flat = itertools.chain.from_iterable(match.span() for match in _OPAQUE.finditer(data))
+        spans = np.fromiter(flat, dtype=np.int64).reshape(-1, 2)
+    return spans
+
+
+def _simple_opaque_spans(data: bytes, buffer: np.ndarray) -> np.ndarray | None:
+    """The spans found with numpy alone, valid when the file is simple: each quote closes the
+    string the one before opened (no escaped or doubled quotes, no quote inside a comment).
+    None when the file is not that simple; the regex then decides (and reports problems)."""
+    quotes = np.flatnonzero(buffer == 0x22)
+    if len(quotes) % 2 or (len(quotes) and (buffer[quotes[quotes > 0] - 1] == 0x5C).any()):
+        return None
+    opens, closes = quotes[0::2], quotes[1::2] + 1
+    if len(opens) > 1 and (opens[1:] == closes[:-1]).any():  # "" inside a string, or strings that touch
+        return None
+    slashes = np.flatnonzero(buffer[:-1] == 0x2F)
+    following = buffer[slashes + 1]
+    candidates = slashes[(following == 0x2A) | (following == 0x2F)]
+    if len(candidates) and len(opens):  # a comment start inside a string is text
+        owner = np.searchsorted(opens, candidates, side="right") - 1
+        inside = (owner >= 0) & (candidates < closes[np.maximum(owner, 0)])
+        candidates = candidates[~inside]
+    comments = []
+    reached = 0
+    for start in candidates.tolist():
+        if start < reached:  # inside the previous comment
+            continue
+        if data[start + 1] == 0x2A:
+            end = data.find(b"*/", start + 2)
+            if end < 0:
+                return None
+            end += 2
+        else:
+            end = data.find(b"\n", start)
+            end = len(data) if end < 0 else end
+        comments.append((start, end))
+        reached = end
+    strings = np.stack((opens, closes), axis=1) if len(opens) else np.zeros((0, 2), dtype=np.int64)
+    if not comments:
+        return strings.astype(np.int64)
+    comments = np.asarray(comments, dtype=np.int64)
+    holder = np.searchsorted(comments[:, 0], quotes, side="right") - 1
+    held = holder >= 0
+    if (quotes[held] < comments[holder[held], 1]).any():  # a quote inside a comment
+        return None
+    spans = np.concatenate((strings, comments)).astype(np.int64)
+    return spans[np.argsort(spans[:, 0], kind="stable")]
 
 
 def _check_terminated(data: bytes, buffer: np.ndarray, starts: np.ndarray, ends: np.ndarray,

@@ -31,7 +31,7 @@ def parse_int(raw: bytes) -> int:
     """An A2L integer (decimal or 0x hex, optional sign); raises ValueError otherwise."""
     if not is_int(raw):
         raise ValueError(f"not an integer: {raw.decode('latin-1')!r}")
-    return int(raw, 0) if raw.lstrip(b"+-")[:2].lower() == b"0x" else int(raw, 10)
+    return int(raw, 16) if b"x" in raw or b"X" in raw else int(raw, 10)
 
 
 def parse_number(raw: bytes) -> int | float:
@@ -59,12 +59,26 @@ def quote_string(text: str, encoding: str) -> bytes:
 def format_int_like(old: bytes, value: int) -> bytes:
     """``value`` written the way ``old`` was: hex stays hex with the same prefix, letter case and
     (where the value fits) digit count; decimal stays decimal."""
-    stripped = old.lstrip(b"+-")
-    if stripped[:2].lower() != b"0x":
-        return str(value).encode("ascii")
-    prefix, digits = stripped[:2], stripped[2:]
-    sign = "-" if value < 0 else ""
-    text = f"{abs(value):0{len(digits)}X}"
-    if any(97 <= c <= 102 for c in digits) and not any(65 <= c <= 70 for c in digits):
-        text = text.lower()
-    return sign.encode("ascii") + prefix + text.encode("ascii")
+    template = _TEMPLATES.get(old)
+    if template is None:
+        template = _template(old)
+        if len(_TEMPLATES) < 4096:  # placeholders repeat; the addresses of an updated file do not
+            _TEMPLATES[old] = template
+    hex_template, negative_template = template
+    if value < 0:
+        return negative_template % -value
+    return hex_template % value
+
+
+_TEMPLATES: dict[bytes, tuple[bytes, bytes]] = {}  # an update formats the same placeholder thousands of times
+
+
+def _template(old: bytes) -> tuple[bytes, bytes]:
+    """printf templates (for values >= 0, for the magnitude of negative ones) in ``old``'s style."""
+    if b"x" not in old and b"X" not in old:
+        return b"%d", b"-%d"
+    head = old.lstrip(b"+-")
+    digits = head[2:]
+    conversion = b"x" if digits.islower() else b"X"  # a-f present and A-F absent: lower case
+    body = head[:2] + b"%0" + str(len(digits)).encode() + conversion
+    return body, b"-" + body

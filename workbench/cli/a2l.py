@@ -57,6 +57,9 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     update.add_argument("--types", action="store_true",
                         help="also check and update data types, array sizes, bit masks and limits from DWARF")
     update.add_argument("--no-epk", action="store_true", help="leave MOD_PAR EPK and ADDR_EPK alone")
+    update.add_argument("--validate", action="store_true",
+                        help="also check the whole file against the ASAP2 grammar first (as `check` does); "
+                             "without it only the structure and the tokens the update touches are checked")
     update.add_argument("--epk-symbol", metavar="NAME", help="the ELF variable holding the EPK (default: EPK/epk, "
                         "then the .epk section)")
     _cache_options(update)
@@ -122,7 +125,7 @@ def _update(args: argparse.Namespace) -> int:
         with ProgressBar("updating", enabled=None if not args.json else False) as progress:
             report = update_file(args.a2l, args.elf, args.output, mode=mode, types=args.types, epk=not args.no_epk,
                                  epk_symbol=args.epk_symbol, cache_dir=args.cache_dir, use_cache=not args.no_cache,
-                                 progress=progress)
+                                 validate=args.validate, report_addresses=args.verbose or args.json, progress=progress)
     except UpdateFailed as exc:
         _print_report(exc.report, args, summary=f"{exc}; nothing written")
         return 1

@@ -9,9 +9,6 @@ from __future__ import annotations
 
 import sys
 
-from rich.console import Console
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
-
 
 class ProgressBar:
     """``with ProgressBar("updating") as progress: job(progress=progress)``."""
@@ -20,11 +17,14 @@ class ProgressBar:
         self.description = description
         self.enabled = sys.stderr.isatty() if enabled is None else enabled
         self.cancelled = False
-        self._bar: Progress | None = None
+        self._bar = None
         self._task = None
 
     def __enter__(self) -> "ProgressBar":
-        if self.enabled:
+        if self.enabled:  # rich is imported only when a bar is shown: it costs a noticeable start-up time
+            from rich.console import Console
+            from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
             self._bar = Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
                                  TimeElapsedColumn(), console=Console(stderr=True), transient=True)
             self._bar.start()

@@ -19,7 +19,7 @@ from workbench.fileio import atomic_write_bytes
 
 log = logging.getLogger(__name__)
 
-FORMAT = 1  # bump when the cached structures change
+FORMAT = 2  # bump when the cached structures change
 
 
 def default_cache_dir() -> Path:

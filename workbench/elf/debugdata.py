@@ -9,7 +9,7 @@ run against the same ELF does not read DWARF at all.
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
+from typing import NamedTuple
 from pathlib import Path
 
 from elftools.elf.elffile import ELFFile
@@ -28,8 +28,7 @@ _DWARF_SECTIONS = (".debug_info", ".debug_abbrev", ".debug_str", ".debug_line_st
                    ".debug_addr")
 
 
-@dataclass(frozen=True)
-class ResolvedSymbol:
+class ResolvedSymbol(NamedTuple):
     """Where a symbol path lives: ``address`` and ``size`` in bytes."""
 
     path: str
@@ -39,12 +38,6 @@ class ResolvedSymbol:
     source: str  # "dwarf" or "symtab"
     bit_size: int | None = None  # bitfield members
     bit_position: int | None = None  # lowest bit of a bitfield in its storage unit
-
-
-@dataclass(frozen=True)
-class _Variable:
-    address: int | None
-    type_offset: int | None
 
 
 class DebugData:
@@ -64,12 +57,14 @@ class DebugData:
         cached = self._cache.load(self.path) if self._cache is not None else None
         self.from_cache = cached is not None
         if cached is not None:
-            self._variables: dict[str, _Variable] = cached["variables"]
+            # name -> (address or None, DIE offset of the type or None); tuples keep the cache small and fast
+            self._variables: dict[str, tuple[int | None, int | None]] = cached["variables"]
             self._types: dict[int, CType] = cached["types"]
         else:
             self._variables = self._read_variables(progress) if self.elf.has_dwarf else {}
             self._types = {}
         self._resolver: TypeResolver | None = None
+        self._walks: dict[tuple, tuple | PathError] = {}
         self._stored_types = len(self._types) if cached is not None else -1
 
     def __enter__(self) -> "DebugData":
@@ -93,30 +88,59 @@ class DebugData:
     def resolve(self, path: str) -> ResolvedSymbol:
         """Address, size and type of an A2L symbol path; raises :class:`UnknownSymbolError`
         (with the reason) when the ELF does not have it."""
-        if path.isidentifier():  # the common case: a plain variable name
-            base, steps = path, []
-        else:
-            try:
-                base, steps = split_path(path)
-            except PathError as exc:
-                raise UnknownSymbolError(path, str(exc)) from None
+        cut = _base_length(path)
+        base, suffix = path[:cut], path[cut:]
         variable = self._variables.get(base)
-        symbol = self.elf.symbols.get(base)
         if variable is not None:
-            address = variable.address if variable.address is not None else (symbol.address if symbol else None)
-            if address is None:
-                raise UnknownSymbolError(path, "the variable has no static address (optimised out?)")
-            ctype = self._type(variable.type_offset)
-            try:
-                offset, reached, bit_size, bit_position = walk(ctype, steps)
-            except PathError as exc:
-                raise UnknownSymbolError(path, str(exc)) from None
+            address, type_offset = variable
+            if address is None:  # DWARF without a location: the symbol table may still know it
+                symbol = self.elf.symbols.get(base)
+                if symbol is None:
+                    raise UnknownSymbolError(path, "the variable has no static address (optimised out?)")
+                address = symbol.address
+            offset, reached, bit_size, bit_position = self._walk(path, type_offset, suffix)
             return ResolvedSymbol(path, address + offset, reached.size, reached, "dwarf", bit_size, bit_position)
+        try:
+            base, steps = split_path(path)
+        except PathError as exc:
+            raise UnknownSymbolError(path, str(exc)) from None
+        symbol = self.elf.symbols.get(base)
         if symbol is not None and symbol.kind != "function":
             if steps:
                 raise UnknownSymbolError(path, f"{self.path.name} has no DWARF type of {base!r} to find members in")
             return ResolvedSymbol(path, symbol.address, symbol.size, None, "symtab")
         raise UnknownSymbolError(path, self.path.name)
+
+    def _walk(self, path: str, type_offset: int | None, suffix: str) -> tuple[int, CType, int | None, int | None]:
+        """The member/element ``suffix`` (".b[2].c") of a variable of this type, memoised: many
+        variables share a type, so ``x.in.phys`` is worked out once for all of them."""
+        key = (type_offset, suffix)
+        found = self._walks.get(key)
+        if found is None:
+            ctype = self._type(type_offset)
+            try:
+                _, steps = split_path("x" + suffix)
+                found = walk(ctype, steps)
+            except PathError as exc:
+                found = exc
+            self._walks[key] = found
+        if isinstance(found, PathError):
+            raise UnknownSymbolError(path, str(found))
+        return found
+
+    def address_of(self, path: str) -> int | None:
+        """Just the address of a symbol path (None when unknown): the hot path of an address update."""
+        variable = self._variables.get(path)
+        if variable is not None and variable[0] is not None:
+            return variable[0]
+        cut = _base_length(path)
+        variable = self._variables.get(path[:cut])
+        if variable is not None and variable[0] is not None and cut < len(path):
+            walked = self._walks.get((variable[1], path[cut:]))
+            if walked is not None and not isinstance(walked, PathError):
+                return variable[0] + walked[0]  # a member path of a type already walked
+        found = self.find(path)
+        return found.address if found is not None else None
 
     def find(self, path: str) -> ResolvedSymbol | None:
         try:
@@ -156,17 +180,17 @@ class DebugData:
             self._reader = dwarf.DwarfReader(sections, self.elf.little_endian)
         return self._reader
 
-    def _read_variables(self, progress: Progress | None) -> dict[str, _Variable]:
+    def _read_variables(self, progress: Progress | None) -> dict[str, tuple[int | None, int | None]]:
         try:
             found = self._dwarf().global_variables(progress)
         except (dwarf.DwarfError, IndexError, ValueError) as exc:
             raise InputError(f"{self.path}: unreadable DWARF ({exc})") from None
-        variables: dict[str, _Variable] = {}
+        variables: dict[str, tuple[int | None, int | None]] = {}
         for variable in found:
             known = variables.get(variable.name)
             # a definition (with an address) wins over a declaration met earlier
-            if known is None or (known.address is None and variable.address is not None):
-                variables[variable.name] = _Variable(variable.address, variable.type_offset)
+            if known is None or (known[0] is None and variable.address is not None):
+                variables[variable.name] = (variable.address, variable.type_offset)
         return variables
 
     def _type(self, offset: int | None) -> CType:
@@ -178,3 +202,11 @@ class DebugData:
             return self._resolver.resolve(offset)
         except (dwarf.DwarfError, IndexError, ValueError) as exc:
             raise InputError(f"{self.path}: unreadable DWARF type at 0x{offset or 0:x} ({exc})") from None
+
+
+def _base_length(path: str) -> int:
+    """Length of the variable name at the start of a path (up to the first '.' or '[')."""
+    dot, bracket = path.find("."), path.find("[")
+    if dot < 0:
+        return bracket if bracket >= 0 else len(path)
+    return dot if bracket < 0 or dot < bracket else bracket

@@ -26,6 +26,10 @@ AT_CONST_VALUE, AT_UPPER_BOUND, AT_ABSTRACT_ORIGIN, AT_COUNT, AT_MEMBER_LOCATION
 AT_DECLARATION, AT_ENCODING, AT_EXTERNAL, AT_SPECIFICATION, AT_TYPE = 0x3C, 0x3E, 0x3F, 0x47, 0x49
 AT_DATA_BIT_OFFSET, AT_STR_OFFSETS_BASE, AT_ADDR_BASE = 0x6B, 0x72, 0x73
 
+_VARIABLE_ATTRS = frozenset({AT_SIBLING, AT_NAME, AT_TYPE, AT_LOCATION, AT_SPECIFICATION, AT_ABSTRACT_ORIGIN,
+                             AT_DECLARATION})
+_SIBLING = frozenset({AT_SIBLING})
+
 _OP_ADDR, _OP_PLUS_UCONST, _OP_ADDRX, _OP_GNU_ADDR_INDEX = 0x03, 0x23, 0xA1, 0xFB
 
 _FIXED_SIZE = {0x0B: 1, 0x05: 2, 0x06: 4, 0x07: 8, 0x0C: 1, 0x11: 1, 0x12: 2, 0x13: 4, 0x14: 8, 0x1E: 16,
@@ -77,6 +81,7 @@ class DwarfReader:
         self.addresses = sections.get(".debug_addr", b"")
         self.order = "<" if little_endian else ">"
         self._abbrev_tables: dict[int, dict[int, tuple[int, bool, tuple]]] = {}
+        self._plan_cache: dict[tuple, dict[int, tuple[int, bool, tuple]]] = {}
         self.units = self._read_units()
         self._unit_starts = [unit.offset for unit in self.units]
 
@@ -219,22 +224,74 @@ class DwarfReader:
         return variables
 
     def _collect(self, parent: Die, variables: list[GlobalVariable]) -> None:
+        """The variables among ``parent``'s children; other DIEs are skipped without decoding them."""
         unit = parent.unit
-        offset = parent.next_offset
-        while offset < unit.end:
-            die = self.die(offset, unit)
-            if die is None:
+        plans = self._plans(unit)
+        data, end, offset = self.info, unit.end, parent.next_offset
+        while offset < end:
+            code = data[offset]
+            position = offset + 1
+            if code >= 0x80:
+                code, position = _uleb(data, offset)
+            if code == 0:
                 break
-            if die.tag == TAG_VARIABLE:
-                variable = self._variable(die)
+            tag, has_children, plan = plans[code]
+            if tag == TAG_NAMESPACE:
+                die = self.die(offset, unit)
+                if die.has_children:
+                    self._collect(die, variables)
+                offset = self._after(die)
+                continue
+            attrs, position = self._decode(plan, position, unit, _VARIABLE_ATTRS if tag == TAG_VARIABLE else _SIBLING)
+            if tag == TAG_VARIABLE:
+                variable = self._variable(attrs, unit, offset)
                 if variable is not None:
                     variables.append(variable)
-            elif die.tag == TAG_NAMESPACE and die.has_children:
-                self._collect(die, variables)
-            offset = self._after(die)
+            sibling = attrs.get(AT_SIBLING)
+            if not has_children:
+                offset = position
+            elif sibling is not None and sibling > offset:
+                offset = sibling
+            else:
+                offset = self._after(self.die(offset, unit))
 
-    def _variable(self, die: Die) -> GlobalVariable | None:
-        attrs = die.attrs
+    def _plans(self, unit: Unit) -> dict[int, tuple[int, bool, tuple]]:
+        """Per abbreviation: (tag, has children, ((attribute, form, bytes or -1 when variable), ...))."""
+        key = (unit.abbrev_offset, unit.offset_size, unit.address_size, unit.version)
+        plans = self._plan_cache.get(key)
+        if plans is None:
+            sizes = {0x0E: unit.offset_size, 0x1F: unit.offset_size, 0x17: unit.offset_size,
+                     0x10: unit.address_size if unit.version == 2 else unit.offset_size,
+                     0x01: unit.address_size, 0x19: 0, 0x21: 0, 0x1D: unit.offset_size}
+            plans = {}
+            for code, (tag, has_children, specs) in self._abbrevs(unit.abbrev_offset).items():
+                steps = tuple((attr, form, _FIXED_SIZE.get(form, sizes.get(form, -1))) for attr, form, _ in specs)
+                plans[code] = (tag, has_children, steps)
+            self._plan_cache[key] = plans
+        return plans
+
+    def _decode(self, plan: tuple, position: int, unit: Unit, wanted: frozenset) -> tuple[dict, int]:
+        """Decode the ``wanted`` attributes of one DIE and step over the others; returns them and the
+        offset after the attributes."""
+        data = self.info
+        attrs = {}
+        for attr, form, size in plan:
+            if attr in wanted:
+                attrs[attr], position = self._read_form(form, position, unit, None)
+            elif size >= 0:
+                position += size
+            elif form in (0x18, 0x09):  # exprloc, block: uleb length
+                length, position = _uleb(data, position)
+                position += length
+            elif form == 0x0A:
+                position += 1 + data[position]
+            elif form == 0x08:
+                position = data.index(b"\0", position) + 1
+            else:
+                _, position = self._read_form(form, position, unit, None)
+        return attrs, position
+
+    def _variable(self, attrs: dict, unit: Unit, offset: int) -> GlobalVariable | None:
         name, type_offset = attrs.get(AT_NAME), attrs.get(AT_TYPE)
         spec = attrs.get(AT_SPECIFICATION) or attrs.get(AT_ABSTRACT_ORIGIN)
         if isinstance(spec, int) and (name is None or type_offset is None):
@@ -244,10 +301,10 @@ class DwarfReader:
                 type_offset = type_offset or declaration.attrs.get(AT_TYPE)
         if not isinstance(name, str):
             return None
-        address = static_address(attrs.get(AT_LOCATION), die.unit.address_size, self.order)
+        address = static_address(attrs.get(AT_LOCATION), unit.address_size, self.order)
         if address is None and attrs.get(AT_DECLARATION):
             return None
-        return GlobalVariable(name, address, type_offset if isinstance(type_offset, int) else None, die.offset)
+        return GlobalVariable(name, address, type_offset if isinstance(type_offset, int) else None, offset)
 
     # -- forms ----------------------------------------------------------------------------
     def _read_form(self, form: int, position: int, unit: Unit, implicit) -> tuple[object, int]:

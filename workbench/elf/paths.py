@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from workbench.elf.ctypes_model import CType
 
@@ -15,8 +15,7 @@ class PathError(ValueError):
     """A path step does not fit the type it is applied to (no such member, index out of range)."""
 
 
-@dataclass(frozen=True)
-class Step:
+class Step(NamedTuple):
     member: str | None = None  # ".name" (also "._3_", which may be an index: see index)
     index: int | None = None  # "[3]", or the number in "._3_"
 
@@ -26,6 +25,10 @@ def split_path(path: str) -> tuple[str, list[Step]]:
 
     Raises :class:`PathError` for a path that is not of this form.
     """
+    if "[" not in path and path.isascii() and path.replace(".", "_").isidentifier() \
+            and ".." not in path and path[-1] != ".":  # "a.b._3_": much faster than the regex walk
+        parts = path.split(".")
+        return parts[0], [Step(part, _old_index(part)) for part in parts[1:]]
     match = re.match(r"[A-Za-z_][A-Za-z0-9_]*", path)
     if match is None:
         raise PathError(f"{path!r} is not a C variable path")
@@ -37,12 +40,19 @@ def split_path(path: str) -> tuple[str, list[Step]]:
             raise PathError(f"{path!r}: unexpected {path[position:]!r}")
         member, index = step.groups()
         if member is not None:
-            old = _OLD_INDEX.fullmatch(member)
-            steps.append(Step(member, int(old.group(1)) if old else None))
+            steps.append(Step(member, _old_index(member)))
         else:
             steps.append(Step(index=int(index)))
         position = step.end()
     return match.group(), steps
+
+
+def _old_index(member: str) -> int | None:
+    """The number in an old-style array index ``_3_``, None for a member name."""
+    if member[0] != "_" or member[-1] != "_":
+        return None
+    old = _OLD_INDEX.fullmatch(member)
+    return int(old.group(1)) if old else None
 
 
 def walk(ctype: CType, steps: list[Step]) -> tuple[int, CType, int | None, int | None]:

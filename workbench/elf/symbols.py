@@ -54,8 +54,9 @@ class ElfSymbols:
                 self.elfclass = elf.elfclass
                 self.machine = elf["e_machine"]
                 self.sections = self._read_sections(elf)
-                self._symbols = self._read_symtab(elf, handle)
+                self._raw_symtab = self._read_raw_symtab(elf, handle)
                 self.has_dwarf = elf.has_dwarf_info()
+                self._symbols: dict[str, Symbol] | None = None
         except FileNotFoundError as exc:
             raise InputError(f"{self.path}: no such file") from exc
         except (ELFError, ValueError, OSError) as exc:
@@ -85,10 +86,12 @@ class ElfSymbols:
             )
         return sections
 
-    def _read_symtab(self, elf: ELFFile, handle) -> dict[str, Symbol]:
+    @staticmethod
+    def _read_raw_symtab(elf: ELFFile, handle) -> tuple[np.ndarray, bytes, list[str]] | None:
+        """The symbol table as one numpy record array, its string table and the section names."""
         symtab = elf.get_section_by_name(".symtab")
         if symtab is None:
-            return {}
+            return None
         strtab = elf.get_section(symtab["sh_link"])
         order = "<" if elf.little_endian else ">"
         if elf.elfclass == 64:
@@ -99,8 +102,12 @@ class ElfSymbols:
         handle.seek(symtab["sh_offset"])
         table = np.frombuffer(handle.read(symtab["sh_size"]), dtype=dtype)
         handle.seek(strtab["sh_offset"])
-        strings = handle.read(strtab["sh_size"])
-        names_by_index = [s.name for s in elf.iter_sections()]
+        return table, handle.read(strtab["sh_size"]), [s.name for s in elf.iter_sections()]
+
+    def _read_symtab(self) -> dict[str, Symbol]:
+        if self._raw_symtab is None:
+            return {}
+        table, strings, names_by_index = self._raw_symtab
         symbols: dict[str, Symbol] = {}
         for name_off, info, shndx, value, size in zip(
             table["name"].tolist(), table["info"].tolist(), table["shndx"].tolist(),
@@ -118,11 +125,14 @@ class ElfSymbols:
 
     @property
     def symbols(self) -> dict[str, Symbol]:
+        """Defined symbols by name (decoded on first use: a DWARF lookup may never need them)."""
+        if self._symbols is None:
+            self._symbols = self._read_symtab()
         return self._symbols
 
     def symbol(self, name: str) -> Symbol:
         try:
-            return self._symbols[name]
+            return self.symbols[name]
         except KeyError:
             raise UnknownSymbolError(name, str(self.path)) from None
 
