@@ -12,6 +12,7 @@ from workbench.a2l.update import UpdateFailed, update, update_file
 from workbench.a2l.values import is_number
 from workbench.elf.debugdata import DebugData
 from workbench.elf.symbols import ElfSymbols
+from workbench.errors import A2lParseError
 
 ELF_FIXTURES = Path(__file__).parents[1] / "elf" / "fixtures"
 ELF = ELF_FIXTURES / "types_dwarf5.elf"
@@ -179,3 +180,31 @@ def test_pya2ldb_accepts_the_updated_file(tmp_path, source):
     counts = pya2l_import(out)
     assert (counts["MEASUREMENT"], counts["CHARACTERISTIC"], counts["AXIS_PTS"]) == (7, 2, 1)
     assert dict(counts["ECU_ADDRESS"])["zsScalar"] == ElfSymbols(ELF).symbols["zsScalar"].address
+
+
+WRAP = 'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n{}  /end MODULE\n/end PROJECT\n'
+
+
+@pytest.mark.parametrize("body, message, line, column", [
+    ('    /begin MEASUREMENT zsScalar "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0\n      /begin IF_DATA X /end IF_DATA\n'
+     '    /end MEASUREMENT\n', "MEASUREMENT zsScalar: missing parameter(s), 8 expected", 4, 12),
+    ('    /begin MEASUREMENT zsScalar "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1\n      ECU_ADDRESS 0x12G4\n'
+     '    /end MEASUREMENT\n', "the address must be an integer, found '0x12G4'", 5, 19),
+    ('    /begin CHARACTERISTIC zsScalar "" VALUE addr RL 0 NO_COMPU_METHOD 0 1 /end CHARACTERISTIC\n',
+     "the address must be an integer, found 'addr'", 4, 45),
+    ('    /begin MEASUREMENT m "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1\n      SYMBOL_LINK zsScalar 0\n'
+     '    /end MEASUREMENT\n', "SYMBOL_LINK needs a string and an integer offset", 5, 7),
+])
+def test_update_checks_the_tokens_it_reads(debug, body, message, line, column):
+    with pytest.raises(A2lParseError) as info:
+        update(loads(WRAP.format(body), "u.a2l", validate=False), debug)
+    assert message in info.value.reason and (info.value.line, info.value.column) == (line, column)
+
+
+def test_validate_checks_the_whole_grammar_first(tmp_path, source):
+    bad = tmp_path / "bad.a2l"
+    bad.write_text(source.read_text().replace("CM 1 0 0 100", "CM 1 0 0 1O0"))
+    update_file(bad, ELF, tmp_path / "out.a2l", use_cache=False)  # the limit is not the update's business
+    with pytest.raises(A2lParseError, match="bad number '1O0'") as info:
+        update_file(bad, ELF, tmp_path / "out.a2l", use_cache=False, validate=True)
+    assert (info.value.line, info.value.column) == (17, 71)

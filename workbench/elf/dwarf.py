@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import struct
 from dataclasses import dataclass
+from typing import NamedTuple
 from workbench.progress import Progress, report
 
 # tags
@@ -61,8 +62,7 @@ class Die:
     unit: Unit
 
 
-@dataclass(frozen=True)
-class GlobalVariable:
+class GlobalVariable(NamedTuple):
     name: str
     address: int | None  # None: no static location (optimised out, extern declaration only)
     type_offset: int | None  # DIE offset of its type in .debug_info
@@ -235,14 +235,17 @@ class DwarfReader:
                 code, position = _uleb(data, offset)
             if code == 0:
                 break
-            tag, has_children, plan = plans[code]
+            tag, has_children, plan, prefix = plans[code]
             if tag == TAG_NAMESPACE:
                 die = self.die(offset, unit)
                 if die.has_children:
                     self._collect(die, variables)
                 offset = self._after(die)
                 continue
-            attrs, position = self._decode(plan, position, unit, _VARIABLE_ATTRS if tag == TAG_VARIABLE else _SIBLING)
+            if tag == TAG_VARIABLE:
+                attrs, position = self._decode(plan, position, unit, _VARIABLE_ATTRS, prefix)
+            else:
+                attrs, position = self._decode(plan, position, unit, _SIBLING)
             if tag == TAG_VARIABLE:
                 variable = self._variable(attrs, unit, offset)
                 if variable is not None:
@@ -266,15 +269,33 @@ class DwarfReader:
             plans = {}
             for code, (tag, has_children, specs) in self._abbrevs(unit.abbrev_offset).items():
                 steps = tuple((attr, form, _FIXED_SIZE.get(form, sizes.get(form, -1))) for attr, form, _ in specs)
-                plans[code] = (tag, has_children, steps)
+                prefix = _fixed_prefix(specs, steps, _VARIABLE_ATTRS, self.order) if tag == TAG_VARIABLE else None
+                plans[code] = (tag, has_children, steps, prefix)
             self._plan_cache[key] = plans
         return plans
 
-    def _decode(self, plan: tuple, position: int, unit: Unit, wanted: frozenset) -> tuple[dict, int]:
+    def _decode(self, plan: tuple, position: int, unit: Unit, wanted: frozenset, prefix=None) -> tuple[dict, int]:
         """Decode the ``wanted`` attributes of one DIE and step over the others; returns them and the
-        offset after the attributes."""
+        offset after the attributes. ``prefix`` (see :func:`_fixed_prefix`) reads the leading
+        fixed-size attributes with one ``struct`` call."""
         data = self.info
         attrs = {}
+        if prefix is not None:
+            layout, fields, count = prefix
+            for (attr, kind, constant), value in zip(fields, layout.unpack_from(data, position)
+                                                     if layout.size else ()):
+                attrs[attr] = value
+            for attr, kind, constant in fields:
+                if kind == "strp":
+                    attrs[attr] = _cstring(self.strings, attrs[attr])
+                elif kind == "line_strp":
+                    attrs[attr] = _cstring(self.line_strings, attrs[attr])
+                elif kind == "ref":
+                    attrs[attr] += unit.offset
+                elif kind == "constant":
+                    attrs[attr] = constant
+            position += layout.size
+            plan = plan[count:]
         for attr, form, size in plan:
             if attr in wanted:
                 attrs[attr], position = self._read_form(form, position, unit, None)
@@ -377,6 +398,37 @@ class DwarfReader:
 
 
 _BYTEORDER = {"<": "little", ">": "big"}
+_STRUCT_CODES = {1: "B", 2: "H", 4: "I", 8: "Q"}
+
+
+def _fixed_prefix(specs: tuple, steps: tuple, wanted: frozenset, order: str):
+    """How to read the leading fixed-size attributes of an abbreviation with one ``struct`` call:
+    (Struct, [(attribute, kind, constant)] of the wanted ones in order, steps covered); None when
+    the first attribute already has a variable size."""
+    codes, fields, count = [], [], 0
+    for (attr, form, implicit), (_, _, size) in zip(specs, steps):
+        if size < 0 or form in (0x1E, 0x20, 0x25, 0x26, 0x27, 0x28, 0x2B, 0x27):  # data16, sig8, strx*: leave
+            break
+        count += 1
+        if attr not in wanted:
+            codes.append(f"{size}x" if size else "")
+            continue
+        if size == 0:  # flag_present, implicit_const: the value is in the abbreviation
+            fields.append((attr, "constant", True if form == 0x19 else implicit))
+            continue
+        if size not in _STRUCT_CODES:
+            return None if not count - 1 else _finish(codes, fields, count - 1, order)
+        kind = {0x0E: "strp", 0x1F: "line_strp", 0x11: "ref", 0x12: "ref", 0x13: "ref", 0x14: "ref"}.get(form, "int")
+        codes.append(_STRUCT_CODES[size])
+        fields.append((attr, kind, None))
+    return _finish(codes, fields, count, order) if count else None
+
+
+def _finish(codes: list[str], fields: list, count: int, order: str):
+    # struct-decoded fields first (in order), then the constants, matching the unpack order
+    decoded = [f for f in fields if f[1] != "constant"]
+    constants = [f for f in fields if f[1] == "constant"]
+    return struct.Struct(order + "".join(codes)), decoded + constants, count
 
 
 def static_address(location: object, address_size: int, order: str) -> int | None:
