@@ -53,16 +53,17 @@ class FakeTime:
         self.now += seconds
 
 
-def test_frames_queue_behind_each_other_and_sleep_only_past_the_slack():
+def test_frames_queue_behind_each_other_and_senders_keep_a_lead():
     time = FakeTime()
-    bus = BusClock(1_000_000, clock=time.clock, sleep=time.sleep, slack_s=0.001)
+    bus = BusClock(1_000_000, clock=time.clock, sleep=time.sleep, lead_s=0.001)
     frame = message(0x7F1, bytes(8))
     ends = [bus.occupy(frame) for _ in range(10)]
     assert ends == pytest.approx([100.0 + 126e-6 * (i + 1) for i in range(10)])
-    bus.wait_until(ends[6])  # 0.88 ms ahead: within the slack, no sleep
+    assert bus.is_due(ends[6]) and not bus.is_due(ends[9])
+    bus.wait_until(ends[6])  # 0.88 ms ahead: within the lead, no sleep
     assert time.sleeps == []
-    bus.wait_until(ends[9])  # 1.26 ms ahead: sleep until the frame has passed
-    assert time.sleeps == [pytest.approx(1.26e-3)] and time.now == pytest.approx(ends[9])
+    bus.wait_until(ends[9])  # 1.26 ms ahead: sleep until it is half the lead ahead, so the bus never idles
+    assert time.sleeps == [pytest.approx(0.76e-3)] and time.now == pytest.approx(ends[9] - 0.5e-3)
     assert (bus.frames, bus.bits) == (10, 1260)
 
 

@@ -59,12 +59,19 @@ def frame_bits(message: can.Message) -> int:
     return _bits(message.arbitration_id, message.is_extended_id, bytes(message.data))
 
 
+DEFAULT_LEAD_S = 0.010  # twice CPython's GIL switch interval (5 ms): how late a ready thread may run
+
+
 class BusClock:
     """The shared bus of one bit rate: each frame starts when the previous one ended.
 
-    :meth:`occupy` books a frame and returns when it will have ended (``clock`` seconds);
-    :meth:`wait_until` sleeps only when the booking runs ahead of real time by more than
-    ``slack_s``, so the average rate is exact although sleeps are coarse.
+    :meth:`occupy` books a frame and returns when it will have ended (``clock`` seconds).
+    Senders may run up to ``lead_s`` ahead of the booked bus: :meth:`wait_until` sleeps only
+    when a booking ends further ahead, and then until it is ``lead_s / 2`` ahead. Sleeping to
+    each frame's exact end would leave the modelled bus idle whenever a thread wakes late (a
+    sleep overshoots; a thread that wants the GIL waits up to its 5 ms switch interval), and
+    that idle time is lost for good. With the lead the rate over any stretch longer than
+    ``lead_s`` is exactly the bus's, and no frame goes out more than ``lead_s`` early.
     """
 
     def __init__(
@@ -72,21 +79,18 @@ class BusClock:
         bitrate: int,
         clock: Callable[[], float] = time.perf_counter,
         sleep: Callable[[float], None] = time.sleep,
-        slack_s: float = 0.002,
+        lead_s: float = DEFAULT_LEAD_S,
     ):
         if bitrate <= 0:
             raise ValueError(f"bit rate must be positive, got {bitrate}")
         self.bitrate = bitrate
+        self.lead_s = lead_s
         self._clock = clock
         self._sleep = sleep
-        self._slack_s = slack_s
         self._free_at = 0.0
         self._lock = threading.Lock()
         self.frames = 0
         self.bits = 0
-
-    def frame_time(self, message: can.Message) -> float:
-        return frame_bits(message) / self.bitrate
 
     def occupy(self, message: can.Message) -> float:
         """Book the bus for ``message``; returns the time its transmission ends."""
@@ -98,7 +102,12 @@ class BusClock:
             self.bits += bits
             return self._free_at
 
+    def is_due(self, end: float) -> bool:
+        """True when a frame whose booking ends at ``end`` may go on the bus now (within the lead)."""
+        return end - self._clock() <= self.lead_s
+
     def wait_until(self, end: float) -> None:
+        """Return when a frame booked to end at ``end`` may go on the bus; sleeps only beyond the lead."""
         ahead = end - self._clock()
-        if ahead > self._slack_s:
-            self._sleep(ahead)
+        if ahead > self.lead_s:
+            self._sleep(ahead - self.lead_s / 2)
