@@ -11,7 +11,7 @@ from workbench.sim.xcp.protocol import Cmd, Err, Resource
 @pytest.fixture
 def daq():
     dtos = []
-    ecu = make_ecu(dto_sink=dtos.append)
+    ecu = make_ecu(dto_sink=dtos.extend)
     ecu.power_on()
     probe = XcpProbe(ecu)
     probe.connect()
@@ -159,3 +159,18 @@ def test_write_daq_checks_address_and_modes(daq):
 def test_daq_clock_counts_ticks_since_power_on(daq):
     daq.ecu.advance(0.25)
     assert struct.unpack("<3xI", daq.ok(Cmd.GET_DAQ_CLOCK))[0] == 25_000
+
+
+def test_each_daq_list_sample_reaches_the_sink_whole():
+    samples = []
+    ecu = make_ecu(dto_sink=samples.append)
+    ecu.power_on()
+    probe = XcpProbe(ecu)
+    probe.connect()
+    probe.unlock(Resource.DAQ)
+    alloc(probe, [2, 3], [(0, 0, 1), (0, 1, 1), (1, 0, 1), (1, 1, 1), (1, 2, 1)])
+    for daq_list in (0, 1):
+        probe.ok(Cmd.SET_DAQ_LIST_MODE, 0x00, struct.pack("<HH", daq_list, 0), 1, 0)
+        probe.ok(Cmd.START_STOP_DAQ_LIST, 1, struct.pack("<H", daq_list))
+    ecu.advance(0.004)
+    assert [[dto[0] for dto in sample] for sample in samples] == [[0, 1], [2, 3, 4]]  # one call per list, absolute PIDs

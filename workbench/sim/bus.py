@@ -1,16 +1,13 @@
 """Frames in and out of one python-can bus for the simulator, with the bus timing model.
 
 Without a :class:`BusClock` a :class:`Transmitter` sends at once, in the caller's thread.
-With one, frames queue in a transmit buffer and a thread puts them on the bus no faster
-than a real bus of that bit rate: each waits until the bus is free and its bits have
-passed. A full buffer drops frames marked droppable (DTOs: a DAQ overload) and blocks
-for the others (responses).
+With one, frames wait in transmit buffers and go on the bus no faster than a real bus of
+that bit rate carries them (see :class:`BusClock` for the lead a sender may have).
 """
 
 from __future__ import annotations
 
 import logging
-import queue
 import threading
 import time
 from collections import deque
@@ -22,7 +19,7 @@ from workbench.sim.can_timing import BusClock
 
 log = logging.getLogger(__name__)
 
-TX_BUFFER_FRAMES = 256
+TX_BUFFER_FRAMES = 256  # DTOs the slave can buffer for transmission
 _POLL_S = 0.05
 ECHOING_INTERFACES = frozenset({"udp_multicast"})  # they hand a node its own frames back
 
@@ -56,54 +53,112 @@ class EchoFilter:
 
 
 class Transmitter:
-    def __init__(self, bus: can.BusABC, clock: BusClock | None = None, name: str = "bus", echoes: EchoFilter | None = None):
+    """Puts frames on one bus; with a clock, paced by the bus model from two transmit buffers.
+
+    * :meth:`send` takes frames that must not be lost (XCP responses, CAN2 messages): they
+      wait in an unbounded buffer (one response per request keeps it short) and go before any
+      queued DTO, as XCP drivers send a pending response before the next DTO;
+    * :meth:`send_dtos` takes the DTOs of one DAQ list sample, all or none: when the DTO
+      buffer (``capacity`` frames) has no room for all of them the whole sample is dropped
+      (a DAQ overload), so a master never assembles a sample from two cycles.
+
+    A thread puts buffered frames on the bus as the bus model frees up; a frame that finds
+    the buffers empty and the bus model idle goes out at once from the caller's thread,
+    sparing a thread hand-off per round trip. :attr:`sent` and :attr:`dropped` count frames.
+    """
+
+    def __init__(
+        self,
+        bus: can.BusABC,
+        clock: BusClock | None = None,
+        name: str = "bus",
+        echoes: EchoFilter | None = None,
+        capacity: int = TX_BUFFER_FRAMES,
+    ):
         self.bus = bus
         self.clock = clock
         self.name = name
+        self.capacity = capacity
         self._echoes = echoes
         self.sent = 0
         self.dropped = 0
-        self._queue: queue.Queue[can.Message | None] = queue.Queue(TX_BUFFER_FRAMES)
+        self._on_bus = threading.Lock()  # one frame at a time, in the order the echo filter expects
+        self._ready = threading.Condition()
+        self._priority: deque[tuple[can.Message, float | None]] = deque()
+        self._dtos: deque[tuple[can.Message, float | None]] = deque()
+        self._busy = False  # a frame is between the buffers and the bus
+        self._closed = False
         self._thread: threading.Thread | None = None
         if clock is not None:
             self._thread = threading.Thread(target=self._run, name=f"sim-tx-{name}", daemon=True)
             self._thread.start()
 
-    def send(self, message: can.Message, droppable: bool = False) -> bool:
-        """Transmit (or buffer) a frame; False when a droppable frame found the buffer full."""
-        if self._thread is None:
+    def send(self, message: can.Message) -> None:
+        """Transmit a frame that must not be lost (it waits for the bus, never for buffer room)."""
+        self._enqueue([message], self._priority)
+
+    def send_dtos(self, messages: list[can.Message]) -> bool:
+        """Transmit one DAQ list sample's DTOs; False (none sent) when the DTO buffer lacks room for all."""
+        return self._enqueue(messages, self._dtos, self.capacity)
+
+    def _enqueue(self, messages: list[can.Message], lane: deque, limit: int | None = None) -> bool:
+        direct = None
+        with self._ready:
+            if self._closed or (limit is not None and self._thread is not None and len(lane) + len(messages) > limit):
+                self.dropped += len(messages)
+                return False
+            if self._thread is None:
+                direct, messages = messages, []
+            elif messages and not (self._busy or self._priority or self._dtos):
+                end = self.clock.occupy(messages[0])
+                if self.clock.is_due(end):
+                    direct, self._busy = messages[:1], True
+                else:
+                    lane.append((messages[0], end))
+                messages = messages[1:]
+            lane.extend((message, None) for message in messages)
+            self._ready.notify()
+        for message in direct or ():
             self._put_on_bus(message)
-            return True
-        try:
-            self._queue.put(message, block=not droppable)
-        except queue.Full:
-            self.dropped += 1
-            return False
         return True
 
     def _run(self) -> None:
         while True:
-            message = self._queue.get()
-            if message is None:
-                return
-            self.clock.wait_until(self.clock.occupy(message))
+            with self._ready:
+                while not self._closed and (self._busy or not (self._priority or self._dtos)):
+                    self._ready.wait(_POLL_S)
+                if self._closed:
+                    return
+                message, end = (self._priority or self._dtos).popleft()
+                self._busy = True
+            self.clock.wait_until(self.clock.occupy(message) if end is None else end)
             self._put_on_bus(message)
 
     def _put_on_bus(self, message: can.Message) -> None:
         try:
-            if self._echoes is not None:
-                self._echoes.sent(message)
-            self.bus.send(message)
-            self.sent += 1
-        except can.CanError as exc:
-            self.dropped += 1
+            with self._on_bus:
+                if self._echoes is not None:
+                    self._echoes.sent(message)
+                self.bus.send(message)
+            ok = True
+        except (can.CanError, OSError) as exc:
+            ok = False
             log.warning("%s: frame 0x%X not sent: %s", self.name, message.arbitration_id, exc)
+        with self._ready:
+            self._busy = False
+            if ok:
+                self.sent += 1
+            else:
+                self.dropped += 1
+            self._ready.notify()
 
     def close(self) -> None:
+        """Stop the thread; frames still buffered are not sent. Safe to call twice."""
+        with self._ready:
+            self._closed = True
+            self._ready.notify_all()
         if self._thread is not None:
-            self._queue.put(None)
             self._thread.join(timeout=2)
-            self._thread = None
 
 
 class Receiver:

@@ -2,8 +2,8 @@
 
 The ECU is passive and application-agnostic: whoever owns it feeds XCP commands
 (:meth:`SimulatedEcu.handle_cto`, which returns the responses) and moves simulated time
-(:meth:`SimulatedEcu.advance` or the shared :class:`Scheduler`); DTOs raised by the task
-events go to ``dto_sink``. It runs any application object with the documented interface
+(:meth:`SimulatedEcu.advance` or the shared :class:`Scheduler`); the DTOs a task event
+samples go to ``dto_sink``, one call per DAQ list with all of that list's DTOs. It runs any application object with the documented interface
 (docs/demo-ecu.md): ``TASKS = ((period_s, method_name, daq_event), ...)``, ``initialize()``
 and a constructor ``(memory, symbols, hardware)``. Not thread-safe: callers serialise.
 """
@@ -64,7 +64,7 @@ class SimulatedEcu:
         memory_map: MemoryMap = HDS9,
         scheduler: Scheduler | None = None,
         faults: FaultPlan | None = None,
-        dto_sink: Callable[[bytes], None] | None = None,
+        dto_sink: Callable[[list[bytes]], None] | None = None,
         rng: random.Random | None = None,
     ):
         """
@@ -86,7 +86,7 @@ class SimulatedEcu:
         self.pages = CalPageSwitch(memory_map)
         self.scheduler = scheduler or Scheduler()
         self.faults = faults or FaultPlan()
-        self.dto_sink = dto_sink or (lambda frame: None)
+        self.dto_sink = dto_sink or (lambda sample: None)
         self.slave = XcpSlave(self, self.params, self.info, self.faults, rng)
         self._application_factory = application
         self._hardware = hardware
@@ -131,8 +131,8 @@ class SimulatedEcu:
         def run() -> None:
             step()
             if event is not None:
-                for frame in self.slave.daq.on_event(event, self.timestamp_ticks()):
-                    self.dto_sink(frame)
+                for sample in self.slave.daq.on_event(event, self.timestamp_ticks()):
+                    self.dto_sink(sample)
 
         return run
 

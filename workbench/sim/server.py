@@ -15,7 +15,7 @@ from __future__ import annotations
 import logging
 import threading
 import time
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import can
@@ -101,7 +101,7 @@ class Simulator:
             self._receivers.append(Receiver(bus, self._receiver_for(name), clocks[name], name, echoes))
         if "CAN2" not in self._transmitters:
             self._transmitters["CAN2"] = self._transmitters["CAN1"]
-        self.ecu.dto_sink = self._send_dto
+        self.ecu.dto_sink = self._send_dtos
         if self.can2_driver is not None:
             self.can2_driver.transmit = self._transmitters["CAN2"].send
         if self.pcm is not None:
@@ -254,32 +254,43 @@ class Simulator:
             for packet in packets:
                 self._send_xcp(packet)
 
-    def _send_dto(self, packet: bytes) -> None:
-        self._send_xcp(packet, droppable=True)
+    def _send_xcp(self, packet: bytes) -> None:
+        """A response: it waits for the bus, before any queued DTO."""
+        transmitter = self._transmitters["CAN1"]
+        for frame in self._faulted(packet, transmitter.send):
+            transmitter.send(frame)
 
-    def _send_xcp(self, packet: bytes, droppable: bool = False) -> None:
+    def _send_dtos(self, packets: list[bytes]) -> None:
+        """One DAQ list's sample: all its DTOs go, or (the DTO buffer being full) none."""
+        transmitter = self._transmitters["CAN1"]
+        frames = []
+        for packet in packets:
+            frames += self._faulted(packet, lambda frame: transmitter.send_dtos([frame]))
+        transmitter.send_dtos(frames)
+
+    def _faulted(self, packet: bytes, send_later: Callable[[can.Message], object]) -> list[can.Message]:
+        """The frames to send for an XCP packet now, after the next ``"tx"`` frame fault (a delay sends it later)."""
         if self.ecu.params.max_dlc_required:
             packet = packet.ljust(MAX_DLC, b"\0")
         identifier, extended = self._slave_id
         frame = can.Message(arbitration_id=identifier, is_extended_id=extended, data=packet)
-        transmitter = self._transmitters["CAN1"]
         fault = self.ecu.faults.on_frame("tx")
         if fault is None:
-            transmitter.send(frame, droppable)
-        elif fault.action is FrameAction.DUPLICATE:
-            transmitter.send(frame, droppable)
-            transmitter.send(frame, droppable)
-        elif fault.action is FrameAction.DELAY:
-            timer = threading.Timer(fault.delay_s, transmitter.send, (frame,))
+            return [frame]
+        if fault.action is FrameAction.DUPLICATE:
+            return [frame, frame]
+        if fault.action is FrameAction.DELAY:
+            timer = threading.Timer(fault.delay_s, send_later, (frame,))
             timer.daemon = True
-            self._timers.append(timer)
+            self._timers = [t for t in self._timers if t.is_alive()] + [timer]
             timer.start()
+        return []
 
     def _pcm_cycle(self) -> None:
         for frame in self.pcm.frames():
             if self.can2_driver is not None:
                 self.can2_driver.receive(frame)
-            self._transmitters["CAN2"].send(frame, droppable=True)
+            self._transmitters["CAN2"].send(frame)
 
     # --- what it serves ------------------------------------------------------------------------
 

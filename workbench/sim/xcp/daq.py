@@ -282,13 +282,14 @@ class DaqProcessor:
 
     # --- sampling ---------------------------------------------------------------------------------
 
-    def on_event(self, channel: int, timestamp_ticks: int) -> list[bytes]:
-        """The DTOs of every running list on ``channel``, sampled now."""
-        frames = []
+    def on_event(self, channel: int, timestamp_ticks: int) -> list[list[bytes]]:
+        """The DTOs of every running list on ``channel``, sampled now: one list of DTOs per DAQ list."""
+        samples = []
         memory_read = self.slave.read
         for daq in self.lists:
             if not daq.running or daq.event != channel:
                 continue
+            frames = []
             for odt, entries in enumerate(daq.odts):
                 frame = bytearray([daq.first_pid + odt])
                 if odt == 0 and daq.timestamps:
@@ -297,4 +298,5 @@ class DaqProcessor:
                     if entry.size:
                         frame += memory_read(entry.address, entry.size)
                 frames.append(bytes(frame))
-        return frames
+            samples.append(frames)
+        return samples
