@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import itertools
 import re
+from array import array
 
 import numpy as np
 
@@ -32,8 +33,8 @@ class Tokens:
         self.data = data
         self.starts = starts
         self.ends = ends
-        self._starts_list: list[int] | None = None
-        self._ends_list: list[int] | None = None
+        self._starts_list: array | None = None
+        self._ends_list: array | None = None
         self._lengths: np.ndarray | None = None
         self._matches: dict[bytes, np.ndarray] = {}
 
@@ -41,16 +42,17 @@ class Tokens:
         return len(self.starts)
 
     @property
-    def starts_list(self) -> list[int]:
-        """``starts`` as Python ints (indexing a list is much faster than a numpy array)."""
+    def starts_list(self) -> array:
+        """``starts`` for indexing from Python: an ``array.array`` gives an int per index as fast as
+        a list, without a list's 36 bytes per element (a 10 MB file has over a million tokens)."""
         if self._starts_list is None:
-            self._starts_list = self.starts.tolist()
+            self._starts_list = _as_array(self.starts)
         return self._starts_list
 
     @property
-    def ends_list(self) -> list[int]:
+    def ends_list(self) -> array:
         if self._ends_list is None:
-            self._ends_list = self.ends.tolist()
+            self._ends_list = _as_array(self.ends)
         return self._ends_list
 
     def raw(self, index: int) -> bytes:
@@ -85,6 +87,12 @@ class Tokens:
         for k, char in enumerate(word):
             keep &= buffer[starts + k] == char
         return indices[keep]
+
+
+def _as_array(values: np.ndarray) -> array:
+    converted = array("q")
+    converted.frombytes(values.astype(np.int64, copy=False).tobytes())
+    return converted
 
 
 def tokenize(data: bytes, source_map: SourceMap) -> Tokens:
