@@ -1,6 +1,9 @@
-"""Fixtures: a powered mini ECU and an XCP probe connected to it."""
+"""Fixtures: a powered mini ECU and an XCP probe connected to it; no test leaves simulator threads behind."""
 
 from __future__ import annotations
+
+import threading
+import time
 
 import pytest
 from mini_ecu import XcpProbe, make_ecu
@@ -20,3 +23,13 @@ def xcp(ecu) -> XcpProbe:
     probe = XcpProbe(ecu)
     probe.connect()
     return probe
+
+
+@pytest.fixture(autouse=True)
+def no_simulator_threads_left():
+    """Every test closes what it started: no simulator thread outlives it."""
+    yield
+    deadline = time.monotonic() + 2.0
+    while (left := [t.name for t in threading.enumerate() if t.name.startswith("sim-")]) and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert not left, f"simulator threads still running: {left}"

@@ -1,13 +1,15 @@
-"""The paced transmitter: DAQ overload drops whole samples, responses overtake queued DTOs, close never hangs."""
+"""Transmitter and receiver: DAQ overload drops whole samples, responses overtake queued DTOs, no hang, no log flood."""
 
 from __future__ import annotations
 
 import itertools
+import logging
+import time
 
 import can
 import pytest
 
-from workbench.sim.bus import Transmitter
+from workbench.sim.bus import Receiver, Transmitter
 from workbench.sim.can_timing import BusClock
 
 _channels = itertools.count()
@@ -105,3 +107,15 @@ def test_a_failed_send_is_counted_and_the_next_frame_goes_out(buses, clock, capl
         assert "frame 0x7F1 not sent: bus off" in caplog.text
     finally:
         transmitter.close()
+
+
+def test_a_receiver_whose_bus_goes_away_says_so_once_and_stops_cleanly(buses, caplog):
+    caplog.set_level(logging.DEBUG, logger="workbench.sim")
+    sender, _ = buses
+    frames = []
+    receiver = Receiver(sender, frames.append, name="CAN1")
+    sender.shutdown()  # the caller closed its bus under the simulator
+    time.sleep(0.3)  # several polls
+    receiver.stop()
+    levels = [r.levelname for r in caplog.records if "receive failed" in r.getMessage()]
+    assert levels[0] == "WARNING" and set(levels[1:]) == {"DEBUG"}  # once, then quietly while it lasts

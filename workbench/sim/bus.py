@@ -180,22 +180,26 @@ class Receiver:
         self._on_frame = on_frame
         self._clock = clock
         self._echoes = echoes
+        self._name = name
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, name=f"sim-rx-{name}", daemon=True)
         self._thread.start()
 
     def _run(self) -> None:
+        failing = False
         while not self._stop.is_set():
             try:
                 message = self.bus.recv(timeout=_POLL_S)
-            except can.CanError as exc:
-                log.warning("receive failed: %s", exc)
+            except can.CanError as exc:  # said once per outage, not every poll
+                log.log(logging.DEBUG if failing else logging.WARNING, "%s: receive failed: %s", self._name, exc)
+                failing = True
                 self._stop.wait(_POLL_S)
                 continue
-            except (OSError, ValueError):  # the bus was shut down under us
-                if self._stop.is_set():
-                    return
-                raise
+            except (OSError, ValueError) as exc:  # the bus was shut down under us
+                if not self._stop.is_set():
+                    log.error("%s: reception ended: %s", self._name, exc)
+                return
+            failing = False
             if message is None or message.is_error_frame:
                 continue
             if self._echoes is not None and self._echoes.is_echo(message):
