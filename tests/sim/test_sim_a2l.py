@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import re
 import struct
+from pathlib import Path
 
 import pytest
 from mini_ecu import XcpProbe
@@ -80,6 +82,17 @@ def test_calibration_segment(config, slave):
     assert (a2l_mapping.source, a2l_mapping.destination, a2l_mapping.length) == tuple(mapping)
     assert (segment.address, segment.size) == (HDS9.cal_ram.start, HDS9.cal_ram.size)
     assert segment.checksum_type == "XCP_CRC_32"
+
+
+def test_checksum_block_limit(slave):
+    # XcpSegment does not carry CHECKSUM's MAX_BLOCK_SIZE yet: read it from the A2L text
+    text = Path(DemoFiles.defaults().a2l).read_text(encoding="utf-8")
+    limits = {int(value, 0) for value in re.findall(r"/begin CHECKSUM XCP_\w+\s+MAX_BLOCK_SIZE\s+(\w+)", text)}
+    slave.set_mta(HDS9.cal_rom_start)
+    refusal = slave.send(Cmd.BUILD_CHECKSUM, 0, 0, 0, struct.pack("<I", 0x20000 + 4))
+    assert refusal[0][:2] == bytes([0xFE, 0x22])  # ERR_OUT_OF_RANGE names the largest block
+    assert limits == {struct.unpack_from("<I", refusal[0], 4)[0]}
+    assert slave.ok(Cmd.BUILD_CHECKSUM, 0, 0, 0, struct.pack("<I", min(limits)))[0] == 0x09  # CRC-32 over all of it
 
 
 def test_programming(config, slave):

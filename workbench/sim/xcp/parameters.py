@@ -54,7 +54,7 @@ class XcpParameters:
     min_st_100us: int = 0
     protected: Resource = Resource.CAL_PAG | Resource.DAQ | Resource.PGM  # locked at CONNECT until UNLOCK
     checksum_type: ChecksumType = ChecksumType.CRC_32
-    max_checksum_block: int = 0x800000
+    max_checksum_block: int = 0x20000  # BUILD_CHECKSUM limit: the SEGMENT CHECKSUM MAX_BLOCK_SIZE of the A2L
     epk_address: int = 0xFC0000
     epk_length: int = 14
     asam_mc2_name: str = "FLCU"
