@@ -25,7 +25,7 @@ from workbench.elf.debugdata import DebugData
 from workbench.errors import WorkbenchError
 from workbench.progress import Progress, report as report_progress
 
-__all__ = ["UpdateMode", "UpdateReport", "UpdateResult", "update", "update_file"]
+__all__ = ["UpdateFailed", "UpdateMode", "UpdateReport", "UpdateResult", "update", "update_file"]
 
 _PROGRESS_STEP = 2000  # objects between progress reports
 
