@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 import logging
+import struct
 
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from mini_ecu import XcpProbe, make_ecu
+from raw_master import RawMaster
 
+from workbench.sim.server import Simulator
 from workbench.sim.xcp.parameters import XcpParameters
 from workbench.sim.xcp.protocol import PID_ERR, PID_RES, Cmd, Err, Resource
 
@@ -71,3 +74,34 @@ def _run(ctos: list[bytes], protected: Resource) -> None:
 @given(ctos=st.lists(cto, max_size=40))
 def test_random_ctos(protected, ctos):
     _run(ctos, protected)
+
+
+frame_data = st.one_of(
+    cto.map(lambda data: data.ljust(8, b"\0")),  # padded as MAX_DLC_REQUIRED asks
+    st.binary(max_size=8),  # any DLC: shorter frames must be ignored
+)
+
+
+def test_random_frames_over_the_bus(caplog):
+    """The same through a Simulator on a virtual bus: the receiver survives anything, the slave answers after it."""
+    caplog.set_level(logging.ERROR, logger="workbench.sim")
+    epk_upload = bytes([Cmd.SHORT_UPLOAD, 4, 0, 0]) + struct.pack("<I", 0xFC0000)
+    with Simulator(make_ecu(), {"interface": "virtual", "channel": "sim-fuzz-bus"}, time_scale=None) as sim, \
+            RawMaster("sim-fuzz-bus") as master:
+
+        @settings(max_examples=40, deadline=None)
+        @given(frames=st.lists(frame_data, max_size=20))
+        def run(frames: list[bytes]) -> None:
+            for data in frames:
+                master.send(data, pad=False)
+            master.send(bytes([Cmd.CONNECT, 0]))
+            master.send(epk_upload)
+            expected = b"\xff" + sim.ecu.read(0xFC0000, 4) + bytes(3)
+            responses = []
+            while (message := master.bus.recv(2.0)) is not None and bytes(message.data) != expected:
+                responses.append(bytes(message.data))
+            assert message is not None, "the slave stopped answering"
+            assert all(len(r) == 8 and r[0] in (PID_RES, PID_ERR) for r in responses), [r.hex(" ") for r in responses]
+
+        run()
+    assert not caplog.records, [r.getMessage() for r in caplog.records]
