@@ -1,10 +1,11 @@
-"""pyxcp as an independent XCP master for the simulator's tests (built from a config object, quiet)."""
+"""pyxcp as an independent XCP master for the simulator's tests (built from a config object, quiet), and a DAQ recorder."""
 
 from __future__ import annotations
 
 import logging
 
 from pyxcp.config import create_application_from_config
+from pyxcp.daq_stim import DaqOnlinePolicy
 from pyxcp.master import Master
 
 from workbench.sim.seedkey import compute_key
@@ -31,3 +32,17 @@ def connect(master: Master) -> None:
     master.connect()
     if master.slaveProperties.optionalCommMode:
         master.getCommModeInfo()
+
+
+class Samples(DaqOnlinePolicy):
+    """Records every decoded DAQ list sample as ``(timestamp_ns, {measurement name: value})``."""
+
+    def __init__(self, daq_lists):
+        # an explicit logger keeps pyxcp from building its global application from sys.argv
+        super().__init__(daq_lists, logger=logging.getLogger("pyxcp.daq"))
+        self.pid_off = False  # pyxcp 0.29 sets it only when it builds the global application itself
+        self.rows: list[tuple[int, dict]] = []
+
+    def on_daq_list(self, daq_list, timestamp0, timestamp1, payload):
+        names = [header[0] for header in self.daq_lists[daq_list].headers]  # pyxcp's packing order
+        self.rows.append((timestamp1, dict(zip(names, payload))))

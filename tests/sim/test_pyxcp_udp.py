@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import logging
 import random
 import signal
 import struct
@@ -11,8 +10,8 @@ import sys
 import time
 
 import pytest
-from pyxcp.daq_stim import DaqList, DaqOnlinePolicy
-from pyxcp_master import connect, pyxcp_master
+from pyxcp.daq_stim import DaqList
+from pyxcp_master import Samples, connect, pyxcp_master
 
 from workbench import demo
 from workbench.elf import ElfSymbols
@@ -46,17 +45,6 @@ def sim_process():
     if process.poll() is None:
         process.kill()
         process.wait()
-
-
-class Samples(DaqOnlinePolicy):
-    def __init__(self, daq_lists):
-        super().__init__(daq_lists, logger=logging.getLogger("pyxcp.daq"))
-        self.pid_off = False  # pyxcp 0.29 sets it only when it builds the global application itself
-        self.rows = []
-
-    def on_daq_list(self, daq_list, timestamp0, timestamp1, payload):
-        names = [header[0] for header in self.daq_lists[daq_list].headers]
-        self.rows.append((timestamp1, dict(zip(names, payload))))
 
 
 def test_pyxcp_against_a_workbench_sim_process(sim_process):

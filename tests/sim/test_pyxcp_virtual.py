@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 import itertools
-import logging
 import struct
 import time
 
 import pytest
-from pyxcp.daq_stim import DaqList, DaqOnlinePolicy
-from pyxcp_master import connect, pyxcp_master
+from pyxcp.daq_stim import DaqList
+from pyxcp_master import Samples, connect, pyxcp_master
 
 from workbench.elf import ElfSymbols
 from workbench.image import load_image
@@ -73,18 +72,6 @@ def test_seed_and_key_unlocks_every_resource(demo, channel):
             master.cond_unlock()
             assert not any(master.getCurrentProtectionStatus().values())
             master.disconnect()
-
-
-class Samples(DaqOnlinePolicy):
-    def __init__(self, daq_lists):
-        # an explicit logger keeps pyxcp from building its global application from sys.argv
-        super().__init__(daq_lists, logger=logging.getLogger("pyxcp.daq"))
-        self.pid_off = False  # pyxcp 0.29 sets it only when it builds the global application itself
-        self.rows: list[tuple[int, list]] = []
-
-    def on_daq_list(self, daq_list, timestamp0, timestamp1, payload):
-        names = [header[0] for header in self.daq_lists[daq_list].headers]  # pyxcp's packing order
-        self.rows.append((timestamp1, dict(zip(names, payload))))
 
 
 def test_daq_on_the_50ms_event_decodes_the_ecu_values(demo, symbols, channel):
