@@ -153,7 +153,8 @@ def test_write_daq_checks_address_and_modes(daq):
     daq.ok(Cmd.SET_DAQ_LIST_MODE, 0x10, struct.pack("<HH", 0, 1), 1, 0)
     daq.ok(Cmd.START_STOP_DAQ_LIST, 1, struct.pack("<H", 0))
     assert daq.err(Cmd.SET_DAQ_PTR, 0, struct.pack("<H", 0), 0, 0) == Err.DAQ_ACTIVE
-    assert daq.err(Cmd.PROGRAM_START) in (Err.ACCESS_LOCKED, Err.DAQ_ACTIVE)
+    daq.unlock(Resource.PGM)
+    assert daq.err(Cmd.PROGRAM_START) == Err.DAQ_ACTIVE
 
 
 def test_daq_clock_counts_ticks_since_power_on(daq):
