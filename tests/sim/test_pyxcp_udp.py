@@ -5,13 +5,12 @@ from __future__ import annotations
 import random
 import signal
 import struct
-import subprocess
-import sys
 import time
 
 import pytest
 from pyxcp.daq_stim import DaqList
 from pyxcp_master import Samples, connect, pyxcp_master
+from sim_process import start_sim_process
 
 from workbench import demo
 from workbench.elf import ElfSymbols
@@ -26,21 +25,9 @@ CALIB = HDS9.region("CALIB")
 def sim_process():
     """``workbench sim`` on a multicast group of its own, with the PCM; yields the group."""
     group = f"239.74.{random.randint(164, 250)}.{random.randint(1, 250)}"
-    process = subprocess.Popen(
-        [sys.executable, "-c", "from workbench.cli import entry_point; entry_point()", "sim",
-         "--interface", "udp_multicast", "--channel", group, "--pcm", "--duration", "120"],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-    )
-    banner = []
-    for line in process.stdout:
-        banner.append(line)
-        if line.startswith("serving"):
-            break
-    else:
-        process.kill()
-        pytest.fail(f"workbench sim did not start: {''.join(banner)} {process.stderr.read()}")
-    assert any(group in line for line in banner) and any("0x7F0" in line for line in banner)
-    process.banner = "".join(banner)
+    process, banner = start_sim_process("--interface", "udp_multicast", "--channel", group, "--pcm", "--duration", "120")
+    assert group in banner and "0x7F0" in banner
+    process.banner = banner
     yield group, process
     if process.poll() is None:
         process.kill()

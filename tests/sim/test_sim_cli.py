@@ -4,12 +4,10 @@ from __future__ import annotations
 
 import json
 import signal
-import subprocess
-import sys
-import threading
 import time
 
 import pytest
+from sim_process import start_sim_process
 
 from workbench.cli import main
 
@@ -51,32 +49,10 @@ def test_help_names_the_options(capsys):
         assert option in out
 
 
-def _serving_process(*args: str) -> subprocess.Popen:
-    """``workbench sim`` in a process of its own, once it says it serves (fails after 30 s)."""
-    process = subprocess.Popen(
-        [sys.executable, "-c", "from workbench.cli import entry_point; entry_point()", "sim", *args],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-    )
-    serving = threading.Event()
-
-    def watch() -> None:
-        for line in process.stdout:
-            if line.startswith("serving"):
-                serving.set()
-                return
-
-    threading.Thread(target=watch, daemon=True).start()
-    if not serving.wait(30):
-        process.kill()
-        out, err = process.communicate(timeout=10)
-        pytest.fail(f"workbench sim did not start: {out} {err}")
-    return process
-
-
 @pytest.mark.parametrize("signal_number", [signal.SIGINT, signal.SIGTERM], ids=["ctrl-c", "sigterm"])
 def test_a_signal_stops_the_process_cleanly(signal_number):
-    process = _serving_process("--interface", "virtual", "--channel", f"cli-sim-signal-{signal_number}", "--pcm",
-                               "--bitrate", "1000000")
+    process, _ = start_sim_process("--interface", "virtual", "--channel", f"cli-sim-signal-{signal_number}", "--pcm",
+                                   "--bitrate", "1000000")
     time.sleep(0.3)  # the clock, the PCM and the transmitter are running
     process.send_signal(signal_number)
     try:
