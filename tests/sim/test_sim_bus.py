@@ -9,7 +9,7 @@ import time
 import can
 import pytest
 
-from workbench.sim.bus import Receiver, Transmitter
+from workbench.sim.bus import EchoFilter, Receiver, Transmitter
 from workbench.sim.can_timing import BusClock
 
 _channels = itertools.count()
@@ -119,3 +119,20 @@ def test_a_receiver_whose_bus_goes_away_says_so_once_and_stops_cleanly(buses, ca
     receiver.stop()
     levels = [r.levelname for r in caplog.records if "receive failed" in r.getMessage()]
     assert levels[0] == "WARNING" and set(levels[1:]) == {"DEBUG"}  # once, then quietly while it lasts
+
+
+def test_the_echo_filter_recognises_our_frames_in_sending_order():
+    echoes = EchoFilter(max_age_s=10.0)
+    ours = [frame(0x7F1, 1), frame(0x123, 2)]
+    for message in ours:
+        echoes.sent(message)
+    assert not echoes.is_echo(frame(0x7F0, 1))  # the master's frame
+    assert [echoes.is_echo(message) for message in ours] == [True, True]
+    assert not echoes.is_echo(frame(0x7F1, 1))  # the same frame again: it was only sent once
+
+
+def test_the_echo_filter_forgets_what_never_came_back():
+    echoes = EchoFilter(max_age_s=0.0)
+    echoes.sent(frame(0x7F1, 1))
+    time.sleep(0.01)
+    assert not echoes.is_echo(frame(0x7F1, 1))
