@@ -41,3 +41,21 @@ def test_a_group_not_built_yet_says_so_in_one_line(group, capsys):
     assert main([group]) == 1
     err = capsys.readouterr().err
     assert err == f"error: 'workbench {group}' is not built yet\n"
+
+
+def test_a_closed_pipe_ends_quietly(tmp_path):
+    script = tmp_path / "flood.py"
+    script.write_text(
+        "import sys, argparse, workbench.cli as cli\n"
+        "def flood(args):\n"
+        "    for n in range(200000):\n"
+        "        print('line', n)\n"
+        "parser = argparse.ArgumentParser()\n"
+        "parser.add_argument('--debug', action='store_true')\n"
+        "parser.set_defaults(func=flood, group='flood')\n"
+        "cli.build_parser = lambda: parser\n"
+        "sys.exit(cli.main([]))\n"
+    )
+    proc = subprocess.run(f"{sys.executable} {script} | head -1", shell=True, capture_output=True, text=True)
+    assert proc.stdout == "line 0\n"
+    assert proc.stderr == ""
