@@ -69,7 +69,6 @@ class EcuMemory:
                 raise ValueError(f"memory areas {before.name} and {after.name} overlap")
         self._areas = areas
         self._starts = [a.start for a in areas]
-        self.regions = list(regions)
 
     def area_at(self, address: int, size: int = 1) -> Area:
         """The area holding all of ``[address, address + size)``.

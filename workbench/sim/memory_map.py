@@ -37,10 +37,6 @@ class MemoryMap:
     def region(self, name: str) -> Region:
         return next(r for r in self.flash if r.name == name)
 
-    @property
-    def cal_rom(self) -> AddressRange:
-        return AddressRange(self.cal_rom_start, self.cal_rom_start + self.cal_ram.size)
-
     def rom_address(self, cal_ram_address: int) -> int:
         """The CAL ROM address that mirrors a CAL RAM address."""
         return cal_ram_address - self.cal_ram.start + self.cal_rom_start

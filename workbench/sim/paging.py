@@ -13,7 +13,6 @@ from workbench.sim.memory_map import MemoryMap
 WORKING_PAGE = 0
 REFERENCE_PAGE = 1
 PAGES = (WORKING_PAGE, REFERENCE_PAGE)
-CAL_SEGMENT = 0
 
 
 class CalPageSwitch:

@@ -31,11 +31,7 @@ from workbench.sim.xcp.protocol import Cmd, Err, XcpNegative, need
 if TYPE_CHECKING:
     from workbench.sim.xcp.slave import XcpSlave
 
-MODE_ALTERNATING = 0x01
-MODE_DIRECTION_STIM = 0x02
-MODE_DTO_CTR = 0x08
-MODE_TIMESTAMP = 0x10
-MODE_PID_OFF = 0x20
+MODE_TIMESTAMP = 0x10  # the only SET_DAQ_LIST_MODE bit supported
 NO_BIT_OFFSET = 0xFF
 PROPERTY_DYNAMIC = 0x01
 PROPERTY_TIMESTAMP = 0x10

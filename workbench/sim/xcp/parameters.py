@@ -8,7 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from workbench.image import ChecksumType
-from workbench.sim.xcp.protocol import Resource
+from workbench.sim.xcp.protocol import MAX_DAQ_PID, Resource
 
 # GET_DAQ_RESOLUTION_INFO timestamp units (TIMESTAMP_MODE bits 4..7)
 TIMESTAMP_UNIT_10US = 0x4
@@ -33,7 +33,7 @@ class EventChannel:
 @dataclass(frozen=True)
 class DaqParameters:
     max_daq: int = 16  # dynamic DAQ lists that can be allocated (MIN_DAQ = 0)
-    max_odt_total: int = 0xFC  # one absolute PID (0x00..0xFB) per ODT of all lists
+    max_odt_total: int = MAX_DAQ_PID + 1  # one absolute PID (0x00..0xFB) per ODT of all lists
     max_odt_entry_size: int = 4  # MAX_ODT_ENTRY_SIZE_DAQ, bytes: smaller than a DTO's payload on purpose
     granularity: int = 1  # GRANULARITY_ODT_ENTRY_SIZE_DAQ
     timestamp_size: int = 4  # DWORD, in the first ODT of each list whose mode asks for timestamps

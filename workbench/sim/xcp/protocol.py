@@ -10,8 +10,6 @@ from workbench.sim.memory import AccessFault, MemoryAccessError
 
 PID_RES = 0xFF  # positive response
 PID_ERR = 0xFE  # negative response
-PID_EV = 0xFD
-PID_SERV = 0xFC
 MAX_DAQ_PID = 0xFB  # DTO packet ids run from 0x00 to 0xFB
 
 
