@@ -34,6 +34,8 @@ def test_bad_input_is_one_line_and_exit_2(capsys, tmp_path):
     err = capsys.readouterr().err
     assert err.startswith("error: --pcm-target:") and err.count("\n") == 1
     assert main(["sim", "--time-scale", "0"]) == 2
+    assert main(["sim", "--can2-interface", "virtual"]) == 2
+    assert capsys.readouterr().err.strip().splitlines()[-1] == "error: --can2-interface needs --can2-channel (without it CAN2 shares CAN1)"
 
 
 def test_unknown_interface_fails_in_one_line(capsys):

@@ -63,6 +63,8 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--time-scale must be positive, got {args.time_scale}")
     if args.host or args.port:
         raise InputError("the simulated ECU speaks XCP on CAN only (no --host/--port)")
+    if args.can2_interface and not args.can2_channel:
+        raise InputError("--can2-interface needs --can2-channel (without it CAN2 shares CAN1)")
     defaults = DemoFiles.defaults()
     files = DemoFiles(
         a2l=args.a2l or defaults.a2l, elf=args.elf or defaults.elf,
