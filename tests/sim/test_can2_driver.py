@@ -72,11 +72,9 @@ def test_flcu_messages_on_their_own_can2_bus_with_the_pcm():
     demo = build_demo_ecu()
     symbols = ElfSymbols(demo.files.elf)
     can1, can2 = f"sim-can1-{next(_channels)}", f"sim-can2-{next(_channels)}"
-    observer1 = can.Bus(interface="virtual", channel=can1)
-    observer2 = can.Bus(interface="virtual", channel=can2)
     sim = Simulator(demo.ecu, {"interface": "virtual", "channel": can1}, {"interface": "virtual", "channel": can2},
                     can2_driver=demo.can2, pcm=demo.pcm_node(target_bar=25.0), time_scale=None)
-    with sim:
+    with can.Bus(interface="virtual", channel=can1) as observer1, can.Bus(interface="virtual", channel=can2) as observer2, sim:
         sim.advance(1.0)
         seen = _drain(observer2)
         assert seen[0x110] == seen[0x220] == 10  # the PCM, every 100 ms
@@ -89,21 +87,18 @@ def test_flcu_messages_on_their_own_can2_bus_with_the_pcm():
         sim.advance(0.5)
         seen = _drain(observer2)
         assert 0x123 not in seen and seen[0x167] == 5
-    observer1.shutdown()
-    observer2.shutdown()
 
 
 def test_rail_pressure_on_can2_follows_the_ecu():
     demo = build_demo_ecu()
     channel = f"sim-can-{next(_channels)}"
-    observer = can.Bus(interface="virtual", channel=channel)
-    with Simulator(demo.ecu, {"interface": "virtual", "channel": channel}, can2_driver=demo.can2,
-                   pcm=demo.pcm_node(target_bar=25.0), time_scale=None) as sim:
+    with can.Bus(interface="virtual", channel=channel) as observer, Simulator(
+            demo.ecu, {"interface": "virtual", "channel": channel}, can2_driver=demo.can2,
+            pcm=demo.pcm_node(target_bar=25.0), time_scale=None) as sim:
         sim.advance(2.0)
         frames = [m for m in _messages(observer) if m.arbitration_id == 0x123]
         rail = demo.dbc.database.decode_message(0x123, frames[-1].data)["RailPressure"]
         assert 24.0 < rail < 26.5
-    observer.shutdown()
 
 
 def _messages(bus):

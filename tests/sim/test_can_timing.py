@@ -82,12 +82,11 @@ def test_bitrate_must_be_positive():
 
 def test_the_simulator_books_both_frames_of_a_round_trip():
     ecu = make_ecu()
-    master = can.Bus(interface="virtual", channel="timing-rig")
-    with Simulator(ecu, {"interface": "virtual", "channel": "timing-rig"}, bitrate=125_000, time_scale=None) as sim:
+    with can.Bus(interface="virtual", channel="timing-rig") as master, Simulator(
+            ecu, {"interface": "virtual", "channel": "timing-rig"}, bitrate=125_000, time_scale=None) as sim:
         request = message(0x7F0, bytes([0xFF, 0]).ljust(8, b"\0"))  # padded: MAX_DLC_REQUIRED
         master.send(request)
         response = master.recv(2.0)
         assert response is not None and response.arbitration_id == 0x7F1
         clock = sim.bus_clock("CAN1")
         assert clock.frames == 2 and clock.bits == frame_bits(request) + frame_bits(response)
-    master.shutdown()
