@@ -7,7 +7,10 @@ Measures, for the simulator without and with the bit-rate model (``--bitrate``):
   8-byte DTOs each on the 4 ms event offer 60,000 frames/s, more than the host or a bus carries.
 
 With the model, each figure is also given as a fraction of what a real CAN bus of that bit
-rate carries (frame bits with stuffing, from :func:`workbench.sim.can_timing.frame_bits`).
+rate carries (frame bits with stuffing, from :func:`workbench.sim.can_timing.frame_bits`, of
+the frames as they cross the bus: both round-trip frames padded to 8 bytes by MAX_DLC_REQUIRED,
+the mean of the DTOs received). The model lets senders run up to 10 ms ahead, so a figure may
+exceed 100 % by up to that lead divided by the measuring time (0.5 % at 2 s).
 Plain script: ``.venv/bin/python benchmarks/sim_throughput.py [--seconds S] [--bitrate N]``.
 """
 
