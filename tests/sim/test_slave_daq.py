@@ -8,14 +8,20 @@ from mini_ecu import CAL_GAIN, COUNTER, OUTPUT, XcpProbe, make_ecu
 from workbench.sim.xcp.protocol import Cmd, Err, Resource
 
 
-@pytest.fixture
-def daq():
-    dtos = []
-    ecu = make_ecu(dto_sink=dtos.extend)
+def daq_probe(dto_sink) -> XcpProbe:
+    """A connected probe with DAQ unlocked on a powered mini ECU whose DAQ samples go to ``dto_sink``."""
+    ecu = make_ecu(dto_sink=dto_sink)
     ecu.power_on()
     probe = XcpProbe(ecu)
     probe.connect()
     probe.unlock(Resource.DAQ)
+    return probe
+
+
+@pytest.fixture
+def daq():
+    dtos = []
+    probe = daq_probe(dtos.extend)
     probe.dtos = dtos
     return probe
 
@@ -164,14 +170,10 @@ def test_daq_clock_counts_ticks_since_power_on(daq):
 
 def test_each_daq_list_sample_reaches_the_sink_whole():
     samples = []
-    ecu = make_ecu(dto_sink=samples.append)
-    ecu.power_on()
-    probe = XcpProbe(ecu)
-    probe.connect()
-    probe.unlock(Resource.DAQ)
+    probe = daq_probe(samples.append)
     alloc(probe, [2, 3], [(0, 0, 1), (0, 1, 1), (1, 0, 1), (1, 1, 1), (1, 2, 1)])
     for daq_list in (0, 1):
         probe.ok(Cmd.SET_DAQ_LIST_MODE, 0x00, struct.pack("<HH", daq_list, 0), 1, 0)
         probe.ok(Cmd.START_STOP_DAQ_LIST, 1, struct.pack("<H", daq_list))
-    ecu.advance(0.004)
+    probe.ecu.advance(0.004)
     assert [[dto[0] for dto in sample] for sample in samples] == [[0, 1], [2, 3, 4]]  # one call per list, absolute PIDs
