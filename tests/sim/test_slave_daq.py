@@ -5,12 +5,13 @@ import struct
 import pytest
 from mini_ecu import CAL_GAIN, COUNTER, OUTPUT, XcpProbe, make_ecu
 
+from workbench.sim.xcp.parameters import EventChannel, XcpParameters
 from workbench.sim.xcp.protocol import Cmd, Err, Resource
 
 
-def daq_probe(dto_sink) -> XcpProbe:
+def daq_probe(dto_sink=None, **ecu_options) -> XcpProbe:
     """A connected probe with DAQ unlocked on a powered mini ECU whose DAQ samples go to ``dto_sink``."""
-    ecu = make_ecu(dto_sink=dto_sink)
+    ecu = make_ecu(dto_sink=dto_sink, **ecu_options)
     ecu.power_on()
     probe = XcpProbe(ecu)
     probe.connect()
@@ -177,3 +178,13 @@ def test_each_daq_list_sample_reaches_the_sink_whole():
         probe.ok(Cmd.START_STOP_DAQ_LIST, 1, struct.pack("<H", daq_list))
     probe.ecu.advance(0.004)
     assert [[dto[0] for dto in sample] for sample in samples] == [[0, 1], [2, 3, 4]]  # one call per list, absolute PIDs
+
+
+@pytest.mark.parametrize(("period_s", "cycle", "unit"), [
+    (0.004, 4, 6), (0.1, 100, 6),  # whole milliseconds: as the A2L states them
+    (1.0, 100, 7), (0.0005, 50, 4),  # the thesis's 1000 ms task; a sub-millisecond one
+    (0.0, 0, 6), (3600.0, 0, 6),  # not cyclic; beyond what a byte of 1 s units holds
+])
+def test_event_cycles_fit_a_byte(period_s, cycle, unit):
+    probe = daq_probe(params=XcpParameters(events=(EventChannel(0, "Task", period_s),)))
+    assert tuple(probe.ok(Cmd.GET_DAQ_EVENT_INFO, 0, struct.pack("<H", 0))[3:5]) == (cycle, unit)

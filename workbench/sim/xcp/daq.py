@@ -25,7 +25,6 @@ from enum import IntEnum
 from typing import TYPE_CHECKING
 
 from workbench.sim.memory import MemoryAccessError
-from workbench.sim.xcp.parameters import EVENT_TIME_UNIT_1MS
 from workbench.sim.xcp.protocol import Cmd, Err, XcpNegative, need
 
 if TYPE_CHECKING:
@@ -126,10 +125,8 @@ class DaqProcessor:
             raise XcpNegative(Err.OUT_OF_RANGE)
         address, length = self.slave.info.index[f"event:{number}"]
         self.slave.mta = address
-        return bytes([
-            EVENT_CONSISTENCY_DAQ | EVENT_PROPERTY_DAQ, UNLIMITED_LISTS, length, event.cycle_ms,
-            EVENT_TIME_UNIT_1MS, event.priority,
-        ])
+        cycle, unit = event.cycle
+        return bytes([EVENT_CONSISTENCY_DAQ | EVENT_PROPERTY_DAQ, UNLIMITED_LISTS, length, cycle, unit, event.priority])
 
     def _get_daq_clock(self, req: bytes) -> bytes:
         return struct.pack("<BBBI", 0, 0, 0, self.slave.target.timestamp_ticks() & 0xFFFFFFFF)

@@ -12,8 +12,9 @@ from workbench.sim.xcp.protocol import MAX_DAQ_PID, Resource
 
 # GET_DAQ_RESOLUTION_INFO timestamp units (TIMESTAMP_MODE bits 4..7)
 TIMESTAMP_UNIT_10US = 0x4
-# GET_DAQ_EVENT_INFO time units
+# GET_DAQ_EVENT_INFO time units: code n counts 10**(n - 9) s (0: 1 ns ... 6: 1 ms ... 9: 1 s)
 EVENT_TIME_UNIT_1MS = 6
+EVENT_TIME_UNITS = range(10)
 
 
 @dataclass(frozen=True)
@@ -26,8 +27,23 @@ class EventChannel:
     priority: int = 0
 
     @property
-    def cycle_ms(self) -> int:
-        return round(self.period_s * 1000)
+    def cycle(self) -> tuple[int, int]:
+        """GET_DAQ_EVENT_INFO's EVENT_CHANNEL_TIME_CYCLE (a byte) and _TIME_UNIT for the period.
+
+        Whole milliseconds up to 255 keep the unit 1 ms, as the A2L states them; other periods
+        (a 1000 ms task, a 0.5 ms one) take the finest unit that counts them in a byte. A period
+        no unit can express (over 255 s; an A2L cannot state one either) reads as not cyclic (0).
+        """
+        counts = {unit: self.period_s * 10 ** (9 - unit) for unit in EVENT_TIME_UNITS}
+        whole = [unit for unit, count in counts.items() if abs(count - round(count)) < 1e-6 and 0 < round(count) <= 0xFF]
+        fitting = [unit for unit, count in counts.items() if 0 < round(count) <= 0xFF]
+        if EVENT_TIME_UNIT_1MS in whole:
+            unit = EVENT_TIME_UNIT_1MS
+        elif whole or fitting:
+            unit = min(whole or fitting)
+        else:
+            return 0, EVENT_TIME_UNIT_1MS
+        return round(counts[unit]), unit
 
 
 @dataclass(frozen=True)
