@@ -10,6 +10,7 @@ import pytest
 from mini_ecu import XcpProbe
 
 from workbench.a2l import load, read_xcp_config
+from workbench.errors import InputError
 from workbench.sim.demo_ecu import DemoFiles, build_demo_ecu
 from workbench.sim.memory_map import HDS9
 from workbench.sim.xcp.protocol import Cmd, Resource
@@ -118,3 +119,26 @@ def test_can_ids_and_epk(config):
     assert (params.can_id_master, params.can_id_slave, params.baudrate) == (
         config.can.can_id_master, config.can.can_id_slave, config.can.baudrate)
     assert demo.ecu.read(doc.addr_epk(), len(doc.epk())).decode() == doc.epk()
+
+
+def _demo_with_a2l(tmp_path, old: str, new: str):
+    files = DemoFiles.defaults()
+    text = Path(files.a2l).read_text(encoding="utf-8")
+    assert old in text
+    path = tmp_path / "edited.a2l"
+    path.write_text(text.replace(old, new, 1), encoding="utf-8")
+    return build_demo_ecu(DemoFiles(path, files.elf, files.s19, files.dbc), unlocked=True)
+
+
+def test_an_event_name_beyond_ascii_is_served_with_replacement_characters(tmp_path):
+    demo = _demo_with_a2l(tmp_path, '"Task4ms"     /* name */', '"Tâche4ms"     /* name */')
+    demo.ecu.power_on()
+    probe = XcpProbe(demo.ecu)
+    probe.connect()
+    name_length = probe.ok(Cmd.GET_DAQ_EVENT_INFO, 0, struct.pack("<H", 0))[2]
+    assert probe.upload(name_length) == b"T?che4ms"
+
+
+def test_a_checksum_type_the_simulator_cannot_compute_is_an_input_error(tmp_path):
+    with pytest.raises(InputError, match="edited.a2l: the simulated ECU cannot compute the CHECKSUM type XCP_USER_DEFINED"):
+        _demo_with_a2l(tmp_path, "/begin CHECKSUM XCP_CRC_32", "/begin CHECKSUM XCP_USER_DEFINED")

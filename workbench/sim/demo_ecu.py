@@ -89,6 +89,8 @@ def xcp_parameters(doc: A2lDocument, config: XcpConfig) -> XcpParameters:
             EventChannel(e.number, e.name, e.period_s or 0.0, e.priority) for e in config.daq.events
         )
     checksum = next((s.checksum_type for s in config.segments if s.checksum_type), None)
+    if checksum is not None and checksum.removeprefix("XCP_") not in ChecksumType.__members__:
+        raise InputError(f"{where}: the simulated ECU cannot compute the CHECKSUM type {checksum}")
     mode = config.communication_mode
     return XcpParameters(
         can_id_master=can.can_id_master | (EXTENDED_FLAG if can.can_id_master_is_extended else 0),

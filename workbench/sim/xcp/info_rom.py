@@ -13,6 +13,7 @@ from workbench.sim.xcp.parameters import XcpParameters
 
 GET_ID_ASCII = 0
 GET_ID_ASAM_MC2_NAME = 1
+MAX_TEXT = 0xFF
 
 
 @dataclass(frozen=True)
@@ -29,7 +30,7 @@ class InfoRom:
         data = bytearray()
         index = {}
         for key, text in texts.items():
-            encoded = text.encode("ascii")
+            encoded = text.encode("ascii", "replace")[:MAX_TEXT]  # XCP texts are ASCII, their lengths a byte
             index[key] = (memory_map.info_rom_start + len(data), len(encoded))
             data += encoded + b"\0"
         return cls(memory_map.info_rom_start, bytes(data), index)
