@@ -10,6 +10,7 @@ import pytest
 from sim_process import start_sim_process
 
 from workbench.cli import main
+from workbench.image import MemoryImage
 
 
 def test_serves_for_a_duration_and_stops_cleanly(capsys):
@@ -34,6 +35,10 @@ def test_bad_input_is_one_line_and_exit_2(capsys, tmp_path):
     err = capsys.readouterr().err
     assert err.startswith("error: --pcm-target:") and err.count("\n") == 1
     assert main(["sim", "--time-scale", "0"]) == 2
+    MemoryImage.from_bytes(0x100, b"code").save(tmp_path / "outside.s19")
+    assert main(["sim", "--interface", "virtual", "--s19", str(tmp_path / "outside.s19")]) == 2
+    assert capsys.readouterr().err.strip().splitlines()[-1] == (
+        f"error: {tmp_path / 'outside.s19'}: data outside the ECU's flash (BOOT/APPLICATIVE/CALIB/SHARED): 100h-103h")
     assert main(["sim", "--can2-interface", "virtual"]) == 2
     assert capsys.readouterr().err.strip().splitlines()[-1] == "error: --can2-interface needs --can2-channel (without it CAN2 shares CAN1)"
 

@@ -19,7 +19,7 @@ from workbench.a2l import load as load_a2l
 from workbench.can.dbc_file import DbcFile, load_dbc
 from workbench.elf import ElfSymbols
 from workbench.errors import InputError
-from workbench.image import ChecksumType, load_image
+from workbench.image import ChecksumType, load_image, split_by_region
 from workbench.sim.bsw import Bsw
 from workbench.sim.can2 import Can2Driver
 from workbench.sim.ecu import SimulatedEcu
@@ -128,6 +128,10 @@ def build_demo_ecu(
         params = replace(params, protected=Resource(0))
     elf = ElfSymbols(files.elf)
     flash = load_image(files.s19)
+    _, outside = split_by_region(flash, list(HDS9.flash))
+    if outside:
+        names = "/".join(region.name for region in HDS9.flash)
+        raise InputError(f"{files.s19}: data outside the ECU's flash ({names}): {' '.join(map(str, outside))}")
     if valid_key:
         flash.add(HDS9.app_key_address, HDS9.app_key, overwrite=True)
     scheduler = scheduler or Scheduler()
