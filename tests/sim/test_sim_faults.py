@@ -1,4 +1,4 @@
-"""Fault injection through the Simulator on a virtual bus, seen by a raw python-can master."""
+"""The Simulator on a virtual bus: fault injection seen by a raw master, MAX_DLC_REQUIRED, start/close life cycle."""
 
 from __future__ import annotations
 
@@ -7,9 +7,10 @@ import struct
 
 import can
 import pytest
-from mini_ecu import CAL_GAIN, make_ecu
+from mini_ecu import CAL_GAIN, MINI_LAYOUT, make_ecu, mini_image
 from raw_master import RawMaster
 
+from workbench.sim.ecu import SimulatedEcu
 from workbench.sim.server import Simulator
 from workbench.sim.xcp.protocol import Cmd, Err
 
@@ -101,3 +102,22 @@ def test_close_is_idempotent_and_closes_only_the_buses_it_opened():
         opened.send(can.Message(arbitration_id=1))
     mine.send(can.Message(arbitration_id=1))  # the caller's bus stays open
     mine.shutdown()
+
+
+def test_a_failing_start_closes_what_it_opened():
+    class Broken:
+        TASKS = ()
+
+        def __init__(self, memory, symbols, hardware):
+            pass
+
+        def initialize(self):
+            raise RuntimeError("application init failed")
+
+    ecu = SimulatedEcu(mini_image(), MINI_LAYOUT, Broken)
+    sim = Simulator(ecu, {"interface": "virtual", "channel": "sim-broken"}, time_scale=1.0)
+    with pytest.raises(RuntimeError, match="init failed"):
+        sim.start()
+    assert sim.closed
+    with pytest.raises(can.CanOperationError):
+        sim.buses["CAN1"].send(can.Message(arbitration_id=1))  # the bus it opened is shut down again

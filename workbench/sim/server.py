@@ -82,7 +82,7 @@ class Simulator:
     # --- life cycle --------------------------------------------------------------------------
 
     def start(self) -> Simulator:
-        """Open the buses, start the threads and power the ECU on.
+        """Open the buses, start the threads and power the ECU on; on failure everything started is closed.
 
         :raises WorkbenchError: a bus cannot be opened (the message names the interface).
         """
@@ -91,9 +91,20 @@ class Simulator:
         self.started = True
         try:
             self._open_buses()
-        except Exception:
+            self._start_io()
+            if self.pcm is not None:
+                self._pcm_task = self.ecu.scheduler.add(self.pcm.period_s, self._pcm_cycle, "PCM", order=-1)
+            with self.lock:
+                self.ecu.power_on()
+            if self.time_scale is not None:
+                self._clock_thread = threading.Thread(target=self._run_clock, name="sim-clock", daemon=True)
+                self._clock_thread.start()
+        except BaseException:
             self.close()
             raise
+        return self
+
+    def _start_io(self) -> None:
         clocks = {name: BusClock(self.bitrate) if self.bitrate else None for name in self._buses}
         for name, bus in self._distinct_buses():
             echoes = EchoFilter() if self._echoes(name, bus) else None
@@ -104,14 +115,6 @@ class Simulator:
         self.ecu.dto_sink = self._send_dtos
         if self.can2_driver is not None:
             self.can2_driver.transmit = self._transmitters["CAN2"].send
-        if self.pcm is not None:
-            self._pcm_task = self.ecu.scheduler.add(self.pcm.period_s, self._pcm_cycle, "PCM", order=-1)
-        with self.lock:
-            self.ecu.power_on()
-        if self.time_scale is not None:
-            self._clock_thread = threading.Thread(target=self._run_clock, name="sim-clock", daemon=True)
-            self._clock_thread.start()
-        return self
 
     def _open_buses(self) -> None:
         for name, spec in self._specs.items():
