@@ -55,16 +55,23 @@ class TypeResolver:
     def __init__(self, reader: dwarf.DwarfReader, cache: dict[int, CType] | None = None):
         self.reader = reader
         self.cache: dict[int, CType] = cache if cache is not None else {}
-        self.added = 0  # types resolved by this resolver (the disk cache is rewritten when > 0)
+        self._building: set[int] = set()
 
     def resolve(self, offset: int | None) -> CType:
+        """The type whose DIE is at ``offset``; raises :class:`dwarf.DwarfError` for a type that contains
+        itself (only damaged DWARF does: pointers, the one legal way back, are not followed)."""
         if offset is None:
             return VOID
         found = self.cache.get(offset)
         if found is None:
-            found = self._build(offset)
+            if offset in self._building:
+                raise dwarf.DwarfError(f"the type at .debug_info+0x{offset:x} contains itself")
+            self._building.add(offset)
+            try:
+                found = self._build(offset)
+            finally:
+                self._building.discard(offset)
             self.cache[offset] = found
-            self.added += 1
         return found
 
     def _build(self, offset: int) -> CType:

@@ -9,9 +9,11 @@ run against the same ELF does not read DWARF at all.
 from __future__ import annotations
 
 import logging
-from typing import NamedTuple
+import struct
 from pathlib import Path
+from typing import NamedTuple
 
+from elftools.common.exceptions import ELFError
 from elftools.elf.elffile import ELFFile
 
 from workbench.elf import dwarf
@@ -26,6 +28,8 @@ log = logging.getLogger(__name__)
 
 _DWARF_SECTIONS = (".debug_info", ".debug_abbrev", ".debug_str", ".debug_line_str", ".debug_str_offsets",
                    ".debug_addr")
+# what decoding damaged DWARF raises: reads past a section's end, unknown codes, bad struct reads
+_DAMAGED_DWARF = (dwarf.DwarfError, IndexError, ValueError, KeyError, struct.error)
 
 
 class ResolvedSymbol(NamedTuple):
@@ -177,13 +181,18 @@ class DebugData:
                             sections[name] = section.data()
             except OSError as exc:
                 raise InputError(f"{self.path}: cannot read ({exc.strerror})") from None
-            self._reader = dwarf.DwarfReader(sections, self.elf.little_endian)
+            except ELFError as exc:  # e.g. a compressed section that does not decompress
+                raise InputError(f"{self.path}: unreadable DWARF section ({exc})") from None
+            try:
+                self._reader = dwarf.DwarfReader(sections, self.elf.little_endian)
+            except _DAMAGED_DWARF as exc:
+                raise InputError(f"{self.path}: unreadable DWARF ({exc})") from None
         return self._reader
 
     def _read_variables(self, progress: Progress | None) -> dict[str, tuple[int | None, int | None]]:
         try:
             found = self._dwarf().global_variables(progress)
-        except (dwarf.DwarfError, IndexError, ValueError) as exc:
+        except _DAMAGED_DWARF as exc:
             raise InputError(f"{self.path}: unreadable DWARF ({exc})") from None
         variables: dict[str, tuple[int | None, int | None]] = {}
         for variable in found:
@@ -200,7 +209,7 @@ class DebugData:
             self._resolver = TypeResolver(self._dwarf(), self._types)
         try:
             return self._resolver.resolve(offset)
-        except (dwarf.DwarfError, IndexError, ValueError) as exc:
+        except _DAMAGED_DWARF as exc:
             raise InputError(f"{self.path}: unreadable DWARF type at 0x{offset or 0:x} ({exc})") from None
 
 

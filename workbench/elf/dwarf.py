@@ -235,7 +235,10 @@ class DwarfReader:
                 code, position = _uleb(data, offset)
             if code == 0:
                 break
-            tag, has_children, plan, prefix = plans[code]
+            try:
+                tag, has_children, plan, prefix = plans[code]
+            except KeyError:
+                raise DwarfError(f"unknown abbreviation {code} at .debug_info+0x{offset:x}") from None
             if tag == TAG_NAMESPACE:
                 die = self.die(offset, unit)
                 if die.has_children:

@@ -6,6 +6,7 @@ per-symbol objects, so a 50,000-symbol ELF loads in milliseconds.
 
 from __future__ import annotations
 
+import struct
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -53,23 +54,30 @@ class ElfSymbols:
                 self.little_endian = elf.little_endian
                 self.elfclass = elf.elfclass
                 self.machine = elf["e_machine"]
-                self.sections = self._read_sections(elf)
+                self.sections = self._read_sections(elf, self.path.stat().st_size)
                 self._raw_symtab = self._read_raw_symtab(elf, handle)
                 self.has_dwarf = elf.has_dwarf_info()
                 self._symbols: dict[str, Symbol] | None = None
         except FileNotFoundError as exc:
             raise InputError(f"{self.path}: no such file") from exc
-        except (ELFError, ValueError, OSError) as exc:
+        except IsADirectoryError as exc:
+            raise InputError(f"{self.path}: is a folder, not an ELF file") from exc
+        except (ELFError, ValueError, KeyError, IndexError, struct.error, OSError) as exc:
+            # pyelftools raises all of these on a damaged header or section table
             raise InputError(f"{self.path}: not a readable ELF file ({exc})") from exc
 
     @staticmethod
-    def _read_sections(elf: ELFFile) -> dict[str, Section]:
+    def _read_sections(elf: ELFFile, file_size: int) -> dict[str, Section]:
+        """Raises ValueError for a section whose bytes lie outside the file (a damaged ELF)."""
         segments = [seg for seg in elf.iter_segments() if seg["p_type"] == "PT_LOAD"]
         sections = {}
         for sec in elf.iter_sections():
             if not sec.name:
                 continue
             address, size = sec["sh_addr"], sec["sh_size"]
+            if sec["sh_type"] != "SHT_NOBITS" and sec["sh_offset"] + size > file_size:
+                raise ValueError(f"section {sec.name} ({size} bytes at offset {sec['sh_offset']}) "
+                                 f"lies outside the file of {file_size} bytes")
             load_address = address
             for seg in segments:  # LMA = segment physical address + offset inside the segment
                 if seg["p_vaddr"] <= address < seg["p_vaddr"] + seg["p_memsz"] and seg["p_filesz"]:
@@ -115,7 +123,11 @@ class ElfSymbols:
         ):
             if not name_off or shndx == _SHN_UNDEF or shndx >= _SHN_LORESERVE:
                 continue
-            name = strings[name_off : strings.index(b"\0", name_off)].decode("utf-8", "replace")
+            end = strings.find(b"\0", name_off)
+            if end < 0 or shndx >= len(names_by_index):
+                raise InputError(f"{self.path}: damaged .symtab (a symbol names string {name_off} or "
+                                 f"section {shndx}, which do not exist)")
+            name = strings[name_off:end].decode("utf-8", "replace")
             kind = {STT_OBJECT: "object", STT_FUNC: "function"}.get(info & 0xF, "other")
             symbol = Symbol(name, value, size, kind, names_by_index[shndx])
             # a global definition wins over a same-named local one (static in another unit)
@@ -140,7 +152,7 @@ class ElfSymbols:
         """The initial bytes at ``address`` (a VMA) from the file, or None when no loaded
         section holds all of them (``.bss``, or outside every section)."""
         section = self.section_of(address)
-        if section is None or not section.loaded or not section.contains(address, size):
+        if section is None or not section.loaded or not section.contains(address, size) or size < 0:
             return None
         with open(self.path, "rb") as handle:
             handle.seek(section.file_offset + address - section.address)
