@@ -132,9 +132,13 @@ class Transmitter:
                 message, end = (self._priority or self._dtos).popleft()
                 self._busy = True
             self.clock.wait_until(self.clock.occupy(message) if end is None else end)
-            self._put_on_bus(message)
+            try:
+                self._put_on_bus(message)
+            except Exception:  # a bus bug must not end transmission
+                log.exception("%s: frame 0x%X not sent", self.name, message.arbitration_id)
 
     def _put_on_bus(self, message: can.Message) -> None:
+        ok = False
         try:
             with self._on_bus:
                 if self._echoes is not None:
@@ -142,15 +146,15 @@ class Transmitter:
                 self.bus.send(message)
             ok = True
         except (can.CanError, OSError) as exc:
-            ok = False
             log.warning("%s: frame 0x%X not sent: %s", self.name, message.arbitration_id, exc)
-        with self._ready:
-            self._busy = False
-            if ok:
-                self.sent += 1
-            else:
-                self.dropped += 1
-            self._ready.notify()
+        finally:  # whatever the bus raised, the next frame may go
+            with self._ready:
+                self._busy = False
+                if ok:
+                    self.sent += 1
+                else:
+                    self.dropped += 1
+                self._ready.notify()
 
     def close(self) -> None:
         """Stop the thread; frames still buffered are not sent. Safe to call twice."""
