@@ -75,3 +75,9 @@ def test_against_the_elf_addresses_and_symbols():
 def test_the_demo_a2l_is_clean_against_its_elf():
     report = check_file(demo.a2l(), demo.elf(), use_cache=False)
     assert report.findings == []
+
+
+def test_an_address_beyond_32_bits_is_an_error():
+    text = TEXT.replace("ECU_ADDRESS 0x9000", "ECU_ADDRESS 0x1000000000000000000000")
+    (finding,) = check(loads(text, "far.a2l")).of_kind("address-out-of-range")
+    assert (finding.name, finding.line, finding.column) == ("nowhere", 14, 64)

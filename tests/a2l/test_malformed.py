@@ -69,11 +69,12 @@ def test_invalid_utf8_after_a_bom(tmp_path):
     assert (info.value.line, info.value.column) == (2, 21)
 
 
-def test_utf16_is_refused_clearly(tmp_path):
+def test_damaged_utf16_names_the_position(tmp_path):
     path = tmp_path / "utf16.a2l"
-    path.write_bytes(codecs.BOM_UTF16_LE + "ASAP2_VERSION 1 71\n".encode("utf-16-le"))
-    with pytest.raises(A2lParseError, match="UTF-16 .* not supported"):
+    path.write_bytes(codecs.BOM_UTF16_LE + "ASAP2_VERSION 1 71\n/begin".encode("utf-16-le") + b"\x00\xdc")
+    with pytest.raises(A2lParseError, match="invalid UTF-16-LE data") as info:
         load(path)
+    assert (info.value.line, info.value.column) == (2, 7)
 
 
 def test_binary_file(tmp_path):

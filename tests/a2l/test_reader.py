@@ -37,11 +37,13 @@ def test_tokens_blocks_and_values():
     assert doc.module().text().startswith('/begin MODULE M "module // not a comment"')
 
 
-def test_option_tokens_finds_keywords_without_a_walk():
-    doc = loads(SMALL)
-    found = doc.option_tokens("MEASUREMENT", "ECU_ADDRESS")
-    (block, token), = found.items()
-    assert doc.blocks.keyword[block] == "MEASUREMENT" and doc.raw(token + 1) == b"0x0000ABCD"
+def test_option_tokens_finds_keywords_at_the_blocks_own_level():
+    text = SMALL.replace("  /end MODULE", """    /begin MEASUREMENT ECU_ADDRESS "named like the keyword" UBYTE CM 1 0 0 1 /end MEASUREMENT
+    /begin MEASUREMENT inner "" UBYTE CM 1 0 0 1 /begin IF_DATA X ECU_ADDRESS 0x1 /end IF_DATA /end MEASUREMENT
+  /end MODULE""")
+    doc = loads(text)
+    blocks, tokens = doc.option_tokens("MEASUREMENT", "ECU_ADDRESS")
+    assert [doc.blocks.keyword[b] for b in blocks] == ["MEASUREMENT"] and doc.raw(int(tokens[0]) + 1) == b"0x0000ABCD"
 
 
 def test_bytes_survive_untouched(tmp_path):

@@ -1,5 +1,6 @@
 """update: addresses (DWARF and .symtab), SYMBOL_LINK, EPK, --types, missing symbols under each mode."""
 
+import codecs
 import difflib
 from pathlib import Path
 
@@ -116,7 +117,7 @@ def test_remove_missing_drops_the_object_and_its_references(source, debug):
 
 def test_strict_mode_fails_and_writes_nothing(source, tmp_path):
     out = tmp_path / "out.a2l"
-    with pytest.raises(UpdateFailed, match=r"1 object\(s\) not found .*missing_var \(.*types.a2l:36:24\)") as info:
+    with pytest.raises(UpdateFailed, match=r"1 object\(s\) cannot be updated \(strict\): missing_var \(.*types.a2l:36:24\)") as info:
         update_file(source, ELF, out, mode=UpdateMode.STRICT, use_cache=False)
     assert info.value.exit_code == 1 and not out.exists()
     assert info.value.report.errors[0].name == "missing_var"
@@ -154,15 +155,24 @@ def test_types_correct_datatype_dims_bitmask_and_limits(debug):
     assert kinds["datatype-updated"] == 2 and kinds["limits-updated"] == 2 and kinds["size-updated"] == 2
 
 
-def test_encoding_and_newlines_survive(tmp_path, source, debug):
+@pytest.mark.parametrize("encoding, bom", [("latin-1", b""), ("utf-8", codecs.BOM_UTF8), ("utf-16-le", codecs.BOM_UTF16_LE),
+                                           ("utf-16-be", b""), ("utf-32-be", codecs.BOM_UTF32_BE)])
+def test_encoding_and_newlines_survive(tmp_path, source, encoding, bom):
     text = source.read_text().replace('"update fixture"', '"Prüfstand Größe"').replace("\n", "\r\n")
-    latin = tmp_path / "latin1.a2l"
-    latin.write_bytes(text.encode("latin-1"))
+    original = tmp_path / "in.a2l"
+    original.write_bytes(bom + text.encode(encoding))
     out = tmp_path / "out.a2l"
-    update_file(latin, ELF, out, use_cache=False)
+    update_file(original, ELF, out, use_cache=False)
     data = out.read_bytes()
-    assert "Prüfstand Größe".encode("latin-1") in data and b"\r\n" in data and b"\n" not in data.replace(b"\r\n", b"")
-    assert b"      ECU_ADDRESS 0x403140\r\n" in data  # inserted lines use the file's newline
+    assert data.startswith(bom)
+    updated = data[len(bom):].decode(encoding)
+    assert "Prüfstand Größe" in updated and "\r\n" in updated and "\n" not in updated.replace("\r\n", "")
+    assert "      ECU_ADDRESS 0x403140\r\n" in updated  # inserted lines use the file's newline
+    lines = updated.replace("      ECU_ADDRESS 0x403140\r\n", "").split("\r\n")
+    changed = [(a, b) for a, b in zip(text.split("\r\n"), lines, strict=True) if a != b]
+    assert len(changed) == 11  # and in each changed line one value, nothing else:
+    assert all(len(a.split()) == len(b.split()) and sum(x != y for x, y in zip(a.split(), b.split())) == 1
+               for a, b in changed)
 
 
 def test_update_in_place_only_when_output_names_the_input(tmp_path, source):
@@ -208,3 +218,25 @@ def test_validate_checks_the_whole_grammar_first(tmp_path, source):
     with pytest.raises(A2lParseError, match="bad number '1O0'") as info:
         update_file(bad, ELF, tmp_path / "out.a2l", use_cache=False, validate=True)
     assert (info.value.line, info.value.column) == (17, 71)
+
+
+def test_an_address_beyond_32_bits_is_left_unchanged_and_reported(debug):
+    body = ('    /begin MEASUREMENT far "" UBYTE NO_COMPU_METHOD 1 0 0 1\n      ECU_ADDRESS 0x0\n'
+            '      SYMBOL_LINK "zsScalar" 0xFFFFFFFF\n    /end MEASUREMENT\n')
+    doc = loads(WRAP.format(body), "far.a2l")
+    result = update(doc, debug, epk=False)
+    (finding,) = result.report.of_kind("address-out-of-range")
+    assert (finding.name, finding.line, finding.severity.name) == ("far", 4, "WARNING")
+    assert "does not fit the 32 bits" in finding.message and result.data == doc.data
+    with pytest.raises(UpdateFailed, match="far"):
+        update(doc, debug, epk=False, mode=UpdateMode.STRICT)
+
+
+def test_an_elf_without_dwarf_and_symbols_says_so_once(tmp_path, source):
+    data = ELF.read_bytes().replace(b".symtab\0", b".nosyms\0").replace(b".debug_info\0", b".debug_none\0")
+    stripped = tmp_path / "stripped.elf"
+    stripped.write_bytes(data)
+    result = update(load(source), DebugData(stripped, use_cache=False))
+    (finding,) = result.report.of_kind("elf-without-symbols")
+    assert finding.message.startswith("stripped.elf has neither DWARF nor a symbol table")
+    assert result.report.findings[0] == finding and len(result.report.of_kind("symbol-not-found")) == 11

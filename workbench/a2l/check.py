@@ -12,11 +12,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+from workbench.a2l.addressed import AddressedObjects
 from workbench.a2l.datatypes import DATATYPES
 from workbench.a2l.document import A2lDocument, Block, load
-from workbench.a2l.grammar import NAMESPACES
+from workbench.a2l.grammar import MAX_ADDRESS, NAMESPACES
 from workbench.a2l.reports import Finding, Report, Severity, finding_at
-from workbench.a2l.update.targets import collect_targets
 from workbench.a2l.validate import validate_document
 from workbench.elf.debugdata import DebugData
 from workbench.errors import A2lParseError
@@ -82,13 +82,20 @@ def check(doc: A2lDocument, debug: DebugData | None = None, *, progress: Progres
         report.add(Finding("syntax", "", error.reason, error.path, error.line, error.column, "",
                            Severity.ERROR))
     report_progress(progress, 1, 4, "checking references")
+    try:
+        objects = AddressedObjects(doc)
+    except A2lParseError as error:  # an object without its parameters: nothing can be placed
+        objects = None
+        if not any((f.file, f.line, f.column) == (error.path, error.line, error.column) for f in report.findings):
+            report.add(Finding("syntax", "", error.reason, error.path, error.line, error.column, "", Severity.ERROR))
     for module in doc.modules:
         names = _namespaces(doc, module, report)
         _references(doc, module, names, report)
         report_progress(progress, 2, 4, "checking memory")
-        placed = _placements(doc, module, debug, report)
-        _overlaps(doc, placed, report)
-        _segments(doc, module, placed, report)
+        if objects is not None:
+            placed = _placements(doc, module, objects, debug, report)
+            _overlaps(doc, placed, report)
+            _segments(doc, module, placed, report)
     report_progress(progress, 4, 4, "checked")
     report.findings.sort(key=lambda f: (f.file, f.line, f.column))
     return report
@@ -141,36 +148,44 @@ def _references(doc: A2lDocument, module: Block, names: dict[str, dict[str, Bloc
                 expect(token, namespace, owner, f"{keyword} entry")
 
 
-def _placements(doc: A2lDocument, module: Block, debug: DebugData | None, report: Report) -> list[_Placed]:
+def _placements(doc: A2lDocument, module: Block, objects: AddressedObjects, debug: DebugData | None,
+                report: Report) -> list[_Placed]:
     """Address and size of every object that has both (sizes from the ELF when given, else the A2L)."""
     layouts = _record_layout_sizes(doc)
     placed = []
-    for keyword in ("MEASUREMENT", "CHARACTERISTIC", "AXIS_PTS", "BLOB"):
-        for target in collect_targets(doc, keyword):
-            if target.address_token is None or doc.block(target.block).parent != module:
-                continue
-            try:
-                address = doc.int_value(target.address_token)
-            except A2lParseError:
-                continue  # already a syntax finding
-            size = None
-            if debug is not None:
-                symbol = debug.find(target.symbol)
-                if symbol is None:
-                    report.add(finding_at(doc, target.name_token, "symbol-not-found", target.name,
-                                          f"{keyword} {target.name}: {debug.resolve_error(target.symbol)}",
-                                          keyword, Severity.ERROR))
-                else:
-                    size = symbol.size
-                    expected = symbol.address + target.symbol_offset
-                    if expected != address:
-                        report.add(finding_at(doc, target.address_token, "address-mismatch", target.name,
-                                              f"{keyword} {target.name}: the A2L says 0x{address:X}, "
-                                              f"{debug.path.name} says 0x{expected:X}", keyword, Severity.ERROR))
-            if size is None:
-                size = _a2l_size(doc, doc.block(target.block), layouts)
-            if size:
-                placed.append(_Placed(target.name, keyword, address, size, target.address_token))
+    parents = doc.blocks.parent
+    for row in range(len(objects)):
+        target = objects.target(row)
+        keyword = target.keyword
+        if keyword == "INSTANCE" or target.address_token is None or parents[target.block] != module.index:
+            continue
+        try:
+            address = doc.int_value(target.address_token)
+        except A2lParseError:
+            continue  # already a syntax finding
+        if address > MAX_ADDRESS:
+            report.add(finding_at(doc, target.address_token, "address-out-of-range", target.name,
+                                  f"{keyword} {target.name}: address 0x{address:X} does not fit the 32 bits of an "
+                                  "A2L address", keyword, Severity.ERROR))
+            continue
+        size = None
+        if debug is not None:
+            symbol = debug.find(target.symbol)
+            if symbol is None:
+                report.add(finding_at(doc, target.name_token, "symbol-not-found", target.name,
+                                      f"{keyword} {target.name}: {debug.resolve_error(target.symbol)}",
+                                      keyword, Severity.ERROR))
+            else:
+                size = symbol.size
+                expected = symbol.address + target.symbol_offset
+                if expected != address:
+                    report.add(finding_at(doc, target.address_token, "address-mismatch", target.name,
+                                          f"{keyword} {target.name}: the A2L says 0x{address:X}, "
+                                          f"{debug.path.name} says 0x{expected:X}", keyword, Severity.ERROR))
+        if size is None:
+            size = _a2l_size(doc, doc.block(target.block), layouts)
+        if size:
+            placed.append(_Placed(target.name, keyword, address, size, target.address_token))
     return placed
 
 

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from workbench.a2l import grammar
-from workbench.a2l.includes import splice_includes
+from workbench.a2l.includes import Include, splice_includes
 from workbench.a2l.source import SourceFile, SourceMap, read_source, source_from_text
 from workbench.a2l.tokens import Tokens
 from workbench.a2l.tree import BlockTable, find_directives, parse_blocks
@@ -60,21 +60,24 @@ class MemorySegment:
 class A2lDocument:
     """One A2L file (includes spliced in): bytes, tokens and the block tree over them."""
 
-    def __init__(self, data: bytes, source_map: SourceMap, tokens: Tokens, blocks: BlockTable, includes: int = 0):
+    def __init__(self, data: bytes, source_map: SourceMap, tokens: Tokens, blocks: BlockTable,
+                 includes: list[Include] | None = None, include_count: int = 0):
         self.data = data
         self.source_map = source_map
         self.tokens = tokens
         self.blocks = blocks
-        self.include_count = includes
+        self.includes = includes or []  # the main file's own /include directives
+        self.include_count = include_count  # directives met, nested ones included
         self.block_begin: list[int] = blocks.begin.tolist()  # per block: its /begin token
         self.block_end: list[int] = blocks.end.tolist()  # per block: its /end token
         self._by_keyword: dict[str, list[int]] | None = None
 
     @classmethod
     def from_source(cls, source: SourceFile, *, validate: bool = True) -> "A2lDocument":
-        data, source_map, tokens, includes = splice_includes(source)
-        begins, ends, _ = find_directives(tokens, source_map)
-        document = cls(data, source_map, tokens, parse_blocks(tokens, begins, ends, source_map), includes)
+        spliced = splice_includes(source)
+        begins, ends, _ = find_directives(spliced.tokens, spliced.source_map)
+        blocks = parse_blocks(spliced.tokens, begins, ends, spliced.source_map)
+        document = cls(spliced.data, spliced.source_map, spliced.tokens, blocks, spliced.includes, spliced.count)
         if validate:
             from workbench.a2l.validate import validate_document
 
@@ -229,21 +232,20 @@ class A2lDocument:
         """The MODULE's direct children with this keyword (MEASUREMENT, CHARACTERISTIC ...)."""
         return self.module(module).children_named(keyword)
 
-    def option_tokens(self, block_keyword: str, option: str) -> dict[int, int]:
-        """For every block with ``block_keyword`` that has the keyword ``option`` at its own level:
-        block index -> token index of that keyword. Found with vectorized searches, not a walk."""
+    def option_tokens(self, block_keyword: str, option: str) -> tuple[np.ndarray, np.ndarray]:
+        """(blocks, tokens): every ``block_keyword`` block that has the keyword ``option`` at its own
+        level, and the token of its first one, in document order. Found with vectorized searches."""
         tokens = self.tokens.matching(option.encode("ascii"))
-        if not len(tokens):
-            return {}
+        blocks = np.asarray(self.block_indices(block_keyword), dtype=np.int64)
+        if not len(tokens) or not len(blocks):
+            return np.zeros(0, np.int64), np.zeros(0, np.int64)
         owners = self._innermost_blocks(tokens)
-        keyword = self.blocks.keyword
+        slot = np.minimum(np.searchsorted(blocks, owners), len(blocks) - 1)
         skip = len(grammar.BLOCKS[block_keyword].params) if block_keyword in grammar.BLOCKS else 0
-        result: dict[int, int] = {}
-        for token, owner in zip(tokens.tolist(), owners.tolist()):
-            # a token before the options is a positional parameter that happens to spell the keyword
-            if owner >= 0 and keyword[owner] == block_keyword and token >= self.block_begin[owner] + 2 + skip:
-                result.setdefault(owner, token)
-        return result
+        # a token among the positional parameters is a name that happens to spell the keyword
+        keep = (blocks[slot] == owners) & (tokens >= self.blocks.begin[np.maximum(owners, 0)] + 2 + skip)
+        found_blocks, first = np.unique(owners[keep], return_index=True)
+        return found_blocks, tokens[keep][first]
 
     def _innermost_blocks(self, tokens: np.ndarray) -> np.ndarray:
         """The innermost block containing each token (-1: top level)."""

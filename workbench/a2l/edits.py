@@ -1,20 +1,26 @@
-"""Changes to a document as (byte span, new bytes) edits applied to the original buffer.
+"""Changes to a document as (byte span, new bytes) edits applied to the original bytes.
 
 Everything outside the edited spans stays byte-identical, so ``git diff`` of an
-updated file shows only the tokens that changed. Writing adds back the BOM the file
-was read with; text inserted by an edit uses the file's newline style.
+updated file shows only the tokens that changed. Edits are made on the document
+buffer (included files spliced in); :meth:`Edits.by_file` turns them into edits of
+each file the buffer came from, so that an output can keep its ``/include`` lines.
+Writing adds back the BOM and encoding the file was read with; text inserted by an
+edit uses the file's newline style.
 """
 
 from __future__ import annotations
 
-from operator import itemgetter
 from pathlib import Path
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING, Iterable, NamedTuple
 
+import numpy as np
+
+from workbench.errors import InputError
 from workbench.fileio import atomic_write_bytes
 
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument, Block
+    from workbench.a2l.source import SourceFile, SourceMap
 
 
 class Edit(NamedTuple):
@@ -23,24 +29,88 @@ class Edit(NamedTuple):
     text: bytes
 
 
-def apply_edits(data: bytes, edits: list[Edit]) -> bytes:
-    """``data`` with every edit applied; edits must not overlap (insertions at one offset keep their order)."""
-    if not edits:
-        return data
-    ordered = sorted(edits, key=_start)
-    pieces = []
-    position = 0
-    for edit in ordered:
-        if edit.start < position:
-            raise ValueError(f"overlapping edits at byte {edit.start}")
-        pieces.append(data[position : edit.start])
-        pieces.append(edit.text)
-        position = edit.end
-    pieces.append(data[position:])
-    return b"".join(pieces)
+class Edits:
+    """Many edits of one buffer, kept as three columns (a large update makes tens of thousands)."""
+
+    __slots__ = ("starts", "ends", "texts")
+
+    def __init__(self, edits: Iterable[Edit] = ()):
+        self.starts: list[int] = []
+        self.ends: list[int] = []
+        self.texts: list[bytes] = []
+        self.extend(edits)
+
+    def __len__(self) -> int:
+        return len(self.starts)
+
+    def append(self, edit: Edit) -> None:
+        self.starts.append(edit.start)
+        self.ends.append(edit.end)
+        self.texts.append(edit.text)
+
+    def extend(self, edits: Iterable[Edit]) -> None:
+        for edit in edits:
+            self.append(edit)
+
+    def extend_columns(self, starts: list[int], ends: list[int], texts: list[bytes]) -> None:
+        self.starts.extend(starts)
+        self.ends.extend(ends)
+        self.texts.extend(texts)
+
+    def apply(self, data: bytes) -> bytes:
+        """``data`` with every edit applied. Insertions at one offset keep their order; raises
+        ValueError when two edits overlap."""
+        if not self.starts:
+            return data
+        order = np.argsort(np.asarray(self.starts, dtype=np.int64), kind="stable")
+        starts = np.asarray(self.starts, dtype=np.int64)[order]
+        ends = np.asarray(self.ends, dtype=np.int64)[order]
+        overlapping = np.flatnonzero(starts[1:] < ends[:-1])
+        if len(overlapping):
+            raise ValueError(f"overlapping edits at byte {int(starts[overlapping[0] + 1])}")
+        gap_starts = [0, *ends.tolist()]
+        gap_ends = [*starts.tolist(), len(data)]
+        pieces: list[bytes] = [b""] * (2 * len(starts) + 1)
+        pieces[0::2] = [data[start:end] for start, end in zip(gap_starts, gap_ends)]
+        texts = self.texts
+        pieces[1::2] = [texts[i] for i in order.tolist()]
+        return b"".join(pieces)
+
+    def by_file(self, source_map: "SourceMap") -> list[tuple["SourceFile", "Edits"]]:
+        """The edits of each file the buffer was spliced from, at that file's own offsets
+        (files without edits are left out). Raises :class:`InputError` for an edit that
+        crosses an ``/include`` boundary."""
+        segments = source_map.segments
+        if len(segments) == 1:
+            return [(segments[0].source, self)] if self.starts else []
+        offsets = np.asarray([segment.offset for segment in segments], dtype=np.int64)
+        owner = np.maximum(np.searchsorted(offsets, np.asarray(self.starts, dtype=np.int64), side="right") - 1, 0)
+        found: dict[int, tuple[SourceFile, Edits]] = {}
+        for start, end, text, index in zip(self.starts, self.ends, self.texts, owner.tolist()):
+            segment = segments[index]
+            if end > segment.offset + segment.length:
+                file, line, column = source_map.position(start)
+                raise InputError(f"{file}:{line}:{column}: this change would cross an /include boundary; "
+                                 "write the includes inline instead")
+            source = segment.source
+            local = segment.source_offset - segment.offset
+            if id(source) not in found:
+                found[id(source)] = (source, Edits())
+            edits = found[id(source)][1]
+            edits.append(Edit(start + local, end + local, _in_newline_style(text, source_map.main, source)))
+        return list(found.values())
 
 
-_start = itemgetter(0)  # stable: insertions at one offset keep their order
+def _in_newline_style(text: bytes, main: "SourceFile", source: "SourceFile") -> bytes:
+    """Inserted text uses the main file's newline; an included file may use another one."""
+    if source.newline == main.newline or b"\n" not in text and b"\r" not in text:
+        return text
+    return text.replace(main.newline.encode("ascii"), b"\n").replace(b"\n", source.newline.encode("ascii"))
+
+
+def apply_edits(data: bytes, edits: Iterable[Edit]) -> bytes:
+    """``data`` with ``edits`` applied (see :meth:`Edits.apply`)."""
+    return Edits(edits).apply(data)
 
 
 def replace_token(doc: "A2lDocument", token: int, text: bytes) -> Edit:
@@ -50,14 +120,17 @@ def replace_token(doc: "A2lDocument", token: int, text: bytes) -> Edit:
 def remove_block(doc: "A2lDocument", block: "Block") -> Edit:
     """Remove a block; when it stands alone on its lines, remove those whole lines."""
     start, end = block.span
-    return remove_span(doc.data, start, end)
+    return remove_span(doc, start, end)
 
 
-def remove_span(data: bytes, start: int, end: int) -> Edit:
-    """Remove ``data[start:end]``, widened to whole lines when only blanks share them."""
-    line_start = data.rfind(b"\n", 0, start) + 1
-    line_end = data.find(b"\n", end)
-    line_end = len(data) if line_end < 0 else line_end + 1
+def remove_span(doc: "A2lDocument", start: int, end: int) -> Edit:
+    """Remove ``doc.data[start:end]``, widened to whole lines when only blanks share them
+    (never beyond the text of the file that holds the span)."""
+    data = doc.data
+    low, high = doc.source_map.segment_bounds(start)
+    line_start = max(data.rfind(b"\n", 0, start) + 1, low)
+    line_end = data.find(b"\n", end, high)
+    line_end = high if line_end < 0 else line_end + 1
     if not data[line_start:start].strip() and not data[end:line_end].strip():
         return Edit(line_start, line_end, b"")
     return Edit(start, end, b"")
@@ -74,6 +147,6 @@ def newline_bytes(doc: "A2lDocument") -> bytes:
     return doc.source.newline.encode("ascii")
 
 
-def write_output(doc: "A2lDocument", data: bytes, path: str | Path) -> None:
-    """Write a document buffer (in the document's encoding) atomically, with its BOM."""
-    atomic_write_bytes(path, doc.source.bom + data)
+def write_source(source: "SourceFile", data: bytes, path: str | Path) -> None:
+    """Write ``data`` (a new version of ``source.data``) atomically, with the file's BOM and encoding."""
+    atomic_write_bytes(path, source.file_bytes(data))

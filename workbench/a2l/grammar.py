@@ -175,6 +175,8 @@ OPTIONS.update({"VAR_MEASUREMENT": ("ident",), "VAR_SELECTION_CHARACTERISTIC": (
 TOP_LEVEL_OPTIONS = {"ASAP2_VERSION": ("int", "int"), "A2ML_VERSION": ("int", "int")}
 TOP_LEVEL_BLOCKS = frozenset({"PROJECT"})
 
+MAX_ADDRESS = 0xFFFFFFFF  # addresses are ULONG: 32 bits
+
 # Objects with an address in the ECU, and the index (among the block's own tokens,
 # the name being 0) of the address parameter; None: the address is ECU_ADDRESS.
 ADDRESSED_OBJECTS: dict[str, int | None] = {

@@ -1,26 +1,46 @@
 """``/include`` handling: included files are spliced into one buffer, their positions kept.
 
 ``/include "file.a2l"`` (or an unquoted name) names a path relative to the including
-file; includes nest. The spliced buffer is what the document parses and what a
-merge or update writes: the output of a file with includes is self-contained.
+file; includes nest. The spliced buffer is what the document parses; its source map
+says which file every byte came from, so that an update can write its changes back
+into the file that holds them and keep the ``/include`` lines.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING, NamedTuple
 
+from workbench.a2l.reports import Finding, Severity
 from workbench.a2l.source import Segment, SourceFile, SourceMap, read_source, transcoded
 from workbench.a2l.tokens import Tokens, tokenize
 from workbench.a2l.tree import find_directives
 from workbench.a2l.values import parse_string
 from workbench.errors import InputError
 
+if TYPE_CHECKING:
+    from workbench.a2l.document import A2lDocument
 
-def splice_includes(source: SourceFile, encoding: str | None = None,
-                    _chain: tuple[Path, ...] = ()) -> tuple[bytes, SourceMap, Tokens, int]:
+
+class Include(NamedTuple):
+    """One ``/include`` directive of a file."""
+
+    name: str  # as written (relative to the including file's folder)
+    path: Path  # the file it names
+    offset: int  # of the directive in the including file
+
+
+class Spliced(NamedTuple):
+    data: bytes  # the file with every /include replaced by the included text
+    source_map: SourceMap
+    tokens: Tokens  # of ``data``
+    includes: list[Include]  # the file's own directives (not those of included files)
+    count: int  # directives met, nested ones included
+
+
+def splice_includes(source: SourceFile, encoding: str | None = None, _chain: tuple[Path, ...] = ()) -> Spliced:
     """The bytes of ``source`` with every ``/include`` replaced by the included file.
 
-    Returns (buffer, source map, tokens of the buffer, number of include directives).
     ``encoding`` is the encoding of the buffer the result goes into (default: the
     source's own); included files in another encoding are converted to it.
     Raises :class:`A2lParseError` (located at the directive) when an included file is
@@ -31,43 +51,60 @@ def splice_includes(source: SourceFile, encoding: str | None = None,
         source = transcoded(source, encoding)
     source_map = SourceMap.single(source)
     tokens = tokenize(source.data, source_map)
-    _, _, includes = find_directives(tokens, source_map)
-    if not len(includes):
-        return source.data, source_map, tokens, 0
+    _, _, directives = find_directives(tokens, source_map)
+    if not len(directives):
+        return Spliced(source.data, source_map, tokens, [], 0)
     chain = _chain + ((source.path.resolve(),) if source.path is not None else ())
     pieces: list[bytes] = []
     segments: list[Segment] = []
+    includes: list[Include] = []
     position = 0  # in source.data
     length = 0  # of the output so far
     count = 0
-    for directive in includes.tolist():
+    for directive in directives.tolist():
         offset = tokens.starts_list[directive]
         if directive + 1 >= len(tokens):
             raise source_map.error("/include must be followed by a file name", offset)
-        target = _include_path(source, tokens.raw(directive + 1), offset)
+        name = _include_name(source, tokens.raw(directive + 1))
+        target = (source.path.parent if source.path is not None else Path.cwd()) / name
         if target.resolve() in chain:
             raise source_map.error(f"/include of {target} includes itself (a cycle)", offset)
         try:
             included = read_source(target)
         except InputError as exc:
             raise source_map.error(f"cannot include {target}: {exc}", offset) from None
-        data, inner_map, _, inner_count = splice_includes(included, encoding, chain)
+        inner = splice_includes(included, encoding, chain)
+        includes.append(Include(name, target, offset))
         segments.append(Segment(length, offset - position, source, position))
         pieces.append(source.data[position:offset])
         length += offset - position
-        segments.extend(Segment(s.offset + length, s.length, s.source, s.source_offset) for s in inner_map.segments)
-        pieces.append(data)
-        length += len(data)
+        segments.extend(Segment(s.offset + length, s.length, s.source, s.source_offset) for s in inner.source_map.segments)
+        pieces.append(inner.data)
+        length += len(inner.data)
         position = tokens.ends_list[directive + 1]
-        count += 1 + inner_count
+        count += 1 + inner.count
     segments.append(Segment(length, len(source.data) - position, source, position))
     pieces.append(source.data[position:])
     buffer = b"".join(pieces)
     spliced_map = SourceMap(segments)
-    return buffer, spliced_map, tokenize(buffer, spliced_map), count
+    return Spliced(buffer, spliced_map, tokenize(buffer, spliced_map), includes, count)
 
 
-def _include_path(source: SourceFile, raw: bytes, offset: int) -> Path:
-    name = parse_string(raw, source.encoding) if raw[:1] == b'"' else raw.decode(source.encoding)
-    base = source.path.parent if source.path is not None else Path.cwd()
-    return base / name
+def _include_name(source: SourceFile, raw: bytes) -> str:
+    return parse_string(raw, source.encoding) if raw[:1] == b'"' else raw.decode(source.encoding)
+
+
+def includes_not_found_from(doc: "A2lDocument", output: Path) -> list[Finding]:
+    """Warnings for the ``/include`` lines of ``doc``'s main file that do not find their file from
+    ``output``'s folder (an output written elsewhere than its input keeps relative include paths)."""
+    findings = []
+    for include in doc.includes:
+        from_output = output.parent / include.name
+        if from_output.exists() and from_output.resolve() == include.path.resolve():
+            continue
+        line, column = doc.source.position(include.offset)
+        findings.append(Finding("include-not-found-from-output", include.name,
+                                f'{output}: /include "{include.name}" does not find {include.path} from the output\'s '
+                                "folder; write the output beside its input, or the includes inline",
+                                doc.source.name, line, column, "", Severity.WARNING))
+    return findings

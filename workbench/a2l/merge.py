@@ -16,10 +16,11 @@ from pathlib import Path
 from workbench.a2l import grammar
 from workbench.a2l.grammar import NAMESPACES
 from workbench.a2l.document import A2lDocument, Block, load
-from workbench.a2l.edits import Edit, apply_edits, newline_bytes, remove_block, replace_token, write_output
-from workbench.a2l.reports import ConflictPolicy, Finding, Report, Severity, finding_at
+from workbench.a2l.edits import Edit, Edits, apply_edits, newline_bytes, remove_block, replace_token, write_source
+from workbench.a2l.includes import includes_not_found_from
+from workbench.a2l.reports import ConflictPolicy, Finding, Report, Severity, finding_at, summarize
 from workbench.a2l.source import SourceFile, transcoded
-from workbench.errors import WorkbenchError
+from workbench.errors import InputError, WorkbenchError
 from workbench.progress import Progress, report as report_progress
 
 __all__ = ["ConflictPolicy", "MergeFailed", "MergeResult", "merge", "merge_files"]
@@ -39,9 +40,7 @@ class MergeFailed(WorkbenchError):
     def __init__(self, report: Report):
         self.report = report
         conflicts = report.of_kind("conflict")
-        shown = "; ".join(f"{f.name} ({f.location})" for f in conflicts[:3])
-        more = f" and {len(conflicts) - 3} more" if len(conflicts) > 3 else ""
-        super().__init__(f"{len(conflicts)} conflicting definition(s): {shown}{more} "
+        super().__init__(f"{len(conflicts)} conflicting definition(s): {summarize(conflicts)} "
                          "(choose --on-conflict keep-first, keep-last or rename)")
         self.exit_code = 1
 
@@ -68,11 +67,15 @@ class _Plan:
 
 
 def merge(master: A2lDocument, fragments: list[A2lDocument], *, policy: ConflictPolicy = ConflictPolicy.ERROR,
-          progress: Progress | None = None) -> MergeResult:
+          keep_includes: bool = False, progress: Progress | None = None) -> MergeResult:
     """Merge ``fragments`` into ``master``'s MODULE (see the module docstring).
 
-    Raises :class:`MergeFailed` on conflicts under ``ConflictPolicy.ERROR`` and
-    :class:`A2lParseError` when a fragment cannot be written in the master's encoding.
+    The result is self-contained: the text of every ``/include`` is written inline, unless
+    ``keep_includes`` keeps the master's own ``/include`` lines (a fragment's included text
+    is always inlined: its duplicates must be left out). Raises :class:`MergeFailed` on
+    conflicts under ``ConflictPolicy.ERROR``, :class:`A2lParseError` when a fragment cannot be
+    written in the master's encoding, and :class:`InputError` when ``keep_includes`` would
+    need a change inside a file the master includes.
     """
     report = Report("merge")
     module = master.module()
@@ -94,24 +97,43 @@ def merge(master: A2lDocument, fragments: list[A2lDocument], *, policy: Conflict
     report_progress(progress, len(fragments), len(fragments), "merging fragments")
     if policy is ConflictPolicy.ERROR and report.of_kind("conflict"):
         raise MergeFailed(report)
+    end_line = master.data.rfind(b"\n", 0, master.tokens.starts_list[module.end_token]) + 1
+    inserted = b"".join(_render(plan, master) for plan in plans)
+    edits = Edits(master_edits)
+    edits.append(Edit(end_line, end_line, inserted))
+    if keep_includes:
+        return MergeResult(_master_file_text(master, edits), report)
     if master.include_count:
         report.add(Finding("includes-inlined", master.name, f"{master.include_count} /include(s) of the master "
                            "written inline: the output is self-contained", master.name, 1, 1))
-    end_line = master.data.rfind(b"\n", 0, master.tokens.starts_list[module.end_token]) + 1
-    inserted = b"".join(_render(plan, master) for plan in plans)
-    master_edits.append(Edit(end_line, end_line, inserted))
-    return MergeResult(apply_edits(master.data, master_edits), report)
+    return MergeResult(edits.apply(master.data), report)
 
 
 def merge_files(master: str | Path, fragments: list[str | Path], output: str | Path, *,
-                policy: ConflictPolicy = ConflictPolicy.ERROR, progress: Progress | None = None) -> Report:
+                policy: ConflictPolicy = ConflictPolicy.ERROR, keep_includes: bool = False,
+                progress: Progress | None = None) -> Report:
     """Load (and validate) the inputs, merge, and write ``output`` atomically. The output's block
     structure is parsed again before writing, as a guard against a merge that broke it."""
     master_doc = load(master)
-    result = merge(master_doc, [load(path) for path in fragments], policy=policy, progress=progress)
+    result = merge(master_doc, [load(path) for path in fragments], policy=policy, keep_includes=keep_includes,
+                   progress=progress)
     A2lDocument.from_source(_as_source(master_doc, result.data), validate=False)
-    write_output(master_doc, result.data, output)
+    write_source(master_doc.source, result.data, output)
+    if keep_includes:
+        result.report.extend(includes_not_found_from(master_doc, Path(output)))
     return result.report
+
+
+def _master_file_text(master: A2lDocument, edits: Edits) -> bytes:
+    """The master's own file with the edits, its /include lines kept."""
+    data = master.source.data
+    for source, file_edits in edits.by_file(master.source_map):
+        if source is not master.source:
+            line, column = source.position(min(file_edits.starts))
+            raise InputError(f"{source.name}:{line}:{column}: the merge must change this file, which the master "
+                             "includes; merge without keeping the master's includes")
+        data = file_edits.apply(data)
+    return data
 
 
 def _decide(master: A2lDocument, block: Block, origin: int, plan: _Plan, plans: list[_Plan],

@@ -14,7 +14,8 @@ from typing import TYPE_CHECKING, NamedTuple
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
 
-__all__ = ["ConflictPolicy", "Finding", "Report", "Severity", "UpdateMode", "finding_at", "findings_at"]
+__all__ = ["ConflictPolicy", "Finding", "IncludeMode", "Report", "Severity", "UpdateMode", "finding_at", "findings_at",
+           "summarize"]
 
 
 class UpdateMode(enum.Enum):
@@ -23,6 +24,14 @@ class UpdateMode(enum.Enum):
     DEFAULT = "default"  # keep it (address unchanged) and report it
     STRICT = "strict"  # any miss is an error: nothing is written
     REMOVE_MISSING = "remove-missing"  # drop it (and the references to it) and report it
+
+
+class IncludeMode(enum.Enum):
+    """What an update does with the text of included files (``/include``)."""
+
+    KEEP = "keep"  # keep the /include lines; changes in included files are reported, not written
+    UPDATE = "update"  # keep the /include lines and rewrite the included files that change, in place
+    MERGE = "merge"  # write the included text inline: the output is self-contained
 
 
 class ConflictPolicy(enum.Enum):
@@ -83,6 +92,12 @@ def findings_at(doc: "A2lDocument", items: list[tuple]) -> list[Finding]:
     positions = doc.source_map.positions([starts[item[0]] for item in items])
     return [Finding(kind, name, message, file, line, column, block, severity)
             for (_, kind, name, message, block, severity), (file, line, column) in zip(items, positions)]
+
+
+def summarize(findings: list[Finding], shown: int = 3) -> str:
+    """``"a (file:line:column), b (...), c (...) and 4 more"``: the first findings by name and place."""
+    text = ", ".join(f"{f.name} ({f.location})" if f.file else f.name for f in findings[:shown])
+    return text + (f" and {len(findings) - shown} more" if len(findings) > shown else "")
 
 
 @dataclass

@@ -3,7 +3,9 @@
 The reader works on the file's bytes (every A2L keyword and number is ASCII), so
 unchanged bytes are written back untouched whatever the encoding. Text is decoded
 only where a value is needed. An A2L is UTF-8 (with or without BOM) or, when it is
-not valid UTF-8, latin-1 (the two encodings met in the wild).
+not valid UTF-8, latin-1 (the two encodings met in the wild). A UTF-16 or UTF-32
+file (with BOM, or UTF-16 without one) is converted to UTF-8 for reading and
+converted back when written, which changes no character.
 """
 
 from __future__ import annotations
@@ -18,9 +20,10 @@ import numpy as np
 from workbench.errors import A2lParseError, InputError
 
 _UTF8_BOM = codecs.BOM_UTF8
-_UNSUPPORTED_BOMS = (
-    (codecs.BOM_UTF32_LE, "UTF-32"), (codecs.BOM_UTF32_BE, "UTF-32"),
-    (codecs.BOM_UTF16_LE, "UTF-16"), (codecs.BOM_UTF16_BE, "UTF-16"),
+# UTF-32 first: its little-endian BOM starts with UTF-16's
+_WIDE_BOMS = (
+    (codecs.BOM_UTF32_LE, "utf-32-le"), (codecs.BOM_UTF32_BE, "utf-32-be"),
+    (codecs.BOM_UTF16_LE, "utf-16-le"), (codecs.BOM_UTF16_BE, "utf-16-be"),
 )
 
 
@@ -30,14 +33,21 @@ class SourceFile:
 
     path: Path | None
     data: bytes = field(repr=False)
-    encoding: str  # "utf-8" or "latin-1"
+    encoding: str  # of ``data``: "utf-8" or "latin-1"
     bom: bytes = b""
     newline: str = "\n"
+    file_encoding: str | None = None  # the file's own encoding when ``data`` was converted from it
     _line_starts: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def name(self) -> str:
         return str(self.path) if self.path is not None else "<string>"
+
+    def file_bytes(self, data: bytes) -> bytes:
+        """``data`` (a new version of :attr:`data`) as the file stores it: its BOM and encoding."""
+        if self.file_encoding is not None:
+            data = data.decode(self.encoding).encode(self.file_encoding)
+        return self.bom + data
 
     def line_starts(self) -> np.ndarray:
         """Byte offsets at which each line starts (line 1 at index 0)."""
@@ -93,9 +103,9 @@ def source_from_text(text: str, path: str | Path | None = None) -> SourceFile:
 def decode_source(raw: bytes, path: Path | None) -> SourceFile:
     """Detect BOM, encoding and newline style of ``raw``."""
     name = str(path) if path is not None else "<string>"
-    for bom, label in _UNSUPPORTED_BOMS:
-        if raw.startswith(bom):
-            raise A2lParseError(f"{label} encoded A2L files are not supported; save it as UTF-8", name, 1, 1)
+    wide = _wide_encoding(raw)
+    if wide is not None:
+        return _from_wide(raw, path, *wide)
     bom = _UTF8_BOM if raw.startswith(_UTF8_BOM) else b""
     data = raw[len(bom):]
     try:
@@ -117,6 +127,40 @@ def decode_source(raw: bytes, path: Path | None) -> SourceFile:
     return source
 
 
+def _wide_encoding(raw: bytes) -> tuple[bytes, str] | None:
+    """(BOM, encoding) of a UTF-16/32 file; without a BOM, UTF-16 is recognised by its NUL
+    high bytes (an A2L starts with ASCII: a keyword, a comment or blanks)."""
+    for bom, encoding in _WIDE_BOMS:
+        if raw.startswith(bom):
+            return bom, encoding
+    head = raw[:64]
+    if len(head) >= 4 and len(head) % 2 == 0:
+        if not any(head[1::2]) and all(head[0::2]):
+            return b"", "utf-16-le"
+        if not any(head[0::2]) and all(head[1::2]):
+            return b"", "utf-16-be"
+    return None
+
+
+def _from_wide(raw: bytes, path: Path | None, bom: bytes, encoding: str) -> SourceFile:
+    body = raw[len(bom):]
+    try:
+        text = body.decode(encoding)
+    except UnicodeDecodeError as exc:
+        unit = 4 if "32" in encoding else 2
+        line_text = body[: exc.start - exc.start % unit].decode(encoding)
+        line = line_text.count("\n") + 1
+        column = len(line_text) - line_text.rfind("\n")
+        raise A2lParseError(f"invalid {encoding.upper()} data", str(path) if path is not None else "<string>",
+                            line, column) from None
+    data = text.encode("utf-8")
+    source = SourceFile(path, data, "utf-8", bom, _detect_newline(data), file_encoding=encoding)
+    nul = data.find(b"\0")
+    if nul >= 0:
+        raise source.error("NUL character: this is a binary file, not an A2L file", nul)
+    return source
+
+
 def _detect_newline(data: bytes) -> str:
     first = data.find(b"\n")
     if first > 0 and data[first - 1 : first] == b"\r":
@@ -127,7 +171,8 @@ def _detect_newline(data: bytes) -> str:
 
 
 def transcoded(source: SourceFile, encoding: str) -> SourceFile:
-    """``source`` re-encoded; raises :class:`A2lParseError` at a character ``encoding`` cannot hold."""
+    """``source`` with its data in another encoding (it still writes back as the file was);
+    raises :class:`A2lParseError` at a character ``encoding`` cannot hold."""
     text = source.data.decode(source.encoding)
     try:
         data = text.encode(encoding)
@@ -137,7 +182,7 @@ def transcoded(source: SourceFile, encoding: str) -> SourceFile:
             f"character {text[exc.start]!r} cannot be written in {encoding} (the including file's encoding)",
             source.name, line, column,
         ) from None
-    return SourceFile(source.path, data, encoding, b"", source.newline)
+    return SourceFile(source.path, data, encoding, source.bom, source.newline, source.file_encoding or source.encoding)
 
 
 @dataclass(frozen=True)
@@ -164,6 +209,11 @@ class SourceMap:
     @property
     def main(self) -> SourceFile:
         return self.segments[0].source
+
+    def segment_bounds(self, offset: int) -> tuple[int, int]:
+        """Buffer offsets where the run of one file's text that holds ``offset`` starts and ends."""
+        segment = self.segments[max(bisect.bisect_right(self._offsets, offset) - 1, 0)]
+        return segment.offset, segment.offset + segment.length
 
     def locate(self, offset: int) -> tuple[SourceFile, int]:
         """The file a buffer offset came from, and the offset inside that file."""

@@ -59,18 +59,15 @@ def quote_string(text: str, encoding: str) -> bytes:
 def format_int_like(old: bytes, value: int) -> bytes:
     """``value`` written the way ``old`` was: hex stays hex with the same prefix, letter case and
     (where the value fits) digit count; decimal stays decimal."""
-    template = _TEMPLATES.get(old)
-    if template is None:
-        template = _template(old)
-        if len(_TEMPLATES) < 4096:  # placeholders repeat; the addresses of an updated file do not
-            _TEMPLATES[old] = template
-    hex_template, negative_template = template
-    if value < 0:
-        return negative_template % -value
-    return hex_template % value
+    return format_ints_like([old], [value])[0]
 
 
-_TEMPLATES: dict[bytes, tuple[bytes, bytes]] = {}  # an update formats the same placeholder thousands of times
+def format_ints_like(olds: list[bytes], values: list[int]) -> list[bytes]:
+    """:func:`format_int_like` of many tokens (an update rewrites tens of thousands of addresses,
+    most written alike: each distinct spelling is worked out once)."""
+    templates = {old: _template(old) for old in set(olds)}
+    return [templates[old][0] % value if value >= 0 else templates[old][1] % -value
+            for old, value in zip(olds, values)]
 
 
 def _template(old: bytes) -> tuple[bytes, bytes]:

@@ -31,13 +31,17 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     merge = commands.add_parser("merge", help="merge module fragments into a master A2L",
                                 description="Insert each fragment's MODULE content into the master's MODULE. "
                                 "Identical definitions of a name merge silently; different ones are an error "
-                                "unless --on-conflict says otherwise. /include files are written inline.")
+                                "unless --on-conflict says otherwise. The output is a new, self-contained file: the "
+                                "text of every /include is written inline (--keep-includes keeps the master's own "
+                                "/include lines; a fragment's included text is always inlined).")
     merge.add_argument("master", metavar="MASTER.a2l")
     merge.add_argument("fragments", nargs="+", metavar="FRAGMENT.a2l")
     merge.add_argument("-o", "--output", required=True, metavar="OUT.a2l", help="file to write (atomically)")
     merge.add_argument("--on-conflict", choices=["error", "keep-first", "keep-last", "rename"], default="error",
                        help="two different definitions of one name: fail (default), keep the first, keep the "
                             "last, or rename the later one NAME_<MODULE> (every rename is reported)")
+    merge.add_argument("--keep-includes", action="store_true",
+                       help="keep the master's /include lines instead of writing the included text inline")
     _output_options(merge)
     merge.set_defaults(func=_merge)
 
@@ -45,7 +49,9 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
                                  description="Set MEASUREMENT ECU_ADDRESS, CHARACTERISTIC/AXIS_PTS/BLOB/INSTANCE "
                                  "addresses and MOD_PAR EPK/ADDR_EPK from the ELF's DWARF (struct members a.b, "
                                  "array elements a[3] or a._3_, SYMBOL_LINK) or its .symtab. Objects whose "
-                                 "symbol is missing are reported and kept unless told otherwise.")
+                                 "symbol is missing are reported and kept unless told otherwise. Only the changed "
+                                 "tokens differ; /include lines stay, and changes that fall into included files "
+                                 "are reported unless --update-includes or --merge-includes says what to do.")
     update.add_argument("a2l", metavar="IN.a2l")
     update.add_argument("elf", metavar="ELF")
     update.add_argument("-o", "--output", required=True, metavar="OUT.a2l",
@@ -57,6 +63,11 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     update.add_argument("--types", action="store_true",
                         help="also check and update data types, array sizes, bit masks and limits from DWARF")
     update.add_argument("--no-epk", action="store_true", help="leave MOD_PAR EPK and ADDR_EPK alone")
+    includes = update.add_mutually_exclusive_group()
+    includes.add_argument("--update-includes", action="store_true",
+                          help="also rewrite the included files that change, in place (atomically)")
+    includes.add_argument("--merge-includes", action="store_true",
+                          help="write the text of every /include inline: the output is self-contained")
     update.add_argument("--validate", action="store_true",
                         help="also check the whole file against the ASAP2 grammar first (as `check` does); "
                              "without it only the structure and the tokens the update touches are checked")
@@ -105,8 +116,8 @@ def _merge(args: argparse.Namespace) -> int:
 
     try:
         with ProgressBar("merging", enabled=None if not args.json else False) as progress:
-            report = merge_files(args.master, args.fragments, args.output,
-                                 policy=ConflictPolicy(args.on_conflict), progress=progress)
+            report = merge_files(args.master, args.fragments, args.output, policy=ConflictPolicy(args.on_conflict),
+                                 keep_includes=args.keep_includes, progress=progress)
     except MergeFailed as exc:
         _print_report(exc.report, args, summary=str(exc))
         return 1
@@ -116,16 +127,19 @@ def _merge(args: argparse.Namespace) -> int:
 
 
 def _update(args: argparse.Namespace) -> int:
-    from workbench.a2l.reports import UpdateMode
+    from workbench.a2l.reports import IncludeMode, UpdateMode
     from workbench.a2l.update import UpdateFailed, update_file
     from workbench.cli.progressbar import ProgressBar
 
     mode = UpdateMode.STRICT if args.strict else UpdateMode.REMOVE_MISSING if args.remove_missing else UpdateMode.DEFAULT
+    includes = (IncludeMode.UPDATE if args.update_includes else IncludeMode.MERGE if args.merge_includes
+                else IncludeMode.KEEP)
     try:
         with ProgressBar("updating", enabled=None if not args.json else False) as progress:
             report = update_file(args.a2l, args.elf, args.output, mode=mode, types=args.types, epk=not args.no_epk,
-                                 epk_symbol=args.epk_symbol, cache_dir=args.cache_dir, use_cache=not args.no_cache,
-                                 validate=args.validate, report_addresses=args.verbose or args.json, progress=progress)
+                                 epk_symbol=args.epk_symbol, includes=includes, cache_dir=args.cache_dir,
+                                 use_cache=not args.no_cache, validate=args.validate,
+                                 report_addresses=args.verbose or args.json, progress=progress)
     except UpdateFailed as exc:
         _print_report(exc.report, args, summary=f"{exc}; nothing written")
         return 1

@@ -1,9 +1,11 @@
 """``update``: every address of an A2L (and optionally types, sizes, limits) from an ELF.
 
-The orchestrator walks MEASUREMENT, CHARACTERISTIC, AXIS_PTS, BLOB and INSTANCE in
-turn (``targets`` finds them, ``typecheck`` checks types, ``removal`` drops missing
-ones), sets MOD_PAR's EPK/ADDR_EPK (``workbench.a2l.epk``), and returns the new text
-as edits of the original: only the changed tokens differ.
+The orchestrator takes the addressed objects as columns (:mod:`workbench.a2l.addressed`),
+looks their symbols up in one batch, rewrites the address tokens whose value changes,
+and adds what ``typecheck`` (``--types``), ``removal`` (missing objects) and
+:mod:`workbench.a2l.epk` (MOD_PAR EPK/ADDR_EPK) change. The result is the input's text
+with only those tokens changed; ``/include`` lines stay, and the changes that fall into
+included files are returned per file (see :class:`IncludeMode`).
 """
 
 from __future__ import annotations
@@ -12,23 +14,22 @@ from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from workbench.a2l import grammar
+from workbench.a2l.addressed import AddressedObjects
 from workbench.a2l.document import A2lDocument, load
-from workbench.a2l.edits import Edit, apply_edits, indentation_of, newline_bytes, write_output
+from workbench.a2l.edits import Edit, Edits, indentation_of, newline_bytes, write_source
 from workbench.a2l.epk import epk_edits, read_elf_epk
-from workbench.a2l.reports import Finding, Report, Severity, UpdateMode, findings_at
+from workbench.a2l.grammar import MAX_ADDRESS
+from workbench.a2l.includes import includes_not_found_from
+from workbench.a2l.reports import Finding, IncludeMode, Report, Severity, UpdateMode, findings_at, summarize
 from workbench.a2l.update.removal import removal_edits
-from workbench.a2l.update.targets import Target, collect_targets
 from workbench.a2l.update.typecheck import TypeChecker
-from workbench.a2l.values import INT_RE, format_int_like
+from workbench.a2l.values import INT_RE, format_ints_like, parse_int
 from workbench.elf.debugdata import DebugData
 from workbench.errors import WorkbenchError
+from workbench.fileio import atomic_write_bytes
 from workbench.progress import Progress, report as report_progress
 
-__all__ = ["UpdateFailed", "UpdateMode", "UpdateReport", "UpdateResult", "update", "update_file"]
-
-_PROGRESS_STEP = 2000  # objects between progress reports
-
+__all__ = ["IncludeMode", "UpdateFailed", "UpdateMode", "UpdateReport", "UpdateResult", "update", "update_file"]
 
 @dataclass
 class UpdateReport(Report):
@@ -36,11 +37,8 @@ class UpdateReport(Report):
 
     tally: dict[str, Counter] = field(default_factory=dict)
 
-    def count(self, keyword: str, outcome: str) -> None:
-        tally = self.tally.get(keyword)
-        if tally is None:
-            tally = self.tally[keyword] = Counter()
-        tally[outcome] += 1
+    def count(self, keyword: str, outcome: str, number: int = 1) -> None:
+        self.tally.setdefault(keyword, Counter())[outcome] += number
 
     def to_dict(self) -> dict:
         return {**super().to_dict(), "tally": {k: dict(v) for k, v in self.tally.items()}}
@@ -48,63 +46,67 @@ class UpdateReport(Report):
 
 @dataclass
 class UpdateResult:
-    data: bytes  # the updated document buffer (the input's encoding, without BOM)
+    data: bytes  # the updated main file (the input's encoding, without BOM)
     report: UpdateReport
+    # included files the update changes: path -> their new bytes as the file stores them (BOM,
+    # encoding); empty under IncludeMode.MERGE, where ``data`` holds everything inline
+    included: dict[Path, bytes] = field(default_factory=dict)
 
 
 class UpdateFailed(WorkbenchError):
-    """A strict update met objects the ELF does not have; carries the report."""
+    """A strict update met objects it cannot update (not in the ELF, address beyond 32 bits); carries the report."""
 
     def __init__(self, report: UpdateReport):
         self.report = report
-        missing = report.of_kind("symbol-not-found")
-        shown = ", ".join(f"{f.name} ({f.location})" for f in missing[:3])
-        more = f" and {len(missing) - 3} more" if len(missing) > 3 else ""
-        super().__init__(f"{len(missing)} object(s) not found in the ELF (strict): {shown}{more}")
+        errors = report.errors
+        super().__init__(f"{len(errors)} object(s) cannot be updated (strict): {summarize(errors)}")
 
 
 def update(doc: A2lDocument, debug: DebugData, *, mode: UpdateMode = UpdateMode.DEFAULT, types: bool = False,
-           epk: bool = True, epk_symbol: str | None = None, report_addresses: bool = True,
-           progress: Progress | None = None) -> UpdateResult:
+           epk: bool = True, epk_symbol: str | None = None, includes: IncludeMode = IncludeMode.KEEP,
+           report_addresses: bool = True, progress: Progress | None = None) -> UpdateResult:
     """Update ``doc`` from ``debug``; the document itself is not changed.
 
     ``mode`` decides about objects whose symbol is not in the ELF (see :class:`UpdateMode`);
     ``types`` also checks data types, array sizes, bit masks and limits; ``epk`` sets
-    MOD_PAR EPK/ADDR_EPK from the ELF's EPK. ``report_addresses=False`` leaves the
+    MOD_PAR EPK/ADDR_EPK from the ELF's EPK; ``includes`` whether the result keeps the
+    ``/include`` lines (changes in included files go to :attr:`UpdateResult.included`) or
+    writes the included text inline. ``report_addresses=False`` leaves the
     "address-updated" finding of every object out of the report (the tally still counts
-    them), which saves a fifth of the time of a large update. Raises :class:`UpdateFailed` in strict mode
-    when a symbol is missing, :class:`A2lParseError` at an address that is not a number,
-    :class:`Cancelled` when ``progress`` is cancelled.
+    them). Raises :class:`UpdateFailed` in strict mode when an object cannot be updated,
+    :class:`A2lParseError` at an address that is not a number, :class:`Cancelled` when
+    ``progress`` is cancelled.
     """
     report = UpdateReport("update")
-    edits: list[Edit] = []
+    report_progress(progress, 0, 3, "finding the objects")
+    objects = AddressedObjects(doc)
+    edits = Edits()
     pending: list[tuple] = []  # findings as (token, kind, name, message, block, severity), located at the end
+    report_progress(progress, 1, 3, "looking up symbols")
+    if types:
+        symbols = [debug.find(symbol) for symbol in objects.symbols]
+        addresses = [symbol.address if symbol is not None else None for symbol in symbols]
+    else:
+        addresses = debug.addresses(objects.symbols, progress)
+    report_progress(progress, 2, 3, "updating addresses")
     removed: dict[str, int] = {}
-    checker = TypeChecker(doc) if types else None
-    all_targets = [t for keyword in grammar.ADDRESSED_OBJECTS for t in collect_targets(doc, keyword)]
-    total = len(all_targets)
-    address_of = debug.address_of
-    located: list[tuple[Target, int]] = []  # objects with an address token, and their new address
-    for done, target in enumerate(all_targets):
-        if done % _PROGRESS_STEP == 0:
-            report_progress(progress, done, total, "updating addresses")
-        symbol = debug.find(target.symbol) if checker is not None else None
-        address = symbol.address if symbol is not None else address_of(target.symbol)
+    located: list[tuple[int, int]] = []  # (row, new address) of the objects with an address token
+    for row, address in enumerate(addresses):
         if address is None:
-            _missing(target, debug, mode, report, removed, pending)
+            _missing(objects, row, debug, mode, report, removed, pending)
             continue
-        address += target.symbol_offset
-        if target.address_token is None:
-            _insert_address(doc, target, address, edits, report, pending)
+        address += objects.symbol_offsets[row]
+        if not 0 <= address <= MAX_ADDRESS:
+            _unaddressable(objects, row, address, mode, report, pending)
+        elif objects.address_tokens[row] < 0:
+            _insert_address(objects, row, address, edits, report, pending)
         else:
-            located.append((target, address))
-        if symbol is not None and not target.symbol_offset:  # with an offset the link's type is not the object's
-            type_edits, type_findings = checker.check(target, symbol)
-            edits.extend(type_edits)
-            report.extend(type_findings)
-    _replace_addresses(doc, located, edits, report, pending if report_addresses else None)
-    report_progress(progress, total, total, "updating addresses")
-    report.findings[:0] = findings_at(doc, pending)
+            located.append((row, address))
+    _replace_addresses(objects, located, edits, report, pending if report_addresses else None)
+    if types:
+        _check_types(objects, symbols, edits, report)
+    report_progress(progress, 3, 3, "updating addresses")
+    report.findings[:0] = _no_symbols_at_all(debug) + findings_at(doc, pending)
     if mode is UpdateMode.STRICT and report.errors:
         raise UpdateFailed(report)
     if removed:
@@ -113,14 +115,16 @@ def update(doc: A2lDocument, debug: DebugData, *, mode: UpdateMode = UpdateMode.
         report.extend(findings)
     if epk:
         _epk(doc, debug, epk_symbol, edits, report)
-    return UpdateResult(apply_edits(doc.data, edits), report)
+    return _result(doc, edits, report, includes)
 
 
 def update_file(a2l: str | Path, elf: str | Path, output: str | Path, *, mode: UpdateMode = UpdateMode.DEFAULT,
                 types: bool = False, epk: bool = True, epk_symbol: str | None = None,
-                cache_dir: str | Path | None = None, use_cache: bool = True, validate: bool = False,
-                report_addresses: bool = True, progress: Progress | None = None) -> UpdateReport:
-    """Read ``a2l`` and ``elf``, update, and write ``output`` atomically (which may be ``a2l``).
+                includes: IncludeMode = IncludeMode.KEEP, cache_dir: str | Path | None = None,
+                use_cache: bool = True, validate: bool = False, report_addresses: bool = True,
+                progress: Progress | None = None) -> UpdateReport:
+    """Read ``a2l`` and ``elf``, update, and write ``output`` atomically (which may be ``a2l``);
+    under ``IncludeMode.UPDATE`` also every included file that changes, in place (atomically).
 
     The file's block structure and every token the update reads or writes are always
     checked; ``validate`` also checks the rest against the ASAP2 grammar (as ``check``
@@ -128,68 +132,133 @@ def update_file(a2l: str | Path, elf: str | Path, output: str | Path, *, mode: U
     """
     doc = load(a2l, validate=validate)
     with DebugData(elf, cache_dir=cache_dir, use_cache=use_cache, progress=progress) as debug:
-        result = update(doc, debug, mode=mode, types=types, epk=epk, epk_symbol=epk_symbol,
+        result = update(doc, debug, mode=mode, types=types, epk=epk, epk_symbol=epk_symbol, includes=includes,
                         report_addresses=report_addresses, progress=progress)
-    write_output(doc, result.data, output)
+    write_source(doc.source, result.data, output)
+    if includes is IncludeMode.UPDATE:
+        for path, data in result.included.items():
+            atomic_write_bytes(path, data)
+    if includes is not IncludeMode.MERGE:
+        result.report.extend(includes_not_found_from(doc, Path(output)))
     return result.report
 
 
-def _insert_address(doc: A2lDocument, target: Target, address: int, edits: list[Edit], report: UpdateReport,
+def _result(doc: A2lDocument, edits: Edits, report: UpdateReport, includes: IncludeMode) -> UpdateResult:
+    """The new text: one self-contained buffer (MERGE), or the main file with its /include lines kept
+    plus the changed included files."""
+    if includes is IncludeMode.MERGE:
+        if doc.include_count:
+            report.add(Finding("includes-inlined", doc.name, f"{doc.include_count} /include(s) written inline: the "
+                               "output is self-contained", doc.name, 1, 1))
+        return UpdateResult(edits.apply(doc.data), report)
+    data, included = doc.source.data, {}
+    for source, file_edits in edits.by_file(doc.source_map):
+        if source is doc.source:
+            data = file_edits.apply(source.data)
+            continue
+        included[source.path] = source.file_bytes(file_edits.apply(source.data))
+        file, line, column = source.name, *source.position(min(file_edits.starts))
+        if includes is IncludeMode.UPDATE:
+            report.add(Finding("include-updated", source.name, f"{source.name}: {len(file_edits)} change(s) written "
+                               "into the included file", file, line, column))
+        else:
+            report.add(Finding("include-not-updated", source.name, f"{source.name}: {len(file_edits)} change(s) in "
+                               "this included file are not written (the output keeps its /include lines): update "
+                               "the included files too, or write them inline", file, line, column, "",
+                               Severity.WARNING))
+    return UpdateResult(data, report, included)
+
+
+def _no_symbols_at_all(debug: DebugData) -> list[Finding]:
+    if debug.has_dwarf or debug.elf.symbols:
+        return []
+    return [Finding("elf-without-symbols", debug.path.name, f"{debug.path.name} has neither DWARF nor a symbol "
+                    "table (stripped?): no address can be found", severity=Severity.WARNING)]
+
+
+def _insert_address(objects: AddressedObjects, row: int, address: int, edits: Edits, report: UpdateReport,
                     pending: list[tuple]) -> None:
     """A MEASUREMENT without ECU_ADDRESS gets one after its positional parameters."""
-    anchor = doc.tokens.ends_list[target.anchor_token]
-    indent = indentation_of(doc.data, doc.tokens.starts_list[doc.block_begin[target.block]]) + b"  "
+    doc = objects.doc
+    anchor = doc.tokens.ends_list[objects.anchor_tokens[row]]
+    indent = indentation_of(doc.data, doc.tokens.starts_list[doc.block_begin[objects.blocks[row]]]) + b"  "
     edits.append(Edit(anchor, anchor, newline_bytes(doc) + indent + b"ECU_ADDRESS 0x%X" % address))
-    pending.append((target.name_token, "address-updated", target.name,
-                    f"{target.name}: ECU_ADDRESS 0x{address:X} added", target.keyword, Severity.INFO))
-    report.count(target.keyword, "updated")
+    name, keyword = objects.names[row], objects.keywords[row]
+    pending.append((objects.name_tokens[row], "address-updated", name, f"{name}: ECU_ADDRESS 0x{address:X} added",
+                    keyword, Severity.INFO))
+    report.count(keyword, "updated")
 
 
-def _replace_addresses(doc: A2lDocument, located: list[tuple[Target, int]], edits: list[Edit], report: UpdateReport,
-                       pending: list[tuple] | None) -> None:
-    """Rewrite every address token whose value changes (the hot loop of a large update)."""
-    data, starts, ends = doc.data, doc.tokens.starts_list, doc.tokens.ends_list
-    fullmatch = INT_RE.fullmatch
-    tally: dict[str, Counter] = {}
-    for target, address in located:
-        token = target.address_token
-        start, end = starts[token], ends[token]
-        raw = data[start:end]
-        if fullmatch(raw) is None:
-            raise doc.error(f"{target.keyword} {target.name}: the address must be an integer, found "
-                            f"'{raw.decode(doc.encoding)}'", token)
-        old = int(raw, 16) if b"x" in raw or b"X" in raw else int(raw)
-        counter = tally.get(target.keyword)
-        if counter is None:
-            counter = tally[target.keyword] = Counter()
-        if old == address:
-            counter["unchanged"] += 1
-            continue
-        counter["updated"] += 1
-        edits.append(Edit(start, end, format_int_like(raw, address)))
-        if pending is not None:
-            pending.append((token, "address-updated", target.name, "%s: 0x%X -> 0x%X" % (target.name, old, address),
-                            target.keyword, Severity.INFO))
-    for keyword, counter in tally.items():
-        report.tally.setdefault(keyword, Counter()).update(counter)
+def _replace_addresses(objects: AddressedObjects, located: list[tuple[int, int]], edits: Edits,
+                       report: UpdateReport, pending: list[tuple] | None) -> None:
+    """Rewrite every address token whose value changes, in bulk (the hot path of a large update)."""
+    doc = objects.doc
+    rows = [row for row, _ in located]
+    tokens = [objects.address_tokens[row] for row in rows]
+    starts = [doc.tokens.starts_list[token] for token in tokens]
+    ends = [doc.tokens.ends_list[token] for token in tokens]
+    data = doc.data
+    raws = [data[start:end] for start, end in zip(starts, ends)]
+    values = {raw: parse_int(raw) for raw in set(raws) if INT_RE.fullmatch(raw)}  # placeholders repeat
+    if len(values) < len(set(raws)):
+        index = next(i for i, raw in enumerate(raws) if raw not in values)
+        row = rows[index]
+        raise doc.error(f"{objects.keywords[row]} {objects.names[row]}: the address must be an integer, found "
+                        f"'{raws[index].decode(doc.encoding)}'", tokens[index])
+    changed = [i for i, (raw, (_, address)) in enumerate(zip(raws, located)) if values[raw] != address]
+    texts = format_ints_like([raws[i] for i in changed], [located[i][1] for i in changed])
+    edits.extend_columns([starts[i] for i in changed], [ends[i] for i in changed], texts)
+    keywords = objects.keywords
+    updated = Counter(keywords[rows[i]] for i in changed)
+    for keyword, total in Counter(keywords[row] for row in rows).items():
+        if updated[keyword]:
+            report.count(keyword, "updated", updated[keyword])
+        if total > updated[keyword]:
+            report.count(keyword, "unchanged", total - updated[keyword])
+    if pending is not None:
+        for i in changed:
+            row, address = located[i]
+            name = objects.names[row]
+            pending.append((tokens[i], "address-updated", name, "%s: 0x%X -> 0x%X" % (name, values[raws[i]], address),
+                            keywords[row], Severity.INFO))
 
 
-def _missing(target: Target, debug: DebugData, mode: UpdateMode, report: UpdateReport, removed: dict[str, int],
-             pending: list[tuple]) -> None:
-    why = debug.resolve_error(target.symbol)
-    link = f" (SYMBOL_LINK {target.symbol!r})" if target.symbol != target.name else ""
+def _check_types(objects: AddressedObjects, symbols: list, edits: Edits, report: UpdateReport) -> None:
+    checker = TypeChecker(objects.doc)
+    for row, symbol in enumerate(symbols):
+        if symbol is not None and not objects.symbol_offsets[row]:  # with an offset the link's type is not the object's
+            type_edits, type_findings = checker.check(objects.target(row), symbol)
+            edits.extend(type_edits)
+            report.extend(type_findings)
+
+
+def _missing(objects: AddressedObjects, row: int, debug: DebugData, mode: UpdateMode, report: UpdateReport,
+             removed: dict[str, int], pending: list[tuple]) -> None:
+    keyword, name, symbol = objects.keywords[row], objects.names[row], objects.symbols[row]
+    why = debug.resolve_error(symbol)
+    link = f" (SYMBOL_LINK {symbol!r})" if symbol != name else ""
     severity = Severity.ERROR if mode is UpdateMode.STRICT else Severity.WARNING
-    pending.append((target.name_token, "symbol-not-found", target.name, f"{target.keyword} {target.name}{link}: {why}",
-                    target.keyword, severity))
-    report.count(target.keyword, "not-found")
+    pending.append((objects.name_tokens[row], "symbol-not-found", name, f"{keyword} {name}{link}: {why}", keyword,
+                    severity))
+    report.count(keyword, "not-found")
     if mode is UpdateMode.REMOVE_MISSING:
-        removed[target.name] = target.block
-        pending.append((target.name_token, "removed", target.name, f"{target.keyword} {target.name} removed",
-                        target.keyword, Severity.WARNING))
-        report.count(target.keyword, "removed")
+        removed[name] = objects.blocks[row]
+        pending.append((objects.name_tokens[row], "removed", name, f"{keyword} {name} removed", keyword,
+                        Severity.WARNING))
+        report.count(keyword, "removed")
 
 
-def _epk(doc: A2lDocument, debug: DebugData, symbol: str | None, edits: list[Edit], report: UpdateReport) -> None:
+def _unaddressable(objects: AddressedObjects, row: int, address: int, mode: UpdateMode, report: UpdateReport,
+                   pending: list[tuple]) -> None:
+    keyword, name = objects.keywords[row], objects.names[row]
+    severity = Severity.ERROR if mode is UpdateMode.STRICT else Severity.WARNING
+    pending.append((objects.name_tokens[row], "address-out-of-range", name,
+                    f"{keyword} {name}: address 0x{address:X} does not fit the 32 bits of an A2L address; "
+                    "left unchanged", keyword, severity))
+    report.count(keyword, "out-of-range")
+
+
+def _epk(doc: A2lDocument, debug: DebugData, symbol: str | None, edits: Edits, report: UpdateReport) -> None:
     found = read_elf_epk(debug, symbol)
     if found is None:
         report.add(Finding("epk-not-found", "EPK", f"{debug.path.name} has no EPK variable or .epk section",

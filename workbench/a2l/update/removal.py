@@ -29,7 +29,7 @@ def removal_edits(doc: "A2lDocument", removed: dict[str, int]) -> tuple[list[Edi
             for token in block.own_tokens:
                 name = doc.raw(token).decode(doc.encoding)
                 if name in removed:
-                    edits.append(remove_span(doc.data, doc.tokens.starts_list[token], doc.tokens.ends_list[token]))
+                    edits.append(remove_span(doc, doc.tokens.starts_list[token], doc.tokens.ends_list[token]))
                     findings.append(finding_at(doc, token, "reference-removed", name,
                                                f"{name} removed from {list_keyword}", list_keyword))
     gone = set(removed.values())
