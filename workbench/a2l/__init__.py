@@ -4,22 +4,53 @@
 indexes); ``read_xcp_config(doc)`` the XCP settings of its IF_DATA XCP; ``merge``,
 ``update``, ``check`` and ``diff`` (and their ``*_file`` forms) are the tool chain, each
 returning its findings as data (:class:`Report`, :class:`Finding`).
+
+The names are imported on first use (as python-can does with its interfaces), so a
+command that only updates does not pay for loading the checker, the differ or the
+XCP reader.
 """
 
-from workbench.a2l.check import check, check_file
-from workbench.a2l.diff import DiffEntry, FieldChange, diff, diff_files
-from workbench.a2l.document import A2lDocument, Block, MemorySegment, load, loads
-from workbench.a2l.epk import ElfEpk, read_elf_epk
-from workbench.a2l.ifdata import IfDataNode, Word, read_if_data
-from workbench.a2l.merge import MergeFailed, MergeResult, merge, merge_files
-from workbench.a2l.reports import ConflictPolicy, Finding, IncludeMode, Report, Severity, UpdateMode
-from workbench.a2l.update import UpdateFailed, UpdateReport, UpdateResult, update, update_file
-from workbench.a2l.xcp import XcpConfig, read_xcp_config
+from __future__ import annotations
 
-__all__ = [
-    "A2lDocument", "Block", "ConflictPolicy", "DiffEntry", "ElfEpk", "FieldChange", "Finding", "IfDataNode",
-    "IncludeMode",
-    "MemorySegment", "MergeFailed", "MergeResult", "Report", "Severity", "UpdateFailed", "UpdateMode",
-    "UpdateReport", "UpdateResult", "Word", "XcpConfig", "check", "check_file", "diff", "diff_files", "load",
-    "loads", "merge", "merge_files", "read_elf_epk", "read_if_data", "read_xcp_config", "update", "update_file",
-]
+import importlib
+from typing import TYPE_CHECKING
+
+_EXPORTS = {
+    "workbench.a2l.check": ("check", "check_file"),
+    "workbench.a2l.diff": ("DiffEntry", "FieldChange", "diff", "diff_files"),
+    "workbench.a2l.document": ("A2lDocument", "Block", "MemorySegment", "load", "loads"),
+    "workbench.a2l.epk": ("ElfEpk", "read_elf_epk"),
+    "workbench.a2l.ifdata": ("IfDataNode", "Word", "read_if_data"),
+    "workbench.a2l.merge": ("MergeFailed", "MergeResult", "merge", "merge_files"),
+    "workbench.a2l.reports": ("ConflictPolicy", "Finding", "IncludeMode", "Report", "Severity", "UpdateMode"),
+    "workbench.a2l.update": ("UpdateFailed", "UpdateReport", "UpdateResult", "update", "update_file"),
+    "workbench.a2l.xcp": ("XcpConfig", "read_xcp_config"),
+}
+_MODULE_OF = {name: module for module, names in _EXPORTS.items() for name in names}
+
+__all__ = sorted(_MODULE_OF)
+
+
+def __getattr__(name: str):
+    module = _MODULE_OF.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
+
+
+if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerly
+    from workbench.a2l.check import check, check_file
+    from workbench.a2l.diff import DiffEntry, FieldChange, diff, diff_files
+    from workbench.a2l.document import A2lDocument, Block, MemorySegment, load, loads
+    from workbench.a2l.epk import ElfEpk, read_elf_epk
+    from workbench.a2l.ifdata import IfDataNode, Word, read_if_data
+    from workbench.a2l.merge import MergeFailed, MergeResult, merge, merge_files
+    from workbench.a2l.reports import ConflictPolicy, Finding, IncludeMode, Report, Severity, UpdateMode
+    from workbench.a2l.update import UpdateFailed, UpdateReport, UpdateResult, update, update_file
+    from workbench.a2l.xcp import XcpConfig, read_xcp_config

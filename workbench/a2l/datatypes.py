@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
-from workbench.elf.ctypes_model import CType
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from workbench.elf.ctypes_model import CType
 
 # data type -> (size in bytes, encoding)
 DATATYPES: dict[str, tuple[int, str]] = {
@@ -13,7 +16,7 @@ DATATYPES: dict[str, tuple[int, str]] = {
 _BY_SIZE_AND_ENCODING = {value: key for key, value in DATATYPES.items()}
 
 
-def datatype_for(ctype: CType) -> str | None:
+def datatype_for(ctype: "CType") -> str | None:
     """The ASAP2 data type of a scalar C type (arrays: of their element), None for structs and the like."""
     while ctype.kind == "array" and ctype.element is not None:
         ctype = ctype.element
@@ -33,7 +36,7 @@ def datatype_range(datatype: str) -> tuple[float, float] | None:
     return (0, 2**bits - 1) if encoding == "unsigned" else (-(2 ** (bits - 1)), 2 ** (bits - 1) - 1)
 
 
-def array_dims(ctype: CType) -> tuple[int, ...]:
+def array_dims(ctype: "CType") -> tuple[int, ...]:
     """All dimensions of a (possibly nested) C array, outermost first; () for a scalar."""
     dims: tuple[int, ...] = ()
     while ctype.kind == "array" and ctype.element is not None:

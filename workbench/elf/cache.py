@@ -1,4 +1,5 @@
-"""The on-disk cache of an ELF's symbol index (DWARF variables and the types resolved so far).
+"""The on-disk cache of an ELF's symbol index: its section headers, DWARF variables, and the
+types and symbol paths resolved so far.
 
 An entry is keyed by the ELF's resolved path, size, modification time and a hash of
 its first 4 KiB (ELF and program headers), so a rebuilt ELF never meets a stale
@@ -13,16 +14,16 @@ import logging
 import pickle
 from pathlib import Path
 
-import platformdirs
-
 from workbench.fileio import atomic_write_bytes
 
 log = logging.getLogger(__name__)
 
-FORMAT = 2  # bump when the cached structures change
+FORMAT = 3  # bump when the cached structures change
 
 
 def default_cache_dir() -> Path:
+    import platformdirs  # here: its import costs more than a cached update's DWARF work
+
     return Path(platformdirs.user_cache_dir("workbench")) / "elf-index"
 
 

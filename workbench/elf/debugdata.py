@@ -2,19 +2,16 @@
 
 :class:`DebugData` resolves A2L symbol paths (``a.b[2].c``) to address, size and C
 type: from DWARF when the ELF has it, from ``.symtab`` otherwise (plain names only).
-The DWARF variable list and every type resolved are cached on disk, so a second
-run against the same ELF does not read DWARF at all.
+The ELF's section headers, its DWARF variables, and every type and symbol path
+resolved are cached on disk, so a second run against the same ELF reads no DWARF and
+answers most paths with one dict lookup.
 """
 
 from __future__ import annotations
 
-import logging
 import struct
 from pathlib import Path
 from typing import NamedTuple
-
-from elftools.common.exceptions import ELFError
-from elftools.elf.elffile import ELFFile
 
 from workbench.elf import dwarf
 from workbench.elf.cache import IndexCache
@@ -23,8 +20,6 @@ from workbench.elf.paths import PathError, split_path, walk
 from workbench.elf.symbols import ElfSymbols
 from workbench.errors import InputError, UnknownSymbolError
 from workbench.progress import Progress, report
-
-log = logging.getLogger(__name__)
 
 _DWARF_SECTIONS = (".debug_info", ".debug_abbrev", ".debug_str", ".debug_line_str", ".debug_str_offsets",
                    ".debug_addr")
@@ -55,24 +50,26 @@ class DebugData:
     def __init__(self, elf_path: str | Path, *, cache_dir: str | Path | None = None, use_cache: bool = True,
                  progress: Progress | None = None):
         self.path = Path(elf_path)
-        self.elf = ElfSymbols(self.path)
         self._cache = IndexCache(cache_dir) if use_cache else None
         self._reader: dwarf.DwarfReader | None = None
         cached = self._cache.load(self.path) if self._cache is not None else None
         self.from_cache = cached is not None
         if cached is not None:
-            # name -> (address or None, DIE offset of the type or None); tuples keep the cache small and fast
-            self._variables: dict[str, tuple[int | None, int | None]] = cached["variables"]
+            self.elf = ElfSymbols.from_facts(self.path, cached["elf"])
+            self._addresses: dict[str, int] = cached["addresses"]
+            self._variable_types: dict[str, int | None] = cached["variable_types"]
             self._types: dict[int, CType] = cached["types"]
         else:
-            self._variables = self._read_variables(progress) if self.elf.has_dwarf else {}
+            self.elf = ElfSymbols(self.path)
+            variables = self._read_variables(progress) if self.elf.has_dwarf else {}
+            # symbol path -> address: the variables with a static address, then every path resolved since
+            self._addresses = {name: address for name, (address, _) in variables.items() if address is not None}
+            # variable -> DIE offset of its type (None: no type); also the variables without an address
+            self._variable_types = {name: type_offset for name, (_, type_offset) in variables.items()}
             self._types = {}
-        # symbol path -> address: the variables with a static address, and every path resolved since
-        self._addresses: dict[str, int] = {name: address for name, (address, _) in self._variables.items()
-                                           if address is not None}
         self._resolver: TypeResolver | None = None
         self._walks: dict[tuple, tuple | PathError] = {}
-        self._stored_types = len(self._types) if cached is not None else -1
+        self._stored = self._index_size() if cached is not None else None
 
     def __enter__(self) -> "DebugData":
         return self
@@ -82,14 +79,14 @@ class DebugData:
 
     @property
     def has_dwarf(self) -> bool:
-        return bool(self._variables)
+        return bool(self._variable_types)
 
     @property
     def little_endian(self) -> bool:
         return self.elf.little_endian
 
     def variable_names(self) -> list[str]:
-        return list(self._variables) if self._variables else [
+        return list(self._variable_types) if self._variable_types else [
             name for name, symbol in self.elf.symbols.items() if symbol.kind == "object"]
 
     def resolve(self, path: str) -> ResolvedSymbol:
@@ -97,9 +94,8 @@ class DebugData:
         (with the reason) when the ELF does not have it."""
         cut = _base_length(path)
         base, suffix = path[:cut], path[cut:]
-        variable = self._variables.get(base)
-        if variable is not None:
-            address, type_offset = variable
+        if base in self._variable_types:
+            address, type_offset = self._addresses.get(base), self._variable_types[base]
             if address is None:  # DWARF without a location: the symbol table may still know it
                 symbol = self.elf.symbols.get(base)
                 if symbol is None:
@@ -164,16 +160,22 @@ class DebugData:
         return ""
 
     def save(self) -> None:
-        """Write the index cache if this run added to it."""
-        if self._cache is None or not self._variables:
+        """Write the index cache if this run added to it (an ELF without DWARF is not cached)."""
+        if self._cache is None or not self._variable_types or self._index_size() == self._stored:
             return
-        if len(self._types) != self._stored_types:
-            self._cache.store(self.path, {"variables": self._variables, "types": self._types})
-            self._stored_types = len(self._types)
+        self._cache.store(self.path, {"elf": self.elf.facts(), "addresses": self._addresses,
+                                      "variable_types": self._variable_types, "types": self._types})
+        self._stored = self._index_size()
+
+    def _index_size(self) -> tuple[int, int]:
+        return len(self._addresses), len(self._types)
 
     # -- DWARF ------------------------------------------------------------------------------
     def _dwarf(self) -> dwarf.DwarfReader:
         if self._reader is None:
+            from elftools.common.exceptions import ELFError  # here: a cached index never reads DWARF
+            from elftools.elf.elffile import ELFFile
+
             try:
                 with open(self.path, "rb") as handle:
                     elf = ELFFile(handle)

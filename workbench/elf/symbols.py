@@ -1,23 +1,31 @@
 """Sections, load segments and the ``.symtab`` of an ELF file, read fast.
 
-The symbol table is decoded with one numpy structured read instead of pyelftools'
-per-symbol objects, so a 50,000-symbol ELF loads in milliseconds.
+pyelftools reads the headers (ELF, program and section headers); the symbol table is
+then read straight from the file into one numpy record array, without pyelftools'
+object per symbol, so a 50,000-symbol ELF loads in milliseconds. What the headers say
+(:meth:`ElfSymbols.facts`) is small and can be cached with an index: an
+:class:`ElfSymbols` made :meth:`~ElfSymbols.from_facts` never imports pyelftools (30 ms).
 """
 
 from __future__ import annotations
 
 import struct
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
-from elftools.common.exceptions import ELFError
-from elftools.elf.elffile import ELFFile
 
 from workbench.errors import InputError, UnknownSymbolError
 
 STT_OBJECT, STT_FUNC = 1, 2
+_KINDS = {STT_OBJECT: "object", STT_FUNC: "function"}
+_STB_GLOBAL = 1
 _SHN_UNDEF, _SHN_LORESERVE = 0, 0xFF00
+_SYMBOL_FIELDS = {
+    32: [("name", "u4"), ("value", "u4"), ("size", "u4"), ("info", "u1"), ("other", "u1"), ("shndx", "u2")],
+    64: [("name", "u4"), ("info", "u1"), ("other", "u1"), ("shndx", "u2"), ("value", "u8"), ("size", "u8")],
+}
 
 
 @dataclass(frozen=True)
@@ -34,8 +42,7 @@ class Section:
         return self.address <= address and address + size <= self.address + self.size
 
 
-@dataclass(frozen=True)
-class Symbol:
+class Symbol(NamedTuple):
     name: str
     address: int
     size: int
@@ -47,17 +54,20 @@ class ElfSymbols:
     """Symbols and sections of one ELF file; raises :class:`InputError` for a non-ELF."""
 
     def __init__(self, path: str | Path):
+        from elftools.common.exceptions import ELFError  # here: see the module docstring
+        from elftools.elf.elffile import ELFFile
+
         self.path = Path(path)
         try:
             with open(self.path, "rb") as handle:
                 elf = ELFFile(handle)
-                self.little_endian = elf.little_endian
-                self.elfclass = elf.elfclass
-                self.machine = elf["e_machine"]
-                self.sections = self._read_sections(elf, self.path.stat().st_size)
-                self._raw_symtab = self._read_raw_symtab(elf, handle)
-                self.has_dwarf = elf.has_dwarf_info()
-                self._symbols: dict[str, Symbol] | None = None
+                self.little_endian: bool = elf.little_endian
+                self.elfclass: int = elf.elfclass
+                self.machine: str = elf["e_machine"]
+                self.sections: dict[str, Section] = self._read_sections(elf, self.path.stat().st_size)
+                self.has_dwarf: bool = elf.has_dwarf_info()
+                self._section_names = [section.name for section in elf.iter_sections()]  # by section index
+                self._symtab = self._locate_symtab(elf)
         except FileNotFoundError as exc:
             raise InputError(f"{self.path}: no such file") from exc
         except IsADirectoryError as exc:
@@ -65,9 +75,29 @@ class ElfSymbols:
         except (ELFError, ValueError, KeyError, IndexError, struct.error, OSError) as exc:
             # pyelftools raises all of these on a damaged header or section table
             raise InputError(f"{self.path}: not a readable ELF file ({exc})") from exc
+        self._symbols: dict[str, Symbol] | None = None
+
+    @classmethod
+    def from_facts(cls, path: str | Path, facts: dict) -> "ElfSymbols":
+        """The ELF described by :meth:`facts` of an earlier read of the same file, without reading it."""
+        elf = cls.__new__(cls)
+        elf.path = Path(path)
+        elf.little_endian, elf.elfclass, elf.machine, elf.has_dwarf = (
+            facts["little_endian"], facts["elfclass"], facts["machine"], facts["has_dwarf"])
+        elf.sections = {section[0]: Section(*section) for section in facts["sections"]}
+        elf._section_names = facts["section_names"]
+        elf._symtab = facts["symtab"]
+        elf._symbols = None
+        return elf
+
+    def facts(self) -> dict:
+        """What the headers say, as plain data for a cache."""
+        return {"little_endian": self.little_endian, "elfclass": self.elfclass, "machine": self.machine,
+                "has_dwarf": self.has_dwarf, "sections": [astuple(s) for s in self.sections.values()],
+                "section_names": self._section_names, "symtab": self._symtab}
 
     @staticmethod
-    def _read_sections(elf: ELFFile, file_size: int) -> dict[str, Section]:
+    def _read_sections(elf, file_size: int) -> dict[str, Section]:
         """Raises ValueError for a section whose bytes lie outside the file (a damaged ELF)."""
         segments = [seg for seg in elf.iter_segments() if seg["p_type"] == "PT_LOAD"]
         sections = {}
@@ -95,44 +125,42 @@ class ElfSymbols:
         return sections
 
     @staticmethod
-    def _read_raw_symtab(elf: ELFFile, handle) -> tuple[np.ndarray, bytes, list[str]] | None:
-        """The symbol table as one numpy record array, its string table and the section names."""
+    def _locate_symtab(elf) -> tuple[int, int, int, int] | None:
+        """(offset, size) of the symbol table and of its string table in the file; None without one."""
         symtab = elf.get_section_by_name(".symtab")
         if symtab is None:
             return None
         strtab = elf.get_section(symtab["sh_link"])
-        order = "<" if elf.little_endian else ">"
-        if elf.elfclass == 64:
-            fields = [("name", "u4"), ("info", "u1"), ("other", "u1"), ("shndx", "u2"), ("value", "u8"), ("size", "u8")]
-        else:
-            fields = [("name", "u4"), ("value", "u4"), ("size", "u4"), ("info", "u1"), ("other", "u1"), ("shndx", "u2")]
-        dtype = np.dtype([(n, order + t) for n, t in fields])
-        handle.seek(symtab["sh_offset"])
-        table = np.frombuffer(handle.read(symtab["sh_size"]), dtype=dtype)
-        handle.seek(strtab["sh_offset"])
-        return table, handle.read(strtab["sh_size"]), [s.name for s in elf.iter_sections()]
+        return symtab["sh_offset"], symtab["sh_size"], strtab["sh_offset"], strtab["sh_size"]
 
     def _read_symtab(self) -> dict[str, Symbol]:
-        if self._raw_symtab is None:
+        """The defined symbols, decoded column by column; raises :class:`InputError` for a damaged table."""
+        if self._symtab is None:
             return {}
-        table, strings, names_by_index = self._raw_symtab
+        table_offset, table_size, strings_offset, strings_size = self._symtab
+        dtype = np.dtype([(name, ("<" if self.little_endian else ">") + kind) for name, kind in _SYMBOL_FIELDS[self.elfclass]])
+        with open(self.path, "rb") as handle:
+            handle.seek(table_offset)
+            raw = handle.read(table_size)
+            handle.seek(strings_offset)
+            strings = handle.read(strings_size)
+        table = np.frombuffer(raw, dtype=dtype, count=len(raw) // dtype.itemsize)
+        table = table[(table["name"] > 0) & (table["shndx"] != _SHN_UNDEF) & (table["shndx"] < _SHN_LORESERVE)]
+        name_starts = table["name"].astype(np.int64)
+        terminators = np.flatnonzero(np.frombuffer(strings, np.uint8) == 0)
+        after = np.searchsorted(terminators, name_starts)  # the NUL that ends each name
+        if len(table) and (after.max() >= len(terminators) or table["shndx"].max() >= len(self._section_names)):
+            raise InputError(f"{self.path}: damaged .symtab (a symbol names a string or a section that does not exist)")
+        name_ends = terminators[after] if len(table) else name_starts
+        names = b"\0".join([strings[a:b] for a, b in zip(name_starts.tolist(), name_ends.tolist())])
         symbols: dict[str, Symbol] = {}
-        for name_off, info, shndx, value, size in zip(
-            table["name"].tolist(), table["info"].tolist(), table["shndx"].tolist(),
-            table["value"].tolist(), table["size"].tolist(),
+        for name, address, size, info, shndx in zip(
+            names.decode("utf-8", "replace").split("\0"), table["value"].tolist(), table["size"].tolist(),
+            table["info"].tolist(), table["shndx"].tolist(),
         ):
-            if not name_off or shndx == _SHN_UNDEF or shndx >= _SHN_LORESERVE:
-                continue
-            end = strings.find(b"\0", name_off)
-            if end < 0 or shndx >= len(names_by_index):
-                raise InputError(f"{self.path}: damaged .symtab (a symbol names string {name_off} or "
-                                 f"section {shndx}, which do not exist)")
-            name = strings[name_off:end].decode("utf-8", "replace")
-            kind = {STT_OBJECT: "object", STT_FUNC: "function"}.get(info & 0xF, "other")
-            symbol = Symbol(name, value, size, kind, names_by_index[shndx])
             # a global definition wins over a same-named local one (static in another unit)
-            if name not in symbols or info >> 4 == 1:
-                symbols[name] = symbol
+            if name not in symbols or info >> 4 == _STB_GLOBAL:
+                symbols[name] = Symbol(name, address, size, _KINDS.get(info & 0xF, "other"), self._section_names[shndx])
         return symbols
 
     @property
