@@ -58,9 +58,11 @@ class AddressedObjects:
             raise doc.error(f"{KEYWORDS[numbers[row]]} {doc.raw(int(name_tokens[row])).decode(doc.encoding)}: "
                             f"missing parameter(s), {_POSITIONAL[numbers[row]]} expected", int(name_tokens[row]) - 1)
         self.blocks: list[int] = blocks.tolist()
+        self.keyword_numbers = numbers  # index into KEYWORDS, as an array
         self.keywords: list[str] = [KEYWORDS[number] for number in numbers.tolist()]
         self.name_tokens: list[int] = name_tokens.tolist()
-        self.address_tokens: list[int] = addresses.tolist()  # -1: a MEASUREMENT without ECU_ADDRESS
+        self.address_token_array = addresses  # -1: a MEASUREMENT without ECU_ADDRESS
+        self.address_tokens: list[int] = addresses.tolist()
         self.anchor_tokens: list[int] = anchors.tolist()
         self.names: list[str] = _texts(doc, name_tokens)
         self.symbols: list[str] = list(self.names)
@@ -97,9 +99,8 @@ class AddressedObjects:
 
 def _keyword_rows(doc: "A2lDocument", number: int, keyword: str) -> tuple[np.ndarray, ...]:
     """(blocks, keyword number, address token, SYMBOL_LINK token) of one keyword's objects (-1: none)."""
-    blocks = np.asarray(doc.block_indices(keyword), dtype=np.int64)
-    modules = np.asarray(doc.block_indices("MODULE"), dtype=np.int64)
-    blocks = blocks[np.isin(doc.blocks.parent[blocks], modules)]
+    blocks = doc.blocks.having_keyword(keyword)
+    blocks = blocks[np.isin(doc.blocks.parent[blocks], doc.blocks.having_keyword("MODULE"))]
     address_index = grammar.ADDRESSED_OBJECTS[keyword]
     if address_index is None:
         address_tokens = _aligned(blocks, *doc.option_tokens(keyword, "ECU_ADDRESS"))

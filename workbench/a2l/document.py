@@ -70,7 +70,6 @@ class A2lDocument:
         self.include_count = include_count  # directives met, nested ones included
         self.block_begin: list[int] = blocks.begin.tolist()  # per block: its /begin token
         self.block_end: list[int] = blocks.end.tolist()  # per block: its /end token
-        self._by_keyword: dict[str, list[int]] | None = None
 
     @classmethod
     def from_source(cls, source: SourceFile, *, validate: bool = True) -> "A2lDocument":
@@ -159,12 +158,7 @@ class A2lDocument:
 
     def block_indices(self, keyword: str) -> list[int]:
         """Indices of every block with this keyword, in document order."""
-        if self._by_keyword is None:
-            grouped: dict[str, list[int]] = {}
-            for index, name in enumerate(self.blocks.keyword):
-                grouped.setdefault(name, []).append(index)
-            self._by_keyword = grouped
-        return self._by_keyword.get(keyword, [])
+        return self.blocks.having_keyword(keyword).tolist()
 
     @property
     def project(self) -> "Block":
@@ -236,7 +230,7 @@ class A2lDocument:
         """(blocks, tokens): every ``block_keyword`` block that has the keyword ``option`` at its own
         level, and the token of its first one, in document order. Found with vectorized searches."""
         tokens = self.tokens.matching(option.encode("ascii"))
-        blocks = np.asarray(self.block_indices(block_keyword), dtype=np.int64)
+        blocks = self.blocks.having_keyword(block_keyword)
         if not len(tokens) or not len(blocks):
             return np.zeros(0, np.int64), np.zeros(0, np.int64)
         owners = self._innermost_blocks(tokens)

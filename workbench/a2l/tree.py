@@ -26,12 +26,20 @@ class BlockTable:
     begin: np.ndarray
     end: np.ndarray
     keyword: list[str]
+    keyword_id: np.ndarray  # per block: the index of its keyword in ``keyword_names``
+    keyword_names: list[str]  # the distinct keywords
     parent: np.ndarray  # -1 for a top-level block
     _child_order: np.ndarray
     _child_offsets: np.ndarray
 
     def __len__(self) -> int:
         return len(self.begin)
+
+    def having_keyword(self, keyword: str) -> np.ndarray:
+        """Indices of the blocks with this keyword, in document order."""
+        if keyword not in self.keyword_names:
+            return np.zeros(0, dtype=np.int64)
+        return np.flatnonzero(self.keyword_id == self.keyword_names.index(keyword))
 
     def children(self, block: int) -> np.ndarray:
         """Indices of the direct children of ``block`` (-1: the top level), in document order."""
@@ -73,14 +81,17 @@ def parse_blocks(tokens: Tokens, begins: np.ndarray, ends: np.ndarray, source_ma
     end = events[paired[1::2]]
     in_order = np.argsort(begin)
     begin, end, block_level = begin[in_order], end[in_order], level[paired[0::2]][in_order]
-    keywords = [raw.decode("latin-1") for raw in tokens.raw_many((begin + 1).tolist())]
-    closing = [raw.decode("latin-1") for raw in tokens.raw_many((end + 1).tolist())]
-    if keywords != closing:
+    opening = tokens.raw_many((begin + 1).tolist())
+    if opening != tokens.raw_many((end + 1).tolist()):
         _diagnose(tokens, events, signs, source_map)
+    numbers: dict[bytes, int] = {}  # a few dozen distinct keywords for a hundred thousand blocks
+    keyword_id = np.array([numbers.setdefault(raw, len(numbers)) for raw in opening], dtype=np.int64)
+    names = [raw.decode("latin-1") for raw in numbers]
+    keywords = [names[number] for number in keyword_id.tolist()]
     parent = _parents(begin, block_level)
     child_order = np.argsort(parent, kind="stable")
     child_offsets = np.concatenate(([0], np.cumsum(np.bincount(parent + 1, minlength=len(begin) + 1))))
-    return BlockTable(begin, end, keywords, parent, child_order, child_offsets)
+    return BlockTable(begin, end, keywords, keyword_id, names, parent, child_order, child_offsets)
 
 
 def _parents(begin: np.ndarray, level: np.ndarray) -> np.ndarray:

@@ -29,8 +29,16 @@ def is_ident(raw: bytes) -> bool:
 
 def parse_int(raw: bytes) -> int:
     """An A2L integer (decimal or 0x hex, optional sign); raises ValueError otherwise."""
-    if not is_int(raw):
+    value = int_or_none(raw)
+    if value is None:
         raise ValueError(f"not an integer: {raw.decode('latin-1')!r}")
+    return value
+
+
+def int_or_none(raw: bytes) -> int | None:
+    """:func:`parse_int`, or None when ``raw`` is not an integer."""
+    if INT_RE.fullmatch(raw) is None:
+        return None
     return int(raw, 16) if b"x" in raw or b"X" in raw else int(raw, 10)
 
 

@@ -18,7 +18,7 @@ from workbench.fileio import atomic_write_bytes
 
 log = logging.getLogger(__name__)
 
-FORMAT = 3  # bump when the cached structures change
+FORMAT = 4  # bump when the cached structures change
 
 
 def default_cache_dir() -> Path:

@@ -53,13 +53,8 @@ class DebugData:
         self._cache = IndexCache(cache_dir) if use_cache else None
         self._reader: dwarf.DwarfReader | None = None
         cached = self._cache.load(self.path) if self._cache is not None else None
-        self.from_cache = cached is not None
-        if cached is not None:
-            self.elf = ElfSymbols.from_facts(self.path, cached["elf"])
-            self._addresses: dict[str, int] = cached["addresses"]
-            self._variable_types: dict[str, int | None] = cached["variable_types"]
-            self._types: dict[int, CType] = cached["types"]
-        else:
+        self.from_cache = cached is not None and self._take_cached(cached)
+        if not self.from_cache:
             self.elf = ElfSymbols(self.path)
             variables = self._read_variables(progress) if self.elf.has_dwarf else {}
             # symbol path -> address: the variables with a static address, then every path resolved since
@@ -69,7 +64,18 @@ class DebugData:
             self._types = {}
         self._resolver: TypeResolver | None = None
         self._walks: dict[tuple, tuple | PathError] = {}
-        self._stored = self._index_size() if cached is not None else None
+        self._stored = self._index_size() if self.from_cache else None
+
+    def _take_cached(self, cached: dict) -> bool:
+        """Use a cache entry; False (a miss) when it does not have the expected shape."""
+        try:
+            self.elf = ElfSymbols.from_facts(self.path, cached["elf"])
+            self._addresses: dict[str, int] = cached["addresses"]
+            self._variable_types: dict[str, int | None] = cached["variable_types"]
+            self._types: dict[int, CType] = cached["types"]
+        except (KeyError, TypeError, ValueError):
+            return False
+        return all(isinstance(part, dict) for part in (self._addresses, self._variable_types, self._types))
 
     def __enter__(self) -> "DebugData":
         return self

@@ -14,7 +14,9 @@ from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from workbench.a2l.addressed import AddressedObjects
+import numpy as np
+
+from workbench.a2l.addressed import KEYWORDS, AddressedObjects
 from workbench.a2l.document import A2lDocument, load
 from workbench.a2l.edits import Edit, Edits, indentation_of, newline_bytes, write_source
 from workbench.a2l.epk import epk_edits, read_elf_epk
@@ -23,7 +25,7 @@ from workbench.a2l.includes import includes_not_found_from
 from workbench.a2l.reports import Finding, IncludeMode, Report, Severity, UpdateMode, findings_at, summarize
 from workbench.a2l.update.removal import removal_edits
 from workbench.a2l.update.typecheck import TypeChecker
-from workbench.a2l.values import INT_RE, format_ints_like, parse_int
+from workbench.a2l.values import format_ints_like, int_or_none
 from workbench.elf.debugdata import DebugData
 from workbench.errors import WorkbenchError
 from workbench.fileio import atomic_write_bytes
@@ -89,20 +91,22 @@ def update(doc: A2lDocument, debug: DebugData, *, mode: UpdateMode = UpdateMode.
     else:
         addresses = debug.addresses(objects.symbols, progress)
     report_progress(progress, 2, 3, "updating addresses")
+    # the new address of every object: None when the ELF lacks its symbol
+    targets = [address + offset if address is not None else None
+               for address, offset in zip(addresses, objects.symbol_offsets)]
+    usable = np.fromiter((address is not None and 0 <= address <= MAX_ADDRESS for address in targets), bool,
+                         len(targets))
+    has_token = objects.address_token_array >= 0
     removed: dict[str, int] = {}
-    located: list[tuple[int, int]] = []  # (row, new address) of the objects with an address token
-    for row, address in enumerate(addresses):
-        if address is None:
+    for row in np.flatnonzero(~usable | ~has_token).tolist():  # the few objects that need more than a new value
+        if targets[row] is None:
             _missing(objects, row, debug, mode, report, removed, pending)
-            continue
-        address += objects.symbol_offsets[row]
-        if not 0 <= address <= MAX_ADDRESS:
-            _unaddressable(objects, row, address, mode, report, pending)
-        elif objects.address_tokens[row] < 0:
-            _insert_address(objects, row, address, edits, report, pending)
+        elif not usable[row]:
+            _unaddressable(objects, row, targets[row], mode, report, pending)
         else:
-            located.append((row, address))
-    _replace_addresses(objects, located, edits, report, pending if report_addresses else None)
+            _insert_address(objects, row, targets[row], edits, report, pending)
+    located = np.flatnonzero(usable & has_token)
+    _replace_addresses(objects, located, targets, edits, report, pending if report_addresses else None)
     if types:
         _check_types(objects, symbols, edits, report)
     report_progress(progress, 3, 3, "updating addresses")
@@ -189,38 +193,39 @@ def _insert_address(objects: AddressedObjects, row: int, address: int, edits: Ed
     report.count(keyword, "updated")
 
 
-def _replace_addresses(objects: AddressedObjects, located: list[tuple[int, int]], edits: Edits,
+def _replace_addresses(objects: AddressedObjects, rows: np.ndarray, targets: list[int | None], edits: Edits,
                        report: UpdateReport, pending: list[tuple] | None) -> None:
-    """Rewrite every address token whose value changes, in bulk (the hot path of a large update)."""
+    """Rewrite the address token of ``rows`` where its value is not the target (the hot path of a
+    large update: whole columns at a time)."""
     doc = objects.doc
-    rows = [row for row, _ in located]
-    tokens = [objects.address_tokens[row] for row in rows]
-    starts = [doc.tokens.starts_list[token] for token in tokens]
-    ends = [doc.tokens.ends_list[token] for token in tokens]
+    tokens = objects.address_token_array[rows]
+    starts, ends = doc.tokens.starts[tokens].tolist(), doc.tokens.ends[tokens].tolist()
     data = doc.data
     raws = [data[start:end] for start, end in zip(starts, ends)]
-    values = {raw: parse_int(raw) for raw in set(raws) if INT_RE.fullmatch(raw)}  # placeholders repeat
-    if len(values) < len(set(raws)):
-        index = next(i for i, raw in enumerate(raws) if raw not in values)
-        row = rows[index]
+    values = {raw: int_or_none(raw) for raw in set(raws)}  # placeholders repeat: each spelling is parsed once
+    if None in values.values():
+        index = next(i for i, raw in enumerate(raws) if values[raw] is None)
+        row = int(rows[index])
         raise doc.error(f"{objects.keywords[row]} {objects.names[row]}: the address must be an integer, found "
-                        f"'{raws[index].decode(doc.encoding)}'", tokens[index])
-    changed = [i for i, (raw, (_, address)) in enumerate(zip(raws, located)) if values[raw] != address]
-    texts = format_ints_like([raws[i] for i in changed], [located[i][1] for i in changed])
-    edits.extend_columns([starts[i] for i in changed], [ends[i] for i in changed], texts)
-    keywords = objects.keywords
-    updated = Counter(keywords[rows[i]] for i in changed)
-    for keyword, total in Counter(keywords[row] for row in rows).items():
-        if updated[keyword]:
-            report.count(keyword, "updated", updated[keyword])
-        if total > updated[keyword]:
-            report.count(keyword, "unchanged", total - updated[keyword])
+                        f"'{raws[index].decode(doc.encoding)}'", int(tokens[index]))
+    news = [targets[row] for row in rows.tolist()]
+    changed = [i for i, (raw, new) in enumerate(zip(raws, news)) if values[raw] != new]
+    edits.extend_columns([starts[i] for i in changed], [ends[i] for i in changed],
+                         format_ints_like([raws[i] for i in changed], [news[i] for i in changed]))
+    numbers = objects.keyword_numbers
+    totals = np.bincount(numbers[rows], minlength=len(KEYWORDS))
+    updated = np.bincount(numbers[rows[changed]], minlength=len(KEYWORDS))
+    for keyword, total, count in zip(KEYWORDS, totals.tolist(), updated.tolist()):
+        if count:
+            report.count(keyword, "updated", count)
+        if total > count:
+            report.count(keyword, "unchanged", total - count)
     if pending is not None:
         for i in changed:
-            row, address = located[i]
+            row = int(rows[i])
             name = objects.names[row]
-            pending.append((tokens[i], "address-updated", name, "%s: 0x%X -> 0x%X" % (name, values[raws[i]], address),
-                            keywords[row], Severity.INFO))
+            pending.append((int(tokens[i]), "address-updated", name,
+                            "%s: 0x%X -> 0x%X" % (name, values[raws[i]], news[i]), objects.keywords[row], Severity.INFO))
 
 
 def _check_types(objects: AddressedObjects, symbols: list, edits: Edits, report: UpdateReport) -> None:
