@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 
 from workbench.a2l import grammar
-from workbench.a2l.values import INT_RE, parse_int, parse_string
+from workbench.a2l.values import INT_RE, parse_int
 
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
@@ -45,7 +45,7 @@ class AddressedObjects:
 
     def __init__(self, doc: "A2lDocument"):
         self.doc = doc
-        limits = _parameter_limits(doc)
+        limits = doc.parameter_limits()
         parts = [_keyword_rows(doc, number, keyword) for number, keyword in enumerate(KEYWORDS)]
         columns = [np.concatenate(column) for column in zip(*parts)]
         order = np.argsort(columns[0], kind="stable")
@@ -64,7 +64,7 @@ class AddressedObjects:
         self.address_token_array = addresses  # -1: a MEASUREMENT without ECU_ADDRESS
         self.address_tokens: list[int] = addresses.tolist()
         self.anchor_tokens: list[int] = anchors.tolist()
-        self.names: list[str] = _texts(doc, name_tokens)
+        self.names: list[str] = doc.texts(name_tokens)
         self.symbols: list[str] = list(self.names)
         self.symbol_offsets: list[int] = [0] * len(self.names)
         linked = np.flatnonzero(links >= 0)
@@ -91,7 +91,7 @@ class AddressedObjects:
             row, link = int(rows[np.argmax(bad)]), int(links[np.argmax(bad)])
             raise doc.error(f"{self.keywords[row]} {self.names[row]}: SYMBOL_LINK needs a string and an integer "
                             "offset", link)
-        names = _texts(doc, links + 1, quoted=True)
+        names = doc.texts(links + 1, quoted=True)
         for row, name, raw in zip(rows.tolist(), names, offset_raws):
             self.symbols[row] = name
             self.symbol_offsets[row] = offsets[raw]
@@ -119,28 +119,3 @@ def _aligned(blocks: np.ndarray, found_blocks: np.ndarray, found_tokens: np.ndar
         hit = blocks[slot] == found_blocks
         aligned[slot[hit]] = found_tokens[hit]
     return aligned
-
-
-def _texts(doc: "A2lDocument", tokens: np.ndarray, quoted: bool = False) -> list[str]:
-    """Many tokens as text, decoded in one call (a document has no NUL byte to join them with);
-    ``quoted``: string tokens, returned without their quotes."""
-    if not len(tokens):
-        return []
-    data, starts, ends = doc.data, doc.tokens.starts[tokens].tolist(), doc.tokens.ends[tokens].tolist()
-    cut = 1 if quoted else 0
-    joined = b"\0".join([data[start + cut : end - cut] for start, end in zip(starts, ends)])
-    if quoted and (b"\\" in joined or b'""' in joined):  # escapes: resolve them one string at a time
-        return [parse_string(data[start:end], doc.encoding) for start, end in zip(starts, ends)]
-    return joined.decode(doc.encoding).split("\0")
-
-
-def _parameter_limits(doc: "A2lDocument") -> np.ndarray:
-    """Per block: the first token that cannot be one of its parameters (its first child or its /end)."""
-    limits = doc.blocks.end.copy()
-    parents = doc.blocks.parent
-    has_parent = parents >= 0
-    # blocks are in document order, so the first block naming a parent is its first child
-    owners, first = np.unique(parents[has_parent], return_index=True)
-    children_begin = doc.blocks.begin[has_parent][first]
-    limits[owners] = np.minimum(limits[owners], children_begin)
-    return limits

@@ -145,7 +145,32 @@ class A2lDocument:
             return parse_number(raw)
         return self.text(token)
 
+    def texts(self, tokens: np.ndarray, quoted: bool = False) -> list[str]:
+        """Many tokens as text, decoded in one call (a document has no NUL byte to join them with);
+        ``quoted``: string tokens, returned without their quotes and escapes."""
+        if not len(tokens):
+            return []
+        data, starts, ends = self.data, self.tokens.starts[tokens].tolist(), self.tokens.ends[tokens].tolist()
+        cut = 1 if quoted else 0
+        joined = b"\0".join([data[start + cut : end - cut] for start, end in zip(starts, ends)])
+        if quoted and (b"\\" in joined or b'""' in joined):  # escapes: resolve them one string at a time
+            return [parse_string(data[start:end], self.encoding) for start, end in zip(starts, ends)]
+        return joined.decode(self.encoding).split("\0")
+
     # -- blocks ----------------------------------------------------------------------
+    def block_names(self, blocks: np.ndarray) -> list[str | None]:
+        """:attr:`Block.name` of many blocks at once."""
+        table = self.blocks
+        named = np.array([_has_name(keyword) for keyword in table.keyword_names], dtype=bool)
+        first = table.begin[blocks] + 2
+        valid = named[table.keyword_id[blocks]] & (first < table.end[blocks])
+        first_bytes = self.tokens.first_bytes()[np.minimum(first, len(self.tokens) - 1)] if len(blocks) else first
+        valid &= (first_bytes != ord('"')) & (first_bytes != ord("/"))
+        names: list[str | None] = [None] * len(blocks)
+        for row, name in zip(np.flatnonzero(valid).tolist(), self.texts(first[valid])):
+            names[row] = name
+        return names
+
     def block(self, index: int) -> "Block":
         return Block(self, index)
 
@@ -225,6 +250,16 @@ class A2lDocument:
     def objects(self, keyword: str, module: str | None = None) -> list["Block"]:
         """The MODULE's direct children with this keyword (MEASUREMENT, CHARACTERISTIC ...)."""
         return self.module(module).children_named(keyword)
+
+    def parameter_limits(self) -> np.ndarray:
+        """Per block: the first token that cannot be one of its parameters (its first child or its /end)."""
+        blocks = self.blocks
+        limits = blocks.end.copy()
+        has_parent = blocks.parent >= 0
+        # blocks are in document order, so the first block naming a parent is its first child
+        owners, first = np.unique(blocks.parent[has_parent], return_index=True)
+        limits[owners] = np.minimum(limits[owners], blocks.begin[has_parent][first])
+        return limits
 
     def option_tokens(self, block_keyword: str, option: str) -> tuple[np.ndarray, np.ndarray]:
         """(blocks, tokens): every ``block_keyword`` block that has the keyword ``option`` at its own
@@ -344,8 +379,7 @@ class Block:
     @property
     def name(self) -> str | None:
         """The first parameter when the block has a name or tag (MEASUREMENT x, IF_DATA XCP)."""
-        spec = self.spec
-        if spec is not None and (not spec.params or spec.params[0] != "ident") and not spec.free:
+        if not _has_name(self.keyword):
             return None
         first = self.keyword_token + 1
         if first >= self.end_token:
@@ -393,6 +427,12 @@ class Block:
     def text(self) -> str:
         start, end = self.span
         return self.doc.data[start:end].decode(self.doc.encoding)
+
+
+def _has_name(keyword: str) -> bool:
+    """Whether a block's first parameter is its name or tag (unknown blocks: maybe, if it is a word)."""
+    spec = grammar.BLOCKS.get(keyword)
+    return spec is None or spec.free or (bool(spec.params) and spec.params[0] == "ident")
 
 
 def _options(doc: A2lDocument, tokens: list[int]) -> list[tuple[str, list[int]]]:

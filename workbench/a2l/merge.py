@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import NamedTuple
 
 from workbench.a2l import grammar
 from workbench.a2l.grammar import NAMESPACES
@@ -45,14 +46,16 @@ class MergeFailed(WorkbenchError):
         self.exit_code = 1
 
 
-@dataclass
-class _Definition:
-    block: Block
+class _Definition(NamedTuple):
+    """Where a name is defined (a row per name of the merged module: a named tuple, not a Block)."""
+
+    doc: A2lDocument
+    index: int  # block index in ``doc``
     origin: int  # 0: master, n: fragment n
 
     @property
-    def keyword(self) -> str:
-        return self.block.keyword
+    def block(self) -> Block:
+        return Block(self.doc, self.index)
 
 
 @dataclass
@@ -78,29 +81,14 @@ def merge(master: A2lDocument, fragments: list[A2lDocument], *, policy: Conflict
     need a change inside a file the master includes.
     """
     report = Report("merge")
-    module = master.module()
-    definitions: dict[tuple[str, str], _Definition] = {}
-    for block in module.children:
-        if block.keyword in NAMESPACES and block.name:
-            definitions.setdefault((NAMESPACES[block.keyword], block.name), _Definition(block, 0))
-    master_edits: list[Edit] = []
-    plans: list[_Plan] = []
-    taken = {name for _, name in definitions}
+    merger = _Merger(master, policy, report)
     for number, fragment in enumerate(fragments, start=1):
         report_progress(progress, number - 1, len(fragments), "merging fragments")
-        plan = _Plan(fragment, fragment.module())
-        plans.append(plan)
-        for block in plan.module.children:
-            _decide(master, block, number, plan, plans, definitions, taken, policy, master_edits, report)
-        report.add(Finding("merged", plan.module.name or "", f"{plan.contributed} block(s) merged from "
-                           f"{_short(fragment)}", fragment.name, *plan.module.position[1:], "MODULE"))
+        merger.add(fragment, number)
     report_progress(progress, len(fragments), len(fragments), "merging fragments")
     if policy is ConflictPolicy.ERROR and report.of_kind("conflict"):
         raise MergeFailed(report)
-    end_line = master.data.rfind(b"\n", 0, master.tokens.starts_list[module.end_token]) + 1
-    inserted = b"".join(_render(plan, master) for plan in plans)
-    edits = Edits(master_edits)
-    edits.append(Edit(end_line, end_line, inserted))
+    edits = merger.edits()
     if keep_includes:
         return MergeResult(_master_file_text(master, edits), report)
     if master.include_count:
@@ -136,68 +124,112 @@ def _master_file_text(master: A2lDocument, edits: Edits) -> bytes:
     return data
 
 
-def _decide(master: A2lDocument, block: Block, origin: int, plan: _Plan, plans: list[_Plan],
-            definitions: dict[tuple[str, str], _Definition], taken: set[str], policy: ConflictPolicy,
-            master_edits: list[Edit], report: Report) -> None:
-    doc = plan.doc
-    keyword = block.keyword
-    if keyword in MASTER_ONLY:
-        plan.skipped.append(block)
-        if keyword == "MOD_COMMON":
-            _compare_mod_common(master, block, report)
-        else:
-            report.add(finding_at(doc, block.keyword_token, "ignored", keyword,
-                                  f"{keyword} of {_short(doc)} ignored: the master's applies", keyword))
-        return
-    namespace = NAMESPACES.get(keyword)
-    name = block.name
-    if namespace is None or not name:
-        plan.contributed += 1
-        return
-    key = (namespace, name)
-    existing = definitions.get(key)
-    if existing is None:
-        definitions[key] = _Definition(block, origin)
-        taken.add(name)
-        plan.contributed += 1
-        return
-    if _signature(existing.block) == _signature(block):
-        plan.skipped.append(block)
-        report.add(finding_at(doc, block.keyword_token, "duplicate-identical", name,
-                              f"{keyword} {name} of {_short(doc)} is identical to the one in "
-                              f"{_short(existing.block.doc)}: merged", keyword))
-        return
-    where = f"{existing.block.position[0]}:{existing.block.position[1]}"
-    if policy is ConflictPolicy.ERROR:
-        report.add(finding_at(doc, block.keyword_token, "conflict", name,
-                              f"{keyword} {name} differs from the definition at {where}", keyword, Severity.ERROR))
-    elif policy is ConflictPolicy.KEEP_FIRST:
-        plan.skipped.append(block)
-        report.add(finding_at(doc, block.keyword_token, "kept-first", name,
-                              f"{keyword} {name}: kept the definition at {where}, dropped this one", keyword,
-                              Severity.WARNING))
-    elif policy is ConflictPolicy.KEEP_LAST:
-        if existing.origin == 0:
-            start, end = existing.block.span
-            master_edits.append(Edit(start, end, _fit(block.doc, master, block.doc.data[slice(*block.span)])))
-            plan.skipped.append(block)
-        else:
-            plans[existing.origin - 1].skipped.append(existing.block)
-            plans[existing.origin - 1].contributed -= 1
+class _Merger:
+    """The names defined so far and what happens to each fragment's blocks."""
+
+    def __init__(self, master: A2lDocument, policy: ConflictPolicy, report: Report):
+        self.master = master
+        self.module = master.module()
+        self.policy = policy
+        self.report = report
+        self.plans: list[_Plan] = []
+        self.master_edits: list[Edit] = []
+        self.definitions: dict[tuple[str, str], _Definition] = {}
+        for index, keyword, name in _children(master, self.module):
+            if keyword in NAMESPACES and name:
+                self.definitions.setdefault((NAMESPACES[keyword], name), _Definition(master, index, 0))
+        self.taken = {name for _, name in self.definitions}
+
+    def add(self, fragment: A2lDocument, origin: int) -> None:
+        plan = _Plan(fragment, fragment.module())
+        self.plans.append(plan)
+        for index, keyword, name in _children(fragment, plan.module):
+            self._decide(plan, origin, index, keyword, name)
+        self.report.add(Finding("merged", plan.module.name or "", f"{plan.contributed} block(s) merged from "
+                                f"{_short(fragment)}", fragment.name, *plan.module.position[1:], "MODULE"))
+
+    def edits(self) -> Edits:
+        """The master's edits: replaced definitions, and the fragments before its /end MODULE."""
+        master = self.master
+        end_line = master.data.rfind(b"\n", 0, master.tokens.starts_list[self.module.end_token]) + 1
+        edits = Edits(self.master_edits)
+        edits.append(Edit(end_line, end_line, b"".join(_render(plan, master) for plan in self.plans)))
+        return edits
+
+    def _decide(self, plan: _Plan, origin: int, index: int, keyword: str, name: str | None) -> None:
+        if keyword in MASTER_ONLY:
+            self._master_only(plan, Block(plan.doc, index))
+            return
+        namespace = NAMESPACES.get(keyword)
+        if namespace is None or not name:
             plan.contributed += 1
-        definitions[key] = _Definition(block, origin)
-        report.add(finding_at(doc, block.keyword_token, "kept-last", name,
-                              f"{keyword} {name}: this definition replaces the one at {where}", keyword,
-                              Severity.WARNING))
-    else:
-        new_name = _unique(f"{name}_{plan.module.name}", taken)
-        taken.add(new_name)
-        plan.renames[name] = new_name
-        definitions[(namespace, new_name)] = _Definition(block, origin)
-        plan.contributed += 1
-        report.add(finding_at(doc, block.keyword_token, "renamed", name,
-                              f"{keyword} {name} of {_short(doc)} renamed to {new_name} (differs from {where})",
-                              keyword, Severity.WARNING))
+            return
+        key = (namespace, name)
+        existing = self.definitions.get(key)
+        if existing is None:  # the common case: a new name
+            self.definitions[key] = _Definition(plan.doc, index, origin)
+            self.taken.add(name)
+            plan.contributed += 1
+            return
+        self._duplicate(plan, origin, Block(plan.doc, index), key, existing)
+
+    def _master_only(self, plan: _Plan, block: Block) -> None:
+        plan.skipped.append(block)
+        if block.keyword == "MOD_COMMON":
+            _compare_mod_common(self.master, block, self.report)
+            return
+        doc, keyword = plan.doc, block.keyword
+        self.report.add(finding_at(doc, block.keyword_token, "ignored", keyword,
+                                   f"{keyword} of {_short(doc)} ignored: the master's applies", keyword))
+
+    def _duplicate(self, plan: _Plan, origin: int, block: Block, key: tuple[str, str], existing: _Definition) -> None:
+        """A second definition of a name: identical ones merge, different ones follow the policy."""
+        doc, report, keyword, (namespace, name) = plan.doc, self.report, block.keyword, key
+        if _signature(existing.block) == _signature(block):
+            plan.skipped.append(block)
+            report.add(finding_at(doc, block.keyword_token, "duplicate-identical", name,
+                                  f"{keyword} {name} of {_short(doc)} is identical to the one in "
+                                  f"{_short(existing.doc)}: merged", keyword))
+            return
+        where = ":".join(map(str, existing.block.position[:2]))
+        if self.policy is ConflictPolicy.ERROR:
+            report.add(finding_at(doc, block.keyword_token, "conflict", name,
+                                  f"{keyword} {name} differs from the definition at {where}", keyword, Severity.ERROR))
+        elif self.policy is ConflictPolicy.KEEP_FIRST:
+            plan.skipped.append(block)
+            report.add(finding_at(doc, block.keyword_token, "kept-first", name,
+                                  f"{keyword} {name}: kept the definition at {where}, dropped this one", keyword,
+                                  Severity.WARNING))
+        elif self.policy is ConflictPolicy.KEEP_LAST:
+            if existing.origin == 0:
+                start, end = existing.block.span
+                self.master_edits.append(Edit(start, end, _fit(doc, self.master, doc.data[slice(*block.span)])))
+                plan.skipped.append(block)
+            else:
+                earlier = self.plans[existing.origin - 1]
+                earlier.skipped.append(existing.block)
+                earlier.contributed -= 1
+                plan.contributed += 1
+            self.definitions[key] = _Definition(doc, block.index, origin)
+            report.add(finding_at(doc, block.keyword_token, "kept-last", name,
+                                  f"{keyword} {name}: this definition replaces the one at {where}", keyword,
+                                  Severity.WARNING))
+        else:
+            new_name = _unique(f"{name}_{plan.module.name}", self.taken)
+            self.taken.add(new_name)
+            plan.renames[name] = new_name
+            self.definitions[(namespace, new_name)] = _Definition(doc, block.index, origin)
+            plan.contributed += 1
+            report.add(finding_at(doc, block.keyword_token, "renamed", name,
+                                  f"{keyword} {name} of {_short(doc)} renamed to {new_name} (differs from {where})",
+                                  keyword, Severity.WARNING))
+
+
+def _children(doc: A2lDocument, module: Block):
+    """(block index, keyword, name) of a MODULE's children, names read in one pass."""
+    children = doc.blocks.children(module.index)
+    keywords = doc.blocks.keyword
+    return [(index, keywords[index], name) for index, name in zip(children.tolist(), doc.block_names(children))]
 
 
 def _render(plan: _Plan, master: A2lDocument) -> bytes:

@@ -4,20 +4,28 @@ Raises :class:`A2lParseError` at the first problem in file order: a block where 
 parent does not allow it, a missing or malformed parameter (``bad number``), a
 keyword that does not exist or is not allowed in its block. Free-form content
 (IF_DATA, A2ML) is skipped.
+
+Where blocks may stand is checked once per (parent keyword, keyword) pair; the
+parameters block by block, with each distinct spelling matched against its pattern
+once (a 10 MB file has a million tokens but far fewer distinct numbers and keywords).
 """
 
 from __future__ import annotations
 
+import functools
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from workbench.a2l import grammar
-from workbench.a2l.values import FLOAT_RE, IDENT_RE, INT_RE
+from workbench.a2l.values import FLOAT_RE, IDENT_RE, INT_RE, int_or_none
 from workbench.errors import A2lParseError
 
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
 
 _KIND_NAMES = {"ident": "a name", "str": "a string", "int": "an integer", "float": "a number", "int*": "an integer"}
+_PATTERNS = {"ident": IDENT_RE, "int": INT_RE, "float": FLOAT_RE}
 
 
 def validate_document(doc: "A2lDocument", errors: list[A2lParseError] | None = None) -> None:
@@ -39,100 +47,139 @@ class _Validator:
         self.data = doc.data
         self.starts = doc.tokens.starts_list
         self.ends = doc.tokens.ends_list
+        self.fits: dict[str, dict[bytes, bool]] = {kind: {} for kind in _PATTERNS}  # kind -> spelling -> verdict
 
     def raw(self, token: int) -> bytes:
         return self.data[self.starts[token] : self.ends[token]]
 
     def run(self) -> None:
         doc = self.doc
-        begin, end, keywords = doc.block_begin, doc.block_end, doc.blocks.keyword
-        parent = doc.blocks.parent.tolist()
-        skip_until = -1  # token index: everything before it is inside a free block
-        # own tokens per block, collected in one pass over the blocks in document order
-        gaps: dict[int, list[int]] = {-1: []}
-        cursor = [0]  # cursor[-1]: next unassigned token of the innermost open block
-        stack = [-1]
-        for block, (b, e) in enumerate(zip(begin, end)):
-            if b < skip_until:
-                continue
-            while stack[-1] != -1 and end[stack[-1]] < b:
-                self._close(stack, cursor, gaps, end)
-            gaps[stack[-1]].extend(range(cursor[-1], b))
-            cursor[-1] = e + 2
-            keyword = keywords[block]
-            spec = grammar.BLOCKS.get(keyword)
-            self._guarded(self._check_placement, block, keyword, parent[block], keywords)
-            if spec is not None and spec.free:
-                skip_until = e
-                continue
-            stack.append(block)
-            cursor.append(b + 2)
-            gaps[block] = []
-        while len(stack) > 1:
-            self._close(stack, cursor, gaps, end)
-        gaps[-1].extend(range(cursor[-1], len(doc.tokens)))
-        self._guarded(self._check_top_level, gaps[-1])
-
-    def _guarded(self, check, *args) -> None:
+        blocks = doc.blocks
+        checked = self._check_placements()
+        params_ok = self._positional_parameters_fit(checked)
+        begin, end = doc.block_begin, doc.block_end
+        child_offsets, child_order = blocks._child_offsets.tolist(), blocks._child_order.tolist()
+        for block, skip_params in zip(np.flatnonzero(checked).tolist(), params_ok[checked].tolist()):
+            first, last = child_offsets[block + 1], child_offsets[block + 2]
+            own = range(begin[block] + 2, end[block]) if first == last else self._own_tokens(
+                begin[block] + 2, end[block], child_order[first:last])
+            try:
+                self._check_block(block, own, skip_params)
+            except A2lParseError as exc:
+                self.errors.append(exc)
         try:
-            check(*args)
+            self._check_top_level(self._own_tokens(0, len(doc.tokens), child_order[child_offsets[0] : child_offsets[1]]))
         except A2lParseError as exc:
             self.errors.append(exc)
 
-    def _close(self, stack, cursor, gaps, end) -> None:
-        block = stack.pop()
-        start = cursor.pop()
-        own = gaps.pop(block)
-        own.extend(range(start, end[block]))
-        self._guarded(self._check_block, block, own)
+    def _own_tokens(self, start: int, stop: int, children: list[int]) -> list[int]:
+        """The tokens from ``start`` to ``stop`` that do not belong to one of the ``children`` blocks."""
+        own: list[int] = []
+        for child in children:
+            own.extend(range(start, self.doc.block_begin[child]))
+            start = self.doc.block_end[child] + 2
+        own.extend(range(start, stop))
+        return own
 
-    def _check_placement(self, block: int, keyword: str, parent: int, keywords: list[str]) -> None:
-        if parent < 0:
-            if keyword not in grammar.TOP_LEVEL_BLOCKS:
-                raise self.doc.error(f"/begin {keyword} is not allowed at the top level (expected PROJECT)",
-                                     self.doc.block_begin[block] + 1)
-            return
-        parent_keyword = keywords[parent]
-        parent_spec = grammar.BLOCKS.get(parent_keyword)
-        if parent_spec is None or keyword in parent_spec.blocks:
-            return
-        what = "unknown block" if keyword not in grammar.BLOCKS else "block"
-        raise self.doc.error(f"{what} /begin {keyword} is not allowed in {parent_keyword}", self.doc.block_begin[block] + 1)
+    def _check_placements(self) -> np.ndarray:
+        """Report every block its parent does not allow; returns which blocks to check further
+        (not free-form, not inside a free-form block)."""
+        doc, blocks = self.doc, self.doc.blocks
+        names = blocks.keyword_names
+        parent_ids = np.where(blocks.parent >= 0, blocks.keyword_id[np.maximum(blocks.parent, 0)], -1)
+        free = np.array([grammar.BLOCKS.get(name, grammar.BlockSpec()).free for name in names], dtype=bool)
+        free_blocks = np.flatnonzero(free[blocks.keyword_id])
+        # inside a free block: the free blocks that began before it reach beyond its begin
+        reach = np.maximum.accumulate(blocks.end[free_blocks]) if len(free_blocks) else np.zeros(0, np.int64)
+        before = np.searchsorted(blocks.begin[free_blocks], blocks.begin) - 1
+        inside_free = (before >= 0) & (reach[np.maximum(before, 0)] > blocks.begin) if len(free_blocks) else \
+            np.zeros(len(blocks), dtype=bool)
+        pairs = parent_ids * len(names) + blocks.keyword_id
+        for pair in np.unique(pairs[~inside_free]).tolist():
+            parent_id, keyword_id = divmod(pair, len(names)) if pair >= 0 else (-1, pair + len(names))
+            problem = _placement_problem(names[parent_id] if parent_id >= 0 else None, names[keyword_id])
+            if problem is not None:
+                for block in np.flatnonzero((pairs == pair) & ~inside_free).tolist():
+                    self.errors.append(doc.error(problem, doc.block_begin[block] + 1))
+        return ~inside_free & ~free[blocks.keyword_id]
 
-    def _check_block(self, block: int, own: list[int]) -> None:
+    def _positional_parameters_fit(self, checked: np.ndarray) -> np.ndarray:
+        """Per block: True when its positional parameters are known to be there and of the right
+        kinds, found column by column for all blocks of a keyword (most of a file's tokens)."""
+        doc, blocks = self.doc, self.doc.blocks
+        fit = np.zeros(len(blocks), dtype=bool)
+        limits = doc.parameter_limits()
+        first_bytes = doc.tokens.first_bytes()
+        for number, keyword in enumerate(blocks.keyword_names):
+            spec = grammar.BLOCKS.get(keyword)
+            if spec is None or not spec.params:
+                continue
+            rows = np.flatnonzero(checked & (blocks.keyword_id == number))
+            rows = rows[blocks.begin[rows] + 2 + len(spec.params) <= limits[rows]]  # no child among them
+            good = np.ones(len(rows), dtype=bool)
+            for index, kind in enumerate(spec.params):
+                tokens = blocks.begin[rows] + 2 + index
+                if kind == "str":
+                    good &= first_bytes[tokens] == ord('"')
+                else:
+                    good &= np.array(self._fit_many(kind, tokens), dtype=bool)
+            fit[rows[good]] = True
+        return fit
+
+    def _fit_many(self, kind: str, tokens: np.ndarray) -> list[bool]:
+        data, starts, ends = self.data, self.doc.tokens.starts[tokens].tolist(), self.doc.tokens.ends[tokens].tolist()
+        raws = [data[start:end] for start, end in zip(starts, ends)]
+        fits, pattern = self.fits[kind], _PATTERNS[kind]
+        for raw in set(raws).difference(fits):
+            fits[raw] = pattern.fullmatch(raw) is not None
+        return [fits[raw] for raw in raws]
+
+    def _check_block(self, block: int, own, params_fit: bool = False) -> None:
         keyword = self.doc.blocks.keyword[block]
         spec = grammar.BLOCKS.get(keyword)
         if spec is None:
             return
-        position = self._check_params(keyword, spec.params, own, 0, self.doc.block_end[block])
+        end_token = self.doc.block_end[block]
+        position = len(spec.params) if params_fit else self._check_params(keyword, spec.params, own, 0, end_token)
         if spec.repeat:
-            count_raw = self.raw(own[len(spec.params) - 1])
-            groups = int(count_raw, 0) if INT_RE.fullmatch(count_raw) else 0
-            position = self._check_params(keyword, spec.repeat * groups, own, position, self.doc.block_end[block])
+            groups = int_or_none(self.raw(own[len(spec.params) - 1])) or 0
+            for _ in range(groups):  # stops at the first missing parameter, however large the count
+                position = self._check_params(keyword, spec.repeat, own, position, end_token)
         if spec.items:
             while position < len(own) and self.raw(own[position]).decode("latin-1") not in spec.options:
-                self._check_kind(spec.items, own[position], f"{keyword} entry")
+                self._check_params(f"{keyword} entry", (spec.items,), own, position, end_token)
                 position += 1
-        self._check_options(keyword, spec, own, position, self.doc.block_end[block])
+        self._check_options(keyword, spec, own, position, end_token)
 
-    def _check_params(self, keyword: str, kinds, own: list[int], position: int, end_token: int) -> int:
+    def _check_params(self, keyword: str, kinds, own, position: int, end_token: int) -> int:
+        data, starts, ends, fits = self.data, self.starts, self.ends, self.fits
         for kind in kinds:
             if position >= len(own):
                 raise self.doc.error(f"{keyword}: missing parameter ({_KIND_NAMES[kind]} expected)", end_token)
-            self._check_kind(kind, own[position], keyword)
+            token = own[position]
+            raw = data[starts[token] : ends[token]]
+            if kind == "str":
+                ok = raw[:1] == b'"'
+            else:
+                ok = fits[kind].get(raw)
+                if ok is None:
+                    ok = fits[kind][raw] = _PATTERNS[kind].fullmatch(raw) is not None
+            if not ok:
+                raise self._kind_error(kind, token, raw, keyword)
             position += 1
         return position
 
-    def _check_options(self, keyword: str, spec: grammar.BlockSpec, own: list[int], position: int, end_token: int) -> None:
+    def _check_options(self, keyword: str, spec: grammar.BlockSpec, own, position: int, end_token: int) -> None:
+        allowed = _allowed_options(keyword)
         while position < len(own):
             token = own[position]
             raw = self.raw(token)
+            kinds = allowed.get(raw)
             name = raw.decode("latin-1")
-            kinds = grammar.OPTIONS.get(name)
-            if kinds is None or name not in spec.options:
-                if kinds is None and not IDENT_RE.fullmatch(raw):
+            if kinds is None:
+                if name not in grammar.OPTIONS and not IDENT_RE.fullmatch(raw):
                     raise self.doc.error(f"unexpected '{_shown(raw)}' in {keyword} (a keyword expected)", token)
-                what = "unknown keyword" if kinds is None else "keyword"
+                what = "unknown keyword" if name not in grammar.OPTIONS else "keyword"
                 raise self.doc.error(f"{what} {name} is not allowed in {keyword}", token)
             position += 1
             if kinds == ("int*",):
@@ -144,22 +191,11 @@ class _Validator:
                 continue
             position = self._check_params(name, kinds, own, position, end_token)
 
-    def _check_kind(self, kind: str, token: int, context: str) -> None:
-        raw = self.raw(token)
-        if kind == "str":
-            ok = raw[:1] == b'"'
-        elif kind == "ident":
-            ok = IDENT_RE.fullmatch(raw) is not None
-        elif kind == "int":
-            ok = INT_RE.fullmatch(raw) is not None
-        else:
-            ok = FLOAT_RE.fullmatch(raw) is not None
-        if not ok:
-            found = "a string" if raw[:1] == b'"' else f"'{_shown(raw)}'"
-            problem = "bad number" if kind in ("int", "float") and raw[:1] != b'"' and _looks_numeric(raw) else "expected"
-            if problem == "bad number":
-                raise self.doc.error(f"{context}: bad number {found} ({_KIND_NAMES[kind]} expected)", token)
-            raise self.doc.error(f"{context}: {_KIND_NAMES[kind]} expected, found {found}", token)
+    def _kind_error(self, kind: str, token: int, raw: bytes, context: str) -> A2lParseError:
+        found = "a string" if raw[:1] == b'"' else f"'{_shown(raw)}'"
+        if kind in ("int", "float") and raw[:1] != b'"' and _looks_numeric(raw):
+            return self.doc.error(f"{context}: bad number {found} ({_KIND_NAMES[kind]} expected)", token)
+        return self.doc.error(f"{context}: {_KIND_NAMES[kind]} expected, found {found}", token)
 
     def _check_top_level(self, own: list[int]) -> None:
         position = 0
@@ -170,6 +206,25 @@ class _Validator:
             if kinds is None:
                 raise self.doc.error(f"unexpected '{_shown(raw)}' at the top level", token)
             position = self._check_params(raw.decode("latin-1"), kinds, own, position + 1, token)
+
+
+@functools.cache
+def _allowed_options(keyword: str) -> dict[bytes, tuple[str, ...]]:
+    """The option keywords a block allows, as spelled in a file, with their parameter kinds."""
+    return {name.encode("ascii"): grammar.OPTIONS[name] for name in grammar.BLOCKS[keyword].options}
+
+
+def _placement_problem(parent: str | None, keyword: str) -> str | None:
+    """Why a ``keyword`` block cannot stand in a ``parent`` block (None: top level); None when it can."""
+    if parent is None:
+        if keyword in grammar.TOP_LEVEL_BLOCKS:
+            return None
+        return f"/begin {keyword} is not allowed at the top level (expected PROJECT)"
+    parent_spec = grammar.BLOCKS.get(parent)
+    if parent_spec is None or keyword in parent_spec.blocks:
+        return None
+    what = "unknown block" if keyword not in grammar.BLOCKS else "block"
+    return f"{what} /begin {keyword} is not allowed in {parent}"
 
 
 def _looks_numeric(raw: bytes) -> bool:
