@@ -31,6 +31,7 @@ CASES = [
     ('    /begin MEASUREMENT m 42 UBYTE NO_COMPU_METHOD 1 0 0 255 /end MEASUREMENT\n', "a string expected, found '42'", 4, 26),
     ('    /begin MEASUREMENT m "" UBYTE NO_COMPU_METHOD 1 0 0 255 ECU_ADDRESS "x" /end MEASUREMENT\n', "an integer expected, found a string", 4, 73),
     ('    /begin COMPU_VTAB V "" TAB_VERB 2 0 "a" 1 /end COMPU_VTAB\n', "COMPU_VTAB: missing parameter (a string expected)", 4, 47),
+    ('    /begin COMPU_VTAB V "" TAB_VERB 999999999999 0 "a" 1 "b" /end COMPU_VTAB\n', "COMPU_VTAB: missing parameter (a number expected)", 4, 62),
 ]
 
 
@@ -47,6 +48,8 @@ def test_malformed_text_names_line_and_column(body, message, line, column):
 def test_good_text_parses():
     doc = loads(HEAD + GOOD_MEASUREMENT + TAIL)
     assert [b.name for b in doc.objects("MEASUREMENT")] == ["m"]
+    leading_zero = loads(HEAD + '    /begin COMPU_VTAB V "" TAB_VERB 02 0 "a" 1 "b" /end COMPU_VTAB\n' + TAIL)
+    assert leading_zero.objects("COMPU_VTAB")[0].name == "V"  # an A2L integer may start with 0 (not octal)
 
 
 def test_junk_at_the_top_level():
