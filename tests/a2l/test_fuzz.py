@@ -1,4 +1,5 @@
-"""Random mutations of real A2L files: the reader parses them or raises A2lParseError, nothing else."""
+"""Random mutations of real A2L files: the reader parses them or raises A2lParseError, and update, merge,
+diff, check and the XCP reader fail with our errors only."""
 
 from pathlib import Path
 
@@ -12,11 +13,18 @@ from workbench.a2l.check import check
 from workbench.a2l.document import A2lDocument
 from workbench.a2l.source import decode_source
 from workbench.a2l.tokens import _OPAQUE, _simple_opaque_spans
+from workbench.a2l.diff import diff
+from workbench.a2l.merge import merge
+from workbench.a2l.reports import ConflictPolicy
+from workbench.a2l.update import update
 from workbench.a2l.xcp import read_xcp_config
-from workbench.errors import A2lParseError
+from workbench.elf.debugdata import DebugData
+from workbench.errors import A2lParseError, WorkbenchError
 
 FILES = [demo.master_a2l(), *demo.fragment_a2ls()[:3], Path(__file__).parent / "fixtures" / "xcp_ecu.a2l",
          Path(__file__).parent / "fixtures" / "types.a2l"]
+DEBUG = DebugData(Path(__file__).parents[1] / "elf" / "fixtures" / "types_dwarf5.elf", use_cache=False)
+MASTER = A2lDocument.from_source(decode_source(demo.master_a2l().read_bytes(), demo.master_a2l()))
 SNIPPETS = [b"/begin", b"/end", b"/include", b'"', b"/*", b"*/", b"//", b"\n", b"0x", b"0x1G", b"-", b".", b"1e",
             b"MEASUREMENT", b"ECU_ADDRESS", b"IF_DATA", b"\xef\xbb\xbf", b"\xff\xfe", b"\xc3", b"\x00", b"\\",
             b"/begin MODULE", b"/end MODULE", b"ASAP2_VERSION"]
@@ -52,11 +60,13 @@ def test_mutated_files_parse_or_raise_a2l_parse_error(index, operations):
     except A2lParseError as error:
         assert error.line >= 1 and error.column >= 1 and str(error).startswith(str(FILES[index]))
         return
-    # a document that parsed can be used: checking it never fails with anything but our error
-    for action in (lambda: check(doc), lambda: read_xcp_config(doc)):
+    # a document that parsed can be used: every operation fails with our errors or not at all
+    original = A2lDocument.from_source(decode_source(FILES[index].read_bytes(), FILES[index]))
+    for action in (lambda: check(doc), lambda: read_xcp_config(doc), lambda: update(doc, DEBUG, types=True),
+                   lambda: merge(MASTER, [doc], policy=ConflictPolicy.RENAME), lambda: diff(original, doc)):
         try:
             action()
-        except A2lParseError:
+        except WorkbenchError:
             pass
 
 

@@ -105,6 +105,21 @@ def test_rename_renames_the_definition_and_the_fragments_references():
     assert set(renamed) == {"CM", "x"} and "renamed to x_B" in renamed["x"]
 
 
+def test_rename_follows_references_into_definitions_that_only_looked_identical():
+    vtab = '    /begin COMPU_VTAB V "" TAB_VERB 1 0 "{}" /end COMPU_VTAB\n'
+    method = '    /begin COMPU_METHOD CM_V "" TAB_VERB "%4.0" "" COMPU_TAB_REF V /end COMPU_METHOD\n'
+    a = fragment("A", method + vtab.format("off") + measurement("a", "CM_V"))
+    b = fragment("B", method + vtab.format("OFF") + measurement("b", "CM_V"))  # CM_V's tokens equal A's
+    result = run([a, b], ConflictPolicy.RENAME)
+    doc = loads(result.data.decode())
+    tables = {m.name: doc.text(m.option("COMPU_TAB_REF")[0]) for m in doc.objects("COMPU_METHOD") if m.name != "CM"}
+    assert tables == {"CM_V": "V", "CM_V_B": "V_B"}
+    by_name = {m.name: doc.text(m.args[3]) for m in doc.objects("MEASUREMENT")}
+    assert by_name == {"a": "CM_V", "b": "CM_V_B"}  # b keeps its own enumeration
+    assert sorted(f.name for f in result.report.of_kind("renamed")) == ["CM_V", "V"]
+    assert not result.report.of_kind("duplicate-identical")
+
+
 def test_nested_includes_in_master_and_fragments(tmp_path):
     (tmp_path / "inc").mkdir()
     (tmp_path / "master.a2l").write_text(MASTER.replace('    /begin COMPU_METHOD CM', '    /include "inc/cm.a2l"\n'

@@ -10,6 +10,7 @@ finding in the returned report.
 
 from __future__ import annotations
 
+import bisect
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import NamedTuple
@@ -66,6 +67,7 @@ class _Plan:
     module: Block
     skipped: list[Block] = field(default_factory=list)
     renames: dict[str, str] = field(default_factory=dict)
+    identical: dict[int, _Definition] = field(default_factory=dict)  # skipped block index -> the definition kept
     contributed: int = 0
 
 
@@ -145,8 +147,29 @@ class _Merger:
         self.plans.append(plan)
         for index, keyword, name in _children(fragment, plan.module):
             self._decide(plan, origin, index, keyword, name)
+        self._rename_what_renames_changed(plan, origin)
+        for index, existing in plan.identical.items():
+            block = Block(fragment, index)
+            self.report.add(finding_at(fragment, block.keyword_token, "duplicate-identical", block.name,
+                                       f"{block.keyword} {block.name} of {_short(fragment)} is identical to the one "
+                                       f"in {_short(existing.doc)}: merged", block.keyword))
         self.report.add(Finding("merged", plan.module.name or "", f"{plan.contributed} block(s) merged from "
                                 f"{_short(fragment)}", fragment.name, *plan.module.position[1:], "MODULE"))
+
+    def _rename_what_renames_changed(self, plan: _Plan, origin: int) -> None:
+        """A block that matched an earlier definition may differ from it once the fragment's renames
+        apply (a COMPU_METHOD whose COMPU_VTAB was renamed): it is renamed too, until nothing changes."""
+        changed = bool(plan.renames)
+        while changed:
+            changed = False
+            for index, existing in list(plan.identical.items()):
+                block = Block(plan.doc, index)
+                if self._signature(block, plan) != self._signature(existing.block, self._plan_of(existing)):
+                    del plan.identical[index]
+                    plan.skipped.remove(block)
+                    key = (NAMESPACES[block.keyword], block.name)
+                    self._duplicate(plan, origin, block, key, existing)
+                    changed = True
 
     def edits(self) -> Edits:
         """The master's edits: replaced definitions, and the fragments before its /end MODULE."""
@@ -173,6 +196,18 @@ class _Merger:
             return
         self._duplicate(plan, origin, Block(plan.doc, index), key, existing)
 
+    def _plan_of(self, definition: _Definition) -> _Plan | None:
+        return self.plans[definition.origin - 1] if definition.origin else None
+
+    @staticmethod
+    def _signature(block: Block, plan: _Plan | None) -> list[bytes]:
+        """The block's tokens as they are written out (comments and layout do not count)."""
+        tokens = block.doc.tokens.raw_many(range(block.begin_token, block.end_token + 2))
+        if plan is None or not plan.renames:
+            return tokens
+        renames = {old.encode(block.doc.encoding): new.encode(block.doc.encoding) for old, new in plan.renames.items()}
+        return [renames.get(token, token) for token in tokens]
+
     def _master_only(self, plan: _Plan, block: Block) -> None:
         plan.skipped.append(block)
         if block.keyword == "MOD_COMMON":
@@ -185,11 +220,9 @@ class _Merger:
     def _duplicate(self, plan: _Plan, origin: int, block: Block, key: tuple[str, str], existing: _Definition) -> None:
         """A second definition of a name: identical ones merge, different ones follow the policy."""
         doc, report, keyword, (namespace, name) = plan.doc, self.report, block.keyword, key
-        if _signature(existing.block) == _signature(block):
+        if self._signature(block, plan) == self._signature(existing.block, self._plan_of(existing)):
             plan.skipped.append(block)
-            report.add(finding_at(doc, block.keyword_token, "duplicate-identical", name,
-                                  f"{keyword} {name} of {_short(doc)} is identical to the one in "
-                                  f"{_short(existing.doc)}: merged", keyword))
+            plan.identical[block.index] = existing
             return
         where = ":".join(map(str, existing.block.position[:2]))
         if self.policy is ConflictPolicy.ERROR:
@@ -258,19 +291,20 @@ def _fit(doc: A2lDocument, master: A2lDocument, data: bytes) -> bytes:
 
 
 def _rename_edits(plan: _Plan, start: int, end: int) -> list[Edit]:
+    """Every use of a renamed name in the fragment's copied text (outside the blocks left out)."""
     if not plan.renames:
         return []
     doc = plan.doc
+    left_out = sorted(block.span for block in plan.skipped)
+    left_out_starts = [span[0] for span in left_out]
     edits = []
-    encoded = {old.encode(doc.encoding): new.encode(doc.encoding) for old, new in plan.renames.items()}
-    for token in range(len(doc.tokens)):
-        if not start <= doc.tokens.starts_list[token] < end:
-            continue
-        new = encoded.get(doc.raw(token))
-        if new is not None:
-            edits.append(replace_token(doc, token, new))
-    edits += _keep_symbol_links(plan, start, end)
-    return edits
+    for old, new in plan.renames.items():
+        for token in doc.tokens.matching(old.encode(doc.encoding)).tolist():
+            offset = doc.tokens.starts_list[token]
+            inside = bisect.bisect_right(left_out_starts, offset) - 1
+            if start <= offset < end and not (inside >= 0 and offset < left_out[inside][1]):
+                edits.append(replace_token(doc, token, new.encode(doc.encoding)))
+    return edits + _keep_symbol_links(plan, start, end)
 
 
 def _keep_symbol_links(plan: _Plan, start: int, end: int) -> list[Edit]:
@@ -299,12 +333,6 @@ def _compare_mod_common(master: A2lDocument, block: Block, report: Report) -> No
     else:
         report.add(finding_at(doc, block.keyword_token, "ignored", "MOD_COMMON",
                               f"MOD_COMMON of {_short(doc)} agrees with the master's", "MOD_COMMON"))
-
-
-def _signature(block: Block) -> list[bytes]:
-    """The block's tokens (comments and layout do not count)."""
-    doc = block.doc
-    return doc.tokens.raw_many(range(block.begin_token, block.end_token + 2))
 
 
 def _unique(name: str, taken: set[str]) -> str:
