@@ -89,6 +89,15 @@ def test_keep_last_replaces_the_master_and_earlier_fragments():
     assert [f.name for f in result.report.of_kind("kept-last")] == ["CM", "x"]
 
 
+def test_keep_last_twice_over_a_master_definition_leaves_one_the_last():
+    third = OTHER_CM.replace('"other"', '"third"')
+    result = run([fragment("A", OTHER_CM), fragment("B", third + measurement("b"))], ConflictPolicy.KEEP_LAST)
+    doc = loads(result.data.decode())
+    (cm,) = doc.objects("COMPU_METHOD")
+    assert doc.text(cm.args[1]) == "third" and cm.position[1] == 9  # in the master's place
+    assert [f.name for f in result.report.of_kind("kept-last")] == ["CM", "CM"]
+
+
 def test_rename_renames_the_definition_and_the_fragments_references():
     body = OTHER_CM + measurement("a") + measurement("x", upper=7)
     result = run([fragment("A", measurement("x")), fragment("B", body)], ConflictPolicy.RENAME)

@@ -135,11 +135,12 @@ class _Merger:
         self.policy = policy
         self.report = report
         self.plans: list[_Plan] = []
-        self.master_edits: list[Edit] = []
         self.definitions: dict[tuple[str, str], _Definition] = {}
         for index, keyword, name in _children(master, self.module):
             if keyword in NAMESPACES and name:
                 self.definitions.setdefault((NAMESPACES[keyword], name), _Definition(master, index, 0))
+        self.masters_own = dict(self.definitions)  # (namespace, name) -> the master's definition
+        self.replacements: dict[tuple[str, str], Edit] = {}  # keep-last: the master's definition rewritten
         self.taken = {name for _, name in self.definitions}
 
     def add(self, fragment: A2lDocument, origin: int) -> None:
@@ -175,7 +176,7 @@ class _Merger:
         """The master's edits: replaced definitions, and the fragments before its /end MODULE."""
         master = self.master
         end_line = master.data.rfind(b"\n", 0, master.tokens.starts_list[self.module.end_token]) + 1
-        edits = Edits(self.master_edits)
+        edits = Edits(self.replacements.values())
         edits.append(Edit(end_line, end_line, b"".join(_render(plan, master) for plan in self.plans)))
         return edits
 
@@ -234,9 +235,9 @@ class _Merger:
                                   f"{keyword} {name}: kept the definition at {where}, dropped this one", keyword,
                                   Severity.WARNING))
         elif self.policy is ConflictPolicy.KEEP_LAST:
-            if existing.origin == 0:
-                start, end = existing.block.span
-                self.master_edits.append(Edit(start, end, _fit(doc, self.master, doc.data[slice(*block.span)])))
+            if key in self.masters_own:  # the last definition takes the master's place (the latest one wins)
+                start, end = self.masters_own[key].block.span
+                self.replacements[key] = Edit(start, end, _fit(doc, self.master, doc.data[slice(*block.span)]))
                 plan.skipped.append(block)
             else:
                 earlier = self.plans[existing.origin - 1]
