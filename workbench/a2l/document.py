@@ -132,12 +132,6 @@ class A2lDocument:
             raise self.error(f"expected an integer, found '{raw.decode(self.encoding)}'", token)
         return parse_int(raw)
 
-    def number_value(self, token: int) -> int | float:
-        raw = self.tokens.raw(token)
-        if not is_number(raw):
-            raise self.error(f"expected a number, found '{raw.decode(self.encoding)}'", token)
-        return parse_number(raw)
-
     def value(self, token: int) -> int | float | str:
         """A number if the token is one, else its text."""
         raw = self.tokens.raw(token)

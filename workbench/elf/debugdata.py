@@ -87,14 +87,6 @@ class DebugData:
     def has_dwarf(self) -> bool:
         return bool(self._variable_types)
 
-    @property
-    def little_endian(self) -> bool:
-        return self.elf.little_endian
-
-    def variable_names(self) -> list[str]:
-        return list(self._variable_types) if self._variable_types else [
-            name for name, symbol in self.elf.symbols.items() if symbol.kind == "object"]
-
     def resolve(self, path: str) -> ResolvedSymbol:
         """Address, size and type of an A2L symbol path; raises :class:`UnknownSymbolError`
         (with the reason) when the ELF does not have it."""

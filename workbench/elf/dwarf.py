@@ -16,22 +16,20 @@ from workbench.progress import Progress, report
 
 # tags
 TAG_ARRAY, TAG_CLASS, TAG_ENUM, TAG_MEMBER, TAG_POINTER = 0x01, 0x02, 0x04, 0x0D, 0x0F
-TAG_REFERENCE, TAG_COMPILE_UNIT, TAG_STRUCT, TAG_SUBROUTINE_TYPE, TAG_TYPEDEF = 0x10, 0x11, 0x13, 0x15, 0x16
-TAG_UNION, TAG_SUBRANGE, TAG_BASE, TAG_CONST, TAG_ENUMERATOR = 0x17, 0x21, 0x24, 0x26, 0x28
-TAG_SUBPROGRAM, TAG_VARIABLE, TAG_VOLATILE, TAG_RESTRICT, TAG_ATOMIC = 0x2E, 0x34, 0x35, 0x37, 0x47
-TAG_PARTIAL_UNIT, TAG_NAMESPACE = 0x3C, 0x39
+TAG_REFERENCE, TAG_STRUCT, TAG_SUBROUTINE_TYPE, TAG_TYPEDEF, TAG_UNION = 0x10, 0x13, 0x15, 0x16, 0x17
+TAG_SUBRANGE, TAG_BASE, TAG_CONST, TAG_VARIABLE, TAG_VOLATILE = 0x21, 0x24, 0x26, 0x34, 0x35
+TAG_RESTRICT, TAG_NAMESPACE, TAG_ATOMIC = 0x37, 0x39, 0x47
 
 # attributes
 AT_SIBLING, AT_LOCATION, AT_NAME, AT_BYTE_SIZE, AT_BIT_OFFSET, AT_BIT_SIZE = 0x01, 0x02, 0x03, 0x0B, 0x0C, 0x0D
-AT_CONST_VALUE, AT_UPPER_BOUND, AT_ABSTRACT_ORIGIN, AT_COUNT, AT_MEMBER_LOCATION = 0x1C, 0x2F, 0x31, 0x37, 0x38
-AT_DECLARATION, AT_ENCODING, AT_EXTERNAL, AT_SPECIFICATION, AT_TYPE = 0x3C, 0x3E, 0x3F, 0x47, 0x49
-AT_DATA_BIT_OFFSET, AT_STR_OFFSETS_BASE, AT_ADDR_BASE = 0x6B, 0x72, 0x73
+AT_UPPER_BOUND, AT_ABSTRACT_ORIGIN, AT_COUNT, AT_MEMBER_LOCATION = 0x2F, 0x31, 0x37, 0x38
+AT_DECLARATION, AT_ENCODING, AT_SPECIFICATION, AT_TYPE, AT_DATA_BIT_OFFSET = 0x3C, 0x3E, 0x47, 0x49, 0x6B
 
 _VARIABLE_ATTRS = frozenset({AT_SIBLING, AT_NAME, AT_TYPE, AT_LOCATION, AT_SPECIFICATION, AT_ABSTRACT_ORIGIN,
                              AT_DECLARATION})
 _SIBLING = frozenset({AT_SIBLING})
 
-_OP_ADDR, _OP_PLUS_UCONST, _OP_ADDRX, _OP_GNU_ADDR_INDEX = 0x03, 0x23, 0xA1, 0xFB
+_OP_ADDR, _OP_PLUS_UCONST = 0x03, 0x23  # DW_OP_addrx is not read: see global_variables
 
 _FIXED_SIZE = {0x0B: 1, 0x05: 2, 0x06: 4, 0x07: 8, 0x0C: 1, 0x11: 1, 0x12: 2, 0x13: 4, 0x14: 8, 0x1E: 16,
                0x20: 8, 0x25: 1, 0x26: 2, 0x27: 3, 0x28: 4, 0x29: 1, 0x2A: 2, 0x2B: 3, 0x2C: 4, 0x1C: 4, 0x24: 8}
@@ -66,7 +64,6 @@ class GlobalVariable(NamedTuple):
     name: str
     address: int | None  # None: no static location (optimised out, extern declaration only)
     type_offset: int | None  # DIE offset of its type in .debug_info
-    die_offset: int
 
 
 class DwarfReader:
@@ -210,7 +207,10 @@ class DwarfReader:
         """Every variable DIE at the top level of a unit (or namespace) that has a name.
 
         Definitions that only point at a declaration (DW_AT_specification) take the
-        declaration's name and type. Reports progress in bytes of .debug_info.
+        declaration's name and type. Reports progress in bytes of .debug_info. A location
+        given as DW_OP_addrx (clang's DWARF 5, split DWARF) is not read: such a variable
+        has no address here, and :class:`DebugData` takes it from ``.symtab`` (its type
+        still comes from DWARF).
         """
         variables: list[GlobalVariable] = []
         total = len(self.info)
@@ -328,7 +328,7 @@ class DwarfReader:
         address = static_address(attrs.get(AT_LOCATION), unit.address_size, self.order)
         if address is None and attrs.get(AT_DECLARATION):
             return None
-        return GlobalVariable(name, address, type_offset if isinstance(type_offset, int) else None, offset)
+        return GlobalVariable(name, address, type_offset if isinstance(type_offset, int) else None)
 
     # -- forms ----------------------------------------------------------------------------
     def _read_form(self, form: int, position: int, unit: Unit, implicit) -> tuple[object, int]:
@@ -410,7 +410,7 @@ def _fixed_prefix(specs: tuple, steps: tuple, wanted: frozenset, order: str):
     the first attribute already has a variable size."""
     codes, fields, count = [], [], 0
     for (attr, form, implicit), (_, _, size) in zip(specs, steps):
-        if size < 0 or form in (0x1E, 0x20, 0x25, 0x26, 0x27, 0x28, 0x2B, 0x27):  # data16, sig8, strx*: leave
+        if size < 0 or form in (0x1E, 0x20, 0x25, 0x26, 0x27, 0x28):  # data16, ref_sig8, strx1-4: leave
             break
         count += 1
         if attr not in wanted:
@@ -465,16 +465,10 @@ def _uleb(data: bytes, position: int) -> tuple[int, int]:
 
 
 def _sleb(data: bytes, position: int) -> tuple[int, int]:
-    result, shift = 0, 0
-    while True:
-        byte = data[position]
-        position += 1
-        result |= (byte & 0x7F) << shift
-        shift += 7
-        if byte < 0x80:
-            if byte & 0x40:
-                result -= 1 << shift
-            return result, position
+    value, end = _uleb(data, position)
+    if data[end - 1] & 0x40:  # the sign bit of the last byte
+        value -= 1 << (7 * (end - position))
+    return value, end
 
 
 def _cstring(section: bytes, offset: int) -> str:
