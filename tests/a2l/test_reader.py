@@ -62,6 +62,14 @@ def test_latin1_is_detected_and_columns_count_characters(tmp_path):
     doc = load(path, validate=False)
     assert doc.encoding == "latin-1"
     assert doc.text(doc.project.args[1]) == "Größe"
+    (measurement,) = doc.objects("MEASUREMENT")
+    assert doc.token_position(measurement.args[4])[1:] == (5, 59)  # one column per character, not per byte
+
+
+def test_utf8_columns_count_characters():
+    doc = loads(SMALL.replace("UWORD CM 1", "UWORD ÄÖ 1"), validate=False)
+    (measurement,) = doc.objects("MEASUREMENT")
+    assert doc.token_position(measurement.args[4])[1:] == (5, 59)  # Ä and Ö are two bytes each in UTF-8
 
 
 def test_nested_includes_are_spliced_with_their_positions(tmp_path):
