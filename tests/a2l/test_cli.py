@@ -53,6 +53,14 @@ def test_bad_input_exits_2_with_one_line(capsys, tmp_path, types_a2l):
     assert code == 2 and "-o/--output" in stderr
 
 
+def test_an_output_that_cannot_be_written_exits_2_with_one_line(capsys, tmp_path, types_a2l):
+    code, _, stderr = run(capsys, "a2l", "update", str(types_a2l), str(ELF), "-o", str(tmp_path), "--no-cache")
+    assert (code, stderr) == (2, f"error: {tmp_path}: is a folder; name the file to write\n")
+    (tmp_path / "file").write_text("")
+    code, _, stderr = run(capsys, "a2l", "merge", str(types_a2l), str(types_a2l), "-o", str(tmp_path / "file" / "o.a2l"))
+    assert code == 2 and stderr.startswith(f"error: {tmp_path / 'file' / 'o.a2l'}: cannot write (") and stderr.count("\n") == 1
+
+
 def test_merge_conflict_exits_1(capsys, tmp_path):
     text = ('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n /begin MODULE M ""\n'
             '  /begin COMPU_METHOD CM "" IDENTICAL "%{}" "" /end COMPU_METHOD\n /end MODULE\n/end PROJECT\n')

@@ -82,7 +82,11 @@ def test_damaged_utf16_names_the_position(tmp_path):
 
 def test_binary_file(tmp_path):
     path = tmp_path / "program.a2l"
-    path.write_bytes(b"\x7fELF\x02\x01\x01\x00\x00\x00")
+    path.write_bytes(b"ASAP2_VERSION 1 71\n/begin\x01\x00\x00\x00")
     with pytest.raises(A2lParseError, match="binary file") as info:
         load(path)
-    assert (info.value.line, info.value.column) == (1, 8)
+    assert (info.value.line, info.value.column) == (2, 8)
+    path.write_bytes(b"\x7fELF\x02\x01\x01\x00\x00\x00")
+    with pytest.raises(A2lParseError, match="this is an ELF file, not an A2L file") as info:
+        load(path)
+    assert (info.value.line, info.value.column) == (1, 1)

@@ -149,4 +149,14 @@ def newline_bytes(doc: "A2lDocument") -> bytes:
 
 def write_source(source: "SourceFile", data: bytes, path: str | Path) -> None:
     """Write ``data`` (a new version of ``source.data``) atomically, with the file's BOM and encoding."""
-    atomic_write_bytes(path, source.file_bytes(data))
+    write_file(path, source.file_bytes(data))
+
+
+def write_file(path: str | Path, data: bytes) -> None:
+    """Write a user's file atomically; raises :class:`InputError` when it cannot be written there."""
+    try:
+        atomic_write_bytes(path, data)
+    except IsADirectoryError:
+        raise InputError(f"{path}: is a folder; name the file to write") from None
+    except OSError as exc:
+        raise InputError(f"{path}: cannot write ({exc.strerror or exc})") from None

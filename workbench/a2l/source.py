@@ -103,6 +103,8 @@ def source_from_text(text: str, path: str | Path | None = None) -> SourceFile:
 def decode_source(raw: bytes, path: Path | None) -> SourceFile:
     """Detect BOM, encoding and newline style of ``raw``."""
     name = str(path) if path is not None else "<string>"
+    if raw.startswith(b"\x7fELF"):
+        raise A2lParseError("this is an ELF file, not an A2L file", name, 1, 1)
     wide = _wide_encoding(raw)
     if wide is not None:
         return _from_wide(raw, path, *wide)
