@@ -37,3 +37,9 @@ def test_object_level_changes():
         ("AXIS_DESCR[0].max_axis_points", "8", "9"), ("AXIS_DESCR[0].FORMAT", None, '"%4.1"')]
     assert entries[("removed", "MEASUREMENT", "gone")].old_location == "a.a2l:7:5"
     assert diff(loads(A), loads(A)) == []
+
+
+def test_numbers_compare_by_value_nan_included():
+    a = A.replace("UBYTE NO_COMPU_METHOD 1 0 0 255 ECU_ADDRESS 0x10", "UBYTE NO_COMPU_METHOD 1 0 NaN 255 ECU_ADDRESS 0x10")
+    b = a.replace("NaN 255 ECU_ADDRESS 0x10", "nan 255.0 ECU_ADDRESS 16")
+    assert diff(loads(a), loads(b)) == []

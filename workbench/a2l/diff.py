@@ -128,8 +128,16 @@ def _block_fields(block: Block, prefix: str) -> dict[str, tuple]:
 def _field(doc: A2lDocument, tokens) -> tuple:
     """(values compared: numbers by value, the rest as written; the text shown)."""
     raws = [doc.raw(t) for t in tokens]
-    key = tuple(parse_number(raw) if raw[:1] != b'"' and is_number(raw) else raw for raw in raws)
+    key = tuple(_comparable(raw) for raw in raws)
     return key, b" ".join(raws).decode(doc.encoding)
+
+
+def _comparable(raw: bytes):
+    """A number by value (NaN as a word: it equals no number, not even itself), anything else as written."""
+    if raw[:1] == b'"' or not is_number(raw):
+        return raw
+    value = parse_number(raw)
+    return value if value == value else b"NaN"
 
 
 def _changes(old: dict[str, tuple], new: dict[str, tuple]) -> list[FieldChange]:
