@@ -111,7 +111,8 @@ def decode_source(raw: bytes, path: Path | None) -> SourceFile:
     bom = _UTF8_BOM if raw.startswith(_UTF8_BOM) else b""
     data = raw[len(bom):]
     try:
-        data.decode("utf-8")
+        if not data.isascii():  # ASCII (most A2L files) is valid UTF-8: no 10 MB decode to find out
+            data.decode("utf-8")
         encoding = "utf-8"
     except UnicodeDecodeError as exc:
         if bom:
