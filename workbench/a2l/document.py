@@ -18,7 +18,7 @@ from workbench.a2l import grammar
 from workbench.a2l.includes import Include, splice_includes
 from workbench.a2l.source import SourceFile, SourceMap, read_source, source_from_text
 from workbench.a2l.tokens import Tokens
-from workbench.a2l.tree import BlockTable, find_directives, parse_blocks
+from workbench.a2l.tree import BlockTable, find_directives, first_of_each, parse_blocks
 from workbench.a2l.values import is_int, is_number, parse_int, parse_number, parse_string
 from workbench.errors import A2lParseError
 
@@ -251,7 +251,8 @@ class A2lDocument:
         limits = blocks.end.copy()
         has_parent = blocks.parent >= 0
         # blocks are in document order, so the first block naming a parent is its first child
-        owners, first = np.unique(blocks.parent[has_parent], return_index=True)
+        first = first_of_each(blocks.parent[has_parent])
+        owners = blocks.parent[has_parent][first]
         limits[owners] = np.minimum(limits[owners], blocks.begin[has_parent][first])
         return limits
 
@@ -267,8 +268,8 @@ class A2lDocument:
         skip = len(grammar.BLOCKS[block_keyword].params) if block_keyword in grammar.BLOCKS else 0
         # a token among the positional parameters is a name that happens to spell the keyword
         keep = (blocks[slot] == owners) & (tokens >= self.blocks.begin[np.maximum(owners, 0)] + 2 + skip)
-        found_blocks, first = np.unique(owners[keep], return_index=True)
-        return found_blocks, tokens[keep][first]
+        first = first_of_each(owners[keep])
+        return owners[keep][first], tokens[keep][first]
 
     def _innermost_blocks(self, tokens: np.ndarray) -> np.ndarray:
         """The innermost block containing each token (-1: top level)."""

@@ -62,18 +62,23 @@ class Edits:
         ValueError when two edits overlap."""
         if not self.starts:
             return data
-        order = np.argsort(np.asarray(self.starts, dtype=np.int64), kind="stable")
-        starts = np.asarray(self.starts, dtype=np.int64)[order]
-        ends = np.asarray(self.ends, dtype=np.int64)[order]
-        overlapping = np.flatnonzero(starts[1:] < ends[:-1])
+        starts = np.asarray(self.starts, dtype=np.int64)
+        ends = np.asarray(self.ends, dtype=np.int64)
+        order = np.argsort(starts, kind="stable")
+        overlapping = np.flatnonzero(starts[order[1:]] < ends[order[:-1]])
         if len(overlapping):
-            raise ValueError(f"overlapping edits at byte {int(starts[overlapping[0] + 1])}")
-        gap_starts = [0, *ends.tolist()]
-        gap_ends = [*starts.tolist(), len(data)]
-        pieces: list[bytes] = [b""] * (2 * len(starts) + 1)
+            raise ValueError(f"overlapping edits at byte {int(starts[order[overlapping[0] + 1]])}")
+        lengths = np.fromiter(map(len, self.texts), dtype=np.int64, count=len(self.texts))
+        same = lengths == ends - starts
+        data = _overwrite(data, starts[same], lengths[same], [self.texts[i] for i in np.flatnonzero(same).tolist()])
+        rest = order[~same[order]]  # the edits that change the length, in order
+        if not len(rest):
+            return data
+        gap_starts = [0, *ends[rest].tolist()]
+        gap_ends = [*starts[rest].tolist(), len(data)]
+        pieces: list[bytes] = [b""] * (2 * len(rest) + 1)
         pieces[0::2] = [data[start:end] for start, end in zip(gap_starts, gap_ends)]
-        texts = self.texts
-        pieces[1::2] = [texts[i] for i in order.tolist()]
+        pieces[1::2] = [self.texts[i] for i in rest.tolist()]
         return b"".join(pieces)
 
     def by_file(self, source_map: "SourceMap") -> list[tuple["SourceFile", "Edits"]]:
@@ -99,6 +104,19 @@ class Edits:
             edits = found[id(source)][1]
             edits.append(Edit(start + local, end + local, _in_newline_style(text, source_map.main, source)))
         return list(found.values())
+
+
+def _overwrite(data: bytes, starts: np.ndarray, lengths: np.ndarray, texts: list[bytes]) -> bytes:
+    """``data`` with ``texts`` written over it at ``starts``, each as long as what it replaces:
+    one vectorized copy instead of a slice per edit (an update rewrites every address)."""
+    if not texts:
+        return data
+    out = np.frombuffer(data, np.uint8).copy()
+    # byte k of text i goes to starts[i] + k: positions = each start repeated, plus 0..length-1
+    first = np.cumsum(lengths) - lengths
+    positions = np.repeat(starts - first, lengths) + np.arange(int(lengths.sum()))
+    out[positions] = np.frombuffer(b"".join(texts), np.uint8)
+    return out.tobytes()
 
 
 def _in_newline_style(text: bytes, main: "SourceFile", source: "SourceFile") -> bytes:

@@ -94,6 +94,16 @@ def parse_blocks(tokens: Tokens, begins: np.ndarray, ends: np.ndarray, source_ma
     return BlockTable(begin, end, keywords, keyword_id, names, parent, child_order, child_offsets)
 
 
+def first_of_each(keys: np.ndarray) -> np.ndarray:
+    """Where each distinct value of ``keys`` first occurs, ordered by value: ``np.unique``'s
+    ``return_index`` without its import of ``numpy.ma`` (7 ms, on a path that is timed)."""
+    order = np.argsort(keys, kind="stable")
+    ordered = keys[order]
+    first = np.ones(len(keys), dtype=bool)
+    first[1:] = ordered[1:] != ordered[:-1]
+    return order[first]
+
+
 def _parents(begin: np.ndarray, level: np.ndarray) -> np.ndarray:
     """The enclosing block of each block: the last one a level up that began before it."""
     parent = np.full(len(begin), -1, dtype=np.int64)

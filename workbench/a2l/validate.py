@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from workbench.a2l import grammar
+from workbench.a2l.tree import first_of_each
 from workbench.a2l.values import FLOAT_RE, IDENT_RE, INT_RE, int_or_none
 from workbench.errors import A2lParseError
 
@@ -95,7 +96,8 @@ class _Validator:
         inside_free = (before >= 0) & (reach[np.maximum(before, 0)] > blocks.begin) if len(free_blocks) else \
             np.zeros(len(blocks), dtype=bool)
         pairs = parent_ids * len(names) + blocks.keyword_id
-        for pair in np.unique(pairs[~inside_free]).tolist():
+        kept = pairs[~inside_free]
+        for pair in kept[first_of_each(kept)].tolist():
             parent_id, keyword_id = divmod(pair, len(names)) if pair >= 0 else (-1, pair + len(names))
             problem = _placement_problem(names[parent_id] if parent_id >= 0 else None, names[keyword_id])
             if problem is not None:

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import re
 
+import numpy as np
+
 INT_RE = re.compile(rb"[+-]?(?:0[xX][0-9a-fA-F]+|[0-9]+)")
 FLOAT_RE = re.compile(rb"[+-]?(?:0[xX][0-9a-fA-F]+|(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|(?i:inf|nan))")
 IDENT_RE = re.compile(rb"[A-Za-z_][A-Za-z0-9_.\[\]]*")
@@ -40,6 +42,40 @@ def int_or_none(raw: bytes) -> int | None:
     if INT_RE.fullmatch(raw) is None:
         return None
     return int(raw, 16) if b"x" in raw or b"X" in raw else int(raw, 10)
+
+
+_DIGIT_VALUE = np.full(256, 99, dtype=np.int8)  # 99: not a digit in any base used here
+_DIGIT_VALUE[np.frombuffer(b"0123456789", np.uint8)] = np.arange(10)
+_DIGIT_VALUE[np.frombuffer(b"abcdef", np.uint8)] = np.arange(10, 16)
+_DIGIT_VALUE[np.frombuffer(b"ABCDEF", np.uint8)] = np.arange(10, 16)
+_MOST_DIGITS = 15  # 16**15 and 10**15 fit an int64
+
+
+def int_values(data: bytes, starts: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The values of many integer tokens ``data[start:end]`` at once: (values, read). ``read`` is
+    False where the token is not a plain ``0x`` hex or decimal integer of at most 15 digits (a
+    sign, a longer number, not a number): :func:`int_or_none` decides those one by one."""
+    buffer = np.frombuffer(data, np.uint8)
+    last = len(buffer) - 1
+    lengths = ends - starts
+    hexadecimal = (lengths > 2) & (buffer[starts] == ord("0")) & (buffer[np.minimum(starts + 1, last)] | 0x20 == ord("x"))
+    first_digit = starts + 2 * hexadecimal
+    widths = ends - first_digit
+    read = (widths >= 1) & (widths <= _MOST_DIGITS)
+    values = np.zeros(len(starts), dtype=np.int64)
+    for width in np.flatnonzero(np.bincount(widths[read])).tolist():  # a few widths: Horner's rule by column
+        rows = np.flatnonzero(read & (widths == width))
+        positions = first_digit[rows]
+        base = np.where(hexadecimal[rows], 16, 10)
+        value = np.zeros(len(rows), dtype=np.int64)
+        bad = np.zeros(len(rows), dtype=bool)
+        for column in range(width):
+            digit = _DIGIT_VALUE[buffer[positions + column]]
+            bad |= digit >= base
+            value = value * base + digit
+        read[rows[bad]] = False
+        values[rows] = value
+    return values, read
 
 
 def parse_number(raw: bytes) -> int | float:

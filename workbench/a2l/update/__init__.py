@@ -25,7 +25,7 @@ from workbench.a2l.includes import includes_not_found_from
 from workbench.a2l.reports import Finding, IncludeMode, Report, Severity, UpdateMode, findings_at, summarize
 from workbench.a2l.update.removal import removal_edits
 from workbench.a2l.update.typecheck import TypeChecker
-from workbench.a2l.values import format_ints_like, int_or_none
+from workbench.a2l.values import format_ints_like, int_or_none, int_values
 from workbench.elf.debugdata import DebugData
 from workbench.errors import WorkbenchError
 from workbench.progress import Progress, report as report_progress
@@ -198,19 +198,23 @@ def _replace_addresses(objects: AddressedObjects, rows: np.ndarray, targets: lis
     large update: whole columns at a time)."""
     doc = objects.doc
     tokens = objects.address_token_array[rows]
-    starts, ends = doc.tokens.starts[tokens].tolist(), doc.tokens.ends[tokens].tolist()
-    data = doc.data
-    raws = [data[start:end] for start, end in zip(starts, ends)]
-    values = {raw: int_or_none(raw) for raw in set(raws)}  # placeholders repeat: each spelling is parsed once
-    if None in values.values():
-        index = next(i for i, raw in enumerate(raws) if values[raw] is None)
-        row = int(rows[index])
-        raise doc.error(f"{objects.keywords[row]} {objects.names[row]}: the address must be an integer, found "
-                        f"'{raws[index].decode(doc.encoding)}'", int(tokens[index]))
+    starts, ends = doc.tokens.starts[tokens], doc.tokens.ends[tokens]
+    olds, read = int_values(doc.data, starts, ends)
     news = [targets[row] for row in rows.tolist()]
-    changed = [i for i, (raw, new) in enumerate(zip(raws, news)) if values[raw] != new]
-    edits.extend_columns([starts[i] for i in changed], [ends[i] for i in changed],
-                         format_ints_like([raws[i] for i in changed], [news[i] for i in changed]))
+    differs = read & (olds != np.array(news, dtype=np.int64))
+    old_values = olds.tolist()
+    for index in np.flatnonzero(~read).tolist():  # signed, long or malformed: one at a time
+        raw = doc.data[int(starts[index]) : int(ends[index])]
+        old_values[index] = int_or_none(raw)
+        if old_values[index] is None:
+            row = int(rows[index])
+            raise doc.error(f"{objects.keywords[row]} {objects.names[row]}: the address must be an integer, found "
+                            f"'{raw.decode(doc.encoding)}'", int(tokens[index]))
+        differs[index] = old_values[index] != news[index]
+    changed = np.flatnonzero(differs)
+    changed_starts, changed_ends = starts[changed].tolist(), ends[changed].tolist()
+    raws = [doc.data[start:end] for start, end in zip(changed_starts, changed_ends)]
+    edits.extend_columns(changed_starts, changed_ends, format_ints_like(raws, [news[i] for i in changed.tolist()]))
     numbers = objects.keyword_numbers
     totals = np.bincount(numbers[rows], minlength=len(KEYWORDS))
     updated = np.bincount(numbers[rows[changed]], minlength=len(KEYWORDS))
@@ -220,11 +224,11 @@ def _replace_addresses(objects: AddressedObjects, rows: np.ndarray, targets: lis
         if total > count:
             report.count(keyword, "unchanged", total - count)
     if pending is not None:
-        for i in changed:
+        for i in changed.tolist():
             row = int(rows[i])
             name = objects.names[row]
             pending.append((int(tokens[i]), "address-updated", name,
-                            "%s: 0x%X -> 0x%X" % (name, values[raws[i]], news[i]), objects.keywords[row], Severity.INFO))
+                            "%s: 0x%X -> 0x%X" % (name, old_values[i], news[i]), objects.keywords[row], Severity.INFO))
 
 
 def _check_types(objects: AddressedObjects, symbols: list, edits: Edits, report: UpdateReport) -> None:
