@@ -1,0 +1,31 @@
+"""Token values: the vectorized integer reader agrees with the one-at-a-time parser."""
+
+import numpy as np
+from hypothesis import given
+from hypothesis import strategies as st
+
+from workbench.a2l.values import format_int_like, int_or_none, int_values
+
+number = st.one_of(
+    st.integers(0, 2**70).map(lambda v: b"%d" % v),
+    st.tuples(st.integers(0, 2**70), st.sampled_from([b"0x", b"0X"]), st.integers(1, 20), st.booleans()).map(
+        lambda t: t[1] + (b"%0*X" if t[3] else b"%0*x") % (t[2], t[0])),
+    st.tuples(st.sampled_from([b"+", b"-"]), st.integers(0, 2**40)).map(lambda t: t[0] + b"%d" % t[1]),
+    st.binary(min_size=1, max_size=12).map(lambda b: bytes(c for c in b if c > 0x20) or b"x"),
+)
+
+
+@given(st.lists(number, min_size=1, max_size=30))
+def test_int_values_agree_with_int_or_none(tokens):
+    data = b" ".join(tokens)
+    starts = np.cumsum([0] + [len(t) + 1 for t in tokens[:-1]])
+    ends = starts + np.array([len(t) for t in tokens])
+    values, read = int_values(data, starts, ends)
+    for token, value, was_read in zip(tokens, values.tolist(), read.tolist()):
+        expected = int_or_none(token)
+        assert (value == expected) if was_read else (expected is None or len(token) > 15 or token[:1] in b"+-"), token
+
+
+def test_format_keeps_the_spelling():
+    assert [format_int_like(old, 0x4031A0) for old in (b"0x00000000", b"0X0", b"0xabcd", b"17", b"-0x1")] == [
+        b"0x004031A0", b"0X4031A0", b"0x4031a0", b"4207008", b"0x4031A0"]
