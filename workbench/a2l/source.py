@@ -67,9 +67,11 @@ class SourceFile:
 
     def positions(self, offsets: list[int]) -> list[tuple[int, int]]:
         """:meth:`position` of many offsets at once (one vectorized search)."""
+        if not offsets:
+            return []
         starts = self.line_starts()
         lines = np.searchsorted(starts, offsets, side="right").tolist()
-        line_starts = starts[np.asarray(lines, dtype=np.int64) - 1].tolist() if offsets else []
+        line_starts = starts[np.asarray(lines, dtype=np.int64) - 1].tolist()
         data, encoding = self.data, self.encoding
         return [(line, offset - start + 1 if data[start:offset].isascii()
                  else len(data[start:offset].decode(encoding, "replace")) + 1)
