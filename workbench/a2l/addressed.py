@@ -83,7 +83,7 @@ class AddressedObjects:
         """Take the symbol name and offset of the rows with a SYMBOL_LINK "name" offset."""
         doc = self.doc
         first_bytes = np.frombuffer(doc.data, np.uint8)[doc.tokens.starts[np.minimum(links + 1, len(doc.tokens) - 1)]]
-        offset_raws = doc.tokens.raw_many(np.minimum(links + 2, len(doc.tokens) - 1).tolist())
+        offset_raws = doc.tokens.raw_many(np.minimum(links + 2, len(doc.tokens) - 1))
         offsets = {raw: parse_int(raw) for raw in set(offset_raws) if INT_RE.fullmatch(raw)}  # mostly "0"
         bad = (links + 2 >= limits) | (first_bytes != ord('"'))
         bad |= np.array([raw not in offsets for raw in offset_raws], dtype=bool)

@@ -59,8 +59,10 @@ class Tokens:
         return self.data[self.starts_list[index] : self.ends_list[index]]
 
     def raw_many(self, indices) -> list[bytes]:
-        data, starts, ends = self.data, self.starts_list, self.ends_list
-        return [data[starts[i] : ends[i]] for i in indices]
+        """The bytes of many tokens (``indices``: an integer array or sequence)."""
+        indices = np.asarray(indices, dtype=np.int64)
+        data = self.data
+        return [data[start:end] for start, end in zip(self.starts[indices].tolist(), self.ends[indices].tolist())]
 
     def first_bytes(self) -> np.ndarray:
         """The first byte of every token (``"`` for strings, ``/`` for directives ...)."""

@@ -81,8 +81,8 @@ def parse_blocks(tokens: Tokens, begins: np.ndarray, ends: np.ndarray, source_ma
     end = events[paired[1::2]]
     in_order = np.argsort(begin)
     begin, end, block_level = begin[in_order], end[in_order], level[paired[0::2]][in_order]
-    opening = tokens.raw_many((begin + 1).tolist())
-    if opening != tokens.raw_many((end + 1).tolist()):
+    opening = tokens.raw_many(begin + 1)
+    if opening != tokens.raw_many(end + 1):
         _diagnose(tokens, events, signs, source_map)
     numbers: dict[bytes, int] = {}  # a few dozen distinct keywords for a hundred thousand blocks
     keyword_id = np.array([numbers.setdefault(raw, len(numbers)) for raw in opening], dtype=np.int64)
