@@ -140,6 +140,13 @@ def test_merge_inlines_by_default_and_keeps_the_masters_includes_when_asked(frag
     assert report.of_kind("duplicate-identical") and not report.of_kind("include-not-found-from-output")
 
 
+def test_cli_merge_keep_includes(fragments, capsys):
+    out = fragments / "out.a2l"
+    argv = ["a2l", "merge", str(fragments / "master.a2l"), str(fragments / "fragments" / "f.a2l"), "-o", str(out)]
+    assert main(argv) == 0 and b"/include" not in out.read_bytes()
+    assert main([*argv, "--keep-includes"]) == 0 and out.read_text().count("/include") == 2
+
+
 def test_keep_includes_cannot_replace_a_definition_inside_an_included_file(fragments):
     (fragments / "fragments" / "f.a2l").write_text(FRAGMENT.replace('    /include "../shared.a2l"\n',
                                                                      SHARED.replace("%6.2", "%8.3")))
