@@ -89,7 +89,13 @@ class DebugData:
 
     def resolve(self, path: str) -> ResolvedSymbol:
         """Address, size and type of an A2L symbol path; raises :class:`UnknownSymbolError`
-        (with the reason) when the ELF does not have it."""
+        (with the reason) when the ELF does not have it. The address is remembered (and cached
+        with the index) for :meth:`addresses`."""
+        found = self._resolve(path)
+        self._addresses[path] = found.address
+        return found
+
+    def _resolve(self, path: str) -> ResolvedSymbol:
         cut = _base_length(path)
         base, suffix = path[:cut], path[cut:]
         if base in self._variable_types:
@@ -132,15 +138,14 @@ class DebugData:
     def addresses(self, paths: list[str], progress: Progress | None = None) -> list[int | None]:
         """The address of every symbol path (None where the ELF does not have it): the hot path of
         an address update. Plain names and paths resolved before cost one dict lookup each."""
-        known = self._addresses
-        found = list(map(known.get, paths))
+        found = list(map(self._addresses.get, paths))
         unknown = [row for row, address in enumerate(found) if address is None]
         for done, row in enumerate(unknown):
             if done % 2000 == 0:
                 report(progress, done, len(unknown), "resolving symbol paths")
             symbol = self.find(paths[row])
             if symbol is not None:
-                found[row] = known[paths[row]] = symbol.address
+                found[row] = symbol.address
         return found
 
     def find(self, path: str) -> ResolvedSymbol | None:

@@ -75,8 +75,9 @@ def update(doc: A2lDocument, debug: DebugData, *, mode: UpdateMode = UpdateMode.
     writes the included text inline. ``report_addresses=False`` leaves the
     "address-updated" finding of every object out of the report (the tally still counts
     them). Raises :class:`UpdateFailed` in strict mode when an object cannot be updated,
-    :class:`A2lParseError` at an address that is not a number, :class:`Cancelled` when
-    ``progress`` is cancelled.
+    :class:`A2lParseError` at an address that is not a number, :class:`InputError` for a
+    change that would cross an ``/include`` boundary, :class:`Cancelled` when ``progress``
+    is cancelled.
     """
     report = UpdateReport("update")
     report_progress(progress, 0, 3, "finding the objects")
