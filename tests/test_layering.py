@@ -2,7 +2,7 @@
 
 gui -> (xcp, calib, record, can) -> (a2l, elf, image); sim uses image/a2l/can/elf but
 never xcp; only the CLI and the GUI sit on top. A module may always use the shared
-foundation (errors, progress, fileio, demo).
+foundation (errors, progress, fileio, demo, findings).
 """
 
 import ast
@@ -13,7 +13,7 @@ import pytest
 import workbench
 
 PACKAGE = Path(workbench.__file__).parent
-FOUNDATION = {"errors", "progress", "fileio", "demo"}
+FOUNDATION = {"errors", "progress", "fileio", "demo", "findings"}
 ALLOWED = {
     "elf": set(),
     "image": set(),

@@ -138,8 +138,11 @@ def test_check_exit_codes(write_dbc, capsys):
     assert "0 findings in 1 file" in capsys.readouterr().err
     bad = write_dbc('BO_ 2048 BIG: 1 ECU\n SG_ S : 4|8@1+ (1,0) [0|255] "" PEER\n')
     assert main(["dbc", "check", str(bad), "--json"]) == 1
-    codes = [f["code"] for f in json.loads(capsys.readouterr().out)]
-    assert sorted(codes) == ["beyond-dlc", "id-format", "missing-period", "missing-timeout"]
+    report = json.loads(capsys.readouterr().out)
+    kinds = [f["kind"] for f in report["findings"]]
+    assert sorted(kinds) == ["beyond-dlc", "id-format", "missing-period", "missing-timeout"]
+    assert report["ok"] is False and report["summary"] == "4 findings in 1 file"
+    assert {f["severity"] for f in report["findings"] if f["kind"].startswith("missing-")} == {"warning"}
     assert main(["dbc", "check", CAN3]) == 1
     out = capsys.readouterr().out.splitlines()
     assert len(out) == 8 and all(":" in line and "would also be defined by" in line for line in out)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from crafted import timing
 
@@ -10,16 +12,23 @@ from workbench.can.dbc_file import load_dbc
 from workbench.can.model import SignalOfMsg, messages_of
 from workbench.can.validation import bit_positions, check
 from workbench.errors import InputError
+from workbench.findings import Severity
 
 SIGNAL = '"" PEER'
 
 
 def _findings(path, network="CAN2", node=None):
-    return check([(load_dbc(path, tolerant=True), network)], node)
+    return check([(load_dbc(path, tolerant=True), network)], node).findings
 
 
 def _codes(findings):
-    return [(f.code, f.message, f.signal, f.line) for f in findings]
+    """(kind, message, signal or None, line) of each finding; its name is MESSAGE or MESSAGE.SIGNAL."""
+    return [(f.kind, *_message_and_signal(f.name), f.line) for f in findings]
+
+
+def _message_and_signal(name):
+    message, _, signal = name.partition(".")
+    return message, signal or None
 
 
 def test_demo_flcu_dbc_is_clean():
@@ -37,7 +46,8 @@ def test_overlapping_signals(write_dbc):
     )
     (finding,) = _findings(path)
     assert _codes([finding]) == [("overlap", "M", "B", 15)]
-    assert str(finding) == f"{path}:15: M.B: overlaps A in bits 2..3"
+    assert str(finding) == f"{path}:15: error: M.B: overlaps A in bits 2..3"
+    assert (finding.block, finding.severity) == ("SG_", Severity.ERROR)
 
 
 def test_motorola_signal_overlap_and_layout(write_dbc):
@@ -82,7 +92,7 @@ def test_signal_whose_raw_value_fits_no_c_type(write_dbc):
     )
     (finding,) = _findings(path)
     assert _codes([finding]) == [("signal-type", "M", "HALF", 14)]
-    assert finding.text == "a float CAN signal is 32 or 64 bits long, not 16"
+    assert finding.message == "M.HALF: a float CAN signal is 32 or 64 bits long, not 16"
     (message,) = messages_of(load_dbc(path), None, None)
     assert [s.value_type for s in message.signals] == ["float16", "float32"]  # as the DBC says, not float64
 
@@ -102,11 +112,11 @@ def test_duplicate_ids_and_names_in_one_file(write_dbc):
 def test_duplicate_ids_across_dbcs_of_one_network(write_dbc):
     first = write_dbc(f"BO_ 16 A: 1 ECU\n SG_ S : 0|8@1+ (1,0) [0|255] {SIGNAL}\n", timing(16, 10, 30), name="a.dbc")
     second = write_dbc(f"BO_ 16 B: 1 ECU\n SG_ T : 0|8@1+ (1,0) [0|255] {SIGNAL}\n", timing(16, 10, 30), name="b.dbc")
-    same_network = check([(load_dbc(first), "CAN2"), (load_dbc(second), "CAN2")])
-    assert [(f.code, f.message, f.path.name) for f in same_network] == [("duplicate-id", "B", "b.dbc")]
+    same_network = check([(load_dbc(first), "CAN2"), (load_dbc(second), "CAN2")]).findings
+    assert [(f.kind, f.name, Path(f.file).name) for f in same_network] == [("duplicate-id", "B", "b.dbc")]
     assert f"also used by A ({first}:13)" in str(same_network[0])
-    assert check([(load_dbc(first), "CAN2"), (load_dbc(second), "CAN3")]) == []
-    assert check([(load_dbc(first), None), (load_dbc(second), None)]) == []  # no network: each file alone
+    assert check([(load_dbc(first), "CAN2"), (load_dbc(second), "CAN3")]).findings == []
+    assert check([(load_dbc(first), None), (load_dbc(second), None)]).findings == []  # no network: each file alone
 
 
 def test_extended_and_standard_ids_do_not_collide(write_dbc):
@@ -183,9 +193,9 @@ def test_fixcal_name_collisions(write_dbc):
 
 def test_can3_validation_dbc_shares_signal_names_between_messages():
     findings = _findings(demo.dbc_can3(), network="CAN3")
-    assert {f.code for f in findings} == {"fixcal-collision"}
-    assert [f.signal for f in findings] == [f"Sgn{i}" for i in range(1, 9)]
-    assert check([(load_dbc(demo.dbc_can3()), "CAN3")], qualified=True) == []  # cfC3RXAAA_SGN1_EN ...
+    assert {f.kind for f in findings} == {"fixcal-collision"}
+    assert [_message_and_signal(f.name)[1] for f in findings] == [f"Sgn{i}" for i in range(1, 9)]
+    assert check([(load_dbc(demo.dbc_can3()), "CAN3")], qualified=True).findings == []  # cfC3RXAAA_SGN1_EN ...
 
 
 def test_unknown_node_in_check():

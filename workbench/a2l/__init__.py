@@ -3,7 +3,8 @@
 ``load(path)`` gives an :class:`A2lDocument` (the file's bytes plus token and block
 indexes); ``read_xcp_config(doc)`` the XCP settings of its IF_DATA XCP; ``merge``,
 ``update``, ``check`` and ``diff`` (and their ``*_file`` forms) are the tool chain, each
-returning its findings as data (:class:`Report`, :class:`Finding`).
+returning its findings as data (:class:`~workbench.findings.Report` of
+:class:`~workbench.findings.Finding`, shared with the other packages).
 
 The names are imported on first use (as python-can does with its interfaces), so a
 command that only updates does not pay for loading the checker, the differ or the
@@ -22,7 +23,7 @@ _EXPORTS = {
     "workbench.a2l.epk": ("ElfEpk", "read_elf_epk"),
     "workbench.a2l.ifdata": ("IfDataNode", "Word", "read_if_data"),
     "workbench.a2l.merge": ("MergeFailed", "MergeResult", "merge", "merge_files"),
-    "workbench.a2l.reports": ("ConflictPolicy", "Finding", "IncludeMode", "Report", "Severity", "UpdateMode"),
+    "workbench.a2l.reports": ("ConflictPolicy", "IncludeMode", "UpdateMode"),
     "workbench.a2l.update": ("UpdateFailed", "UpdateReport", "UpdateResult", "update", "update_file"),
     "workbench.a2l.xcp": ("XcpConfig", "read_xcp_config"),
 }
@@ -51,6 +52,6 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
     from workbench.a2l.epk import ElfEpk, read_elf_epk
     from workbench.a2l.ifdata import IfDataNode, Word, read_if_data
     from workbench.a2l.merge import MergeFailed, MergeResult, merge, merge_files
-    from workbench.a2l.reports import ConflictPolicy, Finding, IncludeMode, Report, Severity, UpdateMode
+    from workbench.a2l.reports import ConflictPolicy, IncludeMode, UpdateMode
     from workbench.a2l.update import UpdateFailed, UpdateReport, UpdateResult, update, update_file
     from workbench.a2l.xcp import XcpConfig, read_xcp_config

@@ -16,10 +16,11 @@ from workbench.a2l.addressed import AddressedObjects
 from workbench.a2l.datatypes import DATATYPES
 from workbench.a2l.document import A2lDocument, Block, load
 from workbench.a2l.grammar import MAX_ADDRESS, NAMESPACES
-from workbench.a2l.reports import Finding, Report, Severity, finding_at
+from workbench.a2l.reports import finding_at
 from workbench.a2l.validate import validate_document
 from workbench.elf.debugdata import DebugData
 from workbench.errors import A2lParseError
+from workbench.findings import Finding, Report, Severity
 from workbench.progress import Progress, report as report_progress
 
 __all__ = ["check", "check_file"]

@@ -11,9 +11,10 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from workbench.a2l.edits import Edit, indentation_of, newline_bytes, replace_token
-from workbench.a2l.reports import Finding, Severity, finding_at
+from workbench.a2l.reports import finding_at
 from workbench.a2l.values import format_int_like, quote_string
 from workbench.errors import InputError
+from workbench.findings import Finding, Severity
 
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument, Block

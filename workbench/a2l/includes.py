@@ -11,12 +11,12 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING, NamedTuple
 
-from workbench.a2l.reports import Finding, Severity
 from workbench.a2l.source import Segment, SourceFile, SourceMap, read_source, transcoded
 from workbench.a2l.tokens import Tokens, tokenize
 from workbench.a2l.tree import find_directives
 from workbench.a2l.values import parse_string
 from workbench.errors import InputError
+from workbench.findings import Finding, Severity
 
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument

@@ -20,9 +20,10 @@ from workbench.a2l.grammar import NAMESPACES
 from workbench.a2l.document import A2lDocument, Block, load
 from workbench.a2l.edits import Edit, Edits, apply_edits, newline_bytes, remove_block, replace_token, write_source
 from workbench.a2l.includes import includes_not_found_from
-from workbench.a2l.reports import ConflictPolicy, Finding, Report, Severity, finding_at, summarize
+from workbench.a2l.reports import ConflictPolicy, finding_at
 from workbench.a2l.source import SourceFile, transcoded
 from workbench.errors import InputError, WorkbenchError
+from workbench.findings import Finding, Report, Severity, summarize
 from workbench.progress import Progress, report as report_progress
 
 __all__ = ["ConflictPolicy", "MergeFailed", "MergeResult", "merge", "merge_files"]

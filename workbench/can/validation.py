@@ -1,6 +1,7 @@
 """DBC problems a user would hit, reported with file, line, message and signal.
 
-Checks, each a :class:`Finding` with a ``code``:
+Checks, each a :class:`~workbench.findings.Finding` of one ``kind`` named ``MESSAGE`` or
+``MESSAGE.SIGNAL`` (block ``BO_`` or ``SG_``), an error unless said otherwise:
 
 * ``overlap`` — two signals of a message share a bit (multiplexed signals only when they
   can be present together);
@@ -9,7 +10,7 @@ Checks, each a :class:`Finding` with a ``code``:
 * ``duplicate-id`` — two messages of one network have the same id and frame format
   (across all DBCs given for that network); ``duplicate-name`` — the same for names;
 * ``missing-period`` — no (or a zero) ``GenMsgCycleTime``; ``missing-timeout`` — no
-  ``GenMsgTimeoutTime`` (the table then uses 3 × period, as the thesis does);
+  ``GenMsgTimeoutTime`` (the table then uses 3 × period, as the thesis does); both warnings;
 * ``id-format`` — an id above 0x7FF without the extended flag, or a message's explicit
   ``VFrameFormat`` that disagrees with the flag (only the attribute set on the message
   counts: a ``BA_DEF_DEF_`` default says nothing about one message);
@@ -22,9 +23,7 @@ from __future__ import annotations
 
 from collections import defaultdict
 from collections.abc import Sequence
-from dataclasses import dataclass
 from itertools import combinations
-from pathlib import Path
 
 from workbench.can.dbc_file import DbcFile
 from workbench.can.fixcal import collision_remedy, describe_owners, fixcal_collisions
@@ -38,30 +37,10 @@ from workbench.can.model import (
     check_node,
     messages_of,
 )
+from workbench.findings import Finding, Report, Severity
 
 _EXTENDED_FORMATS = ("ExtendedCAN", "ExtendedCAN_FD", "J1939PG")
 _STANDARD_FORMATS = ("StandardCAN", "StandardCAN_FD")
-
-
-@dataclass(frozen=True)
-class Finding:
-    """One problem in a DBC, located at ``path:line``."""
-
-    code: str
-    path: Path
-    line: int
-    message: str | None
-    signal: str | None
-    text: str
-
-    def __str__(self) -> str:
-        where = f"{self.path}:{self.line}" if self.line else str(self.path)
-        subject = ".".join(part for part in (self.message, self.signal) if part)
-        return f"{where}: {subject}: {self.text}" if subject else f"{where}: {self.text}"
-
-    def to_dict(self) -> dict:
-        return {"code": self.code, "file": str(self.path), "line": self.line,
-                "message": self.message, "signal": self.signal, "text": self.text}
 
 
 def bit_positions(signal: SignalOfMsg) -> list[int]:
@@ -76,7 +55,7 @@ def bit_positions(signal: SignalOfMsg) -> list[int]:
 
 
 def check(dbcs: Sequence[tuple[DbcFile, str | None]], node: str | None = None, *,
-          qualified: bool = False) -> list[Finding]:
+          qualified: bool = False) -> Report:
     """Every finding in ``dbcs`` ((DBC, network) pairs), in file and line order.
 
     Duplicate ids and names are looked for among the DBCs of one network; a DBC without a
@@ -100,13 +79,16 @@ def check(dbcs: Sequence[tuple[DbcFile, str | None]], node: str | None = None, *
     findings += _duplicate_findings(everything)
     in_scope = [m for dbc, network in dbcs for m in messages_of(dbc, network, node) if node is None or m.role]
     findings += _collision_findings(in_scope, qualified)
-    return sorted(findings, key=lambda f: (str(f.path), f.line, f.code))
+    return Report("check", sorted(findings, key=lambda f: (f.file, f.line, f.kind)))
 
 
-def _finding(code: str, message: Message, signal: str | None, text: str) -> Finding:
+def _finding(kind: str, message: Message, signal: str | None, text: str,
+             severity: Severity = Severity.ERROR) -> Finding:
     dbc = message.source
     line = (dbc.signal_line(message.line, signal) if signal else message.line) if dbc else 0
-    return Finding(code, dbc.path if dbc else Path(message.name), line, message.name, signal, text)
+    name = f"{message.name}.{signal}" if signal else message.name
+    return Finding(kind, name, f"{name}: {text}", str(dbc.path) if dbc else "", line, 0, "SG_" if signal else "BO_",
+                   severity)
 
 
 def _layout_findings(message: Message) -> list[Finding]:
@@ -157,11 +139,13 @@ def _bit_list(bits: set[int]) -> str:
 def _attribute_findings(message: Message) -> list[Finding]:
     findings = []
     if message.period_ms is None:
-        findings.append(_finding("missing-period", message, None, f"no {PERIOD_ATTRIBUTE} (or 0): the period is unknown"))
+        findings.append(_finding("missing-period", message, None, f"no {PERIOD_ATTRIBUTE} (or 0): the period is unknown",
+                                 Severity.WARNING))
     if message.timeout_is_default:
         consequence = (f"using 3 × period = {message.timeout_ms} ms" if message.timeout_ms is not None
                        else "and no period to derive it from")
-        findings.append(_finding("missing-timeout", message, None, f"no {TIMEOUT_ATTRIBUTE}: {consequence}"))
+        findings.append(_finding("missing-timeout", message, None, f"no {TIMEOUT_ATTRIBUTE}: {consequence}",
+                                 Severity.WARNING))
     return findings
 
 

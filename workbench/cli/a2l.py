@@ -8,9 +8,8 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
-from workbench.cli.options import print_json
+from workbench.cli.options import add_output_arguments, print_json, print_report
 
 _DESCRIPTION = """\
 The A2L tool chain of a build:
@@ -94,12 +93,12 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
                                "from A to B. Exit 0 when there is no difference, 1 when there is.")
     diff.add_argument("a", metavar="A.a2l")
     diff.add_argument("b", metavar="B.a2l")
-    diff.add_argument("--json", action="store_true", help="print machine-readable JSON instead of text")
+    add_output_arguments(diff)
     diff.set_defaults(func=_diff)
 
 
 def _output_options(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--json", action="store_true", help="print the report as JSON")
+    add_output_arguments(parser)
     parser.add_argument("-v", "--verbose", action="store_true", help="list every finding, not only problems")
 
 
@@ -158,9 +157,9 @@ def _check(args: argparse.Namespace) -> int:
     with ProgressBar("checking", enabled=None if not args.json else False) as progress:
         report = check_file(args.a2l, args.elf, cache_dir=args.cache_dir, use_cache=not args.no_cache,
                             progress=progress)
-    args.verbose = True  # every check finding is a problem
     clean = not report.findings
-    _print_report(report, args, summary=f"{args.a2l}: " + ("clean" if clean else f"{len(report.findings)} problem(s)"))
+    print_report(report, as_json=args.json, verbose=True,  # every check finding is a problem
+                 summary=f"{args.a2l}: " + ("clean" if clean else f"{len(report.findings)} problem(s)"))
     return 0 if clean else 1
 
 
@@ -183,14 +182,4 @@ def _diff(args: argparse.Namespace) -> int:
 
 
 def _print_report(report, args: argparse.Namespace, summary: str, output: str | None = None) -> None:
-    if args.json:
-        data = report.to_dict()
-        data["summary"] = summary
-        if output is not None:
-            data["output"] = str(Path(output))
-        print_json(data)
-        return
-    for finding in report.findings:
-        if args.verbose or finding.severity > 0:
-            print(finding)
-    print(summary, file=sys.stderr)
+    print_report(report, as_json=args.json, verbose=args.verbose, summary=summary, output=output)

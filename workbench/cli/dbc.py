@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from workbench.cli.options import print_json
+from workbench.cli.options import add_output_arguments, print_json, print_report
 
 _GROUP_DESCRIPTION = """\
 The thesis's CAN library (chapter 6.3) from a DBC, without MATLAB:
@@ -106,7 +106,7 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     check.add_argument("--node", help="look for fix-calibration collisions among this node's messages only")
     check.add_argument("--qualified", action="store_true",
                        help="look for collisions of the message-qualified fix-calibration names")
-    check.add_argument("--json", action="store_true", help="findings as JSON")
+    add_output_arguments(check)
     check.set_defaults(func=_check)
 
 
@@ -164,12 +164,8 @@ def _check(args: argparse.Namespace) -> int:
 
     dbcs = [(load_dbc(path, tolerant=True), network_of(path, args.network) if args.network else guess_network(path))
             for path in args.dbc]
-    findings = check(dbcs, args.node, qualified=args.qualified)
-    if args.json:
-        print_json([finding.to_dict() for finding in findings])
-    else:
-        for finding in findings:
-            print(finding)
-        print(f"{len(findings)} finding{'s' if len(findings) != 1 else ''} in {len(dbcs)} "
-              f"file{'s' if len(dbcs) != 1 else ''}", file=sys.stderr)
-    return 1 if findings else 0
+    report = check(dbcs, args.node, qualified=args.qualified)
+    count = len(report.findings)
+    print_report(report, as_json=args.json, verbose=True, summary=f"{count} finding{'s' if count != 1 else ''} in "
+                 f"{len(dbcs)} file{'s' if len(dbcs) != 1 else ''}")
+    return 1 if report.findings else 0

@@ -1,11 +1,15 @@
-"""Options shared by the commands that talk to an ECU or a bus (DESIGN: CLI conventions)."""
+"""Options and output shared by the commands (DESIGN: CLI conventions): the bus options of every
+command that talks to an ECU or a bus, ``--json``, and how reports and JSON are printed."""
 
 from __future__ import annotations
 
 import argparse
 import json
 import sys
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from workbench.findings import Report
 
 DEFAULT_CHANNELS = {"virtual": "workbench", "udp_multicast": "239.74.163.2"}
 
@@ -42,3 +46,21 @@ def add_output_arguments(parser: argparse.ArgumentParser) -> None:
 def print_json(data: Any) -> None:
     json.dump(data, sys.stdout, indent=2, default=str)
     sys.stdout.write("\n")
+
+
+def print_report(report: "Report", *, as_json: bool, verbose: bool, summary: str, output: str | None = None) -> None:
+    """A report of findings, as JSON (its fields plus ``summary`` and ``output``) or as text.
+
+    Text: one finding a line on stdout (warnings and errors; every finding when ``verbose``),
+    then ``summary`` on stderr.
+    """
+    if as_json:
+        data = report.to_dict()
+        data["summary"] = summary
+        if output is not None:
+            data["output"] = str(output)
+        print_json(data)
+        return
+    for finding in report.findings if verbose else report.problems:
+        print(finding)
+    print(summary, file=sys.stderr)

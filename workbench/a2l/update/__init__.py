@@ -22,12 +22,13 @@ from workbench.a2l.edits import Edit, Edits, indentation_of, newline_bytes, writ
 from workbench.a2l.epk import epk_edits, read_elf_epk
 from workbench.a2l.grammar import MAX_ADDRESS
 from workbench.a2l.includes import includes_not_found_from
-from workbench.a2l.reports import Finding, IncludeMode, Report, Severity, UpdateMode, findings_at, summarize
+from workbench.a2l.reports import IncludeMode, UpdateMode, findings_at
 from workbench.a2l.update.removal import removal_edits
 from workbench.a2l.update.typecheck import TypeChecker
 from workbench.a2l.values import format_ints_like, int_or_none, int_values
 from workbench.elf.debugdata import DebugData
 from workbench.errors import WorkbenchError
+from workbench.findings import Finding, Report, Severity, summarize
 from workbench.progress import Progress, report as report_progress
 
 __all__ = ["IncludeMode", "UpdateFailed", "UpdateMode", "UpdateReport", "UpdateResult", "update", "update_file"]

@@ -11,7 +11,8 @@ from typing import TYPE_CHECKING
 
 from workbench.a2l import grammar
 from workbench.a2l.edits import Edit, remove_block, remove_span
-from workbench.a2l.reports import Finding, Severity, finding_at
+from workbench.a2l.reports import finding_at
+from workbench.findings import Finding, Severity
 
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument

@@ -12,9 +12,10 @@ from typing import TYPE_CHECKING
 
 from workbench.a2l.datatypes import array_dims, datatype_for, datatype_range
 from workbench.a2l.edits import Edit, indentation_of, newline_bytes, replace_token
-from workbench.a2l.reports import Finding, Severity, finding_at
+from workbench.a2l.reports import finding_at
 from workbench.a2l.addressed import Target
 from workbench.a2l.values import format_int_like, is_number, parse_number
+from workbench.findings import Finding, Severity
 
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
