@@ -29,7 +29,7 @@ from pyxcp.master import Master
 from workbench.sim.can_timing import frame_bits
 from workbench.sim.demo_ecu import build_demo_ecu
 from workbench.sim.server import Simulator
-from workbench.sim.xcp.protocol import Cmd
+from workbench.xcp_protocol import Cmd
 
 MASTER, SLAVE = 0x7F0, 0x7F1
 CAL_ADDRESS = 0x40000010

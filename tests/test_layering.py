@@ -2,7 +2,8 @@
 
 gui -> (xcp, calib, record, can) -> (a2l, elf, image); sim uses image/a2l/can/elf but
 never xcp; only the CLI and the GUI sit on top. A module may always use the shared
-foundation (errors, progress, fileio, demo, findings).
+foundation (errors, progress, fileio, demo, findings) and xcp_protocol, the XCP names the
+simulated slave and the master share (it imports nothing, so sim stays free of xcp).
 """
 
 import ast
@@ -13,7 +14,7 @@ import pytest
 import workbench
 
 PACKAGE = Path(workbench.__file__).parent
-FOUNDATION = {"errors", "progress", "fileio", "demo", "findings"}
+FOUNDATION = {"errors", "progress", "fileio", "demo", "findings", "xcp_protocol"}
 ALLOWED = {
     "elf": set(),
     "image": set(),
@@ -53,3 +54,7 @@ def test_no_core_module_imports_qt():
             continue
         source = path.read_text(encoding="utf-8")
         assert "PySide6" not in source and "pyqtgraph" not in source, path
+
+
+def test_the_shared_xcp_names_stand_on_nothing():
+    assert _imported_subpackages(PACKAGE / "xcp_protocol.py") == set()

@@ -49,13 +49,25 @@ class UnknownSymbolError(WorkbenchError, KeyError):
 
 
 class XcpCommandError(WorkbenchError):
-    """The ECU answered an XCP command with a negative response."""
+    """The ECU answered an XCP command with a negative response.
+
+    ``name`` defaults to the standard's name of ``code`` (``ERR_OUT_OF_RANGE`` for 0x22).
+    """
 
     def __init__(self, command: str, code: int, name: str = ""):
         self.command = command
         self.code = code
-        self.name = name or f"0x{code:02X}"
+        self.name = name or _error_name(code)
         super().__init__(f"XCP {command} failed: {self.name} (0x{code:02X})")
+
+
+def _error_name(code: int) -> str:
+    from workbench.xcp_protocol import Err  # here: ``import workbench`` need not build the XCP enums
+
+    try:
+        return f"ERR_{Err(code).name}"
+    except ValueError:
+        return "unknown error"
 
 
 class XcpTimeoutError(WorkbenchError, TimeoutError):

@@ -9,7 +9,7 @@ from workbench.sim.ecu import SimulatedEcu
 from workbench.sim.layout import ApplicationLayout, InitCopy
 from workbench.sim.memory_map import HDS9
 from workbench.sim.seedkey import compute_key
-from workbench.sim.xcp.protocol import PID_ERR, PID_RES, Cmd, Err, Resource
+from workbench.xcp_protocol import PID_ERR, PID_RES, Cmd, Err, Resource
 
 EPK = b"08493820231002"
 CAL_GAIN = 0x40000010  # float 2.0 in .cal_ram

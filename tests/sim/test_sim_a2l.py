@@ -13,7 +13,7 @@ from workbench.a2l import load, read_xcp_config
 from workbench.errors import InputError
 from workbench.sim.demo_ecu import DemoFiles, build_demo_ecu
 from workbench.sim.memory_map import HDS9
-from workbench.sim.xcp.protocol import Cmd, Resource
+from workbench.xcp_protocol import Cmd, Resource
 
 UNIT_SECONDS = {0b0100: 10e-6}
 

@@ -12,7 +12,7 @@ from raw_master import RawMaster
 
 from workbench.sim.ecu import SimulatedEcu
 from workbench.sim.server import Simulator
-from workbench.sim.xcp.protocol import Cmd, Err
+from workbench.xcp_protocol import Cmd, Err
 
 _channels = itertools.count()
 GET_STATUS = bytes([Cmd.GET_STATUS])

@@ -8,7 +8,7 @@ from mini_ecu import CAL_GAIN, COUNTER, DATA_INIT, MINI_LAYOUT, XcpProbe, mini_i
 from workbench.image import AddressRange, MemoryImage, Region
 from workbench.sim.ecu import EcuState, SimulatedEcu
 from workbench.sim.memory import AccessFault, EcuMemory, MemoryAccessError
-from workbench.sim.xcp.protocol import Cmd, Resource
+from workbench.xcp_protocol import Cmd, Resource
 
 
 def memory() -> EcuMemory:

@@ -4,7 +4,7 @@ import struct
 
 from mini_ecu import CAL_GAIN, OUTPUT
 
-from workbench.sim.xcp.protocol import Cmd, Err, Resource
+from workbench.xcp_protocol import Cmd, Err, Resource
 
 ECU, XCP, ALL = 0x01, 0x02, 0x80
 

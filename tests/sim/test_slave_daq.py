@@ -6,7 +6,7 @@ import pytest
 from mini_ecu import CAL_GAIN, COUNTER, OUTPUT, XcpProbe, make_ecu
 
 from workbench.sim.xcp.parameters import EventChannel, XcpParameters
-from workbench.sim.xcp.protocol import Cmd, Err, Resource
+from workbench.xcp_protocol import Cmd, Err, Resource
 
 
 def daq_probe(dto_sink=None, **ecu_options) -> XcpProbe:

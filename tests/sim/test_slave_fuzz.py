@@ -13,7 +13,7 @@ from raw_master import RawMaster
 
 from workbench.sim.server import Simulator
 from workbench.sim.xcp.parameters import XcpParameters
-from workbench.sim.xcp.protocol import PID_ERR, PID_RES, Cmd, Err, Resource
+from workbench.xcp_protocol import PID_ERR, PID_RES, Cmd, Err, Resource
 
 BLOCK_COMMANDS = {Cmd.DOWNLOAD, Cmd.DOWNLOAD_NEXT, Cmd.PROGRAM, Cmd.PROGRAM_NEXT}
 command_byte = st.one_of(st.sampled_from([int(c) for c in Cmd]), st.integers(0, 0xFF))

@@ -7,7 +7,7 @@ from mini_ecu import EPK, XcpProbe, make_ecu
 
 from workbench.sim.ecu import EcuState
 from workbench.sim.memory_map import HDS9
-from workbench.sim.xcp.protocol import Cmd, Err, Resource
+from workbench.xcp_protocol import Cmd, Err, Resource
 
 CALIB = HDS9.region("CALIB")
 SHARED = HDS9.region("SHARED")

@@ -9,7 +9,7 @@ from mini_ecu import CAL_GAIN, CAL_OFFSET, COUNTER, EPK, XcpProbe, make_ecu
 from workbench.image import ChecksumType
 from workbench.sim.seedkey import compute_key
 from workbench.sim.xcp.parameters import XcpParameters
-from workbench.sim.xcp.protocol import Cmd, Err, Resource
+from workbench.xcp_protocol import Cmd, Err, Resource
 
 
 def test_silent_until_connected(ecu):

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 
 from workbench.a2l.ifdata import IfDataNode, Word, read_if_data
 from workbench.errors import A2lParseError
+from workbench.xcp_protocol import CAN_ID_EXTENDED_FLAG, TIME_UNIT_S
 
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
@@ -22,13 +23,7 @@ __all__ = [
     "read_xcp_config",
 ]
 
-CAN_ID_EXTENDED_FLAG = 0x80000000  # bit 31 of an XCP-on-CAN identifier: 29-bit (extended) id
-
-# XCP event/timestamp unit codes (EVENT TIME_UNIT, TIMESTAMP_SUPPORTED UNIT_x) -> seconds
-_UNIT_SECONDS = {
-    0: 1e-9, 1: 1e-8, 2: 1e-7, 3: 1e-6, 4: 1e-5, 5: 1e-4, 6: 1e-3, 7: 1e-2, 8: 1e-1, 9: 1.0,
-    10: 1e-12, 11: 1e-11, 12: 1e-10,
-}
+# TIMESTAMP_SUPPORTED UNIT_x -> the time unit code (seconds: TIME_UNIT_S)
 _UNIT_NAMES = {
     "UNIT_1NS": 0, "UNIT_10NS": 1, "UNIT_100NS": 2, "UNIT_1US": 3, "UNIT_10US": 4, "UNIT_100US": 5,
     "UNIT_1MS": 6, "UNIT_10MS": 7, "UNIT_100MS": 8, "UNIT_1S": 9, "UNIT_1PS": 10, "UNIT_10PS": 11,
@@ -324,7 +319,7 @@ def _timestamp(node: IfDataNode) -> XcpTimestamp:
     unit = node.word_with_prefix("UNIT_")
     return XcpTimestamp(
         size=_TIMESTAMP_SIZES[size] if size else 0,
-        unit_s=_UNIT_SECONDS[_UNIT_NAMES[unit]] if unit in _UNIT_NAMES else 1e-6,
+        unit_s=TIME_UNIT_S[_UNIT_NAMES[unit]] if unit in _UNIT_NAMES else 1e-6,
         ticks=int(numbers[0]) if numbers else 1,
         fixed=node.has("TIMESTAMP_FIXED"),
     )
@@ -338,7 +333,7 @@ def _event(node: IfDataNode) -> XcpEvent:
         raise A2lParseError("EVENT needs name, short name, channel, MAX_DAQ_LIST, TIME_CYCLE, TIME_UNIT, PRIORITY",
                             *node.location)
     number, max_daq_lists, cycle, unit, priority = (int(v) for v in fields[:5])
-    unit_s = _UNIT_SECONDS.get(unit)
+    unit_s = TIME_UNIT_S.get(unit)
     if unit_s is None:
         raise A2lParseError(f"EVENT {strings[0]!r}: unknown TIME_UNIT {unit}", *node.location)
     return XcpEvent(

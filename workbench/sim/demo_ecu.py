@@ -31,11 +31,10 @@ from workbench.sim.pcm import PcmNode
 from workbench.sim.plant import FuelSystemPlant
 from workbench.sim.scheduler import Scheduler
 from workbench.sim.xcp.parameters import EventChannel, XcpParameters
-from workbench.sim.xcp.protocol import Resource
+from workbench.xcp_protocol import CAN_ID_EXTENDED_FLAG, Resource
 
 ECU_NODE = "FLCU"
 PLANT_STEP_S = 0.001
-EXTENDED_FLAG = 0x80000000
 
 
 @dataclass
@@ -93,8 +92,8 @@ def xcp_parameters(doc: A2lDocument, config: XcpConfig) -> XcpParameters:
         raise InputError(f"{where}: the simulated ECU cannot compute the CHECKSUM type {checksum}")
     mode = config.communication_mode
     return XcpParameters(
-        can_id_master=can.can_id_master | (EXTENDED_FLAG if can.can_id_master_is_extended else 0),
-        can_id_slave=can.can_id_slave | (EXTENDED_FLAG if can.can_id_slave_is_extended else 0),
+        can_id_master=can.can_id_master | (CAN_ID_EXTENDED_FLAG if can.can_id_master_is_extended else 0),
+        can_id_slave=can.can_id_slave | (CAN_ID_EXTENDED_FLAG if can.can_id_slave_is_extended else 0),
         baudrate=can.baudrate or defaults.baudrate,
         max_dlc_required=can.max_dlc_required,
         max_bs=mode.max_bs if mode is not None and mode.max_bs else defaults.max_bs,

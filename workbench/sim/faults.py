@@ -12,7 +12,7 @@ import threading
 from dataclasses import dataclass
 from enum import Enum
 
-from workbench.sim.xcp.protocol import Cmd, Err
+from workbench.xcp_protocol import Cmd, Err
 
 
 class FrameAction(Enum):

@@ -28,10 +28,10 @@ from workbench.sim.ecu import EcuState, SimulatedEcu
 from workbench.sim.faults import FrameAction
 from workbench.sim.pcm import PcmNode
 from workbench.sim.scheduler import US_PER_S
+from workbench.xcp_protocol import CAN_ID_EXTENDED_FLAG
 
 log = logging.getLogger(__name__)
 
-EXTENDED_FLAG = 0x80000000
 MAX_DLC = 8  # classic CAN
 MAX_LAG_S = 0.5  # a clock further behind than this skips ahead instead of catching up
 _CLOCK_POLL_S = 0.05
@@ -41,7 +41,7 @@ BusSpec = can.BusABC | Mapping[str, Any]
 
 def split_can_id(raw: int) -> tuple[int, bool]:
     """An A2L CAN id (bit 31 = extended) as ``(identifier, is_extended)``."""
-    return raw & 0x1FFFFFFF, bool(raw & EXTENDED_FLAG)
+    return raw & 0x1FFFFFFF, bool(raw & CAN_ID_EXTENDED_FLAG)
 
 
 class Simulator:

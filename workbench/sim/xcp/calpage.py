@@ -10,7 +10,8 @@ import struct
 from typing import TYPE_CHECKING
 
 from workbench.sim.paging import PAGES, REFERENCE_PAGE
-from workbench.sim.xcp.protocol import Cmd, Err, XcpNegative, need
+from workbench.sim.xcp.responses import XcpNegative, need
+from workbench.xcp_protocol import Cmd, Err
 
 if TYPE_CHECKING:
     from workbench.sim.xcp.slave import XcpSlave

@@ -25,7 +25,8 @@ from enum import IntEnum
 from typing import TYPE_CHECKING
 
 from workbench.sim.memory import MemoryAccessError
-from workbench.sim.xcp.protocol import Cmd, Err, XcpNegative, need
+from workbench.sim.xcp.responses import XcpNegative, need
+from workbench.xcp_protocol import Cmd, Err
 
 if TYPE_CHECKING:
     from workbench.sim.xcp.slave import XcpSlave

@@ -10,9 +10,8 @@ from dataclasses import dataclass
 
 from workbench.sim.memory_map import MemoryMap
 from workbench.sim.xcp.parameters import XcpParameters
+from workbench.xcp_protocol import IdType
 
-GET_ID_ASCII = 0
-GET_ID_ASAM_MC2_NAME = 1
 MAX_TEXT = 0xFF
 
 
@@ -24,7 +23,7 @@ class InfoRom:
 
     @classmethod
     def build(cls, params: XcpParameters, memory_map: MemoryMap) -> InfoRom:
-        texts = {f"id:{GET_ID_ASCII}": params.ecu_text, f"id:{GET_ID_ASAM_MC2_NAME}": params.asam_mc2_name}
+        texts = {f"id:{IdType.ASCII:d}": params.ecu_text, f"id:{IdType.ASAM_MC2_NAME:d}": params.asam_mc2_name}
         texts.update({f"event:{e.number}": e.name for e in params.events})
         texts.update({f"sector:{n}": sector.name for n, sector in enumerate(memory_map.sectors)})
         data = bytearray()

@@ -8,11 +8,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from workbench.image import ChecksumType
-from workbench.sim.xcp.protocol import MAX_DAQ_PID, Resource
+from workbench.xcp_protocol import MAX_DAQ_PID, TIME_UNIT_S, Resource
 
-# GET_DAQ_RESOLUTION_INFO timestamp units (TIMESTAMP_MODE bits 4..7)
+# time unit codes (seconds: TIME_UNIT_S) of GET_DAQ_RESOLUTION_INFO's TIMESTAMP_MODE bits 4..7 and
+# of GET_DAQ_EVENT_INFO: code n counts 10**(n - 9) s (0: 1 ns ... 6: 1 ms ... 9: 1 s)
 TIMESTAMP_UNIT_10US = 0x4
-# GET_DAQ_EVENT_INFO time units: code n counts 10**(n - 9) s (0: 1 ns ... 6: 1 ms ... 9: 1 s)
 EVENT_TIME_UNIT_1MS = 6
 EVENT_TIME_UNITS = range(10)
 
@@ -55,7 +55,11 @@ class DaqParameters:
     timestamp_size: int = 4  # DWORD, in the first ODT of each list whose mode asks for timestamps
     timestamp_unit: int = TIMESTAMP_UNIT_10US
     timestamp_ticks: int = 1
-    timestamp_tick_s: float = 10e-6
+
+    @property
+    def timestamp_tick_s(self) -> float:
+        """Seconds per timestamp count."""
+        return TIME_UNIT_S[self.timestamp_unit] * self.timestamp_ticks
 
 
 @dataclass(frozen=True)

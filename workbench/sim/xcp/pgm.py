@@ -17,7 +17,8 @@ import struct
 from typing import TYPE_CHECKING
 
 from workbench.sim.memory import MemoryAccessError
-from workbench.sim.xcp.protocol import Cmd, Err, PowerLost, Writer, XcpNegative, memory_error, need
+from workbench.sim.xcp.responses import PowerLost, Writer, XcpNegative, memory_error, need
+from workbench.xcp_protocol import Cmd, Err
 
 if TYPE_CHECKING:
     from workbench.sim.xcp.slave import XcpSlave

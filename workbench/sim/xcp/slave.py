@@ -35,23 +35,13 @@ from workbench.sim.xcp.daq import DaqProcessor
 from workbench.sim.xcp.info_rom import InfoRom
 from workbench.sim.xcp.parameters import XcpParameters
 from workbench.sim.xcp.pgm import ProgrammingCommands
-from workbench.sim.xcp.protocol import (
-    PID_RES,
-    Cmd,
-    Err,
-    PowerLost,
-    Resource,
-    Writer,
-    XcpNegative,
-    memory_error,
-    need,
-)
+from workbench.sim.xcp.responses import PowerLost, Writer, XcpNegative, memory_error, need
+from workbench.xcp_protocol import PID_RES, Cmd, Err, IdType, Resource
 
 log = logging.getLogger(__name__)
 
 PROTOCOL_LAYER_VERSION = 1
 TRANSPORT_LAYER_VERSION = 1
-GET_ID_EPK = 5
 COMM_MODE_OPTIONAL = 0x80
 COMM_MODE_SLAVE_BLOCK = 0x40
 COMM_MODE_MASTER_BLOCK = 0x01
@@ -313,7 +303,7 @@ class XcpSlave:
 
     def _get_id(self, req: bytes) -> bytes:
         need(req, 2)
-        if req[1] == GET_ID_EPK:
+        if req[1] == IdType.EPK:
             address, length = self.params.epk_address, self.params.epk_length
         elif f"id:{req[1]}" in self.info.index:
             address, length = self.info.index[f"id:{req[1]}"]

@@ -1,16 +1,30 @@
-"""ASAM XCP 1.x names the slave needs: command codes, error codes, resources, packet ids."""
+"""ASAM XCP 1.x names shared by the simulated slave and the master: command, error and packet
+codes, resource bits, GET_ID types, time units, the CAN id flag.
+
+Neutral ground: it imports nothing, so :mod:`workbench.sim` and the master in
+:mod:`workbench.xcp` can both use it without depending on each other (DESIGN: sim never
+depends on xcp).
+"""
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass
 from enum import IntEnum, IntFlag
 
-from workbench.sim.memory import AccessFault, MemoryAccessError
+__all__ = ["CAN_ID_EXTENDED_FLAG", "MAX_DAQ_PID", "PID_ERR", "PID_RES", "TIME_UNIT_S", "Cmd", "Err", "IdType",
+           "Resource"]
 
 PID_RES = 0xFF  # positive response
 PID_ERR = 0xFE  # negative response
 MAX_DAQ_PID = 0xFB  # DTO packet ids run from 0x00 to 0xFB
+
+CAN_ID_EXTENDED_FLAG = 0x80000000  # bit 31 of an XCP-on-CAN id (CAN_ID_MASTER/SLAVE, DAQ_LIST_CAN_ID): a 29-bit id
+
+# Time unit codes of DAQ events and timestamps (A2L EVENT TIME_UNIT, GET_DAQ_EVENT_INFO,
+# GET_DAQ_RESOLUTION_INFO TIMESTAMP_MODE bits 4..7) -> seconds: code n < 10 counts 10**(n - 9) s.
+TIME_UNIT_S = {
+    0: 1e-9, 1: 1e-8, 2: 1e-7, 3: 1e-6, 4: 1e-5, 5: 1e-4, 6: 1e-3, 7: 1e-2, 8: 1e-1, 9: 1.0,
+    10: 1e-12, 11: 1e-11, 12: 1e-10,
+}
 
 
 class Cmd(IntEnum):
@@ -104,40 +118,9 @@ class Resource(IntFlag):
     PGM = 0x10
 
 
-class XcpNegative(Exception):
-    """A command handler's refusal: becomes the negative response ``FE code *extra``."""
+class IdType(IntEnum):
+    """GET_ID request types."""
 
-    def __init__(self, code: Err, extra: bytes = b""):
-        super().__init__(f"{Err(code).name}")
-        self.code = Err(code)
-        self.extra = extra
-
-    def packet(self) -> bytes:
-        return bytes([PID_ERR, self.code]) + self.extra
-
-
-def need(req: bytes, length: int) -> None:
-    """Refuse a command shorter than ``length`` bytes (command byte included) with ERR_CMD_SYNTAX."""
-    if len(req) < length:
-        raise XcpNegative(Err.CMD_SYNTAX)
-
-
-def memory_error(exc: MemoryAccessError) -> XcpNegative:
-    """The negative response for a refused memory access."""
-    code = {
-        AccessFault.READ_ONLY: Err.WRITE_PROTECTED,
-        AccessFault.NOT_ERASED: Err.ACCESS_DENIED,
-    }.get(exc.fault, Err.OUT_OF_RANGE)
-    return XcpNegative(code)
-
-
-class PowerLost(Exception):
-    """Raised inside a handler when an injected power loss strikes: the frame gets no answer."""
-
-
-@dataclass
-class Writer:
-    """How a block transfer checks its whole destination, then writes each frame's bytes."""
-
-    check: Callable[[int, int], None]
-    write: Callable[[int, bytes], None]
+    ASCII = 0  # the ECU's text
+    ASAM_MC2_NAME = 1  # the A2L's file name without path and extension
+    EPK = 5  # the EPROM identifier (the EPK at ADDR_EPK)
