@@ -1,8 +1,10 @@
+import errno
 import os
 
 import pytest
 
-from workbench.fileio import atomic_write_bytes, atomic_write_text
+from workbench.errors import InputError, WorkbenchError
+from workbench.fileio import atomic_write_bytes, atomic_write_text, read_input, write_output
 
 
 def test_replaces_content_and_keeps_mode(tmp_path):
@@ -27,3 +29,28 @@ def test_failed_write_leaves_old_file(tmp_path, monkeypatch):
         atomic_write_bytes(target, b"new")
     assert target.read_bytes() == b"old"
     assert [p.name for p in tmp_path.iterdir()] == ["out.bin"]
+
+
+def test_read_input_names_the_file_in_one_line(tmp_path):
+    (tmp_path / "in.a2l").write_bytes(b"x")
+    assert read_input(tmp_path / "in.a2l", "an A2L file") == b"x"
+    with pytest.raises(InputError, match=r"none\.a2l: no such file$"):
+        read_input(tmp_path / "none.a2l", "an A2L file")
+    with pytest.raises(InputError, match=r": is a folder, not an A2L file$"):
+        read_input(tmp_path, "an A2L file")
+
+
+def test_write_output_tells_a_wrong_place_from_a_failed_write(tmp_path, monkeypatch):
+    with pytest.raises(InputError, match=r": is a folder; name the file to write$"):
+        write_output(tmp_path, b"x")
+    (tmp_path / "file").write_bytes(b"")
+    with pytest.raises(InputError, match=r"file/out\.a2l: cannot write \("):
+        write_output(tmp_path / "file" / "out.a2l", b"x")
+
+    def full(*args):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(os, "replace", full)
+    with pytest.raises(WorkbenchError, match=r"out\.a2l: cannot write \(No space left on device\)$") as error:
+        write_output(tmp_path / "out.a2l", b"x")
+    assert error.value.exit_code == 1

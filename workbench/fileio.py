@@ -1,10 +1,54 @@
-"""File writing that never leaves a user's file half-written."""
+"""A user's files: read with one-line errors, written so that they are never left half-written.
+
+:func:`read_input` and :func:`write_output` turn the operating system's errors into
+:class:`~workbench.errors.InputError` s that name the file (exit code 2: the user named a file
+that is missing or a place that cannot be written); a write that fails for another reason (a
+full disk) is a :class:`~workbench.errors.WorkbenchError` (exit code 1).
+"""
 
 from __future__ import annotations
 
 import os
 import tempfile
 from pathlib import Path
+
+from workbench.errors import InputError, WorkbenchError
+
+# a write refused because of the place the user named, not because the disk failed
+_WRONG_PLACE = (FileNotFoundError, FileExistsError, NotADirectoryError, PermissionError)
+
+
+def read_input(path: str | Path, what: str) -> bytes:
+    """The bytes of the input file ``path``; ``what`` names its kind in errors ("an A2L file").
+
+    :raises InputError: ``path: no such file``, ``path: is a folder, not <what>`` or
+        ``path: cannot read (<reason>)``.
+    """
+    try:
+        return Path(path).read_bytes()
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file") from None
+    except IsADirectoryError:
+        raise InputError(f"{path}: is a folder, not {what}") from None
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
+
+
+def write_output(path: str | Path, data: bytes) -> None:
+    """:func:`atomic_write_bytes`, its failures as one-line errors naming ``path``.
+
+    :raises InputError: ``path`` is a folder, or its folder cannot hold it (missing under a
+        file, not writable): ``path: cannot write (<reason>)``.
+    :raises WorkbenchError: the write failed otherwise (e.g. the disk is full).
+    """
+    try:
+        atomic_write_bytes(path, data)
+    except IsADirectoryError:
+        raise InputError(f"{path}: is a folder; name the file to write") from None
+    except _WRONG_PLACE as exc:
+        raise InputError(f"{path}: cannot write ({exc.strerror or exc})") from None
+    except OSError as exc:
+        raise WorkbenchError(f"{path}: cannot write ({exc.strerror or exc})") from None
 
 
 def atomic_write_bytes(path: str | Path, data: bytes) -> None:

@@ -218,7 +218,7 @@ def test_cantools_value_errors_become_one_line_input_errors(write_dbc):
 
 
 def test_unreadable_file(tmp_path):
-    with pytest.raises(InputError, match=r"missing\.dbc: cannot read"):
+    with pytest.raises(InputError, match=r"missing\.dbc: no such file$"):
         load_dbc(tmp_path / "missing.dbc")
 
 

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Iterable, NamedTuple
 import numpy as np
 
 from workbench.errors import InputError
-from workbench.fileio import atomic_write_bytes
+from workbench.fileio import write_output
 
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument, Block
@@ -167,14 +167,4 @@ def newline_bytes(doc: "A2lDocument") -> bytes:
 
 def write_source(source: "SourceFile", data: bytes, path: str | Path) -> None:
     """Write ``data`` (a new version of ``source.data``) atomically, with the file's BOM and encoding."""
-    write_file(path, source.file_bytes(data))
-
-
-def write_file(path: str | Path, data: bytes) -> None:
-    """Write a user's file atomically; raises :class:`InputError` when it cannot be written there."""
-    try:
-        atomic_write_bytes(path, data)
-    except IsADirectoryError:
-        raise InputError(f"{path}: is a folder; name the file to write") from None
-    except OSError as exc:
-        raise InputError(f"{path}: cannot write ({exc.strerror or exc})") from None
+    write_output(path, source.file_bytes(data))

@@ -17,7 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from workbench.errors import A2lParseError, InputError
+from workbench.errors import A2lParseError
+from workbench.fileio import read_input
 
 _UTF8_BOM = codecs.BOM_UTF8
 # UTF-32 first: its little-endian BOM starts with UTF-16's
@@ -86,15 +87,7 @@ def read_source(path: str | Path) -> SourceFile:
     """Read an A2L file; raises :class:`InputError` if it cannot be read and
     :class:`A2lParseError` if it is not text in a supported encoding."""
     path = Path(path)
-    try:
-        raw = path.read_bytes()
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such file") from None
-    except IsADirectoryError:
-        raise InputError(f"{path}: is a folder, not an A2L file") from None
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read ({exc.strerror})") from None
-    return decode_source(raw, path)
+    return decode_source(read_input(path, "an A2L file"), path)
 
 
 def source_from_text(text: str, path: str | Path | None = None) -> SourceFile:

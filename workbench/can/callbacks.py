@@ -34,8 +34,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from workbench.can.model import Message, Role
-from workbench.errors import InputError, WorkbenchError
-from workbench.fileio import atomic_write_bytes
+from workbench.errors import InputError
+from workbench.fileio import read_input, write_output
 
 START_MARKER = "// <initCbk>"
 END_MARKER = "// </initCbk>"
@@ -119,9 +119,9 @@ def write_callbacks(api_path: str | Path, messages: Iterable[Message]) -> bool:
 
     Nothing is written when the result equals the file, or when an error is raised.
 
-    :raises InputError: the file cannot be read, its markers are wrong, a message lacks a period,
-        or no message has a mailbox (a node without messages would empty the block).
-    :raises WorkbenchError: the file cannot be written.
+    :raises InputError: the file cannot be read or written there, its markers are wrong, a message
+        lacks a period, or no message has a mailbox (a node without messages would empty the block).
+    :raises WorkbenchError: the write failed otherwise (:func:`~workbench.fileio.write_output`).
     """
     api_path = Path(api_path)
     messages = list(messages)
@@ -129,15 +129,9 @@ def write_callbacks(api_path: str | Path, messages: Iterable[Message]) -> bool:
         raise InputError(f"{api_path}: the node sends and receives no message; its driver configuration "
                          "is left as it is")
     generated = callback_lines(messages)
-    try:
-        content = api_path.read_bytes()
-    except OSError as exc:
-        raise InputError(f"{api_path}: cannot read: {exc.strerror or exc}") from exc
+    content = read_input(api_path, "a C file")
     updated = splice(api_path, content, generated)
     if updated == content:
         return False
-    try:
-        atomic_write_bytes(api_path, updated)
-    except OSError as exc:
-        raise WorkbenchError(f"{api_path}: cannot write: {exc.strerror or exc}") from exc
+    write_output(api_path, updated)
     return True

@@ -34,6 +34,7 @@ import cantools.database
 from cantools.database.can import Database
 
 from workbench.errors import InputError
+from workbench.fileio import read_input
 
 log = logging.getLogger(__name__)
 
@@ -86,11 +87,7 @@ def load_dbc(path: str | Path, *, tolerant: bool = False) -> DbcFile:
     :raises InputError: the file cannot be read or cantools rejects it (``path:line: reason``).
     """
     path = Path(path)
-    try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read: {exc.strerror or exc}") from exc
-    text = _decode(path, raw)
+    text = _decode(path, read_input(path, "a DBC file"))
     message_lines, signal_lines = _index_lines(text)
     oversized = _oversized_standard_ids(text)
     if oversized and not tolerant:

@@ -11,8 +11,8 @@ from workbench.can.fixcal import FixCalibration, fix_calibrations
 from workbench.can.fixcal_a2l import a2l_fragment, mod_common_lines
 from workbench.can.fixcal_c import c_header, c_source
 from workbench.can.model import messages_of
-from workbench.errors import InputError, WorkbenchError
-from workbench.fileio import atomic_write_text
+from workbench.errors import InputError
+from workbench.fileio import read_input, write_output
 
 _PROJECT = re.compile(r"/begin\s+PROJECT\b")
 
@@ -27,8 +27,8 @@ class FixcalFiles:
     def write(self, directory: str | Path) -> list[Path]:
         """Write every file (atomically) into ``directory``; returns the paths.
 
-        :raises InputError: ``directory`` exists and is not a folder.
-        :raises WorkbenchError: a file cannot be written.
+        :raises InputError: ``directory`` exists and is not a folder, or a file cannot be written there.
+        :raises WorkbenchError: a write failed otherwise (:func:`~workbench.fileio.write_output`).
         """
         directory = Path(directory)
         if directory.exists() and not directory.is_dir():
@@ -36,10 +36,7 @@ class FixcalFiles:
         written = []
         for name, text in self.texts.items():
             path = directory / name
-            try:
-                atomic_write_text(path, text)
-            except OSError as exc:
-                raise WorkbenchError(f"{path}: cannot write: {exc.strerror or exc}") from exc
+            write_output(path, text.encode("utf-8"))
             written.append(path)
         return written
 
@@ -71,10 +68,7 @@ def fixcal_files(dbc: DbcFile, node: str, *, c: bool = True, a2l: bool = True,
 
 
 def _read_a2l(path: str | Path) -> str:
-    try:
-        text = Path(path).read_bytes().decode("utf-8", errors="replace")
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read: {exc.strerror or exc}") from exc
+    text = read_input(path, "an A2L file").decode("utf-8", errors="replace")
     if not _PROJECT.search(text):
         raise InputError(f"{path}: not an A2L file (no /begin PROJECT)")
     return text

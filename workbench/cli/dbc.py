@@ -19,7 +19,8 @@ The thesis's CAN library (chapter 6.3) from a DBC, without MATLAB:
   fixcal     the fix calibrations as a C header/source pair and an A2L fragment
   callbacks  the CAN driver configuration between the // <initCbk> markers of api.c
   check      DBC problems (exit 1 when there are findings)
-Exit codes: 0 success, 1 findings (check) or a failed write, 2 bad input."""
+Exit codes: 0 success, 1 findings (check) or a failed write (disk full), 2 bad input (a file
+that cannot be read or parsed, a place that cannot be written, a bad option)."""
 _NETWORK_HELP = ("CAN1..CAN4 for every DBC given (default: the CANn in each file name, "
                  "e.g. FLCU_CAN2.dbc is on CAN2)")
 _ROLE_HELP = ("the ECU node the roles are relative to: a message it sends is TX, one whose signals it "

@@ -13,7 +13,7 @@ from pathlib import Path
 import bincopy
 
 from workbench.errors import InputError
-from workbench.fileio import atomic_write_text
+from workbench.fileio import read_input, write_output
 
 ERASED = 0xFF
 
@@ -96,7 +96,7 @@ class MemoryImage:
         """Write the image atomically; ``.hex``/``.ihex`` gives Intel HEX, anything else S-records."""
         path = Path(path)
         text = self.to_ihex() if path.suffix.lower() in (".hex", ".ihex") else self.to_srec()
-        atomic_write_text(path, text)
+        write_output(path, text.encode("ascii"))
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, MemoryImage) and self.segments == other.segments
@@ -111,12 +111,7 @@ def load_image(path: str | Path) -> MemoryImage:
     :raises InputError: the file is missing or malformed; the message names ``path:line``.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="ascii", errors="replace")
-    except FileNotFoundError as exc:
-        raise InputError(f"{path}: no such file") from exc
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read ({exc.strerror})") from exc
+    text = read_input(path, "an S-record or Intel HEX file").decode("ascii", errors="replace")
     first = next((line.strip() for line in text.splitlines() if line.strip()), "")
     if first.startswith("S"):
         add = "add_srec"

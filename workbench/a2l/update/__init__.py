@@ -18,7 +18,7 @@ import numpy as np
 
 from workbench.a2l.addressed import KEYWORDS, AddressedObjects
 from workbench.a2l.document import A2lDocument, load
-from workbench.a2l.edits import Edit, Edits, indentation_of, newline_bytes, write_file, write_source
+from workbench.a2l.edits import Edit, Edits, indentation_of, newline_bytes, write_source
 from workbench.a2l.epk import epk_edits, read_elf_epk
 from workbench.a2l.grammar import MAX_ADDRESS
 from workbench.a2l.includes import includes_not_found_from
@@ -28,6 +28,7 @@ from workbench.a2l.update.typecheck import TypeChecker
 from workbench.a2l.values import format_ints_like, int_or_none, int_values
 from workbench.elf.debugdata import DebugData
 from workbench.errors import WorkbenchError
+from workbench.fileio import write_output
 from workbench.findings import Finding, Report, Severity, summarize
 from workbench.progress import Progress, report as report_progress
 
@@ -142,7 +143,7 @@ def update_file(a2l: str | Path, elf: str | Path, output: str | Path, *, mode: U
     write_source(doc.source, result.data, output)
     if includes is IncludeMode.UPDATE:
         for path, data in result.included.items():
-            write_file(path, data)
+            write_output(path, data)
     if includes is not IncludeMode.MERGE:
         result.report.extend(includes_not_found_from(doc, Path(output)))
     return result.report
