@@ -201,6 +201,12 @@ def _check_terminated(data: bytes, buffer: np.ndarray, starts: np.ndarray, ends:
         raise source_map.error(f"unterminated {what}", int(starts[first]))
 
 
+def shown(raw: bytes, limit: int = 40) -> str:
+    """A token as an error message quotes it: decoded byte for byte, cut to ``limit`` characters."""
+    text = raw.decode("latin-1")
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
 def _escaped_quote_at_end(data: bytes, start: int, end: int) -> bool:
     """True when the closing quote the regex stopped at is really an escaped one (``\\"`` at EOF)."""
     backslashes = 0

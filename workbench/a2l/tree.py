@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from workbench.a2l.source import SourceMap
-from workbench.a2l.tokens import Tokens
+from workbench.a2l.tokens import Tokens, shown
 
 _IDENT_START = np.zeros(256, dtype=bool)
 _IDENT_START[list(b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_")] = True
@@ -57,7 +57,7 @@ def find_directives(tokens: Tokens, source_map: SourceMap) -> tuple[np.ndarray, 
         known = np.concatenate((begins, ends, includes))
         stray = int(np.setdiff1d(slash, known)[0])
         raise source_map.error(
-            f"unexpected '{_shown(tokens.raw(stray))}' (expected /begin, /end or /include)",
+            f"unexpected '{shown(tokens.raw(stray))}' (expected /begin, /end or /include)",
             tokens.starts_list[stray],
         )
     return begins, ends, includes
@@ -145,8 +145,3 @@ def _diagnose(tokens: Tokens, events: np.ndarray, signs: np.ndarray, source_map:
     if stack:
         keyword, offset = stack[-1]
         raise source_map.error(f"/begin {keyword} is never closed (missing /end {keyword})", offset)
-
-
-def _shown(raw: bytes, limit: int = 40) -> str:
-    text = raw.decode("latin-1")
-    return text if len(text) <= limit else text[: limit - 3] + "..."

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from workbench.a2l import grammar
+from workbench.a2l.tokens import shown
 from workbench.a2l.tree import first_of_each
 from workbench.a2l.values import FLOAT_RE, IDENT_RE, INT_RE, int_or_none
 from workbench.errors import A2lParseError
@@ -180,7 +181,7 @@ class _Validator:
             name = raw.decode("latin-1")
             if kinds is None:
                 if name not in grammar.OPTIONS and not IDENT_RE.fullmatch(raw):
-                    raise self.doc.error(f"unexpected '{_shown(raw)}' in {keyword} (a keyword expected)", token)
+                    raise self.doc.error(f"unexpected '{shown(raw)}' in {keyword} (a keyword expected)", token)
                 what = "unknown keyword" if name not in grammar.OPTIONS else "keyword"
                 raise self.doc.error(f"{what} {name} is not allowed in {keyword}", token)
             position += 1
@@ -194,7 +195,7 @@ class _Validator:
             position = self._check_params(name, kinds, own, position, end_token)
 
     def _kind_error(self, kind: str, token: int, raw: bytes, context: str) -> A2lParseError:
-        found = "a string" if raw[:1] == b'"' else f"'{_shown(raw)}'"
+        found = "a string" if raw[:1] == b'"' else f"'{shown(raw)}'"
         if kind in ("int", "float") and raw[:1] != b'"' and _looks_numeric(raw):
             return self.doc.error(f"{context}: bad number {found} ({_KIND_NAMES[kind]} expected)", token)
         return self.doc.error(f"{context}: {_KIND_NAMES[kind]} expected, found {found}", token)
@@ -206,7 +207,7 @@ class _Validator:
             raw = self.raw(token)
             kinds = grammar.TOP_LEVEL_OPTIONS.get(raw.decode("latin-1"))
             if kinds is None:
-                raise self.doc.error(f"unexpected '{_shown(raw)}' at the top level", token)
+                raise self.doc.error(f"unexpected '{shown(raw)}' at the top level", token)
             position = self._check_params(raw.decode("latin-1"), kinds, own, position + 1, token)
 
 
@@ -231,8 +232,3 @@ def _placement_problem(parent: str | None, keyword: str) -> str | None:
 
 def _looks_numeric(raw: bytes) -> bool:
     return raw[:1] in b"0123456789+-." and len(raw) > 0
-
-
-def _shown(raw: bytes, limit: int = 40) -> str:
-    text = raw.decode("latin-1")
-    return text if len(text) <= limit else text[: limit - 3] + "..."
