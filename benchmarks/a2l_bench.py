@@ -120,14 +120,14 @@ def main() -> None:
     for name, seconds, peak, ratio in rows:
         print(f"{name:46s} {seconds:8.3f} {peak:13.0f} {'' if ratio is None else f'{ratio:6.2f}x':>7s}")
 
-    from workbench.a2l import load
+    from workbench.a2l import load_a2l
     from workbench.a2l.update import update
     from workbench.elf.debugdata import DebugData
 
-    doc = load(a2l, validate=False)
+    doc = load_a2l(a2l, validate=False)
     library = [
-        ("load (structure only)", lambda: load(a2l, validate=False)),
-        ("load + full validation", lambda: load(a2l)),
+        ("load (structure only)", lambda: load_a2l(a2l, validate=False)),
+        ("load + full validation", lambda: load_a2l(a2l)),
         ("DWARF index, no cache", lambda: DebugData(elf, use_cache=False)),
         ("DWARF index from the cache", lambda: DebugData(elf, cache_dir=cache)),
     ]

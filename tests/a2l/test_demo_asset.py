@@ -10,7 +10,7 @@ from elf_oracle import PyelftoolsOracle
 from pya2l_oracle import pya2l_import
 
 from workbench import demo
-from workbench.a2l import load
+from workbench.a2l import load_a2l
 from workbench.a2l.merge import merge_files
 from workbench.a2l.reports import UpdateMode
 from workbench.a2l.update import update_file
@@ -34,7 +34,7 @@ def oracle():
 
 
 def test_every_address_is_the_elf_symbols_address(oracle):
-    doc = load(demo.a2l())
+    doc = load_a2l(demo.a2l())
     checked = 0
     for keyword, index in (("MEASUREMENT", None), ("CHARACTERISTIC", 3), ("AXIS_PTS", 2)):
         for block in doc.objects(keyword):
@@ -48,7 +48,7 @@ def test_every_address_is_the_elf_symbols_address(oracle):
 
 
 def test_epk_matches_the_elf(oracle):
-    doc = load(demo.a2l())
+    doc = load_a2l(demo.a2l())
     epk = oracle.elf.get_section_by_name(".epk")
     assert doc.addr_epk() == epk["sh_addr"]
     assert doc.epk().encode() == epk.data().rstrip(b"\0")
@@ -57,4 +57,4 @@ def test_epk_matches_the_elf(oracle):
 def test_pya2ldb_imports_it_without_errors():
     counts = pya2l_import(demo.a2l())
     assert (counts["MEASUREMENT"], counts["CHARACTERISTIC"], counts["AXIS_PTS"]) == (
-        len(load(demo.a2l()).objects("MEASUREMENT")), len(load(demo.a2l()).objects("CHARACTERISTIC")), 2)
+        len(load_a2l(demo.a2l()).objects("MEASUREMENT")), len(load_a2l(demo.a2l()).objects("CHARACTERISTIC")), 2)

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from workbench.a2l import load
+from workbench.a2l import load_a2l
 from workbench.a2l.merge import merge_files
 from workbench.a2l.reports import ConflictPolicy, IncludeMode
 from workbench.a2l.update import update_file
@@ -67,7 +67,7 @@ def test_update_includes_rewrites_the_included_file_in_its_own_encoding_and_newl
     assert (project / "XCP.aml").read_text() == AML  # unchanged files are not rewritten
     assert b'/include "objects/signals.a2l"' in (project / "main.a2l").read_bytes()
     assert [f.file.endswith("signals.a2l") for f in report.of_kind("include-updated")] == [True]
-    assert load(project / "main.a2l").objects("MEASUREMENT")[2].option("ECU_ADDRESS") is not None
+    assert load_a2l(project / "main.a2l").objects("MEASUREMENT")[2].option("ECU_ADDRESS") is not None
 
 
 def test_merge_includes_writes_everything_inline(project):
@@ -135,7 +135,7 @@ def test_merge_inlines_by_default_and_keeps_the_masters_includes_when_asked(frag
     text = out.read_text()
     assert text.startswith(MASTER.split("  /end MODULE")[0]) and text.count("/include") == 2
     assert "/begin MEASUREMENT m" in text and "COMPU_METHOD CM" not in text  # the fragment's copy: identical, left out
-    doc = load(out)
+    doc = load_a2l(out)
     assert [b.name for b in doc.objects("COMPU_METHOD")] == ["CM"] and [b.name for b in doc.objects("MEASUREMENT")] == ["m"]
     assert report.of_kind("duplicate-identical") and not report.of_kind("include-not-found-from-output")
 

@@ -4,7 +4,7 @@ import codecs
 
 import pytest
 
-from workbench.a2l import load, loads
+from workbench.a2l import load_a2l, load_a2l_string
 from workbench.errors import A2lParseError
 
 HEAD = 'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n'  # lines 1-3
@@ -38,7 +38,7 @@ CASES = [
 @pytest.mark.parametrize("body, message, line, column", CASES, ids=[c[1][:40] for c in CASES])
 def test_malformed_text_names_line_and_column(body, message, line, column):
     with pytest.raises(A2lParseError) as info:
-        loads(HEAD + body + TAIL, "bad.a2l")
+        load_a2l_string(HEAD + body + TAIL, "bad.a2l")
     error = info.value
     assert message in error.reason
     assert (error.path, error.line, error.column) == ("bad.a2l", line, column), str(error)
@@ -46,21 +46,21 @@ def test_malformed_text_names_line_and_column(body, message, line, column):
 
 
 def test_good_text_parses():
-    doc = loads(HEAD + GOOD_MEASUREMENT + TAIL)
+    doc = load_a2l_string(HEAD + GOOD_MEASUREMENT + TAIL)
     assert [b.name for b in doc.objects("MEASUREMENT")] == ["m"]
-    leading_zero = loads(HEAD + '    /begin COMPU_VTAB V "" TAB_VERB 02 0 "a" 1 "b" /end COMPU_VTAB\n' + TAIL)
+    leading_zero = load_a2l_string(HEAD + '    /begin COMPU_VTAB V "" TAB_VERB 02 0 "a" 1 "b" /end COMPU_VTAB\n' + TAIL)
     assert leading_zero.objects("COMPU_VTAB")[0].name == "V"  # an A2L integer may start with 0 (not octal)
 
 
 def test_junk_at_the_top_level():
     with pytest.raises(A2lParseError, match="unexpected 'hello' at the top level") as info:
-        loads("ASAP2_VERSION 1 71\nhello\n")
+        load_a2l_string("ASAP2_VERSION 1 71\nhello\n")
     assert (info.value.line, info.value.column) == (2, 1)
 
 
 def test_unclosed_block_at_end_of_file():
     with pytest.raises(A2lParseError, match="/begin PROJECT is never closed") as info:
-        loads('ASAP2_VERSION 1 71\n\n  /begin PROJECT P ""\n')
+        load_a2l_string('ASAP2_VERSION 1 71\n\n  /begin PROJECT P ""\n')
     assert (info.value.line, info.value.column) == (3, 3)
 
 
@@ -68,7 +68,7 @@ def test_invalid_utf8_after_a_bom(tmp_path):
     path = tmp_path / "bom.a2l"
     path.write_bytes(codecs.BOM_UTF8 + b'ASAP2_VERSION 1 71\n/begin PROJECT P "Gr\xf6\xdfe"\n')
     with pytest.raises(A2lParseError, match="invalid UTF-8 byte 0xF6 .*UTF-8 BOM") as info:
-        load(path)
+        load_a2l(path)
     assert (info.value.line, info.value.column) == (2, 21)
 
 
@@ -76,7 +76,7 @@ def test_damaged_utf16_names_the_position(tmp_path):
     path = tmp_path / "utf16.a2l"
     path.write_bytes(codecs.BOM_UTF16_LE + "ASAP2_VERSION 1 71\n/begin".encode("utf-16-le") + b"\x00\xdc")
     with pytest.raises(A2lParseError, match="invalid UTF-16-LE data") as info:
-        load(path)
+        load_a2l(path)
     assert (info.value.line, info.value.column) == (2, 7)
 
 
@@ -84,9 +84,9 @@ def test_binary_file(tmp_path):
     path = tmp_path / "program.a2l"
     path.write_bytes(b"ASAP2_VERSION 1 71\n/begin\x01\x00\x00\x00")
     with pytest.raises(A2lParseError, match="binary file") as info:
-        load(path)
+        load_a2l(path)
     assert (info.value.line, info.value.column) == (2, 8)
     path.write_bytes(b"\x7fELF\x02\x01\x01\x00\x00\x00")
     with pytest.raises(A2lParseError, match="this is an ELF file, not an A2L file") as info:
-        load(path)
+        load_a2l(path)
     assert (info.value.line, info.value.column) == (1, 1)

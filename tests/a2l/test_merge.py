@@ -3,7 +3,7 @@
 import pytest
 from pya2l_oracle import pya2l_import
 
-from workbench.a2l import load, loads
+from workbench.a2l import load_a2l, load_a2l_string
 from workbench.a2l.merge import MergeFailed, merge, merge_files
 from workbench.a2l.reports import ConflictPolicy
 
@@ -37,7 +37,7 @@ OTHER_CM = '    /begin COMPU_METHOD CM "other" LINEAR "%6.2" "" COEFFS_LINEAR 2 
 
 
 def run(fragments, policy=ConflictPolicy.ERROR, master=MASTER):
-    return merge(loads(master, "master.a2l"), [loads(text, f"f{i}.a2l") for i, text in enumerate(fragments)],
+    return merge(load_a2l_string(master, "master.a2l"), [load_a2l_string(text, f"f{i}.a2l") for i, text in enumerate(fragments)],
                  policy=policy)
 
 
@@ -45,7 +45,7 @@ def test_fragment_content_goes_verbatim_into_the_masters_module():
     body = "    /* sensors */\n" + measurement("a") + SAME_CM + measurement("b")
     result = run([fragment("Sensors", body)])
     text = result.data.decode()
-    doc = loads(text)
+    doc = load_a2l_string(text)
     assert [b.name for b in doc.objects("MEASUREMENT")] == ["a", "b"]
     assert len(doc.objects("COMPU_METHOD")) == 1  # identical: merged silently
     assert "    /* ---- merged from f0.a2l ---- */\n    /* sensors */\n    /begin MEASUREMENT a" in text
@@ -72,7 +72,7 @@ def test_conflict_is_an_error_by_default():
 
 def test_keep_first_keeps_the_masters_definition():
     result = run([fragment("A", OTHER_CM + measurement("a"))], ConflictPolicy.KEEP_FIRST)
-    doc = loads(result.data.decode())
+    doc = load_a2l_string(result.data.decode())
     (cm,) = doc.objects("COMPU_METHOD")
     assert doc.text(cm.args[1]) == "shared"
     assert result.report.of_kind("kept-first")[0].name == "CM"
@@ -81,7 +81,7 @@ def test_keep_first_keeps_the_masters_definition():
 def test_keep_last_replaces_the_master_and_earlier_fragments():
     result = run([fragment("A", OTHER_CM + measurement("x", upper=1)), fragment("B", measurement("x", upper=2))],
                  ConflictPolicy.KEEP_LAST)
-    doc = loads(result.data.decode())
+    doc = load_a2l_string(result.data.decode())
     (cm,) = doc.objects("COMPU_METHOD")
     assert doc.text(cm.args[1]) == "other"  # replaced in the master, in place
     (x,) = doc.objects("MEASUREMENT")
@@ -92,7 +92,7 @@ def test_keep_last_replaces_the_master_and_earlier_fragments():
 def test_keep_last_twice_over_a_master_definition_leaves_one_the_last():
     third = OTHER_CM.replace('"other"', '"third"')
     result = run([fragment("A", OTHER_CM), fragment("B", third + measurement("b"))], ConflictPolicy.KEEP_LAST)
-    doc = loads(result.data.decode())
+    doc = load_a2l_string(result.data.decode())
     (cm,) = doc.objects("COMPU_METHOD")
     assert doc.text(cm.args[1]) == "third" and cm.position[1] == 9  # in the master's place
     assert [f.name for f in result.report.of_kind("kept-last")] == ["CM", "CM"]
@@ -101,7 +101,7 @@ def test_keep_last_twice_over_a_master_definition_leaves_one_the_last():
 def test_rename_renames_the_definition_and_the_fragments_references():
     body = OTHER_CM + measurement("a") + measurement("x", upper=7)
     result = run([fragment("A", measurement("x")), fragment("B", body)], ConflictPolicy.RENAME)
-    doc = loads(result.data.decode())
+    doc = load_a2l_string(result.data.decode())
     names = sorted(b.name for b in doc.objects("COMPU_METHOD"))
     assert names == ["CM", "CM_B"]
     by_name = {b.name: b for b in doc.objects("MEASUREMENT")}
@@ -120,7 +120,7 @@ def test_rename_follows_references_into_definitions_that_only_looked_identical()
     a = fragment("A", method + vtab.format("off") + measurement("a", "CM_V"))
     b = fragment("B", method + vtab.format("OFF") + measurement("b", "CM_V"))  # CM_V's tokens equal A's
     result = run([a, b], ConflictPolicy.RENAME)
-    doc = loads(result.data.decode())
+    doc = load_a2l_string(result.data.decode())
     tables = {m.name: doc.text(m.option("COMPU_TAB_REF")[0]) for m in doc.objects("COMPU_METHOD") if m.name != "CM"}
     assert tables == {"CM_V": "V", "CM_V_B": "V_B"}
     by_name = {m.name: doc.text(m.args[3]) for m in doc.objects("MEASUREMENT")}
@@ -139,7 +139,7 @@ def test_nested_includes_in_master_and_fragments(tmp_path):
     (tmp_path / "frag_objects.a2l").write_text(measurement("m", "CM0") + '    /include "inc/more.a2l"\n')
     out = tmp_path / "out.a2l"
     report = merge_files(tmp_path / "master.a2l", [tmp_path / "frag.a2l"], out)
-    doc = load(out)
+    doc = load_a2l(out)
     assert b"/include" not in out.read_bytes()
     assert [b.name for b in doc.objects("MEASUREMENT")] == ["m"] and len(doc.objects("UNIT")) == 1
     assert report.of_kind("includes-inlined") and report.of_kind("duplicate-identical")[0].name == "U"
@@ -164,4 +164,4 @@ def test_pya2ldb_accepts_the_merged_demo(tmp_path):
     out = tmp_path / "merged.a2l"
     merge_files(demo.master_a2l(), demo.fragment_a2ls(), out)
     counts = pya2l_import(out)
-    assert counts["MEASUREMENT"] == sum(len(load(p).objects("MEASUREMENT")) for p in demo.fragment_a2ls())
+    assert counts["MEASUREMENT"] == sum(len(load_a2l(p).objects("MEASUREMENT")) for p in demo.fragment_a2ls())

@@ -3,7 +3,7 @@
 import pytest
 
 from workbench import demo
-from workbench.a2l import load, loads
+from workbench.a2l import load_a2l, load_a2l_string
 from workbench.a2l.ifdata import Word, read_if_data
 from workbench.a2l.xcp import XcpDaqListCanId, read_xcp_config
 from workbench.errors import A2lParseError
@@ -11,7 +11,7 @@ from workbench.errors import A2lParseError
 
 @pytest.fixture
 def config(fixtures):
-    return read_xcp_config(load(fixtures / "xcp_ecu.a2l"))
+    return read_xcp_config(load_a2l(fixtures / "xcp_ecu.a2l"))
 
 
 def test_protocol_layer(config):
@@ -72,14 +72,14 @@ def test_ethernet(config):
 
 
 def test_mod_par_accessors(fixtures):
-    doc = load(fixtures / "xcp_ecu.a2l")
+    doc = load_a2l(fixtures / "xcp_ecu.a2l")
     assert doc.epk() == "EPK_2024_01" and doc.addr_epk() == 0x8000
     assert [(s.name, s.memory_type, s.address, s.size) for s in doc.memory_segments()] == [
         ("Code", "FLASH", 0, 0x8000), ("Cal", "RAM", 0x20000000, 0x1000)]
 
 
 def test_generic_if_data_tree(fixtures):
-    doc = load(fixtures / "xcp_ecu.a2l")
+    doc = load_a2l(fixtures / "xcp_ecu.a2l")
     (if_data,) = doc.module().children_named("IF_DATA")
     tree = read_if_data(if_data)
     assert tree.values == ("XCP",) and isinstance(tree.values[0], Word)
@@ -90,7 +90,7 @@ def test_generic_if_data_tree(fixtures):
 
 
 def test_demo_master_states_the_demo_contract():
-    config = read_xcp_config(load(demo.master_a2l()))
+    config = read_xcp_config(load_a2l(demo.master_a2l()))
     assert (config.can.can_id_master, config.can.can_id_slave) == (0x7F0, 0x7F1)
     assert not config.can.can_id_master_is_extended
     assert config.can.baudrate == 1_000_000 and config.max_cto == config.max_dto == 8
@@ -105,7 +105,7 @@ def test_demo_master_states_the_demo_contract():
 
 
 def test_missing_if_data_is_an_error():
-    doc = loads('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n/begin MODULE M ""\n/end MODULE\n/end PROJECT\n')
+    doc = load_a2l_string('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n/begin MODULE M ""\n/end MODULE\n/end PROJECT\n')
     with pytest.raises(A2lParseError, match="no IF_DATA XCP") as info:
         read_xcp_config(doc)
     assert info.value.line == 3

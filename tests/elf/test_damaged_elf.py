@@ -4,7 +4,7 @@ import random
 from collections import Counter
 from pathlib import Path
 
-from workbench.a2l import load
+from workbench.a2l import load_a2l
 from workbench.a2l.update import update
 from workbench.elf.debugdata import DebugData
 from workbench.elf.symbols import ElfSymbols
@@ -26,7 +26,7 @@ def regions(path: Path) -> dict[str, tuple[int, int]]:
 
 
 def test_damaged_elf_updates_or_raises_input_error(tmp_path):
-    a2l = load(A2L)
+    a2l = load_a2l(A2L)
     outcomes = Counter()
     for elf in ELFS:
         source = (FIXTURES / elf).read_bytes()

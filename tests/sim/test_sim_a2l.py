@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 from mini_ecu import XcpProbe
 
-from workbench.a2l import load, read_xcp_config
+from workbench.a2l import load_a2l, read_xcp_config
 from workbench.errors import InputError
 from workbench.sim.demo_ecu import DemoFiles, build_demo_ecu
 from workbench.sim.memory_map import HDS9
@@ -20,7 +20,7 @@ UNIT_SECONDS = {0b0100: 10e-6}
 
 @pytest.fixture(scope="module")
 def config():
-    return read_xcp_config(load(DemoFiles.defaults().a2l))
+    return read_xcp_config(load_a2l(DemoFiles.defaults().a2l))
 
 
 @pytest.fixture(scope="module")
@@ -113,7 +113,7 @@ def test_programming(config, slave):
 
 
 def test_can_ids_and_epk(config):
-    doc = load(DemoFiles.defaults().a2l)
+    doc = load_a2l(DemoFiles.defaults().a2l)
     demo = build_demo_ecu()
     params = demo.ecu.params
     assert (params.can_id_master, params.can_id_slave, params.baudrate) == (

@@ -1,6 +1,6 @@
 """A2L files: a fast reader that keeps the original text, merge, update from ELF, EPK, check, diff.
 
-``load(path)`` gives an :class:`A2lDocument` (the file's bytes plus token and block
+``load_a2l(path)`` gives an :class:`A2lDocument` (the file's bytes plus token and block
 indexes); ``read_xcp_config(doc)`` the XCP settings of its IF_DATA XCP; ``merge``,
 ``update``, ``check`` and ``diff`` (and their ``*_file`` forms) are the tool chain, each
 returning its findings as data (:class:`~workbench.findings.Report` of
@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 _EXPORTS = {
     "workbench.a2l.check": ("check", "check_file"),
     "workbench.a2l.diff": ("DiffEntry", "FieldChange", "diff", "diff_files"),
-    "workbench.a2l.document": ("A2lDocument", "Block", "MemorySegment", "load", "loads"),
+    "workbench.a2l.document": ("A2lDocument", "Block", "MemorySegment", "load_a2l", "load_a2l_string"),
     "workbench.a2l.epk": ("ElfEpk", "read_elf_epk"),
     "workbench.a2l.ifdata": ("IfDataNode", "Word", "read_if_data"),
     "workbench.a2l.merge": ("MergeFailed", "MergeResult", "merge", "merge_files"),
@@ -48,7 +48,7 @@ def __dir__() -> list[str]:
 if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerly
     from workbench.a2l.check import check, check_file
     from workbench.a2l.diff import DiffEntry, FieldChange, diff, diff_files
-    from workbench.a2l.document import A2lDocument, Block, MemorySegment, load, loads
+    from workbench.a2l.document import A2lDocument, Block, MemorySegment, load_a2l, load_a2l_string
     from workbench.a2l.epk import ElfEpk, read_elf_epk
     from workbench.a2l.ifdata import IfDataNode, Word, read_if_data
     from workbench.a2l.merge import MergeFailed, MergeResult, merge, merge_files

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from workbench.a2l.addressed import AddressedObjects
 from workbench.a2l.datatypes import DATATYPES
-from workbench.a2l.document import A2lDocument, Block, load
+from workbench.a2l.document import A2lDocument, Block, load_a2l
 from workbench.a2l.grammar import MAX_ADDRESS, NAMESPACES
 from workbench.a2l.reports import finding_at
 from workbench.a2l.validate import validate_document
@@ -67,7 +67,7 @@ class _Placed:
 def check_file(a2l: str | Path, elf: str | Path | None = None, *, cache_dir: str | Path | None = None,
                use_cache: bool = True, progress: Progress | None = None) -> Report:
     """Load ``a2l`` (syntax errors become findings where the file can still be read) and check it."""
-    doc = load(a2l, validate=False)
+    doc = load_a2l(a2l, validate=False)
     if elf is None:
         return check(doc, progress=progress)
     with DebugData(elf, cache_dir=cache_dir, use_cache=use_cache) as debug:

@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from workbench.a2l.document import A2lDocument, Block, load
+from workbench.a2l.document import A2lDocument, Block, load_a2l
 from workbench.a2l.grammar import NAMESPACES
 from workbench.a2l.values import is_number, parse_number
 
@@ -62,7 +62,7 @@ class _Object:
 
 
 def diff_files(a: str | Path, b: str | Path) -> list[DiffEntry]:
-    return diff(load(a), load(b))
+    return diff(load_a2l(a), load_a2l(b))
 
 
 def diff(a: A2lDocument, b: A2lDocument) -> list[DiffEntry]:

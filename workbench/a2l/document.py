@@ -1,6 +1,6 @@
 """An A2L file held as its original bytes plus token and block indexes.
 
-:func:`load` reads a file (splicing ``/include``\\ s), tokenizes, pairs the blocks and
+:func:`load_a2l` reads a file (splicing ``/include``\\ s), tokenizes, pairs the blocks and
 validates them against the ASAP2 keyword table. Nothing is converted to objects up
 front: a :class:`Block` is a light view (document + row number) and values are
 parsed when asked for, so reading a 10 MB file costs a fraction of a second and
@@ -22,10 +22,10 @@ from workbench.a2l.tree import BlockTable, find_directives, first_of_each, parse
 from workbench.a2l.values import is_int, is_number, parse_int, parse_number, parse_string
 from workbench.errors import A2lParseError
 
-__all__ = ["A2lDocument", "Block", "MemorySegment", "load", "loads"]
+__all__ = ["A2lDocument", "Block", "MemorySegment", "load_a2l", "load_a2l_string"]
 
 
-def load(path: str | Path, *, validate: bool = True) -> "A2lDocument":
+def load_a2l(path: str | Path, *, validate: bool = True) -> "A2lDocument":
     """Read the A2L file at ``path`` (with its ``/include``\\ s spliced in).
 
     ``validate`` checks every known block against the ASAP2 keyword table (parameter
@@ -35,7 +35,7 @@ def load(path: str | Path, *, validate: bool = True) -> "A2lDocument":
     return A2lDocument.from_source(read_source(path), validate=validate)
 
 
-def loads(text: str, path: str | Path | None = None, *, validate: bool = True) -> "A2lDocument":
+def load_a2l_string(text: str, path: str | Path | None = None, *, validate: bool = True) -> "A2lDocument":
     """Parse A2L text; ``path`` names it in errors and anchors relative ``/include``\\ s."""
     return A2lDocument.from_source(source_from_text(text, path), validate=validate)
 

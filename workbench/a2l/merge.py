@@ -17,7 +17,7 @@ from typing import NamedTuple
 
 from workbench.a2l import grammar
 from workbench.a2l.grammar import NAMESPACES
-from workbench.a2l.document import A2lDocument, Block, load
+from workbench.a2l.document import A2lDocument, Block, load_a2l
 from workbench.a2l.edits import Edit, Edits, apply_edits, newline_bytes, remove_block, replace_token, write_source
 from workbench.a2l.includes import includes_not_found_from
 from workbench.a2l.reports import ConflictPolicy, finding_at
@@ -105,8 +105,8 @@ def merge_files(master: str | Path, fragments: list[str | Path], output: str | P
                 progress: Progress | None = None) -> Report:
     """Load (and validate) the inputs, merge, and write ``output`` atomically. The output's block
     structure is parsed again before writing, as a guard against a merge that broke it."""
-    master_doc = load(master)
-    result = merge(master_doc, [load(path) for path in fragments], policy=policy, keep_includes=keep_includes,
+    master_doc = load_a2l(master)
+    result = merge(master_doc, [load_a2l(path) for path in fragments], policy=policy, keep_includes=keep_includes,
                    progress=progress)
     A2lDocument.from_source(_as_source(master_doc, result.data), validate=False)
     write_source(master_doc.source, result.data, output)

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from workbench import demo
 from workbench.a2l import A2lDocument, XcpConfig, read_xcp_config
-from workbench.a2l import load as load_a2l
+from workbench.a2l import load_a2l
 from workbench.can.dbc_file import DbcFile, load_dbc
 from workbench.elf import ElfSymbols
 from workbench.errors import InputError

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from workbench.a2l.addressed import KEYWORDS, AddressedObjects
-from workbench.a2l.document import A2lDocument, load
+from workbench.a2l.document import A2lDocument, load_a2l
 from workbench.a2l.edits import Edit, Edits, indentation_of, newline_bytes, write_source
 from workbench.a2l.epk import epk_edits, read_elf_epk
 from workbench.a2l.grammar import MAX_ADDRESS
@@ -136,7 +136,7 @@ def update_file(a2l: str | Path, elf: str | Path, output: str | Path, *, mode: U
     checked; ``validate`` also checks the rest against the ASAP2 grammar (as ``check``
     does), which costs about a third of the time of a large update.
     """
-    doc = load(a2l, validate=validate)
+    doc = load_a2l(a2l, validate=validate)
     with DebugData(elf, cache_dir=cache_dir, use_cache=use_cache, progress=progress) as debug:
         result = update(doc, debug, mode=mode, types=types, epk=epk, epk_symbol=epk_symbol, includes=includes,
                         report_addresses=report_addresses, progress=progress)
