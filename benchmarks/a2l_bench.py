@@ -121,7 +121,7 @@ def main() -> None:
         print(f"{name:46s} {seconds:8.3f} {peak:13.0f} {'' if ratio is None else f'{ratio:6.2f}x':>7s}")
 
     from workbench.a2l import load_a2l
-    from workbench.a2l.update import update
+    from workbench.a2l.update import update_document
     from workbench.elf.debugdata import DebugData
 
     doc = load_a2l(a2l, validate=False)
@@ -132,7 +132,7 @@ def main() -> None:
         ("DWARF index from the cache", lambda: DebugData(elf, cache_dir=cache)),
     ]
     debug = DebugData(elf, cache_dir=cache)
-    library.append(("update() in memory", lambda: update(doc, debug, report_addresses=False)))
+    library.append(("update_document() in memory", lambda: update_document(doc, debug, report_addresses=False)))
     print(f"\n{'library call':40s} {'best s':>8s} {'tracemalloc peak MiB':>21s}")
     for name, function in library:
         seconds, peak = in_process(function, args.repeat)

@@ -1,7 +1,11 @@
 """The package as a user meets it: the command, its groups, the import boundary."""
 
+import importlib
+import json
+import pkgutil
 import subprocess
 import sys
+import types
 
 import pytest
 
@@ -59,3 +63,20 @@ def test_a_closed_pipe_ends_quietly(tmp_path):
     proc = subprocess.run(f"{sys.executable} {script} | head -1", shell=True, capture_output=True, text=True)
     assert proc.stdout == "line 0\n"
     assert proc.stderr == ""
+
+
+@pytest.mark.parametrize("package", ["workbench.a2l", "workbench.can", "workbench.elf", "workbench.image", "workbench.sim"])
+def test_every_export_resolves_and_no_submodule_shadows_it(package):
+    module = importlib.import_module(package)
+    for info in pkgutil.iter_modules(module.__path__):  # a submodule's first import sets it on its package
+        importlib.import_module(f"{package}.{info.name}")
+    exported = {name: getattr(module, name, None) for name in module.__all__}
+    assert [name for name, value in exported.items() if value is None or isinstance(value, types.ModuleType)] == []
+
+
+def test_the_lazy_packages_load_no_heavy_library_until_a_name_is_used():
+    code = ("import json, sys, workbench, workbench.a2l, workbench.can, workbench.cli;"
+            "print(json.dumps(sorted({m.split('.')[0] for m in sys.modules} & "
+            "{'numpy', 'cantools', 'can', 'elftools', 'pyxcp', 'asammdf', 'pya2l', 'rich', 'bincopy'})))")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert json.loads(run.stdout) == []

@@ -4,7 +4,7 @@ from pathlib import Path
 
 from workbench import demo
 from workbench.a2l import load_a2l_string
-from workbench.a2l.check import check, check_file
+from workbench.a2l.check import check_document, check_file
 from workbench.elf.debugdata import DebugData
 
 ELF = Path(__file__).parents[1] / "elf" / "fixtures" / "types_dwarf5.elf"
@@ -33,7 +33,7 @@ TEXT = """ASAP2_VERSION 1 71
 
 
 def test_every_problem_is_found_with_its_position():
-    report = check(load_a2l_string(TEXT, "bad.a2l"))
+    report = check_document(load_a2l_string(TEXT, "bad.a2l"))
     found = {(f.kind, f.name, f.line, f.column) for f in report.findings}
     assert found == {
         ("undefined-reference", "CM_MISSING", 11, 39),
@@ -54,7 +54,7 @@ def test_every_problem_is_found_with_its_position():
 
 def test_syntax_problems_are_all_reported():
     text = TEXT.replace("ECU_ADDRESS 0x2010", "ECU_ADDRESS 0x20Z0").replace("FNC_VALUES 1 ULONG", "FNC_VALUE 1 ULONG")
-    syntax = [f for f in check(load_a2l_string(text, validate=False)).findings if f.kind == "syntax"]
+    syntax = [f for f in check_document(load_a2l_string(text, validate=False)).findings if f.kind == "syntax"]
     assert [(f.line, f.column) for f in syntax] == [(9, 29), (11, 70)]
     assert syntax[0].message == "unknown keyword FNC_VALUE is not allowed in RECORD_LAYOUT"
     assert "bad number '0x20Z0'" in syntax[1].message
@@ -65,7 +65,7 @@ def test_against_the_elf_addresses_and_symbols():
             '    /begin MEASUREMENT zsScalar "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1 ECU_ADDRESS 0x403004 /end MEASUREMENT\n'
             '    /begin MEASUREMENT gone "" UBYTE NO_COMPU_METHOD 1 0 0 1 ECU_ADDRESS 0x403000 /end MEASUREMENT\n'
             '  /end MODULE\n/end PROJECT\n')
-    report = check(load_a2l_string(text, "x.a2l"), DebugData(ELF, use_cache=False))
+    report = check_document(load_a2l_string(text, "x.a2l"), DebugData(ELF, use_cache=False))
     assert {(f.kind, f.name, f.line) for f in report.findings} == {
         ("address-mismatch", "zsScalar", 4), ("symbol-not-found", "gone", 5)}
     mismatch = report.of_kind("address-mismatch")[0]
@@ -79,5 +79,5 @@ def test_the_demo_a2l_is_clean_against_its_elf():
 
 def test_an_address_beyond_32_bits_is_an_error():
     text = TEXT.replace("ECU_ADDRESS 0x9000", "ECU_ADDRESS 0x1000000000000000000000")
-    (finding,) = check(load_a2l_string(text, "far.a2l")).of_kind("address-out-of-range")
+    (finding,) = check_document(load_a2l_string(text, "far.a2l")).of_kind("address-out-of-range")
     assert (finding.name, finding.line, finding.column) == ("nowhere", 14, 64)

@@ -1,7 +1,7 @@
 """diff: added, removed and changed objects with the fields that changed."""
 
 from workbench.a2l import load_a2l_string
-from workbench.a2l.diff import diff
+from workbench.a2l.diff import diff_documents
 
 A = """ASAP2_VERSION 1 71
 /begin PROJECT P ""
@@ -25,7 +25,7 @@ B = (A.replace("ECU_ADDRESS 0x20", "ECU_ADDRESS 0x000024")
 
 
 def test_object_level_changes():
-    entries = {(e.status, e.keyword, e.name): e for e in diff(load_a2l_string(A, "a.a2l"), load_a2l_string(B, "b.a2l"))}
+    entries = {(e.status, e.keyword, e.name): e for e in diff_documents(load_a2l_string(A, "a.a2l"), load_a2l_string(B, "b.a2l"))}
     assert set(entries) == {("changed", "MOD_PAR", "MOD_PAR"), ("changed", "MEASUREMENT", "moved"),
                             ("added", "MEASUREMENT", "new"), ("removed", "MEASUREMENT", "gone"),
                             ("changed", "CHARACTERISTIC", "c")}
@@ -36,10 +36,10 @@ def test_object_level_changes():
     assert [(c.field, c.old, c.new) for c in curve.changes] == [
         ("AXIS_DESCR[0].max_axis_points", "8", "9"), ("AXIS_DESCR[0].FORMAT", None, '"%4.1"')]
     assert entries[("removed", "MEASUREMENT", "gone")].old_location == "a.a2l:7:5"
-    assert diff(load_a2l_string(A), load_a2l_string(A)) == []
+    assert diff_documents(load_a2l_string(A), load_a2l_string(A)) == []
 
 
 def test_numbers_compare_by_value_nan_included():
     a = A.replace("UBYTE NO_COMPU_METHOD 1 0 0 255 ECU_ADDRESS 0x10", "UBYTE NO_COMPU_METHOD 1 0 NaN 255 ECU_ADDRESS 0x10")
     b = a.replace("NaN 255 ECU_ADDRESS 0x10", "nan 255.0 ECU_ADDRESS 16")
-    assert diff(load_a2l_string(a), load_a2l_string(b)) == []
+    assert diff_documents(load_a2l_string(a), load_a2l_string(b)) == []

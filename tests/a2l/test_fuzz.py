@@ -9,14 +9,14 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from workbench import demo
-from workbench.a2l.check import check
+from workbench.a2l.check import check_document
 from workbench.a2l.document import A2lDocument
 from workbench.a2l.source import decode_source
 from workbench.a2l.tokens import _OPAQUE, _simple_opaque_spans
-from workbench.a2l.diff import diff
-from workbench.a2l.merge import merge
+from workbench.a2l.diff import diff_documents
+from workbench.a2l.merge import merge_documents
 from workbench.a2l.reports import ConflictPolicy
-from workbench.a2l.update import update
+from workbench.a2l.update import update_document
 from workbench.a2l.xcp import read_xcp_config
 from workbench.elf.debugdata import DebugData
 from workbench.errors import A2lParseError, WorkbenchError
@@ -62,8 +62,8 @@ def test_mutated_files_parse_or_raise_a2l_parse_error(index, operations):
         return
     # a document that parsed can be used: every operation fails with our errors or not at all
     original = A2lDocument.from_source(decode_source(FILES[index].read_bytes(), FILES[index]))
-    for action in (lambda: check(doc), lambda: read_xcp_config(doc), lambda: update(doc, DEBUG, types=True),
-                   lambda: merge(MASTER, [doc], policy=ConflictPolicy.RENAME), lambda: diff(original, doc)):
+    for action in (lambda: check_document(doc), lambda: read_xcp_config(doc), lambda: update_document(doc, DEBUG, types=True),
+                   lambda: merge_documents(MASTER, [doc], policy=ConflictPolicy.RENAME), lambda: diff_documents(original, doc)):
         try:
             action()
         except WorkbenchError:

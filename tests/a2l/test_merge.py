@@ -4,7 +4,7 @@ import pytest
 from pya2l_oracle import pya2l_import
 
 from workbench.a2l import load_a2l, load_a2l_string
-from workbench.a2l.merge import MergeFailed, merge, merge_files
+from workbench.a2l.merge import MergeFailed, merge_documents, merge_files
 from workbench.a2l.reports import ConflictPolicy
 
 MASTER = """/* master */
@@ -37,7 +37,7 @@ OTHER_CM = '    /begin COMPU_METHOD CM "other" LINEAR "%6.2" "" COEFFS_LINEAR 2 
 
 
 def run(fragments, policy=ConflictPolicy.ERROR, master=MASTER):
-    return merge(load_a2l_string(master, "master.a2l"), [load_a2l_string(text, f"f{i}.a2l") for i, text in enumerate(fragments)],
+    return merge_documents(load_a2l_string(master, "master.a2l"), [load_a2l_string(text, f"f{i}.a2l") for i, text in enumerate(fragments)],
                  policy=policy)
 
 

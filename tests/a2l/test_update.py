@@ -9,7 +9,7 @@ from pya2l_oracle import pya2l_import
 
 from workbench.a2l import load_a2l, load_a2l_string
 from workbench.a2l.reports import UpdateMode
-from workbench.a2l.update import UpdateFailed, update, update_file
+from workbench.a2l.update import UpdateFailed, update_document, update_file
 from workbench.a2l.values import is_number
 from workbench.elf.debugdata import DebugData
 from workbench.elf.symbols import ElfSymbols
@@ -43,7 +43,7 @@ def addresses(doc):
 
 
 def test_every_address_comes_from_the_elf(source, debug):
-    result = update(load_a2l(source), debug)
+    result = update_document(load_a2l(source), debug)
     got = addresses(load_a2l_string(result.data.decode()))
     symtab = ElfSymbols(ELF).symbols
     assert got["zsScalar"] == symtab["zsScalar"].address
@@ -59,7 +59,7 @@ def test_every_address_comes_from_the_elf(source, debug):
 
 def test_only_changed_tokens_differ(source, debug):
     original = source.read_bytes().decode()
-    result = update(load_a2l(source), debug, epk=False)
+    result = update_document(load_a2l(source), debug, epk=False)
     matcher = difflib.SequenceMatcher(None, original.splitlines(), result.data.decode().splitlines(), autojunk=False)
     old_lines, new_lines = original.splitlines(), result.data.decode().splitlines()
     replaced, inserted = 0, []
@@ -81,7 +81,7 @@ def test_only_changed_tokens_differ(source, debug):
 
 
 def test_epk_string_and_address_from_the_elf(source, debug):
-    result = update(load_a2l(source), debug)
+    result = update_document(load_a2l(source), debug)
     doc = load_a2l_string(result.data.decode())
     epk_section = ElfSymbols(ELF).sections[".epk"]
     assert doc.epk() == "12000020250101" and doc.addr_epk() == epk_section.address
@@ -91,14 +91,14 @@ def test_epk_string_and_address_from_the_elf(source, debug):
 def test_epk_is_inserted_when_mod_par_lacks_it(debug):
     text = ('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n    /begin MOD_PAR "x"\n'
             '    /end MOD_PAR\n  /end MODULE\n/end PROJECT\n')
-    result = update(load_a2l_string(text), debug)
+    result = update_document(load_a2l_string(text), debug)
     doc = load_a2l_string(result.data.decode())
     assert doc.epk() == "12000020250101" and doc.addr_epk() == ElfSymbols(ELF).sections[".epk"].address
     assert b'    /begin MOD_PAR "x"\n      EPK "12000020250101"\n      ADDR_EPK 0x4020C0\n' in result.data
 
 
 def test_missing_symbols_are_kept_and_reported_by_default(source, debug):
-    result = update(load_a2l(source), debug)
+    result = update_document(load_a2l(source), debug)
     (missing,) = result.report.of_kind("symbol-not-found")
     assert (missing.name, missing.line, missing.block) == ("missing_var", 36, "MEASUREMENT")
     assert "not in types_dwarf5.elf" in missing.message
@@ -106,7 +106,7 @@ def test_missing_symbols_are_kept_and_reported_by_default(source, debug):
 
 
 def test_remove_missing_drops_the_object_and_its_references(source, debug):
-    result = update(load_a2l(source), debug, mode=UpdateMode.REMOVE_MISSING)
+    result = update_document(load_a2l(source), debug, mode=UpdateMode.REMOVE_MISSING)
     assert b"missing_var" not in result.data
     doc = load_a2l_string(result.data.decode())
     assert [t for t in doc.blocks_named("REF_MEASUREMENT")[0].args] and \
@@ -124,7 +124,7 @@ def test_strict_mode_fails_and_writes_nothing(source, tmp_path):
 
 
 def test_symtab_fallback_updates_plain_names_only(source):
-    result = update(load_a2l(source), DebugData(STRIPPED, use_cache=False))
+    result = update_document(load_a2l(source), DebugData(STRIPPED, use_cache=False))
     got = addresses(load_a2l_string(result.data.decode()))
     assert got["zsScalar"] == ElfSymbols(STRIPPED).symbols["zsScalar"].address
     missing = {f.name for f in result.report.of_kind("symbol-not-found")}
@@ -142,7 +142,7 @@ def test_types_correct_datatype_dims_bitmask_and_limits(debug):
             '    /end MEASUREMENT\n'
             '    /begin BLOB u "" 0x0 1 /end BLOB\n'
             '  /end MODULE\n/end PROJECT\n')
-    result = update(load_a2l_string(text), debug, types=True, epk=False)
+    result = update_document(load_a2l_string(text), debug, types=True, epk=False)
     doc = load_a2l_string(result.data.decode())
     vector, bits, outer = doc.objects("MEASUREMENT")
     assert [doc.text(t) for t in vector.args[2:]] == ["UWORD", "NO_COMPU_METHOD", "1", "0", "0", "65535"]
@@ -207,7 +207,7 @@ WRAP = 'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n{}  /end 
 ])
 def test_update_checks_the_tokens_it_reads(debug, body, message, line, column):
     with pytest.raises(A2lParseError) as info:
-        update(load_a2l_string(WRAP.format(body), "u.a2l", validate=False), debug)
+        update_document(load_a2l_string(WRAP.format(body), "u.a2l", validate=False), debug)
     assert message in info.value.reason and (info.value.line, info.value.column) == (line, column)
 
 
@@ -224,19 +224,19 @@ def test_an_address_beyond_32_bits_is_left_unchanged_and_reported(debug):
     body = ('    /begin MEASUREMENT far "" UBYTE NO_COMPU_METHOD 1 0 0 1\n      ECU_ADDRESS 0x0\n'
             '      SYMBOL_LINK "zsScalar" 0xFFFFFFFF\n    /end MEASUREMENT\n')
     doc = load_a2l_string(WRAP.format(body), "far.a2l")
-    result = update(doc, debug, epk=False)
+    result = update_document(doc, debug, epk=False)
     (finding,) = result.report.of_kind("address-out-of-range")
     assert (finding.name, finding.line, finding.severity.name) == ("far", 4, "WARNING")
     assert "does not fit the 32 bits" in finding.message and result.data == doc.data
     with pytest.raises(UpdateFailed, match="far"):
-        update(doc, debug, epk=False, mode=UpdateMode.STRICT)
+        update_document(doc, debug, epk=False, mode=UpdateMode.STRICT)
 
 
 def test_an_elf_without_dwarf_and_symbols_says_so_once(tmp_path, source):
     data = ELF.read_bytes().replace(b".symtab\0", b".nosyms\0").replace(b".debug_info\0", b".debug_none\0")
     stripped = tmp_path / "stripped.elf"
     stripped.write_bytes(data)
-    result = update(load_a2l(source), DebugData(stripped, use_cache=False))
+    result = update_document(load_a2l(source), DebugData(stripped, use_cache=False))
     (finding,) = result.report.of_kind("elf-without-symbols")
     assert finding.message.startswith("stripped.elf has neither DWARF nor a symbol table")
     assert result.report.findings[0] == finding and len(result.report.of_kind("symbol-not-found")) == 11

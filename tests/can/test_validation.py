@@ -10,7 +10,7 @@ from crafted import timing
 from workbench import demo
 from workbench.can.dbc_file import load_dbc
 from workbench.can.model import SignalOfMsg, messages_of
-from workbench.can.validation import bit_positions, check
+from workbench.can.validation import bit_positions, check_dbcs
 from workbench.errors import InputError
 from workbench.findings import Severity
 
@@ -18,7 +18,7 @@ SIGNAL = '"" PEER'
 
 
 def _findings(path, network="CAN2", node=None):
-    return check([(load_dbc(path, tolerant=True), network)], node).findings
+    return check_dbcs([(load_dbc(path, tolerant=True), network)], node).findings
 
 
 def _codes(findings):
@@ -112,11 +112,11 @@ def test_duplicate_ids_and_names_in_one_file(write_dbc):
 def test_duplicate_ids_across_dbcs_of_one_network(write_dbc):
     first = write_dbc(f"BO_ 16 A: 1 ECU\n SG_ S : 0|8@1+ (1,0) [0|255] {SIGNAL}\n", timing(16, 10, 30), name="a.dbc")
     second = write_dbc(f"BO_ 16 B: 1 ECU\n SG_ T : 0|8@1+ (1,0) [0|255] {SIGNAL}\n", timing(16, 10, 30), name="b.dbc")
-    same_network = check([(load_dbc(first), "CAN2"), (load_dbc(second), "CAN2")]).findings
+    same_network = check_dbcs([(load_dbc(first), "CAN2"), (load_dbc(second), "CAN2")]).findings
     assert [(f.kind, f.name, Path(f.file).name) for f in same_network] == [("duplicate-id", "B", "b.dbc")]
     assert f"also used by A ({first}:13)" in str(same_network[0])
-    assert check([(load_dbc(first), "CAN2"), (load_dbc(second), "CAN3")]).findings == []
-    assert check([(load_dbc(first), None), (load_dbc(second), None)]).findings == []  # no network: each file alone
+    assert check_dbcs([(load_dbc(first), "CAN2"), (load_dbc(second), "CAN3")]).findings == []
+    assert check_dbcs([(load_dbc(first), None), (load_dbc(second), None)]).findings == []  # no network: each file alone
 
 
 def test_extended_and_standard_ids_do_not_collide(write_dbc):
@@ -195,7 +195,7 @@ def test_can3_validation_dbc_shares_signal_names_between_messages():
     findings = _findings(demo.dbc_can3(), network="CAN3")
     assert {f.kind for f in findings} == {"fixcal-collision"}
     assert [_message_and_signal(f.name)[1] for f in findings] == [f"Sgn{i}" for i in range(1, 9)]
-    assert check([(load_dbc(demo.dbc_can3()), "CAN3")], qualified=True).findings == []  # cfC3RXAAA_SGN1_EN ...
+    assert check_dbcs([(load_dbc(demo.dbc_can3()), "CAN3")], qualified=True).findings == []  # cfC3RXAAA_SGN1_EN ...
 
 
 def test_unknown_node_in_check():

@@ -5,7 +5,7 @@ from collections import Counter
 from pathlib import Path
 
 from workbench.a2l import load_a2l
-from workbench.a2l.update import update
+from workbench.a2l.update import update_document
 from workbench.elf.debugdata import DebugData
 from workbench.elf.symbols import ElfSymbols
 from workbench.errors import InputError
@@ -42,7 +42,7 @@ def test_damaged_elf_updates_or_raises_input_error(tmp_path):
             damaged.write_bytes(bytes(data))
             try:
                 with DebugData(damaged, use_cache=False) as debug:
-                    update(a2l, debug, types=True)
+                    update_document(a2l, debug, types=True)
                 outcomes["updated"] += 1
             except InputError as error:
                 assert str(error).startswith(str(damaged)) and "\n" not in str(error), str(error)

@@ -69,12 +69,12 @@ def check_file(a2l: str | Path, elf: str | Path | None = None, *, cache_dir: str
     """Load ``a2l`` (syntax errors become findings where the file can still be read) and check it."""
     doc = load_a2l(a2l, validate=False)
     if elf is None:
-        return check(doc, progress=progress)
+        return check_document(doc, progress=progress)
     with DebugData(elf, cache_dir=cache_dir, use_cache=use_cache) as debug:
-        return check(doc, debug, progress=progress)
+        return check_document(doc, debug, progress=progress)
 
 
-def check(doc: A2lDocument, debug: DebugData | None = None, *, progress: Progress | None = None) -> Report:
+def check_document(doc: A2lDocument, debug: DebugData | None = None, *, progress: Progress | None = None) -> Report:
     """Every problem of ``doc`` as a finding; the report is clean (``not findings``) only when none."""
     report = Report("check")
     syntax: list[A2lParseError] = []

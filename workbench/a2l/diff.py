@@ -62,10 +62,10 @@ class _Object:
 
 
 def diff_files(a: str | Path, b: str | Path) -> list[DiffEntry]:
-    return diff(load_a2l(a), load_a2l(b))
+    return diff_documents(load_a2l(a), load_a2l(b))
 
 
-def diff(a: A2lDocument, b: A2lDocument) -> list[DiffEntry]:
+def diff_documents(a: A2lDocument, b: A2lDocument) -> list[DiffEntry]:
     """Object-level differences from ``a`` to ``b``, in the order of ``b`` (removals last)."""
     old, new = _objects(a), _objects(b)
     entries = []

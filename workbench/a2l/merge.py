@@ -72,8 +72,9 @@ class _Plan:
     contributed: int = 0
 
 
-def merge(master: A2lDocument, fragments: list[A2lDocument], *, policy: ConflictPolicy = ConflictPolicy.ERROR,
-          keep_includes: bool = False, progress: Progress | None = None) -> MergeResult:
+def merge_documents(master: A2lDocument, fragments: list[A2lDocument], *,
+                    policy: ConflictPolicy = ConflictPolicy.ERROR, keep_includes: bool = False,
+                    progress: Progress | None = None) -> MergeResult:
     """Merge ``fragments`` into ``master``'s MODULE (see the module docstring).
 
     The result is self-contained: the text of every ``/include`` is written inline, unless
@@ -106,8 +107,8 @@ def merge_files(master: str | Path, fragments: list[str | Path], output: str | P
     """Load (and validate) the inputs, merge, and write ``output`` atomically. The output's block
     structure is parsed again before writing, as a guard against a merge that broke it."""
     master_doc = load_a2l(master)
-    result = merge(master_doc, [load_a2l(path) for path in fragments], policy=policy, keep_includes=keep_includes,
-                   progress=progress)
+    result = merge_documents(master_doc, [load_a2l(path) for path in fragments], policy=policy,
+                             keep_includes=keep_includes, progress=progress)
     A2lDocument.from_source(_as_source(master_doc, result.data), validate=False)
     write_source(master_doc.source, result.data, output)
     if keep_includes:

@@ -1,7 +1,7 @@
 """CAN databases (cantools): the thesis's CAN library (chapter 6.3) without MATLAB.
 
-One module per concern; import them directly (this package's ``__init__`` stays light so
-that ``workbench.can.naming`` does not pull in cantools):
+One module per concern; their public names are also this package's, imported on first use
+(``import workbench.can`` loads no cantools):
 
 * :mod:`~workbench.can.naming` — fix-calibration and mailbox names;
 * :mod:`~workbench.can.dbc_file` — :func:`load_dbc`: cantools with located errors;
@@ -15,16 +15,44 @@ that ``workbench.can.naming`` does not pull in cantools):
 * :mod:`~workbench.can.callbacks` — the driver configuration between api.c's ``// <initCbk>`` markers.
 """
 
-from workbench.can.naming import (
-    fix_enable_name,
-    fix_value_name,
-    mailbox_name,
-    raw_c_type,
-    rx_bit_status_name,
-    rx_signal_name,
-    rx_status_name,
-    tx_enable_name,
-)
+from __future__ import annotations
 
-__all__ = ["fix_enable_name", "fix_value_name", "mailbox_name", "raw_c_type", "rx_bit_status_name", "rx_signal_name",
-           "rx_status_name", "tx_enable_name"]
+from typing import TYPE_CHECKING
+
+from workbench.lazy_exports import lazy_exports
+
+_EXPORTS = {
+    "workbench.can.callbacks": ("callback_lines", "write_callbacks"),
+    "workbench.can.dbc_file": ("DbcFile", "load_dbc"),
+    "workbench.can.fixcal": ("FixCalibration", "fix_calibrations"),
+    "workbench.can.fixcal_output": ("FixcalFiles", "fixcal_files"),
+    "workbench.can.mailboxes": ("MailboxOrder",),
+    "workbench.can.model": ("Message", "Role", "SignalOfMsg", "messages_of"),
+    "workbench.can.naming": ("fix_enable_name", "fix_value_name", "mailbox_name", "raw_c_type", "rx_bit_status_name",
+                             "rx_signal_name", "rx_status_name", "tx_enable_name"),
+    "workbench.can.table": ("CanTable", "build_table", "load_networks"),
+    "workbench.can.table_export": ("table_csv", "table_text"),
+    "workbench.can.validation": ("check_dbcs",),
+}
+__all__, __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
+
+if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerly
+    from workbench.can.callbacks import callback_lines, write_callbacks
+    from workbench.can.dbc_file import DbcFile, load_dbc
+    from workbench.can.fixcal import FixCalibration, fix_calibrations
+    from workbench.can.fixcal_output import FixcalFiles, fixcal_files
+    from workbench.can.mailboxes import MailboxOrder
+    from workbench.can.model import Message, Role, SignalOfMsg, messages_of
+    from workbench.can.naming import (
+        fix_enable_name,
+        fix_value_name,
+        mailbox_name,
+        raw_c_type,
+        rx_bit_status_name,
+        rx_signal_name,
+        rx_status_name,
+        tx_enable_name,
+    )
+    from workbench.can.table import CanTable, build_table, load_networks
+    from workbench.can.table_export import table_csv, table_text
+    from workbench.can.validation import check_dbcs

@@ -54,7 +54,7 @@ def bit_positions(signal: SignalOfMsg) -> list[int]:
     return positions
 
 
-def check(dbcs: Sequence[tuple[DbcFile, str | None]], node: str | None = None, *,
+def check_dbcs(dbcs: Sequence[tuple[DbcFile, str | None]], node: str | None = None, *,
           qualified: bool = False) -> Report:
     """Every finding in ``dbcs`` ((DBC, network) pairs), in file and line order.
 

@@ -161,11 +161,11 @@ def _callbacks(args: argparse.Namespace) -> int:
 def _check(args: argparse.Namespace) -> int:
     from workbench.can.dbc_file import load_dbc
     from workbench.can.table import guess_network, network_of
-    from workbench.can.validation import check
+    from workbench.can.validation import check_dbcs
 
     dbcs = [(load_dbc(path, tolerant=True), network_of(path, args.network) if args.network else guess_network(path))
             for path in args.dbc]
-    report = check(dbcs, args.node, qualified=args.qualified)
+    report = check_dbcs(dbcs, args.node, qualified=args.qualified)
     count = len(report.findings)
     print_report(report, as_json=args.json, verbose=True, summary=f"{count} finding{'s' if count != 1 else ''} in "
                  f"{len(dbcs)} file{'s' if len(dbcs) != 1 else ''}")

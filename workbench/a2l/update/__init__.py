@@ -65,9 +65,10 @@ class UpdateFailed(WorkbenchError):
         super().__init__(f"{len(errors)} object(s) cannot be updated (strict): {summarize(errors)}")
 
 
-def update(doc: A2lDocument, debug: DebugData, *, mode: UpdateMode = UpdateMode.DEFAULT, types: bool = False,
-           epk: bool = True, epk_symbol: str | None = None, includes: IncludeMode = IncludeMode.KEEP,
-           report_addresses: bool = True, progress: Progress | None = None) -> UpdateResult:
+def update_document(doc: A2lDocument, debug: DebugData, *, mode: UpdateMode = UpdateMode.DEFAULT,
+                    types: bool = False, epk: bool = True, epk_symbol: str | None = None,
+                    includes: IncludeMode = IncludeMode.KEEP, report_addresses: bool = True,
+                    progress: Progress | None = None) -> UpdateResult:
     """Update ``doc`` from ``debug``; the document itself is not changed.
 
     ``mode`` decides about objects whose symbol is not in the ELF (see :class:`UpdateMode`);
@@ -138,7 +139,7 @@ def update_file(a2l: str | Path, elf: str | Path, output: str | Path, *, mode: U
     """
     doc = load_a2l(a2l, validate=validate)
     with DebugData(elf, cache_dir=cache_dir, use_cache=use_cache, progress=progress) as debug:
-        result = update(doc, debug, mode=mode, types=types, epk=epk, epk_symbol=epk_symbol, includes=includes,
+        result = update_document(doc, debug, mode=mode, types=types, epk=epk, epk_symbol=epk_symbol, includes=includes,
                         report_addresses=report_addresses, progress=progress)
     write_source(doc.source, result.data, output)
     if includes is IncludeMode.UPDATE:
