@@ -11,9 +11,11 @@
 Importing this package loads no CAN bus and no application.
 """
 
+from workbench.sim.demo_ecu import DemoEcu, DemoFiles, build_demo_ecu
 from workbench.sim.ecu import EcuState, SimulatedEcu
 from workbench.sim.faults import FaultPlan
 from workbench.sim.server import Simulator
 from workbench.sim.xcp.parameters import DaqParameters, EventChannel, XcpParameters
 
-__all__ = ["DaqParameters", "EcuState", "EventChannel", "FaultPlan", "SimulatedEcu", "Simulator", "XcpParameters"]
+__all__ = ["DaqParameters", "DemoEcu", "DemoFiles", "EcuState", "EventChannel", "FaultPlan", "SimulatedEcu", "Simulator",
+           "XcpParameters", "build_demo_ecu"]
