@@ -85,6 +85,14 @@ def test_calibration_segment(config, slave):
     assert segment.checksum_type == "XCP_CRC_32"
 
 
+def test_memory_segments_are_the_simulated_memory_map():
+    segments = {s.name: (s.address, s.size) for s in load_a2l(DemoFiles.defaults().a2l).memory_segments()}
+    simulated = {region.name: (region.start, region.size) for region in HDS9.flash}
+    simulated.update({"CALRAM": (HDS9.cal_ram.start, HDS9.cal_ram.size), "RAM_DATA": (HDS9.ram.start, HDS9.ram.size)})
+    assert segments == simulated
+    assert HDS9.cal_rom_start == HDS9.region("CALIB").start and HDS9.cal_ram.size == HDS9.region("CALIB").size
+
+
 def test_checksum_block_limit(slave):
     # XcpSegment does not carry CHECKSUM's MAX_BLOCK_SIZE yet: read it from the A2L text
     text = Path(DemoFiles.defaults().a2l).read_text(encoding="utf-8")
