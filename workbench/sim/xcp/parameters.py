@@ -81,9 +81,9 @@ class XcpParameters:
     ecu_text: str = "FLCU demo ECU (workbench simulated HDS9)"
     daq: DaqParameters = field(default_factory=DaqParameters)
     events: tuple[EventChannel, ...] = (
-        EventChannel(0, "Task4ms", 0.004, 2),
-        EventChannel(1, "Task50ms", 0.050, 1),
-        EventChannel(2, "Task100ms", 0.100, 0),
+        EventChannel(0, "Task4ms", 0.004),
+        EventChannel(1, "Task50ms", 0.050),
+        EventChannel(2, "Task100ms", 0.100),
     )
 
     @property
