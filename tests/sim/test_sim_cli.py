@@ -43,6 +43,12 @@ def test_bad_input_is_one_line_and_exit_2(capsys, tmp_path):
     assert capsys.readouterr().err.strip().splitlines()[-1] == "error: --can2-interface needs --can2-channel (without it CAN2 shares CAN1)"
 
 
+@pytest.mark.parametrize("option", [["--bitrate", "-5"], ["--bitrate", "0"], ["--duration", "-1"], ["--time-scale", "nan"]])
+def test_a_number_out_of_range_is_a_usage_error(capsys, option):
+    assert main(["sim", "--interface", "virtual", *option]) == 2
+    assert capsys.readouterr().err.splitlines()[-1].endswith(f"must be positive, got {option[1]}")
+
+
 def test_unknown_interface_fails_in_one_line(capsys):
     assert main(["sim", "--interface", "no_such_interface", "--duration", "0.1"]) == 1
     err = capsys.readouterr().err

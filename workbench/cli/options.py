@@ -14,6 +14,28 @@ if TYPE_CHECKING:
 DEFAULT_CHANNELS = {"virtual": "workbench", "udp_multicast": "239.74.163.2"}
 
 
+def positive_int(text: str) -> int:
+    """argparse type: an integer above 0 (anything else is a usage error, exit 2)."""
+    try:
+        value = int(text, 0)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be positive, got {value}")
+    return value
+
+
+def positive_float(text: str) -> float:
+    """argparse type: a finite number above 0 (anything else is a usage error, exit 2)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not 0 < value < float("inf"):
+        raise argparse.ArgumentTypeError(f"must be positive, got {text}")
+    return value
+
+
 def add_bus_arguments(parser: argparse.ArgumentParser) -> None:
     """``--interface/--channel/--bitrate`` as python-can spells them, plus ``--host/--port`` for Ethernet."""
     group = parser.add_argument_group("bus")
@@ -21,9 +43,10 @@ def add_bus_arguments(parser: argparse.ArgumentParser) -> None:
                        help="python-can interface: udp_multicast (default), virtual, socketcan, vector, pcan, kvaser, ...")
     group.add_argument("--channel", "-c", default=None,
                        help="python-can channel (default: 239.74.163.2 for udp_multicast)")
-    group.add_argument("--bitrate", "-b", type=int, default=None, help="CAN bit rate in bit/s (default: from the A2L)")
+    group.add_argument("--bitrate", "-b", type=positive_int, default=None,
+                       help="CAN bit rate in bit/s (default: from the A2L)")
     group.add_argument("--host", default=None, help="XCP on Ethernet: ECU host (instead of CAN)")
-    group.add_argument("--port", type=int, default=None, help="XCP on Ethernet: ECU port")
+    group.add_argument("--port", type=positive_int, default=None, help="XCP on Ethernet: ECU port")
 
 
 def bus_config(args: argparse.Namespace, bitrate: int | None = None) -> dict[str, Any]:

@@ -7,7 +7,7 @@ import signal
 import sys
 import threading
 
-from workbench.cli.options import add_bus_arguments, add_output_arguments, bus_config, print_json
+from workbench.cli.options import add_bus_arguments, add_output_arguments, bus_config, positive_float, print_json
 from workbench.errors import InputError
 
 SOFTWARE_BUSES = ("virtual", "udp_multicast")
@@ -45,12 +45,12 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     sim = parser.add_argument_group("simulation")
     sim.add_argument("--pcm", action="store_true", help="simulate the PCM: EnableFLCU=1 and the target rail pressure every 100 ms")
     sim.add_argument("--pcm-target", type=float, default=25.0, metavar="BAR", help="the PCM's TargetRailPressure in bar (default 25)")
-    sim.add_argument("--time-scale", type=float, default=1.0, metavar="X",
+    sim.add_argument("--time-scale", type=positive_float, default=1.0, metavar="X",
                      help="simulated seconds per real second (default 1: real time)")
     sim.add_argument("--no-app-key", action="store_true",
                      help="start with the application-valid key erased: the ECU stays in boot (programming only)")
     sim.add_argument("--unlocked", action="store_true", help="no seed & key: CAL/PAG, DAQ and PGM open at CONNECT")
-    sim.add_argument("--duration", type=float, metavar="S", help="stop by itself after S real seconds")
+    sim.add_argument("--duration", type=positive_float, metavar="S", help="stop by itself after S real seconds")
     add_output_arguments(parser)
     parser.set_defaults(func=run)
 
@@ -59,8 +59,6 @@ def run(args: argparse.Namespace) -> int:
     from workbench.sim.demo_ecu import DemoFiles, build_demo_ecu
     from workbench.sim.server import Simulator
 
-    if args.time_scale <= 0:
-        raise InputError(f"--time-scale must be positive, got {args.time_scale}")
     if args.host or args.port:
         raise InputError("the simulated ECU speaks XCP on CAN only (no --host/--port)")
     if args.can2_interface and not args.can2_channel:
