@@ -50,7 +50,8 @@ def build_parser() -> argparse.ArgumentParser:
     for group, help_text in GROUPS:
         module = f"{__name__}.{group}"
         if importlib.util.find_spec(module) is None:
-            sub = subparsers.add_parser(group, help=f"{help_text} (not built yet)")
+            sub = subparsers.add_parser(group, help=f"{help_text} (not built yet)",
+                                        description=f"{help_text}: not built yet (running it says so and exits 1).")
             sub.set_defaults(func=_not_built(group))
             continue
         try:

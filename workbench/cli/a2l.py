@@ -85,7 +85,7 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     check.add_argument("a2l", metavar="A2L")
     check.add_argument("--elf", metavar="ELF", help="also check every object's symbol and address against this ELF")
     _cache_options(check)
-    _output_options(check)
+    _output_options(check, verbose=False)  # every finding of a check is a problem
     check.set_defaults(func=_check)
 
     diff = commands.add_parser("diff", help="object-level differences of two A2L files",
@@ -97,9 +97,10 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     diff.set_defaults(func=_diff)
 
 
-def _output_options(parser: argparse.ArgumentParser) -> None:
+def _output_options(parser: argparse.ArgumentParser, verbose: bool = True) -> None:
     add_output_arguments(parser)
-    parser.add_argument("-v", "--verbose", action="store_true", help="list every finding, not only problems")
+    if verbose:
+        parser.add_argument("-v", "--verbose", action="store_true", help="list every finding, not only problems")
 
 
 def _cache_options(parser: argparse.ArgumentParser) -> None:
@@ -158,7 +159,7 @@ def _check(args: argparse.Namespace) -> int:
         report = check_file(args.a2l, args.elf, cache_dir=args.cache_dir, use_cache=not args.no_cache,
                             progress=progress)
     clean = not report.findings
-    print_report(report, as_json=args.json, verbose=True,  # every check finding is a problem
+    print_report(report, as_json=args.json, verbose=True,
                  summary=f"{args.a2l}: " + ("clean" if clean else f"{len(report.findings)} problem(s)"))
     return 0 if clean else 1
 

@@ -1,8 +1,9 @@
 """A rich progress bar on stderr that implements :class:`workbench.progress.Progress`.
 
 Shown only when stderr is a terminal (and disappears when done), so pipes, CI logs
-and ``--json`` output stay clean. Ctrl-C marks it cancelled; the job then raises
-:class:`~workbench.errors.Cancelled` at its next check point.
+and ``--json`` output stay clean. It is never cancelled: in a terminal Ctrl-C interrupts the
+job (the CLI ends with exit code 130, atomic writes leave no half-written file); ``cancelled``
+is for front ends with a Cancel button.
 """
 
 from __future__ import annotations
