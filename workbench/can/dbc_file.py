@@ -38,7 +38,7 @@ from workbench.fileio import read_input
 
 log = logging.getLogger(__name__)
 
-_EXTENDED_FLAG = 0x80000000
+EXTENDED_ID_FLAG = 0x80000000  # bit 31 of a BO_ id: the message has a 29-bit (extended) id
 _STANDARD_ID_MAX = 0x7FF
 _MESSAGE_LINE = re.compile(r"^[ \t]*BO_[ \t]+(\d+)[ \t]+(\w+)[ \t]*:", re.MULTILINE)
 _SIGNAL_LINE = re.compile(r"^[ \t]*SG_[ \t]+(\w+)\s")
@@ -94,10 +94,10 @@ def load_dbc(path: str | Path, *, tolerant: bool = False) -> DbcFile:
         name, frame_id, line = oversized[0]
         raise InputError(
             f"{path}:{line}: message {name}: standard id 0x{frame_id:X} does not fit in 11 bits "
-            f"(an extended id needs bit 31 set in the BO_ id: {frame_id | _EXTENDED_FLAG})"
+            f"(an extended id needs bit 31 set in the BO_ id: {frame_id | EXTENDED_ID_FLAG})"
         )
     for _name, frame_id, _line in oversized:
-        text = re.sub(_ID_REFERENCE.format(id=frame_id), rf"\g<1>\g<2>{frame_id | _EXTENDED_FLAG}", text)
+        text = re.sub(_ID_REFERENCE.format(id=frame_id), rf"\g<1>\g<2>{frame_id | EXTENDED_ID_FLAG}", text)
     database = _parse(path, text, message_lines)
     return DbcFile(path, database, message_lines, signal_lines, tuple(name for name, _, _ in oversized))
 
@@ -143,7 +143,7 @@ def _oversized_standard_ids(text: str) -> list[tuple[str, int, int]]:
     found = []
     for match in _MESSAGE_LINE.finditer(text):
         frame_id = int(match.group(1))
-        if _STANDARD_ID_MAX < frame_id < _EXTENDED_FLAG:
+        if _STANDARD_ID_MAX < frame_id < EXTENDED_ID_FLAG:
             found.append((match.group(2), frame_id, text.count("\n", 0, match.start()) + 1))
     return found
 

@@ -25,7 +25,7 @@ from collections import defaultdict
 from collections.abc import Sequence
 from itertools import combinations
 
-from workbench.can.dbc_file import DbcFile
+from workbench.can.dbc_file import EXTENDED_ID_FLAG, DbcFile
 from workbench.can.fixcal import collision_remedy, describe_owners, fixcal_collisions
 from workbench.can.naming import FIX_ENABLE_SUFFIX, FIX_VALUE_SUFFIX, raw_c_type
 from workbench.can.model import (
@@ -154,7 +154,7 @@ def _format_findings(dbc: DbcFile, message: Message) -> list[Finding]:
         return [_finding(
             "id-format", message, None,
             f"id 0x{message.frame_id:X} needs 29 bits but the BO_ id lacks the extended flag "
-            f"(write {message.frame_id | 0x80000000})",
+            f"(write {message.frame_id | EXTENDED_ID_FLAG})",
         )]
     frame_format = _explicit_frame_format(dbc, message.name)
     if frame_format in _EXTENDED_FORMATS and not message.extended:
