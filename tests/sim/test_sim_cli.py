@@ -49,10 +49,11 @@ def test_a_number_out_of_range_is_a_usage_error(capsys, option):
     assert capsys.readouterr().err.splitlines()[-1].endswith(f"must be positive, got {option[1]}")
 
 
-def test_unknown_interface_fails_in_one_line(capsys):
-    assert main(["sim", "--interface", "no_such_interface", "--duration", "0.1"]) == 1
+def test_unknown_interface_is_bad_input_in_one_line(capsys):
+    assert main(["sim", "--interface", "no_such_interface", "--duration", "0.1"]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("error: cannot open CAN1 bus (no_such_interface") and err.count("\n") == 1
+    assert err.startswith("error: CAN1: unknown python-can interface 'no_such_interface' (known: ")
+    assert "virtual" in err and err.count("\n") == 1
 
 
 def test_help_names_the_options(capsys):

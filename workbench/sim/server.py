@@ -20,7 +20,7 @@ from typing import Any
 
 import can
 
-from workbench.errors import WorkbenchError
+from workbench.errors import InputError, WorkbenchError
 from workbench.sim.bus import ECHOING_INTERFACES, EchoFilter, Receiver, Transmitter
 from workbench.sim.can2 import Can2Driver
 from workbench.sim.can_timing import BusClock
@@ -123,6 +123,10 @@ class Simulator:
             if isinstance(spec, can.BusABC):
                 self._buses[name] = spec
                 continue
+            interface = spec.get("interface")
+            if interface not in can.interfaces.VALID_INTERFACES:
+                raise InputError(f"{name}: unknown python-can interface {interface!r} "
+                                 f"(known: {', '.join(sorted(can.interfaces.VALID_INTERFACES))})")
             try:
                 bus = can.Bus(**dict(spec))
             except (can.CanError, OSError, ValueError, ImportError, TypeError) as exc:
