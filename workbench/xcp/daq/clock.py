@@ -1,0 +1,78 @@
+"""DAQ time: the slave's wrapping timestamp counter unwrapped into seconds, and mapped to host time.
+
+Host arrival times come in bursts (a CAN controller's queue, the OS scheduler), so a sample's
+time is the slave's timestamp when it sends one. The counter wraps (1, 2 or 4 bytes); host
+arrival times tell how many times it wrapped between two samples, so even a 16-bit counter of
+10 µs ticks that wraps every 0.65 s is unwrapped for a list sampled once a second.
+
+Host time = slave time + offset, where the offset is the smallest (arrival − slave time) seen:
+the sample that travelled fastest. It may rise slowly (``max_drift``) so that a slave clock
+running slower than the host's does not fall behind.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["DaqClock"]
+
+MAX_DRIFT = 200e-6  # s/s: crystal tolerances of ECU and host together
+
+
+class DaqClock:
+    """One per measurement: all lists share the slave's counter and the origin (the first sample's time)."""
+
+    def __init__(self, timestamp_size: int, resolution_s: float, *, max_drift: float = MAX_DRIFT):
+        self.modulus = 1 << (8 * timestamp_size) if timestamp_size else 0
+        self.resolution_s = resolution_s
+        self.max_drift = max_drift
+        self._last: dict[int, tuple[int, int, int]] = {}  # list -> (last raw count, unwrapped count, host ns)
+        self._origin_count: int | None = None
+        self._origin_host_ns: int | None = None
+        self._offset_s: float | None = None
+        self._offset_at_s = 0.0
+
+    def times(self, daq_list: int, counts: np.ndarray | None, host_ns: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(seconds since the measurement's first sample, host time in seconds since the epoch) per sample.
+
+        ``counts``: the slave's raw timestamps (None: the slave sends none; host arrival is used).
+        """
+        host_ns = np.asarray(host_ns, dtype=np.int64)
+        if self._origin_host_ns is None and len(host_ns):
+            self._origin_host_ns = int(host_ns[0])
+        if counts is None or not self.modulus:
+            seconds = (host_ns - self._origin_host_ns) * 1e-9
+            return seconds, host_ns * 1e-9
+        unwrapped = self._unwrap(daq_list, np.asarray(counts, dtype=np.int64), host_ns)
+        if self._origin_count is None and len(unwrapped):
+            self._origin_count = int(unwrapped[0])
+        seconds = (unwrapped - self._origin_count) * self.resolution_s
+        return seconds, self._host(seconds, host_ns)
+
+    def _unwrap(self, daq_list: int, counts: np.ndarray, host_ns: np.ndarray) -> np.ndarray:
+        if not len(counts):
+            return counts
+        last = self._last.get(daq_list)
+        if last is None:
+            previous_raw, previous, previous_ns = int(counts[0]), int(counts[0]), int(host_ns[0])
+        else:
+            previous_raw, previous, previous_ns = last
+        raw = np.concatenate(([previous_raw], counts))
+        ns = np.concatenate(([previous_ns], host_ns))
+        step = np.mod(np.diff(raw), self.modulus)
+        expected = np.diff(ns) * 1e-9 / self.resolution_s  # counts the host clock saw pass
+        wraps = np.maximum(np.rint((expected - step) / self.modulus), 0).astype(np.int64)
+        unwrapped = previous + np.cumsum(step + wraps * self.modulus)
+        self._last[daq_list] = (int(counts[-1]), int(unwrapped[-1]), int(host_ns[-1]))
+        return unwrapped
+
+    def _host(self, seconds: np.ndarray, host_ns: np.ndarray) -> np.ndarray:
+        host_s = (host_ns - self._origin_host_ns) * 1e-9
+        batch_offset = float(np.min(host_s - seconds))
+        if self._offset_s is None:
+            self._offset_s = batch_offset
+        else:
+            allowed = self._offset_s + self.max_drift * max(float(seconds[-1]) - self._offset_at_s, 0.0)
+            self._offset_s = min(allowed, batch_offset)
+        self._offset_at_s = float(seconds[-1])
+        return self._origin_host_ns * 1e-9 + seconds + self._offset_s

@@ -1,0 +1,266 @@
+"""Planning DAQ lists: signals into ODT entries into ODTs, within the limits the slave reports.
+
+The plan is made from what the slave says (GET_DAQ_PROCESSOR_INFO, GET_DAQ_RESOLUTION_INFO and
+CONNECT's MAX_DTO), never from what the A2L claims or what the demo ECU happens to allow:
+
+* an ODT carries MAX_DTO minus the identification field (1-4 bytes), and the first ODT of a
+  timestamped list also minus the timestamp;
+* an ODT entry holds at most MAX_ODT_ENTRY_SIZE_DAQ bytes (an entry's size, not an ODT's
+  capacity) and a multiple of GRANULARITY_ODT_ENTRY_SIZE_DAQ (entries are widened and aligned
+  to it; the extra bytes are read and ignored);
+* an ODT has at most as many entries as its capacity counts granules (and at most 255).
+
+Signals at neighbouring addresses share entries. A scalar is never split across ODTs when it
+fits one (slaves guarantee consistency per ODT at least); arrays split at element boundaries.
+Entries are packed first-fit decreasing, which keeps the ODT count near the minimum.
+
+Each signal's bytes end up at known offsets of the *sample*: the concatenated data of a list's
+ODTs in ODT order, which is what :mod:`workbench.xcp.daq.assemble` rebuilds from the DTOs.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Hashable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from workbench.errors import InputError
+from workbench.xcp.info import DaqProcessorInfo, DaqResolutionInfo
+
+__all__ = ["DaqListPlan", "DaqPlan", "DaqSignal", "Odt", "OdtEntry", "plan_daq"]
+
+MAX_ENTRIES_PER_ODT = 255
+MAX_ABSOLUTE_ODTS = 0xFC  # absolute PIDs 0x00..0xFB
+
+
+@dataclass(frozen=True)
+class DaqSignal:
+    """Bytes to sample: ``size`` at ``address``; ``element_size`` < ``size`` for an array (it may split there)."""
+
+    key: Hashable
+    address: int
+    size: int
+    extension: int = 0
+    element_size: int | None = None
+
+    @property
+    def unit(self) -> int:
+        return self.element_size or self.size
+
+
+@dataclass(frozen=True)
+class OdtEntry:
+    address: int
+    size: int
+    extension: int = 0
+
+
+@dataclass(frozen=True)
+class Odt:
+    entries: tuple[OdtEntry, ...]
+
+    @property
+    def size(self) -> int:
+        return sum(entry.size for entry in self.entries)
+
+
+@dataclass(frozen=True)
+class DaqListPlan:
+    """One DAQ list: its event, ODTs, and where each signal's bytes lie in a sample."""
+
+    number: int
+    event: int
+    odts: tuple[Odt, ...]
+    timestamps: bool
+    positions: dict[Hashable, np.ndarray] = field(compare=False)  # key -> sample byte offsets, in the signal's byte order
+    prescaler: int = 1
+    priority: int = 0
+
+    @property
+    def sample_size(self) -> int:
+        return sum(odt.size for odt in self.odts)
+
+    @property
+    def keys(self) -> list[Hashable]:
+        return list(self.positions)
+
+
+@dataclass(frozen=True)
+class DaqPlan:
+    lists: tuple[DaqListPlan, ...]
+    pid_size: int
+    identification_field: str
+    timestamp_size: int
+    max_dto: int
+
+    @property
+    def odt_count(self) -> int:
+        return sum(len(daq.odts) for daq in self.lists)
+
+
+@dataclass
+class _Piece:
+    """Contiguous bytes that must stay in one ODT (entries of ``sizes`` from ``address``)."""
+
+    address: int
+    extension: int
+    sizes: list[int]
+
+    @property
+    def size(self) -> int:
+        return sum(self.sizes)
+
+    def entries(self) -> list[tuple[int, int]]:
+        """(address, size) of each entry."""
+        starts = self.address + np.concatenate(([0], np.cumsum(self.sizes[:-1]))).astype(int)
+        return list(zip(starts.tolist(), self.sizes))
+
+
+def plan_daq(groups: dict[int, Sequence[DaqSignal]], processor: DaqProcessorInfo, resolution: DaqResolutionInfo,
+             max_dto: int, *, timestamps: bool = True, first_list: int = 0,
+             consistency: Mapping[int, str] | None = None) -> DaqPlan:
+    """One DAQ list per event of ``groups`` (event number -> signals), numbered from ``first_list``.
+
+    ``timestamps``: ask for the slave's timestamps (when it supports them; TIMESTAMP_FIXED forces them).
+    ``consistency``: per event, what GET_DAQ_EVENT_INFO says the slave keeps consistent: "ODT" (the
+    default) keeps every scalar within one ODT; "DAQ" or "EVENT" lets a value continue in the next ODT,
+    so every ODT is filled to the last byte.
+
+    :raises InputError: a signal cannot be sampled with these limits, or the lists need more
+        ODTs or lists than the slave has.
+    """
+    pid_size = processor.pid_size
+    stamped = resolution.timestamp_size > 0 and (resolution.timestamp_fixed or (timestamps and processor.timestamp_supported))
+    timestamp_size = resolution.timestamp_size if stamped else 0
+    capacity = max_dto - pid_size
+    if capacity - timestamp_size < resolution.granularity or resolution.max_entry_size < resolution.granularity:
+        raise InputError(f"the slave's DTO ({max_dto} bytes) leaves no room for data after its "
+                         f"{pid_size}-byte identification field and {timestamp_size}-byte timestamp")
+    lists = []
+    for offset, (event, signals) in enumerate(sorted(groups.items())):
+        if not signals:
+            continue
+        rooms = _Rooms(capacity, timestamp_size, resolution.granularity)
+        pieces = _pieces(signals, resolution, capacity)
+        if (consistency or {}).get(event, "ODT") == "ODT":
+            odts = _pack_whole(pieces, rooms)
+        else:
+            odts = _pack_split(pieces, rooms)
+        lists.append(DaqListPlan(first_list + offset, event, tuple(odts), bool(timestamp_size),
+                                 _positions(signals, odts)))
+    plan = DaqPlan(tuple(lists), pid_size, processor.identification_field, timestamp_size, max_dto)
+    _check_totals(plan, processor)
+    return plan
+
+
+@dataclass(frozen=True)
+class _Rooms:
+    capacity: int
+    timestamp_size: int
+    granule: int
+
+    def bytes(self, odt: int) -> int:
+        return self.capacity - (self.timestamp_size if odt == 0 else 0)
+
+    def entries(self, odt: int) -> int:
+        return min(MAX_ENTRIES_PER_ODT, self.bytes(odt) // self.granule)
+
+
+def _pieces(signals: Sequence[DaqSignal], resolution: DaqResolutionInfo, capacity: int) -> list[_Piece]:
+    """The signals' bytes merged where they touch, cut into entries, grouped into what must share an ODT."""
+    granule = resolution.granularity
+    max_entry = resolution.max_entry_size - resolution.max_entry_size % granule
+    units = sorted({(s.extension, s.address + i, min(s.unit, s.size - i)) for s in signals for i in range(0, s.size, s.unit)})
+    pieces: list[_Piece] = []
+    for extension, address, size in units:
+        start = address - address % granule
+        end = -(-(address + size) // granule) * granule
+        last = pieces[-1] if pieces else None
+        if last is not None and last.extension == extension and start <= last.address + last.size:
+            covered = last.address + last.size
+            if end <= covered:
+                continue
+            if len(last.sizes) == 1 and last.size + end - covered <= max_entry:  # grow the entry
+                last.sizes[0] += end - covered
+                continue
+            start = covered
+        piece = _Piece(start, extension, _entry_sizes(end - start, max_entry))
+        if piece.size <= capacity:
+            pieces.append(piece)
+        else:  # more than an ODT holds (a double on CAN, an array): its entries go separately
+            pieces += [_Piece(start + sum(piece.sizes[:i]), extension, [entry]) for i, entry in enumerate(piece.sizes)]
+    return pieces
+
+
+def _entry_sizes(size: int, max_entry: int) -> list[int]:
+    return [max_entry] * (size // max_entry) + ([size % max_entry] if size % max_entry else [])
+
+
+def _pack_whole(pieces: list[_Piece], rooms: _Rooms) -> list[Odt]:
+    """First-fit decreasing; a piece stays in one ODT (the first ODT, short of the timestamp, may stay empty)."""
+    bins: list[list[_Piece]] = []
+    room: list[int] = []
+    slots: list[int] = []
+    for piece in sorted(pieces, key=lambda p: (-p.size, p.extension, p.address)):
+        i = next((i for i in range(len(bins)) if piece.size <= room[i] and len(piece.sizes) <= slots[i]), None)
+        while i is None:
+            bins.append([])
+            room.append(rooms.bytes(len(bins) - 1))
+            slots.append(rooms.entries(len(bins) - 1))
+            if piece.size <= room[-1] and len(piece.sizes) <= slots[-1]:
+                i = len(bins) - 1
+        bins[i].append(piece)
+        room[i] -= piece.size
+        slots[i] -= len(piece.sizes)
+    return [Odt(tuple(OdtEntry(address, size, piece.extension)
+                      for piece in sorted(content, key=lambda p: (p.extension, p.address))
+                      for address, size in piece.entries())) for content in bins]
+
+
+def _pack_split(pieces: list[_Piece], rooms: _Rooms) -> list[Odt]:
+    """In address order, every ODT filled to its last granule; an entry that does not fit is cut in two."""
+    odts: list[list[OdtEntry]] = [[]]
+    room, slots = rooms.bytes(0), rooms.entries(0)
+    pending = [OdtEntry(address, size, piece.extension) for piece in sorted(pieces, key=lambda p: (p.extension, p.address))
+               for address, size in piece.entries()]
+    pending.reverse()
+    while pending:
+        entry = pending.pop()
+        if slots == 0 or room < rooms.granule:
+            odts.append([])
+            room, slots = rooms.bytes(len(odts) - 1), rooms.entries(len(odts) - 1)
+        if entry.size > room:
+            cut = room - room % rooms.granule
+            pending.append(OdtEntry(entry.address + cut, entry.size - cut, entry.extension))
+            entry = OdtEntry(entry.address, cut, entry.extension)
+        odts[-1].append(entry)
+        room -= entry.size
+        slots -= 1
+    return [Odt(tuple(entries)) for entries in odts]
+
+
+def _positions(signals: Sequence[DaqSignal], odts: list[Odt]) -> dict[Hashable, np.ndarray]:
+    """Where each signal byte lies in the sample (the ODTs' data concatenated)."""
+    located: dict[tuple[int, int], int] = {}
+    offset = 0
+    for odt in odts:
+        for entry in odt.entries:
+            for i in range(entry.size):
+                located.setdefault((entry.extension, entry.address + i), offset + i)
+            offset += entry.size
+    return {s.key: np.array([located[(s.extension, s.address + i)] for i in range(s.size)], dtype=np.intp)
+            for s in signals}
+
+
+def _check_totals(plan: DaqPlan, processor: DaqProcessorInfo) -> None:
+    lists = len(plan.lists)
+    if plan.lists and plan.lists[-1].number >= processor.max_daq:
+        raise InputError(f"the measurement needs DAQ list {plan.lists[-1].number} but the slave has "
+                         f"{processor.max_daq} (MAX_DAQ); measure fewer events at once")
+    if plan.identification_field == "ABSOLUTE" and plan.odt_count > MAX_ABSOLUTE_ODTS:
+        raise InputError(f"the measurement needs {plan.odt_count} ODTs in {lists} DAQ lists; absolute ODT numbers "
+                         f"allow {MAX_ABSOLUTE_ODTS}: measure fewer signals at once")
+    for daq in plan.lists:
+        if len(daq.odts) > 0xFF:
+            raise InputError(f"DAQ list {daq.number} needs {len(daq.odts)} ODTs; a list holds 255 at most")

@@ -1,0 +1,189 @@
+"""A running DAQ measurement: configure the slave from a plan, start, collect batches, stop.
+
+:class:`DaqStream` writes the plan into the slave in the order real slaves demand (FREE_DAQ,
+ALLOC_DAQ, ALLOC_ODT for every list, ALLOC_ODT_ENTRY for every ODT, then SET_DAQ_PTR/WRITE_DAQ,
+SET_DAQ_LIST_MODE, START_STOP_DAQ_LIST select, START_STOP_SYNCH start), feeds the DTOs the link
+receives to a :class:`~workbench.xcp.daq.assemble.DtoAssembler`, and hands out
+:class:`DaqBatch`\\ es: a list's samples as one byte matrix with their times, so the decoding
+into values is a few numpy operations per signal, not a Python loop per sample.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+from collections.abc import Hashable
+from dataclasses import dataclass
+
+import numpy as np
+
+from workbench.errors import InputError, WorkbenchError
+from workbench.xcp.daq.assemble import DtoAssembler
+from workbench.xcp.daq.clock import DaqClock
+from workbench.xcp.daq.plan import DaqListPlan, DaqPlan
+from workbench.xcp.info import DaqProcessorInfo, DaqResolutionInfo
+from workbench.xcp.master import XcpMaster
+
+log = logging.getLogger(__name__)
+
+__all__ = ["DaqBatch", "DaqStats", "DaqStream"]
+
+_START_SELECTED, _STOP_ALL = 1, 0
+_SELECT = 2
+
+
+@dataclass(frozen=True)
+class DaqBatch:
+    """Consecutive samples of one DAQ list."""
+
+    daq_list: DaqListPlan
+    time: np.ndarray  # s since the measurement's first sample, slave clock (host clock without timestamps)
+    host_time: np.ndarray  # s since the epoch
+    data: np.ndarray  # uint8 (samples, sample size)
+
+    def __len__(self) -> int:
+        return len(self.time)
+
+    def column(self, key: Hashable) -> np.ndarray:
+        """The bytes of signal ``key``: uint8 (samples, its size), in memory order."""
+        return self.data[:, self.daq_list.positions[key]]
+
+
+@dataclass(frozen=True)
+class DaqStats:
+    dtos: int
+    samples: int
+    lost: int  # samples missing (a broken ODT sequence, or a gap in the slave's timestamps)
+    overloads: int  # overload indications from the slave
+    unknown: int  # DTOs of no list of this measurement
+
+
+class DaqStream:
+    """``event_periods``: event number -> cycle in seconds (for gap detection; None: not cyclic)."""
+
+    def __init__(self, master: XcpMaster, plan: DaqPlan, processor: DaqProcessorInfo, resolution: DaqResolutionInfo,
+                 event_periods: dict[int, float | None] | None = None):
+        self.master = master
+        self.plan = plan
+        self.processor = processor
+        self.resolution = resolution
+        self.event_periods = event_periods or {}
+        self.clock = DaqClock(plan.timestamp_size, resolution.timestamp_resolution_s)
+        self.assembler: DtoAssembler | None = None
+        self._arrived = threading.Event()
+        self._gaps = 0
+        self._last_time: dict[int, float] = {}
+        self.running = False
+
+    # --- life cycle ---------------------------------------------------------------------------
+
+    def start(self) -> DaqStream:
+        """Write the plan into the slave and start every list at once.
+
+        :raises InputError: the slave offers only static DAQ lists.
+        :raises XcpCommandError: the slave refuses the configuration (the message names the command).
+        """
+        master, plan = self.master, self.plan
+        if not self.processor.dynamic:
+            raise InputError("the slave has static DAQ lists only; workbench configures dynamic DAQ (ALLOC_DAQ) so far")
+        master.free_daq()
+        if not plan.lists:
+            return self
+        master.alloc_daq(len(plan.lists))  # dynamic lists are numbered from MIN_DAQ: the plan starts there
+        for daq in plan.lists:
+            master.alloc_odt(daq.number, len(daq.odts))
+        for daq in plan.lists:
+            for number, odt in enumerate(daq.odts):
+                master.alloc_odt_entry(daq.number, number, len(odt.entries))
+        for daq in plan.lists:
+            for number, odt in enumerate(daq.odts):
+                if odt.entries:
+                    master.set_daq_ptr(daq.number, number, 0)
+                for entry in odt.entries:
+                    master.write_daq(entry.size, entry.address, entry.extension)
+            master.set_daq_list_mode(daq.number, daq.event, timestamp=daq.timestamps, prescaler=daq.prescaler,
+                                     priority=daq.priority)
+        first_pids = {daq.number: master.start_stop_daq_list(daq.number, _SELECT) for daq in plan.lists}
+        self.assembler = DtoAssembler(plan, first_pids, master.order,
+                                      overload_in_pid=self.processor.overload_indication == "PID")
+        master.link.dto_handler = self._on_dto
+        master.start_stop_synch(_START_SELECTED)
+        self.running = True
+        return self
+
+    def _on_dto(self, dto: bytes, host_ns: int) -> None:
+        self.assembler.feed(dto, host_ns)
+        self._arrived.set()
+
+    def stop(self) -> None:
+        """Stop every list (START_STOP_SYNCH stop all), stop taking DTOs; safe to call twice.
+
+        The link keeps the DTOs that came before the stop: :meth:`read` still returns them.
+        """
+        if not self.running:
+            return
+        self.running = False
+        try:
+            self.master.start_stop_synch(_STOP_ALL)
+        finally:
+            self.master.link.dto_handler = None
+
+    # --- data ---------------------------------------------------------------------------------
+
+    def read(self, timeout_s: float | None = 0.0) -> list[DaqBatch]:
+        """The samples that arrived since the last read, one batch per list; waits up to ``timeout_s``
+        for the first one (None: until one arrives)."""
+        if self.assembler is None:
+            return []
+        samples = self.assembler.take()
+        if not samples and timeout_s != 0:
+            self._arrived.wait(timeout_s)
+            self._arrived.clear()
+            samples = self.assembler.take()
+        by_list: dict[int, list] = {}
+        for sample in samples:
+            by_list.setdefault(sample.daq_list, []).append(sample)
+        lists = {daq.number: daq for daq in self.plan.lists}
+        return [self._batch(lists[number], found) for number, found in by_list.items()]
+
+    def _batch(self, daq: DaqListPlan, samples: list) -> DaqBatch:
+        host_ns = np.fromiter((s.host_ns for s in samples), dtype=np.int64, count=len(samples))
+        counts = (np.fromiter((s.timestamp for s in samples), dtype=np.int64, count=len(samples))
+                  if daq.timestamps else None)
+        time, host_time = self.clock.times(daq.number, counts, host_ns)
+        data = np.frombuffer(b"".join(s.data for s in samples), dtype=np.uint8).reshape(len(samples), daq.sample_size)
+        self._count_gaps(daq, time)
+        return DaqBatch(daq, time, host_time, data)
+
+    def _count_gaps(self, daq: DaqListPlan, time: np.ndarray) -> None:
+        """Samples the slave did not send (NO_OVERLOAD_INDICATION slaves drop them silently): gaps in its timestamps."""
+        period = self.event_periods.get(daq.event)
+        if not period or not daq.timestamps or not len(time):
+            return
+        previous = self._last_time.get(daq.number)
+        times = np.concatenate(([previous], time)) if previous is not None else time
+        steps = np.rint(np.diff(times) / period).astype(np.int64)
+        self._gaps += int(np.sum(np.maximum(steps - 1, 0)))
+        self._last_time[daq.number] = float(time[-1])
+
+    @property
+    def stats(self) -> DaqStats:
+        assembler = self.assembler
+        if assembler is None:
+            return DaqStats(0, 0, 0, 0, 0)
+        return DaqStats(assembler.dtos, assembler.samples, assembler.lost + self._gaps, assembler.overloads,
+                        assembler.unknown)
+
+    def close(self) -> None:
+        """Stop (if running) and free the slave's DAQ lists; errors are logged, not raised (this runs on the way out)."""
+        try:
+            self.stop()
+            self.master.free_daq()
+        except WorkbenchError as exc:
+            log.warning("stopping DAQ: %s", exc)
+
+    def __enter__(self) -> DaqStream:
+        return self.start()
+
+    def __exit__(self, *exc_info) -> None:
+        self.close()

@@ -1,0 +1,215 @@
+"""What an XCP slave says about itself, decoded from its responses into plain data.
+
+Each ``parse_*`` takes a positive response's payload (the bytes after the 0xFF PID) and the
+slave's byte order (``"<"`` little, ``">"`` big: CONNECT's COMM_MODE_BASIC bit 0 says which).
+Field names follow the XCP 1.x protocol layer specification.
+"""
+
+from __future__ import annotations
+
+import struct
+from dataclasses import dataclass
+
+from workbench.errors import WorkbenchError
+from workbench.xcp_protocol import TIME_UNIT_S, Resource
+
+__all__ = [
+    "CommModeInfo", "ConnectInfo", "DaqEventInfo", "DaqProcessorInfo", "DaqResolutionInfo", "PagProcessorInfo",
+    "PgmProcessorInfo", "ProgramStartInfo", "SectorInfo", "Status",
+]
+
+IDENTIFICATION_FIELDS = ("ABSOLUTE", "RELATIVE_BYTE", "RELATIVE_WORD", "RELATIVE_WORD_ALIGNED")
+PID_SIZES = {"ABSOLUTE": 1, "RELATIVE_BYTE": 2, "RELATIVE_WORD": 3, "RELATIVE_WORD_ALIGNED": 4}
+_ADDRESS_EXTENSIONS = ("free", "per ODT", "invalid", "per DAQ list")
+_OVERLOAD = ("none", "PID", "event", "invalid")
+
+
+def _unpack(fmt: str, payload: bytes, what: str) -> tuple:
+    size = struct.calcsize(fmt)
+    if len(payload) < size:
+        raise WorkbenchError(f"XCP {what}: the response has {len(payload) + 1} bytes, expected {size + 1}")
+    return struct.unpack_from(fmt, payload)
+
+
+@dataclass(frozen=True)
+class ConnectInfo:
+    resources: Resource  # what the slave offers (CAL/PAG, DAQ, STIM, PGM)
+    byte_order: str  # "<" (Intel, MSB_LAST) or ">" (Motorola, MSB_FIRST)
+    address_granularity: int  # bytes per address unit
+    slave_block_mode: bool
+    optional_comm_mode: bool  # GET_COMM_MODE_INFO is available
+    max_cto: int
+    max_dto: int
+    protocol_version: int
+    transport_version: int
+
+    @classmethod
+    def parse(cls, payload: bytes) -> ConnectInfo:
+        resource, basic, max_cto = _unpack("BBB", payload, "CONNECT")
+        order = ">" if basic & 0x01 else "<"
+        max_dto, protocol, transport = _unpack(f"{order}3xHBB", payload, "CONNECT")
+        return cls(Resource(resource & 0x1D), order, 1 << ((basic >> 1) & 0x03), bool(basic & 0x40),
+                   bool(basic & 0x80), max_cto, max_dto, protocol, transport)
+
+
+@dataclass(frozen=True)
+class Status:
+    session_status: int
+    protected: Resource  # the resources that need seed & key now
+    session_configuration_id: int
+
+    @property
+    def daq_running(self) -> bool:
+        return bool(self.session_status & 0x40)
+
+    @classmethod
+    def parse(cls, payload: bytes, order: str) -> Status:
+        session, protection, config_id = _unpack(f"{order}BBxH", payload, "GET_STATUS")
+        return cls(session, Resource(protection & 0x1D), config_id)
+
+
+@dataclass(frozen=True)
+class CommModeInfo:
+    master_block_mode: bool
+    interleaved_mode: bool
+    max_bs: int  # frames in a master block (DOWNLOAD + DOWNLOAD_NEXT ...)
+    min_st_s: float  # pause between the frames of a master block
+    queue_size: int
+    driver_version: int
+
+    @classmethod
+    def parse(cls, payload: bytes) -> CommModeInfo:
+        optional, max_bs, min_st, queue, version = _unpack("xBxBBBB", payload, "GET_COMM_MODE_INFO")
+        return cls(bool(optional & 0x01), bool(optional & 0x02), max_bs, min_st * 100e-6, queue, version)
+
+
+@dataclass(frozen=True)
+class DaqProcessorInfo:
+    dynamic: bool
+    prescaler_supported: bool
+    resume_supported: bool
+    timestamp_supported: bool
+    pid_off_supported: bool
+    overload_indication: str  # none, PID (msb of the PID), event (EV_DAQ_OVERLOAD)
+    max_daq: int
+    max_event_channels: int  # 0: unknown
+    min_daq: int  # predefined, read-only lists
+    optimisation_type: int
+    address_extension: str  # free, per ODT, per DAQ list
+    identification_field: str  # ABSOLUTE, RELATIVE_BYTE, RELATIVE_WORD, RELATIVE_WORD_ALIGNED
+
+    @property
+    def pid_size(self) -> int:
+        """Bytes in front of a DTO's data (and of its timestamp) that identify list and ODT."""
+        return PID_SIZES[self.identification_field]
+
+    @classmethod
+    def parse(cls, payload: bytes, order: str) -> DaqProcessorInfo:
+        properties, max_daq, max_event, min_daq, key = _unpack(f"{order}BHHBB", payload, "GET_DAQ_PROCESSOR_INFO")
+        return cls(
+            dynamic=bool(properties & 0x01), prescaler_supported=bool(properties & 0x02),
+            resume_supported=bool(properties & 0x04), timestamp_supported=bool(properties & 0x10),
+            pid_off_supported=bool(properties & 0x20), overload_indication=_OVERLOAD[(properties >> 6) & 0x03],
+            max_daq=max_daq, max_event_channels=max_event, min_daq=min_daq, optimisation_type=key & 0x0F,
+            address_extension=_ADDRESS_EXTENSIONS[(key >> 4) & 0x03],
+            identification_field=IDENTIFICATION_FIELDS[(key >> 6) & 0x03],
+        )
+
+
+@dataclass(frozen=True)
+class DaqResolutionInfo:
+    granularity: int  # an ODT entry's size is a multiple of this (bytes)
+    max_entry_size: int  # bytes one ODT entry may hold (not an ODT's capacity)
+    timestamp_size: int  # bytes: 0 (none), 1, 2 or 4
+    timestamp_fixed: bool  # timestamps cannot be switched off
+    timestamp_unit_s: float
+    timestamp_ticks: int  # units per count
+
+    @property
+    def timestamp_resolution_s(self) -> float:
+        return self.timestamp_unit_s * self.timestamp_ticks
+
+    @classmethod
+    def parse(cls, payload: bytes, order: str) -> DaqResolutionInfo:
+        granularity, max_entry, _, _, mode, ticks = _unpack(f"{order}BBBBBH", payload, "GET_DAQ_RESOLUTION_INFO")
+        size = mode & 0x07
+        if size not in (0, 1, 2, 4):
+            raise WorkbenchError(f"XCP GET_DAQ_RESOLUTION_INFO: timestamp size {size} is not 0, 1, 2 or 4")
+        unit = (mode >> 4) & 0x0F
+        return cls(max(granularity, 1), max_entry, size, bool(mode & 0x08), TIME_UNIT_S.get(unit, 1e-6), max(ticks, 1))
+
+
+@dataclass(frozen=True)
+class DaqEventInfo:
+    number: int
+    name: str
+    direction: str  # DAQ, STIM, DAQ_STIM
+    max_daq_lists: int
+    period_s: float | None  # None: not cyclic
+    priority: int
+    consistency: str  # ODT, DAQ, EVENT
+
+    @classmethod
+    def parse(cls, number: int, payload: bytes, name: str = "") -> DaqEventInfo:
+        properties, max_lists, _, cycle, unit, priority = _unpack("BBBBBB", payload, "GET_DAQ_EVENT_INFO")
+        direction = {0x04: "DAQ", 0x08: "STIM", 0x0C: "DAQ_STIM"}.get(properties & 0x0C, "DAQ")
+        consistency = {0x00: "ODT", 0x40: "DAQ", 0x80: "EVENT"}.get(properties & 0xC0, "ODT")
+        period = cycle * TIME_UNIT_S.get(unit, 1e-3) if cycle else None
+        return cls(number, name, direction, max_lists, period, priority, consistency)
+
+    @staticmethod
+    def name_length(payload: bytes) -> int:
+        return _unpack("BBB", payload, "GET_DAQ_EVENT_INFO")[2]
+
+
+@dataclass(frozen=True)
+class PagProcessorInfo:
+    max_segments: int
+    freeze_supported: bool
+
+    @classmethod
+    def parse(cls, payload: bytes) -> PagProcessorInfo:
+        segments, properties = _unpack("BB", payload, "GET_PAG_PROCESSOR_INFO")
+        return cls(segments, bool(properties & 0x01))
+
+
+@dataclass(frozen=True)
+class ProgramStartInfo:
+    master_block_mode: bool
+    interleaved_mode: bool
+    slave_block_mode: bool
+    max_cto_pgm: int
+    max_bs_pgm: int
+    min_st_pgm_s: float
+    queue_size_pgm: int
+
+    @classmethod
+    def parse(cls, payload: bytes) -> ProgramStartInfo:
+        mode, max_cto, max_bs, min_st, queue = _unpack("xBBBBB", payload, "PROGRAM_START")
+        return cls(bool(mode & 0x01), bool(mode & 0x02), bool(mode & 0x40), max_cto, max_bs, min_st * 100e-6, queue)
+
+
+@dataclass(frozen=True)
+class PgmProcessorInfo:
+    absolute_mode: bool
+    functional_mode: bool
+    compression_supported: bool
+    encryption_supported: bool
+    non_sequential_supported: bool
+    max_sectors: int
+
+    @classmethod
+    def parse(cls, payload: bytes) -> PgmProcessorInfo:
+        properties, sectors = _unpack("BB", payload, "GET_PGM_PROCESSOR_INFO")
+        return cls(bool(properties & 0x01), bool(properties & 0x02), bool(properties & 0x0C),
+                   bool(properties & 0x30), bool(properties & 0xC0), sectors)
+
+
+@dataclass(frozen=True)
+class SectorInfo:
+    number: int
+    clear_sequence: int
+    program_sequence: int
+    program_method: int
+    address: int
+    length: int

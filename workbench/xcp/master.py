@@ -1,0 +1,450 @@
+"""The XCP master: commands as methods, with the spec's timeouts, SYNCH-and-repeat and errors as ours.
+
+:class:`XcpMaster` sends every command itself over a :class:`~workbench.xcp.link.Link` and
+reads the response, so it controls what pyxcp's request path does not:
+
+* every command waits for its own timeout (T1 for most, T2 BUILD_CHECKSUM, T3 PROGRAM_START,
+  T4 PROGRAM_CLEAR, T5 PROGRAM*, T6 CONNECT after a reset, T7 the pause after ERR_CMD_BUSY),
+  from the A2L or the caller;
+* on a timeout it sends SYNCH and repeats the command twice (commands that move the MTA are
+  repeated from their SET_MTA by the memory functions); an ECU that answers neither is
+  reported as gone after about two timeouts, never waited for forever;
+* a negative response raises :class:`~workbench.errors.XcpCommandError` naming the command and
+  the error; a locked resource is unlocked with the seed & key function, once, and the command
+  repeated;
+* UPLOAD uses the slave's block mode and DOWNLOAD the master block mode when offered.
+"""
+
+from __future__ import annotations
+
+import logging
+import struct
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from workbench.errors import WorkbenchError, XcpCommandError, XcpTimeoutError
+from workbench.xcp.info import (
+    CommModeInfo,
+    ConnectInfo,
+    DaqEventInfo,
+    DaqProcessorInfo,
+    DaqResolutionInfo,
+    PagProcessorInfo,
+    Status,
+)
+from workbench.xcp.link import Link
+from workbench.xcp_protocol import PID_ERR, PID_RES, Cmd, Err, IdType, Resource
+
+log = logging.getLogger(__name__)
+
+__all__ = ["KeyFunction", "Timeouts", "XcpMaster"]
+
+KeyFunction = Callable[[bytes, int], bytes]  # (seed, resource bit) -> key
+_BUSY_REPEATS = 20
+
+
+@dataclass(frozen=True)
+class Timeouts:
+    """T1-T7 in seconds (XCP protocol layer: T1 standard, T2 checksum, T3 PROGRAM_START, T4 PROGRAM_CLEAR,
+    T5 PROGRAM, T6 CONNECT after reset, T7 busy-wait period)."""
+
+    t1: float = 1.0
+    t2: float = 2.0
+    t3: float = 2.0
+    t4: float = 10.0
+    t5: float = 1.0
+    t6: float = 1.0
+    t7: float = 0.2
+
+
+_TIMEOUT_OF = {Cmd.BUILD_CHECKSUM: "t2", Cmd.PROGRAM_START: "t3", Cmd.PROGRAM_CLEAR: "t4", Cmd.PROGRAM: "t5",
+               Cmd.PROGRAM_NEXT: "t5", Cmd.PROGRAM_MAX: "t5", Cmd.PROGRAM_FORMAT: "t5", Cmd.PROGRAM_VERIFY: "t5"}
+
+# The resource a command needs unlocked (XCP: CAL/PAG, DAQ, STIM, PGM).
+_CAL_PAG_COMMANDS = {Cmd.DOWNLOAD, Cmd.DOWNLOAD_NEXT, Cmd.DOWNLOAD_MAX, Cmd.SHORT_DOWNLOAD, Cmd.MODIFY_BITS,
+                     Cmd.SET_CAL_PAGE, Cmd.GET_CAL_PAGE, Cmd.GET_PAG_PROCESSOR_INFO, Cmd.GET_SEGMENT_INFO,
+                     Cmd.GET_PAGE_INFO, Cmd.SET_SEGMENT_MODE, Cmd.GET_SEGMENT_MODE, Cmd.COPY_CAL_PAGE}
+
+
+def resource_of(command: Cmd) -> Resource | None:
+    if command in _CAL_PAG_COMMANDS:
+        return Resource.CAL_PAG
+    if Cmd.ALLOC_ODT_ENTRY <= command <= Cmd.CLEAR_DAQ_LIST:
+        return Resource.DAQ
+    if Cmd.PROGRAM_VERIFY <= command <= Cmd.PROGRAM_START:
+        return Resource.PGM
+    return None
+
+
+class XcpMaster:
+    """XCP commands on one link. Not thread-safe: one caller at a time (the session serialises)."""
+
+    def __init__(self, link: Link, *, timeouts: Timeouts | None = None, key_function: KeyFunction | None = None,
+                 key_function_name: str | None = None):
+        self.link = link
+        self.timeouts = timeouts or Timeouts()
+        self.key_function = key_function
+        self.key_function_name = key_function_name
+        self.connect_info: ConnectInfo | None = None
+        self.comm_mode: CommModeInfo | None = None
+        self.protected: Resource = Resource(0)
+        self._unlocking = False
+
+    # --- the slave's parameters ---------------------------------------------------------------
+
+    @property
+    def connected(self) -> bool:
+        return self.connect_info is not None
+
+    @property
+    def order(self) -> str:
+        return self.connect_info.byte_order if self.connect_info else "<"
+
+    @property
+    def max_cto(self) -> int:
+        return self.connect_info.max_cto if self.connect_info else 8
+
+    @property
+    def max_dto(self) -> int:
+        return self.connect_info.max_dto if self.connect_info else 8
+
+    @property
+    def granularity(self) -> int:
+        return self.connect_info.address_granularity if self.connect_info else 1
+
+    # --- one command --------------------------------------------------------------------------
+
+    def command(self, command: Cmd, payload: bytes = b"", *, timeout: str | None = None, repeat: bool = True) -> bytes:
+        """Send ``command`` with ``payload``; return the positive response's bytes after the PID.
+
+        :param timeout: "t1".."t7" (default: the command's own, mostly T1).
+        :param repeat: SYNCH and repeat on a timeout (not for commands that move the MTA: their
+            callers repeat from SET_MTA).
+        :raises XcpCommandError: a negative response.
+        :raises XcpTimeoutError: no response, and none to SYNCH either (or none after the repeats).
+        """
+        self._unlock_for(command)
+        try:
+            return self._command(command, payload, timeout, repeat)
+        except XcpCommandError as error:
+            resource = resource_of(command)
+            if error.code != Err.ACCESS_LOCKED or resource is None or self._unlocking:
+                raise
+            self.protected |= resource  # the slave locked it (again): unlock and try once more
+            self._unlock_for(command)
+            return self._command(command, payload, timeout, repeat)
+
+    def _command(self, command: Cmd, payload: bytes, timeout: str | None, repeat: bool) -> bytes:
+        timeout_s = getattr(self.timeouts, timeout or _TIMEOUT_OF.get(command, "t1"))
+        packet = bytes((command,)) + payload
+        attempts, busy = 0, 0
+        while True:
+            response = self.link.exchange(packet, timeout_s)
+            if response is None:
+                attempts += 1
+                if command in (Cmd.CONNECT, Cmd.SYNCH):
+                    if attempts < 3:
+                        continue
+                    raise XcpTimeoutError(command.name, timeout_s)
+                self.synch_after_timeout(command, timeout_s)
+                if not repeat or attempts >= 3:
+                    raise XcpTimeoutError(command.name, timeout_s)
+                log.info("XCP %s: no response within %.0f ms; repeating after SYNCH", command.name, timeout_s * 1e3)
+                continue
+            if response[0] == PID_RES:
+                return response[1:]
+            if response[0] == PID_ERR and len(response) > 1:
+                code = response[1]
+                if code == Err.CMD_BUSY and busy < _BUSY_REPEATS:
+                    busy += 1
+                    time.sleep(self.timeouts.t7)
+                    continue
+                if command == Cmd.SYNCH and code == Err.CMD_SYNCH:
+                    return response[1:]
+                raise XcpCommandError(command.name, code)
+            raise WorkbenchError(f"XCP {command.name}: unexpected packet {response.hex(' ')}")
+
+    def synch_after_timeout(self, command: Cmd, timeout_s: float) -> None:
+        """After ``command`` went unanswered: SYNCH, so the next command starts clean.
+
+        :raises XcpTimeoutError: the ECU does not answer SYNCH either: it is gone.
+        """
+        response = self.link.exchange(bytes((Cmd.SYNCH,)), self.timeouts.t1)
+        if response is None:
+            raise XcpTimeoutError(command.name, timeout_s)
+
+    # --- session ------------------------------------------------------------------------------
+
+    def connect(self, mode: int = 0, *, timeout: str = "t1") -> ConnectInfo:
+        """CONNECT (mode 0 normal, 1 user defined), then GET_STATUS and GET_COMM_MODE_INFO when offered."""
+        self.connect_info = ConnectInfo.parse(self.command(Cmd.CONNECT, bytes((mode,)), timeout=timeout))
+        self.comm_mode = None
+        if self.connect_info.optional_comm_mode:
+            self.comm_mode = CommModeInfo.parse(self.command(Cmd.GET_COMM_MODE_INFO))
+        self.protected = self.get_status().protected
+        return self.connect_info
+
+    def disconnect(self) -> None:
+        try:
+            self.command(Cmd.DISCONNECT, repeat=False)
+        finally:
+            self.connect_info = None
+
+    def get_status(self) -> Status:
+        status = Status.parse(self.command(Cmd.GET_STATUS), self.order)
+        self.protected = status.protected
+        return status
+
+    def synch(self) -> None:
+        self.command(Cmd.SYNCH)
+
+    def get_id(self, kind: int = IdType.ASCII) -> bytes:
+        """GET_ID: the identification of ``kind`` (0 ASCII, 1 A2L name, 5 EPK ...), read back with UPLOAD
+        unless the response carries it; b"" when the slave has none."""
+        payload = self.command(Cmd.GET_ID, bytes((kind,)))
+        mode, length = struct.unpack_from(f"{self.order}B2xI", payload)
+        if length == 0:
+            return b""
+        if mode & 0x01:
+            return bytes(payload[7:7 + length])
+        return self.upload(length)
+
+    # --- seed & key ---------------------------------------------------------------------------
+
+    def _unlock_for(self, command: Cmd) -> None:
+        resource = resource_of(command)
+        if resource is not None and resource & self.protected and not self._unlocking:
+            self.unlock(resource)
+
+    def unlock(self, resource: Resource) -> None:
+        """GET_SEED and UNLOCK ``resource`` with the key function.
+
+        :raises WorkbenchError: there is no key function, or it fails.
+        :raises XcpCommandError: the slave rejects the key (ERR_ACCESS_LOCKED).
+        """
+        name = Resource(resource).name.replace("_", "/")
+        if self.key_function is None:
+            raise WorkbenchError(f"the ECU protects {name} with seed & key and no key function is known: the A2L names "
+                                 f"no SEED_AND_KEY_EXTERNAL_FUNCTION; give one as 'module:function'")
+        self._unlocking = True
+        try:
+            seed = self._seed(resource)
+            if not seed:  # length 0: already unlocked
+                self.protected &= ~resource
+                return
+            try:
+                key = bytes(self.key_function(seed, int(resource)))
+            except Exception as exc:  # the plugin is the user's code: report it, don't crash
+                raise WorkbenchError(f"the seed & key function {self.key_function_name or ''} failed for {name}: "
+                                     f"{type(exc).__name__}: {exc}".replace("  ", " ")) from exc
+            if not key:
+                raise WorkbenchError(f"the seed & key function {self.key_function_name or ''} returned no key for {name}")
+            if not key:
+                raise WorkbenchError(f"the seed & key function {self.key_function_name or ''} returned no key for {name}")
+            chunk = self.max_cto - 2
+            for start in range(0, len(key), chunk):
+                remaining = len(key) - start
+                payload = self.command(Cmd.UNLOCK, bytes((remaining,)) + key[start:start + chunk])
+            self.protected = Resource(payload[0] & 0x1D)
+        finally:
+            self._unlocking = False
+        if resource & self.protected:
+            raise WorkbenchError(f"UNLOCK of {name} was accepted but the resource is still protected")
+
+    def _seed(self, resource: Resource) -> bytes:
+        payload = self.command(Cmd.GET_SEED, bytes((0, resource)))
+        total, seed = payload[0], bytes(payload[1:1 + min(payload[0], self.max_cto - 2)])
+        while len(seed) < total:
+            payload = self.command(Cmd.GET_SEED, bytes((1, resource)))
+            seed += bytes(payload[1:1 + min(payload[0], self.max_cto - 2)])
+        return seed[:total]
+
+    # --- memory -------------------------------------------------------------------------------
+
+    def set_mta(self, address: int, extension: int = 0) -> None:
+        self.command(Cmd.SET_MTA, struct.pack(f"{self.order}2xBI", extension, address))
+
+    def short_upload(self, address: int, size: int, extension: int = 0) -> bytes:
+        elements = size // self.granularity
+        payload = self.command(Cmd.SHORT_UPLOAD, struct.pack(f"{self.order}BxBI", elements, extension, address))
+        return self._data(payload, size, Cmd.SHORT_UPLOAD)
+
+    def upload(self, size: int) -> bytes:
+        """UPLOAD ``size`` bytes from the MTA (which advances), in as few commands as the slave allows."""
+        data = bytearray()
+        per_frame = self.max_cto - 1
+        per_command = min(255 * self.granularity, size) if self.connect_info and self.connect_info.slave_block_mode else per_frame
+        while len(data) < size:
+            count = min(per_command, size - len(data))
+            payload = self.command(Cmd.UPLOAD, bytes((count // self.granularity,)), repeat=False)
+            chunk = bytearray(payload[:min(count, per_frame)])
+            while len(chunk) < count:  # slave block mode: the rest follows in further responses
+                more = self.link.receive(self.timeouts.t1)
+                if more is None:
+                    self.synch_after_timeout(Cmd.UPLOAD, self.timeouts.t1)
+                    raise XcpTimeoutError("UPLOAD", self.timeouts.t1)
+                if more[0] != PID_RES:
+                    raise XcpCommandError("UPLOAD", more[1] if len(more) > 1 else 0)
+                chunk += more[1:1 + min(count - len(chunk), per_frame)]
+            data += chunk
+        return bytes(data)
+
+    def read(self, address: int, size: int, extension: int = 0) -> bytes:
+        """``size`` bytes at ``address``: SHORT_UPLOAD when it fits one response, else SET_MTA + UPLOAD;
+        a timeout is repeated from SET_MTA (twice) after SYNCH."""
+        if size <= self.max_cto - 1:
+            return self.short_upload(address, size, extension)
+        return self._repeat_from_mta(lambda: self._set_mta_and(address, extension, lambda: self.upload(size)))
+
+    def write(self, address: int, data: bytes, extension: int = 0) -> None:
+        """DOWNLOAD ``data`` to ``address`` (master block mode when the slave offers it); a timeout is
+        repeated from SET_MTA (twice) after SYNCH."""
+        if not data:
+            return
+        self._repeat_from_mta(lambda: self._set_mta_and(address, extension, lambda: self.download(data)))
+
+    def _set_mta_and(self, address: int, extension: int, action: Callable[[], bytes | None]):
+        self.set_mta(address, extension)
+        return action()
+
+    def _repeat_from_mta(self, action: Callable[[], bytes | None]):
+        for attempt in range(3):
+            try:
+                return action()
+            except XcpTimeoutError:
+                if attempt == 2:
+                    raise
+                log.info("XCP memory transfer timed out; repeating from SET_MTA")
+
+    def download(self, data: bytes, *, command: Cmd = Cmd.DOWNLOAD, next_command: Cmd = Cmd.DOWNLOAD_NEXT,
+                 timeout: str | None = None, max_bs: int | None = None, min_st_s: float | None = None) -> None:
+        """DOWNLOAD (or PROGRAM) ``data`` at the MTA: blocks of a first frame and _NEXT frames when the slave
+        offers master block mode (``max_bs`` frames a block, ``min_st_s`` apart), else one command a frame."""
+        per_frame = self.max_cto - 2
+        block_mode = max_bs is not None or (self.comm_mode is not None and self.comm_mode.master_block_mode)
+        frames = max(1, max_bs if max_bs is not None else (self.comm_mode.max_bs if block_mode else 1))
+        separation = min_st_s if min_st_s is not None else (self.comm_mode.min_st_s if block_mode and self.comm_mode else 0.0)
+        per_block = min(255 * self.granularity, per_frame * frames) if block_mode else per_frame
+        for start in range(0, len(data), per_block):
+            self._download_block(data[start:start + per_block], command, next_command, timeout, separation)
+
+    def _download_block(self, block: bytes, command: Cmd, next_command: Cmd, timeout: str | None,
+                        separation_s: float) -> None:
+        per_frame = self.max_cto - 2
+        first, rest = block[:per_frame], block[per_frame:]
+        elements = len(block) // self.granularity
+        if not rest:
+            self.command(command, bytes((elements,)) + first, timeout=timeout, repeat=False)
+            return
+        self._unlock_for(command)
+        self.link.send(bytes((command, elements)) + first)
+        sent = len(first)
+        while sent < len(block):
+            chunk = block[sent:sent + per_frame]
+            remaining = (len(block) - sent) // self.granularity
+            if separation_s:
+                time.sleep(separation_s)
+            early = self.link.receive(0)  # a slave that rejects a block answers before its end
+            if early is not None and early[0] == PID_ERR:
+                raise XcpCommandError(command.name, early[1] if len(early) > 1 else 0)
+            packet = bytes((next_command, remaining)) + chunk
+            sent += len(chunk)
+            if sent < len(block):
+                self.link.send(packet)
+            else:
+                self._last_of_block(next_command, packet, timeout)
+
+    def _last_of_block(self, command: Cmd, packet: bytes, timeout: str | None) -> None:
+        timeout_s = getattr(self.timeouts, timeout or _TIMEOUT_OF.get(command, "t1"))
+        response = self.link.exchange(packet, timeout_s, drop_queued=False)
+        if response is None:
+            self.synch_after_timeout(command, timeout_s)
+            raise XcpTimeoutError(command.name, timeout_s)
+        if response[0] != PID_RES:
+            raise XcpCommandError(command.name, response[1] if len(response) > 1 else 0)
+
+    def build_checksum(self, address: int, size: int, extension: int = 0) -> tuple[int, int]:
+        """BUILD_CHECKSUM over ``size`` bytes at ``address``: (checksum type code, value)."""
+        def checksum():
+            payload = self.command(Cmd.BUILD_CHECKSUM, struct.pack(f"{self.order}3xI", size // self.granularity),
+                                   repeat=False)
+            kind, value = struct.unpack_from(f"{self.order}B2xI", payload)
+            return kind, value
+
+        return self._repeat_from_mta(lambda: self._set_mta_and(address, extension, checksum))
+
+    def _data(self, payload: bytes, size: int, command: Cmd) -> bytes:
+        if len(payload) < size:
+            raise WorkbenchError(f"XCP {command.name}: {len(payload)} data bytes in the response, expected {size}")
+        return bytes(payload[:size])
+
+    # --- calibration pages --------------------------------------------------------------------
+
+    def get_cal_page(self, segment: int, mode: int = 0x02) -> int:
+        """The page of ``segment`` the ECU (mode 0x01) or XCP (0x02) accesses."""
+        return self.command(Cmd.GET_CAL_PAGE, bytes((mode, segment)))[2]
+
+    def set_cal_page(self, segment: int, page: int, mode: int = 0x03) -> None:
+        """Switch ``segment`` to ``page`` for the ECU (0x01), XCP (0x02) or both (0x03); 0x80: all segments."""
+        self.command(Cmd.SET_CAL_PAGE, bytes((mode, segment, page)))
+
+    def copy_cal_page(self, source_segment: int, source_page: int, target_segment: int, target_page: int) -> None:
+        self.command(Cmd.COPY_CAL_PAGE, bytes((source_segment, source_page, target_segment, target_page)))
+
+    def get_pag_processor_info(self) -> PagProcessorInfo:
+        return PagProcessorInfo.parse(self.command(Cmd.GET_PAG_PROCESSOR_INFO))
+
+    # --- DAQ ----------------------------------------------------------------------------------
+
+    def get_daq_processor_info(self) -> DaqProcessorInfo:
+        return DaqProcessorInfo.parse(self.command(Cmd.GET_DAQ_PROCESSOR_INFO), self.order)
+
+    def get_daq_resolution_info(self) -> DaqResolutionInfo:
+        return DaqResolutionInfo.parse(self.command(Cmd.GET_DAQ_RESOLUTION_INFO), self.order)
+
+    def get_daq_event_info(self, event: int) -> DaqEventInfo:
+        payload = self.command(Cmd.GET_DAQ_EVENT_INFO, struct.pack(f"{self.order}xH", event))
+        length = DaqEventInfo.name_length(payload)
+        name = self.upload(length).decode("latin-1") if length else ""
+        return DaqEventInfo.parse(event, payload, name)
+
+    def get_daq_clock(self) -> int:
+        """The slave's free-running DAQ clock (its timestamp counter)."""
+        payload = self.command(Cmd.GET_DAQ_CLOCK)
+        return struct.unpack_from(f"{self.order}3xI", payload)[0]
+
+    def free_daq(self) -> None:
+        self.command(Cmd.FREE_DAQ)
+
+    def alloc_daq(self, count: int) -> None:
+        self.command(Cmd.ALLOC_DAQ, struct.pack(f"{self.order}xH", count))
+
+    def alloc_odt(self, daq_list: int, count: int) -> None:
+        self.command(Cmd.ALLOC_ODT, struct.pack(f"{self.order}xHB", daq_list, count))
+
+    def alloc_odt_entry(self, daq_list: int, odt: int, count: int) -> None:
+        self.command(Cmd.ALLOC_ODT_ENTRY, struct.pack(f"{self.order}xHBB", daq_list, odt, count))
+
+    def set_daq_ptr(self, daq_list: int, odt: int, entry: int) -> None:
+        self.command(Cmd.SET_DAQ_PTR, struct.pack(f"{self.order}xHBB", daq_list, odt, entry))
+
+    def write_daq(self, size: int, address: int, extension: int = 0, bit_offset: int = 0xFF) -> None:
+        self.command(Cmd.WRITE_DAQ, struct.pack(f"{self.order}BBBI", bit_offset, size // self.granularity,
+                                                extension, address))
+
+    def clear_daq_list(self, daq_list: int) -> None:
+        self.command(Cmd.CLEAR_DAQ_LIST, struct.pack(f"{self.order}xH", daq_list))
+
+    def set_daq_list_mode(self, daq_list: int, event: int, *, timestamp: bool, prescaler: int = 1,
+                          priority: int = 0) -> None:
+        mode = 0x10 if timestamp else 0x00
+        self.command(Cmd.SET_DAQ_LIST_MODE, struct.pack(f"{self.order}BHHBB", mode, daq_list, event, prescaler, priority))
+
+    def start_stop_daq_list(self, daq_list: int, mode: int) -> int:
+        """Mode 0 stop, 1 start, 2 select; returns the list's FIRST_PID."""
+        return self.command(Cmd.START_STOP_DAQ_LIST, struct.pack(f"{self.order}BH", mode, daq_list))[0]
+
+    def start_stop_synch(self, mode: int) -> None:
+        """Mode 0 stop all, 1 start selected, 2 stop selected."""
+        self.command(Cmd.START_STOP_SYNCH, bytes((mode,)))
