@@ -69,7 +69,7 @@ class AddressedObjects:
         self.symbol_offsets: list[int] = [0] * len(self.names)
         linked = np.flatnonzero(links >= 0)
         if len(linked):
-            self._read_symbol_links(linked, links[linked], limits[blocks[linked]])
+            self._read_symbol_links(linked, links[linked], doc.blocks.end[blocks[linked]])
 
     def __len__(self) -> int:
         return len(self.blocks)
@@ -79,13 +79,15 @@ class AddressedObjects:
         return Target(self.keywords[row], self.blocks[row], self.names[row], self.name_tokens[row], self.symbols[row],
                       self.symbol_offsets[row], address if address >= 0 else None, self.anchor_tokens[row])
 
-    def _read_symbol_links(self, rows: np.ndarray, links: np.ndarray, limits: np.ndarray) -> None:
-        """Take the symbol name and offset of the rows with a SYMBOL_LINK "name" offset."""
+    def _read_symbol_links(self, rows: np.ndarray, links: np.ndarray, ends: np.ndarray) -> None:
+        """Take the symbol name and offset of the rows with a SYMBOL_LINK "name" offset (an option may
+        stand anywhere among the block's own tokens, before or after its child blocks: ``ends`` are
+        the blocks' ``/end`` tokens)."""
         doc = self.doc
         first_bytes = np.frombuffer(doc.data, np.uint8)[doc.tokens.starts[np.minimum(links + 1, len(doc.tokens) - 1)]]
         offset_raws = doc.tokens.raw_many(np.minimum(links + 2, len(doc.tokens) - 1))
         offsets = {raw: parse_int(raw) for raw in set(offset_raws) if INT_RE.fullmatch(raw)}  # mostly "0"
-        bad = (links + 2 >= limits) | (first_bytes != ord('"'))
+        bad = (links + 2 >= ends) | (first_bytes != ord('"'))
         bad |= np.array([raw not in offsets for raw in offset_raws], dtype=bool)
         if bad.any():
             row, link = int(rows[np.argmax(bad)]), int(links[np.argmax(bad)])

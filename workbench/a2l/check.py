@@ -1,8 +1,9 @@
 """``check``: syntax, references, names and memory placement of an A2L, each finding located.
 
-Checks: every block against the keyword table; references to COMPU_METHOD,
-RECORD_LAYOUT, FUNCTION, conversion tables, units, measurements, axes, groups and
-memory segments; names defined twice; objects that overlap; objects outside every
+Checks: every block against the keyword table (parameters, the words allowed in
+enumerated ones); references (:mod:`workbench.a2l.references`: COMPU_METHOD,
+RECORD_LAYOUT, typedefs, INSTANCE components, FUNCTION, conversion tables, units,
+measurements, axes, groups, memory segments); names defined twice; objects that overlap; objects outside every
 MEMORY_SEGMENT; calibrations outside a RAM data segment (CAL RAM). With an ELF, every
 object's symbol must exist and its address must match.
 """
@@ -16,6 +17,7 @@ from workbench.a2l.addressed import AddressedObjects
 from workbench.a2l.datatypes import DATATYPES
 from workbench.a2l.document import A2lDocument, Block, load_a2l
 from workbench.a2l.grammar import MAX_ADDRESS, NAMESPACES
+from workbench.a2l.references import check_references
 from workbench.a2l.reports import finding_at
 from workbench.a2l.validate import validate_document
 from workbench.elf.debugdata import DebugData
@@ -23,35 +25,8 @@ from workbench.errors import A2lParseError
 from workbench.findings import Finding, Report, Severity
 from workbench.progress import Progress, report as report_progress
 
-__all__ = ["check", "check_file"]
+__all__ = ["check_document", "check_file"]
 
-# (block, positional index (name = 0), what it names, namespace it refers to, values that mean "none")
-_POSITIONAL_REFERENCES = [
-    ("MEASUREMENT", 3, "COMPU_METHOD", "compu method", ("NO_COMPU_METHOD",)),
-    ("CHARACTERISTIC", 4, "RECORD_LAYOUT", "record layout", ()),
-    ("CHARACTERISTIC", 6, "COMPU_METHOD", "compu method", ("NO_COMPU_METHOD",)),
-    ("AXIS_PTS", 3, "input quantity", "object", ("NO_INPUT_QUANTITY",)),
-    ("AXIS_PTS", 4, "RECORD_LAYOUT", "record layout", ()),
-    ("AXIS_PTS", 6, "COMPU_METHOD", "compu method", ("NO_COMPU_METHOD",)),
-    ("AXIS_DESCR", 1, "input quantity", "object", ("NO_INPUT_QUANTITY",)),
-    ("AXIS_DESCR", 2, "COMPU_METHOD", "compu method", ("NO_COMPU_METHOD",)),
-    ("INSTANCE", 2, "TYPEDEF", "typedef", ()),
-]
-# (block, option keyword, namespace)
-_OPTION_REFERENCES = [
-    ("AXIS_DESCR", "AXIS_PTS_REF", "object"), ("AXIS_DESCR", "CURVE_AXIS_REF", "object"),
-    ("COMPU_METHOD", "COMPU_TAB_REF", "conversion table"), ("COMPU_METHOD", "REF_UNIT", "unit"),
-    ("COMPU_METHOD", "STATUS_STRING_REF", "conversion table"), ("UNIT", "REF_UNIT", "unit"),
-    ("CHARACTERISTIC", "COMPARISON_QUANTITY", "object"),
-    *((block, "REF_MEMORY_SEGMENT", "memory segment") for block in ("MEASUREMENT", "CHARACTERISTIC", "AXIS_PTS")),
-]
-# name-list block -> namespace of its entries
-_LIST_REFERENCES = {
-    "DEF_CHARACTERISTIC": "object", "REF_CHARACTERISTIC": "object", "IN_MEASUREMENT": "object",
-    "OUT_MEASUREMENT": "object", "LOC_MEASUREMENT": "object", "REF_MEASUREMENT": "object",
-    "SUB_FUNCTION": "function", "FUNCTION_LIST": "function", "SUB_GROUP": "group", "MAP_LIST": "object",
-    "VIRTUAL": "object", "REF_GROUP": "group",
-}
 _CALIBRATIONS = ("CHARACTERISTIC", "AXIS_PTS")
 
 
@@ -91,7 +66,7 @@ def check_document(doc: A2lDocument, debug: DebugData | None = None, *, progress
             report.add(Finding("syntax", "", error.reason, error.path, error.line, error.column, "", Severity.ERROR))
     for module in doc.modules:
         names = _namespaces(doc, module, report)
-        _references(doc, module, names, report)
+        check_references(doc, module, names, report)
         report_progress(progress, 2, 4, "checking memory")
         if objects is not None:
             placed = _placements(doc, module, objects, debug, report)
@@ -120,33 +95,6 @@ def _namespaces(doc: A2lDocument, module: Block, report: Report) -> dict[str, di
     if mod_par is not None:
         names["memory segment"] = {b.name: b for b in mod_par.children_named("MEMORY_SEGMENT") if b.name}
     return names
-
-
-def _references(doc: A2lDocument, module: Block, names: dict[str, dict[str, Block]], report: Report) -> None:
-    def expect(token: int, namespace: str, owner: Block, what: str, none: tuple[str, ...] = ()) -> None:
-        target = doc.text(token)
-        if target in none or target in names.get(namespace, {}):
-            return
-        report.add(finding_at(doc, token, "undefined-reference", target,
-                              f"{owner.keyword}{' ' + owner.name if owner.name else ''}: {what} {target} "
-                              "is not defined",
-                              owner.keyword, Severity.ERROR))
-
-    for keyword, index, what, namespace, none in _POSITIONAL_REFERENCES:
-        for block in doc.blocks_named(keyword):
-            args = block.args
-            if index < len(args):
-                expect(args[index], namespace, block, what, none)
-    for keyword, option, namespace in _OPTION_REFERENCES:
-        for block in doc.blocks_named(keyword):
-            for params in block.options(option):
-                if params:
-                    expect(params[0], namespace, block, option)
-    for keyword, namespace in _LIST_REFERENCES.items():
-        for block in doc.blocks_named(keyword):
-            owner = block.parent or block
-            for token in block.args:
-                expect(token, namespace, owner, f"{keyword} entry")
 
 
 def _placements(doc: A2lDocument, module: Block, objects: AddressedObjects, debug: DebugData | None,

@@ -442,10 +442,10 @@ def _options(doc: A2lDocument, tokens: list[int]) -> list[tuple[str, list[int]]]
             while i < len(tokens) and is_int(doc.raw(tokens[i])):
                 i += 1
             options.append((keyword, tokens[start:i]))
-        elif kinds is not None:
+        elif kinds is not None and kinds != ("ident*",):
             options.append((keyword, tokens[i : i + len(kinds)]))
             i += len(kinds)
-        else:
+        else:  # a list of names, or a keyword the table does not know: up to the next known keyword
             start = i
             while i < len(tokens) and doc.raw(tokens[i]).decode("latin-1") not in grammar.OPTIONS:
                 i += 1

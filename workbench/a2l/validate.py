@@ -26,8 +26,15 @@ from workbench.errors import A2lParseError
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
 
-_KIND_NAMES = {"ident": "a name", "str": "a string", "int": "an integer", "float": "a number", "int*": "an integer"}
-_PATTERNS = {"ident": IDENT_RE, "int": INT_RE, "float": FLOAT_RE}
+_KIND_NAMES = {"ident": "a name", "str": "a string", "int": "an integer", "float": "a number", "int*": "an integer",
+               "ident*": "a name"}
+
+
+def _kind_name(kind: str) -> str:
+    """What a parameter of this kind is, for messages: "an integer", "a data type" ..."""
+    enumeration = grammar.ENUMS.get(kind)
+    return enumeration.what if enumeration is not None else _KIND_NAMES[kind]
+_PATTERNS = {"ident": IDENT_RE, "int": INT_RE, "float": FLOAT_RE, "int*": INT_RE, "ident*": IDENT_RE}
 
 
 def validate_document(doc: "A2lDocument", errors: list[A2lParseError] | None = None) -> None:
@@ -49,7 +56,8 @@ class _Validator:
         self.data = doc.data
         self.starts = doc.tokens.starts_list
         self.ends = doc.tokens.ends_list
-        self.fits: dict[str, dict[bytes, bool]] = {kind: {} for kind in _PATTERNS}  # kind -> spelling -> verdict
+        # kind -> spelling -> verdict
+        self.fits: dict[str, dict[bytes, bool]] = {kind: {} for kind in (*_PATTERNS, *grammar.ENUMS)}
 
     def raw(self, token: int) -> bytes:
         return self.data[self.starts[token] : self.ends[token]]
@@ -132,9 +140,9 @@ class _Validator:
     def _fit_many(self, kind: str, tokens: np.ndarray) -> list[bool]:
         data, starts, ends = self.data, self.doc.tokens.starts[tokens].tolist(), self.doc.tokens.ends[tokens].tolist()
         raws = [data[start:end] for start, end in zip(starts, ends)]
-        fits, pattern = self.fits[kind], _PATTERNS[kind]
+        fits = self.fits[kind]
         for raw in set(raws).difference(fits):
-            fits[raw] = pattern.fullmatch(raw) is not None
+            fits[raw] = _fits(kind, raw)
         return [fits[raw] for raw in raws]
 
     def _check_block(self, block: int, own, params_fit: bool = False) -> None:
@@ -158,7 +166,7 @@ class _Validator:
         data, starts, ends, fits = self.data, self.starts, self.ends, self.fits
         for kind in kinds:
             if position >= len(own):
-                raise self.doc.error(f"{keyword}: missing parameter ({_KIND_NAMES[kind]} expected)", end_token)
+                raise self.doc.error(f"{keyword}: missing parameter ({_kind_name(kind)} expected)", end_token)
             token = own[position]
             raw = data[starts[token] : ends[token]]
             if kind == "str":
@@ -166,7 +174,7 @@ class _Validator:
             else:
                 ok = fits[kind].get(raw)
                 if ok is None:
-                    ok = fits[kind][raw] = _PATTERNS[kind].fullmatch(raw) is not None
+                    ok = fits[kind][raw] = _fits(kind, raw)
             if not ok:
                 raise self._kind_error(kind, token, raw, keyword)
             position += 1
@@ -185,17 +193,35 @@ class _Validator:
                 what = "unknown keyword" if name not in grammar.OPTIONS else "keyword"
                 raise self.doc.error(f"{what} {name} is not allowed in {keyword}", token)
             position += 1
-            if kinds == ("int*",):
-                start = position
-                while position < len(own) and INT_RE.fullmatch(self.raw(own[position])):
-                    position += 1
-                if position == start:
-                    raise self.doc.error(f"{name}: at least one integer expected", own[position] if position < len(own) else end_token)
+            if kinds in (("int*",), ("ident*",)):
+                position = self._check_list(name, kinds[0], allowed, own, position, end_token)
                 continue
             position = self._check_params(name, kinds, own, position, end_token)
 
+    def _check_list(self, name: str, kind: str, allowed: dict, own, position: int, end_token: int) -> int:
+        """The one or more ``kind`` parameters of option ``name`` from ``position`` (a list of names
+        ends at the next keyword the block allows); returns the position after them."""
+        start = position
+        pattern = _PATTERNS[kind]
+        while position < len(own):
+            raw = self.raw(own[position])
+            if not pattern.fullmatch(raw) or raw in allowed:
+                break
+            position += 1
+        if position == start:
+            raise self.doc.error(f"{name}: at least one {'integer' if kind == 'int*' else 'name'} expected",
+                                 own[position] if position < len(own) else end_token)
+        return position
+
     def _kind_error(self, kind: str, token: int, raw: bytes, context: str) -> A2lParseError:
         found = "a string" if raw[:1] == b'"' else f"'{shown(raw)}'"
+        enumeration = grammar.ENUMS.get(kind)
+        if enumeration is not None:
+            if raw[:1] == b'"':
+                return self.doc.error(f"{context}: {enumeration.what} expected, found a string "
+                                      f"(allowed: {', '.join(enumeration.words)})", token)
+            return self.doc.error(f"{context}: {found} is not {enumeration.what} "
+                                  f"(allowed: {', '.join(enumeration.words)})", token)
         if kind in ("int", "float") and raw[:1] != b'"' and _looks_numeric(raw):
             return self.doc.error(f"{context}: bad number {found} ({_KIND_NAMES[kind]} expected)", token)
         return self.doc.error(f"{context}: {_KIND_NAMES[kind]} expected, found {found}", token)
@@ -228,6 +254,14 @@ def _placement_problem(parent: str | None, keyword: str) -> str | None:
         return None
     what = "unknown block" if keyword not in grammar.BLOCKS else "block"
     return f"{what} /begin {keyword} is not allowed in {parent}"
+
+
+def _fits(kind: str, raw: bytes) -> bool:
+    """Whether a token's bytes ``raw`` are a parameter of this kind (any kind but ``str``)."""
+    enumeration = grammar.ENUMS.get(kind)
+    if enumeration is not None:
+        return raw.decode("latin-1") in enumeration.words
+    return _PATTERNS[kind].fullmatch(raw) is not None
 
 
 def _looks_numeric(raw: bytes) -> bool:
