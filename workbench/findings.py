@@ -64,10 +64,16 @@ def summarize(findings: list[Finding], shown: int = 3) -> str:
 
 @dataclass
 class Report:
-    """The findings of one operation, in the order they were made."""
+    """The findings of one operation, in the order they were made.
+
+    ``fails_on`` is the least severity that makes the operation fail: an error for merge and
+    update (a warning leaves a usable result), a warning for a check (every finding of a check
+    is a problem it was asked to find). :attr:`ok` and the CLI's exit code follow it.
+    """
 
     operation: str
     findings: list[Finding] = field(default_factory=list)
+    fails_on: Severity = Severity.ERROR
 
     def add(self, finding: Finding) -> None:
         self.findings.append(finding)
@@ -93,12 +99,14 @@ class Report:
 
     @property
     def ok(self) -> bool:
-        return not self.errors
+        """No finding of ``fails_on`` severity or worse: the operation succeeded (CLI exit code 0)."""
+        return all(f.severity < self.fails_on for f in self.findings)
 
     def counts(self) -> dict[str, int]:
         """How many findings of each kind."""
         return dict(Counter(f.kind for f in self.findings))
 
     def to_dict(self) -> dict:
-        return {"operation": self.operation, "ok": self.ok, "counts": self.counts(),
+        return {"operation": self.operation, "ok": self.ok, "fails_on": self.fails_on.name.lower(),
+                "counts": self.counts(),
                 "findings": [f.to_dict() for f in self.findings]}

@@ -81,3 +81,36 @@ def test_an_address_beyond_32_bits_is_an_error():
     text = TEXT.replace("ECU_ADDRESS 0x9000", "ECU_ADDRESS 0x1000000000000000000000")
     (finding,) = check_document(load_a2l_string(text, "far.a2l")).of_kind("address-out-of-range")
     assert (finding.name, finding.line, finding.column) == ("nowhere", 14, 64)
+
+
+BITFIELDS = """ASAP2_VERSION 1 71
+/begin PROJECT P ""
+  /begin MODULE M ""
+    /begin MEASUREMENT whole "" UBYTE NO_COMPU_METHOD 1 0 0 255 ECU_ADDRESS 0x100 /end MEASUREMENT
+    /begin MEASUREMENT b0 "" UBYTE NO_COMPU_METHOD 1 0 0 1 ECU_ADDRESS 0x100 BIT_MASK 0x01 /end MEASUREMENT
+    /begin MEASUREMENT b1 "" UBYTE NO_COMPU_METHOD 1 0 0 7 ECU_ADDRESS 0x100 BIT_MASK 0x0E /end MEASUREMENT
+    /begin MEASUREMENT b2 "" UBYTE NO_COMPU_METHOD 1 0 0 7 ECU_ADDRESS 0x100 BIT_MASK 0x0C /end MEASUREMENT
+    /begin MEASUREMENT w0 "" A_UINT64 NO_COMPU_METHOD 1 0 0 1 ECU_ADDRESS 0x200 BIT_MASK 0x8000000000000000 /end MEASUREMENT
+    /begin MEASUREMENT w1 "" A_UINT64 NO_COMPU_METHOD 1 0 0 1 ECU_ADDRESS 0x200 BIT_MASK 0x7FFFFFFFFFFFFFFF /end MEASUREMENT
+    /begin MEASUREMENT w2 "" A_UINT64 NO_COMPU_METHOD 1 0 0 1 ECU_ADDRESS 0x200 BIT_MASK 0xC000000000000000 /end MEASUREMENT
+    /begin MEASUREMENT twin "" UBYTE NO_COMPU_METHOD 1 0 0 255 ECU_ADDRESS 0x100 /end MEASUREMENT
+  /end MODULE
+/end PROJECT
+"""
+
+
+def test_bitfields_of_the_same_bytes_overlap_only_where_their_masks_do():
+    """A whole byte and its bitfields (a view of it) and bitfields with disjoint masks, 64-bit ones too, are
+    fine; a bitfield that repeats another's bits and a second whole object are warnings."""
+    report = check_document(load_a2l_string(BITFIELDS, "bits.a2l"))
+    assert [(f.kind, f.name, f.line, f.severity.name) for f in report.findings] == [
+        ("same-address", "b2", 7, "WARNING"), ("same-address", "w2", 10, "WARNING"),
+        ("same-address", "twin", 11, "WARNING")]
+    messages = [f.message for f in report.findings]
+    assert messages[0] == ("MEASUREMENT b2 (BIT_MASK 0xC) occupies the same 1 byte(s) at 0x100 as MEASUREMENT b1 "
+                           "(BIT_MASK 0xE)")
+    assert messages[1].endswith("as MEASUREMENT w0 (BIT_MASK 0x8000000000000000)")
+    assert messages[2] == "MEASUREMENT twin occupies the same 1 byte(s) at 0x100 as MEASUREMENT whole"
+    clean = BITFIELDS.replace("0xC000000000000000", "0x0").replace("0x0C /end", "0x30 /end")
+    clean = clean.replace("twin", "other").replace("0 255 ECU_ADDRESS 0x100 /end MEASUREMENT\n  /end", "0 255 ECU_ADDRESS 0x101 /end MEASUREMENT\n  /end")
+    assert check_document(load_a2l_string(clean, "bits.a2l")).findings == []

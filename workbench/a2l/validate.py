@@ -39,7 +39,8 @@ _PATTERNS = {"ident": IDENT_RE, "int": INT_RE, "float": FLOAT_RE, "int*": INT_RE
 
 def validate_document(doc: "A2lDocument", errors: list[A2lParseError] | None = None) -> None:
     """Raise :class:`A2lParseError` at the first violation of the keyword table (in file
-    order), or, when ``errors`` is a list, append every violation (one per block) to it."""
+    order), or, when ``errors`` is a list, append every violation (one per block) to it.
+    An error inside a block has that block's index as ``block``."""
     found: list[A2lParseError] = []
     _Validator(doc, found).run()
     found.sort(key=lambda error: getattr(error, "offset", 0))
@@ -76,6 +77,7 @@ class _Validator:
             try:
                 self._check_block(block, own, skip_params)
             except A2lParseError as exc:
+                exc.block = block
                 self.errors.append(exc)
         try:
             self._check_top_level(self._own_tokens(0, len(doc.tokens), child_order[child_offsets[0] : child_offsets[1]]))
@@ -111,7 +113,9 @@ class _Validator:
             problem = _placement_problem(names[parent_id] if parent_id >= 0 else None, names[keyword_id])
             if problem is not None:
                 for block in np.flatnonzero((pairs == pair) & ~inside_free).tolist():
-                    self.errors.append(doc.error(problem, doc.block_begin[block] + 1))
+                    error = doc.error(problem, doc.block_begin[block] + 1)
+                    error.block = block
+                    self.errors.append(error)
         return ~inside_free & ~free[blocks.keyword_id]
 
     def _positional_parameters_fit(self, checked: np.ndarray) -> np.ndarray:

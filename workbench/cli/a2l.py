@@ -158,18 +158,18 @@ def _check(args: argparse.Namespace) -> int:
     with ProgressBar("checking", enabled=None if not args.json else False) as progress:
         report = check_file(args.a2l, args.elf, cache_dir=args.cache_dir, use_cache=not args.no_cache,
                             progress=progress)
-    clean = not report.findings
     print_report(report, as_json=args.json, verbose=True,
-                 summary=f"{args.a2l}: " + ("clean" if clean else f"{len(report.findings)} problem(s)"))
-    return 0 if clean else 1
+                 summary=f"{args.a2l}: " + ("clean" if report.ok else f"{len(report.problems)} problem(s)"))
+    return 0 if report.ok else 1
 
 
 def _diff(args: argparse.Namespace) -> int:
     from workbench.a2l.diff import diff_files
 
     entries = diff_files(args.a, args.b)
-    if args.json:
-        print_json({"a": args.a, "b": args.b, "differences": [entry.to_dict() for entry in entries]})
+    if args.json:  # ok: the files do not differ (exit code 0), as in every other report's JSON
+        print_json({"operation": "diff", "ok": not entries, "a": args.a, "b": args.b,
+                    "differences": [entry.to_dict() for entry in entries]})
     else:
         for entry in entries:
             where = entry.new_location or entry.old_location

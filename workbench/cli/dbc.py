@@ -162,11 +162,13 @@ def _check(args: argparse.Namespace) -> int:
     from workbench.can.dbc_file import load_dbc
     from workbench.can.table import guess_network, network_of
     from workbench.can.validation import check_dbcs
+    from workbench.findings import Severity
 
     dbcs = [(load_dbc(path, tolerant=True), network_of(path, args.network) if args.network else guess_network(path))
             for path in args.dbc]
     report = check_dbcs(dbcs, args.node, qualified=args.qualified)
+    report.fails_on = Severity.WARNING  # a check fails on any problem it finds, as `a2l check` does
     count = len(report.findings)
     print_report(report, as_json=args.json, verbose=True, summary=f"{count} finding{'s' if count != 1 else ''} in "
                  f"{len(dbcs)} file{'s' if len(dbcs) != 1 else ''}")
-    return 1 if report.findings else 0
+    return 0 if report.ok else 1

@@ -1,0 +1,204 @@
+"""Where a MODULE's objects lie in memory: their sizes, objects that overlap, objects outside every
+MEMORY_SEGMENT and calibrations outside the CAL RAM (part of ``check``).
+
+Bitfields (MEASUREMENT and CHARACTERISTIC with a BIT_MASK, up to 64 bits) that share their bytes
+overlap only when their masks share a bit.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from workbench.a2l.addressed import AddressedObjects
+from workbench.a2l.datatypes import DATATYPES
+from workbench.a2l.document import A2lDocument, Block
+from workbench.a2l.grammar import MAX_ADDRESS
+from workbench.a2l.reports import finding_at
+from workbench.a2l.values import int_or_none
+from workbench.elf.debugdata import DebugData
+from workbench.errors import A2lParseError
+from workbench.findings import Report, Severity
+
+__all__ = ["check_placement"]
+
+_CALIBRATIONS = ("CHARACTERISTIC", "AXIS_PTS")
+_MASKED = ("MEASUREMENT", "CHARACTERISTIC")
+
+
+@dataclass(frozen=True)
+class _Placed:
+    name: str
+    keyword: str
+    address: int
+    size: int
+    token: int
+    bit_mask: int | None = None
+
+
+def _placements(doc: A2lDocument, module: Block, objects: AddressedObjects, debug: DebugData | None,
+                report: Report) -> list[_Placed]:
+    """Address and size of every object that has both (sizes from the ELF when given, else the A2L)."""
+    layouts = _record_layout_sizes(doc)
+    masks = _bit_masks(doc)
+    placed = []
+    parents = doc.blocks.parent
+    for row in range(len(objects)):
+        target = objects.target(row)
+        keyword = target.keyword
+        if keyword == "INSTANCE" or target.address_token is None or parents[target.block] != module.index:
+            continue
+        try:
+            address = doc.int_value(target.address_token)
+        except A2lParseError:
+            continue  # already a syntax finding
+        if address > MAX_ADDRESS:
+            report.add(finding_at(doc, target.address_token, "address-out-of-range", target.name,
+                                  f"{keyword} {target.name}: address 0x{address:X} does not fit the 32 bits of an "
+                                  "A2L address", keyword, Severity.ERROR))
+            continue
+        size = None
+        if debug is not None:
+            symbol = debug.find(target.symbol)
+            if symbol is None:
+                report.add(finding_at(doc, target.name_token, "symbol-not-found", target.name,
+                                      f"{keyword} {target.name}: {debug.resolve_error(target.symbol)}",
+                                      keyword, Severity.ERROR))
+            else:
+                size = symbol.size
+                expected = symbol.address + target.symbol_offset
+                if expected != address:
+                    report.add(finding_at(doc, target.address_token, "address-mismatch", target.name,
+                                          f"{keyword} {target.name}: the A2L says 0x{address:X}, "
+                                          f"{debug.path.name} says 0x{expected:X}", keyword, Severity.ERROR))
+        if size is None:
+            size = _a2l_size(doc, doc.block(target.block), layouts)
+        if size:
+            placed.append(_Placed(target.name, keyword, address, size, target.address_token, masks.get(target.block)))
+    return placed
+
+
+def _a2l_size(doc: A2lDocument, block: Block, layouts: dict[str, int]) -> int | None:
+    args = block.args
+    keyword = block.keyword
+    if keyword == "BLOB":
+        return doc.int_value(args[3]) if len(args) > 3 else None
+    if keyword == "MEASUREMENT":
+        element = DATATYPES.get(doc.text(args[2]), (None,))[0] if len(args) > 2 else None
+    elif keyword == "CHARACTERISTIC" and len(args) > 4 and doc.text(args[2]) in ("VALUE", "VAL_BLK"):
+        element = layouts.get(doc.text(args[4]))
+    else:
+        return None  # curves, maps and axes: only the ELF knows their size
+    if element is None:
+        return None
+    count = 1
+    for option in ("MATRIX_DIM", "ARRAY_SIZE", "NUMBER"):
+        params = block.option(option)
+        if params:
+            for token in params:
+                count *= max(doc.int_value(token), 1)
+            break
+    return element * count
+
+
+def _record_layout_sizes(doc: A2lDocument) -> dict[str, int]:
+    sizes = {}
+    for block in doc.blocks_named("RECORD_LAYOUT"):
+        params = block.option("FNC_VALUES")
+        if params and len(params) > 1 and doc.text(params[1]) in DATATYPES:
+            sizes[block.name] = DATATYPES[doc.text(params[1])][0]
+    return sizes
+
+
+def _bit_masks(doc: A2lDocument) -> dict[int, int]:
+    """Block index -> BIT_MASK of every MEASUREMENT and CHARACTERISTIC that has one."""
+    masks = {}
+    for keyword in _MASKED:
+        blocks, tokens = doc.option_tokens(keyword, "BIT_MASK")
+        for block, token in zip(blocks.tolist(), tokens.tolist()):
+            if token + 1 < len(doc.tokens):
+                mask = int_or_none(doc.raw(token + 1))
+                if mask:
+                    masks[block] = mask
+    return masks
+
+
+def _overlaps(doc: A2lDocument, placed: list[_Placed], report: Report) -> None:
+    """Partial overlaps are errors; an object that only repeats another's bytes is a warning.
+    An object inside a larger one (a struct member, an array element) is a deliberate view, and
+    so is a bitfield of a whole object's bytes; bitfields of the same bytes with disjoint masks
+    do not overlap."""
+    ordered = sorted(placed, key=lambda p: (p.address, -p.size))
+    reach: _Placed | None = None  # the object reaching furthest so far
+    group = _SameBytes(None)  # the objects on exactly reach's bytes
+    for item in ordered:
+        if reach is not None and item.address < reach.address + reach.size:
+            end, reach_end = item.address + item.size, reach.address + reach.size
+            if item.address == reach.address and item.size == reach.size:
+                clash = group.add(item)
+                if clash is not None:
+                    report.add(finding_at(doc, item.token, "same-address", item.name,
+                                          f"{item.keyword} {item.name}{_bits(item)} occupies the same {item.size} "
+                                          f"byte(s) at 0x{item.address:X} as {clash.keyword} {clash.name}"
+                                          f"{_bits(clash)}", item.keyword, Severity.WARNING))
+            elif end > reach_end:
+                report.add(finding_at(doc, item.token, "overlap", item.name,
+                                      f"{item.keyword} {item.name} (0x{item.address:X}, {item.size} bytes) overlaps "
+                                      f"{reach.keyword} {reach.name} (0x{reach.address:X}, {reach.size} bytes)",
+                                      item.keyword, Severity.ERROR))
+            if end <= reach_end:
+                continue
+        reach = item
+        group = _SameBytes(item)
+
+
+class _SameBytes:
+    """The objects on one range of bytes: the first whole one, and the bitfields."""
+
+    def __init__(self, first: _Placed | None):
+        self.whole: _Placed | None = None
+        self.bitfields: list[_Placed] = []
+        if first is not None:
+            self.add(first)
+
+    def add(self, item: _Placed) -> _Placed | None:
+        """Take ``item``; returns the object whose bits it repeats (None: it repeats none)."""
+        if item.bit_mask is None:
+            if self.whole is None:
+                self.whole = item
+            return self.whole if self.whole is not item else None
+        for bitfield in self.bitfields:
+            if bitfield.bit_mask & item.bit_mask:
+                return bitfield
+        self.bitfields.append(item)
+        return None
+
+
+def _bits(item: _Placed) -> str:
+    return f" (BIT_MASK 0x{item.bit_mask:X})" if item.bit_mask is not None else ""
+
+
+def _segments(doc: A2lDocument, module: Block, placed: list[_Placed], report: Report) -> None:
+    segments = doc.memory_segments(module.name)
+    if not segments:
+        return
+    cal_ram = [s for s in segments if s.memory_type == "RAM" and s.prg_type in ("DATA", "CALIBRATION_VARIABLES")]
+    for item in placed:
+        inside = [s for s in segments if s.contains(item.address, item.size)]
+        if not inside:
+            report.add(finding_at(doc, item.token, "outside-memory", item.name,
+                                  f"{item.keyword} {item.name} (0x{item.address:X}, {item.size} bytes) lies outside "
+                                  "every MEMORY_SEGMENT", item.keyword, Severity.ERROR))
+        elif item.keyword in _CALIBRATIONS and cal_ram and not any(s in cal_ram for s in inside):
+            report.add(finding_at(doc, item.token, "calibration-outside-cal-ram", item.name,
+                                  f"{item.keyword} {item.name} at 0x{item.address:X} is in {inside[0].name} "
+                                  f"({inside[0].prg_type} {inside[0].memory_type}), not in a DATA RAM segment "
+                                  f"({', '.join(s.name for s in cal_ram)})", item.keyword, Severity.ERROR))
+
+
+def check_placement(doc: A2lDocument, module: Block, objects: AddressedObjects, debug: DebugData | None,
+                    report: Report) -> None:
+    """Report the module's objects that overlap or lie outside memory (and, with ``debug``, whose
+    symbol is missing or whose address differs from the ELF's)."""
+    placed = _placements(doc, module, objects, debug, report)
+    _overlaps(doc, placed, report)
+    _segments(doc, module, placed, report)
