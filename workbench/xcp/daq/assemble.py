@@ -4,7 +4,7 @@ A :class:`DtoAssembler` is fed every DTO from the link's receive thread (:meth:`
 short: it only copies bytes) and hands out complete samples with :meth:`take`:
 ``(list number, slave timestamp or None, host receive time ns, sample bytes)``. A sample whose
 ODTs do not arrive in order (a lost frame, an overloaded slave dropping some) is discarded
-and counted in :attr:`lost`; the identification field's overload bit (OVERLOAD_INDICATION_PID)
+and counted in :attr:`lost` (per list: :attr:`lost_by_list`); the identification field's overload bit (OVERLOAD_INDICATION_PID)
 and EV_DAQ_OVERLOAD events count in :attr:`overloads`.
 """
 
@@ -62,7 +62,7 @@ class DtoAssembler:
         self._lock = threading.Lock()
         self.dtos = 0
         self.samples = 0
-        self.lost = 0
+        self.lost_by_list: dict[int, int] = dict.fromkeys(self._lists, 0)
         self.overloads = 0
         self.unknown = 0
 
@@ -91,7 +91,7 @@ class DtoAssembler:
             return
         if odt == 0:
             if state.next_odt > 0:
-                self.lost += 1  # the previous sample never completed
+                self.lost_by_list[state.number] += 1  # the previous sample never completed
             state.buffer = bytearray()
             if state.timestamp_size:
                 state.timestamp = int.from_bytes(dto[offset:offset + state.timestamp_size], self.byte_order)
@@ -99,12 +99,12 @@ class DtoAssembler:
             state.host_ns = host_ns
         elif odt != state.next_odt:
             if state.next_odt != _DISCARDING:
-                self.lost += 1  # an ODT went missing: drop the rest of this sample
+                self.lost_by_list[state.number] += 1  # an ODT went missing: drop the rest of this sample
             state.next_odt = _DISCARDING
             return
         size = state.sizes[odt]
         if len(dto) < offset + size:
-            self.lost += 1
+            self.lost_by_list[state.number] += 1
             state.next_odt = _DISCARDING
             return
         state.buffer += dto[offset:offset + size]
@@ -115,6 +115,11 @@ class DtoAssembler:
                 self.samples += 1
         else:
             state.next_odt = odt + 1
+
+    @property
+    def lost(self) -> int:
+        """Samples dropped because an ODT was missing or short."""
+        return sum(self.lost_by_list.values())
 
     def take(self) -> list[RawSample]:
         """The samples completed since the last call, in arrival order."""

@@ -170,7 +170,8 @@ class _Rooms:
 def _pieces(signals: Sequence[DaqSignal], resolution: DaqResolutionInfo, capacity: int) -> list[_Piece]:
     """The signals' bytes merged where they touch, cut into entries, grouped into what must share an ODT."""
     granule = resolution.granularity
-    max_entry = resolution.max_entry_size - resolution.max_entry_size % granule
+    max_entry = min(resolution.max_entry_size, capacity)  # an entry larger than a DTO could never be sent
+    max_entry -= max_entry % granule
     units = sorted({(s.extension, s.address + i, min(s.unit, s.size - i)) for s in signals for i in range(0, s.size, s.unit)})
     pieces: list[_Piece] = []
     for extension, address, size in units:

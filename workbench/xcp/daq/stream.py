@@ -46,7 +46,7 @@ class DaqBatch:
 
     def column(self, key: Hashable) -> np.ndarray:
         """The bytes of signal ``key``: uint8 (samples, its size), in memory order."""
-        return self.data[:, self.daq_list.positions[key]]
+        return np.ascontiguousarray(self.data[:, self.daq_list.positions[key]])  # C order, so .view(dtype) works
 
 
 @dataclass(frozen=True)
@@ -71,7 +71,7 @@ class DaqStream:
         self.clock = DaqClock(plan.timestamp_size, resolution.timestamp_resolution_s)
         self.assembler: DtoAssembler | None = None
         self._arrived = threading.Event()
-        self._gaps = 0
+        self._gaps: dict[int, int] = {}  # list -> samples missing from its timestamps
         self._last_time: dict[int, float] = {}
         self.running = False
 
@@ -163,7 +163,7 @@ class DaqStream:
         previous = self._last_time.get(daq.number)
         times = np.concatenate(([previous], time)) if previous is not None else time
         steps = np.rint(np.diff(times) / period).astype(np.int64)
-        self._gaps += int(np.sum(np.maximum(steps - 1, 0)))
+        self._gaps[daq.number] = self._gaps.get(daq.number, 0) + int(np.sum(np.maximum(steps - 1, 0)))
         self._last_time[daq.number] = float(time[-1])
 
     @property
@@ -171,8 +171,9 @@ class DaqStream:
         assembler = self.assembler
         if assembler is None:
             return DaqStats(0, 0, 0, 0, 0)
-        return DaqStats(assembler.dtos, assembler.samples, assembler.lost + self._gaps, assembler.overloads,
-                        assembler.unknown)
+        # a timestamp gap counts every missing sample, broken ones included; without timestamps only broken ones show
+        lost = sum(self._gaps.get(number, broken) for number, broken in assembler.lost_by_list.items())
+        return DaqStats(assembler.dtos, assembler.samples, lost, assembler.overloads, assembler.unknown)
 
     def close(self) -> None:
         """Stop (if running) and free the slave's DAQ lists; errors are logged, not raised (this runs on the way out)."""

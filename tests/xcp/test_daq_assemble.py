@@ -1,0 +1,109 @@
+"""DTOs into samples for every identification field type, with losses and overloads counted; the clock."""
+
+from __future__ import annotations
+
+import struct
+
+import numpy as np
+import pytest
+from test_daq_plan import processor, resolution
+
+from workbench.xcp.daq.assemble import DtoAssembler
+from workbench.xcp.daq.clock import DaqClock
+from workbench.xcp.daq.plan import DaqSignal, plan_daq
+
+SIGNALS = {0: [DaqSignal("a", 0x100, 4), DaqSignal("b", 0x200, 4), DaqSignal("c", 0x300, 2)]}
+
+
+def dtos(plan, first_pid: int, timestamp: int, memory: dict[int, int], order: str = "<") -> list[bytes]:
+    """The DTOs a slave would send for one sample of the plan's first list."""
+    daq = plan.lists[0]
+    frames = []
+    for number, odt in enumerate(daq.odts):
+        field = plan.identification_field
+        if field == "ABSOLUTE":
+            head = bytes((first_pid + number,))
+        elif field == "RELATIVE_BYTE":
+            head = bytes((number, daq.number))
+        elif field == "RELATIVE_WORD":
+            head = bytes((number,)) + struct.pack(f"{order}H", daq.number)
+        else:
+            head = bytes((number, 0)) + struct.pack(f"{order}H", daq.number)
+        if number == 0 and daq.timestamps:
+            head += timestamp.to_bytes(plan.timestamp_size, "little" if order == "<" else "big")
+        data = bytes(memory.get(entry.address + i, 0) for entry in odt.entries for i in range(entry.size))
+        frames.append((head + data).ljust(8, b"\0") if plan.max_dto == 8 else head + data)
+    return frames
+
+
+MEMORY = {**{0x100 + i: 1 + i for i in range(4)}, **{0x200 + i: 0x10 + i for i in range(4)}, 0x300: 0xAA, 0x301: 0xBB}
+
+
+@pytest.mark.parametrize("field", ["ABSOLUTE", "RELATIVE_BYTE", "RELATIVE_WORD", "RELATIVE_WORD_ALIGNED"])
+@pytest.mark.parametrize("order", ["<", ">"])
+def test_every_identification_field_reassembles(field, order):
+    max_dto = 8 if field in ("ABSOLUTE", "RELATIVE_BYTE") else 16
+    plan = plan_daq(SIGNALS, processor(field), resolution(timestamp_size=2), max_dto, first_list=2)
+    assembler = DtoAssembler(plan, {2: 40}, order)
+    for timestamp in (1000, 1250):
+        for dto in dtos(plan, 40, timestamp, MEMORY, order):
+            assembler.feed(dto, 5)
+    samples = assembler.take()
+    assert [s.timestamp for s in samples] == [1000, 1250]
+    positions = plan.lists[0].positions
+    data = np.frombuffer(samples[0].data, dtype=np.uint8)
+    assert bytes(data[positions["a"]]) == bytes((1, 2, 3, 4))
+    assert bytes(data[positions["c"]]) == bytes((0xAA, 0xBB))
+    assert (assembler.lost, assembler.unknown) == (0, 0)
+
+
+def test_a_missing_odt_drops_that_sample_only():
+    plan = plan_daq(SIGNALS, processor(), resolution(), 8)
+    assert len(plan.lists[0].odts) > 2
+    assembler = DtoAssembler(plan, {0: 0})
+    first, second, third = (dtos(plan, 0, t, MEMORY) for t in (1, 2, 3))
+    for dto in first + second[:1] + second[2:] + third:  # the second sample lost its ODT 1
+        assembler.feed(dto, 0)
+    assert [s.timestamp for s in assembler.take()] == [1, 3]
+    assert assembler.lost == 1
+
+
+def test_a_lost_first_odt_counts_once():
+    plan = plan_daq(SIGNALS, processor(), resolution(), 8)
+    assembler = DtoAssembler(plan, {0: 0})
+    for dto in dtos(plan, 0, 1, MEMORY)[1:] + dtos(plan, 0, 2, MEMORY):
+        assembler.feed(dto, 0)
+    assert [s.timestamp for s in assembler.take()] == [2]
+    assert assembler.lost == 1
+
+
+def test_overload_bit_in_the_pid_is_counted_and_stripped():
+    plan = plan_daq({0: [DaqSignal("a", 0x100, 2)]}, processor(), resolution(timestamp_size=0), 8)
+    assembler = DtoAssembler(plan, {0: 3}, overload_in_pid=True)
+    assembler.feed(bytes((0x83, 1, 2)), 0)
+    assert assembler.overloads == 1 and len(assembler.take()) == 1
+
+
+def test_foreign_dtos_are_counted_not_decoded():
+    plan = plan_daq(SIGNALS, processor(), resolution(), 8)
+    assembler = DtoAssembler(plan, {0: 0})
+    assembler.feed(bytes((0x70,)) + bytes(7), 0)
+    assert assembler.unknown == 1 and assembler.take() == []
+
+
+def test_a_16_bit_counter_is_unwrapped_with_the_host_clock_even_when_sampled_rarely():
+    clock = DaqClock(2, 1e-5)  # wraps every 0.65536 s
+    true_s = np.array([0.0, 0.3, 1.0, 2.5, 2.6])
+    counts = np.rint(true_s / 1e-5).astype(np.int64) % 65536
+    host_ns = (1_000_000_000_000 + true_s * 1e9 + np.array([2e5, 9e5, 1e5, 3e5, 1e5])).astype(np.int64)
+    seconds, host = clock.times(0, counts[:2], host_ns[:2])
+    more, more_host = clock.times(0, counts[2:], host_ns[2:])
+    assert np.allclose(np.concatenate((seconds, more)), true_s, atol=1e-9)
+    assert np.all(np.diff(np.concatenate((host, more_host))) > 0)
+    assert abs(more_host[-1] - (1000 + 2.6 + 1e-4)) < 2e-4  # the fastest arrival sets the offset
+
+
+def test_without_timestamps_the_host_clock_is_used():
+    clock = DaqClock(0, 1e-5)
+    seconds, host = clock.times(0, None, np.array([2_000_000_000, 2_500_000_000]))
+    assert seconds.tolist() == [0.0, 0.5] and host.tolist() == [2.0, 2.5]

@@ -1,0 +1,153 @@
+"""XcpMaster against the simulated ECU over a python-can bus: commands, memory, seed & key, errors, faults."""
+
+from __future__ import annotations
+
+import struct
+import subprocess
+import sys
+import time
+
+import pytest
+from conftest import FAST, can_settings
+
+from workbench.errors import WorkbenchError, XcpCommandError, XcpTimeoutError
+from workbench.image import ChecksumType, checksum
+from workbench.xcp.link import Link
+from workbench.xcp.master import XcpMaster
+from workbench.xcp_protocol import Err, IdType, Resource
+
+CAL_RAM = 0x40000000
+THRESHOLD = "xsSWITCH_TANK_THR"
+
+
+
+@pytest.fixture
+def threshold(rig) -> int:
+    from workbench.elf import ElfSymbols
+
+    return ElfSymbols(rig.demo.files.elf).symbol(THRESHOLD).address
+
+
+def test_connect_reports_what_the_slave_offers(rig):
+    info = rig.master.connect_info
+    assert (info.max_cto, info.max_dto, info.byte_order) == (8, 8, "<")
+    assert info.resources == Resource.CAL_PAG | Resource.DAQ | Resource.PGM
+    assert rig.master.comm_mode.master_block_mode and rig.master.comm_mode.max_bs == 42
+    assert rig.master.protected == Resource.CAL_PAG | Resource.DAQ | Resource.PGM  # locked until needed
+
+
+def test_epk_by_get_id_and_by_address(rig):
+    epk = rig.demo.a2l.epk()
+    assert rig.master.get_id(IdType.EPK).decode() == epk
+    assert rig.master.read(rig.demo.a2l.addr_epk(), len(epk)).decode() == epk
+
+
+def test_short_and_block_reads_agree_with_the_ecu_memory(rig, threshold):
+    assert struct.unpack("<f", rig.master.read(threshold, 4))[0] == 20.0
+    whole = rig.master.read(CAL_RAM, 0x1C4)  # slave block mode UPLOAD, 255 bytes a command
+    assert whole == rig.demo.ecu.read(CAL_RAM, 0x1C4)
+
+
+def test_a_write_unlocks_cal_pag_and_uses_master_block_mode(rig, threshold):
+    data = bytes(range(250)) + bytes(range(50))
+    start = threshold - (threshold - CAL_RAM) % 4  # somewhere inside .cal_ram, restored below
+    before = rig.master.read(CAL_RAM + 0x10, len(data))
+    rig.master.write(CAL_RAM + 0x10, data)
+    assert not rig.master.protected & Resource.CAL_PAG
+    assert rig.master.read(CAL_RAM + 0x10, len(data)) == data
+    rig.master.write(CAL_RAM + 0x10, before)
+    assert start >= CAL_RAM
+
+
+def test_build_checksum_matches_the_local_crc(rig):
+    kind, value = rig.master.build_checksum(CAL_RAM, 0x200)
+    assert kind == ChecksumType.CRC_32
+    assert value == checksum(rig.demo.ecu.read(CAL_RAM, 0x200), ChecksumType.CRC_32)
+
+
+def test_a_negative_response_names_the_command_and_the_error(rig):
+    with pytest.raises(XcpCommandError) as caught:
+        rig.master.read(0x10, 4)
+    assert str(caught.value) == "XCP SHORT_UPLOAD failed: ERR_OUT_OF_RANGE (0x22)"
+    with pytest.raises(XcpCommandError, match="DOWNLOAD failed: ERR_WRITE_PROTECTED"):
+        rig.master.write(0xFC0000, b"\x00")  # flash is not writable by DOWNLOAD
+
+
+def test_a_wrong_key_is_refused_by_the_ecu(rig):
+    rig.master.key_function = lambda seed, resource: b"\x00\x00\x00\x00"
+    with pytest.raises(XcpCommandError, match="UNLOCK failed: ERR_ACCESS_LOCKED"):
+        rig.master.write(CAL_RAM + 0x10, b"\x01")
+
+
+def test_no_key_function_says_what_to_give(rig):
+    rig.master.key_function = None
+    with pytest.raises(WorkbenchError, match="protects CAL/PAG with seed & key.*module:function"):
+        rig.master.write(CAL_RAM + 0x10, b"\x01")
+
+
+def test_a_failing_key_function_is_one_line(rig):
+    def broken(seed, resource):
+        raise ValueError("no licence")
+
+    rig.master.key_function = broken
+    with pytest.raises(WorkbenchError, match="seed & key function .*failed for DAQ: ValueError: no licence"):
+        rig.master.free_daq()
+
+
+def test_a_lost_response_is_recovered_by_synch_and_repeat(rig, threshold):
+    rig.demo.ecu.faults.drop_frame(1, "tx")
+    assert struct.unpack("<f", rig.master.read(threshold, 4))[0] == 20.0
+    assert [f.split(" frame")[0] for f in rig.demo.ecu.faults.fired] == ["drop tx"]
+
+
+def test_a_lost_block_frame_is_repeated_from_set_mta(rig):
+    rig.demo.ecu.faults.drop_frame(3, "tx")  # a frame in the middle of a slave-block UPLOAD
+    assert rig.master.read(CAL_RAM, 100) == rig.demo.ecu.read(CAL_RAM, 100)
+    assert rig.demo.ecu.faults.fired
+
+
+def test_busy_is_waited_out(rig, threshold):
+    rig.demo.ecu.faults.reject_command(1, Err.CMD_BUSY)
+    assert struct.unpack("<f", rig.master.read(threshold, 4))[0] == 20.0
+
+
+def test_a_vanished_ecu_is_reported_within_two_timeouts(rig, threshold):
+    rig.simulator.power_off()
+    started = time.monotonic()
+    with pytest.raises(XcpTimeoutError, match="SHORT_UPLOAD: no response within 200 ms"):
+        rig.master.read(threshold, 4)
+    assert time.monotonic() - started < 10 * FAST.t1  # generous: a hang would be the failure
+
+
+def test_nothing_answers_connect_on_an_empty_bus():
+    with Link(can_settings("xcp-test-nobody")) as link:
+        with pytest.raises(XcpTimeoutError, match="CONNECT"):
+            XcpMaster(link, timeouts=FAST).connect()
+
+
+def test_importing_pyxcp_through_the_link_leaves_the_interpreter_alone():
+    """pyxcp installs rich's traceback and display hooks and a console log handler when imported."""
+    code = (
+        "import logging, sys\n"
+        "from workbench.sim.demo_ecu import build_demo_ecu\n"
+        "from workbench.sim.server import Simulator\n"
+        "from workbench.xcp.link import Link, LinkSettings\n"
+        "with Simulator(build_demo_ecu().ecu, {'interface': 'virtual', 'channel': 'h'}, time_scale=None):\n"
+        "    with Link(LinkSettings('CAN', {'interface': 'virtual', 'channel': 'h'}, 0x7F0, 0x7F1)):\n"
+        "        pass\n"
+        "assert 'pyxcp' in sys.modules\n"
+        "assert sys.excepthook is sys.__excepthook__, sys.excepthook\n"
+        "assert sys.displayhook is sys.__displayhook__, sys.displayhook\n"
+        "assert logging.getLogger('pyxcp').handlers == [], logging.getLogger('pyxcp').handlers\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code, "--not-for-pyxcp"], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout == "" and result.stderr == ""
+
+
+def test_an_unknown_interface_is_bad_input():
+    from workbench.errors import InputError
+    from workbench.xcp.link import LinkSettings
+
+    with pytest.raises(InputError, match="unknown python-can interface 'nosuchcan'"):
+        Link(LinkSettings("CAN", {"interface": "nosuchcan", "channel": "x"}, 1, 2))
