@@ -1,12 +1,19 @@
-"""C types as the A2L tool chain needs them: sizes, struct members, arrays, bitfields.
+"""C and C++ types as the A2L tool chain needs them: sizes, members, base classes, arrays, bitfields.
 
 :class:`TypeResolver` turns a DWARF type DIE into a :class:`CType`, looking through
-typedefs and const/volatile qualifiers (remembering the outermost typedef name).
+typedefs and const/volatile qualifiers (remembering the outermost typedef name), type
+units (DW_AT_signature) and declarations (to the definition another unit holds).
 Pointers are not followed, so self-referencing structs are finite.
+
+:meth:`CType.find_member` looks a name up the way C and C++ do: a member of the type,
+of an anonymous struct or union in it (C11 ``reg.Value``), then of its base classes
+(a derived member hides a base member of the same name; one found in two bases is
+ambiguous). A base class can also be named as a step (a2ltool's ``obj.Base.member``).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 from workbench.elf import dwarf
@@ -15,10 +22,14 @@ _ENCODINGS = {0x01: "address", 0x02: "bool", 0x04: "float", 0x05: "signed", 0x06
               0x07: "unsigned", 0x08: "unsigned", 0x10: "unsigned"}  # 0x06/0x08: (un)signed char, 0x10: UTF
 
 
+class MemberError(ValueError):
+    """A member name that a type does not have, or has twice through two base classes."""
+
+
 @dataclass(frozen=True)
 class CMember:
-    name: str
-    offset: int  # bytes from the start of the struct (the storage unit of a bitfield)
+    name: str  # "" for an anonymous struct/union member; a base class: the class name
+    offset: int | None  # bytes from the start of the struct (the storage unit of a bitfield); None: a virtual base
     type: "CType"
     bit_size: int | None = None  # bitfields only
     bit_position: int | None = None  # bitfields: lowest bit inside the storage unit (0 = LSB)
@@ -34,12 +45,40 @@ class CType:
     element: "CType | None" = None  # arrays
     dims: tuple[int, ...] = ()  # arrays: element counts, outermost first
     typedef: str | None = field(default=None, compare=False)  # e.g. real32_T
+    bases: tuple[CMember, ...] = ()  # C++ base classes, in declaration order
+    declared_only: bool = False  # a struct the DWARF only declares (no unit defines it)
 
     def member(self, name: str) -> CMember | None:
+        """The member declared in this type itself with this name."""
         for member in self.members:
             if member.name == name:
                 return member
         return None
+
+    def find_member(self, name: str) -> CMember | None:
+        """The member ``name`` reaches, its offset from the start of this type (see the module
+        docstring); None when there is none. Raises :class:`MemberError` when two base classes
+        have it, or when it lies in a virtual base (whose offset only the running program knows)."""
+        own = self.member(name)
+        if own is not None and name:
+            return own
+        for anonymous in self.members:
+            if not anonymous.name and anonymous.type.kind in ("struct", "union"):
+                inner = anonymous.type.find_member(name)
+                if inner is not None:
+                    return _moved(inner, anonymous.offset)
+        for base in self.bases:
+            if base.name == name:
+                return _through_base(base, replace(base, offset=0), name)
+        found = [(base, member) for base in self.bases if (member := base.type.find_member(name)) is not None]
+        if not found:
+            return None
+        if len(found) > 1:
+            raise MemberError(f"{name!r} is in more than one base class of {self.display_name} "
+                              f"({', '.join(base.name for base, _ in found)}): name the base, e.g. "
+                              f"{found[0][0].name}.{name}")
+        base, member = found[0]
+        return _through_base(base, member, name)
 
     @property
     def display_name(self) -> str:
@@ -49,11 +88,25 @@ class CType:
 VOID = CType("void", 0)
 
 
+def _moved(member: CMember, by: int | None) -> CMember:
+    if by is None or member.offset is None:
+        return replace(member, offset=None)
+    return replace(member, offset=member.offset + by) if by else member
+
+
+def _through_base(base: CMember, member: CMember, name: str) -> CMember:
+    if base.offset is None:
+        raise MemberError(f"{name!r} lies in the virtual base {base.name}: its offset is known at run time only")
+    return _moved(member, base.offset)
+
+
 class TypeResolver:
     """Builds :class:`CType` objects from DWARF, memoised by DIE offset."""
 
-    def __init__(self, reader: dwarf.DwarfReader, cache: dict[int, CType] | None = None):
+    def __init__(self, reader: dwarf.DwarfReader, cache: dict[int, CType] | None = None,
+                 definitions: Callable[[dwarf.Die], int | None] | None = None):
         self.reader = reader
+        self.definitions = definitions  # declaration DIE -> offset of its definition (see DwarfIndex.definition_of)
         self.cache: dict[int, CType] = cache if cache is not None else {}
         self._building: set[int] = set()
 
@@ -99,12 +152,36 @@ class TypeResolver:
         if tag == dwarf.TAG_SUBROUTINE_TYPE:
             return CType("function", 0, name)
         if tag in (dwarf.TAG_STRUCT, dwarf.TAG_UNION, dwarf.TAG_CLASS):
-            members = tuple(self._member(child) for child in self.reader.children(die) if child.tag == dwarf.TAG_MEMBER)
-            kind = "union" if tag == dwarf.TAG_UNION else "struct"
-            return CType(kind, size, name, members=tuple(m for m in members if m is not None))
+            return self._record(die, name, size)
         if tag == dwarf.TAG_ARRAY:
             return self._array(die)
         return CType("void", size, name)
+
+    def _record(self, die: dwarf.Die, name: str | None, size: int) -> CType:
+        """A struct, class or union; a declaration is followed to its type unit or its definition."""
+        attrs = die.attrs
+        if attrs.get(dwarf.AT_DECLARATION):
+            signed = attrs.get(dwarf.AT_SIGNATURE)
+            definition = signed if isinstance(signed, int) else (
+                self.definitions(die) if self.definitions is not None else None)
+            if definition is not None and definition != die.offset:
+                return self.resolve(definition)
+            return CType("union" if die.tag == dwarf.TAG_UNION else "struct", size, name, declared_only=True)
+        members, bases = [], []
+        for child in self.reader.children(die):
+            if child.tag == dwarf.TAG_MEMBER and not child.attrs.get(dwarf.AT_DECLARATION):  # not a static member
+                members.append(self._member(child))
+            elif child.tag == dwarf.TAG_INHERITANCE:
+                bases.append(self._base(child))
+        kind = "union" if die.tag == dwarf.TAG_UNION else "struct"
+        return CType(kind, size, name, members=tuple(members), bases=tuple(bases))
+
+    def _base(self, die: dwarf.Die) -> CMember:
+        base = self.resolve(die.attrs.get(dwarf.AT_TYPE))
+        location = die.attrs.get(dwarf.AT_MEMBER_LOCATION)
+        virtual = die.attrs.get(dwarf.AT_VIRTUALITY)
+        offset = None if virtual else (dwarf.member_offset(location) if location is not None else 0)
+        return CMember(base.display_name, offset, base)
 
     def _array(self, die: dwarf.Die) -> CType:
         element = self.resolve(die.attrs.get(dwarf.AT_TYPE))
@@ -126,7 +203,7 @@ class TypeResolver:
             total *= dim
         return CType("array", total, element=element, dims=tuple(dims))
 
-    def _member(self, die: dwarf.Die) -> CMember | None:
+    def _member(self, die: dwarf.Die) -> CMember:
         attrs = die.attrs
         name = attrs.get(dwarf.AT_NAME)
         member_type = self.resolve(attrs.get(dwarf.AT_TYPE))

@@ -1,10 +1,11 @@
 """One view of an ELF's debug information, whichever source answers (a2ltool's ``DebugData``).
 
-:class:`DebugData` resolves A2L symbol paths (``a.b[2].c``) to address, size and C
-type: from DWARF when the ELF has it, from ``.symtab`` otherwise (plain names only).
-The ELF's section headers, its DWARF variables, and every type and symbol path
-resolved are cached on disk, so a second run against the same ELF reads no DWARF and
-answers most paths with one dict lookup.
+:class:`DebugData` resolves A2L symbol paths (``a.b[2].c``, ``ns::obj.member``,
+``function.static``: see :mod:`workbench.elf.lookup` for the names it reads) to
+address, size and C type: from DWARF when the ELF has it, from ``.symtab`` otherwise
+(C++ names demangled; no members). The ELF's section headers, its DWARF variables, and
+every type and symbol path resolved are cached on disk, so a second run against the
+same ELF reads no DWARF and answers most paths with one dict lookup.
 """
 
 from __future__ import annotations
@@ -16,13 +17,18 @@ from typing import NamedTuple
 from workbench.elf import dwarf
 from workbench.elf.cache import IndexCache
 from workbench.elf.ctypes_model import CType, TypeResolver
+from workbench.elf.dwarf_index import DwarfIndex
+from workbench.elf.lookup import AmbiguousSymbolError, Variable, VariableTable
 from workbench.elf.paths import PathError, split_path, walk
 from workbench.elf.symbols import ElfSymbols
+from workbench.elf.symtab_names import symtab_variables
 from workbench.errors import InputError, UnknownSymbolError
 from workbench.progress import Progress, report
 
-_DWARF_SECTIONS = (".debug_info", ".debug_abbrev", ".debug_str", ".debug_line_str", ".debug_str_offsets",
-                   ".debug_addr")
+__all__ = ["AmbiguousSymbolError", "DebugData", "ResolvedSymbol"]
+
+_DWARF_SECTIONS = (".debug_info", ".debug_types", ".debug_abbrev", ".debug_str", ".debug_line_str",
+                   ".debug_str_offsets", ".debug_addr")
 # what decoding damaged DWARF raises: reads past a section's end, unknown codes, bad struct reads
 _DAMAGED_DWARF = (dwarf.DwarfError, IndexError, ValueError, KeyError, struct.error)
 
@@ -52,16 +58,20 @@ class DebugData:
         self.path = Path(elf_path)
         self._cache = IndexCache(cache_dir) if use_cache else None
         self._reader: dwarf.DwarfReader | None = None
+        self._index: DwarfIndex | None = None
         cached = self._cache.load(self.path) if self._cache is not None else None
         self.from_cache = cached is not None and self._take_cached(cached)
         if not self.from_cache:
             self.elf = ElfSymbols(self.path)
-            variables = self._read_variables(progress) if self.elf.has_dwarf else {}
-            # symbol path -> address: the variables with a static address, then every path resolved since
-            self._addresses = {name: address for name, (address, _) in variables.items() if address is not None}
-            # variable -> DIE offset of its type (None: no type); also the variables without an address
-            self._variable_types = {name: type_offset for name, (_, type_offset) in variables.items()}
+            # the variables at file scope and in namespaces; those inside functions are read when needed
+            self._variables: list[Variable] = self._read_variables(progress) if self.elf.has_dwarf else []
+            self._statics: list[Variable] | None = None
+            # symbol path -> address: the names that designate one variable, then every path resolved since
+            self._addresses = _unique_addresses(self._variables)
             self._types = {}
+        self._globals: VariableTable | None = None
+        self._static_table: VariableTable | None = None
+        self._symtab: tuple[VariableTable, dict[int, int]] | None = None
         self._resolver: TypeResolver | None = None
         self._walks: dict[tuple, tuple | PathError] = {}
         self._stored = self._index_size() if self.from_cache else None
@@ -71,11 +81,13 @@ class DebugData:
         try:
             self.elf = ElfSymbols.from_facts(self.path, cached["elf"])
             self._addresses: dict[str, int] = cached["addresses"]
-            self._variable_types: dict[str, int | None] = cached["variable_types"]
+            self._variables = [Variable._make(row) for row in cached["variables"]]
+            statics = cached["statics"]
+            self._statics = None if statics is None else [Variable._make(row) for row in statics]
             self._types: dict[int, CType] = cached["types"]
         except (KeyError, TypeError, ValueError):
             return False
-        return all(isinstance(part, dict) for part in (self._addresses, self._variable_types, self._types))
+        return isinstance(self._addresses, dict) and isinstance(self._types, dict)
 
     def __enter__(self) -> "DebugData":
         return self
@@ -85,7 +97,7 @@ class DebugData:
 
     @property
     def has_dwarf(self) -> bool:
-        return bool(self._variable_types)
+        return bool(self._variables)
 
     def resolve(self, path: str) -> ResolvedSymbol:
         """Address, size and type of an A2L symbol path; raises :class:`UnknownSymbolError`
@@ -96,27 +108,50 @@ class DebugData:
         return found
 
     def _resolve(self, path: str) -> ResolvedSymbol:
-        cut = _base_length(path)
-        base, suffix = path[:cut], path[cut:]
-        if base in self._variable_types:
-            address, type_offset = self._addresses.get(base), self._variable_types[base]
+        found = self._dwarf_variable(path)
+        if found is not None:
+            variable, suffix = found
+            address = variable.address
             if address is None:  # DWARF without a location: the symbol table may still know it
-                symbol = self.elf.symbols.get(base)
-                if symbol is None:
+                known = self._symtab_find(variable.qualified_name if variable.scope else variable.name)
+                if known is None:
                     raise UnknownSymbolError(path, "the variable has no static address (optimised out?)")
-                address = symbol.address
-            offset, reached, bit_size, bit_position = self._walk(path, type_offset, suffix)
+                address = known[0].address
+            offset, reached, bit_size, bit_position = self._walk(path, variable.type_offset, suffix)
             return ResolvedSymbol(path, address + offset, reached.size, reached, "dwarf", bit_size, bit_position)
-        try:
-            base, steps = split_path(path)
-        except PathError as exc:
-            raise UnknownSymbolError(path, str(exc)) from None
-        symbol = self.elf.symbols.get(base)
-        if symbol is not None and symbol.kind != "function":
-            if steps:
-                raise UnknownSymbolError(path, f"{self.path.name} has no DWARF type of {base!r} to find members in")
-            return ResolvedSymbol(path, symbol.address, symbol.size, None, "symtab")
-        raise UnknownSymbolError(path, self.path.name)
+        known = self._symtab_find(path)
+        if known is None:
+            raise UnknownSymbolError(path, self.path.name)
+        (variable, suffix), sizes = known
+        if suffix:
+            raise UnknownSymbolError(path, f"{self.path.name} has no DWARF type of {variable.name!r} to find members in")
+        return ResolvedSymbol(path, variable.address, sizes.get(variable.address, 0), None, "symtab")
+
+    def _dwarf_variable(self, path: str) -> tuple[Variable, str] | None:
+        """The DWARF variable ``path`` starts with: at file scope or in a namespace first, else a
+        function's static. Raises :class:`AmbiguousSymbolError`."""
+        if not self._variables:
+            return None
+        if self._globals is None:
+            self._globals = VariableTable(self._variables)
+        found = self._globals.find(path)
+        if found is None:
+            if self._static_table is None:
+                if self._statics is None:
+                    self._statics = self._read_function_statics()
+                self._static_table = VariableTable(self._statics)
+            found = self._static_table.find(path)
+        return found
+
+    def _symtab_find(self, path: str) -> tuple[tuple[Variable, str], dict[int, int]] | None:
+        """The ``.symtab`` variable ``path`` names (demangled C++ names, gcc's and clang's names of function
+        statics) with the member suffix, and the symbol sizes by address."""
+        if self._symtab is None:
+            variables, sizes = symtab_variables(self.elf.symbol_list)
+            self._symtab = VariableTable(variables), sizes
+        table, sizes = self._symtab
+        found = table.find(path)
+        return None if found is None else (found, sizes)
 
     def _walk(self, path: str, type_offset: int | None, suffix: str) -> tuple[int, CType, int | None, int | None]:
         """The member/element ``suffix`` (".b[2].c") of a variable of this type, memoised: many
@@ -164,14 +199,16 @@ class DebugData:
 
     def save(self) -> None:
         """Write the index cache if this run added to it (an ELF without DWARF is not cached)."""
-        if self._cache is None or not self._variable_types or self._index_size() == self._stored:
+        if self._cache is None or not self._variables or self._index_size() == self._stored:
             return
+        statics = None if self._statics is None else [tuple(v) for v in self._statics]
         self._cache.store(self.path, {"elf": self.elf.facts(), "addresses": self._addresses,
-                                      "variable_types": self._variable_types, "types": self._types})
+                                      "variables": [tuple(v) for v in self._variables], "statics": statics,
+                                      "types": self._types})
         self._stored = self._index_size()
 
-    def _index_size(self) -> tuple[int, int]:
-        return len(self._addresses), len(self._types)
+    def _index_size(self) -> tuple[int, int, bool]:
+        return len(self._addresses), len(self._types), self._statics is not None
 
     # -- DWARF ------------------------------------------------------------------------------
     def _dwarf(self) -> dwarf.DwarfReader:
@@ -197,33 +234,44 @@ class DebugData:
                 raise InputError(f"{self.path}: unreadable DWARF ({exc})") from None
         return self._reader
 
-    def _read_variables(self, progress: Progress | None) -> dict[str, tuple[int | None, int | None]]:
+    def _dwarf_index(self) -> DwarfIndex:
+        if self._index is None:
+            self._index = DwarfIndex(self._dwarf())
+        return self._index
+
+    def _read_variables(self, progress: Progress | None) -> list[Variable]:
         try:
-            found = self._dwarf().global_variables(progress)
+            return self._dwarf_index().global_variables(progress)
         except _DAMAGED_DWARF as exc:
             raise InputError(f"{self.path}: unreadable DWARF ({exc})") from None
-        variables: dict[str, tuple[int | None, int | None]] = {}
-        for variable in found:
-            known = variables.get(variable.name)
-            # a definition (with an address) wins over a declaration met earlier
-            if known is None or (known[0] is None and variable.address is not None):
-                variables[variable.name] = (variable.address, variable.type_offset)
-        return variables
+
+    def _read_function_statics(self) -> list[Variable]:
+        try:
+            return self._dwarf_index().function_statics()
+        except _DAMAGED_DWARF as exc:
+            raise InputError(f"{self.path}: unreadable DWARF ({exc})") from None
 
     def _type(self, offset: int | None) -> CType:
         if offset is not None and offset in self._types:
             return self._types[offset]
         if self._resolver is None:
-            self._resolver = TypeResolver(self._dwarf(), self._types)
+            self._resolver = TypeResolver(self._dwarf(), self._types, self._dwarf_index().definition_of)
         try:
             return self._resolver.resolve(offset)
         except _DAMAGED_DWARF as exc:
             raise InputError(f"{self.path}: unreadable DWARF type at 0x{offset or 0:x} ({exc})") from None
 
 
-def _base_length(path: str) -> int:
-    """Length of the variable name at the start of a path (up to the first '.' or '[')."""
-    dot, bracket = path.find("."), path.find("[")
-    if dot < 0:
-        return bracket if bracket >= 0 else len(path)
-    return dot if bracket < 0 or dot < bracket else bracket
+def _unique_addresses(variables: list[Variable]) -> dict[str, int]:
+    """name -> address of the names that designate one variable (every definition at one address)."""
+    addresses: dict[str, int] = {}
+    repeated: set[str] = set()
+    for variable in variables:
+        known = addresses.get(variable.name)
+        if variable.address is None or (known is not None and known != variable.address):
+            repeated.add(variable.name)
+        elif known is None:
+            addresses[variable.name] = variable.address
+    for name in repeated:
+        addresses.pop(name, None)
+    return addresses

@@ -1,35 +1,46 @@
-"""A small, fast reader of DWARF 2-5 ``.debug_info``: global variables and the DIEs of their types.
+"""A small, fast reader of DWARF 2-5 ``.debug_info``: DIEs, attribute forms and static locations.
 
 pyelftools builds an object per DIE and attribute (about 15 us a DIE), too slow for
-an ELF with 50,000 variables. This reader decodes only what the A2L tool chain
-needs: one pass over the top-level DIEs of every unit (children are skipped through
-DW_AT_sibling, or walked when a DIE lacks it) to list the global variables with their
-address and type reference, and single DIEs on demand for types.
+an ELF with 50,000 variables. This reader decodes single DIEs on demand and gives
+:mod:`workbench.elf.dwarf_index` what it needs for its fast pass over the units.
+
+DWARF 5 as clang and newer gcc write it is read here: strings through
+``.debug_str_offsets`` (DW_FORM_strx*, from each unit's DW_AT_str_offsets_base),
+addresses through ``.debug_addr`` (DW_FORM_addrx*, DW_OP_addrx, from DW_AT_addr_base),
+``.debug_line_str``, DW_FORM_implicit_const, and type units, both DWARF 5's (in
+``.debug_info``) and DWARF 4's ``.debug_types`` (appended behind ``.debug_info`` here,
+so every DIE keeps one integer offset); DW_FORM_ref_sig8 reads as the offset of the
+signed type's DIE. (pyelftools 0.33 resolves strx/addrx forms too, but neither
+DW_OP_addrx in a location nor DWARF 5 type units.)
 """
 
 from __future__ import annotations
 
 import struct
+from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import NamedTuple
-from workbench.progress import Progress, report
 
 # tags
-TAG_ARRAY, TAG_CLASS, TAG_ENUM, TAG_MEMBER, TAG_POINTER = 0x01, 0x02, 0x04, 0x0D, 0x0F
-TAG_REFERENCE, TAG_STRUCT, TAG_SUBROUTINE_TYPE, TAG_TYPEDEF, TAG_UNION = 0x10, 0x13, 0x15, 0x16, 0x17
-TAG_SUBRANGE, TAG_BASE, TAG_CONST, TAG_VARIABLE, TAG_VOLATILE = 0x21, 0x24, 0x26, 0x34, 0x35
-TAG_RESTRICT, TAG_NAMESPACE, TAG_ATOMIC = 0x37, 0x39, 0x47
+TAG_ARRAY, TAG_CLASS, TAG_ENUM, TAG_LEXICAL_BLOCK, TAG_MEMBER, TAG_POINTER = 0x01, 0x02, 0x04, 0x0B, 0x0D, 0x0F
+TAG_REFERENCE, TAG_COMPILE_UNIT, TAG_STRUCT, TAG_SUBROUTINE_TYPE, TAG_TYPEDEF = 0x10, 0x11, 0x13, 0x15, 0x16
+TAG_UNION, TAG_INHERITANCE, TAG_INLINED_SUBROUTINE = 0x17, 0x1C, 0x1D
+TAG_SUBRANGE, TAG_BASE, TAG_CONST, TAG_SUBPROGRAM, TAG_VARIABLE, TAG_VOLATILE = 0x21, 0x24, 0x26, 0x2E, 0x34, 0x35
+TAG_RESTRICT, TAG_NAMESPACE, TAG_PARTIAL_UNIT, TAG_TYPE_UNIT, TAG_ATOMIC = 0x37, 0x39, 0x3C, 0x41, 0x47
 
 # attributes
 AT_SIBLING, AT_LOCATION, AT_NAME, AT_BYTE_SIZE, AT_BIT_OFFSET, AT_BIT_SIZE = 0x01, 0x02, 0x03, 0x0B, 0x0C, 0x0D
-AT_UPPER_BOUND, AT_ABSTRACT_ORIGIN, AT_COUNT, AT_MEMBER_LOCATION = 0x2F, 0x31, 0x37, 0x38
-AT_DECLARATION, AT_ENCODING, AT_SPECIFICATION, AT_TYPE, AT_DATA_BIT_OFFSET = 0x3C, 0x3E, 0x47, 0x49, 0x6B
+AT_LANGUAGE, AT_UPPER_BOUND, AT_ABSTRACT_ORIGIN, AT_COUNT, AT_MEMBER_LOCATION = 0x13, 0x2F, 0x31, 0x37, 0x38
+AT_DECLARATION, AT_ENCODING, AT_EXTERNAL, AT_SPECIFICATION, AT_TYPE = 0x3C, 0x3E, 0x3F, 0x47, 0x49
+AT_VIRTUALITY, AT_SIGNATURE, AT_DATA_BIT_OFFSET, AT_STR_OFFSETS_BASE, AT_ADDR_BASE = 0x4C, 0x69, 0x6B, 0x72, 0x73
+AT_GNU_ADDR_BASE = 0x2133
 
-_VARIABLE_ATTRS = frozenset({AT_SIBLING, AT_NAME, AT_TYPE, AT_LOCATION, AT_SPECIFICATION, AT_ABSTRACT_ORIGIN,
-                             AT_DECLARATION})
+# what a variable's DIE is decoded for (see DwarfReader.scan)
+VARIABLE_ATTRS = frozenset({AT_SIBLING, AT_NAME, AT_TYPE, AT_LOCATION, AT_SPECIFICATION, AT_ABSTRACT_ORIGIN,
+                            AT_DECLARATION, AT_EXTERNAL})
 _SIBLING = frozenset({AT_SIBLING})
 
-_OP_ADDR, _OP_PLUS_UCONST = 0x03, 0x23  # DW_OP_addrx is not read: see global_variables
+# DW_OP codes of the static locations read here
+_OP_ADDR, _OP_CONSTU, _OP_PLUS, _OP_PLUS_UCONST, _OP_ADDRX, _OP_GNU_ADDR_INDEX = 0x03, 0x10, 0x22, 0x23, 0xA1, 0xFB
 
 _FIXED_SIZE = {0x0B: 1, 0x05: 2, 0x06: 4, 0x07: 8, 0x0C: 1, 0x11: 1, 0x12: 2, 0x13: 4, 0x14: 8, 0x1E: 16,
                0x20: 8, 0x25: 1, 0x26: 2, 0x27: 3, 0x28: 4, 0x29: 1, 0x2A: 2, 0x2B: 3, 0x2C: 4, 0x1C: 4, 0x24: 8}
@@ -48,6 +59,7 @@ class Unit:
     address_size: int
     offset_size: int  # 4 (32-bit DWARF) or 8
     abbrev_offset: int
+    type_signature: int | None = None  # type units: the signature DW_FORM_ref_sig8 refers to
 
 
 @dataclass(frozen=True)
@@ -60,17 +72,12 @@ class Die:
     unit: Unit
 
 
-class GlobalVariable(NamedTuple):
-    name: str
-    address: int | None  # None: no static location (optimised out, extern declaration only)
-    type_offset: int | None  # DIE offset of its type in .debug_info
-
-
 class DwarfReader:
     """Decodes DIEs from the raw DWARF sections of one ELF."""
 
     def __init__(self, sections: dict[str, bytes], little_endian: bool):
-        self.info = sections.get(".debug_info", b"")
+        info, types = sections.get(".debug_info", b""), sections.get(".debug_types", b"")
+        self.info = info + types  # one offset space: .debug_types units start at len(.debug_info)
         self.abbrev = sections.get(".debug_abbrev", b"")
         self.strings = sections.get(".debug_str", b"")
         self.line_strings = sections.get(".debug_line_str", b"")
@@ -79,14 +86,22 @@ class DwarfReader:
         self.order = "<" if little_endian else ">"
         self._abbrev_tables: dict[int, dict[int, tuple[int, bool, tuple]]] = {}
         self._plan_cache: dict[tuple, dict[int, tuple[int, bool, tuple]]] = {}
-        self.units = self._read_units()
+        self._bases: dict[int, tuple[int, int]] = {}  # unit offset -> (str_offsets_base, addr_base)
+        self._type_dies: dict[int, int] = {}  # type unit offset -> offset of its type's DIE
+        self.units = self._read_units(0, len(info), False) + self._read_units(len(info), len(self.info), True)
         self._unit_starts = [unit.offset for unit in self.units]
+        # type signature -> offset of the type's DIE (DW_FORM_ref_sig8)
+        self.signatures: dict[int, int] = {}
+        for unit in self.units:
+            if unit.type_signature is not None:
+                self.signatures.setdefault(unit.type_signature, self._type_dies[unit.offset])
 
     # -- units and abbreviations ---------------------------------------------------------
-    def _read_units(self) -> list[Unit]:
+    def _read_units(self, offset: int, stop: int, debug_types: bool) -> list[Unit]:
+        """The unit headers between ``offset`` and ``stop``; ``debug_types``: DWARF 4 type units."""
         units = []
-        data, order, offset = self.info, self.order, 0
-        while offset + 11 <= len(data):
+        data, order = self.info, self.order
+        while offset + 11 <= stop:
             (length,) = struct.unpack_from(order + "I", data, offset)
             offset_size, header = 4, offset + 4
             if length == 0xFFFFFFFF:
@@ -95,11 +110,14 @@ class DwarfReader:
             end = header + length
             (version,) = struct.unpack_from(order + "H", data, header)
             position = header + 2
+            signature = type_die = None
             if version >= 5:
                 unit_type, address_size = data[position], data[position + 1]
                 abbrev_offset = self._offset(data, position + 2, offset_size)
                 position += 2 + offset_size
                 if unit_type in (2, 6):  # type unit, split type unit: signature + type offset
+                    (signature,) = struct.unpack_from(order + "Q", data, position)
+                    type_die = offset + self._offset(data, position + 8, offset_size)
                     position += 8 + offset_size
                 elif unit_type in (4, 5):  # skeleton, split compile: dwo id
                     position += 8
@@ -107,9 +125,15 @@ class DwarfReader:
                 abbrev_offset = self._offset(data, position, offset_size)
                 address_size = data[position + offset_size]
                 position += offset_size + 1
+                if debug_types:
+                    (signature,) = struct.unpack_from(order + "Q", data, position)
+                    type_die = offset + self._offset(data, position + 8, offset_size)
+                    position += 8 + offset_size
             else:
                 raise DwarfError(f"unsupported DWARF version {version} in the unit at 0x{offset:x}")
-            units.append(Unit(offset, position, end, version, address_size, offset_size, abbrev_offset))
+            units.append(Unit(offset, position, end, version, address_size, offset_size, abbrev_offset, signature))
+            if type_die is not None:
+                self._type_dies[offset] = type_die
             offset = end
         return units
 
@@ -180,86 +204,84 @@ class DwarfReader:
             if child is None:
                 break
             found.append(child)
-            offset = self._after(child)
+            offset = self.after(child)
         return found
 
-    def _after(self, die: Die) -> int:
+    def after(self, die: Die) -> int:
         """The offset of the DIE that follows ``die`` and all its descendants."""
         if not die.has_children:
             return die.next_offset
         sibling = die.attrs.get(AT_SIBLING)
         if isinstance(sibling, int) and sibling > die.offset:
             return sibling
-        offset, depth = die.next_offset, 1
-        while depth and offset < die.unit.end:
-            child = self.die(offset, die.unit)
-            if child is None:
-                depth -= 1
-                offset += 1
-            elif child.has_children and isinstance(child.attrs.get(AT_SIBLING), int):
-                offset = child.attrs[AT_SIBLING]
-            else:
-                depth += child.has_children
-                offset = child.next_offset
-        return offset
+        return self._skip_subtree(die.next_offset, die.unit)
 
-    def global_variables(self, progress: Progress | None = None) -> list[GlobalVariable]:
-        """Every variable DIE at the top level of a unit (or namespace) that has a name.
-
-        Definitions that only point at a declaration (DW_AT_specification) take the
-        declaration's name and type. Reports progress in bytes of .debug_info. A location
-        given as DW_OP_addrx (clang's DWARF 5, split DWARF) is not read: such a variable
-        has no address here, and :class:`DebugData` takes it from ``.symtab`` (its type
-        still comes from DWARF).
-        """
-        variables: list[GlobalVariable] = []
-        total = len(self.info)
-        for unit in self.units:
-            report(progress, unit.offset, total, "reading DWARF")
-            root = self.die(unit.first_die, unit)
-            if root is None or not root.has_children:
-                continue
-            self._collect(root, variables)
-        report(progress, total, total, "reading DWARF")
-        return variables
-
-    def _collect(self, parent: Die, variables: list[GlobalVariable]) -> None:
-        """The variables among ``parent``'s children; other DIEs are skipped without decoding them."""
-        unit = parent.unit
+    def scan(self, unit: Unit, descend: frozenset[int], collect: frozenset[int], wanted: frozenset[int]
+             ) -> Iterator[tuple[str, int, int, dict]]:
+        """Walk the DIE tree of ``unit`` in order, fast: yields ("enter", offset, tag, attrs) for a DIE of
+        a tag in ``descend`` that has children (then its children, then ("leave", offset, tag, {})), and
+        ("item", offset, tag, attrs) for a DIE of a tag in ``collect``. Only the ``wanted`` attributes
+        are decoded; every other DIE is stepped over with its subtree, through DW_AT_sibling or, where
+        the producer left it out (clang), by stepping over each descendant's attributes."""
+        root = self.die(unit.first_die, unit)
+        if root is None or not root.has_children:
+            return
         plans = self._plans(unit)
-        data, end, offset = self.info, unit.end, parent.next_offset
+        data, end, offset = self.info, unit.end, root.next_offset
+        open_scopes: list[tuple[int, int]] = []
         while offset < end:
             code = data[offset]
             position = offset + 1
             if code >= 0x80:
                 code, position = _uleb(data, offset)
             if code == 0:
-                break
+                if not open_scopes:
+                    return
+                scope_offset, scope_tag = open_scopes.pop()
+                yield "leave", scope_offset, scope_tag, {}
+                offset = position
+                continue
             try:
                 tag, has_children, plan, prefix = plans[code]
             except KeyError:
                 raise DwarfError(f"unknown abbreviation {code} at .debug_info+0x{offset:x}") from None
-            if tag == TAG_NAMESPACE:
-                die = self.die(offset, unit)
-                if die.has_children:
-                    self._collect(die, variables)
-                offset = self._after(die)
+            if tag in descend and has_children:
+                attrs, position = self._decode(plan, position, unit, wanted)
+                yield "enter", offset, tag, attrs
+                open_scopes.append((offset, tag))
+                offset = position
                 continue
-            if tag == TAG_VARIABLE:
-                attrs, position = self._decode(plan, position, unit, _VARIABLE_ATTRS, prefix)
+            if tag in collect:
+                attrs, position = self._decode(plan, position, unit, wanted, prefix)
+                yield "item", offset, tag, attrs
             else:
                 attrs, position = self._decode(plan, position, unit, _SIBLING)
-            if tag == TAG_VARIABLE:
-                variable = self._variable(attrs, unit, offset)
-                if variable is not None:
-                    variables.append(variable)
             sibling = attrs.get(AT_SIBLING)
             if not has_children:
                 offset = position
-            elif sibling is not None and sibling > offset:
+            elif isinstance(sibling, int) and sibling > offset:
                 offset = sibling
             else:
-                offset = self._after(self.die(offset, unit))
+                offset = self._skip_subtree(position, unit)
+
+    def _skip_subtree(self, position: int, unit: Unit) -> int:
+        """The offset after the children that start at ``position`` (and their null terminator)."""
+        plans = self._plans(unit)
+        data, end, depth = self.info, unit.end, 1
+        while depth and position < end:
+            code, position = _uleb(data, position)
+            if code == 0:
+                depth -= 1
+                continue
+            tag, has_children, plan, _ = plans[code]
+            attrs, position = self._decode(plan, position, unit, _SIBLING)
+            if has_children:
+                sibling = attrs.get(AT_SIBLING)
+                if isinstance(sibling, int) and sibling > position:
+                    position = sibling
+                else:
+                    depth += 1
+        return position
 
     def _plans(self, unit: Unit) -> dict[int, tuple[int, bool, tuple]]:
         """Per abbreviation: (tag, has children, ((attribute, form, bytes or -1 when variable), ...))."""
@@ -272,7 +294,7 @@ class DwarfReader:
             plans = {}
             for code, (tag, has_children, specs) in self._abbrevs(unit.abbrev_offset).items():
                 steps = tuple((attr, form, _FIXED_SIZE.get(form, sizes.get(form, -1))) for attr, form, _ in specs)
-                prefix = _fixed_prefix(specs, steps, _VARIABLE_ATTRS, self.order) if tag == TAG_VARIABLE else None
+                prefix = _fixed_prefix(specs, steps, VARIABLE_ATTRS, self.order) if tag == TAG_VARIABLE else None
                 plans[code] = (tag, has_children, steps, prefix)
             self._plan_cache[key] = plans
         return plans
@@ -315,20 +337,61 @@ class DwarfReader:
                 _, position = self._read_form(form, position, unit, None)
         return attrs, position
 
-    def _variable(self, attrs: dict, unit: Unit, offset: int) -> GlobalVariable | None:
-        name, type_offset = attrs.get(AT_NAME), attrs.get(AT_TYPE)
-        spec = attrs.get(AT_SPECIFICATION) or attrs.get(AT_ABSTRACT_ORIGIN)
-        if isinstance(spec, int) and (name is None or type_offset is None):
-            declaration = self.die(spec)
-            if declaration is not None:
-                name = name or declaration.attrs.get(AT_NAME)
-                type_offset = type_offset or declaration.attrs.get(AT_TYPE)
-        if not isinstance(name, str):
+    # -- unit bases and locations ----------------------------------------------------------
+    def _unit_bases(self, unit: Unit) -> tuple[int, int]:
+        """(DW_AT_str_offsets_base, DW_AT_addr_base) of a unit, read from its root DIE; without them,
+        just after the header of the sections' first contribution (what a single-unit file has)."""
+        bases = self._bases.get(unit.offset)
+        if bases is None:
+            header = 8 if unit.offset_size == 4 else 16
+            self._bases[unit.offset] = (header, header)  # the root's own strx forms are read against this
+            root = self.die(unit.first_die, unit)
+            attrs = root.attrs if root is not None else {}
+            str_base = attrs.get(AT_STR_OFFSETS_BASE)
+            addr_base = attrs.get(AT_ADDR_BASE, attrs.get(AT_GNU_ADDR_BASE))
+            bases = (str_base if isinstance(str_base, int) else header,
+                     addr_base if isinstance(addr_base, int) else header)
+            self._bases[unit.offset] = bases
+        return bases
+
+    def indexed_address(self, index: int, unit: Unit) -> int | None:
+        """Entry ``index`` of the unit's ``.debug_addr`` table (DW_FORM_addrx, DW_OP_addrx)."""
+        position = self._unit_bases(unit)[1] + index * unit.address_size
+        if position + unit.address_size > len(self.addresses):
             return None
-        address = static_address(attrs.get(AT_LOCATION), unit.address_size, self.order)
-        if address is None and attrs.get(AT_DECLARATION):
+        return int.from_bytes(self.addresses[position : position + unit.address_size], _BYTEORDER[self.order])
+
+    def static_address(self, location: object, unit: Unit) -> int | None:
+        """The address a DW_AT_location names when it is a static one, else None.
+
+        Read: DW_OP_addr a, DW_OP_addrx i (DWARF 5) or DW_OP_GNU_addr_index i (split DWARF 4),
+        optionally followed by an offset (DW_OP_plus_uconst n, or DW_OP_constu n DW_OP_plus:
+        clang's merged globals). Anything else (a register, the frame, a computed value, a
+        location list) has no static address.
+        """
+        if not isinstance(location, (bytes, bytearray)) or not location:
             return None
-        return GlobalVariable(name, address, type_offset if isinstance(type_offset, int) else None)
+        op = location[0]
+        if op == _OP_ADDR:
+            end = 1 + unit.address_size
+            address = int.from_bytes(location[1:end], _BYTEORDER[self.order])
+        elif op in (_OP_ADDRX, _OP_GNU_ADDR_INDEX):
+            index, end = _uleb(location, 1)
+            address = self.indexed_address(index, unit)
+            if address is None:
+                return None
+        else:
+            return None
+        rest = location[end:]
+        if not rest:
+            return address
+        if rest[0] == _OP_PLUS_UCONST:
+            offset, after = _uleb(rest, 1)
+            return address + offset if after == len(rest) else None
+        if rest[0] == _OP_CONSTU:
+            offset, after = _uleb(rest, 1)
+            return address + offset if rest[after:] == bytes([_OP_PLUS]) else None
+        return None
 
     # -- forms ----------------------------------------------------------------------------
     def _read_form(self, form: int, position: int, unit: Unit, implicit) -> tuple[object, int]:
@@ -340,7 +403,13 @@ class DwarfReader:
             if form in (0x25, 0x26, 0x27, 0x28):  # strx1-4
                 index = int.from_bytes(data[position : position + size], _BYTEORDER[self.order])
                 return self._indexed_string(index, unit), position + size
-            if form in (0x1E, 0x20):  # data16, ref_sig8: opaque
+            if form == 0x20:  # ref_sig8: the type unit's DIE (None for a type this file lacks)
+                signature = int.from_bytes(data[position : position + size], _BYTEORDER[self.order])
+                return self.signatures.get(signature), position + size
+            if form in (0x29, 0x2A, 0x2B, 0x2C):  # addrx1-4
+                index = int.from_bytes(data[position : position + size], _BYTEORDER[self.order])
+                return self.indexed_address(index, unit), position + size
+            if form == 0x1E:  # data16: opaque
                 return data[position : position + size], position + size
             return int.from_bytes(data[position : position + size], _BYTEORDER[self.order]), position + size
         if form == 0x0E:  # strp
@@ -381,9 +450,14 @@ class DwarfReader:
             return True, position
         if form == 0x21:  # implicit_const
             return implicit, position
-        if form in (0x1A, 0x1B, 0x22, 0x23, 0x1F02, 0x1F01):  # strx, addrx, loclistx, rnglistx (uleb index)
+        if form in (0x1A, 0x1F02):  # strx, GNU_str_index
             index, position = _uleb(data, position)
-            return (self._indexed_string(index, unit) if form in (0x1A, 0x1F02) else index), position
+            return self._indexed_string(index, unit), position
+        if form in (0x1B, 0x1F01):  # addrx, GNU_addr_index
+            index, position = _uleb(data, position)
+            return self.indexed_address(index, unit), position
+        if form in (0x22, 0x23):  # loclistx, rnglistx: an index, not followed here
+            return _uleb(data, position)
         if form in (0x1D, 0x1F20, 0x1F21):  # strp_sup, GNU_ref_alt, GNU_strp_alt: another file
             return None, position + unit.offset_size
         if form == 0x16:  # indirect
@@ -392,15 +466,15 @@ class DwarfReader:
         raise DwarfError(f"unknown DWARF form 0x{form:x} at .debug_info+0x{position:x}")
 
     def _indexed_string(self, index: int, unit: Unit) -> str | None:
-        # DW_AT_str_offsets_base defaults to just after the first .debug_str_offsets header
-        base = 8 if unit.offset_size == 4 else 16
-        position = base + index * unit.offset_size
+        position = self._unit_bases(unit)[0] + index * unit.offset_size
         if position + unit.offset_size > len(self.str_offsets):
             return None
         return _cstring(self.strings, self._offset(self.str_offsets, position, unit.offset_size))
 
 
 _BYTEORDER = {"<": "little", ">": "big"}
+# fixed-size forms whose value needs more than a struct read: data16, ref_sig8, strx1-4, addrx1-4
+_DECODED_FORMS = frozenset({0x1E, 0x20, 0x25, 0x26, 0x27, 0x28, 0x29, 0x2A, 0x2B, 0x2C})
 _STRUCT_CODES = {1: "B", 2: "H", 4: "I", 8: "Q"}
 
 
@@ -410,7 +484,7 @@ def _fixed_prefix(specs: tuple, steps: tuple, wanted: frozenset, order: str):
     the first attribute already has a variable size."""
     codes, fields, count = [], [], 0
     for (attr, form, implicit), (_, _, size) in zip(specs, steps):
-        if size < 0 or form in (0x1E, 0x20, 0x25, 0x26, 0x27, 0x28):  # data16, ref_sig8, strx1-4: leave
+        if size < 0 or form in _DECODED_FORMS:  # leave these to _read_form
             break
         count += 1
         if attr not in wanted:
@@ -432,13 +506,6 @@ def _finish(codes: list[str], fields: list, count: int, order: str):
     decoded = [f for f in fields if f[1] != "constant"]
     constants = [f for f in fields if f[1] == "constant"]
     return struct.Struct(order + "".join(codes)), decoded + constants, count
-
-
-def static_address(location: object, address_size: int, order: str) -> int | None:
-    """The address of a DW_AT_location that is a single DW_OP_addr, else None."""
-    if isinstance(location, (bytes, bytearray)) and len(location) == 1 + address_size and location[0] == _OP_ADDR:
-        return int.from_bytes(location[1:], _BYTEORDER[order])
-    return None
 
 
 def member_offset(value: object) -> int | None:

@@ -1,11 +1,15 @@
-"""A2L symbol paths (``a.b.c``, ``a[3]``, ``a._3_``, ``a.b[2].c``, ``m[1][2]``) walked through C types."""
+"""A2L symbol paths (``a.b.c``, ``a[3]``, ``a._3_``, ``a.b[2].c``, ``m[1][2]``) walked through C types.
+
+Member steps find members the way C and C++ do (anonymous structs and unions, base
+classes: :meth:`~workbench.elf.ctypes_model.CType.find_member`).
+"""
 
 from __future__ import annotations
 
 import re
 from typing import NamedTuple
 
-from workbench.elf.ctypes_model import CType
+from workbench.elf.ctypes_model import CType, MemberError
 
 _STEP = re.compile(r"\.([A-Za-z_][A-Za-z0-9_]*)|\[(\d+)\]")
 _OLD_INDEX = re.compile(r"_(\d+)_")
@@ -65,11 +69,17 @@ def walk(ctype: CType, steps: list[Step]) -> tuple[int, CType, int | None, int |
     offset = 0
     bit_size = bit_position = None
     for step in steps:
-        if ctype.kind in ("struct", "union") and step.member is not None and ctype.member(step.member) is not None:
-            member = ctype.member(step.member)
-            offset += member.offset
-            ctype, bit_size, bit_position = member.type, member.bit_size, member.bit_position
-            continue
+        if ctype.kind in ("struct", "union") and step.member is not None:
+            try:
+                member = ctype.find_member(step.member)
+            except MemberError as exc:
+                raise PathError(str(exc)) from None
+            if member is not None:
+                offset += member.offset
+                ctype, bit_size, bit_position = member.type, member.bit_size, member.bit_position
+                continue
+            if ctype.declared_only:
+                raise PathError(f"{ctype.display_name} is only declared in the DWARF (no unit defines it)")
         if ctype.kind == "array" and step.index is not None:
             count = ctype.dims[0]
             if count and step.index >= count:

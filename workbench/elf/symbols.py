@@ -20,7 +20,7 @@ from workbench.errors import InputError, UnknownSymbolError
 
 STT_OBJECT, STT_FUNC = 1, 2
 _KINDS = {STT_OBJECT: "object", STT_FUNC: "function"}
-_STB_GLOBAL = 1
+_STB_LOCAL = 0
 _SHN_UNDEF, _SHN_LORESERVE = 0, 0xFF00
 _SYMBOL_FIELDS = {
     32: [("name", "u4"), ("value", "u4"), ("size", "u4"), ("info", "u1"), ("other", "u1"), ("shndx", "u2")],
@@ -48,6 +48,7 @@ class Symbol(NamedTuple):
     size: int
     kind: str  # "object", "function" or "other"
     section: str
+    external: bool = True  # global or weak binding; False: a file or function static (STB_LOCAL)
 
 
 class ElfSymbols:
@@ -76,6 +77,7 @@ class ElfSymbols:
             # pyelftools raises all of these on a damaged header or section table
             raise InputError(f"{self.path}: not a readable ELF file ({exc})") from exc
         self._symbols: dict[str, Symbol] | None = None
+        self._symbol_list: list[Symbol] | None = None
 
     @classmethod
     def from_facts(cls, path: str | Path, facts: dict) -> "ElfSymbols":
@@ -87,7 +89,7 @@ class ElfSymbols:
         elf.sections = {section[0]: Section(*section) for section in facts["sections"]}
         elf._section_names = facts["section_names"]
         elf._symtab = facts["symtab"]
-        elf._symbols = None
+        elf._symbols = elf._symbol_list = None
         return elf
 
     def facts(self) -> dict:
@@ -133,10 +135,10 @@ class ElfSymbols:
         strtab = elf.get_section(symtab["sh_link"])
         return symtab["sh_offset"], symtab["sh_size"], strtab["sh_offset"], strtab["sh_size"]
 
-    def _read_symtab(self) -> dict[str, Symbol]:
+    def _read_symtab(self) -> list[Symbol]:
         """The defined symbols, decoded column by column; raises :class:`InputError` for a damaged table."""
         if self._symtab is None:
-            return {}
+            return []
         table_offset, table_size, strings_offset, strings_size = self._symtab
         dtype = np.dtype([(name, ("<" if self.little_endian else ">") + kind) for name, kind in _SYMBOL_FIELDS[self.elfclass]])
         with open(self.path, "rb") as handle:
@@ -153,21 +155,30 @@ class ElfSymbols:
             raise InputError(f"{self.path}: damaged .symtab (a symbol names a string or a section that does not exist)")
         name_ends = terminators[after] if len(table) else name_starts
         names = b"\0".join([strings[a:b] for a, b in zip(name_starts.tolist(), name_ends.tolist())])
-        symbols: dict[str, Symbol] = {}
-        for name, address, size, info, shndx in zip(
-            names.decode("utf-8", "replace").split("\0"), table["value"].tolist(), table["size"].tolist(),
-            table["info"].tolist(), table["shndx"].tolist(),
-        ):
-            # a global definition wins over a same-named local one (static in another unit)
-            if name not in symbols or info >> 4 == _STB_GLOBAL:
-                symbols[name] = Symbol(name, address, size, _KINDS.get(info & 0xF, "other"), self._section_names[shndx])
-        return symbols
+        section_names = self._section_names
+        return [Symbol(name, address, size, _KINDS.get(info & 0xF, "other"), section_names[shndx],
+                       info >> 4 != _STB_LOCAL)
+                for name, address, size, info, shndx in zip(
+                    names.decode("utf-8", "replace").split("\0"), table["value"].tolist(), table["size"].tolist(),
+                    table["info"].tolist(), table["shndx"].tolist())]
+
+    @property
+    def symbol_list(self) -> list[Symbol]:
+        """Every defined symbol, in table order (a name may repeat: statics of several units)."""
+        if self._symbol_list is None:
+            self._symbol_list = self._read_symtab()
+        return self._symbol_list
 
     @property
     def symbols(self) -> dict[str, Symbol]:
-        """Defined symbols by name (decoded on first use: a DWARF lookup may never need them)."""
+        """Defined symbols by name (decoded on first use: a DWARF lookup may never need them); of
+        several with one name, a global definition wins over the local ones (statics of other units)."""
         if self._symbols is None:
-            self._symbols = self._read_symtab()
+            symbols: dict[str, Symbol] = {}
+            for symbol in self.symbol_list:
+                if symbol.name not in symbols or symbol.external:
+                    symbols[symbol.name] = symbol
+            self._symbols = symbols
         return self._symbols
 
     def symbol(self, name: str) -> Symbol:
