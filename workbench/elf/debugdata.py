@@ -197,6 +197,16 @@ class DebugData:
             return f"not in {exc.where}" if exc.where == self.path.name else exc.where
         return ""
 
+    def is_ambiguous(self, path: str) -> bool:
+        """Whether ``path`` fits several variables equally (see :class:`AmbiguousSymbolError`)."""
+        try:
+            self.resolve(path)
+        except AmbiguousSymbolError:
+            return True
+        except UnknownSymbolError:
+            return False
+        return False
+
     def save(self) -> None:
         """Write the index cache if this run added to it (an ELF without DWARF is not cached)."""
         if self._cache is None or not self._variables or self._index_size() == self._stored:

@@ -27,7 +27,7 @@ _FUNCTIONS = frozenset({dwarf.TAG_SUBPROGRAM, dwarf.TAG_INLINED_SUBROUTINE})
 _INSIDE_FUNCTIONS = _NAMESPACES | _FUNCTIONS | {dwarf.TAG_LEXICAL_BLOCK}
 _RECORDS = frozenset({dwarf.TAG_STRUCT, dwarf.TAG_CLASS, dwarf.TAG_UNION})
 _SCOPES = _NAMESPACES | _RECORDS | {dwarf.TAG_SUBPROGRAM}
-_RECORD_ATTRS = frozenset({dwarf.AT_SIBLING, dwarf.AT_NAME, dwarf.AT_DECLARATION})
+_RECORD_ATTRS = frozenset({dwarf.AT_SIBLING, dwarf.AT_NAME, dwarf.AT_DECLARATION, dwarf.AT_SPECIFICATION})
 _ANONYMOUS = {dwarf.TAG_NAMESPACE: "(anonymous namespace)"}
 
 
@@ -150,9 +150,10 @@ class DwarfIndex:
         names: list[str] = []
         parent = self.reader.die(starts[index], unit)
         while parent is not None and parent.offset != offset:
-            if parent.tag in _SCOPES:
-                names.append(_scope_name(parent.tag, parent.attrs) if parent.tag != dwarf.TAG_SUBPROGRAM
-                             else self._function_name(parent.attrs, tuple(names))[-1])
+            if parent.tag == dwarf.TAG_SUBPROGRAM:
+                names.append(self._function_name(parent.attrs, tuple(names))[-1])
+            elif parent.tag in _SCOPES:
+                names.append(_scope_name(parent.tag, self._signed(parent).attrs))
             inner = None
             for child in self.reader.children(parent):
                 if child.offset == offset:
@@ -162,6 +163,14 @@ class DwarfIndex:
                     break
             parent = inner
         return tuple(names)
+
+    def _signed(self, die: dwarf.Die) -> dwarf.Die:
+        """The DIE a type unit holds for a declaration that carries only its signature (clang's
+        -fdebug-types-section leaves the name there), else ``die`` itself."""
+        signed = die.attrs.get(dwarf.AT_SIGNATURE)
+        if isinstance(signed, int) and dwarf.AT_NAME not in die.attrs:
+            return self.reader.die(signed) or die
+        return die
 
     def _layout(self, unit: dwarf.Unit) -> tuple[list[int], list[int]]:
         layout = self._layouts.get(unit.offset)
@@ -195,7 +204,10 @@ class DwarfIndex:
                 elif event == "leave":
                     scope = stack.pop()
                 elif isinstance(attrs.get(dwarf.AT_NAME), str) and not attrs.get(dwarf.AT_DECLARATION):
-                    definitions.setdefault((_record_kind(tag), scope + (attrs[dwarf.AT_NAME],)), offset)
+                    # gcc's type units define a class at their top, pointing at its declaration in its namespace
+                    specification = attrs.get(dwarf.AT_SPECIFICATION)
+                    where = self.scope_of(specification) if isinstance(specification, int) else scope
+                    definitions.setdefault((_record_kind(tag), where + (attrs[dwarf.AT_NAME],)), offset)
         return definitions
 
 

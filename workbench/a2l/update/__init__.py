@@ -248,10 +248,11 @@ def _missing(objects: AddressedObjects, row: int, debug: DebugData, mode: Update
              removed: dict[str, int], pending: list[tuple]) -> None:
     keyword, name, symbol = objects.keywords[row], objects.names[row], objects.symbols[row]
     why = debug.resolve_error(symbol)
+    # a name that fits several variables (statics of two functions or units) is never guessed
+    kind = "symbol-ambiguous" if debug.is_ambiguous(symbol) else "symbol-not-found"
     link = f" (SYMBOL_LINK {symbol!r})" if symbol != name else ""
     severity = Severity.ERROR if mode is UpdateMode.STRICT else Severity.WARNING
-    pending.append((objects.name_tokens[row], "symbol-not-found", name, f"{keyword} {name}{link}: {why}", keyword,
-                    severity))
+    pending.append((objects.name_tokens[row], kind, name, f"{keyword} {name}{link}: {why}", keyword, severity))
     report.count(keyword, "not-found")
     if mode is UpdateMode.REMOVE_MISSING:
         removed[name] = objects.blocks[row]
