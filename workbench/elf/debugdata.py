@@ -64,8 +64,8 @@ class DebugData:
         if not self.from_cache:
             self.elf = ElfSymbols(self.path)
             # the variables at file scope and in namespaces; those inside functions are read when needed
-            self._variables: list[Variable] = self._read_variables(progress) if self.elf.has_dwarf else []
-            self._statics: list[Variable] | None = None
+            self._variables: list[tuple] = self._read_variables(progress) if self.elf.has_dwarf else []
+            self._statics: list[tuple] | None = None  # Variable fields
             # symbol path -> address: the names that designate one variable, then every path resolved since
             self._addresses = _unique_addresses(self._variables)
             self._types = {}
@@ -81,9 +81,9 @@ class DebugData:
         try:
             self.elf = ElfSymbols.from_facts(self.path, cached["elf"])
             self._addresses: dict[str, int] = cached["addresses"]
-            self._variables = [Variable._make(row) for row in cached["variables"]]
-            statics = cached["statics"]
-            self._statics = None if statics is None else [Variable._make(row) for row in statics]
+            # plain tuples, made Variables when a name needs the lookup (most runs never do)
+            self._variables = cached["variables"]
+            self._statics = cached["statics"]
             self._types: dict[int, CType] = cached["types"]
         except (KeyError, TypeError, ValueError):
             return False
@@ -133,13 +133,13 @@ class DebugData:
         if not self._variables:
             return None
         if self._globals is None:
-            self._globals = VariableTable(self._variables)
+            self._globals = VariableTable(map(Variable._make, self._variables))
         found = self._globals.find(path)
         if found is None:
             if self._static_table is None:
                 if self._statics is None:
                     self._statics = self._read_function_statics()
-                self._static_table = VariableTable(self._statics)
+                self._static_table = VariableTable(map(Variable._make, self._statics))
             found = self._static_table.find(path)
         return found
 
@@ -211,9 +211,9 @@ class DebugData:
         """Write the index cache if this run added to it (an ELF without DWARF is not cached)."""
         if self._cache is None or not self._variables or self._index_size() == self._stored:
             return
-        statics = None if self._statics is None else [tuple(v) for v in self._statics]
+        statics = None if self._statics is None else list(map(tuple, self._statics))
         self._cache.store(self.path, {"elf": self.elf.facts(), "addresses": self._addresses,
-                                      "variables": [tuple(v) for v in self._variables], "statics": statics,
+                                      "variables": list(map(tuple, self._variables)), "statics": statics,
                                       "types": self._types})
         self._stored = self._index_size()
 
@@ -249,13 +249,13 @@ class DebugData:
             self._index = DwarfIndex(self._dwarf())
         return self._index
 
-    def _read_variables(self, progress: Progress | None) -> list[Variable]:
+    def _read_variables(self, progress: Progress | None) -> list[tuple]:
         try:
             return self._dwarf_index().global_variables(progress)
         except _DAMAGED_DWARF as exc:
             raise InputError(f"{self.path}: unreadable DWARF ({exc})") from None
 
-    def _read_function_statics(self) -> list[Variable]:
+    def _read_function_statics(self) -> list[tuple]:
         try:
             return self._dwarf_index().function_statics()
         except _DAMAGED_DWARF as exc:
@@ -272,16 +272,16 @@ class DebugData:
             raise InputError(f"{self.path}: unreadable DWARF type at 0x{offset or 0:x} ({exc})") from None
 
 
-def _unique_addresses(variables: list[Variable]) -> dict[str, int]:
+def _unique_addresses(variables: list[tuple]) -> dict[str, int]:
     """name -> address of the names that designate one variable (every definition at one address)."""
     addresses: dict[str, int] = {}
     repeated: set[str] = set()
-    for variable in variables:
-        known = addresses.get(variable.name)
-        if variable.address is None or (known is not None and known != variable.address):
-            repeated.add(variable.name)
+    for name, address, *_ in variables:
+        known = addresses.get(name)
+        if address is None or (known is not None and known != address):
+            repeated.add(name)
         elif known is None:
-            addresses[variable.name] = variable.address
+            addresses[name] = address
     for name in repeated:
         addresses.pop(name, None)
     return addresses

@@ -1,0 +1,84 @@
+"""Which variable a name means: scopes, Vector's suffix, ambiguity, demangled .symtab names,
+C++ member lookup through anonymous members and base classes; and the index cache keeps it."""
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+from workbench.elf.ctypes_model import CMember, CType, MemberError
+from workbench.elf.debugdata import AmbiguousSymbolError, DebugData
+from workbench.elf.lookup import Variable, VariableTable, VectorSpec, scope_splits, split_vector_spec
+from workbench.elf.paths import PathError, split_path, walk
+from workbench.elf.symtab_names import split_qualified
+
+MATRIX = Path(__file__).parent / "matrix"
+
+
+def test_scope_splits_plainest_first():
+    assert list(scope_splits("a.b[2]")) == [((), "a", ".b[2]"), (("a",), "b", "[2]")]
+    assert list(scope_splits("app::Controller::step.calls")) == [
+        (("app", "Controller"), "step", ".calls"), (("app", "Controller", "step"), "calls", "")]
+    assert list(scope_splits("(anonymous namespace)::x")) == [(("(anonymous namespace)",), "x", "")]
+
+
+def test_vector_suffix():
+    assert split_vector_spec("x.y{Function:f}{Namespace:inner}{Namespace:outer}{CompileUnit:a_c}{Namespace:Global}") \
+        == ("x.y", VectorSpec("f", ("outer", "inner"), "a_c"))
+    assert split_vector_spec("x{Oops}") == ("x{Oops}", None)
+
+
+def test_file_scope_wins_then_external_linkage_then_ambiguity():
+    table = VariableTable([
+        Variable("x", 0x10, None, (), "a_c", True), Variable("x", 0x20, None, (), "b_c", False),
+        Variable("x", 0x30, None, ("f",), "a_c", False, True), Variable("y", 0x40, None, (), "a_c", False),
+        Variable("y", 0x50, None, (), "b_c", False), Variable("z", 0x60, None, ("f",), "a_c", False, True),
+        Variable("z", 0x70, None, ("g",), "a_c", False, True)])
+    assert table.find("x.m")[0].address == 0x10  # the global, not the file static nor f's static
+    assert table.find("f.x")[0].address == 0x30 and table.find("b_c.x")[0].address == 0x20
+    assert table.find("x{Function:f}")[0].address == 0x30
+    with pytest.raises(AmbiguousSymbolError) as info:
+        table.find("y")
+    assert info.value.candidates == ["a_c.y", "b_c.y"]
+    with pytest.raises(AmbiguousSymbolError, match=r"f\.z, g\.z"):
+        table.find("z")
+    assert table.find("nothing") is None
+
+
+def test_demangled_names_lose_their_parameter_lists():
+    assert split_qualified("app::Controller::step(unsigned int) const::calls") == (
+        ["app", "Controller", "step", "calls"], True)
+    assert split_qualified("ns::Holder<std::pair<int, int> >::value") == (["ns", "Holder<std::pair<int, int> >",
+                                                                           "value"], False)
+
+
+def test_member_lookup_anonymous_bases_and_virtual_bases():
+    u8 = CType("base", 1, "uint8_t", "unsigned")
+    inner = CType("struct", 2, members=(CMember("lo", 0, u8), CMember("hi", 1, u8)))
+    base = CType("struct", 4, "Base", members=(CMember("id", 0, u8), CMember("", 2, inner)))
+    other = CType("struct", 2, "Other", members=(CMember("id", 1, u8),))
+    derived = CType("struct", 8, "Derived", members=(CMember("own", 6, u8),),
+                    bases=(CMember("Base", 0, base), CMember("Other", 4, other)))
+    assert base.find_member("hi").offset == 3  # through the anonymous struct at 2
+    assert walk(derived, split_path("x.Base.hi")[1])[0] == 3
+    assert walk(derived, split_path("x.Other.id")[1])[0] == 5
+    with pytest.raises(PathError, match="more than one base class"):
+        walk(derived, split_path("x.id")[1])
+    virtual = CType("struct", 8, "V", bases=(CMember("Base", None, base),))
+    with pytest.raises(MemberError, match="virtual base"):
+        virtual.find_member("hi")
+
+
+def test_function_statics_and_ambiguity_survive_the_cache(tmp_path):
+    elf = tmp_path / "wild.elf"
+    shutil.copy(MATRIX / "c-clang-dwarf5-m64-O2.elf", elf)
+    cache = tmp_path / "cache"
+    with DebugData(elf, cache_dir=cache) as first:
+        expected = [first.resolve(path).address for path in ("wild_tick.history[2]", "tickCount", "wild_c.fileLocal")]
+        assert first.is_ambiguous("state") and first.is_ambiguous("fileLocal")
+    with DebugData(elf, cache_dir=cache) as second:
+        assert second.from_cache
+        assert [second.resolve(path).address for path in ("wild_tick.history[2]", "tickCount",
+                                                          "wild_c.fileLocal")] == expected
+        assert second.is_ambiguous("state") and second.is_ambiguous("fileLocal")
+        assert second._reader is None  # function statics and types came from the cache
