@@ -82,10 +82,10 @@ class XcpTimeoutError(WorkbenchError, TimeoutError):
 class EpkMismatchError(WorkbenchError):
     """The EPK in the ECU differs from the one in the A2L/image."""
 
-    def __init__(self, expected: str, actual: str):
+    def __init__(self, expected: str, actual: str, hint: str = ""):
         self.expected = expected
         self.actual = actual
-        super().__init__(f"EPK mismatch: file has {expected!r}, ECU has {actual!r}")
+        super().__init__(f"EPK mismatch: file has {expected!r}, ECU has {actual!r}" + (f"; {hint}" if hint else ""))
 
 
 class Cancelled(WorkbenchError):

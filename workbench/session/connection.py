@@ -1,0 +1,107 @@
+"""How a session reaches the ECU: the A2L's IF_DATA XCP, overridden by what the caller says.
+
+XCP on CAN takes python-can's own names: ``interface``, ``channel``, ``bitrate`` and any backend
+keyword (``bus_kwargs``: udp_multicast's ``port``, Vector's ``app_name`` ...). XCP on Ethernet
+takes ``host``, ``port`` and ``protocol`` ("udp"/"tcp"). Without any of them, the A2L decides:
+its XCP_ON_CAN ids on the default bus (udp_multicast on 239.74.163.2, where ``workbench sim``
+serves), or its XCP_ON_UDP_IP/TCP_IP address when it has no XCP on CAN.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from workbench.a2l.xcp import XcpConfig
+from workbench.errors import InputError
+from workbench.xcp.link import LinkSettings
+from workbench.xcp.master import Timeouts
+
+__all__ = ["DEFAULT_CHANNELS", "DEFAULT_INTERFACE", "Connection", "link_settings"]
+
+DEFAULT_INTERFACE = "udp_multicast"
+DEFAULT_CHANNELS = {"virtual": "workbench", "udp_multicast": "239.74.163.2"}
+SOFTWARE_INTERFACES = frozenset({"virtual", "udp_multicast"})  # they have no bit timing to set
+
+
+@dataclass(frozen=True)
+class Connection:
+    """The caller's overrides; None means "as the A2L says" (or the default bus)."""
+
+    interface: str | None = None
+    channel: str | int | None = None
+    bitrate: int | None = None
+    bus_kwargs: dict[str, Any] = field(default_factory=dict)
+    host: str | None = None
+    port: int | None = None
+    protocol: str | None = None  # "udp" or "tcp"
+
+    @property
+    def wants_ethernet(self) -> bool:
+        return bool(self.host or self.port or self.protocol)
+
+
+def link_settings(config: XcpConfig, connection: Connection) -> tuple[LinkSettings, XcpConfig]:
+    """The link settings and the XCP configuration of the transport chosen (its own PROTOCOL_LAYER/DAQ/PGM).
+
+    :raises InputError: the A2L describes no transport that fits the request.
+    """
+    if connection.interface and connection.wants_ethernet:
+        raise InputError("give either CAN options (--interface/--channel) or Ethernet ones (--host/--port/--protocol)")
+    ethernet = connection.wants_ethernet or (config.can is None and (config.udp or config.tcp) is not None
+                                             and connection.interface is None)
+    if ethernet:
+        return _ethernet(config, connection)
+    return _can(config, connection)
+
+
+def _can(config: XcpConfig, connection: Connection) -> tuple[LinkSettings, XcpConfig]:
+    can = config.can
+    if can is None:
+        raise InputError("the A2L has no XCP_ON_CAN block; use --host/--port for XCP on Ethernet")
+    interface = connection.interface or DEFAULT_INTERFACE
+    bus: dict[str, Any] = {"interface": interface}
+    channel = connection.channel if connection.channel is not None else DEFAULT_CHANNELS.get(interface)
+    if channel is not None:
+        bus["channel"] = channel
+    bitrate = connection.bitrate or (can.baudrate if interface not in SOFTWARE_INTERFACES else None)
+    if bitrate:
+        bus["bitrate"] = bitrate
+    if interface == "udp_multicast":
+        bus["receive_own_messages"] = False
+    bus.update(connection.bus_kwargs)
+    settings = LinkSettings(
+        "CAN", bus, can.can_id_master, can.can_id_slave, can.can_id_master_is_extended, can.can_id_slave_is_extended,
+        can.max_dlc_required,
+        tuple((item.can_id, item.is_extended) for item in can.daq_list_can_ids if item.can_id is not None),
+    )
+    return settings, _for_transport(config, "CAN")
+
+
+def _ethernet(config: XcpConfig, connection: Connection) -> tuple[LinkSettings, XcpConfig]:
+    protocol = (connection.protocol or "").upper()
+    if protocol and protocol not in ("UDP", "TCP"):
+        raise InputError(f"--protocol must be udp or tcp, not {connection.protocol!r}")
+    described = {"UDP": config.udp, "TCP": config.tcp}
+    if not protocol:
+        protocol = "UDP" if config.udp is not None or config.tcp is None else "TCP"
+    block = described[protocol]
+    host = connection.host or (block.host if block is not None else None)
+    port = connection.port or (block.port if block is not None else None)
+    if not host or not port:
+        raise InputError(f"XCP on {protocol}: the A2L has no XCP_ON_{protocol}_IP address; give --host and --port")
+    config = _for_transport(config, protocol) if block is not None else config
+    return LinkSettings(protocol, host=host, port=port), config
+
+
+def _for_transport(config: XcpConfig, transport: str) -> XcpConfig:
+    try:
+        return config.for_transport(transport)
+    except KeyError:
+        return config
+
+
+def timeouts_of(config: XcpConfig) -> Timeouts:
+    """The A2L's T1-T7 (seconds), as the master takes them."""
+    t = config.timeouts
+    return Timeouts(t.t1, t.t2, t.t3, t.t4, t.t5, t.t6, t.t7)

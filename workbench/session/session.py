@@ -1,0 +1,252 @@
+"""The master session: one ECU, one A2L, measured and calibrated by name.
+
+::
+
+    from workbench import Session
+    with Session.open("out/FLCU.a2l", interface="udp_multicast", channel="239.74.163.2") as ecu:
+        print(ecu.read("zsRailPressure"))      # physical value
+        ecu.write("xsSWITCH_TANK_THR", 25.0)    # limits checked, written, read back
+
+:meth:`Session.open` reads the A2L, opens the link its IF_DATA describes (or the one the caller
+names), connects, and checks the EPK. Every public method takes the session's lock, so a GUI
+may poll from one thread while a DAQ measurement runs in another; closing stops what runs and
+frees the bus, also after an error.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+from pathlib import Path
+from typing import Any
+
+from workbench import demo
+from workbench.a2l import A2lDocument, load_a2l, read_xcp_config
+from workbench.a2l.xcp import XcpConfig, XcpSegment
+from workbench.errors import EpkMismatchError, InputError, WorkbenchError
+from workbench.session.connection import Connection, link_settings, timeouts_of
+from workbench.session.epk import EpkCheck, check_epk
+from workbench.session.info import EcuInfo, PageState, read_ecu_info
+from workbench.xcp.link import Link
+from workbench.xcp.master import KeyFunction, Timeouts, XcpMaster
+from workbench.xcp.seedkey import load_key_function
+from workbench.xcp_protocol import Resource
+
+log = logging.getLogger(__name__)
+
+__all__ = ["Session"]
+
+_XCP_ONLY, _ECU_AND_XCP = 0x02, 0x03
+
+
+class Session:
+    """A connected ECU with its A2L. Build it with :meth:`open`; use it as a context manager."""
+
+    def __init__(self, doc: A2lDocument, config: XcpConfig, link: Link, master: XcpMaster, *,
+                 accept_epk_mismatch: bool = False, module: str | None = None):
+        self.doc = doc
+        self.config = config
+        self.link = link
+        self.master = master
+        self.module = module
+        self.accept_epk_mismatch = accept_epk_mismatch
+        self.lock = threading.RLock()
+        self.epk: EpkCheck = EpkCheck(None, None, "")
+        self.closed = False
+        self._closers: list = []  # running measurements and the like, stopped on close
+
+    # --- opening and closing ------------------------------------------------------------------
+
+    @classmethod
+    def open(cls, a2l: str | Path | A2lDocument | None = None, *, interface: str | None = None,
+             channel: str | int | None = None, bitrate: int | None = None, bus_kwargs: dict[str, Any] | None = None,
+             bus=None, host: str | None = None, port: int | None = None, protocol: str | None = None,
+             key_function: KeyFunction | str | None = None, accept_epk_mismatch: bool = False,
+             timeouts: Timeouts | None = None, module: str | None = None) -> Session:
+        """Connect to the ECU the A2L describes.
+
+        :param a2l: the A2L (path or loaded document); default: the built-in demo ECU's.
+        :param interface, channel, bitrate, bus_kwargs: python-can's bus options (XCP on CAN); ``bus``:
+            an open python-can bus to use instead (it stays the caller's).
+        :param host, port, protocol: XCP on Ethernet ("udp"/"tcp").
+        :param key_function: seed & key: a function ``f(seed, resource) -> key`` or its name
+            (``module:function``, ``file.py:function``, an entry point); default: the A2L's
+            SEED_AND_KEY_EXTERNAL_FUNCTION.
+        :param accept_epk_mismatch: allow writes although the ECU's EPK differs from the A2L's.
+        :param timeouts: T1-T7 instead of the A2L's.
+        :raises InputError: bad A2L or options; :raises WorkbenchError: the bus or ECU cannot be reached.
+        """
+        doc = a2l if isinstance(a2l, A2lDocument) else load_a2l(a2l or demo.a2l())
+        connection = Connection(interface, channel, bitrate, dict(bus_kwargs or {}), host, port, protocol)
+        settings, config = link_settings(read_xcp_config(doc, module), connection)
+        function, name = _key_function(key_function, config, doc)
+        link = Link(settings, bus=bus)
+        try:
+            master = XcpMaster(link, timeouts=timeouts or timeouts_of(config), key_function=function,
+                               key_function_name=name)
+            session = cls(doc, config, link, master, accept_epk_mismatch=accept_epk_mismatch, module=module)
+            session.connect()
+        except BaseException:
+            link.close()
+            raise
+        return session
+
+    def connect(self) -> None:
+        """CONNECT and check the EPK (again, e.g. after the ECU was reset or flashed)."""
+        with self.lock:
+            self.master.connect()
+            self.epk = check_epk(self.master, self.doc.epk(self.module), self.doc.addr_epk(self.module))
+            if self.epk.matches is False:
+                log.warning("%s%s", self.epk.describe(),
+                            "" if self.accept_epk_mismatch else "; the session is read-only")
+
+    def close(self) -> None:
+        """Stop running measurements, DISCONNECT, close the link; safe to call twice, also after errors."""
+        if self.closed:
+            return
+        self.closed = True
+        with self.lock:
+            for closer in reversed(self._closers):
+                try:
+                    closer()
+                except WorkbenchError as exc:
+                    log.warning("closing: %s", exc)
+            self._closers.clear()
+            try:
+                if self.master.connected:
+                    self.master.disconnect()
+            except WorkbenchError as exc:
+                log.debug("DISCONNECT: %s", exc)
+            finally:
+                self.link.close()
+
+    def on_close(self, closer) -> None:
+        """Call ``closer()`` when the session closes (measurements register their stop here)."""
+        self._closers.append(closer)
+
+    def __enter__(self) -> Session:
+        return self
+
+    def __exit__(self, *exc_info) -> None:
+        self.close()
+
+    def __repr__(self) -> str:
+        return f"<Session {self.link.settings.describe()} {self.epk.describe()}>"
+
+    # --- state --------------------------------------------------------------------------------
+
+    @property
+    def in_boot(self) -> bool:
+        """The ECU answers in its boot loader: programming only (no calibration, no DAQ)."""
+        info = self.master.connect_info
+        return info is not None and not info.resources & (Resource.CAL_PAG | Resource.DAQ)
+
+    @property
+    def read_only(self) -> bool:
+        return self.epk.matches is False and not self.accept_epk_mismatch
+
+    def require_writable(self) -> None:
+        """:raises EpkMismatchError: the EPKs differ and the caller did not accept it."""
+        if self.read_only:
+            raise EpkMismatchError(self.epk.a2l or "", self.epk.ecu or "",
+                                   "the session is read-only; flash the matching software or open the session "
+                                   "with accept_epk_mismatch=True (--accept-epk-mismatch) to write anyway")
+
+    def info(self) -> EcuInfo:
+        """What the ECU says about itself, beside what the A2L says."""
+        with self.lock:
+            return read_ecu_info(self)
+
+    # --- raw memory ---------------------------------------------------------------------------
+
+    def read_memory(self, address: int, size: int, extension: int = 0) -> bytes:
+        with self.lock:
+            return self.master.read(address, size, extension)
+
+    def write_memory(self, address: int, data: bytes, extension: int = 0) -> None:
+        with self.lock:
+            self.require_writable()
+            self.master.write(address, data, extension)
+
+    # --- calibration pages --------------------------------------------------------------------
+
+    def segment(self, number: int = 0) -> XcpSegment:
+        for segment in self.config.segments:
+            if segment.number == number:
+                return segment
+        raise InputError(f"the A2L describes no calibration segment {number} (it has "
+                         f"{', '.join(str(s.number) for s in self.config.segments) or 'none'})")
+
+    def page_numbers(self, segment: int = 0) -> tuple[int, int]:
+        """(working page, reference page) of a segment: the page XCP may write, and one it may not."""
+        pages = self.segment(segment).pages
+        writable = [p.number for p in pages if p.xcp_write_access != "XCP_WRITE_ACCESS_NOT_ALLOWED"]
+        locked = [p.number for p in pages if p.xcp_write_access == "XCP_WRITE_ACCESS_NOT_ALLOWED"]
+        return (writable[0] if writable else 0), (locked[0] if locked else 1)
+
+    def page(self, segment: int = 0) -> PageState:
+        """The pages the ECU and XCP access now."""
+        with self.lock:
+            working, reference = self.page_numbers(segment)
+            return PageState(segment, self.master.get_cal_page(segment, 0x01), self.master.get_cal_page(segment, 0x02),
+                             working, reference)
+
+    def set_page(self, page: str | int, segment: int = 0) -> None:
+        """Switch ECU and XCP to ``"working"``, ``"reference"`` or a page number."""
+        with self.lock:
+            self.master.set_cal_page(segment, self._page_number(page, segment), _ECU_AND_XCP)
+
+    def copy_reference_to_working(self, segment: int = 0) -> None:
+        """COPY_CAL_PAGE reference -> working: the working page starts over from the flashed values."""
+        with self.lock:
+            self.require_writable()
+            working, reference = self.page_numbers(segment)
+            self.master.copy_cal_page(segment, reference, segment, working)
+
+    def _page_number(self, page: str | int, segment: int) -> int:
+        if isinstance(page, int):
+            return page
+        working, reference = self.page_numbers(segment)
+        choices = {"working": working, "reference": reference, "ram": working, "rom": reference}
+        if page.lower() not in choices:
+            raise InputError(f"page must be 'working', 'reference' or a number, not {page!r}")
+        return choices[page.lower()]
+
+    def on_page(self, page: str | int | None, segment: int = 0):
+        """A context in which XCP (not the ECU) accesses ``page``; None: leave the pages as they are."""
+        return _XcpPage(self, None if page is None else self._page_number(page, segment), segment)
+
+
+class _XcpPage:
+    def __init__(self, session: Session, page: int | None, segment: int):
+        self.session, self.page, self.segment = session, page, segment
+        self.previous: int | None = None
+
+    def __enter__(self):
+        if self.page is not None:
+            master = self.session.master
+            self.previous = master.get_cal_page(self.segment, _XCP_ONLY)
+            if self.previous != self.page:
+                master.set_cal_page(self.segment, self.page, _XCP_ONLY)
+        return self
+
+    def __exit__(self, *exc_info):
+        if self.page is not None and self.previous is not None and self.previous != self.page:
+            self.session.master.set_cal_page(self.segment, self.previous, _XCP_ONLY)
+
+
+def _key_function(given: KeyFunction | str | None, config: XcpConfig, doc: A2lDocument
+                  ) -> tuple[KeyFunction | None, str | None]:
+    if callable(given):
+        return given, getattr(given, "__name__", "key function")
+    name = given or config.seed_and_key_function
+    if not name:
+        return None, None
+    base = doc.path.parent if doc.path is not None else None
+    try:
+        return load_key_function(name, base), name
+    except InputError as exc:
+        if given:
+            raise
+        log.warning("%s (from the A2L); connecting without seed & key", exc)  # a DLL the A2L names must not stop reads
+        return None, name
