@@ -165,3 +165,61 @@ def test_pya2ldb_accepts_the_merged_demo(tmp_path):
     merge_files(demo.master_a2l(), demo.fragment_a2ls(), out)
     counts = pya2l_import(out)
     assert counts["MEASUREMENT"] == sum(len(load_a2l(p).objects("MEASUREMENT")) for p in demo.fragment_a2ls())
+
+
+TWO_MODULES = MASTER.replace("/end PROJECT", '  /begin MODULE BODY "second ECU"\n'
+                             '    /begin MOD_COMMON "" BYTE_ORDER MSB_FIRST /end MOD_COMMON\n  /end MODULE\n/end PROJECT')
+BARE = ('/* sensor signals, written for /include */\n' + measurement("level") + measurement("pressure", "CM_P")
+        + '/begin COMPU_METHOD CM_P "" LINEAR "%6.2" "bar" COEFFS_LINEAR 0.1 0 /end COMPU_METHOD\n')
+
+
+def _cli(capsys, *argv):
+    from workbench.cli import main
+
+    code = main([str(arg) for arg in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_a_master_with_several_modules_needs_module(capsys, tmp_path):
+    (tmp_path / "master.a2l").write_text(TWO_MODULES)
+    (tmp_path / "frag.a2l").write_text(fragment("Sensors", measurement("a")))
+    out = tmp_path / "out.a2l"
+    code, _, err = _cli(capsys, "a2l", "merge", tmp_path / "master.a2l", tmp_path / "frag.a2l", "-o", out)
+    assert (code, err) == (2, f"error: {tmp_path / 'master.a2l'}: 2 MODULEs (ECU, BODY): choose one with --module "
+                              "NAME\n") and not out.exists()
+    code, _, err = _cli(capsys, "a2l", "merge", tmp_path / "master.a2l", tmp_path / "frag.a2l", "-o", out,
+                        "--module", "GEARBOX")
+    assert (code, err) == (2, f"error: {tmp_path / 'master.a2l'}: no MODULE named GEARBOX (its MODULEs: ECU, BODY)\n")
+    code, _, _ = _cli(capsys, "a2l", "merge", tmp_path / "master.a2l", tmp_path / "frag.a2l", "-o", out,
+                      "--module", "BODY")
+    doc = load_a2l(out)
+    assert code == 0 and [[b.name for b in m.children_named("MEASUREMENT")] for m in doc.modules] == [[], ["a"]]
+    # the fragment's MOD_COMMON is compared with the chosen MODULE's
+    assert "MOD_COMMON of frag.a2l differs from the master's in BYTE_ORDER" in _cli(
+        capsys, "a2l", "merge", tmp_path / "master.a2l", tmp_path / "frag.a2l", "-o", out, "--module", "BODY")[1]
+
+
+def test_a_bare_fragment_merges_like_a_whole_one(capsys, tmp_path):
+    (tmp_path / "master.a2l").write_text(MASTER)
+    (tmp_path / "sensors.a2l").write_text("ASAP2_VERSION 1 71\n" + BARE)
+    (tmp_path / "whole.a2l").write_text(fragment("Sensors", BARE))
+    bare_out, whole_out = tmp_path / "bare_out.a2l", tmp_path / "whole_out.a2l"
+    assert _cli(capsys, "a2l", "merge", tmp_path / "master.a2l", tmp_path / "sensors.a2l", "-o", bare_out)[0] == 0
+    assert _cli(capsys, "a2l", "merge", tmp_path / "master.a2l", tmp_path / "whole.a2l", "-o", whole_out)[0] == 0
+    bare, whole = load_a2l(bare_out), load_a2l(whole_out)
+    assert [(b.keyword, b.name) for b in bare.modules[0].children] == [
+        (b.keyword, b.name) for b in whole.modules[0].children]
+    assert bare_out.read_text().count("ASAP2_VERSION") == 1  # the fragment's is left out
+    # a rename takes the file's name where a bare fragment has no MODULE name
+    (tmp_path / "other.a2l").write_text(BARE.replace('"bar"', '"kPa"'))
+    code, out, _ = _cli(capsys, "a2l", "merge", tmp_path / "master.a2l", tmp_path / "sensors.a2l",
+                        tmp_path / "other.a2l", "-o", bare_out, "--on-conflict", "rename")
+    assert code == 0 and "COMPU_METHOD CM_P of other.a2l renamed to CM_P_other" in out
+
+
+def test_a_bare_fragment_is_validated_as_module_content(capsys, tmp_path):
+    (tmp_path / "master.a2l").write_text(MASTER)
+    (tmp_path / "bad.a2l").write_text(BARE + '/begin HEADER "not module content" /end HEADER\n')
+    code, _, err = _cli(capsys, "a2l", "merge", tmp_path / "master.a2l", tmp_path / "bad.a2l", "-o", tmp_path / "o.a2l")
+    assert (code, err) == (2, f"error: {tmp_path / 'bad.a2l'}:9:8: block /begin HEADER is not allowed in MODULE\n")

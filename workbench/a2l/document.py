@@ -245,6 +245,17 @@ class A2lDocument:
         """The MODULE's direct children with this keyword (MEASUREMENT, CHARACTERISTIC ...)."""
         return self.module(module).children_named(keyword)
 
+    def own_tokens(self, block: int) -> list[int]:
+        """The tokens at a block's own level after its keyword, its child blocks left out; ``block``
+        -1: the tokens outside every block (ASAP2_VERSION ...)."""
+        position, stop = (self.block_begin[block] + 2, self.block_end[block]) if block >= 0 else (0, len(self.tokens))
+        tokens: list[int] = []
+        for child in self.blocks.children(block).tolist():
+            tokens.extend(range(position, self.block_begin[child]))
+            position = self.block_end[child] + 2
+        tokens.extend(range(position, stop))
+        return tokens
+
     def parameter_limits(self) -> np.ndarray:
         """Per block: the first token that cannot be one of its parameters (its first child or its /end)."""
         blocks = self.blocks
@@ -356,14 +367,7 @@ class Block:
     @property
     def own_tokens(self) -> list[int]:
         """Tokens at this block's level after its keyword (child blocks left out)."""
-        doc = self.doc
-        tokens: list[int] = []
-        position = self.keyword_token + 1
-        for child in doc.blocks.children(self.index).tolist():
-            tokens.extend(range(position, doc.block_begin[child]))
-            position = doc.block_end[child] + 2
-        tokens.extend(range(position, self.end_token))
-        return tokens
+        return self.doc.own_tokens(self.index)
 
     @property
     def args(self) -> list[int]:

@@ -1,8 +1,10 @@
 """``merge``: module fragments into a master A2L (the thesis's ASAP2 Merger step).
 
-The master supplies PROJECT, MODULE, MOD_PAR, MOD_COMMON, IF_DATA and A2ML; each
-fragment's MODULE content is inserted verbatim (comments and layout kept) before
-the master's ``/end MODULE``, minus what the master already has. A name defined
+The master supplies PROJECT, MODULE, MOD_PAR, MOD_COMMON, IF_DATA and A2ML (a master
+with several MODULEs names the one to merge into); each fragment's MODULE content is
+inserted verbatim (comments and layout kept) before the master's ``/end MODULE``, minus
+what the master already has. A fragment is a whole A2L file or a bare one: module-level
+blocks only, as written for ``/include`` (:func:`load_fragment`). A name defined
 twice is compared token by token: identical definitions merge silently (reported
 as info), different ones follow the :class:`ConflictPolicy`. Every decision is a
 finding in the returned report.
@@ -22,11 +24,12 @@ from workbench.a2l.edits import Edit, Edits, apply_edits, newline_bytes, remove_
 from workbench.a2l.includes import includes_not_found_from
 from workbench.a2l.reports import ConflictPolicy, finding_at
 from workbench.a2l.source import SourceFile, transcoded
+from workbench.a2l.validate import validate_document
 from workbench.errors import InputError, WorkbenchError
 from workbench.findings import Finding, Report, Severity, summarize
 from workbench.progress import Progress, report as report_progress
 
-__all__ = ["ConflictPolicy", "MergeFailed", "MergeResult", "merge", "merge_files"]
+__all__ = ["ConflictPolicy", "MergeFailed", "MergeResult", "load_fragment", "merge_documents", "merge_files"]
 
 MASTER_ONLY = frozenset({"MOD_PAR", "MOD_COMMON", "IF_DATA", "A2ML"})
 
@@ -65,27 +68,52 @@ class _Plan:
     """What happens to one fragment's MODULE content."""
 
     doc: A2lDocument
-    module: Block
+    module: Block | None  # None: a bare fragment, whose top level is the MODULE content
     skipped: list[Block] = field(default_factory=list)
     renames: dict[str, str] = field(default_factory=dict)
     identical: dict[int, _Definition] = field(default_factory=dict)  # skipped block index -> the definition kept
     contributed: int = 0
 
+    @property
+    def name(self) -> str:
+        """The fragment's MODULE name (a bare fragment: its file name without suffix)."""
+        if self.module is not None:
+            return self.module.name or ""
+        return self.doc.path.stem if self.doc.path is not None else self.doc.name
 
-def merge_documents(master: A2lDocument, fragments: list[A2lDocument], *,
+    @property
+    def position(self) -> tuple[int, int]:
+        return self.module.position[1:] if self.module is not None else (1, 1)
+
+    def children(self) -> list[tuple[int, str, str | None]]:
+        return _children(self.doc, self.module.index if self.module is not None else -1)
+
+
+def load_fragment(path: str | Path) -> A2lDocument:
+    """Read and validate a fragment: a whole A2L file (PROJECT and MODULE), or a bare one whose
+    top level holds module-level blocks only (a file written for ``/include``). Raises as
+    :func:`~workbench.a2l.document.load_a2l` does."""
+    doc = load_a2l(path, validate=False)
+    validate_document(doc, within=None if _has_project(doc) else "MODULE")
+    return doc
+
+
+def merge_documents(master: A2lDocument, fragments: list[A2lDocument], *, module: str | None = None,
                     policy: ConflictPolicy = ConflictPolicy.ERROR, keep_includes: bool = False,
                     progress: Progress | None = None) -> MergeResult:
-    """Merge ``fragments`` into ``master``'s MODULE (see the module docstring).
+    """Merge ``fragments`` into ``master``'s MODULE (see the module docstring); ``module`` names
+    it when the master has several (a fragment with several MODULEs gives the one of that name).
 
     The result is self-contained: the text of every ``/include`` is written inline, unless
     ``keep_includes`` keeps the master's own ``/include`` lines (a fragment's included text
     is always inlined: its duplicates must be left out). Raises :class:`MergeFailed` on
-    conflicts under ``ConflictPolicy.ERROR``, :class:`A2lParseError` when a fragment cannot be
+    conflicts under ``ConflictPolicy.ERROR``, :class:`InputError` when the MODULE to merge into
+    (or a fragment's) is not clear, :class:`A2lParseError` when a fragment cannot be
     written in the master's encoding, and :class:`InputError` when ``keep_includes`` would
     need a change inside a file the master includes.
     """
     report = Report("merge")
-    merger = _Merger(master, policy, report)
+    merger = _Merger(master, _master_module(master, module), policy, report)
     for number, fragment in enumerate(fragments, start=1):
         report_progress(progress, number - 1, len(fragments), "merging fragments")
         merger.add(fragment, number)
@@ -101,13 +129,13 @@ def merge_documents(master: A2lDocument, fragments: list[A2lDocument], *,
     return MergeResult(edits.apply(master.data), report)
 
 
-def merge_files(master: str | Path, fragments: list[str | Path], output: str | Path, *,
+def merge_files(master: str | Path, fragments: list[str | Path], output: str | Path, *, module: str | None = None,
                 policy: ConflictPolicy = ConflictPolicy.ERROR, keep_includes: bool = False,
                 progress: Progress | None = None) -> Report:
     """Load (and validate) the inputs, merge, and write ``output`` atomically. The output's block
     structure is parsed again before writing, as a guard against a merge that broke it."""
     master_doc = load_a2l(master)
-    result = merge_documents(master_doc, [load_a2l(path) for path in fragments], policy=policy,
+    result = merge_documents(master_doc, [load_fragment(path) for path in fragments], module=module, policy=policy,
                              keep_includes=keep_includes, progress=progress)
     A2lDocument.from_source(_as_source(master_doc, result.data), validate=False)
     write_source(master_doc.source, result.data, output)
@@ -131,14 +159,14 @@ def _master_file_text(master: A2lDocument, edits: Edits) -> bytes:
 class _Merger:
     """The names defined so far and what happens to each fragment's blocks."""
 
-    def __init__(self, master: A2lDocument, policy: ConflictPolicy, report: Report):
+    def __init__(self, master: A2lDocument, module: Block, policy: ConflictPolicy, report: Report):
         self.master = master
-        self.module = master.module()
+        self.module = module
         self.policy = policy
         self.report = report
         self.plans: list[_Plan] = []
         self.definitions: dict[tuple[str, str], _Definition] = {}
-        for index, keyword, name in _children(master, self.module):
+        for index, keyword, name in _children(master, self.module.index):
             if keyword in NAMESPACES and name:
                 self.definitions.setdefault((NAMESPACES[keyword], name), _Definition(master, index, 0))
         self.masters_own = dict(self.definitions)  # (namespace, name) -> the master's definition
@@ -146,9 +174,9 @@ class _Merger:
         self.taken = {name for _, name in self.definitions}
 
     def add(self, fragment: A2lDocument, origin: int) -> None:
-        plan = _Plan(fragment, fragment.module())
+        plan = _Plan(fragment, _fragment_module(fragment, self.module.name))
         self.plans.append(plan)
-        for index, keyword, name in _children(fragment, plan.module):
+        for index, keyword, name in plan.children():
             self._decide(plan, origin, index, keyword, name)
         self._rename_what_renames_changed(plan, origin)
         for index, existing in plan.identical.items():
@@ -156,8 +184,8 @@ class _Merger:
             self.report.add(finding_at(fragment, block.keyword_token, "duplicate-identical", block.name,
                                        f"{block.keyword} {block.name} of {_short(fragment)} is identical to the one "
                                        f"in {_short(existing.doc)}: merged", block.keyword))
-        self.report.add(Finding("merged", plan.module.name or "", f"{plan.contributed} block(s) merged from "
-                                f"{_short(fragment)}", fragment.name, *plan.module.position[1:], "MODULE"))
+        self.report.add(Finding("merged", plan.name, f"{plan.contributed} block(s) merged from "
+                                f"{_short(fragment)}", fragment.name, *plan.position, "MODULE"))
 
     def _rename_what_renames_changed(self, plan: _Plan, origin: int) -> None:
         """A block that matched an earlier definition may differ from it once the fragment's renames
@@ -214,7 +242,7 @@ class _Merger:
     def _master_only(self, plan: _Plan, block: Block) -> None:
         plan.skipped.append(block)
         if block.keyword == "MOD_COMMON":
-            _compare_mod_common(self.master, block, self.report)
+            _compare_mod_common(self.master, self.module, block, self.report)
             return
         doc, keyword = plan.doc, block.keyword
         self.report.add(finding_at(doc, block.keyword_token, "ignored", keyword,
@@ -251,7 +279,7 @@ class _Merger:
                                   f"{keyword} {name}: this definition replaces the one at {where}", keyword,
                                   Severity.WARNING))
         else:
-            new_name = _unique(f"{name}_{plan.module.name}", self.taken)
+            new_name = _unique(f"{name}_{plan.name}", self.taken)
             self.taken.add(new_name)
             plan.renames[name] = new_name
             self.definitions[(namespace, new_name)] = _Definition(doc, block.index, origin)
@@ -261,9 +289,9 @@ class _Merger:
                                   keyword, Severity.WARNING))
 
 
-def _children(doc: A2lDocument, module: Block):
-    """(block index, keyword, name) of a MODULE's children, names read in one pass."""
-    children = doc.blocks.children(module.index)
+def _children(doc: A2lDocument, parent: int) -> list[tuple[int, str, str | None]]:
+    """(block index, keyword, name) of a block's children (-1: the top level), names read in one pass."""
+    children = doc.blocks.children(parent)
     keywords = doc.blocks.keyword
     return [(index, keywords[index], name) for index, name in zip(children.tolist(), doc.block_names(children))]
 
@@ -271,12 +299,17 @@ def _children(doc: A2lDocument, module: Block):
 def _render(plan: _Plan, master: A2lDocument) -> bytes:
     """The fragment's MODULE content as it goes into the master."""
     doc, module = plan.doc, plan.module
-    args = module.args
-    header_end = doc.tokens.ends_list[args[-1] if args else module.keyword_token]
-    start = doc.data.find(b"\n", header_end) + 1 or header_end
-    end = doc.data.rfind(b"\n", 0, doc.tokens.starts_list[module.end_token]) + 1
-    end = max(end, start)
-    edits = [remove_block(doc, block) for block in plan.skipped] + _rename_edits(plan, start, end)
+    if module is None:  # a bare fragment: all of it, but for top-level keywords such as ASAP2_VERSION
+        start, end = 0, len(doc.data)
+        edits = [replace_token(doc, token, b"") for token in doc.own_tokens(-1)]
+    else:
+        args = module.args
+        header_end = doc.tokens.ends_list[args[-1] if args else module.keyword_token]
+        start = doc.data.find(b"\n", header_end) + 1 or header_end
+        end = doc.data.rfind(b"\n", 0, doc.tokens.starts_list[module.end_token]) + 1
+        end = max(end, start)
+        edits = []
+    edits += [remove_block(doc, block) for block in plan.skipped] + _rename_edits(plan, start, end)
     body = apply_edits(doc.data[start:end], [Edit(e.start - start, e.end - start, e.text)
                                              for e in edits if start <= e.start and e.end <= end])
     newline = newline_bytes(master)
@@ -314,16 +347,17 @@ def _keep_symbol_links(plan: _Plan, start: int, end: int) -> list[Edit]:
     """A renamed object without SYMBOL_LINK gets one naming its old name, so update still finds it."""
     doc = plan.doc
     edits = []
-    for block in plan.module.children:
+    for index, _, _ in plan.children():
+        block = Block(doc, index)
         if block.keyword in grammar.ADDRESSED_OBJECTS and block.name in plan.renames and block.option("SYMBOL_LINK") is None:
             anchor = doc.tokens.ends_list[block.args[-1]]
             edits.append(Edit(anchor, anchor, f' SYMBOL_LINK "{block.name}" 0'.encode(doc.encoding)))
     return edits
 
 
-def _compare_mod_common(master: A2lDocument, block: Block, report: Report) -> None:
+def _compare_mod_common(master: A2lDocument, module: Block, block: Block, report: Report) -> None:
     doc = block.doc
-    master_common = master.mod_common()
+    master_common = module.first("MOD_COMMON")
     if master_common is None:
         return
     ours = {name: [doc.raw(t) for t in params] for name, params in block.layout()[1]}
@@ -336,6 +370,42 @@ def _compare_mod_common(master: A2lDocument, block: Block, report: Report) -> No
     else:
         report.add(finding_at(doc, block.keyword_token, "ignored", "MOD_COMMON",
                               f"MOD_COMMON of {_short(doc)} agrees with the master's", "MOD_COMMON"))
+
+
+def _has_project(doc: A2lDocument) -> bool:
+    keywords = doc.blocks.keyword
+    return any(keywords[index] == "PROJECT" for index in doc.blocks.children(-1).tolist())
+
+
+def _master_module(master: A2lDocument, name: str | None) -> Block:
+    """The master's MODULE called ``name``, or its only one; raises :class:`InputError` naming the
+    MODULEs when that is not clear."""
+    modules = master.modules
+    names = ", ".join(module.name or "?" for module in modules)
+    if name is not None:
+        for module in modules:
+            if module.name == name:
+                return module
+        raise InputError(f"{master.name}: no MODULE named {name} (its MODULEs: {names or 'none'})")
+    if len(modules) != 1:
+        what = f"{len(modules)} MODULEs ({names}): choose one with --module NAME" if modules else "no MODULE"
+        raise InputError(f"{master.name}: {what}")
+    return modules[0]
+
+
+def _fragment_module(doc: A2lDocument, name: str | None) -> Block | None:
+    """The fragment's MODULE: its only one, or the one called ``name`` (the master's); None for a
+    bare fragment. Raises :class:`InputError` when it has several and none is called ``name``."""
+    if not _has_project(doc):
+        return None
+    modules = doc.modules
+    if len(modules) == 1:
+        return modules[0]
+    for module in modules:
+        if module.name == name:
+            return module
+    raise InputError(f"{doc.name}: {len(modules)} MODULEs ({', '.join(m.name or '?' for m in modules)}), none "
+                     f"named {name} like the master's: merge a fragment with one MODULE")
 
 
 def _unique(name: str, taken: set[str]) -> str:

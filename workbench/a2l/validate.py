@@ -37,12 +37,15 @@ def _kind_name(kind: str) -> str:
 _PATTERNS = {"ident": IDENT_RE, "int": INT_RE, "float": FLOAT_RE, "int*": INT_RE, "ident*": IDENT_RE}
 
 
-def validate_document(doc: "A2lDocument", errors: list[A2lParseError] | None = None) -> None:
+def validate_document(doc: "A2lDocument", errors: list[A2lParseError] | None = None, *,
+                      within: str | None = None) -> None:
     """Raise :class:`A2lParseError` at the first violation of the keyword table (in file
     order), or, when ``errors`` is a list, append every violation (one per block) to it.
-    An error inside a block has that block's index as ``block``."""
+    An error inside a block has that block's index as ``block``. ``within`` is the block the
+    file's top level stands in: None for a whole file (PROJECT), ``"MODULE"`` for a bare
+    fragment of module-level blocks (a file written for ``/include``)."""
     found: list[A2lParseError] = []
-    _Validator(doc, found).run()
+    _Validator(doc, found, within).run()
     found.sort(key=lambda error: getattr(error, "offset", 0))
     if errors is not None:
         errors.extend(found)
@@ -51,8 +54,9 @@ def validate_document(doc: "A2lDocument", errors: list[A2lParseError] | None = N
 
 
 class _Validator:
-    def __init__(self, doc: "A2lDocument", errors: list[A2lParseError]):
+    def __init__(self, doc: "A2lDocument", errors: list[A2lParseError], within: str | None = None):
         self.doc = doc
+        self.within = within
         self.errors = errors
         self.data = doc.data
         self.starts = doc.tokens.starts_list
@@ -110,7 +114,7 @@ class _Validator:
         kept = pairs[~inside_free]
         for pair in kept[first_of_each(kept)].tolist():
             parent_id, keyword_id = divmod(pair, len(names)) if pair >= 0 else (-1, pair + len(names))
-            problem = _placement_problem(names[parent_id] if parent_id >= 0 else None, names[keyword_id])
+            problem = _placement_problem(names[parent_id] if parent_id >= 0 else self.within, names[keyword_id])
             if problem is not None:
                 for block in np.flatnonzero((pairs == pair) & ~inside_free).tolist():
                     error = doc.error(problem, doc.block_begin[block] + 1)

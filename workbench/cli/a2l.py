@@ -28,7 +28,8 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     commands = parser.add_subparsers(title="commands", dest="command", metavar="COMMAND", required=True)
 
     merge = commands.add_parser("merge", help="merge module fragments into a master A2L",
-                                description="Insert each fragment's MODULE content into the master's MODULE. "
+                                description="Insert each fragment's MODULE content into the master's MODULE (a "
+                                "fragment may also be a bare file of module-level blocks, as written for /include). "
                                 "Identical definitions of a name merge silently; different ones are an error "
                                 "unless --on-conflict says otherwise. The output is a new, self-contained file: the "
                                 "text of every /include is written inline (--keep-includes keeps the master's own "
@@ -39,6 +40,7 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     merge.add_argument("--on-conflict", choices=["error", "keep-first", "keep-last", "rename"], default="error",
                        help="two different definitions of one name: fail (default), keep the first, keep the "
                             "last, or rename the later one NAME_<MODULE> (every rename is reported)")
+    merge.add_argument("--module", metavar="NAME", help="the master's MODULE to merge into, when it has several")
     merge.add_argument("--keep-includes", action="store_true",
                        help="keep the master's /include lines instead of writing the included text inline")
     _output_options(merge)
@@ -116,7 +118,8 @@ def _merge(args: argparse.Namespace) -> int:
 
     try:
         with ProgressBar("merging", enabled=None if not args.json else False) as progress:
-            report = merge_files(args.master, args.fragments, args.output, policy=ConflictPolicy(args.on_conflict),
+            report = merge_files(args.master, args.fragments, args.output, module=args.module,
+                                 policy=ConflictPolicy(args.on_conflict),
                                  keep_includes=args.keep_includes, progress=progress)
     except MergeFailed as exc:
         _print_report(exc.report, args, summary=str(exc))
