@@ -9,6 +9,7 @@ import logging
 from workbench.errors import (
     A2lParseError,
     Cancelled,
+    DatasetParseError,
     EpkMismatchError,
     InputError,
     UnknownSymbolError,
@@ -24,6 +25,7 @@ logging.getLogger(__name__).addHandler(logging.NullHandler())
 __all__ = [
     "A2lParseError",
     "Cancelled",
+    "DatasetParseError",
     "EpkMismatchError",
     "InputError",
     "UnknownSymbolError",

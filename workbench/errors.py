@@ -34,6 +34,18 @@ class A2lParseError(InputError):
         super().__init__(f"{self.path}:{line}:{column}: {message}")
 
 
+class DatasetParseError(InputError):
+    """A calibration dataset file (DCM, CDFX) that cannot be read, located at ``path:line[:column]`` (1-based)."""
+
+    def __init__(self, message: str, path: str | Path | None = None, line: int = 0, column: int = 0):
+        self.reason = message
+        self.path = str(path) if path is not None else "<string>"
+        self.line = line
+        self.column = column
+        where = f"{self.path}:{line}" if line else self.path
+        super().__init__(f"{where}:{column}: {message}" if line and column else f"{where}: {message}")
+
+
 class UnknownSymbolError(WorkbenchError, KeyError):
     """A name (A2L object, ELF symbol, DBC message/signal) that does not exist."""
 

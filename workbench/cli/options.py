@@ -36,6 +36,17 @@ def positive_float(text: str) -> float:
     return value
 
 
+def non_negative_float(text: str) -> float:
+    """argparse type: a finite number of 0 or more (anything else is a usage error, exit 2)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not 0 <= value < float("inf"):
+        raise argparse.ArgumentTypeError(f"must be 0 or more, got {text}")
+    return value
+
+
 def add_bus_arguments(parser: argparse.ArgumentParser) -> None:
     """``--interface/--channel/--bitrate`` as python-can spells them, plus ``--host/--port`` for Ethernet."""
     group = parser.add_argument_group("bus")

@@ -1,0 +1,214 @@
+"""Compare two datasets object by object: what only one holds, what changed (element by element), what is equal.
+
+An object is *shape-changed* when its kind, its value's shape or its axes' lengths differ (its
+elements are then not compared), *changed* when a value, an axis point, a unit or an axis's
+kind or name differs, else *equal*. Numbers compare by value (``1`` equals ``1.0``, NaN equals
+NaN); with a tolerance, two numbers are equal when ``|b - a| <= max(abs_tol, rel_tol * max(|a|, |b|))``.
+Long names, comments and history are not compared.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from workbench.calib.dataset.numbers import format_number
+from workbench.calib.values import CalValue
+
+__all__ = ["DatasetDiff", "ElementDiff", "ObjectDiff", "diff_datasets"]
+
+ONLY_IN_A, ONLY_IN_B, SHAPE_CHANGED, CHANGED, EQUAL = "only-in-a", "only-in-b", "shape-changed", "changed", "equal"
+STATUSES = (ONLY_IN_A, ONLY_IN_B, SHAPE_CHANGED, CHANGED, EQUAL)
+_AXIS_LETTERS = "xyz"
+
+
+@dataclass(frozen=True)
+class ElementDiff:
+    """One difference inside an object: ``where`` is ``value``, ``value[3]``, ``value[2, 1]``, ``x[4]``,
+    ``unit``, ``x.kind``, ``shape`` ...; ``at`` the axis points of a value element; ``delta`` is
+    ``b - a`` for two numbers."""
+
+    where: str
+    a: object
+    b: object
+    delta: int | float | None = None
+    at: tuple = ()
+
+
+@dataclass(frozen=True)
+class ObjectDiff:
+    name: str
+    status: str
+    a: CalValue | None = None
+    b: CalValue | None = None
+    differences: tuple[ElementDiff, ...] = ()
+
+
+@dataclass
+class DatasetDiff:
+    """The comparison of dataset ``a`` with dataset ``b``: one :class:`ObjectDiff` per name (a's order, then b's)."""
+
+    a_label: str
+    b_label: str
+    objects: list[ObjectDiff] = field(default_factory=list)
+    abs_tol: float = 0.0
+    rel_tol: float = 0.0
+
+    @property
+    def equal(self) -> bool:
+        return all(o.status == EQUAL for o in self.objects)
+
+    def counts(self) -> dict[str, int]:
+        return {status: sum(o.status == status for o in self.objects) for status in STATUSES}
+
+    def to_dict(self) -> dict:
+        """Every object with its status and differences, JSON-ready (NaN and infinities as "NaN", "Inf", "-Inf")."""
+        return {
+            "a": self.a_label, "b": self.b_label, "equal": self.equal,
+            "tolerance": {"absolute": self.abs_tol, "relative": self.rel_tol},
+            "counts": self.counts(),
+            "objects": [{
+                "name": o.name, "status": o.status,
+                "kind": {"a": o.a.kind if o.a else None, "b": o.b.kind if o.b else None},
+                "differences": [{"where": d.where, "a": _json(d.a), "b": _json(d.b), "delta": _json(d.delta),
+                                 "at": [_json(p) for p in d.at]} for d in o.differences],
+            } for o in self.objects],
+        }
+
+    def to_text(self, *, show_equal: bool = False) -> str:
+        """A table, one line per difference, and a summary line."""
+        rows = [("name", "status", "where", "A", "B", "B - A")]
+        for o in self.objects:
+            if o.status == EQUAL and not show_equal:
+                continue
+            if o.status in (ONLY_IN_A, ONLY_IN_B, EQUAL):
+                rows.append((o.name, o.status, "", _describe(o.a), _describe(o.b), ""))
+                continue
+            for d in o.differences:
+                where = d.where + (f" ({', '.join(f'{l} {_show(p)}' for l, p in zip(_AXIS_LETTERS, d.at))})" if d.at else "")
+                rows.append((o.name, o.status, where, _show(d.a), _show(d.b), _signed(d.delta)))
+        counts = self.counts()
+        summary = (f"{len(self.objects)} objects: {counts[EQUAL]} equal, {counts[CHANGED]} changed, "
+                   f"{counts[SHAPE_CHANGED]} shape changed, {counts[ONLY_IN_A]} only in A, {counts[ONLY_IN_B]} only in B")
+        header = f"A: {self.a_label}\nB: {self.b_label}"
+        if len(rows) == 1:
+            return f"{header}\n{summary}"
+        widths = [max(len(r[i]) for r in rows) for i in range(6)]
+        table = ["  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip() for row in rows]
+        return "\n".join([header, *table, summary])
+
+
+def diff_datasets(a, b, *, abs_tol: float = 0.0, rel_tol: float = 0.0, a_label: str | None = None,
+                  b_label: str | None = None) -> DatasetDiff:
+    """Compare dataset (or name -> CalValue mapping) ``a`` with ``b``; tolerances as in the module docstring."""
+    result = DatasetDiff(a_label or getattr(a, "source", None) or "A", b_label or getattr(b, "source", None) or "B",
+                         abs_tol=abs_tol, rel_tol=rel_tol)
+    for name, value in a.items():
+        other = b.get(name)
+        result.objects.append(ObjectDiff(name, ONLY_IN_A, a=value) if other is None
+                              else _compare(name, value, other, abs_tol, rel_tol))
+    result.objects += [ObjectDiff(name, ONLY_IN_B, b=value) for name, value in b.items() if name not in a]
+    return result
+
+
+def _compare(name: str, a: CalValue, b: CalValue, abs_tol: float, rel_tol: float) -> ObjectDiff:
+    shape = _shape_differences(a, b)
+    if shape:
+        return ObjectDiff(name, SHAPE_CHANGED, a, b, tuple(shape))
+    found: list[ElementDiff] = []
+    if a.unit != b.unit:
+        found.append(ElementDiff("unit", a.unit, b.unit))
+    for letter, axis_a, axis_b in zip(_AXIS_LETTERS, a.axes, b.axes):
+        for attribute in ("kind", "name", "unit"):
+            if getattr(axis_a, attribute) != getattr(axis_b, attribute):
+                found.append(ElementDiff(f"{letter}.{attribute}", getattr(axis_a, attribute), getattr(axis_b, attribute)))
+        for i, (pa, pb) in enumerate(zip(axis_a.values, axis_b.values)):
+            if not _same(pa, pb, abs_tol, rel_tol):
+                found.append(ElementDiff(f"{letter}[{i}]", pa, pb, _delta(pa, pb)))
+    if isinstance(a.value, np.ndarray):
+        points = [axis.values for axis in a.axes]
+        for index in np.ndindex(a.value.shape):
+            va, vb = a.value[index], b.value[index]
+            if not _same(va, vb, abs_tol, rel_tol):
+                at = tuple(p[i] for p, i in zip(points, index))
+                found.append(ElementDiff(f"value[{', '.join(map(str, index))}]", va, vb, _delta(va, vb), at))
+    elif not _same(a.value, b.value, abs_tol, rel_tol):
+        found.append(ElementDiff("value", a.value, b.value, _delta(a.value, b.value)))
+    return ObjectDiff(name, CHANGED if found else EQUAL, a, b, tuple(found))
+
+
+def _shape_differences(a: CalValue, b: CalValue) -> list[ElementDiff]:
+    if a.kind != b.kind:
+        return [ElementDiff("kind", a.kind, b.kind)]
+    found = []
+    if a.shape != b.shape:
+        found.append(ElementDiff("shape", a.shape, b.shape))
+    if len(a.axes) != len(b.axes):
+        found.append(ElementDiff("axes", len(a.axes), len(b.axes)))
+    for letter, axis_a, axis_b in zip(_AXIS_LETTERS, a.axes, b.axes):
+        if len(axis_a.values) != len(axis_b.values):
+            found.append(ElementDiff(f"{letter} points", len(axis_a.values), len(axis_b.values)))
+    return found
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+
+
+def _same(a, b, abs_tol: float, rel_tol: float) -> bool:
+    if _is_number(a) and _is_number(b):
+        fa, fb = float(a), float(b)
+        if math.isnan(fa) or math.isnan(fb):
+            return math.isnan(fa) and math.isnan(fb)
+        if a == b:
+            return True
+        if math.isinf(fa) or math.isinf(fb):
+            return False
+        return abs(fb - fa) <= max(abs_tol, rel_tol * max(abs(fa), abs(fb)))
+    return type(a) is type(b) and a == b if isinstance(a, str) or isinstance(b, str) else a == b
+
+
+def _delta(a, b):
+    if not (_is_number(a) and _is_number(b)):
+        return None
+    if isinstance(a, (int, np.integer)) and isinstance(b, (int, np.integer)):
+        return int(b) - int(a)
+    return float(b) - float(a)
+
+
+def _describe(value: CalValue | None) -> str:
+    if value is None:
+        return ""
+    if value.kind in ("VALUE", "ASCII"):
+        return _show(value.value)
+    return f"{value.kind} {' x '.join(map(str, value.shape))}"
+
+
+def _show(value) -> str:
+    if isinstance(value, str):
+        return repr(value)
+    if isinstance(value, tuple):
+        return "(" + ", ".join(map(str, value)) + ")"
+    if _is_number(value):
+        return format_number(value)
+    return str(value)
+
+
+def _signed(delta) -> str:
+    if delta is None:
+        return ""
+    text = format_number(delta)
+    return text if text.startswith("-") or text == "NaN" else f"+{text}"
+
+
+def _json(value):
+    if isinstance(value, (np.integer,)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        value = float(value)
+        return value if math.isfinite(value) else format_number(value)
+    if isinstance(value, tuple):
+        return list(value)
+    return value

@@ -1,0 +1,128 @@
+"""A calibration dataset in memory: calibration values by name and what the file said about them.
+
+A :class:`Dataset` maps names to :class:`~workbench.calib.values.CalValue` s in file order and
+keeps, per object, an :class:`ObjectInfo` (display name, functions, comments, history, where it
+was read) and, for the whole file, its comments, functions and origin. The values are the same
+shape whatever the file format (see :mod:`workbench.calib.values`):
+
+==============================  ==================  ===========================================
+DCM                             CDFX category       CalValue
+==============================  ==================  ===========================================
+FESTWERT (WERT or TEXT)         VALUE, BOOLEAN,     ``VALUE``: a number, or a ``str`` (verbal)
+                                DEPENDENT_VALUE
+TEXTSTRING                      ASCII               ``ASCII``: a ``str``
+FESTWERTEBLOCK n [@ m]          VAL_BLK             ``VAL_BLK``: shape ``(n,)`` or ``(n, m)``
+KENNLINIE / FESTKENNLINIE /     CURVE               ``CURVE``: axis STD_AXIS / FIX_AXIS /
+GRUPPENKENNLINIE                                    COM_AXIS (named by ``*SSTX``)
+KENNFELD / FESTKENNFELD /       MAP                 ``MAP``: shape ``(nx, ny)``, indexed ``[x, y]``
+GRUPPENKENNFELD
+STUETZSTELLENVERTEILUNG         COM_AXIS, RES_AXIS  ``AXIS_PTS``: the points
+==============================  ==================  ===========================================
+
+``CalValue.comment`` holds the long name (DCM LANGNAME, CDFX LONG-NAME), as an A2L object's
+long identifier; ``ObjectInfo.comments`` the free comment lines.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, field
+
+from workbench.calib.values import CalValue
+from workbench.errors import InputError
+from workbench.findings import Finding
+
+__all__ = ["CsFlag", "Dataset", "FunctionInfo", "HistoryEntry", "ObjectInfo"]
+
+
+@dataclass(frozen=True)
+class HistoryEntry:
+    """One step of an object's calibration history (CDFX SW-CS-HISTORY / CS-ENTRY)."""
+
+    state: str = ""  # STATE: the maturity, e.g. "prelimCalibrated", "checked", "released"
+    date: str = ""  # DATE as written (ISO 8601 in CDF 2.0)
+    user: str = ""  # CSUS: who
+    remark: str = ""  # REMARK, its paragraphs joined by "\n"
+    details: tuple[tuple[str, str], ...] = ()  # CSPR, CSWP, CSTO, CSTV, CSPI, CSDI, SD: (tag, text) in file order
+
+
+@dataclass(frozen=True)
+class CsFlag:
+    """One process flag of an object (CDFX SW-CS-FLAGS / SW-CS-FLAG)."""
+
+    category: str = ""
+    flag: str = ""
+    user: str = ""
+    date: str = ""
+    remark: str = ""
+
+
+@dataclass(frozen=True)
+class ObjectInfo:
+    """What a dataset file says about one object besides its value, unit and long name."""
+
+    display_name: str = ""
+    functions: tuple[str, ...] = ()  # DCM FUNKTION names; CDFX SW-FEATURE-REF
+    comments: tuple[str, ...] = ()  # free comment lines (DCM '*', '!', '.'; CDFX XML comments)
+    history: tuple[HistoryEntry, ...] = ()
+    flags: tuple[CsFlag, ...] = ()
+    variants: tuple[tuple[str, str], ...] = ()  # DCM VAR criterion=value pairs
+    category: str = ""  # the object's keyword or category in its file (FESTKENNLINIE, BOOLEAN ...)
+    line: int = 0  # where it starts in its file (1-based; 0: not read from a file)
+
+
+@dataclass(frozen=True)
+class FunctionInfo:
+    """A function (DCM FUNKTIONEN / FKT, CDFX SW-CS-COLLECTION of category FEATURE)."""
+
+    version: str = ""
+    long_name: str = ""
+    history: tuple[HistoryEntry, ...] = ()
+
+
+@dataclass
+class Dataset(Mapping):
+    """Calibration values by name, in file order, with the metadata of the file they came from.
+
+    ``dataset[name]`` is the :class:`CalValue`; ``dataset.info[name]`` its :class:`ObjectInfo`.
+    """
+
+    values: dict[str, CalValue] = field(default_factory=dict)
+    info: dict[str, ObjectInfo] = field(default_factory=dict)
+    source: str | None = None  # the file it was read from
+    format: str | None = None  # "dcm", "cdfx"
+    comments: list[str] = field(default_factory=list)  # file-level comments, in order
+    functions: dict[str, FunctionInfo] = field(default_factory=dict)
+    name: str = ""  # CDFX SW-INSTANCE-TREE SHORT-NAME
+    system: str = ""  # CDFX SW-SYSTEM SHORT-NAME (the ECU)
+    title: str = ""  # CDFX MSRSW SHORT-NAME
+    a2l_file: str = ""  # CDFX SW-INSTANCE-TREE-ORIGIN SYMBOLIC-FILE
+    data_file: str = ""  # CDFX SW-INSTANCE-TREE-ORIGIN DATA-FILE
+    variant_criteria: dict[str, tuple[str, ...]] = field(default_factory=dict)  # DCM VARIANTENKODIERUNG
+    module_header: list[tuple[str, str]] = field(default_factory=list)  # DCM MODULKOPF (name, text) lines
+    notes: list[Finding] = field(default_factory=list)  # what the reader found but does not keep, located
+
+    def __getitem__(self, name: str) -> CalValue:
+        return self.values[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.values)
+
+    def __len__(self) -> int:
+        return len(self.values)
+
+    def add(self, value: CalValue, info: ObjectInfo | None = None) -> None:
+        """Add ``value`` (and what the file said about it) at the end.
+
+        :raises InputError: an object of that name is already there (naming where it was read).
+        """
+        if value.name in self.values:
+            first = self.info_of(value.name).line
+            where = f" (first at line {first})" if first else ""
+            raise InputError(f"{value.name}: defined twice{where}")
+        self.values[value.name] = value
+        self.info[value.name] = info or ObjectInfo()
+
+    def info_of(self, name: str) -> ObjectInfo:
+        """The :class:`ObjectInfo` of ``name`` (an empty one for an object added without)."""
+        return self.info.get(name, ObjectInfo())

@@ -1,0 +1,74 @@
+"""``workbench cal convert`` and ``workbench cal diff``: dataset files, no ECU needed."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from workbench.cli.options import add_output_arguments, non_negative_float, print_json, print_report
+
+ENCODINGS = ("utf-8", "utf-8-sig", "cp1252", "latin-1")
+_FORMATS = "DCM (.dcm) or CDFX (.cdfx, .cdf, .xml), by the file's extension"
+
+
+def add_commands(commands: argparse._SubParsersAction) -> None:
+    """Register ``convert`` and ``diff`` in the ``cal`` group's sub-commands."""
+    convert = commands.add_parser(
+        "convert", help="convert a dataset file between DCM and CDFX (no ECU needed)",
+        description=(f"Read IN and write OUT, each {_FORMATS}. Every value and axis point is kept exactly; what the "
+                     "output format cannot keep (e.g. the history in DCM, VAR in CDFX) is listed as a warning. "
+                     "OUT is written atomically. Exit 0: written; 2: bad input, or problems found by --a2l "
+                     "(listed; nothing written)."),
+    )
+    convert.add_argument("input", metavar="IN", help="the dataset file to read")
+    convert.add_argument("output", metavar="OUT", help="the dataset file to write")
+    convert.add_argument("--encoding", choices=ENCODINGS, default="utf-8",
+                         help="character encoding of OUT (default utf-8; cp1252 for tools that want an ANSI DCM)")
+    add_output_arguments(convert)
+    convert.set_defaults(func=_convert)
+
+    diff = commands.add_parser(
+        "diff", help="compare two dataset files object by object (exit 1 when they differ)",
+        description=(f"Compare A with B, each {_FORMATS}: objects only in A, only in B, changed (both values and "
+                     "B - A per element and axis point), shape changed, equal. Exit codes as diff(1): 0 the "
+                     "datasets are equal, 1 they differ, 2 bad input."),
+    )
+    diff.add_argument("a", metavar="A", help="the first dataset file")
+    diff.add_argument("b", metavar="B", help="the second dataset file")
+    diff.add_argument("--tolerance", type=non_negative_float, default=0.0, metavar="ABS",
+                      help="numbers differing by at most ABS are equal (default 0: exactly)")
+    diff.add_argument("--rel-tolerance", type=non_negative_float, default=0.0, metavar="REL",
+                      help="numbers differing by at most REL times the larger magnitude are equal")
+    diff.add_argument("--equal", action="store_true", help="list the equal objects too (text output)")
+    add_output_arguments(diff)
+    diff.set_defaults(func=_diff)
+
+
+def _convert(args: argparse.Namespace) -> int:
+    from workbench.calib.dataset import format_of, load_dataset, save_dataset
+    from workbench.findings import Report
+
+    target = format_of(args.output)
+    dataset = load_dataset(args.input)
+    report = Report("convert")
+    report.extend(dataset.notes)
+    report.extend(save_dataset(dataset, args.output, encoding=args.encoding))
+    summary = (f"wrote {args.output}: {len(dataset)} objects ({format_of(args.input).name.upper()} -> "
+               f"{target.name.upper()})")
+    print_report(report, as_json=args.json, verbose=False, summary=summary, output=args.output)
+    return 0
+
+
+def _diff(args: argparse.Namespace) -> int:
+    from workbench.calib.dataset import diff_datasets, load_dataset
+
+    a, b = load_dataset(args.a), load_dataset(args.b)
+    result = diff_datasets(a, b, abs_tol=args.tolerance, rel_tol=args.rel_tolerance, a_label=args.a, b_label=args.b)
+    notes = a.notes + b.notes
+    if args.json:
+        print_json({**result.to_dict(), "notes": [n.to_dict() for n in notes]})
+    else:
+        for note in notes:
+            print(note, file=sys.stderr)
+        print(result.to_text(show_equal=args.equal))
+    return 0 if result.equal else 1
