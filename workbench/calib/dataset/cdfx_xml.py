@@ -19,17 +19,22 @@ DOCTYPE = ('<!DOCTYPE MSRSW PUBLIC "-//ASAM//DTD CALIBRATION DATA FORMAT:V2.0.0:
 
 
 def parse(data: bytes, path: str) -> etree._Element:
-    """The root element of ``data``; entities are not resolved, no DTD is loaded.
+    """The root element of ``data``; no DTD is loaded, no declared entity resolved.
 
-    :raises DatasetParseError: not well-formed XML, located at its line and column.
+    :raises DatasetParseError: not well-formed XML, located at its line and column; a reference to
+        a declared entity (its text would be missing).
     """
     parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, remove_comments=False,
                              huge_tree=False)
     try:
-        return etree.fromstring(data, parser)
+        root = etree.fromstring(data, parser)
     except etree.XMLSyntaxError as exc:
         line, column = exc.position if exc.position else (0, 0)
         raise DatasetParseError(f"not well-formed XML: {exc.msg}", path, line or 1, column) from None
+    for entity in root.iter(etree.Entity):
+        raise DatasetParseError(f"the entity reference {entity.text} is not resolved (declared entities are not "
+                                f"supported; use the character itself or &#...;)", path, entity.sourceline or 0)
+    return root
 
 
 def local_name(element) -> str | None:

@@ -237,8 +237,9 @@ class _Reader:
             first = self.dataset.info_of(name).line
             raise self.error(f"{name} is defined twice (first at line {first})", header, header.rest_column)
         single = self.single_lines(block)
+        texts = {keyword: self.one_text(line) for keyword, line in single.items() if keyword not in ("FUNKTION", "VAR")}
         info = ObjectInfo(
-            display_name=self.one_text(single.get("DISPLAYNAME")),
+            display_name=texts.get("DISPLAYNAME", ""),
             functions=tuple(t.text for t in self.tokens(single["FUNKTION"])) if "FUNKTION" in single else (),
             comments=tuple(block.comments),
             variants=self.variants(single.get("VAR")),
@@ -246,7 +247,7 @@ class _Reader:
             line=header.number,
         )
         try:
-            value = _BUILDERS[OBJECT_KEYWORDS[block.keyword].kind](self, block, single)
+            value = _BUILDERS[OBJECT_KEYWORDS[block.keyword].kind](self, block, texts)
         except NumberError as exc:
             raise self.error(f"{block.keyword} {name}: {exc}", header) from None
         self.dataset.add(value, info)
@@ -263,9 +264,7 @@ class _Reader:
             raise self.error("FUNKTION expects one or more function names", single["FUNKTION"])
         return single
 
-    def one_text(self, line: Line | None) -> str:
-        if line is None:
-            return ""
+    def one_text(self, line: Line) -> str:
         tokens = self.tokens(line)
         if len(tokens) != 1:
             raise self.error(f'{line.keyword} expects one text in quotes, e.g. {line.keyword} "text"', line,
@@ -311,44 +310,38 @@ class _Reader:
         return self.error(f"{block.keyword} {block.name}: {declared} {what} declared, {found} found", block.header,
                           block.header.rest_column)
 
-    def unit(self, single: dict[str, Line], keyword: str) -> str:
-        return self.one_text(single.get(keyword))
-
-    def long_name(self, single: dict[str, Line]) -> str:
-        return self.one_text(single.get("LANGNAME"))
-
     # ---- one builder per kind ----
 
-    def value(self, block: _Block, single: dict[str, Line]) -> CalValue:
+    def value(self, block: _Block, texts: dict[str, str]) -> CalValue:
         items = self.values(self.lines_of(block, _VALUES))
         if len(items) != 1:
             raise self.error(f"FESTWERT {block.name}: expects one WERT or TEXT, found {len(items)} values",
                              block.header, block.header.rest_column)
         item = items[0] if isinstance(items[0], str) else scalar(items[0])
-        return CalValue(block.name, "VALUE", item, unit=self.unit(single, "EINHEIT_W"), comment=self.long_name(single))
+        return CalValue(block.name, "VALUE", item, unit=texts.get("EINHEIT_W", ""), comment=texts.get("LANGNAME", ""))
 
-    def ascii(self, block: _Block, single: dict[str, Line]) -> CalValue:
+    def ascii(self, block: _Block, texts: dict[str, str]) -> CalValue:
         items = self.values(self.lines_of(block, ("TEXT",)))
         if len(items) != 1:
             raise self.error(f"TEXTSTRING {block.name}: expects one TEXT, found {len(items)}", block.header,
                              block.header.rest_column)
-        return CalValue(block.name, "ASCII", items[0], comment=self.long_name(single))
+        return CalValue(block.name, "ASCII", items[0], comment=texts.get("LANGNAME", ""))
 
-    def val_blk(self, block: _Block, single: dict[str, Line]) -> CalValue:
+    def val_blk(self, block: _Block, texts: dict[str, str]) -> CalValue:
         items = self.values(self.lines_of(block, _VALUES))
         size = int(np.prod(block.counts))
         if len(items) != size:
             raise self.count_error(block, "values", size, len(items))
         # 2-D: one WERT row per y, x along the row (x varies fastest)
         array = to_array(items, tuple(reversed(block.counts))).T.copy()
-        return CalValue(block.name, "VAL_BLK", array, unit=self.unit(single, "EINHEIT_W"), comment=self.long_name(single))
+        return CalValue(block.name, "VAL_BLK", array, unit=texts.get("EINHEIT_W", ""), comment=texts.get("LANGNAME", ""))
 
-    def axis(self, block: _Block, single: dict[str, Line], letter: str, points: list) -> Axis:
+    def axis(self, block: _Block, texts: dict[str, str], letter: str, points: list) -> Axis:
         spec = OBJECT_KEYWORDS[block.keyword]
         return Axis(to_array(points), kind=spec.axis_kind, name=block.axis_names.get(letter),
-                    unit=self.unit(single, f"EINHEIT_{letter}"))
+                    unit=texts.get(f"EINHEIT_{letter}", ""))
 
-    def curve(self, block: _Block, single: dict[str, Line]) -> CalValue:
+    def curve(self, block: _Block, texts: dict[str, str]) -> CalValue:
         (nx,) = block.counts
         xs = self.values(self.lines_of(block, _X))
         items = self.values(self.lines_of(block, _VALUES))
@@ -356,10 +349,10 @@ class _Reader:
             raise self.count_error(block, "X points", nx, len(xs))
         if len(items) != nx:
             raise self.count_error(block, "values", nx, len(items))
-        return CalValue(block.name, "CURVE", to_array(items), axes=(self.axis(block, single, "X", xs),),
-                        unit=self.unit(single, "EINHEIT_W"), comment=self.long_name(single))
+        return CalValue(block.name, "CURVE", to_array(items), axes=(self.axis(block, texts, "X", xs),),
+                        unit=texts.get("EINHEIT_W", ""), comment=texts.get("LANGNAME", ""))
 
-    def map(self, block: _Block, single: dict[str, Line]) -> CalValue:
+    def map(self, block: _Block, texts: dict[str, str]) -> CalValue:
         nx, ny = block.counts
         xs = self.values(self.lines_of(block, _X))
         ys: list = []
@@ -385,17 +378,17 @@ class _Reader:
                 raise self.error(f"{block.keyword} {block.name}: the row of Y point {y} has {len(row)} values, "
                                  f"{nx} declared", block.header, block.header.rest_column)
         array = to_array([v for row in rows for v in row], (ny, nx)).T.copy()
-        axes = (self.axis(block, single, "X", xs), self.axis(block, single, "Y", ys))
-        return CalValue(block.name, "MAP", array, axes=axes, unit=self.unit(single, "EINHEIT_W"),
-                        comment=self.long_name(single))
+        axes = (self.axis(block, texts, "X", xs), self.axis(block, texts, "Y", ys))
+        return CalValue(block.name, "MAP", array, axes=axes, unit=texts.get("EINHEIT_W", ""),
+                        comment=texts.get("LANGNAME", ""))
 
-    def axis_pts(self, block: _Block, single: dict[str, Line]) -> CalValue:
+    def axis_pts(self, block: _Block, texts: dict[str, str]) -> CalValue:
         (nx,) = block.counts
         xs = self.values(self.lines_of(block, _X))
         if len(xs) != nx:
             raise self.count_error(block, "points", nx, len(xs))
-        return CalValue(block.name, "AXIS_PTS", to_array(xs), unit=self.unit(single, "EINHEIT_X"),
-                        comment=self.long_name(single))
+        return CalValue(block.name, "AXIS_PTS", to_array(xs), unit=texts.get("EINHEIT_X", ""),
+                        comment=texts.get("LANGNAME", ""))
 
 
 _BUILDERS = {"VALUE": _Reader.value, "ASCII": _Reader.ascii, "VAL_BLK": _Reader.val_blk, "CURVE": _Reader.curve,
