@@ -68,7 +68,7 @@ def file_comments(root) -> list[str]:
 
 
 def _lines(comment) -> list[str]:
-    return [line.strip() for line in (comment.text or "").strip().splitlines()]
+    return [line.strip() for line in (comment.text or "").strip().splitlines()] or [""]
 
 
 def content(element) -> str:

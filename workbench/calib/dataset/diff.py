@@ -124,15 +124,15 @@ def _compare(name: str, a: CalValue, b: CalValue, abs_tol: float, rel_tol: float
         for attribute in ("kind", "name", "unit"):
             if getattr(axis_a, attribute) != getattr(axis_b, attribute):
                 found.append(ElementDiff(f"{letter}.{attribute}", getattr(axis_a, attribute), getattr(axis_b, attribute)))
-        for i, (pa, pb) in enumerate(zip(axis_a.values, axis_b.values)):
+        for i, (pa, pb) in enumerate(zip(map(_plain, axis_a.values), map(_plain, axis_b.values))):
             if not _same(pa, pb, abs_tol, rel_tol):
                 found.append(ElementDiff(f"{letter}[{i}]", pa, pb, _delta(pa, pb)))
     if isinstance(a.value, np.ndarray):
         points = [axis.values for axis in a.axes]
         for index in np.ndindex(a.value.shape):
-            va, vb = a.value[index], b.value[index]
+            va, vb = _plain(a.value[index]), _plain(b.value[index])
             if not _same(va, vb, abs_tol, rel_tol):
-                at = tuple(p[i] for p, i in zip(points, index))
+                at = tuple(_plain(p[i]) for p, i in zip(points, index))
                 found.append(ElementDiff(f"value[{', '.join(map(str, index))}]", va, vb, _delta(va, vb), at))
     elif not _same(a.value, b.value, abs_tol, rel_tol):
         found.append(ElementDiff("value", a.value, b.value, _delta(a.value, b.value)))
@@ -151,6 +151,11 @@ def _shape_differences(a: CalValue, b: CalValue) -> list[ElementDiff]:
         if len(axis_a.values) != len(axis_b.values):
             found.append(ElementDiff(f"{letter} points", len(axis_a.values), len(axis_b.values)))
     return found
+
+
+def _plain(value):
+    """A numpy scalar as the Python number (or str) it holds."""
+    return value.item() if isinstance(value, np.generic) else value
 
 
 def _is_number(value) -> bool:

@@ -8,6 +8,7 @@ float64, so a value survives any number of trips through a file; integers stay i
 NaN and infinities: erased flash read through a float record layout is NaN, so a dataset can
 hold them. Both formats write them (``NaN``, ``Inf``, ``-Inf`` in DCM; ``NaN``, ``INF``, ``-INF``,
 the XML Schema spelling, in CDFX) and both readers accept any of these spellings, case-insensitive.
+A NaN keeps its sign (``-NaN``: erased flash, 0xFFFFFFFF, is a negative NaN), not its payload.
 Other tools may refuse such a file; the A2L check reports them as outside the limits.
 
 A decimal comma (``1,5``) is refused rather than guessed: DCM and CDF both use a decimal point.
@@ -26,7 +27,7 @@ _INT = re.compile(r"[+-]?\d+\Z")
 _HEX = re.compile(r"[+-]?0[xX][0-9a-fA-F]+\Z")
 _BIN = re.compile(r"[+-]?0[bB][01]+\Z")
 _FLOAT = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\Z")
-_SPECIAL = {"nan": math.nan, "+nan": math.nan, "-nan": math.nan, "inf": math.inf, "+inf": math.inf,
+_SPECIAL = {"nan": math.nan, "+nan": math.nan, "-nan": -math.nan, "inf": math.inf, "+inf": math.inf,
             "-inf": -math.inf, "infinity": math.inf, "+infinity": math.inf, "-infinity": -math.inf}
 _DECIMAL_COMMA = re.compile(r"[+-]?\d*,\d+([eE][+-]?\d+)?\Z")
 
@@ -70,7 +71,7 @@ def format_number(value, *, nan: str = "NaN", inf: str = "Inf") -> str:
         return str(int(value))
     value = float(value)
     if math.isnan(value):
-        return nan
+        return f"-{nan}" if math.copysign(1, value) < 0 else nan
     if math.isinf(value):
         return inf if value > 0 else f"-{inf}"
     return repr(value)

@@ -1,0 +1,88 @@
+"""diff_datasets: only in A/B, changed element by element with both values and the difference, shapes, tolerance."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+from demo_calibrations import demo_dataset
+
+from workbench.calib.dataset import diff_datasets
+from workbench.calib.dataset.diff import ElementDiff
+from workbench.calib.dataset.model import Dataset
+from workbench.calib.values import Axis, CalValue
+
+
+def changed_demo() -> Dataset:
+    ds = demo_dataset()
+    ds.values["xsPRV_KP"] = CalValue("xsPRV_KP", "VALUE", 5.5, unit="%/bar")
+    ff = ds["xvPRV_DC_FF"]
+    value = ff.value.copy()
+    value[1, 2] = 72.5
+    axes = (ff.axes[0], Axis(np.array([50.0, 100, 250, 400, 700]), "COM_AXIS", "xaPRV_FF_MANIFOLD", "bar"))
+    ds.values["xvPRV_DC_FF"] = CalValue("xvPRV_DC_FF", "MAP", value, axes=axes, unit="%")
+    ds.values["zvRailPConv"] = CalValue("zvRailPConv", "CURVE", np.zeros(8), axes=(Axis(np.arange(8.0), unit="V"),), unit="bar")
+    ds.values["cfENABLEFLCU_EN"] = CalValue("cfENABLEFLCU_EN", "VALUE", "ON")
+    del ds.values["xsPRV_KD"]
+    ds.add(CalValue("xsNEW", "VALUE", 1))
+    return ds
+
+
+def test_the_differences_by_object():
+    result = diff_datasets(demo_dataset(), changed_demo(), a_label="base.dcm", b_label="tuned.cdfx")
+    by_name = {o.name: o for o in result.objects}
+    assert not result.equal
+    assert result.counts() == {"only-in-a": 1, "only-in-b": 1, "shape-changed": 1, "changed": 3, "equal": 53}
+    assert by_name["xsPRV_KP"].differences == (ElementDiff("value", 5.0, 5.5, 0.5),)
+    assert by_name["xvPRV_DC_FF"].differences == (
+        ElementDiff("y[2]", 200.0, 250.0, 50.0), ElementDiff("value[1, 2]", 70.0, 72.5, 2.5, (10.0, 200.0)))
+    assert by_name["cfENABLEFLCU_EN"].differences == (ElementDiff("value", "OFF", "ON"),)
+    assert by_name["zvRailPConv"].status == "shape-changed"
+    assert by_name["zvRailPConv"].differences == (ElementDiff("shape", (9,), (8,)), ElementDiff("x points", 9, 8))
+    assert by_name["xsPRV_KD"].status == "only-in-a" and by_name["xsNEW"].status == "only-in-b"
+    assert [o.name for o in result.objects][-1] == "xsNEW"
+
+
+def test_text_table_and_json():
+    result = diff_datasets(demo_dataset(), changed_demo(), a_label="base.dcm", b_label="tuned.cdfx")
+    text = result.to_text()
+    lines = text.splitlines()
+    assert lines[:2] == ["A: base.dcm", "B: tuned.cdfx"]
+    assert lines[2].split() == ["name", "status", "where", "A", "B", "B", "-", "A"]
+    assert any(line.split() == ["xvPRV_DC_FF", "changed", "value[1,", "2]", "(x", "10.0,", "y", "200.0)", "70.0", "72.5", "+2.5"]
+               for line in lines)
+    assert any(line.split()[:2] == ["xsPRV_KD", "only-in-a"] for line in lines)
+    assert lines[-1] == "59 objects: 53 equal, 3 changed, 1 shape changed, 1 only in A, 1 only in B"
+    assert "zsEWMA_ALPHA" not in text and "zsEWMA_ALPHA" in result.to_text(show_equal=True)
+    data = json.loads(json.dumps(result.to_dict()))
+    kp = next(o for o in data["objects"] if o["name"] == "xsPRV_KP")
+    assert kp == {"name": "xsPRV_KP", "status": "changed", "kind": {"a": "VALUE", "b": "VALUE"},
+                  "differences": [{"where": "value", "a": 5.0, "b": 5.5, "delta": 0.5, "at": []}]}
+    assert data["counts"]["equal"] == 53 and data["equal"] is False
+
+
+def test_tolerance_nan_integers_and_kinds():
+    a, b = Dataset(), Dataset()
+    a.add(CalValue("v", "VAL_BLK", np.array([1.0, 100.0, math.nan, 3.0])))
+    b.add(CalValue("v", "VAL_BLK", np.array([1.05, 101.0, math.nan, 3.0])))
+    a.add(CalValue("i", "VALUE", 1))
+    b.add(CalValue("i", "VALUE", 1.0))
+    a.add(CalValue("k", "VALUE", 1))
+    b.add(CalValue("k", "VAL_BLK", np.array([1])))
+    exact = diff_datasets(a, b)
+    assert [d.where for d in exact.objects[0].differences] == ["value[0]", "value[1]"]
+    assert exact.objects[1].status == "equal"  # 1 and 1.0 are the same value
+    assert exact.objects[2].differences == (ElementDiff("kind", "VALUE", "VAL_BLK"),)
+    assert [d.where for d in diff_datasets(a, b, abs_tol=0.1).objects[0].differences] == ["value[1]"]
+    assert diff_datasets(a, b, abs_tol=0.1, rel_tol=0.01).objects[0].status == "equal"
+    inf = Dataset()
+    inf.add(CalValue("x", "VALUE", math.inf))
+    other = Dataset()
+    other.add(CalValue("x", "VALUE", -math.inf))
+    assert diff_datasets(inf, other, abs_tol=1e300).to_dict()["objects"][0]["differences"][0]["a"] == "Inf"
+
+
+def test_equal_datasets():
+    result = diff_datasets(demo_dataset(), demo_dataset())
+    assert result.equal and result.to_text().splitlines()[-1] == "58 objects: 58 equal, 0 changed, 0 shape changed, 0 only in A, 0 only in B"
