@@ -23,27 +23,33 @@ class InputError(WorkbenchError):
     exit_code = 2
 
 
-class A2lParseError(InputError):
+class LocatedInputError(InputError):
+    """An input file that cannot be read, located at ``path:line:column`` (1-based; 0: not known)."""
+
+    def __init__(self, message: str, path: str | Path | None = None, line: int = 0, column: int = 0):
+        self.reason = message
+        self.path = str(path) if path is not None else "<string>"
+        self.line = line
+        self.column = column
+        super().__init__(f"{self.location}: {message}")
+
+    @property
+    def location(self) -> str:
+        return f"{self.path}:{self.line}:{self.column}"
+
+
+class A2lParseError(LocatedInputError):
     """A malformed A2L file, located at ``path:line:column`` (1-based)."""
 
-    def __init__(self, message: str, path: str | Path | None = None, line: int = 0, column: int = 0):
-        self.reason = message
-        self.path = str(path) if path is not None else "<string>"
-        self.line = line
-        self.column = column
-        super().__init__(f"{self.path}:{line}:{column}: {message}")
 
+class DatasetParseError(LocatedInputError):
+    """A calibration dataset file (DCM, CDFX) that cannot be read, located at ``path:line[:column]``."""
 
-class DatasetParseError(InputError):
-    """A calibration dataset file (DCM, CDFX) that cannot be read, located at ``path:line[:column]`` (1-based)."""
-
-    def __init__(self, message: str, path: str | Path | None = None, line: int = 0, column: int = 0):
-        self.reason = message
-        self.path = str(path) if path is not None else "<string>"
-        self.line = line
-        self.column = column
-        where = f"{self.path}:{line}" if line else self.path
-        super().__init__(f"{where}:{column}: {message}" if line and column else f"{where}: {message}")
+    @property
+    def location(self) -> str:
+        if not self.line:
+            return self.path
+        return f"{self.path}:{self.line}:{self.column}" if self.column else f"{self.path}:{self.line}"
 
 
 class UnknownSymbolError(WorkbenchError, KeyError):

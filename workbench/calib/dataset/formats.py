@@ -53,7 +53,9 @@ def format_of(path: str | Path, format: str | None = None) -> Format:
         if suffix in candidate.extensions:
             return candidate
     known = ", ".join(e for f in FORMATS.values() for e in f.extensions)
-    raise InputError(f"{path}: not a dataset file by its extension {suffix or '(none)'!r} (known: {known})")
+    if not suffix:
+        raise InputError(f"{path}: no extension to tell the dataset format by (known: {known})")
+    raise InputError(f"{path}: not a dataset file by its extension {suffix!r} (known: {known})")
 
 
 def load_dataset(path: str | Path, format: str | None = None) -> Dataset:
