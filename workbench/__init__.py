@@ -9,7 +9,6 @@ import logging
 from workbench.errors import (
     A2lParseError,
     Cancelled,
-    DatasetParseError,
     EpkMismatchError,
     InputError,
     UnknownSymbolError,
@@ -25,7 +24,6 @@ logging.getLogger(__name__).addHandler(logging.NullHandler())
 __all__ = [
     "A2lParseError",
     "Cancelled",
-    "DatasetParseError",
     "EpkMismatchError",
     "InputError",
     "UnknownSymbolError",
