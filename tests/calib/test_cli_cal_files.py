@@ -34,7 +34,7 @@ def test_convert_both_ways_and_diff_equal(capsys, tmp_path, inca_dcm):
     assert err == f"wrote {cdfx}: 58 objects (DCM -> CDFX)\n"
     assert out == ""  # nothing the INCA file holds is lost in CDF
     assert run(capsys, "cal", "convert", cdfx, dcm)[0] == 0
-    assert load_dataset(dcm).values == load_dataset(inca_dcm).values
+    assert load_dataset(dcm).objects == load_dataset(inca_dcm).objects
     code, out, _ = run(capsys, "cal", "diff", inca_dcm, cdfx)
     assert code == 0 and out.splitlines()[-1] == "58 objects: 58 equal, 0 changed, 0 shape changed, 0 only in A, 0 only in B"
 
@@ -100,7 +100,7 @@ def test_encoding_option_writes_an_ansi_dcm(capsys, tmp_path):
     cdfx = CORPUS / "tools" / "canape_style.cdfx"
     ansi = tmp_path / "ansi.dcm"
     assert run(capsys, "cal", "convert", cdfx, ansi, "--encoding", "cp1252")[0] == 0
-    assert "µs".encode("cp1252") in ansi.read_bytes() and load_dataset(ansi).values == load_dataset(cdfx).values
+    assert "µs".encode("cp1252") in ansi.read_bytes() and load_dataset(ansi).objects == load_dataset(cdfx).objects
 
 
 def test_the_installed_command_runs(tmp_path):

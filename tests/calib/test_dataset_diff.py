@@ -6,25 +6,27 @@ import json
 import math
 
 import numpy as np
+import pytest
 from demo_calibrations import demo_dataset
 
 from workbench.calib.dataset import diff_datasets
 from workbench.calib.dataset.diff import ElementDiff
 from workbench.calib.dataset.model import Dataset
 from workbench.calib.values import Axis, CalValue
+from workbench.errors import InputError
 
 
 def changed_demo() -> Dataset:
     ds = demo_dataset()
-    ds.values["xsPRV_KP"] = CalValue("xsPRV_KP", "VALUE", 5.5, unit="%/bar")
+    ds["xsPRV_KP"] = CalValue("xsPRV_KP", "VALUE", 5.5, unit="%/bar")
     ff = ds["xvPRV_DC_FF"]
     value = ff.value.copy()
     value[1, 2] = 72.5
     axes = (ff.axes[0], Axis(np.array([50.0, 100, 250, 400, 700]), "COM_AXIS", "xaPRV_FF_MANIFOLD", "bar"))
-    ds.values["xvPRV_DC_FF"] = CalValue("xvPRV_DC_FF", "MAP", value, axes=axes, unit="%")
-    ds.values["zvRailPConv"] = CalValue("zvRailPConv", "CURVE", np.zeros(8), axes=(Axis(np.arange(8.0), unit="V"),), unit="bar")
-    ds.values["cfENABLEFLCU_EN"] = CalValue("cfENABLEFLCU_EN", "VALUE", "ON")
-    del ds.values["xsPRV_KD"]
+    ds["xvPRV_DC_FF"] = CalValue("xvPRV_DC_FF", "MAP", value, axes=axes, unit="%")
+    ds["zvRailPConv"] = CalValue("zvRailPConv", "CURVE", np.zeros(8), axes=(Axis(np.arange(8.0), unit="V"),), unit="bar")
+    ds["cfENABLEFLCU_EN"] = CalValue("cfENABLEFLCU_EN", "VALUE", "ON")
+    del ds["xsPRV_KD"]
     ds.add(CalValue("xsNEW", "VALUE", 1))
     return ds
 
@@ -86,3 +88,13 @@ def test_tolerance_nan_integers_and_kinds():
 def test_equal_datasets():
     result = diff_datasets(demo_dataset(), demo_dataset())
     assert result.equal and result.to_text().splitlines()[-1] == "58 objects: 58 equal, 0 changed, 0 shape changed, 0 only in A, 0 only in B"
+
+
+def test_a_dataset_is_edited_like_a_dict_and_keeps_its_metadata():
+    ds = demo_dataset()
+    ds["xsPRV_KP"] = CalValue("xsPRV_KP", "VALUE", 6.0, unit="%/bar")
+    assert ds.info["xsPRV_KP"].functions == ("PRVCtrl",) and list(ds).index("xsPRV_KP") == 19  # in place
+    del ds["xsPRV_KI"]
+    assert "xsPRV_KI" not in ds and "xsPRV_KI" not in ds.info and len(ds) == 57
+    with pytest.raises(InputError, match="xsPRV_KD: stored under the name 'other'"):
+        ds["other"] = ds["xsPRV_KD"]

@@ -233,7 +233,7 @@ class _Reader:
 
     def object(self, block: _Block) -> None:
         name, header = block.name, block.header
-        if name in self.dataset.values:
+        if name in self.dataset:
             first = self.dataset.info_of(name).line
             raise self.error(f"{name} is defined twice (first at line {first})", header, header.rest_column)
         single = self.single_lines(block)

@@ -25,7 +25,7 @@ long identifier; ``ObjectInfo.comments`` the free comment lines.
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator, MutableMapping
 from dataclasses import dataclass, field
 
 from workbench.calib.values import CalValue
@@ -81,13 +81,14 @@ class FunctionInfo:
 
 
 @dataclass
-class Dataset(Mapping):
+class Dataset(MutableMapping):
     """Calibration values by name, in file order, with the metadata of the file they came from.
 
-    ``dataset[name]`` is the :class:`CalValue`; ``dataset.info[name]`` its :class:`ObjectInfo`.
+    ``dataset[name]`` is the :class:`CalValue`, ``dataset.info[name]`` its :class:`ObjectInfo`;
+    ``dataset[name] = value`` replaces a value (keeping its metadata) or appends a new one.
     """
 
-    values: dict[str, CalValue] = field(default_factory=dict)
+    objects: dict[str, CalValue] = field(default_factory=dict)
     info: dict[str, ObjectInfo] = field(default_factory=dict)
     source: str | None = None  # the file it was read from
     format: str | None = None  # "dcm", "cdfx"
@@ -103,24 +104,35 @@ class Dataset(Mapping):
     notes: list[Finding] = field(default_factory=list)  # what the reader found but does not keep, located
 
     def __getitem__(self, name: str) -> CalValue:
-        return self.values[name]
+        return self.objects[name]
+
+    def __setitem__(self, name: str, value: CalValue) -> None:
+        """:raises InputError: ``value`` has another name."""
+        if value.name != name:
+            raise InputError(f"{value.name}: stored under the name {name!r}")
+        self.objects[name] = value
+        self.info.setdefault(name, ObjectInfo())
+
+    def __delitem__(self, name: str) -> None:
+        del self.objects[name]
+        self.info.pop(name, None)
 
     def __iter__(self) -> Iterator[str]:
-        return iter(self.values)
+        return iter(self.objects)
 
     def __len__(self) -> int:
-        return len(self.values)
+        return len(self.objects)
 
     def add(self, value: CalValue, info: ObjectInfo | None = None) -> None:
         """Add ``value`` (and what the file said about it) at the end.
 
         :raises InputError: an object of that name is already there (naming where it was read).
         """
-        if value.name in self.values:
+        if value.name in self.objects:
             first = self.info_of(value.name).line
             where = f" (first at line {first})" if first else ""
             raise InputError(f"{value.name}: defined twice{where}")
-        self.values[value.name] = value
+        self.objects[value.name] = value
         self.info[value.name] = info or ObjectInfo()
 
     def info_of(self, name: str) -> ObjectInfo:
