@@ -13,7 +13,7 @@ from workbench.cli import cal_files
 _DESCRIPTION = """\
 Calibrations by name, physical values.
 Dataset files (DCM, CDFX; no ECU needed):
-  convert  DCM <-> CDFX by the files' extensions, optionally checked against an A2L
+  convert  DCM <-> CDFX by the files' extensions, every value exact
   diff     compare two dataset files object by object (exit 1 when they differ, like diff)
 Exit codes: 0 success (diff: equal), 1 the operation failed (diff: the files differ), 2 bad input
 (a file that cannot be read or parsed, a place that cannot be written, a bad option)."""
