@@ -1,7 +1,8 @@
 """XCP/A2L calibration and measurement workbench.
 
-The core library never imports Qt; the GUI lives in :mod:`workbench.gui` and is
-loaded only by the ``gui``/``demo`` commands.
+``from workbench import Session`` is the way in for scripts (see :class:`workbench.session.Session`);
+it is imported on first use, so ``import workbench`` stays light. The core library never imports
+Qt; the GUI lives in :mod:`workbench.gui` and is loaded only by the ``gui``/``demo`` commands.
 """
 
 import logging
@@ -16,19 +17,17 @@ from workbench.errors import (
     XcpCommandError,
     XcpTimeoutError,
 )
+from workbench.lazy_exports import lazy_exports
 
 __version__ = "0.1.0"
 
 logging.getLogger(__name__).addHandler(logging.NullHandler())
 
-__all__ = [
-    "A2lParseError",
-    "Cancelled",
-    "EpkMismatchError",
-    "InputError",
-    "UnknownSymbolError",
-    "WorkbenchError",
-    "XcpCommandError",
-    "XcpTimeoutError",
-    "__version__",
-]
+_ERRORS = ["A2lParseError", "Cancelled", "EpkMismatchError", "InputError", "UnknownSymbolError", "WorkbenchError",
+           "XcpCommandError", "XcpTimeoutError"]
+_lazy, __getattr__, _dir = lazy_exports(__name__, {"workbench.session": ("Session",)})
+__all__ = sorted(_ERRORS + _lazy + ["__version__"])
+
+
+def __dir__() -> list[str]:
+    return sorted(set(_dir()) | set(__all__))
