@@ -114,3 +114,16 @@ def test_bitfields_of_the_same_bytes_overlap_only_where_their_masks_do():
     clean = BITFIELDS.replace("0xC000000000000000", "0x0").replace("0x0C /end", "0x30 /end")
     clean = clean.replace("twin", "other").replace("0 255 ECU_ADDRESS 0x100 /end MEASUREMENT\n  /end", "0 255 ECU_ADDRESS 0x101 /end MEASUREMENT\n  /end")
     assert check_document(load_a2l_string(clean, "bits.a2l")).findings == []
+
+
+def test_address_spaces_and_placeholders():
+    """Each ECU_ADDRESS_EXTENSION is an address space of its own, outside the MEMORY_SEGMENTs (XCPlite puts
+    stack variables there); address 0 is the placeholder of a file not updated yet: neither overlaps."""
+    objects = ('    /begin MEASUREMENT stack "" ULONG CM 1 0 0 1 ECU_ADDRESS 0x2000 ECU_ADDRESS_EXTENSION 2 /end MEASUREMENT\n'
+               '    /begin MEASUREMENT far "" ULONG CM 1 0 0 1 ECU_ADDRESS 0xFFF0 ECU_ADDRESS_EXTENSION 2 /end MEASUREMENT\n'
+               '    /begin MEASUREMENT near "" ULONG CM 1 0 0 1 ECU_ADDRESS 0xFFF2 ECU_ADDRESS_EXTENSION 2 /end MEASUREMENT\n'
+               '    /begin MEASUREMENT todo1 "" ULONG CM 1 0 0 1 ECU_ADDRESS 0x0 /end MEASUREMENT\n'
+               '    /begin MEASUREMENT todo2 "" ULONG CM 1 0 0 1 ECU_ADDRESS 0 /end MEASUREMENT\n')
+    text = TEXT.split("    /begin MEASUREMENT badcm")[0] + objects + "  /end MODULE\n/end PROJECT\n"
+    report = check_document(load_a2l_string(text, "spaces.a2l"))
+    assert [(f.kind, f.name) for f in report.findings] == [("overlap", "near")]  # within extension 2 only

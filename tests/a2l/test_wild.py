@@ -135,3 +135,22 @@ def test_typedef_and_instance_references_are_checked(capsys, tmp_path):
     code, out, _ = run(capsys, "a2l", "check", path)
     assert code == 1 and (f"{at(path, 'THIS.axis')}: error: TYPEDEF_CHARACTERISTIC TC AXIS_DESCR: AXIS_PTS_REF THIS.axis is not a "
                           "component of TYPEDEF_STRUCTURE TS") in out
+
+
+def test_a_file_written_for_include_is_checked_where_it_belongs(capsys, tmp_path):
+    """Module-level blocks alone, or MODULEs without a PROJECT: checked as if included, findings in the file."""
+    bare = tmp_path / "signals.a2l"
+    bare.write_text('/begin MEASUREMENT m "" UBYTE CM_GONE 1 0 0 1 ECU_ADDRESS 0x10 /end MEASUREMENT\n'
+                    '/begin MEASUREMENT n "" NOT_A_TYPE NO_COMPU_METHOD 1 0 0 1 /end MEASUREMENT\n')
+    code, out, _ = run(capsys, "a2l", "check", bare)
+    assert code == 1 and out.splitlines() == [
+        f"{bare}:{at(bare, 'CM_GONE')}: error: MEASUREMENT m: COMPU_METHOD CM_GONE is not defined",
+        f"{bare}:{at(bare, 'NOT_A_TYPE')}: error: MEASUREMENT: 'NOT_A_TYPE' is not a data type (allowed: UBYTE, SBYTE, UWORD, SWORD, "
+        "ULONG, SLONG, A_UINT64, A_INT64, FLOAT16_IEEE, FLOAT32_IEEE, FLOAT64_IEEE)"]
+    module = tmp_path / "module.a2l"
+    module.write_text('/begin MODULE ECU ""\n  /begin COMPU_METHOD CM_GONE "" IDENTICAL "%6.2" "" /end COMPU_METHOD\n'
+                      '  /include "signals.a2l"\n/end MODULE\n')
+    code, out, _ = run(capsys, "a2l", "check", module)
+    assert code == 1 and out.splitlines() == [f"{bare}:{at(bare, 'NOT_A_TYPE')}: error: MEASUREMENT: 'NOT_A_TYPE' is not a data type "
+                                              "(allowed: UBYTE, SBYTE, UWORD, SWORD, ULONG, SLONG, A_UINT64, "
+                                              "A_INT64, FLOAT16_IEEE, FLOAT32_IEEE, FLOAT64_IEEE)"]

@@ -19,6 +19,8 @@ from workbench.a2l.grammar import NAMESPACES
 from workbench.a2l.placement import check_placement
 from workbench.a2l.references import check_references
 from workbench.a2l.reports import finding_at
+from workbench.a2l.source import source_from_text
+from workbench.a2l.values import quote_string
 from workbench.a2l.validate import validate_document
 from workbench.elf.debugdata import DebugData
 from workbench.errors import A2lParseError
@@ -27,10 +29,16 @@ from workbench.progress import Progress, report as report_progress
 
 __all__ = ["check_document", "check_file"]
 
+_WRAPPER = "INCLUDED"  # the PROJECT (and MODULE) around a file written for /include
+
 def check_file(a2l: str | Path, elf: str | Path | None = None, *, cache_dir: str | Path | None = None,
                use_cache: bool = True, progress: Progress | None = None) -> Report:
-    """Load ``a2l`` (syntax errors become findings where the file can still be read) and check it."""
-    doc = load_a2l(a2l, validate=False)
+    """Load ``a2l`` (syntax errors become findings where the file can still be read) and check it.
+
+    A file without PROJECT, written for ``/include`` (a MODULE, or module-level blocks), is
+    checked as if included where it belongs: in a PROJECT (and MODULE) around it.
+    """
+    doc = _load_for_check(Path(a2l))
     if elf is None:
         return check_document(doc, progress=progress)
     with DebugData(elf, cache_dir=cache_dir, use_cache=use_cache) as debug:
@@ -62,6 +70,18 @@ def check_document(doc: A2lDocument, debug: DebugData | None = None, *, progress
     report_progress(progress, 4, 4, "checked")
     report.findings.sort(key=lambda f: (f.file, f.line, f.column))
     return report
+
+
+def _load_for_check(path: Path) -> A2lDocument:
+    doc = load_a2l(path, validate=False)
+    within = doc.included_in()
+    if within is None:
+        return doc
+    include = f"/include {quote_string(path.name, 'utf-8').decode('utf-8')}"
+    body = include if within == "PROJECT" else f'/begin MODULE {_WRAPPER} "" {include} /end MODULE'
+    wrapper = source_from_text(f'/begin PROJECT {_WRAPPER} "" {body} /end PROJECT\n', path.with_name(f"{path.name} "
+                               "(included in a PROJECT)"))
+    return A2lDocument.from_source(wrapper, validate=False)
 
 
 def _concerned(doc: A2lDocument, block: int | None) -> tuple[str, str]:

@@ -179,6 +179,15 @@ class A2lDocument:
         """Indices of every block with this keyword, in document order."""
         return self.blocks.having_keyword(keyword).tolist()
 
+    def included_in(self) -> str | None:
+        """Where a file without PROJECT was written to be included (``/include``): ``"PROJECT"``
+        when its top level holds MODULEs, ``"MODULE"`` when it holds other blocks (MEASUREMENT ...);
+        None for a whole file (one with a PROJECT) or one without blocks."""
+        keywords = {self.blocks.keyword[index] for index in self.blocks.children(-1).tolist()}
+        if not keywords or "PROJECT" in keywords:
+            return None
+        return "PROJECT" if keywords == {"MODULE"} else "MODULE"
+
     @property
     def project(self) -> "Block":
         for block in self.top_blocks():

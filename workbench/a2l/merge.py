@@ -90,11 +90,11 @@ class _Plan:
 
 
 def load_fragment(path: str | Path) -> A2lDocument:
-    """Read and validate a fragment: a whole A2L file (PROJECT and MODULE), or a bare one whose
-    top level holds module-level blocks only (a file written for ``/include``). Raises as
+    """Read and validate a fragment: a whole A2L file (PROJECT and MODULE), or one written for
+    ``/include`` (MODULEs without a PROJECT, or module-level blocks only). Raises as
     :func:`~workbench.a2l.document.load_a2l` does."""
     doc = load_a2l(path, validate=False)
-    validate_document(doc, within=None if _has_project(doc) else "MODULE")
+    validate_document(doc, within=doc.included_in())
     return doc
 
 
@@ -372,11 +372,6 @@ def _compare_mod_common(master: A2lDocument, module: Block, block: Block, report
                               f"MOD_COMMON of {_short(doc)} agrees with the master's", "MOD_COMMON"))
 
 
-def _has_project(doc: A2lDocument) -> bool:
-    keywords = doc.blocks.keyword
-    return any(keywords[index] == "PROJECT" for index in doc.blocks.children(-1).tolist())
-
-
 def _master_module(master: A2lDocument, name: str | None) -> Block:
     """The master's MODULE called ``name``, or its only one; raises :class:`InputError` naming the
     MODULEs when that is not clear."""
@@ -394,11 +389,12 @@ def _master_module(master: A2lDocument, name: str | None) -> Block:
 
 
 def _fragment_module(doc: A2lDocument, name: str | None) -> Block | None:
-    """The fragment's MODULE: its only one, or the one called ``name`` (the master's); None for a
-    bare fragment. Raises :class:`InputError` when it has several and none is called ``name``."""
-    if not _has_project(doc):
+    """The fragment's MODULE (in a PROJECT or not): its only one, or the one called ``name`` (the
+    master's); None for a bare fragment of module-level blocks. Raises :class:`InputError` when it has several and none is called ``name``."""
+    within = doc.included_in()
+    if within == "MODULE":
         return None
-    modules = doc.modules
+    modules = doc.modules if within is None else [block for block in doc.top_blocks() if block.keyword == "MODULE"]
     if len(modules) == 1:
         return modules[0]
     for module in modules:

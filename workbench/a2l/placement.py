@@ -2,7 +2,11 @@
 MEMORY_SEGMENT and calibrations outside the CAL RAM (part of ``check``).
 
 Bitfields (MEASUREMENT and CHARACTERISTIC with a BIT_MASK, up to 64 bits) that share their bytes
-overlap only when their masks share a bit.
+overlap only when their masks share a bit. Each ECU_ADDRESS_EXTENSION is an address space
+of its own (XCPlite, for one, addresses stack and event-relative variables so); the
+MEMORY_SEGMENTs describe extension 0. An object at address 0 is not placed yet (the
+placeholder of a file before its update): it takes part in neither the overlap nor the
+segment check.
 """
 
 from __future__ import annotations
@@ -12,7 +16,7 @@ from dataclasses import dataclass
 from workbench.a2l.addressed import AddressedObjects
 from workbench.a2l.datatypes import DATATYPES
 from workbench.a2l.document import A2lDocument, Block
-from workbench.a2l.grammar import MAX_ADDRESS
+from workbench.a2l.grammar import ADDRESSED_OBJECTS, MAX_ADDRESS
 from workbench.a2l.reports import finding_at
 from workbench.a2l.values import int_or_none
 from workbench.elf.debugdata import DebugData
@@ -33,13 +37,15 @@ class _Placed:
     size: int
     token: int
     bit_mask: int | None = None
+    extension: int = 0  # ECU_ADDRESS_EXTENSION: objects of different extensions never overlap
 
 
 def _placements(doc: A2lDocument, module: Block, objects: AddressedObjects, debug: DebugData | None,
                 report: Report) -> list[_Placed]:
     """Address and size of every object that has both (sizes from the ELF when given, else the A2L)."""
     layouts = _record_layout_sizes(doc)
-    masks = _bit_masks(doc)
+    masks = _option_values(doc, "BIT_MASK", _MASKED)
+    extensions = _option_values(doc, "ECU_ADDRESS_EXTENSION", ADDRESSED_OBJECTS)
     placed = []
     parents = doc.blocks.parent
     for row in range(len(objects)):
@@ -70,10 +76,13 @@ def _placements(doc: A2lDocument, module: Block, objects: AddressedObjects, debu
                     report.add(finding_at(doc, target.address_token, "address-mismatch", target.name,
                                           f"{keyword} {target.name}: the A2L says 0x{address:X}, "
                                           f"{debug.path.name} says 0x{expected:X}", keyword, Severity.ERROR))
+        if address == 0:
+            continue  # not placed yet: the placeholder before an update (no C object lies at address 0)
         if size is None:
             size = _a2l_size(doc, doc.block(target.block), layouts)
         if size:
-            placed.append(_Placed(target.name, keyword, address, size, target.address_token, masks.get(target.block)))
+            placed.append(_Placed(target.name, keyword, address, size, target.address_token, masks.get(target.block),
+                                  extensions.get(target.block, 0)))
     return placed
 
 
@@ -109,17 +118,17 @@ def _record_layout_sizes(doc: A2lDocument) -> dict[str, int]:
     return sizes
 
 
-def _bit_masks(doc: A2lDocument) -> dict[int, int]:
-    """Block index -> BIT_MASK of every MEASUREMENT and CHARACTERISTIC that has one."""
-    masks = {}
-    for keyword in _MASKED:
-        blocks, tokens = doc.option_tokens(keyword, "BIT_MASK")
+def _option_values(doc: A2lDocument, option: str, keywords) -> dict[int, int]:
+    """Block index -> the non-zero integer of ``option`` (BIT_MASK ...) of every ``keywords`` block that has one."""
+    values = {}
+    for keyword in keywords:
+        blocks, tokens = doc.option_tokens(keyword, option)
         for block, token in zip(blocks.tolist(), tokens.tolist()):
             if token + 1 < len(doc.tokens):
-                mask = int_or_none(doc.raw(token + 1))
-                if mask:
-                    masks[block] = mask
-    return masks
+                value = int_or_none(doc.raw(token + 1))
+                if value:
+                    values[block] = value
+    return values
 
 
 def _overlaps(doc: A2lDocument, placed: list[_Placed], report: Report) -> None:
@@ -127,11 +136,11 @@ def _overlaps(doc: A2lDocument, placed: list[_Placed], report: Report) -> None:
     An object inside a larger one (a struct member, an array element) is a deliberate view, and
     so is a bitfield of a whole object's bytes; bitfields of the same bytes with disjoint masks
     do not overlap."""
-    ordered = sorted(placed, key=lambda p: (p.address, -p.size))
-    reach: _Placed | None = None  # the object reaching furthest so far
+    ordered = sorted(placed, key=lambda p: (p.extension, p.address, -p.size))
+    reach: _Placed | None = None  # the object reaching furthest so far (in the item's address space)
     group = _SameBytes(None)  # the objects on exactly reach's bytes
     for item in ordered:
-        if reach is not None and item.address < reach.address + reach.size:
+        if reach is not None and reach.extension == item.extension and item.address < reach.address + reach.size:
             end, reach_end = item.address + item.size, reach.address + reach.size
             if item.address == reach.address and item.size == reach.size:
                 clash = group.add(item)
@@ -183,6 +192,8 @@ def _segments(doc: A2lDocument, module: Block, placed: list[_Placed], report: Re
         return
     cal_ram = [s for s in segments if s.memory_type == "RAM" and s.prg_type in ("DATA", "CALIBRATION_VARIABLES")]
     for item in placed:
+        if item.extension:
+            continue  # another address space than the segments'
         inside = [s for s in segments if s.contains(item.address, item.size)]
         if not inside:
             report.add(finding_at(doc, item.token, "outside-memory", item.name,

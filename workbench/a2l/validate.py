@@ -198,7 +198,8 @@ class _Validator:
             if kinds is None:
                 if name not in grammar.OPTIONS and not IDENT_RE.fullmatch(raw):
                     raise self.doc.error(f"unexpected '{shown(raw)}' in {keyword} (a keyword expected)", token)
-                what = "unknown keyword" if name not in grammar.OPTIONS else "keyword"
+                known = name in grammar.OPTIONS or name in grammar.TOP_LEVEL_OPTIONS
+                what = "keyword" if known else "unknown keyword"
                 raise self.doc.error(f"{what} {name} is not allowed in {keyword}", token)
             position += 1
             if kinds in (("int*",), ("ident*",)):
