@@ -67,12 +67,26 @@ def test_table_marks_default_timeouts_and_messages_outside_the_table(write_dbc, 
 def test_table_bad_input_is_exit_2_with_one_line(tmp_path, capsys):
     assert main(["dbc", "table", str(tmp_path / "nope_CAN2.dbc")]) == 2
     assert main(["dbc", "table", FLCU, "--node", "XYZ"]) == 2
-    shutil.copy(FLCU, tmp_path / "vehicle.dbc")
-    assert main(["dbc", "table", str(tmp_path / "vehicle.dbc")]) == 2
+    assert main(["dbc", "table", FLCU, "--network", "CAN9"]) == 2
     errors = capsys.readouterr().err.splitlines()
     assert len(errors) == 3 and all(line.startswith("error: ") for line in errors)
-    assert "give --network" in errors[2]
     assert main(["dbc", "table", FLCU, "--order", "sideways"]) == 2  # argparse usage error
+
+
+def test_table_of_a_dbc_whose_name_says_no_network_assumes_can2_and_says_so(tmp_path, capsys):
+    vehicle = shutil.copy(FLCU, tmp_path / "vehicle.dbc")
+    assert main(["dbc", "table", str(vehicle), "--node", "FLCU"]) == 0
+    out, err = capsys.readouterr()
+    assert err == f"{vehicle}: note: no CAN1..CAN4 in the file name: assumed on CAN2 (--network chooses)\n"
+    assert out.splitlines()[2].split()[:5] == ["CAN2_MSG_TX_000", "TX", "FLCU_TO_PCM_001", "0x167", "CAN2"]
+    assert main(["dbc", "table", str(vehicle), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["networks"] == [{"file": str(vehicle), "network": "CAN2",
+                                                                "assumed": True}]
+    assert main(["dbc", "table", str(vehicle), "--network", "CAN4"]) == 0
+    out, err = capsys.readouterr()
+    assert err == "" and out.splitlines()[2].split()[4] == "CAN4"
+    assert main(["dbc", "callbacks", str(vehicle), "--node", "FLCU", "--api", str(tmp_path / "api.c")]) == 2
+    assert "cannot tell the network from the file name; give --network" in capsys.readouterr().err  # code: no guess
 
 
 @pytest.mark.parametrize("command", [["table", "--network", "CAN2"], ["check"], ["fixcal", "--node", "FLCU"],
@@ -135,19 +149,30 @@ def test_callbacks_marker_error_is_exit_2(tmp_path, capsys):
 
 def test_check_exit_codes(write_dbc, capsys):
     assert main(["dbc", "check", FLCU]) == 0
-    assert "0 findings in 1 file" in capsys.readouterr().err
+    assert capsys.readouterr().err == "no problems in 1 file\n"
     bad = write_dbc('BO_ 2048 BIG: 1 ECU\n SG_ S : 4|8@1+ (1,0) [0|255] "" PEER\n')
     assert main(["dbc", "check", str(bad), "--json"]) == 1
     report = json.loads(capsys.readouterr().out)
     kinds = [f["kind"] for f in report["findings"]]
-    assert sorted(kinds) == ["beyond-dlc", "id-format", "missing-period", "missing-timeout"]
-    assert report["ok"] is False and report["summary"] == "4 findings in 1 file"
-    assert {f["severity"] for f in report["findings"] if f["kind"].startswith("missing-")} == {"warning"}
-    assert main(["dbc", "check", CAN3]) == 1
-    out = capsys.readouterr().out.splitlines()
-    assert len(out) == 8 and all(":" in line and "would also be defined by" in line for line in out)
-    assert all(line.endswith("message-qualified names (--qualified) avoid this") for line in out)
+    assert sorted(kinds) == ["beyond-dlc", "id-format", "missing-period"]
+    assert report["ok"] is False and report["summary"] == "1 error, 2 warnings in 1 file"
+    assert {f["severity"] for f in report["findings"] if f["kind"] != "beyond-dlc"} == {"warning"}
+    warned_only = write_dbc('BO_ 2048 BIG: 1 ECU\n SG_ S : 0|8@1+ (1,0) [0|255] "" PEER\n', timing(2147485696, 10, 30))
+    assert main(["dbc", "check", str(warned_only), "--json"]) == 1  # a check fails on warnings too
+    report = json.loads(capsys.readouterr().out)
+    assert (report["ok"], report["summary"]) == (False, "1 warning in 1 file")
+
+
+def test_check_states_fixcal_collisions_once_as_a_hint(capsys):
+    assert main(["dbc", "check", CAN3]) == 0  # a hint is not a problem of the DBC: ok, exit 0
+    out, err = capsys.readouterr()
+    (line,) = out.splitlines()
+    assert line.startswith(f"{CAN3}:") and ": info: " in line and "would define 8 fix calibration names" in line
+    assert line.endswith("message-qualified names (--qualified) avoid this") and err == "1 hint in 1 file\n"
+    assert main(["dbc", "check", CAN3, "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["ok"] is True
     assert main(["dbc", "check", CAN3, "--qualified"]) == 0
+    assert capsys.readouterr() == ("", "no problems in 1 file\n")
 
 
 def test_check_unreadable_dbc_is_exit_2(write_dbc, capsys):

@@ -1,4 +1,4 @@
-"""Loading a DBC file with cantools, with every problem turned into an :class:`InputError`.
+"""Loading a DBC file with cantools: what CANdb++ reads loads, with a located warning per problem.
 
 cantools parses; this module adds what the workbench needs around it:
 
@@ -6,19 +6,22 @@ cantools parses; this module adds what the workbench needs around it:
   UTF-16 BOM, and, failing that, as Windows-1252 (CANdb++'s encoding), so umlauts in
   comments never stop a load; an empty file or one with NUL bytes (a binary, not a DBC)
   is refused before cantools sees it;
+* what CANdb++ reads but cantools refuses (a standard id above 0x7FF, names that start
+  with a digit, comments without text, value descriptions of signals that do not exist,
+  CANdb++'s ``VECTOR__INDEPENDENT_SIG_MSG`` placeholder ...) is repaired in the text by
+  :mod:`workbench.can.dbc_repair` first; each problem becomes one warning in
+  :attr:`DbcFile.warnings`, located ``file:line``, and the values read are those the file gives;
 * signals keep their DBC file order (cantools sorts them by start bit by default);
 * loading is not strict: overlapping signals or signals beyond the DLC are left to
   :mod:`workbench.can.validation`, which reports them all with names and lines;
-* cantools' exceptions and log warnings become one-line :class:`InputError` s naming the
-  file and, where the position is known, the line (a syntax error quotes a few characters
-  around the spot, not the whole line); its "Overwriting message" warnings
-  about duplicate names/ids are dropped because the validation reports those itself;
+* what cantools still refuses becomes a one-line :class:`InputError` naming the file and,
+  where the position is known, the line (a syntax error quotes a few characters around the
+  spot, not the whole line); its "Overwriting message" warnings about duplicate names/ids
+  are dropped because the validation reports those itself;
 * the line of every ``BO_`` and ``SG_`` is indexed, so findings can point into the file.
 
-A standard id above 0x7FF (no bit 31 in the ``BO_`` id) makes cantools refuse the whole
-file. :func:`load_dbc` reports it as an error at that line; with ``tolerant=True`` (for
-``workbench dbc check``) the message is loaded as extended instead and listed in
-:attr:`DbcFile.oversized_standard_ids`, so the check can go on and report everything.
+Every command (``workbench dbc table|check|fixcal|callbacks``, the simulated ECU) loads
+through :func:`load_dbc`, so they agree on what a file holds.
 """
 
 from __future__ import annotations
@@ -33,17 +36,17 @@ from pathlib import Path
 import cantools.database
 from cantools.database.can import Database
 
+from workbench.can.dbc_repair import EXTENDED_ID_FLAG, Repaired, repair
 from workbench.errors import InputError
 from workbench.fileio import read_input
+from workbench.findings import Finding, Severity
 
 log = logging.getLogger(__name__)
 
-EXTENDED_ID_FLAG = 0x80000000  # bit 31 of a BO_ id: the message has a 29-bit (extended) id
-_STANDARD_ID_MAX = 0x7FF
+__all__ = ["EXTENDED_ID_FLAG", "DbcFile", "load_dbc"]
+
 _MESSAGE_LINE = re.compile(r"^[ \t]*BO_[ \t]+(\d+)[ \t]+(\w+)[ \t]*:", re.MULTILINE)
 _SIGNAL_LINE = re.compile(r"^[ \t]*SG_[ \t]+(\w+)\s")
-# Keywords after which the DBC grammar puts a message id (BA_/CM_ ... BO_ <id>, VAL_ <id> ...).
-_ID_REFERENCE = r"\b(BO_|SG_|VAL_|SIG_VALTYPE_|BO_TX_BU_|SG_MUL_VAL_|SIG_GROUP_)(\s+){id}\b"
 _MESSAGE_IN_ERROR = re.compile(r"in message '?(\w+)'?")
 _POSITION_IN_ERROR = re.compile(r" at line \d+, column \d+")
 _OVERWRITE_WARNING = "Overwriting message"
@@ -62,8 +65,8 @@ class DbcFile:
     """Message name → 1-based lines of its ``BO_`` s (more than one when the name is doubled)."""
     signal_lines: dict[tuple[int, str], int] = field(default_factory=dict)
     """(line of the message's ``BO_``, signal name) → 1-based line of the signal's ``SG_``."""
-    oversized_standard_ids: tuple[str, ...] = ()
-    """Messages whose ``BO_`` id is above 0x7FF without the extended flag (tolerant loads only)."""
+    warnings: tuple[Finding, ...] = ()
+    """What the load repaired or ignored, one warning per problem, located ``file:line``."""
 
     def message_line(self, name: str, occurrence: int = 0) -> int:
         """The line of the ``occurrence``-th ``BO_`` named ``name`` (0 when unknown)."""
@@ -79,27 +82,18 @@ class DbcFile:
         return f"{self.path}:{line}" if line else str(self.path)
 
 
-def load_dbc(path: str | Path, *, tolerant: bool = False) -> DbcFile:
-    """Load one DBC file.
+def load_dbc(path: str | Path) -> DbcFile:
+    """Load one DBC file as CANdb++ would: problems it reads past are :attr:`DbcFile.warnings`.
 
-    :param tolerant: load a standard id above 0x7FF as extended instead of failing
-        (the check reports it).
     :raises InputError: the file cannot be read or cantools rejects it (``path:line: reason``).
     """
     path = Path(path)
     text = _decode(path, read_input(path, "a DBC file"))
     message_lines, signal_lines = _index_lines(text)
-    oversized = _oversized_standard_ids(text)
-    if oversized and not tolerant:
-        name, frame_id, line = oversized[0]
-        raise InputError(
-            f"{path}:{line}: message {name}: standard id 0x{frame_id:X} does not fit in 11 bits "
-            f"(an extended id needs bit 31 set in the BO_ id: {frame_id | EXTENDED_ID_FLAG})"
-        )
-    for _name, frame_id, _line in oversized:
-        text = re.sub(_ID_REFERENCE.format(id=frame_id), rf"\g<1>\g<2>{frame_id | EXTENDED_ID_FLAG}", text)
-    database = _parse(path, text, message_lines)
-    return DbcFile(path, database, message_lines, signal_lines, tuple(name for name, _, _ in oversized))
+    repaired = repair(text, str(path))
+    database, cantools_warnings = _parse(path, repaired, message_lines)
+    _restore_names(database, repaired)
+    return DbcFile(path, database, message_lines, signal_lines, repaired.warnings + cantools_warnings)
 
 
 def _decode(path: Path, raw: bytes) -> str:
@@ -139,15 +133,6 @@ def _index_lines(text: str) -> tuple[dict[str, int], dict[tuple[str, str], int]]
     return message_lines, signal_lines
 
 
-def _oversized_standard_ids(text: str) -> list[tuple[str, int, int]]:
-    found = []
-    for match in _MESSAGE_LINE.finditer(text):
-        frame_id = int(match.group(1))
-        if _STANDARD_ID_MAX < frame_id < EXTENDED_ID_FLAG:
-            found.append((match.group(2), frame_id, text.count("\n", 0, match.start()) + 1))
-    return found
-
-
 class _WarningCollector(logging.Handler):
     """Keeps the messages of the cantools warnings logged during one load."""
 
@@ -159,17 +144,23 @@ class _WarningCollector(logging.Handler):
         self.messages.append(record.getMessage())
 
 
-def _parse(path: Path, text: str, message_lines: dict[str, tuple[int, ...]]) -> Database:
+def _parse(path: Path, repaired: Repaired,
+           message_lines: dict[str, tuple[int, ...]]) -> tuple[Database, tuple[Finding, ...]]:
+    """cantools' database of the repaired text and its log warnings (but those about duplicates) as findings.
+
+    :raises InputError: cantools refuses the text.
+    """
     cantools_log = logging.getLogger("cantools")
     collector = _WarningCollector()
     cantools_log.addHandler(collector)
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            database = cantools.database.load_string(text, database_format="dbc", strict=False, sort_signals=None)
+            database = cantools.database.load_string(repaired.text, database_format="dbc", strict=False,
+                                                     sort_signals=None)
     except (cantools.database.Error, ValueError) as exc:
         cause = getattr(exc, "e_dbc", None) or exc
-        raise InputError(_located(path, cause, message_lines)) from exc
+        raise InputError(_located(path, cause, message_lines).replace(repaired.name_prefix, "")) from exc
     finally:
         cantools_log.removeHandler(collector)
     problems = []
@@ -179,11 +170,36 @@ def _parse(path: Path, text: str, message_lines: dict[str, tuple[int, ...]]) -> 
         else:
             problems.append(message)
     problems += [str(w.message) for w in caught]
-    if problems:
-        raise InputError(f"{path}: {_one_line(problems[0])}")
     if not isinstance(database, Database):
         raise InputError(f"{path}: not a CAN database")
-    return database
+    return database, tuple(Finding("cantools", path.name, f"cantools: {_one_line(problem)}", str(path),
+                                   severity=Severity.WARNING) for problem in problems)
+
+
+def _restore_names(database: Database, repaired: Repaired) -> None:
+    """Give back the names the repair prefixed (those that start with a digit) as the file writes them."""
+    if repaired.name_prefix not in repaired.text:
+        return
+    name = repaired.original_name
+    for node in database.nodes:
+        node.name = name(node.name)
+    for message in database.messages:
+        message.name = name(message.name)
+        message.senders[:] = [name(sender) for sender in message.senders]
+        for signal in message.signals:
+            signal.name = name(signal.name)
+            signal.receivers[:] = [name(receiver) for receiver in signal.receivers]
+            if signal.multiplexer_signal is not None:
+                signal.multiplexer_signal = name(signal.multiplexer_signal)
+        for group in message.signal_groups or ():
+            group.name = name(group.name)
+            group.signal_names = [name(signal) for signal in group.signal_names]
+    if database.dbc is not None and database.dbc.value_tables:
+        tables = database.dbc.value_tables
+        renamed = {name(key): table for key, table in tables.items()}
+        tables.clear()
+        tables.update(renamed)
+    database.refresh()
 
 
 def _located(path: Path, error: BaseException, message_lines: dict[str, tuple[int, ...]]) -> str:

@@ -1,9 +1,11 @@
 """The message table of one node over one or more DBCs (what the thesis's Import DBC shows).
 
 Each DBC belongs to a network (CAN1–CAN4): given explicitly, or read from the file name
-(``FLCU_CAN2.dbc`` → CAN2). Messages the node sends are TX, those it receives are RX;
-mailboxes follow :mod:`workbench.can.mailboxes`. A message whose id and format appear
-twice on one network has ``unique_id`` False (the thesis's UniqueID flag).
+(``FLCU_CAN2.dbc`` → CAN2); a table of a DBC whose name says none may assume one
+(:data:`ASSUMED_NETWORK`, the vehicle bus of the thesis's layout). Messages the node
+sends are TX, those it receives are RX; mailboxes follow :mod:`workbench.can.mailboxes`.
+A message whose id and format appear twice on one network has ``unique_id`` False (the
+thesis's UniqueID flag).
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from workbench.can.model import Message, Role, messages_of
 from workbench.can.naming import CAN_NETWORKS
 from workbench.errors import InputError
 
+ASSUMED_NETWORK = "CAN2"  # CAN2 is the vehicle bus in the thesis's layout: where a third-party DBC belongs
 _NETWORK_IN_NAME = re.compile(r"(?<![A-Za-z0-9])(CAN[1-4])(?![0-9])", re.IGNORECASE)
 _ROLE_ORDER = {Role.TX: 0, Role.RX: 1}
 
@@ -52,27 +55,29 @@ def guess_network(path: str | Path) -> str | None:
     return found.pop() if len(found) == 1 else None
 
 
-def network_of(path: str | Path, network: str | None = None) -> str:
-    """The network of a DBC: ``network`` when given, else :func:`guess_network`.
+def network_of(path: str | Path, network: str | None = None, *, assume: str | None = None) -> str:
+    """The network of a DBC: ``network`` when given, else :func:`guess_network`, else ``assume``.
 
-    :raises InputError: ``network`` is not CAN1–CAN4, or the file name names none (or several).
+    :raises InputError: ``network`` is not CAN1–CAN4, or the file name names none (or several)
+        and nothing is assumed.
     """
     if network is not None:
         if network.upper() not in CAN_NETWORKS:
             raise InputError(f"unknown network {network!r} (expected one of {', '.join(CAN_NETWORKS)})")
         return network.upper()
-    guessed = guess_network(path)
+    guessed = guess_network(path) or assume
     if guessed is None:
         raise InputError(f"{path}: cannot tell the network from the file name; give --network CAN1..CAN4")
     return guessed
 
 
-def load_networks(paths: Sequence[str | Path], network: str | None = None) -> list[tuple[DbcFile, str]]:
+def load_networks(paths: Sequence[str | Path], network: str | None = None, *,
+                  assume: str | None = None) -> list[tuple[DbcFile, str]]:
     """Load each DBC with its network (see :func:`network_of`).
 
     :raises InputError: a file cannot be loaded or its network is unknown.
     """
-    return [(load_dbc(path), network_of(path, network)) for path in paths]
+    return [(load_dbc(path), network_of(path, network, assume=assume)) for path in paths]
 
 
 def build_table(dbcs: Sequence[tuple[DbcFile, str]], node: str | None, order: MailboxOrder = MailboxOrder.FILE) -> CanTable:

@@ -43,12 +43,12 @@ def signal_cells(signal: SignalOfMsg) -> list[str]:
 def table_text(table: CanTable) -> str:
     """Messages as aligned rows, each followed by its signals (indented), then notes."""
     message_rows = [list(MESSAGE_COLUMNS)] + [message_cells(m) for m in table.messages]
-    signal_rows = [list(SIGNAL_COLUMNS)] + [signal_cells(s) for m in table.messages for s in m.signals]
+    signal_rows = [list(SIGNAL_COLUMNS)] + [_one_line_cells(s) for m in table.messages for s in m.signals]
     message_widths, signal_widths = _widths(message_rows), _widths(signal_rows)
     lines = [_row(message_rows[0], message_widths), "    " + _row(signal_rows[0], signal_widths)]
     for message in table.messages:
         lines.append(_row(message_cells(message), message_widths))
-        lines += ["    " + _row(signal_cells(s), signal_widths) for s in message.signals]
+        lines += ["    " + _row(_one_line_cells(s), signal_widths) for s in message.signals]
     if any(m.timeout_is_default and m.timeout_ms is not None for m in table.messages):
         lines.append(f"{_DEFAULT_TIMEOUT_MARK} no GenMsgTimeoutTime in the DBC: 3 x period")
     if table.node is None:
@@ -78,3 +78,8 @@ def _widths(rows: Sequence[Sequence[str]]) -> list[int]:
 
 def _row(cells: Sequence[str], widths: Sequence[int]) -> str:
     return "  ".join(cell.ljust(width) for cell, width in zip(cells, widths)).rstrip()
+
+
+def _one_line_cells(signal: SignalOfMsg) -> list[str]:
+    """The signal's cells for the text table: a DBC comment may span several lines, a row may not."""
+    return [" ".join(cell.split()) if "\n" in cell or "\r" in cell else cell for cell in signal_cells(signal)]

@@ -3,26 +3,38 @@
 * ``table`` — the message table with the thesis's Message/SignalOfMsg properties;
 * ``fixcal`` — the fix calibrations as a C header/source pair and an A2L fragment;
 * ``callbacks`` — the CAN driver configuration between the ``// <initCbk>`` markers of api.c;
-* ``check`` — DBC problems (exit 1 when there are findings).
+* ``check`` — DBC problems (exit 1 when there are warnings or errors).
+
+Every command loads through :func:`workbench.can.dbc_file.load_dbc`, so they agree on what a
+file holds; the problems the load reads past are warnings (``file:line: warning: ...``) on
+stderr, and findings of ``check``.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+from collections import Counter
 
 from workbench.cli.options import add_output_arguments, print_json, print_report
+from workbench.findings import Severity
 
 _GROUP_DESCRIPTION = """\
 The thesis's CAN library (chapter 6.3) from a DBC, without MATLAB:
   table      the message table with the thesis's Message/SignalOfMsg properties
   fixcal     the fix calibrations as a C header/source pair and an A2L fragment
   callbacks  the CAN driver configuration between the // <initCbk> markers of api.c
-  check      DBC problems (exit 1 when there are findings)
-Exit codes: 0 success, 1 findings (check) or a failed write (disk full), 2 bad input (a file
+  check      DBC problems (exit 1 when there are warnings or errors)
+What CANdb++ reads loads: problems it reads past (an id above 0x7FF without the extended
+flag, names that start with a digit, comments without text, references to signals that do not
+exist ...) are warnings naming file:line, on stderr and in `check`.
+Exit codes: 0 success, 1 problems (check) or a failed write (disk full), 2 bad input (a file
 that cannot be read or parsed, a place that cannot be written, a bad option)."""
 _NETWORK_HELP = ("CAN1..CAN4 for every DBC given (default: the CANn in each file name, "
                  "e.g. FLCU_CAN2.dbc is on CAN2)")
+_TABLE_NETWORK_HELP = ("CAN1..CAN4 for every DBC given (default: the CANn in each file name, e.g. FLCU_CAN2.dbc "
+                       "is on CAN2; a file whose name says none is assumed on CAN2, the vehicle bus, and a note "
+                       "says so)")
 _ROLE_HELP = ("the ECU node the roles are relative to: a message it sends is TX, one whose signals it "
               "receives is RX, any other is not in its table")
 # workbench.can.mailboxes.MailboxOrder's values, spelled here so that --help needs no cantools
@@ -48,7 +60,8 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
         "table", help="message table: Name, ID, DLC, Period, Timeout, Role, MboxId and the signals",
         description="The message table of one or more DBCs. " + _TIMEOUT_NOTE,
     )
-    _add_table_arguments(table, node_help=_ROLE_HELP + " (without it: no roles and no mailboxes)", node_required=False)
+    _add_table_arguments(table, node_help=_ROLE_HELP + " (without it: no roles and no mailboxes)", node_required=False,
+                         network_help=_TABLE_NETWORK_HELP)
     output = table.add_mutually_exclusive_group()
     output.add_argument("--csv", action="store_true", help="one CSV row per signal")
     output.add_argument("--json", action="store_true", help="messages with their signals as JSON")
@@ -88,17 +101,19 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
             "changes. " + _TIMEOUT_NOTE
         ),
     )
-    _add_table_arguments(callbacks, node_help=_ROLE_HELP, node_required=True)
+    _add_table_arguments(callbacks, node_help=_ROLE_HELP, node_required=True, network_help=_NETWORK_HELP)
     callbacks.add_argument("--api", required=True, metavar="api.c", help="the C file with the markers")
     callbacks.set_defaults(func=_callbacks)
 
     check = commands.add_parser(
         "check", help="report DBC problems (exit 1 when there are any)",
         description=(
-            "Report overlapping signals, signals beyond the DLC, duplicate ids and names (across the DBCs "
-            "of one network), missing GenMsgCycleTime/GenMsgTimeoutTime, standard/extended mismatches "
-            "(an id above 0x7FF without the extended flag, a VFrameFormat that disagrees) and fix "
-            "calibration name collisions. Exit 0: no findings; 1: findings; 2: a file cannot be read."
+            "Report what the load read past (an id above 0x7FF without the extended flag, names that start "
+            "with a digit, comments without text, references to missing signals ...), overlapping signals, "
+            "signals beyond the DLC, duplicate ids and names (across the DBCs of one network), missing "
+            "GenMsgCycleTime/GenMsgTimeoutTime, a VFrameFormat that disagrees with the id, and, as one hint, "
+            "fix calibration names `dbc fixcal` would define twice. Exit 0: no warnings or errors (hints "
+            "may remain); 1: warnings or errors; 2: a file cannot be read."
         ),
     )
     check.add_argument("dbc", nargs="+", metavar="FILE.dbc")
@@ -111,25 +126,43 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     check.set_defaults(func=_check)
 
 
-def _add_table_arguments(parser: argparse.ArgumentParser, *, node_help: str, node_required: bool) -> None:
+def _add_table_arguments(parser: argparse.ArgumentParser, *, node_help: str, node_required: bool,
+                         network_help: str) -> None:
     """The DBCs, their network, the node and the mailbox order: what a node's message table needs."""
     parser.add_argument("dbc", nargs="+", metavar="FILE.dbc")
-    parser.add_argument("--network", help=_NETWORK_HELP)
+    parser.add_argument("--network", help=network_help)
     parser.add_argument("--node", required=node_required, help=node_help)
     parser.add_argument("--order", choices=MAILBOX_ORDERS, default="file", help=_ORDER_HELP)
 
 
 def _table(args: argparse.Namespace) -> int:
     from workbench.can.mailboxes import MailboxOrder
-    from workbench.can.table import build_table, load_networks
+    from workbench.can.table import ASSUMED_NETWORK, build_table, guess_network, load_networks
     from workbench.can.table_export import table_csv, table_text
 
-    table = build_table(load_networks(args.dbc, args.network), args.node, MailboxOrder(args.order))
+    dbcs = load_networks(args.dbc, args.network, assume=ASSUMED_NETWORK)
+    assumed = [dbc for dbc, _ in dbcs if args.network is None and guess_network(dbc.path) is None]
+    table = build_table(dbcs, args.node, MailboxOrder(args.order))
+    _print_load_warnings(dbc for dbc, _ in dbcs)
+    for dbc in assumed:
+        print(f"{dbc.path}: note: no CAN1..CAN4 in the file name: assumed on {ASSUMED_NETWORK} "
+              f"(--network chooses)", file=sys.stderr)
     if args.json:
-        print_json(table.to_dict())
+        data = table.to_dict()
+        data["networks"] = [{"file": str(dbc.path), "network": network, "assumed": dbc in assumed}
+                            for dbc, network in dbcs]
+        data["warnings"] = [warning.to_dict() for dbc, _ in dbcs for warning in dbc.warnings]
+        print_json(data)
     else:
         sys.stdout.write(table_csv(table) if args.csv else table_text(table))
     return 0
+
+
+def _print_load_warnings(dbcs) -> None:
+    """What the loads read past, one ``file:line: warning: ...`` line each, on stderr."""
+    for dbc in dbcs:
+        for warning in dbc.warnings:
+            print(warning, file=sys.stderr)
 
 
 def _fixcal(args: argparse.Namespace) -> int:
@@ -138,7 +171,9 @@ def _fixcal(args: argparse.Namespace) -> int:
     from workbench.can.fixcal_output import fixcal_files
 
     master = args.master if args.master is not None else demo.master_a2l()
-    files = fixcal_files(load_dbc(args.dbc), args.node, c=not args.a2l_only, a2l=not args.c_only, master_a2l=master,
+    dbc = load_dbc(args.dbc)
+    _print_load_warnings([dbc])
+    files = fixcal_files(dbc, args.node, c=not args.a2l_only, a2l=not args.c_only, master_a2l=master,
                          qualified=args.qualified)
     for path in files.write(args.output):
         print(path)
@@ -151,7 +186,9 @@ def _callbacks(args: argparse.Namespace) -> int:
     from workbench.can.mailboxes import MailboxOrder
     from workbench.can.table import build_table, load_networks
 
-    table = build_table(load_networks(args.dbc, args.network), args.node, MailboxOrder(args.order))
+    dbcs = load_networks(args.dbc, args.network)
+    table = build_table(dbcs, args.node, MailboxOrder(args.order))
+    _print_load_warnings(dbc for dbc, _ in dbcs)
     changed = write_callbacks(args.api, table.messages)
     print(f"{args.api}: {'regenerated' if changed else 'unchanged'} "
           f"({len(table.messages)} messages of {args.node})")
@@ -162,13 +199,18 @@ def _check(args: argparse.Namespace) -> int:
     from workbench.can.dbc_file import load_dbc
     from workbench.can.table import guess_network, network_of
     from workbench.can.validation import check_dbcs
-    from workbench.findings import Severity
 
-    dbcs = [(load_dbc(path, tolerant=True), network_of(path, args.network) if args.network else guess_network(path))
+    dbcs = [(load_dbc(path), network_of(path, args.network) if args.network else guess_network(path))
             for path in args.dbc]
     report = check_dbcs(dbcs, args.node, qualified=args.qualified)
-    report.fails_on = Severity.WARNING  # a check fails on any problem it finds, as `a2l check` does
-    count = len(report.findings)
-    print_report(report, as_json=args.json, verbose=True, summary=f"{count} finding{'s' if count != 1 else ''} in "
-                 f"{len(dbcs)} file{'s' if len(dbcs) != 1 else ''}")
+    print_report(report, as_json=args.json, verbose=True, summary=_check_summary(report, len(dbcs)))
     return 0 if report.ok else 1
+
+
+def _check_summary(report, files: int) -> str:
+    """``3 warnings, 1 hint in 2 files`` (``no problems in 1 file``)."""
+    counts = Counter(finding.severity for finding in report.findings)
+    parts = [f"{counts[severity]} {word}{'s' if counts[severity] != 1 else ''}"
+             for severity, word in ((Severity.ERROR, "error"), (Severity.WARNING, "warning"), (Severity.INFO, "hint"))
+             if counts[severity]]
+    return f"{', '.join(parts) or 'no problems'} in {files} file{'s' if files != 1 else ''}"
