@@ -1,5 +1,7 @@
 """read_xcp_config: the IF_DATA XCP of a file, read through the generic IF_DATA tree."""
 
+from dataclasses import replace
+
 import pytest
 
 from workbench import demo
@@ -71,6 +73,43 @@ def test_ethernet(config):
     assert (config.tcp.protocol, config.tcp.port, config.tcp.host) == ("TCP", 5556, "ecu.local")
 
 
+def test_a_transport_without_blocks_of_its_own_keeps_the_common_ones(config):
+    assert config.udp.protocol_layer is None and config.udp.daq is None and config.udp.pgm is None
+    assert config.for_transport("udp") == config
+
+
+def test_a_missing_transport_block_is_named():
+    config = read_xcp_config(load_a2l(demo.master_a2l()))
+    without_tcp = replace(config, tcp=None)
+    with pytest.raises(KeyError, match="XCP_ON_TCP_IP"):
+        without_tcp.for_transport("TCP")
+
+
+def test_a_transport_block_overrules_the_common_blocks():
+    doc = load_a2l_string('''ASAP2_VERSION 1 71
+/begin PROJECT P "" /begin MODULE M ""
+  /begin IF_DATA XCP
+    /begin PROTOCOL_LAYER 0x0100 1 2 3 4 5 6 7 8 8 BYTE_ORDER_MSB_LAST ADDRESS_GRANULARITY_BYTE /end PROTOCOL_LAYER
+    /begin DAQ DYNAMIC 4 1 0 OPTIMISATION_TYPE_DEFAULT ADDRESS_EXTENSION_FREE IDENTIFICATION_FIELD_TYPE_ABSOLUTE
+      GRANULARITY_ODT_ENTRY_SIZE_DAQ_BYTE 4 NO_OVERLOAD_INDICATION /end DAQ
+    /begin XCP_ON_UDP_IP 0x0100 5555 HOST_NAME "ecu"
+      /begin PROTOCOL_LAYER 0x0100 10 20 30 40 50 60 70 252 1400 BYTE_ORDER_MSB_LAST ADDRESS_GRANULARITY_BYTE
+        OPTIONAL_CMD GET_ID /end PROTOCOL_LAYER
+      /begin DAQ DYNAMIC 8 1 0 OPTIMISATION_TYPE_DEFAULT ADDRESS_EXTENSION_FREE IDENTIFICATION_FIELD_TYPE_RELATIVE_BYTE
+        GRANULARITY_ODT_ENTRY_SIZE_DAQ_BYTE 255 NO_OVERLOAD_INDICATION /end DAQ
+    /end XCP_ON_UDP_IP
+  /end IF_DATA
+/end MODULE /end PROJECT
+''')
+    config = read_xcp_config(doc)
+    assert (config.max_cto, config.max_dto, config.daq.max_daq) == (8, 8, 4)  # the common blocks
+    udp = config.for_transport("UDP")
+    assert (udp.max_cto, udp.max_dto, udp.optional_commands) == (252, 1400, {"GET_ID"})
+    assert udp.timeouts.t1 == pytest.approx(0.010)
+    assert (udp.daq.max_daq, udp.daq.pid_size, udp.daq.max_odt_entry_size) == (8, 2, 255)
+    assert udp.udp.host == "ecu" and udp.pgm is None
+
+
 def test_mod_par_accessors(fixtures):
     doc = load_a2l(fixtures / "xcp_ecu.a2l")
     assert doc.epk() == "EPK_2024_01" and doc.addr_epk() == 0x8000
@@ -102,6 +141,19 @@ def test_demo_master_states_the_demo_contract():
     (segment,) = config.segments
     assert segment.address_mappings[0].source == 0x40000000
     assert segment.address_mappings[0].destination == 0xFC0000
+
+
+def test_demo_master_states_the_ethernet_contract():
+    config = read_xcp_config(load_a2l(demo.master_a2l()))
+    for transport, block in (("UDP", config.udp), ("TCP", config.tcp)):
+        assert (block.protocol, block.port, block.host) == (transport, 5555, "127.0.0.1")
+        ethernet = config.for_transport(transport)
+        assert (ethernet.max_cto, ethernet.max_dto, ethernet.pgm.max_cto_pgm) == (255, 1024, 255)
+        # everything but the sizes is the common blocks' (a test of the simulator checks the slave says so)
+        assert ethernet.optional_commands == config.optional_commands and ethernet.timeouts == config.timeouts
+        assert ethernet.pgm.sectors == config.pgm.sectors and ethernet.daq == config.daq
+    can = config.for_transport("CAN")
+    assert (can.max_cto, can.max_dto, can.pgm.max_cto_pgm) == (8, 8, 8)
 
 
 def test_missing_if_data_is_an_error():

@@ -329,6 +329,15 @@ def test_master_xcp_states_the_documented_parameters(a2l):
     can = xcp["XCP_ON_CAN"][0][1]
     assert (can["CAN_ID_MASTER"], can["CAN_ID_SLAVE"], can["BAUDRATE"]) == (0x7F0, 0x7F1, 1_000_000)
 
+    for transport in ("XCP_ON_UDP_IP", "XCP_ON_TCP_IP"):  # XCP on Ethernet: larger packets, all else as on CAN
+        (version, port, address), overrides = xcp[transport]
+        assert (version, port, address) == (0x0100, 5555, {"ADDRESS": "127.0.0.1"})
+        ethernet_protocol = overrides["PROTOCOL_LAYER"]
+        assert ethernet_protocol[8:10] == [255, 1024]  # MAX_CTO, MAX_DTO
+        assert ethernet_protocol[:8] + ethernet_protocol[10:] == protocol[:8] + protocol[10:]
+        assert overrides["PGM"][2] == 255 and overrides["PGM"][:2] + overrides["PGM"][3:] == xcp["PGM"][:2] + xcp["PGM"][3:]
+        assert set(overrides) == {"PROTOCOL_LAYER", "PGM"}
+
     daq = xcp["DAQ"]
     assert daq[0] == "DYNAMIC"
     assert daq[6:10] == ["IDENTIFICATION_FIELD_TYPE_ABSOLUTE", "GRANULARITY_ODT_ENTRY_SIZE_DAQ_BYTE", 4, "NO_OVERLOAD_INDICATION"]

@@ -7,7 +7,7 @@ A2ML, never by a byte offset of one particular file. Times are seconds, sizes by
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 from workbench.a2l.ifdata import IfDataNode, Word, read_if_data
@@ -19,8 +19,8 @@ if TYPE_CHECKING:
 
 __all__ = [
     "XcpAddressMapping", "XcpCommunicationMode", "XcpConfig", "XcpDaq", "XcpDaqListCanId", "XcpEvent",
-    "XcpOnCan", "XcpOnIp", "XcpPage", "XcpPgm", "XcpSector", "XcpSegment", "XcpTimeouts", "XcpTimestamp",
-    "read_xcp_config",
+    "XcpOnCan", "XcpOnIp", "XcpPage", "XcpPgm", "XcpProtocolLayer", "XcpSector", "XcpSegment", "XcpTimeouts",
+    "XcpTimestamp", "read_xcp_config",
 ]
 
 # TIMESTAMP_SUPPORTED UNIT_x -> the time unit code (seconds: TIME_UNIT_S)
@@ -29,6 +29,7 @@ _UNIT_NAMES = {
     "UNIT_1MS": 6, "UNIT_10MS": 7, "UNIT_100MS": 8, "UNIT_1S": 9, "UNIT_1PS": 10, "UNIT_10PS": 11,
     "UNIT_100PS": 12,
 }
+TRANSPORT_BLOCKS = {"CAN": "XCP_ON_CAN", "UDP": "XCP_ON_UDP_IP", "TCP": "XCP_ON_TCP_IP"}
 _TIMESTAMP_SIZES = {"NO_TIME_STAMP": 0, "SIZE_BYTE": 1, "SIZE_WORD": 2, "SIZE_DWORD": 4}
 _GRANULARITY_SIZES = {"BYTE": 1, "WORD": 2, "DWORD": 4, "DLONG": 8}
 
@@ -55,6 +56,21 @@ class XcpCommunicationMode:
     max_bs: int | None = None  # frames per master block (DOWNLOAD_NEXT / PROGRAM_NEXT)
     min_st_s: float | None = None  # minimum separation time between master block frames
     interleaved_queue_size: int | None = None
+
+
+@dataclass(frozen=True)
+class XcpProtocolLayer:
+    """A PROTOCOL_LAYER block: the common one, or a transport's own (XCP_ON_UDP_IP ... PROTOCOL_LAYER)."""
+
+    version: int
+    timeouts: XcpTimeouts
+    max_cto: int
+    max_dto: int
+    byte_order: str  # MSB_LAST (little endian) or MSB_FIRST
+    address_granularity: int  # bytes per address unit
+    optional_commands: frozenset[str]
+    communication_mode: XcpCommunicationMode | None
+    seed_and_key_function: str | None
 
 
 @dataclass(frozen=True)
@@ -185,14 +201,22 @@ class XcpOnCan:
     daq_list_can_ids: tuple[XcpDaqListCanId, ...] = ()
     max_dlc: int | None = None  # CAN FD
     fd_data_baudrate: int | None = None  # CAN FD data phase
+    protocol_layer: XcpProtocolLayer | None = None  # this transport's own PROTOCOL_LAYER (overrules the common one)
+    daq: XcpDaq | None = None  # ... its own DAQ
+    pgm: XcpPgm | None = None  # ... its own PGM
 
 
 @dataclass(frozen=True)
 class XcpOnIp:
+    """XCP_ON_UDP_IP or XCP_ON_TCP_IP: where the ECU listens, and the blocks this transport overrules."""
+
     protocol: str  # "UDP" or "TCP"
     version: int
     port: int
-    host: str | None
+    host: str | None  # HOST_NAME or ADDRESS
+    protocol_layer: XcpProtocolLayer | None = None  # e.g. MAX_CTO/MAX_DTO larger than on CAN
+    daq: XcpDaq | None = None
+    pgm: XcpPgm | None = None
 
 
 @dataclass(frozen=True)
@@ -217,6 +241,35 @@ class XcpConfig:
     udp: XcpOnIp | None
     tcp: XcpOnIp | None
 
+    def for_transport(self, transport: str) -> XcpConfig:
+        """The settings a master on ``transport`` ("CAN", "UDP" or "TCP") works with: that transport
+        block's own PROTOCOL_LAYER, DAQ and PGM in place of the common ones (ASAM: they overrule them).
+
+        :raises KeyError: an unknown transport, or the A2L has no block for it (the key names the block).
+        """
+        block_name = TRANSPORT_BLOCKS[transport.upper()]
+        block = getattr(self, transport.lower())
+        if block is None:
+            raise KeyError(block_name)
+        config = self
+        if block.protocol_layer is not None:
+            config = replace(config, **_protocol_fields(block.protocol_layer))
+        if block.daq is not None:
+            config = replace(config, daq=block.daq)
+        if block.pgm is not None:
+            config = replace(config, pgm=block.pgm)
+        return config
+
+
+def _protocol_fields(layer: XcpProtocolLayer) -> dict:
+    """XcpConfig's fields that a PROTOCOL_LAYER sets."""
+    return {
+        "protocol_version": layer.version, "timeouts": layer.timeouts, "max_cto": layer.max_cto,
+        "max_dto": layer.max_dto, "byte_order": layer.byte_order, "address_granularity": layer.address_granularity,
+        "optional_commands": layer.optional_commands, "communication_mode": layer.communication_mode,
+        "seed_and_key_function": layer.seed_and_key_function,
+    }
+
 
 def read_xcp_config(doc: "A2lDocument", module: str | None = None) -> XcpConfig:
     """The XCP configuration of ``module`` (default: the only MODULE).
@@ -235,24 +288,9 @@ def read_xcp_config(doc: "A2lDocument", module: str | None = None) -> XcpConfig:
     protocol = root.block("PROTOCOL_LAYER")
     if protocol is None:
         raise A2lParseError("IF_DATA XCP has no PROTOCOL_LAYER", *root.location)
-    numbers = protocol.leading_numbers()
-    if len(numbers) < 10:
-        raise A2lParseError(
-            "PROTOCOL_LAYER needs version, T1-T7, MAX_CTO and MAX_DTO", *protocol.location)
-    byte_order = protocol.word_with_prefix("BYTE_ORDER_")
-    granularity = protocol.word_with_prefix("ADDRESS_GRANULARITY_")
-    seed_key = protocol.after("SEED_AND_KEY_EXTERNAL_FUNCTION")
     pag = root.block("PAG")
     return XcpConfig(
-        protocol_version=int(numbers[0]),
-        timeouts=XcpTimeouts(*(value / 1000.0 for value in numbers[1:8])),
-        max_cto=int(numbers[8]),
-        max_dto=int(numbers[9]),
-        byte_order=byte_order[len("BYTE_ORDER_"):] if byte_order else "MSB_LAST",
-        address_granularity=_GRANULARITY_SIZES.get(granularity[len("ADDRESS_GRANULARITY_"):], 1) if granularity else 1,
-        optional_commands=frozenset(str(v[0]) for v in protocol.all_after("OPTIONAL_CMD") if v),
-        communication_mode=_communication_mode(protocol),
-        seed_and_key_function=str(seed_key[0]) if seed_key else None,
+        **_protocol_fields(_protocol_layer(protocol)),
         daq=_daq(root.block("DAQ")),
         max_segments=int(pag.leading_numbers()[0]) if pag is not None and pag.leading_numbers() else None,
         freeze_supported=bool(pag is not None and pag.has("FREEZE_SUPPORTED")),
@@ -262,6 +300,36 @@ def read_xcp_config(doc: "A2lDocument", module: str | None = None) -> XcpConfig:
         udp=_ip(root.block("XCP_ON_UDP_IP"), "UDP"),
         tcp=_ip(root.block("XCP_ON_TCP_IP"), "TCP"),
     )
+
+
+def _protocol_layer(node: IfDataNode) -> XcpProtocolLayer:
+    numbers = node.leading_numbers()
+    if len(numbers) < 10:
+        raise A2lParseError("PROTOCOL_LAYER needs version, T1-T7, MAX_CTO and MAX_DTO", *node.location)
+    byte_order = node.word_with_prefix("BYTE_ORDER_")
+    granularity = node.word_with_prefix("ADDRESS_GRANULARITY_")
+    seed_key = node.after("SEED_AND_KEY_EXTERNAL_FUNCTION")
+    return XcpProtocolLayer(
+        version=int(numbers[0]),
+        timeouts=XcpTimeouts(*(value / 1000.0 for value in numbers[1:8])),
+        max_cto=int(numbers[8]),
+        max_dto=int(numbers[9]),
+        byte_order=byte_order[len("BYTE_ORDER_"):] if byte_order else "MSB_LAST",
+        address_granularity=_GRANULARITY_SIZES.get(granularity[len("ADDRESS_GRANULARITY_"):], 1) if granularity else 1,
+        optional_commands=frozenset(str(v[0]) for v in node.all_after("OPTIONAL_CMD") if v),
+        communication_mode=_communication_mode(node),
+        seed_and_key_function=str(seed_key[0]) if seed_key else None,
+    )
+
+
+def _overrides(node: IfDataNode) -> dict:
+    """The common blocks a transport block repeats with its own values (PROTOCOL_LAYER, DAQ, PGM)."""
+    protocol = node.block("PROTOCOL_LAYER")
+    return {
+        "protocol_layer": _protocol_layer(protocol) if protocol is not None else None,
+        "daq": _daq(node.block("DAQ")),
+        "pgm": _pgm(node.block("PGM")),
+    }
 
 
 def _communication_mode(node: IfDataNode) -> XcpCommunicationMode | None:
@@ -440,6 +508,7 @@ def _can(node: IfDataNode | None) -> XcpOnCan | None:
         daq_list_can_ids=tuple(_daq_list_can_id(item) for item in node.blocks("DAQ_LIST_CAN_ID")),
         max_dlc=_int_or_none(fd.number_after("MAX_DLC")) if fd is not None else None,
         fd_data_baudrate=_int_or_none(fd.number_after("CAN_FD_DATA_TRANSFER_BAUDRATE")) if fd is not None else None,
+        **_overrides(node),
     )
 
 
@@ -460,7 +529,7 @@ def _ip(node: IfDataNode | None, protocol: str) -> XcpOnIp | None:
     if len(numbers) < 2:
         raise A2lParseError(f"XCP_ON_{protocol}_IP needs version and port", *node.location)
     host = node.after("HOST_NAME") or node.after("ADDRESS")
-    return XcpOnIp(protocol, int(numbers[0]), int(numbers[1]), str(host[0]) if host else None)
+    return XcpOnIp(protocol, int(numbers[0]), int(numbers[1]), str(host[0]) if host else None, **_overrides(node))
 
 
 def _int_or_none(value) -> int | None:
