@@ -12,17 +12,34 @@ from workbench.sim.seedkey import compute_key
 
 
 def pyxcp_master(interface: str, channel: str, can_id_master: int = 0x7F0, can_id_slave: int = 0x7F1,
-                 policy=None, timeout_s: float = 2.0) -> Master:
+                 policy=None, timeout_s: float = 2.0, bus_kwargs: dict | None = None) -> Master:
     """A pyxcp Master on a python-can bus that pads its frames to DLC 8 as the demo A2L's MAX_DLC_REQUIRED asks;
-    never reads ``sys.argv``, logs only criticals."""
+    ``bus_kwargs`` are the interface's own options (udp_multicast's ``port``). Never reads ``sys.argv``."""
     app = create_application_from_config(
         {"Transport": {"CAN": {"interface": interface, "channel": channel, "can_id_master": can_id_master,
                                "can_id_slave": can_id_slave, "max_dlc_required": True}}},
         log_level=logging.CRITICAL,
     )
+    backend = getattr(app.transport.can, interface)  # pyxcp keeps each interface's own options apart
+    for key, value in (bus_kwargs or {}).items():
+        setattr(backend, key, value)
+    return _quiet_master("can", app, policy, timeout_s)
+
+
+def pyxcp_eth_master(host: str, port: int, protocol: str, policy=None, timeout_s: float = 2.0) -> Master:
+    """A pyxcp Master on XCP on UDP or TCP (``protocol``), never reading ``sys.argv``."""
+    app = create_application_from_config(
+        {"Transport": {"Eth": {"host": host, "port": port, "protocol": protocol.upper()}}},
+        log_level=logging.CRITICAL,
+    )
+    return _quiet_master("eth", app, policy, timeout_s)
+
+
+def _quiet_master(transport: str, app, policy, timeout_s: float) -> Master:
+    """Logs only criticals; the seed & key plugin of the demo A2L."""
     app.transport.timeout = timeout_s
     logging.getLogger("pyxcp").setLevel(logging.CRITICAL)
-    master = Master("can", config=app, policy=policy)
+    master = Master(transport, config=app, policy=policy)
     # pyxcp calls the plugin as f(resource, seed); the A2L names compute_key(seed, resource)
     master.seed_n_key_function = lambda resource, seed: compute_key(bytes(seed), resource)
     return master

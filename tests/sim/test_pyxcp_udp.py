@@ -22,20 +22,24 @@ CALIB = HDS9.region("CALIB")
 
 
 @pytest.fixture
-def sim_process():
-    """``workbench sim`` on a multicast group of its own, with the PCM; yields the group."""
+def sim_process(free_udp_port):
+    """``workbench sim`` on a multicast group and a port of its own, with the PCM; yields the bus settings.
+
+    python-can binds the port for every group: the port, not the group, keeps tests (and users) apart.
+    """
     group = f"239.74.{random.randint(164, 250)}.{random.randint(1, 250)}"
-    process, banner = start_sim_process("--interface", "udp_multicast", "--channel", group, "--pcm", "--duration", "120")
-    assert group in banner and "0x7F0" in banner
+    process, banner = start_sim_process("--interface", "udp_multicast", "--channel", group,
+                                        "--bus-kwargs", f"port={free_udp_port}", "--pcm", "--duration", "120")
+    assert f"{group} (port={free_udp_port})" in banner and "0x7F0" in banner
     process.banner = banner
-    yield group, process
+    yield {"channel": group, "bus_kwargs": {"port": free_udp_port}}, process
     if process.poll() is None:
         process.kill()
         process.wait()
 
 
 def test_pyxcp_against_a_workbench_sim_process(sim_process):
-    group, process = sim_process
+    bus, process = sim_process
     symbols = ElfSymbols(demo.elf())
     s19 = load_image(demo.s19())
     threshold = symbols.symbol("xsSWITCH_TANK_THR").address
@@ -43,7 +47,7 @@ def test_pyxcp_against_a_workbench_sim_process(sim_process):
     policy = Samples([DaqList(name="task50", event_num=1, stim=False, enable_timestamps=True,
                               measurements=[(n, symbols.symbol(n).address, 0, k) for n, k in names],
                               priority=0, prescaler=1)])
-    with pyxcp_master("udp_multicast", group, policy=policy) as master:
+    with pyxcp_master("udp_multicast", policy=policy, **bus) as master:
         connect(master)
         epk = master.identifier(5)
         assert epk in process.banner
@@ -73,7 +77,7 @@ def test_pyxcp_against_a_workbench_sim_process(sim_process):
             master.flash_program(start, data)
         master.programReset()
 
-    with pyxcp_master("udp_multicast", group) as master:
+    with pyxcp_master("udp_multicast", **bus) as master:
         _connect_after_reset(master)
         assert struct.unpack("<f", bytes(master.shortUpload(4, threshold)))[0] == 30.0  # new CAL ROM -> CAL RAM
         master.disconnect()

@@ -25,7 +25,8 @@ def test_json_banner(capsys):
     assert main(["sim", "--interface", "virtual", "--channel", "cli-sim-2", "--json", "--duration", "0.1",
                  "--bitrate", "500000", "--no-app-key"]) == 0
     info = json.loads(capsys.readouterr().out)
-    assert (info["state"], info["bitrate"], info["can_id_master"]) == ("boot", 500000, 0x7F0)
+    assert (info["state"], info["bitrate"], info["xcp"]["can_id_master"]) == ("boot", 500000, 0x7F0)
+    assert info["xcp"]["transport"] == "CAN" and info["buses"]["CAN1"]["channel"] == "cli-sim-2"
 
 
 def test_bad_input_is_one_line_and_exit_2(capsys, tmp_path):
@@ -33,7 +34,7 @@ def test_bad_input_is_one_line_and_exit_2(capsys, tmp_path):
     assert capsys.readouterr().err.strip() == f"error: {tmp_path / 'none.s19'}: no such file"
     assert main(["sim", "--interface", "virtual", "--pcm", "--pcm-target", "80"]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("error: --pcm-target:") and err.count("\n") == 1
+    assert err.startswith("error: PCM TargetRailPressure 80.0 bar: PCM_TO_FLCU_002:") and err.count("\n") == 1
     assert main(["sim", "--time-scale", "0"]) == 2
     MemoryImage.from_bytes(0x100, b"code").save(tmp_path / "outside.s19")
     assert main(["sim", "--interface", "virtual", "--s19", str(tmp_path / "outside.s19")]) == 2

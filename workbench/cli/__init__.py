@@ -15,6 +15,7 @@ import os
 import sys
 
 from workbench import __version__
+from workbench.cli.options import CommandParser
 from workbench.errors import WorkbenchError
 
 # (group, one-line help); the group's commands live in ``workbench.cli.<group>``.
@@ -46,7 +47,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"workbench {__version__}")
     parser.add_argument("--debug", action="store_true", help="show tracebacks and debug logging")
-    subparsers = parser.add_subparsers(title="command groups", dest="group", metavar="GROUP")
+    subparsers = parser.add_subparsers(title="command groups", dest="group", metavar="GROUP", parser_class=CommandParser)
     for group, help_text in GROUPS:
         module = f"{__name__}.{group}"
         if importlib.util.find_spec(module) is None:

@@ -1,17 +1,53 @@
 """Options and output shared by the commands (DESIGN: CLI conventions): the bus options of every
-command that talks to an ECU or a bus, ``--json``, and how reports and JSON are printed."""
+command that talks to an ECU or a bus (python-can's own, plus ``--host/--port/--protocol`` for XCP
+on Ethernet), ``--json``, and how reports and JSON are printed."""
 
 from __future__ import annotations
 
 import argparse
 import json
 import sys
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from workbench.findings import Report
 
-DEFAULT_CHANNELS = {"virtual": "workbench", "udp_multicast": "239.74.163.2"}
+# the Namespace keys ``can.cli.create_bus_from_namespace`` turns into ``can.Bus`` keyword arguments
+PYTHON_CAN_KEYS = ("channel", "interface", "bitrate", "fd", "data_bitrate", "can_filters", "timing")
+PROTOCOLS = ("udp", "tcp")
+
+
+class CommandParser(argparse.ArgumentParser):
+    """A command's parser whose costly options are added when the command runs or shows its help.
+
+    python-can's bus options need ``import can`` (half a second: it loads asammdf for its MF4
+    logger), which ``workbench --help`` and the commands that talk to no bus should not pay.
+    """
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._deferred: list[Callable[[], None]] = []
+
+    def defer(self, add_options: Callable[[], None]) -> None:
+        """Run ``add_options`` before this parser parses or formats anything."""
+        self._deferred.append(add_options)
+
+    def _add_deferred(self) -> None:
+        while self._deferred:
+            self._deferred.pop(0)()
+
+    def parse_known_args(self, args=None, namespace=None):
+        self._add_deferred()
+        return super().parse_known_args(args, namespace)
+
+    def format_usage(self) -> str:
+        self._add_deferred()
+        return super().format_usage()
+
+    def format_help(self) -> str:
+        self._add_deferred()
+        return super().format_help()
 
 
 def positive_int(text: str) -> int:
@@ -47,30 +83,65 @@ def non_negative_float(text: str) -> float:
     return value
 
 
+def port_number(text: str) -> int:
+    """argparse type: a TCP/UDP port, 0..65535 (0: any free port)."""
+    try:
+        value = int(text, 0)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a port number: {text!r}") from None
+    if not 0 <= value <= 0xFFFF:
+        raise argparse.ArgumentTypeError(f"must be 0..65535, got {value}")
+    return value
+
+
 def add_bus_arguments(parser: argparse.ArgumentParser) -> None:
-    """``--interface/--channel/--bitrate`` as python-can spells them, plus ``--host/--port`` for Ethernet."""
-    group = parser.add_argument_group("bus")
-    group.add_argument("--interface", "-i", default="udp_multicast",
-                       help="python-can interface: udp_multicast (default), virtual, socketcan, vector, pcan, kvaser, ...")
-    group.add_argument("--channel", "-c", default=None,
-                       help="python-can channel (default: 239.74.163.2 for udp_multicast)")
-    group.add_argument("--bitrate", "-b", type=positive_int, default=None,
-                       help="CAN bit rate in bit/s (default: from the A2L)")
-    group.add_argument("--host", default=None, help="XCP on Ethernet: ECU host (instead of CAN)")
-    group.add_argument("--port", type=positive_int, default=None, help="XCP on Ethernet: ECU port")
+    """python-can's own bus options (``can.cli.add_bus_arguments``): ``--interface``, ``--channel``,
+    ``--bitrate``, ``--fd``, ``--data-bitrate``, ``--timing`` and ``--bus-kwargs KEY=VALUE ...``
+    (udp_multicast's ``port``, Vector's ``app_name`` ...), all optional.
+
+    Two of them are checked the workbench's way: ``--bitrate`` must be positive, and an unknown
+    ``--interface`` is reported by the library in one line naming the known ones (python-can's
+    ``choices`` would print them as a usage error). On a :class:`CommandParser` they are added
+    when the command runs.
+    """
+    if isinstance(parser, CommandParser):
+        parser.defer(lambda: _add_python_can_arguments(parser))
+    else:
+        _add_python_can_arguments(parser)
 
 
-def bus_config(args: argparse.Namespace, bitrate: int | None = None) -> dict[str, Any]:
-    """The python-can ``Bus(**config)`` keyword arguments the options select."""
-    config: dict[str, Any] = {"interface": args.interface}
-    channel = args.channel or DEFAULT_CHANNELS.get(args.interface)
-    if channel is not None:
-        config["channel"] = channel
-    if args.bitrate or bitrate:
-        config["bitrate"] = args.bitrate or bitrate
-    if args.interface == "udp_multicast":
-        config["receive_own_messages"] = False
-    return config
+def _add_python_can_arguments(parser: argparse.ArgumentParser) -> None:
+    from can.cli import add_bus_arguments as add_python_can_bus_arguments
+
+    add_python_can_bus_arguments(parser, group_title="CAN bus (python-can's options)")
+    actions = parser._option_string_actions  # argparse keeps no public handle on an option once added
+    actions["--interface"].choices = None
+    actions["--interface"].help = ("python-can interface: udp_multicast (the default), virtual, socketcan, vector, pcan, "
+                                   "kvaser, ...")
+    actions["--channel"].help = "python-can channel (default: 239.74.163.2 on udp_multicast, workbench on virtual)"
+    actions["--bitrate"].type = positive_int
+    actions["--bitrate"].help = "CAN bit rate in bit/s (default: the A2L's BAUDRATE)"
+
+
+def bus_settings(args: argparse.Namespace) -> dict[str, Any] | None:
+    """The ``can.Bus(**settings)`` keyword arguments the bus options name, read as python-can's
+    ``create_bus_from_namespace`` reads them (``--bus-kwargs`` last), or None when none was given.
+
+    The bus itself is opened by the library, which first fills in the workbench's defaults and the
+    A2L's bit rate and reports a failure in one line (``create_bus_from_namespace`` opens it at once
+    and reports an ``ArgumentError`` quoting the whole namespace).
+    """
+    settings = {key: getattr(args, key) for key in PYTHON_CAN_KEYS if key in args}
+    settings.update(getattr(args, "bus_kwargs", {}))
+    return settings or None
+
+
+def add_ethernet_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--host``, ``--port`` and ``--protocol udp|tcp``: XCP on Ethernet instead of CAN."""
+    group = parser.add_argument_group("XCP on Ethernet")
+    group.add_argument("--host", help="XCP on Ethernet at this host (instead of XCP on CAN)")
+    group.add_argument("--port", type=port_number, help="XCP on Ethernet port (default: the A2L's)")
+    group.add_argument("--protocol", type=str.lower, choices=PROTOCOLS, help="udp (the default) or tcp")
 
 
 def add_output_arguments(parser: argparse.ArgumentParser) -> None:

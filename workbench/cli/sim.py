@@ -1,4 +1,4 @@
-"""``workbench sim``: serve the simulated FLCU ECU on a CAN bus until Ctrl-C."""
+"""``workbench sim``: serve the simulated FLCU ECU until Ctrl-C (the library call is ``workbench.sim.serve_demo``)."""
 
 from __future__ import annotations
 
@@ -7,30 +7,42 @@ import signal
 import sys
 import threading
 
-from workbench.cli.options import add_bus_arguments, add_output_arguments, bus_config, positive_float, print_json
+from workbench.cli.options import (
+    add_bus_arguments,
+    add_ethernet_arguments,
+    add_output_arguments,
+    bus_settings,
+    positive_float,
+    print_json,
+)
 from workbench.errors import InputError
 
-SOFTWARE_BUSES = ("virtual", "udp_multicast")
-
 EPILOG = """\
-CAN1 carries XCP (ids, baud rate and EPK from the A2L); the FLCU's CAN2 messages share that
-bus unless --can2-channel puts them on another one. With --bitrate on a software bus
-(virtual, udp_multicast) the simulator paces its frames as a real CAN bus of that bit rate
-would; on hardware the bit rate goes to the interface. --pcm adds a residual-bus PCM that
-sends EnableFLCU and TargetRailPressure every 100 ms, so the rail pressure rises on its own.
-Resources CAL/PAG, DAQ and PGM are locked until UNLOCK with the seed & key plugin
-workbench.sim.seedkey:compute_key (--unlocked serves them open).
+XCP on CAN (ids, baud rate and EPK from the A2L) goes on the CAN bus the python-can options name
+(default: udp_multicast 239.74.163.2); the FLCU's CAN2 messages share that bus unless
+--can2-channel puts them on another one. With --host the ECU serves XCP on Ethernet instead
+(UDP unless --protocol tcp; port and packet sizes from the A2L's XCP_ON_UDP_IP/XCP_ON_TCP_IP,
+--port 0 takes any free port), and the CAN bus options, if given, carry only the CAN2 messages.
+With --bitrate on a software bus (virtual, udp_multicast) the simulator paces its frames as a
+real CAN bus of that bit rate would; on hardware the bit rate goes to the interface. python-can
+binds udp_multicast's port for every group: two simulators on one host need their own ports
+(--bus-kwargs port=N). --pcm adds a residual-bus PCM that sends EnableFLCU and
+TargetRailPressure every 100 ms, so the rail pressure rises on its own. Resources CAL/PAG, DAQ
+and PGM are locked until UNLOCK with the seed & key plugin workbench.sim.seedkey:compute_key
+(--unlocked serves them open).
 
 examples:
   workbench sim --pcm
+  workbench sim --interface udp_multicast --channel 239.74.163.2 --bus-kwargs port=43200
   workbench sim --interface virtual --channel demo --time-scale 10
   workbench sim --interface socketcan --channel vcan0 --can2-channel vcan1
+  workbench sim --host 127.0.0.1 --port 5555 --protocol tcp --pcm
 """
 
 
 def add_subparser(subparsers, name: str, help_text: str) -> None:
     parser = subparsers.add_parser(
-        name, help=help_text, description="Serve the simulated FLCU ECU (XCP on CAN slave) until Ctrl-C.",
+        name, help=help_text, description="Serve the simulated FLCU ECU (XCP on CAN or on Ethernet) until Ctrl-C.",
         epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     files = parser.add_argument_group("demo ECU files (default: the built-in demo)")
@@ -39,6 +51,7 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     files.add_argument("--s19", help="flash image (S-records or Intel HEX)")
     files.add_argument("--dbc", help="CAN2 database of the FLCU messages")
     add_bus_arguments(parser)
+    add_ethernet_arguments(parser)
     can2 = parser.add_argument_group("CAN2 (FLCU messages)")
     can2.add_argument("--can2-interface", help="python-can interface of CAN2 (default: --interface)")
     can2.add_argument("--can2-channel", help="put CAN2 on its own bus with this channel (default: share CAN1)")
@@ -56,37 +69,31 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from workbench.sim.demo_ecu import DemoFiles, build_demo_ecu
-    from workbench.sim.server import Simulator
+    from workbench.sim.demo_ecu import DemoFiles
+    from workbench.sim.eth_port import EthernetEndpoint
+    from workbench.sim.serve import serve_demo
 
-    if args.host or args.port:
-        raise InputError("the simulated ECU speaks XCP on CAN only (no --host/--port)")
+    bus = bus_settings(args)
+    if (args.port is not None or args.protocol is not None) and not args.host:
+        raise InputError("--port and --protocol are for XCP on Ethernet: give --host too (e.g. --host 127.0.0.1)")
     if args.can2_interface and not args.can2_channel:
         raise InputError("--can2-interface needs --can2-channel (without it CAN2 shares CAN1)")
+    if args.host and bus and args.can2_channel:
+        raise InputError("with --host the CAN bus options carry only CAN2: --can2-channel has nothing to move")
+    can2 = None
+    if args.can2_channel:
+        can2 = dict(bus or {}, channel=args.can2_channel)
+        if args.can2_interface:
+            can2["interface"] = args.can2_interface
+    ethernet = EthernetEndpoint(args.host, args.port, args.protocol or "udp") if args.host else None
     defaults = DemoFiles.defaults()
     files = DemoFiles(
         a2l=args.a2l or defaults.a2l, elf=args.elf or defaults.elf,
         s19=args.s19 or defaults.s19, dbc=args.dbc or defaults.dbc,
     )
-    demo = build_demo_ecu(files, valid_key=not args.no_app_key, unlocked=args.unlocked)
-    software = args.interface in SOFTWARE_BUSES
-    can1 = bus_config(args)
-    timing_bitrate = None
-    if software:
-        timing_bitrate = can1.pop("bitrate", None)
-    elif "bitrate" not in can1:
-        can1["bitrate"] = demo.ecu.params.baudrate
-    can2 = None
-    if args.can2_channel:
-        can2 = dict(can1, interface=args.can2_interface or args.interface, channel=args.can2_channel)
-    pcm = demo.pcm_node(target_bar=args.pcm_target) if args.pcm else None
-    if pcm is not None:
-        try:
-            pcm.frames()
-        except ValueError as exc:
-            raise InputError(f"--pcm-target: {exc}") from None
-    simulator = Simulator(
-        demo.ecu, can1, can2, can2_driver=demo.can2, pcm=pcm, bitrate=timing_bitrate, time_scale=args.time_scale,
+    simulator = serve_demo(
+        bus, ethernet=ethernet, can2=can2, files=files, pcm_target_bar=args.pcm_target if args.pcm else None,
+        time_scale=args.time_scale, valid_key=not args.no_app_key, unlocked=args.unlocked,
     )
     stop = threading.Event()
     previous = signal.signal(signal.SIGTERM, lambda *_: stop.set()) if threading.current_thread() is threading.main_thread() else None
@@ -113,13 +120,19 @@ def _announce(args: argparse.Namespace, simulator, files) -> None:
         print_json(info)
         sys.stdout.flush()
         return
-    can1 = info["buses"]["CAN1"]
+    xcp, buses = info["xcp"], info["buses"]
+    if xcp["transport"] == "CAN":
+        where = [f"  CAN1 (XCP)   {_bus_text(buses['CAN1'])}",
+                 f"  XCP ids      master 0x{xcp['can_id_master']:X} -> ECU, ECU -> master 0x{xcp['can_id_slave']:X}"]
+        can2 = _bus_text(buses["CAN2"]) if "CAN2" in buses else "shares CAN1"
+    else:
+        where = [f"  XCP          on {xcp['transport']} at {xcp['host']}:{xcp['port']} "
+                 f"(MAX_CTO {xcp['max_cto']}, MAX_DTO {xcp['max_dto']})"]
+        can2 = _bus_text(buses["CAN2"]) if "CAN2" in buses else "not connected (give the CAN bus options)"
     lines = [
         f"workbench sim: FLCU demo ECU, {info['state']}",
-        f"  CAN1 (XCP)   {can1.get('interface')} {can1.get('channel', '')}".rstrip(),
-        f"  XCP ids      master 0x{info['can_id_master']:X} -> ECU, ECU -> master 0x{info['can_id_slave']:X}",
-        f"  CAN2 (FLCU)  " + (f"{info['buses']['CAN2'].get('interface')} {info['buses']['CAN2'].get('channel')}"
-                              if "CAN2" in info["buses"] else "shares CAN1"),
+        *where,
+        f"  CAN2 (FLCU)  {can2}",
         f"  EPK          {info['epk']}",
         f"  bus timing   {info['bitrate']} bit/s" if info["bitrate"] else "  bus timing   not modelled (use --bitrate)",
         f"  time scale   {info['time_scale']}x",
@@ -128,3 +141,13 @@ def _announce(args: argparse.Namespace, simulator, files) -> None:
         "serving; Ctrl-C stops",
     ]
     print("\n".join(lines), flush=True)
+
+
+def _bus_text(settings: dict) -> str:
+    """``interface channel (other settings)``, e.g. ``udp_multicast 239.74.163.2 (port=43200)``."""
+    text = " ".join(str(settings[key]) for key in ("interface", "channel") if settings.get(key) is not None) or "bus"
+    if "bus" in settings:
+        return settings["bus"]
+    others = [f"{key}={value}" for key, value in settings.items()
+              if key not in ("interface", "channel", "receive_own_messages")]
+    return f"{text} ({', '.join(others)})" if others else text

@@ -1,8 +1,8 @@
 """The FLCU demo ECU assembled from its files: ELF (layout, symbols), s19 (flash), A2L (XCP), DBC (CAN2).
 
-From the A2L come the CAN ids, the baud rate, the EPK address, the DAQ events and the
-BUILD_CHECKSUM type; the DAQ limits are the simulator's own (:class:`DaqParameters`), and
-the A2L must state the same (a test checks it). The s19 never holds the application-valid
+From the A2L come the CAN ids, the baud rate, MAX_CTO/MAX_DTO of the transport served (XCP on
+CAN or on UDP/TCP), the EPK address, the DAQ events and the BUILD_CHECKSUM type; the DAQ limits
+are the simulator's own (:class:`DaqParameters`), and the A2L must state the same (a test checks it). The s19 never holds the application-valid
 key (``.app_key`` is NOLOAD): the factory programs it after the image, as a flash tool
 does, unless ``valid_key=False``.
 """
@@ -23,6 +23,7 @@ from workbench.image import ChecksumType, load_image, split_by_region
 from workbench.sim.bsw import Bsw
 from workbench.sim.can2 import Can2Driver
 from workbench.sim.ecu import SimulatedEcu
+from workbench.sim.eth_framing import HEADER_SIZE
 from workbench.sim.faults import FaultPlan
 from workbench.sim.flcu import FlcuApplication
 from workbench.sim.layout import ApplicationLayout
@@ -34,6 +35,7 @@ from workbench.sim.xcp.parameters import EventChannel, XcpParameters
 from workbench.xcp_protocol import CAN_ID_EXTENDED_FLAG, Resource
 
 ECU_NODE = "FLCU"
+MAX_ETHERNET_DTO = 65507 - HEADER_SIZE  # the largest UDP payload (IPv4) less the LEN/CTR header
 PLANT_STEP_S = 0.001
 
 
@@ -67,35 +69,53 @@ class DemoEcu:
         return PcmNode(self.dbc, enable, target_bar)
 
 
-def xcp_parameters(doc: A2lDocument, config: XcpConfig) -> XcpParameters:
-    """The slave's parameters from an A2L: ids, baud rate, EPK, events, checksum; DAQ limits stay the simulator's.
+def xcp_parameters(doc: A2lDocument, config: XcpConfig, transport: str = "CAN") -> XcpParameters:
+    """The slave's parameters for ``transport`` ("CAN", "UDP" or "TCP") from an A2L: ids, baud rate, EPK,
+    events, checksum, and MAX_CTO/MAX_DTO from that transport's block (its own PROTOCOL_LAYER, if it has
+    one, overrules the common one); the DAQ limits stay the simulator's.
 
-    :raises InputError: the A2L lacks XCP on CAN, an EPK, or asks for frames classic CAN cannot carry.
+    :raises InputError: the A2L lacks the transport's block or an EPK, or asks for packet sizes the
+        transport cannot carry (classic CAN: 8 bytes; Ethernet: MAX_CTO 8..255, MAX_DTO 8..MAX_ETHERNET_DTO).
     """
     where = doc.path or "<A2L>"
-    if config.can is None:
-        raise InputError(f"{where}: IF_DATA XCP has no XCP_ON_CAN block; the simulated ECU speaks XCP on CAN")
-    if (config.max_cto, config.max_dto) != (8, 8):
-        raise InputError(f"{where}: MAX_CTO/MAX_DTO must be 8 on classic CAN, the A2L says {config.max_cto}/{config.max_dto}")
+    transport = transport.upper()
+    try:
+        effective = config.for_transport(transport)
+    except KeyError as exc:
+        raise InputError(f"{where}: IF_DATA XCP has no {exc.args[0]} block; the simulated ECU serves XCP on "
+                         f"{transport} as the A2L describes it") from None
+    sizes = (effective.max_cto, effective.max_dto)
+    if transport == "CAN" and sizes != (8, 8):
+        raise InputError(f"{where}: MAX_CTO/MAX_DTO must be 8 on classic CAN, the A2L says {sizes[0]}/{sizes[1]}")
+    if transport != "CAN" and not (8 <= sizes[0] <= 0xFF and 8 <= sizes[1] <= MAX_ETHERNET_DTO):
+        raise InputError(f"{where}: XCP on {transport} needs MAX_CTO 8..255 and MAX_DTO 8..{MAX_ETHERNET_DTO}, "
+                         f"the A2L says {sizes[0]}/{sizes[1]}")
     epk, epk_address = doc.epk(), doc.addr_epk()
     if epk is None or epk_address is None:
         raise InputError(f"{where}: MOD_PAR needs EPK and ADDR_EPK")
-    can = config.can
     defaults = XcpParameters()
     events = defaults.events
-    if config.daq is not None and config.daq.events:
+    if effective.daq is not None and effective.daq.events:
         events = tuple(
-            EventChannel(e.number, e.name, e.period_s or 0.0, e.priority) for e in config.daq.events
+            EventChannel(e.number, e.name, e.period_s or 0.0, e.priority) for e in effective.daq.events
         )
     checksum = next((s.checksum_type for s in config.segments if s.checksum_type), None)
     if checksum is not None and checksum.removeprefix("XCP_") not in ChecksumType.__members__:
         raise InputError(f"{where}: the simulated ECU cannot compute the CHECKSUM type {checksum}")
-    mode = config.communication_mode
+    mode = effective.communication_mode
+    ids = {}
+    if config.can is not None:  # on Ethernet too: the ids stay the A2L's, unused
+        can = config.can
+        ids = {
+            "can_id_master": can.can_id_master | (CAN_ID_EXTENDED_FLAG if can.can_id_master_is_extended else 0),
+            "can_id_slave": can.can_id_slave | (CAN_ID_EXTENDED_FLAG if can.can_id_slave_is_extended else 0),
+            "baudrate": can.baudrate or defaults.baudrate,
+            "max_dlc_required": can.max_dlc_required,
+        }
     return XcpParameters(
-        can_id_master=can.can_id_master | (CAN_ID_EXTENDED_FLAG if can.can_id_master_is_extended else 0),
-        can_id_slave=can.can_id_slave | (CAN_ID_EXTENDED_FLAG if can.can_id_slave_is_extended else 0),
-        baudrate=can.baudrate or defaults.baudrate,
-        max_dlc_required=can.max_dlc_required,
+        **ids,
+        max_cto=sizes[0],
+        max_dto=sizes[1],
         max_bs=mode.max_bs if mode is not None and mode.max_bs else defaults.max_bs,
         checksum_type=ChecksumType[checksum.removeprefix("XCP_")] if checksum else defaults.checksum_type,
         epk_address=epk_address,
@@ -108,6 +128,7 @@ def xcp_parameters(doc: A2lDocument, config: XcpConfig) -> XcpParameters:
 def build_demo_ecu(
     files: DemoFiles | None = None,
     *,
+    transport: str = "CAN",
     valid_key: bool = True,
     unlocked: bool = False,
     scheduler: Scheduler | None = None,
@@ -116,13 +137,14 @@ def build_demo_ecu(
 ) -> DemoEcu:
     """The FLCU ECU with its plant on one scheduler (the plant steps every millisecond), not powered yet.
 
+    ``transport`` ("CAN", "UDP" or "TCP") picks the A2L block whose packet sizes the slave uses;
     ``unlocked`` serves CAL/PAG, DAQ and PGM without seed & key.
 
     :raises InputError: a file is missing or malformed.
     """
     files = files or DemoFiles.defaults()
     doc = load_a2l(files.a2l)
-    params = xcp_parameters(doc, read_xcp_config(doc))
+    params = xcp_parameters(doc, read_xcp_config(doc), transport)
     if unlocked:
         params = replace(params, protected=Resource(0))
     elf = ElfSymbols(files.elf)

@@ -281,10 +281,14 @@ class XcpSlave:
             PROTOCOL_LAYER_VERSION, TRANSPORT_LAYER_VERSION,
         )
 
-    def _disconnect(self, req: bytes) -> bytes:
+    def disconnect(self) -> None:
+        """End the session as DISCONNECT does (also when the transport loses the master): DAQ stops and is freed."""
         self.daq.free()
         self.connected = False
         self._seed = None
+
+    def _disconnect(self, req: bytes) -> bytes:
+        self.disconnect()
         return b""
 
     def _get_status(self, req: bytes) -> bytes:

@@ -1,0 +1,162 @@
+"""The simulated ECU on python-can buses: the buses themselves (:class:`CanBuses`) and XCP on CAN
+(:class:`CanXcpPort`).
+
+Buses are given by role, ``CAN1`` (XCP on CAN) and ``CAN2`` (the FLCU messages), as python-can
+settings (opened here, shut down at close) or as open buses (the caller's). Two roles may share
+one bus. Each distinct bus gets one receiver thread and one transmitter, paced by the bus timing
+model when a bit rate is given.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable, Mapping
+from typing import Any
+
+import can
+
+from workbench.errors import InputError, WorkbenchError
+from workbench.sim.bus import ECHOING_INTERFACES, EchoFilter, Receiver, Transmitter
+from workbench.sim.can_timing import BusClock
+from workbench.sim.ecu import SimulatedEcu
+from workbench.sim.xcp_port import XcpPort
+from workbench.xcp_protocol import CAN_ID_EXTENDED_FLAG
+
+log = logging.getLogger(__name__)
+
+MAX_DLC = 8  # classic CAN
+
+BusSpec = can.BusABC | Mapping[str, Any]
+
+
+def split_can_id(raw: int) -> tuple[int, bool]:
+    """An A2L CAN id (bit 31 = extended) as ``(identifier, is_extended)``."""
+    return raw & 0x1FFFFFFF, bool(raw & CAN_ID_EXTENDED_FLAG)
+
+
+class CanBuses:
+    """The buses by role; frames received go to ``on_frame(role, message)`` (the first role of a shared bus)."""
+
+    def __init__(self, specs: Mapping[str, BusSpec | None], bitrate: int | None = None):
+        self._specs = {name: spec for name, spec in specs.items() if spec is not None}
+        self.bitrate = bitrate
+        self._buses: dict[str, can.BusABC] = {}
+        self._owned: list[can.BusABC] = []
+        self._transmitters: dict[str, Transmitter] = {}
+        self._receivers: list[Receiver] = []
+
+    def open(self, on_frame: Callable[[str, can.Message], None]) -> None:
+        """Open the buses given as settings and start their threads.
+
+        :raises InputError: an interface python-can does not know (the message names the known ones).
+        :raises WorkbenchError: a bus cannot be opened (the message names the role and the interface).
+        """
+        for name, spec in self._specs.items():
+            self._buses[name] = spec if isinstance(spec, can.BusABC) else self._open(name, spec)
+        for name, bus in self._distinct():
+            clock = BusClock(self.bitrate) if self.bitrate else None
+            echoes = EchoFilter() if self._echoes(name, bus) else None
+            self._transmitters[name] = Transmitter(bus, clock, name, echoes)
+            self._receivers.append(Receiver(bus, lambda message, role=name: on_frame(role, message), clock, name, echoes))
+        for name, bus in self._buses.items():  # a role sharing a bus sends through that bus's transmitter
+            if name not in self._transmitters:
+                self._transmitters[name] = next(self._transmitters[other] for other, b in self._distinct() if b is bus)
+
+    def _open(self, name: str, spec: Mapping[str, Any]) -> can.BusABC:
+        interface = spec.get("interface")
+        if interface not in can.interfaces.VALID_INTERFACES:
+            raise InputError(f"{name}: unknown python-can interface {interface!r} "
+                             f"(known: {', '.join(sorted(can.interfaces.VALID_INTERFACES))})")
+        try:
+            bus = can.Bus(**dict(spec))
+        except (can.CanError, OSError, ValueError, ImportError, TypeError) as exc:
+            where = f"{interface} {spec.get('channel', '')}".strip()
+            raise WorkbenchError(f"cannot open {name} bus ({where}): {exc}") from exc
+        self._owned.append(bus)
+        return bus
+
+    def _echoes(self, name: str, bus: can.BusABC) -> bool:
+        spec = self._specs[name]
+        interface = spec.get("interface") if isinstance(spec, Mapping) else None
+        return interface in ECHOING_INTERFACES or type(bus).__name__ == "UdpMulticastBus"
+
+    def _distinct(self) -> list[tuple[str, can.BusABC]]:
+        seen: list[tuple[str, can.BusABC]] = []
+        for name, bus in self._buses.items():
+            if all(bus is not other for _, other in seen):
+                seen.append((name, bus))
+        return seen
+
+    def shares(self, name: str, other: str) -> bool:
+        """Whether roles ``name`` and ``other`` are one bus."""
+        bus = self._buses.get(name)
+        return bus is not None and bus is self._buses.get(other)
+
+    def transmitter(self, name: str) -> Transmitter | None:
+        return self._transmitters.get(name)
+
+    @property
+    def buses(self) -> dict[str, can.BusABC]:
+        return dict(self._buses)
+
+    def describe(self) -> dict[str, dict[str, Any]]:
+        return {name: dict(spec) if isinstance(spec, Mapping) else {"bus": str(spec)} for name, spec in self._specs.items()}
+
+    def close(self) -> None:
+        """Stop the threads and shut down the buses opened here (the caller's stay open)."""
+        for receiver in self._receivers:
+            receiver.stop()
+        for transmitter in set(self._transmitters.values()):
+            transmitter.close()
+        for bus in self._owned:
+            bus.shutdown()
+
+
+class CanXcpPort(XcpPort):
+    """XCP on CAN on the ``CAN1`` role of ``buses``: commands on CAN_ID_MASTER, responses and DTOs on CAN_ID_SLAVE.
+
+    With MAX_DLC_REQUIRED the slave pads every frame to DLC 8 and ignores master frames of
+    another DLC, as AUTOSAR's CanXcp does.
+    """
+
+    transport = "CAN"
+
+    def __init__(self, ecu: SimulatedEcu, lock, buses: CanBuses):
+        super().__init__(ecu, lock)
+        self.buses = buses
+        self.master_id = split_can_id(ecu.params.can_id_master)
+        self.slave_id = split_can_id(ecu.params.can_id_slave)
+        self._short_frame_seen = False
+
+    def start(self) -> None:
+        """Nothing of its own to open: :class:`CanBuses` opens the bus and hands frames to :meth:`on_frame`."""
+
+    def accepts(self, message: can.Message) -> bool:
+        return (message.arbitration_id, message.is_extended_id) == self.master_id
+
+    def on_frame(self, message: can.Message) -> None:
+        if message.is_remote_frame or (self.ecu.params.max_dlc_required and message.dlc != MAX_DLC):
+            # MAX_DLC_REQUIRED binds the master too: a shorter frame is no XCP packet (AUTOSAR CanXcp ignores it)
+            level = logging.DEBUG if self._short_frame_seen else logging.WARNING
+            self._short_frame_seen = True
+            log.log(level, "XCP frame with DLC %d ignored: the A2L says MAX_DLC_REQUIRED, the master must pad to 8",
+                    message.dlc)
+            return
+        self.on_command(bytes(message.data))
+
+    def _frame(self, packet: bytes) -> can.Message:
+        if self.ecu.params.max_dlc_required:
+            packet = packet.ljust(MAX_DLC, b"\0")
+        identifier, extended = self.slave_id
+        return can.Message(arbitration_id=identifier, is_extended_id=extended, data=packet)
+
+    def _transmit_response(self, packet: bytes) -> None:
+        self.buses.transmitter("CAN1").send(self._frame(packet))
+
+    def _transmit_dtos(self, packets: list[bytes]) -> bool:
+        return self.buses.transmitter("CAN1").send_dtos([self._frame(packet) for packet in packets])
+
+    def describe(self) -> dict[str, Any]:
+        params = self.ecu.params
+        return {"transport": "CAN", "can_id_master": params.can_id_master, "can_id_slave": params.can_id_slave,
+                "max_cto": params.max_cto, "max_dto": params.max_dto}

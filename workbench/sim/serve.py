@@ -1,0 +1,123 @@
+"""The demo ECU served in one call, as ``workbench sim`` serves it: :func:`serve_demo`.
+
+```python
+from workbench.sim import EthernetEndpoint, serve_demo
+
+with serve_demo({"interface": "virtual", "channel": "bench"}, pcm_target_bar=25.0) as sim:
+    ...  # XCP on CAN on the virtual bus "bench", the FLCU messages there too
+with serve_demo(ethernet=EthernetEndpoint("127.0.0.1", 5555, "TCP")) as sim:
+    ...  # XCP on TCP at 127.0.0.1:5555 (MAX_CTO/MAX_DTO of the A2L's XCP_ON_TCP_IP)
+```
+"""
+
+from __future__ import annotations
+
+import random
+from collections.abc import Mapping
+from dataclasses import replace
+from typing import TYPE_CHECKING, Any
+
+from workbench.a2l import read_xcp_config
+from workbench.errors import InputError
+from workbench.sim.demo_ecu import DemoEcu, DemoFiles, build_demo_ecu
+from workbench.sim.faults import FaultPlan
+from workbench.sim.server import Simulator
+
+if TYPE_CHECKING:
+    import can
+
+    from workbench.sim.eth_port import EthernetEndpoint
+
+__all__ = ["DEFAULT_CHANNELS", "DEFAULT_INTERFACE", "SOFTWARE_INTERFACES", "bus_settings", "serve_demo"]
+
+DEFAULT_INTERFACE = "udp_multicast"
+DEFAULT_CHANNELS = {"udp_multicast": "239.74.163.2", "virtual": "workbench"}
+SOFTWARE_INTERFACES = frozenset({"virtual", "udp_multicast"})  # no bit rate of their own: it sets the timing model
+
+
+def bus_settings(settings: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    """python-can ``Bus(**settings)`` keyword arguments with the workbench's defaults filled in:
+    ``interface`` udp_multicast, its ``channel`` 239.74.163.2 (virtual: "workbench"), and on
+    udp_multicast ``receive_own_messages`` off. Other keys (``bitrate``, ``port``, ``app_name`` ...)
+    pass through unchanged."""
+    completed = dict(settings or {})
+    interface = completed.setdefault("interface", DEFAULT_INTERFACE)
+    if completed.get("channel") is None and interface in DEFAULT_CHANNELS:
+        completed["channel"] = DEFAULT_CHANNELS[interface]
+    if interface == "udp_multicast":
+        completed.setdefault("receive_own_messages", False)
+    return completed
+
+
+def serve_demo(
+    bus: Mapping[str, Any] | can.BusABC | None = None,
+    *,
+    ethernet: EthernetEndpoint | None = None,
+    can2: Mapping[str, Any] | can.BusABC | None = None,
+    files: DemoFiles | None = None,
+    demo: DemoEcu | None = None,
+    pcm_target_bar: float | None = None,
+    time_scale: float | None = 1.0,
+    valid_key: bool = True,
+    unlocked: bool = False,
+    faults: FaultPlan | None = None,
+    rng: random.Random | None = None,
+) -> Simulator:
+    """Build the FLCU demo ECU and serve it; returns the started :class:`Simulator` (a context manager).
+
+    :param bus: the CAN bus, as python-can settings (completed by :func:`bus_settings`) or an open bus
+        (it stays the caller's). It carries XCP on CAN unless ``ethernet`` is given, and the FLCU's CAN2
+        messages unless ``can2`` is. On virtual/udp_multicast a ``bitrate`` sets the simulator's bus
+        timing model; on other interfaces it goes to the interface (default: the A2L's BAUDRATE).
+        Default: udp_multicast on 239.74.163.2 with XCP on CAN, no CAN bus with XCP on Ethernet.
+    :param ethernet: serve XCP on UDP/TCP there instead of on CAN, with the packet sizes (and, when
+        ``ethernet.port`` is None, the port) of the A2L's XCP_ON_UDP_IP / XCP_ON_TCP_IP.
+    :param can2: the FLCU messages on a bus of their own (settings completed as ``bus``'s).
+    :param demo: an ECU built by :func:`build_demo_ecu` for the same transport (default: built here
+        from ``files`` with ``valid_key``, ``unlocked``, ``faults`` and ``rng``).
+    :param pcm_target_bar: add a residual-bus PCM sending EnableFLCU = 1 and this TargetRailPressure
+        (bar) every 100 ms.
+    :param time_scale: simulated seconds per real second; None: only ``Simulator.advance`` moves time.
+    :raises InputError: a file, setting or target the demo cannot take (the message names it).
+    :raises WorkbenchError: a bus or the Ethernet address cannot be opened.
+    """
+    if ethernet is not None and bus is not None and can2 is not None:
+        raise InputError("with XCP on Ethernet the CAN bus carries only the FLCU messages: give bus or can2, not both")
+    if demo is None:
+        demo = build_demo_ecu(files, transport=ethernet.protocol if ethernet is not None else "CAN",
+                              valid_key=valid_key, unlocked=unlocked, faults=faults, rng=rng)
+    if ethernet is not None and ethernet.port is None:
+        block = getattr(read_xcp_config(demo.a2l), ethernet.protocol.lower())
+        ethernet = replace(ethernet, port=block.port)
+    if ethernet is None:
+        bus = bus_settings(bus) if not _is_open_bus(bus) else bus
+    elif bus is not None:
+        bus, can2 = None, bus  # XCP left the bus: what stays on it is CAN2
+    can2 = bus_settings(can2) if can2 is not None and not _is_open_bus(can2) else can2
+    baudrate = demo.ecu.params.baudrate
+    timing = _timing_bitrate(bus, baudrate) or _timing_bitrate(can2, baudrate)
+    pcm = None
+    if pcm_target_bar is not None:
+        pcm = demo.pcm_node(target_bar=pcm_target_bar)
+        try:
+            pcm.frames()
+        except ValueError as exc:
+            raise InputError(f"PCM TargetRailPressure {pcm_target_bar} bar: {exc}") from None
+    simulator = Simulator(demo.ecu, bus, can2, ethernet=ethernet, can2_driver=demo.can2, pcm=pcm, bitrate=timing,
+                          time_scale=time_scale)
+    return simulator.start()
+
+
+def _timing_bitrate(settings: object, baudrate: int) -> int | None:
+    """A software bus's ``bitrate``, taken out of its settings for the timing model; a hardware
+    interface keeps its own (default ``baudrate``, the A2L's)."""
+    if not isinstance(settings, dict):
+        return None
+    if settings["interface"] in SOFTWARE_INTERFACES:
+        return settings.pop("bitrate", None)
+    settings.setdefault("bitrate", baudrate)
+    return None
+
+
+def _is_open_bus(bus: object) -> bool:
+    return bus is not None and not isinstance(bus, Mapping)

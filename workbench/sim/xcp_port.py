@@ -1,0 +1,93 @@
+"""What every XCP front end of the simulated ECU shares, whatever carries its packets.
+
+An :class:`XcpPort` takes command packets off its medium and hands them to
+:meth:`XcpPort.on_command`; that applies the ECU's fault plan (``"rx"``), lets the ECU answer
+under the simulator's lock, and passes each response through the ``"tx"`` faults to the
+front end's :meth:`XcpPort._transmit_response`. The ECU's DTOs (one DAQ list sample per call)
+go the same way to :meth:`XcpPort._transmit_dtos`. The front ends are XCP on CAN
+(:mod:`workbench.sim.can_port`) and XCP on UDP/TCP (:mod:`workbench.sim.eth_port`): they only
+frame, send and receive.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from abc import ABC, abstractmethod
+from collections.abc import Callable
+from typing import Any
+
+from workbench.sim.ecu import SimulatedEcu
+from workbench.sim.faults import FrameAction
+
+
+class XcpPort(ABC):
+    """One XCP transport of a :class:`~workbench.sim.ecu.SimulatedEcu`; ``lock`` serialises the ECU."""
+
+    transport = "XCP"  # "CAN", "UDP" or "TCP"
+
+    def __init__(self, ecu: SimulatedEcu, lock: threading.RLock):
+        self.ecu = ecu
+        self.lock = lock
+        self._timers: list[threading.Timer] = []
+
+    # --- life cycle, implemented by the front ends ---------------------------------------------
+
+    @abstractmethod
+    def start(self) -> None:
+        """Open the medium and start receiving; :class:`~workbench.errors.WorkbenchError` when it cannot."""
+
+    def close(self) -> None:
+        """Stop receiving and drop delayed packets not sent yet; safe to call twice."""
+        for timer in self._timers:
+            timer.cancel()
+
+    @abstractmethod
+    def describe(self) -> dict[str, Any]:
+        """Where and how this port serves XCP (for the CLI and logs)."""
+
+    @abstractmethod
+    def _transmit_response(self, packet: bytes) -> None:
+        """Send a response (or a packet the fault plan delayed); it goes before any DTO still queued."""
+
+    @abstractmethod
+    def _transmit_dtos(self, packets: list[bytes]) -> bool:
+        """Send one sample's DTOs, all or none; False when they did not fit the transmit buffer (a DAQ overload)."""
+
+    # --- the packet path -----------------------------------------------------------------------
+
+    def on_command(self, cto: bytes) -> None:
+        """A command packet from the master: the ``"rx"`` fault, the ECU's answer, each response out."""
+        fault = self.ecu.faults.on_frame("rx")
+        if fault is not None and fault.action is FrameAction.DROP:
+            return
+        if fault is not None and fault.action is FrameAction.DELAY:
+            time.sleep(fault.delay_s)
+        for _ in range(2 if fault is not None and fault.action is FrameAction.DUPLICATE else 1):
+            with self.lock:
+                packets = self.ecu.handle_cto(cto)
+            for packet in packets:
+                for now in self._faulted(packet, self._transmit_response):
+                    self._transmit_response(now)
+
+    def send_dtos(self, packets: list[bytes]) -> None:
+        """The ECU's ``dto_sink``: one DAQ list sample, its DTOs through the ``"tx"`` faults."""
+        now: list[bytes] = []
+        for packet in packets:
+            now += self._faulted(packet, lambda late: self._transmit_dtos([late]))
+        if now:
+            self._transmit_dtos(now)
+
+    def _faulted(self, packet: bytes, send_later: Callable[[bytes], object]) -> list[bytes]:
+        """The packets to send now for ``packet`` after the next ``"tx"`` fault (a delay sends it later)."""
+        fault = self.ecu.faults.on_frame("tx")
+        if fault is None:
+            return [packet]
+        if fault.action is FrameAction.DUPLICATE:
+            return [packet, packet]
+        if fault.action is FrameAction.DELAY:
+            timer = threading.Timer(fault.delay_s, send_later, (packet,))
+            timer.daemon = True
+            self._timers = [t for t in self._timers if t.is_alive()] + [timer]
+            timer.start()
+        return []
