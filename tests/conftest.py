@@ -25,3 +25,11 @@ def free_udp_port() -> int:
 def free_tcp_port() -> int:
     """A TCP port of this test's own, e.g. for XCP on TCP."""
     return free_port(socket.SOCK_STREAM)
+
+
+@pytest.fixture
+def another_free_udp_port(free_udp_port) -> int:
+    """A second UDP port of this test's own, other than ``free_udp_port`` (for a second bus or simulator)."""
+    while (port := free_port(socket.SOCK_DGRAM)) == free_udp_port:
+        pass
+    return port

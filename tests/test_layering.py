@@ -2,9 +2,9 @@
 
 gui -> (xcp, calib, record, can) -> (a2l, elf, image); sim uses image/a2l/can/elf but
 never xcp; only the CLI and the GUI sit on top. A module may always use the shared
-foundation (errors, progress, fileio, demo, findings, lazy_exports) and xcp_protocol, the
-XCP names the simulated slave and the master share (it imports nothing, so sim stays free
-of xcp).
+foundation (errors, progress, fileio, demo, findings, lazy_exports) and what the simulated
+slave and the master share: xcp_protocol (the XCP names) and bus_defaults (the default bus);
+they import nothing, so sim stays free of xcp.
 """
 
 import ast
@@ -15,7 +15,7 @@ import pytest
 import workbench
 
 PACKAGE = Path(workbench.__file__).parent
-FOUNDATION = {"errors", "progress", "fileio", "demo", "findings", "lazy_exports", "xcp_protocol"}
+FOUNDATION = {"errors", "progress", "fileio", "demo", "findings", "lazy_exports", "xcp_protocol", "bus_defaults"}
 ALLOWED = {
     "elf": set(),
     "image": set(),
@@ -57,5 +57,6 @@ def test_no_core_module_imports_qt():
         assert "PySide6" not in source and "pyqtgraph" not in source, path
 
 
-def test_the_shared_xcp_names_stand_on_nothing():
-    assert _imported_subpackages(PACKAGE / "xcp_protocol.py") == set()
+@pytest.mark.parametrize("module", ["xcp_protocol.py", "bus_defaults.py"])
+def test_the_neutral_ground_of_master_and_simulator_stands_on_nothing(module):
+    assert _imported_subpackages(PACKAGE / module) == set()

@@ -46,6 +46,19 @@ def test_protocol_layer(config, slave):
     assert resource == Resource.CAL_PAG | Resource.DAQ | Resource.PGM
 
 
+@pytest.mark.parametrize("transport", ["UDP", "TCP"])
+def test_ethernet_packet_sizes(config, transport):
+    """XCP_ON_UDP_IP / XCP_ON_TCP_IP overrule MAX_CTO/MAX_DTO (and MAX_CTO_PGM); the slave on Ethernet says the same."""
+    demo = build_demo_ecu(transport=transport, unlocked=True)
+    demo.ecu.power_on()
+    probe = XcpProbe(demo.ecu)
+    _, _, max_cto, max_dto = struct.unpack_from("<BBBH", probe.connect())
+    ethernet = config.for_transport(transport)
+    assert (ethernet.max_cto, ethernet.max_dto) == (max_cto, max_dto) == (255, 1024)
+    assert ethernet.pgm.max_cto_pgm == probe.ok(Cmd.PROGRAM_START)[2]
+    assert (config.max_cto, config.max_dto) == (8, 8)  # the common blocks stay classic CAN's
+
+
 def test_daq_limits(config, slave):
     daq = config.daq
     properties, max_daq, max_events, min_daq, key = struct.unpack("<BHHBB", slave.ok(Cmd.GET_DAQ_PROCESSOR_INFO))

@@ -1,16 +1,23 @@
-"""``workbench sim``: banner, clean stop (also by Ctrl-C/SIGTERM in a real process), one-line errors."""
+"""``workbench sim``: banner, clean stop (also by Ctrl-C/SIGTERM in a real process), one-line errors,
+XCP on Ethernet end to end."""
 
 from __future__ import annotations
 
 import json
 import signal
+import socket
+import struct
+import subprocess
+import sys
 import time
 
 import pytest
+from eth_master import RawEthMaster
 from sim_process import start_sim_process
 
 from workbench.cli import main
 from workbench.image import MemoryImage
+from workbench.xcp_protocol import Cmd
 
 
 def test_serves_for_a_duration_and_stops_cleanly(capsys):
@@ -76,3 +83,65 @@ def test_a_signal_stops_the_process_cleanly(signal_number):
         process.kill()
     assert process.returncode == 0, err
     assert out.rstrip().endswith("workbench sim: stopped") and err == ""
+
+
+def test_xcp_on_tcp_end_to_end_in_a_process_of_its_own(free_tcp_port):
+    process, banner = start_sim_process("--host", "127.0.0.1", "--port", str(free_tcp_port), "--protocol", "tcp",
+                                        "--duration", "2")
+    try:
+        assert f"XCP          on TCP at 127.0.0.1:{free_tcp_port} (MAX_CTO 255, MAX_DTO 1024)" in banner
+        assert "CAN2 (FLCU)  not connected" in banner
+        with RawEthMaster(("127.0.0.1", free_tcp_port), "TCP") as master:
+            (ctr, response), = master.request(bytes([Cmd.CONNECT, 0]))
+            assert ctr == 0 and response[0] == 0xFF and struct.unpack_from("<BH", response, 3) == (255, 1024)
+            assert master.request(bytes([Cmd.GET_STATUS]))[0][0] == 1
+        out, err = process.communicate(timeout=15)  # --duration 2: it stops by itself
+    finally:
+        process.kill()
+    assert process.returncode == 0 and err == ""
+    assert out.rstrip().endswith("workbench sim: stopped")
+
+
+def test_xcp_on_udp_json_banner_names_the_port_it_took(capsys):
+    assert main(["sim", "--host", "127.0.0.1", "--port", "0", "--json", "--duration", "0.1"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    assert info["xcp"]["transport"] == "UDP" and info["xcp"]["port"] > 0 and info["buses"] == {}
+    assert (info["xcp"]["max_cto"], info["xcp"]["max_dto"]) == (255, 1024)
+
+
+@pytest.mark.parametrize("protocol, kind", [("udp", socket.SOCK_DGRAM), ("tcp", socket.SOCK_STREAM)])
+def test_a_port_in_use_fails_in_one_line(capsys, protocol, kind):
+    with socket.socket(socket.AF_INET, kind) as taken:
+        taken.bind(("127.0.0.1", 0))
+        if kind == socket.SOCK_STREAM:
+            taken.listen(1)
+        port = taken.getsockname()[1]
+        assert main(["sim", "--host", "127.0.0.1", "--port", str(port), "--protocol", protocol, "--duration", "0.1"]) == 1
+    assert capsys.readouterr().err == f"error: cannot serve XCP on {protocol.upper()} at 127.0.0.1:{port}: Address already in use\n"
+
+
+@pytest.mark.parametrize("options", [["--protocol", "tcp"], ["--port", "5555"]])
+def test_ethernet_options_without_host_are_bad_input(capsys, options):
+    assert main(["sim", *options, "--duration", "0.1"]) == 2
+    assert capsys.readouterr().err == (
+        "error: --port and --protocol are for XCP on Ethernet: give --host too (e.g. --host 127.0.0.1)\n")
+
+
+@pytest.mark.parametrize("options, message", [
+    (["--protocol", "sctp"], "invalid choice: 'sctp'"),
+    (["--port", "70000"], "must be 0..65535, got 70000"),
+    (["--bus-kwargs", "port"], "Unable to parse bus keyword argument 'port'"),
+])
+def test_malformed_options_are_usage_errors(capsys, options, message):
+    assert main(["sim", "--host", "127.0.0.1", *options]) == 2
+    assert message in capsys.readouterr().err.splitlines()[-1]
+
+
+def test_the_bus_options_cost_nothing_until_a_command_needs_them():
+    """python-can's options import python-can (and asammdf): only the commands that talk to a bus pay for it."""
+    code = ("import sys, contextlib, io\nfrom workbench.cli import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()):\n    main(sys.argv[1:])\n"
+            "print('can' in sys.modules)")
+    loaded = {args[0]: subprocess.run([sys.executable, "-c", code, *args], capture_output=True, text=True).stdout.strip()
+              for args in (["--help"], ["a2l", "check", "--help"], ["sim", "--help"])}
+    assert loaded == {"--help": "False", "a2l": "False", "sim": "True"}

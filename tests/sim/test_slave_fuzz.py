@@ -1,4 +1,5 @@
-"""Random CTOs of random lengths: every one is answered (or meets a documented silence), nothing breaks."""
+"""Random CTOs of random lengths, random frames and datagrams: every command is answered (or meets a
+documented silence), malformed input is ignored, nothing breaks."""
 
 from __future__ import annotations
 
@@ -8,9 +9,11 @@ import struct
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from eth_master import RawEthMaster
 from mini_ecu import XcpProbe, make_ecu
 from raw_master import RawMaster
 
+from workbench.sim.eth_port import EthernetEndpoint
 from workbench.sim.server import Simulator
 from workbench.sim.xcp.parameters import XcpParameters
 from workbench.xcp_protocol import PID_ERR, PID_RES, Cmd, Err, Resource
@@ -102,6 +105,39 @@ def test_random_frames_over_the_bus(caplog):
                 responses.append(bytes(message.data))
             assert message is not None, "the slave stopped answering"
             assert all(len(r) == 8 and r[0] in (PID_RES, PID_ERR) for r in responses), [r.hex(" ") for r in responses]
+
+        run()
+    assert not caplog.records, [r.getMessage() for r in caplog.records]
+
+
+framed_packet = st.tuples(st.integers(0, 0xFFFF), st.integers(0, 0xFFFF), cto).map(
+    lambda parts: struct.pack("<HH", parts[0] if parts[0] % 3 else len(parts[2]), parts[1]) + parts[2])
+datagram = st.one_of(
+    st.binary(max_size=40),  # anything at all
+    st.lists(framed_packet, min_size=1, max_size=4).map(b"".join),  # headers, mostly with a true LEN
+)
+
+
+@pytest.mark.parametrize("protocol", ["UDP", "TCP"])
+def test_random_datagrams_over_ethernet(caplog, protocol):
+    """XCP on UDP/TCP: any bytes (malformed ones ignored or, on TCP, ending the connection); the slave serves on."""
+    caplog.set_level(logging.ERROR, logger="workbench.sim")
+    epk_upload = bytes([Cmd.SHORT_UPLOAD, 4, 0, 0]) + struct.pack("<I", 0xFC0000)
+    params = XcpParameters(max_cto=255, max_dto=1024)
+    with Simulator(make_ecu(params=params), ethernet=EthernetEndpoint("127.0.0.1", 0, protocol), time_scale=None) as sim:
+
+        @settings(max_examples=30, deadline=None)
+        @given(datagrams=st.lists(datagram, max_size=10))
+        def run(datagrams: list[bytes]) -> None:
+            with RawEthMaster(sim.xcp.address, protocol) as master:
+                for data in datagrams:
+                    try:
+                        master.send_raw(data)
+                    except (BrokenPipeError, ConnectionResetError):  # TCP: the slave ended a stream it cannot frame
+                        break
+            with RawEthMaster(sim.xcp.address, protocol) as master:  # after whatever the first one did
+                connected = master.request(bytes([Cmd.CONNECT, 0]), epk_upload)
+                assert [packet for _, packet in connected][-1:] == [b"\xff" + sim.ecu.read(0xFC0000, 4)], connected
 
         run()
     assert not caplog.records, [r.getMessage() for r in caplog.records]

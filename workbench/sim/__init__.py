@@ -26,7 +26,7 @@ _EXPORTS = {
     "workbench.sim.ecu": ("EcuState", "SimulatedEcu"),
     "workbench.sim.eth_port": ("EthernetEndpoint",),
     "workbench.sim.faults": ("FaultPlan",),
-    "workbench.sim.serve": ("bus_settings", "serve_demo"),
+    "workbench.sim.serve": ("serve_demo",),
     "workbench.sim.server": ("Simulator",),
     "workbench.sim.xcp.parameters": ("DaqParameters", "EventChannel", "XcpParameters"),
 }
@@ -37,6 +37,6 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
     from workbench.sim.ecu import EcuState, SimulatedEcu
     from workbench.sim.eth_port import EthernetEndpoint
     from workbench.sim.faults import FaultPlan
-    from workbench.sim.serve import bus_settings, serve_demo
+    from workbench.sim.serve import serve_demo
     from workbench.sim.server import Simulator
     from workbench.sim.xcp.parameters import DaqParameters, EventChannel, XcpParameters

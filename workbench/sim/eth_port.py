@@ -167,44 +167,50 @@ class EthernetXcpPort(XcpPort):
         listener = self._socket
         selector = selectors.DefaultSelector()
         selector.register(listener, selectors.EVENT_READ)
-        decoder = None
+        connection = decoder = None
         try:
             while not self._stop.is_set():
-                for key, _ in selector.select(_POLL_S):
-                    if key.fileobj is listener:
-                        connection, where = listener.accept()
-                        connection.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-                        connection.settimeout(SEND_TIMEOUT_S)
-                        if isinstance(self._peer, socket.socket):
-                            selector.unregister(self._peer)
-                            self._end_connection("a new master connected")
-                        selector.register(connection, selectors.EVENT_READ)
-                        decoder = StreamDecoder(self.ecu.params.max_cto)
-                        self._new_master(connection)
-                        log.info("XCP on TCP: master %s:%d connected", *where[:2])
-                        continue
-                    connection = key.fileobj
-                    ended = None
+                ready = {key.fileobj for key, _ in selector.select(_POLL_S)}
+                if listener in ready:
                     try:
-                        data = connection.recv(0xFFFF)
-                        packets = decoder.feed(data)
-                        if not data:
-                            ended = "the master closed the connection"
-                    except FramingError as exc:
-                        packets, ended = [], f"the stream cannot be framed ({exc})"
-                        self._malformed(ended)
-                    except OSError as exc:
-                        packets, ended = [], f"the connection failed ({exc})"
-                    for _, packet in packets:
-                        self._handle(packet)
+                        accepted, where = listener.accept()
+                    except OSError as exc:  # out of descriptors, the master gave up: keep listening
+                        log.warning("XCP on TCP: accept failed: %s", exc)
+                        continue
+                    if connection is not None:
+                        selector.unregister(connection)
+                        self._end_connection("a new master connected")
+                    connection, decoder = accepted, StreamDecoder(self.ecu.params.max_cto)
+                    connection.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+                    connection.settimeout(SEND_TIMEOUT_S)
+                    selector.register(connection, selectors.EVENT_READ)
+                    self._new_master(connection)
+                    log.info("XCP on TCP: master %s:%d connected", *where[:2])
+                elif connection is not None and connection in ready:
+                    ended = self._read(connection, decoder)
                     if ended:
                         selector.unregister(connection)
                         self._end_connection(ended)
+                        connection = decoder = None
         except OSError as exc:
             if not self._stop.is_set():
                 log.error("XCP on TCP: reception ended: %s", exc)
         finally:
             selector.close()
+
+    def _read(self, connection: socket.socket, decoder: StreamDecoder) -> str | None:
+        """Take what the connection has and handle its packets; why the connection ends, if it does."""
+        try:
+            data = connection.recv(0xFFFF)
+            packets = decoder.feed(data)
+        except FramingError as exc:
+            self._malformed(f"the stream cannot be framed ({exc})")
+            return "stream error"
+        except OSError as exc:
+            return f"the connection failed ({exc})"
+        for _, packet in packets:
+            self._handle(packet)
+        return None if data else "the master closed the connection"
 
     def _handle(self, packet: bytes) -> None:
         try:

@@ -18,6 +18,7 @@ from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
 from workbench.a2l import read_xcp_config
+from workbench.bus_defaults import SOFTWARE_INTERFACES, complete_bus_settings
 from workbench.errors import InputError
 from workbench.sim.demo_ecu import DemoEcu, DemoFiles, build_demo_ecu
 from workbench.sim.faults import FaultPlan
@@ -28,25 +29,7 @@ if TYPE_CHECKING:
 
     from workbench.sim.eth_port import EthernetEndpoint
 
-__all__ = ["DEFAULT_CHANNELS", "DEFAULT_INTERFACE", "SOFTWARE_INTERFACES", "bus_settings", "serve_demo"]
-
-DEFAULT_INTERFACE = "udp_multicast"
-DEFAULT_CHANNELS = {"udp_multicast": "239.74.163.2", "virtual": "workbench"}
-SOFTWARE_INTERFACES = frozenset({"virtual", "udp_multicast"})  # no bit rate of their own: it sets the timing model
-
-
-def bus_settings(settings: Mapping[str, Any] | None = None) -> dict[str, Any]:
-    """python-can ``Bus(**settings)`` keyword arguments with the workbench's defaults filled in:
-    ``interface`` udp_multicast, its ``channel`` 239.74.163.2 (virtual: "workbench"), and on
-    udp_multicast ``receive_own_messages`` off. Other keys (``bitrate``, ``port``, ``app_name`` ...)
-    pass through unchanged."""
-    completed = dict(settings or {})
-    interface = completed.setdefault("interface", DEFAULT_INTERFACE)
-    if completed.get("channel") is None and interface in DEFAULT_CHANNELS:
-        completed["channel"] = DEFAULT_CHANNELS[interface]
-    if interface == "udp_multicast":
-        completed.setdefault("receive_own_messages", False)
-    return completed
+__all__ = ["serve_demo"]
 
 
 def serve_demo(
@@ -65,9 +48,9 @@ def serve_demo(
 ) -> Simulator:
     """Build the FLCU demo ECU and serve it; returns the started :class:`Simulator` (a context manager).
 
-    :param bus: the CAN bus, as python-can settings (completed by :func:`bus_settings`) or an open bus
-        (it stays the caller's). It carries XCP on CAN unless ``ethernet`` is given, and the FLCU's CAN2
-        messages unless ``can2`` is. On virtual/udp_multicast a ``bitrate`` sets the simulator's bus
+    :param bus: the CAN bus, as python-can settings (completed with the defaults of
+        :func:`~workbench.bus_defaults.complete_bus_settings`) or an open bus (it stays the caller's).
+        It carries XCP on CAN unless ``ethernet`` is given, and the FLCU's CAN2 messages unless ``can2`` is. On virtual/udp_multicast a ``bitrate`` sets the simulator's bus
         timing model; on other interfaces it goes to the interface (default: the A2L's BAUDRATE).
         Default: udp_multicast on 239.74.163.2 with XCP on CAN, no CAN bus with XCP on Ethernet.
     :param ethernet: serve XCP on UDP/TCP there instead of on CAN, with the packet sizes (and, when
@@ -90,10 +73,10 @@ def serve_demo(
         block = getattr(read_xcp_config(demo.a2l), ethernet.protocol.lower())
         ethernet = replace(ethernet, port=block.port)
     if ethernet is None:
-        bus = bus_settings(bus) if not _is_open_bus(bus) else bus
+        bus = complete_bus_settings(bus) if not _is_open_bus(bus) else bus
     elif bus is not None:
         bus, can2 = None, bus  # XCP left the bus: what stays on it is CAN2
-    can2 = bus_settings(can2) if can2 is not None and not _is_open_bus(can2) else can2
+    can2 = complete_bus_settings(can2) if can2 is not None and not _is_open_bus(can2) else can2
     baudrate = demo.ecu.params.baudrate
     timing = _timing_bitrate(bus, baudrate) or _timing_bitrate(can2, baudrate)
     pcm = None
