@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import time
 
 from pyxcp.config import create_application_from_config
 from pyxcp.daq_stim import DaqOnlinePolicy
@@ -63,3 +64,16 @@ class Samples(DaqOnlinePolicy):
     def on_daq_list(self, daq_list, timestamp0, timestamp1, payload):
         names = [header[0] for header in self.daq_lists[daq_list].headers]  # pyxcp's packing order
         self.rows.append((timestamp1, dict(zip(names, payload))))
+
+
+def record_50ms_samples(policy: Samples, seconds: float = 1.0) -> list[tuple[int, dict]]:
+    """Run the DAQ lists ``policy`` set up for ``seconds``; the samples, checked to be the 50 ms task's:
+    at least one every 100 ms, the ECU's timestamps (ns, from 10 us ticks) 50 ms apart or a multiple."""
+    policy.start()
+    time.sleep(seconds)
+    policy.stop()
+    rows = list(policy.rows)
+    assert len(rows) >= seconds * 10
+    ticks = [timestamp for timestamp, _ in rows]
+    assert all((b - a) % 50_000_000 == 0 and b > a for a, b in zip(ticks, ticks[1:]))
+    return rows

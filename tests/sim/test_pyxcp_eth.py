@@ -6,11 +6,10 @@ from __future__ import annotations
 import re
 import signal
 import struct
-import time
 
 import pytest
 from pyxcp.daq_stim import DaqList
-from pyxcp_master import Samples, connect, pyxcp_eth_master
+from pyxcp_master import Samples, connect, pyxcp_eth_master, record_50ms_samples
 from sim_process import start_sim_process
 
 from workbench import demo
@@ -55,13 +54,7 @@ def measure_and_calibrate(host: str, port: int, protocol: str, symbols: ElfSymbo
 
         policy.setup()
         assert len(policy.daq_lists[0].measurements_opt) == 1  # pyxcp planned one ODT from MAX_DTO
-        policy.start()
-        time.sleep(1.0)
-        policy.stop()
-        rows = list(policy.rows)
-        assert len(rows) >= 10
-        ticks = [timestamp for timestamp, _ in rows]
-        assert all((b - a) % 50_000_000 == 0 and b > a for a, b in zip(ticks, ticks[1:]))  # the ECU's 50 ms
+        rows = record_50ms_samples(policy)
         assert {row["xsSWITCH_TANK_THR"] for _, row in rows} == {21.5}
         assert rows[-1][1]["zsRailPressure"] > rows[0][1]["zsRailPressure"]  # the PCM's target drives the rail up
         master.disconnect()

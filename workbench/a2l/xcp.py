@@ -7,7 +7,7 @@ A2ML, never by a byte offset of one particular file. Times are seconds, sizes by
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 from typing import TYPE_CHECKING
 
 from workbench.a2l.ifdata import IfDataNode, Word, read_if_data
@@ -62,7 +62,7 @@ class XcpCommunicationMode:
 class XcpProtocolLayer:
     """A PROTOCOL_LAYER block: the common one, or a transport's own (XCP_ON_UDP_IP ... PROTOCOL_LAYER)."""
 
-    version: int
+    protocol_version: int
     timeouts: XcpTimeouts
     max_cto: int
     max_dto: int
@@ -220,18 +220,10 @@ class XcpOnIp:
 
 
 @dataclass(frozen=True)
-class XcpConfig:
-    """Everything a master (or the simulated ECU) needs from the A2L to talk XCP."""
+class XcpConfig(XcpProtocolLayer):
+    """Everything a master (or the simulated ECU) needs from the A2L to talk XCP: the common
+    PROTOCOL_LAYER's fields, the other common blocks and the transport blocks."""
 
-    protocol_version: int
-    timeouts: XcpTimeouts
-    max_cto: int
-    max_dto: int
-    byte_order: str  # MSB_LAST (little endian) or MSB_FIRST
-    address_granularity: int  # bytes per address unit
-    optional_commands: frozenset[str]
-    communication_mode: XcpCommunicationMode | None
-    seed_and_key_function: str | None
     daq: XcpDaq | None
     max_segments: int | None  # PAG
     freeze_supported: bool
@@ -253,22 +245,12 @@ class XcpConfig:
             raise KeyError(block_name)
         config = self
         if block.protocol_layer is not None:
-            config = replace(config, **_protocol_fields(block.protocol_layer))
+            config = replace(config, **{f.name: getattr(block.protocol_layer, f.name) for f in fields(XcpProtocolLayer)})
         if block.daq is not None:
             config = replace(config, daq=block.daq)
         if block.pgm is not None:
             config = replace(config, pgm=block.pgm)
         return config
-
-
-def _protocol_fields(layer: XcpProtocolLayer) -> dict:
-    """XcpConfig's fields that a PROTOCOL_LAYER sets."""
-    return {
-        "protocol_version": layer.version, "timeouts": layer.timeouts, "max_cto": layer.max_cto,
-        "max_dto": layer.max_dto, "byte_order": layer.byte_order, "address_granularity": layer.address_granularity,
-        "optional_commands": layer.optional_commands, "communication_mode": layer.communication_mode,
-        "seed_and_key_function": layer.seed_and_key_function,
-    }
 
 
 def read_xcp_config(doc: "A2lDocument", module: str | None = None) -> XcpConfig:
@@ -290,7 +272,7 @@ def read_xcp_config(doc: "A2lDocument", module: str | None = None) -> XcpConfig:
         raise A2lParseError("IF_DATA XCP has no PROTOCOL_LAYER", *root.location)
     pag = root.block("PAG")
     return XcpConfig(
-        **_protocol_fields(_protocol_layer(protocol)),
+        **vars(_protocol_layer(protocol)),
         daq=_daq(root.block("DAQ")),
         max_segments=int(pag.leading_numbers()[0]) if pag is not None and pag.leading_numbers() else None,
         freeze_supported=bool(pag is not None and pag.has("FREEZE_SUPPORTED")),
@@ -310,7 +292,7 @@ def _protocol_layer(node: IfDataNode) -> XcpProtocolLayer:
     granularity = node.word_with_prefix("ADDRESS_GRANULARITY_")
     seed_key = node.after("SEED_AND_KEY_EXTERNAL_FUNCTION")
     return XcpProtocolLayer(
-        version=int(numbers[0]),
+        protocol_version=int(numbers[0]),
         timeouts=XcpTimeouts(*(value / 1000.0 for value in numbers[1:8])),
         max_cto=int(numbers[8]),
         max_dto=int(numbers[9]),
