@@ -230,9 +230,10 @@ class EthernetXcpPort(XcpPort):
             self._ctr = 0
             self._dtos.clear()
         if previous is not None:  # UDP (TCP ended the old connection first): the old master's session ends
-            log.warning("XCP on UDP: %s:%d takes the session over from %s:%d", *peer[:2], *previous[:2])
             with self.lock:
-                self.ecu.slave.disconnect()
+                if self.ecu.slave.connected:
+                    log.warning("XCP on UDP: %s:%d takes the session over from %s:%d", *peer[:2], *previous[:2])
+                    self.ecu.slave.disconnect()
 
     def _end_connection(self, reason: str) -> None:
         """Close the TCP connection; the XCP session ends with it."""

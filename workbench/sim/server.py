@@ -19,18 +19,18 @@ import threading
 import time
 from typing import TYPE_CHECKING, Any
 
+import can
+
+from workbench.sim.can_port import BusSpec, CanBuses, CanXcpPort
 from workbench.sim.ecu import EcuState, SimulatedEcu
+from workbench.sim.eth_port import EthernetEndpoint, EthernetXcpPort
 from workbench.sim.scheduler import US_PER_S
+from workbench.sim.xcp_port import XcpPort
 
 if TYPE_CHECKING:
-    import can
-
     from workbench.sim.can2 import Can2Driver
-    from workbench.sim.can_port import BusSpec
     from workbench.sim.can_timing import BusClock
-    from workbench.sim.eth_port import EthernetEndpoint
     from workbench.sim.pcm import PcmNode
-    from workbench.sim.xcp_port import XcpPort
 
 log = logging.getLogger(__name__)
 
@@ -74,7 +74,7 @@ class Simulator:
         self.ethernet = ethernet
         self.lock = threading.RLock()
         self._can_specs = {"CAN1": can1, "CAN2": can2}
-        self._can = None
+        self._can: CanBuses | None = None
         self.xcp: XcpPort | None = None
         self._stop = threading.Event()
         self._clock_thread: threading.Thread | None = None
@@ -111,16 +111,10 @@ class Simulator:
 
     def _start_io(self) -> None:
         if any(spec is not None for spec in self._can_specs.values()):
-            from workbench.sim.can_port import CanBuses
-
             self._can = CanBuses(self._can_specs, self.bitrate)
         if self.ethernet is not None:
-            from workbench.sim.eth_port import EthernetXcpPort
-
             self.xcp = EthernetXcpPort(self.ecu, self.lock, self.ethernet)
         else:
-            from workbench.sim.can_port import CanXcpPort
-
             self.xcp = CanXcpPort(self.ecu, self.lock, self._can)
         self.ecu.dto_sink = self.xcp.send_dtos
         if self._can is not None:
