@@ -226,8 +226,10 @@ def _start_daq(master: RawEthMaster, entries, timestamps: bool, extra_entries: i
         bytes([Cmd.START_STOP_DAQ_LIST, 2]) + struct.pack("<H", 0),
         bytes([Cmd.START_STOP_SYNCH, 1]),
     ]
-    responses = master.request(*ctos)  # one datagram (UDP) or one write (TCP) of several packets
-    assert [packet[0] for _, packet in responses] == [0xFF] * len(ctos), [packet.hex(" ") for _, packet in responses]
+    for start in range(0, len(ctos), 50):  # several packets per datagram (UDP) or write (TCP); each answer its own
+        batch = ctos[start : start + 50]  # datagram: 50 keep within the master's receive buffer
+        responses = master.request(*batch)
+        assert [packet[0] for _, packet in responses] == [0xFF] * len(batch), [p.hex(" ") for _, p in responses]
 
 
 def _wait_for(condition, timeout_s: float = 2.0) -> None:
