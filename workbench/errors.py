@@ -91,10 +91,10 @@ def _error_name(code: int) -> str:
 class XcpTimeoutError(WorkbenchError, TimeoutError):
     """The ECU did not answer an XCP command in time."""
 
-    def __init__(self, command: str, timeout_s: float):
+    def __init__(self, command: str, timeout_s: float, hint: str = ""):
         self.command = command
         self.timeout_s = timeout_s
-        super().__init__(f"XCP {command}: no response within {timeout_s * 1000:.0f} ms")
+        super().__init__(f"XCP {command}: no response within {timeout_s * 1000:.0f} ms" + (f"; {hint}" if hint else ""))
 
 
 class EpkMismatchError(WorkbenchError):

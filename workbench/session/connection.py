@@ -13,15 +13,12 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from workbench.a2l.xcp import XcpConfig
+from workbench.bus_defaults import SOFTWARE_INTERFACES, complete_bus_settings
 from workbench.errors import InputError
 from workbench.xcp.link import LinkSettings
 from workbench.xcp.master import Timeouts
 
-__all__ = ["DEFAULT_CHANNELS", "DEFAULT_INTERFACE", "Connection", "link_settings"]
-
-DEFAULT_INTERFACE = "udp_multicast"
-DEFAULT_CHANNELS = {"virtual": "workbench", "udp_multicast": "239.74.163.2"}
-SOFTWARE_INTERFACES = frozenset({"virtual", "udp_multicast"})  # they have no bit timing to set
+__all__ = ["Connection", "link_settings", "timeouts_of"]
 
 
 @dataclass(frozen=True)
@@ -59,17 +56,11 @@ def _can(config: XcpConfig, connection: Connection) -> tuple[LinkSettings, XcpCo
     can = config.can
     if can is None:
         raise InputError("the A2L has no XCP_ON_CAN block; use --host/--port for XCP on Ethernet")
-    interface = connection.interface or DEFAULT_INTERFACE
-    bus: dict[str, Any] = {"interface": interface}
-    channel = connection.channel if connection.channel is not None else DEFAULT_CHANNELS.get(interface)
-    if channel is not None:
-        bus["channel"] = channel
-    bitrate = connection.bitrate or (can.baudrate if interface not in SOFTWARE_INTERFACES else None)
+    given = {"interface": connection.interface, "channel": connection.channel, **connection.bus_kwargs}
+    bus = complete_bus_settings({key: value for key, value in given.items() if value is not None})
+    bitrate = connection.bitrate or (can.baudrate if bus["interface"] not in SOFTWARE_INTERFACES else None)
     if bitrate:
         bus["bitrate"] = bitrate
-    if interface == "udp_multicast":
-        bus["receive_own_messages"] = False
-    bus.update(connection.bus_kwargs)
     settings = LinkSettings(
         "CAN", bus, can.can_id_master, can.can_id_slave, can.can_id_master_is_extended, can.can_id_slave_is_extended,
         can.max_dlc_required,

@@ -23,7 +23,7 @@ from typing import Any
 from workbench import demo
 from workbench.a2l import A2lDocument, load_a2l, read_xcp_config
 from workbench.a2l.xcp import XcpConfig, XcpSegment
-from workbench.errors import EpkMismatchError, InputError, WorkbenchError
+from workbench.errors import EpkMismatchError, InputError, WorkbenchError, XcpTimeoutError
 from workbench.session.connection import Connection, link_settings, timeouts_of
 from workbench.session.epk import EpkCheck, check_epk
 from workbench.session.info import EcuInfo, PageState, read_ecu_info
@@ -94,7 +94,12 @@ class Session:
     def connect(self) -> None:
         """CONNECT and check the EPK (again, e.g. after the ECU was reset or flashed)."""
         with self.lock:
-            self.master.connect()
+            try:
+                self.master.connect()
+            except XcpTimeoutError as exc:
+                raise XcpTimeoutError("CONNECT", exc.timeout_s,
+                                      f"no ECU answers on {self.link.settings.describe()}: is it powered, on this "
+                                      "bus/address, with these ids?") from None
             self.epk = check_epk(self.master, self.doc.epk(self.module), self.doc.addr_epk(self.module))
             if self.epk.matches is False:
                 log.warning("%s%s", self.epk.describe(),

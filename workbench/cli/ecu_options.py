@@ -1,0 +1,43 @@
+"""The options every command that talks to an ECU takes, and the session they open.
+
+``--a2l`` (default: the demo ECU's merged and updated A2L), python-can's bus options
+(``--interface --channel --bitrate --bus-kwargs ...``), ``--host/--port/--protocol`` for XCP on
+Ethernet, ``--key-function`` and ``--accept-epk-mismatch``.
+"""
+
+from __future__ import annotations
+
+import argparse
+from typing import TYPE_CHECKING
+
+from workbench.cli.options import add_bus_arguments, add_ethernet_arguments, add_output_arguments, bus_settings
+
+if TYPE_CHECKING:
+    from workbench.session import Session
+
+
+def add_ecu_arguments(parser: argparse.ArgumentParser, *, json_output: bool = True) -> None:
+    group = parser.add_argument_group("ECU")
+    group.add_argument("--a2l", metavar="A2L", help="the ECU's A2L (default: the built-in demo ECU's)")
+    group.add_argument("--key-function", metavar="NAME",
+                       help="seed & key function: module:function, file.py:function or an installed plugin's name "
+                            "(default: the A2L's SEED_AND_KEY_EXTERNAL_FUNCTION)")
+    group.add_argument("--accept-epk-mismatch", action="store_true",
+                       help="write although the ECU's EPK differs from the A2L's (the session is read-only otherwise)")
+    add_bus_arguments(parser)
+    add_ethernet_arguments(parser)
+    if json_output:
+        add_output_arguments(parser)
+
+
+def open_session(args: argparse.Namespace) -> Session:
+    """The session the ECU options describe (connected, EPK checked)."""
+    from workbench.session import Session
+
+    settings = {key: value for key, value in (bus_settings(args) or {}).items() if value is not None}
+    interface = settings.pop("interface", None)
+    channel = settings.pop("channel", None)
+    bitrate = settings.pop("bitrate", None)
+    return Session.open(args.a2l, interface=interface, channel=channel, bitrate=bitrate, bus_kwargs=settings,
+                        host=args.host, port=args.port, protocol=args.protocol, key_function=args.key_function,
+                        accept_epk_mismatch=args.accept_epk_mismatch)

@@ -1,0 +1,67 @@
+"""``workbench info``: who the ECU is, whether its EPK matches the A2L, what it can do."""
+
+from __future__ import annotations
+
+import argparse
+
+from workbench.cli.ecu_options import add_ecu_arguments, open_session
+from workbench.cli.options import print_json
+
+EPILOG = """\
+examples:
+  workbench info                                  # the demo ECU of 'workbench sim' (udp_multicast)
+  workbench info --a2l out/FLCU.a2l --interface socketcan --channel can0
+  workbench info --host 127.0.0.1 --protocol tcp --json
+"""
+
+
+def add_subparser(subparsers, name: str, help_text: str) -> None:
+    parser = subparsers.add_parser(name, help=help_text, epilog=EPILOG,
+                                   description="Connect, show the ECU's identity, EPK check, protection, "
+                                               "packet sizes, DAQ processor and calibration pages, disconnect.",
+                                   formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_ecu_arguments(parser)
+    parser.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    with open_session(args) as session:
+        info = session.info()
+    if args.json:
+        print_json(info.to_dict())
+        return 0
+    print("\n".join(info_lines(info)))
+    return 0
+
+
+def info_lines(info) -> list[str]:
+    epk = ("match" if info.epk_match else "MISMATCH (read-only)" if info.epk_match is False else "not checked")
+    lines = [
+        f"ECU           {info.identification or '(no identification)'}",
+        f"link          {info.link}",
+        f"A2L name      {info.a2l_name or '-'}",
+        f"EPK           ECU {info.epk_ecu!r}, A2L {info.epk_a2l!r}: {epk}",
+        f"state         {'boot loader (programming only)' if info.boot else 'application running'}",
+        f"resources     {', '.join(info.resources) or '-'}; locked: {', '.join(info.protected) or 'none'}",
+        f"packets       MAX_CTO {info.max_cto}, MAX_DTO {info.max_dto}, {info.byte_order}, "
+        f"address granularity {info.address_granularity} byte(s)",
+        f"block modes   slave {'yes' if info.slave_block_mode else 'no'}, master "
+        + (f"yes (MAX_BS {info.max_bs})" if info.master_block_mode else "no"),
+        f"XCP versions  protocol {info.protocol_version}, transport {info.transport_version}",
+    ]
+    if info.daq is not None:
+        daq = info.daq
+        resolution = info.daq_resolution
+        stamp = (f"{resolution.timestamp_size}-byte timestamps of {resolution.timestamp_resolution_s * 1e6:g} µs"
+                 if resolution and resolution.timestamp_size else "no timestamps")
+        lines.append(f"DAQ           {'dynamic' if daq.dynamic else 'static'}, {daq.max_daq} lists, "
+                     f"{daq.identification_field.lower().replace('_', ' ')} ids, {stamp}, max ODT entry "
+                     f"{resolution.max_entry_size if resolution else '?'} bytes, overload indication {daq.overload_indication}")
+        for event in info.events:
+            period = f"{event.period_s * 1000:g} ms" if event.period_s else "not cyclic"
+            lines.append(f"  event {event.number:<3}  {event.name or '?':<16} {period}, priority {event.priority}, "
+                         f"consistency {event.consistency}")
+    for page in info.pages:
+        lines.append(f"page          segment {page.segment}: ECU on {page.name(page.ecu_page)}, "
+                     f"XCP on {page.name(page.xcp_page)}")
+    return lines
