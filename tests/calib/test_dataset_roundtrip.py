@@ -125,7 +125,9 @@ def calibration(draw, name: str) -> CalValue:
 def datasets(draw) -> Dataset:
     dataset = Dataset()
     for name in draw(st.lists(_NAME, min_size=1, max_size=6, unique=True)):
-        dataset.add(draw(calibration(name)), ObjectInfo(comments=tuple(draw(st.lists(_LABEL, max_size=2)))))
+        # XML comments cannot hold "--" (CDFX writes "- -" and reports it: tested on its own)
+        comments = st.lists(_LABEL.filter(lambda text: "--" not in text and not text.endswith("-")), max_size=2)
+        dataset.add(draw(calibration(name)), ObjectInfo(comments=tuple(draw(comments))))
     return dataset
 
 

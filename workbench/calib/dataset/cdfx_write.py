@@ -125,7 +125,9 @@ def _sub(parent, tag: str, text: str | None = None):
 
 
 def _comment_text(line: str) -> str:
-    text = line.replace("--", "- -")
+    text = line
+    while "--" in text:  # once is not enough: "---" would become "- --"
+        text = text.replace("--", "- -")
     return f" {text}{' ' if text.endswith('-') else ''} "
 
 
