@@ -1,0 +1,124 @@
+"""Fix calibrations (thesis chapter 6): an ``_EN``/``_VALUE`` pair that overrides a signal.
+
+While ``<stem>_EN`` is 1 the ECU uses ``<stem>_VALUE`` instead of the signal it computes or
+receives. The thesis names them
+
+* ``cf<SIGNAL>_EN/_VALUE`` for a CAN signal (``cf<MESSAGE>_<SIGNAL>_...`` where signal names
+  repeat across messages), the value raw with the signal's factor/offset as its conversion;
+* ``zf<SENSOR>_EN/_VALUE`` for a sensor (``zfRAILPRESSURE`` fixes ``zsRailPressure``);
+* any other ``<stem>_EN/_VALUE`` pair follows the same rule.
+
+:func:`find_fix_pairs` finds every pair among an A2L's CHARACTERISTICs and the MEASUREMENT each
+one overrides, from the names alone; :func:`resolve_fix` finds the pair a user means by any of
+its names, and refuses to guess between two (``RailPressure`` has a CAN fix and a sensor fix).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+
+from workbench.errors import InputError, UnknownSymbolError
+
+__all__ = ["FixPair", "find_fix_pairs", "resolve_fix"]
+
+ENABLE, VALUE = "_EN", "_VALUE"
+KINDS = {"cf": "CAN signal", "zf": "sensor"}
+
+
+@dataclass(frozen=True)
+class FixPair:
+    stem: str  # cfRAILPRESSURE
+    enable: str  # cfRAILPRESSURE_EN
+    value: str  # cfRAILPRESSURE_VALUE
+    kind: str  # "CAN signal", "sensor" or "fix"
+    measurement: str | None  # the signal it overrides, when the A2L has it (zsRailPressure, csPCM_TO_FLCU_001_EnableFLCU)
+    source: str | None = None  # else a measurement of the same name: a sent signal's source (cfFUELLEVEL: xsFuelLevel)
+
+    @property
+    def signal(self) -> str:
+        """The overridden signal's name: its MEASUREMENT, else the stem without its prefix."""
+        return self.measurement or self.stem[2:]
+
+    @property
+    def live(self) -> str | None:
+        """The measurement that shows the signal's value now."""
+        return self.measurement or self.source
+
+    def names(self) -> set[str]:
+        """Every name a user may call it by, upper-cased."""
+        names = {self.stem, self.enable, self.value, self.stem[2:]}
+        if self.measurement:
+            names |= {self.measurement, _bare(self.measurement)}
+        return {name.upper() for name in names}
+
+
+def _bare(measurement: str) -> str:
+    """A measurement's name without its module prefix and message: csPCM_TO_FLCU_001_EnableFLCU -> EnableFLCU."""
+    if measurement.startswith("cs") and "_" in measurement:
+        return measurement.rsplit("_", 1)[1]
+    return measurement[2:]
+
+
+def find_fix_pairs(characteristics: Iterable[str], measurements: Iterable[str],
+                   explicit: Mapping[str, tuple[str, str]] | None = None) -> list[FixPair]:
+    """Every ``_EN``/``_VALUE`` pair of ``characteristics``, with the measurement it overrides.
+
+    ``explicit``: signal name -> (enable, value) for pairs the naming rule does not find.
+    """
+    names = set(characteristics)
+    by_upper: dict[str, list[str]] = {}
+    for measurement in measurements:
+        by_upper.setdefault(measurement.upper(), []).append(measurement)
+        by_upper.setdefault(_bare(measurement).upper(), []).append(measurement)
+    pairs = []
+    for enable in sorted(names):
+        if not enable.endswith(ENABLE):
+            continue
+        stem = enable[: -len(ENABLE)]
+        if stem + VALUE not in names:
+            continue
+        measurement, source = _overridden(stem, by_upper)
+        pairs.append(FixPair(stem, enable, stem + VALUE, KINDS.get(stem[:2], "fix"), measurement, source))
+    for signal, (enable, value) in (explicit or {}).items():
+        stem = enable[: -len(ENABLE)] if enable.endswith(ENABLE) else enable
+        found = by_upper.get(signal.upper(), [])
+        pairs.append(FixPair(stem, enable, value, "fix", found[0] if len(found) == 1 else signal))
+    return pairs
+
+
+def _overridden(stem: str, by_upper: dict[str, list[str]]) -> tuple[str | None, str | None]:
+    """(the measurement ``stem`` overrides, else one of the same name), matched case-blind."""
+    key = stem[2:].upper()
+    candidates = by_upper.get(key, [])
+    if stem.startswith("cf"):  # a received signal is published as cs<Message>_<Signal>
+        received = [m for m in candidates if m.startswith("cs")] or by_upper.get("CS" + key, [])
+        if len(received) == 1:
+            return received[0], None
+    elif stem.startswith("zf"):  # zfRAILPRESSURE fixes zsRailPressure
+        sensors = [m for m in candidates if m.startswith("zs")]
+        if len(sensors) == 1:
+            return sensors[0], None
+    plain = [m for m in candidates if not m.startswith("cs")]
+    return None, plain[0] if len(plain) == 1 else None
+
+
+def resolve_fix(pairs: list[FixPair], signal: str) -> FixPair:
+    """The pair ``signal`` names (stem, _EN/_VALUE name, signal or measurement, case-blind).
+
+    :raises UnknownSymbolError: no pair has that name (the closest are suggested).
+    :raises InputError: two pairs answer to it (both are named: choose one).
+    """
+    key = signal.upper()
+    exact = [pair for pair in pairs if key in {pair.stem.upper(), pair.enable.upper(), pair.value.upper()}]
+    found = exact or [pair for pair in pairs if key in pair.names()]
+    if len(found) == 1:
+        return found[0]
+    if found:
+        choices = ", ".join(f"{pair.stem} ({pair.kind})" for pair in found)
+        raise InputError(f"{signal!r} has {len(found)} fix calibrations: {choices}; name the one you mean")
+    import difflib
+
+    close = difflib.get_close_matches(key, sorted({n for pair in pairs for n in pair.names()}), n=3, cutoff=0.6)
+    where = "the A2L's fix calibrations" + (f" (did you mean {', '.join(close)}?)" if close else "")
+    raise UnknownSymbolError(signal, where)
