@@ -45,8 +45,6 @@ log = logging.getLogger(__name__)
 
 __all__ = ["EXTENDED_ID_FLAG", "DbcFile", "load_dbc"]
 
-_MESSAGE_LINE = re.compile(r"^[ \t]*BO_[ \t]+(\d+)[ \t]+(\w+)[ \t]*:", re.MULTILINE)
-_SIGNAL_LINE = re.compile(r"^[ \t]*SG_[ \t]+(\w+)\s")
 _MESSAGE_IN_ERROR = re.compile(r"in message '?(\w+)'?")
 _POSITION_IN_ERROR = re.compile(r" at line \d+, column \d+")
 _OVERWRITE_WARNING = "Overwriting message"
@@ -89,11 +87,11 @@ def load_dbc(path: str | Path) -> DbcFile:
     """
     path = Path(path)
     text = _decode(path, read_input(path, "a DBC file"))
-    message_lines, signal_lines = _index_lines(text)
     repaired = repair(text, str(path))
-    database, cantools_warnings = _parse(path, repaired, message_lines)
+    database, cantools_warnings = _parse(path, repaired)
     _restore_names(database, repaired)
-    return DbcFile(path, database, message_lines, signal_lines, repaired.warnings + cantools_warnings)
+    return DbcFile(path, database, repaired.message_lines, repaired.signal_lines,
+                   repaired.warnings + cantools_warnings)
 
 
 def _decode(path: Path, raw: bytes) -> str:
@@ -115,24 +113,6 @@ def _decode(path: Path, raw: bytes) -> str:
     return text
 
 
-def _index_lines(text: str) -> tuple[dict[str, int], dict[tuple[str, str], int]]:
-    message_lines: dict[str, tuple[int, ...]] = {}
-    signal_lines: dict[tuple[int, str], int] = {}
-    current = 0
-    for number, line in enumerate(text.splitlines(), start=1):
-        message = _MESSAGE_LINE.match(line)
-        if message:
-            current = number
-            message_lines[message.group(2)] = message_lines.get(message.group(2), ()) + (number,)
-            continue
-        signal = _SIGNAL_LINE.match(line)
-        if signal and current:
-            signal_lines.setdefault((current, signal.group(1)), number)
-        elif line.strip():
-            current = 0
-    return message_lines, signal_lines
-
-
 class _WarningCollector(logging.Handler):
     """Keeps the messages of the cantools warnings logged during one load."""
 
@@ -144,8 +124,7 @@ class _WarningCollector(logging.Handler):
         self.messages.append(record.getMessage())
 
 
-def _parse(path: Path, repaired: Repaired,
-           message_lines: dict[str, tuple[int, ...]]) -> tuple[Database, tuple[Finding, ...]]:
+def _parse(path: Path, repaired: Repaired) -> tuple[Database, tuple[Finding, ...]]:
     """cantools' database of the repaired text and its log warnings (but those about duplicates) as findings.
 
     :raises InputError: cantools refuses the text.
@@ -160,7 +139,7 @@ def _parse(path: Path, repaired: Repaired,
                                                      sort_signals=None)
     except (cantools.database.Error, ValueError) as exc:
         cause = getattr(exc, "e_dbc", None) or exc
-        raise InputError(_located(path, cause, message_lines).replace(repaired.name_prefix, "")) from exc
+        raise InputError(_located(path, cause, repaired.message_lines).replace(repaired.name_prefix, "")) from exc
     finally:
         cantools_log.removeHandler(collector)
     problems = []

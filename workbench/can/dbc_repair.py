@@ -67,6 +67,10 @@ class Repaired:
     warnings: tuple[Finding, ...]
     name_prefix: str
     """Prefix put before each name that starts with a digit; :meth:`original_name` takes it off."""
+    message_lines: dict[str, tuple[int, ...]]
+    """Message name → 1-based lines of the ``BO_`` s cantools reads (more than one when the name is doubled)."""
+    signal_lines: dict[tuple[int, str], int]
+    """(line of the message's ``BO_``, signal name) → 1-based line of the signal's ``SG_``."""
 
     def original_name(self, name: str) -> str:
         """A name as the file writes it."""
@@ -96,6 +100,8 @@ class _Repairer:
         self.gone_ids: set[int] = set()  # skipped messages: their references go without a warning
         self.gone_signals: set[tuple[int, str]] = set()
         self.dropped_relations: set[str] = set()
+        self.message_lines: dict[str, tuple[int, ...]] = {}
+        self.signal_lines: dict[tuple[int, str], int] = {}
         self.prefix = _NAME_PREFIX
         while self.prefix in dbc.text:
             self.prefix = "x" + self.prefix
@@ -112,7 +118,8 @@ class _Repairer:
                 self._rename_digit_names(statement)
                 self._close(statement)
         appended = self.attributes.appended()
-        return Repaired(self._edited_text() + appended, tuple(self.warnings), self.prefix)
+        return Repaired(self._edited_text() + appended, tuple(self.warnings), self.prefix, self.message_lines,
+                        self.signal_lines)
 
     # -- bookkeeping -------------------------------------------------------------------------
 
@@ -156,11 +163,18 @@ class _Repairer:
 
     def _read_messages(self, statements: list[Statement]) -> None:
         current: int | None = None  # id of the message whose SG_ lines may follow
+        message_line = 0  # the line of its BO_
         for statement in statements:
             if statement.keyword == "BO_":
                 current = self._read_message(statement)
+                if not statement.dropped and statement.token(2) is not None:
+                    name = statement.tokens[2].text
+                    self.message_lines[name] = self.message_lines.get(name, ()) + (statement.line,)
+                    message_line = statement.line
             elif statement.keyword == "SG_":
                 self._read_signal(statement, current)
+                if not statement.dropped and current not in (None, _UNREADABLE):
+                    self.signal_lines.setdefault((message_line, statement.tokens[1].text), statement.line)
             else:
                 current = None
 
