@@ -1,7 +1,8 @@
 """DESIGN.md's dependency direction, checked on the imports of every module.
 
-gui -> (xcp, calib, record, can) -> (a2l, elf, image); sim uses image/a2l/can/elf but
-never xcp; only the CLI and the GUI sit on top. A module may always use the shared
+gui -> session (the ECU by name) -> (xcp, calib, can) -> (a2l, elf, image); record and flash
+stand on the session; sim uses image/a2l/can/elf but never xcp; only the CLI and the GUI sit
+on top. The ``workbench`` package itself exports Session lazily. A module may always use the shared
 foundation (errors, progress, fileio, demo, findings, lazy_exports) and what the simulated
 slave and the master share: xcp_protocol (the XCP names) and bus_defaults (the default bus);
 they import nothing, so sim stays free of xcp.
@@ -24,9 +25,11 @@ ALLOWED = {
     "sim": {"a2l", "can", "elf", "image"},
     "xcp": {"a2l", "elf", "image"},
     "calib": {"a2l", "elf", "image", "xcp", "can"},
-    "record": {"a2l", "xcp", "calib", "can"},
-    "gui": {"a2l", "elf", "image", "xcp", "calib", "record", "can", "sim"},
-    "cli": {"a2l", "elf", "image", "xcp", "calib", "record", "can", "sim", "gui"},
+    "session": {"a2l", "elf", "image", "xcp", "calib", "can"},
+    "record": {"a2l", "xcp", "calib", "can", "session"},
+    "flash": {"a2l", "elf", "image", "xcp", "session"},
+    "gui": {"a2l", "elf", "image", "xcp", "calib", "record", "can", "sim", "session", "flash"},
+    "cli": {"a2l", "elf", "image", "xcp", "calib", "record", "can", "sim", "gui", "session", "flash"},
 }
 
 
