@@ -19,6 +19,7 @@ every exchange therefore drops what is queued before it sends.
 from __future__ import annotations
 
 import logging
+import socket
 import sys
 import threading
 from collections.abc import Callable
@@ -76,6 +77,27 @@ def _pyxcp():
         finally:
             sys.excepthook, sys.displayhook = hooks
     return pyxcp.config, pyxcp.transport.can, pyxcp.transport.eth, FrameCategory
+
+
+def _lighten(transport) -> None:
+    """Attach the transport to no master, and skip the diagnostic record pyxcp formats (a hex dump) for
+    every frame it receives: at a saturated bus's 8,000 DTOs a second that costs a good share of a core."""
+    transport.parent = _Service()
+    transport._record_pdu = lambda *args, **kwargs: None
+
+
+UDP_RECEIVE_BUFFER = 4 << 20  # bytes: a second of a saturated bus as udp_multicast datagrams
+
+
+def _widen_udp_receive_buffer(bus) -> None:
+    """udp_multicast carries each CAN frame as a datagram: with the kernel's default buffer (about 200 kB,
+    ~270 frames) a busy interpreter pausing for 30 ms at a saturated bus's 8,000 frames/s loses frames."""
+    sock = getattr(getattr(bus, "_multicast", None), "_socket", None)  # python-can keeps it private
+    if sock is not None:
+        try:
+            sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, UDP_RECEIVE_BUFFER)
+        except OSError:  # capped by the system (net.core.rmem_max): keep what it gives
+            log.debug("could not widen the udp_multicast receive buffer", exc_info=True)
 
 
 def _quiet_pyxcp_logging() -> None:
@@ -150,6 +172,7 @@ class Link:
         settings = self.settings
         if self._bus is None:
             self._owned_bus = self._bus = open_bus(settings.bus)
+            _widen_udp_receive_buffer(self._bus)
         flag = CAN_ID_EXTENDED_FLAG
         app = self._application(config_module, {"CAN": {
             "can_id_master": settings.can_id_master | (flag if settings.can_id_master_extended else 0),
@@ -158,7 +181,7 @@ class Link:
             "padding_value": 0,
         }})
         transport = can_module.Can(app.transport, policy=self._policy, transport_layer_interface=self._bus)
-        transport.parent = _Service()
+        _lighten(transport)
         transport.connect()
         if settings.daq_can_ids:  # accept DTOs on their own ids; pyxcp's daq_identifier would prepend a PID
             ids = [can_module.Identifier(ident | (flag if extended else 0)) for ident, extended in settings.daq_can_ids]
@@ -174,7 +197,7 @@ class Link:
         }})
         try:
             transport = eth_module.Eth(app.transport, policy=self._policy)
-            transport.parent = _Service()
+            _lighten(transport)
             transport.connect()
         except OSError as exc:
             raise WorkbenchError(f"cannot reach the ECU at {settings.host}:{settings.port} "
@@ -253,6 +276,9 @@ class Link:
         if transport is not None:
             try:
                 transport.close()
+                # pyxcp does not wait for its receive thread: a bus shut under it logs a bad file descriptor
+                if transport.listener.is_alive():
+                    transport.listener.join(timeout=1.0)
             except Exception:  # closing must not fail a session that is going away
                 log.debug("closing the pyxcp transport failed", exc_info=True)
         if self._owned_bus is not None:

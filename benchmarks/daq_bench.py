@@ -1,0 +1,143 @@
+"""DAQ through the workbench's master: host decode throughput, and a long run at the CAN bus limit.
+
+1. Decode: DTOs of a realistic plan (40 float32 signals on classic CAN limits, absolute PIDs,
+   4-byte timestamps) are fed to the assembler the link's receive thread feeds, then read as
+   batches and decoded into float arrays, as a measurement does. Figure: DTOs per second on
+   this host, against what a saturated 1 Mbit/s bus carries (the goal: 5x that, 50,000 DTO/s).
+2. At the bus limit: a ``workbench sim`` process with the bus timing model at 1 Mbit/s on its
+   own udp_multicast port; one DAQ list on the 4 ms event sized to fill about 90 % of the bus
+   (frame bits with stuffing from :func:`workbench.sim.can_timing.frame_bits`); the master
+   collects for ``--seconds`` and reports DTOs/s as a fraction of the bus limit, samples, lost
+   samples (timestamp gaps and broken ODT sequences) and whether the ECU's timestamps rise.
+
+Plain script: ``.venv/bin/python benchmarks/daq_bench.py [--seconds 60] [--skip-bus]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import socket
+import struct
+import subprocess
+import sys
+import time
+
+import can
+import numpy as np
+
+from workbench.sim.can_timing import frame_bits
+from workbench.sim.seedkey import compute_key
+from workbench.xcp.daq import DaqSignal, DaqStream, DtoAssembler, plan_daq
+from workbench.xcp.info import DaqProcessorInfo, DaqResolutionInfo
+from workbench.xcp.link import Link, LinkSettings
+from workbench.xcp.master import XcpMaster
+
+BITRATE = 1_000_000
+CAL_RAM = 0x40000010  # any mapped memory can be sampled; the .cal_ram image is a large readable block
+DTO_FRAME = can.Message(arbitration_id=0x7F1, is_extended_id=False, data=bytes(range(0x11, 0x19)))  # typical data
+
+
+def bus_limit_frames_per_s(bitrate: int = BITRATE) -> float:
+    return bitrate / frame_bits(DTO_FRAME)
+
+
+def decode_throughput(samples: int = 20_000) -> tuple[float, int]:
+    processor = DaqProcessorInfo(True, False, False, True, False, "none", 16, 3, 0, 0, "free", "ABSOLUTE")
+    resolution = DaqResolutionInfo(1, 4, 4, False, 1e-5, 1)
+    signals = {0: [DaqSignal(f"s{i}", 0x1000 + 8 * i, 4) for i in range(40)]}
+    plan = plan_daq(signals, processor, resolution, 8, consistency={0: "DAQ"})
+    daq = plan.lists[0]
+    frames = []
+    for sample in range(samples):
+        for number, odt in enumerate(daq.odts):
+            head = bytes((number,)) + (struct.pack("<I", sample * 400) if number == 0 else b"")
+            frames.append((head + bytes(odt.size)).ljust(8, b"\0"))
+
+    class _Master:  # what DaqStream reads of the master when it only decodes
+        order = "<"
+
+    stream = DaqStream(_Master(), plan, processor, resolution, {0: 0.004})
+    stream.assembler = DtoAssembler(plan, {daq.number: 0})
+    started = time.perf_counter()
+    feed = stream.assembler.feed
+    decoded = 0
+    for index, frame in enumerate(frames):
+        feed(frame, index)
+        if index % 2000 == 1999:
+            for batch in stream.read(0):
+                for key in daq.positions:
+                    decoded += len(batch.column(key).view("<f4"))
+    for batch in stream.read(0):
+        for key in daq.positions:
+            decoded += len(batch.column(key).view("<f4"))
+    elapsed = time.perf_counter() - started
+    assert decoded == samples * 40, decoded
+    return len(frames) / elapsed, len(daq.odts)
+
+
+def free_udp_port() -> int:
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:
+        probe.bind(("", 0))
+        return probe.getsockname()[1]
+
+
+def run_at_bus_limit(seconds: float, load: float = 0.9) -> dict:
+    port = free_udp_port()
+    sim = subprocess.Popen([sys.executable, "-c", "from workbench.cli import entry_point; entry_point()", "sim",
+                            "--bitrate", str(BITRATE), "--bus-kwargs", f"port={port}", "--pcm"],
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        for line in sim.stdout:
+            if line.startswith("serving"):
+                break
+        settings = LinkSettings("CAN", {"interface": "udp_multicast", "channel": "239.74.163.2", "port": port,
+                                        "receive_own_messages": False}, 0x7F0, 0x7F1, max_dlc_required=True)
+        with Link(settings) as link:
+            master = XcpMaster(link, key_function=compute_key)
+            master.connect()
+            processor, resolution = master.get_daq_processor_info(), master.get_daq_resolution_info()
+            frames_per_sample = int(load * bus_limit_frames_per_s() * 0.004)
+            size = (8 - 1 - 4) + (frames_per_sample - 1) * (8 - 1)
+            signals = {0: [DaqSignal("block", CAL_RAM, size, element_size=1)]}
+            plan = plan_daq(signals, processor, resolution, master.max_dto, consistency={0: "DAQ"})
+            times = []
+            with DaqStream(master, plan, processor, resolution, {0: 0.004}) as stream:
+                stream.read(1.0)  # the first samples: start-up
+                start_dtos, started = stream.stats.dtos, time.perf_counter()
+                while time.perf_counter() - started < seconds:
+                    times += [batch.time for batch in stream.read(0.1)]
+                elapsed = time.perf_counter() - started
+                stats = stream.stats
+            master.disconnect()
+        dtos_per_s = (stats.dtos - start_dtos) / elapsed
+        series = np.concatenate(times) if times else np.zeros(0)
+        return {"odts": len(plan.lists[0].odts), "dtos_per_s": dtos_per_s, "bus_limit": bus_limit_frames_per_s(),
+                "samples": stats.samples, "lost": stats.lost, "overloads": stats.overloads,
+                "monotonic": bool(np.all(np.diff(series) > 0)), "seconds": elapsed}
+    finally:
+        sim.terminate()
+        _, errors = sim.communicate(timeout=10)
+        if errors.strip():
+            print("simulator:", errors.strip()[-2000:])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--seconds", type=float, default=60.0, help="length of the run at the bus limit")
+    parser.add_argument("--skip-bus", action="store_true", help="only the decode throughput")
+    args = parser.parse_args()
+    limit = bus_limit_frames_per_s()
+    rate, odts = decode_throughput()
+    print(f"decode: {rate:,.0f} DTO/s on this host ({odts} ODTs a sample, 40 float32 signals); "
+          f"a saturated 1 Mbit/s bus carries {limit:,.0f} frames/s: {rate / limit:.1f}x")
+    if args.skip_bus:
+        return
+    result = run_at_bus_limit(args.seconds)
+    print(f"bus limit run ({result['seconds']:.0f} s, {result['odts']} ODTs on the 4 ms event): "
+          f"{result['dtos_per_s']:,.0f} DTO/s = {result['dtos_per_s'] / result['bus_limit']:.1%} of the "
+          f"{result['bus_limit']:,.0f} frames/s a 1 Mbit/s bus carries; samples {result['samples']}, lost {result['lost']}, "
+          f"overloads {result['overloads']}, ECU timestamps rising: {result['monotonic']}")
+
+
+if __name__ == "__main__":
+    main()
