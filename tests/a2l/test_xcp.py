@@ -161,3 +161,36 @@ def test_missing_if_data_is_an_error():
     with pytest.raises(A2lParseError, match="no IF_DATA XCP") as info:
         read_xcp_config(doc)
     assert info.value.line == 3
+
+
+def test_a_measurement_names_its_daq_events():
+    from workbench.a2l import load_a2l_string
+    from workbench.a2l.xcp import read_daq_events
+
+    doc = load_a2l_string("""/begin PROJECT P "" /begin MODULE M ""
+      /begin MEASUREMENT fixed "" UBYTE NO_COMPU_METHOD 0 0 0 255 ECU_ADDRESS 0x10
+        /begin IF_DATA XCP /begin DAQ_EVENT FIXED_EVENT_LIST EVENT 2 EVENT 0x3 /end DAQ_EVENT /end IF_DATA
+      /end MEASUREMENT
+      /begin MEASUREMENT variable "" UBYTE NO_COMPU_METHOD 0 0 0 255 ECU_ADDRESS 0x11
+        /begin IF_DATA XCP /begin DAQ_EVENT VARIABLE
+          /begin AVAILABLE_EVENT_LIST EVENT 0 EVENT 1 /end AVAILABLE_EVENT_LIST
+          /begin DEFAULT_EVENT_LIST EVENT 1 /end DEFAULT_EVENT_LIST
+        /end DAQ_EVENT /end IF_DATA
+      /end MEASUREMENT
+      /begin MEASUREMENT plain "" UBYTE NO_COMPU_METHOD 0 0 0 255 ECU_ADDRESS 0x12 /end MEASUREMENT
+    /end MODULE /end PROJECT""", validate=False)
+    fixed, variable, plain = (read_daq_events(block) for block in doc.objects("MEASUREMENT"))
+    assert (fixed.fixed, fixed.preferred) == ((2, 3), 2)
+    assert (variable.default, variable.available, variable.preferred) == ((1,), (0, 1), 1)
+    assert plain.preferred is None
+
+
+def test_the_demo_measurements_are_sampled_on_their_task():
+    from workbench import demo
+    from workbench.a2l import load_a2l
+    from workbench.a2l.xcp import read_daq_events
+
+    doc = load_a2l(demo.a2l())
+    events = {block.name: read_daq_events(block).preferred for block in doc.objects("MEASUREMENT")}
+    assert events["zsRailPressure"] == 0 and events["xsDC"] == 1 and events["csPCM_TO_FLCU_001_EnableFLCU"] == 2
+    assert None not in events.values()

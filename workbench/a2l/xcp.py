@@ -15,12 +15,12 @@ from workbench.errors import A2lParseError
 from workbench.xcp_protocol import CAN_ID_EXTENDED_FLAG, TIME_UNIT_S
 
 if TYPE_CHECKING:
-    from workbench.a2l.document import A2lDocument
+    from workbench.a2l.document import A2lDocument, Block
 
 __all__ = [
-    "XcpAddressMapping", "XcpCommunicationMode", "XcpConfig", "XcpDaq", "XcpDaqListCanId", "XcpEvent",
+    "XcpAddressMapping", "XcpCommunicationMode", "XcpConfig", "XcpDaq", "XcpDaqEvents", "XcpDaqListCanId", "XcpEvent",
     "XcpOnCan", "XcpOnIp", "XcpPage", "XcpPgm", "XcpProtocolLayer", "XcpSector", "XcpSegment", "XcpTimeouts",
-    "XcpTimestamp", "read_xcp_config",
+    "XcpTimestamp", "read_daq_events", "read_xcp_config",
 ]
 
 # TIMESTAMP_SUPPORTED UNIT_x -> the time unit code (seconds: TIME_UNIT_S)
@@ -251,6 +251,42 @@ class XcpConfig(XcpProtocolLayer):
         if block.pgm is not None:
             config = replace(config, pgm=block.pgm)
         return config
+
+
+@dataclass(frozen=True)
+class XcpDaqEvents:
+    """A MEASUREMENT's IF_DATA XCP DAQ_EVENT: the events it may (or must) be sampled on."""
+
+    fixed: tuple[int, ...] = ()  # FIXED_EVENT_LIST: only these
+    default: tuple[int, ...] = ()  # VARIABLE DEFAULT_EVENT_LIST: the preselection
+    available: tuple[int, ...] = ()  # VARIABLE AVAILABLE_EVENT_LIST (empty: any)
+
+    @property
+    def preferred(self) -> int | None:
+        """The event to sample on when the user names none."""
+        for events in (self.fixed, self.default, self.available):
+            if events:
+                return events[0]
+        return None
+
+
+def read_daq_events(block: "Block") -> XcpDaqEvents:
+    """The DAQ_EVENT of an object's ``IF_DATA XCP`` (an empty one when it has none)."""
+    for if_data in block.children_named("IF_DATA"):
+        if if_data.name not in ("XCP", "XCPplus"):
+            continue
+        node = read_if_data(if_data).block("DAQ_EVENT")
+        if node is None:
+            continue
+
+        def events(owner: IfDataNode | None) -> tuple[int, ...]:
+            return tuple(int(v[0]) for v in owner.all_after("EVENT") if v and not isinstance(v[0], str)) if owner else ()
+
+        if node.has("FIXED_EVENT_LIST"):
+            return XcpDaqEvents(fixed=events(node))
+        return XcpDaqEvents(default=events(node.block("DEFAULT_EVENT_LIST")),
+                            available=events(node.block("AVAILABLE_EVENT_LIST")))
+    return XcpDaqEvents()
 
 
 def read_xcp_config(doc: "A2lDocument", module: str | None = None) -> XcpConfig:
