@@ -21,8 +21,10 @@ from workbench.a2l.xcp import read_xcp_config
 from workbench.elf.debugdata import DebugData
 from workbench.errors import A2lParseError, WorkbenchError
 
+CORPUS = Path(__file__).parents[1] / "corpus" / "a2l"
 FILES = [demo.master_a2l(), *demo.fragment_a2ls()[:3], Path(__file__).parent / "fixtures" / "xcp_ecu.a2l",
-         Path(__file__).parent / "fixtures" / "types.a2l"]
+         Path(__file__).parent / "fixtures" / "types.a2l", CORPUS / "a2ltool" / "update_test2.a2l",
+         CORPUS / "a2ltool" / "update_typedef_test4.a2l", CORPUS / "domohuhn-a2l" / "example-ecu.a2l"]
 DEBUG = DebugData(Path(__file__).parents[1] / "elf" / "fixtures" / "types_dwarf5.elf", use_cache=False)
 MASTER = A2lDocument.from_source(decode_source(demo.master_a2l().read_bytes(), demo.master_a2l()))
 SNIPPETS = [b"/begin", b"/end", b"/include", b'"', b"/*", b"*/", b"//", b"\n", b"0x", b"0x1G", b"-", b".", b"1e",

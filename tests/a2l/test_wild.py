@@ -92,6 +92,7 @@ def test_words_asap2_does_not_allow_are_findings_with_the_allowed_ones(capsys, t
     ]
     code, _, err = run(capsys, "a2l", "merge", path, path, "-o", tmp_path / "merged.a2l")
     assert code == 2 and err.startswith(f"error: {path}:{at(path, 'NOT_A_TYPE')}: FNC_VALUES: 'NOT_A_TYPE' is not a data type")
+    assert err.endswith("FLOAT64_IEEE) (and 3 more problem(s): `workbench a2l check` lists them all)\n")
 
 
 TYPEDEFS = """\

@@ -40,7 +40,8 @@ _PATTERNS = {"ident": IDENT_RE, "int": INT_RE, "float": FLOAT_RE, "int*": INT_RE
 def validate_document(doc: "A2lDocument", errors: list[A2lParseError] | None = None, *,
                       within: str | None = None) -> None:
     """Raise :class:`A2lParseError` at the first violation of the keyword table (in file
-    order), or, when ``errors`` is a list, append every violation (one per block) to it.
+    order, saying how many more there are), or, when ``errors`` is a list, append every
+    violation (one per block) to it.
     An error inside a block has that block's index as ``block``. ``within`` is the block the
     file's top level stands in: None for a whole file (PROJECT), ``"MODULE"`` for a bare
     fragment of module-level blocks (a file written for ``/include``)."""
@@ -49,8 +50,12 @@ def validate_document(doc: "A2lDocument", errors: list[A2lParseError] | None = N
     found.sort(key=lambda error: getattr(error, "offset", 0))
     if errors is not None:
         errors.extend(found)
-    elif found:
+    elif len(found) == 1:
         raise found[0]
+    elif found:  # the first, and how many more a check would list
+        first = found[0]
+        raise A2lParseError(f"{first.reason} (and {len(found) - 1} more problem(s): `workbench a2l check` lists "
+                            "them all)", first.path, first.line, first.column)
 
 
 class _Validator:
