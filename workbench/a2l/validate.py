@@ -35,6 +35,8 @@ def _kind_name(kind: str) -> str:
     enumeration = grammar.ENUMS.get(kind)
     return enumeration.what if enumeration is not None else _KIND_NAMES[kind]
 _PATTERNS = {"ident": IDENT_RE, "int": INT_RE, "float": FLOAT_RE, "int*": INT_RE, "ident*": IDENT_RE}
+_ENUM_BYTES = {kind: frozenset(word.encode("ascii") for word in enumeration.words)
+               for kind, enumeration in grammar.ENUMS.items()}  # the words as a file spells them
 
 
 def validate_document(doc: "A2lDocument", errors: list[A2lParseError] | None = None, *,
@@ -153,9 +155,13 @@ class _Validator:
     def _fit_many(self, kind: str, tokens: np.ndarray) -> list[bool]:
         data, starts, ends = self.data, self.doc.tokens.starts[tokens].tolist(), self.doc.tokens.ends[tokens].tolist()
         raws = [data[start:end] for start, end in zip(starts, ends)]
-        fits = self.fits[kind]
-        for raw in set(raws).difference(fits):
-            fits[raw] = _fits(kind, raw)
+        fits, words = self.fits[kind], _ENUM_BYTES.get(kind)
+        new = set(raws).difference(fits)  # a column of names: mostly spellings met once
+        if words is not None:
+            fits.update((raw, raw in words) for raw in new)
+        else:
+            fullmatch = _PATTERNS[kind].fullmatch
+            fits.update((raw, fullmatch(raw) is not None) for raw in new)
         return [fits[raw] for raw in raws]
 
     def _check_block(self, block: int, own, params_fit: bool = False) -> None:
@@ -272,9 +278,9 @@ def _placement_problem(parent: str | None, keyword: str) -> str | None:
 
 def _fits(kind: str, raw: bytes) -> bool:
     """Whether a token's bytes ``raw`` are a parameter of this kind (any kind but ``str``)."""
-    enumeration = grammar.ENUMS.get(kind)
-    if enumeration is not None:
-        return raw.decode("latin-1") in enumeration.words
+    words = _ENUM_BYTES.get(kind)
+    if words is not None:
+        return raw in words
     return _PATTERNS[kind].fullmatch(raw) is not None
 
 
