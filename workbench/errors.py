@@ -57,13 +57,37 @@ class UnknownSymbolError(WorkbenchError, KeyError):
 
     exit_code = 2
 
-    def __init__(self, name: str, where: str = ""):
+    def __init__(self, name: str, where: str = "", suggestions: tuple[str, ...] | list[str] = ()):
         self.name = name
         self.where = where
+        self.suggestions = tuple(suggestions)  # the closest known names, best first
         super().__init__(name)
 
     def __str__(self) -> str:  # KeyError would quote the name
-        return f"unknown symbol {self.name!r}" + (f" in {self.where}" if self.where else "")
+        text = f"unknown symbol {self.name!r}" + (f" in {self.where}" if self.where else "")
+        if self.suggestions:
+            text += "; did you mean " + ", ".join(repr(name) for name in self.suggestions) + "?"
+        return text
+
+
+class ConversionError(InputError):
+    """A value that cannot be converted: a text a verbal table does not list, a physical value
+    outside a conversion table, a COMPU_METHOD that cannot be inverted, a number the object's data
+    type cannot hold, a value of the wrong shape."""
+
+
+class LimitsError(InputError):
+    """Calibration values that break their object's rules (limits, monotony, shape, READ_ONLY).
+
+    ``violations`` lists every :class:`workbench.calib.limits.LimitViolation` found; the message
+    shows the first few.
+    """
+
+    def __init__(self, violations):
+        self.violations = list(violations)
+        shown = "; ".join(str(violation) for violation in self.violations[:3])
+        more = len(self.violations) - 3
+        super().__init__(shown + (f" (and {more} more)" if more > 0 else ""))
 
 
 class XcpCommandError(WorkbenchError):

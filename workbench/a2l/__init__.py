@@ -1,7 +1,9 @@
 """A2L files: a fast reader that keeps the original text, merge, update from ELF, EPK, check, diff.
 
 ``load_a2l(path)`` gives an :class:`A2lDocument` (the file's bytes plus token and block
-indexes); ``read_xcp_config(doc)`` the XCP settings of its IF_DATA XCP; ``merge_documents``,
+indexes); ``doc.model()`` its typed, read-only objects (:class:`A2lModel`: ``characteristic(name)``,
+``measurement(name)`` ..., the frozen classes of :mod:`workbench.a2l.objects`) and
+``model.conversion(obj)`` their COMPU_METHODs both ways; ``read_xcp_config(doc)`` the XCP settings of its IF_DATA XCP; ``merge_documents``,
 ``update_document``, ``check_document`` and ``diff_documents`` (and their ``*_file(s)``
 forms, which read and write paths) are the tool chain, each returning its findings as data
 (:class:`~workbench.findings.Report` of :class:`~workbench.findings.Finding`, shared with the
@@ -25,6 +27,10 @@ _EXPORTS = {
     "workbench.a2l.epk": ("ElfEpk", "read_elf_epk"),
     "workbench.a2l.ifdata": ("IfDataNode", "Word", "read_if_data"),
     "workbench.a2l.merge": ("MergeFailed", "MergeResult", "merge_documents", "merge_files"),
+    "workbench.a2l.model": ("A2lModel", "ObjectSummary"),
+    "workbench.a2l.objects": ("AxisDescr", "AxisPts", "Blob", "Characteristic", "CompuMethod", "CompuTab", "CompuVtab",
+                              "CompuVtabRange", "Function", "Group", "LayoutEntry", "Location", "Measurement",
+                              "ModCommon", "RecordLayout", "Unit"),
     "workbench.a2l.reports": ("ConflictPolicy", "IncludeMode", "UpdateMode"),
     "workbench.a2l.update": ("UpdateFailed", "UpdateReport", "UpdateResult", "update_document", "update_file"),
     "workbench.a2l.xcp": ("XcpConfig", "read_xcp_config"),
@@ -38,6 +44,11 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
     from workbench.a2l.epk import ElfEpk, read_elf_epk
     from workbench.a2l.ifdata import IfDataNode, Word, read_if_data
     from workbench.a2l.merge import MergeFailed, MergeResult, merge_documents, merge_files
+    from workbench.a2l.model import A2lModel, ObjectSummary
+    from workbench.a2l.objects import (
+        AxisDescr, AxisPts, Blob, Characteristic, CompuMethod, CompuTab, CompuVtab, CompuVtabRange, Function, Group,
+        LayoutEntry, Location, Measurement, ModCommon, RecordLayout, Unit,
+    )
     from workbench.a2l.reports import ConflictPolicy, IncludeMode, UpdateMode
     from workbench.a2l.update import UpdateFailed, UpdateReport, UpdateResult, update_document, update_file
     from workbench.a2l.xcp import XcpConfig, read_xcp_config

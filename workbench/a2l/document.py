@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -21,6 +22,10 @@ from workbench.a2l.tokens import Tokens
 from workbench.a2l.tree import BlockTable, find_directives, first_of_each, parse_blocks
 from workbench.a2l.values import is_int, is_number, parse_int, parse_number, parse_string
 from workbench.errors import A2lParseError
+
+if TYPE_CHECKING:
+    from workbench.a2l.model import A2lModel
+    from workbench.a2l.objects import AxisPts, Characteristic, CompuMethod, Function, Measurement, RecordLayout
 
 __all__ = ["A2lDocument", "Block", "MemorySegment", "load_a2l", "load_a2l_string"]
 
@@ -70,6 +75,7 @@ class A2lDocument:
         self.include_count = include_count  # directives met, nested ones included
         self.block_begin: list[int] = blocks.begin.tolist()  # per block: its /begin token
         self.block_end: list[int] = blocks.end.tolist()  # per block: its /end token
+        self._models: dict[int, "A2lModel"] = {}  # MODULE block -> its object model
 
     @classmethod
     def from_source(cls, source: SourceFile, *, validate: bool = True) -> "A2lDocument":
@@ -249,6 +255,37 @@ class A2lDocument:
             segments.append(MemorySegment(name, long_id, prg, memory, attribute,
                                           self.int_value(args[5]), self.int_value(args[6]), block))
         return segments
+
+    # -- the object model ----------------------------------------------------------------
+    def model(self, module: str | None = None) -> "A2lModel":
+        """The typed, read-only objects of a MODULE (:class:`~workbench.a2l.model.A2lModel`): names
+        indexed once, each object read from its tokens when first asked for."""
+        block = self.module(module)
+        found = self._models.get(block.index)
+        if found is None:
+            from workbench.a2l.model import A2lModel
+
+            found = self._models[block.index] = A2lModel(self, block.name)
+        return found
+
+    def characteristic(self, name: str, module: str | None = None) -> "Characteristic":
+        """The CHARACTERISTIC ``name``; raises :class:`UnknownSymbolError` (closest names suggested)."""
+        return self.model(module).characteristic(name)
+
+    def measurement(self, name: str, module: str | None = None) -> "Measurement":
+        return self.model(module).measurement(name)
+
+    def axis_pts(self, name: str, module: str | None = None) -> "AxisPts":
+        return self.model(module).axis_pts(name)
+
+    def compu_method(self, name: str, module: str | None = None) -> "CompuMethod":
+        return self.model(module).compu_method(name)
+
+    def record_layout(self, name: str, module: str | None = None) -> "RecordLayout":
+        return self.model(module).record_layout(name)
+
+    def function(self, name: str, module: str | None = None) -> "Function":
+        return self.model(module).function(name)
 
     def objects(self, keyword: str, module: str | None = None) -> list["Block"]:
         """The MODULE's direct children with this keyword (MEASUREMENT, CHARACTERISTIC ...)."""
