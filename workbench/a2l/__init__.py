@@ -22,9 +22,11 @@ from workbench.lazy_exports import lazy_exports
 
 _EXPORTS = {
     "workbench.a2l.check": ("check_document", "check_file"),
+    "workbench.a2l.compu": ("Conversion", "conversion_for"),
     "workbench.a2l.diff": ("DiffEntry", "FieldChange", "diff_documents", "diff_files"),
     "workbench.a2l.document": ("A2lDocument", "Block", "MemorySegment", "load_a2l", "load_a2l_string"),
     "workbench.a2l.epk": ("ElfEpk", "read_elf_epk"),
+    "workbench.a2l.formula": ("Formula", "compile_formula"),
     "workbench.a2l.ifdata": ("IfDataNode", "Word", "read_if_data"),
     "workbench.a2l.merge": ("MergeFailed", "MergeResult", "merge_documents", "merge_files"),
     "workbench.a2l.model": ("A2lModel", "ObjectSummary"),
@@ -39,9 +41,11 @@ __all__, __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerly
     from workbench.a2l.check import check_document, check_file
+    from workbench.a2l.compu import Conversion, conversion_for
     from workbench.a2l.diff import DiffEntry, FieldChange, diff_documents, diff_files
     from workbench.a2l.document import A2lDocument, Block, MemorySegment, load_a2l, load_a2l_string
     from workbench.a2l.epk import ElfEpk, read_elf_epk
+    from workbench.a2l.formula import Formula, compile_formula
     from workbench.a2l.ifdata import IfDataNode, Word, read_if_data
     from workbench.a2l.merge import MergeFailed, MergeResult, merge_documents, merge_files
     from workbench.a2l.model import A2lModel, ObjectSummary

@@ -324,8 +324,10 @@ class A2lModel:
             if name in known:
                 return self._get(kind, name)
         where = (referrer.ref_locations or {}).get(field) or referrer.location or Location(self.doc.name, 0, 0)
-        owner = getattr(referrer, "kind", type(referrer).__name__.upper())
-        label = f"{owner} {referrer.name}" if hasattr(referrer, "name") else f"AXIS_DESCR {referrer.axis}"
+        if isinstance(referrer, AxisDescr):
+            label = f"AXIS_DESCR {referrer.axis}"
+        else:
+            label = f"{getattr(referrer, 'kind', 'COMPU_METHOD')} {referrer.name}"
         close = closest_names(name, known)
         hint = f" (did you mean {', '.join(close)}?)" if close else ""
         raise A2lParseError(f"{label}: {kind} {name!r} is not defined{hint}", *where)
