@@ -6,6 +6,7 @@ from pya2l_oracle import pya2l_import
 from workbench.a2l import load_a2l, load_a2l_string
 from workbench.a2l.merge import MergeFailed, merge_documents, merge_files
 from workbench.a2l.reports import ConflictPolicy
+from workbench.errors import A2lParseError
 
 MASTER = """/* master */
 ASAP2_VERSION 1 71
@@ -191,6 +192,8 @@ def test_a_master_with_several_modules_needs_module(capsys, tmp_path):
     code, _, err = _cli(capsys, "a2l", "merge", tmp_path / "master.a2l", tmp_path / "frag.a2l", "-o", out,
                         "--module", "GEARBOX")
     assert (code, err) == (2, f"error: {tmp_path / 'master.a2l'}: no MODULE named GEARBOX (its MODULEs: ECU, BODY)\n")
+    with pytest.raises(A2lParseError, match=r"expected exactly one MODULE, found 2 \(ECU, BODY\)"):
+        load_a2l(tmp_path / "master.a2l").module()  # what a reader of one MODULE says
     code, _, _ = _cli(capsys, "a2l", "merge", tmp_path / "master.a2l", tmp_path / "frag.a2l", "-o", out,
                       "--module", "BODY")
     doc = load_a2l(out)

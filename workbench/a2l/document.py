@@ -210,7 +210,8 @@ class A2lDocument:
         modules = self.modules
         if name is None:
             if len(modules) != 1:
-                raise A2lParseError(f"expected exactly one MODULE, found {len(modules)}", self.name,
+                names = f" ({', '.join(module.name or '?' for module in modules)})" if modules else ""
+                raise A2lParseError(f"expected exactly one MODULE, found {len(modules)}{names}", self.name,
                                     *self.project.position[1:])
             return modules[0]
         for module in modules:
