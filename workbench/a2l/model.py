@@ -166,6 +166,10 @@ class A2lModel:
     def characteristic(self, name: str) -> Characteristic:
         return self._get("CHARACTERISTIC", name)
 
+    def block(self, name: str) -> "Block":
+        """The block an object is read from (for what the model does not interpret, e.g. its IF_DATA)."""
+        return self.doc.block(self._blocks[self.kind_of(name)][name])
+
     def measurement(self, name: str) -> Measurement:
         return self._get("MEASUREMENT", name)
 
