@@ -17,8 +17,8 @@ TAB_INTP       COMPU_TAB pairs, linear interpolation; outside the table DEFAULT_
                strictly monotonic; a value outside its range is refused
 TAB_NOINTP     COMPU_TAB pairs, exact raw values; any other raw value gives DEFAULT_VALUE_NUMERIC
                (NaN without one). Back: only the table's physical values
-TAB_VERB       COMPU_VTAB (raw -> text) or COMPU_VTAB_RANGE (raw in [lower, upper] -> text; the
-               first range that holds it). A raw value in no entry gives DEFAULT_VALUE, else the
+TAB_VERB       COMPU_VTAB (raw -> text) or COMPU_VTAB_RANGE (raw in [lower, upper] -> text; ranges
+               should not overlap: where they do, the one with the highest lower bound wins). A raw value in no entry gives DEFAULT_VALUE, else the
                number itself. Back: a listed text, or a number (taken as the raw value); any other
                text is refused naming the allowed ones. A range gives its lowest integer value.
 FORM           FORMULA in X1 (:mod:`workbench.a2l.formula`, never ``eval``); back with
@@ -212,6 +212,11 @@ class _Verbal(Conversion):
         self.lowers = np.array([t[0] for t in triples], dtype=np.float64)
         self.uppers = np.array([t[1] for t in triples], dtype=np.float64)
         self.texts = [t[2] for t in triples]
+        if not triples:
+            raise ConversionError(f"{self.name}: {table.name} has no entries")
+        self._by_lower = np.argsort(self.lowers, kind="stable")
+        self._sorted_lowers = self.lowers[self._by_lower]
+        self._text_array = np.array(self.texts + [None], dtype=object)[:-1]
         self.default = table.default_value
         self.raw_of: dict[str, float] = {}
         for lower, upper, text in triples:
@@ -227,17 +232,20 @@ class _Verbal(Conversion):
         scalar = np.ndim(raw) == 0
         values = self._numbers(raw, "raw").astype(np.float64)
         flat = values.ravel()
-        inside = (flat[:, None] >= self.lowers) & (flat[:, None] <= self.uppers)
-        hit = inside.any(axis=1)
-        first = np.argmax(inside, axis=1)
-        out = np.empty(len(flat), dtype=object)
-        for i, (found, index, number) in enumerate(zip(hit.tolist(), first.tolist(), flat.tolist())):
-            if found:
-                out[i] = self.texts[index]
+        # the entry with the highest lower bound <= value (vectorized); misses look at every entry
+        slot = np.clip(np.searchsorted(self._sorted_lowers, flat, side="right") - 1, 0, len(self.texts) - 1)
+        entry = self._by_lower[slot]
+        hit = (flat >= self.lowers[entry]) & (flat <= self.uppers[entry])
+        out = self._text_array[entry]
+        for i in np.flatnonzero(~hit).tolist():
+            number = flat[i]
+            holders = np.flatnonzero((number >= self.lowers) & (number <= self.uppers))
+            if len(holders):
+                out[i] = self.texts[holders[0]]
             elif self.default is not None:
                 out[i] = self.default
             else:
-                out[i] = int(number) if number.is_integer() else number
+                out[i] = int(number) if float(number).is_integer() else float(number)
         return out[0] if scalar else out.reshape(values.shape)
 
     def to_raw(self, physical: Any, datatype: str | None = None) -> Any:

@@ -312,9 +312,10 @@ class A2lModel:
             found = self._conversions[name] = conversion_for(method, table, self._system_constants())
         return found
 
-    def resolve(self, referrer: Referrer, field: str, kind: str):
+    def resolve(self, referrer: Referrer, field: str, kind: str, owner: str = ""):
         """The object that ``referrer.<field>`` names (``kind``: the block keyword it must be;
         ``COMPU_TAB`` stands for any conversion table, ``AXIS_PTS``/``CHARACTERISTIC`` for an object).
+        ``owner`` names what holds the referrer in the error (``"CHARACTERISTIC m"`` for its AXIS_DESCR).
 
         :raises A2lParseError: at the reference when the name is not defined (closest names suggested).
         """
@@ -327,9 +328,11 @@ class A2lModel:
             known = self._blocks.get(kind, {})
             if name in known:
                 return self._get(kind, name)
-        where = (referrer.ref_locations or {}).get(field) or referrer.location or Location(self.doc.name, 0, 0)
+        token = (referrer.ref_tokens or {}).get(field)
+        where = (Location(*self.doc.token_position(token)) if token is not None else referrer.location
+                 or Location(self.doc.name, 0, 0))
         if isinstance(referrer, AxisDescr):
-            label = f"AXIS_DESCR {referrer.axis}"
+            label = (f"{owner} " if owner else "") + f"AXIS_DESCR {referrer.axis}"
         else:
             label = f"{getattr(referrer, 'kind', 'COMPU_METHOD')} {referrer.name}"
         close = closest_names(name, known)

@@ -106,7 +106,7 @@ class CompuMethod:
     ref_unit: str | None = None
     status_string_ref: str | None = None
     location: Location | None = _meta()
-    ref_locations: Mapping[str, Location] | None = _meta()
+    ref_tokens: Mapping[str, int] | None = _meta()  # field -> token of the name, in the model's document
 
     @property
     def decimals(self) -> int | None:
@@ -250,7 +250,7 @@ class AxisDescr:
     max_grad: float | None = None
     step_size: float | None = None
     location: Location | None = _meta()
-    ref_locations: Mapping[str, Location] | None = _meta()
+    ref_tokens: Mapping[str, int] | None = _meta()  # field -> token of the name, in the model's document
 
     @property
     def fix_axis_points(self) -> tuple[float, ...] | None:
@@ -279,7 +279,7 @@ class _Addressed:
     functions: tuple[str, ...] = ()  # FUNCTIONs that name the object (their lists, its FUNCTION_LIST)
     groups: tuple[str, ...] = ()  # GROUPs that name it
     location: Location | None = _meta()
-    ref_locations: Mapping[str, Location] | None = _meta()
+    ref_tokens: Mapping[str, int] | None = _meta()  # field -> token of the name, in the model's document
 
 
 @dataclass(frozen=True)

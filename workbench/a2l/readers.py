@@ -42,9 +42,13 @@ class _Fields:
         for keyword, tokens in options:
             self.options.setdefault(keyword, tokens)
         self._children: list[tuple[str, int]] | None = None
-        self.label = block.keyword + (f" {block.name}" if block.name else "")
         if len(self.args) < needed:
             raise doc.error(f"{self.label}: {needed} parameters expected, found {len(self.args)}", block.keyword_token)
+
+    @property
+    def label(self) -> str:
+        """``KEYWORD name`` for messages."""
+        return self.block.keyword + (f" {self.block.name}" if self.block.name else "")
 
     @property
     def location(self) -> Location:
@@ -110,8 +114,9 @@ class _Fields:
                                  f"{', '.join(BYTE_ORDERS)})", tokens[0])
         return BYTE_ORDERS[word]
 
-    def ref_locations(self, **tokens: int | None) -> dict[str, Location]:
-        return {name: self.where(token) for name, token in tokens.items() if token is not None}
+    @staticmethod
+    def ref_tokens(**tokens: int | None) -> dict[str, int]:
+        return {name: token for name, token in tokens.items() if token is not None}
 
     def arg_token(self, index: int) -> int:
         return self.args[index]
@@ -177,7 +182,7 @@ def _measurement(doc: "A2lDocument", block: "Block", common: ModCommon, members:
         f.option_int("ECU_ADDRESS_EXTENSION") or 0, f.option_text("DISPLAY_IDENTIFIER"), f.symbol_link(),
         tuple(dict.fromkeys(functions + f.names_in("FUNCTION_LIST"))), groups,
         location=f.location,
-        ref_locations=f.ref_locations(conversion=f.arg_token(3)),
+        ref_tokens=f.ref_tokens(conversion=f.arg_token(3)),
         datatype=f.text(2), conversion=f.text(3), resolution=f.float(4), accuracy=f.float(5),
         lower_limit=f.float(6), upper_limit=f.float(7), byte_order=f.byte_order(common.byte_order),
         bit_mask=f.option_int("BIT_MASK"), bit_operation=bit_operation, matrix_dim=f.option_ints("MATRIX_DIM") or (),
@@ -205,7 +210,7 @@ def _axis_descr(doc: "A2lDocument", block: "Block", axis: str) -> AxisDescr:
         extended_limits=f.option_floats("EXTENDED_LIMITS", 2), format=f.option_text("FORMAT"),
         phys_unit=f.option_text("PHYS_UNIT"), read_only=f.has("READ_ONLY"), byte_order=f.byte_order(None),
         max_grad=f.option_float("MAX_GRAD"), step_size=f.option_float("STEP_SIZE"), location=f.location,
-        ref_locations=f.ref_locations(conversion=f.arg_token(2), input_quantity=f.arg_token(1),
+        ref_tokens=f.ref_tokens(conversion=f.arg_token(2), input_quantity=f.arg_token(1),
                                       axis_pts_ref=f.option_token("AXIS_PTS_REF"),
                                       curve_axis_ref=f.option_token("CURVE_AXIS_REF")),
     )
@@ -228,7 +233,7 @@ def _characteristic(doc: "A2lDocument", block: "Block", common: ModCommon, membe
         name, f.text(1), f.int(3), f.option_int("ECU_ADDRESS_EXTENSION") or 0, f.option_text("DISPLAY_IDENTIFIER"),
         f.symbol_link(), tuple(dict.fromkeys(functions + f.names_in("FUNCTION_LIST"))), groups,
         location=f.location,
-        ref_locations=f.ref_locations(record_layout=f.arg_token(4), conversion=f.arg_token(6),
+        ref_tokens=f.ref_tokens(record_layout=f.arg_token(4), conversion=f.arg_token(6),
                                       comparison_quantity=f.option_token("COMPARISON_QUANTITY")),
         type=f.text(2), record_layout=f.text(4), max_diff=f.float(5), conversion=f.text(6), lower_limit=f.float(7),
         upper_limit=f.float(8), byte_order=f.byte_order(common.byte_order), bit_mask=f.option_int("BIT_MASK"),
@@ -251,7 +256,7 @@ def _axis_pts(doc: "A2lDocument", block: "Block", common: ModCommon, members: Me
         name, f.text(1), f.int(2), f.option_int("ECU_ADDRESS_EXTENSION") or 0, f.option_text("DISPLAY_IDENTIFIER"),
         f.symbol_link(), tuple(dict.fromkeys(functions + f.names_in("FUNCTION_LIST"))), groups,
         location=f.location,
-        ref_locations=f.ref_locations(input_quantity=f.arg_token(3), record_layout=f.arg_token(4),
+        ref_tokens=f.ref_tokens(input_quantity=f.arg_token(3), record_layout=f.arg_token(4),
                                       conversion=f.arg_token(6)),
         input_quantity=f.ident(3), record_layout=f.text(4), max_diff=f.float(5), conversion=f.text(6),
         max_axis_points=f.int(7), lower_limit=f.float(8), upper_limit=f.float(9),
@@ -284,7 +289,7 @@ def _compu_method(doc: "A2lDocument", block: "Block", common: ModCommon, members
     return CompuMethod(
         f.text(0), f.text(1), f.text(2), f.text(3), f.text(4), coeffs, linear, f.option_text("COMPU_TAB_REF"),
         formula, formula_inv, f.option_text("REF_UNIT"), f.option_text("STATUS_STRING_REF"), location=f.location,
-        ref_locations=f.ref_locations(compu_tab_ref=f.option_token("COMPU_TAB_REF"),
+        ref_tokens=f.ref_tokens(compu_tab_ref=f.option_token("COMPU_TAB_REF"),
                                       ref_unit=f.option_token("REF_UNIT")),
     )
 
