@@ -121,6 +121,14 @@ class XcpTimeoutError(WorkbenchError, TimeoutError):
         super().__init__(f"XCP {command}: no response within {timeout_s * 1000:.0f} ms" + (f"; {hint}" if hint else ""))
 
 
+class PartialWriteError(WorkbenchError):
+    """A write that failed after some of its fields reached the ECU: ``written`` names them."""
+
+    def __init__(self, name: str, written: list[str], failed: str, cause: Exception):
+        self.written = written
+        super().__init__(f"{cause}; {name} is half written: {', '.join(written)} reached the ECU, {failed} did not")
+
+
 class EpkMismatchError(WorkbenchError):
     """The EPK in the ECU differs from the one in the A2L/image."""
 

@@ -26,7 +26,10 @@ from workbench.a2l.xcp import XcpConfig, XcpSegment
 from workbench.errors import EpkMismatchError, InputError, WorkbenchError, XcpTimeoutError
 from workbench.session.connection import Connection, link_settings, timeouts_of
 from workbench.session.epk import EpkCheck, check_epk
+from workbench.session.fixes import FixAccess
 from workbench.session.info import EcuInfo, PageState, read_ecu_info
+from workbench.session.measure import DaqMeasurement, EventAccess
+from workbench.session.values import ValueAccess
 from workbench.xcp.link import Link
 from workbench.xcp.master import KeyFunction, Timeouts, XcpMaster
 from workbench.xcp.seedkey import load_key_function
@@ -39,8 +42,13 @@ __all__ = ["Session"]
 _XCP_ONLY, _ECU_AND_XCP = 0x02, 0x03
 
 
-class Session:
-    """A connected ECU with its A2L. Build it with :meth:`open`; use it as a context manager."""
+class Session(ValueAccess, EventAccess, FixAccess):
+    """A connected ECU with its A2L. Build it with :meth:`open`; use it as a context manager.
+
+    By name (mixed in): :meth:`read`, :meth:`read_value`, :meth:`read_many`, :meth:`write`
+    (:mod:`~workbench.session.values`); :meth:`measure` with DAQ (:mod:`~workbench.session.measure`);
+    :meth:`fixes`, :meth:`override`, :meth:`release` (:mod:`~workbench.session.fixes`).
+    """
 
     def __init__(self, doc: A2lDocument, config: XcpConfig, link: Link, master: XcpMaster, *,
                  accept_epk_mismatch: bool = False, module: str | None = None):
@@ -53,7 +61,9 @@ class Session:
         self.lock = threading.RLock()
         self.epk: EpkCheck = EpkCheck(None, None, "")
         self.closed = False
-        self._closers: list = []  # running measurements and the like, stopped on close
+        self._closers: list = []  # things to stop on close (a recorder ...)
+        self._daq: DaqMeasurement | None = None  # the DAQ measurement running (one at a time)
+        self._event_info: dict = {}  # GET_DAQ_EVENT_INFO by event number
 
     # --- opening and closing ------------------------------------------------------------------
 
@@ -111,6 +121,11 @@ class Session:
             return
         self.closed = True
         with self.lock:
+            if self._daq is not None:
+                try:
+                    self._daq.stop()
+                except WorkbenchError as exc:
+                    log.warning("stopping DAQ: %s", exc)
             for closer in reversed(self._closers):
                 try:
                     closer()
@@ -126,7 +141,7 @@ class Session:
                 self.link.close()
 
     def on_close(self, closer) -> None:
-        """Call ``closer()`` when the session closes (measurements register their stop here)."""
+        """Call ``closer()`` when the session closes (before DISCONNECT)."""
         self._closers.append(closer)
 
     def __enter__(self) -> Session:

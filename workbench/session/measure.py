@@ -1,0 +1,237 @@
+"""Measuring by name with DAQ: signals grouped by event, sampled by the ECU, delivered in physical units.
+
+::
+
+    with ecu.measure(["zsRailPressure", "xsDC"]) as live:      # each on its A2L DAQ event
+        for batch in live:                                      # SampleBatch per event, as they come
+            print(batch.time[-1], batch.values["zsRailPressure"][-1])
+
+A measurement plans its DAQ lists from what the slave reports (see :mod:`workbench.xcp.daq.plan`),
+decodes samples in batches with numpy, stamps them with the ECU's clock, and counts what was lost.
+One DAQ measurement runs per session at a time (the slave's DAQ lists are shared); closing the
+session stops it.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from workbench.a2l.objects import Measurement
+from workbench.a2l.xcp import read_daq_events
+from workbench.calib.signals import MeasurementCodec, measurement_codec
+from workbench.errors import InputError, WorkbenchError, XcpCommandError
+from workbench.xcp.daq import DaqSignal, DaqStats, DaqStream, plan_daq
+
+if TYPE_CHECKING:
+    from workbench.session.session import Session
+
+log = logging.getLogger(__name__)
+
+__all__ = ["DaqMeasurement", "SampleBatch"]
+
+
+@dataclass(frozen=True)
+class SampleBatch:
+    """Consecutive samples of the signals on one event."""
+
+    event: int
+    event_name: str
+    time: np.ndarray  # s since the measurement's first sample, by the ECU's clock
+    host_time: np.ndarray  # s since the epoch (the ECU's clock mapped to the host's)
+    values: dict[str, np.ndarray]  # name -> physical values, shape (samples,) or (samples, *its shape)
+
+    def __len__(self) -> int:
+        return len(self.time)
+
+
+class DaqMeasurement:
+    """A DAQ measurement of ``names`` (MEASUREMENTs), each on ``event`` or the event the A2L names for it."""
+
+    def __init__(self, session: Session, names: Sequence[str], event: str | int | None = None):
+        if not names:
+            raise InputError("name at least one signal to measure")
+        self.session = session
+        self.names = list(dict.fromkeys(names))
+        model = session.model
+        self.codecs: dict[str, MeasurementCodec] = {}
+        for name in self.names:
+            obj = model.object(name)
+            if not isinstance(obj, Measurement):
+                raise InputError(f"{name} is a {type(obj).__name__.upper()}: DAQ samples MEASUREMENTs "
+                                 f"(read() polls calibrations)")
+            self.codecs[name] = measurement_codec(model, obj)
+        self.events = self._events(event)
+        self.stream: DaqStream | None = None
+        self._thread: threading.Thread | None = None
+        self._stop = threading.Event()
+
+    # --- which event --------------------------------------------------------------------------
+
+    def _events(self, event: str | int | None) -> dict[str, int]:
+        """name -> event number: the one asked for, else the A2L's DAQ_EVENT of the signal, else the fastest."""
+        chosen = self.session.event_number(event) if event is not None else None
+        events: dict[str, int] = {}
+        for name in self.names:
+            preference = read_daq_events(self.session.model.block(name))
+            if chosen is not None:
+                if preference.fixed and chosen not in preference.fixed:
+                    raise InputError(f"{name} can only be measured on event(s) "
+                                     f"{', '.join(map(str, preference.fixed))} (its FIXED_EVENT_LIST), not {chosen}")
+                events[name] = chosen
+            else:
+                preferred = preference.preferred
+                events[name] = preferred if preferred is not None else self.session.fastest_event()
+        return events
+
+    # --- life cycle ---------------------------------------------------------------------------
+
+    def start(self) -> DaqMeasurement:
+        """Configure and start the DAQ lists. :raises XcpCommandError: the slave refused the configuration."""
+        session = self.session
+        with session.lock:
+            session.claim_daq(self)
+            try:
+                master = session.master
+                processor, resolution = master.get_daq_processor_info(), master.get_daq_resolution_info()
+                groups: dict[int, list[DaqSignal]] = {}
+                for name, codec in self.codecs.items():
+                    span = codec.span
+                    groups.setdefault(self.events[name], []).append(
+                        DaqSignal(name, span.address, span.size, span.extension, codec.element_size))
+                info = {number: session.event_info(number) for number in groups}
+                plan = plan_daq(groups, processor, resolution, master.max_dto, first_list=processor.min_daq,
+                                consistency={n: i.consistency for n, i in info.items() if i is not None})
+                self.stream = DaqStream(master, plan, processor, resolution,
+                                        {n: i.period_s for n, i in info.items() if i is not None})
+                self.stream.start()
+            except BaseException:
+                session.release_daq(self)
+                raise
+        return self
+
+    def stop(self) -> None:
+        """Stop sampling (the samples already received can still be read); safe to call twice."""
+        self._stop.set()
+        if self._thread is not None and self._thread is not threading.current_thread():
+            self._thread.join(timeout=2)
+        stream, session = self.stream, self.session
+        if stream is None or not stream.running:
+            return
+        with session.lock:
+            try:
+                stream.close()
+            finally:
+                session.release_daq(self)
+
+    close = stop
+
+    def __enter__(self) -> DaqMeasurement:
+        return self.start() if self.stream is None else self
+
+    def __exit__(self, *exc_info) -> None:
+        self.stop()
+
+    # --- data ---------------------------------------------------------------------------------
+
+    def read(self, timeout_s: float | None = 0.0) -> list[SampleBatch]:
+        """The samples since the last read, one batch per event (waits up to ``timeout_s`` for the first)."""
+        if self.stream is None:
+            raise WorkbenchError("the measurement has not been started")
+        batches = []
+        for batch in self.stream.read(timeout_s):
+            keys = batch.daq_list.keys
+            values = {name: self.codecs[name].decode_samples(batch.column(name).tobytes(), len(batch)) for name in keys}
+            event = batch.daq_list.event
+            batches.append(SampleBatch(event, self.session.event_name(event), batch.time, batch.host_time, values))
+        return batches
+
+    def __iter__(self) -> Iterator[SampleBatch]:
+        """Batches as they arrive, until :meth:`stop`."""
+        while not self._stop.is_set():
+            yield from self.read(0.1)
+
+    def on_samples(self, callback: Callable[[SampleBatch], Any]) -> None:
+        """Call ``callback(batch)`` from a thread of the measurement's own for every batch, until :meth:`stop`.
+        An exception in the callback stops the delivery (it is logged)."""
+        if self._thread is not None:
+            raise WorkbenchError("samples already go to a callback")
+
+        def deliver() -> None:
+            try:
+                for batch in self:
+                    callback(batch)
+            except Exception:  # the user's callback: log it with its traceback, stop delivering
+                log.exception("the sample callback failed; delivery stopped")
+
+        self._thread = threading.Thread(target=deliver, name="daq-callback", daemon=True)
+        self._thread.start()
+
+    @property
+    def stats(self) -> DaqStats:
+        return self.stream.stats if self.stream is not None else DaqStats(0, 0, 0, 0, 0)
+
+    @property
+    def running(self) -> bool:
+        return self.stream is not None and self.stream.running
+
+
+class EventAccess:
+    """Mixed into :class:`Session`: DAQ events by name and the one running measurement."""
+
+    lock: Any
+
+    def measure(self: Session, names: Sequence[str], *, event: str | int | None = None) -> DaqMeasurement:
+        """A DAQ measurement of ``names``; start it with ``with`` (or :meth:`DaqMeasurement.start`)."""
+        return DaqMeasurement(self, names, event)
+
+    def event_number(self: Session, event: str | int) -> int:
+        """An event by number, name or short name (the A2L's, else the slave's GET_DAQ_EVENT_INFO)."""
+        if isinstance(event, int) or (isinstance(event, str) and event.isdigit()):
+            return int(event)
+        daq = self.config.daq
+        for known in daq.events if daq else ():
+            if event in (known.name, known.short_name):
+                return known.number
+        names = [known.name for known in daq.events] if daq else []
+        raise InputError(f"no DAQ event {event!r} (the A2L has {', '.join(names) or 'none'})")
+
+    def event_name(self: Session, number: int) -> str:
+        daq = self.config.daq
+        for known in daq.events if daq else ():
+            if known.number == number:
+                return known.name
+        info = self.event_info(number)
+        return info.name if info is not None and info.name else f"event {number}"
+
+    def fastest_event(self: Session) -> int:
+        """The A2L's cyclic DAQ event with the shortest period (0 when the A2L lists none)."""
+        daq = self.config.daq
+        cyclic = [event for event in (daq.events if daq else ()) if event.period_s]
+        return min(cyclic, key=lambda event: event.period_s).number if cyclic else 0
+
+    def event_info(self: Session, number: int):
+        """GET_DAQ_EVENT_INFO of an event (cached), None when the slave does not offer it."""
+        cache = self._event_info
+        if number not in cache:
+            try:
+                cache[number] = self.master.get_daq_event_info(number)
+            except XcpCommandError:
+                cache[number] = None
+        return cache[number]
+
+    def claim_daq(self: Session, measurement: DaqMeasurement) -> None:
+        running = self._daq
+        if running is not None and running is not measurement and running.running:
+            raise InputError("a DAQ measurement is running in this session: stop it first, or measure all the "
+                             "signals in one measure() call")
+        self._daq = measurement
+
+    def release_daq(self: Session, measurement: DaqMeasurement) -> None:
+        if self._daq is measurement:
+            self._daq = None

@@ -1,0 +1,182 @@
+"""Reading and writing objects by name, in physical units: the part of :class:`~workbench.session.Session`
+a calibration script uses most.
+
+A write is refused before anything is sent when the object is read-only, the value breaks its
+limits (EXTENDED_LIMITS only with ``allow_extended_limits``), its shape or monotony, or it lies
+outside the memory the A2L says is writable (a calibration MEMORY_SEGMENT of RAM, or a
+calibration page's working page). It is then written with DOWNLOAD (only the bytes that change),
+read back and compared; a write that fails halfway says which fields reached the ECU.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from workbench.a2l.objects import AxisPts, Characteristic, Measurement
+from workbench.calib.codec import value_edits
+from workbench.calib.layout import object_layout
+from workbench.calib.memory import ByteEdit, Span, read_spans
+from workbench.calib.signals import measurement_codec
+from workbench.calib.values import CalValue
+from workbench.errors import InputError, PartialWriteError, WorkbenchError
+from workbench.session.memory import read_merged
+
+if TYPE_CHECKING:
+    from workbench.a2l.model import A2lModel
+    from workbench.session.session import Session
+
+__all__ = ["ValueAccess"]
+
+_WRITABLE_PROGRAM_TYPES = {"DATA", "OFFLINE_DATA", "VARIABLES", "CALIBRATION_VARIABLES", "SERAM"}
+_WRITABLE_MEMORY = {"RAM", "EEPROM", "REGISTER"}
+
+
+class ValueAccess:
+    """Mixed into :class:`Session`: values by name."""
+
+    lock: Any
+
+    @property
+    def model(self: Session) -> A2lModel:
+        """The A2L's objects (:class:`~workbench.a2l.model.A2lModel`)."""
+        return self.doc.model(self.module)
+
+    # --- reading ------------------------------------------------------------------------------
+
+    def read(self: Session, name: str, *, page: str | int | None = None) -> Any:
+        """The physical value of a MEASUREMENT or calibration object: a number or text, or an array
+        (a measurement array, a VAL_BLK, a CURVE's or MAP's values [x, y], an AXIS_PTS' points).
+
+        :param page: read a calibration from ``"working"`` or ``"reference"`` (default: the page XCP is on).
+        :raises UnknownSymbolError: no such object (the closest names are suggested).
+        """
+        return self.read_many([name], page=page)[name]
+
+    def read_value(self: Session, name: str, *, page: str | int | None = None) -> CalValue:
+        """A calibration object's value with its axes and unit (:class:`~workbench.calib.values.CalValue`)."""
+        obj = self.model.object(name)
+        if not isinstance(obj, (Characteristic, AxisPts)):
+            raise InputError(f"{name} is a {type(obj).__name__.upper()}, not a calibration object: use read()")
+        with self.lock, self.on_page(page):
+            layout = object_layout(self.model, obj)
+            resolved = layout.resolve(self._read_spans(layout.fixed_part()))
+            return resolved.decode(self._read_spans(resolved.spans()))
+
+    def read_many(self: Session, names: Iterable[str], *, page: str | int | None = None) -> dict[str, Any]:
+        """Several objects at once, neighbouring addresses merged into few UPLOADs: ``{name: value}``."""
+        names = list(dict.fromkeys(names))
+        model = self.model
+        objects = {name: model.object(name) for name in names}
+        with self.lock, self.on_page(page):
+            codecs = {name: measurement_codec(model, obj) for name, obj in objects.items() if isinstance(obj, Measurement)}
+            layouts = {name: object_layout(model, obj) for name, obj in objects.items() if name not in codecs}
+            firsts = self._read_spans([span for layout in layouts.values() for span in layout.fixed_part()])
+            resolved = {name: layout.resolve(firsts) for name, layout in layouts.items()}
+            spans = [codec.span for codec in codecs.values()] + [s for r in resolved.values() for s in r.spans()]
+            data = self._read_spans(spans)
+        values: dict[str, Any] = {}
+        for name in names:
+            if name in codecs:
+                values[name] = codecs[name].decode(data[codecs[name].span])
+            else:
+                values[name] = resolved[name].decode(data).value
+        return values
+
+    def _read_spans(self: Session, spans: Iterable[Span]) -> dict[Span, bytes]:
+        return read_merged(spans, lambda span: self.master.read(span.address, span.size, span.extension))
+
+    # --- writing ------------------------------------------------------------------------------
+
+    def write(self: Session, name: str, value: Any, *, allow_extended_limits: bool = False) -> CalValue:
+        """Write a calibration in physical units and return what the ECU holds afterwards.
+
+        ``value``: a number or an enum's text (VALUE), a ``str`` (ASCII), an array of the object's
+        shape (VAL_BLK; a CURVE's or MAP's values, indexed [x, y], its axes unchanged), or a
+        :class:`CalValue` (new axis points too).
+
+        :raises InputError: unknown name, read-only object, a value beyond the limits, of the wrong
+            shape or outside the writable memory (LimitsError, ConversionError are InputErrors).
+        :raises EpkMismatchError: the session is read-only (the ECU's EPK differs from the A2L's).
+        :raises XcpCommandError, XcpTimeoutError: the ECU refused or did not answer (the message says
+            which fields were written before).
+        """
+        with self.lock:
+            self.require_writable()
+            target = self._as_cal_value(name, value)
+            read = self._reader()
+            edits = value_edits(self.model, target, read, extended=allow_extended_limits)
+            self._check_writable_memory(name, edits)
+            self._apply(name, edits)
+            return self.read_value(name)
+
+    def _as_cal_value(self: Session, name: str, value: Any) -> CalValue:
+        if isinstance(value, CalValue):
+            if value.name != name:
+                raise InputError(f"the value is {value.name}'s, not {name}'s")
+            return value
+        obj = self.model.object(name)
+        if isinstance(obj, Measurement):
+            raise InputError(f"{name} is a MEASUREMENT: measurements are read, calibrations written")
+        current = self.read_value(name)
+        if current.kind in ("VALUE", "ASCII"):
+            return CalValue(name, current.kind, value.item() if isinstance(value, np.generic) else value,
+                            current.axes, current.unit, current.comment)
+        array = np.asarray(value)
+        if array.dtype.kind not in "OU":
+            array = array.astype(float)
+        return CalValue(name, current.kind, array, current.axes, current.unit, current.comment)
+
+    def _reader(self: Session):
+        cache: dict[Span, bytes] = {}
+
+        def read(span: Span) -> bytes:
+            if span not in cache:
+                cache.update(self._read_spans([span]))
+            return cache[span]
+
+        return read
+
+    def _check_writable_memory(self: Session, name: str, edits: list[ByteEdit]) -> None:
+        writable = self.writable_spans()
+        if writable is None:
+            return
+        for edit in edits:
+            span = edit.span
+            if not any(w.extension == span.extension and w.address <= span.address and span.end <= w.end
+                       for w in writable):
+                raise InputError(f"{name}: {edit.field or 'its bytes'} at {span} lie outside the A2L's writable "
+                                 f"memory (MEMORY_SEGMENTs of calibration RAM); not written")
+
+    def writable_spans(self: Session) -> list[Span] | None:
+        """Where the A2L lets calibrations be written (None: the A2L has no MEMORY_SEGMENTs to tell)."""
+        segments = self.doc.memory_segments(self.module)
+        if not segments:
+            return None
+        spans = [Span(s.address, s.size) for s in segments
+                 if s.prg_type in _WRITABLE_PROGRAM_TYPES and s.memory_type in _WRITABLE_MEMORY]
+        spans += [Span(s.address, s.size, s.address_extension) for s in self.config.segments]
+        return spans
+
+    def _apply(self: Session, name: str, edits: list[ByteEdit]) -> None:
+        """DOWNLOAD every edit, then read each back and compare byte for byte."""
+        done: list[ByteEdit] = []
+        for edit in edits:
+            try:
+                self.master.write(edit.address, edit.data, edit.extension)
+            except WorkbenchError as exc:
+                if not done:
+                    raise
+                raise PartialWriteError(name, [_field(e) for e in done], _field(edit), exc) from exc
+            done.append(edit)
+        back = self._read_spans([edit.span for edit in edits])
+        wrong = [_field(edit) for edit in edits if back[edit.span] != edit.data]
+        if wrong:
+            raise WorkbenchError(f"{name}: the ECU holds other bytes than were written to {', '.join(wrong)} "
+                                 "(a read-only area, or the ECU overwrote them)")
+
+
+def _field(edit: ByteEdit) -> str:
+    return f"{edit.name}.{edit.field}" if edit.field else edit.name or str(edit.span)
