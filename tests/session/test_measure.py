@@ -1,0 +1,83 @@
+"""DAQ by name against the simulated ECU: events from the A2L, physical batches, ECU time, one at a time."""
+
+from __future__ import annotations
+
+import threading
+import time
+
+import numpy as np
+import pytest
+
+from workbench.errors import InputError
+
+
+def collect(live, seconds: float) -> list:
+    batches, deadline = [], time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        batches += live.read(0.05)
+    return batches
+
+
+def test_each_signal_is_sampled_on_its_a2l_event(ecu):
+    with ecu.measure(["zsRailPressure", "xsDC", "csPCM_TO_FLCU_002_TargetRailPressure"]) as live:
+        batches = collect(live, 0.8)
+    by_event = {}
+    for batch in batches:
+        by_event.setdefault(batch.event_name, []).append(batch)
+    assert set(by_event) == {"Task4ms", "Task50ms", "Task100ms"}
+    fast = np.concatenate([b.time for b in by_event["Task4ms"]])
+    assert np.allclose(np.diff(fast), 0.004)
+    assert set(by_event["Task50ms"][0].values) == {"xsDC"}
+    target = np.concatenate([b.values["csPCM_TO_FLCU_002_TargetRailPressure"] for b in by_event["Task100ms"]])
+    assert target[-1] == pytest.approx(25.0)  # the PCM's request, decoded by the ECU
+    assert live.stats.lost == 0
+
+
+def test_an_event_named_by_the_user_takes_every_signal(ecu):
+    with ecu.measure(["zsRailPressure", "xsDC", "zsSensVolt"], event="Task100ms") as live:
+        batches = collect(live, 0.5)
+    assert {b.event_name for b in batches} == {"Task100ms"}
+    assert batches[-1].values["zsSensVolt"].shape[1:] == (4,)
+    with pytest.raises(InputError, match="no DAQ event 'Task7ms'"):
+        ecu.measure(["xsDC"], event="Task7ms")
+
+
+def test_samples_go_to_a_callback(ecu):
+    arrived = []
+    done = threading.Event()
+
+    def on_samples(batch):
+        arrived.append(batch)
+        if sum(len(b) for b in arrived) >= 20:
+            done.set()
+
+    with ecu.measure(["zsRailPressure"]) as live:
+        live.on_samples(on_samples)
+        assert done.wait(3.0)
+    assert all(b.values["zsRailPressure"].dtype.kind == "f" for b in arrived)
+
+
+def test_one_daq_measurement_at_a_time(ecu):
+    with ecu.measure(["zsRailPressure"]):
+        with pytest.raises(InputError, match="a DAQ measurement is running"):
+            ecu.measure(["xsDC"]).start()
+    with ecu.measure(["xsDC"]) as live:  # after the first stopped, a new one may start
+        assert collect(live, 0.2)
+
+
+def test_calibrations_are_polled_not_sampled(ecu):
+    with pytest.raises(InputError, match="xsSWITCH_TANK_THR is a CHARACTERISTIC"):
+        ecu.measure(["xsSWITCH_TANK_THR"])
+
+
+def test_closing_the_session_stops_daq(sim, channel):
+    from conftest import FAST
+
+    from workbench import Session
+
+    session = Session.open(interface="virtual", channel=channel, timeouts=FAST)
+    live = session.measure(["zsRailPressure"]).start()
+    collect(live, 0.1)
+    session.close()
+    assert not live.running
+    assert not any(daq.running for daq in sim.ecu.slave.daq.lists)
