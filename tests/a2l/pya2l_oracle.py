@@ -60,9 +60,9 @@ def number(value):
     return value if value is None or isinstance(value, str) else float(np.asarray(value))
 
 out = {"characteristics": {}, "measurements": {}, "axis_pts": {}, "conversions": {}, "addresses": {}}
-for name in request.get("characteristics", []):
+def characteristic(name):
     c = inspect.Characteristic(session, name)
-    out["characteristics"][name] = {
+    return {
         "type": c.type, "address": c.address, "record_layout": name_of(c.deposit),
         "conversion": name_of(c.compuMethod), "limits": [c.lowerLimit, c.upperLimit], "bit_mask": get(lambda: c.bitMask),
         "byte_order": get(lambda: c.byteOrder), "read_only": bool(get(lambda: c.readOnly)),
@@ -71,19 +71,28 @@ for name in request.get("characteristics", []):
                   a.lowerLimit, a.upperLimit] for a in c.axisDescriptions],
         "functions": sorted(getattr(f, "name", f) for f in (get(lambda: c.functionList) or [])),
     }
-for name in request.get("measurements", []):
+
+def measurement(name):
     m = inspect.Measurement(session, name)
     dims = get(lambda: m.matrixDim)
-    out["measurements"][name] = {
+    return {
         "datatype": m.datatype, "address": m.ecuAddress, "conversion": name_of(m.compuMethod),
         "limits": [m.lowerLimit, m.upperLimit], "bit_mask": get(lambda: m.bitMask), "byte_order": get(lambda: m.byteOrder),
         "matrix_dim": [d for d in (dims.x, dims.y, dims.z) if d is not None] if dims is not None else [],
         "array_size": get(lambda: m.arraySize), "extension": get(lambda: m.ecuAddressExtension),
     }
-for name in request.get("axis_pts", []):
+
+def axis_pts(name):
     a = inspect.AxisPts(session, name)
-    out["axis_pts"][name] = {"address": a.address, "record_layout": name_of(a.depositAttr), "max": a.maxAxisPoints,
-                             "conversion": name_of(a.compuMethod), "limits": [a.lowerLimit, a.upperLimit]}
+    return {"address": a.address, "record_layout": name_of(a.depositAttr), "max": a.maxAxisPoints,
+            "conversion": name_of(a.compuMethod), "limits": [a.lowerLimit, a.upperLimit]}
+
+for kind, read in (("characteristics", characteristic), ("measurements", measurement), ("axis_pts", axis_pts)):
+    for name in request.get(kind, []):
+        try:
+            out[kind][name] = read(name)
+        except Exception as error:  # an object pya2ldb cannot read: say so, the caller decides
+            out[kind][name] = {"error": f"{type(error).__name__}: {error}"}
 for name, samples in request.get("conversions", {}).items():
     method = get(lambda: inspect.CompuMethod(session, name))
     if method is None:  # TAB_INTP and FORM need scipy/numexpr, which pya2ldb does not install
@@ -104,7 +113,8 @@ print("DESCRIBE " + json.dumps(out))
 def pya2l_describe(path: Path, request: dict) -> dict:
     """What pya2ldb reads from ``path``: the objects and conversions named in ``request``
     (``{"characteristics": [...], "measurements": [...], "axis_pts": [...], "conversions":
-    {method: {"raw": [...], "physical": [...]}}, "layouts": [characteristics]}``), as plain JSON data."""
+    {method: {"raw": [...], "physical": [...]}}, "layouts": [characteristics]}``), as plain JSON data;
+    an object pya2ldb fails on is ``{"error": "..."}``."""
     run = subprocess.run([sys.executable, "-c", _DESCRIBE, str(path), json.dumps(request)], capture_output=True,
                          text=True, timeout=300)
     line = next((line for line in run.stdout.splitlines() if line.startswith("DESCRIBE ")), None)

@@ -360,6 +360,16 @@ class A2lModel:
                                 *(layout.location or Location(self.doc.name, 0, 0)))
         return entry.datatype
 
+    def format_of(self, obj: "A2lObject | AxisDescr") -> str | None:
+        """The display format: the object's FORMAT, else its COMPU_METHOD's (``"%8.3"``: width 8, 3
+        decimals; :func:`workbench.a2l.objects.format_parts` splits it); None for neither."""
+        if getattr(obj, "format", None):
+            return obj.format
+        conversion = getattr(obj, "conversion", NO_COMPU_METHOD)
+        if conversion == NO_COMPU_METHOD:
+            return None
+        return self.resolve(obj, "conversion", "COMPU_METHOD").format
+
     def unit_of(self, obj: "A2lObject | AxisDescr") -> str:
         """The physical unit to show: PHYS_UNIT, else the COMPU_METHOD's unit, else its REF_UNIT's display."""
         if getattr(obj, "phys_unit", None):
