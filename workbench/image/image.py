@@ -7,6 +7,7 @@ flashing programs exactly what the file holds and never a whole region (thesis 5
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -16,6 +17,7 @@ from workbench.errors import InputError
 from workbench.fileio import read_input, write_output
 
 ERASED = 0xFF
+_PROGRAMMED = re.compile(rb"[^\xff]+")
 
 
 @dataclass(frozen=True, order=True)
@@ -43,6 +45,15 @@ class MemoryImage:
     def from_bytes(cls, address: int, data: bytes) -> MemoryImage:
         image = cls()
         image.add(address, data)
+        return image
+
+    @classmethod
+    def from_flash_content(cls, address: int, data: bytes) -> MemoryImage:
+        """The bytes of a flash read-out at ``address`` that are programmed: the runs that are not :data:`ERASED`
+        (an erased byte needs no programming, so an image of a read-out leaves it out)."""
+        image = cls()
+        for run in _PROGRAMMED.finditer(data):
+            image.add(address + run.start(), run.group())
         return image
 
     def add(self, address: int, data: bytes, overwrite: bool = False) -> None:
@@ -131,11 +142,17 @@ def load_image(path: str | Path) -> MemoryImage:
 def _locate_bad_record(text: str, add: str) -> tuple[int, str]:
     """The 1-based line of the first record bincopy rejects (run only after a failure)."""
     probe = bincopy.BinFile()
+    base = ""  # Intel HEX: the extended address record in force (each call to bincopy starts from address 0)
     for number, line in enumerate(text.splitlines(), 1):
-        if not line.strip():
+        line = line.strip()
+        if not line:
             continue
         try:
-            getattr(probe, add)(line, overwrite=True)
+            getattr(probe, add)(f"{base}\n{line}")
+        except bincopy.AddDataError:
+            return number, "the record overlaps bytes an earlier record holds"
         except (bincopy.Error, ValueError, IndexError) as exc:
             return number, str(exc)
+        if add == "add_ihex" and line[7:9] in ("02", "04"):
+            base = line
     return 0, ""

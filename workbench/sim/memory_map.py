@@ -8,6 +8,7 @@ the boot ROM that holds the XCP driver's strings, and which flash XCP may progra
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 from workbench.image import AddressRange, Region
 
@@ -48,8 +49,9 @@ class MemoryMap:
     def protected(self, address: int, size: int) -> bool:
         """True when part of ``[address, address + size)`` is flash that no programmable sector covers."""
         end = address + size
-        return any(lo < end and address < hi for lo, hi in self._unprogrammable())
+        return any(lo < end and address < hi for lo, hi in self._unprogrammable)
 
+    @cached_property  # asked for every PROGRAM frame
     def _unprogrammable(self) -> list[tuple[int, int]]:
         gaps = []
         for region in self.flash:

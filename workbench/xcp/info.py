@@ -208,8 +208,15 @@ class PgmProcessorInfo:
 @dataclass(frozen=True)
 class SectorInfo:
     number: int
-    clear_sequence: int
-    program_sequence: int
+    clear_sequence: int  # the order the master clears sectors in
+    program_sequence: int  # the order it programs them in
     program_method: int
     address: int
-    length: int
+    length: int  # bytes
+
+    @classmethod
+    def parse(cls, number: int, start_payload: bytes, length_payload: bytes, order: str) -> SectorInfo:
+        """From GET_SECTOR_INFO mode 0 (start address) and mode 1 (length) of sector ``number``."""
+        clear, program, method, address = _unpack(f"{order}BBBI", start_payload, "GET_SECTOR_INFO")
+        length = _unpack(f"{order}3xI", length_payload, "GET_SECTOR_INFO")[0]
+        return cls(number, clear, program, method, address, length)

@@ -254,7 +254,7 @@ class Link:
         transport = self._transport
         condition, queue = transport.resQueue_condition, transport.resQueue
         with condition:
-            if not queue and not condition.wait_for(lambda: bool(queue), timeout_s):
+            if not queue and (timeout_s <= 0 or not condition.wait_for(lambda: bool(queue), timeout_s)):
                 return None
             return bytes(queue.popleft())
 

@@ -31,6 +31,9 @@ from workbench.xcp.info import (
     DaqProcessorInfo,
     DaqResolutionInfo,
     PagProcessorInfo,
+    PgmProcessorInfo,
+    ProgramStartInfo,
+    SectorInfo,
     Status,
 )
 from workbench.xcp.link import Link
@@ -330,8 +333,8 @@ class XcpMaster:
             self._download_block(data[start:start + per_block], command, next_command, timeout, separation)
 
     def _download_block(self, block: bytes, command: Cmd, next_command: Cmd, timeout: str | None,
-                        separation_s: float) -> None:
-        per_frame = self.max_cto - 2
+                        separation_s: float, per_frame: int | None = None) -> None:
+        per_frame = per_frame or self.max_cto - 2
         first, rest = block[:per_frame], block[per_frame:]
         elements = len(block) // self.granularity
         if not rest:
@@ -394,6 +397,88 @@ class XcpMaster:
 
     def get_pag_processor_info(self) -> PagProcessorInfo:
         return PagProcessorInfo.parse(self.command(Cmd.GET_PAG_PROCESSOR_INFO))
+
+    # --- flash programming --------------------------------------------------------------------
+
+    def get_pgm_processor_info(self) -> PgmProcessorInfo:
+        return PgmProcessorInfo.parse(self.command(Cmd.GET_PGM_PROCESSOR_INFO))
+
+    def get_sector_info(self, number: int) -> SectorInfo:
+        """Start, length and clear/program order of sector ``number`` (GET_SECTOR_INFO modes 0 and 1)."""
+        start = self.command(Cmd.GET_SECTOR_INFO, bytes((0, number)))
+        length = self.command(Cmd.GET_SECTOR_INFO, bytes((1, number)))
+        return SectorInfo.parse(number, start, length, self.order)
+
+    def program_start(self) -> ProgramStartInfo:
+        """PROGRAM_START: the slave prepares for programming and says how (MAX_CTO_PGM, MAX_BS_PGM, MIN_ST_PGM,
+        QUEUE_SIZE_PGM)."""
+        return ProgramStartInfo.parse(self.command(Cmd.PROGRAM_START))
+
+    def program_clear(self, size: int) -> None:
+        """PROGRAM_CLEAR in absolute mode: erase ``size`` bytes (whole sectors) from the MTA."""
+        self.command(Cmd.PROGRAM_CLEAR, struct.pack(f"{self.order}B2xI", 0, size // self.granularity))
+
+    @staticmethod
+    def program_block_size(start: ProgramStartInfo, *, use_max: bool = False) -> int:
+        """Bytes :meth:`program` sends per response: a master block of whole frames (at most 1 + MAX_BS_PGM
+        of them and 255 bytes), else one PROGRAM_MAX (``use_max``) or PROGRAM frame."""
+        per_frame = start.max_cto_pgm - 2
+        if start.master_block_mode:
+            return min(255 // per_frame, 1 + start.max_bs_pgm) * per_frame
+        return per_frame + 1 if use_max else per_frame
+
+    def program(self, data: bytes, start: ProgramStartInfo, *, use_max: bool = False) -> None:
+        """PROGRAM ``data`` at the MTA (which advances), as :meth:`program_start` allowed: master blocks of
+        PROGRAM + PROGRAM_NEXT frames (MIN_ST_PGM apart, one response a block), else one frame a command
+        (PROGRAM_MAX when ``use_max``, one byte more a frame). Never more than one command is outstanding,
+        so any QUEUE_SIZE_PGM is honoured. Not repeated on a timeout: the caller knows what may be written.
+
+        :raises XcpCommandError: the slave refuses a block (the early response of a block is caught).
+        :raises XcpTimeoutError: the last frame of a block went unanswered.
+        """
+        per_frame = start.max_cto_pgm - 2
+        if start.master_block_mode:
+            size = self.program_block_size(start)
+            for offset in range(0, len(data), size):
+                self._download_block(data[offset:offset + size], Cmd.PROGRAM, Cmd.PROGRAM_NEXT, "t5",
+                                     start.min_st_pgm_s, per_frame)
+            return
+        offset = 0
+        if use_max:
+            per_max = start.max_cto_pgm - 1
+            while len(data) - offset >= per_max:
+                self.command(Cmd.PROGRAM_MAX, data[offset:offset + per_max], repeat=False)
+                offset += per_max
+        for offset in range(offset, len(data), per_frame):
+            chunk = data[offset:offset + per_frame]
+            self.command(Cmd.PROGRAM, bytes((len(chunk) // self.granularity,)) + chunk, repeat=False)
+
+    def program_reset(self) -> None:
+        """PROGRAM_RESET: the slave resets (answering first or not at all); the session ends either way.
+
+        :raises XcpCommandError: the slave refuses the reset.
+        """
+        self._unlock_for(Cmd.PROGRAM_RESET)
+        try:
+            response = self.link.exchange(bytes((Cmd.PROGRAM_RESET,)), self.timeouts.t1)
+        finally:
+            self.connect_info = None
+        if response is not None and response[0] == PID_ERR:
+            raise XcpCommandError(Cmd.PROGRAM_RESET.name, response[1] if len(response) > 1 else 0)
+
+    def resynchronize(self) -> None:
+        """SYNCH until its ERR_CMD_SYNCH arrives, dropping the late responses before it (after a broken block,
+        the slave may still be answering the frames the master sent on).
+
+        :raises XcpTimeoutError: the slave answers no SYNCH: it is gone.
+        """
+        for _ in range(3):
+            response = self.link.exchange(bytes((Cmd.SYNCH,)), self.timeouts.t1)
+            while response is not None:
+                if response[0] == PID_ERR and len(response) > 1 and response[1] == Err.CMD_SYNCH:
+                    return
+                response = self.link.receive(self.timeouts.t1)
+        raise XcpTimeoutError(Cmd.SYNCH.name, self.timeouts.t1)
 
     # --- DAQ ----------------------------------------------------------------------------------
 

@@ -1,0 +1,90 @@
+"""Compare ECU memory with expected bytes by BUILD_CHECKSUM, computed locally with the ECU's checksum type.
+
+The ECU names its checksum type in every response; the largest block it accepts is learnt
+from ERR_OUT_OF_RANGE (halving). A response that names no checksum type is a stale one (a
+late answer to an earlier command): SYNCH, then ask again. A mismatch is asked once more
+before it counts, so a stale answer can fail a block only when it repeats. When the ECU
+computes a checksum the workbench does not know (user-defined), the bytes are read back.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+from workbench.errors import WorkbenchError, XcpCommandError
+from workbench.image import AddressRange, ChecksumType, checksum
+from workbench.xcp.master import XcpMaster
+from workbench.xcp_protocol import Err
+
+log = logging.getLogger(__name__)
+
+__all__ = ["ChecksumVerifier"]
+
+_SMALLEST_BLOCK = 0x100
+
+
+@dataclass
+class ChecksumVerifier:
+    master: XcpMaster
+    max_block: int = 0x20000  # bytes of one BUILD_CHECKSUM until the ECU refuses a larger one
+    kind: ChecksumType | None = None  # the ECU's, once it answered; None before (or user-defined)
+    commands: int = 0
+
+    def differing(self, address: int, expected: bytes) -> list[AddressRange]:
+        """The blocks of ``[address, address + len(expected))`` whose content differs from ``expected``."""
+        bad = []
+        offset = 0
+        while offset < len(expected):
+            size = min(self.max_block, len(expected) - offset)
+            if self.kind is not None and size % self.kind.element_size:  # an ADD_x2/x4 sum of an odd tail
+                size -= size % self.kind.element_size
+                if not size:
+                    tail = expected[offset:]
+                    if self.master.read(address + offset, len(tail)) != tail:
+                        bad.append(AddressRange(address + offset, address + len(expected)))
+                    break
+            try:
+                same = self._same(address + offset, expected[offset:offset + size])
+            except XcpCommandError as exc:
+                if exc.code != Err.OUT_OF_RANGE or size <= _SMALLEST_BLOCK:
+                    raise
+                self.max_block = max(_SMALLEST_BLOCK, size // 2)
+                log.debug("BUILD_CHECKSUM: %d bytes refused, trying %d", size, self.max_block)
+                continue
+            if not same:
+                bad.append(AddressRange(address + offset, address + offset + size))
+            offset += size
+        return bad
+
+    def _same(self, address: int, expected: bytes) -> bool:
+        value = self._checksum(address, len(expected))
+        if value is None:  # a checksum this side cannot compute: compare the bytes themselves
+            return self.master.read(address, len(expected)) == expected
+        if value == checksum(expected, self.kind, self.master.order == "<"):
+            return True
+        self.master.resynchronize()
+        return self._checksum(address, len(expected)) == checksum(expected, self.kind, self.master.order == "<")
+
+    def _checksum(self, address: int, size: int) -> int | None:
+        """The ECU's checksum of the block; None when its type is one this side cannot compute."""
+        for attempt in range(2):
+            code, value = self.master.build_checksum(address, size)
+            self.commands += 1
+            kind = _checksum_type(code)
+            if kind is not None:
+                if self.kind is not None and kind != self.kind:
+                    raise WorkbenchError(f"the ECU changed its checksum type from {self.kind.name} to {kind.name}")
+                self.kind = kind
+                return value
+            if attempt == 0:  # most likely a late response to another command taken for this one
+                self.master.resynchronize()
+        log.info("BUILD_CHECKSUM type 0x%02X is not one of XCP's: comparing by reading back", code)
+        return None
+
+
+def _checksum_type(code: int) -> ChecksumType | None:
+    try:
+        return ChecksumType(code)
+    except ValueError:
+        return None

@@ -1,0 +1,401 @@
+"""The flash sequence, command by command on the session's master (:func:`flash_ecu`).
+
+1. the ECU's own sectors (GET_PGM_PROCESSOR_INFO, GET_SECTOR_INFO) replace the A2L's when it
+   offers them, and the plan is checked again with them; nothing is written before;
+2. PROGRAM_START (PGM unlocked with seed & key on the way), which says MAX_CTO_PGM, MAX_BS_PGM,
+   MIN_ST_PGM and QUEUE_SIZE_PGM;
+3. the application-valid key is cleared: its sector erased (what else the sector holds is
+   written back), so from here an interruption leaves the ECU in boot, reachable;
+4. PROGRAM_CLEAR of the sectors the ranges lie in, then PROGRAM of the ranges in master block
+   mode (:class:`~workbench.flash.writer.RangeWriter`), in the sectors' program order;
+5. every erased sector is compared with the image by BUILD_CHECKSUM (the gaps must read
+   erased); a sector that differs is erased and written again;
+6. the key is programmed and read back, PROGRAM_RESET, CONNECT again (T6), the EPK checked.
+
+Any failure or a cancel after PROGRAM_START ends with a PROGRAM_RESET when the ECU still
+answers: with the key cleared the ECU restarts in boot, and a new flash finishes the job.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from enum import Enum
+from typing import Any, TypeVar
+
+from workbench.errors import Cancelled, WorkbenchError, XcpCommandError, XcpTimeoutError
+from workbench.flash.checksums import ChecksumVerifier
+from workbench.flash.errors import FlashError, FlashRefused
+from workbench.flash.layout import Sector
+from workbench.flash.plan import FlashPlan, with_sectors
+from workbench.flash.writer import RangeWriter, WrongBytes
+from workbench.image import ERASED, AddressRange, MemoryImage
+from workbench.progress import Progress, report
+from workbench.session import Session
+from workbench.xcp.info import ProgramStartInfo
+from workbench.xcp_protocol import Err, Resource
+
+log = logging.getLogger(__name__)
+
+__all__ = ["FlashOptions", "FlashResult", "Verify", "flash_ecu"]
+
+T = TypeVar("T")
+
+
+class Verify(Enum):
+    CHECKSUM = "checksum"  # BUILD_CHECKSUM of every erased sector
+    READBACK = "readback"  # and UPLOAD of every programmed byte
+    NONE = "none"  # the user's explicit choice: no verification at all
+
+
+@dataclass(frozen=True)
+class FlashOptions:
+    verify: Verify = Verify.CHECKSUM
+    ecu_sectors: bool = True  # ask the ECU for its sectors (GET_SECTOR_INFO) when it offers them
+    use_program_max: bool = True  # PROGRAM_MAX frames when the ECU offers no master block mode
+    max_recoveries: int = 8  # transmission errors repaired in one flash
+    max_rewrites: int = 2  # times one sector is erased and written again after wrong bytes
+    reconnect_s: float = 5.0  # how long to try CONNECT after PROGRAM_RESET
+
+
+@dataclass(frozen=True)
+class FlashResult:
+    plan: FlashPlan
+    seconds: float  # the whole sequence
+    program_seconds: float  # the PROGRAM commands only
+    bytes_sent: int  # PROGRAM data bytes sent, repetitions included
+    verified: str  # how, e.g. "CRC_32 of 1 sector"
+    recoveries: int  # transmission errors repaired
+    rewrites: int  # sectors erased and written again
+    epk: str  # the EPK check after the reconnect
+    application_running: bool
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def rate(self) -> float:
+        """Bytes per second of the programming (the plan's bytes over the PROGRAM commands' time)."""
+        return self.plan.size / self.program_seconds if self.program_seconds else 0.0
+
+    def describe(self) -> str:
+        state = "the application runs" if self.application_running else "the ECU is in boot"
+        lines = [f"flashed {self.plan.size} bytes ({', '.join(r.region.name for r in self.plan.regions)}) in "
+                 f"{self.seconds:.1f} s; programming {self.program_seconds:.1f} s = {self.rate / 1024:.1f} KiB/s",
+                 f"verified: {self.verified}; {self.epk}; {state}"]
+        if self.recoveries or self.rewrites:
+            lines.append(f"repaired {self.recoveries} transmission error(s), rewrote {self.rewrites} sector(s)")
+        lines.extend(self.notes)
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"plan": self.plan.to_dict(), "seconds": self.seconds, "program_seconds": self.program_seconds,
+                "bytes_per_second": self.rate, "bytes_sent": self.bytes_sent, "verified": self.verified,
+                "recoveries": self.recoveries, "rewrites": self.rewrites, "epk": self.epk,
+                "application_running": self.application_running, "notes": list(self.notes)}
+
+
+def flash_ecu(session: Session, plan: FlashPlan, *, progress: Progress | None = None,
+              options: FlashOptions = FlashOptions()) -> FlashResult:
+    """Flash ``plan`` into the ECU of ``session`` (connected); see the module for the sequence.
+
+    :param progress: gets (bytes done, bytes total, "what: rate, time left"); cancelling it stops at the
+        next block (:class:`~workbench.errors.Cancelled`, the ECU reset into a state a new flash finishes).
+    :raises FlashRefused: the ECU's sectors make the plan unsafe, or DAQ runs; nothing was touched.
+    :raises FlashError: the flash failed or did not verify; the message says the ECU's state.
+    :raises Cancelled: cancelled through ``progress``; the message says the ECU's state.
+    """
+    with session.lock:
+        return _Flash(session, plan, progress, options).run()
+
+
+class _Meter:
+    """Bytes done and total, rate and time left, to a :class:`Progress` (which may cancel)."""
+
+    def __init__(self, progress: Progress | None, total: int):
+        self.progress = progress
+        self.total = total
+        self.done = 0
+        self.since: float | None = None
+        self.seconds = 0.0  # spent in PROGRAM
+
+    def phase(self, label: str) -> None:
+        report(self.progress, self.done, self.total, label)
+
+    def programmed(self, where: str, size: int) -> None:
+        self.done = min(self.total, self.done + size)
+        elapsed = time.perf_counter() - self.since if self.since is not None else 0.0
+        rate = self.done / elapsed if elapsed > 0 else 0.0
+        left = (self.total - self.done) / rate if rate else 0.0
+        report(self.progress, self.done, self.total, f"programming {where}: {rate / 1024:.1f} KiB/s, "
+                                                     f"{int(left) // 60}:{int(left) % 60:02d} left")
+
+    def undo(self, size: int) -> None:
+        self.done = max(0, self.done - size)
+
+
+class _Flash:
+    def __init__(self, session: Session, plan: FlashPlan, progress: Progress | None, options: FlashOptions):
+        self.session = session
+        self.master = session.master
+        self.plan = plan
+        self.options = options
+        self.meter = _Meter(progress, plan.size)
+        self.started = self.key_cleared = self.erased = False
+        self.verifier = ChecksumVerifier(self.master)
+        self.writer: RangeWriter | None = None
+        self.rewrites = 0
+        self.notes: list[str] = []
+        self.expected = plan.image  # what the programmed sectors hold when done; the key sector's bytes join it
+
+    # --- the sequence -----------------------------------------------------------------------------
+
+    def run(self) -> FlashResult:
+        began = time.perf_counter()
+        try:
+            self._prepare()
+            start = self._program_start()
+            use_max = self.options.use_program_max and "PROGRAM_MAX" in self.session.config.optional_commands
+            self.writer = RangeWriter(self.master, start, self.expected, use_max=use_max,
+                                      max_recoveries=self.options.max_recoveries, on_block=self._on_block)
+            if self.plan.app_key is not None:
+                self._clear_key()
+            self._erase(self.plan.sectors)
+            self.meter.since = time.perf_counter()
+            for sector in self._program_order():
+                self._program_sector(sector)
+            self.meter.seconds = time.perf_counter() - self.meter.since
+            verified = self._verify()
+            if self.plan.app_key is not None:
+                self._set_key()
+            self.meter.phase("PROGRAM_RESET")
+            self.master.program_reset()
+        except Cancelled as exc:
+            raise Cancelled(f"{exc}; {self._abandon()}") from None
+        except FlashRefused:
+            raise
+        except WorkbenchError as exc:
+            raise FlashError(f"the flash failed: {exc}; {self._abandon()}") from exc
+        running = self._reconnect()
+        return FlashResult(self.plan, time.perf_counter() - began, self.meter.seconds, self.writer.bytes_sent,
+                           verified, self.writer.recoveries, self.rewrites, self.session.epk.describe(), running,
+                           tuple(self.notes))
+
+    def _prepare(self) -> None:
+        """Checks that write nothing: DAQ stopped, PGM offered, the ECU's sectors."""
+        info = self.master.connect_info
+        if info is None or not info.resources & Resource.PGM:
+            raise FlashRefused("the ECU offers no programming (CONNECT: no PGM resource); nothing was touched")
+        if self.master.get_status().daq_running:
+            raise FlashRefused("a DAQ measurement runs on the ECU: stop it before flashing; nothing was touched")
+        if not self.options.ecu_sectors:
+            return
+        try:
+            processor = self.master.get_pgm_processor_info()
+            sectors = [self.master.get_sector_info(n) for n in range(processor.max_sectors)]
+        except XcpCommandError as exc:
+            if exc.code not in (Err.CMD_UNKNOWN, Err.OUT_OF_RANGE):
+                raise
+            log.info("the ECU gives no sector information (%s): the A2L's sectors apply", exc)
+            return
+        if not processor.absolute_mode:
+            raise FlashRefused("the ECU programs in functional mode only; the workbench clears and programs by "
+                               "address (absolute mode); nothing was touched")
+        ecu = tuple(Sector("", s.number, AddressRange(s.address, s.address + s.length), s.clear_sequence,
+                           s.program_sequence) for s in sectors)
+        layout = self.plan.layout
+        if {s.range for s in ecu} != {s.range for s in layout.sectors}:
+            self.notes.append(f"the ECU's sectors differ from the A2L's ({layout.sectors_from or 'none'}): used the ECU's")
+        self.plan = with_sectors(self.plan, layout.with_sectors(ecu, "ECU"))
+
+    def _program_start(self) -> ProgramStartInfo:
+        self.meter.phase("PROGRAM_START")
+        try:
+            start = self.master.program_start()
+        except XcpTimeoutError:
+            self.started = True  # it may have arrived: the application may be halted
+            raise
+        self.started = True
+        return replace(start, max_cto_pgm=start.max_cto_pgm or self.master.max_cto)
+
+    def _program_order(self) -> list[Sector]:
+        return sorted(self.plan.sectors, key=lambda s: (s.program_sequence, s.range.start))
+
+    def _erase(self, sectors: list[Sector]) -> None:
+        for sector in sectors:
+            self.meter.phase(f"erasing {sector}")
+            self.erased = True  # from the moment PROGRAM_CLEAR is sent, the sector may be erased
+            self._retrying(sector.range.start, lambda s=sector: self._clear(s))
+
+    def _clear(self, sector: Sector) -> None:
+        self.master.set_mta(sector.range.start)
+        self.master.program_clear(sector.range.size)
+
+    def _retrying(self, address: int, action: Callable[[], T]) -> T:
+        """``action()``, repeated after a transmission error (it must be idempotent)."""
+        try:
+            return action()
+        except (XcpCommandError, XcpTimeoutError) as error:
+            return self.writer.repair(error, address, action)
+
+    def _read(self, address: int, size: int) -> bytes:
+        return self._retrying(address, lambda: self.master.read(address, size))
+
+    # --- the key ------------------------------------------------------------------------------------
+
+    def _clear_key(self) -> None:
+        key, sector = self.plan.app_key, self.plan.key_sector
+        keep = self._key_sector_rest(sector)
+        self.key_cleared = True
+        self._erase([sector])
+        if keep.size:
+            self.expected = _merged(self.expected, keep)
+            self.writer.expected = self.expected
+            for address, data in keep.segments:
+                self._write(sector, address, data)
+        if self._read(key.address, len(key.value)) != bytes([ERASED]) * len(key.value):
+            raise FlashError(f"the application key {key} still reads after erasing {sector}")
+
+    def _key_sector_rest(self, sector: Sector) -> MemoryImage:
+        """What the key's sector holds besides the key (kept across its erasure); empty when nothing."""
+        key = self.plan.app_key
+        only_key = MemoryImage.from_bytes(key.address, key.value).read(sector.range.start, sector.range.size, ERASED)
+        erased = bytes([ERASED]) * sector.range.size
+        if not self._differing_blocks(sector.range.start, only_key) or not self._differing_blocks(
+                sector.range.start, erased):
+            return MemoryImage()
+        content = bytearray(self._read(sector.range.start, sector.range.size))
+        offset = key.address - sector.range.start
+        content[offset:offset + len(key.value)] = bytes([ERASED]) * len(key.value)
+        self.notes.append(f"kept what {sector} holds besides the key")
+        return MemoryImage.from_flash_content(sector.range.start, bytes(content))
+
+    def _set_key(self) -> None:
+        key, sector = self.plan.app_key, self.plan.key_sector
+        self.meter.phase(f"setting the application key {key}")
+        self.expected = _merged(self.expected, MemoryImage.from_bytes(key.address, key.value))
+        self.writer.expected = self.expected
+        self._write(sector, key.address, key.value)
+        if self._read(key.address, len(key.value)) != key.value:
+            raise FlashError(f"the application key {key} does not read back after programming")
+
+    # --- programming and verification ----------------------------------------------------------
+
+    def _program_sector(self, sector: Sector) -> None:
+        pieces = self.expected.crop(sector.range.start, sector.range.end).segments
+        before = self.meter.done
+        for attempt in range(self.options.max_rewrites + 1):
+            try:
+                for address, data in pieces:
+                    self._write(sector, address, data)
+                return
+            except WrongBytes as exc:
+                if attempt == self.options.max_rewrites:
+                    raise FlashError(f"{sector}: {exc}, also after erasing it {attempt} more time(s)") from exc
+                log.warning("%s: %s; erasing it again", sector, exc)
+                self.rewrites += 1
+                self.meter.undo(self.meter.done - before)
+                self._erase([sector])
+
+    def _write(self, sector: Sector, address: int, data: bytes) -> None:
+        self.writer.write(sector, address, data)
+
+    def _on_block(self, address: int, size: int) -> None:
+        key_sector = self.plan.key_sector
+        if key_sector is None or not key_sector.range.start <= address < key_sector.range.end:  # not the plan's bytes
+            self.meter.programmed(f"{address:X}h", size)
+
+    def _verify(self) -> str:
+        if self.options.verify is Verify.NONE:
+            self.notes.append("not verified (the user chose so)")
+            return "not verified"
+        sectors = self._program_order()
+        for sector in sectors:
+            for attempt in range(self.options.max_rewrites + 1):
+                self.meter.phase(f"verifying {sector}")
+                bad = self._differing(sector)
+                if not bad:
+                    break
+                if attempt == self.options.max_rewrites:
+                    raise FlashError(f"verification failed: {' '.join(map(str, bad))} differ from the image "
+                                     f"(BUILD_CHECKSUM {self.verifier.kind.name if self.verifier.kind else ''})")
+                log.warning("%s: %s differ after programming; erasing and writing it again", sector,
+                            " ".join(map(str, bad)))
+                self.rewrites += 1
+                self.meter.undo(self.expected.crop(sector.range.start, sector.range.end).size)
+                self._erase([sector])
+                self._program_sector(sector)
+        kind = self.verifier.kind.name if self.verifier.kind else "read-back"
+        how = f"{kind} of {len(sectors)} sector{'s' if len(sectors) != 1 else ''}"
+        if self.options.verify is Verify.READBACK:
+            how += f", {self.plan.size} bytes read back"
+        return how
+
+    def _differing(self, sector: Sector) -> list[AddressRange]:
+        bad = self._differing_blocks(sector.range.start, self.expected.read(sector.range.start, sector.range.size,
+                                                                             ERASED))
+        if not bad and self.options.verify is Verify.READBACK:
+            for address, data in self.expected.crop(sector.range.start, sector.range.end).segments:
+                if self._read(address, len(data)) != data:
+                    bad.append(AddressRange(address, address + len(data)))
+        return bad
+
+    def _differing_blocks(self, address: int, expected: bytes) -> list[AddressRange]:
+        return self._retrying(address, lambda: self.verifier.differing(address, expected))
+
+    # --- the end -----------------------------------------------------------------------------------
+
+    def _reconnect(self) -> bool:
+        """CONNECT after the reset (T6 each try) and check the EPK; True when the application runs."""
+        self.meter.phase("reconnecting")
+        deadline = time.monotonic() + self.options.reconnect_s
+        while True:
+            try:
+                self.master.connect(timeout="t6")
+                break
+            except XcpTimeoutError:
+                if time.monotonic() > deadline:
+                    raise FlashError("the flash is complete and verified, but the ECU does not answer CONNECT after "
+                                     "PROGRAM_RESET") from None
+        self.session.connect()
+        running = not self.session.in_boot
+        if self.plan.app_key is not None and not running:
+            raise FlashError(f"the flash is complete and verified and the key {self.plan.app_key} is set, but the ECU "
+                             f"stays in boot after the reset")
+        if self.session.epk.matches is False:
+            raise FlashError(f"the flash is complete and verified, but {self.session.epk.describe()}: flash the region "
+                             f"that holds the EPK too")
+        return running
+
+    def _abandon(self) -> str:
+        """After a failure or a cancel: reset the ECU when it still answers; say in what state it is left."""
+        if not self.started:
+            return "nothing was written to the ECU"
+        try:
+            self.master.resynchronize()
+            self.master.program_reset()
+            reset = True
+        except WorkbenchError as exc:
+            log.info("PROGRAM_RESET after the failure: %s", exc)
+            reset = False
+        if reset:
+            try:
+                self.master.connect(timeout="t6")
+            except WorkbenchError as exc:
+                log.info("CONNECT after the reset: %s", exc)
+        if self.key_cleared:
+            where = "the ECU was reset and stays in boot" if reset else \
+                "the ECU does not answer; powered again, it starts in boot"
+            return f"the application key is cleared: {where} (programming only); flash again to finish"
+        if self.erased:
+            return ("the ECU was reset" if reset else "the ECU does not answer") + \
+                "; erased sectors are incomplete: flash again to finish"
+        return "nothing was erased" + ("; the ECU was reset" if reset else "; the ECU does not answer")
+
+
+def _merged(image: MemoryImage, more: MemoryImage) -> MemoryImage:
+    merged = MemoryImage()
+    for source in (image, more):
+        for address, data in source.segments:
+            merged.add(address, data, overwrite=True)
+    return merged
