@@ -224,7 +224,10 @@ class _Flash:
     def _erase(self, sectors: list[Sector]) -> None:
         for sector in sectors:
             self.meter.phase(f"erasing {sector}")
-            self.erased = True  # from the moment PROGRAM_CLEAR is sent, the sector may be erased
+            if sector == self.plan.key_sector:  # from the moment PROGRAM_CLEAR is sent, the sector may be erased
+                self.key_cleared = True
+            else:
+                self.erased = True
             self._retrying(sector.range.start, lambda s=sector: self._clear(s))
 
     def _clear(self, sector: Sector) -> None:
@@ -246,7 +249,6 @@ class _Flash:
     def _clear_key(self) -> None:
         key, sector = self.plan.app_key, self.plan.key_sector
         keep = self._key_sector_rest(sector)
-        self.key_cleared = True
         self._erase([sector])
         if keep.size:
             self.expected = _merged(self.expected, keep)
@@ -372,7 +374,7 @@ class _Flash:
         if not self.started:
             return "nothing was written to the ECU"
         try:
-            self.master.resynchronize()
+            self.master.resynchronize(attempts=1)
             self.master.program_reset()
             reset = True
         except WorkbenchError as exc:

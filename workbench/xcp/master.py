@@ -466,13 +466,13 @@ class XcpMaster:
         if response is not None and response[0] == PID_ERR:
             raise XcpCommandError(Cmd.PROGRAM_RESET.name, response[1] if len(response) > 1 else 0)
 
-    def resynchronize(self) -> None:
+    def resynchronize(self, attempts: int = 3) -> None:
         """SYNCH until its ERR_CMD_SYNCH arrives, dropping the late responses before it (after a broken block,
         the slave may still be answering the frames the master sent on).
 
-        :raises XcpTimeoutError: the slave answers no SYNCH: it is gone.
+        :raises XcpTimeoutError: the slave answers none of ``attempts`` SYNCHs: it is gone.
         """
-        for _ in range(3):
+        for _ in range(attempts):
             response = self.link.exchange(bytes((Cmd.SYNCH,)), self.timeouts.t1)
             while response is not None:
                 if response[0] == PID_ERR and len(response) > 1 and response[1] == Err.CMD_SYNCH:
