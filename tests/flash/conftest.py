@@ -31,6 +31,7 @@ class Bench:
     demo: DemoEcu
     simulator: Simulator
     session: Session
+    channel: str  # the private virtual bus
 
     @property
     def ecu(self):
@@ -55,7 +56,7 @@ def bench():
     demo_ecu = build_demo_ecu()
     simulator = Simulator(demo_ecu.ecu, {"interface": "virtual", "channel": channel}, time_scale=None)
     with simulator, Session.open(demo.a2l(), interface="virtual", channel=channel, timeouts=FAST) as session:
-        yield Bench(demo_ecu, simulator, session)
+        yield Bench(demo_ecu, simulator, session, channel)
 
 
 def calibration_rom_address(name: str) -> int:

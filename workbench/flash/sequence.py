@@ -81,7 +81,7 @@ class FlashResult:
     def describe(self) -> str:
         state = "the application runs" if self.application_running else "the ECU is in boot"
         lines = [f"flashed {self.plan.size} bytes ({', '.join(r.region.name for r in self.plan.regions)}) in "
-                 f"{self.seconds:.1f} s; programming {self.program_seconds:.1f} s = {self.rate / 1024:.1f} KiB/s",
+                 f"{self.seconds:.3g} s; programming {self.program_seconds:.3g} s = {self.rate / 1024:.1f} KiB/s",
                  f"verified: {self.verified}; {self.epk}; {state}"]
         if self.recoveries or self.rewrites:
             lines.append(f"repaired {self.recoveries} transmission error(s), rewrote {self.rewrites} sector(s)")
@@ -172,6 +172,9 @@ class _Flash:
             self.master.program_reset()
         except Cancelled as exc:
             raise Cancelled(f"{exc}; {self._abandon()}") from None
+        except KeyboardInterrupt:
+            log.warning("interrupted: %s", self._abandon())
+            raise
         except FlashRefused:
             raise
         except WorkbenchError as exc:

@@ -1,0 +1,146 @@
+"""``workbench flash`` end to end: against a ``workbench sim`` process on udp_multicast, and in-process for the
+refusals and usage errors (which must leave the ECU's flash as it was)."""
+
+from __future__ import annotations
+
+import json
+import random
+import struct
+
+import pytest
+from conftest import CALIB, application_image, calib_image_with, calibration_rom_address
+
+from workbench import demo
+from workbench.cli import main
+from workbench.elf import ElfSymbols
+from workbench.image import MemoryImage, load_image
+from workbench.session import Session
+from workbench.sim.memory_map import HDS9
+
+THRESHOLD = "xsSWITCH_TANK_THR"
+
+
+def whole_flash(bench) -> bytes:
+    return b"".join(bench.flash_content(region) for region in HDS9.flash)
+
+
+@pytest.fixture
+def sim_process(free_udp_port):
+    """``workbench sim`` on a multicast group and a UDP port of its own; yields the CLI's bus options."""
+    import sys
+
+    sys.path.insert(0, str(__import__("pathlib").Path(__file__).parents[1] / "sim"))
+    from sim_process import start_sim_process
+
+    group = f"239.74.{random.randint(164, 250)}.{random.randint(1, 250)}"
+    process, banner = start_sim_process("--interface", "udp_multicast", "--channel", group,
+                                        "--bus-kwargs", f"port={free_udp_port}", "--duration", "120")
+    yield ["--interface", "udp_multicast", "--channel", group, "--bus-kwargs", f"port={free_udp_port}"]
+    if process.poll() is None:
+        process.kill()
+        process.wait()
+
+
+def threshold_of(bus: list[str]) -> float:
+    options = dict(zip(bus[0::2], bus[1::2]))
+    with Session.open(demo.a2l(), interface="udp_multicast", channel=options["--channel"],
+                      bus_kwargs={"port": int(options["--bus-kwargs"].split("=")[1])}) as session:
+        return struct.unpack("<f", session.read_memory(ElfSymbols(demo.elf()).symbol(THRESHOLD).address, 4))[0]
+
+
+@pytest.mark.slow
+def test_flash_calib_and_applicative_into_a_simulator_process(tmp_path, sim_process, capsys):
+    bus = sim_process
+    calib = tmp_path / "cal.s19"
+    calib_image_with(THRESHOLD, 26.5).save(calib)
+    assert main(["flash", str(calib), "--region", "CALIB", "--dry-run", *bus]) == 0
+    out = capsys.readouterr().out
+    assert "CALIB  FC0000h  FDFFFFh  020000h  Partial: FC0000h-FC01C3h FDFFF0h-FDFFFFh" in out
+    assert "programming on the bus at 1000 kbit/s" in out and "dry run: nothing was flashed" in out
+    assert threshold_of(bus) == 20.0  # the dry run changed nothing
+
+    assert main(["flash", str(calib), "--region", "CALIB", *bus]) == 0
+    out = capsys.readouterr().out
+    assert "verified: CRC_32 of 1 sector; EPK match" in out and "the application runs" in out
+    assert threshold_of(bus) == 26.5  # PROGRAM_RESET restarted the ECU: the boot copied CAL ROM into CAL RAM
+    assert main(["flash", str(calib), "--region", "CALIB", "--verify-only", *bus]) == 0
+    assert capsys.readouterr().out == "CALIB FC0000h-FC01C3h matches\nCALIB FDFFF0h-FDFFFFh matches\n"
+
+    app = tmp_path / "app.hex"
+    application_image(4000).save(app)
+    assert main(["flash", str(app), "--region", "APPLICATIVE", "--json", *bus]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["application_running"] and result["verified"] == "CRC_32 of 1 sector"
+    assert result["plan"]["regions"][0]["name"] == "APPLICATIVE"
+
+
+@pytest.mark.slow
+def test_flash_the_working_page_in_a_simulator_process(sim_process, capsys):
+    bus = sim_process
+    options = dict(zip(bus[0::2], bus[1::2]))
+    with Session.open(demo.a2l(), interface="udp_multicast", channel=options["--channel"],
+                      bus_kwargs={"port": int(options["--bus-kwargs"].split("=")[1])}) as session:
+        session.write_memory(ElfSymbols(demo.elf()).symbol(THRESHOLD).address, struct.pack("<f", 31.0))
+    assert main(["flash", "--from-working-page", *bus]) == 0
+    assert "working page:" in capsys.readouterr().out
+    assert threshold_of(bus) == 31.0
+
+
+def run_cli(bench, *args: str) -> int:
+    return main(["flash", *args, "--interface", "virtual", "--channel", bench.channel])
+
+
+@pytest.mark.parametrize("case, message", [
+    ("wrong-epk", "EPK '09000020240101' at FC0000h differs from the A2L's"),
+    ("outside", "data outside the flash regions CALIB: FE0000h-FE0003h (in SHARED"),
+    ("boot", "BOOT holds the boot loader"),
+])
+def test_refusals_leave_the_ecus_flash_untouched(bench, tmp_path, capsys, case, message):
+    path = tmp_path / f"{case}.s19"
+    image = calib_image_with(THRESHOLD, 29.0)
+    region = "CALIB"
+    if case == "wrong-epk":
+        image.add(CALIB.start, b"09000020240101", overwrite=True)
+    elif case == "outside":
+        image.add(HDS9.app_key_address, HDS9.app_key)
+    else:
+        image = MemoryImage.from_bytes(0x800000, bytes(64))
+        region = "BOOT"
+    image.save(path)
+    before = whole_flash(bench)
+    assert run_cli(bench, str(path), "--region", region) == 1
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1 and err.startswith("error: ")
+    assert whole_flash(bench) == before
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--region", "CALIB"], "give FILE and --region NAME"),
+    (["FILE"], "give FILE and --region NAME"),
+    (["FILE", "--region", "NOPE"], "no flash region 'NOPE'"),
+    (["--from-working-page", "FILE"], "give no FILE and no --region"),
+    (["FILE", "--region", "CALIB", "--app-key", "0xFE0000=xyz"], "expected ADDRESS=HEXBYTES"),
+    (["missing.s19", "--region", "CALIB"], "missing.s19"),
+])
+def test_bad_input_is_exit_code_2(bench, tmp_path, capsys, args, message):
+    good = tmp_path / "good.s19"
+    calib_image_with(THRESHOLD, 20.0).save(good)
+    args = [str(good) if a == "FILE" else str(tmp_path / a) if a == "missing.s19" else a for a in args]
+    assert run_cli(bench, *args) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_verify_only_exits_1_on_a_difference(bench, tmp_path, capsys):
+    path = tmp_path / "changed.s19"
+    calib_image_with(THRESHOLD, 28.0).save(path)
+    assert run_cli(bench, str(path), "--region", "CALIB", "--verify-only") == 1
+    captured = capsys.readouterr()
+    assert "CALIB FC0000h-FC01C3h DIFFERS" in captured.out and "1 of 2 ranges match the file" in captured.err
+    assert bench.ecu.read(calibration_rom_address(THRESHOLD), 4) == struct.pack("<f", 20.0)
+
+
+def test_the_demo_s19_flashes_with_the_cli_in_process(bench, capsys):
+    assert run_cli(bench, str(demo.s19()), "--region", "CALIB", "--region", "APPLICATIVE", "--verify", "readback") == 0
+    out = capsys.readouterr().out
+    assert "read back" in out
+    assert bench.flash_content(CALIB)[:14] == load_image(demo.s19()).read(CALIB.start, 14)

@@ -1,0 +1,191 @@
+"""``workbench flash``: CALIB or APPLICATIVE from an s19/hex, or the working page into CAL ROM."""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import sys
+import threading
+from contextlib import contextmanager
+
+from workbench.cli.ecu_options import add_ecu_arguments, open_session
+from workbench.cli.options import print_json
+from workbench.cli.progressbar import ProgressBar
+from workbench.errors import Cancelled, InputError
+
+EPILOG = """\
+The plan comes first: per region of the A2L the ranges the file fills ("Partial: FC0000h-FC01C3h
+FDFFF0h-FDFFFFh"), only those are programmed. Refused before anything is erased: an image whose
+EPK differs from the A2L's, data outside the flash regions, BOOT without --allow-boot. The
+application-valid key is cleared first and set last, so a flash that breaks off leaves the ECU in
+its boot loader, where the same command finishes it. Ctrl-C stops at the next block the same way.
+Exit codes: 0 flashed (or --dry-run, or --verify-only found no difference), 1 refused, failed,
+cancelled or differing, 2 bad input.
+
+examples:
+  workbench flash assets/FLCU.s19 --region CALIB --dry-run
+  workbench flash new.hex --region APPLICATIVE --interface socketcan --channel can0
+  workbench flash assets/FLCU.s19 --region CALIB --verify-only
+  workbench flash --from-working-page
+"""
+
+
+def add_subparser(subparsers, name: str, help_text: str) -> None:
+    parser = subparsers.add_parser(name, help=help_text, epilog=EPILOG,
+                                   description="Flash regions of an S-record or Intel HEX file into the ECU over XCP, "
+                                               "or the working page (CAL RAM) into CAL ROM.",
+                                   formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("file", nargs="?", metavar="FILE", help="S-record (.s19/.s28/.s37/.srec) or Intel HEX file")
+    what = parser.add_argument_group("what to flash")
+    what.add_argument("--region", "-r", action="append", metavar="NAME",
+                      help="flash region of the A2L (CALIB, APPLICATIVE ...); repeat for several")
+    what.add_argument("--from-working-page", action="store_true",
+                      help="flash the working page (CAL RAM) into CAL ROM instead of a file")
+    what.add_argument("--allow-boot", action="store_true", help="allow flashing the boot loader's region")
+    how = parser.add_argument_group("how")
+    how.add_argument("--dry-run", action="store_true", help="connect, print the plan and the time it takes, flash nothing")
+    how.add_argument("--verify-only", action="store_true",
+                     help="compare the ECU's flash with the file by checksums, flash nothing (exit 1 on a difference)")
+    how.add_argument("--verify", choices=("checksum", "readback"), default="checksum",
+                     help="checksum (BUILD_CHECKSUM of every erased sector, the default) or readback (and UPLOAD)")
+    how.add_argument("--no-verify", action="store_true", help="skip the verification (not recommended)")
+    key = how.add_mutually_exclusive_group()
+    key.add_argument("--app-key", metavar="ADDRESS=HEX",
+                     help="the boot's application-valid key as stored in flash (default: the demo ECU's "
+                          "0xFE0000=3CC3A55A, 0x5AA5C33C little-endian)")
+    key.add_argument("--no-app-key", action="store_true", help="the ECU's boot has no application-valid key")
+    add_ecu_arguments(parser)
+    parser.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from workbench import demo
+    from workbench.a2l import load_a2l, read_xcp_config
+    from workbench.flash import FlashLayout, plan_file
+
+    _check_usage(args)
+    doc = load_a2l(args.a2l or demo.a2l())
+    app_key = _app_key(args)
+    plan = None
+    if not args.from_working_page:  # refusals come before the bus is even opened
+        plan = plan_file(args.file, FlashLayout.from_a2l(doc, read_xcp_config(doc)), args.region,
+                         allow_boot=args.allow_boot, app_key=app_key)
+    args.a2l = doc
+    with open_session(args) as session:
+        if plan is None:
+            plan = _working_page_plan(session, app_key, args)
+        if args.dry_run:
+            return _dry_run(session, plan, args)
+        if args.verify_only:
+            return _verify_only(session, plan, args)
+        return _flash(session, plan, args)
+
+
+def _check_usage(args: argparse.Namespace) -> None:
+    if args.from_working_page:
+        if args.file or args.region:
+            raise InputError("--from-working-page flashes the working page: give no FILE and no --region")
+        if args.verify_only:
+            raise InputError("--verify-only compares a file; the working page is compared by flashing it")
+    elif not args.file or not args.region:
+        raise InputError("give FILE and --region NAME (e.g. --region CALIB), or --from-working-page")
+    if args.dry_run and args.verify_only:
+        raise InputError("--dry-run and --verify-only exclude each other")
+
+
+def _app_key(args: argparse.Namespace):
+    from workbench.flash import DEMO_APP_KEY, AppKey
+
+    if args.no_app_key:
+        return None
+    if not args.app_key:
+        return DEMO_APP_KEY
+    address, _, value = args.app_key.partition("=")
+    try:
+        return AppKey(int(address, 0), bytes.fromhex(value))
+    except ValueError:
+        raise InputError(f"--app-key {args.app_key!r}: expected ADDRESS=HEXBYTES, e.g. 0xFE0000=3CC3A55A") from None
+
+
+def _working_page_plan(session, app_key, args: argparse.Namespace):
+    from workbench.flash import plan_working_page
+
+    with ProgressBar("reading the working page", enabled=None if not args.json else False) as progress:
+        return plan_working_page(session, app_key=app_key, progress=progress)
+
+
+def _dry_run(session, plan, args: argparse.Namespace) -> int:
+    pgm = session.config.pgm
+    mode = pgm.communication_mode if pgm is not None and pgm.communication_mode else session.config.communication_mode
+    per_frame = (pgm.max_cto_pgm if pgm is not None and pgm.max_cto_pgm else session.config.max_cto) - 2
+    block = min(255 // per_frame, 1 + mode.max_bs) * per_frame if mode and mode.max_bs else per_frame
+    bitrate = session.link.settings.bus.get("bitrate") or (session.config.can.baudrate if session.config.can else None)
+    estimate = plan.bus_time_s(bitrate, block, per_frame) if bitrate and session.link.is_can else None
+    state = "boot loader (programming only)" if session.in_boot else "application running"
+    if args.json:
+        print_json({"plan": plan.to_dict(), "ecu": {"epk": session.epk.describe(), "state": state},
+                    "bitrate": bitrate, "seconds": list(estimate) if estimate else None})
+        return 0
+    print(plan.describe())
+    print(f"ECU: {state}; {session.epk.describe()}")
+    if estimate:
+        print(f"programming on the bus at {bitrate / 1000:g} kbit/s: {estimate[0]:.2g}-{estimate[1]:.2g} s "
+              f"({block} bytes a block, {per_frame} a frame; erasing and checksums as fast as the ECU's flash)")
+    print("dry run: nothing was flashed")
+    return 0
+
+
+def _verify_only(session, plan, args: argparse.Namespace) -> int:
+    from workbench.flash import verify_ecu
+
+    with ProgressBar("comparing", enabled=None if not args.json else False) as progress:
+        checks = verify_ecu(session, plan, progress=progress)
+    differing = [c for c in checks if not c.matches]
+    if args.json:
+        print_json({"matches": not differing, "ranges": [
+            {"region": c.region, "start": c.range.start, "end": c.range.end,
+             "differing": [[d.start, d.end] for d in c.differing]} for c in checks]})
+    else:
+        for check in checks:
+            print(check)
+        print(f"{len(checks) - len(differing)} of {len(checks)} ranges match the file", file=sys.stderr)
+    return 1 if differing else 0
+
+
+def _flash(session, plan, args: argparse.Namespace) -> int:
+    from workbench.flash import FlashOptions, Verify, flash_ecu
+
+    options = FlashOptions(verify=Verify.NONE if args.no_verify else Verify(args.verify))
+    if not args.json:
+        print(plan.describe(), flush=True)
+    with ProgressBar("flashing", enabled=None if not args.json else False) as progress, _cancel_on_interrupt(progress):
+        try:
+            result = flash_ecu(session, plan, progress=progress, options=options)
+        except Cancelled as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 130
+    if args.json:
+        print_json(result.to_dict())
+    else:
+        print(result.describe())
+    return 0
+
+
+@contextmanager
+def _cancel_on_interrupt(progress: ProgressBar):
+    """The first Ctrl-C cancels the flash at its next block (a clean, resumable state); a second one interrupts."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def cancel(signum, frame):
+        if progress.cancelled:
+            raise KeyboardInterrupt
+        progress.cancelled = True
+        print("\nstopping at the next block (Ctrl-C again to interrupt at once)", file=sys.stderr)
+
+    previous = signal.signal(signal.SIGINT, cancel)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
