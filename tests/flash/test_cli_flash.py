@@ -6,9 +6,11 @@ from __future__ import annotations
 import json
 import random
 import struct
+import sys
+from pathlib import Path
 
 import pytest
-from conftest import CALIB, application_image, calib_image_with, calibration_rom_address
+from flash_images import CALIB, application_image, calib_image_with, calibration_rom_address
 
 from workbench import demo
 from workbench.cli import main
@@ -17,21 +19,15 @@ from workbench.image import MemoryImage, load_image
 from workbench.session import Session
 from workbench.sim.memory_map import HDS9
 
+sys.path.insert(0, str(Path(__file__).parents[1] / "sim"))  # the sim tests' helper that runs ``workbench sim``
+from sim_process import start_sim_process  # noqa: E402
+
 THRESHOLD = "xsSWITCH_TANK_THR"
-
-
-def whole_flash(bench) -> bytes:
-    return b"".join(bench.flash_content(region) for region in HDS9.flash)
 
 
 @pytest.fixture
 def sim_process(free_udp_port):
     """``workbench sim`` on a multicast group and a UDP port of its own; yields the CLI's bus options."""
-    import sys
-
-    sys.path.insert(0, str(__import__("pathlib").Path(__file__).parents[1] / "sim"))
-    from sim_process import start_sim_process
-
     group = f"239.74.{random.randint(164, 250)}.{random.randint(1, 250)}"
     process, banner = start_sim_process("--interface", "udp_multicast", "--channel", group,
                                         "--bus-kwargs", f"port={free_udp_port}", "--duration", "120")
@@ -107,11 +103,11 @@ def test_refusals_leave_the_ecus_flash_untouched(bench, tmp_path, capsys, case, 
         image = MemoryImage.from_bytes(0x800000, bytes(64))
         region = "BOOT"
     image.save(path)
-    before = whole_flash(bench)
+    before = bench.whole_flash()
     assert run_cli(bench, str(path), "--region", region) == 1
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1 and err.startswith("error: ")
-    assert whole_flash(bench) == before
+    assert bench.whole_flash() == before
 
 
 @pytest.mark.parametrize("args, message", [

@@ -12,7 +12,7 @@ import os
 import random
 
 import pytest
-from conftest import APPLICATIVE, application_image
+from flash_images import APPLICATIVE, application_image
 
 from workbench.flash import FlashError, flash_ecu, plan_flash
 from workbench.sim.ecu import EcuState

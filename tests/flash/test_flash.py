@@ -6,7 +6,7 @@ from __future__ import annotations
 import struct
 
 import pytest
-from conftest import APPLICATIVE, CALIB, application_image, calib_image_with, calibration_rom_address
+from flash_images import APPLICATIVE, CALIB, application_image, calib_image_with, calibration_rom_address
 
 from workbench.elf import ElfSymbols
 from workbench import demo
@@ -47,10 +47,6 @@ class Recorder:
 def threshold_in_ram(bench) -> float:
     address = ElfSymbols(demo.elf()).symbol(THRESHOLD).address
     return struct.unpack("<f", bench.session.read_memory(address, 4))[0]
-
-
-def whole_flash(bench) -> bytes:
-    return b"".join(bench.flash_content(region) for region in HDS9.flash)
 
 
 def test_a_changed_calibration_flashed_into_calib_survives_a_power_cycle(bench):
@@ -117,7 +113,7 @@ def test_a_cancel_stops_at_a_block_leaves_the_ecu_in_boot_and_a_new_flash_finish
 
 def test_a_cancel_before_anything_was_erased_leaves_the_application_running(bench):
     plan = plan_flash(application_image(3_000), bench.layout, ["APPLICATIVE"])
-    before = whole_flash(bench)
+    before = bench.whole_flash()
 
     class CancelAt(Recorder):
         def __init__(self, label: str):
@@ -132,7 +128,7 @@ def test_a_cancel_before_anything_was_erased_leaves_the_application_running(benc
         flash_ecu(bench.session, plan, progress=CancelAt("PROGRAM_START"))
     with pytest.raises(Cancelled, match="nothing was erased; the ECU was reset"):  # after PROGRAM_START halted it
         flash_ecu(bench.session, plan, progress=CancelAt("erasing"))
-    assert whole_flash(bench) == before and bench.ecu.state is EcuState.APPLICATION
+    assert bench.whole_flash() == before and bench.ecu.state is EcuState.APPLICATION
 
 
 def test_a_running_daq_measurement_is_refused(bench):
@@ -145,10 +141,10 @@ def test_a_running_daq_measurement_is_refused(bench):
     master.write_daq(4, 0x40020000)
     master.set_daq_list_mode(0, 0, timestamp=False)
     master.start_stop_daq_list(0, 1)
-    before = whole_flash(bench)
+    before = bench.whole_flash()
     with pytest.raises(FlashRefused, match="DAQ measurement runs"):
         flash_ecu(bench.session, plan_flash(application_image(100), bench.layout, ["APPLICATIVE"]))
-    assert whole_flash(bench) == before
+    assert bench.whole_flash() == before
 
 
 def test_the_working_page_goes_into_cal_rom_and_survives_a_power_cycle(bench):
@@ -181,13 +177,13 @@ def test_no_working_page_in_boot(bench):
 
 def test_verify_only_compares_without_writing(bench):
     plan = plan_flash(calib_image_with(THRESHOLD, 20.0), bench.layout, ["CALIB"])
-    before = whole_flash(bench)
+    before = bench.whole_flash()
     assert all(check.matches for check in verify_ecu(bench.session, plan))
     changed = plan_flash(calib_image_with(THRESHOLD, 21.0), bench.layout, ["CALIB"])
     checks = verify_ecu(bench.session, changed)
     assert [check.matches for check in checks] == [False, True]
     assert "DIFFERS" in str(checks[0])
-    assert whole_flash(bench) == before
+    assert bench.whole_flash() == before
 
 
 def test_readback_verification_and_none_on_request(bench):

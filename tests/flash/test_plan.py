@@ -5,7 +5,7 @@ from __future__ import annotations
 import dataclasses
 
 import pytest
-from conftest import calib_image_with
+from flash_images import calib_image_with
 
 from workbench import demo
 from workbench.a2l import load_a2l, read_xcp_config

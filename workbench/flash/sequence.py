@@ -179,7 +179,13 @@ class _Flash:
             raise
         except WorkbenchError as exc:
             raise FlashError(f"the flash failed: {exc}; {self._abandon()}") from exc
-        running = self._reconnect()
+        try:
+            running = self._reconnect()
+        except FlashError:
+            raise
+        except WorkbenchError as exc:
+            raise FlashError(f"the flash is complete and verified, but reconnecting after PROGRAM_RESET failed: "
+                             f"{exc}") from exc
         return FlashResult(self.plan, time.perf_counter() - began, self.meter.seconds, self.writer.bytes_sent,
                            verified, self.writer.recoveries, self.rewrites, self.session.epk.describe(), running,
                            tuple(self.notes))
@@ -362,6 +368,7 @@ class _Flash:
                 if time.monotonic() > deadline:
                     raise FlashError("the flash is complete and verified, but the ECU does not answer CONNECT after "
                                      "PROGRAM_RESET") from None
+                time.sleep(self.master.timeouts.t7)
         self.session.connect()
         running = not self.session.in_boot
         if self.plan.app_key is not None and not running:

@@ -456,15 +456,26 @@ class XcpMaster:
     def program_reset(self) -> None:
         """PROGRAM_RESET: the slave resets (answering first or not at all); the session ends either way.
 
+        Without an answer a SYNCH tells the two apart: a slave that reset is disconnected and silent, one
+        that still answers never got the command, which is then sent again (twice at most).
+
         :raises XcpCommandError: the slave refuses the reset.
+        :raises XcpTimeoutError: the slave answers SYNCH but no PROGRAM_RESET: it does not reset.
         """
         self._unlock_for(Cmd.PROGRAM_RESET)
         try:
-            response = self.link.exchange(bytes((Cmd.PROGRAM_RESET,)), self.timeouts.t1)
+            for _ in range(3):
+                response = self.link.exchange(bytes((Cmd.PROGRAM_RESET,)), self.timeouts.t1)
+                if response is not None:
+                    if response[0] == PID_ERR:
+                        raise XcpCommandError(Cmd.PROGRAM_RESET.name, response[1] if len(response) > 1 else 0)
+                    return
+                if self.link.exchange(bytes((Cmd.SYNCH,)), self.timeouts.t1) is None:
+                    return
+                log.info("XCP PROGRAM_RESET: no response, but the slave answers SYNCH; repeating")
+            raise XcpTimeoutError(Cmd.PROGRAM_RESET.name, self.timeouts.t1)
         finally:
             self.connect_info = None
-        if response is not None and response[0] == PID_ERR:
-            raise XcpCommandError(Cmd.PROGRAM_RESET.name, response[1] if len(response) > 1 else 0)
 
     def resynchronize(self, attempts: int = 3) -> None:
         """SYNCH until its ERR_CMD_SYNCH arrives, dropping the late responses before it (after a broken block,
