@@ -6,13 +6,14 @@ from __future__ import annotations
 import struct
 
 import pytest
-from flash_images import APPLICATIVE, CALIB, application_image, calib_image_with, calibration_rom_address
+from flash_images import APPLICATIVE, CALIB, FAST, application_image, calib_image_with, calibration_rom_address
 
-from workbench.elf import ElfSymbols
 from workbench import demo
+from workbench.elf import ElfSymbols
 from workbench.errors import Cancelled
 from workbench.flash import (
     FlashError,
+    FlashLayout,
     FlashOptions,
     FlashRefused,
     Verify,
@@ -22,6 +23,8 @@ from workbench.flash import (
     verify_ecu,
 )
 from workbench.image import MemoryImage
+from workbench.session import Session
+from workbench.sim import EthernetEndpoint, serve_demo
 from workbench.sim.ecu import EcuState
 from workbench.sim.memory_map import HDS9
 from workbench.xcp_protocol import Resource
@@ -215,3 +218,16 @@ def test_a_wrong_write_is_found_by_verification_and_the_sector_written_again(ben
     result = flash_ecu(bench.session, plan)
     assert result.rewrites == 1
     assert bench.flash_content(CALIB) == plan.sector_content(plan.sectors[0])
+
+
+@pytest.mark.parametrize("protocol", ["tcp", "udp"])
+def test_flash_over_xcp_on_ethernet_in_packets_of_its_max_cto(request, protocol):
+    port = request.getfixturevalue(f"free_{protocol}_port")
+    with serve_demo(ethernet=EthernetEndpoint("127.0.0.1", port, protocol), time_scale=None) as simulator, \
+            Session.open(demo.a2l(), host="127.0.0.1", port=port, protocol=protocol, timeouts=FAST) as session:
+        assert session.master.max_cto == 255  # one PROGRAM of 253 bytes a command: no block mode needed
+        plan = plan_flash(application_image(50_000), FlashLayout.from_a2l(session.doc, session.config),
+                          ["APPLICATIVE"])
+        result = flash_ecu(session, plan)
+        assert result.application_running
+        assert simulator.ecu.read(APPLICATIVE.start, APPLICATIVE.size) == plan.sector_content(plan.sectors[0])
