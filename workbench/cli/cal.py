@@ -1,26 +1,35 @@
-"""``workbench cal``: calibrations by name — in dataset files (DCM, CDFX) without an ECU.
+"""``workbench cal``: calibrations by name — in the ECU, and in dataset files (DCM, CDFX) without one.
 
 The commands live in one module per concern, each with ``add_commands(commands)``:
-:mod:`workbench.cli.cal_files` (convert, diff). The ECU commands register here the same way.
+:mod:`workbench.cli.cal_ecu` (get, set, list, fix, page) and :mod:`workbench.cli.cal_files`
+(convert, diff).
 """
 
 from __future__ import annotations
 
 import argparse
 
-from workbench.cli import cal_files
+from workbench.cli import cal_ecu, cal_files
 
 _DESCRIPTION = """\
 Calibrations by name, physical values.
+In the ECU (the common ECU options: --a2l, the CAN bus or --host, --key-function ...):
+  get      read calibrations (curves and maps with their axes) and measurements
+  set      write one: limits, shape and write access checked first, read back after
+  list     the calibrations matching a pattern, with their values
+  fix      override a signal with its _EN/_VALUE fix calibration, release it, list them all
+  page     show or switch the calibration page (working/reference), copy reference to working
 Dataset files (DCM, CDFX; no ECU needed):
   convert  DCM <-> CDFX by the files' extensions, every value exact
   diff     compare two dataset files object by object (exit 1 when they differ, like diff)
-Exit codes: 0 success (diff: equal), 1 the operation failed (diff: the files differ), 2 bad input
-(a file that cannot be read or parsed, a place that cannot be written, a bad option)."""
+Exit codes: 0 success (diff: equal), 1 the operation failed (the ECU refused or did not answer;
+diff: the files differ), 2 bad input (unknown name, a value beyond the limits, a file that cannot be
+read, a bad option)."""
 
 
 def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: str) -> None:
     parser = subparsers.add_parser(name, help=help_text, description=_DESCRIPTION,
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
     commands = parser.add_subparsers(title="commands", dest="command", metavar="COMMAND", required=True)
+    cal_ecu.add_commands(commands)
     cal_files.add_commands(commands)

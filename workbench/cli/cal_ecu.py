@@ -1,0 +1,227 @@
+"""``workbench cal get|set|list|fix|page``: calibrations in the ECU, by name, in physical units."""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+from pathlib import Path
+from typing import Any
+
+from workbench.cli.ecu_options import add_ecu_arguments, open_session
+from workbench.cli.options import print_json
+from workbench.cli.render import decimals, jsonable, table_lines, value_text
+from workbench.errors import InputError
+
+
+def add_commands(commands: argparse._SubParsersAction) -> None:
+    """Register the ECU commands in the ``cal`` group's sub-commands."""
+    get = commands.add_parser("get", help="read calibrations (and measurements) by name",
+                              description="Read objects by name in physical units; curves and maps with their axes.")
+    get.add_argument("names", nargs="+", metavar="NAME")
+    get.add_argument("--page", choices=("working", "reference"), help="read this page (default: the one XCP is on)")
+    add_ecu_arguments(get)
+    get.set_defaults(func=_get)
+
+    put = commands.add_parser(
+        "set", help="write a calibration by name (limits checked, read back)",
+        description="Write NAME in physical units: a number, an enum's text, a list for a curve or value block "
+                    "('[1, 2, 3]' or '1,2,3'), a nested list for a map (indexed [x][y]), or --from a JSON or CSV file "
+                    "(a map's CSV: one row per X point). Limits, shape and write access are checked before anything "
+                    "is sent; the value is read back.")
+    put.add_argument("name", metavar="NAME")
+    put.add_argument("value", metavar="VALUE", nargs="?")
+    put.add_argument("--from", dest="source", metavar="FILE", help="the value from a .json or .csv file")
+    put.add_argument("--extended-limits", action="store_true", help="allow values up to the EXTENDED_LIMITS")
+    add_ecu_arguments(put)
+    put.set_defaults(func=_set)
+
+    listing = commands.add_parser("list", help="list calibrations with their values",
+                                  description="List the A2L's calibration objects (matching PATTERN: a glob, e.g. "
+                                              "'xsPRV_*') with type, value, unit and limits, read from the ECU.")
+    listing.add_argument("pattern", nargs="?", default="*", metavar="PATTERN")
+    add_ecu_arguments(listing)
+    listing.set_defaults(func=_list)
+
+    fix = commands.add_parser(
+        "fix", help="override a signal with its _EN/_VALUE fix calibration, release it, or list them",
+        description="cal fix SIGNAL VALUE: write <fix>_VALUE, then <fix>_EN = 1. cal fix SIGNAL --release: "
+                    "<fix>_EN = 0. cal fix --list: every fixable signal with its live value and override. SIGNAL is "
+                    "the fix's stem (cfRAILPRESSURE), its _EN/_VALUE name, or the signal's name.")
+    fix.add_argument("signal", nargs="?", metavar="SIGNAL")
+    fix.add_argument("value", nargs="?", metavar="VALUE")
+    fix.add_argument("--release", action="store_true", help="give the signal back to the ECU (_EN = 0)")
+    fix.add_argument("--list", action="store_true", help="list every fixable signal")
+    add_ecu_arguments(fix)
+    fix.set_defaults(func=_fix)
+
+    page = commands.add_parser("page", help="show or switch the calibration page",
+                               description="Without an argument: the pages the ECU and XCP use. working/reference: "
+                                           "switch both to that page. copy: copy the reference page (CAL ROM) onto "
+                                           "the working page (CAL RAM), undoing every change since start-up.")
+    page.add_argument("action", nargs="?", choices=("working", "reference", "copy"))
+    page.add_argument("--segment", type=int, default=0, help="calibration segment (default 0)")
+    add_ecu_arguments(page)
+    page.set_defaults(func=_page)
+
+
+# --- get / set ------------------------------------------------------------------------------------
+
+
+def _get(args: argparse.Namespace) -> int:
+    with open_session(args) as session:
+        model = session.model
+        found = {}
+        for name in args.names:
+            kind = model.kind_of(name)
+            found[name] = (session.read_value(name, page=args.page) if kind in ("CHARACTERISTIC", "AXIS_PTS")
+                           else session.read(name, page=args.page))
+    if args.json:
+        print_json({name: _value_dict(value) for name, value in found.items()})
+        return 0
+    for name, value in found.items():
+        obj = model.object(name)
+        places = decimals(model.format_of(obj))
+        if hasattr(value, "axes"):
+            lines = table_lines(value.value, value.axes, value.unit, places)
+        else:
+            lines = [value_text(value, model.unit_of(obj), places)]
+        print(f"{name} = {lines[0]}" if len(lines) == 1 else "\n".join([f"{name}:"] + [f"  {line}" for line in lines]))
+    return 0
+
+
+def _value_dict(value: Any) -> Any:
+    if hasattr(value, "axes"):
+        return {"kind": value.kind, "value": jsonable(value.value), "unit": value.unit,
+                "axes": [{"kind": a.kind, "name": a.name, "unit": a.unit, "points": jsonable(a.values)}
+                         for a in value.axes]}
+    return jsonable(value)
+
+
+def parse_value(text: str | None, source: str | None) -> Any:
+    """A value as typed on the command line or held in a .json/.csv file."""
+    if source is not None:
+        if text is not None:
+            raise InputError("give VALUE or --from FILE, not both")
+        return _value_from_file(Path(source))
+    if text is None:
+        raise InputError("give the value to write (or --from FILE)")
+    stripped = text.strip()
+    if stripped.startswith("["):
+        try:
+            return json.loads(stripped)
+        except json.JSONDecodeError as exc:
+            raise InputError(f"VALUE {text!r} is not a list: {exc.msg} at column {exc.colno}") from None
+    if "," in stripped:
+        return [_scalar(part) for part in stripped.split(",")]
+    return _scalar(stripped)
+
+
+def _scalar(text: str) -> Any:
+    try:
+        return int(text, 0) if text.strip().lstrip("+-").isdigit() else float(text)
+    except ValueError:
+        return text.strip()
+
+
+def _value_from_file(path: Path) -> Any:
+    from workbench.fileio import read_input
+
+    data = read_input(path, "a value file").decode("utf-8-sig")
+    if path.suffix.lower() == ".json":
+        try:
+            return json.loads(data)
+        except json.JSONDecodeError as exc:
+            raise InputError(f"{path}:{exc.lineno}:{exc.colno}: {exc.msg}") from None
+    if path.suffix.lower() == ".csv":
+        rows = [[_scalar(cell) for cell in row if cell.strip()] for row in csv.reader(data.splitlines()) if row]
+        return rows[0] if len(rows) == 1 else rows
+    raise InputError(f"{path}: a value file is .json or .csv")
+
+
+def _set(args: argparse.Namespace) -> int:
+    value = parse_value(args.value, args.source)
+    with open_session(args) as session:
+        written = session.write(args.name, value, allow_extended_limits=args.extended_limits)
+    if args.json:
+        print_json({args.name: _value_dict(written)})
+        return 0
+    lines = table_lines(written.value, written.axes, written.unit)
+    print(f"{args.name} = {lines[0]} (written, read back)" if len(lines) == 1 else
+          "\n".join([f"{args.name} (written, read back):"] + [f"  {line}" for line in lines]))
+    return 0
+
+
+# --- list ---------------------------------------------------------------------------------------
+
+
+def _list(args: argparse.Namespace) -> int:
+    with open_session(args) as session:
+        model = session.model
+        names = [s.name for s in model.find(args.pattern, kind=("CHARACTERISTIC", "AXIS_PTS"))]
+        if not names:
+            raise InputError(f"no calibration matches {args.pattern!r}")
+        values = session.read_many(names)
+    rows = []
+    for name in names:
+        obj = model.object(name)
+        kind = getattr(obj, "type", "AXIS_PTS")
+        rows.append({"name": name, "type": kind, "value": jsonable(values[name]), "unit": model.unit_of(obj),
+                     "lower": obj.lower_limit, "upper": obj.upper_limit, "functions": list(obj.functions)})
+    if args.json:
+        print_json(rows)
+        return 0
+    width = max(len(row["name"]) for row in rows)
+    for row, name in zip(rows, names):
+        places = decimals(model.format_of(model.object(name)))
+        shown = value_text(values[name], row["unit"], places)
+        print(f"{row['name']:<{width}}  {row['type']:<8} {shown:<30} [{row['lower']:g} .. {row['upper']:g}]")
+    return 0
+
+
+# --- fix ----------------------------------------------------------------------------------------
+
+
+def _fix(args: argparse.Namespace) -> int:
+    if args.list == bool(args.signal):
+        raise InputError("give SIGNAL (with VALUE or --release) or --list")
+    if args.signal and args.release == (args.value is not None):
+        raise InputError("give either VALUE (override) or --release, not both or neither")
+    with open_session(args) as session:
+        if args.list:
+            states = session.fixes()
+        elif args.release:
+            states = [session.release(args.signal)]
+        else:
+            states = [session.override(args.signal, parse_value(args.value, None))]
+    if args.json:
+        print_json([{"fix": s.pair.stem, "kind": s.pair.kind, "signal": s.signal, "enable": s.pair.enable,
+                     "value": s.pair.value, "live": jsonable(s.live), "override": jsonable(s.override),
+                     "active": s.active} for s in states])
+        return 0
+    width = max(len(s.pair.stem) for s in states)
+    for state in states:
+        live = "-" if state.live is None else value_text(state.live)
+        flag = "ON " if state.active else "off"
+        print(f"{state.pair.stem:<{width}}  {flag}  override {value_text(state.override):<12} live {live:<14} "
+              f"({state.pair.kind}: {state.signal})")
+    return 0
+
+
+# --- page ---------------------------------------------------------------------------------------
+
+
+def _page(args: argparse.Namespace) -> int:
+    with open_session(args) as session:
+        if args.action in ("working", "reference"):
+            session.set_page(args.action, args.segment)
+        elif args.action == "copy":
+            session.copy_reference_to_working(args.segment)
+        state = session.page(args.segment)
+    if args.json:
+        print_json({"segment": state.segment, "ecu": state.name(state.ecu_page), "xcp": state.name(state.xcp_page)})
+        return 0
+    done = {"copy": "copied the reference page onto the working page; "}.get(args.action or "", "")
+    print(f"{done}segment {state.segment}: ECU on the {state.name(state.ecu_page)} page, "
+          f"XCP on the {state.name(state.xcp_page)} page")
+    return 0
