@@ -116,8 +116,8 @@ def test_map_layout_of_its_own_is_corrected_and_its_axes_follow_the_index_mode(u
     layout = {b.name: b for b in doc.blocks_named("RECORD_LAYOUT")}["RL_MAP_ONLY"]
     assert doc.text(layout.option("FNC_VALUES")[1]) == "SWORD"
     assert "no other object uses the layout" in findings[("engineMap.values", "datatype-updated")]
-    # int16_t values[4][8] stored COLUMN_DIR: x runs the outer dimension
-    assert [doc.int_value(axis.args[3]) for axis in values.children_named("AXIS_DESCR")] == [4, 8]
+    # int16_t values[4][8] stored COLUMN_DIR: x runs fastest, the inner dimension (as calib.layout reads it)
+    assert [doc.int_value(axis.args[3]) for axis in values.children_named("AXIS_DESCR")] == [8, 4]
 
 
 def test_axis_points_count_and_type(updated):
@@ -125,3 +125,13 @@ def test_axis_points_count_and_type(updated):
     curve_axis, shared_axis = doc.objects("AXIS_PTS")
     assert doc.text(curve_axis.args[4]) == "RL_AXIS_F32" and doc.int_value(curve_axis.args[7]) == 6
     assert doc.text(shared_axis.args[4]) == "RL_SHARED_U16" and ("sharedAxis", "datatype-mismatch") not in findings
+
+
+def test_the_demo_map_keeps_its_axes(tmp_path):
+    """xvPRV_DC_FF is real32_T[5][6] with COLUMN_DIR: X (target, 6 points) runs fastest; --types must agree."""
+    from workbench import demo
+    from workbench.a2l import update_file
+
+    out = tmp_path / "types.a2l"
+    update_file(demo.a2l(), demo.elf(), out, types=True)
+    assert out.read_bytes() == demo.a2l().read_bytes()

@@ -7,8 +7,10 @@
   equal layout of the right type, or fix a layout no other object uses, else report).
   The shape: a VALUE holds one element; a VAL_BLK's MATRIX_DIM/NUMBER and an AXIS_PTS's
   MaxAxisPoints are the C array's; a CURVE's, MAP's (CUBOID's ...) axes' MaxAxisPoints
-  are the C array's dimensions, innermost first for ROW_DIR values (``map[y][x]``),
-  outermost first for COLUMN_DIR - corrected in the object's own AXIS_DESCRs, or
+  are the C array's dimensions, outermost first for ROW_DIR values (``map[x][y]``: Y runs
+  fastest), innermost first for COLUMN_DIR (``map[y][x]``: X runs fastest, as Simulink's
+  column-major tables; :mod:`workbench.calib.layout` reads the values by the same rule) -
+  corrected in the object's own AXIS_DESCRs, or
   reported when the C array is flat and only the total can be compared. An object whose
   C variable is a struct with axes and values in one record is not compared item by item.
 - BLOB: its size.
@@ -171,7 +173,7 @@ class TypeChecker:
         if len(axes) != _AXES[kind]:
             return  # the grammar check reports a missing AXIS_DESCR
         stated = [doc.int_value(token) for token in counts]
-        wanted = list(dims) if mode == "COLUMN_DIR" else list(reversed(dims))  # ROW_DIR: x runs fastest
+        wanted = list(reversed(dims)) if mode == "COLUMN_DIR" else list(dims)  # COLUMN_DIR: x runs fastest
         if len(wanted) != len(axes):
             if prod(stated) != prod(dims):
                 findings.append(self._finding(target, counts[0], "shape-mismatch",
