@@ -27,7 +27,7 @@ from workbench.session import Session
 from workbench.sim import EthernetEndpoint, serve_demo
 from workbench.sim.ecu import EcuState
 from workbench.sim.memory_map import HDS9
-from workbench.xcp_protocol import Resource
+from workbench.xcp_protocol import Cmd, Err, Resource
 
 THRESHOLD = "xsSWITCH_TANK_THR"  # real32, 20.0 in the demo s19
 
@@ -231,3 +231,12 @@ def test_flash_over_xcp_on_ethernet_in_packets_of_its_max_cto(request, protocol)
         result = flash_ecu(session, plan)
         assert result.application_running
         assert simulator.ecu.read(APPLICATIVE.start, APPLICATIVE.size) == plan.sector_content(plan.sectors[0])
+
+
+def test_an_ecu_that_refuses_to_go_on_where_a_block_broke_gets_the_sector_erased_and_written_again(bench):
+    plan = plan_flash(calib_image_with(THRESHOLD, 25.5), bench.layout, ["CALIB"])
+    bench.ecu.faults.reject_command(2, Err.ACCESS_DENIED, Cmd.PROGRAM)  # the second block: repaired by going on
+    bench.ecu.faults.reject_command(3, Err.ACCESS_DENIED, Cmd.PROGRAM)  # and there again: as a real page refuses
+    result = flash_ecu(bench.session, plan)
+    assert (result.recoveries, result.rewrites) == (2, 1)
+    assert bench.flash_content(CALIB) == plan.sector_content(plan.sectors[0])

@@ -9,7 +9,9 @@ block and one block beyond it, and
 * continues after the last byte found written, when everything up to it is what the image
   says and nothing stands beyond it: a lost frame, a lost response;
 * else raises :class:`WrongBytes`: a doubled first frame shifts a block (its bytes land
-  behind where they belong), so the sector must be erased and written again.
+  behind where they belong), so the sector must be erased and written again. So does an ECU
+  that refuses to go on where the read-back says (a real flash programs a page once: going on
+  inside a half-written page may be refused).
 
 Bytes a failure put where the read-back does not look are found by the verification of the
 whole sector that follows programming.
@@ -40,9 +42,9 @@ _TRANSIENT = frozenset({Err.SEQUENCE, Err.ACCESS_DENIED, Err.CMD_SYNTAX, Err.CMD
 class WrongBytes(WorkbenchError):
     """Flash holds bytes the image does not say at ``address``: erase the sector and program it again."""
 
-    def __init__(self, address: int):
+    def __init__(self, address: int, reason: str = "holds bytes the image does not"):
         self.address = address
-        super().__init__(f"flash at {address:X}h holds bytes the image does not")
+        super().__init__(f"flash at {address:X}h {reason}")
 
 
 class TooManyErrors(WorkbenchError):
@@ -78,6 +80,7 @@ class RangeWriter:
         :raises XcpTimeoutError: the ECU stopped answering (SYNCH too).
         """
         position = 0
+        resumed_at = None  # where the last repair went on: failing there again, the ECU refuses to resume
         self.master.set_mta(address)
         while position < len(data):
             chunk = data[position:position + self.block_size]
@@ -86,10 +89,12 @@ class RangeWriter:
             except (XcpCommandError, XcpTimeoutError) as error:
                 self.bytes_sent += len(chunk)
                 self._count(error, address + position)
+                if position == resumed_at and isinstance(error, XcpCommandError):
+                    raise WrongBytes(address + position, "cannot be programmed where the last one ended") from error
                 resumed = self._resume_at(sector, address, position, len(chunk)) - address
                 if resumed > position:
                     self.on_block(address + position, resumed - position)
-                position = resumed
+                position = resumed_at = resumed
                 self.master.set_mta(address + position)
                 continue
             self.bytes_sent += len(chunk)
