@@ -243,8 +243,6 @@ class XcpMaster:
                                      f"{type(exc).__name__}: {exc}".replace("  ", " ")) from exc
             if not key:
                 raise WorkbenchError(f"the seed & key function {self.key_function_name or ''} returned no key for {name}")
-            if not key:
-                raise WorkbenchError(f"the seed & key function {self.key_function_name or ''} returned no key for {name}")
             chunk = self.max_cto - 2
             for start in range(0, len(key), chunk):
                 remaining = len(key) - start
