@@ -64,6 +64,9 @@ class Session(ValueAccess, EventAccess, FixAccess):
         self._closers: list = []  # things to stop on close (a recorder ...)
         self._daq: DaqMeasurement | None = None  # the DAQ measurement running (one at a time)
         self._event_info: dict = {}  # GET_DAQ_EVENT_INFO by event number
+        self._layouts: dict = {}  # name -> ObjectLayout, ResolvedLayout (when static), MeasurementCodec
+        self._resolved: dict = {}
+        self._codecs: dict = {}
 
     # --- opening and closing ------------------------------------------------------------------
 

@@ -17,9 +17,9 @@ import numpy as np
 
 from workbench.a2l.objects import AxisPts, Characteristic, Measurement
 from workbench.calib.codec import value_edits
-from workbench.calib.layout import object_layout
-from workbench.calib.memory import ByteEdit, Span, read_spans
-from workbench.calib.signals import measurement_codec
+from workbench.calib.layout import ResolvedLayout, object_layout
+from workbench.calib.memory import ByteEdit, Span
+from workbench.calib.signals import MeasurementCodec, measurement_codec
 from workbench.calib.values import CalValue
 from workbench.errors import InputError, PartialWriteError, WorkbenchError
 from workbench.session.memory import read_merged
@@ -35,9 +35,12 @@ _WRITABLE_MEMORY = {"RAM", "EEPROM", "REGISTER"}
 
 
 class ValueAccess:
-    """Mixed into :class:`Session`: values by name."""
+    """Mixed into :class:`Session`: values by name. Layouts and codecs are kept per name (the A2L does not change)."""
 
     lock: Any
+    _layouts: dict
+    _resolved: dict
+    _codecs: dict
 
     @property
     def model(self: Session) -> A2lModel:
@@ -61,29 +64,42 @@ class ValueAccess:
         if not isinstance(obj, (Characteristic, AxisPts)):
             raise InputError(f"{name} is a {type(obj).__name__.upper()}, not a calibration object: use read()")
         with self.lock, self.on_page(page):
-            layout = object_layout(self.model, obj)
-            resolved = layout.resolve(self._read_spans(layout.fixed_part()))
+            resolved = self._resolve([name])[name]
             return resolved.decode(self._read_spans(resolved.spans()))
 
     def read_many(self: Session, names: Iterable[str], *, page: str | int | None = None) -> dict[str, Any]:
         """Several objects at once, neighbouring addresses merged into few UPLOADs: ``{name: value}``."""
         names = list(dict.fromkeys(names))
-        model = self.model
-        objects = {name: model.object(name) for name in names}
+        codecs = {name: self._codec(name) for name in names if isinstance(self.model.object(name), Measurement)}
         with self.lock, self.on_page(page):
-            codecs = {name: measurement_codec(model, obj) for name, obj in objects.items() if isinstance(obj, Measurement)}
-            layouts = {name: object_layout(model, obj) for name, obj in objects.items() if name not in codecs}
-            firsts = self._read_spans([span for layout in layouts.values() for span in layout.fixed_part()])
-            resolved = {name: layout.resolve(firsts) for name, layout in layouts.items()}
+            resolved = self._resolve([name for name in names if name not in codecs])
             spans = [codec.span for codec in codecs.values()] + [s for r in resolved.values() for s in r.spans()]
             data = self._read_spans(spans)
-        values: dict[str, Any] = {}
+        return {name: codecs[name].decode(data[codecs[name].span]) if name in codecs
+                else resolved[name].decode(data).value for name in names}
+
+    def _codec(self: Session, name: str) -> MeasurementCodec:
+        codec = self._codecs.get(name)
+        if codec is None:
+            codec = self._codecs[name] = measurement_codec(self.model, name)
+        return codec
+
+    def _resolve(self: Session, names: list[str]) -> dict[str, ResolvedLayout]:
+        """Each object placed in memory; layouts kept per name, resolved ones too unless they read counts."""
+        layouts = {}
         for name in names:
-            if name in codecs:
-                values[name] = codecs[name].decode(data[codecs[name].span])
-            else:
-                values[name] = resolved[name].decode(data).value
-        return values
+            if name not in self._layouts:
+                self._layouts[name] = object_layout(self.model, name)
+            layouts[name] = self._layouts[name]
+        static = {name: self._resolved[name] for name in names if name in self._resolved}
+        dynamic = [name for name in names if name not in static]
+        counts = [span for name in dynamic for span in layouts[name].fixed_part()]
+        firsts = self._read_spans(counts) if counts else {}
+        for name in dynamic:
+            resolved = static[name] = layouts[name].resolve(firsts)
+            if not layouts[name].needs_counts:
+                self._resolved[name] = resolved
+        return static
 
     def _read_spans(self: Session, spans: Iterable[Span]) -> dict[Span, bytes]:
         return read_merged(spans, lambda span: self.master.read(span.address, span.size, span.extension))

@@ -223,6 +223,8 @@ class Link:
         master block, whose early error response must not be lost).
         """
         with self._lock:
+            if self._transport is None or self.closed:
+                raise WorkbenchError("the XCP link is closed")
             if drop_queued:
                 self._drop_queued()
             self._send(packet)
