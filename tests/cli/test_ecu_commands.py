@@ -114,3 +114,12 @@ def test_a_bad_a2l_is_exit_2(tmp_path, capsys):
     (tmp_path / "broken.a2l").write_text("/begin PROJECT x \"\" /begin MODULE m \"\"")
     code, _, err = run(capsys, "info", "--a2l", str(tmp_path / "broken.a2l"))
     assert code == 2 and err.startswith(f"error: {tmp_path / 'broken.a2l'}:")
+
+
+def test_raw_values(bus, capsys):
+    code, out, _ = run(capsys, "cal", "get", "xsTankCtrlState", "cfENABLEFLCU_VALUE", "xsSWITCH_TANK_THR", "--raw", *bus)
+    lines = out.splitlines()
+    assert code == 0 and lines[0] in ("xsTankCtrlState = 1", "xsTankCtrlState = 2", "xsTankCtrlState = 0")
+    assert lines[1:] == ["cfENABLEFLCU_VALUE = 0", "xsSWITCH_TANK_THR = 20"]
+    code, out, _ = run(capsys, "measure", "xsTankCtrlState", "--duration", "0.15", "--json", "--raw", *bus)
+    assert isinstance(json.loads(out.splitlines()[0])["values"]["xsTankCtrlState"], int)

@@ -81,3 +81,10 @@ def test_closing_the_session_stops_daq(sim, channel):
     session.close()
     assert not live.running
     assert not any(daq.running for daq in sim.ecu.slave.daq.lists)
+
+
+def test_a_prescaler_the_ecu_does_not_offer_is_refused(ecu):
+    with pytest.raises(InputError, match="no prescaler"):
+        ecu.measure(["xsDC"], prescaler=2).start()
+    with ecu.measure(["xsDC"]) as live:  # nothing was left half configured
+        assert collect(live, 0.2)

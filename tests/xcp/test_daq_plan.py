@@ -136,3 +136,12 @@ def test_random_signals_fit_random_slaves(sizes, identification, granularity, ma
     except InputError:
         return  # too many ODTs for these limits: refused, not mis-planned
     check_limits(plan, limits, signals)
+
+
+def test_a_prescaler_needs_the_slave_to_offer_one():
+    signals = {0: [DaqSignal("x", 0x10, 4)]}
+    with pytest.raises(InputError, match="no prescaler"):
+        plan_daq(signals, **DEMO, prescaler=4)
+    offering = DaqProcessorInfo(**{**processor().__dict__, "prescaler_supported": True})
+    plan = plan_daq(signals, processor=offering, resolution=resolution(), max_dto=8, prescaler=4)
+    assert plan.lists[0].prescaler == 4

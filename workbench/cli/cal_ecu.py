@@ -20,6 +20,7 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
                               description="Read objects by name in physical units; curves and maps with their axes.")
     get.add_argument("names", nargs="+", metavar="NAME")
     get.add_argument("--page", choices=("working", "reference"), help="read this page (default: the one XCP is on)")
+    get.add_argument("--raw", action="store_true", help="raw values, as the ECU holds them (no conversion)")
     add_ecu_arguments(get)
     get.set_defaults(func=_get)
 
@@ -74,18 +75,22 @@ def _get(args: argparse.Namespace) -> int:
         found = {}
         for name in args.names:
             kind = model.kind_of(name)
-            found[name] = (session.read_value(name, page=args.page) if kind in ("CHARACTERISTIC", "AXIS_PTS")
-                           else session.read(name, page=args.page))
+            if args.raw:
+                found[name] = session.read(name, page=args.page, raw=True)
+            elif kind in ("CHARACTERISTIC", "AXIS_PTS"):
+                found[name] = session.read_value(name, page=args.page)
+            else:
+                found[name] = session.read(name, page=args.page)
     if args.json:
         print_json({name: _value_dict(value) for name, value in found.items()})
         return 0
     for name, value in found.items():
         obj = model.object(name)
-        places = decimals(model.format_of(obj))
+        places = None if args.raw else decimals(model.format_of(obj))
         if hasattr(value, "axes"):
             lines = table_lines(value.value, value.axes, value.unit, places)
         else:
-            lines = [value_text(value, model.unit_of(obj), places)]
+            lines = [value_text(value, "" if args.raw else model.unit_of(obj), places)]
         print(f"{name} = {lines[0]}" if len(lines) == 1 else "\n".join([f"{name}:"] + [f"  {line}" for line in lines]))
     return 0
 

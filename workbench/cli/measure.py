@@ -35,6 +35,7 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     parser.add_argument("--event", help="DAQ event (name or number) for every signal (default: each signal's own)")
     parser.add_argument("--rate", type=positive_float, default=10.0, metavar="HZ", help="polling rate (default 10 Hz)")
     parser.add_argument("--duration", type=positive_float, metavar="S", help="stop after S seconds (default: Ctrl-C)")
+    parser.add_argument("--raw", action="store_true", help="raw values, as the ECU holds them (no conversion)")
     add_ecu_arguments(parser)
     parser.set_defaults(func=run)
 
@@ -65,7 +66,7 @@ def _poll(args: argparse.Namespace, session, view) -> None:
     next_at = started
     while time.monotonic() < deadline:
         values = session.read_many(args.names)
-        view.show(time.monotonic() - started, "poll", values)
+        view.show(time.monotonic() - started, "poll", _raw(session, values) if args.raw else values)
         next_at += period
         time.sleep(max(0.0, min(next_at, deadline) - time.monotonic()))
 
@@ -76,18 +77,24 @@ def _sample(args: argparse.Namespace, session, view) -> None:
         try:
             while time.monotonic() < deadline:
                 for batch in live.read(0.05):
+                    values = _raw(session, batch.values) if args.raw else batch.values
                     for row in range(len(batch)):
                         view.show(float(batch.time[row]), batch.event_name,
-                                  {name: values[row] for name, values in batch.values.items()})
+                                  {name: column[row] for name, column in values.items()})
         finally:
             stats = live.stats
             print(f"measure: {stats.samples} samples, {stats.lost} lost, {stats.overloads} overload indications",
                   file=sys.stderr)
 
 
+def _raw(session, values: dict[str, Any]) -> dict[str, Any]:
+    return {name: session.to_raw(name, value) for name, value in values.items()}
+
+
 def _view(args: argparse.Namespace, session):
     model = session.model
-    formats = {name: (model.unit_of(model.object(name)), decimals(model.format_of(model.object(name))))
+    formats = {name: ("", None) if args.raw else
+               (model.unit_of(model.object(name)), decimals(model.format_of(model.object(name))))
                for name in args.names}
     if args.json:
         return _JsonLines()

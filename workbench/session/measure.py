@@ -53,7 +53,7 @@ class SampleBatch:
 class DaqMeasurement:
     """A DAQ measurement of ``names`` (MEASUREMENTs), each on ``event`` or the event the A2L names for it."""
 
-    def __init__(self, session: Session, names: Sequence[str], event: str | int | None = None):
+    def __init__(self, session: Session, names: Sequence[str], event: str | int | None = None, prescaler: int = 1):
         if not names:
             raise InputError("name at least one signal to measure")
         self.session = session
@@ -67,6 +67,7 @@ class DaqMeasurement:
                                  f"(read() polls calibrations)")
             self.codecs[name] = measurement_codec(model, obj)
         self.events = self._events(event)
+        self.prescaler = prescaler
         self.stream: DaqStream | None = None
         self._thread: threading.Thread | None = None
         self._stop = threading.Event()
@@ -106,9 +107,11 @@ class DaqMeasurement:
                         DaqSignal(name, span.address, span.size, span.extension, codec.element_size))
                 info = {number: session.event_info(number) for number in groups}
                 plan = plan_daq(groups, processor, resolution, master.max_dto, first_list=processor.min_daq,
-                                consistency={n: i.consistency for n, i in info.items() if i is not None})
+                                consistency={n: i.consistency for n, i in info.items() if i is not None},
+                                prescaler=self.prescaler)
                 self.stream = DaqStream(master, plan, processor, resolution,
-                                        {n: i.period_s for n, i in info.items() if i is not None})
+                                        {n: i.period_s * self.prescaler for n, i in info.items()
+                                         if i is not None and i.period_s})
                 self.stream.start()
             except BaseException:
                 session.release_daq(self)
@@ -186,9 +189,14 @@ class EventAccess:
 
     lock: Any
 
-    def measure(self: Session, names: Sequence[str], *, event: str | int | None = None) -> DaqMeasurement:
-        """A DAQ measurement of ``names``; start it with ``with`` (or :meth:`DaqMeasurement.start`)."""
-        return DaqMeasurement(self, names, event)
+    def measure(self: Session, names: Sequence[str], *, event: str | int | None = None,
+                prescaler: int = 1) -> DaqMeasurement:
+        """A DAQ measurement of ``names``; start it with ``with`` (or :meth:`DaqMeasurement.start`).
+
+        :param event: one event (name or number) for every signal (default: each signal's A2L DAQ_EVENT).
+        :param prescaler: a sample every ``prescaler`` events, when the slave offers PRESCALER_SUPPORTED.
+        """
+        return DaqMeasurement(self, names, event, prescaler)
 
     def event_number(self: Session, event: str | int) -> int:
         """An event by number, name or short name (the A2L's, else the slave's GET_DAQ_EVENT_INFO)."""

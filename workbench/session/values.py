@@ -49,14 +49,26 @@ class ValueAccess:
 
     # --- reading ------------------------------------------------------------------------------
 
-    def read(self: Session, name: str, *, page: str | int | None = None) -> Any:
+    def read(self: Session, name: str, *, page: str | int | None = None, raw: bool = False) -> Any:
         """The physical value of a MEASUREMENT or calibration object: a number or text, or an array
         (a measurement array, a VAL_BLK, a CURVE's or MAP's values [x, y], an AXIS_PTS' points).
 
         :param page: read a calibration from ``"working"`` or ``"reference"`` (default: the page XCP is on).
+        :param raw: the value as the ECU holds it, before the COMPU_METHOD (integers for integer types).
         :raises UnknownSymbolError: no such object (the closest names are suggested).
         """
-        return self.read_many([name], page=page)[name]
+        value = self.read_many([name], page=page)[name]
+        return self.to_raw(name, value) if raw else value
+
+    def to_raw(self: Session, name: str, value: Any) -> Any:
+        """A physical value of ``name`` as its raw data type holds it (enum texts become their numbers)."""
+        obj = self.model.object(name)
+        datatype = self.model.datatype_of(obj)
+        raw = self.model.conversion(obj).to_raw(value, datatype)
+        if datatype.startswith("FLOAT"):
+            return raw
+        rounded = np.round(np.asarray(raw, dtype=float)).astype(np.int64)
+        return rounded if rounded.ndim else int(rounded)
 
     def read_value(self: Session, name: str, *, page: str | int | None = None) -> CalValue:
         """A calibration object's value with its axes and unit (:class:`~workbench.calib.values.CalValue`)."""

@@ -119,8 +119,10 @@ class _Piece:
 
 def plan_daq(groups: dict[int, Sequence[DaqSignal]], processor: DaqProcessorInfo, resolution: DaqResolutionInfo,
              max_dto: int, *, timestamps: bool = True, first_list: int = 0,
-             consistency: Mapping[int, str] | None = None) -> DaqPlan:
+             consistency: Mapping[int, str] | None = None, prescaler: int = 1) -> DaqPlan:
     """One DAQ list per event of ``groups`` (event number -> signals), numbered from ``first_list``.
+
+    ``prescaler``: every list sends one sample in ``prescaler`` events (the slave must offer it).
 
     ``timestamps``: ask for the slave's timestamps (when it supports them; TIMESTAMP_FIXED forces them).
     ``consistency``: per event, what GET_DAQ_EVENT_INFO says the slave keeps consistent: "ODT" (the
@@ -130,6 +132,9 @@ def plan_daq(groups: dict[int, Sequence[DaqSignal]], processor: DaqProcessorInfo
     :raises InputError: a signal cannot be sampled with these limits, or the lists need more
         ODTs or lists than the slave has.
     """
+    if prescaler != 1 and not (1 <= prescaler <= 0xFF and processor.prescaler_supported):
+        raise InputError(f"prescaler {prescaler}: the slave offers " + (
+            "1..255" if processor.prescaler_supported else "no prescaler (choose a slower event instead)"))
     pid_size = processor.pid_size
     stamped = resolution.timestamp_size > 0 and (resolution.timestamp_fixed or (timestamps and processor.timestamp_supported))
     timestamp_size = resolution.timestamp_size if stamped else 0
@@ -148,7 +153,7 @@ def plan_daq(groups: dict[int, Sequence[DaqSignal]], processor: DaqProcessorInfo
         else:
             odts = _pack_split(pieces, rooms)
         lists.append(DaqListPlan(first_list + offset, event, tuple(odts), bool(timestamp_size),
-                                 _positions(signals, odts)))
+                                 _positions(signals, odts), prescaler))
     plan = DaqPlan(tuple(lists), pid_size, processor.identification_field, timestamp_size, max_dto)
     _check_totals(plan, processor)
     return plan
