@@ -161,6 +161,11 @@ class Simulator:
         """The open buses by role (``CAN1``, and ``CAN2`` when it is a bus of its own)."""
         return self._can.buses if self._can is not None else {}
 
+    def dropped_frames(self, name: str = "CAN1") -> int:
+        """DTO frames the simulator dropped on a bus because its transmit buffer was full (a DAQ overload)."""
+        transmitter = self._can.transmitter(name) if self._can is not None else None
+        return transmitter.dropped if transmitter is not None else 0
+
     def bus_clock(self, name: str = "CAN1") -> BusClock | None:
         """The timing model of a bus (``CAN1``/``CAN2``), None without ``bitrate`` or before :meth:`start`."""
         transmitter = self._can.transmitter(name) if self._can is not None else None
