@@ -88,3 +88,20 @@ def test_a_prescaler_the_ecu_does_not_offer_is_refused(ecu):
         ecu.measure(["xsDC"], prescaler=2).start()
     with ecu.measure(["xsDC"]) as live:  # nothing was left half configured
         assert collect(live, 0.2)
+
+
+def test_a_session_whose_ecu_vanished_closes_and_frees_the_bus(sim, channel):
+    from conftest import FAST
+
+    from workbench import Session, XcpTimeoutError
+
+    session = Session.open(interface="virtual", channel=channel, timeouts=FAST)
+    live = session.measure(["zsRailPressure"]).start()
+    collect(live, 0.1)
+    sim.power_off()
+    with pytest.raises(XcpTimeoutError):
+        session.read("xsDC")
+    started = time.monotonic()
+    session.close()  # DAQ stop and DISCONNECT go unanswered: reported in the log, the bus is freed anyway
+    assert time.monotonic() - started < 10 * FAST.t1
+    assert session.link.closed and not live.running
