@@ -1,8 +1,8 @@
 """DESIGN.md's dependency direction, checked on the imports of every module.
 
 gui -> session (the ECU by name) -> (xcp, calib, can) -> (a2l, elf, image); record and flash
-stand on the session; sim uses image/a2l/can/elf but never xcp; only the CLI and the GUI sit
-on top. The ``workbench`` package itself exports Session lazily. A module may always use the shared
+stand on the session, sync (datasets and images with the ECU, cache sync) on the session and
+flash; sim uses image/a2l/can/elf but never xcp; only the CLI and the GUI sit on top. The ``workbench`` package itself exports Session lazily. A module may always use the shared
 foundation (errors, progress, fileio, demo, findings, lazy_exports) and what the simulated
 slave and the master share: xcp_protocol (the XCP names) and bus_defaults (the default bus);
 they import nothing, so sim stays free of xcp.
@@ -28,8 +28,9 @@ ALLOWED = {
     "session": {"a2l", "elf", "image", "xcp", "calib", "can"},
     "record": {"a2l", "xcp", "calib", "can", "session"},
     "flash": {"a2l", "elf", "image", "xcp", "session"},
-    "gui": {"a2l", "elf", "image", "xcp", "calib", "record", "can", "sim", "session", "flash"},
-    "cli": {"a2l", "elf", "image", "xcp", "calib", "record", "can", "sim", "gui", "session", "flash"},
+    "sync": {"a2l", "image", "xcp", "calib", "session", "flash"},
+    "gui": {"a2l", "elf", "image", "xcp", "calib", "record", "can", "sim", "session", "flash", "sync"},
+    "cli": {"a2l", "elf", "image", "xcp", "calib", "record", "can", "sim", "gui", "session", "flash", "sync"},
 }
 
 

@@ -50,7 +50,7 @@ def test_pages_segments_and_sectors(config):
     (segment,) = config.segments
     assert (segment.memory_segment, segment.address, segment.size) == ("Cal", 0x20000000, 0x1000)
     assert (segment.number, segment.page_count) == (1, 2)
-    assert segment.checksum_type == "XCP_ADD_44"
+    assert segment.checksum_type == "XCP_ADD_44" and segment.checksum_max_block_size == 0xFFFF
     assert segment.pages[0].init_segment == 1
     assert segment.pages[1].xcp_write_access == "XCP_WRITE_ACCESS_WITH_ECU_ONLY"
     assert segment.address_mappings[0].destination == 0x9000
@@ -141,6 +141,7 @@ def test_demo_master_states_the_demo_contract():
     (segment,) = config.segments
     assert segment.address_mappings[0].source == 0x40000000
     assert segment.address_mappings[0].destination == 0xFC0000
+    assert (segment.checksum_type, segment.checksum_max_block_size) == ("XCP_CRC_32", 0x20000)
 
 
 def test_demo_master_states_the_ethernet_contract():

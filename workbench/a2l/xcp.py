@@ -158,6 +158,7 @@ class XcpSegment:
     pages: tuple[XcpPage, ...]
     address_mappings: tuple[XcpAddressMapping, ...]
     checksum_type: str | None = None
+    checksum_max_block_size: int | None = None  # bytes one BUILD_CHECKSUM may cover (CHECKSUM MAX_BLOCK_SIZE)
 
 
 @dataclass(frozen=True)
@@ -457,6 +458,8 @@ def _segments(doc: "A2lDocument", module: str | None) -> list[XcpSegment]:
                     pages=tuple(_page(page) for page in node.blocks("PAGE")),
                     address_mappings=tuple(_mapping(m) for m in node.blocks("ADDRESS_MAPPING")),
                     checksum_type=str(checksum.values[0]) if checksum is not None and checksum.values else None,
+                    checksum_max_block_size=_int_or_none(checksum.number_after("MAX_BLOCK_SIZE"))
+                    if checksum is not None else None,
                 ))
     return segments
 

@@ -30,6 +30,7 @@ class ChecksumVerifier:
     max_block: int = 0x20000  # bytes of one BUILD_CHECKSUM until the ECU refuses a larger one
     kind: ChecksumType | None = None  # the ECU's, once it answered; None before (or user-defined)
     commands: int = 0
+    confirm_mismatch: bool = True  # ask a mismatch again (a search that narrows mismatches down confirms by itself)
 
     def differing(self, address: int, expected: bytes) -> list[AddressRange]:
         """The blocks of ``[address, address + len(expected))`` whose content differs from ``expected``."""
@@ -63,6 +64,8 @@ class ChecksumVerifier:
             return self.master.read(address, len(expected)) == expected
         if value == checksum(expected, self.kind, self.master.order == "<"):
             return True
+        if not self.confirm_mismatch:
+            return False
         self.master.resynchronize()
         return self._checksum(address, len(expected)) == checksum(expected, self.kind, self.master.order == "<")
 

@@ -100,6 +100,7 @@ def xcp_parameters(doc: A2lDocument, config: XcpConfig, transport: str = "CAN") 
             EventChannel(e.number, e.name, e.period_s or 0.0, e.priority) for e in effective.daq.events
         )
     checksum = next((s.checksum_type for s in config.segments if s.checksum_type), None)
+    checksum_block = next((s.checksum_max_block_size for s in config.segments if s.checksum_max_block_size), None)
     if checksum is not None and checksum.removeprefix("XCP_") not in ChecksumType.__members__:
         raise InputError(f"{where}: the simulated ECU cannot compute the CHECKSUM type {checksum}")
     mode = effective.communication_mode
@@ -118,6 +119,7 @@ def xcp_parameters(doc: A2lDocument, config: XcpConfig, transport: str = "CAN") 
         max_dto=sizes[1],
         max_bs=mode.max_bs if mode is not None and mode.max_bs else defaults.max_bs,
         checksum_type=ChecksumType[checksum.removeprefix("XCP_")] if checksum else defaults.checksum_type,
+        max_checksum_block=checksum_block or defaults.max_checksum_block,
         epk_address=epk_address,
         epk_length=len(epk),
         asam_mc2_name=Path(str(doc.path)).stem if doc.path else defaults.asam_mc2_name,

@@ -85,6 +85,18 @@ class FaultPlan:
         with self._lock:
             self._frame_faults[direction].append(_Armed(self._frames[direction] + n, fault))
 
+    # --- counters (what a test measures traffic with) ------------------------------------------
+
+    def frames_seen(self, direction: str = "rx") -> int:
+        """XCP frames seen so far in ``direction`` ("rx": master -> slave, "tx": slave -> master)."""
+        with self._lock:
+            return self._frames[direction]
+
+    def commands_seen(self, command: Cmd | None = None) -> int:
+        """Commands received so far: all of them, or those of one kind (a block's _NEXT frames count apart)."""
+        with self._lock:
+            return self._commands.get(None if command is None else int(command), 0)
+
     # --- consulted by the transport and the slave ----------------------------------------------
 
     def on_frame(self, direction: str) -> FrameFault | None:

@@ -63,6 +63,14 @@ class DatasetDiff:
     def counts(self) -> dict[str, int]:
         return {status: sum(o.status == status for o in self.objects) for status in STATUSES}
 
+    def reversed(self) -> "DatasetDiff":
+        """The same comparison seen from the other side: B against A (B - A becomes A - B)."""
+        swap = {ONLY_IN_A: ONLY_IN_B, ONLY_IN_B: ONLY_IN_A}
+        objects = [ObjectDiff(o.name, swap.get(o.status, o.status), o.b, o.a,
+                              tuple(ElementDiff(d.where, d.b, d.a, None if d.delta is None else -d.delta, d.at)
+                                    for d in o.differences)) for o in self.objects]
+        return DatasetDiff(self.b_label, self.a_label, objects, self.abs_tol, self.rel_tol)
+
     def to_dict(self) -> dict:
         """Every object with its status and differences, JSON-ready (NaN and infinities as "NaN", "Inf", "-Inf")."""
         return {

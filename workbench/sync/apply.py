@@ -1,0 +1,251 @@
+"""Apply a dataset to the ECU: every object checked before anything is written, then written and read back.
+
+::
+
+    report = apply_dataset(session, load_dataset("base.dcm"))   # raises when anything is refused
+    print(report.to_text())                                     # applied / unchanged, per object
+
+The checks, for every object first: known to the A2L, a calibration object, writable (READ_ONLY,
+CALIBRATION_ACCESS), its kind and shape, its limits and monotony
+(:func:`~workbench.calib.limits.check_limits`), a value its data type and conversion can take,
+inside the A2L's writable memory, and no two objects writing other bytes to the same place (a
+MAP's axis and the AXIS_PTS it shares, given twice with other points). One refusal and nothing is
+written: :class:`ApplyRefused` carries the report that lists every refusal. Then only the objects
+whose bytes change are written, in the dataset's order, each through
+:meth:`Session.write <workbench.session.Session.write>` (only the changed bytes, read back). A
+failure halfway stops there and raises :class:`ApplyFailed`; its report says which objects reached
+the ECU, which one failed (and which of its fields were written), and which were not written.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+from workbench.calib.codec import value_edits
+from workbench.calib.dataset import DatasetDiff, diff_datasets
+from workbench.calib.limits import check_limits
+from workbench.calib.memory import ByteEdit, Span
+from workbench.calib.values import CalValue
+from workbench.errors import InputError, PartialWriteError, WorkbenchError
+from workbench.progress import Progress, report
+from workbench.session import Session
+from workbench.sync.ecu import EcuReader
+from workbench.sync.store import ByteStore
+from workbench.sync.values import (as_stored, decode_values, label_differences, object_layouts, resolve_all,
+                                   without_name)
+
+__all__ = ["APPLIED", "FAILED", "NOT_WRITTEN", "REFUSED", "UNCHANGED", "WOULD_CHANGE", "ApplyFailed", "ApplyRefused",
+           "ApplyReport", "ObjectOutcome", "apply_dataset"]
+
+APPLIED, UNCHANGED, WOULD_CHANGE = "applied", "unchanged", "would change"
+REFUSED, FAILED, NOT_WRITTEN = "refused", "failed", "not written"
+STATUSES = (APPLIED, UNCHANGED, WOULD_CHANGE, REFUSED, FAILED, NOT_WRITTEN)
+
+
+@dataclass(frozen=True)
+class ObjectOutcome:
+    """What became of one object: ``status`` one of the STATUSES, ``reason`` why (refused, failed, not written),
+    ``written`` the fields of a failed object that reached the ECU."""
+
+    name: str
+    status: str
+    reason: str = ""
+    written: tuple[str, ...] = ()
+
+
+@dataclass
+class ApplyReport:
+    source: str
+    dry_run: bool
+    outcomes: list[ObjectOutcome] = field(default_factory=list)
+    diff: DatasetDiff | None = None  # the objects that change: the ECU before (A), the dataset as stored (B)
+    warnings: list[str] = field(default_factory=list)
+
+    def counts(self) -> dict[str, int]:
+        return {status: sum(o.status == status for o in self.outcomes) for status in STATUSES}
+
+    def named(self, status: str) -> list[str]:
+        return [o.name for o in self.outcomes if o.status == status]
+
+    @property
+    def reached_ecu(self) -> list[str]:
+        """Objects whose bytes (some or all) were written."""
+        return [o.name for o in self.outcomes if o.status == APPLIED or (o.status == FAILED and o.written)]
+
+    @property
+    def ok(self) -> bool:
+        return not any(o.status in (REFUSED, FAILED) for o in self.outcomes)
+
+    def summary(self) -> str:
+        counts = {status: count for status, count in self.counts().items() if count}
+        text = ", ".join(f"{count} {status}" for status, count in counts.items()) or "no objects"
+        verb = "dry run" if self.dry_run else "applied" if self.ok else "not applied"
+        return f"{self.source}: {verb}: {text}"
+
+    def to_text(self) -> str:
+        """One line per object that is not unchanged, the diff of a dry run, the warnings, a summary."""
+        lines = []
+        shown = [o for o in self.outcomes if o.status != UNCHANGED]
+        width = max((len(o.name) for o in shown), default=0)
+        for outcome in shown:
+            reason = f"  {outcome.reason}" if outcome.reason else ""
+            written = f" (reached the ECU: {', '.join(outcome.written)})" if outcome.written else ""
+            lines.append(f"{outcome.name:<{width}}  {outcome.status}{reason}{written}")
+        if self.dry_run and self.diff is not None and self.diff.objects:
+            lines.append(self.diff.to_text())
+        lines += [f"warning: {text}" for text in self.warnings]
+        lines.append(self.summary())
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict:
+        return {"source": self.source, "dry_run": self.dry_run, "ok": self.ok, "counts": self.counts(),
+                "reached_ecu": self.reached_ecu,
+                "objects": [{"name": o.name, "status": o.status, "reason": o.reason, "written": list(o.written)}
+                            for o in self.outcomes],
+                "diff": self.diff.to_dict() if self.diff is not None else None, "warnings": self.warnings}
+
+
+class ApplyRefused(InputError):
+    """Objects of the dataset failed the checks; nothing was written. ``report`` lists every one."""
+
+    def __init__(self, report: ApplyReport):
+        self.report = report
+        refused = [o for o in report.outcomes if o.status == REFUSED]
+        shown = "; ".join(f"{o.name}: {o.reason}" for o in refused[:3])
+        more = f" (and {len(refused) - 3} more)" if len(refused) > 3 else ""
+        super().__init__(f"{len(refused)} of {len(report.outcomes)} objects refused, nothing written: {shown}{more}")
+
+
+class ApplyFailed(WorkbenchError):
+    """Writing stopped halfway; ``report`` names what reached the ECU and what did not."""
+
+    def __init__(self, report: ApplyReport, cause: Exception):
+        self.report = report
+        reached = report.reached_ecu
+        shown = ", ".join(reached[:5]) + (" ..." if len(reached) > 5 else "") if reached else "none"
+        super().__init__(f"{cause}; objects that reached the ECU: {shown}; "
+                         f"{len(report.named(NOT_WRITTEN))} not written")
+
+
+@dataclass
+class _Planned:
+    value: CalValue
+    edits: list[ByteEdit]
+
+
+def apply_dataset(session: Session, dataset: Mapping[str, CalValue], *, dry_run: bool = False,
+                  allow_extended_limits: bool = False, progress: Progress | None = None,
+                  source: str | None = None) -> ApplyReport:
+    """Check every object of ``dataset`` against the A2L and the ECU, then write those that change.
+
+    :param dry_run: check and say what would change; write nothing (also on a read-only session).
+    :param allow_extended_limits: values up to the EXTENDED_LIMITS pass.
+    :returns: the report (every object applied or unchanged; on a dry run, what would change).
+    :raises ApplyRefused: an object failed a check; nothing was written (the report lists every one).
+    :raises ApplyFailed: a write failed halfway (the report names what reached the ECU).
+    :raises EpkMismatchError: the session is read-only (not on a dry run).
+    """
+    result = ApplyReport(source or getattr(dataset, "source", None) or "dataset", dry_run)
+    with session.lock:
+        if not dry_run:
+            session.require_writable()
+        planned, refused, current = _check(session, dataset, allow_extended_limits, progress, result.warnings)
+        changing = [name for name, plan in planned.items() if plan.edits]
+        result.diff = _changes(session, dataset, planned, changing, current, result)
+        pending = WOULD_CHANGE if dry_run else NOT_WRITTEN
+        why = "other objects were refused" if refused and not dry_run else ""
+        result.outcomes = [ObjectOutcome(name, REFUSED, refused[name]) if name in refused
+                           else ObjectOutcome(name, pending, why) if name in changing
+                           else ObjectOutcome(name, UNCHANGED) for name in dataset]
+        if refused and not dry_run:
+            raise ApplyRefused(result)
+        if not dry_run:
+            _write(session, planned, changing, allow_extended_limits, progress, result)
+    return result
+
+
+def _check(session: Session, dataset: Mapping[str, CalValue], extended: bool, progress: Progress | None,
+           warnings: list[str]) -> tuple[dict[str, _Planned], dict[str, str], ByteStore]:
+    """Every object checked: ``({name: planned edits}, {name: why refused}, the ECU's bytes read)``."""
+    model = session.model
+    layouts, refused = object_layouts(model, dataset)
+    for name in list(layouts):
+        violations = check_limits(model, dataset[name], extended=extended)
+        if violations:
+            refused[name] = "; ".join(without_name(name, str(v)) for v in violations)
+            del layouts[name]
+    current = ByteStore(fallback=EcuReader(session, progress, "reading the ECU's values"))
+    resolved, failed = resolve_all(layouts, current.fetch)
+    refused.update(failed)
+    current.fetch([span for layout in resolved.values() for span in layout.spans()])
+    writable = session.writable_spans()
+    planned: dict[str, _Planned] = {}
+    for name in resolved:
+        value = dataset[name]
+        try:
+            edits = value_edits(model, value, current.read, check=False)
+        except WorkbenchError as exc:
+            refused[name] = without_name(name, str(exc))
+            continue
+        outside = [e for e in edits if writable is not None and not _inside(e.span, writable)]
+        if outside:
+            refused[name] = (f"{outside[0].field or 'its bytes'} at {outside[0].span} lie outside the A2L's writable "
+                             "memory")
+            continue
+        planned[name] = _Planned(value, edits)
+    for first, second, where in _conflicts(planned):
+        for name, other in ((first, second), (second, first)):
+            refused[name] = f"writes other bytes at {where} than {other} (the dataset gives both)"
+            planned.pop(name, None)
+    return planned, refused, current
+
+
+def _inside(span: Span, writable: list[Span]) -> bool:
+    return any(w.extension == span.extension and w.address <= span.address and span.end <= w.end for w in writable)
+
+
+def _conflicts(planned: dict[str, _Planned]) -> list[tuple[str, str, str]]:
+    """Pairs of objects whose edits put different bytes at the same address (e.g. a MAP's shared axis and the
+    AXIS_PTS itself, given with other points)."""
+    owner: dict[tuple[int, int], tuple[str, int]] = {}
+    found: list[tuple[str, str, str]] = []
+    for name, plan in planned.items():
+        for edit in plan.edits:
+            for offset, byte in enumerate(edit.data):
+                key = (edit.extension, edit.address + offset)
+                other = owner.setdefault(key, (name, byte))
+                if other[0] != name and other[1] != byte:
+                    found.append((other[0], name, f"0x{key[1]:X}"))
+                    break
+    return list({(a, b): (a, b, where) for a, b, where in found}.values())
+
+
+def _changes(session: Session, dataset: Mapping[str, CalValue], planned: dict[str, _Planned], changing: list[str],
+             current: ByteStore, result: ApplyReport) -> DatasetDiff:
+    """The ECU's values now against the dataset's as the ECU would hold them, for the objects that change;
+    label differences (units, axis names) become warnings."""
+    model = session.model
+    before, _ = decode_values(object_layouts(model, planned)[0], current.fetch)
+    for name, value in before.items():
+        result.warnings += [f"{name}: {text}" for text in label_differences(value, dataset[name])]
+    after = {name: as_stored(model, planned[name].value, current) for name in changing}
+    return diff_datasets({name: before[name] for name in changing}, after, a_label="ECU", b_label=result.source)
+
+
+def _write(session: Session, planned: dict[str, _Planned], changing: list[str], extended: bool,
+           progress: Progress | None, result: ApplyReport) -> None:
+    """Write the changing objects in order; on a failure mark what reached the ECU and raise ApplyFailed."""
+    index = {o.name: i for i, o in enumerate(result.outcomes)}
+    for done, name in enumerate(changing):
+        report(progress, done, len(changing), f"writing {name}")
+        try:
+            session.write(name, planned[name].value, allow_extended_limits=extended)
+        except WorkbenchError as exc:
+            written = tuple(exc.written) if isinstance(exc, PartialWriteError) else ()
+            result.outcomes[index[name]] = ObjectOutcome(name, FAILED, str(exc), written)
+            for rest in changing[done + 1:]:
+                result.outcomes[index[rest]] = ObjectOutcome(rest, NOT_WRITTEN, f"writing stopped at {name}")
+            raise ApplyFailed(result, exc) from exc
+        result.outcomes[index[name]] = ObjectOutcome(name, APPLIED)
+    report(progress, len(changing), len(changing), "written")

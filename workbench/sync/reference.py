@@ -1,0 +1,62 @@
+"""What the ECU is compared with: a flash image (s19/hex of the build, or one saved from the ECU) or a dataset."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from workbench.calib.dataset import Dataset, format_of, load_dataset
+from workbench.errors import InputError
+from workbench.image import MemoryImage, load_image
+
+__all__ = ["IMAGE_SUFFIXES", "DatasetReference", "ImageReference", "is_image_file", "load_reference"]
+
+IMAGE_SUFFIXES = (".s19", ".s28", ".s37", ".srec", ".mot", ".sx", ".hex", ".ihex")
+
+
+@dataclass
+class ImageReference:
+    """An s19/hex: its CAL ROM bytes are compared with the ECU's working page."""
+
+    path: Path
+    image: MemoryImage
+
+    @property
+    def label(self) -> str:
+        return str(self.path)
+
+
+@dataclass
+class DatasetReference:
+    """A DCM/CDFX dataset: its objects are compared with the ECU's, one by one."""
+
+    path: Path
+    dataset: Dataset
+
+    @property
+    def label(self) -> str:
+        return str(self.path)
+
+
+Reference = ImageReference | DatasetReference
+
+
+def is_image_file(path: str | Path) -> bool:
+    """Whether ``path`` names an S-record or Intel HEX file by its extension."""
+    return Path(path).suffix.lower() in IMAGE_SUFFIXES
+
+
+def load_reference(path: str | Path) -> Reference:
+    """The image or dataset in ``path``, by its extension.
+
+    :raises InputError: the file is missing or malformed (located), or its extension names neither.
+    """
+    path = Path(path)
+    if is_image_file(path):
+        return ImageReference(path, load_image(path))
+    try:
+        format_of(path)
+    except InputError:
+        raise InputError(f"{path}: neither an image ({', '.join(IMAGE_SUFFIXES)}) nor a dataset (.dcm, .cdfx) by "
+                         "its extension") from None
+    return DatasetReference(path, load_dataset(path))

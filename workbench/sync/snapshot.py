@@ -1,0 +1,106 @@
+"""The ECU's calibrations kept in files: a page as a dataset (DCM, CDFX), the working page as a CAL ROM image.
+
+::
+
+    dataset = read_dataset(session)                          # every calibration of the working page
+    save_dataset(dataset, "base.dcm")
+    calibration_image(session, "CALIB").save("cal.s19")      # what `workbench flash cal.s19 --region CALIB` flashes
+
+The image comes from the flashing code's own reading of the working page
+(:func:`workbench.flash.plan_working_page`): the segment's ADDRESS_MAPPING places it in CAL ROM,
+the EPK and whatever else the page holds outside the A2L's objects come along, erased blocks are
+not read, and the result is exactly what flashing the working page would program.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from datetime import datetime, timezone
+
+from workbench.a2l.model import A2lModel
+from workbench.calib.dataset import Dataset, ObjectInfo
+from workbench.errors import InputError
+from workbench.findings import Finding, Severity
+from workbench.image import MemoryImage
+from workbench.progress import Progress
+from workbench.session import Session
+from workbench.sync.areas import ImageView, calibration_areas
+from workbench.sync.ecu import EcuReader
+from workbench.sync.values import calibration_names, decode_values, object_layouts
+
+__all__ = ["calibration_image", "image_dataset", "read_dataset"]
+
+
+def read_dataset(session: Session, names: Iterable[str] | None = None, *, page: str | int | None = "working",
+                 progress: Progress | None = None) -> Dataset:
+    """The ECU's values of every calibration (or of ``names``: names and globs) as a dataset.
+
+    :param page: ``"working"`` (CAL RAM), ``"reference"`` (CAL ROM) or None (the page XCP is on).
+    :raises UnknownSymbolError, InputError: a name the A2L lacks, a glob that matches nothing.
+    :raises XcpCommandError, XcpTimeoutError: the ECU refused or did not answer.
+    :raises Cancelled: ``progress`` was cancelled.
+
+    Objects the codec cannot decode are left out, each named in ``dataset.notes`` (a warning); when
+    they were named explicitly that is an :class:`InputError` instead.
+    """
+    model = session.model
+    wanted = calibration_names(model, names)
+    layouts, problems = object_layouts(model, wanted)
+    reader = EcuReader(session, progress, f"reading the {page or 'current'} page")
+    with session.lock, session.on_page(page):
+        values, failed = decode_values(layouts, reader)
+    problems.update(failed)
+    if problems and names is not None:
+        name, why = next(iter(problems.items()))
+        raise InputError(f"{name}: {why}" if not why.startswith(name) else why)
+    where = f"the ECU's {page} page" if page else "the ECU"
+    dataset = _dataset(model, values, problems, f"{where}, EPK {session.epk.ecu or 'not read'}")
+    dataset.source = f"ECU ({page} page)" if page else "ECU"
+    return dataset
+
+
+def image_dataset(model: A2lModel, image: MemoryImage, names: Iterable[str] | None = None, *,
+                  source: str = "image") -> Dataset:
+    """The values an s19/hex holds for every calibration (or ``names``), read through the A2L (no ECU):
+    the calibration segments' ADDRESS_MAPPING finds them in a CAL ROM image."""
+    from workbench.a2l import read_xcp_config
+
+    module = model.name or None
+    areas = calibration_areas(model.doc, read_xcp_config(model.doc, module), module)
+    layouts, problems = object_layouts(model, calibration_names(model, names))
+    values, failed = decode_values(layouts, ImageView(image, areas).fetch)
+    problems.update(failed)
+    dataset = _dataset(model, values, problems, source)
+    dataset.source = source
+    return dataset
+
+
+def _dataset(model: A2lModel, values: dict, problems: dict[str, str], origin: str) -> Dataset:
+    dataset = Dataset()
+    stamp = datetime.now(timezone.utc).astimezone().isoformat(timespec="seconds")
+    dataset.comments.append(f"calibrations of {origin} read by workbench on {stamp}")
+    if model.doc.path is not None:
+        dataset.a2l_file = model.doc.path.name
+    for name, value in values.items():
+        functions = tuple(getattr(model.object(name), "functions", ()) or ())
+        dataset.add(value, ObjectInfo(functions=functions[:1]))
+    dataset.notes.extend(Finding("not-read", name, f"{name}: not read ({why})", severity=Severity.WARNING)
+                         for name, why in problems.items())
+    return dataset
+
+
+def calibration_image(session: Session, region: str = "CALIB", *, progress: Progress | None = None) -> MemoryImage:
+    """The working page as the flash region ``region`` holds it once flashed (CAL ROM addresses; EPK
+    included; erased flash left out), ready to save as s19/hex and flash with ``--region``.
+
+    :raises InputError: the working page is not flashed into ``region`` (the message names the regions it is).
+    :raises FlashRefused: the ECU runs no application, or the A2L maps no working page to flash.
+    """
+    from workbench.flash import plan_working_page
+
+    plan = plan_working_page(session, app_key=None, progress=progress)
+    for part in plan.regions:
+        if part.region.name.upper() == region.upper():
+            return part.image
+    regions = ", ".join(p.region.name for p in plan.regions) or "none"
+    raise InputError(f"the working page is flashed into {regions}, not into {region!r}")
