@@ -1,15 +1,15 @@
 """``workbench cal``: calibrations by name — in the ECU, and in dataset files (DCM, CDFX) without one.
 
 The commands live in one module per concern, each with ``add_commands(commands)``:
-:mod:`workbench.cli.cal_ecu` (get, set, list, fix, page) and :mod:`workbench.cli.cal_files`
-(convert, diff).
+:mod:`workbench.cli.cal_ecu` (get, set, list, fix, page), :mod:`workbench.cli.cal_sync` (save, load,
+sync, and diff's ECU and image sides) and :mod:`workbench.cli.cal_files` (convert, diff).
 """
 
 from __future__ import annotations
 
 import argparse
 
-from workbench.cli import cal_ecu, cal_files
+from workbench.cli import cal_ecu, cal_files, cal_sync
 
 _DESCRIPTION = """\
 Calibrations by name, physical values.
@@ -19,11 +19,15 @@ In the ECU (the common ECU options: --a2l, the CAN bus or --host, --key-function
   list     the calibrations matching a pattern, with their values
   fix      override a signal with its _EN/_VALUE fix calibration, release it, list them all
   page     show or switch the calibration page (working/reference), copy reference to working
+Between the ECU and files:
+  save     the calibrations as a dataset (DCM, CDFX), or the working page as an s19/hex (--region CALIB)
+  load     apply a dataset: every object checked first, then only what changes written (--dry-run)
+  sync     cache sync: compare with an s19/hex or dataset by checksums, then --upload or --download
 Dataset files (DCM, CDFX; no ECU needed):
   convert  DCM <-> CDFX by the files' extensions, every value exact
-  diff     compare two dataset files object by object (exit 1 when they differ, like diff)
-Exit codes: 0 success (diff: equal), 1 the operation failed (the ECU refused or did not answer;
-diff: the files differ), 2 bad input (unknown name, a value beyond the limits, a file that cannot be
+  diff     compare two datasets object by object: files, an s19/hex, or 'ecu' (exit 1 when they differ)
+Exit codes: 0 success (diff, sync: equal), 1 the operation failed (the ECU refused or did not answer;
+diff, sync: they differ), 2 bad input (unknown name, a value beyond the limits, a file that cannot be
 read, a bad option)."""
 
 
@@ -32,4 +36,5 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
     commands = parser.add_subparsers(title="commands", dest="command", metavar="COMMAND", required=True)
     cal_ecu.add_commands(commands)
+    cal_sync.add_commands(commands)
     cal_files.add_commands(commands)

@@ -5,10 +5,12 @@ from __future__ import annotations
 import argparse
 import sys
 
+from workbench.cli import cal_sync
+from workbench.cli.ecu_options import add_ecu_arguments
 from workbench.cli.options import add_output_arguments, non_negative_float, print_json, print_report
 
 ENCODINGS = ("utf-8", "utf-8-sig", "cp1252", "latin-1")
-_FORMATS = "DCM (.dcm) or CDFX (.cdfx, .cdf, .xml), by the file's extension"
+_FORMATS = "DCM (.dcm) or CDFX (.cdfx, .cdf, .xml)"
 
 
 def add_commands(commands: argparse._SubParsersAction) -> None:
@@ -28,10 +30,12 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
     convert.set_defaults(func=_convert)
 
     diff = commands.add_parser(
-        "diff", help="compare two dataset files object by object (exit 1 when they differ)",
-        description=(f"Compare A with B, each {_FORMATS}: objects only in A, only in B, changed (both values and "
-                     "B - A per element and axis point), shape changed, equal. Exit codes as diff(1): 0 the "
-                     "datasets are equal, 1 they differ, 2 bad input."),
+        "diff", help="compare two datasets object by object: files, an s19/hex, or the ECU (exit 1 when they differ)",
+        description=(f"Compare A with B, each {_FORMATS}, an S-record or Intel HEX file (its calibrations read "
+                     "through --a2l), or 'ecu' for the connected ECU's working page (an image is compared by "
+                     "BUILD_CHECKSUM first, a dataset by reading exactly its objects): objects only in A, only in B, "
+                     "changed (both values and B - A per element and axis point), shape changed, equal. Exit codes as "
+                     "diff(1): 0 the datasets are equal, 1 they differ, 2 bad input."),
     )
     diff.add_argument("a", metavar="A", help="the first dataset file")
     diff.add_argument("b", metavar="B", help="the second dataset file")
@@ -41,6 +45,7 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
                       help="numbers differing by at most REL times the larger magnitude are equal")
     diff.add_argument("--equal", action="store_true", help="list the equal objects too (text output)")
     add_output_arguments(diff)
+    add_ecu_arguments(diff, json_output=False)
     diff.set_defaults(func=_diff)
 
 
@@ -62,13 +67,18 @@ def _convert(args: argparse.Namespace) -> int:
 def _diff(args: argparse.Namespace) -> int:
     from workbench.calib.dataset import diff_datasets, load_dataset
 
-    a, b = load_dataset(args.a), load_dataset(args.b)
-    result = diff_datasets(a, b, abs_tol=args.tolerance, rel_tol=args.rel_tolerance, a_label=args.a, b_label=args.b)
-    notes = a.notes + b.notes
+    if cal_sync.needs_a2l(args):
+        result, notes, equal = cal_sync.diff_sides(args)
+    else:
+        a, b = load_dataset(args.a), load_dataset(args.b)
+        result = diff_datasets(a, b, abs_tol=args.tolerance, rel_tol=args.rel_tolerance, a_label=args.a,
+                               b_label=args.b)
+        notes, equal = a.notes + b.notes, result.equal
     if args.json:
-        print_json({**result.to_dict(), "notes": [n.to_dict() for n in notes]})
+        print_json({**result.to_dict(), "equal": equal,
+                    "notes": [n.to_dict() if hasattr(n, "to_dict") else n for n in notes]})
     else:
         for note in notes:
             print(note, file=sys.stderr)
         print(result.to_text(show_equal=args.equal))
-    return 0 if result.equal else 1
+    return 0 if equal else 1

@@ -194,10 +194,10 @@ def _check(session: Session, dataset: Mapping[str, CalValue], extended: bool, pr
                              "memory")
             continue
         planned[name] = _Planned(value, edits)
-    for first, second, where in _conflicts(planned):
-        for name, other in ((first, second), (second, first)):
-            refused[name] = f"writes other bytes at {where} than {other} (the dataset gives both)"
-            planned.pop(name, None)
+    for name, other, where in _conflicts(model, planned, current):
+        refused[name] = f"{other} writes other bytes at {where} (the dataset gives both other values there)"
+    for name in refused:
+        planned.pop(name, None)
     return planned, refused, current
 
 
@@ -205,20 +205,25 @@ def _inside(span: Span, writable: list[Span]) -> bool:
     return any(w.extension == span.extension and w.address <= span.address and span.end <= w.end for w in writable)
 
 
-def _conflicts(planned: dict[str, _Planned]) -> list[tuple[str, str, str]]:
-    """Pairs of objects whose edits put different bytes at the same address (e.g. a MAP's shared axis and the
-    AXIS_PTS itself, given with other points)."""
-    owner: dict[tuple[int, int], tuple[str, int]] = {}
-    found: list[tuple[str, str, str]] = []
+def _conflicts(model, planned: dict[str, _Planned], current: ByteStore) -> list[tuple[str, str, str]]:
+    """Objects the others' writes undo (e.g. a MAP's shared axis and the AXIS_PTS itself given with other points):
+    with every edit made, writing such an object again would still change bytes. ``(name, other, where)``."""
+    final = current.copy()
+    for plan in planned.values():
+        final.apply(plan.edits)
+    found = []
     for name, plan in planned.items():
-        for edit in plan.edits:
-            for offset, byte in enumerate(edit.data):
-                key = (edit.extension, edit.address + offset)
-                other = owner.setdefault(key, (name, byte))
-                if other[0] != name and other[1] != byte:
-                    found.append((other[0], name, f"0x{key[1]:X}"))
-                    break
-    return list({(a, b): (a, b, where) for a, b, where in found}.values())
+        left = value_edits(model, plan.value, final.read, check=False)
+        if not left:
+            continue
+        others = [other for other, theirs in planned.items() if other != name and any(
+            _overlap(edit.span, mine.span) for edit in theirs.edits for mine in left)]
+        found.append((name, others[0] if others else "another object", str(left[0].span)))
+    return found
+
+
+def _overlap(a: Span, b: Span) -> bool:
+    return a.extension == b.extension and a.address < b.end and b.address < a.end
 
 
 def _changes(session: Session, dataset: Mapping[str, CalValue], planned: dict[str, _Planned], changing: list[str],

@@ -72,7 +72,8 @@ class AreaCheck:
                 f"{' (' + self.scan.checksum_type + ')' if self.scan.checksum_type else ''}")
         if self.scan.equal:
             return f"{head}: equal"
-        return f"{head}: {len(self.scan.differing)} blocks differ, {self.uploaded} bytes uploaded"
+        count = len(self.scan.differing)
+        return f"{head}: {count} block{' differs' if count == 1 else 's differ'}, {self.uploaded} bytes uploaded"
 
 
 @dataclass(frozen=True)

@@ -15,11 +15,8 @@ IMAGE_SUFFIXES = (".s19", ".s28", ".s37", ".srec", ".mot", ".sx", ".hex", ".ihex
 
 
 @dataclass
-class ImageReference:
-    """An s19/hex: its CAL ROM bytes are compared with the ECU's working page."""
-
+class _FileReference:
     path: Path
-    image: MemoryImage
 
     @property
     def label(self) -> str:
@@ -27,15 +24,17 @@ class ImageReference:
 
 
 @dataclass
-class DatasetReference:
+class ImageReference(_FileReference):
+    """An s19/hex: its CAL ROM bytes are compared with the ECU's working page."""
+
+    image: MemoryImage
+
+
+@dataclass
+class DatasetReference(_FileReference):
     """A DCM/CDFX dataset: its objects are compared with the ECU's, one by one."""
 
-    path: Path
     dataset: Dataset
-
-    @property
-    def label(self) -> str:
-        return str(self.path)
 
 
 Reference = ImageReference | DatasetReference

@@ -78,9 +78,8 @@ def image_dataset(model: A2lModel, image: MemoryImage, names: Iterable[str] | No
 def _dataset(model: A2lModel, values: dict, problems: dict[str, str], origin: str) -> Dataset:
     dataset = Dataset()
     stamp = datetime.now(timezone.utc).astimezone().isoformat(timespec="seconds")
-    dataset.comments.append(f"calibrations of {origin} read by workbench on {stamp}")
-    if model.doc.path is not None:
-        dataset.a2l_file = model.doc.path.name
+    a2l = f" ({model.doc.path.name})" if model.doc.path is not None else ""
+    dataset.comments.append(f"calibrations of {origin} through the A2L{a2l}, read by workbench on {stamp}")
     for name, value in values.items():
         functions = tuple(getattr(model.object(name), "functions", ()) or ())
         dataset.add(value, ObjectInfo(functions=functions[:1]))

@@ -106,7 +106,7 @@ class DownloadResult:
     verified: str
 
     def describe(self) -> str:
-        size = f" ({self.bytes} bytes)" if self.bytes is not None else ""
+        size = f" ({self.bytes} byte{'s' if self.bytes != 1 else ''})" if self.bytes is not None else ""
         return f"downloaded {len(self.objects)} object{'s' if len(self.objects) != 1 else ''}{size}; {self.verified}"
 
 
@@ -194,4 +194,5 @@ def _download_dataset(session: Session, report: SyncReport, progress: Progress |
     if not again.equal:
         raise WorkbenchError(f"after the download the ECU still differs from {reference.label} in "
                              f"{', '.join(again.changed)}")
-    return DownloadResult(applied.named("applied"), None, f"verified: {len(changed)} objects read back equal the file's")
+    return DownloadResult(applied.named("applied"), None,
+                          f"verified: {len(changed)} objects read back equal the file's")

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import replace
+from typing import TypeVar
 
 from workbench.a2l.model import A2lModel
 from workbench.a2l.objects import AxisPts, Characteristic
@@ -24,6 +25,8 @@ __all__ = ["Fetch", "as_stored", "calibration_names", "decode_values", "label_di
            "resolve_all", "without_name"]
 
 Fetch = Callable[[list[Span]], Mapping[Span, bytes]]
+_T = TypeVar("_T")
+_R = TypeVar("_R")
 CALIBRATION_KINDS = ("CHARACTERISTIC", "AXIS_PTS")
 _PATTERN_CHARACTERS = set("*?[")
 
@@ -61,7 +64,7 @@ def object_layouts(model: A2lModel, names: Iterable[str]) -> tuple[dict[str, Obj
         try:
             obj = model.object(name)
             if not isinstance(obj, (Characteristic, AxisPts)):
-                problems[name] = f"{name} is a {obj.kind}, not a calibration object"
+                problems[name] = f"a {obj.kind}, not a calibration object"
                 continue
             layouts[name] = object_layout(model, obj)
         except UnknownSymbolError as exc:
@@ -80,27 +83,26 @@ def without_name(name: str, message: str) -> str:
 def resolve_all(layouts: Mapping[str, ObjectLayout], fetch: Fetch) -> tuple[dict[str, ResolvedLayout], dict[str, str]]:
     """Every layout placed, with the counts it reads from memory fetched in one batch."""
     firsts = fetch([span for layout in layouts.values() for span in layout.fixed_part()])
-    resolved: dict[str, ResolvedLayout] = {}
     problems: dict[str, str] = {}
-    for name, layout in layouts.items():
-        try:
-            resolved[name] = layout.resolve(firsts)
-        except WorkbenchError as exc:
-            problems[name] = without_name(name, str(exc))
-    return resolved, problems
+    return _each(layouts, lambda layout: layout.resolve(firsts), problems), problems
 
 
 def decode_values(layouts: Mapping[str, ObjectLayout], fetch: Fetch) -> tuple[dict[str, CalValue], dict[str, str]]:
     """``({name: value}, {name: why not})`` of every layout, its bytes from ``fetch`` (two batches)."""
     resolved, problems = resolve_all(layouts, fetch)
     data = fetch([span for layout in resolved.values() for span in layout.spans()])
-    values: dict[str, CalValue] = {}
-    for name, layout in resolved.items():
+    return _each(resolved, lambda layout: layout.decode(data), problems), problems
+
+
+def _each(items: Mapping[str, _T], action: Callable[[_T], _R], problems: dict[str, str]) -> dict[str, _R]:
+    """``action`` of every item by name; the names it fails on go to ``problems`` with the reason."""
+    done: dict[str, _R] = {}
+    for name, item in items.items():
         try:
-            values[name] = layout.decode(data)
+            done[name] = action(item)
         except WorkbenchError as exc:
             problems[name] = without_name(name, str(exc))
-    return values, problems
+    return done
 
 
 def as_stored(model: A2lModel, value: CalValue, current: ByteStore) -> CalValue:

@@ -1,0 +1,153 @@
+"""``workbench cal save|load|diff|sync`` end to end in a temporary folder, against the simulated ECU on a
+udp_multicast port of the test's own: output, files and exit codes as a user meets them."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+
+import pytest
+
+from workbench import demo
+from workbench.cli import main
+from workbench.image import load_image
+from workbench.sim import serve_demo
+
+from sync_helpers import edited_a2l
+
+
+@pytest.fixture
+def bus(free_udp_port, tmp_path):
+    cwd = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        with serve_demo({"interface": "udp_multicast", "port": free_udp_port}):
+            yield ["--bus-kwargs", f"port={free_udp_port}"]
+    finally:
+        os.chdir(cwd)
+
+
+def run(capsys, *argv: str) -> tuple[int, str, str]:
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_save_change_diff_load_and_diff_again(bus, capsys, tmp_path):
+    code, out, err = run(capsys, "cal", "save", "base.dcm", *bus)
+    assert (code, out, err) == (0, "wrote base.dcm: 58 calibrations of the working page\n", "")
+    assert run(capsys, "cal", "save", "some.cdfx", "xsPRV_K*", "--page", "reference", *bus)[1] == \
+        "wrote some.cdfx: 3 calibrations of the reference page\n"
+    run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "25", *bus)
+    run(capsys, "cal", "set", "xsPRV_KP", "6", *bus)
+
+    code, out, _ = run(capsys, "cal", "diff", "base.dcm", "ecu", *bus)
+    assert code == 1
+    rows = [line.split() for line in out.splitlines()[3:-1]]
+    assert [(row[0], row[3], row[4], row[5]) for row in rows] == [("xsPRV_KP", "5.0", "6.0", "+1.0"),
+                                                                    ("xsSWITCH_TANK_THR", "20.0", "25.0", "+5.0")]
+    assert out.splitlines()[-1] == "58 objects: 56 equal, 2 changed, 0 shape changed, 0 only in A, 0 only in B"
+    code, out, _ = run(capsys, "cal", "diff", "ecu", "base.dcm", "--json", *bus)
+    data = json.loads(out)
+    assert code == 1 and data["a"] == "ECU" and data["counts"]["changed"] == 2
+    assert [d["delta"] for o in data["objects"] for d in o["differences"]] == [-1.0, -5.0]
+
+    code, out, _ = run(capsys, "cal", "load", "base.dcm", "--dry-run", *bus)
+    assert code == 0 and "xsPRV_KP           would change" in out
+    assert out.splitlines()[-1] == "base.dcm: dry run: 56 unchanged, 2 would change"
+    assert run(capsys, "cal", "get", "xsPRV_KP", *bus)[1] == "xsPRV_KP = 6.0000 %/bar\n"
+    code, out, _ = run(capsys, "cal", "load", "base.dcm", *bus)
+    assert (code, out.splitlines()[-1]) == (0, "base.dcm: applied: 2 applied, 56 unchanged")
+    code, out, _ = run(capsys, "cal", "diff", "base.dcm", "ecu", *bus)
+    assert (code, out.splitlines()[-1]) == (0, "58 objects: 58 equal, 0 changed, 0 shape changed, 0 only in A, "
+                                               "0 only in B")
+
+
+def test_a_bad_object_is_listed_and_nothing_is_written(bus, capsys, tmp_path):
+    run(capsys, "cal", "save", "base.dcm", *bus)
+    text = (tmp_path / "base.dcm").read_text()
+    tuned = text.replace("FESTWERT xsPRV_KP \n", "FESTWERT xsPRV_KP \n", 1)
+    tuned = tuned.replace("FESTWERT xsPRV_KI", "FESTWERT xsPRV_KX", 1)  # a name the A2L lacks
+    start = tuned.index("FESTWERT xsPRV_KP")
+    block = tuned[start:tuned.index("END", start)]
+    tuned = tuned.replace(block, block.replace("WERT 5.0", "WERT 7.0"), 1)
+    (tmp_path / "tuned.dcm").write_text(tuned)
+    code, out, err = run(capsys, "cal", "load", "tuned.dcm", *bus)
+    assert code == 2
+    assert out.splitlines() == ["xsPRV_KP  not written  other objects were refused",
+                                "xsPRV_KX  refused  not in the A2L; did you mean xsPRV_KP, xsPRV_KI, xsPRV_KD?",
+                                "tuned.dcm: not applied: 56 unchanged, 1 refused, 1 not written"]
+    assert err.startswith("error: 1 of 58 objects refused, nothing written: xsPRV_KX: not in the A2L")
+    assert run(capsys, "cal", "get", "xsPRV_KP", *bus)[1] == "xsPRV_KP = 5.0000 %/bar\n"
+
+
+def test_sync_report_upload_and_download(bus, capsys, tmp_path):
+    code, out, _ = run(capsys, "cal", "sync", *bus)
+    assert code == 0 and out.splitlines()[-1] == 'the data in the ECU equals "FLCU.s19" (58 objects); 0 bytes uploaded'
+    run(capsys, "cal", "set", "xsEMPTY_TANK_THR", "7.5", *bus)
+    code, out, _ = run(capsys, "cal", "sync", *bus)
+    lines = out.splitlines()
+    assert code == 1 and lines[-1] == "choose --upload (ECU -> file) or --download (file -> ECU)"
+    assert lines[-2].startswith('the data in the ECU differs from "FLCU.s19": 1 object differs; ')
+    assert any(line.split()[:6] == ["xsEMPTY_TANK_THR", "changed", "value", "5.0", "7.5", "+2.5"] for line in lines)
+
+    shutil.copy(demo.s19(), tmp_path / "mine.s19")
+    code, out, _ = run(capsys, "cal", "sync", "--reference", "mine.s19", "--upload", *bus)
+    assert code == 0 and out.splitlines()[-1] == "upload: wrote mine.s19 with the ECU's data"
+    code, out, _ = run(capsys, "cal", "sync", "--reference", "mine.s19", "--json", *bus)
+    assert code == 0 and json.loads(out)["report"]["equal"] is True
+
+    code, out, _ = run(capsys, "cal", "sync", "--download", *bus)  # the demo's s19 back into the ECU
+    assert code == 0 and out.splitlines()[-1].startswith("downloaded 1 object (1 byte); verified: BUILD_CHECKSUM")
+    assert run(capsys, "cal", "sync", *bus)[0] == 0
+    code, out, _ = run(capsys, "cal", "sync", "--reference", "mine.s19", "--output", "copy.s19", "--upload", *bus)
+    assert code == 0 and (tmp_path / "copy.s19").exists()
+    assert load_image(tmp_path / "copy.s19") == load_image(demo.s19())
+
+
+def test_the_saved_image_is_what_flash_takes(bus, capsys, tmp_path):
+    code, out, _ = run(capsys, "cal", "save", "cal.s19", "--region", "CALIB", *bus)
+    assert (code, out) == (0, "wrote cal.s19: CALIB FC0000h-FC01C3h FDFFF0h-FDFFFFh (468 bytes, EPK "
+                              "'10300020250301')\n")
+    code, out, err = run(capsys, "flash", "cal.s19", "--region", "CALIB", "--verify-only", *bus)
+    assert (code, err) == (0, "2 of 2 ranges match the file\n")
+    run(capsys, "cal", "set", "xsFULL_TANK_PRESS", "650", *bus)
+    run(capsys, "cal", "save", "tuned.hex", "--region", "calib", *bus)
+    assert run(capsys, "flash", "tuned.hex", "--region", "CALIB", "--verify-only", *bus)[0] == 1  # CAL ROM: 700
+    code, _, err = run(capsys, "flash", "tuned.hex", "--region", "CALIB", *bus)
+    assert code == 0, err
+    assert run(capsys, "cal", "get", "xsFULL_TANK_PRESS", "--page", "reference", *bus)[1] == \
+        "xsFULL_TANK_PRESS = 650.00 bar\n"
+    code, out, _ = run(capsys, "cal", "diff", "ecu", "tuned.hex", *bus)
+    assert code == 0
+    code, out, _ = run(capsys, "cal", "diff", "tuned.hex", str(demo.s19()))
+    assert code == 1 and out.splitlines()[3].split()[:6] == ["xsFULL_TANK_PRESS", "changed", "value", "650.0",
+                                                             "700.0", "+50.0"]
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["cal", "save", "out.txt"], "out.txt: not a dataset file by its extension '.txt'"),
+    (["cal", "save", "out.s19"], "give --region (e.g. --region CALIB)"),
+    (["cal", "save", "out.s19", "xsPRV_KP", "--region", "CALIB"], "give no NAME"),
+    (["cal", "save", "out.dcm", "--region", "CALIB"], "--region is for an image"),
+    (["cal", "save", "out.s19", "--region", "APPLICATIVE"], "the working page is flashed into CALIB, not into "
+                                                             "'APPLICATIVE'"),
+    (["cal", "save", "out.dcm", "nothing*"], "no calibration matches 'nothing*'"),
+    (["cal", "load", "missing.dcm"], "missing.dcm: no such file"),
+    (["cal", "sync", "--upload"], "--upload would overwrite the built-in demo's s19"),
+    (["cal", "sync", "--output", "x.s19"], "--output names the file --upload writes"),
+    (["cal", "sync", "--reference", "missing.s19"], "missing.s19: no such file"),
+    (["cal", "sync", "--reference", "notes.txt"], "notes.txt: neither an image"),
+    (["cal", "diff", "ecu", "ECU"], "give 'ecu' as one side only"),
+])
+def test_bad_input_exits_2_with_one_line(bus, capsys, argv, message):
+    code, out, err = run(capsys, *argv, *bus)
+    assert code == 2 and message in err and err.count("\n") == 1 and err.startswith("error: ")
+
+
+def test_another_a2l_needs_a_reference(bus, capsys, tmp_path):
+    a2l = edited_a2l(tmp_path, "/* T2 [ms]: BUILD_CHECKSUM, COPY_CAL_PAGE */", "/* T2 */")
+    code, _, err = run(capsys, "cal", "sync", "--a2l", str(a2l), *bus)
+    assert code == 2 and "give --reference FILE" in err
+    assert run(capsys, "cal", "sync", "--a2l", str(a2l), "--reference", str(demo.s19()), *bus)[0] == 0

@@ -1,0 +1,185 @@
+"""Datasets with the ECU: save a page, change values, diff, apply, diff again; refusals that write nothing; a
+failure halfway that names what reached the ECU."""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from workbench import EpkMismatchError, Session, demo
+from workbench.a2l import load_a2l
+from workbench.calib.dataset import Dataset, diff_datasets, load_dataset, load_dataset_string, save_dataset
+from workbench.image import load_image
+from workbench.sim import serve_demo
+from workbench.sync import ApplyFailed, ApplyRefused, apply_dataset, image_dataset, read_dataset, sync_compare
+from workbench.xcp_protocol import Cmd, Err
+
+from sync_helpers import FAST, downloads, edited_a2l
+
+sys.path.insert(0, str(Path(__file__).parents[1] / "calib"))
+from demo_calibrations import demo_dataset  # noqa: E402
+
+
+def ecu_diff(ecu, dataset):
+    """The file's objects against the ECU's, by value (the dataset path of the cache sync)."""
+    return sync_compare(ecu, _reference(dataset)).diff
+
+
+def _reference(dataset: Dataset):
+    from workbench.sync import DatasetReference
+
+    return DatasetReference(Path(dataset.source or "dataset"), dataset)
+
+
+def test_the_working_page_as_a_dataset_holds_every_demo_calibration(ecu, tmp_path):
+    dataset = read_dataset(ecu)
+    expected = demo_dataset()
+    assert list(dataset) == [name for name in ecu.model.names("CHARACTERISTIC") + ecu.model.names("AXIS_PTS")]
+    assert sorted(dataset) == sorted(expected)
+    assert all(dataset[name].same_values(expected[name]) for name in expected), \
+        [name for name in expected if not dataset[name].same_values(expected[name])]
+    for suffix in ("dcm", "cdfx"):
+        save_dataset(dataset, tmp_path / f"base.{suffix}")
+        assert diff_datasets(load_dataset(tmp_path / f"base.{suffix}"), dataset).equal
+    assert dataset.info["xsPRV_KP"].functions == ("PRVCtrl",)
+
+
+def test_the_s19_decodes_to_the_same_values_without_an_ecu():
+    model = load_a2l(demo.a2l()).model()
+    from_image = image_dataset(model, load_image(demo.s19()), source="FLCU.s19")
+    expected = demo_dataset()
+    assert sorted(from_image) == sorted(expected)
+    assert all(from_image[name].same_values(expected[name]) for name in expected)
+
+
+def test_names_and_globs_and_the_reference_page(ecu):
+    ecu.write("xsPRV_KP", 6.0)
+    working = read_dataset(ecu, ["xsPRV_K*", "xsSWITCH_TANK_THR"])
+    assert list(working) == ["xsPRV_KP", "xsPRV_KI", "xsPRV_KD", "xsSWITCH_TANK_THR"]
+    assert working["xsPRV_KP"].value == 6.0
+    assert read_dataset(ecu, ["xsPRV_KP"], page="reference")["xsPRV_KP"].value == 5.0
+    with pytest.raises(Exception, match="did you mean 'xsPRV_KP'"):
+        read_dataset(ecu, ["xsPRV_KPX"])
+    with pytest.raises(Exception, match="no calibration matches 'nothing\\*'"):
+        read_dataset(ecu, ["nothing*"])
+
+
+def test_save_change_diff_apply_and_diff_again_empty(sim, ecu):
+    saved = read_dataset(ecu)
+    ecu.write("xsSWITCH_TANK_THR", 25.0)
+    ecu.write("zvRailPConv", ecu.read("zvRailPConv") * 0.5)
+    ecu.write("xaPRV_FF_TARGET", [0, 10, 20, 30, 45, 50])
+    diff = ecu_diff(ecu, saved)
+    changed = ["xvPRV_DC_FF", "zvRailPConv", "xsSWITCH_TANK_THR", "xaPRV_FF_TARGET"]  # the MAP uses the axis
+    assert [o.name for o in diff.objects if o.status != "equal"] == changed
+    assert {(o.name, d.where, d.a, d.b) for o in diff.objects for d in o.differences if o.name != "zvRailPConv"} == {
+        ("xsSWITCH_TANK_THR", "value", 20.0, 25.0), ("xaPRV_FF_TARGET", "value[4]", 40.0, 45.0),
+        ("xvPRV_DC_FF", "x[4]", 40.0, 45.0)}
+
+    before = downloads(sim)
+    report = apply_dataset(ecu, saved)
+    assert report.named("applied") == changed
+    assert report.counts()["unchanged"] == len(saved) - 4 and report.ok
+    assert downloads(sim) - before == 3  # the shared axis once (with the MAP), each changed object's bytes once
+    assert ecu_diff(ecu, saved).equal
+    assert sync_compare(ecu, demo.s19()).equal
+
+
+def test_a_dry_run_shows_what_would_change_and_writes_nothing(sim, ecu):
+    saved = read_dataset(ecu)
+    ecu.write("xsPRV_KI", 3.0)
+    before = downloads(sim)
+    report = apply_dataset(ecu, saved, dry_run=True)
+    assert downloads(sim) == before
+    assert report.named("would change") == ["xsPRV_KI"]
+    (changed,) = report.diff.objects
+    assert (changed.name, changed.differences[0].a, changed.differences[0].b) == ("xsPRV_KI", 3.0, 2.0)
+    assert "xsPRV_KI  would change" in report.to_text()
+
+
+@pytest.mark.parametrize("spoil, reason", [
+    (lambda ds: ds.__setitem__("xsSWITCH_TANK_THR", replace(ds["xsSWITCH_TANK_THR"], value=900.0)),
+     "900 is above the upper limit 800"),
+    (lambda ds: ds.add(replace(ds["xsPRV_KP"], name="xsPRV_KQ")), "not in the A2L; did you mean xsPRV_KP"),
+    (lambda ds: ds.__setitem__("zvRailPConv", replace(ds["zvRailPConv"], value=np.zeros(3))), "shape"),
+    (lambda ds: ds.__setitem__("xaPRV_FF_TARGET", replace(ds["xaPRV_FF_TARGET"],
+                                                          value=np.array([0, 10, 5, 30, 40, 50.0]))), "MON_INCREASE"),
+])
+def test_one_bad_object_and_nothing_is_written(sim, ecu, spoil, reason):
+    dataset = read_dataset(ecu)
+    dataset["xsPRV_KP"] = replace(dataset["xsPRV_KP"], value=7.0)  # a good change that must not be written either
+    spoil(dataset)
+    before = downloads(sim)
+    with pytest.raises(ApplyRefused) as refused:
+        apply_dataset(ecu, dataset)
+    assert downloads(sim) == before and ecu.read("xsPRV_KP") == 5.0
+    report = refused.value.report
+    (bad,) = [o for o in report.outcomes if o.status == "refused"]
+    assert reason in bad.reason and reason in str(refused.value)
+    assert report.named("not written") == ["xsPRV_KP"]
+    assert report.reached_ecu == []
+
+
+def test_every_problem_is_listed_before_anything_is_written(sim, ecu):
+    dataset = read_dataset(ecu)
+    dataset.add(replace(dataset["xsPRV_KP"], name="zsRailPressure"))  # a MEASUREMENT
+    dataset["xsPRV_DC_MAX"] = replace(dataset["xsPRV_DC_MAX"], value=-1.0)
+    dataset["xsPRV_PWM_PERIOD"] = replace(dataset["xsPRV_PWM_PERIOD"], value="fast")
+    with pytest.raises(ApplyRefused) as refused:
+        apply_dataset(ecu, dataset)
+    assert refused.value.report.named("refused") == ["xsPRV_PWM_PERIOD", "xsPRV_DC_MAX", "zsRailPressure"]
+    assert "3 of 59 objects refused, nothing written" in str(refused.value)
+
+
+def test_a_shared_axis_given_twice_with_other_points_is_refused(ecu):
+    dataset = read_dataset(ecu, ["xvPRV_DC_FF", "xaPRV_FF_TARGET"])
+    curve = dataset["xvPRV_DC_FF"]
+    axes = (replace(curve.axes[0], values=np.array([0, 10, 20, 30, 45, 50.0])), curve.axes[1])
+    dataset["xvPRV_DC_FF"] = replace(curve, axes=axes)
+    with pytest.raises(ApplyRefused) as refused:
+        apply_dataset(ecu, dataset)
+    (bad,) = [o for o in refused.value.report.outcomes if o.status == "refused"]
+    address = ecu.model.object("xaPRV_FF_TARGET").address + 4 * 4  # its fifth point (float32) is the one both give
+    assert (bad.name, bad.reason) == ("xaPRV_FF_TARGET", f"xvPRV_DC_FF writes other bytes at 0x{address:X}.."
+                                      f"0x{address + 3:X} (the dataset gives both other values there)")
+    dataset["xaPRV_FF_TARGET"] = replace(dataset["xaPRV_FF_TARGET"], value=np.array([0, 10, 20, 30, 45, 50.0]))
+    assert apply_dataset(ecu, dataset).named("applied") == ["xvPRV_DC_FF", "xaPRV_FF_TARGET"]
+    assert ecu.read("xaPRV_FF_TARGET")[4] == 45.0
+
+
+def test_a_failure_halfway_names_what_reached_the_ecu(sim, ecu):
+    dataset = read_dataset(ecu)
+    for name, value in (("xsPRV_KP", 6.0), ("xsPRV_KI", 3.0), ("xsPRV_KD", 0.5)):
+        dataset[name] = replace(dataset[name], value=value)
+    sim.ecu.faults.reject_command(2, Err.WRITE_PROTECTED, Cmd.DOWNLOAD)
+    with pytest.raises(ApplyFailed) as failed:
+        apply_dataset(ecu, dataset)
+    report = failed.value.report
+    assert report.named("applied") == ["xsPRV_KP"] and report.named("failed") == ["xsPRV_KI"]
+    assert report.named("not written") == ["xsPRV_KD"] and report.reached_ecu == ["xsPRV_KP"]
+    assert "ERR_WRITE_PROTECTED" in str(failed.value) and "objects that reached the ECU: xsPRV_KP" in str(failed.value)
+    assert (ecu.read("xsPRV_KP"), ecu.read("xsPRV_KI"), ecu.read("xsPRV_KD")) == (6.0, 2.0, pytest.approx(0.02))
+
+
+def test_a_file_value_compares_as_the_ecu_holds_it(ecu):
+    text = "KONSERVIERUNG_FORMAT 2.0\nFESTWERT zsEWMA_ALPHA\n  WERT 0.2\nEND\nFESTWERT xsPRV_KD\n  WERT 0.03\nEND\n"
+    dataset = load_dataset_string(text, "dcm", "tuned.dcm")
+    assert [o.name for o in ecu_diff(ecu, dataset).objects if o.status != "equal"] == ["xsPRV_KD"]
+    assert apply_dataset(ecu, dataset).named("applied") == ["xsPRV_KD"]
+    assert ecu_diff(ecu, dataset).equal  # 0.03 in the file is float32's 0.03 in the ECU
+
+
+def test_a_read_only_session_applies_nothing_but_may_dry_run(channel, tmp_path):
+    a2l = edited_a2l(tmp_path, 'EPK "10300020250301"', 'EPK "99999920250301"')
+    with serve_demo({"interface": "virtual", "channel": channel}):
+        with Session.open(a2l, interface="virtual", channel=channel, timeouts=FAST) as ecu:
+            assert ecu.read_only
+            dataset = read_dataset(ecu, ["xsPRV_KP"])
+            dataset["xsPRV_KP"] = replace(dataset["xsPRV_KP"], value=7.0)
+            assert apply_dataset(ecu, dataset, dry_run=True).named("would change") == ["xsPRV_KP"]
+            with pytest.raises(EpkMismatchError):
+                apply_dataset(ecu, dataset)

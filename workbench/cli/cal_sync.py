@@ -1,0 +1,254 @@
+"""``workbench cal save|load|sync``, and the ECU and image sides of ``cal diff``: calibration data between the ECU
+and files."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from workbench.cli.ecu_options import add_ecu_arguments, open_session
+from workbench.cli.options import print_json
+from workbench.cli.progressbar import ProgressBar
+from workbench.errors import InputError
+
+if TYPE_CHECKING:
+    from workbench.sync.reference import Reference
+
+ECU = "ecu"  # the name ``cal diff`` takes for the connected ECU
+_IMAGES = ".s19/.s28/.s37/.srec/.mot/.hex/.ihex"
+_DATASETS = ".dcm/.cdfx"
+
+
+def add_commands(commands: argparse._SubParsersAction) -> None:
+    """Register ``save``, ``load`` and ``sync`` in the ``cal`` group's sub-commands."""
+    save = commands.add_parser(
+        "save", help="save the ECU's calibrations as a dataset, or the working page as an s19/hex",
+        description=f"OUT {_DATASETS}: the values of every calibration (or of NAME: names and globs such as "
+                    f"'xsPRV_*') read from the working page (--page reference: CAL ROM). OUT {_IMAGES} with --region "
+                    "CALIB: the working page as that flash region holds it once flashed (the XCP SEGMENT's "
+                    "ADDRESS_MAPPING, the EPK kept), which 'workbench flash OUT --region CALIB' takes. OUT is written "
+                    "atomically.")
+    save.add_argument("output", metavar="OUT", help=f"the file to write: a dataset ({_DATASETS}) or an image ({_IMAGES})")
+    save.add_argument("names", nargs="*", metavar="NAME", help="calibrations to save (default: all)")
+    save.add_argument("--page", choices=("working", "reference"), default="working",
+                      help="the page to read a dataset from (default: working)")
+    save.add_argument("--region", metavar="NAME", help="the flash region an image is saved for (e.g. CALIB)")
+    add_ecu_arguments(save)
+    save.set_defaults(func=_save)
+
+    load = commands.add_parser(
+        "load", help="apply a dataset to the ECU (every object checked first)",
+        description=f"Write the objects of IN ({_DATASETS}) into the working page. Every object is checked before "
+                    "anything is written (in the A2L, writable, within its limits, of its shape, in writable memory); "
+                    "one refusal and nothing is written (exit 2). Then only the objects whose bytes change are "
+                    "written and read back; a failure halfway names the objects that reached the ECU (exit 1).")
+    load.add_argument("input", metavar="IN", help="the dataset to apply")
+    load.add_argument("--dry-run", action="store_true", help="check and show what would change; write nothing")
+    load.add_argument("--extended-limits", action="store_true", help="allow values up to the EXTENDED_LIMITS")
+    add_ecu_arguments(load)
+    load.set_defaults(func=_load)
+
+    sync = commands.add_parser(
+        "sync", help="compare the ECU's calibration data with a file, then upload or download (cache sync)",
+        description="Compare the ECU's working page with the reference (thesis 5.4, figure 39). An image is "
+                    "compared per calibration segment by BUILD_CHECKSUM, only the blocks that differ are uploaded; "
+                    "a dataset object by object. The differing objects are listed with both values. Then --upload "
+                    "writes the reference anew with the ECU's data (ECU -> file, atomically; --output elsewhere), "
+                    "--download writes the file's data into the ECU and verifies it. Exit codes: 0 equal (or "
+                    "uploaded/downloaded), 1 they differ (no direction given) or the operation failed, 2 bad input.")
+    sync.add_argument("--reference", metavar="FILE",
+                      help=f"image ({_IMAGES}) or dataset ({_DATASETS}); default: the demo's s19 with the demo's A2L")
+    direction = sync.add_mutually_exclusive_group()
+    direction.add_argument("--upload", action="store_true", help="ECU -> file: write the reference with the ECU's data")
+    direction.add_argument("--download", action="store_true", help="file -> ECU: write the reference's data into the ECU")
+    sync.add_argument("--output", metavar="FILE", help="with --upload: write this file instead of the reference")
+    add_ecu_arguments(sync)
+    sync.set_defaults(func=_sync)
+
+
+def _progress(args: argparse.Namespace, label: str) -> ProgressBar:
+    return ProgressBar(label, enabled=False if args.json else None)
+
+
+# --- save ---------------------------------------------------------------------------------------
+
+
+def _save(args: argparse.Namespace) -> int:
+    from workbench.sync.reference import is_image_file
+
+    if is_image_file(args.output):
+        return _save_image(args)
+    if args.region:
+        raise InputError(f"--region is for an image ({_IMAGES}); {args.output} is saved as a dataset")
+    from workbench.calib.dataset import format_of, save_dataset
+    from workbench.sync import read_dataset
+
+    format_of(args.output)  # an unknown extension is refused before the bus is opened
+    with open_session(args) as session, _progress(args, f"reading the {args.page} page") as progress:
+        dataset = read_dataset(session, args.names or None, page=args.page, progress=progress)
+    warnings = dataset.notes + save_dataset(dataset, args.output)
+    if args.json:
+        print_json({"output": args.output, "objects": len(dataset), "page": args.page,
+                    "warnings": [w.to_dict() for w in warnings]})
+        return 0
+    for warning in warnings:
+        print(warning, file=sys.stderr)
+    print(f"wrote {args.output}: {len(dataset)} calibrations of the {args.page} page")
+    return 0
+
+
+def _save_image(args: argparse.Namespace) -> int:
+    from workbench.sync import calibration_image
+
+    if not args.region:
+        raise InputError("an image holds one flash region of the working page: give --region (e.g. --region CALIB)")
+    if args.names:
+        raise InputError("an image holds the whole region: give no NAME (save a dataset for some objects)")
+    if args.page != "working":
+        raise InputError("an image is saved from the working page (the reference page is what CAL ROM holds already)")
+    with open_session(args) as session, _progress(args, "reading the working page") as progress:
+        image = calibration_image(session, args.region, progress=progress)
+        epk = session.epk.ecu
+    image.save(args.output)
+    region = args.region.upper()
+    if args.json:
+        print_json({"output": args.output, "region": region, "bytes": image.size,
+                    "ranges": [[r.start, r.end] for r in image.ranges], "epk": epk})
+        return 0
+    print(f"wrote {args.output}: {region} {' '.join(map(str, image.ranges))} ({image.size} bytes, EPK {epk!r})")
+    return 0
+
+
+# --- load ---------------------------------------------------------------------------------------
+
+
+def _load(args: argparse.Namespace) -> int:
+    from workbench.calib.dataset import load_dataset
+    from workbench.sync import ApplyFailed, ApplyRefused, apply_dataset
+
+    dataset = load_dataset(args.input)
+    for note in dataset.notes:
+        print(note, file=sys.stderr)
+    with open_session(args) as session, _progress(args, "applying") as progress:
+        try:
+            result = apply_dataset(session, dataset, dry_run=args.dry_run, allow_extended_limits=args.extended_limits,
+                                   progress=progress, source=args.input)
+        except (ApplyRefused, ApplyFailed) as exc:
+            _show(exc.report, args)
+            raise
+    _show(result, args)
+    return 0
+
+
+def _show(result, args: argparse.Namespace) -> None:
+    if args.json:
+        print_json(result.to_dict())
+    else:
+        print(result.to_text())
+
+
+# --- sync ---------------------------------------------------------------------------------------
+
+
+def _sync(args: argparse.Namespace) -> int:
+    from workbench.sync import sync_compare, sync_download, sync_upload
+
+    if args.output and not args.upload:
+        raise InputError("--output names the file --upload writes")
+    reference = _reference(args)
+    with open_session(args) as session:
+        with _progress(args, "comparing") as progress:
+            report = sync_compare(session, reference, progress=progress)
+        result: dict = {"report": report.to_dict()}
+        if not args.json:
+            print(report.to_text(), flush=True)
+        if report.equal:
+            code = 0
+        elif args.upload:
+            written = sync_upload(report, args.output)
+            result["upload"] = str(written)
+            message, code = f"upload: wrote {written} with the ECU's data", 0
+        elif args.download:
+            with _progress(args, "downloading") as progress:
+                done = sync_download(session, report, progress=progress)
+            result["download"] = {"objects": done.objects, "bytes": done.bytes, "verified": done.verified}
+            message, code = done.describe(), 0
+        else:
+            message, code = "choose --upload (ECU -> file) or --download (file -> ECU)", 1
+    if args.json:
+        print_json(result)
+    elif not report.equal:
+        print(message)
+    return code
+
+
+def _reference(args: argparse.Namespace) -> Reference:
+    """The reference file (loaded, so a bad file is refused before the bus is opened)."""
+    from workbench import demo
+    from workbench.sync import load_reference
+
+    if args.reference:
+        return load_reference(args.reference)
+    if not _is_demo_a2l(args.a2l):
+        raise InputError("give --reference FILE (an s19/hex or a dataset): the default is the demo's s19, for the "
+                         "demo's A2L only")
+    if args.upload and not args.output:
+        raise InputError("--upload would overwrite the built-in demo's s19: give --reference FILE or --output FILE")
+    return load_reference(demo.s19())
+
+
+def _is_demo_a2l(a2l) -> bool:
+    from workbench import demo
+
+    return a2l is None or Path(a2l).resolve() == Path(demo.a2l()).resolve()
+
+
+# --- diff with the ECU or an image ----------------------------------------------------------------
+
+
+def needs_a2l(args: argparse.Namespace) -> bool:
+    """Whether ``cal diff`` compares more than two dataset files (the ECU, or an image decoded by the A2L)."""
+    from workbench.sync.reference import is_image_file
+
+    return any(side.lower() == ECU or is_image_file(side) for side in (args.a, args.b))
+
+
+def diff_sides(args: argparse.Namespace):
+    """``(DatasetDiff, notes, equal)`` of ``cal diff A B`` when a side is ``ecu`` or an image."""
+    from workbench import demo
+    from workbench.a2l import load_a2l
+    from workbench.calib.dataset import diff_datasets
+
+    sides = [args.a, args.b]
+    if all(side.lower() == ECU for side in sides):
+        raise InputError("compare the ECU with a file: give 'ecu' as one side only")
+    if any(side.lower() == ECU for side in sides):
+        return _diff_with_ecu(args)
+    model = load_a2l(args.a2l or demo.a2l()).model()
+    a, b = (_file_dataset(model, side) for side in sides)
+    diff = diff_datasets(a, b, abs_tol=args.tolerance, rel_tol=args.rel_tolerance, a_label=args.a, b_label=args.b)
+    return diff, [str(n) for n in a.notes + b.notes], diff.equal
+
+
+def _file_dataset(model, path: str):
+    from workbench.calib.dataset import load_dataset
+    from workbench.image import load_image
+    from workbench.sync import image_dataset, is_image_file
+
+    if is_image_file(path):
+        return image_dataset(model, load_image(path), source=path)
+    return load_dataset(path)
+
+
+def _diff_with_ecu(args: argparse.Namespace):
+    from workbench.sync import load_reference, sync_compare
+
+    ecu_first = args.a.lower() == ECU
+    reference = load_reference(args.b if ecu_first else args.a)
+    with open_session(args) as session, ProgressBar("comparing", enabled=False if args.json else None) as progress:
+        report = sync_compare(session, reference, progress=progress)
+    diff = report.with_tolerance(args.tolerance, args.rel_tolerance)
+    notes = [f"outside the objects: {d}" for d in report.outside] + report.notes
+    return (diff.reversed() if ecu_first else diff), notes, diff.equal and not report.outside
