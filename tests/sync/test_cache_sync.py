@@ -7,6 +7,7 @@ from __future__ import annotations
 import shutil
 import struct
 from dataclasses import replace
+from pathlib import Path
 
 import pytest
 
@@ -29,11 +30,16 @@ def checksums(sim) -> int:
 
 
 def test_an_unchanged_ecu_is_confirmed_by_checksums_alone(sim, ecu):
-    before_uploads, before_checksums = uploads(sim), checksums(sim)
+    before_uploads, before_checksums, before_frames = uploads(sim), checksums(sim), sim.ecu.faults.frames_seen("rx")
     report = sync_compare(ecu, demo.s19())
     assert report.equal and report.changed == [] and report.outside == []
     assert uploads(sim) == before_uploads  # not one byte of calibration memory read
-    assert checksums(sim) - before_checksums == report.checksums == 2  # FC0000h-FC01C3h and the trailer FDFFF0h-
+    assert sim.ecu.faults.frames_seen("rx") - before_frames == 7  # GET_SEED, UNLOCK (CAL/PAG) the first time
+    before_frames = sim.ecu.faults.frames_seen("rx")
+    assert sync_compare(ecu, demo.s19()).equal and uploads(sim) == before_uploads
+    # every frame the master sent: GET_CAL_PAGE (XCP on the working page already), 2 x (SET_MTA, BUILD_CHECKSUM)
+    assert sim.ecu.faults.frames_seen("rx") - before_frames == 5
+    assert checksums(sim) - before_checksums == 2 * report.checksums == 4  # FC0000h-FC01C3h, trailer FDFFF0h-
     (area,) = report.areas
     assert [(s.address, s.size) for s in area.scan.compared] == [(CAL_RAM, CAL_IMAGE_END), (CAL_RAM + 0x1FFF0, 16)]
     assert report.bytes_uploaded == 0 and len(report.diff.objects) == 58
@@ -223,3 +229,18 @@ def test_progress_is_reported_and_a_cancel_stops_the_upload(ecu):
     assert {"checksums", "checksums compared", "uploading the blocks that differ"} <= labels
     with pytest.raises(Cancelled):
         sync_compare(ecu, demo.s19(), progress=_Recorder(cancel_after=1))
+
+
+def test_without_calibration_pages_the_segments_are_compared_where_the_image_holds_them(sim, channel, tmp_path):
+    text = Path(demo.a2l()).read_text(encoding="utf-8")
+    start, end = text.index("/begin IF_DATA XCP\n          /begin SEGMENT"), text.index("/end SEGMENT")
+    a2l = tmp_path / "no_pages.a2l"
+    a2l.write_text(text[:start] + text[text.index("/end IF_DATA", end) + len("/end IF_DATA"):])
+    with Session.open(a2l, interface="virtual", channel=channel, timeouts=FAST) as ecu:
+        assert ecu.config.segments == ()
+        assert read_dataset(ecu, ["xsPRV_KP"])["xsPRV_KP"].value == 5.0  # no page to switch: the one there is
+        with pytest.raises(InputError, match="no calibration pages"):
+            read_dataset(ecu, ["xsPRV_KP"], page="reference")
+        report = sync_compare(ecu, demo.s19())  # CALIB compared as it stands (flash), CAL RAM's objects not at all
+        assert report.equal and [check.area.name for check in report.areas] == ["CALIB"]
+        assert "xsPRV_KP: not compared (FLCU.s19 holds nothing for CALRAM)" in report.notes

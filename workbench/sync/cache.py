@@ -23,8 +23,6 @@ FLOAT32 object); units or axis names the file labels otherwise are noted, not co
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from contextlib import ExitStack, contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -40,14 +38,14 @@ from workbench.progress import Progress
 from workbench.session import Session
 from workbench.session.memory import merge_spans
 from workbench.sync.areas import CalibrationArea, ImageView, calibration_areas
-from workbench.sync.ecu import EcuReader
+from workbench.sync.ecu import EcuReader, on_pages
 from workbench.sync.reference import DatasetReference, ImageReference, Reference, load_reference
 from workbench.sync.scan import ChecksumScan, scan_ranges
 from workbench.sync.store import ByteStore
 from workbench.sync.values import (as_stored, calibration_names, decode_values, label_differences, object_layouts,
                                    resolve_all)
 
-__all__ = ["AreaCheck", "ByteDifference", "SyncReport", "sync_compare", "working_pages"]
+__all__ = ["AreaCheck", "ByteDifference", "SyncReport", "sync_compare"]
 
 
 @dataclass(frozen=True)
@@ -166,19 +164,10 @@ def sync_compare(session: Session, reference: Reference | str | Path, *, progres
     if session.in_boot:
         raise WorkbenchError("the ECU runs its boot loader (no application): there is no calibration data to compare")
     areas = calibration_areas(session.doc, session.config, session.module)
-    with session.lock, working_pages(session, areas):
+    with session.lock, on_pages(session, "working"):
         if isinstance(reference, ImageReference):
             return _compare_image(session, reference, areas, progress)
         return _compare_dataset(session, reference, progress)
-
-
-@contextmanager
-def working_pages(session: Session, areas: list[CalibrationArea]) -> Iterator[None]:
-    """A context in which XCP reads and writes the working page of every paged area."""
-    with ExitStack() as stack:
-        for number in dict.fromkeys(area.segment for area in areas if area.segment is not None):
-            stack.enter_context(session.on_page("working", number))
-        yield
 
 
 # --- an image --------------------------------------------------------------------------------------
@@ -194,11 +183,17 @@ def _compare_image(session: Session, reference: ImageReference, areas: list[Cali
     placed, failed = resolve_all(layouts, on_file.fetch)
     problems.update(failed)
     spans = {name: layout.spans() for name, layout in placed.items()}
+    outside_areas = [name for name, own in spans.items() if not any(area.contains(s) for s in own for area in areas)]
+    unknown = [area for area in areas if not view.held(area)]  # no bytes there, and no ADDRESS_MAPPING to them
+    for name, own in spans.items():
+        if any(area.contains(s) for s in own for area in unknown):
+            problems[name] = f"{reference.path.name} holds nothing for {unknown[0].name}"
+            del placed[name]
+    spans = {name: own for name, own in spans.items() if name in placed}
     reader = EcuReader(session, progress, "uploading the blocks that differ")
-    checks, outside_areas = [], [name for name, own in spans.items()
-                                 if not any(area.contains(s) for s in own for area in areas)]
+    checks = []
     in_ecu = ByteStore(fallback=reader)
-    for area in areas:
+    for area in (area for area in areas if area not in unknown):
         compared = merge_spans(view.held(area) + [s for own in spans.values() for s in own if area.contains(s)],
                                gap=0, limit=area.span.size)
         expected = view.fetch(compared)

@@ -1,16 +1,18 @@
-"""Reading the ECU's memory for the sync: neighbouring spans merged into few UPLOADs, progress per block."""
+"""The ECU's memory for the sync: a page of every calibration segment, read in merged UPLOADs with progress."""
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
+from contextlib import ExitStack, contextmanager
 from dataclasses import dataclass
 
 from workbench.calib.memory import Span
+from workbench.errors import InputError
 from workbench.progress import Progress, report
 from workbench.session import Session
 from workbench.session.memory import merge_spans, read_merged
 
-__all__ = ["EcuReader"]
+__all__ = ["EcuReader", "on_pages"]
 
 
 @dataclass
@@ -49,3 +51,19 @@ class EcuReader:
             found = read_merged(wanted, read)
         report(self.progress, total, total, self.label)
         return found
+
+
+@contextmanager
+def on_pages(session: Session, page: str | int | None = "working") -> Iterator[None]:
+    """A context in which XCP reads and writes ``page`` ("working", "reference") of every calibration segment
+    with pages (None: leave them as they are). Without XCP SEGMENTs there is one page: "working" is it.
+
+    :raises InputError: "reference" (or a number) asked of an A2L that describes no calibration pages.
+    """
+    numbers = list(dict.fromkeys(segment.number for segment in session.config.segments))
+    if not numbers and page not in (None, "working"):
+        raise InputError(f"the A2L describes no calibration pages (XCP SEGMENT): there is no {page} page to read")
+    with ExitStack() as stack:
+        for number in numbers if page is not None else ():
+            stack.enter_context(session.on_page(page, number))
+        yield

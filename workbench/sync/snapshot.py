@@ -25,7 +25,7 @@ from workbench.image import MemoryImage
 from workbench.progress import Progress
 from workbench.session import Session
 from workbench.sync.areas import ImageView, calibration_areas
-from workbench.sync.ecu import EcuReader
+from workbench.sync.ecu import EcuReader, on_pages
 from workbench.sync.values import calibration_names, decode_values, object_layouts
 
 __all__ = ["calibration_image", "image_dataset", "read_dataset"]
@@ -47,7 +47,7 @@ def read_dataset(session: Session, names: Iterable[str] | None = None, *, page: 
     wanted = calibration_names(model, names)
     layouts, problems = object_layouts(model, wanted)
     reader = EcuReader(session, progress, f"reading the {page or 'current'} page")
-    with session.lock, session.on_page(page):
+    with session.lock, on_pages(session, page):
         values, failed = decode_values(layouts, reader)
     problems.update(failed)
     if problems and names is not None:

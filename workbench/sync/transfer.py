@@ -27,8 +27,9 @@ from workbench.progress import Progress
 from workbench.progress import report as report_progress
 from workbench.session import Session
 from workbench.sync.apply import apply_dataset
-from workbench.sync.areas import ImageView, calibration_areas
-from workbench.sync.cache import SyncReport, sync_compare, working_pages
+from workbench.sync.areas import ImageView
+from workbench.sync.cache import SyncReport, sync_compare
+from workbench.sync.ecu import on_pages
 from workbench.sync.reference import DatasetReference, ImageReference
 from workbench.sync.scan import scan_ranges
 from workbench.sync.values import object_layouts, relabel, resolve_all
@@ -140,7 +141,7 @@ def _download_image(session: Session, report: SyncReport, progress: Progress | N
     owners = _owners(session, report.changed, view)
     total = sum(run.size for run, _ in runs)
     done = 0
-    with session.lock, working_pages(session, calibration_areas(session.doc, session.config, session.module)):
+    with session.lock, on_pages(session, "working"):
         for index, (run, data) in enumerate(runs):
             report_progress(progress, done, total, f"downloading {run}")
             try:
