@@ -1,0 +1,63 @@
+"""``workbench gui [PROJECT]``: the calibration workbench window, on a project file or an ECU."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from workbench.cli.ecu_options import add_ecu_arguments
+from workbench.cli.options import bus_settings
+from workbench.errors import WorkbenchError
+
+EPILOG = """\
+examples:
+  workbench gui project.toml                      # the project's A2L, DBCs, windows and connection
+  workbench gui --a2l out/FLCU.a2l --interface socketcan --channel can0 --connect
+  workbench gui --host 127.0.0.1 --protocol tcp --connect --screenshot window.png
+"""
+
+
+def add_subparser(subparsers, name: str, help_text: str) -> None:
+    parser = subparsers.add_parser(name, help=help_text, epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter,
+                                   description="Open the workbench window: variable browser, live plots, calibration "
+                                               "editors, fix calibrations, flashing. Needs the gui extra "
+                                               "(pip install 'workbench[gui]').")
+    parser.add_argument("project", nargs="?", type=Path, help="a project file (.toml or .json)")
+    parser.add_argument("--connect", action="store_true", help="connect to the ECU at once")
+    add_screenshot_arguments(parser)
+    add_ecu_arguments(parser, json_output=False)
+    parser.set_defaults(func=run)
+
+
+def add_screenshot_arguments(parser: argparse.ArgumentParser) -> None:
+    group = parser.add_argument_group("screenshot")
+    group.add_argument("--screenshot", type=Path, metavar="PNG",
+                       help="render the window to PNG once live samples are on screen, then exit (implies --connect)")
+    group.add_argument("--settle", type=float, default=4.0, metavar="S",
+                       help="seconds of live data before the screenshot (default 4)")
+
+
+def require_gui() -> None:
+    """:raises WorkbenchError: PySide6 or pyqtgraph is not installed."""
+    try:
+        import pyqtgraph  # noqa: F401
+        import PySide6  # noqa: F401
+    except ImportError as exc:
+        raise WorkbenchError(f"the GUI needs {exc.name}: install workbench[gui] (pip install 'workbench[gui]')") from None
+
+
+def run(args: argparse.Namespace) -> int:
+    require_gui()
+    from workbench.gui.app import run_window
+    from workbench.gui.project import Connection, Project, load_project
+
+    project = load_project(args.project) if args.project else Project()
+    if args.a2l:
+        project.a2l = Path(args.a2l).resolve()
+    settings = {k: v for k, v in (bus_settings(args) or {}).items() if v is not None}
+    if settings or args.host or args.port or args.protocol:
+        interface, channel, bitrate = settings.pop("interface", None), settings.pop("channel", None), settings.pop(
+            "bitrate", None)
+        project.connection = Connection(interface, channel, bitrate, settings, args.host, args.port, args.protocol)
+    return run_window(project, connect=args.connect or args.screenshot is not None, screenshot=args.screenshot,
+                      settle_s=args.settle)

@@ -1,0 +1,69 @@
+"""What the views need to know about an A2L object, read from the typed A2L model."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from workbench.errors import WorkbenchError
+from workbench.gui.signal_hub import SignalInfo
+
+__all__ = ["CalibrationInfo", "calibration_info", "measurement_info", "verbal_states"]
+
+
+def verbal_states(model, obj) -> tuple[tuple[float, str], ...]:
+    """(raw, text) of a TAB_VERB conversion, () for any other."""
+    conversion = model.conversion(obj)
+    if not getattr(conversion, "verbal", False):
+        return ()
+    return tuple((raw, text) for text, raw in conversion.raw_of.items())
+
+
+def measurement_info(model, name: str) -> SignalInfo | None:
+    """The :class:`SignalInfo` of MEASUREMENT ``name``, None when the A2L has no such measurement."""
+    try:
+        measurement = model.measurement(name)
+        conversion = model.conversion(measurement)
+        unit = model.unit_of(measurement)
+    except (WorkbenchError, KeyError):
+        return None
+    from workbench.a2l.objects import format_parts
+
+    decimals = format_parts(measurement.format)[1] if measurement.format else conversion.decimals
+    return SignalInfo(name, "XCP", unit, measurement.long_identifier, measurement.lower_limit,
+                      measurement.upper_limit, verbal_states(model, measurement), decimals)
+
+
+@dataclass(frozen=True)
+class CalibrationInfo:
+    """A CHARACTERISTIC (or AXIS_PTS) as an editor shows it."""
+
+    name: str
+    type: str  # VALUE, CURVE, MAP, VAL_BLK, ASCII, AXIS_PTS
+    description: str
+    unit: str
+    limits: tuple[float, float]
+    decimals: int | None
+    step: float | None
+    states: tuple[str, ...]  # the texts of a verbal value
+    writable: bool
+    axis_labels: tuple[str, ...]  # "target [bar]" per axis, X first
+    functions: tuple[str, ...]
+
+
+def calibration_info(model, name: str) -> CalibrationInfo:
+    """:raises UnknownSymbolError: no such CHARACTERISTIC/AXIS_PTS; :raises A2lParseError: a broken reference."""
+    from workbench.a2l.objects import format_parts
+
+    kind = model.kind_of(name)
+    obj = model.characteristic(name) if kind == "CHARACTERISTIC" else model.axis_pts(name)
+    conversion = model.conversion(obj)
+    decimals = format_parts(obj.format)[1] if obj.format else conversion.decimals
+    labels = []
+    for axis in getattr(obj, "axes", ()):
+        quantity = axis.input_quantity or axis.axis_pts_ref or axis.axis
+        unit = model.unit_of(axis)
+        labels.append(f"{quantity} [{unit}]" if unit else quantity)
+    states = tuple(conversion.allowed) if getattr(conversion, "verbal", False) else ()
+    return CalibrationInfo(name, getattr(obj, "type", "AXIS_PTS"), obj.long_identifier, model.unit_of(obj),
+                           (obj.lower_limit, obj.upper_limit), decimals, getattr(obj, "step_size", None), states,
+                           obj.writable, tuple(labels), obj.functions)

@@ -1,0 +1,101 @@
+"""Starting the window: the Qt application, the demo ECU behind it, and screenshots.
+
+:func:`run_window` opens a project (connecting at once when asked); :func:`run_demo` first starts
+the simulated FLCU ECU in this process on a private python-can bus (a ``virtual`` channel of its
+own), so ``workbench demo`` shows live signals with no hardware and without touching anyone
+else's bus. With ``screenshot`` the window renders itself to a PNG once every measurement window
+shows live samples (and ``settle_s`` more seconds have passed), then closes.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import sys
+import time
+import uuid
+from pathlib import Path
+
+from PySide6.QtCore import QTimer
+from PySide6.QtWidgets import QApplication
+
+from workbench.gui import theme
+from workbench.gui.project import Connection, Project, demo_project
+from workbench.gui.widgets.main_window import MainWindow
+
+log = logging.getLogger(__name__)
+
+__all__ = ["application", "run_demo", "run_window"]
+
+
+def application() -> QApplication:
+    """The process's QApplication (made and themed on first use)."""
+    app = QApplication.instance()
+    if app is None:
+        app = QApplication(sys.argv[:1])
+        app.setApplicationName("workbench")
+        app.setOrganizationName("workbench")
+        theme.apply(app)
+    return app
+
+
+def demo_channel() -> str:
+    """A virtual CAN channel nobody else uses."""
+    return f"workbench-demo-{os.getpid()}-{uuid.uuid4().hex[:8]}"
+
+
+def run_window(project: Project, *, connect: bool, screenshot: Path | None = None, settle_s: float = 4.0,
+               started: float | None = None) -> int:
+    """Show the window on ``project`` until it is closed (or the screenshot is taken); returns the exit code."""
+    app = application()
+    started = time.perf_counter() if started is None else started
+    window = MainWindow(project)
+    outcome = {"code": 0}
+    if connect:
+        window.loaded.connect(lambda: window.connect_ecu())
+    if screenshot is not None:
+        _take_screenshot_when_live(window, screenshot, settle_s, started, outcome)
+        window.controller.failed.connect(lambda exc: _fail(app, outcome, exc))
+    window.show()
+    window.load()
+    code = app.exec()
+    return outcome["code"] or code
+
+
+def _take_screenshot_when_live(window: MainWindow, path: Path, settle_s: float, started: float, outcome: dict) -> None:
+    def live() -> None:
+        window.live.disconnect(live)
+        first = time.perf_counter() - started
+        outcome["first_sample_s"] = first
+        print(f"first live sample on screen {first:.2f} s after start", flush=True)
+        QTimer.singleShot(int(settle_s * 1000), shoot)
+
+    def shoot() -> None:
+        if not window.grab().save(str(path)):
+            print(f"error: cannot write the screenshot {path}", file=sys.stderr)
+            outcome["code"] = 1
+        else:
+            print(f"screenshot: {path}", flush=True)
+        window.close()
+
+    window.live.connect(live)
+
+
+def _fail(app: QApplication, outcome: dict, exc: BaseException) -> None:
+    print(f"error: {exc}", file=sys.stderr)
+    outcome["code"] = 1
+    app.quit()
+
+
+def run_demo(*, screenshot: Path | None = None, settle_s: float = 4.0, time_scale: float = 1.0,
+             pcm_target_bar: float = 25.0) -> int:
+    """Serve the demo ECU in this process on a private virtual bus and open the window on it."""
+    started = time.perf_counter()
+    from workbench.sim import serve_demo
+
+    channel = demo_channel()
+    project = demo_project()
+    project.connection = Connection(interface="virtual", channel=channel)
+    with serve_demo({"interface": "virtual", "channel": channel}, pcm_target_bar=pcm_target_bar,
+                    time_scale=time_scale):
+        return run_window(project, connect=True, screenshot=screenshot, settle_s=settle_s, started=started)

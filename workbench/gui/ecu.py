@@ -1,0 +1,110 @@
+"""The GUI's one door to the ECU: a :class:`~workbench.session.Session` driven from worker threads.
+
+Widgets never call the session themselves; they ask the :class:`EcuController`, which runs the
+session's method in the thread pool (:mod:`workbench.gui.worker`) and answers through callbacks in
+the GUI thread. So the protocol stays in the library, a slow ECU never freezes the window, and
+this file lists every session method the GUI uses:
+
+``Session.open``, ``.info()``, ``.epk``, ``.read_only``, ``.page()``, ``.set_page()``,
+``.copy_reference_to_working()``, ``.read()``, ``.read_value()``, ``.read_many()``, ``.write()``,
+``.measure()`` (in :mod:`workbench.gui.acquisition`), ``.fixes()``, ``.override()``, ``.release()``,
+``.close()``.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from PySide6.QtCore import QObject, Signal
+
+from workbench.gui.project import Connection
+from workbench.gui.worker import Task, run_task
+
+log = logging.getLogger(__name__)
+
+__all__ = ["Connected", "EcuController"]
+
+
+@dataclass(frozen=True)
+class Connected:
+    """What the window needs right after connecting (read in the worker, not the GUI thread)."""
+
+    session: Any  # workbench.session.Session
+    info: Any  # workbench.session.info.EcuInfo
+
+
+def _open(a2l, connection: Connection, accept_epk_mismatch: bool) -> Connected:
+    from workbench.session import Session
+
+    session = Session.open(a2l, accept_epk_mismatch=accept_epk_mismatch, **connection.session_options())
+    try:
+        info = session.info()
+    except BaseException:
+        session.close()
+        raise
+    return Connected(session, info)
+
+
+class EcuController(QObject):
+    """Connects, disconnects and calls the session off the GUI thread."""
+
+    connected = Signal(object)  # Connected
+    disconnected = Signal()
+    failed = Signal(object)  # an exception of a call nobody else handles
+    written = Signal(str)  # a calibration was written (its name): editors and the fix panel refresh
+    page_changed = Signal(str)  # "working" / "reference"
+
+    def __init__(self, parent: QObject | None = None):
+        super().__init__(parent)
+        self.session = None
+        self.info = None
+
+    @property
+    def is_connected(self) -> bool:
+        return self.session is not None
+
+    def open(self, a2l, connection: Connection, accept_epk_mismatch: bool = False) -> Task:
+        """Connect to the ECU of ``a2l`` (a path or a loaded A2lDocument) as ``connection`` says;
+        ``connected`` or ``failed`` follows."""
+        self.close()
+
+        def done(result: Connected) -> None:
+            self.session, self.info = result.session, result.info
+            self.connected.emit(result)
+
+        return run_task(_open, a2l, connection, accept_epk_mismatch, on_done=done, on_error=self.failed.emit)
+
+    def close(self) -> None:
+        """Disconnect (stops DAQ, frees the bus); ``disconnected`` follows when there was a session."""
+        session, self.session = self.session, None
+        if session is not None:
+            session.close()
+            self.disconnected.emit()
+
+    def call(self, method: str, *args, on_done: Callable[[Any], None] | None = None,
+             on_error: Callable[[BaseException], None] | None = None, **kwargs) -> Task | None:
+        """Run ``session.<method>(*args, **kwargs)`` in the pool; errors go to ``on_error`` or ``failed``."""
+        session = self.session
+        if session is None:
+            return None
+        return run_task(getattr(session, method), *args, on_done=on_done, on_error=on_error or self.failed.emit,
+                        **kwargs)
+
+    def write(self, name: str, value, *, on_done: Callable[[Any], None] | None = None,
+              on_error: Callable[[BaseException], None] | None = None) -> Task | None:
+        """Write a calibration (limits checked, read back by the session); ``written`` follows."""
+        def done(result) -> None:
+            self.written.emit(name)
+            if on_done is not None:
+                on_done(result)
+
+        return self.call("write", name, value, on_done=done, on_error=on_error)
+
+    def set_page(self, page: str) -> Task | None:
+        def done(_) -> None:
+            self.page_changed.emit(page)
+
+        return self.call("set_page", page, on_done=done)

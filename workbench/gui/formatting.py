@@ -1,0 +1,31 @@
+"""Numbers as an engineer reads them: the A2L's decimals, verbal names, units."""
+
+from __future__ import annotations
+
+import math
+
+__all__ = ["format_value", "with_unit"]
+
+
+def format_value(value, decimals: int | None = None, states=()) -> str:
+    """``value`` for display: a verbal state's name when it has one (``TANK1_ON``), else the number
+    with ``decimals`` (the A2L's FORMAT), else up to 6 significant digits; "—" for no value."""
+    if value is None:
+        return "—"
+    if isinstance(value, str):
+        return value
+    for number, text in states:
+        if value == number:
+            return text
+    value = float(value)
+    if math.isnan(value):
+        return "NaN"
+    if decimals is not None:
+        return f"{value:.{decimals}f}"
+    if value == int(value) and abs(value) < 1e9:
+        return str(int(value))
+    return f"{value:.6g}"
+
+
+def with_unit(text: str, unit: str) -> str:
+    return f"{text} {unit}" if unit else text

@@ -1,0 +1,135 @@
+"""A CURVE or MAP as a table: X across, Y down (as CANape shows them), shaded by value, cells that
+differ from the reference page marked, edits handed out as whole new arrays."""
+
+from __future__ import annotations
+
+import numpy as np
+from PySide6.QtCore import QAbstractTableModel, QModelIndex, Qt, Signal
+from PySide6.QtGui import QColor, QFont
+
+from workbench.gui import theme
+from workbench.gui.formatting import format_value
+
+__all__ = ["CalibrationTableModel", "shade"]
+
+# dark blue -> teal -> amber -> red: readable light text on every step
+_STOPS = ((0.0, (38, 70, 140)), (0.35, (26, 120, 130)), (0.7, (160, 120, 30)), (1.0, (170, 50, 50)))
+
+
+def shade(fraction: float) -> QColor:
+    """The cell colour for a value at ``fraction`` (0..1) of the table's range."""
+    fraction = min(max(fraction, 0.0), 1.0)
+    for (f0, c0), (f1, c1) in zip(_STOPS, _STOPS[1:]):
+        if fraction <= f1:
+            t = (fraction - f0) / (f1 - f0)
+            return QColor(*(round(a + (b - a) * t) for a, b in zip(c0, c1)))
+    return QColor(*_STOPS[-1][1])
+
+
+class CalibrationTableModel(QAbstractTableModel):
+    """``value``: shape (nx,) for a curve or (nx, ny) for a map, indexed [x, y]; ``axes``: their points."""
+
+    edited = Signal(object)  # the whole new array after one cell changed
+    refused = Signal(str)  # why an entry was not taken
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.value = np.zeros((0,))
+        self.reference: np.ndarray | None = None
+        self.x_points: np.ndarray = np.zeros(0)
+        self.y_points: np.ndarray | None = None
+        self.decimals: int | None = None
+        self.lower, self.upper = -np.inf, np.inf
+        self.writable = True
+
+    def set_value(self, value: np.ndarray, x_points, y_points=None, *, decimals=None, limits=(-np.inf, np.inf),
+                  writable=True) -> None:
+        self.beginResetModel()
+        self.value = np.array(value, dtype=np.float64)
+        self.x_points = np.asarray(x_points, dtype=np.float64)
+        self.y_points = None if y_points is None else np.asarray(y_points, dtype=np.float64)
+        self.decimals = decimals
+        self.lower, self.upper = limits
+        self.writable = writable
+        self.endResetModel()
+
+    def set_reference(self, reference: np.ndarray | None) -> None:
+        self.reference = None if reference is None else np.array(reference, dtype=np.float64)
+        if self.rowCount() and self.columnCount():
+            self.dataChanged.emit(self.index(0, 0), self.index(self.rowCount() - 1, self.columnCount() - 1))
+
+    @property
+    def is_map(self) -> bool:
+        return self.value.ndim == 2
+
+    def rowCount(self, parent=QModelIndex()) -> int:
+        if parent.isValid() or not self.value.size:
+            return 0
+        return self.value.shape[1] if self.is_map else 1
+
+    def columnCount(self, parent=QModelIndex()) -> int:
+        return 0 if parent.isValid() or not self.value.size else self.value.shape[0]
+
+    def _cell(self, index) -> tuple[int, ...]:
+        return (index.column(), index.row()) if self.is_map else (index.column(),)
+
+    def modified(self, cell: tuple[int, ...]) -> bool:
+        if self.reference is None or self.reference.shape != self.value.shape:
+            return False
+        a, b = self.value[cell], self.reference[cell]
+        return not (a == b or (np.isnan(a) and np.isnan(b)))
+
+    def data(self, index, role=Qt.DisplayRole):
+        if not index.isValid():
+            return None
+        cell = self._cell(index)
+        value = float(self.value[cell])
+        if role in (Qt.DisplayRole, Qt.EditRole):
+            return format_value(value, self.decimals) if role == Qt.DisplayRole else value
+        if role == Qt.BackgroundRole:
+            low, high = np.nanmin(self.value), np.nanmax(self.value)
+            return shade(0.5 if high == low else (value - low) / (high - low))
+        if role == Qt.ForegroundRole:
+            return QColor(theme.WARN) if self.modified(cell) else QColor("#f2f4f7")
+        if role == Qt.FontRole and self.modified(cell):
+            font = QFont()
+            font.setBold(True)
+            return font
+        if role == Qt.TextAlignmentRole:
+            return int(Qt.AlignRight | Qt.AlignVCenter)
+        if role == Qt.ToolTipRole:
+            text = f"{format_value(value, self.decimals)}"
+            if self.reference is not None and self.modified(cell):
+                text += f" (reference page: {format_value(float(self.reference[cell]), self.decimals)})"
+            return text
+        return None
+
+    def headerData(self, section, orientation, role=Qt.DisplayRole):
+        if role != Qt.DisplayRole:
+            return None
+        if orientation == Qt.Horizontal:
+            return format_value(float(self.x_points[section])) if section < len(self.x_points) else str(section)
+        if self.is_map and self.y_points is not None and section < len(self.y_points):
+            return format_value(float(self.y_points[section]))
+        return "value"
+
+    def flags(self, index):
+        flags = super().flags(index)
+        return flags | Qt.ItemIsEditable if self.writable else flags
+
+    def setData(self, index, value, role=Qt.EditRole) -> bool:
+        if role != Qt.EditRole or not index.isValid():
+            return False
+        try:
+            number = float(str(value).replace(",", "."))
+        except ValueError:
+            self.refused.emit(f"{value!r} is not a number")
+            return False
+        if not self.lower <= number <= self.upper:
+            self.refused.emit(f"{format_value(number)} is beyond the limits "
+                              f"[{format_value(self.lower)}, {format_value(self.upper)}]")
+            return False
+        new = self.value.copy()
+        new[self._cell(index)] = number
+        self.edited.emit(new)  # the editor writes it; the table shows what the ECU reads back
+        return True

@@ -1,0 +1,104 @@
+"""The fix-calibration panel's rows: every ``_EN``/``_VALUE`` pair with the signal it overrides, the
+signal's live value, the override value and whether the override is on (``session.fixes()``)."""
+
+from __future__ import annotations
+
+from PySide6.QtCore import QAbstractTableModel, QModelIndex, Qt, Signal
+from PySide6.QtGui import QColor
+
+from workbench.gui import theme
+from workbench.gui.formatting import format_value
+
+__all__ = ["FixModel"]
+
+COLUMNS = ("signal", "kind", "live", "override", "on")
+ON = COLUMNS.index("on")
+OVERRIDE = COLUMNS.index("override")
+
+
+class FixModel(QAbstractTableModel):
+    """Rows are the session's fix states; checking "on" or editing "override" emits a request."""
+
+    override_requested = Signal(object, float)  # the fix state, the value
+    release_requested = Signal(object)
+    value_requested = Signal(object, float)  # a new override value while the override is off
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.rows: list = []
+
+    def set_fixes(self, fixes) -> None:
+        fixes = list(fixes)
+        if [f.pair.stem for f in fixes] != [f.pair.stem for f in self.rows]:
+            self.beginResetModel()
+            self.rows = fixes
+            self.endResetModel()
+            return
+        self.rows = fixes
+        if fixes:
+            self.dataChanged.emit(self.index(0, 0), self.index(len(fixes) - 1, len(COLUMNS) - 1))
+
+    def rowCount(self, parent=QModelIndex()) -> int:
+        return 0 if parent.isValid() else len(self.rows)
+
+    def columnCount(self, parent=QModelIndex()) -> int:
+        return 0 if parent.isValid() else len(COLUMNS)
+
+    def headerData(self, section, orientation, role=Qt.DisplayRole):
+        if orientation == Qt.Horizontal and role == Qt.DisplayRole:
+            return COLUMNS[section]
+        return None
+
+    def data(self, index, role=Qt.DisplayRole):
+        if not index.isValid():
+            return None
+        fix = self.rows[index.row()]
+        column = COLUMNS[index.column()]
+        if role == Qt.DisplayRole:
+            return {"signal": fix.pair.signal, "kind": fix.pair.kind, "live": format_value(fix.live),
+                    "override": format_value(fix.value), "on": "ON" if fix.active else "off"}[column]
+        if role == Qt.EditRole and column == "override":
+            return fix.value
+        if role == Qt.CheckStateRole and column == "on":
+            return Qt.Checked if fix.active else Qt.Unchecked
+        if role == Qt.ForegroundRole:
+            if column == "on":
+                return QColor(theme.WARN if fix.active else theme.MUTED)
+            if column == "kind":
+                return QColor(theme.MUTED)
+            if column == "live" and fix.active:
+                return QColor(theme.WARN)
+        if role == Qt.TextAlignmentRole and column in ("live", "override"):
+            return int(Qt.AlignRight | Qt.AlignVCenter)
+        if role == Qt.ToolTipRole:
+            return (f"{fix.pair.enable} / {fix.pair.value}: while {fix.pair.enable} = 1 the ECU uses "
+                    f"{fix.pair.value} instead of {fix.pair.signal}")
+        return None
+
+    def flags(self, index):
+        flags = super().flags(index)
+        if index.column() == ON:
+            return flags | Qt.ItemIsUserCheckable
+        if index.column() == OVERRIDE:
+            return flags | Qt.ItemIsEditable
+        return flags
+
+    def setData(self, index, value, role=Qt.EditRole) -> bool:
+        fix = self.rows[index.row()]
+        if index.column() == ON and role == Qt.CheckStateRole:
+            if Qt.CheckState(value) == Qt.Checked:
+                self.override_requested.emit(fix, float(fix.value or 0.0))
+            else:
+                self.release_requested.emit(fix)
+            return True
+        if index.column() == OVERRIDE and role == Qt.EditRole:
+            try:
+                number = float(str(value).replace(",", "."))
+            except ValueError:
+                return False
+            if fix.active:
+                self.override_requested.emit(fix, number)
+            else:
+                self.value_requested.emit(fix, number)
+            return True
+        return False

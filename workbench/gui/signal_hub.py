@@ -1,0 +1,157 @@
+"""Every live signal of a window in one place: XCP measurements by DAQ and CAN2 signals by DBC.
+
+The :class:`SignalHub` owns one :class:`~workbench.gui.ringbuffer.RingBuffer` per signal and
+knows each signal's unit and source. Views say which signals they show (:meth:`SignalHub.show`);
+the hub measures the union of the XCP ones by DAQ (restarting the measurement when the set
+changes) while the CAN monitor decodes every CAN2 message anyway. Times share one origin, the
+hub's creation, so XCP and CAN2 samples line up on one time axis.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from PySide6.QtCore import QObject, Signal
+
+from workbench.gui.formatting import format_value
+from workbench.gui.ringbuffer import RingBuffer
+
+log = logging.getLogger(__name__)
+
+__all__ = ["SignalHub", "SignalInfo"]
+
+_CAPACITY = 300_000  # samples kept per signal: 5 minutes at 1 kHz
+
+
+@dataclass(frozen=True)
+class SignalInfo:
+    name: str
+    source: str  # "XCP" (DAQ) or "CAN2" (DBC)
+    unit: str = ""
+    description: str = ""
+    minimum: float | None = None
+    maximum: float | None = None
+    states: tuple[tuple[float, str], ...] = ()  # verbal values (TAB_VERB): value -> text
+    decimals: int | None = None  # the A2L's FORMAT; None: as many as the value needs
+
+    def format(self, value: float | None) -> str:
+        """``value`` as the A2L shows it: its verbal name, or its FORMAT's decimals."""
+        return format_value(value, self.decimals, self.states)
+
+
+class SignalHub(QObject):
+    """Buffers, units and sources of the signals views show."""
+
+    catalog_changed = Signal()
+    measuring = Signal(object)  # the XCP names now measured
+    failed = Signal(object)
+
+    def __init__(self, parent: QObject | None = None):
+        super().__init__(parent)
+        self.origin = time.time()
+        self._buffers: dict[str, RingBuffer] = {}
+        self._lock = threading.Lock()
+        self._catalog: dict[str, SignalInfo] = {}
+        self._resolver = None  # name -> SignalInfo | None, for names not in the catalog (the A2L's)
+        self._shown: dict[int, set[str]] = {}  # view id -> names
+        self.acquisition = None  # DaqAcquisition while connected
+        self.can_monitor = None  # CanMonitor while a CAN bus is listened to
+
+    # --- catalog --------------------------------------------------------------------------------
+
+    def add_signals(self, infos) -> None:
+        for info in infos:
+            self._catalog[info.name] = info
+        self.catalog_changed.emit()
+
+    def set_resolver(self, resolver) -> None:
+        """``resolver(name) -> SignalInfo | None`` describes signals on first use (the A2L's measurements:
+        a big A2L has tens of thousands, most never shown)."""
+        self._resolver = resolver
+        self._catalog = {name: info for name, info in self._catalog.items() if info.source != "XCP"}
+        self.catalog_changed.emit()
+
+    def _lookup(self, name: str) -> SignalInfo | None:
+        info = self._catalog.get(name)
+        if info is None and self._resolver is not None:
+            info = self._resolver(name)
+            if info is not None:
+                self._catalog[name] = info
+        return info
+
+    def info(self, name: str) -> SignalInfo:
+        return self._lookup(name) or SignalInfo(name, "XCP")
+
+    def known(self, name: str) -> bool:
+        return self._lookup(name) is not None
+
+    # --- samples --------------------------------------------------------------------------------
+
+    def buffer(self, name: str) -> RingBuffer:
+        found = self._buffers.get(name)
+        if found is None:
+            with self._lock:
+                found = self._buffers.setdefault(name, RingBuffer(_CAPACITY))
+        return found
+
+    def sink(self, name: str, times, values) -> None:
+        """Append samples of ``name`` (any thread): the acquisition's and CAN monitor's callback.
+        Verbal values (texts of a TAB_VERB) are kept as their numbers, so they plot as steps."""
+        values = np.asarray(values)
+        if values.dtype == object:
+            numbers = {text: raw for raw, text in self.info(name).states}
+            values = np.array([numbers.get(v, np.nan) if isinstance(v, str) else v for v in values.ravel()],
+                              dtype=np.float64)
+        elif values.ndim > 1:  # an array measurement: its first element (views show scalars)
+            values = values.reshape(len(values), -1)[:, 0]
+        self.buffer(name).append(times, values)
+
+    def now(self) -> float:
+        """Seconds since the origin, on the samples' time axis."""
+        return time.time() - self.origin
+
+    # --- what is measured -----------------------------------------------------------------------
+
+    def show(self, view: QObject, names) -> None:
+        """``view`` shows ``names`` from now on (replacing what it showed)."""
+        key = id(view)
+        if key not in self._shown:
+            view.destroyed.connect(lambda *_: self.hide(key))
+        self._shown[key] = set(names)
+        self._update_measurement()
+
+    def hide(self, key: int) -> None:
+        self._shown.pop(key, None)
+        self._update_measurement()
+
+    def shown(self) -> set[str]:
+        return set().union(*self._shown.values()) if self._shown else set()
+
+    def xcp_shown(self) -> list[str]:
+        return sorted(n for n in self.shown() if self.info(n).source == "XCP")
+
+    def _update_measurement(self) -> None:
+        if self.acquisition is not None:
+            self.acquisition.measure(self.xcp_shown())
+
+    def attach(self, acquisition, can_monitor=None) -> None:
+        """Start measuring through ``acquisition`` (and listen with ``can_monitor``) what views show."""
+        self.detach()
+        self.acquisition = acquisition
+        self.can_monitor = can_monitor
+        acquisition.failed.connect(self.failed)
+        acquisition.started.connect(self.measuring)
+        self._update_measurement()
+
+    def detach(self) -> None:
+        """Stop the measurement and the CAN monitor (the buffers keep their samples)."""
+        acquisition, self.acquisition = self.acquisition, None
+        monitor, self.can_monitor = self.can_monitor, None
+        if acquisition is not None:
+            acquisition.stop()
+        if monitor is not None:
+            monitor.close()

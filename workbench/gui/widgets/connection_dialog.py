@@ -1,0 +1,132 @@
+"""Connection settings, prefilled from the A2L's IF_DATA XCP: CAN (python-can interface, channel, bit
+rate, the XCP ids) or Ethernet (UDP/TCP host and port). Gives a
+:class:`~workbench.gui.project.Connection`."""
+
+from __future__ import annotations
+
+from PySide6.QtWidgets import (
+    QComboBox,
+    QDialog,
+    QDialogButtonBox,
+    QFormLayout,
+    QLabel,
+    QLineEdit,
+    QSpinBox,
+    QStackedWidget,
+    QVBoxLayout,
+    QWidget,
+)
+
+from workbench.errors import InputError
+from workbench.gui import theme
+from workbench.gui.project import Connection
+
+__all__ = ["ConnectionDialog", "parse_bus_kwargs"]
+
+INTERFACES = ("udp_multicast", "virtual", "socketcan", "vector", "pcan", "kvaser", "ixxat", "slcan", "gs_usb")
+
+
+def parse_bus_kwargs(text: str) -> dict:
+    """``port=43200 app_name=CANape`` -> {"port": 43200, "app_name": "CANape"} (numbers become ints).
+
+    :raises InputError: an item without ``=``.
+    """
+    result = {}
+    for item in text.replace(",", " ").split():
+        key, sep, value = item.partition("=")
+        if not sep or not key:
+            raise InputError(f"bus option {item!r}: write KEY=VALUE")
+        result[key] = int(value) if value.lstrip("-").isdigit() else value
+    return result
+
+
+class ConnectionDialog(QDialog):
+    """``config``: the A2L's :class:`~workbench.a2l.xcp.XcpConfig` (None: no A2L yet)."""
+
+    def __init__(self, connection: Connection, config=None, parent=None):
+        super().__init__(parent)
+        self.setWindowTitle("Connection")
+        layout = QVBoxLayout(self)
+        self.transport = QComboBox()
+        for label, key in (("XCP on CAN", "CAN"), ("XCP on UDP", "udp"), ("XCP on TCP", "tcp")):
+            self.transport.addItem(label, key)
+        form = QFormLayout()
+        form.addRow("transport", self.transport)
+        layout.addLayout(form)
+        self.pages = QStackedWidget()
+        can_page, can_form = QWidget(), QFormLayout()
+        can_page.setLayout(can_form)
+        self.interface = QComboBox()
+        self.interface.setEditable(True)
+        self.interface.addItems(INTERFACES)
+        self.channel = QLineEdit()
+        self.channel.setPlaceholderText("239.74.163.2 (udp_multicast), can0, 0 ...")
+        self.bitrate = QSpinBox()
+        self.bitrate.setRange(0, 8_000_000)
+        self.bitrate.setSingleStep(125_000)
+        self.bitrate.setSpecialValueText("as the A2L says")
+        self.bitrate.setSuffix(" bit/s")
+        self.bus_kwargs = QLineEdit()
+        self.bus_kwargs.setPlaceholderText("python-can options, e.g. port=43200 app_name=CANape")
+        can_form.addRow("interface", self.interface)
+        can_form.addRow("channel", self.channel)
+        can_form.addRow("bit rate", self.bitrate)
+        can_form.addRow("bus options", self.bus_kwargs)
+        self.ids = QLabel()
+        self.ids.setStyleSheet(f"color: {theme.MUTED};")
+        can_form.addRow("A2L", self.ids)
+        eth_page, eth_form = QWidget(), QFormLayout()
+        eth_page.setLayout(eth_form)
+        self.host = QLineEdit()
+        self.port = QSpinBox()
+        self.port.setRange(0, 65535)
+        self.port.setSpecialValueText("as the A2L says")
+        eth_form.addRow("host", self.host)
+        eth_form.addRow("port", self.port)
+        self.pages.addWidget(can_page)
+        self.pages.addWidget(eth_page)
+        layout.addWidget(self.pages)
+        self.transport.currentIndexChanged.connect(lambda i: self.pages.setCurrentIndex(0 if i == 0 else 1))
+        self.error = QLabel()
+        self.error.setStyleSheet(f"color: {theme.BAD};")
+        layout.addWidget(self.error)
+        buttons = QDialogButtonBox(QDialogButtonBox.Ok | QDialogButtonBox.Cancel)
+        buttons.accepted.connect(self._accept)
+        buttons.rejected.connect(self.reject)
+        layout.addWidget(buttons)
+        self._prefill(connection, config)
+
+    def _prefill(self, connection: Connection, config) -> None:
+        can = getattr(config, "can", None)
+        if can is not None:
+            master = f"{can.can_id_master:X}{'x' if can.can_id_master_is_extended else 'h'}"
+            slave = f"{can.can_id_slave:X}{'x' if can.can_id_slave_is_extended else 'h'}"
+            self.ids.setText(f"master {master}, slave {slave}, {can.baudrate // 1000} kbit/s")
+        ethernet = getattr(config, "udp", None) or getattr(config, "tcp", None)
+        if connection.host or connection.port or connection.protocol:
+            self.transport.setCurrentIndex(2 if (connection.protocol or "").lower() == "tcp" else 1)
+        elif can is None and ethernet is not None:
+            self.transport.setCurrentIndex(1 if getattr(config, "udp", None) else 2)
+        self.interface.setCurrentText(connection.interface or "udp_multicast")
+        self.channel.setText("" if connection.channel is None else str(connection.channel))
+        self.bitrate.setValue(connection.bitrate or 0)
+        self.bus_kwargs.setText(" ".join(f"{k}={v}" for k, v in connection.bus_kwargs.items()))
+        self.host.setText(connection.host or (ethernet.host if ethernet is not None else ""))
+        self.port.setValue(connection.port or (ethernet.port if ethernet is not None else 0))
+
+    def connection(self) -> Connection:
+        """The settings entered. :raises InputError: bus options that do not parse."""
+        if self.transport.currentData() == "CAN":
+            return Connection(interface=self.interface.currentText().strip() or None,
+                              channel=self.channel.text().strip() or None, bitrate=self.bitrate.value() or None,
+                              bus_kwargs=parse_bus_kwargs(self.bus_kwargs.text()))
+        return Connection(host=self.host.text().strip() or None, port=self.port.value() or None,
+                          protocol=self.transport.currentData())
+
+    def _accept(self) -> None:
+        try:
+            self.connection()
+        except InputError as exc:
+            self.error.setText(str(exc))
+            return
+        self.accept()

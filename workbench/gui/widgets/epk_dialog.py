@@ -1,0 +1,63 @@
+"""The software version check (thesis figure 37): the A2L's EPK differs from the ECU's. The user
+chooses to flash the software that matches the A2L, to work read-only, or to disconnect."""
+
+from __future__ import annotations
+
+from enum import Enum
+
+from PySide6.QtWidgets import QDialog, QDialogButtonBox, QGridLayout, QLabel, QPushButton, QVBoxLayout
+
+from workbench.gui import theme
+
+__all__ = ["EpkChoice", "EpkDialog"]
+
+
+class EpkChoice(Enum):
+    FLASH = "flash"
+    READ_ONLY = "read-only"
+    DISCONNECT = "disconnect"
+
+
+class EpkDialog(QDialog):
+    def __init__(self, a2l_name: str, ecu_name: str, epk_a2l: str, epk_ecu: str, parent=None):
+        super().__init__(parent)
+        self.setWindowTitle("Software version check")
+        self.choice = EpkChoice.DISCONNECT
+        layout = QVBoxLayout(self)
+        head = QLabel("<b>The software in the ECU differs from the database.</b><br>What would you like to do?")
+        layout.addWidget(head)
+        grid = QGridLayout()
+        for column, text in enumerate(("", "Database (A2L)", "ECU")):
+            label = QLabel(f"<span style='color:{theme.MUTED}'>{text}</span>")
+            grid.addWidget(label, 0, column)
+        rows = (("name", a2l_name, ecu_name), ("EPK (EPROM identifier)", epk_a2l, epk_ecu))
+        for row, (caption, left, right) in enumerate(rows, 1):
+            grid.addWidget(QLabel(caption), row, 0)
+            for column, text in ((1, left), (2, right)):
+                value = QLabel(text or "—")
+                value.setFont(theme.mono_font(11))
+                if caption.startswith("EPK"):
+                    value.setStyleSheet(f"color: {theme.BAD if left != right else theme.GOOD};")
+                grid.addWidget(value, row, column)
+        layout.addLayout(grid)
+        explain = QLabel("Flash the software that matches the A2L, or work read-only: you can measure, but no "
+                         "calibration is written to an ECU whose software the A2L does not describe.")
+        explain.setWordWrap(True)
+        explain.setStyleSheet(f"color: {theme.MUTED};")
+        layout.addWidget(explain)
+        buttons = QDialogButtonBox()
+        self.flash_button = QPushButton("Flash software…")
+        self.read_only_button = QPushButton("Work read-only")
+        self.disconnect_button = QPushButton("Disconnect")
+        buttons.addButton(self.flash_button, QDialogButtonBox.AcceptRole)
+        buttons.addButton(self.read_only_button, QDialogButtonBox.AcceptRole)
+        buttons.addButton(self.disconnect_button, QDialogButtonBox.RejectRole)
+        self.flash_button.clicked.connect(lambda: self._choose(EpkChoice.FLASH))
+        self.read_only_button.clicked.connect(lambda: self._choose(EpkChoice.READ_ONLY))
+        self.disconnect_button.clicked.connect(lambda: self._choose(EpkChoice.DISCONNECT))
+        self.read_only_button.setDefault(True)
+        layout.addWidget(buttons)
+
+    def _choose(self, choice: EpkChoice) -> None:
+        self.choice = choice
+        self.done(QDialog.Accepted if choice is not EpkChoice.DISCONNECT else QDialog.Rejected)

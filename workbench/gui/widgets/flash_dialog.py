@@ -1,0 +1,245 @@
+"""The flash dialog (thesis figure 38): pick an s19/hex, see per region the partial ranges the file
+fills, choose CALIB and/or APPLICATIVE (or the working page into CAL ROM), flash with progress,
+rate and time left, cancel, and read the verify result. The flash runs in a worker
+(``workbench.flash.flash_ecu``); cancelling makes the library stop at its next block."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtWidgets import (
+    QAbstractItemView,
+    QDialog,
+    QFileDialog,
+    QHBoxLayout,
+    QHeaderView,
+    QLabel,
+    QLineEdit,
+    QPlainTextEdit,
+    QProgressBar,
+    QPushButton,
+    QTableWidget,
+    QTableWidgetItem,
+    QVBoxLayout,
+)
+
+from workbench.gui import theme
+from workbench.gui.worker import Task
+
+__all__ = ["FlashDialog"]
+
+WORKING_PAGE = "working page"  # the source that flashes CAL RAM into CAL ROM
+
+
+def _layout(session):
+    from workbench.flash import FlashLayout
+
+    return FlashLayout.from_a2l(session.doc, session.config)
+
+
+def _plan_file(session, path: str, regions: list[str]):
+    from workbench.flash import plan_file
+
+    return plan_file(path, _layout(session), regions)
+
+
+def _flash(session, source: str, regions: list[str], progress=None):
+    from workbench.flash import flash_ecu, plan_working_page
+
+    plan = (plan_working_page(session, progress=progress) if source == WORKING_PAGE
+            else _plan_file(session, source, regions))
+    return flash_ecu(session, plan, progress=progress)
+
+
+class FlashDialog(QDialog):
+    """Flash through ``session``; ``flashed(result)`` after a successful flash."""
+
+    flashed = Signal(object)  # workbench.flash.FlashResult
+    flash_failed = Signal(object)
+
+    def __init__(self, session, s19: Path | None = None, parent=None):
+        super().__init__(parent)
+        self.session = session
+        self.task: Task | None = None
+        self.plan = None
+        self.setWindowTitle("Flash")
+        self.resize(820, 460)
+        layout = QVBoxLayout(self)
+        row = QHBoxLayout()
+        row.addWidget(QLabel("file"))
+        self.path = QLineEdit(str(s19) if s19 else "")
+        self.path.setPlaceholderText("an s19 or Intel HEX file, or the working page")
+        self.path.editingFinished.connect(self.replan)
+        row.addWidget(self.path, 1)
+        browse = QPushButton("Browse…")
+        browse.clicked.connect(self._browse)
+        row.addWidget(browse)
+        working = QPushButton("Working page → CAL ROM")
+        working.setToolTip("flash the calibrations of the working page (CAL RAM) into CAL ROM, so they survive "
+                           "power-off")
+        working.clicked.connect(self._working_page)
+        row.addWidget(working)
+        layout.addLayout(row)
+        self.table = QTableWidget(0, 5)
+        self.table.setHorizontalHeaderLabels(["name", "start", "end", "size", "data file info"])
+        self.table.verticalHeader().hide()
+        self.table.setEditTriggers(QAbstractItemView.NoEditTriggers)
+        self.table.setSelectionMode(QAbstractItemView.NoSelection)
+        self.table.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeToContents)
+        self.table.horizontalHeader().setStretchLastSection(True)
+        self.table.itemChanged.connect(self._region_toggled)
+        layout.addWidget(self.table, 1)
+        self.progress = QProgressBar()
+        self.progress.setFormat("%p %")
+        layout.addWidget(self.progress)
+        self.progress_label = QLabel()
+        self.progress_label.setStyleSheet(f"color: {theme.MUTED};")
+        layout.addWidget(self.progress_label)
+        self.result = QPlainTextEdit()
+        self.result.setReadOnly(True)
+        self.result.setFont(theme.mono_font(9))
+        self.result.setMaximumHeight(110)
+        layout.addWidget(self.result)
+        buttons = QHBoxLayout()
+        buttons.addStretch(1)
+        self.flash_button = QPushButton("Flash")
+        self.flash_button.setDefault(True)
+        self.flash_button.clicked.connect(self.start)
+        self.cancel_button = QPushButton("Cancel flash")
+        self.cancel_button.setEnabled(False)
+        self.cancel_button.clicked.connect(self.cancel)
+        self.close_button = QPushButton("Close")
+        self.close_button.clicked.connect(self.reject)
+        for button in (self.flash_button, self.cancel_button, self.close_button):
+            buttons.addWidget(button)
+        layout.addLayout(buttons)
+        self._fill_regions()
+        if s19:
+            self.replan()
+
+    # --- the plan -------------------------------------------------------------------------------
+
+    def _fill_regions(self) -> None:
+        self.table.blockSignals(True)
+        regions = [r for r in _layout(self.session).regions]
+        self.table.setRowCount(len(regions))
+        for row, region in enumerate(regions):
+            name = QTableWidgetItem(region.name)
+            if region.selectable and not region.is_boot:
+                name.setFlags(name.flags() | Qt.ItemIsUserCheckable)
+                name.setCheckState(Qt.Checked if region.name.upper().startswith("CAL") else Qt.Unchecked)
+            else:
+                name.setFlags(name.flags() & ~Qt.ItemIsEnabled)
+                name.setToolTip("the boot loader is not flashed from here" if region.is_boot else "not a flash target")
+            self.table.setItem(row, 0, name)
+            for column, text in ((1, f"{region.start:06X}h"), (2, f"{region.end - 1:06X}h"), (3, f"{region.size:X}h"),
+                                 (4, "")):
+                item = QTableWidgetItem(text)
+                item.setFont(theme.mono_font(9))
+                self.table.setItem(row, column, item)
+        self.table.blockSignals(False)
+
+    def selected_regions(self) -> list[str]:
+        return [self.table.item(row, 0).text() for row in range(self.table.rowCount())
+                if self.table.item(row, 0).checkState() == Qt.Checked]
+
+    def select_regions(self, names) -> None:
+        wanted = {n.upper() for n in names}
+        self.table.blockSignals(True)
+        for row in range(self.table.rowCount()):
+            item = self.table.item(row, 0)
+            if item.flags() & Qt.ItemIsUserCheckable:
+                item.setCheckState(Qt.Checked if item.text().upper() in wanted else Qt.Unchecked)
+        self.table.blockSignals(False)
+        self.replan()
+
+    def _region_toggled(self, item) -> None:
+        if item.column() == 0:
+            self.replan()
+
+    def _browse(self) -> None:
+        path, _ = QFileDialog.getOpenFileName(self, "Flash image", self.path.text(),
+                                              "Flash images (*.s19 *.srec *.mot *.hex);;All files (*)")
+        if path:
+            self.path.setText(path)
+            self.replan()
+
+    def _working_page(self) -> None:
+        self.path.setText(WORKING_PAGE)
+        self.replan()
+
+    def replan(self) -> None:
+        """Show what the chosen file holds per region (read in a worker: a big image takes a moment)."""
+        source = self.path.text().strip()
+        for row in range(self.table.rowCount()):
+            self.table.item(row, 4).setText("")
+        self.plan = None
+        if not source or source == WORKING_PAGE:
+            self.result.setPlainText("flashes the working page (CAL RAM) into CAL ROM" if source else "")
+            return
+        regions = self.selected_regions()
+        if not regions:
+            self.result.setPlainText("choose a region")
+            return
+        task = Task(_plan_file, self.session, source, regions)
+        task.succeeded.connect(self._show_plan)
+        task.failed.connect(lambda exc: self.result.setPlainText(f"⚠ {exc}"))
+        task.start()
+
+    def _show_plan(self, plan) -> None:
+        self.plan = plan
+        infos = {r.region.name: r.describe() for r in plan.regions}
+        infos.update({name: f"{info} (not selected)" for name, info in plan.skipped})
+        for row in range(self.table.rowCount()):
+            self.table.item(row, 4).setText(infos.get(self.table.item(row, 0).text(), ""))
+        self.result.setPlainText(plan.describe())
+
+    # --- flashing -------------------------------------------------------------------------------
+
+    def start(self) -> Task | None:
+        source = self.path.text().strip()
+        if not source:
+            self.result.setPlainText("choose a file first")
+            return None
+        self.task = Task(_flash, self.session, source, self.selected_regions(), progress=True)
+        self.task.progress.changed.connect(self._progressed)
+        self.task.succeeded.connect(self._done)
+        self.task.failed.connect(self._failed)
+        self.task.finished.connect(self._finished)
+        self._busy(True)
+        self.result.setPlainText("flashing …")
+        return self.task.start()
+
+    def cancel(self) -> None:
+        if self.task is not None:
+            self.task.cancel()
+            self.progress_label.setText("cancelling at the next block …")
+
+    def _progressed(self, done: int, total: int, label: str) -> None:
+        self.progress.setMaximum(max(total, 1))
+        self.progress.setValue(done)
+        self.progress_label.setText(label)
+
+    def _done(self, result) -> None:
+        self.progress.setValue(self.progress.maximum())
+        self.result.setPlainText(result.describe())
+        self.flashed.emit(result)
+
+    def _failed(self, exc) -> None:
+        self.result.setPlainText(f"⚠ {exc}")
+        self.flash_failed.emit(exc)
+
+    def _finished(self) -> None:
+        self._busy(False)
+        self.task = None
+
+    def _busy(self, busy: bool) -> None:
+        self.flash_button.setEnabled(not busy)
+        self.cancel_button.setEnabled(busy)
+        self.close_button.setEnabled(not busy)
+        self.table.setEnabled(not busy)
+
+    def reject(self) -> None:
+        if self.task is None:  # never close while the ECU is half flashed
+            super().reject()

@@ -1,0 +1,446 @@
+"""The workbench window: variable browser, measurement windows, calibration editors, fix panel,
+numeric view and CAN trace around one ECU connection, as CANape's main window arranges them.
+
+The window holds no protocol logic: files are read by :mod:`workbench.gui.workspace` in a
+worker, the ECU is reached through the :class:`~workbench.gui.ecu.EcuController`, live samples
+flow through the :class:`~workbench.gui.signal_hub.SignalHub`.
+"""
+
+from __future__ import annotations
+
+import base64
+import logging
+from pathlib import Path
+
+from PySide6.QtCore import QByteArray, Qt, Signal
+from PySide6.QtGui import QAction, QActionGroup, QKeySequence
+from PySide6.QtWidgets import (
+    QDockWidget,
+    QFileDialog,
+    QLabel,
+    QMainWindow,
+    QSplitter,
+    QTabWidget,
+    QWidget,
+)
+
+from workbench.gui import theme
+from workbench.gui.a2l_info import calibration_info, measurement_info
+from workbench.gui.acquisition import DaqAcquisition
+from workbench.gui.ecu import Connected, EcuController
+from workbench.gui.project import PlotSpec, Project, recent_projects, remember_project, save_project
+from workbench.gui.signal_hub import SignalHub, SignalInfo
+from workbench.gui.widgets.calibration_editor import CalibrationEditor
+from workbench.gui.widgets.can_trace import CanTrace
+from workbench.gui.widgets.connection_dialog import ConnectionDialog
+from workbench.gui.widgets.epk_dialog import EpkChoice, EpkDialog
+from workbench.gui.widgets.errors import show_error
+from workbench.gui.widgets.fix_panel import FixPanel
+from workbench.gui.widgets.flash_dialog import FlashDialog
+from workbench.gui.widgets.numeric_view import NumericView
+from workbench.gui.widgets.plot_window import PlotWindow
+from workbench.gui.widgets.status_bar import EcuStatusBar
+from workbench.gui.widgets.sync_dialog import SyncDialog, SyncDifference
+from workbench.gui.widgets.variable_browser import VariableBrowser
+from workbench.gui.worker import run_task
+from workbench.gui.workspace import Workspace, load_workspace
+
+log = logging.getLogger(__name__)
+
+__all__ = ["MainWindow"]
+
+
+class MainWindow(QMainWindow):
+    loaded = Signal()  # the project's files are read and its windows open
+    live = Signal()  # every measurement window shows samples
+
+    def __init__(self, project: Project | None = None, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.project = project or Project()
+        self.workspace: Workspace | None = None
+        self.hub = SignalHub(self)
+        self.controller = EcuController(self)
+        self.plots: list[PlotWindow] = []
+        self.editors: dict[str, CalibrationEditor] = {}
+        self.epk_dialog: EpkDialog | None = None
+        self.flash_dialog: FlashDialog | None = None
+        self.errors: list = []  # the error dialogs shown (tests look at them)
+        self.resize(1600, 980)
+        self._build()
+        self.controller.connected.connect(self._connected)
+        self.controller.disconnected.connect(self._disconnected)
+        self.controller.failed.connect(self.show_error)
+        self.controller.page_changed.connect(self.status.show_page)
+        self.hub.failed.connect(self.show_error)
+        self._update_title()
+
+    # --- building -------------------------------------------------------------------------------
+
+    def _build(self) -> None:
+        self.setDockOptions(QMainWindow.AnimatedDocks | QMainWindow.AllowTabbedDocks)
+        self.setCorner(Qt.BottomLeftCorner, Qt.LeftDockWidgetArea)
+        self.setCorner(Qt.BottomRightCorner, Qt.RightDockWidgetArea)
+        self.plot_area = QSplitter(Qt.Vertical)
+        self.plot_area.setChildrenCollapsible(False)
+        self.setCentralWidget(self.plot_area)
+        self.browser = VariableBrowser()
+        self.browser.open_requested.connect(self.open_variable)
+        self.browser_dock = self._dock("Variables", self.browser, Qt.LeftDockWidgetArea)
+        self.editor_tabs = QTabWidget()
+        self.editor_tabs.setTabsClosable(True)
+        self.editor_tabs.tabCloseRequested.connect(self._close_editor)
+        self.editor_tabs.setDocumentMode(True)
+        placeholder = QLabel("Double-click a calibration in the variable browser to edit it.")
+        placeholder.setAlignment(Qt.AlignCenter)
+        placeholder.setStyleSheet(f"color: {theme.MUTED};")
+        self.editor_placeholder = placeholder
+        self.editor_tabs.addTab(placeholder, "Calibration")
+        self.editor_dock = self._dock("Calibration", self.editor_tabs, Qt.RightDockWidgetArea)
+        self.fix_panel = FixPanel(self.controller)
+        self.fix_panel.error.connect(self.show_error)
+        self.fix_dock = self._dock("Fix calibrations", self.fix_panel, Qt.RightDockWidgetArea)
+        self.numeric = NumericView(self.hub)
+        self.numeric_dock = self._dock("Numeric", self.numeric, Qt.BottomDockWidgetArea)
+        self.trace = CanTrace(self.hub)
+        self.trace_dock = self._dock("CAN trace", self.trace, Qt.BottomDockWidgetArea)
+        self.tabifyDockWidget(self.numeric_dock, self.trace_dock)
+        self.numeric_dock.raise_()
+        self.resizeDocks([self.browser_dock, self.editor_dock], [380, 520], Qt.Horizontal)
+        self.resizeDocks([self.editor_dock, self.fix_dock], [520, 330], Qt.Vertical)
+        self.resizeDocks([self.numeric_dock], [210], Qt.Vertical)
+        self.status = EcuStatusBar(self.hub)
+        self.setStatusBar(self.status)
+        self._actions()
+
+    def _dock(self, title: str, widget: QWidget, area) -> QDockWidget:
+        dock = QDockWidget(title, self)
+        dock.setObjectName(title.replace(" ", "_").lower())
+        dock.setWidget(widget)
+        dock.setFeatures(QDockWidget.DockWidgetMovable | QDockWidget.DockWidgetFloatable
+                         | QDockWidget.DockWidgetClosable)
+        self.addDockWidget(area, dock)
+        return dock
+
+    def _action(self, text: str, slot, tip: str = "", shortcut=None, checkable: bool = False) -> QAction:
+        action = QAction(text, self)
+        action.setToolTip(tip or text)
+        action.setStatusTip(tip)
+        action.setCheckable(checkable)
+        if shortcut is not None:
+            action.setShortcut(shortcut)
+        action.triggered.connect(slot)
+        return action
+
+    def _actions(self) -> None:
+        self.connect_action = self._action("Connect", lambda: self.connect_ecu(), "connect to the ECU", "Ctrl+K")
+        self.disconnect_action = self._action("Disconnect", lambda: self.controller.close(), "disconnect")
+        self.disconnect_action.setEnabled(False)
+        pages = QActionGroup(self)
+        self.working_action = self._action("Working page", lambda: self.controller.set_page("working"),
+                                           "the ECU and XCP use the working page (CAL RAM, writable)", checkable=True)
+        self.reference_action = self._action("Reference page", lambda: self.controller.set_page("reference"),
+                                             "the ECU and XCP use the reference page (CAL ROM, the flashed values)",
+                                             checkable=True)
+        for action in (self.working_action, self.reference_action):
+            pages.addAction(action)
+            action.setEnabled(False)
+        self.working_action.setChecked(True)
+        self.plot_action = self._action("New plot", lambda: self.add_plot(PlotSpec("Measurement")),
+                                        "a new measurement window (drop signals on it)", "Ctrl+P")
+        self.flash_action = self._action("Flash…", self.open_flash_dialog, "flash CALIB/APPLICATIVE from an s19, "
+                                         "or the working page into CAL ROM")
+        self.flash_action.setEnabled(False)
+        self.record_action = self._action("Record", lambda: None,
+                                          "MDF4 recording is not available yet (it comes with workbench.record)")
+        self.record_action.setEnabled(False)
+        self.open_action = self._action("Open…", self.open_project_dialog, "open a project file", QKeySequence.Open)
+        self.save_action = self._action("Save", self.save, "save the project", QKeySequence.Save)
+        self.save_as_action = self._action("Save as…", self.save_as, "save the project under a new name",
+                                           QKeySequence.SaveAs)
+        self.settings_action = self._action("Connection…", self.edit_connection, "connection settings")
+        toolbar = self.addToolBar("main")
+        toolbar.setObjectName("main_toolbar")
+        toolbar.setMovable(False)
+        for item in (self.connect_action, self.disconnect_action, None, self.working_action, self.reference_action,
+                     None, self.plot_action, None, self.flash_action, self.record_action):
+            toolbar.addSeparator() if item is None else toolbar.addAction(item)
+        menu = self.menuBar()
+        file_menu = menu.addMenu("&File")
+        for action in (self.open_action, self.save_action, self.save_as_action):
+            file_menu.addAction(action)
+        self.recent_menu = file_menu.addMenu("Recent projects")
+        self.recent_menu.aboutToShow.connect(self._fill_recent)
+        file_menu.addSeparator()
+        file_menu.addAction(self._action("Quit", self.close, "", QKeySequence.Quit))
+        ecu_menu = menu.addMenu("&ECU")
+        for action in (self.settings_action, self.connect_action, self.disconnect_action, self.working_action,
+                       self.reference_action, self.flash_action, self.record_action):
+            ecu_menu.addAction(action)
+        self.copy_action = self._action("Copy reference → working", self._copy_reference,
+                                        "start the working page over from the flashed values")
+        self.copy_action.setEnabled(False)
+        ecu_menu.addAction(self.copy_action)
+        view_menu = menu.addMenu("&View")
+        view_menu.addAction(self.plot_action)
+        for dock in (self.browser_dock, self.editor_dock, self.fix_dock, self.numeric_dock, self.trace_dock):
+            view_menu.addAction(dock.toggleViewAction())
+
+    def _fill_recent(self) -> None:
+        self.recent_menu.clear()
+        for path in recent_projects():
+            self.recent_menu.addAction(str(path), lambda p=path: self.open_project_file(p))
+        if self.recent_menu.isEmpty():
+            self.recent_menu.addAction("(none)").setEnabled(False)
+
+    def _update_title(self) -> None:
+        ecu = self.controller.info.identification if self.controller.info else "offline"
+        self.setWindowTitle(f"{self.project.name} — {ecu} — workbench")
+
+    # --- project --------------------------------------------------------------------------------
+
+    def load(self, project: Project | None = None):
+        """Read the project's files (in a worker), then open its windows; ``loaded`` follows."""
+        if project is not None:
+            self.project = project
+        return run_task(load_workspace, self.project, on_done=self._workspace_loaded, on_error=self.show_error)
+
+    def _workspace_loaded(self, workspace: Workspace) -> None:
+        self.workspace = workspace
+        model = workspace.model
+        self.hub.set_resolver(lambda name: measurement_info(model, name))
+        self.hub.add_signals(SignalInfo(s.name, "CAN2", s.unit, s.comment, s.minimum, s.maximum)
+                             for s in workspace.dbc_signals())
+        self.browser.set_variables(workspace.variables)
+        self._open_windows()
+        self._update_title()
+        self.loaded.emit()
+
+    def _open_windows(self) -> None:
+        for plot in list(self.plots):
+            self._remove_plot(plot)
+        for spec in self.project.plots:
+            self.add_plot(spec)
+        self.numeric.remove_signals(self.numeric.signals)
+        for signals in self.project.tables[:1]:
+            self.numeric.add_signals([n for n in signals if self.hub.known(n)])
+        for name in self.project.editors:
+            self.open_editor(name)
+        if self.project.layout:
+            self.restoreState(QByteArray(base64.b64decode(self.project.layout)))
+
+    def open_project_dialog(self) -> None:
+        path, _ = QFileDialog.getOpenFileName(self, "Open project", "", "Projects (*.toml *.json);;All files (*)")
+        if path:
+            self.open_project_file(Path(path))
+
+    def open_project_file(self, path: Path) -> None:
+        from workbench.gui.project import load_project
+
+        try:
+            project = load_project(path)
+        except Exception as exc:  # noqa: BLE001 - every failure is a dialog
+            self.show_error(exc)
+            return
+        remember_project(path)
+        self.controller.close()
+        self.load(project)
+
+    def current_project(self) -> Project:
+        """The project as the window shows it now (windows, signals, layout)."""
+        project = self.project
+        project.plots = [PlotSpec(p.title, p.signals, p.span_s) for p in self.plots]
+        project.tables = [self.numeric.signals] if self.numeric.signals else []
+        project.editors = list(self.editors)
+        project.layout = base64.b64encode(bytes(self.saveState())).decode("ascii")
+        return project
+
+    def save(self) -> None:
+        if self.project.path is None:
+            self.save_as()
+            return
+        self.save_to(self.project.path)
+
+    def save_as(self) -> None:
+        path, _ = QFileDialog.getSaveFileName(self, "Save project", f"{self.project.name}.toml",
+                                              "TOML project (*.toml);;JSON project (*.json)")
+        if path:
+            self.save_to(Path(path))
+
+    def save_to(self, path: Path) -> None:
+        try:
+            save_project(self.current_project(), path)
+        except Exception as exc:  # noqa: BLE001
+            self.show_error(exc)
+            return
+        remember_project(path)
+        self._update_title()
+
+    # --- windows --------------------------------------------------------------------------------
+
+    def add_plot(self, spec: PlotSpec) -> PlotWindow:
+        plot = PlotWindow(self.hub, spec.title, spec.span_s)
+        plot.add_signals([n for n in spec.signals if self.hub.known(n)])
+        plot.samples_arrived.connect(self._check_live)
+        self.plot_area.addWidget(plot)
+        self.plots.append(plot)
+        return plot
+
+    def _remove_plot(self, plot: PlotWindow) -> None:
+        self.plots.remove(plot)
+        plot.setParent(None)
+        plot.deleteLater()
+
+    def _check_live(self) -> None:
+        if all(p.samples_shown() or not p.signals for p in self.plots):
+            self.live.emit()
+
+    def open_variable(self, variable) -> None:
+        """A double-click in the browser: an editor for a calibration, the first plot for a signal."""
+        if variable is None:
+            return
+        if variable.editable:
+            self.open_editor(variable.name)
+        elif variable.plottable:
+            plot = self.plots[0] if self.plots else self.add_plot(PlotSpec("Measurement"))
+            plot.add_signals([variable.name])
+
+    def open_editor(self, name: str) -> CalibrationEditor | None:
+        if name in self.editors:
+            self.editor_tabs.setCurrentWidget(self.editors[name])
+            return self.editors[name]
+        if self.workspace is None:
+            return None
+        try:
+            info = calibration_info(self.workspace.model, name)
+        except Exception as exc:  # noqa: BLE001
+            self.show_error(exc)
+            return None
+        editor = CalibrationEditor(self.controller, info)
+        editor.error.connect(self.show_error)
+        self.editors[name] = editor
+        if self.editor_tabs.indexOf(self.editor_placeholder) >= 0:
+            self.editor_tabs.removeTab(self.editor_tabs.indexOf(self.editor_placeholder))
+        self.editor_tabs.addTab(editor, name)
+        self.editor_tabs.setCurrentWidget(editor)
+        if self.controller.is_connected:
+            editor.reload()
+        return editor
+
+    def _close_editor(self, index: int) -> None:
+        widget = self.editor_tabs.widget(index)
+        if isinstance(widget, CalibrationEditor):
+            self.editors.pop(widget.info.name, None)
+            self.editor_tabs.removeTab(index)
+            widget.deleteLater()
+
+    # --- connection -----------------------------------------------------------------------------
+
+    def edit_connection(self) -> None:
+        dialog = ConnectionDialog(self.project.connection, self.workspace.config if self.workspace else None, self)
+        if dialog.exec():
+            self.project.connection = dialog.connection()
+
+    def connect_ecu(self, accept_epk_mismatch: bool = False):
+        self.connect_action.setEnabled(False)
+        self.status.link.setText("connecting …")
+        a2l = self.workspace.doc if self.workspace is not None else self.project.a2l  # read once, not again
+        task = self.controller.open(a2l, self.project.connection, accept_epk_mismatch)
+        task.failed.connect(lambda _: self.connect_action.setEnabled(True))
+        return task
+
+    def _connected(self, result: Connected) -> None:
+        session, info = result.session, result.info
+        self.status.show_connected(session, info)
+        self.disconnect_action.setEnabled(True)
+        self.flash_action.setEnabled(True)
+        writable = not info.boot and not session.read_only
+        for action in (self.working_action, self.reference_action):
+            action.setEnabled(bool(info.pages))
+        self.copy_action.setEnabled(writable and bool(info.pages))
+        self._update_title()
+        if session.epk.matches is False and session.read_only:
+            self.epk_dialog = EpkDialog(self.workspace.doc.name if self.workspace else "A2L",
+                                        info.identification, session.epk.a2l or "", session.epk.ecu or "", self)
+            self.epk_dialog.finished.connect(self._epk_chosen)
+            self.epk_dialog.open()
+            return
+        self._start_measuring()
+
+    def _epk_chosen(self, _result: int) -> None:
+        choice = self.epk_dialog.choice
+        if choice is EpkChoice.DISCONNECT:
+            self.controller.close()
+        elif choice is EpkChoice.FLASH:
+            self.open_flash_dialog(regions=["CALIB", "APPLICATIVE"])
+        else:
+            self._start_measuring()
+
+    def _start_measuring(self) -> None:
+        session = self.controller.session
+        if session is None or self.controller.info.boot:
+            return
+        from workbench.gui.can_monitor import CanMonitor
+
+        monitor = None
+        settings = session.link.settings
+        if settings.transport == "CAN" and self.workspace is not None and self.workspace.dbcs:
+            bitrate = settings.bus.get("bitrate") or (session.config.can.baudrate if session.config.can else None)
+            try:
+                monitor = CanMonitor(dict(settings.bus), [d.database for d in self.workspace.dbcs], self.hub.sink,
+                                     self.hub.origin, bitrate)
+            except Exception as exc:  # noqa: BLE001 - XCP goes on without the CAN2 view
+                self.show_error(exc)
+        self.hub.attach(DaqAcquisition(session, self.hub.sink, self.hub.origin, self), monitor)
+
+    def _disconnected(self) -> None:
+        self.hub.detach()
+        self.status.show_disconnected()
+        self.connect_action.setEnabled(True)
+        for action in (self.disconnect_action, self.flash_action, self.working_action, self.reference_action,
+                       self.copy_action):
+            action.setEnabled(False)
+        self._update_title()
+
+    def _copy_reference(self) -> None:
+        self.controller.call("copy_reference_to_working",
+                             on_done=lambda _: [e.reload() for e in self.editors.values()])
+
+    # --- flash and cache sync -------------------------------------------------------------------
+
+    def open_flash_dialog(self, regions=None) -> FlashDialog | None:
+        session = self.controller.session
+        if session is None:
+            return None
+        self.hub.detach()  # the ECU flashes with no DAQ running
+        self.flash_dialog = FlashDialog(session, self.project.s19, self)
+        if regions:
+            self.flash_dialog.select_regions(regions)
+        self.flash_dialog.flashed.connect(self._flashed)
+        self.flash_dialog.finished.connect(lambda _: self._start_measuring())
+        self.flash_dialog.open()
+        return self.flash_dialog
+
+    def _flashed(self, result) -> None:
+        session = self.controller.session
+        if session is not None:
+            self.status.show_connected(session, self.controller.info)
+        for editor in self.editors.values():
+            editor.reload()
+
+    def open_sync_dialog(self, reference_name: str, differences: list[SyncDifference]) -> SyncDialog:
+        """Ask how to synchronise the ECU with ``reference_name`` (thesis figure 39); the caller acts on
+        the dialog's ``choice`` when it is accepted."""
+        ecu = self.controller.info.identification if self.controller.info else "ECU"
+        dialog = SyncDialog(ecu, reference_name, differences, self)
+        dialog.open()
+        return dialog
+
+    # --- errors and closing ---------------------------------------------------------------------
+
+    def show_error(self, exc: BaseException) -> None:
+        self.errors.append(show_error(self, exc))
+
+    def closeEvent(self, event) -> None:
+        self.hub.detach()
+        self.controller.close()
+        super().closeEvent(event)

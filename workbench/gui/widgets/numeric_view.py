@@ -1,0 +1,101 @@
+"""A numeric view: signals as a table of live values with units (CANape's "numeric window")."""
+
+from __future__ import annotations
+
+from PySide6.QtCore import Qt, QTimer, Signal
+from PySide6.QtGui import QColor
+from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QTableWidget, QTableWidgetItem
+
+from workbench.gui import theme
+from workbench.gui.mime import names_from_mime
+from workbench.gui.signal_hub import SignalHub
+
+__all__ = ["NumericView"]
+
+REFRESH_MS = 100
+
+
+class NumericView(QTableWidget):
+    signals_changed = Signal(list)
+
+    def __init__(self, hub: SignalHub, parent=None):
+        super().__init__(0, 4, parent)
+        self.hub = hub
+        self._names: list[str] = []
+        self.setHorizontalHeaderLabels(["signal", "value", "unit", "source"])
+        self.verticalHeader().hide()
+        self.verticalHeader().setDefaultSectionSize(22)
+        self.setShowGrid(False)
+        self.setAlternatingRowColors(True)
+        self.setEditTriggers(QAbstractItemView.NoEditTriggers)
+        self.setSelectionBehavior(QAbstractItemView.SelectRows)
+        self.setAcceptDrops(True)
+        self.viewport().setAcceptDrops(True)
+        self.setDragDropMode(QAbstractItemView.DropOnly)
+        header = self.horizontalHeader()
+        header.setSectionResizeMode(QHeaderView.ResizeToContents)
+        header.setSectionResizeMode(0, QHeaderView.Stretch)
+        self.timer = QTimer(self)
+        self.timer.setInterval(REFRESH_MS)
+        self.timer.timeout.connect(self.refresh)
+        self.timer.start()
+
+    @property
+    def signals(self) -> list[str]:
+        return list(self._names)
+
+    def add_signals(self, names) -> None:
+        for name in names:
+            if name in self._names:
+                continue
+            info = self.hub.info(name)
+            row = self.rowCount()
+            self.insertRow(row)
+            item = QTableWidgetItem(name)
+            item.setToolTip(info.description or name)
+            self.setItem(row, 0, item)
+            value = QTableWidgetItem("—")
+            value.setFont(theme.mono_font(11))
+            value.setTextAlignment(Qt.AlignRight | Qt.AlignVCenter)
+            self.setItem(row, 1, value)
+            for column, text in ((2, info.unit), (3, info.source)):
+                cell = QTableWidgetItem(text)
+                cell.setForeground(QColor(theme.MUTED))
+                self.setItem(row, column, cell)
+            self._names.append(name)
+        self.hub.show(self, self._names)
+        self.signals_changed.emit(self.signals)
+
+    def remove_signals(self, names) -> None:
+        for name in names:
+            if name in self._names:
+                self.removeRow(self._names.index(name))
+                self._names.remove(name)
+        self.hub.show(self, self._names)
+        self.signals_changed.emit(self.signals)
+
+    def refresh(self) -> None:
+        if not self.isVisible():
+            return
+        for row, name in enumerate(self._names):
+            last = self.hub.buffer(name).last()
+            self.item(row, 1).setText(self.hub.info(name).format(None if last is None else last[1]))
+
+    def keyPressEvent(self, event) -> None:
+        if event.key() in (Qt.Key_Delete, Qt.Key_Backspace):
+            self.remove_signals([self._names[i.row()] for i in self.selectionModel().selectedRows()])
+            return
+        super().keyPressEvent(event)
+
+    def dragEnterEvent(self, event) -> None:
+        if names_from_mime(event.mimeData()):
+            event.acceptProposedAction()
+
+    def dragMoveEvent(self, event) -> None:
+        event.acceptProposedAction()
+
+    def dropEvent(self, event) -> None:
+        names = [n for n in names_from_mime(event.mimeData()) if self.hub.known(n)]
+        if names:
+            self.add_signals(names)
+            event.acceptProposedAction()

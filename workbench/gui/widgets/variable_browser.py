@@ -1,0 +1,101 @@
+"""The variable browser: search and filter every A2L object and CAN2 signal, drag them to views,
+double-click to open the fitting view (a calibration editor, or a plot for a signal)."""
+
+from __future__ import annotations
+
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtWidgets import (
+    QAbstractItemView,
+    QComboBox,
+    QGridLayout,
+    QHeaderView,
+    QLabel,
+    QLineEdit,
+    QTableView,
+    QVBoxLayout,
+    QWidget,
+)
+
+from workbench.gui import theme
+from workbench.gui.models.variables import ALL, KIND_LABELS, Variable, VariableFilter, VariableModel
+
+__all__ = ["VariableBrowser"]
+
+
+class VariableBrowser(QWidget):
+    open_requested = Signal(object)  # the Variable double-clicked (or Enter)
+
+    def __init__(self, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.model = VariableModel(self)
+        self.proxy = VariableFilter(self)
+        self.proxy.setSourceModel(self.model)
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(4, 4, 4, 4)
+        self.search = QLineEdit()
+        self.search.setPlaceholderText("search names and descriptions (words, or a glob: xs*THR)")
+        self.search.setClearButtonEnabled(True)
+        self.search.textChanged.connect(lambda text: self.proxy.set_filters(search=text))
+        layout.addWidget(self.search)
+        filters = QGridLayout()
+        self.kind_box, self.function_box, self.unit_box = QComboBox(), QComboBox(), QComboBox()
+        for column, (label, box, key) in enumerate((("kind", self.kind_box, "kind"),
+                                                    ("function", self.function_box, "function"),
+                                                    ("unit", self.unit_box, "unit"))):
+            caption = QLabel(label)
+            caption.setStyleSheet(f"color: {theme.MUTED};")
+            filters.addWidget(caption, 0, column)
+            filters.addWidget(box, 1, column)
+            box.currentIndexChanged.connect(lambda _, b=box, k=key: self.proxy.set_filters(**{k: b.currentData()}))
+        layout.addLayout(filters)
+        self.table = QTableView()
+        self.table.setModel(self.proxy)
+        self.table.setSortingEnabled(True)
+        self.table.sortByColumn(0, Qt.AscendingOrder)
+        self.table.setSelectionBehavior(QAbstractItemView.SelectRows)
+        self.table.setDragEnabled(True)
+        self.table.setDragDropMode(QAbstractItemView.DragOnly)
+        self.table.setAlternatingRowColors(True)
+        self.table.setShowGrid(False)
+        self.table.verticalHeader().hide()
+        self.table.verticalHeader().setDefaultSectionSize(22)
+        self.table.horizontalHeader().setSectionResizeMode(QHeaderView.Interactive)
+        self.table.horizontalHeader().setStretchLastSection(True)
+        self.table.doubleClicked.connect(lambda index: self.open_requested.emit(index.data(Qt.UserRole)))
+        layout.addWidget(self.table, 1)
+        self.count = QLabel()
+        self.count.setStyleSheet(f"color: {theme.MUTED};")
+        layout.addWidget(self.count)
+        self.proxy.rowsInserted.connect(self._count)
+        self.proxy.rowsRemoved.connect(self._count)
+        self.proxy.modelReset.connect(self._count)
+        self.proxy.layoutChanged.connect(self._count)
+
+    def set_variables(self, rows: list[Variable]) -> None:
+        self.model.set_variables(rows)
+        self._fill(self.kind_box, sorted({r.kind for r in rows}), "every kind", KIND_LABELS)
+        self._fill(self.function_box, sorted({f for r in rows for f in r.functions}), "every function")
+        self._fill(self.unit_box, sorted({r.unit for r in rows if r.unit}), "every unit")
+        for column, width in enumerate((190, 90, 70, 50, 110)):
+            self.table.setColumnWidth(column, width)
+        self._count()
+
+    def _fill(self, box: QComboBox, values: list[str], everything: str, labels: dict | None = None) -> None:
+        box.blockSignals(True)
+        box.clear()
+        box.addItem(everything, ALL)
+        for value in values:
+            box.addItem((labels or {}).get(value, value), value)
+        box.blockSignals(False)
+        self.proxy.set_filters(kind=ALL if box is self.kind_box else None,
+                               function=ALL if box is self.function_box else None,
+                               unit=ALL if box is self.unit_box else None)
+
+    def variable(self, name: str) -> Variable | None:
+        for row in self.model.rows:
+            if row.name == name:
+                return row
+        return None
+
+    def _count(self, *_) -> None:
+        self.count.setText(f"{self.proxy.rowCount()} of {self.model.rowCount()} objects")

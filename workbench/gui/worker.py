@@ -1,0 +1,104 @@
+"""Plain library functions run off the GUI thread, with progress and cancel.
+
+A :class:`Task` calls one function in Qt's thread pool and reports back through signals, which
+Qt delivers in the GUI thread: the window never waits for the ECU, and nothing polls
+(no ``processEvents``, no ``sleep``). A task made with ``progress=True`` hands the function a
+:class:`QtProgress` as its ``progress`` keyword: the library reports to it through the toolkit-free
+:class:`workbench.progress.Progress` protocol, and :meth:`Task.cancel` makes the library raise
+:class:`~workbench.errors.Cancelled` at its next check point.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+from collections.abc import Callable
+from typing import Any
+
+from PySide6.QtCore import QObject, QRunnable, QThreadPool, Signal
+
+log = logging.getLogger(__name__)
+
+__all__ = ["QtProgress", "Task", "run_task"]
+
+
+class QtProgress(QObject):
+    """A :class:`workbench.progress.Progress` whose reports become a Qt signal (any thread may report)."""
+
+    changed = Signal(int, int, str)  # done, total, label
+
+    def __init__(self, parent: QObject | None = None):
+        super().__init__(parent)
+        self._cancel = threading.Event()
+
+    def update(self, done: int, total: int, label: str = "") -> None:
+        self.changed.emit(int(done), int(total), label)
+
+    @property
+    def cancelled(self) -> bool:
+        return self._cancel.is_set()
+
+    def cancel(self) -> None:
+        self._cancel.set()
+
+
+class Task(QObject):
+    """One call of ``function(*args, **kwargs)`` in the thread pool.
+
+    Exactly one of ``succeeded(result)`` and ``failed(exception)`` is emitted, then ``finished``.
+    """
+
+    succeeded = Signal(object)
+    failed = Signal(object)
+    finished = Signal()
+
+    _running: set[Task] = set()  # keeps a task (and its signals) alive until it finished
+
+    def __init__(self, function: Callable[..., Any], *args, progress: bool = False, **kwargs):
+        super().__init__()
+        self.function, self.args, self.kwargs = function, args, kwargs
+        self.progress = QtProgress() if progress else None
+        if self.progress is not None:
+            self.kwargs["progress"] = self.progress
+        self.finished.connect(lambda: Task._running.discard(self))
+
+    def start(self, pool: QThreadPool | None = None) -> Task:
+        Task._running.add(self)
+        (pool or QThreadPool.globalInstance()).start(_Runnable(self))
+        return self
+
+    def cancel(self) -> None:
+        if self.progress is not None:
+            self.progress.cancel()
+
+    def run(self) -> None:
+        """The body, in a pool thread."""
+        try:
+            result = self.function(*self.args, **self.kwargs)
+        except Exception as exc:  # noqa: BLE001 - every error goes to the GUI as a dialog, none kills the pool
+            log.debug("task %s failed", getattr(self.function, "__name__", self.function), exc_info=True)
+            self.failed.emit(exc)
+        else:
+            self.succeeded.emit(result)
+        finally:
+            self.finished.emit()
+
+
+class _Runnable(QRunnable):
+    def __init__(self, task: Task):
+        super().__init__()
+        self.task = task
+
+    def run(self) -> None:
+        self.task.run()
+
+
+def run_task(function: Callable[..., Any], *args, on_done: Callable[[Any], None] | None = None,
+             on_error: Callable[[BaseException], None] | None = None, progress: bool = False, **kwargs) -> Task:
+    """Start ``function(*args, **kwargs)`` in the pool; ``on_done(result)``/``on_error(exc)`` run in the GUI thread."""
+    task = Task(function, *args, progress=progress, **kwargs)
+    if on_done is not None:
+        task.succeeded.connect(on_done)
+    if on_error is not None:
+        task.failed.connect(on_error)
+    return task.start()

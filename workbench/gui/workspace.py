@@ -1,0 +1,46 @@
+"""A project's files read before any ECU is there: the A2L (document, typed model, XCP settings),
+the DBCs, and the variable browser's rows. Plain Python, run in a worker when a project opens."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from workbench.gui.models.variables import Variable, variables_of_a2l, variables_of_dbc
+from workbench.gui.project import Project
+
+__all__ = ["Workspace", "load_workspace"]
+
+
+@dataclass
+class Workspace:
+    project: Project
+    doc: Any = None  # A2lDocument
+    model: Any = None  # A2lModel
+    config: Any = None  # XcpConfig
+    dbcs: list = field(default_factory=list)  # DbcFile
+    variables: list[Variable] = field(default_factory=list)
+
+    def dbc_signals(self):
+        """Every signal of the DBCs as the CAN monitor names them (``Message.Signal``)."""
+        from workbench.gui.can_monitor import dbc_signals
+
+        return dbc_signals(dbc.database for dbc in self.dbcs)
+
+
+def load_workspace(project: Project) -> Workspace:
+    """Read the project's A2L and DBCs.
+
+    :raises InputError: a file that is missing or cannot be read (the message names it and where).
+    """
+    from workbench import demo
+    from workbench.a2l import load_a2l, read_xcp_config
+    from workbench.can import load_dbc
+
+    workspace = Workspace(project)
+    workspace.doc = load_a2l(project.a2l or demo.a2l())
+    workspace.model = workspace.doc.model()
+    workspace.config = read_xcp_config(workspace.doc)
+    workspace.dbcs = [load_dbc(path) for path in project.dbcs]
+    workspace.variables = variables_of_a2l(workspace.model) + variables_of_dbc(workspace.dbc_signals())
+    return workspace
