@@ -117,15 +117,14 @@ class SignalHub(QObject):
     # --- what is measured -----------------------------------------------------------------------
 
     def show(self, view: QObject, names) -> None:
-        """``view`` shows ``names`` from now on (replacing what it showed)."""
-        key = id(view)
-        if key not in self._shown:
-            view.destroyed.connect(lambda *_: self.hide(key))
-        self._shown[key] = set(names)
+        """``view`` shows ``names`` from now on (replacing what it showed); a view that goes away
+        calls :meth:`hide` (no ``destroyed`` hook: it may fire while Python shuts down)."""
+        self._shown[id(view)] = set(names)
         self._update_measurement()
 
-    def hide(self, key: int) -> None:
-        self._shown.pop(key, None)
+    def hide(self, view: QObject) -> None:
+        """``view`` shows nothing any more."""
+        self._shown.pop(id(view), None)
         self._update_measurement()
 
     def shown(self) -> set[str]:

@@ -133,6 +133,9 @@ class VariableFilter(QSortFilterProxyModel):
 
     def set_filters(self, *, search: str | None = None, kind: str | None = None, function: str | None = None,
                     unit: str | None = None) -> None:
+        changing = hasattr(self, "beginFilterChange")  # Qt 6.10 (invalidateFilter is deprecated there)
+        if changing:
+            self.beginFilterChange()
         if search is not None:
             self.search = search.strip()
             self._pattern = (re.compile(fnmatch.translate(self.search), re.IGNORECASE)
@@ -143,7 +146,10 @@ class VariableFilter(QSortFilterProxyModel):
             self.function = function
         if unit is not None:
             self.unit = unit
-        self.invalidateFilter()
+        if changing:
+            self.endFilterChange(QSortFilterProxyModel.Direction.Rows)
+        else:
+            self.invalidateFilter()
 
     def filterAcceptsRow(self, source_row, source_parent) -> bool:
         row: Variable = self.sourceModel().rows[source_row]

@@ -1,0 +1,74 @@
+"""The measurement window on synthetic samples (no ECU): curves, axes per unit, cursor, drops."""
+
+import numpy as np
+import pytest
+from PySide6.QtCore import QPointF, Qt
+from PySide6.QtGui import QDropEvent
+
+from workbench.gui.mime import signals_mime
+from workbench.gui.signal_hub import SignalHub, SignalInfo
+from workbench.gui.widgets.plot_window import PlotWindow
+
+
+@pytest.fixture
+def hub():
+    hub = SignalHub()
+    hub.add_signals([SignalInfo("rail", "XCP", "bar", decimals=2), SignalInfo("target", "CAN2", "bar"),
+                     SignalInfo("duty", "XCP", "%"),
+                     SignalInfo("state", "XCP", "", states=((0.0, "OFF"), (1.0, "TANK1_ON")))])
+    t = np.linspace(0.0, 20.0, 2001)
+    hub.sink("rail", t, 25 * (1 - np.exp(-t)))
+    hub.sink("target", t[::10], np.full(201, 25.0))
+    hub.sink("duty", t, 40 + np.sin(t))
+    hub.sink("state", t, (t > 5).astype(float))
+    return hub
+
+
+@pytest.fixture
+def plot(qtbot, hub):
+    window = PlotWindow(hub, "Rail", span_s=10.0)
+    qtbot.addWidget(window)
+    window.show()
+    return window
+
+
+def test_signals_of_one_unit_share_an_axis_and_the_view_follows_the_newest_sample(plot):
+    plot.add_signals(["rail", "target", "duty"])
+    assert [axis.unit for axis in plot._axes] == ["bar", "%"]
+    plot.refresh()
+    (x0, x1), _ = plot.plot.vb.viewRange()
+    assert (x0, x1) == pytest.approx((10.0, 20.0))
+    assert 1001 + 101 + 1001 <= plot.samples_shown() <= 1001 + 101 + 1001 + 6  # the visible 10 s (and edge samples)
+    assert plot.legend.item(0, 1).text() == "25.00"  # the A2L's decimals
+
+
+def test_the_first_samples_on_screen_are_announced_once(plot, qtbot):
+    with qtbot.waitSignal(plot.samples_arrived, timeout=2000):
+        plot.add_signals(["rail"])
+    assert plot.samples_shown()
+
+
+def test_the_cursor_stops_following_and_shows_each_value_at_its_time(plot):
+    plot.add_signals(["rail", "state"])
+    plot.refresh()
+    plot.cursor_button.setChecked(True)
+    assert not plot.following and not plot.follow_button.isChecked()
+    plot.cursor.setPos(7.0)
+    assert float(plot.legend.item(0, 1).text()) == pytest.approx(25 * (1 - np.exp(-7.0)), abs=0.01)
+    assert plot.legend.item(1, 1).text() == "TANK1_ON"  # a verbal value by its name
+    plot.follow_button.setChecked(True)
+    assert plot.following and not plot.cursor_button.isChecked()
+
+
+def test_removing_the_last_signal_of_a_unit_drops_its_axis(plot, hub):
+    plot.add_signals(["rail", "duty"])
+    plot.remove_signals(["duty"])
+    assert [axis.unit for axis in plot._axes] == ["bar"] and plot.signals == ["rail"]
+    assert hub.shown() == {"rail"}
+
+
+def test_dropping_names_adds_the_known_ones(plot):
+    mime = signals_mime(["duty", "no_such_signal"])
+    event = QDropEvent(QPointF(10, 10), Qt.CopyAction, mime, Qt.LeftButton, Qt.NoModifier)
+    plot.dropEvent(event)
+    assert plot.signals == ["duty"]
