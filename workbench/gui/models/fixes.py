@@ -56,9 +56,9 @@ class FixModel(QAbstractTableModel):
         column = COLUMNS[index.column()]
         if role == Qt.DisplayRole:
             return {"signal": fix.pair.signal, "kind": fix.pair.kind, "live": format_value(fix.live),
-                    "override": format_value(fix.value), "on": "ON" if fix.active else "off"}[column]
+                    "override": format_value(fix.override), "on": "ON" if fix.active else "off"}[column]
         if role == Qt.EditRole and column == "override":
-            return fix.value
+            return fix.override
         if role == Qt.CheckStateRole and column == "on":
             return Qt.Checked if fix.active else Qt.Unchecked
         if role == Qt.ForegroundRole:
@@ -87,7 +87,7 @@ class FixModel(QAbstractTableModel):
         fix = self.rows[index.row()]
         if index.column() == ON and role == Qt.CheckStateRole:
             if Qt.CheckState(value) == Qt.Checked:
-                self.override_requested.emit(fix, float(fix.value or 0.0))
+                self.override_requested.emit(fix, float(fix.override or 0.0))
             else:
                 self.release_requested.emit(fix)
             return True

@@ -125,15 +125,18 @@ class PlotWindow(QWidget):
         self.legend.setSelectionBehavior(QAbstractItemView.SelectRows)
         self.legend.setEditTriggers(QAbstractItemView.NoEditTriggers)
         self.legend.setShowGrid(False)
+        self.legend.setTextElideMode(Qt.ElideMiddle)
+        self.legend.verticalHeader().setDefaultSectionSize(22)
         header = self.legend.horizontalHeader()
         header.setSectionResizeMode(0, QHeaderView.Stretch)
         header.setSectionResizeMode(1, QHeaderView.ResizeToContents)
         header.setSectionResizeMode(2, QHeaderView.ResizeToContents)
-        self.legend.setMinimumWidth(220)
+        self.legend.setMinimumWidth(200)
         self.legend.setToolTip("Del removes the selected signals; drop names here or on the plot to add them")
         splitter.addWidget(self.legend)
-        splitter.setStretchFactor(0, 4)
-        splitter.setStretchFactor(1, 1)
+        splitter.setStretchFactor(0, 1)
+        splitter.setStretchFactor(1, 0)
+        splitter.setSizes([700, 300])
         layout.addWidget(splitter, 1)
 
     def _tool(self, text: str, tip: str, *, checkable: bool = False, checked: bool = False) -> QToolButton:
@@ -309,8 +312,7 @@ class PlotWindow(QWidget):
         if not self._order or not self.isVisible():
             return
         if self.following:
-            now = self._newest()
-            x0, x1 = now - self.span_s, now
+            x0, x1 = self._following_window()
             self.plot.vb.setXRange(x0, x1, padding=0)
         else:
             (x0, x1), _ = self.plot.vb.viewRange()
@@ -324,10 +326,16 @@ class PlotWindow(QWidget):
             self._live = True
             self.samples_arrived.emit()
 
-    def _newest(self) -> float:
-        """The newest sample's time (so the line ends at the right edge), the clock when none came yet."""
-        newest = [span[1] for span in (self.hub.buffer(n).span() for n in self._order) if span]
-        return max(newest) if newest else self.hub.now()
+    def _following_window(self) -> tuple[float, float]:
+        """The span ending at the newest sample, as a scope sweeps: until the samples fill the span it
+        starts at the oldest one, so a new measurement draws from the left edge."""
+        spans = [span for span in (self.hub.buffer(n).span() for n in self._order) if span]
+        if not spans:
+            now = self.hub.now()
+            return now - self.span_s, now
+        oldest, newest = min(s[0] for s in spans), max(s[1] for s in spans)
+        start = max(newest - self.span_s, oldest)
+        return start, start + self.span_s
 
     def samples_shown(self) -> int:
         """How many samples the curves hold now (0 until the first arrived)."""

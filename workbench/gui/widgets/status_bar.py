@@ -54,7 +54,7 @@ class EcuStatusBar(QStatusBar):
         else:
             self._set_badge(self.epk, "EPK not checked", theme.MUTED, epk.describe())
         locked = ", ".join(info.protected)
-        self.protection.setText(f"🔒 {locked}" if locked else "unlocked")
+        self.protection.setText(f"seed & key: {locked}" if locked else "no seed & key")
         self.protection.setToolTip("resources protected by seed & key at connect (unlocked on use): "
                                    + (locked or "none"))
         self.show_page("working")

@@ -57,6 +57,7 @@ class VariableBrowser(QWidget):
         self.table.setDragDropMode(QAbstractItemView.DragOnly)
         self.table.setAlternatingRowColors(True)
         self.table.setShowGrid(False)
+        self.table.setTextElideMode(Qt.ElideMiddle)
         self.table.verticalHeader().hide()
         self.table.verticalHeader().setDefaultSectionSize(22)
         self.table.horizontalHeader().setSectionResizeMode(QHeaderView.Interactive)
@@ -76,8 +77,10 @@ class VariableBrowser(QWidget):
         self._fill(self.kind_box, sorted({r.kind for r in rows}), "every kind", KIND_LABELS)
         self._fill(self.function_box, sorted({f for r in rows for f in r.functions}), "every function")
         self._fill(self.unit_box, sorted({r.unit for r in rows if r.unit}), "every unit")
-        for column, width in enumerate((190, 90, 70, 50, 110)):
+        for column, width in enumerate((215, 92, 80, 45, 100)):
             self.table.setColumnWidth(column, width)
+        for column in (2, 4):  # type and functions: filters and tooltips tell them, the width is the name's
+            self.table.setColumnHidden(column, True)
         self._count()
 
     def _fill(self, box: QComboBox, values: list[str], everything: str, labels: dict | None = None) -> None:

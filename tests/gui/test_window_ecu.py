@@ -1,0 +1,125 @@
+"""The window against the simulated ECU on a virtual bus: connect, live plots, calibration editors,
+fix overrides, pages: what a user does, checked through the session."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PySide6.QtCore import Qt
+
+from workbench.gui.models.fixes import COLUMNS as FIX_COLUMNS
+from workbench.gui.project import PlotSpec
+from workbench.gui.widgets.main_window import MainWindow
+
+WAIT_MS = 15_000
+
+
+@pytest.fixture
+def window(qtbot, demo_ecu, project):
+    window = MainWindow(project)
+    qtbot.addWidget(window)
+    window.show()
+    with qtbot.waitSignal(window.loaded, timeout=WAIT_MS):
+        window.load()
+    with qtbot.waitSignal(window.controller.connected, timeout=WAIT_MS):
+        window.connect_ecu()
+    yield window
+    window.close()
+    assert not window.errors or pytest.fail(f"error dialogs: {[box.text() for box in window.errors]}")
+
+
+def test_connecting_shows_who_the_ecu_is_and_that_its_epk_matches(window):
+    session = window.controller.session
+    assert session is not None and session.epk.matches
+    assert window.status.epk.text() == f"EPK ✓ {session.epk.ecu}"
+    assert "FLCU" in window.status.ecu.text() and window.status.link.text().startswith("●")
+    assert window.flash_action.isEnabled() and not window.connect_action.isEnabled()
+    assert window.browser.model.rowCount() > 100
+
+
+def test_rail_pressure_dropped_on_a_new_plot_arrives_by_daq(window, qtbot):
+    plot = window.add_plot(PlotSpec("Test", []))
+    plot.add_signals(["zsRailPressure"])
+    qtbot.waitUntil(lambda: plot.samples_shown() > 20, timeout=WAIT_MS)
+    assert "zsRailPressure" in window.hub.acquisition.state.signals
+    t, bar = window.hub.buffer("zsRailPressure").window(-np.inf, np.inf)
+    assert np.all(np.diff(t) > 0) and 0.0 <= bar.min() and bar.max() < 60.0
+    assert np.median(np.diff(t)) == pytest.approx(0.004, rel=0.05)  # the 4 ms task's event, by the ECU's clock
+    state = window.hub.acquisition.state
+    assert state.lost == 0 and state.overloads == 0
+
+
+def test_can2_signals_decoded_from_the_dbc_arrive_beside_xcp(window, qtbot):
+    plot = window.plots[0]
+    plot.add_signals(["FLCU_TO_PCM_002.RailPressure"])
+    buffer = window.hub.buffer("FLCU_TO_PCM_002.RailPressure")
+    qtbot.waitUntil(lambda: len(buffer) >= 3, timeout=WAIT_MS)
+    assert window.hub.info("FLCU_TO_PCM_002.RailPressure").source == "CAN2"
+    window.trace.refresh()
+    assert any(entry.message == "FLCU_TO_PCM_002" for entry in window.trace.model.rows)
+    assert window.hub.can_monitor.bus_load() > 0
+
+
+def test_editing_the_tank_switch_threshold_writes_it_and_undo_writes_it_back(window, qtbot):
+    session = window.controller.session
+    editor = window.open_editor("xsSWITCH_TANK_THR")
+    qtbot.waitUntil(lambda: editor.value is not None and editor.reference is not None, timeout=WAIT_MS)
+    assert editor.value.value == pytest.approx(20.0) and not editor.modified_badge.isVisible()
+    spin = editor.field.input
+    assert (spin.minimum(), spin.maximum(), spin.suffix()) == (0.0, 800.0, " bar")
+    spin.setValue(26.5)
+    spin.editingFinished.emit()
+    qtbot.waitUntil(lambda: session.read("xsSWITCH_TANK_THR") == pytest.approx(26.5), timeout=WAIT_MS)
+    qtbot.waitUntil(lambda: editor.value.value == pytest.approx(26.5) and editor.modified_badge.isVisible(),
+                    timeout=WAIT_MS)
+    editor.undo_stack.undo()
+    qtbot.waitUntil(lambda: session.read("xsSWITCH_TANK_THR") == pytest.approx(20.0), timeout=WAIT_MS)
+    qtbot.waitUntil(lambda: not editor.modified_badge.isVisible(), timeout=WAIT_MS)
+
+
+def test_a_map_cell_edit_is_written_and_a_value_beyond_the_limits_is_refused(window, qtbot):
+    session = window.controller.session
+    editor = window.open_editor("xvPRV_DC_FF")
+    qtbot.waitUntil(lambda: editor.value is not None, timeout=WAIT_MS)
+    model = editor.field.model
+    assert (model.columnCount(), model.rowCount()) == (6, 5)  # X: 6 target points across, Y: 5 manifold points down
+    assert model.headerData(1, Qt.Horizontal) == "10" and model.headerData(4, Qt.Vertical) == "700"
+    assert model.setData(model.index(2, 3), "42.5")
+    qtbot.waitUntil(lambda: session.read("xvPRV_DC_FF")[3, 2] == pytest.approx(42.5), timeout=WAIT_MS)
+    qtbot.waitUntil(lambda: model.modified((3, 2)) and not model.modified((3, 1)), timeout=WAIT_MS)
+    with qtbot.waitSignal(editor.error) as refused:
+        assert not model.setData(model.index(0, 0), "150")
+    assert "beyond the limits [0, 100]" in str(refused.args[0])
+    window.errors.clear()
+
+
+def _fix_row(panel, signal: str) -> int:
+    return next(row for row, fix in enumerate(panel.model.rows) if fix.pair.signal == signal)
+
+
+def test_a_fix_override_replaces_the_rail_pressure_until_released(window, qtbot):
+    session = window.controller.session
+    panel = window.fix_panel
+    qtbot.waitUntil(lambda: any(f.pair.stem == "zfRAILPRESSURE" for f in panel.model.rows), timeout=WAIT_MS)
+    model = panel.model
+    row = _fix_row(panel, "zsRailPressure")
+    assert model.setData(model.index(row, FIX_COLUMNS.index("override")), "12.5")
+    qtbot.waitUntil(lambda: session.read("zfRAILPRESSURE_VALUE") == pytest.approx(12.5), timeout=WAIT_MS)
+    assert model.setData(model.index(row, FIX_COLUMNS.index("on")), Qt.Checked.value, Qt.CheckStateRole)
+    qtbot.waitUntil(lambda: session.fix_state("zfRAILPRESSURE").active, timeout=WAIT_MS)
+    qtbot.waitUntil(lambda: panel.model.rows[_fix_row(panel, "zsRailPressure")].live == pytest.approx(12.5),
+                    timeout=WAIT_MS)
+    index = model.index(_fix_row(panel, "zsRailPressure"), FIX_COLUMNS.index("on"))
+    assert model.data(index, Qt.CheckStateRole) == Qt.Checked
+    assert model.setData(index, Qt.Unchecked.value, Qt.CheckStateRole)
+    qtbot.waitUntil(lambda: not session.fix_state("zfRAILPRESSURE").active, timeout=WAIT_MS)
+
+
+def test_the_page_buttons_switch_the_ecu_to_the_reference_page_and_back(window, qtbot):
+    session = window.controller.session
+    working, reference = session.page_numbers()
+    window.reference_action.trigger()
+    qtbot.waitUntil(lambda: session.page().ecu_page == reference, timeout=WAIT_MS)
+    qtbot.waitUntil(lambda: "reference page" in window.status.page.text(), timeout=WAIT_MS)
+    window.working_action.trigger()
+    qtbot.waitUntil(lambda: session.page().ecu_page == working, timeout=WAIT_MS)
