@@ -9,7 +9,8 @@ from workbench.cli.options import positive_float
 
 EPILOG = """\
 The demo ECU (the thesis's Fuel Line Control Unit) runs inside this process on a virtual CAN bus of
-its own, with a simulated PCM that enables the FLCU and asks for 25 bar rail pressure. The window
+its own, with a simulated PCM that enables the FLCU and asks for a rail pressure that changes every
+6 s (25, 35, 20, 30 bar; --pcm-target holds one). The window
 opens connected: rail pressure and its target, tank pressures, valve states and the PRV duty are
 plotted live; the fix calibrations and an editor on xsSWITCH_TANK_THR are open.
 
@@ -23,8 +24,9 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     parser = subparsers.add_parser(name, help=help_text, epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter,
                                    description="Start the simulated FLCU ECU and the workbench window connected to it. "
                                                "Needs the gui extra (pip install 'workbench[gui]').")
-    parser.add_argument("--pcm-target", type=float, default=25.0, metavar="BAR",
-                        help="the simulated PCM's TargetRailPressure in bar (default 25)")
+    parser.add_argument("--pcm-target", type=float, metavar="BAR",
+                        help="hold the simulated PCM's TargetRailPressure at BAR (default: it steps 25, 35, 20, 30 bar, "
+                             "one every 6 s)")
     parser.add_argument("--time-scale", type=positive_float, default=1.0, metavar="X",
                         help="simulated seconds per real second (default 1)")
     add_screenshot_arguments(parser)

@@ -38,12 +38,17 @@ def add_screenshot_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def require_gui() -> None:
-    """:raises WorkbenchError: PySide6 or pyqtgraph is not installed."""
+    """Import the window's code (Qt and its plotting) now, so that a missing piece is one line.
+
+    :raises WorkbenchError: a package of the gui extra is not installed, or Qt cannot load a system library.
+    """
     try:
-        import pyqtgraph  # noqa: F401
-        import PySide6  # noqa: F401
+        import workbench.gui.app  # noqa: F401
     except ImportError as exc:
-        raise WorkbenchError(f"the GUI needs {exc.name}: install workbench[gui] (pip install 'workbench[gui]')") from None
+        if exc.name:  # a Python package
+            raise WorkbenchError(f"the GUI needs {exc.name.split('.')[0]}: install workbench[gui] "
+                                 "(pip install 'workbench[gui]')") from None
+        raise WorkbenchError(f"the GUI cannot load Qt: {exc}") from None
 
 
 def run(args: argparse.Namespace) -> int:

@@ -87,15 +87,38 @@ def _fail(app: QApplication, outcome: dict, exc: BaseException) -> None:
     app.quit()
 
 
+# The simulated PCM's requests in the demo: the rail pressure follows a new target every few seconds,
+# so the plots show the pressure control at work rather than a flat line
+DEMO_TARGETS_BAR = (25.0, 35.0, 20.0, 30.0)
+DEMO_STEP_S = 6.0
+
+
 def run_demo(*, screenshot: Path | None = None, settle_s: float = 4.0, time_scale: float = 1.0,
-             pcm_target_bar: float = 25.0) -> int:
-    """Serve the demo ECU in this process on a private virtual bus and open the window on it."""
+             pcm_target_bar: float | None = None) -> int:
+    """Serve the demo ECU in this process on a private virtual bus and open the window on it.
+
+    :param pcm_target_bar: the PCM's TargetRailPressure, held; None: it steps through
+        :data:`DEMO_TARGETS_BAR`, one every :data:`DEMO_STEP_S` seconds.
+    """
     started = time.perf_counter()
     from workbench.sim import serve_demo
 
     channel = demo_channel()
     project = demo_project()
     project.connection = Connection(interface="virtual", channel=channel)
-    with serve_demo({"interface": "virtual", "channel": channel}, pcm_target_bar=pcm_target_bar,
-                    time_scale=time_scale):
+    targets = DEMO_TARGETS_BAR if pcm_target_bar is None else (pcm_target_bar,)
+    with serve_demo({"interface": "virtual", "channel": channel}, pcm_target_bar=targets[0],
+                    time_scale=time_scale) as simulator:
+        application()
+        steps = QTimer()
+        steps.setInterval(int(DEMO_STEP_S * 1000 / time_scale))
+        cycle = {"step": 0}
+
+        def next_target() -> None:
+            cycle["step"] += 1
+            simulator.pcm.target_bar = targets[cycle["step"] % len(targets)]
+
+        steps.timeout.connect(next_target)
+        if len(targets) > 1:
+            steps.start()
         return run_window(project, connect=True, screenshot=screenshot, settle_s=settle_s, started=started)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from PySide6.QtCore import QMimeData
 
-__all__ = ["MIME_SIGNALS", "names_from_mime", "signals_mime"]
+__all__ = ["MIME_SIGNALS", "SignalDropTarget", "names_from_mime", "signals_mime"]
 
 MIME_SIGNALS = "application/x-workbench-names"
 
@@ -26,3 +26,21 @@ def names_from_mime(mime: QMimeData) -> list[str]:
     else:
         return []
     return [line.strip() for line in text.splitlines() if line.strip()]
+
+
+class SignalDropTarget:
+    """Mixed into a view with ``hub`` and ``add_signals(names)``: names dropped on it are added (the ones
+    the hub knows)."""
+
+    def dragEnterEvent(self, event) -> None:
+        if names_from_mime(event.mimeData()):
+            event.acceptProposedAction()
+
+    def dragMoveEvent(self, event) -> None:
+        event.acceptProposedAction()
+
+    def dropEvent(self, event) -> None:
+        names = [n for n in names_from_mime(event.mimeData()) if self.hub.known(n)]
+        if names:
+            self.add_signals(names)
+            event.acceptProposedAction()

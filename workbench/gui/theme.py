@@ -66,6 +66,9 @@ QProgressBar {{ background: {RAISED}; border: 1px solid {BORDER}; border-radius:
 QProgressBar::chunk {{ background: {ACCENT}; border-radius: 3px; }}
 QGroupBox {{ border: 1px solid {BORDER}; border-radius: 4px; margin-top: 14px; padding-top: 6px; }}
 QGroupBox::title {{ subcontrol-origin: margin; left: 8px; color: {MUTED}; }}
+QTableView::indicator {{ width: 13px; height: 13px; border: 1px solid {MUTED}; border-radius: 3px;
+                         background: {RAISED}; }}
+QTableView::indicator:checked {{ background: {WARN}; border-color: {WARN}; }}
 QToolTip {{ background: {RAISED}; color: {TEXT}; border: 1px solid {BORDER}; }}
 QSplitter::handle {{ background: {BORDER}; }}
 """

@@ -10,7 +10,7 @@ from PySide6.QtGui import QColor, QFont
 from workbench.gui import theme
 from workbench.gui.formatting import format_value
 
-__all__ = ["CalibrationTableModel", "shade"]
+__all__ = ["CalibrationTableModel", "colour_map", "shade"]
 
 # dark blue -> teal -> amber -> red: readable light text on every step
 _STOPS = ((0.0, (38, 70, 140)), (0.35, (26, 120, 130)), (0.7, (160, 120, 30)), (1.0, (170, 50, 50)))
@@ -24,6 +24,13 @@ def shade(fraction: float) -> QColor:
             t = (fraction - f0) / (f1 - f0)
             return QColor(*(round(a + (b - a) * t) for a, b in zip(c0, c1)))
     return QColor(*_STOPS[-1][1])
+
+
+def colour_map():
+    """The same colours as a pyqtgraph colour map (the heat map beside the table)."""
+    import pyqtgraph as pg
+
+    return pg.ColorMap([stop for stop, _ in _STOPS], [colour for _, colour in _STOPS])
 
 
 class CalibrationTableModel(QAbstractTableModel):

@@ -3,11 +3,12 @@ signal's live value, the override value and whether the override is on (``sessio
 
 from __future__ import annotations
 
-from PySide6.QtCore import QAbstractTableModel, QModelIndex, Qt, Signal
+from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QColor
 
 from workbench.gui import theme
 from workbench.gui.formatting import format_value
+from workbench.gui.models.rows import RowsModel
 
 __all__ = ["FixModel"]
 
@@ -16,38 +17,24 @@ ON = COLUMNS.index("on")
 OVERRIDE = COLUMNS.index("override")
 
 
-class FixModel(QAbstractTableModel):
-    """Rows are the session's fix states; checking "on" or editing "override" emits a request."""
+class FixModel(RowsModel):
+    """Rows: the session's :class:`~workbench.session.fixes.FixState` objects; checking "on" or editing
+    "override" emits a request (the panel sends it to the ECU; the next refresh shows the result)."""
 
+    COLUMNS = COLUMNS
     override_requested = Signal(object, float)  # the fix state, the value
     release_requested = Signal(object)
     value_requested = Signal(object, float)  # a new override value while the override is off
 
-    def __init__(self, parent=None):
-        super().__init__(parent)
-        self.rows: list = []
-
     def set_fixes(self, fixes) -> None:
+        """New states; the same pairs as before only repaint (an open cell editor stays open)."""
         fixes = list(fixes)
         if [f.pair.stem for f in fixes] != [f.pair.stem for f in self.rows]:
-            self.beginResetModel()
-            self.rows = fixes
-            self.endResetModel()
+            self.set_rows(fixes)
             return
         self.rows = fixes
         if fixes:
             self.dataChanged.emit(self.index(0, 0), self.index(len(fixes) - 1, len(COLUMNS) - 1))
-
-    def rowCount(self, parent=QModelIndex()) -> int:
-        return 0 if parent.isValid() else len(self.rows)
-
-    def columnCount(self, parent=QModelIndex()) -> int:
-        return 0 if parent.isValid() else len(COLUMNS)
-
-    def headerData(self, section, orientation, role=Qt.DisplayRole):
-        if orientation == Qt.Horizontal and role == Qt.DisplayRole:
-            return COLUMNS[section]
-        return None
 
     def data(self, index, role=Qt.DisplayRole):
         if not index.isValid():
@@ -56,14 +43,12 @@ class FixModel(QAbstractTableModel):
         column = COLUMNS[index.column()]
         if role == Qt.DisplayRole:
             return {"signal": fix.pair.signal, "kind": fix.pair.kind, "live": format_value(fix.live),
-                    "override": format_value(fix.override), "on": "ON" if fix.active else "off"}[column]
+                    "override": format_value(fix.override), "on": None}[column]
         if role == Qt.EditRole and column == "override":
             return fix.override
         if role == Qt.CheckStateRole and column == "on":
             return Qt.Checked if fix.active else Qt.Unchecked
         if role == Qt.ForegroundRole:
-            if column == "on":
-                return QColor(theme.WARN if fix.active else theme.MUTED)
             if column == "kind":
                 return QColor(theme.MUTED)
             if column == "live" and fix.active:

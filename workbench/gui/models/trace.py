@@ -2,36 +2,18 @@
 
 from __future__ import annotations
 
-from PySide6.QtCore import QAbstractTableModel, QModelIndex, Qt
+from PySide6.QtCore import Qt
 from PySide6.QtGui import QColor
 
 from workbench.gui import theme
+from workbench.gui.models.rows import RowsModel
 
 __all__ = ["TraceModel"]
 
-COLUMNS = ("time [s]", "id", "message", "dlc", "data", "decoded")
+class TraceModel(RowsModel):
+    """Rows: :class:`~workbench.gui.can_monitor.TraceEntry`, newest last."""
 
-
-class TraceModel(QAbstractTableModel):
-    def __init__(self, parent=None):
-        super().__init__(parent)
-        self.rows: list = []  # TraceEntry, newest last
-
-    def set_entries(self, entries) -> None:
-        self.beginResetModel()
-        self.rows = list(entries)
-        self.endResetModel()
-
-    def rowCount(self, parent=QModelIndex()) -> int:
-        return 0 if parent.isValid() else len(self.rows)
-
-    def columnCount(self, parent=QModelIndex()) -> int:
-        return 0 if parent.isValid() else len(COLUMNS)
-
-    def headerData(self, section, orientation, role=Qt.DisplayRole):
-        if orientation == Qt.Horizontal and role == Qt.DisplayRole:
-            return COLUMNS[section]
-        return None
+    COLUMNS = ("time [s]", "id", "message", "dlc", "data", "decoded")
 
     def data(self, index, role=Qt.DisplayRole):
         if not index.isValid():

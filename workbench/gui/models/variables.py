@@ -7,17 +7,18 @@ import fnmatch
 import re
 from dataclasses import dataclass
 
-from PySide6.QtCore import QAbstractTableModel, QModelIndex, QSortFilterProxyModel, Qt
+from PySide6.QtCore import QSortFilterProxyModel, Qt
 from PySide6.QtGui import QColor
 
 from workbench.gui import theme
 from workbench.gui.mime import signals_mime
+from workbench.gui.models.rows import RowsModel
 
 __all__ = ["ALL", "Variable", "VariableFilter", "VariableModel", "variables_of_a2l", "variables_of_dbc"]
 
 ALL = ""  # a filter that lets every row through
 COLUMNS = ("name", "kind", "type", "unit", "functions", "description")
-KIND_LABELS = {"MEASUREMENT": "measurement", "CHARACTERISTIC": "calibration", "AXIS_PTS": "axis", "CAN2": "CAN2 signal"}
+KIND_LABELS = {"MEASUREMENT": "signal", "CHARACTERISTIC": "calibration", "AXIS_PTS": "axis", "CAN2": "CAN2"}
 KIND_COLOURS = {"MEASUREMENT": theme.TRACE_COLOURS[0], "CHARACTERISTIC": theme.TRACE_COLOURS[1],
                 "AXIS_PTS": theme.TRACE_COLOURS[4], "CAN2": theme.TRACE_COLOURS[2]}
 
@@ -60,26 +61,10 @@ def variables_of_dbc(signals) -> list[Variable]:
     return [Variable(s.name, "CAN2", "signal", s.unit, (s.message,), s.comment) for s in signals]
 
 
-class VariableModel(QAbstractTableModel):
-    def __init__(self, parent=None):
-        super().__init__(parent)
-        self.rows: list[Variable] = []
+class VariableModel(RowsModel):
+    """Rows: :class:`Variable`; drags carry their names."""
 
-    def set_variables(self, rows: list[Variable]) -> None:
-        self.beginResetModel()
-        self.rows = list(rows)
-        self.endResetModel()
-
-    def rowCount(self, parent=QModelIndex()) -> int:
-        return 0 if parent.isValid() else len(self.rows)
-
-    def columnCount(self, parent=QModelIndex()) -> int:
-        return 0 if parent.isValid() else len(COLUMNS)
-
-    def headerData(self, section, orientation, role=Qt.DisplayRole):
-        if orientation == Qt.Horizontal and role == Qt.DisplayRole:
-            return COLUMNS[section]
-        return None
+    COLUMNS = COLUMNS
 
     def data(self, index, role=Qt.DisplayRole):
         if not index.isValid():

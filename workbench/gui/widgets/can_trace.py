@@ -55,6 +55,6 @@ class CanTrace(QWidget):
         entries = monitor.trace_snapshot()
         if self.known_only.isChecked():
             entries = [e for e in entries if e.message]
-        self.model.set_entries(entries[-SHOWN:])
+        self.model.set_rows(entries[-SHOWN:])
         self.table.scrollToBottom()
         self.summary.setText(f"{monitor.frames} frames")

@@ -105,8 +105,8 @@ class MainWindow(QMainWindow):
         self.trace_dock = self._dock("CAN trace", self.trace, Qt.BottomDockWidgetArea)
         self.tabifyDockWidget(self.numeric_dock, self.trace_dock)
         self.numeric_dock.raise_()
-        self.resizeDocks([self.browser_dock, self.editor_dock], [380, 520], Qt.Horizontal)
-        self.resizeDocks([self.editor_dock, self.fix_dock], [520, 330], Qt.Vertical)
+        self.resizeDocks([self.browser_dock, self.editor_dock], [370, 470], Qt.Horizontal)
+        self.resizeDocks([self.editor_dock, self.fix_dock], [430, 420], Qt.Vertical)
         self.resizeDocks([self.numeric_dock], [210], Qt.Vertical)
         self.status = EcuStatusBar(self.hub)
         self.setStatusBar(self.status)
@@ -225,6 +225,8 @@ class MainWindow(QMainWindow):
             self.numeric.add_signals([n for n in signals if self.hub.known(n)])
         for name in self.project.editors:
             self.open_editor(name)
+        if self.project.editors and self.project.editors[0] in self.editors:
+            self.editor_tabs.setCurrentWidget(self.editors[self.project.editors[0]])
         if self.project.layout:
             self.restoreState(QByteArray(base64.b64decode(self.project.layout)))
 

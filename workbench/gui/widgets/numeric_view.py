@@ -7,7 +7,7 @@ from PySide6.QtGui import QColor
 from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QTableWidget, QTableWidgetItem
 
 from workbench.gui import theme
-from workbench.gui.mime import names_from_mime
+from workbench.gui.mime import SignalDropTarget
 from workbench.gui.signal_hub import SignalHub
 
 __all__ = ["NumericView"]
@@ -15,7 +15,7 @@ __all__ = ["NumericView"]
 REFRESH_MS = 100
 
 
-class NumericView(QTableWidget):
+class NumericView(SignalDropTarget, QTableWidget):
     signals_changed = Signal(list)
 
     def __init__(self, hub: SignalHub, parent=None):
@@ -86,16 +86,3 @@ class NumericView(QTableWidget):
             self.remove_signals([self._names[i.row()] for i in self.selectionModel().selectedRows()])
             return
         super().keyPressEvent(event)
-
-    def dragEnterEvent(self, event) -> None:
-        if names_from_mime(event.mimeData()):
-            event.acceptProposedAction()
-
-    def dragMoveEvent(self, event) -> None:
-        event.acceptProposedAction()
-
-    def dropEvent(self, event) -> None:
-        names = [n for n in names_from_mime(event.mimeData()) if self.hub.known(n)]
-        if names:
-            self.add_signals(names)
-            event.acceptProposedAction()

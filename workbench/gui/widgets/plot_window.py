@@ -28,7 +28,7 @@ from PySide6.QtWidgets import (
 )
 
 from workbench.gui import theme
-from workbench.gui.mime import names_from_mime
+from workbench.gui.mime import SignalDropTarget
 from workbench.gui.signal_hub import SignalHub
 
 __all__ = ["PlotWindow"]
@@ -45,7 +45,7 @@ class _Axis:
         self.traces: list[str] = []
 
 
-class PlotWindow(QWidget):
+class PlotWindow(SignalDropTarget, QWidget):
     """Time plot of signals from a :class:`SignalHub`; drop names on it to add them."""
 
     signals_changed = Signal(list)  # the names shown, in order
@@ -235,7 +235,8 @@ class PlotWindow(QWidget):
         self.legend.setRowCount(len(self._order))
         for row, name in enumerate(self._order):
             colour = QColor(self._curves[name].opts["pen"].color())
-            item = QTableWidgetItem(f"■  {name}")
+            item = QTableWidgetItem(name)
+            item.setData(Qt.DecorationRole, colour)
             item.setForeground(colour)
             item.setToolTip(self.hub.info(name).description or name)
             self.legend.setItem(row, 0, item)
@@ -340,18 +341,3 @@ class PlotWindow(QWidget):
     def samples_shown(self) -> int:
         """How many samples the curves hold now (0 until the first arrived)."""
         return sum(len(curve.xData) for curve in self._curves.values() if curve.xData is not None)
-
-    # --- drag and drop --------------------------------------------------------------------------
-
-    def dragEnterEvent(self, event) -> None:
-        if names_from_mime(event.mimeData()):
-            event.acceptProposedAction()
-
-    def dragMoveEvent(self, event) -> None:
-        event.acceptProposedAction()
-
-    def dropEvent(self, event) -> None:
-        names = [n for n in names_from_mime(event.mimeData()) if self.hub.known(n)]
-        if names:
-            self.add_signals(names)
-            event.acceptProposedAction()

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from PySide6.QtCore import QTimer
-from PySide6.QtWidgets import QLabel, QStatusBar
+from PySide6.QtWidgets import QLabel, QSizePolicy, QStatusBar
 
 from workbench.gui import theme
 
@@ -31,7 +31,12 @@ class EcuStatusBar(QStatusBar):
         self.page = QLabel()
         self.bus = QLabel()
         self.daq = QLabel()
-        for widget in (self.link, self.ecu, self.epk, self.protection, self.page):
+        for widget in (self.link, self.ecu):  # long texts: they give way (tooltip: all of it) before the window grows
+            widget.setSizePolicy(QSizePolicy.Ignored, QSizePolicy.Preferred)
+            widget.setMinimumWidth(60)
+        self.addWidget(self.link, 3)
+        self.addWidget(self.ecu, 2)
+        for widget in (self.epk, self.protection, self.page):
             self.addWidget(widget)
         for widget in (self.bus, self.daq):
             self.addPermanentWidget(widget)
@@ -42,9 +47,11 @@ class EcuStatusBar(QStatusBar):
 
     def show_connected(self, session, info) -> None:
         self.link.setText(f"● {info.link}")
+        self.link.setToolTip(info.link)
         self.link.setStyleSheet(f"color: {theme.GOOD};")
         ident = info.identification or info.a2l_name or "ECU"
         self.ecu.setText(f"{ident}{'  (boot loader)' if info.boot else ''}")
+        self.ecu.setToolTip(self.ecu.text())
         epk = session.epk
         if epk.matches is True:
             self._set_badge(self.epk, f"EPK ✓ {epk.ecu}", theme.GOOD, epk.describe())

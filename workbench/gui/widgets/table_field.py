@@ -9,7 +9,7 @@ from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QSplitter, QTableView, QVBoxLayout, QWidget
 
 from workbench.gui import theme
-from workbench.gui.models.calibration_table import CalibrationTableModel
+from workbench.gui.models.calibration_table import CalibrationTableModel, colour_map
 
 __all__ = ["TableField"]
 
@@ -50,6 +50,9 @@ class TableField(QWidget):
 
     def show_value(self, value: np.ndarray, x_points, y_points=None, **options) -> None:
         self.model.set_value(value, x_points, y_points, **options)
+        rows = self.model.rowCount()
+        self.table.setMinimumHeight(min(rows, 12) * self.table.verticalHeader().defaultSectionSize()
+                                    + self.table.horizontalHeader().height() + 4)
         self._draw()
 
     def set_reference(self, reference) -> None:
@@ -67,7 +70,7 @@ class TableField(QWidget):
         y = self.model.y_points if self.model.y_points is not None else np.arange(value.shape[1])
         if self._image is None:
             self._image = pg.ImageItem(axisOrder="col-major")
-            self._image.setColorMap(pg.colormap.get("CET-L8"))
+            self._image.setColorMap(colour_map())
             self.plot.addItem(self._image)
             self.plot.setLabel("left", self.y_label or "")
         self._image.setImage(value, autoLevels=True)

@@ -51,7 +51,7 @@ class VariableBrowser(QWidget):
         self.table = QTableView()
         self.table.setModel(self.proxy)
         self.table.setSortingEnabled(True)
-        self.table.sortByColumn(0, Qt.AscendingOrder)
+        self.table.sortByColumn(-1, Qt.AscendingOrder)  # the A2L's order (its modules) until a header is clicked
         self.table.setSelectionBehavior(QAbstractItemView.SelectRows)
         self.table.setDragEnabled(True)
         self.table.setDragDropMode(QAbstractItemView.DragOnly)
@@ -73,11 +73,11 @@ class VariableBrowser(QWidget):
         self.proxy.layoutChanged.connect(self._count)
 
     def set_variables(self, rows: list[Variable]) -> None:
-        self.model.set_variables(rows)
+        self.model.set_rows(rows)
         self._fill(self.kind_box, sorted({r.kind for r in rows}), "every kind", KIND_LABELS)
         self._fill(self.function_box, sorted({f for r in rows for f in r.functions}), "every function")
         self._fill(self.unit_box, sorted({r.unit for r in rows if r.unit}), "every unit")
-        for column, width in enumerate((215, 92, 80, 45, 100)):
+        for column, width in enumerate((225, 82, 80, 45, 100)):
             self.table.setColumnWidth(column, width)
         for column in (2, 4):  # type and functions: filters and tooltips tell them, the width is the name's
             self.table.setColumnHidden(column, True)

@@ -1,0 +1,63 @@
+"""``workbench demo`` and ``workbench gui`` end to end, in processes of their own (offscreen)."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+import pytest
+
+from workbench.cli import main
+
+RUN = [sys.executable, "-c", "import sys; from workbench.cli import main; sys.exit(main(sys.argv[1:]))"]
+
+
+def run(*args: str, cwd) -> subprocess.CompletedProcess:
+    env = {**os.environ, "QT_QPA_PLATFORM": "offscreen"}
+    return subprocess.run([*RUN, *args], cwd=cwd, env=env, capture_output=True, text=True, timeout=120)
+
+
+def png_size(path) -> tuple[int, int]:
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    return int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
+
+
+def test_demo_renders_the_window_with_live_samples_to_a_png(tmp_path):
+    result = run("demo", "--screenshot", "demo.png", "--settle", "0.5", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert "first live sample on screen" in result.stdout and "screenshot: demo.png" in result.stdout
+    width, height = png_size(tmp_path / "demo.png")
+    assert width >= 1200 and height >= 800
+
+
+def test_gui_on_a_project_file_connects_to_an_ecu_of_another_process(tmp_path, free_udp_port):
+    from workbench.gui.project import Connection, demo_project, save_project
+    from workbench.sim import serve_demo
+
+    project = demo_project()
+    project.connection = Connection("udp_multicast", "239.74.163.9", None, {"port": free_udp_port})
+    save_project(project, tmp_path / "bench.toml")
+    with serve_demo({"interface": "udp_multicast", "channel": "239.74.163.9", "port": free_udp_port},
+                    pcm_target_bar=25.0):
+        result = run("gui", "bench.toml", "--screenshot", "gui.png", "--settle", "0.2", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert png_size(tmp_path / "gui.png")[0] >= 1200
+
+
+def test_a_project_that_cannot_be_read_is_one_line_and_exit_code_2(tmp_path, capsys):
+    (tmp_path / "bad.toml").write_text("a2l = [")
+    assert main(["gui", str(tmp_path / "bad.toml")]) == 2
+    error = capsys.readouterr().err
+    assert error.startswith("error: ") and "bad.toml: not a project file" in error and error.count("\n") == 1
+
+
+@pytest.mark.parametrize("command", ["demo", "gui"])
+def test_without_the_gui_extra_the_commands_say_what_to_install(command, tmp_path):
+    # a process of its own: once loaded, PySide6's import hook cannot be told the package is gone
+    hide = "import sys; sys.modules['PySide6'] = None; from workbench.cli import main; sys.exit(main(sys.argv[1:]))"
+    result = subprocess.run([sys.executable, "-c", hide, command], cwd=tmp_path, capture_output=True, text=True,
+                            timeout=60)
+    assert result.returncode == 1
+    assert result.stderr == "error: the GUI needs PySide6: install workbench[gui] (pip install 'workbench[gui]')\n"
