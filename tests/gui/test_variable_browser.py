@@ -46,9 +46,10 @@ def test_filters_by_kind_function_and_unit(browser):
 
 
 def test_a_drag_carries_the_selected_names_and_a_double_click_asks_to_open(browser, qtbot):
-    browser.search.setText("zsRailPressure")
-    index = browser.proxy.index(0, 0)
-    mime = browser.proxy.mimeData([index, browser.proxy.index(0, 1)])
+    browser.search.setText("zsRail*")  # a glob: the whole name
+    row = next(r for r in range(browser.proxy.rowCount()) if browser.proxy.index(r, 0).data() == "zsRailPressure")
+    index = browser.proxy.index(row, 0)
+    mime = browser.proxy.mimeData([index, browser.proxy.index(row, 1)])
     assert mime.hasFormat(MIME_SIGNALS) and names_from_mime(mime) == ["zsRailPressure"]
     with qtbot.waitSignal(browser.open_requested) as opened:
         browser.table.doubleClicked.emit(index)

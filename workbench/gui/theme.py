@@ -23,6 +23,7 @@ GOOD = "#3fbf72"
 WARN = "#f0b429"
 BAD = "#ef5350"
 PLOT_BACKGROUND = "#0f1216"
+GRID = "#232a33"  # opaque grid lines: blending translucent ones over the plot costs a quarter of a frame
 GRID_ALPHA = 0.18
 
 # traces: distinct on a dark background, the first ones the most distinct (Tableau 10, brightened)

@@ -1,0 +1,55 @@
+"""The software version check (thesis figure 37): an A2L whose EPK is not the ECU's."""
+
+from __future__ import annotations
+
+import pytest
+
+from workbench import demo
+from workbench.gui.widgets.main_window import MainWindow
+
+WAIT_MS = 15_000
+OLD_EPK = "08493820231002"
+
+
+@pytest.fixture
+def window(qtbot, demo_ecu, project, tmp_path):
+    text = demo.a2l().read_text(encoding="utf-8")
+    assert text.count('EPK "10300020250301"') == 1
+    (tmp_path / "old.a2l").write_text(text.replace('EPK "10300020250301"', f'EPK "{OLD_EPK}"'), encoding="utf-8")
+    project.a2l = tmp_path / "old.a2l"
+    window = MainWindow(project)
+    qtbot.addWidget(window)
+    window.show()
+    with qtbot.waitSignal(window.loaded, timeout=WAIT_MS):
+        window.load()
+    with qtbot.waitSignal(window.controller.connected, timeout=WAIT_MS):
+        window.connect_ecu()
+    yield window
+    window.close()
+
+
+def test_the_dialog_shows_both_epks_and_nothing_is_measured_before_the_user_chose(window):
+    dialog = window.epk_dialog
+    assert dialog is not None and dialog.isVisible()
+    texts = [label.text() for label in dialog.findChildren(type(window.status.ecu))]
+    assert OLD_EPK in texts and "10300020250301" in texts
+    assert window.hub.acquisition is None
+    assert window.status.epk.text() == "EPK ✗ read-only"
+
+
+def test_working_read_only_measures_but_refuses_calibration(window, qtbot):
+    window.epk_dialog.read_only_button.click()
+    assert window.hub.acquisition is not None
+    plot = window.plots[0]
+    qtbot.waitUntil(lambda: plot.samples_shown() > 0, timeout=WAIT_MS)
+    editor = window.open_editor("xsSWITCH_TANK_THR")
+    qtbot.waitUntil(lambda: editor.value is not None, timeout=WAIT_MS)
+    assert not editor.field.input.isEnabled()
+    assert "EPK differs" in editor.status.text()
+    assert not window.copy_action.isEnabled()
+
+
+def test_disconnect_closes_the_session(window, qtbot):
+    with qtbot.waitSignal(window.controller.disconnected, timeout=WAIT_MS):
+        window.epk_dialog.disconnect_button.click()
+    assert window.controller.session is None and window.connect_action.isEnabled()
