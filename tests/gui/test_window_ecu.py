@@ -123,3 +123,4 @@ def test_the_page_buttons_switch_the_ecu_to_the_reference_page_and_back(window, 
     qtbot.waitUntil(lambda: "reference page" in window.status.page.text(), timeout=WAIT_MS)
     window.working_action.trigger()
     qtbot.waitUntil(lambda: session.page().ecu_page == working, timeout=WAIT_MS)
+

@@ -23,6 +23,7 @@ class FixModel(RowsModel):
 
     COLUMNS = COLUMNS
     override_requested = Signal(object, float)  # the fix state, the value
+    enable_requested = Signal(object)  # switch the override on with the _VALUE the ECU holds
     release_requested = Signal(object)
     value_requested = Signal(object, float)  # a new override value while the override is off
 
@@ -71,8 +72,8 @@ class FixModel(RowsModel):
     def setData(self, index, value, role=Qt.EditRole) -> bool:
         fix = self.rows[index.row()]
         if index.column() == ON and role == Qt.CheckStateRole:
-            if Qt.CheckState(value) == Qt.Checked:
-                self.override_requested.emit(fix, float(fix.override or 0.0))
+            if Qt.CheckState(value) == Qt.Checked:  # not override(shown value): the row may be a refresh behind
+                self.enable_requested.emit(fix)
             else:
                 self.release_requested.emit(fix)
             return True

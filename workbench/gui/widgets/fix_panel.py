@@ -24,6 +24,7 @@ class FixPanel(QWidget):
         self.controller = controller
         self.model = FixModel(self)
         self.model.override_requested.connect(self.override)
+        self.model.enable_requested.connect(lambda fix: controller.write(fix.pair.enable, 1, on_error=self.error.emit))
         self.model.release_requested.connect(self.release)
         self.model.value_requested.connect(lambda fix, value: controller.write(fix.pair.value, value,
                                                                                on_error=self.error.emit))
