@@ -106,7 +106,7 @@ class MainWindow(QMainWindow):
         self.tabifyDockWidget(self.numeric_dock, self.trace_dock)
         self.numeric_dock.raise_()
         self.resizeDocks([self.browser_dock, self.editor_dock], [370, 470], Qt.Horizontal)
-        self.resizeDocks([self.editor_dock, self.fix_dock], [430, 420], Qt.Vertical)
+        self.resizeDocks([self.editor_dock, self.fix_dock], [330, 520], Qt.Vertical)
         self.resizeDocks([self.numeric_dock], [210], Qt.Vertical)
         self.status = EcuStatusBar(self.hub)
         self.setStatusBar(self.status)
