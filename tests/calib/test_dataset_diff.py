@@ -85,6 +85,19 @@ def test_tolerance_nan_integers_and_kinds():
     assert diff_datasets(inf, other, abs_tol=1e300).to_dict()["objects"][0]["differences"][0]["a"] == "Inf"
 
 
+def test_seen_from_the_other_side():
+    a, b = demo_dataset(), changed_demo()
+    forward, backward = diff_datasets(a, b), diff_datasets(b, a)
+    flipped = forward.reversed()
+    assert (flipped.a_label, flipped.b_label) == (forward.b_label, forward.a_label)
+    assert flipped.counts() == backward.counts()
+    by_name = {o.name: o for o in backward.objects}
+    for mine in flipped.objects:
+        theirs = by_name[mine.name]
+        assert mine.status == theirs.status and [(d.where, d.a, d.b, d.delta) for d in mine.differences] == \
+            [(d.where, d.a, d.b, d.delta) for d in theirs.differences]
+
+
 def test_equal_datasets():
     result = diff_datasets(demo_dataset(), demo_dataset())
     assert result.equal and result.to_text().splitlines()[-1] == "58 objects: 58 equal, 0 changed, 0 shape changed, 0 only in A, 0 only in B"

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from workbench import Cancelled, EpkMismatchError, InputError, Session, WorkbenchError, demo
+from workbench import Cancelled, EpkMismatchError, InputError, Session, WorkbenchError, XcpCommandError, demo
 from workbench.calib.dataset import load_dataset, save_dataset
 from workbench.image import ChecksumType, MemoryImage, checksum, load_image
 from workbench.sim import serve_demo
@@ -187,6 +187,8 @@ def test_the_checksum_blocks_respect_max_block_size(tmp_path, channel):
             ecu.write("xsPRV_DC_MAX", 90.0)
             report = sync_compare(ecu, demo.s19())
             assert report.changed == ["xsPRV_DC_MAX"] and report.areas[0].scan.differing[0].size <= 0x40
+            with ecu.on_page("working"), pytest.raises(XcpCommandError, match="ERR_OUT_OF_RANGE"):
+                ecu.master.build_checksum(CAL_RAM, 0x80)  # the simulator takes MAX_BLOCK_SIZE from the A2L too
 
 
 def test_an_ecu_in_its_boot_loader_has_nothing_to_compare(channel):
