@@ -35,3 +35,4 @@ def project(channel):
     project = demo_project()
     project.connection = Connection(interface="virtual", channel=channel)
     return project
+

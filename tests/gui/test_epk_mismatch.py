@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import pytest
+from gui_helpers import WAIT_MS, open_window
 
 from workbench import demo
-from workbench.gui.widgets.main_window import MainWindow
 
-WAIT_MS = 15_000
 OLD_EPK = "08493820231002"
 
 
@@ -17,13 +16,7 @@ def window(qtbot, demo_ecu, project, tmp_path):
     assert text.count('EPK "10300020250301"') == 1
     (tmp_path / "old.a2l").write_text(text.replace('EPK "10300020250301"', f'EPK "{OLD_EPK}"'), encoding="utf-8")
     project.a2l = tmp_path / "old.a2l"
-    window = MainWindow(project)
-    qtbot.addWidget(window)
-    window.show()
-    with qtbot.waitSignal(window.loaded, timeout=WAIT_MS):
-        window.load()
-    with qtbot.waitSignal(window.controller.connected, timeout=WAIT_MS):
-        window.connect_ecu()
+    window = open_window(qtbot, project)
     yield window
     window.close()
 

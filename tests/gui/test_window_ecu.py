@@ -5,24 +5,16 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from gui_helpers import WAIT_MS, open_window
 from PySide6.QtCore import Qt
 
 from workbench.gui.models.fixes import COLUMNS as FIX_COLUMNS
 from workbench.gui.project import PlotSpec
-from workbench.gui.widgets.main_window import MainWindow
-
-WAIT_MS = 15_000
 
 
 @pytest.fixture
 def window(qtbot, demo_ecu, project):
-    window = MainWindow(project)
-    qtbot.addWidget(window)
-    window.show()
-    with qtbot.waitSignal(window.loaded, timeout=WAIT_MS):
-        window.load()
-    with qtbot.waitSignal(window.controller.connected, timeout=WAIT_MS):
-        window.connect_ecu()
+    window = open_window(qtbot, project)
     yield window
     window.close()
     assert not window.errors or pytest.fail(f"error dialogs: {[box.text() for box in window.errors]}")

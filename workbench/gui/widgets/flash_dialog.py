@@ -57,6 +57,7 @@ class FlashDialog(QDialog):
 
     flashed = Signal(object)  # workbench.flash.FlashResult
     flash_failed = Signal(object)
+    flash_started = Signal(object)  # the Task, before it runs (to follow its progress)
 
     def __init__(self, session, s19: Path | None = None, parent=None):
         super().__init__(parent)
@@ -209,6 +210,7 @@ class FlashDialog(QDialog):
         self.task.finished.connect(self._finished)
         self._busy(True)
         self.result.setPlainText("flashing …")
+        self.flash_started.emit(self.task)
         return self.task.start()
 
     def cancel(self) -> None:

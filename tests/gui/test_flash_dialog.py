@@ -1,0 +1,84 @@
+"""Flashing from the window (thesis figure 38): the s19's regions with their partial ranges, a CALIB
+flash with progress and verify, the working page into CAL ROM, cancel."""
+
+from __future__ import annotations
+
+import pytest
+from gui_helpers import WAIT_MS, open_window
+from PySide6.QtCore import Qt
+
+from workbench import demo
+from workbench.errors import Cancelled
+
+FLASH_MS = 120_000
+
+
+@pytest.fixture
+def window(qtbot, demo_ecu, project):
+    window = open_window(qtbot, project)
+    yield window
+    window.close()
+
+
+def _planned(dialog, qtbot):
+    qtbot.waitUntil(lambda: dialog.plan is not None, timeout=WAIT_MS)
+    return {dialog.table.item(row, 0).text(): dialog.table.item(row, 4).text() for row in range(dialog.table.rowCount())}
+
+
+def test_a_calib_flash_from_the_s19_programs_its_partial_ranges_and_verifies(window, qtbot):
+    dialog = window.open_flash_dialog()
+    assert window.hub.acquisition is None  # no DAQ while flashing
+    assert dialog.path.text() == str(demo.s19()) and dialog.selected_regions() == ["CALIB"]
+    info = _planned(dialog, qtbot)
+    assert info["CALIB"].startswith("Partial: FC0000h-") and "FDFFF0h-FDFFFFh" in info["CALIB"]
+    assert info["APPLICATIVE"].startswith("Partial: 840000h-") and info["APPLICATIVE"].endswith("(not selected)")
+    progress = []
+    dialog.flash_started.connect(lambda task: task.progress.changed.connect(
+        lambda done, total, label: progress.append((done, total, label)), Qt.DirectConnection))
+    with qtbot.waitSignal(dialog.flashed, timeout=FLASH_MS) as flashed:
+        dialog.start()
+    qtbot.waitUntil(lambda: dialog.flash_button.isEnabled(), timeout=WAIT_MS)
+    result = flashed.args[0]
+    assert "verified" in result.describe() and result.application_running
+    assert progress and progress[-1][0] == progress[-1][1] == dialog.plan.size
+    assert any("KiB/s" in label for _, _, label in progress)  # the rate and the time left
+    assert dialog.progress.value() == dialog.progress.maximum()
+    dialog.close_button.click()
+    qtbot.waitUntil(lambda: window.hub.acquisition is not None, timeout=WAIT_MS)  # DAQ again after the flash
+    plot = window.plots[0]
+    before = plot.samples_shown()
+    qtbot.waitUntil(lambda: plot.samples_shown() != before, timeout=WAIT_MS)
+
+
+def test_the_working_page_flashed_into_cal_rom_becomes_the_reference_page(window, qtbot):
+    session = window.controller.session
+    session.write("xsSWITCH_TANK_THR", 27.5)
+    assert session.read("xsSWITCH_TANK_THR", page="reference") == pytest.approx(20.0)
+    dialog = window.open_flash_dialog()
+    dialog._working_page()
+    with qtbot.waitSignal(dialog.flashed, timeout=FLASH_MS):
+        dialog.start()
+    assert session.read("xsSWITCH_TANK_THR", page="reference") == pytest.approx(27.5)
+    dialog.close_button.click()
+
+
+def test_a_cancelled_flash_says_what_state_the_ecu_is_in_and_a_second_flash_finishes(window, qtbot):
+    dialog = window.open_flash_dialog(regions=["CALIB", "APPLICATIVE"])
+    _planned(dialog, qtbot)
+    def cancel_when_programming(task):  # in the flash's own thread, at its first block: no race with its end
+        def cancel(done, total, label):
+            if label.startswith("programming"):
+                task.cancel()
+        task.progress.changed.connect(cancel, Qt.DirectConnection)
+
+    dialog.flash_started.connect(cancel_when_programming)
+    with qtbot.waitSignal(dialog.flash_failed, timeout=FLASH_MS) as failed:
+        dialog.start()
+    dialog.flash_started.disconnect(cancel_when_programming)
+    assert isinstance(failed.args[0], Cancelled)
+    assert "cancelled: programming" in dialog.result.toPlainText() and "stays in boot" in dialog.result.toPlainText()
+    qtbot.waitUntil(lambda: dialog.flash_button.isEnabled() and not dialog.cancel_button.isEnabled(), timeout=WAIT_MS)
+    with qtbot.waitSignal(dialog.flashed, timeout=FLASH_MS) as flashed:
+        dialog.start()
+    assert flashed.args[0].application_running
+    dialog.close_button.click()
