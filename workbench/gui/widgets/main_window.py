@@ -12,6 +12,7 @@ import base64
 import logging
 from pathlib import Path
 
+import numpy as np
 from PySide6.QtCore import QByteArray, Qt, Signal
 from PySide6.QtGui import QAction, QActionGroup, QKeySequence
 from PySide6.QtWidgets import (
@@ -28,6 +29,7 @@ from workbench.gui import theme
 from workbench.gui.a2l_info import calibration_info, measurement_info
 from workbench.gui.acquisition import DaqAcquisition
 from workbench.gui.ecu import Connected, EcuController
+from workbench.gui.formatting import format_value
 from workbench.gui.project import PlotSpec, Project, recent_projects, remember_project, save_project
 from workbench.gui.signal_hub import SignalHub, SignalInfo
 from workbench.gui.widgets.calibration_editor import CalibrationEditor
@@ -40,9 +42,9 @@ from workbench.gui.widgets.flash_dialog import FlashDialog
 from workbench.gui.widgets.numeric_view import NumericView
 from workbench.gui.widgets.plot_window import PlotWindow
 from workbench.gui.widgets.status_bar import EcuStatusBar
-from workbench.gui.widgets.sync_dialog import SyncDialog, SyncDifference
+from workbench.gui.widgets.sync_dialog import SyncChoice, SyncDialog, SyncDifference
 from workbench.gui.widgets.variable_browser import VariableBrowser
-from workbench.gui.worker import run_task
+from workbench.gui.worker import Task, run_task
 from workbench.gui.workspace import Workspace, load_workspace
 
 log = logging.getLogger(__name__)
@@ -64,6 +66,8 @@ class MainWindow(QMainWindow):
         self.editors: dict[str, CalibrationEditor] = {}
         self.epk_dialog: EpkDialog | None = None
         self.flash_dialog: FlashDialog | None = None
+        self.sync_dialog: SyncDialog | None = None
+        self.sync_report = None  # the last cache sync's workbench.sync.SyncReport
         self.errors: list = []  # the error dialogs shown (tests look at them)
         self.resize(1600, 980)
         self._build()
@@ -377,10 +381,12 @@ class MainWindow(QMainWindow):
         else:
             self._start_measuring()
 
-    def _start_measuring(self) -> None:
+    def _start_measuring(self, check_cache: bool = True) -> None:
         session = self.controller.session
         if session is None or self.controller.info.boot:
             return
+        if check_cache and self.project.s19 is not None:
+            self.check_cache()
         from workbench.gui.can_monitor import CanMonitor
 
         monitor = None
@@ -418,7 +424,7 @@ class MainWindow(QMainWindow):
         if regions:
             self.flash_dialog.select_regions(regions)
         self.flash_dialog.flashed.connect(self._flashed)
-        self.flash_dialog.finished.connect(lambda _: self._start_measuring())
+        self.flash_dialog.finished.connect(lambda _: self._start_measuring(check_cache=False))
         self.flash_dialog.open()
         return self.flash_dialog
 
@@ -429,13 +435,47 @@ class MainWindow(QMainWindow):
         for editor in self.editors.values():
             editor.reload()
 
-    def open_sync_dialog(self, reference_name: str, differences: list[SyncDifference]) -> SyncDialog:
-        """Ask how to synchronise the ECU with ``reference_name`` (thesis figure 39); the caller acts on
-        the dialog's ``choice`` when it is accepted."""
+    def check_cache(self) -> Task:
+        """Compare the ECU's calibrations with the project's s19 (thesis figure 39: checksums first, objects
+        after); when they differ, ask whether to download the file's values or upload the ECU's."""
+        from workbench.sync import sync_compare
+
+        task = Task(sync_compare, self.controller.session, self.project.s19)
+        task.succeeded.connect(self._cache_compared)
+        task.failed.connect(self.show_error)
+        return task.start()
+
+    def _cache_compared(self, report) -> None:
+        self.sync_report = report
+        if report.equal:
+            self.statusBar().showMessage(report.summary(), 8000)
+            return
+        differences = [SyncDifference(name, _value_text(report.ecu_values.get(name)),
+                                      _value_text(report.reference_values.get(name))) for name in report.changed]
+        differences += [SyncDifference(f"{d.span.size} bytes at {d.span.start:06X}h", "(outside the objects)", "")
+                        for d in report.outside]
         ecu = self.controller.info.identification if self.controller.info else "ECU"
-        dialog = SyncDialog(ecu, reference_name, differences, self)
-        dialog.open()
-        return dialog
+        self.sync_dialog = SyncDialog(ecu, Path(report.reference.label).name, differences, self)
+        self.sync_dialog.accepted.connect(lambda: self._synchronise(report, self.sync_dialog.choice))
+        self.sync_dialog.open()
+
+    def _synchronise(self, report, choice: SyncChoice) -> None:
+        from workbench.sync import sync_download, sync_upload
+
+        if choice is SyncChoice.DOWNLOAD:
+            task = Task(sync_download, self.controller.session, report, progress=True)
+            task.succeeded.connect(lambda _: [editor.reload() for editor in self.editors.values()])
+            task.failed.connect(self.show_error)
+            task.start()
+            return
+        reference = Path(report.reference.label)
+        path, _ = QFileDialog.getSaveFileName(self, "Upload: the ECU's calibrations into",
+                                              str(reference.with_name(f"{reference.stem}-ecu{reference.suffix}")))
+        if path:
+            try:
+                self.project.s19 = sync_upload(report, path)
+            except Exception as exc:  # noqa: BLE001
+                self.show_error(exc)
 
     # --- errors and closing ---------------------------------------------------------------------
 
@@ -446,3 +486,12 @@ class MainWindow(QMainWindow):
         self.hub.detach()
         self.controller.close()
         super().closeEvent(event)
+
+
+def _value_text(value) -> str:
+    """A calibration's value for the cache sync's list: the number with its unit, or the shape of an array."""
+    if value is None:
+        return "—"
+    if isinstance(value.value, np.ndarray):
+        return f"{' x '.join(map(str, value.value.shape))} values"
+    return f"{format_value(value.value)}{' ' + value.unit if value.unit else ''}"
