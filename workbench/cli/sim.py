@@ -29,7 +29,8 @@ binds udp_multicast's port for every group: two simulators on one host need thei
 (--bus-kwargs port=N). --pcm adds a residual-bus PCM that sends EnableFLCU and
 TargetRailPressure every 100 ms, so the rail pressure rises on its own. Resources CAL/PAG, DAQ
 and PGM are locked until UNLOCK with the seed & key plugin workbench.sim.seedkey:compute_key
-(--unlocked serves them open).
+(--unlocked serves them open). --static-daq offers four static DAQ lists (two fixed to the 4 ms and
+50 ms events) instead of dynamic DAQ, as older ECUs do.
 
 examples:
   workbench sim --pcm
@@ -63,6 +64,8 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     sim.add_argument("--no-app-key", action="store_true",
                      help="start with the application-valid key erased: the ECU stays in boot (programming only)")
     sim.add_argument("--unlocked", action="store_true", help="no seed & key: CAL/PAG, DAQ and PGM open at CONNECT")
+    sim.add_argument("--static-daq", action="store_true",
+                     help="static DAQ lists (fixed lists, ODTs and entries; no ALLOC_DAQ) instead of dynamic DAQ")
     sim.add_argument("--duration", type=positive_float, metavar="S", help="stop by itself after S real seconds")
     add_output_arguments(parser)
     parser.set_defaults(func=run)
@@ -93,7 +96,7 @@ def run(args: argparse.Namespace) -> int:
     )
     simulator = serve_demo(
         bus, ethernet=ethernet, can2=can2, files=files, pcm_target_bar=args.pcm_target if args.pcm else None,
-        time_scale=args.time_scale, valid_key=not args.no_app_key, unlocked=args.unlocked,
+        time_scale=args.time_scale, valid_key=not args.no_app_key, unlocked=args.unlocked, static_daq=args.static_daq,
     )
     stop = threading.Event()
     previous = signal.signal(signal.SIGTERM, lambda *_: stop.set()) if threading.current_thread() is threading.main_thread() else None
@@ -136,11 +139,23 @@ def _announce(args: argparse.Namespace, simulator, files) -> None:
         f"  EPK          {info['epk']}",
         f"  bus timing   {info['bitrate']} bit/s" if info["bitrate"] else "  bus timing   not modelled (use --bitrate)",
         f"  time scale   {info['time_scale']}x",
+        f"  DAQ          {_daq_text(info['daq'], simulator.ecu.params.events)}",
         f"  PCM          TargetRailPressure {args.pcm_target} bar, EnableFLCU 1" if args.pcm else "  PCM          off (--pcm)",
         "  seed & key   workbench.sim.seedkey:compute_key" + (" (not needed: --unlocked)" if args.unlocked else ""),
         "serving; Ctrl-C stops",
     ]
     print("\n".join(lines), flush=True)
+
+
+def _daq_text(daq: dict, events) -> str:
+    """``dynamic (up to 16 lists)`` or ``static, 4 lists (ODTs x entries): 8x3 on Task4ms, ...``."""
+    if daq["config"] == "dynamic":
+        return f"dynamic (up to {daq['max_daq']} lists)"
+    names = {event.number: event.name for event in events}
+    lists = [f"{shape['odts']}x{shape['entries']}"
+             + (f" on {names.get(shape['fixed_event'], shape['fixed_event'])}" if shape["fixed_event"] is not None else "")
+             for shape in daq["lists"]]
+    return f"static, {len(lists)} lists (ODTs x entries): {', '.join(lists)}"
 
 
 def _bus_text(settings: dict) -> str:

@@ -28,7 +28,7 @@ _EXPORTS = {
     "workbench.sim.faults": ("FaultPlan",),
     "workbench.sim.serve": ("serve_demo",),
     "workbench.sim.server": ("Simulator",),
-    "workbench.sim.xcp.parameters": ("DaqParameters", "EventChannel", "XcpParameters"),
+    "workbench.sim.xcp.parameters": ("DaqParameters", "EventChannel", "StaticDaqList", "XcpParameters"),
 }
 __all__, __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
@@ -39,4 +39,4 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
     from workbench.sim.faults import FaultPlan
     from workbench.sim.serve import serve_demo
     from workbench.sim.server import Simulator
-    from workbench.sim.xcp.parameters import DaqParameters, EventChannel, XcpParameters
+    from workbench.sim.xcp.parameters import DaqParameters, EventChannel, StaticDaqList, XcpParameters

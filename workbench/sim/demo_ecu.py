@@ -2,7 +2,9 @@
 
 From the A2L come the CAN ids, the baud rate, MAX_CTO/MAX_DTO of the transport served (XCP on
 CAN or on UDP/TCP), the EPK address, the DAQ events and the BUILD_CHECKSUM type; the DAQ limits
-are the simulator's own (:class:`DaqParameters`), and the A2L must state the same (a test checks it). The s19 never holds the application-valid
+are the simulator's own (:class:`DaqParameters`), and the A2L must state the same (a test checks it), except
+with ``static_daq``: the slave then offers static DAQ lists where the A2L says DYNAMIC, as a foreign ECU whose
+A2L is out of date would (a master goes by what the slave says). The s19 never holds the application-valid
 key (``.app_key`` is NOLOAD): the factory programs it after the image, as a flash tool
 does, unless ``valid_key=False``.
 """
@@ -31,7 +33,7 @@ from workbench.sim.memory_map import HDS9
 from workbench.sim.pcm import PcmNode
 from workbench.sim.plant import FuelSystemPlant
 from workbench.sim.scheduler import Scheduler
-from workbench.sim.xcp.parameters import EventChannel, XcpParameters
+from workbench.sim.xcp.parameters import DEMO_STATIC_LISTS, EventChannel, XcpParameters
 from workbench.xcp_protocol import CAN_ID_EXTENDED_FLAG, Resource
 
 ECU_NODE = "FLCU"
@@ -133,6 +135,7 @@ def build_demo_ecu(
     transport: str = "CAN",
     valid_key: bool = True,
     unlocked: bool = False,
+    static_daq: bool = False,
     scheduler: Scheduler | None = None,
     faults: FaultPlan | None = None,
     rng: random.Random | None = None,
@@ -140,7 +143,8 @@ def build_demo_ecu(
     """The FLCU ECU with its plant on one scheduler (the plant steps every millisecond), not powered yet.
 
     ``transport`` ("CAN", "UDP" or "TCP") picks the A2L block whose packet sizes the slave uses;
-    ``unlocked`` serves CAL/PAG, DAQ and PGM without seed & key.
+    ``unlocked`` serves CAL/PAG, DAQ and PGM without seed & key; ``static_daq`` offers the static DAQ lists
+    :data:`~workbench.sim.xcp.parameters.DEMO_STATIC_LISTS` instead of dynamic DAQ.
 
     :raises InputError: a file is missing or malformed.
     """
@@ -149,6 +153,8 @@ def build_demo_ecu(
     params = xcp_parameters(doc, read_xcp_config(doc), transport)
     if unlocked:
         params = replace(params, protected=Resource(0))
+    if static_daq:
+        params = replace(params, daq=replace(params.daq, static_lists=DEMO_STATIC_LISTS))
     elf = ElfSymbols(files.elf)
     flash = load_image(files.s19)
     _, outside = split_by_region(flash, list(HDS9.flash))

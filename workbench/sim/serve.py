@@ -43,6 +43,7 @@ def serve_demo(
     time_scale: float | None = 1.0,
     valid_key: bool = True,
     unlocked: bool = False,
+    static_daq: bool = False,
     faults: FaultPlan | None = None,
     rng: random.Random | None = None,
 ) -> Simulator:
@@ -57,7 +58,7 @@ def serve_demo(
         ``ethernet.port`` is None, the port) of the A2L's XCP_ON_UDP_IP / XCP_ON_TCP_IP.
     :param can2: the FLCU messages on a bus of their own (settings completed as ``bus``'s).
     :param demo: an ECU built by :func:`build_demo_ecu` for the same transport (default: built here
-        from ``files`` with ``valid_key``, ``unlocked``, ``faults`` and ``rng``).
+        from ``files`` with ``valid_key``, ``unlocked``, ``static_daq``, ``faults`` and ``rng``).
     :param pcm_target_bar: add a residual-bus PCM sending EnableFLCU = 1 and this TargetRailPressure
         (bar) every 100 ms.
     :param time_scale: simulated seconds per real second; None: only ``Simulator.advance`` moves time.
@@ -68,7 +69,7 @@ def serve_demo(
         raise InputError("with XCP on Ethernet the CAN bus carries only the FLCU messages: give bus or can2, not both")
     if demo is None:
         demo = build_demo_ecu(files, transport=ethernet.protocol if ethernet is not None else "CAN",
-                              valid_key=valid_key, unlocked=unlocked, faults=faults, rng=rng)
+                              valid_key=valid_key, unlocked=unlocked, static_daq=static_daq, faults=faults, rng=rng)
     if ethernet is not None and ethernet.port is None:
         block = getattr(read_xcp_config(demo.a2l), ethernet.protocol.lower())
         ethernet = replace(ethernet, port=block.port)

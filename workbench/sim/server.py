@@ -237,4 +237,13 @@ class Simulator:
             "epk": epk.decode("ascii", "replace").rstrip("\0"),
             "state": self.ecu.state.value,
             "time_scale": self.time_scale,
+            "daq": self._describe_daq(),
         }
+
+    def _describe_daq(self) -> dict[str, Any]:
+        """DAQ_CONFIG_TYPE and the lists: how many can be allocated, or the static ones' shapes."""
+        daq = self.ecu.params.daq
+        if not daq.static:
+            return {"config": "dynamic", "max_daq": daq.max_daq}
+        return {"config": "static", "lists": [
+            {"odts": shape.odts, "entries": shape.entries, "fixed_event": shape.fixed_event} for shape in daq.static_lists]}

@@ -1,4 +1,4 @@
-"""Dynamic DAQ: allocation, ODT entries, list modes, start/stop and sampling at the task events.
+"""DAQ, dynamic or static: allocation, ODT entries, list modes, start/stop and sampling at the task events.
 
 Limits the slave enforces (they are what GET_DAQ_PROCESSOR_INFO / GET_DAQ_RESOLUTION_INFO
 and the A2L publish, see :class:`DaqParameters`):
@@ -14,7 +14,18 @@ and the A2L publish, see :class:`DaqParameters`):
 * timestamps are selectable per list (not TIMESTAMP_FIXED); no prescaler (it must be 1);
 * no STIM, no PID_OFF, no ALTERNATING/DTO_CTR modes, no bit-wise entries (bit offset 0xFF only).
 
-DTO layout: ``PID [timestamp, first ODT only] data…`` with PID = FIRST_PID of the list + ODT number.
+With :attr:`DaqParameters.static_lists` the configuration is static (DAQ_CONFIG_TYPE 0) instead:
+
+* the lists, their ODTs and the ODTs' entries exist from the start (MAX_DAQ = their number, MIN_DAQ 0:
+  none is predefined); GET_DAQ_LIST_INFO tells each one's MAX_ODT, MAX_ODT_ENTRIES and FIXED_EVENT;
+* FREE_DAQ and ALLOC_* are not implemented (ERR_CMD_UNKNOWN, as the optional dynamic commands of a static
+  slave); CLEAR_DAQ_LIST empties a list's entries (size 0) and mode (ERR_DAQ_ACTIVE while it runs);
+* an EVENT_FIXED list samples only its event (SET_DAQ_LIST_MODE with another: ERR_OUT_OF_RANGE);
+* an entry of size 0 ends its ODT, and an ODT whose first entry has size 0 ends the list: that ODT and
+  the ones after it are not transmitted; a list with nothing to transmit does not start (ERR_DAQ_CONFIG).
+
+DTO layout: ``PID [timestamp, first ODT only] data…`` with PID = FIRST_PID of the list + ODT number
+(static lists: FIRST_PID = the ODTs of the lists before it).
 """
 
 from __future__ import annotations
@@ -22,6 +33,7 @@ from __future__ import annotations
 import struct
 from dataclasses import dataclass
 from enum import IntEnum
+from itertools import takewhile
 from typing import TYPE_CHECKING
 
 from workbench.sim.memory import MemoryAccessError
@@ -35,6 +47,8 @@ MODE_TIMESTAMP = 0x10  # the only SET_DAQ_LIST_MODE bit supported
 NO_BIT_OFFSET = 0xFF
 PROPERTY_DYNAMIC = 0x01
 PROPERTY_TIMESTAMP = 0x10
+LIST_PROPERTY_EVENT_FIXED = 0x02  # GET_DAQ_LIST_INFO's DAQ_LIST_PROPERTIES (PREDEFINED 0x01 is never set)
+LIST_PROPERTY_DAQ = 0x04  # DAQ_LIST_TYPE: DAQ only (no STIM)
 EVENT_PROPERTY_DAQ = 0x04
 EVENT_CONSISTENCY_DAQ = 0x40
 KEY_BYTE = 0x00  # identification field absolute, address extension free (only extension 0 exists), default optimisation
@@ -59,6 +73,7 @@ class DaqList:
     odts: list[list[OdtEntry]] | None = None  # None until ALLOC_ODT
     first_pid: int = 0
     event: int | None = None
+    fixed_event: int | None = None  # a static list's FIXED_EVENT
     timestamps: bool = False
     priority: int = 0
     selected: bool = False
@@ -73,25 +88,36 @@ class DaqProcessor:
         self.free()
 
     def free(self) -> None:
+        """No DAQ list runs or holds anything: dynamic lists are freed, static ones emptied."""
         self.lists: list[DaqList] = []
         self._stage = _Stage.FREED
         self._odt_count = 0
         self._ptr: tuple[int, int, int] | None = None
+        for shape in self.params.static_lists:
+            self.lists.append(DaqList([[OdtEntry() for _ in range(shape.entries)] for _ in range(shape.odts)],
+                                      self._odt_count, shape.fixed_event, shape.fixed_event))
+            self._odt_count += shape.odts
 
     @property
     def running(self) -> bool:
         return any(daq.running for daq in self.lists)
 
     def handlers(self):
+        configuration = {
+            Cmd.GET_DAQ_LIST_INFO: self._get_daq_list_info,
+            Cmd.CLEAR_DAQ_LIST: self._clear_daq_list,
+        } if self.params.static else {
+            Cmd.FREE_DAQ: self._free_daq,
+            Cmd.ALLOC_DAQ: self._alloc_daq,
+            Cmd.ALLOC_ODT: self._alloc_odt,
+            Cmd.ALLOC_ODT_ENTRY: self._alloc_odt_entry,
+        }
         return {
             Cmd.GET_DAQ_PROCESSOR_INFO: self._get_processor_info,
             Cmd.GET_DAQ_RESOLUTION_INFO: self._get_resolution_info,
             Cmd.GET_DAQ_EVENT_INFO: self._get_event_info,
             Cmd.GET_DAQ_CLOCK: self._get_daq_clock,
-            Cmd.FREE_DAQ: self._free_daq,
-            Cmd.ALLOC_DAQ: self._alloc_daq,
-            Cmd.ALLOC_ODT: self._alloc_odt,
-            Cmd.ALLOC_ODT_ENTRY: self._alloc_odt_entry,
+            **configuration,
             Cmd.SET_DAQ_PTR: self._set_daq_ptr,
             Cmd.WRITE_DAQ: self._write_daq,
             Cmd.SET_DAQ_LIST_MODE: self._set_daq_list_mode,
@@ -107,8 +133,10 @@ class DaqProcessor:
     # --- information ---------------------------------------------------------------------------
 
     def _get_processor_info(self, req: bytes) -> bytes:
-        properties = PROPERTY_DYNAMIC | PROPERTY_TIMESTAMP
-        return struct.pack("<BHHBB", properties, self.params.max_daq, len(self.events), 0, KEY_BYTE)
+        params = self.params
+        properties = (0 if params.static else PROPERTY_DYNAMIC) | PROPERTY_TIMESTAMP
+        max_daq = len(params.static_lists) if params.static else params.max_daq
+        return struct.pack("<BHHBB", properties, max_daq, len(self.events), 0, KEY_BYTE)
 
     def _get_resolution_info(self, req: bytes) -> bytes:
         size_code = {1: 1, 2: 2, 4: 4}[self.params.timestamp_size]
@@ -132,6 +160,12 @@ class DaqProcessor:
     def _get_daq_clock(self, req: bytes) -> bytes:
         return struct.pack("<BBBI", 0, 0, 0, self.slave.target.timestamp_ticks() & 0xFFFFFFFF)
 
+    def _get_daq_list_info(self, req: bytes) -> bytes:
+        need(req, 4)
+        _, daq = self._list(req)
+        properties = LIST_PROPERTY_DAQ | (LIST_PROPERTY_EVENT_FIXED if daq.fixed_event is not None else 0)
+        return struct.pack("<BBBH", properties, len(daq.odts), len(daq.odts[0]), daq.fixed_event or 0)
+
     # --- allocation ------------------------------------------------------------------------------
 
     def _list(self, req: bytes, offset: int = 2) -> tuple[int, DaqList]:
@@ -142,6 +176,16 @@ class DaqProcessor:
 
     def _free_daq(self, req: bytes) -> bytes:
         self.free()
+        return b""
+
+    def _clear_daq_list(self, req: bytes) -> bytes:
+        need(req, 4)
+        _, daq = self._list(req)
+        if daq.running:
+            raise XcpNegative(Err.DAQ_ACTIVE)
+        for entries in daq.odts:
+            entries[:] = [OdtEntry() for _ in entries]
+        daq.event, daq.timestamps, daq.priority, daq.selected = daq.fixed_event, False, 0, False
         return b""
 
     def _alloc_daq(self, req: bytes) -> bytes:
@@ -237,7 +281,7 @@ class DaqProcessor:
             raise XcpNegative(Err.DAQ_ACTIVE)
         if mode & ~MODE_TIMESTAMP:
             raise XcpNegative(Err.MODE_NOT_VALID)  # STIM, PID_OFF, ALTERNATING, DTO_CTR unsupported
-        if event not in self.events or prescaler != 1:
+        if event not in self.events or prescaler != 1 or daq.fixed_event not in (None, event):
             raise XcpNegative(Err.OUT_OF_RANGE)
         timestamps = bool(mode & MODE_TIMESTAMP)
         if timestamps and daq.odts and daq.odts[0] and sum(e.size for e in daq.odts[0]) > self.odt_capacity(0, True):
@@ -253,6 +297,8 @@ class DaqProcessor:
             raise XcpNegative(Err.MODE_NOT_VALID)
         if mode and (daq.event is None or daq.odts is None or None in daq.odts):
             raise XcpNegative(Err.DAQ_CONFIG)
+        if mode and self.params.static and not daq.odts[0][0].size:
+            raise XcpNegative(Err.DAQ_CONFIG)  # nothing to transmit
         if mode == 0:
             daq.running = daq.selected = False
         elif mode == 1:
@@ -285,6 +331,10 @@ class DaqProcessor:
                 continue
             frames = []
             for odt, entries in enumerate(daq.odts):
+                if self.params.static:
+                    if not entries[0].size:
+                        break  # an ODT whose first entry is empty ends the list
+                    entries = takewhile(lambda entry: entry.size, entries)  # an empty entry ends the ODT
                 frame = bytearray([daq.first_pid + odt])
                 if odt == 0 and daq.timestamps:
                     frame += (timestamp_ticks & 0xFFFFFFFF).to_bytes(self.params.timestamp_size, "little")

@@ -47,14 +47,47 @@ class EventChannel:
 
 
 @dataclass(frozen=True)
+class StaticDaqList:
+    """A DAQ list of a static configuration: ``odts`` ODTs of ``entries`` ODT entries each, all there from
+    power-on (the master only fills the entries); ``fixed_event``: the one event it samples on (EVENT_FIXED),
+    None when the master chooses."""
+
+    odts: int
+    entries: int
+    fixed_event: int | None = None
+
+
+# The lists `workbench sim --static-daq` offers: one fixed to each of Task4ms and Task50ms, two for any event
+# (the 4 ms task's thirteen floats fill list 0 exactly; all Task50ms signals fit list 1).
+DEMO_STATIC_LISTS = (
+    StaticDaqList(odts=8, entries=3, fixed_event=0),
+    StaticDaqList(odts=12, entries=3, fixed_event=1),
+    StaticDaqList(odts=16, entries=4),
+    StaticDaqList(odts=4, entries=4),
+)
+
+
+@dataclass(frozen=True)
 class DaqParameters:
-    max_daq: int = 16  # dynamic DAQ lists that can be allocated (MIN_DAQ = 0)
+    max_daq: int = 16  # dynamic DAQ lists that can be allocated (MIN_DAQ = 0); static lists: their number
     max_odt_total: int = MAX_DAQ_PID + 1  # one absolute PID (0x00..0xFB) per ODT of all lists
     max_odt_entry_size: int = 4  # MAX_ODT_ENTRY_SIZE_DAQ, bytes: smaller than a DTO's payload on purpose
     granularity: int = 1  # GRANULARITY_ODT_ENTRY_SIZE_DAQ
     timestamp_size: int = 4  # DWORD, in the first ODT of each list whose mode asks for timestamps
     timestamp_unit: int = TIMESTAMP_UNIT_10US
     timestamp_ticks: int = 1
+    static_lists: tuple[StaticDaqList, ...] = ()  # given: static DAQ configuration (no ALLOC_*), these lists only
+
+    def __post_init__(self) -> None:
+        if sum(daq.odts for daq in self.static_lists) > self.max_odt_total:
+            raise ValueError(f"static DAQ lists with more than {self.max_odt_total} ODTs: absolute PIDs run out")
+        if any(not (1 <= daq.odts <= 0xFF and 1 <= daq.entries <= 0xFF) for daq in self.static_lists):
+            raise ValueError("a static DAQ list has 1..255 ODTs of 1..255 entries")
+
+    @property
+    def static(self) -> bool:
+        """DAQ_CONFIG_TYPE static: the lists, ODTs and entries are fixed, ALLOC_* do not exist."""
+        return bool(self.static_lists)
 
     @property
     def timestamp_tick_s(self) -> float:
