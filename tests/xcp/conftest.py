@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import pytest
@@ -29,14 +30,27 @@ def can_settings(channel: str) -> LinkSettings:
     return LinkSettings("CAN", {"interface": "virtual", "channel": channel}, 0x7F0, 0x7F1, max_dlc_required=True)
 
 
-@pytest.fixture
-def rig():
-    """The demo ECU (with its PCM) on its own virtual channel, real time, and a connected master with short timeouts."""
+@contextmanager
+def serve(demo: DemoEcu, time_scale: float | None):
+    """``demo`` (with its PCM) on a virtual channel of its own and a master connected to it with short timeouts."""
     channel = f"xcp-test-{next(_channels)}"
-    demo = build_demo_ecu()
     simulator = Simulator(demo.ecu, {"interface": "virtual", "channel": channel}, can2_driver=demo.can2,
-                          pcm=demo.pcm_node(), time_scale=1.0)
+                          pcm=demo.pcm_node(), time_scale=time_scale)
     with simulator, Link(can_settings(channel)) as link:
         master = XcpMaster(link, timeouts=FAST, key_function=compute_key)
         master.connect()
         yield Rig(demo, simulator, link, master)
+
+
+@pytest.fixture
+def rig():
+    """The demo ECU in real time and a connected master."""
+    with serve(build_demo_ecu(), 1.0) as served:
+        yield served
+
+
+@pytest.fixture
+def static_rig():
+    """The demo ECU with static DAQ lists, its clock moved only by the test (``simulator.advance``), and a master."""
+    with serve(build_demo_ecu(static_daq=True), None) as served:
+        yield served

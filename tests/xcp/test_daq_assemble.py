@@ -11,6 +11,7 @@ from test_daq_plan import processor, resolution
 from workbench.xcp.daq.assemble import DtoAssembler
 from workbench.xcp.daq.clock import DaqClock
 from workbench.xcp.daq.plan import DaqSignal, plan_daq
+from workbench.xcp.info import DaqListInfo
 
 SIGNALS = {0: [DaqSignal("a", 0x100, 4), DaqSignal("b", 0x200, 4), DaqSignal("c", 0x300, 2)]}
 
@@ -55,6 +56,21 @@ def test_every_identification_field_reassembles(field, order):
     assert bytes(data[positions["a"]]) == bytes((1, 2, 3, 4))
     assert bytes(data[positions["c"]]) == bytes((0xAA, 0xBB))
     assert (assembler.lost, assembler.unknown) == (0, 0)
+
+
+@pytest.mark.parametrize("field", ["ABSOLUTE", "RELATIVE_BYTE", "RELATIVE_WORD"])
+def test_a_static_list_reassembles_with_its_number_and_the_first_pid_the_slave_gave(field):
+    lists = [DaqListInfo(0, False, 1, "DAQ", 4, 2), DaqListInfo(1, False, None, "DAQ", 6, 3)]
+    max_dto = 8 if field != "RELATIVE_WORD" else 16
+    plan = plan_daq(SIGNALS, processor(field, dynamic=False), resolution(timestamp_size=2), max_dto, static_lists=lists)
+    assert [daq.number for daq in plan.lists] == [1]  # list 0 samples event 1 only
+    assembler = DtoAssembler(plan, {1: 4})  # FIRST_PID 4: after list 0's ODTs
+    for dto in dtos(plan, 4, 700, MEMORY) + [bytes((0, 0)) + bytes(6)]:  # and a DTO of list 0, not ours
+        assembler.feed(dto, 0)
+    (sample,) = assembler.take()
+    data = np.frombuffer(sample.data, dtype=np.uint8)
+    assert bytes(data[plan.lists[0].positions["b"]]) == bytes((0x10, 0x11, 0x12, 0x13)) and sample.timestamp == 700
+    assert assembler.unknown == 1
 
 
 def test_a_missing_odt_drops_that_sample_only():

@@ -106,9 +106,10 @@ class DaqMeasurement:
                     groups.setdefault(self.events[name], []).append(
                         DaqSignal(name, span.address, span.size, span.extension, codec.element_size))
                 info = {number: session.event_info(number) for number in groups}
+                static = None if processor.dynamic else [master.get_daq_list_info(n) for n in range(processor.max_daq)]
                 plan = plan_daq(groups, processor, resolution, master.max_dto, first_list=processor.min_daq,
                                 consistency={n: i.consistency for n, i in info.items() if i is not None},
-                                prescaler=self.prescaler)
+                                prescaler=self.prescaler, static_lists=static)
                 self.stream = DaqStream(master, plan, processor, resolution,
                                         {n: i.period_s * self.prescaler for n, i in info.items()
                                          if i is not None and i.period_s})

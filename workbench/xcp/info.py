@@ -14,7 +14,8 @@ from workbench.errors import WorkbenchError
 from workbench.xcp_protocol import TIME_UNIT_S, Resource
 
 __all__ = [
-    "CommModeInfo", "ConnectInfo", "DaqEventInfo", "DaqProcessorInfo", "DaqResolutionInfo", "PagProcessorInfo",
+    "CommModeInfo", "ConnectInfo", "DaqEventInfo", "DaqListInfo", "DaqProcessorInfo", "DaqResolutionInfo",
+    "PagProcessorInfo",
     "PgmProcessorInfo", "ProgramStartInfo", "SectorInfo", "Status",
 ]
 
@@ -137,6 +138,30 @@ class DaqResolutionInfo:
             raise WorkbenchError(f"XCP GET_DAQ_RESOLUTION_INFO: timestamp size {size} is not 0, 1, 2 or 4")
         unit = (mode >> 4) & 0x0F
         return cls(max(granularity, 1), max_entry, size, bool(mode & 0x08), TIME_UNIT_S.get(unit, 1e-6), max(ticks, 1))
+
+
+@dataclass(frozen=True)
+class DaqListInfo:
+    """GET_DAQ_LIST_INFO: what one DAQ list of a static configuration (or a predefined list) can hold."""
+
+    number: int
+    predefined: bool  # configured by the slave: the master cannot change it
+    fixed_event: int | None  # EVENT_FIXED: the only event the list samples on (None: the master chooses)
+    direction: str  # DAQ, STIM, DAQ_STIM
+    max_odt: int  # ODTs in the list
+    max_odt_entries: int  # entries in each of its ODTs
+
+    @property
+    def configurable_daq(self) -> bool:
+        """The master can fill it for measuring: not predefined, DAQ direction, room for an entry."""
+        return not self.predefined and "DAQ" in self.direction and self.max_odt > 0 and self.max_odt_entries > 0
+
+    @classmethod
+    def parse(cls, number: int, payload: bytes, order: str) -> DaqListInfo:
+        properties, max_odt, max_entries, event = _unpack(f"{order}BBBH", payload, "GET_DAQ_LIST_INFO")
+        direction = {0x08: "STIM", 0x0C: "DAQ_STIM"}.get(properties & 0x0C, "DAQ")  # 0b00 (XCP 1.0 slaves): DAQ
+        return cls(number, bool(properties & 0x01), event if properties & 0x02 else None, direction, max_odt,
+                   max_entries)
 
 
 @dataclass(frozen=True)

@@ -28,6 +28,7 @@ from workbench.xcp.info import (
     CommModeInfo,
     ConnectInfo,
     DaqEventInfo,
+    DaqListInfo,
     DaqProcessorInfo,
     DaqResolutionInfo,
     PagProcessorInfo,
@@ -497,6 +498,11 @@ class XcpMaster:
     def get_daq_resolution_info(self) -> DaqResolutionInfo:
         return DaqResolutionInfo.parse(self.command(Cmd.GET_DAQ_RESOLUTION_INFO), self.order)
 
+    def get_daq_list_info(self, daq_list: int) -> DaqListInfo:
+        """GET_DAQ_LIST_INFO: a static or predefined list's ODTs, entries per ODT and fixed event."""
+        return DaqListInfo.parse(daq_list, self.command(Cmd.GET_DAQ_LIST_INFO, struct.pack(f"{self.order}xH", daq_list)),
+                                 self.order)
+
     def get_daq_event_info(self, event: int) -> DaqEventInfo:
         payload = self.command(Cmd.GET_DAQ_EVENT_INFO, struct.pack(f"{self.order}xH", event))
         length = DaqEventInfo.name_length(payload)
@@ -528,6 +534,7 @@ class XcpMaster:
                                                 extension, address))
 
     def clear_daq_list(self, daq_list: int) -> None:
+        """CLEAR_DAQ_LIST: empty a (static) list's ODT entries and reset its mode; the list must be stopped."""
         self.command(Cmd.CLEAR_DAQ_LIST, struct.pack(f"{self.order}xH", daq_list))
 
     def set_daq_list_mode(self, daq_list: int, event: int, *, timestamp: bool, prescaler: int = 1,

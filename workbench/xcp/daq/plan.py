@@ -16,6 +16,11 @@ Entries are packed first-fit decreasing, which keeps the ODT count near the mini
 
 Each signal's bytes end up at known offsets of the *sample*: the concatenated data of a list's
 ODTs in ODT order, which is what :mod:`workbench.xcp.daq.assemble` rebuilds from the DTOs.
+
+A slave with static DAQ lists (DAQ_CONFIG_TYPE static) fixes the lists, their ODTs (MAX_ODT) and
+the entries of each ODT (MAX_ODT_ENTRIES), and may tie a list to one event: each event's signals
+are packed within the limits of a list that takes them (:mod:`workbench.xcp.daq.assign` chooses
+which). A static ODT is never left empty: its empty first entry would end the list's transmission.
 """
 
 from __future__ import annotations
@@ -26,7 +31,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from workbench.errors import InputError
-from workbench.xcp.info import DaqProcessorInfo, DaqResolutionInfo
+from workbench.xcp.daq.assign import assign_static_lists
+from workbench.xcp.info import DaqListInfo, DaqProcessorInfo, DaqResolutionInfo
 
 __all__ = ["DaqListPlan", "DaqPlan", "DaqSignal", "Odt", "OdtEntry", "plan_daq"]
 
@@ -54,6 +60,7 @@ class OdtEntry:
     address: int
     size: int
     extension: int = 0
+    filler: bool = False  # sampled only so that an ODT is not empty; its bytes belong to no signal
 
 
 @dataclass(frozen=True)
@@ -93,6 +100,7 @@ class DaqPlan:
     identification_field: str
     timestamp_size: int
     max_dto: int
+    static: bool = False  # the lists are the slave's static ones (CLEAR_DAQ_LIST, no ALLOC_*)
 
     @property
     def odt_count(self) -> int:
@@ -111,6 +119,13 @@ class _Piece:
     def size(self) -> int:
         return sum(self.sizes)
 
+    def at_most(self, max_entries: int) -> list[_Piece]:
+        """This piece in consecutive parts of at most ``max_entries`` entries (what an ODT of a static list holds)."""
+        if len(self.sizes) <= max_entries:
+            return [self]
+        return [_Piece(self.address + sum(self.sizes[:i]), self.extension, self.sizes[i:i + max_entries])
+                for i in range(0, len(self.sizes), max_entries)]
+
     def entries(self) -> list[tuple[int, int]]:
         """(address, size) of each entry."""
         starts = self.address + np.concatenate(([0], np.cumsum(self.sizes[:-1]))).astype(int)
@@ -119,7 +134,8 @@ class _Piece:
 
 def plan_daq(groups: dict[int, Sequence[DaqSignal]], processor: DaqProcessorInfo, resolution: DaqResolutionInfo,
              max_dto: int, *, timestamps: bool = True, first_list: int = 0,
-             consistency: Mapping[int, str] | None = None, prescaler: int = 1) -> DaqPlan:
+             consistency: Mapping[int, str] | None = None, prescaler: int = 1,
+             static_lists: Sequence[DaqListInfo] | None = None) -> DaqPlan:
     """One DAQ list per event of ``groups`` (event number -> signals), numbered from ``first_list``.
 
     ``prescaler``: every list sends one sample in ``prescaler`` events (the slave must offer it).
@@ -128,13 +144,19 @@ def plan_daq(groups: dict[int, Sequence[DaqSignal]], processor: DaqProcessorInfo
     ``consistency``: per event, what GET_DAQ_EVENT_INFO says the slave keeps consistent: "ODT" (the
     default) keeps every scalar within one ODT; "DAQ" or "EVENT" lets a value continue in the next ODT,
     so every ODT is filled to the last byte.
+    ``static_lists``: GET_DAQ_LIST_INFO of each of the slave's lists, required when its DAQ configuration is
+    static (``processor.dynamic`` false); each event then gets one of these lists (``first_list`` does not
+    apply) that takes its event and holds its ODTs within that list's MAX_ODT and MAX_ODT_ENTRIES.
 
     :raises InputError: a signal cannot be sampled with these limits, or the lists need more
-        ODTs or lists than the slave has.
+        ODTs or lists than the slave has (for static lists: which event fits no list, and why).
+    :raises ValueError: a static slave's lists were not given.
     """
     if prescaler != 1 and not (1 <= prescaler <= 0xFF and processor.prescaler_supported):
         raise InputError(f"prescaler {prescaler}: the slave offers " + (
             "1..255" if processor.prescaler_supported else "no prescaler (choose a slower event instead)"))
+    if not processor.dynamic and static_lists is None:
+        raise ValueError("the slave's DAQ lists are static: plan with their GET_DAQ_LIST_INFO (static_lists)")
     pid_size = processor.pid_size
     stamped = resolution.timestamp_size > 0 and (resolution.timestamp_fixed or (timestamps and processor.timestamp_supported))
     timestamp_size = resolution.timestamp_size if stamped else 0
@@ -142,21 +164,44 @@ def plan_daq(groups: dict[int, Sequence[DaqSignal]], processor: DaqProcessorInfo
     if capacity - timestamp_size < resolution.granularity or resolution.max_entry_size < resolution.granularity:
         raise InputError(f"the slave's DTO ({max_dto} bytes) leaves no room for data after its "
                          f"{pid_size}-byte identification field and {timestamp_size}-byte timestamp")
-    lists = []
-    for offset, (event, signals) in enumerate(sorted(groups.items())):
-        if not signals:
-            continue
-        rooms = _Rooms(capacity, timestamp_size, resolution.granularity)
-        pieces = _pieces(signals, resolution, capacity)
-        if (consistency or {}).get(event, "ODT") == "ODT":
-            odts = _pack_whole(pieces, rooms)
-        else:
-            odts = _pack_split(pieces, rooms)
-        lists.append(DaqListPlan(first_list + offset, event, tuple(odts), bool(timestamp_size),
-                                 _positions(signals, odts), prescaler))
-    plan = DaqPlan(tuple(lists), pid_size, processor.identification_field, timestamp_size, max_dto)
-    _check_totals(plan, processor)
+    active = {event: signals for event, signals in sorted(groups.items()) if signals}
+    pieces = {event: _pieces(signals, resolution, capacity) for event, signals in active.items()}
+    packings: dict[tuple[int, int], list[Odt]] = {}
+
+    def pack(event: int, max_entries: int = MAX_ENTRIES_PER_ODT) -> list[Odt]:
+        """``event``'s ODTs with at most ``max_entries`` entries each (cached: static lists share limits)."""
+        if (event, max_entries) not in packings:
+            rooms = _Rooms(capacity, timestamp_size, resolution.granularity, max_entries)
+            split = (consistency or {}).get(event, "ODT") != "ODT"
+            packings[event, max_entries] = (_pack_split if split else _pack_whole)(pieces[event], rooms)
+        return packings[event, max_entries]
+
+    if static_lists is None:
+        numbers = {event: first_list + offset for offset, event in enumerate(active)}
+        odts = {event: pack(event) for event in active}
+    else:
+        chosen = assign_static_lists(list(active), static_lists, lambda event, info: len(pack(event, info.max_odt_entries)))
+        numbers = {event: info.number for event, info in chosen.items()}
+        odts = {event: _never_empty(pack(event, chosen[event].max_odt_entries), resolution.granularity)
+                for event in active}
+    lists = [DaqListPlan(numbers[event], event, tuple(odts[event]), bool(timestamp_size),
+                         _positions(signals, odts[event]), prescaler)
+             for event, signals in sorted(active.items(), key=lambda item: numbers[item[0]])]
+    plan = DaqPlan(tuple(lists), pid_size, processor.identification_field, timestamp_size, max_dto,
+                   static=static_lists is not None)
+    if not plan.static:
+        _check_totals(plan, processor)
     return plan
+
+
+def _never_empty(odts: list[Odt], granule: int) -> list[Odt]:
+    """A static list's ODTs with something in the first one: under ODT consistency nothing may fit beside the
+    timestamp, and an empty first entry ends the list's transmission. The filler re-reads the first granule of
+    the next entry; :func:`_positions` takes every byte from its first real place, never from a filler."""
+    if odts[0].entries:
+        return odts
+    first = odts[1].entries[0]
+    return [Odt((OdtEntry(first.address, granule, first.extension, filler=True),)), *odts[1:]]
 
 
 @dataclass(frozen=True)
@@ -164,12 +209,13 @@ class _Rooms:
     capacity: int
     timestamp_size: int
     granule: int
+    max_entries: int = MAX_ENTRIES_PER_ODT  # a static list's MAX_ODT_ENTRIES
 
     def bytes(self, odt: int) -> int:
         return self.capacity - (self.timestamp_size if odt == 0 else 0)
 
     def entries(self, odt: int) -> int:
-        return min(MAX_ENTRIES_PER_ODT, self.bytes(odt) // self.granule)
+        return min(self.max_entries, self.bytes(odt) // self.granule)
 
 
 def _pieces(signals: Sequence[DaqSignal], resolution: DaqResolutionInfo, capacity: int) -> list[_Piece]:
@@ -208,6 +254,7 @@ def _pack_whole(pieces: list[_Piece], rooms: _Rooms) -> list[Odt]:
     bins: list[list[_Piece]] = []
     room: list[int] = []
     slots: list[int] = []
+    pieces = [part for piece in pieces for part in piece.at_most(rooms.max_entries)]
     for piece in sorted(pieces, key=lambda p: (-p.size, p.extension, p.address)):
         i = next((i for i in range(len(bins)) if piece.size <= room[i] and len(piece.sizes) <= slots[i]), None)
         while i is None:
@@ -252,7 +299,7 @@ def _positions(signals: Sequence[DaqSignal], odts: list[Odt]) -> dict[Hashable, 
     offset = 0
     for odt in odts:
         for entry in odt.entries:
-            for i in range(entry.size):
+            for i in range(entry.size if not entry.filler else 0):
                 located.setdefault((entry.extension, entry.address + i), offset + i)
             offset += entry.size
     return {s.key: np.array([located[(s.extension, s.address + i)] for i in range(s.size)], dtype=np.intp)

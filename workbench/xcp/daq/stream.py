@@ -2,7 +2,9 @@
 
 :class:`DaqStream` writes the plan into the slave in the order real slaves demand (FREE_DAQ,
 ALLOC_DAQ, ALLOC_ODT for every list, ALLOC_ODT_ENTRY for every ODT, then SET_DAQ_PTR/WRITE_DAQ,
-SET_DAQ_LIST_MODE, START_STOP_DAQ_LIST select, START_STOP_SYNCH start), feeds the DTOs the link
+SET_DAQ_LIST_MODE, START_STOP_DAQ_LIST select, START_STOP_SYNCH start; a static configuration has no
+ALLOC_*: every DAQ list is stopped and the plan's lists are emptied with CLEAR_DAQ_LIST instead, so the
+entries the plan does not fill stay empty and end each ODT and list), feeds the DTOs the link
 receives to a :class:`~workbench.xcp.daq.assemble.DtoAssembler`, and hands out
 :class:`DaqBatch`\\ es: a list's samples as one byte matrix with their times, so the decoding
 into values is a few numpy operations per signal, not a Python loop per sample.
@@ -80,21 +82,19 @@ class DaqStream:
     def start(self) -> DaqStream:
         """Write the plan into the slave and start every list at once.
 
-        :raises InputError: the slave offers only static DAQ lists.
+        :raises InputError: the plan is for static lists and the slave's are dynamic, or the other way round.
         :raises XcpCommandError: the slave refuses the configuration (the message names the command).
         """
         master, plan = self.master, self.plan
-        if not self.processor.dynamic:
-            raise InputError("the slave has static DAQ lists only; workbench configures dynamic DAQ (ALLOC_DAQ) so far")
-        master.free_daq()
+        if plan.static == self.processor.dynamic:
+            raise InputError(f"the DAQ plan is for {'static' if plan.static else 'dynamic'} lists but the slave's are "
+                             f"{'dynamic' if self.processor.dynamic else 'static'}: plan again from what it reports")
+        if plan.static:
+            self._clear_static_lists()
+        else:
+            self._allocate()
         if not plan.lists:
             return self
-        master.alloc_daq(len(plan.lists))  # dynamic lists are numbered from MIN_DAQ: the plan starts there
-        for daq in plan.lists:
-            master.alloc_odt(daq.number, len(daq.odts))
-        for daq in plan.lists:
-            for number, odt in enumerate(daq.odts):
-                master.alloc_odt_entry(daq.number, number, len(odt.entries))
         for daq in plan.lists:
             for number, odt in enumerate(daq.odts):
                 if odt.entries:
@@ -110,6 +110,25 @@ class DaqStream:
         master.start_stop_synch(_START_SELECTED)
         self.running = True
         return self
+
+    def _allocate(self) -> None:
+        """Dynamic lists for the plan: FREE_DAQ, ALLOC_DAQ, every ALLOC_ODT, every ALLOC_ODT_ENTRY."""
+        master, plan = self.master, self.plan
+        master.free_daq()
+        if not plan.lists:
+            return
+        master.alloc_daq(len(plan.lists))  # dynamic lists are numbered from MIN_DAQ: the plan starts there
+        for daq in plan.lists:
+            master.alloc_odt(daq.number, len(daq.odts))
+        for daq in plan.lists:
+            for number, odt in enumerate(daq.odts):
+                master.alloc_odt_entry(daq.number, number, len(odt.entries))
+
+    def _clear_static_lists(self) -> None:
+        """Static lists for the plan: stop every list (a running one cannot be cleared), empty the plan's."""
+        self.master.start_stop_synch(_STOP_ALL)
+        for daq in self.plan.lists:
+            self.master.clear_daq_list(daq.number)
 
     def _on_dto(self, dto: bytes, host_ns: int) -> None:
         self.assembler.feed(dto, host_ns)
@@ -176,10 +195,15 @@ class DaqStream:
         return DaqStats(assembler.dtos, assembler.samples, lost, assembler.overloads, assembler.unknown)
 
     def close(self) -> None:
-        """Stop (if running) and free the slave's DAQ lists; errors are logged, not raised (this runs on the way out)."""
+        """Stop (if running) and free the slave's DAQ lists (static ones: clear the plan's); errors are logged, not
+        raised (this runs on the way out)."""
         try:
             self.stop()
-            self.master.free_daq()
+            if self.plan.static:
+                for daq in self.plan.lists:
+                    self.master.clear_daq_list(daq.number)
+            else:
+                self.master.free_daq()
         except WorkbenchError as exc:
             log.warning("stopping DAQ: %s", exc)
 
