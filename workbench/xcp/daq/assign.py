@@ -19,8 +19,10 @@ __all__ = ["assign_static_lists"]
 
 
 def assign_static_lists(events: Sequence[int], lists: Sequence[DaqListInfo],
-                        odts_needed: Callable[[int, DaqListInfo], int]) -> dict[int, DaqListInfo]:
-    """Event -> the static list it goes to; ``odts_needed(event, info)``: ODTs the event's signals take in that list.
+                        odts_needed: Callable[[int, DaqListInfo], int],
+                        event_name: Callable[[int], str] | None = None) -> dict[int, DaqListInfo]:
+    """Event -> the static list it goes to; ``odts_needed(event, info)``: ODTs the event's signals take in that list;
+    ``event_name(number)`` names an event in a refusal.
 
     Predefined, STIM-only and empty lists are never chosen.
 
@@ -51,7 +53,10 @@ def assign_static_lists(events: Sequence[int], lists: Sequence[DaqListInfo],
 
     unplaced = [event for event in sorted(events, key=lambda event: len(candidates[event])) if not place(event, set())]
     if unplaced:
-        reasons = [_why_not(event, usable, candidates[event], needs, owner) for event in sorted(unplaced)]
+        def name(event: int) -> str:
+            return f"event {event} ({event_name(event)})" if event_name is not None else f"event {event}"
+
+        reasons = [_why_not(event, usable, candidates[event], needs, owner, name) for event in sorted(unplaced)]
         raise InputError("the slave's static DAQ lists cannot take this measurement: " + "; ".join(reasons)
                          + "; measure fewer signals or events at once")
     by_number = {info.number: info for info in usable}
@@ -59,11 +64,11 @@ def assign_static_lists(events: Sequence[int], lists: Sequence[DaqListInfo],
 
 
 def _why_not(event: int, usable: list[DaqListInfo], candidates: list[DaqListInfo], needs: dict[tuple[int, int], int],
-             owner: dict[int, int]) -> str:
+             owner: dict[int, int], name: Callable[[int], str]) -> str:
     if candidates:  # every list it fits went to another event
-        return f"event {event} fits only " + ", ".join(
-            f"list {info.number} (taken by event {owner[info.number]})" for info in candidates)
-    reasons = [f"list {info.number} samples event {info.fixed_event} only" if (event, info.number) not in needs else
+        return f"{name(event)} fits only " + ", ".join(
+            f"list {info.number} (taken by {name(owner[info.number])})" for info in candidates)
+    reasons = [f"list {info.number} samples {name(info.fixed_event)} only" if (event, info.number) not in needs else
                f"list {info.number} has {info.max_odt} ODTs of {info.max_odt_entries} entries, "
                f"the signals need {needs[event, info.number]}" for info in usable]
-    return f"event {event} fits no list ({'; '.join(reasons)})"
+    return f"{name(event)} fits no list ({'; '.join(reasons)})"

@@ -25,7 +25,7 @@ which). A static ODT is never left empty: its empty first entry would end the li
 
 from __future__ import annotations
 
-from collections.abc import Hashable, Mapping, Sequence
+from collections.abc import Callable, Hashable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -135,7 +135,8 @@ class _Piece:
 def plan_daq(groups: dict[int, Sequence[DaqSignal]], processor: DaqProcessorInfo, resolution: DaqResolutionInfo,
              max_dto: int, *, timestamps: bool = True, first_list: int = 0,
              consistency: Mapping[int, str] | None = None, prescaler: int = 1,
-             static_lists: Sequence[DaqListInfo] | None = None) -> DaqPlan:
+             static_lists: Sequence[DaqListInfo] | None = None,
+             event_name: Callable[[int], str] | None = None) -> DaqPlan:
     """One DAQ list per event of ``groups`` (event number -> signals), numbered from ``first_list``.
 
     ``prescaler``: every list sends one sample in ``prescaler`` events (the slave must offer it).
@@ -147,6 +148,7 @@ def plan_daq(groups: dict[int, Sequence[DaqSignal]], processor: DaqProcessorInfo
     ``static_lists``: GET_DAQ_LIST_INFO of each of the slave's lists, required when its DAQ configuration is
     static (``processor.dynamic`` false); each event then gets one of these lists (``first_list`` does not
     apply) that takes its event and holds its ODTs within that list's MAX_ODT and MAX_ODT_ENTRIES.
+    ``event_name(number)``: an event's name, for the messages.
 
     :raises InputError: a signal cannot be sampled with these limits, or the lists need more
         ODTs or lists than the slave has (for static lists: which event fits no list, and why).
@@ -180,7 +182,8 @@ def plan_daq(groups: dict[int, Sequence[DaqSignal]], processor: DaqProcessorInfo
         numbers = {event: first_list + offset for offset, event in enumerate(active)}
         odts = {event: pack(event) for event in active}
     else:
-        chosen = assign_static_lists(list(active), static_lists, lambda event, info: len(pack(event, info.max_odt_entries)))
+        chosen = assign_static_lists(list(active), static_lists, lambda event, info: len(pack(event, info.max_odt_entries)),
+                                     event_name)
         numbers = {event: info.number for event, info in chosen.items()}
         odts = {event: _never_empty(pack(event, chosen[event].max_odt_entries), resolution.granularity)
                 for event in active}
