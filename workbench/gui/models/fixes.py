@@ -27,6 +27,11 @@ class FixModel(RowsModel):
     release_requested = Signal(object)
     value_requested = Signal(object, float)  # a new override value while the override is off
 
+    def __init__(self, parent=None, formatter=None):
+        super().__init__(parent)
+        # (measurement name or None, value) -> text: the live values in their A2L format
+        self.formatter = formatter or (lambda name, value: format_value(value))
+
     def set_fixes(self, fixes) -> None:
         """New states; the same pairs as before only repaint (an open cell editor stays open)."""
         fixes = list(fixes)
@@ -43,7 +48,7 @@ class FixModel(RowsModel):
         fix = self.rows[index.row()]
         column = COLUMNS[index.column()]
         if role == Qt.DisplayRole:
-            return {"signal": fix.pair.signal, "kind": fix.pair.kind, "live": format_value(fix.live),
+            return {"signal": fix.pair.signal, "kind": fix.pair.kind, "live": self.formatter(fix.pair.live, fix.live),
                     "override": format_value(fix.override), "on": None}[column]
         if role == Qt.EditRole and column == "override":
             return fix.override

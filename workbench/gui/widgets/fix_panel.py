@@ -8,6 +8,7 @@ from PySide6.QtCore import QTimer, Signal
 from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QLabel, QTableView, QVBoxLayout, QWidget
 
 from workbench.gui import theme
+from workbench.gui.formatting import format_value
 from workbench.gui.models.fixes import FixModel
 
 __all__ = ["FixPanel"]
@@ -19,10 +20,11 @@ class FixPanel(QWidget):
     refreshed = Signal()
     error = Signal(object)
 
-    def __init__(self, controller, parent: QWidget | None = None):
+    def __init__(self, controller, hub=None, parent: QWidget | None = None):
         super().__init__(parent)
         self.controller = controller
-        self.model = FixModel(self)
+        self.model = FixModel(self, formatter=(lambda name, value: hub.info(name).format(value) if name
+                                               else format_value(value)) if hub is not None else None)
         self.model.override_requested.connect(self.override)
         self.model.enable_requested.connect(lambda fix: controller.write(fix.pair.enable, 1, on_error=self.error.emit))
         self.model.release_requested.connect(self.release)

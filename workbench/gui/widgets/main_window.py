@@ -100,7 +100,7 @@ class MainWindow(QMainWindow):
         self.editor_placeholder = placeholder
         self.editor_tabs.addTab(placeholder, "Calibration")
         self.editor_dock = self._dock("Calibration", self.editor_tabs, Qt.RightDockWidgetArea)
-        self.fix_panel = FixPanel(self.controller)
+        self.fix_panel = FixPanel(self.controller, self.hub)
         self.fix_panel.error.connect(self.show_error)
         self.fix_dock = self._dock("Fix calibrations", self.fix_panel, Qt.RightDockWidgetArea)
         self.numeric = NumericView(self.hub)

@@ -214,7 +214,7 @@ class PlotWindow(SignalDropTarget, QWidget):
             self.plot.scene().addItem(view)
         item = pg.AxisItem("left")
         item.linkToView(view)
-        item.setLabel(unit or "—")
+        item.setLabel(unit)  # no unit: no label
         pen = pg.mkPen(colour)
         item.setPen(pen)
         item.setTextPen(pen)
