@@ -151,3 +151,17 @@ def test_an_unknown_interface_is_bad_input():
 
     with pytest.raises(InputError, match="unknown python-can interface 'nosuchcan'"):
         Link(LinkSettings("CAN", {"interface": "nosuchcan", "channel": "x"}, 1, 2))
+
+
+def test_late_answers_do_not_desynchronise_the_commands(rig, threshold):
+    """The read's response comes after its timeout (the SYNCH after it takes it as the ECU's sign of life);
+    the answer to that SYNCH comes late too, while the repeated read waits: ERR_CMD_SYNCH is dropped, not
+    taken for the read's answer, which comes after it."""
+    t1 = FAST.t1
+    rig.demo.ecu.faults.delay_frame(1, 1.5 * t1, "tx")  # the read's response: at 1.5 t1
+    rig.demo.ecu.faults.delay_frame(2, 0.7 * t1, "tx")  # SYNCH (sent at t1) answered at 1.7 t1
+    rig.demo.ecu.faults.delay_frame(3, 0.4 * t1, "tx")  # the repeated read (sent at 1.5 t1) answered at 1.9 t1
+    assert struct.unpack("<f", rig.master.read(threshold, 4))[0] == 20.0
+    assert len(rig.demo.ecu.faults.fired) == 3
+    rig.master.set_mta(CAL_RAM)  # the next commands get their own answers
+    assert rig.master.read(CAL_RAM, 20) == rig.demo.ecu.read(CAL_RAM, 20)

@@ -144,7 +144,7 @@ class XcpMaster:
         packet = bytes((command,)) + payload
         attempts, busy = 0, 0
         while True:
-            response = self.link.exchange(packet, timeout_s)
+            response = self._skip_late_synch(command, self.link.exchange(packet, timeout_s), timeout_s)
             if response is None:
                 attempts += 1
                 if command in (Cmd.CONNECT, Cmd.SYNCH):
@@ -168,6 +168,16 @@ class XcpMaster:
                     return response[1:]
                 raise XcpCommandError(command.name, code)
             raise WorkbenchError(f"XCP {command.name}: unexpected packet {response.hex(' ')}")
+
+    def _skip_late_synch(self, command: Cmd, response: bytes | None, timeout_s: float) -> bytes | None:
+        """ERR_CMD_SYNCH only ever answers SYNCH: arriving for another command, it is the answer to a SYNCH
+        that came after its timeout (a slow or busy ECU). On CAN nothing else tells responses apart, so
+        it is dropped and the command's own response awaited."""
+        deadline = time.monotonic() + timeout_s
+        while (command != Cmd.SYNCH and response is not None and response[:2] == bytes((PID_ERR, Err.CMD_SYNCH))):
+            log.debug("XCP %s: a late answer to SYNCH dropped", command.name)
+            response = self.link.receive(max(deadline - time.monotonic(), 0.0))
+        return response
 
     def synch_after_timeout(self, command: Cmd, timeout_s: float) -> None:
         """After ``command`` went unanswered: SYNCH, so the next command starts clean.
