@@ -30,6 +30,7 @@ from workbench.gui.a2l_info import calibration_info, measurement_info
 from workbench.gui.acquisition import DaqAcquisition
 from workbench.gui.ecu import Connected, EcuController
 from workbench.gui.formatting import format_value
+from workbench.gui.mime import names_from_mime
 from workbench.gui.project import PlotSpec, Project, recent_projects, remember_project, save_project
 from workbench.gui.signal_hub import SignalHub, SignalInfo
 from workbench.gui.widgets.calibration_editor import CalibrationEditor
@@ -90,7 +91,7 @@ class MainWindow(QMainWindow):
         self.browser = VariableBrowser()
         self.browser.open_requested.connect(self.open_variable)
         self.browser_dock = self._dock("Variables", self.browser, Qt.LeftDockWidgetArea)
-        self.editor_tabs = QTabWidget()
+        self.editor_tabs = _EditorTabs(self)
         self.editor_tabs.setTabsClosable(True)
         self.editor_tabs.tabCloseRequested.connect(self._close_editor)
         self.editor_tabs.setDocumentMode(True)
@@ -486,6 +487,28 @@ class MainWindow(QMainWindow):
         self.hub.detach()
         self.controller.close()
         super().closeEvent(event)
+
+
+class _EditorTabs(QTabWidget):
+    """The calibration editors' tabs: a calibration dropped on them opens its editor."""
+
+    def __init__(self, window: MainWindow):
+        super().__init__()
+        self.window_ = window
+        self.setAcceptDrops(True)
+
+    def dragEnterEvent(self, event) -> None:
+        if self._calibrations(event.mimeData()):
+            event.acceptProposedAction()
+
+    def dropEvent(self, event) -> None:
+        for name in self._calibrations(event.mimeData()):
+            self.window_.open_editor(name)
+        event.acceptProposedAction()
+
+    def _calibrations(self, mime) -> list[str]:
+        browser = self.window_.browser
+        return [n for n in names_from_mime(mime) if (v := browser.variable(n)) is not None and v.editable]
 
 
 def _value_text(value) -> str:
