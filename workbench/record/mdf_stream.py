@@ -1,0 +1,314 @@
+"""An MDF4 file written as a stream: complete and readable after every flush, also when the writer is killed.
+
+asammdf's own writer keeps the data in a temporary file until ``save()`` builds the MDF, so a
+killed recording leaves nothing. Here asammdf writes the file's *skeleton* — identification,
+header, file history, one data group per channel group with its channels, conversions, texts and
+sources, no data — and :class:`MdfStreamWriter` appends the samples to it:
+
+* each :meth:`~MdfStreamWriter.flush` writes, per group with new records, one data block (DZ,
+  transposed deflate, or DT) and a one-entry DL (variable length: the block's offset in the
+  group's data) at the end of the file, and links them in: DG → HL → DL → DL → … (the HL, which
+  MDF 4.1 asks for in front of DZ blocks, only when compressing; DG → DL → … otherwise);
+* the new blocks are written and synced (``fsync``) *before* the links that make them reachable
+  and the channel group's cycle counter are patched in place (8 bytes each);
+* so between flushes the file on disk is a finalized MDF holding every record up to the last
+  flush: a kill, even a power cut after the sync, loses at most what came since. Blocks written
+  by a flush that was cut short are unreachable bytes at the end, which readers skip. No repair
+  step exists because none is needed.
+
+Records are laid out as asammdf put the channels in the skeleton (read back from it, never
+assumed): the master channel ``time`` (float64 s) first, then each channel at its byte offset.
+"""
+
+from __future__ import annotations
+
+import copy
+import logging
+import os
+import struct
+import tempfile
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from datetime import datetime, timezone
+from pathlib import Path
+from xml.etree import ElementTree
+
+import numpy as np
+
+from workbench.errors import WorkbenchError
+
+log = logging.getLogger(__name__)
+
+__all__ = ["ChannelSpec", "GroupSpec", "HeaderSpec", "MdfStreamWriter", "SourceSpec"]
+
+MDF_VERSION = "4.11"
+COMPRESSION_LEVEL = 1  # zlib: level 1 already shrinks DAQ records 4-10x (transposed), higher costs far more time
+_HD_ADDRESS = 0x40
+_U64 = struct.Struct("<Q")
+
+
+@dataclass(frozen=True)
+class ChannelSpec:
+    """One channel: ``dtype`` of the stored values (a structured dtype makes a composed channel, as
+    ASAM bus logging's ``CAN_DataFrame``), ``conversion`` an asammdf conversion dictionary."""
+
+    name: str
+    dtype: np.dtype
+    unit: str = ""
+    comment: str = ""
+    conversion: dict | None = None
+
+
+@dataclass(frozen=True)
+class SourceSpec:
+    """A channel group's acquisition source (MDF SI block): ``kind`` "ECU", "BUS" or "TOOL";
+    ``bus`` "CAN", "ETHERNET" or "NONE"."""
+
+    name: str
+    path: str
+    comment: str = ""
+    kind: str = "ECU"
+    bus: str = "NONE"
+
+
+@dataclass(frozen=True)
+class GroupSpec:
+    """One channel group: its acquisition name (the DAQ event, the CAN message), channels after the master."""
+
+    acq_name: str
+    channels: tuple[ChannelSpec, ...]
+    comment: str = ""
+    source: SourceSpec | None = None
+
+
+@dataclass(frozen=True)
+class HeaderSpec:
+    """The file header: ``description`` its text, ``properties`` the common properties (name -> text)."""
+
+    description: str = ""
+    author: str = ""
+    project: str = ""
+    subject: str = ""
+    properties: dict[str, str] = field(default_factory=dict)
+
+    def xml(self) -> str:
+        """The header comment as MDF4 has it: ``<HDcomment>`` with ``<TX>`` and ``<common_properties>``."""
+        root = ElementTree.Element("HDcomment")
+        ElementTree.SubElement(root, "TX").text = self.description
+        common = ElementTree.SubElement(root, "common_properties")
+        named = {"author": self.author, "project": self.project, "subject": self.subject, **self.properties}
+        for name, value in named.items():
+            if value:
+                ElementTree.SubElement(common, "e", name=name).text = value
+        return ElementTree.tostring(root, encoding="unicode")
+
+
+@dataclass
+class _GroupState:
+    dtype: np.dtype  # one record
+    data_link_at: int  # where the DG's data link lies
+    cycles_at: int  # where the CG's cycle counter lies
+    pending: list[bytes] = field(default_factory=list)
+    pending_records: int = 0
+    records: int = 0  # written and linked
+    data_bytes: int = 0  # uncompressed bytes written and linked
+    last_link_at: int | None = None  # the link the next DL goes into (None: the DG's data link)
+
+
+class MdfStreamWriter:
+    """Append records to the groups of a new MDF4 file at ``path`` (see the module docstring).
+
+    ``compress``: DZ blocks (transposed deflate) instead of DT. ``start_time``: the header's start
+    time (s since the epoch; default now), which the groups' ``time`` channels count from.
+
+    :raises InputError: ``path`` cannot be created. :raises WorkbenchError: asammdf laid out a
+        channel otherwise than the writer can fill.
+    """
+
+    def __init__(self, path: str | Path, groups: Sequence[GroupSpec], header: HeaderSpec | None = None, *,
+                 compress: bool = True, start_time: float | None = None):
+        self.path = Path(path)
+        self.compress = compress
+        self.specs = tuple(groups)
+        self._write_skeleton(header or HeaderSpec(), start_time)
+        self._states = self._layout()
+        self._file = open(self.path, "r+b")
+        self._hd_time_at = _HD_ADDRESS + 24 + 8 * self._read_u64(_HD_ADDRESS + 16)
+        self.closed = False
+
+    # --- the skeleton -------------------------------------------------------------------------
+
+    def _write_skeleton(self, header: HeaderSpec, start_time: float | None) -> None:
+        """asammdf writes every block but the data, to a temporary name first: the file at ``path``
+        is complete from its first moment."""
+        from asammdf import MDF, Signal, Source
+
+        mdf = MDF(version=MDF_VERSION)
+        mdf.header.start_time = _local_time(start_time)
+        mdf.header.comment = header.xml()
+        for spec in self.specs:
+            source = spec.source
+            acq_source = None if source is None else Source(source.name, source.path, source.comment,
+                                                            getattr(Source, f"SOURCE_{source.kind}"),
+                                                            getattr(Source, f"BUS_TYPE_{source.bus}"))
+            signals = [Signal(np.zeros(0, channel.dtype), np.zeros(0, np.float64), name=channel.name,
+                              unit=channel.unit, comment=channel.comment, source=acq_source,
+                              conversion=copy.deepcopy(channel.conversion))  # asammdf edits the dictionary
+                       for channel in spec.channels]
+            mdf.append(signals, acq_name=spec.acq_name, acq_source=acq_source, comment=spec.comment,
+                       common_timebase=True)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        fd, temporary = tempfile.mkstemp(prefix=f".{self.path.name}.", suffix=".tmp.mf4", dir=self.path.parent)
+        os.close(fd)  # asammdf's save() opens it again (and would add ".mf4" to another suffix)
+        try:
+            mdf.save(temporary, overwrite=True)
+            mdf.close()
+            os.replace(temporary, self.path)
+        except BaseException:
+            Path(temporary).unlink(missing_ok=True)
+            raise
+
+    def _layout(self) -> list[_GroupState]:
+        """Each group's record dtype and patch places, as asammdf wrote them."""
+        from asammdf import MDF
+
+        mdf = MDF(self.path)
+        try:
+            states = []
+            for spec, group in zip(self.specs, mdf.groups, strict=True):
+                channel_group = group.channel_group
+                if group.data_group.record_id_len or channel_group.invalidation_bytes_nr:
+                    raise WorkbenchError(f"{self.path}: asammdf wrote group {spec.acq_name} with record ids or "
+                                         "invalidation bytes; the stream writer cannot fill it")
+                names, formats, offsets = ["time"], [np.dtype("<f8")], [0]
+                placed = {}
+                for channel in group.channels:
+                    placed.setdefault(channel.name, channel.byte_offset)
+                if placed.get("time") != 0:
+                    raise WorkbenchError(f"{self.path}: group {spec.acq_name} has no float64 master at offset 0")
+                for index, channel in enumerate(spec.channels):
+                    offset = placed[channel.name]
+                    for sub in channel.dtype.names or ():  # a composed channel's members must lie where numpy puts them
+                        if placed.get(sub) != offset + channel.dtype.fields[sub][1]:
+                            raise WorkbenchError(f"{self.path}: asammdf placed {sub} otherwise than its structure")
+                    names.append(f"c{index}")
+                    formats.append(channel.dtype)
+                    offsets.append(offset)
+                dtype = np.dtype({"names": names, "formats": formats, "offsets": offsets,
+                                  "itemsize": channel_group.samples_byte_nr})
+                states.append(_GroupState(dtype, group.data_group.address + 24 + 16,  # after next DG, first CG
+                                          channel_group.address + 24 + 8 * channel_group.links_nr + 8))
+            return states
+        finally:
+            mdf.close()
+
+    def _read_u64(self, address: int) -> int:
+        self._file.seek(address)
+        return _U64.unpack(self._file.read(8))[0]
+
+    # --- appending ----------------------------------------------------------------------------
+
+    def append(self, group: int, time: np.ndarray, columns: Sequence[np.ndarray]) -> None:
+        """Records of ``group``: ``time`` (s from the start time) and one array per channel (its
+        ``dtype``; element channels of a structure: a structured array). Kept until :meth:`flush`."""
+        count = len(time)
+        if not count:
+            return
+        state = self._states[group]
+        records = np.zeros(count, state.dtype)
+        records["time"] = time
+        for index, column in enumerate(columns):
+            records[f"c{index}"] = column
+        state.pending.append(records.tobytes())
+        state.pending_records += count
+
+    @property
+    def pending_bytes(self) -> int:
+        return sum(len(chunk) for state in self._states for chunk in state.pending)
+
+    def records(self, group: int) -> int:
+        """Records of ``group`` on disk (flushed)."""
+        return self._states[group].records
+
+    def flush(self) -> None:
+        """Write what was appended since the last flush; the file is complete when this returns.
+
+        :raises WorkbenchError: the disk refused (full, gone); what was flushed before stays readable.
+        """
+        ready = [state for state in self._states if state.pending]
+        if not ready:
+            return
+        handle = self._file
+        try:
+            handle.seek(0, os.SEEK_END)
+            links = [(state, *self._write_blocks(state)) for state in ready]
+            handle.flush()
+            os.fsync(handle.fileno())  # the blocks are on disk before anything points at them
+            for state, first, next_link_at, size, count in links:
+                handle.seek(state.last_link_at if state.last_link_at is not None else state.data_link_at)
+                handle.write(_U64.pack(first))
+                state.last_link_at = next_link_at
+                state.data_bytes += size
+                state.records += count
+                handle.seek(state.cycles_at)
+                handle.write(_U64.pack(state.records))
+            handle.flush()
+        except OSError as exc:
+            raise WorkbenchError(f"{self.path}: cannot write the recording ({exc.strerror or exc})") from None
+
+    def _write_blocks(self, state: _GroupState) -> tuple[int, int, int, int]:
+        """Append the pending data as a block, a DL (and the HL of a first DZ); returns (the address to link
+        in, where the next DL is linked, the data's size, the records)."""
+        from asammdf.blocks import v4_constants as v4c
+        from asammdf.blocks.v4_blocks import DataBlock, DataList, DataZippedBlock, HeaderList
+
+        data = b"".join(state.pending)
+        count = state.pending_records
+        state.pending, state.pending_records = [], 0
+        if self.compress:
+            block = DataZippedBlock(data=data, zip_type=v4c.FLAG_DZ_TRANSPOSED_DEFLATE, param=state.dtype.itemsize,
+                                    original_type=b"DT", compression_level=COMPRESSION_LEVEL)
+        else:
+            block = DataBlock(data=data, type="DT")
+        block_at = self._append_block(bytes(block))
+        data_list = DataList(links_nr=2, flags=0, data_block_nr=1, data_block_addr0=block_at, offset_0=state.data_bytes)
+        list_at = self._append_block(bytes(data_list))
+        first = list_at
+        if self.compress and state.last_link_at is None:
+            first = self._append_block(bytes(HeaderList(first_dl_addr=list_at, flags=0,
+                                                        zip_type=v4c.FLAG_DZ_TRANSPOSED_DEFLATE)))
+        return first, list_at + 24, len(data), count  # a DL's first link is its next DL
+
+    def _append_block(self, block: bytes) -> int:
+        """Write ``block`` at the end of the file, 8-byte aligned (MDF4 blocks are); returns its address."""
+        handle = self._file
+        address = handle.tell()
+        handle.write(block)
+        handle.write(b"\0" * (-len(block) % 8))
+        return address
+
+    def set_start_time(self, epoch_s: float) -> None:
+        """The header's start time (s since the epoch), which every ``time`` channel counts from."""
+        self._file.seek(self._hd_time_at)
+        self._file.write(_U64.pack(round(epoch_s * 1e9)))
+        self._file.flush()
+
+    @property
+    def file_bytes(self) -> int:
+        return self.path.stat().st_size if self.closed else self._file.seek(0, os.SEEK_END)
+
+    def close(self) -> None:
+        """Flush and close; safe to call twice."""
+        if self.closed:
+            return
+        try:
+            self.flush()
+            os.fsync(self._file.fileno())
+        finally:
+            self._file.close()
+            self.closed = True
+
+
+def _local_time(epoch_s: float | None) -> datetime:
+    when = datetime.now(timezone.utc) if epoch_s is None else datetime.fromtimestamp(epoch_s, timezone.utc)
+    return when.astimezone()
