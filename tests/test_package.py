@@ -66,7 +66,8 @@ def test_a_closed_pipe_ends_quietly(tmp_path):
 
 
 @pytest.mark.parametrize("package", ["workbench.a2l", "workbench.can", "workbench.elf", "workbench.image", "workbench.sim",
-                                     "workbench.calib", "workbench.calib.dataset", "workbench.flash", "workbench.sync"])
+                                     "workbench.calib", "workbench.calib.dataset", "workbench.flash", "workbench.sync",
+                                     "workbench.record"])
 def test_every_export_resolves_and_no_submodule_shadows_it(package):
     module = importlib.import_module(package)
     for info in pkgutil.iter_modules(module.__path__):  # a submodule's first import sets it on its package
@@ -77,7 +78,7 @@ def test_every_export_resolves_and_no_submodule_shadows_it(package):
 
 def test_the_lazy_packages_load_no_heavy_library_until_a_name_is_used():
     code = ("import json, sys, workbench, workbench.a2l, workbench.can, workbench.calib.dataset, workbench.flash, "
-            "workbench.sync, workbench.cli;"
+            "workbench.sync, workbench.record, workbench.cli;"
             "print(json.dumps(sorted({m.split('.')[0] for m in sys.modules} & "
             "{'numpy', 'cantools', 'can', 'elftools', 'pyxcp', 'asammdf', 'pya2l', 'rich', 'bincopy', 'lxml'})))")
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

@@ -18,10 +18,17 @@ In a terminal the values refresh in place; piped (or with --json) every sample i
 Ctrl-C or --duration ends the measurement (exit 0); with --daq the samples and losses are
 summed up on stderr.
 
+With --record the samples go to an MDF4 file instead (DAQ, ECU time, raw values with the A2L's
+conversions): --can2 adds the CAN2 bus's frames decoded with a DBC, --raw-can every frame of that
+bus raw (ASAM MDF bus logging, which asammdf and CANape decode again with a DBC). The file is
+complete after every second of recording, also when the process is killed; Ctrl-C or --duration
+ends it. The CAN2 bus is the XCP bus unless --can2-interface/--can2-channel name another.
+
 examples:
   workbench measure zsRailPressure xsDC                       # polled 10 times a second
   workbench measure zsRailPressure zsSensVolt --daq --duration 5 --json > rail.jsonl
   workbench measure xsDC --daq --event Task100ms --host 127.0.0.1 --protocol tcp
+  workbench measure zsRailPressure xsTankCtrlState --record run.mf4 --can2 dbc/FLCU_CAN2.dbc --raw-can
 """
 
 
@@ -36,6 +43,16 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     parser.add_argument("--rate", type=positive_float, default=10.0, metavar="HZ", help="polling rate (default 10 Hz)")
     parser.add_argument("--duration", type=positive_float, metavar="S", help="stop after S seconds (default: Ctrl-C)")
     parser.add_argument("--raw", action="store_true", help="raw values, as the ECU holds them (no conversion)")
+    recording = parser.add_argument_group("recording")
+    recording.add_argument("--record", metavar="OUT.mf4", help="record by DAQ to this MDF4 file (implies --daq)")
+    recording.add_argument("--can2", metavar="DBC", help="also record the CAN2 frames of this DBC's messages, decoded")
+    recording.add_argument("--raw-can", action="store_true",
+                           help="also log every frame of the CAN2 bus raw (ASAM MDF bus logging)")
+    recording.add_argument("--can2-interface", metavar="NAME", help="python-can interface of the CAN2 bus "
+                                                                   "(default: the XCP bus's)")
+    recording.add_argument("--can2-channel", metavar="CHANNEL", help="channel of the CAN2 bus (default: the XCP bus's)")
+    recording.add_argument("--overwrite", action="store_true",
+                           help="replace an existing OUT.mf4 when the recording ends (it stays until then)")
     add_ecu_arguments(parser)
     parser.set_defaults(func=run)
 
@@ -43,7 +60,10 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
 def run(args: argparse.Namespace) -> int:
     if args.event is not None and not args.daq:
         args.daq = True  # an event only means something to DAQ
+    _check_recording_options(args)
     with open_session(args) as session:
+        if args.record:
+            return _record(args, session)
         view = _view(args, session)
         try:
             if args.daq:
@@ -85,6 +105,53 @@ def _sample(args: argparse.Namespace, session, view) -> None:
             stats = live.stats
             print(f"measure: {stats.samples} samples, {stats.lost} lost, {stats.overloads} overload indications",
                   file=sys.stderr)
+
+
+def _check_recording_options(args: argparse.Namespace) -> None:
+    from workbench.errors import InputError
+
+    if args.record is None:
+        given = [option for option, value in (("--can2", args.can2), ("--raw-can", args.raw_can),
+                                              ("--can2-interface", args.can2_interface),
+                                              ("--can2-channel", args.can2_channel), ("--overwrite", args.overwrite))
+                 if value]
+        if given:
+            raise InputError(f"{', '.join(given)}: only with --record OUT.mf4")
+    elif args.raw:
+        raise InputError("--raw does not go with --record: the file holds the raw values with their conversions")
+
+
+def _record(args: argparse.Namespace, session) -> int:
+    from workbench.cli.progressbar import ProgressBar
+    from workbench.record import Recorder
+
+    recorder = Recorder(session, args.record, args.names, event=args.event, can2=args.can2,
+                        can_bus=_can2_bus(args, session), raw_can=args.raw_can, overwrite=args.overwrite)
+    with ProgressBar("recording") as progress, recorder:
+        try:
+            recorder.wait(args.duration, progress)
+        except KeyboardInterrupt:
+            pass  # Ctrl-C ends the recording; leaving the block finalizes the file
+    stats = recorder.stats
+    if args.json:
+        print(json.dumps({"path": str(stats.path), "seconds": round(stats.seconds, 6), "samples": stats.samples,
+                          "values": stats.values, "lost": stats.lost, "overloads": stats.overloads,
+                          "can_frames": stats.can_frames, "raw_frames": stats.raw_frames,
+                          "undecoded": stats.undecoded, "file_bytes": stats.file_bytes}))
+    else:
+        print(f"recorded {stats.describe()}")
+    return 0
+
+
+def _can2_bus(args: argparse.Namespace, session) -> dict[str, Any] | None:
+    """The CAN2 bus the options name; None: the recorder takes the XCP bus."""
+    if args.can2_interface is None and args.can2_channel is None:
+        return None
+    from workbench.bus_defaults import complete_bus_settings
+
+    xcp_bus = session.link.settings.bus if session.link.settings.transport == "CAN" else {}
+    return complete_bus_settings({"interface": args.can2_interface or xcp_bus.get("interface"),
+                                  "channel": args.can2_channel})
 
 
 def _raw(session, values: dict[str, Any]) -> dict[str, Any]:

@@ -1,4 +1,4 @@
-"""An MDF4 file written as a stream: complete and readable after every flush, also when the writer is killed.
+"""An MDF4 file written as a stream: readable after every flush, also when the writer is killed.
 
 asammdf's own writer keeps the data in a temporary file until ``save()`` builds the MDF, so a
 killed recording leaves nothing. Here asammdf writes the file's *skeleton* — identification,
@@ -9,12 +9,17 @@ sources, no data — and :class:`MdfStreamWriter` appends the samples to it:
   transposed deflate, or DT) and a one-entry DL (variable length: the block's offset in the
   group's data) at the end of the file, and links them in: DG → HL → DL → DL → … (the HL, which
   MDF 4.1 asks for in front of DZ blocks, only when compressing; DG → DL → … otherwise);
-* the new blocks are written and synced (``fsync``) *before* the links that make them reachable
-  and the channel group's cycle counter are patched in place (8 bytes each);
-* so between flushes the file on disk is a finalized MDF holding every record up to the last
-  flush: a kill, even a power cut after the sync, loses at most what came since. Blocks written
-  by a flush that was cut short are unreachable bytes at the end, which readers skip. No repair
-  step exists because none is needed.
+* the new blocks are written and synced (``fsync``) *before* the link that makes them reachable
+  and the channel group's cycle counter are patched in place (8 bytes each), so a block is never
+  linked before it is complete, and blocks of a flush that was cut short are unreachable bytes at
+  the end, which readers skip;
+* while it is written the file says so, as MDF 4.1 provides for loggers: identification
+  ``UnFinMF`` with the flag "cycle counters to be updated", because a kill between the link and
+  the counter of a group leaves one counter behind its data. asammdf (and so python-can's MF4
+  reader) reads such a file and counts the records from the data; :meth:`~MdfStreamWriter.close`
+  marks the file finalized (``MDF``), and :func:`finalize` does the same in place for a file whose
+  writer was killed, for tools that read finalized files only. A kill loses at most what came
+  after the last flush.
 
 Records are laid out as asammdf put the channels in the skeleton (read back from it, never
 assumed): the master channel ``time`` (float64 s) first, then each channel at its byte offset.
@@ -35,16 +40,19 @@ from xml.etree import ElementTree
 
 import numpy as np
 
-from workbench.errors import WorkbenchError
+from workbench.errors import InputError, WorkbenchError
 
 log = logging.getLogger(__name__)
 
-__all__ = ["ChannelSpec", "GroupSpec", "HeaderSpec", "MdfStreamWriter", "SourceSpec"]
+__all__ = ["ChannelSpec", "GroupSpec", "HeaderSpec", "MdfStreamWriter", "SourceSpec", "finalize"]
 
 MDF_VERSION = "4.11"
 COMPRESSION_LEVEL = 1  # zlib: level 1 already shrinks DAQ records 4-10x (transposed), higher costs far more time
 _HD_ADDRESS = 0x40
 _U64 = struct.Struct("<Q")
+_FINALIZED, _UNFINALIZED = b"MDF     ", b"UnFinMF "
+_UNFINALIZED_FLAGS_AT = 60  # the identification block's id_unfin_flags (u16)
+_UPDATE_CYCLE_COUNTERS = 0x01
 
 
 @dataclass(frozen=True)
@@ -134,7 +142,9 @@ class MdfStreamWriter:
         self._states = self._layout()
         self._file = open(self.path, "r+b")
         self._hd_time_at = _HD_ADDRESS + 24 + 8 * self._read_u64(_HD_ADDRESS + 16)
+        self.file_bytes = self._file.seek(0, os.SEEK_END)  # as of the last flush
         self.closed = False
+        _mark(self._file, finalized=False)
 
     # --- the skeleton -------------------------------------------------------------------------
 
@@ -163,6 +173,9 @@ class MdfStreamWriter:
         try:
             mdf.save(temporary, overwrite=True)
             mdf.close()
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(temporary, 0o666 & ~umask)  # a new file's usual mode, not a temporary file's 0o600
             os.replace(temporary, self.path)
         except BaseException:
             Path(temporary).unlink(missing_ok=True)
@@ -253,6 +266,7 @@ class MdfStreamWriter:
                 handle.seek(state.cycles_at)
                 handle.write(_U64.pack(state.records))
             handle.flush()
+            self.file_bytes = handle.seek(0, os.SEEK_END)
         except OSError as exc:
             raise WorkbenchError(f"{self.path}: cannot write the recording ({exc.strerror or exc})") from None
 
@@ -293,20 +307,63 @@ class MdfStreamWriter:
         self._file.write(_U64.pack(round(epoch_s * 1e9)))
         self._file.flush()
 
-    @property
-    def file_bytes(self) -> int:
-        return self.path.stat().st_size if self.closed else self._file.seek(0, os.SEEK_END)
-
     def close(self) -> None:
-        """Flush and close; safe to call twice."""
+        """Flush and close; safe to call twice. The file stays at :attr:`path` (the caller may move it)."""
         if self.closed:
             return
         try:
             self.flush()
             os.fsync(self._file.fileno())
+            _mark(self._file, finalized=True)
+            os.fsync(self._file.fileno())
         finally:
             self._file.close()
             self.closed = True
+
+
+def finalize(path: str | Path) -> bool:
+    """Mark a recording whose writer was killed as finalized, in place: each channel group's cycle counter
+    set to the records its data holds (as asammdf counts them). Returns False when it was finalized already.
+
+    :raises InputError: ``path`` is no MDF4 file asammdf can read.
+    """
+    from asammdf import MDF
+
+    path = Path(path)
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(64)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    if head[:8] == _FINALIZED and not struct.unpack_from("<H", head, _UNFINALIZED_FLAGS_AT)[0]:
+        return False
+    try:
+        mdf = MDF(path)  # reads an unfinalized file from a copy, counting the records from the data
+    except Exception as exc:  # asammdf's errors have no common base; every one means "not readable"
+        raise InputError(f"{path}: not an MDF4 file asammdf can read ({exc})") from None
+    try:
+        counters = [(group.channel_group.address + 24 + 8 * group.channel_group.links_nr + 8,
+                     group.channel_group.cycles_nr) for group in mdf.groups]
+    finally:
+        mdf.close()
+    with open(path, "r+b") as handle:
+        for address, cycles in counters:
+            handle.seek(address)
+            handle.write(_U64.pack(cycles))
+        handle.flush()
+        os.fsync(handle.fileno())
+        _mark(handle, finalized=True)
+        os.fsync(handle.fileno())
+    return True
+
+
+def _mark(handle, *, finalized: bool) -> None:
+    """The identification block: finalized, or unfinalized with cycle counters to be updated."""
+    handle.seek(0)
+    handle.write(_FINALIZED if finalized else _UNFINALIZED)
+    handle.seek(_UNFINALIZED_FLAGS_AT)
+    handle.write(struct.pack("<H", 0 if finalized else _UPDATE_CYCLE_COUNTERS))
+    handle.flush()
 
 
 def _local_time(epoch_s: float | None) -> datetime:

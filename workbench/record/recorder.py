@@ -19,7 +19,9 @@ unless ``on_samples`` wants them) and the CAN frames a python-can Notifier queue
 MDF records (:mod:`~workbench.record.daq_channels`, :mod:`~workbench.record.can_channels`) on
 one time axis (:mod:`~workbench.record.timebase`) and appends them to the file, which is flushed
 every ``flush_s`` (:mod:`~workbench.record.mdf_stream`): memory holds at most one period of samples,
-and a recording that is killed leaves a complete file up to its last flush.
+and a recording that is killed leaves a file asammdf reads up to its last flush (marked unfinalized,
+as MDF provides for loggers; :func:`~workbench.record.mdf_stream.finalize` marks it finalized for
+tools that need that). Stopping finalizes the file.
 
 The file is written where it was asked for from the first moment, so a killed recording is found
 there. An existing file is replaced only with ``overwrite=True``, and only when the recording
@@ -92,7 +94,8 @@ class RecordingStats:
             parts.append(f"{self.can_frames:,} CAN2 frames decoded" + (f", {self.undecoded} not" if self.undecoded else ""))
         if self.raw_frames:
             parts.append(f"{self.raw_frames:,} raw CAN frames")
-        return f"{self.path}: {self.seconds:.1f} s, " + ", ".join(parts) + f", {self.file_bytes / 2**20:.1f} MiB"
+        size = f"{self.file_bytes / 2**20:.1f} MiB" if self.file_bytes >= 2**20 else f"{self.file_bytes / 1024:.0f} KiB"
+        return f"{self.path}: {self.seconds:.1f} s, " + ", ".join(parts) + f", {size}"
 
 
 class Recorder:

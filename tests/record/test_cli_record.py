@@ -1,0 +1,114 @@
+"""``workbench measure ... --record`` end to end: against the simulated ECU (a virtual bus in the test's process; a
+``workbench sim`` process on a udp_multicast port of the test's own for the recording process killed with SIGKILL),
+options and exit codes as a user meets them."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+from mdf_reading import channel, group_index, master
+from sim_process import start_sim_process
+
+from workbench import demo
+from workbench.cli import main
+from workbench.record import finalize
+
+
+@pytest.fixture
+def bus(demo_ecu) -> list[str]:
+    return demo_ecu.cli_options
+
+
+def run(capsys, *argv: str) -> tuple[int, str, str]:
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_record_with_can2_and_the_raw_bus(bus, capsys, tmp_path, read_mdf):
+    path = tmp_path / "run.mf4"
+    code, out, err = run(capsys, "measure", "zsRailPressure", "xsTankCtrlState", "--record", str(path),
+                         "--can2", str(demo.dbc_can2()), "--raw-can", "--duration", "1.5", "--json", *bus)
+    assert code == 0 and err == ""
+    summary = json.loads(out)
+    assert summary["path"] == str(path) and summary["lost"] == 0 and summary["samples"] > 300
+    assert summary["can_frames"] > 10 and summary["raw_frames"] > summary["can_frames"]
+    mdf = read_mdf(path)
+    assert mdf.groups[group_index(mdf, "Task4ms")].channel_group.cycles_nr + \
+        mdf.groups[group_index(mdf, "Task50ms")].channel_group.cycles_nr == summary["samples"]
+    assert np.allclose(channel(mdf, "PCM_TO_FLCU_002", "TargetRailPressure").samples, 25.0)
+    assert summary["file_bytes"] == path.stat().st_size
+    code, out, _ = run(capsys, "measure", "xsDC", "--record", str(tmp_path / "text.mf4"), "--duration", "0.3", *bus)
+    assert code == 0 and out.startswith(f"recorded {tmp_path / 'text.mf4'}: ") and "0 lost" in out
+
+
+def test_an_existing_file_needs_overwrite(bus, capsys, tmp_path):
+    path = tmp_path / "old.mf4"
+    path.write_bytes(b"keep me")
+    code, out, err = run(capsys, "measure", "xsDC", "--record", str(path), "--duration", "0.2", *bus)
+    assert (code, out) == (2, "") and "old.mf4: exists" in err and path.read_bytes() == b"keep me"
+    code, _, _ = run(capsys, "measure", "xsDC", "--record", str(path), "--overwrite", "--duration", "0.3", *bus)
+    assert code == 0 and path.read_bytes()[:3] == b"MDF"
+
+
+@pytest.mark.parametrize(("options", "message"), [
+    (["--can2", "x.dbc"], "--can2: only with --record"),
+    (["--raw-can", "--overwrite"], "--raw-can, --overwrite: only with --record"),
+    (["--record", "x.mf4", "--raw"], "--raw does not go with --record"),
+])
+def test_recording_options_out_of_place_are_usage_errors(capsys, tmp_path, options, message):
+    code, out, err = run(capsys, "measure", "xsDC", *options)
+    assert (code, out) == (2, "") and message in err and not (tmp_path / "x.mf4").exists()
+
+
+def test_a_killed_recording_leaves_a_readable_file(free_udp_port, tmp_path, read_mdf):
+    """SIGKILL, no chance to finalize: the file where it was asked for holds everything up to the last flush."""
+    bus = ["--bus-kwargs", f"port={free_udp_port}"]
+    sim, _ = start_sim_process("--pcm", *bus)
+    path = tmp_path / "killed.mf4"
+    recording = subprocess.Popen([sys.executable, "-c", "from workbench.cli import entry_point; entry_point()",
+                                  "measure", "zsRailPressure", "zsSensVolt", "xsTankCtrlState", "--record", str(path),
+                                  "--can2", str(demo.dbc_can2()), "--raw-can", *bus],
+                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        deadline = time.monotonic() + 60
+        while _recorded(path) < 500 and time.monotonic() < deadline:  # two flushes of the 4 ms event at least
+            time.sleep(0.2)
+        os.kill(recording.pid, signal.SIGKILL)
+        recording.wait(10)
+    finally:
+        recording.kill()
+        sim.terminate()
+        sim.wait(10)
+    assert recording.returncode == -signal.SIGKILL
+    assert path.read_bytes()[:8] == b"UnFinMF "  # it never came to finalize
+    mdf = read_mdf(path)
+    times = master(mdf, "Task4ms")
+    assert len(times) >= 500 and np.allclose(np.diff(times), 0.004, atol=1e-6)  # no sample missing before the kill
+    assert np.allclose(np.diff(master(mdf, "Task50ms")), 0.05, atol=1e-6)
+    assert len(channel(mdf, "Task4ms", "zsSensVolt[3]")) == len(times)
+    assert np.allclose(channel(mdf, "PCM_TO_FLCU_002", "TargetRailPressure").samples, 25.0)
+    extracted = mdf.extract_bus_logging({"CAN": [(str(demo.dbc_can2()), 0)]})
+    try:
+        assert np.allclose(extracted.get("TargetRailPressure").samples, 25.0)
+    finally:
+        extracted.close()
+    assert finalize(path) and path.read_bytes()[:8] == b"MDF     "
+    assert len(master(read_mdf(path), "Task4ms")) == len(times)
+
+
+def _recorded(path) -> int:
+    """Task4ms records in the file so far (0 before it exists)."""
+    from asammdf import MDF
+
+    if not path.exists():
+        return 0
+    with MDF(path) as mdf:
+        return mdf.groups[0].channel_group.cycles_nr

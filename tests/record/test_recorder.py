@@ -1,0 +1,157 @@
+"""Recording the simulated ECU to MDF4 and reading it back with asammdf (and python-can): every DAQ sample on
+the ECU's clock, A2L names, units, comments and conversions, CAN2 decoded with the DBC, the raw bus log
+decoded again by asammdf, the time axis shared, the session's close, overwriting, and refusals."""
+
+from __future__ import annotations
+
+import can
+import numpy as np
+import pytest
+from mdf_reading import channel, group_index, master, texts
+
+from workbench import Session, demo
+from workbench.errors import InputError
+from workbench.record import Recorder, record
+from workbench.sim import EthernetEndpoint, serve_demo
+
+SIGNALS = ["zsRailPressure", "zsSensVolt", "xsTankCtrlState", "xsDC", "csPCM_TO_FLCU_002_TargetRailPressure"]
+PERIODS = {"Task4ms": 0.004, "Task50ms": 0.05, "Task100ms": 0.1}
+
+
+def test_every_sample_is_in_the_file_on_the_ecu_clock(session, tmp_path, read_mdf):
+    path = tmp_path / "run.mf4"
+    delivered = []
+    with Recorder(session, path, SIGNALS, can2=demo.dbc_can2(), raw_can=True, on_samples=delivered.append) as rec:
+        rec.wait(2.0)
+    stats, daq = rec.stats, rec.measurement.stats
+    assert stats.samples == daq.samples > 400 and stats.lost == daq.lost == 0 and daq.overloads == 0
+    mdf = read_mdf(path)
+    assert sum(mdf.groups[group_index(mdf, event)].channel_group.cycles_nr for event in PERIODS) == stats.samples
+    starts = []
+    for event, period in PERIODS.items():
+        times = master(mdf, event)
+        assert np.all(np.diff(times) > 0)
+        assert np.allclose(np.diff(times), period, atol=1e-6)  # the ECU's timestamps: no sample missing
+        starts.append(times[0])
+        host = channel(mdf, event, f"HostTime_{event}")
+        assert host.unit == "s"
+        assert np.allclose(host.samples - times, mdf.header.start_time.timestamp(), atol=0.02)
+    assert min(starts) == 0.0  # the header's start time is the ECU's first sample
+
+    by_event = {}
+    for batch in delivered:
+        by_event.setdefault(batch.event_name, []).append(batch)
+    pressure = channel(mdf, "Task4ms", "zsRailPressure")
+    assert pressure.unit == "bar" and pressure.comment == session.model.measurement("zsRailPressure").long_identifier
+    assert np.array_equal(pressure.samples, np.concatenate([b.values["zsRailPressure"] for b in by_event["Task4ms"]]))
+    assert np.array_equal(pressure.timestamps, np.concatenate([b.time for b in by_event["Task4ms"]]))
+    volts = np.concatenate([b.values["zsSensVolt"] for b in by_event["Task4ms"]])
+    for element in range(4):
+        signal = channel(mdf, "Task4ms", f"zsSensVolt[{element}]")
+        assert signal.unit == "V" and np.array_equal(signal.samples, volts[:, element])
+
+    state = channel(mdf, "Task50ms", "xsTankCtrlState")  # TAB_VERB: raw values, texts through the conversion
+    assert texts(state.samples) == np.concatenate([b.values["xsTankCtrlState"] for b in by_event["Task50ms"]]).tolist()
+    assert set(texts(state.samples)) <= {"OFF", "TANK1_ON", "TANK2_ON"} and texts(state.samples)[-1] == "TANK1_ON"
+    assert channel(mdf, "Task50ms", "xsTankCtrlState", raw=True).samples.dtype == np.uint8
+    assert mdf.groups[group_index(mdf, "Task50ms")].channel_group.acq_source.path.startswith("XCP on CAN")
+
+    target = channel(mdf, "PCM_TO_FLCU_002", "TargetRailPressure")  # CAN2, decoded with the DBC
+    assert target.unit == "bar" and np.allclose(target.samples, 25.0)
+    assert set(channel(mdf, "PCM_TO_FLCU_002", "TargetRailPressure", raw=True).samples.tolist()) == {2500}
+    assert set(texts(channel(mdf, "PCM_TO_FLCU_001", "EnableFLCU").samples)) == {"Enabled"}
+    assert np.all(np.diff(target.timestamps) > 0) and np.median(np.diff(target.timestamps)) == pytest.approx(0.1, abs=0.01)
+    daq_span = (min(starts), master(mdf, "Task4ms")[-1])
+    assert daq_span[0] - 0.3 < target.timestamps[0] and target.timestamps[-1] < daq_span[1] + 0.3  # one time axis
+    assert stats.can_frames == sum(mdf.groups[group_index(mdf, name)].channel_group.cycles_nr
+                                   for name in ("PCM_TO_FLCU_001", "PCM_TO_FLCU_002", "FLCU_TO_PCM_001",
+                                                "FLCU_TO_PCM_002", "FLCU_TO_PCM_003"))
+
+
+def test_the_raw_bus_log_decodes_again_with_the_dbc(session, tmp_path, read_mdf):
+    path = tmp_path / "bus.mf4"
+    stats = record(session, path, ["xsDC"], can2=demo.dbc_can2(), raw_can=True, duration=1.5)
+    mdf = read_mdf(path)
+    extracted = mdf.extract_bus_logging({"CAN": [(str(demo.dbc_can2()), 0)]})
+    try:
+        assert np.allclose(extracted.get("TargetRailPressure").samples, 25.0)
+        assert len(extracted.get("RailPressure")) == len(channel(mdf, "FLCU_TO_PCM_002", "RailPressure"))
+        assert np.allclose(extracted.get("RailPressure").samples, channel(mdf, "FLCU_TO_PCM_002", "RailPressure").samples)
+    finally:
+        extracted.close()
+    frames = list(can.io.MF4Reader(path))  # python-can plays it back, XCP frames included (XCP shares the bus)
+    assert len(frames) == stats.raw_frames == mdf.groups[group_index(mdf, "CAN2")].channel_group.cycles_nr
+    assert {0x7F0, 0x7F1, 0x110, 0x220, 0x167, 0x123, 0x145} <= {frame.arbitration_id for frame in frames}
+    assert all(frame.channel == 2 for frame in frames)
+
+
+def test_every_demo_signal_at_the_fastest_rate(session, tmp_path, read_mdf):
+    """The benchmark's case in a few seconds: every MEASUREMENT of the demo on the 4 ms event."""
+    names = session.model.names("MEASUREMENT")
+    path = tmp_path / "all.mf4"
+    stats = record(session, path, names, event="Task4ms", duration=2.0)
+    mdf = read_mdf(path)
+    times = master(mdf, "Task4ms")
+    assert stats.lost == 0 and len(times) == stats.samples > 300 and stats.values == stats.samples * len(names)
+    assert np.allclose(np.diff(times), 0.004, atol=1e-6)
+    assert len(mdf.groups[0].channels) == 2 + len(names) - 3 + 4 + 8 + 8  # time, host time; arrays by element
+
+
+def test_closing_the_session_finalizes_the_recording(demo_ecu, tmp_path, read_mdf):
+    ecu = demo_ecu.open_session()
+    recorder = Recorder(ecu, tmp_path / "closed.mf4", ["zsRailPressure"]).start()
+    recorder.wait(0.5)
+    ecu.close()
+    assert not recorder.running
+    assert read_mdf(tmp_path / "closed.mf4").groups[0].channel_group.cycles_nr == recorder.stats.samples > 50
+    assert recorder.stop().samples == recorder.stats.samples  # stopping again changes nothing
+
+
+def test_an_existing_file_is_replaced_only_when_asked_and_only_at_the_end(session, tmp_path, read_mdf):
+    path = tmp_path / "run.mf4"
+    path.write_bytes(b"an older recording")
+    with pytest.raises(InputError, match="run.mf4: exists"):
+        Recorder(session, path, ["xsDC"])
+    with Recorder(session, path, ["xsDC"], overwrite=True) as rec:
+        rec.wait(0.5)
+        assert path.read_bytes() == b"an older recording"
+        assert [p.name for p in tmp_path.glob("run.*.recording.mf4")]
+    assert not list(tmp_path.glob("*.recording.mf4"))
+    assert read_mdf(path).groups[0].channel_group.cycles_nr == rec.stats.samples > 0
+
+
+def test_can2_alone_starts_the_axis_at_the_recording(session, tmp_path, read_mdf):
+    stats = record(session, tmp_path / "can.mf4", can2=demo.dbc_can2(), duration=1.0)
+    mdf = read_mdf(tmp_path / "can.mf4")
+    times = master(mdf, "FLCU_TO_PCM_002")
+    assert stats.samples == 0 and stats.can_frames > 20 and 0 <= times[0] < 0.5 and np.all(np.diff(times) > 0)
+
+
+def test_the_can2_bus_may_be_opened_by_the_caller(demo_ecu, session, tmp_path, read_mdf):
+    with can.Bus(interface="virtual", channel=demo_ecu.channel) as bus:
+        record(session, tmp_path / "own.mf4", ["xsDC"], can2=demo.dbc_can2(), can_bus=bus, duration=0.6)
+        assert bus.state is not None  # still open: it is the caller's
+    assert len(channel(read_mdf(tmp_path / "own.mf4"), "FLCU_TO_PCM_001", "FuelLevel")) > 2
+
+
+def test_what_cannot_be_recorded_is_refused_before_anything_starts(session, tmp_path):
+    with pytest.raises(InputError, match="nothing to record"):
+        Recorder(session, tmp_path / "x.mf4")
+    with pytest.raises(InputError, match="xsSWITCH_TANK_THR is a CHARACTERISTIC"):
+        Recorder(session, tmp_path / "x.mf4", ["xsSWITCH_TANK_THR"])
+    with pytest.raises(InputError, match="no such file"):
+        Recorder(session, tmp_path / "x.mf4", ["xsDC"], can2=tmp_path / "missing.dbc")
+    with pytest.raises(InputError, match="is a folder"):
+        Recorder(session, tmp_path, ["xsDC"])
+    with pytest.raises(InputError, match="duration"):
+        record(session, tmp_path / "x.mf4", ["xsDC"])
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_over_ethernet_the_can2_bus_must_be_named(free_tcp_port, tmp_path):
+    with serve_demo(ethernet=EthernetEndpoint("127.0.0.1", free_tcp_port, "TCP")):
+        with Session.open(host="127.0.0.1", port=free_tcp_port, protocol="tcp") as ecu:
+            with pytest.raises(InputError, match="name the CAN2 bus"):
+                Recorder(ecu, tmp_path / "x.mf4", ["xsDC"], can2=demo.dbc_can2()).start()
+            stats = record(ecu, tmp_path / "eth.mf4", ["zsRailPressure"], duration=0.5)
+    assert stats.samples > 50 and not (tmp_path / "x.mf4").exists()
