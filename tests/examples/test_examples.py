@@ -52,3 +52,11 @@ def test_daq_to_csv(port, tmp_path):
     rail = [float(row["time_s"]) for row in rows if row["signal"] == "zsRailPressure"]
     assert len(rail) > 300 and rail == sorted(rail)
     assert {row["event"] for row in rows} == {"Task4ms", "Task50ms"}
+
+
+def test_record_mdf(port, tmp_path):
+    out = run("record_mdf.py", str(tmp_path / "run.mf4"), port).splitlines()
+    assert out[0].startswith(f"recorded {tmp_path / 'run.mf4'}: ") and " 0 lost" in out[0]
+    assert out[1].startswith("zsRailPressure: ") and " bar at " in out[1]
+    assert out[2] in ("xsTankCtrlState: OFF", "xsTankCtrlState: TANK1_ON", "xsTankCtrlState: TANK2_ON")
+    assert out[3] == "TargetRailPressure from the raw bus log: 25.00 bar"

@@ -20,6 +20,8 @@ from workbench import demo
 from workbench.cli import main
 from workbench.record import finalize
 
+CLI = [sys.executable, "-c", "from workbench.cli import entry_point; entry_point()"]
+
 
 @pytest.fixture
 def bus(demo_ecu) -> list[str]:
@@ -73,14 +75,11 @@ def test_a_killed_recording_leaves_a_readable_file(free_udp_port, tmp_path, read
     bus = ["--bus-kwargs", f"port={free_udp_port}"]
     sim, _ = start_sim_process("--pcm", *bus)
     path = tmp_path / "killed.mf4"
-    recording = subprocess.Popen([sys.executable, "-c", "from workbench.cli import entry_point; entry_point()",
-                                  "measure", "zsRailPressure", "zsSensVolt", "xsTankCtrlState", "--record", str(path),
-                                  "--can2", str(demo.dbc_can2()), "--raw-can", *bus],
+    recording = subprocess.Popen([*CLI, "measure", "zsRailPressure", "zsSensVolt", "xsTankCtrlState", "--record",
+                                  str(path), "--can2", str(demo.dbc_can2()), "--raw-can", *bus],
                                  stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     try:
-        deadline = time.monotonic() + 60
-        while _recorded(path) < 500 and time.monotonic() < deadline:  # two flushes of the 4 ms event at least
-            time.sleep(0.2)
+        _wait_for_records(path, 500)  # two flushes of the 4 ms event at least
         os.kill(recording.pid, signal.SIGKILL)
         recording.wait(10)
     finally:
@@ -102,6 +101,31 @@ def test_a_killed_recording_leaves_a_readable_file(free_udp_port, tmp_path, read
         extracted.close()
     assert finalize(path) and path.read_bytes()[:8] == b"MDF     "
     assert len(master(read_mdf(path), "Task4ms")) == len(times)
+
+
+def test_ctrl_c_ends_the_recording_and_finalizes_it(free_udp_port, tmp_path, read_mdf):
+    bus = ["--bus-kwargs", f"port={free_udp_port}"]
+    sim, _ = start_sim_process(*bus)
+    path = tmp_path / "interrupted.mf4"
+    recording = subprocess.Popen([*CLI, "measure", "xsDC", "--record", str(path), "--json", *bus],
+                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        _wait_for_records(path, 20)
+        recording.send_signal(signal.SIGINT)
+        out, err = recording.communicate(timeout=30)
+    finally:
+        recording.kill()
+        sim.terminate()
+        sim.wait(10)
+    assert recording.returncode == 0, err
+    assert path.read_bytes()[:8] == b"MDF     "
+    assert len(master(read_mdf(path), "Task50ms")) == json.loads(out)["samples"] >= 20
+
+
+def _wait_for_records(path, records: int) -> None:
+    deadline = time.monotonic() + 60
+    while _recorded(path) < records and time.monotonic() < deadline:
+        time.sleep(0.2)
 
 
 def _recorded(path) -> int:

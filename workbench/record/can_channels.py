@@ -40,29 +40,21 @@ class RawCanGroup:
         self.bus_channel = bus_channel
         self.width = 64 if fd else 8
         self.dtype = can_frame_dtype(self.width)
+        self._rows = np.dtype([(name, f"S{self.width}" if name.endswith("DataBytes") else self.dtype.fields[name][0])
+                               for name in self.dtype.names])  # the same bytes, the data as one zero-padded string
         self.spec = GroupSpec(f"CAN{bus_channel}", (ChannelSpec("CAN_DataFrame", self.dtype),),
                               f"CAN bus logging of CAN{bus_channel} ({describe}): every data frame, raw",
                               SourceSpec(f"CAN{bus_channel}", describe, kind="BUS", bus="CAN"))
 
     def records(self, frames: Sequence) -> np.ndarray:
-        """python-can messages (data frames) -> CAN_DataFrame records."""
+        """python-can messages (data frames) -> CAN_DataFrame records (one pass in Python, a bus may be saturated)."""
         from can.util import len2dlc
 
-        records = np.zeros(len(frames), self.dtype)
-        records["CAN_DataFrame.BusChannel"] = self.bus_channel
-        records["CAN_DataFrame.ID"] = [frame.arbitration_id for frame in frames]
-        records["CAN_DataFrame.IDE"] = [frame.is_extended_id for frame in frames]
-        lengths = [min(len(frame.data), self.width) for frame in frames]
-        records["CAN_DataFrame.DataLength"] = lengths
-        records["CAN_DataFrame.DLC"] = [len2dlc(length) if frame.is_fd else frame.dlc
-                                        for frame, length in zip(frames, lengths)]
-        payload = b"".join(bytes(frame.data[:self.width]).ljust(self.width, b"\0") for frame in frames)
-        records["CAN_DataFrame.DataBytes"] = np.frombuffer(payload, np.uint8).reshape(len(frames), self.width)
-        records["CAN_DataFrame.Dir"] = [0 if frame.is_rx else 1 for frame in frames]
-        records["CAN_DataFrame.EDL"] = [frame.is_fd for frame in frames]
-        records["CAN_DataFrame.BRS"] = [frame.bitrate_switch for frame in frames]
-        records["CAN_DataFrame.ESI"] = [frame.error_state_indicator for frame in frames]
-        return records
+        channel, width = self.bus_channel, self.width
+        rows = [(channel, frame.arbitration_id, frame.is_extended_id, len2dlc(frame.dlc) if frame.is_fd else frame.dlc,
+                 min(len(frame.data), width), bytes(frame.data), 0 if frame.is_rx else 1, frame.is_fd,
+                 frame.bitrate_switch, frame.error_state_indicator) for frame in frames]
+        return np.array(rows, dtype=self._rows).view(self.dtype)
 
 
 class CanMessageGroups:

@@ -37,6 +37,7 @@ import os
 import tempfile
 import threading
 import time
+import weakref
 from collections import deque
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -54,6 +55,7 @@ from workbench.record.daq_channels import DaqGroup
 from workbench.record.mdf_stream import HeaderSpec, MdfStreamWriter, SourceSpec
 from workbench.record.timebase import RecordingClock
 from workbench.session.measure import SampleBatch
+from workbench.xcp.link import _widen_udp_receive_buffer as widen_udp_receive_buffer  # the master's, for our listener
 
 if TYPE_CHECKING:
     import can
@@ -103,6 +105,7 @@ class Recorder:
     and the CAN frames of the CAN2 bus, to the MDF4 file ``path``. A context manager (``start`` /
     ``stop``); stops by itself when the session closes.
 
+    :param event, prescaler: as :meth:`~workbench.session.Session.measure` takes them.
     :param can2: a DBC (path or :class:`~workbench.can.DbcFile`): record the CAN2 bus's frames of
         its messages, decoded into one channel group per message.
     :param can_bus: the CAN2 bus, as python-can ``Bus`` settings or an open bus (it stays the
@@ -144,6 +147,11 @@ class Recorder:
         self.on_samples = on_samples
         self._writer: MdfStreamWriter | None = None
         self._writing_path = self.path
+        self._daq_index: dict[int, tuple[int, DaqGroup]] = {}  # event -> (its group in the file, the group)
+        self._messages: CanMessageGroups | None = None
+        self._message_base = 0  # the file's group of the DBC's first message
+        self._raw: RawCanGroup | None = None
+        self._raw_index = 0
         self._clock = RecordingClock()
         self._frames: deque = deque()
         self._bus = None
@@ -202,7 +210,14 @@ class Recorder:
             self._writer.close()
             self._writing_path.unlink(missing_ok=True)
             raise
-        session.on_close(self.stop)
+        stop = weakref.WeakMethod(self.stop)  # a session that records many times keeps no finished recorder alive
+
+        def stop_with_the_session() -> None:
+            method = stop()
+            if method is not None:
+                method()
+
+        session.on_close(stop_with_the_session)
         self._thread = threading.Thread(target=self._run, name="mdf-recorder", daemon=True)
         self._thread.start()
         return self
@@ -251,6 +266,7 @@ class Recorder:
             except (can.CanError, OSError, ValueError, TypeError) as exc:
                 raise InputError(f"cannot open the CAN2 bus {_describe_bus(settings)}: {exc}") from None
             self._owned_bus = True
+            widen_udp_receive_buffer(self._bus)  # raw logging of a saturated bus: ride out the recording's pauses
         frames = self._frames
 
         class _Queue(can.Listener):
