@@ -131,3 +131,14 @@ def test_finalize_refuses_what_is_no_mdf(tmp_path):
         finalize(tmp_path / "text.mf4")
     with pytest.raises(InputError, match="missing.mf4: cannot read"):
         finalize(tmp_path / "missing.mf4")
+
+
+def test_channels_are_placed_by_position_not_by_name(tmp_path, read_mdf):
+    """An A2L may name a signal ``time``, as asammdf names every master."""
+    writer = MdfStreamWriter(tmp_path / "names.mf4", [GroupSpec("g", (ChannelSpec("time", np.dtype("<u2")),
+                                                                      ChannelSpec("time", np.dtype("<f4"))))])
+    writer.append(0, np.arange(5) * 0.1, [np.arange(5, dtype="<u2") + 7, np.full(5, 0.5, "<f4")])
+    writer.close()
+    mdf = read_mdf(tmp_path / "names.mf4")
+    assert np.array_equal(mdf.get_master(0), np.arange(5) * 0.1)
+    assert mdf.get("time", 0, 1).samples.tolist() == [7, 8, 9, 10, 11] and mdf.get("time", 0, 2).samples[0] == 0.5

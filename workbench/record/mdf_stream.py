@@ -129,8 +129,8 @@ class MdfStreamWriter:
     ``compress``: DZ blocks (transposed deflate) instead of DT. ``start_time``: the header's start
     time (s since the epoch; default now), which the groups' ``time`` channels count from.
 
-    :raises InputError: ``path`` cannot be created. :raises WorkbenchError: asammdf laid out a
-        channel otherwise than the writer can fill.
+    :raises OSError: ``path`` cannot be created. :raises WorkbenchError: asammdf laid out a channel
+        otherwise than the writer can fill.
     """
 
     def __init__(self, path: str | Path, groups: Sequence[GroupSpec], header: HeaderSpec | None = None, *,
@@ -194,19 +194,22 @@ class MdfStreamWriter:
                     raise WorkbenchError(f"{self.path}: asammdf wrote group {spec.acq_name} with record ids or "
                                          "invalidation bytes; the stream writer cannot fill it")
                 names, formats, offsets = ["time"], [np.dtype("<f8")], [0]
-                placed = {}
-                for channel in group.channels:
-                    placed.setdefault(channel.name, channel.byte_offset)
-                if placed.get("time") != 0:
+                channels = group.channels  # the master, then the channels in order, a structure's members after it
+                if channels[0].name != "time" or channels[0].byte_offset != 0:
                     raise WorkbenchError(f"{self.path}: group {spec.acq_name} has no float64 master at offset 0")
-                for index, channel in enumerate(spec.channels):
-                    offset = placed[channel.name]
-                    for sub in channel.dtype.names or ():  # a composed channel's members must lie where numpy puts them
-                        if placed.get(sub) != offset + channel.dtype.fields[sub][1]:
-                            raise WorkbenchError(f"{self.path}: asammdf placed {sub} otherwise than its structure")
+                position = 1
+                for index, wanted in enumerate(spec.channels):
+                    members = wanted.dtype.names or ()
+                    placed = channels[position:position + 1 + len(members)]
+                    start = placed[0].byte_offset if placed else -1
+                    layout = [(wanted.name, start), *((m, start + wanted.dtype.fields[m][1]) for m in members)]
+                    if [(channel.name, channel.byte_offset) for channel in placed] != layout:
+                        raise WorkbenchError(f"{self.path}: asammdf laid out {wanted.name} of group {spec.acq_name} "
+                                             "otherwise than the stream writer fills it")
                     names.append(f"c{index}")
-                    formats.append(channel.dtype)
-                    offsets.append(offset)
+                    formats.append(wanted.dtype)
+                    offsets.append(start)
+                    position += len(placed)
                 dtype = np.dtype({"names": names, "formats": formats, "offsets": offsets,
                                   "itemsize": channel_group.samples_byte_nr})
                 states.append(_GroupState(dtype, group.data_group.address + 24 + 16,  # after next DG, first CG
