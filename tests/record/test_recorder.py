@@ -155,3 +155,13 @@ def test_over_ethernet_the_can2_bus_must_be_named(free_tcp_port, tmp_path):
                 Recorder(ecu, tmp_path / "x.mf4", ["xsDC"], can2=demo.dbc_can2()).start()
             stats = record(ecu, tmp_path / "eth.mf4", ["zsRailPressure"], duration=0.5)
     assert stats.samples > 50 and not (tmp_path / "x.mf4").exists()
+
+
+def test_an_ecu_with_static_daq_lists_records_alike(tmp_path, read_mdf):
+    with serve_demo({"interface": "virtual", "channel": "record-static-daq"}, static_daq=True):
+        with Session.open(interface="virtual", channel="record-static-daq") as ecu:
+            stats = record(ecu, tmp_path / "static.mf4", ["zsRailPressure", "xsDC"], duration=1.0)
+    mdf = read_mdf(tmp_path / "static.mf4")
+    assert stats.lost == 0 and stats.samples == sum(group.channel_group.cycles_nr for group in mdf.groups)
+    for event in ("Task4ms", "Task50ms"):
+        assert np.allclose(np.diff(master(mdf, event)), PERIODS[event], atol=1e-6)
