@@ -61,3 +61,19 @@ def test_without_the_gui_extra_the_commands_say_what_to_install(command, tmp_pat
                             timeout=60)
     assert result.returncode == 1
     assert result.stderr == "error: the GUI needs PySide6: install workbench[gui] (pip install 'workbench[gui]')\n"
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="X11 and Wayland displays are Linux's")
+@pytest.mark.parametrize("display", [None, ":97"])  # none set; one set where no X server answers
+def test_without_a_display_the_window_is_one_line_not_a_qt_abort(display, tmp_path):
+    env = {k: v for k, v in os.environ.items() if k not in ("QT_QPA_PLATFORM", "DISPLAY", "WAYLAND_DISPLAY")}
+    if display:
+        env["DISPLAY"] = display
+        assert not os.path.exists("/tmp/.X11-unix/X97") or pytest.skip("an X server may listen on :97")
+    result = subprocess.run([*RUN, "demo"], cwd=tmp_path, env=env, capture_output=True, text=True, timeout=60)
+    assert result.returncode == 1 and result.stderr.startswith("error: ") and result.stderr.count("\n") == 1
+    assert ("no display" in result.stderr) if display is None else (":97" in result.stderr)
+    result = subprocess.run([*RUN, "demo", "--screenshot", "demo.png", "--settle", "0"], cwd=tmp_path, env=env,
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr  # a screenshot needs no screen: rendered offscreen
+    assert png_size(tmp_path / "demo.png")[0] >= 1200

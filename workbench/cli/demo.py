@@ -34,7 +34,7 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    require_gui()
+    require_gui(args.screenshot is not None)
     from workbench.gui.app import run_demo
 
     return run_demo(screenshot=args.screenshot, settle_s=args.settle, time_scale=args.time_scale,

@@ -3,6 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import ctypes.util
+import os
+import re
+import socket
+import sys
 from pathlib import Path
 
 from workbench.cli.ecu_options import add_ecu_arguments
@@ -37,11 +42,19 @@ def add_screenshot_arguments(parser: argparse.ArgumentParser) -> None:
                        help="seconds of live data before the screenshot (default 4)")
 
 
-def require_gui() -> None:
-    """Import the window's code (Qt and its plotting) now, so that a missing piece is one line.
+def require_gui(screenshot: bool = False) -> None:
+    """Import the window's code (Qt and its plotting) now, and check that Qt can open a window, so that
+    a missing piece is one line (Qt itself aborts the process). A screenshot needs no screen: without
+    one it is rendered offscreen.
 
-    :raises WorkbenchError: a package of the gui extra is not installed, or Qt cannot load a system library.
+    :raises WorkbenchError: a package of the gui extra is not installed, Qt cannot load a system
+        library, or there is no display to open the window on.
     """
+    problem = display_problem()
+    if problem and screenshot:
+        os.environ["QT_QPA_PLATFORM"] = "offscreen"
+    elif problem:
+        raise WorkbenchError(problem)
     try:
         import workbench.gui.app  # noqa: F401
     except ImportError as exc:
@@ -51,8 +64,40 @@ def require_gui() -> None:
         raise WorkbenchError(f"the GUI cannot load Qt: {exc}") from None
 
 
+def display_problem() -> str | None:
+    """Why Qt could not open a window here (Linux without a display, or without the library Qt's X11
+    platform needs since Qt 6.5), or None; an explicit QT_QPA_PLATFORM is the user's choice."""
+    if not sys.platform.startswith("linux") or os.environ.get("QT_QPA_PLATFORM") or os.environ.get("WAYLAND_DISPLAY"):
+        return None
+    if not os.environ.get("DISPLAY"):
+        return ("no display to open the window on (neither DISPLAY nor WAYLAND_DISPLAY is set): run it in a desktop "
+                "session or over ssh -X, or add --screenshot PNG to render the window to a file")
+    display = os.environ["DISPLAY"]
+    if not _x_server_answers(display):
+        return f"no X server answers on the display {display}: start one, or fix DISPLAY"
+    if ctypes.util.find_library("xcb-cursor") is None:
+        return "Qt's X11 platform needs libxcb-cursor0: install it (Debian/Ubuntu: sudo apt install libxcb-cursor0)"
+    return None
+
+
+def _x_server_answers(display: str) -> bool:
+    """A local display (``:N``) has a socket an X server listens on; a remote one is not checked."""
+    local = re.fullmatch(r"(?:unix)?:(\d+)(?:\.\d+)?", display)
+    if local is None:
+        return True
+    path = f"/tmp/.X11-unix/X{local.group(1)}"
+    for address in ("\0" + path, path):  # Linux's abstract socket first, as Xlib tries it
+        with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as probe:
+            try:
+                probe.connect(address)
+                return True
+            except OSError:
+                continue
+    return False
+
+
 def run(args: argparse.Namespace) -> int:
-    require_gui()
+    require_gui(args.screenshot is not None)
     from workbench.gui.app import run_window
     from workbench.gui.project import Connection, Project, load_project
 

@@ -5,6 +5,12 @@ batch to the signals' :class:`~workbench.gui.ringbuffer.RingBuffer`\\ s; the plo
 their own timer. When the set of signals changes, the running measurement is stopped and a new
 one started with the new set (the ECU's DAQ lists are configured for what is displayed, as CANape
 does). Times are the ECU's DAQ timestamps mapped to host time, minus the hub's origin.
+
+Recording (:meth:`DaqAcquisition.record`) swaps the plain measurement for a
+:class:`~workbench.record.Recorder` of the same signals, whose ``on_samples`` feeds the buffers:
+one set of DAQ lists on the ECU serves both the plots and the file. While a recording runs, the
+set of signals stays the one recorded (an MDF file cannot grow channels); a signal shown meanwhile
+is measured once the recording stops.
 """
 
 from __future__ import annotations
@@ -12,6 +18,9 @@ from __future__ import annotations
 import logging
 import threading
 from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
 
 from PySide6.QtCore import QObject, Signal
 
@@ -19,7 +28,7 @@ from workbench.errors import WorkbenchError
 
 log = logging.getLogger(__name__)
 
-__all__ = ["DaqAcquisition", "DaqState"]
+__all__ = ["DaqAcquisition", "DaqState", "RecordRequest"]
 
 _READ_TIMEOUT_S = 0.1  # how long one read waits for samples: also how soon a change of signals is taken
 
@@ -33,6 +42,18 @@ class DaqState:
         self.lost = 0
         self.overloads = 0
         self.running = False
+        self.recording: Path | None = None  # the MDF4 file being written
+        self.recorded_s = 0.0
+        self.file_bytes = 0
+
+
+@dataclass(frozen=True)
+class RecordRequest:
+    """What :meth:`DaqAcquisition.record` records besides the measured signals."""
+
+    path: Path
+    can2: Any = None  # a workbench.can.DbcFile: the CAN2 bus decoded into the file
+    raw_can: bool = False  # the CAN2 bus logged raw (ASAM bus logging)
 
 
 class DaqAcquisition(QObject):
@@ -43,6 +64,8 @@ class DaqAcquisition(QObject):
 
     failed = Signal(object)  # the exception that stopped the measurement
     started = Signal(object)  # the names being measured
+    recording_started = Signal(object)  # the RecordRequest
+    recording_stopped = Signal(object)  # workbench.record.RecordingStats, or None when it could not start
 
     def __init__(self, session, sink: Callable, origin: float, parent: QObject | None = None):
         super().__init__(parent)
@@ -51,6 +74,7 @@ class DaqAcquisition(QObject):
         self.origin = origin
         self.state = DaqState()
         self._wanted: tuple[str, ...] = ()
+        self._recording: RecordRequest | None = None
         self._changed = threading.Event()
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
@@ -66,6 +90,23 @@ class DaqAcquisition(QObject):
             self._thread = threading.Thread(target=self._run, name="workbench-daq", daemon=True)
             self._thread.start()
 
+    def record(self, request: RecordRequest) -> None:
+        """Record the measured signals (and the CAN2 bus, as ``request`` says) to ``request.path`` from
+        now on, replacing a file there when the recording ends; ``recording_started`` follows, or
+        ``failed`` and ``recording_stopped(None)``."""
+        self._recording = request
+        self._changed.set()
+        self.measure(self._wanted)
+
+    def stop_recording(self) -> None:
+        """End the recording (the file is finalized; ``recording_stopped`` follows), measuring goes on."""
+        self._recording = None
+        self._changed.set()
+
+    @property
+    def recording(self) -> bool:
+        return self._recording is not None
+
     def stop(self, timeout_s: float = 5.0) -> None:
         """Stop the measurement and wait for the thread (the DAQ lists are stopped on the ECU)."""
         self._stop.set()
@@ -80,21 +121,24 @@ class DaqAcquisition(QObject):
             self._changed.clear()
             if self._stop.is_set():
                 break
-            names = self._wanted
-            if not names:
-                continue
+            names, request = self._wanted, self._recording
             try:
-                self._measure(names)
-            except WorkbenchError as exc:
+                if request is not None:
+                    self._record(names, request)
+                elif names:
+                    self._measure(names)
+            except Exception as exc:  # noqa: BLE001 - shown as a dialog; the thread must not die silently
+                if not isinstance(exc, WorkbenchError):
+                    log.exception("DAQ acquisition")
                 self.state.running = False
                 if not self._stop.is_set():
                     self.failed.emit(exc)
-                self._wanted = ()
-            except Exception as exc:  # noqa: BLE001 - shown as a dialog; the thread must not die silently
-                log.exception("DAQ acquisition")
-                self.state.running = False
-                self.failed.emit(exc)
-                self._wanted = ()
+                if request is not None:  # measuring goes on without the file
+                    self._recording = None
+                    self.recording_stopped.emit(None)
+                    self._changed.set()
+                else:
+                    self._wanted = ()
 
     def _measure(self, names: tuple[str, ...]) -> None:
         state = self.state
@@ -109,3 +153,31 @@ class DaqAcquisition(QObject):
                 stats = measurement.stats
                 state.samples, state.lost, state.overloads = stats.samples, stats.lost, stats.overloads
         state.running = False
+
+    def _record(self, names: tuple[str, ...], request: RecordRequest) -> None:
+        from workbench.record import Recorder
+
+        def deliver(batch) -> None:
+            times = batch.host_time - self.origin
+            for name, values in batch.values.items():
+                self.sink(name, times, values)
+
+        state = self.state
+        recorder = Recorder(self.session, request.path, names, can2=request.can2, raw_can=request.raw_can,
+                            overwrite=True, on_samples=deliver)
+        try:
+            with recorder:
+                state.signals, state.running, state.recording = names, True, request.path
+                self.started.emit(names)
+                self.recording_started.emit(request)
+                while not self._stop.is_set() and self._recording is request and recorder.running:
+                    self._stop.wait(_READ_TIMEOUT_S)  # not _changed: a change of signals waits for the end
+                    stats = recorder.stats
+                    state.recorded_s, state.file_bytes = stats.seconds, stats.file_bytes
+                    state.samples, state.lost, state.overloads = stats.samples, stats.lost, stats.overloads
+        finally:
+            state.running, state.recording = False, None
+        if self._recording is request:  # the recording ended by itself (the session closed)
+            self._recording = None
+        self.recording_stopped.emit(recorder.stats)
+        self._changed.set()  # measure what is shown now, without the file

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import base64
 import logging
+import time
 from pathlib import Path
 
 import numpy as np
@@ -27,7 +28,7 @@ from PySide6.QtWidgets import (
 
 from workbench.gui import theme
 from workbench.gui.a2l_info import calibration_info, measurement_info
-from workbench.gui.acquisition import DaqAcquisition
+from workbench.gui.acquisition import DaqAcquisition, RecordRequest
 from workbench.gui.ecu import Connected, EcuController
 from workbench.gui.formatting import format_value
 from workbench.gui.mime import names_from_mime
@@ -69,6 +70,7 @@ class MainWindow(QMainWindow):
         self.flash_dialog: FlashDialog | None = None
         self.sync_dialog: SyncDialog | None = None
         self.sync_report = None  # the last cache sync's workbench.sync.SyncReport
+        self.last_recording = None  # the last recording's workbench.record.RecordingStats
         self.errors: list = []  # the error dialogs shown (tests look at them)
         self.resize(1600, 980)
         self._build()
@@ -155,9 +157,13 @@ class MainWindow(QMainWindow):
         self.flash_action = self._action("Flash…", self.open_flash_dialog, "flash CALIB/APPLICATIVE from an s19, "
                                          "or the working page into CAL ROM")
         self.flash_action.setEnabled(False)
-        self.record_action = self._action("Record", lambda: None,
-                                          "MDF4 recording is not available yet (it comes with workbench.record)")
+        self.record_action = self._action("Record", self._record_toggled,
+                                          "record the measured signals (and CAN2, decoded with the project's DBC) "
+                                          "to an MDF4 file; again to stop", "Ctrl+R", checkable=True)
         self.record_action.setEnabled(False)
+        self.raw_can_action = self._action("Log raw CAN frames in recordings", lambda: None,
+                                           "recordings also hold every frame of the CAN bus (ASAM bus logging)",
+                                           checkable=True)
         self.open_action = self._action("Open…", self.open_project_dialog, "open a project file", QKeySequence.Open)
         self.save_action = self._action("Save", self.save, "save the project", QKeySequence.Save)
         self.save_as_action = self._action("Save as…", self.save_as, "save the project under a new name",
@@ -179,7 +185,7 @@ class MainWindow(QMainWindow):
         file_menu.addAction(self._action("Quit", self.close, "", QKeySequence.Quit))
         ecu_menu = menu.addMenu("&ECU")
         for action in (self.settings_action, self.connect_action, self.disconnect_action, self.working_action,
-                       self.reference_action, self.flash_action, self.record_action):
+                       self.reference_action, self.flash_action, self.record_action, self.raw_can_action):
             ecu_menu.addAction(action)
         self.copy_action = self._action("Copy reference → working", self._copy_reference,
                                         "start the working page over from the flashed values")
@@ -399,20 +405,61 @@ class MainWindow(QMainWindow):
                                      self.hub.origin, bitrate)
             except Exception as exc:  # noqa: BLE001 - XCP goes on without the CAN2 view
                 self.show_error(exc)
-        self.hub.attach(DaqAcquisition(session, self.hub.sink, self.hub.origin, self), monitor)
+        acquisition = DaqAcquisition(session, self.hub.sink, self.hub.origin, self)
+        acquisition.recording_stopped.connect(self._recording_stopped)
+        self.hub.attach(acquisition, monitor)
+        self.record_action.setEnabled(True)
 
     def _disconnected(self) -> None:
         self.hub.detach()
         self.status.show_disconnected()
         self.connect_action.setEnabled(True)
         for action in (self.disconnect_action, self.flash_action, self.working_action, self.reference_action,
-                       self.copy_action):
+                       self.copy_action, self.record_action):
             action.setEnabled(False)
+        self.record_action.setChecked(False)
         self._update_title()
 
     def _copy_reference(self) -> None:
         self.controller.call("copy_reference_to_working",
                              on_done=lambda _: [e.reload() for e in self.editors.values()])
+
+    # --- recording ------------------------------------------------------------------------------
+
+    def _record_toggled(self, checked: bool) -> None:
+        if not checked:
+            self.stop_recording()
+            return
+        folder = self.project.path.parent if self.project.path else Path.cwd()
+        suggestion = folder / f"recording-{time.strftime('%Y%m%d-%H%M%S')}.mf4"
+        path, _ = QFileDialog.getSaveFileName(self, "Record to", str(suggestion), "MDF4 (*.mf4)")
+        if not path:
+            self.record_action.setChecked(False)
+            return
+        self.start_recording(Path(path))
+
+    def start_recording(self, path: Path) -> None:
+        """Record what the windows measure, and the CAN2 bus decoded with the project's first DBC (XCP on
+        CAN), to ``path`` (replaced when the recording ends; the file dialog asked)."""
+        acquisition = self.hub.acquisition
+        if acquisition is None:
+            self.record_action.setChecked(False)
+            return
+        dbcs = self.workspace.dbcs if self.workspace is not None else []
+        on_can = self.controller.session.link.settings.transport == "CAN"
+        acquisition.record(RecordRequest(Path(path), dbcs[0] if dbcs and on_can else None,
+                                         on_can and self.raw_can_action.isChecked()))
+        self.record_action.setChecked(True)
+
+    def stop_recording(self) -> None:
+        if self.hub.acquisition is not None:
+            self.hub.acquisition.stop_recording()
+
+    def _recording_stopped(self, stats) -> None:
+        self.record_action.setChecked(False)
+        self.last_recording = stats
+        if stats is not None:
+            self.statusBar().showMessage(f"recorded {stats.describe()}", 15000)
 
     # --- flash and cache sync -------------------------------------------------------------------
 

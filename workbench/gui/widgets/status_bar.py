@@ -31,6 +31,8 @@ class EcuStatusBar(QStatusBar):
         self.page = QLabel()
         self.bus = QLabel()
         self.daq = QLabel()
+        self.recording = QLabel()
+        self.recording.setStyleSheet(f"color: {theme.BAD}; font-weight: bold;")
         for widget in (self.link, self.ecu):  # long texts: they give way (tooltip: all of it) before the window grows
             widget.setSizePolicy(QSizePolicy.Ignored, QSizePolicy.Preferred)
             widget.setMinimumWidth(60)
@@ -38,7 +40,7 @@ class EcuStatusBar(QStatusBar):
         self.addWidget(self.ecu, 2)
         for widget in (self.epk, self.protection, self.page):
             self.addWidget(widget)
-        for widget in (self.bus, self.daq):
+        for widget in (self.recording, self.bus, self.daq):
             self.addPermanentWidget(widget)
         self.timer = QTimer(self)
         self.timer.setInterval(REFRESH_MS)
@@ -89,11 +91,17 @@ class EcuStatusBar(QStatusBar):
         load = monitor.bus_load() if monitor is not None else None
         self.bus.setText("" if load is None else f"bus load {load * 100:.1f} %")
         acquisition = self.hub.acquisition
-        if acquisition is None or not acquisition.state.running:
+        state = acquisition.state if acquisition is not None else None
+        if state is not None and state.recording is not None:
+            size = state.file_bytes / 2**20
+            self.recording.setText(f"● REC {state.recording.name} · {state.recorded_s:.1f} s · {size:.1f} MiB")
+            self.recording.setToolTip(f"recording to {state.recording}")
+        else:
+            self.recording.setText("")
+        if state is None or not state.running:
             self.daq.setText("DAQ idle")
             self.daq.setStyleSheet(f"color: {theme.MUTED};")
             return
-        state = acquisition.state
         trouble = state.lost or state.overloads
         self.daq.setText(f"DAQ {len(state.signals)} signals · {state.samples:,} samples · lost {state.lost} · "
                          f"overloads {state.overloads}")
