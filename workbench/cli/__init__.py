@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import importlib.util
 import logging
 import os
 import sys
@@ -19,7 +18,6 @@ from workbench.cli.options import CommandParser
 from workbench.errors import WorkbenchError
 
 # (group, one-line help); the group's commands live in ``workbench.cli.<group>``.
-# A group whose module does not exist yet is listed and says so when run.
 GROUPS: list[tuple[str, str]] = [
     ("a2l", "merge, update from ELF, check and diff A2L files"),
     ("sim", "run the simulated FLCU ECU (XCP slave) on a CAN bus"),
@@ -33,13 +31,6 @@ GROUPS: list[tuple[str, str]] = [
 ]
 
 
-def _not_built(group: str):
-    def handler(args: argparse.Namespace) -> int:
-        raise WorkbenchError(f"'workbench {group}' is not built yet")
-
-    return handler
-
-
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="workbench",
@@ -49,14 +40,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--debug", action="store_true", help="show tracebacks and debug logging")
     subparsers = parser.add_subparsers(title="command groups", dest="group", metavar="GROUP", parser_class=CommandParser)
     for group, help_text in GROUPS:
-        module = f"{__name__}.{group}"
-        if importlib.util.find_spec(module) is None:
-            sub = subparsers.add_parser(group, help=f"{help_text} (not built yet)",
-                                        description=f"{help_text}: not built yet (running it says so and exits 1).")
-            sub.set_defaults(func=_not_built(group))
-            continue
         try:
-            importlib.import_module(module).add_subparser(subparsers, group, help_text)
+            importlib.import_module(f"{__name__}.{group}").add_subparser(subparsers, group, help_text)
         except ImportError as exc:  # an optional dependency is missing
             sub = subparsers.add_parser(group, help=f"{help_text} (unavailable)")
             sub.set_defaults(func=_unavailable(group, exc))
