@@ -56,6 +56,19 @@ class MemoryImage:
             image.add(address + run.start(), run.group())
         return image
 
+    @property
+    def header(self):
+        """The S-record file's S0 header (text, as bincopy reads it), kept when the image is written again."""
+        try:
+            return self._bin.header
+        except AttributeError:  # bincopy decodes a header it does not have
+            return None
+
+    @header.setter
+    def header(self, value) -> None:
+        if value is not None:
+            self._bin.header = value
+
     def add(self, address: int, data: bytes, overwrite: bool = False) -> None:
         """Put ``data`` at ``address``; raises :class:`InputError` if it overlaps held bytes and not ``overwrite``."""
         try:
@@ -90,6 +103,7 @@ class MemoryImage:
     def crop(self, start: int, end: int) -> MemoryImage:
         """A new image with only the bytes inside ``[start, end)``."""
         cropped = MemoryImage()
+        cropped.header = self.header
         for seg_start, data in self.segments:
             lo, hi = max(seg_start, start), min(seg_start + len(data), end)
             if lo < hi:

@@ -61,6 +61,7 @@ def _uploaded_image(report: SyncReport, reference: ImageReference) -> MemoryImag
     patches = [(view.image_address(leaf.address, leaf.extension), report.ecu_memory.read(leaf))
                for check in report.areas for leaf in check.scan.differing]
     image = MemoryImage()
+    image.header = reference.image.header
     for start, data in reference.image.segments:
         patched = bytearray(data)
         for address, new in patches:
