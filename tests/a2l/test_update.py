@@ -240,3 +240,32 @@ def test_an_elf_without_dwarf_and_symbols_says_so_once(tmp_path, source):
     (finding,) = result.report.of_kind("elf-without-symbols")
     assert finding.message.startswith("stripped.elf has neither DWARF nor a symbol table")
     assert result.report.findings[0] == finding and len(result.report.of_kind("symbol-not-found")) == 11
+
+
+def test_canape_link_map_follows_the_new_address(debug):
+    body = ('    /begin MEASUREMENT zsScalar "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1\n      ECU_ADDRESS 0x0\n'
+            '      /begin IF_DATA CANAPE_EXT 100\n        LINK_MAP "zsScalar" 0x0 0x0 0 0x0 1 0x87 0x0\n'
+            '        DISPLAY 0 0 1\n      /end IF_DATA\n    /end MEASUREMENT\n'
+            '    /begin MEASUREMENT moved "" UBYTE NO_COMPU_METHOD 1 0 0 1\n      ECU_ADDRESS 0\n'
+            '      /begin IF_DATA CANAPE_EXT 100 LINK_MAP "u" 0 0 0 0 1 0x87 0 /end IF_DATA\n'
+            '      /begin IF_DATA OTHER_TOOL LINK_MAP "u" 0x99 /end IF_DATA\n'
+            '      SYMBOL_LINK "zsScalar" 2\n    /end MEASUREMENT\n')
+    doc = load_a2l_string(WRAP.format(body), "canape.a2l")
+    result = update_document(doc, debug, epk=False)
+    updated = load_a2l_string(result.data.decode())
+    scalar = ElfSymbols(ELF).symbols["zsScalar"].address
+    assert addresses(updated) == {"zsScalar": scalar, "moved": scalar + 2}
+    text = result.data.decode()
+    assert f'LINK_MAP "zsScalar" 0x{scalar:X} 0x0 0' in text  # written in the token's own style
+    assert f'CANAPE_EXT 100 LINK_MAP "u" {scalar + 2} 0 0' in text  # the object's address, SYMBOL_LINK offset included
+    assert 'OTHER_TOOL LINK_MAP "u" 0x99' in text  # another tool's IF_DATA is not ours to change
+    assert result.report.tally["IF_DATA CANAPE_EXT LINK_MAP"] == {"updated": 2}
+    assert update_document(updated, debug, epk=False).data == result.data  # a second update changes nothing
+
+
+def test_a_link_map_without_its_address_names_the_place(debug):
+    body = ('    /begin MEASUREMENT zsScalar "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1\n      ECU_ADDRESS 0x0\n'
+            '      /begin IF_DATA CANAPE_EXT 100 LINK_MAP "zsScalar" /end IF_DATA\n    /end MEASUREMENT\n')
+    with pytest.raises(A2lParseError, match="zsScalar: LINK_MAP needs a symbol name and an address") as caught:
+        update_document(load_a2l_string(WRAP.format(body), "short.a2l"), debug, epk=False)
+    assert "short.a2l:6:" in str(caught.value)

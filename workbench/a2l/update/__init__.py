@@ -110,6 +110,7 @@ def update_document(doc: A2lDocument, debug: DebugData, *, mode: UpdateMode = Up
             _insert_address(objects, row, targets[row], edits, report, pending)
     located = np.flatnonzero(usable & has_token)
     _replace_addresses(objects, located, targets, edits, report, pending if report_addresses else None)
+    _update_link_maps(objects, targets, edits, report)
     if types:
         _check_types(objects, symbols, edits, report)
     report_progress(progress, 3, 3, "updating addresses")
@@ -233,6 +234,37 @@ def _replace_addresses(objects: AddressedObjects, rows: np.ndarray, targets: lis
             name = objects.names[row]
             pending.append((int(tokens[i]), "address-updated", name,
                             "%s: 0x%X -> 0x%X" % (name, old_values[i], news[i]), objects.keywords[row], Severity.INFO))
+
+
+def _update_link_maps(objects: AddressedObjects, targets: list[int | None], edits: Edits,
+                      report: UpdateReport) -> None:
+    """CANape's ``IF_DATA CANAPE_EXT ... LINK_MAP "symbol" address ...`` repeats an object's address (CANape's
+    own address update reads it): it follows the new ECU_ADDRESS, as CANape and a2ltool keep it."""
+    doc = objects.doc
+    if_data, link_maps = doc.option_tokens("IF_DATA", "LINK_MAP")
+    if not len(if_data):
+        return
+    row_of_block = {block: row for row, block in enumerate(objects.blocks)}
+    updated = 0
+    for block, token in zip(if_data.tolist(), link_maps.tolist()):
+        row = row_of_block.get(int(doc.blocks.parent[block]))
+        target = targets[row] if row is not None else None
+        if target is None or not 0 <= target <= MAX_ADDRESS or doc.raw(doc.block_begin[block] + 2) != b"CANAPE_EXT":
+            continue
+        address_token = token + 2
+        if address_token >= doc.block_end[block]:
+            raise doc.error(f"{objects.keywords[row]} {objects.names[row]}: LINK_MAP needs a symbol name and an "
+                            "address", token)
+        raw = doc.raw(address_token)
+        if int_or_none(raw) is None:
+            raise doc.error(f"{objects.keywords[row]} {objects.names[row]}: the LINK_MAP address must be an integer, "
+                            f"found '{raw.decode(doc.encoding)}'", address_token)
+        if int_or_none(raw) != target:
+            start, end = doc.tokens.starts_list[address_token], doc.tokens.ends_list[address_token]
+            edits.append(Edit(start, end, format_ints_like([raw], [target])[0]))
+            updated += 1
+    if updated:
+        report.count("IF_DATA CANAPE_EXT LINK_MAP", "updated", updated)
 
 
 def _check_types(objects: AddressedObjects, symbols: list, edits: Edits, report: UpdateReport) -> None:
