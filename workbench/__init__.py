@@ -10,6 +10,7 @@ import logging
 from workbench.errors import (
     A2lParseError,
     Cancelled,
+    ConnectionLostError,
     ConversionError,
     EpkMismatchError,
     InputError,
@@ -26,7 +27,7 @@ __version__ = "0.1.0"
 
 logging.getLogger(__name__).addHandler(logging.NullHandler())
 
-_ERRORS = ["A2lParseError", "Cancelled", "ConversionError", "EpkMismatchError", "InputError", "LimitsError",
+_ERRORS = ["A2lParseError", "Cancelled", "ConnectionLostError", "ConversionError", "EpkMismatchError", "InputError", "LimitsError",
            "PartialWriteError", "UnknownSymbolError", "WorkbenchError", "XcpCommandError", "XcpTimeoutError"]
 _lazy, __getattr__, _dir = lazy_exports(__name__, {"workbench.session": ("Session",)})
 __all__ = sorted(_ERRORS + _lazy + ["__version__"])

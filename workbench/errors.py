@@ -8,6 +8,7 @@ pyelftools, cantools) are translated at the package boundary with ``raise ... fr
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
 
@@ -119,6 +120,23 @@ class XcpTimeoutError(WorkbenchError, TimeoutError):
         self.command = command
         self.timeout_s = timeout_s
         super().__init__(f"XCP {command}: no response within {timeout_s * 1000:.0f} ms" + (f"; {hint}" if hint else ""))
+
+
+class ConnectionLostError(WorkbenchError):
+    """The ECU stopped answering during a session: a command with no response, DAQ with no DTO for too
+    long, a closed TCP connection, a socket or bus error.
+
+    ``what`` names the link ("XCP on UDP (127.0.0.1:5555)"), ``reason`` what was seen ("no DTO for
+    300 ms"), ``when`` the wall-clock time it was noticed (seconds since the epoch, as ``time.time()``).
+    The session is unusable afterwards: close it and open a new one to reconnect.
+    """
+
+    def __init__(self, what: str, reason: str, when: float | None = None):
+        self.what = what
+        self.reason = reason
+        self.when = time.time() if when is None else when
+        clock = time.strftime("%H:%M:%S", time.localtime(self.when)) + f".{int(self.when % 1 * 1000):03d}"
+        super().__init__(f"connection to the ECU lost at {clock}: {what}: {reason}")
 
 
 class PartialWriteError(WorkbenchError):
