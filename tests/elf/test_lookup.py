@@ -82,3 +82,60 @@ def test_function_statics_and_ambiguity_survive_the_cache(tmp_path):
                                                           "wild_c.fileLocal")] == expected
         assert second.is_ambiguous("state") and second.is_ambiguous("fileLocal")
         assert second._reader is None  # function statics and types came from the cache
+
+
+def _variable_dies(elf_path: Path) -> dict[int, bool]:
+    """pyelftools' variable DIEs: offset -> whether it lies inside a function (at any depth)."""
+    from elftools.elf.elffile import ELFFile
+
+    with open(elf_path, "rb") as handle:
+        found = {}
+        for unit in ELFFile(handle).get_dwarf_info().iter_CUs():
+            for die in unit.iter_DIEs():
+                if die.tag != "DW_TAG_variable":
+                    continue
+                parent = die.get_parent()
+                while parent is not None and parent.tag not in ("DW_TAG_subprogram", "DW_TAG_inlined_subroutine"):
+                    parent = parent.get_parent()
+                found[die.offset] = parent is not None
+    return found
+
+
+@pytest.mark.parametrize("elf_name", ["c-gcc-dwarf4-m64-O0.elf", "cpp-clang-dwarf5-m64-O2.elf"])
+def test_a_name_missing_at_file_scope_decodes_only_the_variables_inside_functions(elf_name, monkeypatch):
+    """The function statics are read for a name the globals lack; the file-scope variables, read once
+    already, are stepped over (an ELF of 50,000 globals decoded them all a second time)."""
+    from workbench.elf import dwarf
+
+    debug = DebugData(MATRIX / elf_name, use_cache=False)
+    decoded = []
+    decode = dwarf.DwarfReader._decode
+
+    def recording(self, plan, position, unit, wanted, prefix=None):
+        if wanted is dwarf.VARIABLE_ATTRS:
+            decoded.append(position - 1)  # the DIE's offset: its abbreviation code is one byte here
+        return decode(self, plan, position, unit, wanted, prefix)
+
+    monkeypatch.setattr(dwarf.DwarfReader, "_decode", recording)
+    assert debug.find("no_such_variable") is None
+    variables = _variable_dies(MATRIX / elf_name)
+    decoded_variables = [offset for offset in decoded if offset in variables]
+    inside = sorted(offset for offset, in_function in variables.items() if in_function)
+    assert sorted(decoded_variables) == inside and inside
+    assert len(variables) > len(inside)  # there were file-scope variables to step over
+
+
+def test_paths_of_unique_names_need_no_scoped_lookup():
+    """``x``, ``x.member`` and ``x[2]`` of a name that designates one variable are one dict lookup: neither
+    the scoped table of every variable nor the .symtab table is built (nor for a name no symbol has)."""
+    debug = DebugData(MATRIX / "c-gcc-dwarf4-m64-O0.elf", use_cache=False)
+    table = VariableTable(debug._variables)
+    for path in ("wild_tick.history[2]", "wild_c.fileLocal", "tickCount", "wild_filter.state"):
+        assert debug.resolve(path).address == DebugData(MATRIX / "c-gcc-dwarf4-m64-O0.elf", use_cache=False) \
+            .resolve(path).address
+    plain = [name for name, variables in table.by_name.items() if len(variables) == 1]
+    fresh = DebugData(MATRIX / "c-gcc-dwarf4-m64-O0.elf", use_cache=False)
+    for name in plain:
+        assert fresh.resolve(name).address == table.find(name)[0].address
+    assert fresh.find("no_such_variable") is None
+    assert fresh._globals is None and fresh._symtab is None

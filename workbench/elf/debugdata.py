@@ -10,6 +10,7 @@ same ELF reads no DWARF and answers most paths with one dict lookup.
 
 from __future__ import annotations
 
+import re
 import struct
 from pathlib import Path
 from typing import NamedTuple
@@ -18,7 +19,7 @@ from workbench.elf import dwarf
 from workbench.elf.cache import IndexCache
 from workbench.elf.ctypes_model import CType, TypeResolver
 from workbench.elf.dwarf_index import DwarfIndex
-from workbench.elf.lookup import AmbiguousSymbolError, Variable, VariableTable
+from workbench.elf.lookup import AmbiguousSymbolError, Variable, VariableTable, scope_splits, split_vector_spec
 from workbench.elf.paths import PathError, split_path, walk
 from workbench.elf.symbols import ElfSymbols
 from workbench.elf.symtab_names import symtab_variables
@@ -27,6 +28,7 @@ from workbench.progress import Progress, report
 
 __all__ = ["AmbiguousSymbolError", "DebugData", "ResolvedSymbol"]
 
+_HEAD = re.compile(r"[A-Za-z_$][A-Za-z0-9_$]*")  # the variable name a member/element path starts with
 _DWARF_SECTIONS = (".debug_info", ".debug_types", ".debug_abbrev", ".debug_str", ".debug_line_str",
                    ".debug_str_offsets", ".debug_addr")
 # what decoding damaged DWARF raises: reads past a section's end, unknown codes, bad struct reads
@@ -69,6 +71,7 @@ class DebugData:
             # symbol path -> address: the names that designate one variable, then every path resolved since
             self._addresses = _unique_addresses(self._variables)
             self._types = {}
+        self._first: dict[str, tuple] | None = None  # name -> the first variable of that name (Variable fields)
         self._globals: VariableTable | None = None
         self._static_table: VariableTable | None = None
         self._symtab: tuple[VariableTable, dict[int, int]] | None = None
@@ -132,20 +135,50 @@ class DebugData:
         function's static. Raises :class:`AmbiguousSymbolError`."""
         if not self._variables:
             return None
-        if self._globals is None:
-            self._globals = VariableTable(map(Variable._make, self._variables))
-        found = self._globals.find(path)
+        found = self._plain_variable(path)
+        if found is not None:
+            return found
+        found = None
+        if any(name in self._first_of_name() for name in _variable_names(path)):  # else no global can fit
+            if self._globals is None:
+                self._globals = VariableTable(self._variables)
+            found = self._globals.find(path)
         if found is None:
             if self._static_table is None:
                 if self._statics is None:
                     self._statics = self._read_function_statics()
-                self._static_table = VariableTable(map(Variable._make, self._statics))
+                self._static_table = VariableTable(self._statics)
             found = self._static_table.find(path)
         return found
+
+    def _plain_variable(self, path: str) -> tuple[Variable, str] | None:
+        """The variable of a path that starts with a plain name which designates one variable at file scope
+        (``x``, ``x.in.phys``, ``x[3]``: most paths of an A2L): what the scoped lookup would answer, for a
+        dict lookup; None for other paths."""
+        if "::" in path or "{" in path:
+            return None
+        head = _HEAD.match(path)
+        if head is None:
+            return None
+        name = head.group()
+        variable = self._first_of_name().get(name)
+        # a unique name's address is in _addresses; the first variable of that name lives there
+        if variable is None or variable[1] is None or self._addresses.get(name) != variable[1]:
+            return None
+        return Variable._make(variable), path[head.end():]
+
+    def _first_of_name(self) -> dict[str, tuple]:
+        """Name -> the first variable at file scope or in a namespace of that name (Variable fields)."""
+        if self._first is None:
+            self._first = {variable[0]: variable for variable in reversed(self._variables)}
+        return self._first
 
     def _symtab_find(self, path: str) -> tuple[tuple[Variable, str], dict[int, int]] | None:
         """The ``.symtab`` variable ``path`` names (demangled C++ names, gcc's and clang's names of function
         statics) with the member suffix, and the symbol sizes by address."""
+        names_text = self.elf.names_text()
+        if not any(name.encode() in names_text for name in _variable_names(path)):
+            return None  # no symbol's name has it: the symbol table need not be read
         if self._symtab is None:
             variables, sizes = symtab_variables(self.elf.symbol_list)
             self._symtab = VariableTable(variables), sizes
@@ -270,6 +303,11 @@ class DebugData:
             return self._resolver.resolve(offset)
         except _DAMAGED_DWARF as exc:
             raise InputError(f"{self.path}: unreadable DWARF type at 0x{offset or 0:x} ({exc})") from None
+
+
+def _variable_names(path: str) -> list[str]:
+    """The names a variable that ``path`` designates may have (see :func:`scope_splits`)."""
+    return [name for _, name, _ in scope_splits(split_vector_spec(path)[0])]
 
 
 def _unique_addresses(variables: list[tuple]) -> dict[str, int]:

@@ -216,19 +216,21 @@ class DwarfReader:
             return sibling
         return self._skip_subtree(die.next_offset, die.unit)
 
-    def scan(self, unit: Unit, descend: frozenset[int], collect: frozenset[int], wanted: frozenset[int]
-             ) -> Iterator[tuple[str, int, int, dict]]:
+    def scan(self, unit: Unit, descend: frozenset[int], collect: frozenset[int], wanted: frozenset[int],
+             within: frozenset[int] | None = None) -> Iterator[tuple[str, int, int, dict]]:
         """Walk the DIE tree of ``unit`` in order, fast: yields ("enter", offset, tag, attrs) for a DIE of
         a tag in ``descend`` that has children (then its children, then ("leave", offset, tag, {})), and
-        ("item", offset, tag, attrs) for a DIE of a tag in ``collect``. Only the ``wanted`` attributes
-        are decoded; every other DIE is stepped over with its subtree, through DW_AT_sibling or, where
-        the producer left it out (clang), by stepping over each descendant's attributes."""
+        ("item", offset, tag, attrs) for a DIE of a tag in ``collect`` (with ``within``: only inside a DIE
+        of one of those tags). Only the ``wanted`` attributes are decoded; every other DIE is stepped over
+        with its subtree, through DW_AT_sibling or, where the producer left it out (clang), by stepping
+        over each descendant's attributes."""
         root = self.die(unit.first_die, unit)
         if root is None or not root.has_children:
             return
         plans = self._plans(unit)
         data, end, offset = self.info, unit.end, root.next_offset
         open_scopes: list[tuple[int, int]] = []
+        inside = 0 if within is not None else 1  # open DIEs of a ``within`` tag
         while offset < end:
             code = data[offset]
             position = offset + 1
@@ -238,22 +240,29 @@ class DwarfReader:
                 if not open_scopes:
                     return
                 scope_offset, scope_tag = open_scopes.pop()
+                if within is not None and scope_tag in within:
+                    inside -= 1
                 yield "leave", scope_offset, scope_tag, {}
                 offset = position
                 continue
             try:
-                tag, has_children, plan, prefix = plans[code]
+                tag, has_children, plan, prefix, skip = plans[code]
             except KeyError:
                 raise DwarfError(f"unknown abbreviation {code} at .debug_info+0x{offset:x}") from None
             if tag in descend and has_children:
                 attrs, position = self._decode(plan, position, unit, wanted)
                 yield "enter", offset, tag, attrs
                 open_scopes.append((offset, tag))
+                if within is not None and tag in within:
+                    inside += 1
                 offset = position
                 continue
-            if tag in collect:
+            if inside and tag in collect:
                 attrs, position = self._decode(plan, position, unit, wanted, prefix)
                 yield "item", offset, tag, attrs
+            elif skip is not None and not has_children:
+                offset = self._step_over(skip, position)
+                continue
             else:
                 attrs, position = self._decode(plan, position, unit, _SIBLING)
             sibling = attrs.get(AT_SIBLING)
@@ -273,7 +282,10 @@ class DwarfReader:
             if code == 0:
                 depth -= 1
                 continue
-            tag, has_children, plan, _ = plans[code]
+            tag, has_children, plan, _, skip = plans[code]
+            if skip is not None and not has_children:
+                position = self._step_over(skip, position)
+                continue
             attrs, position = self._decode(plan, position, unit, _SIBLING)
             if has_children:
                 sibling = attrs.get(AT_SIBLING)
@@ -283,8 +295,10 @@ class DwarfReader:
                     depth += 1
         return position
 
-    def _plans(self, unit: Unit) -> dict[int, tuple[int, bool, tuple]]:
-        """Per abbreviation: (tag, has children, ((attribute, form, bytes or -1 when variable), ...))."""
+    def _plans(self, unit: Unit) -> dict[int, tuple[int, bool, tuple, tuple | None, int | tuple | None]]:
+        """Per abbreviation: (tag, has children, ((attribute, form, bytes or -1 when variable), ...), the
+        fixed prefix of a variable DIE (see :func:`_fixed_prefix`), how to step over its attributes (see
+        :func:`_skip_plan`))."""
         key = (unit.abbrev_offset, unit.offset_size, unit.address_size, unit.version)
         plans = self._plan_cache.get(key)
         if plans is None:
@@ -295,9 +309,30 @@ class DwarfReader:
             for code, (tag, has_children, specs) in self._abbrevs(unit.abbrev_offset).items():
                 steps = tuple((attr, form, _FIXED_SIZE.get(form, sizes.get(form, -1))) for attr, form, _ in specs)
                 prefix = _fixed_prefix(specs, steps, VARIABLE_ATTRS, self.order) if tag == TAG_VARIABLE else None
-                plans[code] = (tag, has_children, steps, prefix)
+                plans[code] = (tag, has_children, steps, prefix, _skip_plan(steps))
             self._plan_cache[key] = plans
         return plans
+
+    def _step_over(self, skip: int | tuple, position: int) -> int:
+        """The offset after one DIE's attributes, stepped over by its :func:`_skip_plan`."""
+        if skip.__class__ is int:
+            return position + skip
+        data = self.info
+        for kind, size in skip:
+            if kind == _SKIP_BYTES:
+                position += size
+            elif kind == _SKIP_BLOCK:
+                length, position = _uleb(data, position)
+                position += length
+            elif kind == _SKIP_STRING:
+                position = data.index(b"\0", position) + 1
+            elif kind == _SKIP_LEB:
+                while data[position] >= 0x80:
+                    position += 1
+                position += 1
+            else:  # _SKIP_BLOCK1
+                position += 1 + data[position]
+        return position
 
     def _decode(self, plan: tuple, position: int, unit: Unit, wanted: frozenset, prefix=None) -> tuple[dict, int]:
         """Decode the ``wanted`` attributes of one DIE and step over the others; returns them and the
@@ -506,6 +541,33 @@ def _finish(codes: list[str], fields: list, count: int, order: str):
     decoded = [f for f in fields if f[1] != "constant"]
     constants = [f for f in fields if f[1] == "constant"]
     return struct.Struct(order + "".join(codes)), decoded + constants, count
+
+
+_SKIP_BYTES, _SKIP_BLOCK, _SKIP_STRING, _SKIP_LEB, _SKIP_BLOCK1 = range(5)
+_SKIP_FORMS = {0x18: _SKIP_BLOCK, 0x09: _SKIP_BLOCK, 0x08: _SKIP_STRING, 0x0A: _SKIP_BLOCK1,
+               **dict.fromkeys((0x0F, 0x0D, 0x15, 0x1A, 0x1B, 0x22, 0x23, 0x1F01, 0x1F02), _SKIP_LEB)}
+
+
+def _skip_plan(steps: tuple) -> int | tuple | None:
+    """How to step over the attributes of a DIE of this abbreviation without decoding them: the byte
+    count when every form has a fixed size, else ((kind, bytes), ...) with neighbouring fixed sizes
+    summed; None for a form only :meth:`DwarfReader._read_form` can step over (DW_FORM_indirect)."""
+    skip: list[list[int]] = []
+    for _, form, size in steps:
+        if size >= 0:
+            if skip and skip[-1][0] == _SKIP_BYTES:
+                skip[-1][1] += size
+            else:
+                skip.append([_SKIP_BYTES, size])
+        elif form in _SKIP_FORMS:
+            skip.append([_SKIP_FORMS[form], 0])
+        else:
+            return None
+    if not skip:
+        return 0
+    if len(skip) == 1 and skip[0][0] == _SKIP_BYTES:
+        return skip[0][1]
+    return tuple(map(tuple, skip))
 
 
 def member_offset(value: object) -> int | None:

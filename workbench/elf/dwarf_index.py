@@ -74,19 +74,20 @@ class DwarfIndex:
             if unit.type_signature is not None:
                 continue
             unit_name = self.unit_name(unit)
-            frames: list[tuple[tuple[str, ...], bool]] = []  # (scope, inside a function) per open DIE
-            scope, inside = (), False
+            frames: list[tuple[str, ...]] = []  # the scope around each open DIE
+            scope = ()
+            # the variables at file scope and in namespaces are stepped over, not decoded
             for event, offset, tag, attrs in self.reader.scan(unit, _INSIDE_FUNCTIONS, _VARIABLES,
-                                                               dwarf.VARIABLE_ATTRS):
+                                                               dwarf.VARIABLE_ATTRS, within=_FUNCTIONS):
                 if event == "enter":
-                    frames.append((scope, inside))
+                    frames.append(scope)
                     if tag in _FUNCTIONS:
-                        scope, inside = self._function_name(attrs, scope), True
+                        scope = self._function_name(attrs, scope)
                     elif tag == dwarf.TAG_NAMESPACE:
                         scope = scope + (_scope_name(tag, attrs),)
                 elif event == "leave":
-                    scope, inside = frames.pop()
-                elif inside:
+                    scope = frames.pop()
+                else:
                     variable = self._variable(attrs, unit, offset, scope, unit_name, function=True)
                     if variable is not None and variable[1] is not None:
                         found.append(variable)

@@ -121,29 +121,22 @@ def scope_splits(path: str) -> Iterator[tuple[tuple[str, ...], str, str]]:
 
 
 class VariableTable:
-    """Variables by name, and the lookup of A2L symbol names among them."""
+    """Variables by name, and the lookup of A2L symbol names among them. The variables may be given as
+    plain tuples of :class:`Variable`'s fields (a large ELF has 50,000): only those a lookup meets become
+    :class:`Variable` objects."""
 
-    def __init__(self, variables: Iterable[Variable] = ()):
-        self.by_name: dict[str, list[Variable]] = {}
-        self.add(variables)
-
-    def add(self, variables: Iterable[Variable]) -> None:
+    def __init__(self, variables: Iterable[tuple] = ()):
+        self.by_name: dict[str, list[tuple]] = {}
         by_name = self.by_name
         for variable in variables:
-            known = by_name.get(variable.name)
+            known = by_name.get(variable[0])
             if known is None:
-                by_name[variable.name] = [variable]
+                by_name[variable[0]] = [variable]
             else:
                 known.append(variable)
 
     def __bool__(self) -> bool:
         return bool(self.by_name)
-
-    def unique(self) -> Iterator[Variable]:
-        """The variables whose plain name designates them (one definition with that name)."""
-        for variables in self.by_name.values():
-            if len(variables) == 1:
-                yield variables[0]
 
     def find(self, path: str) -> tuple[Variable, str] | None:
         """The variable ``path`` names and the member suffix after it (``".b[2]"``); None when no
@@ -153,7 +146,7 @@ class VariableTable:
             variables = self.by_name.get(name)
             if not variables:
                 continue
-            fitting = [v for v in variables if _fits(v, scopes, spec)]
+            fitting = [v for v in map(Variable._make, variables) if _fits(v, scopes, spec)]
             if fitting:
                 return _choose(path, fitting), suffix
         return None

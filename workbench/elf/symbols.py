@@ -78,6 +78,7 @@ class ElfSymbols:
             raise InputError(f"{self.path}: not a readable ELF file ({exc})") from exc
         self._symbols: dict[str, Symbol] | None = None
         self._symbol_list: list[Symbol] | None = None
+        self._names_text: bytes | None = None
 
     @classmethod
     def from_facts(cls, path: str | Path, facts: dict) -> "ElfSymbols":
@@ -89,7 +90,7 @@ class ElfSymbols:
         elf.sections = {section[0]: Section(*section) for section in facts["sections"]}
         elf._section_names = facts["section_names"]
         elf._symtab = facts["symtab"]
-        elf._symbols = elf._symbol_list = None
+        elf._symbols = elf._symbol_list = elf._names_text = None
         return elf
 
     def facts(self) -> dict:
@@ -161,6 +162,17 @@ class ElfSymbols:
                 for name, address, size, info, shndx in zip(
                     names.decode("utf-8", "replace").split("\0"), table["value"].tolist(), table["size"].tolist(),
                     table["info"].tolist(), table["shndx"].tolist())]
+
+    def names_text(self) -> bytes:
+        """The string table of ``.symtab`` (every symbol name, NUL-terminated; b"" without one): a name
+        that does not occur in it is no symbol's, nor part of one's (a demangled name's)."""
+        if self._names_text is None:
+            self._names_text = b""
+            if self._symtab is not None:
+                with open(self.path, "rb") as handle:
+                    handle.seek(self._symtab[2])
+                    self._names_text = handle.read(self._symtab[3])
+        return self._names_text
 
     @property
     def symbol_list(self) -> list[Symbol]:
