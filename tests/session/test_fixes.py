@@ -24,6 +24,10 @@ def test_every_fixable_signal_is_listed_with_its_values(ecu):
     rail = states["zfRAILPRESSURE"]
     assert rail.signal == "zsRailPressure" and rail.active is False and rail.override == 0.0
     assert wait_for(lambda: ecu.fix_state("cfENABLEFLCU").live == "ON")  # the PCM enables the FLCU
+    # a sent signal computed under an abbreviated name: RailPSDiagnosticStatus from xsRailPSDiagStatus
+    assert states["cfRAILPSDIAGNOSTICSTATUS"].pair.live == "xsRailPSDiagStatus"
+    assert states["cfRAILPSDIAGNOSTICSTATUS"].live == "NO_ERROR"
+    assert states["cfFUELLEVELLOW"].pair.live is None  # from xsLEDEn: no name tells (the window shows CAN2's)
 
 
 def test_an_override_writes_value_then_enable_and_a_release_gives_the_signal_back(ecu):

@@ -9,12 +9,14 @@ receives. The thesis names them
 * any other ``<stem>_EN/_VALUE`` pair follows the same rule.
 
 :func:`find_fix_pairs` finds every pair among an A2L's CHARACTERISTICs and the MEASUREMENT each
-one overrides, from the names alone; :func:`resolve_fix` finds the pair a user means by any of
+one overrides, from the names alone (case-blind; a measurement whose words abbreviate the signal's,
+``xsRailPSDiagStatus`` for ``RailPSDiagnosticStatus``, when nothing matches exactly); :func:`resolve_fix` finds the pair a user means by any of
 its names, and refuses to guess between two (``RailPressure`` has a CAN fix and a sensor fix).
 """
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
@@ -79,6 +81,8 @@ def find_fix_pairs(characteristics: Iterable[str], measurements: Iterable[str],
         if stem + VALUE not in names:
             continue
         measurement, source = _overridden(stem, by_upper)
+        if measurement is None and source is None:
+            source = _abbreviated(stem[2:], by_upper)
         pairs.append(FixPair(stem, enable, stem + VALUE, KINDS.get(stem[:2], "fix"), measurement, source))
     for signal, (enable, value) in (explicit or {}).items():
         stem = enable[: -len(ENABLE)] if enable.endswith(ENABLE) else enable
@@ -101,6 +105,26 @@ def _overridden(stem: str, by_upper: dict[str, list[str]]) -> tuple[str | None, 
             return sensors[0], None
     plain = [m for m in candidates if not m.startswith("cs")]
     return None, plain[0] if len(plain) == 1 else None
+
+
+_WORDS = re.compile(r"[A-Z]+(?=[A-Z][a-z])|[A-Z]?[a-z]+|[A-Z]+|\d+")
+
+
+def _abbreviated(signal: str, by_upper: dict[str, list[str]]) -> str | None:
+    """The one measurement (prefix and message left off) whose inner words each begin the signal name's words
+    in order, its first and last word whole: ``RailPSDiagStatus`` for ``RAILPSDIAGNOSTICSTATUS`` (not
+    ``FuelLevel`` for ``FUELLEVELLOW``); None when none or several do."""
+    found = set()
+    for upper, measurements in by_upper.items():
+        for measurement in measurements:
+            bare = _bare(measurement)
+            if bare.upper() != upper:
+                continue
+            words = _WORDS.findall(bare)
+            pattern = "[A-Z0-9]*?".join(re.escape(word.upper()) for word in words)
+            if len(words) > 2 and re.fullmatch(pattern, signal.upper()):
+                found.add(measurement)
+    return found.pop() if len(found) == 1 else None
 
 
 def resolve_fix(pairs: list[FixPair], signal: str) -> FixPair:

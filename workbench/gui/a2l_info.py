@@ -48,6 +48,7 @@ class CalibrationInfo:
     writable: bool
     axis_labels: tuple[str, ...]  # "target [bar]" per axis, X first
     functions: tuple[str, ...]
+    extended_limits: tuple[float, float] | None = None  # the A2L's EXTENDED_LIMITS
 
 
 def calibration_info(model, name: str) -> CalibrationInfo:
@@ -66,4 +67,4 @@ def calibration_info(model, name: str) -> CalibrationInfo:
     states = tuple(conversion.allowed) if getattr(conversion, "verbal", False) else ()
     return CalibrationInfo(name, getattr(obj, "type", "AXIS_PTS"), obj.long_identifier, model.unit_of(obj),
                            (obj.lower_limit, obj.upper_limit), decimals, getattr(obj, "step_size", None), states,
-                           obj.writable, tuple(labels), obj.functions)
+                           obj.writable, tuple(labels), obj.functions, getattr(obj, "extended_limits", None))

@@ -93,15 +93,18 @@ class EcuController(QObject):
         return run_task(getattr(session, method), *args, on_done=on_done, on_error=on_error or self.failed.emit,
                         **kwargs)
 
-    def write(self, name: str, value, *, on_done: Callable[[Any], None] | None = None,
+    def write(self, name: str, value, *, allow_extended_limits: bool = False,
+              on_done: Callable[[Any], None] | None = None,
               on_error: Callable[[BaseException], None] | None = None) -> Task | None:
-        """Write a calibration (limits checked, read back by the session); ``written`` follows."""
+        """Write a calibration as the session checks it (limits, EXTENDED_LIMITS only when allowed; read
+        back); ``written`` follows."""
         def done(result) -> None:
             self.written.emit(name)
             if on_done is not None:
                 on_done(result)
 
-        return self.call("write", name, value, on_done=done, on_error=on_error)
+        return self.call("write", name, value, allow_extended_limits=allow_extended_limits, on_done=done,
+                         on_error=on_error)
 
     def set_page(self, page: str) -> Task | None:
         def done(_) -> None:

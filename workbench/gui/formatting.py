@@ -1,10 +1,11 @@
-"""Numbers as an engineer reads them: the A2L's decimals, verbal names, units."""
+"""Numbers as an engineer reads and types them: the A2L's decimals, verbal names, units."""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
-__all__ = ["format_value", "with_unit"]
+__all__ = ["format_value", "parse_typed", "with_unit"]
 
 
 def format_value(value, decimals: int | None = None, states=()) -> str:
@@ -29,3 +30,19 @@ def format_value(value, decimals: int | None = None, states=()) -> str:
 
 def with_unit(text: str, unit: str) -> str:
     return f"{text} {unit}" if unit else text
+
+
+def parse_typed(text: str, states: Sequence[str] = ()) -> float | str:
+    """The value ``text`` means: one of ``states`` (any case) as its text, else a number (``,`` or ``.``
+    as the decimal point), else :class:`ValueError` saying what is expected."""
+    typed = text.strip()
+    for state in states:
+        if typed.casefold() == state.casefold():
+            return state
+    try:
+        return float(typed.replace(",", "."))
+    except ValueError:
+        pass
+    if states:
+        raise ValueError(f"{typed!r} is not one of {', '.join(states)} (nor a number)")
+    raise ValueError(f"{typed!r} is not a number" if typed else "type a value")

@@ -89,6 +89,14 @@ class SignalHub(QObject):
     def known(self, name: str) -> bool:
         return self._lookup(name) is not None
 
+    def can2_signal(self, signal: str) -> str | None:
+        """The ``Message.Signal`` name of the one CAN2 signal called ``signal`` (any case), None when none or
+        several messages have one."""
+        key = signal.upper()
+        found = [name for name, info in self._catalog.items()
+                 if info.source == "CAN2" and name.rpartition(".")[2].upper() == key]
+        return found[0] if len(found) == 1 else None
+
     # --- samples --------------------------------------------------------------------------------
 
     def buffer(self, name: str) -> RingBuffer:

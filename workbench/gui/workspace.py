@@ -8,6 +8,7 @@ from typing import Any
 
 from workbench.gui.models.variables import Variable, variables_of_a2l, variables_of_dbc
 from workbench.gui.project import Project
+from workbench.gui.signal_hub import SignalInfo
 
 __all__ = ["Workspace", "load_workspace"]
 
@@ -26,6 +27,14 @@ class Workspace:
         from workbench.gui.can_monitor import dbc_signals
 
         return dbc_signals(dbc.database for dbc in self.dbcs)
+
+    def can2_infos(self) -> list[SignalInfo]:
+        """The DBCs' signals as the views describe them: unit, comment, range and value table."""
+        choices = {f"{message.name}.{signal.name}": tuple((float(raw), str(text))
+                                                          for raw, text in (signal.choices or {}).items())
+                   for dbc in self.dbcs for message in dbc.database.messages for signal in message.signals}
+        return [SignalInfo(s.name, "CAN2", s.unit, s.comment, s.minimum, s.maximum, choices.get(s.name, ()))
+                for s in self.dbc_signals()]
 
 
 def load_workspace(project: Project) -> Workspace:

@@ -1,5 +1,6 @@
 """A CURVE or MAP as a table: X across, Y down (as CANape shows them), shaded by value, cells that
-differ from the reference page marked, edits handed out as whole new arrays."""
+differ from the reference page marked, edits handed out as whole new arrays (the session checks
+their limits when it writes them: one rule for every editor)."""
 
 from __future__ import annotations
 
@@ -46,17 +47,14 @@ class CalibrationTableModel(QAbstractTableModel):
         self.x_points: np.ndarray = np.zeros(0)
         self.y_points: np.ndarray | None = None
         self.decimals: int | None = None
-        self.lower, self.upper = -np.inf, np.inf
         self.writable = True
 
-    def set_value(self, value: np.ndarray, x_points, y_points=None, *, decimals=None, limits=(-np.inf, np.inf),
-                  writable=True) -> None:
+    def set_value(self, value: np.ndarray, x_points, y_points=None, *, decimals=None, writable=True) -> None:
         self.beginResetModel()
         self.value = np.array(value, dtype=np.float64)
         self.x_points = np.asarray(x_points, dtype=np.float64)
         self.y_points = None if y_points is None else np.asarray(y_points, dtype=np.float64)
         self.decimals = decimals
-        self.lower, self.upper = limits
         self.writable = writable
         self.endResetModel()
 
@@ -77,7 +75,8 @@ class CalibrationTableModel(QAbstractTableModel):
     def columnCount(self, parent=QModelIndex()) -> int:
         return 0 if parent.isValid() or not self.value.size else self.value.shape[0]
 
-    def _cell(self, index) -> tuple[int, ...]:
+    def cell(self, index) -> tuple[int, ...]:
+        """The array index ([x] or [x, y]) of a table index."""
         return (index.column(), index.row()) if self.is_map else (index.column(),)
 
     def modified(self, cell: tuple[int, ...]) -> bool:
@@ -89,7 +88,7 @@ class CalibrationTableModel(QAbstractTableModel):
     def data(self, index, role=Qt.DisplayRole):
         if not index.isValid():
             return None
-        cell = self._cell(index)
+        cell = self.cell(index)
         value = float(self.value[cell])
         if role in (Qt.DisplayRole, Qt.EditRole):
             return format_value(value, self.decimals) if role == Qt.DisplayRole else value
@@ -125,18 +124,16 @@ class CalibrationTableModel(QAbstractTableModel):
         return flags | Qt.ItemIsEditable if self.writable else flags
 
     def setData(self, index, value, role=Qt.EditRole) -> bool:
+        """A cell's new value (a number, or its text): the whole array goes to ``edited``, the cell keeps showing
+        what the ECU holds until it is read back."""
         if role != Qt.EditRole or not index.isValid():
             return False
         try:
-            number = float(str(value).replace(",", "."))
+            number = float(str(value).replace(",", ".")) if isinstance(value, str) else float(value)
         except ValueError:
             self.refused.emit(f"{value!r} is not a number")
             return False
-        if not self.lower <= number <= self.upper:
-            self.refused.emit(f"{format_value(number)} is beyond the limits "
-                              f"[{format_value(self.lower)}, {format_value(self.upper)}]")
-            return False
         new = self.value.copy()
-        new[self._cell(index)] = number
+        new[self.cell(index)] = number
         self.edited.emit(new)  # the editor writes it; the table shows what the ECU reads back
         return True

@@ -1,5 +1,8 @@
 """The fix-calibration panel's rows: every ``_EN``/``_VALUE`` pair with the signal it overrides, the
-signal's live value, the override value and whether the override is on (``session.fixes()``)."""
+signal's live value, the override value and whether the override is on (``session.fixes()``).
+
+A live value the session cannot read (no MEASUREMENT of the signal: a CAN signal the ECU sends,
+computed under another name) comes from ``bus_value(fix)``: the window's CAN2 monitor."""
 
 from __future__ import annotations
 
@@ -7,7 +10,7 @@ from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QColor
 
 from workbench.gui import theme
-from workbench.gui.formatting import format_value
+from workbench.gui.formatting import format_value, parse_typed
 from workbench.gui.models.rows import RowsModel
 
 __all__ = ["FixModel"]
@@ -22,15 +25,23 @@ class FixModel(RowsModel):
     "override" emits a request (the panel sends it to the ECU; the next refresh shows the result)."""
 
     COLUMNS = COLUMNS
-    override_requested = Signal(object, float)  # the fix state, the value
+    override_requested = Signal(object, object)  # the fix state, the value (a number or a verbal value's text)
     enable_requested = Signal(object)  # switch the override on with the _VALUE the ECU holds
     release_requested = Signal(object)
-    value_requested = Signal(object, float)  # a new override value while the override is off
+    value_requested = Signal(object, object)  # a new override value while the override is off
 
-    def __init__(self, parent=None, formatter=None):
+    def __init__(self, parent=None, formatter=None, bus_value=None):
         super().__init__(parent)
         # (measurement name or None, value) -> text: the live values in their A2L format
         self.formatter = formatter or (lambda name, value: format_value(value))
+        self.bus_value = bus_value or (lambda fix: None)  # FixState -> the signal's text as sent on the bus, or None
+
+    def live_text(self, fix) -> str:
+        if fix.live is None and fix.pair.live is None:
+            on_bus = self.bus_value(fix)
+            if on_bus is not None:
+                return on_bus
+        return self.formatter(fix.pair.live, fix.live)
 
     def set_fixes(self, fixes) -> None:
         """New states; the same pairs as before only repaint (an open cell editor stays open)."""
@@ -48,7 +59,7 @@ class FixModel(RowsModel):
         fix = self.rows[index.row()]
         column = COLUMNS[index.column()]
         if role == Qt.DisplayRole:
-            return {"signal": fix.pair.signal, "kind": fix.pair.kind, "live": self.formatter(fix.pair.live, fix.live),
+            return {"signal": fix.pair.signal, "kind": fix.pair.kind, "live": self.live_text(fix),
                     "override": format_value(fix.override), "on": None}[column]
         if role == Qt.EditRole and column == "override":
             return fix.override
@@ -62,8 +73,12 @@ class FixModel(RowsModel):
         if role == Qt.TextAlignmentRole and column in ("live", "override"):
             return int(Qt.AlignRight | Qt.AlignVCenter)
         if role == Qt.ToolTipRole:
-            return (f"{fix.pair.enable} / {fix.pair.value}: while {fix.pair.enable} = 1 the ECU uses "
-                    f"{fix.pair.value} instead of {fix.pair.signal}")
+            source = (f"\nlive: {fix.pair.live}" if fix.pair.live else
+                      "\nlive: as sent on CAN2" if self.bus_value(fix) is not None else
+                      "\nlive: the A2L has no measurement of it")
+            return (f"{fix.pair.signal}\n{fix.pair.enable} / {fix.pair.value}: while {fix.pair.enable} = 1 the ECU "
+                    f"uses {fix.pair.value} instead of {fix.pair.signal}{source}\n"
+                    "override: Enter writes, Esc restores")
         return None
 
     def flags(self, index):
@@ -82,14 +97,15 @@ class FixModel(RowsModel):
             else:
                 self.release_requested.emit(fix)
             return True
-        if index.column() == OVERRIDE and role == Qt.EditRole:
-            try:
-                number = float(str(value).replace(",", "."))
-            except ValueError:
-                return False
+        if index.column() == OVERRIDE and role == Qt.EditRole:  # as typed: the session checks it
+            if isinstance(value, str):
+                try:
+                    value = parse_typed(value)
+                except ValueError:
+                    pass  # a verbal value's text
             if fix.active:
-                self.override_requested.emit(fix, number)
+                self.override_requested.emit(fix, value)
             else:
-                self.value_requested.emit(fix, number)
+                self.value_requested.emit(fix, value)
             return True
         return False

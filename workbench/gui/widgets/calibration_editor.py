@@ -1,20 +1,25 @@
 """A calibration editor: one CHARACTERISTIC, its value on the ECU's page, edited in physical units.
 
-Every edit is written at once through the session (which checks the limits and reads the value
-back) and the editor then shows what the ECU holds. Values that differ from the reference page
-(the flashed CAL ROM) are marked. Each write is an undo step: undo writes the previous value back.
+Every edit (Enter, see :mod:`~workbench.gui.widgets.value_input`) is written at once through the
+session, which checks it before anything is sent and reads the value back; the editor then shows
+what the ECU holds. A value the session refuses (beyond the limits, not one of the texts ...) is
+said in the editor's status line, with the limit, and the ECU keeps its value. Values that differ
+from the reference page (the flashed CAL ROM) are marked. Each write is an undo step: undo writes
+the previous value back.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from PySide6.QtCore import Signal
+from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QUndoCommand, QUndoStack
 from PySide6.QtWidgets import QHBoxLayout, QLabel, QToolButton, QVBoxLayout, QWidget
 
+from workbench.errors import InputError
 from workbench.gui import theme
 from workbench.gui.a2l_info import CalibrationInfo
 from workbench.gui.formatting import format_value
+from workbench.gui.widgets.elided_label import ElidedLabel
 from workbench.gui.widgets.scalar_field import ScalarField
 from workbench.gui.widgets.table_field import TableField
 
@@ -22,11 +27,17 @@ __all__ = ["CalibrationEditor"]
 
 
 class _Write(QUndoCommand):
+    """A write the ECU took: undo writes the old value back, redo the new one again."""
+
     def __init__(self, editor: "CalibrationEditor", old, new):
         super().__init__(f"{editor.info.name} = {_short(new)}")
         self.editor, self.old, self.new = editor, old, new
+        self.written = True  # pushed after the write: the stack's first redo() must not write again
 
     def redo(self) -> None:
+        if self.written:
+            self.written = False
+            return
         self.editor.write(self.new)
 
     def undo(self) -> None:
@@ -41,7 +52,8 @@ class CalibrationEditor(QWidget):
     """Edits ``info.name`` through ``controller`` (an :class:`~workbench.gui.ecu.EcuController`)."""
 
     loaded = Signal(object)  # the value read (after every read-back)
-    error = Signal(object)  # a refused write or failed read
+    error = Signal(object)  # a failed read or write the ECU is to blame for (the window shows a dialog)
+    refused = Signal(str)  # a value not written: why (also in the status line)
 
     def __init__(self, controller, info: CalibrationInfo, parent: QWidget | None = None):
         super().__init__(parent)
@@ -60,14 +72,21 @@ class CalibrationEditor(QWidget):
         layout = QVBoxLayout(self)
         layout.setContentsMargins(8, 6, 8, 6)
         head = QHBoxLayout()
-        title = QLabel(f"<b>{info.name}</b> <span style='color:{theme.MUTED}'>{info.type}"
-                       f"{' · ' + ', '.join(info.functions) if info.functions else ''}</span>")
-        head.addWidget(title)
-        head.addStretch(1)
+        kind_text = f"{info.type}{' · ' + ', '.join(info.functions) if info.functions else ''}"
+        self.title = ElidedLabel(mode=Qt.ElideMiddle, minimum=60)
+        self.title.setStyleSheet("font-weight: 600;")
+        self.title.setText(info.name, "\n".join(t for t in (kind_text, info.description) if t))
+        head.addWidget(self.title, 1)
+        kind = ElidedLabel(kind_text, mode=Qt.ElideRight, minimum=0)
+        kind.setStyleSheet(f"color: {theme.MUTED};")
+        head.addWidget(kind, 1)
         self.modified_badge = QLabel("modified")
         self.modified_badge.setObjectName("badge")
         self.modified_badge.setStyleSheet(f"background: {theme.WARN}; color: #1b1b1b;")
         self.modified_badge.setToolTip("differs from the reference page (the flashed calibration)")
+        keep_place = self.modified_badge.sizePolicy()
+        keep_place.setRetainSizeWhenHidden(True)  # appearing must not move the buttons beside it
+        self.modified_badge.setSizePolicy(keep_place)
         self.modified_badge.hide()
         head.addWidget(self.modified_badge)
         undo = QToolButton()
@@ -85,24 +104,28 @@ class CalibrationEditor(QWidget):
         layout.addLayout(head)
         if info.description:
             description = QLabel(info.description)
+            description.setMinimumWidth(0)
             description.setStyleSheet(f"color: {theme.MUTED};")
             description.setWordWrap(True)
             layout.addWidget(description)
         if info.type in ("CURVE", "MAP", "VAL_BLK", "AXIS_PTS"):
             self.field = TableField(unit=info.unit, x_label=info.axis_labels[0] if info.axis_labels else "index",
-                                    y_label=info.axis_labels[1] if len(info.axis_labels) > 1 else None)
-            self.field.refused.connect(lambda reason: self.error.emit(ValueError(f"{info.name}: {reason}")))
+                                    y_label=info.axis_labels[1] if len(info.axis_labels) > 1 else None,
+                                    extended_limits=info.extended_limits)
             layout.addWidget(self.field, 1)
         else:
-            self.field = ScalarField(unit=info.unit, limits=info.limits, decimals=info.decimals, step=info.step,
-                                     states=list(info.states) or None, writable=info.writable)
+            self.field = ScalarField(unit=info.unit, limits=info.limits, decimals=info.decimals,
+                                     states=list(info.states) or None, extended_limits=info.extended_limits,
+                                     writable=info.writable)
             layout.addWidget(self.field)
             self.reference_label = QLabel()
             self.reference_label.setStyleSheet(f"color: {theme.MUTED};")
             layout.addWidget(self.reference_label)
             layout.addStretch(1)
         self.field.committed.connect(self.edit)
+        self.field.refused.connect(self._say_refused)
         self.status = QLabel()
+        self.status.setWordWrap(True)
         self.status.setStyleSheet(f"color: {theme.MUTED};")
         layout.addWidget(self.status)
 
@@ -127,13 +150,14 @@ class CalibrationEditor(QWidget):
             x = axes[0] if axes else np.arange(np.shape(value.value)[0])
             y = axes[1] if len(axes) > 1 else None
             self.field.show_value(np.asarray(value.value, dtype=np.float64), x, y, decimals=self.info.decimals,
-                                  limits=self.info.limits, writable=writable)
+                                  writable=writable)
             self.field.set_reference(self.reference)
         else:
             self.field.show_value(value.value)
             self.field.input.setEnabled(writable)
-        self.status.setText("read-only: " + ("the ECU's EPK differs from the A2L's" if self.info.writable
-                                             else "the A2L forbids calibrating it") if not writable else "")
+        if not writable:
+            self._say("read-only: " + ("the ECU's EPK differs from the A2L's" if self.info.writable
+                                       else "the A2L forbids calibrating it"))
         self._mark()
         self.loaded.emit(value)
 
@@ -159,23 +183,41 @@ class CalibrationEditor(QWidget):
             same = current == reference
         self.modified_badge.setVisible(not same)
 
+    def _say(self, text: str, colour: str = theme.MUTED) -> None:
+        self.status.setText(text)
+        self.status.setStyleSheet(f"color: {colour};")
+
+    def _say_refused(self, reason: str) -> None:
+        """A value not written: why, in the status line (no dialog: the user is typing)."""
+        self._say(f"not written: {reason}", theme.BAD)
+        self.refused.emit(reason)
+
     def _failed(self, exc: BaseException) -> None:
-        self.status.setText(f"⚠ {exc}")
+        self._say(f"⚠ {exc}", theme.BAD)
         self.error.emit(exc)
 
     # --- writing --------------------------------------------------------------------------------
 
     def edit(self, new) -> None:
-        """The user's new value: written as an undo step."""
+        """The user's new value: written, and an undo step once the ECU took it."""
         if self.value is None:
             return
-        self.undo_stack.push(_Write(self, self.value.value, new))
+        old = self.value.value
+        self.write(new, on_done=lambda _: self.undo_stack.push(_Write(self, old, new)))
 
-    def write(self, value) -> None:
-        self.status.setText("writing …")
-        self.controller.write(self.info.name, value, on_done=lambda _: self.status.setText(""),
-                              on_error=self._refused)
+    def write(self, value, on_done=None) -> None:
+        def done(result) -> None:
+            self._say("")
+            if on_done is not None:
+                on_done(result)
 
-    def _refused(self, exc: BaseException) -> None:
-        self._failed(exc)
+        self._say("writing …")
+        self.controller.write(self.info.name, value, allow_extended_limits=self.field.allow_extended_limits,
+                              on_done=done, on_error=self._not_written)
+
+    def _not_written(self, exc: BaseException) -> None:
+        if isinstance(exc, InputError):  # the session refused it before sending: the user's value, not the ECU
+            self._say_refused(str(exc))
+        else:
+            self._failed(exc)
         self.reload()  # show what the ECU really holds

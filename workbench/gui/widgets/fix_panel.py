@@ -1,15 +1,19 @@
 """The fix-calibration panel (thesis chapter 6): every signal with an ``_EN``/``_VALUE`` pair, its live
 value, the override value and a switch. Switching on writes ``_VALUE`` then ``_EN`` = 1 through the
-session; the table refreshes every second while it is visible."""
+session; the table refreshes every second while it is visible. The override is typed as every value
+of the window is (Enter writes, Esc restores, leaving writes nothing; a verbal value by its text or
+from the drop-down); a value the session refuses is said below the table, the limit named."""
 
 from __future__ import annotations
 
 from PySide6.QtCore import QTimer, Signal
 from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QLabel, QTableView, QVBoxLayout, QWidget
 
+from workbench.errors import InputError
 from workbench.gui import theme
 from workbench.gui.formatting import format_value
-from workbench.gui.models.fixes import FixModel
+from workbench.gui.models.fixes import COLUMNS, FixModel
+from workbench.gui.widgets.value_input import ValueDelegate
 
 __all__ = ["FixPanel"]
 
@@ -18,23 +22,27 @@ REFRESH_MS = 1000
 
 class FixPanel(QWidget):
     refreshed = Signal()
-    error = Signal(object)
+    error = Signal(object)  # what the ECU is to blame for (a dialog)
+    refused = Signal(str)  # a value not written, and why (said in the panel)
 
     def __init__(self, controller, hub=None, parent: QWidget | None = None):
         super().__init__(parent)
         self.controller = controller
+        self.hub = hub
         self.model = FixModel(self, formatter=(lambda name, value: hub.info(name).format(value) if name
-                                               else format_value(value)) if hub is not None else None)
+                                               else format_value(value)) if hub is not None else None,
+                              bus_value=self._bus_value if hub is not None else None)
         self.model.override_requested.connect(self.override)
-        self.model.enable_requested.connect(lambda fix: controller.write(fix.pair.enable, 1, on_error=self.error.emit))
+        self.model.enable_requested.connect(lambda fix: controller.write(fix.pair.enable, 1, on_error=self._not_written))
         self.model.release_requested.connect(self.release)
         self.model.value_requested.connect(lambda fix, value: controller.write(fix.pair.value, value,
-                                                                               on_error=self.error.emit))
+                                                                               on_error=self._not_written))
         layout = QVBoxLayout(self)
         layout.setContentsMargins(4, 4, 4, 4)
-        hint = QLabel("Tick <b>on</b> to replace a signal by its override value (…_EN = 1); double-click the value "
-                      "to change it.")
+        hint = QLabel("Tick <b>on</b> to replace a signal by its override value (…_EN = 1); type the override and "
+                      "press Enter to change it.")
         hint.setWordWrap(True)
+        hint.setMinimumWidth(0)
         hint.setStyleSheet(f"color: {theme.MUTED};")
         layout.addWidget(hint)
         self.table = QTableView()
@@ -45,17 +53,48 @@ class FixPanel(QWidget):
         self.table.setShowGrid(False)
         self.table.setAlternatingRowColors(True)
         self.table.setSelectionBehavior(QAbstractItemView.SelectRows)
+        self.table.setEditTriggers(QAbstractItemView.DoubleClicked | QAbstractItemView.AnyKeyPressed
+                                   | QAbstractItemView.EditKeyPressed)
+        self.delegate = ValueDelegate(self.table, states=self._states)
+        self.delegate.refused.connect(self._say_refused)
+        self.table.setItemDelegateForColumn(COLUMNS.index("override"), self.delegate)
         header = self.table.horizontalHeader()
-        header.setSectionResizeMode(QHeaderView.ResizeToContents)
-        header.setSectionResizeMode(0, QHeaderView.Stretch)
+        header.setSectionResizeMode(QHeaderView.Interactive)
+        header.setStretchLastSection(False)
+        header.setSectionResizeMode(COLUMNS.index("on"), QHeaderView.Fixed)
+        for column, width in zip(range(len(COLUMNS)), (190, 80, 96, 96, 34)):
+            header.resizeSection(column, width)
         layout.addWidget(self.table)
+        self.message = QLabel()
+        self.message.setWordWrap(True)
+        self.message.setStyleSheet(f"color: {theme.BAD};")
+        layout.addWidget(self.message)
         self._busy = False
         self.timer = QTimer(self)
         self.timer.setInterval(REFRESH_MS)
         self.timer.timeout.connect(self.refresh)
         controller.connected.connect(lambda _: (self.refresh(), self.timer.start()))
         controller.disconnected.connect(self.timer.stop)
-        controller.written.connect(lambda _: self.refresh())
+        controller.written.connect(lambda _: (self.message.setText(""), self.refresh()))
+
+    def _states(self, index) -> tuple[str, ...]:
+        """The verbal values of a row's ``_VALUE`` (its drop-down), none for a number."""
+        session = self.controller.session
+        if session is None or not 0 <= index.row() < len(self.model.rows):
+            return ()
+        model = session.model
+        conversion = model.conversion(model.object(self.model.rows[index.row()].pair.value))
+        return tuple(conversion.allowed) if getattr(conversion, "verbal", False) else ()
+
+    def _bus_value(self, fix) -> str | None:
+        """A CAN signal's newest value as the CAN2 monitor decoded it (``Message.Signal`` of the same name)."""
+        if fix.pair.kind != "CAN signal":
+            return None
+        name = self.hub.can2_signal(fix.pair.stem[2:])
+        if name is None:
+            return None
+        last = self.hub.buffer(name).last()
+        return None if last is None else self.hub.info(name).format(last[1])
 
     def refresh(self) -> None:
         """Read every fix's state (one request in flight at a time)."""
@@ -76,10 +115,24 @@ class FixPanel(QWidget):
         self.timer.stop()  # one dialog, not one a second
         self.error.emit(exc)
 
-    def override(self, fix, value: float) -> None:
-        self.controller.call("override", fix.pair.stem, value, on_done=lambda _: self.controller.written.emit(
-            fix.pair.enable), on_error=self.error.emit)
+    def _say_refused(self, reason: str) -> None:
+        self.message.setText(f"not written: {reason}")
+        self.refused.emit(reason)
+
+    def _not_written(self, exc: BaseException) -> None:
+        if isinstance(exc, InputError):  # refused before anything was sent: the typed value, not the ECU
+            self._say_refused(str(exc))
+        else:
+            self.error.emit(exc)
+        self.refresh()
+
+    def _written(self, fix) -> None:
+        self.controller.written.emit(fix.pair.enable)
+
+    def override(self, fix, value) -> None:
+        self.controller.call("override", fix.pair.stem, value, on_done=lambda _: self._written(fix),
+                             on_error=self._not_written)
 
     def release(self, fix) -> None:
-        self.controller.call("release", fix.pair.stem, on_done=lambda _: self.controller.written.emit(
-            fix.pair.enable), on_error=self.error.emit)
+        self.controller.call("release", fix.pair.stem, on_done=lambda _: self._written(fix),
+                             on_error=self._not_written)

@@ -33,7 +33,7 @@ from workbench.gui.ecu import Connected, EcuController
 from workbench.gui.formatting import format_value
 from workbench.gui.mime import names_from_mime
 from workbench.gui.project import PlotSpec, Project, recent_projects, remember_project, save_project
-from workbench.gui.signal_hub import SignalHub, SignalInfo
+from workbench.gui.signal_hub import SignalHub
 from workbench.gui.widgets.calibration_editor import CalibrationEditor
 from workbench.gui.widgets.can_trace import CanTrace
 from workbench.gui.widgets.connection_dialog import ConnectionDialog
@@ -219,8 +219,7 @@ class MainWindow(QMainWindow):
         self.workspace = workspace
         model = workspace.model
         self.hub.set_resolver(lambda name: measurement_info(model, name))
-        self.hub.add_signals(SignalInfo(s.name, "CAN2", s.unit, s.comment, s.minimum, s.maximum)
-                             for s in workspace.dbc_signals())
+        self.hub.add_signals(workspace.can2_infos())
         self.browser.set_variables(workspace.variables)
         self._open_windows()
         self._update_title()

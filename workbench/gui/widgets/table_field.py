@@ -1,62 +1,154 @@
-"""A curve's or map's values: an editable, shaded table beside a plot of the curve or a heat map of
-the map. Emits the whole new array after each cell edit."""
+"""A curve's or map's values: an editable, shaded table beside a plot of the curve, or a heat map and a
+3D surface of the map. A cell is typed as every value is (Enter writes, Esc restores, leaving writes
+nothing); a selected range takes block operations (set, add, multiply, interpolate between its
+corners). Each edit emits the whole new array once; the session checks and writes it."""
 
 from __future__ import annotations
 
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import Qt, Signal
-from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QSplitter, QTableView, QVBoxLayout, QWidget
+from PySide6.QtWidgets import (
+    QAbstractItemView,
+    QCheckBox,
+    QHBoxLayout,
+    QHeaderView,
+    QLineEdit,
+    QSplitter,
+    QTableView,
+    QTabWidget,
+    QToolButton,
+    QVBoxLayout,
+    QWidget,
+)
 
 from workbench.gui import theme
+from workbench.gui.formatting import parse_typed
+from workbench.gui.models.block_ops import block_operation
 from workbench.gui.models.calibration_table import CalibrationTableModel, colour_map
+from workbench.gui.widgets.scalar_field import limits_text
+from workbench.gui.widgets.surface_view import SurfaceView
+from workbench.gui.widgets.value_input import ValueDelegate
 
 __all__ = ["TableField"]
+
+_OPERATIONS = (("set", "= set", "set the selected cells to the value"),
+               ("add", "+ add", "add the value to the selected cells"),
+               ("multiply", "× multiply", "multiply the selected cells by the value"),
+               ("interpolate", "interpolate", "fill the selected range linearly between its corners (bilinearly on "
+                                              "a map), over the axis points"))
 
 
 class TableField(QWidget):
     committed = Signal(object)  # the new array
     refused = Signal(str)
 
-    def __init__(self, *, unit: str, x_label: str, y_label: str | None, parent: QWidget | None = None):
+    def __init__(self, *, unit: str, x_label: str, y_label: str | None,
+                 extended_limits: tuple[float, float] | None = None, parent: QWidget | None = None):
         super().__init__(parent)
         self.unit = unit
+        self.y_label = y_label
         self.model = CalibrationTableModel(self)
         self.model.edited.connect(self.committed)
         self.model.refused.connect(self.refused)
         layout = QVBoxLayout(self)
         layout.setContentsMargins(0, 0, 0, 0)
+        layout.addLayout(self._block_bar(unit, extended_limits))
         splitter = QSplitter(Qt.Vertical)
         self.table = QTableView()
         self.table.setModel(self.model)
         self.table.setFont(theme.mono_font())
         self.table.setSelectionMode(QAbstractItemView.ExtendedSelection)
+        self.table.setEditTriggers(QAbstractItemView.DoubleClicked | QAbstractItemView.AnyKeyPressed
+                                   | QAbstractItemView.EditKeyPressed)
+        self.delegate = ValueDelegate(self.table)
+        self.delegate.refused.connect(self.refused)
+        self.table.setItemDelegate(self.delegate)
         self.table.horizontalHeader().setSectionResizeMode(QHeaderView.Stretch)
+        self.table.horizontalHeader().setMinimumSectionSize(36)
         self.table.verticalHeader().setDefaultSectionSize(24)
         self.table.setCornerButtonEnabled(False)
-        self.table.setToolTip(f"X: {x_label}" + (f", Y: {y_label}" if y_label else "") + f"; values in {unit or '-'}")
+        self.table.setToolTip(f"X: {x_label}" + (f", Y: {y_label}" if y_label else "") + f"; values in {unit or '-'}"
+                              "\nEnter writes, Esc restores; select a range for the block operations above")
         splitter.addWidget(self.table)
+        self.views = QTabWidget()
+        self.views.setDocumentMode(True)
         self.plot = pg.PlotWidget()
         self.plot.showGrid(x=True, y=True, alpha=theme.GRID_ALPHA)
         self.plot.setMenuEnabled(False)
         self.plot.setLabel("bottom", x_label)
-        self.plot.setMinimumHeight(140)
-        splitter.addWidget(self.plot)
+        self.plot.setMinimumHeight(120)
+        self.views.addTab(self.plot, "plot")
+        self.surface: SurfaceView | None = None
+        self._x_label = x_label
+        splitter.addWidget(self.views)
         splitter.setStretchFactor(0, 1)
         splitter.setStretchFactor(1, 1)
-        layout.addWidget(splitter)
-        self.y_label = y_label
+        layout.addWidget(splitter, 1)
         self._curve = self._image = None
+
+    def _block_bar(self, unit: str, extended_limits) -> QHBoxLayout:
+        bar = QHBoxLayout()
+        bar.setContentsMargins(0, 0, 0, 0)
+        self.operand = QLineEdit()
+        self.operand.setPlaceholderText("value")
+        self.operand.setToolTip("the value of set, add and multiply")
+        self.operand.setMaximumWidth(90)
+        bar.addWidget(self.operand)
+        self.block_buttons = {}
+        for operation, text, tip in _OPERATIONS:
+            button = QToolButton()
+            button.setText(text)
+            button.setToolTip(tip)
+            button.clicked.connect(lambda _=False, o=operation: self.apply_block(o))
+            bar.addWidget(button)
+            self.block_buttons[operation] = button
+        self.extended = None
+        if extended_limits is not None:
+            self.extended = QCheckBox(limits_text(extended_limits, unit, "extended"))
+            self.extended.setToolTip("write values beyond the limits, up to the A2L's EXTENDED_LIMITS")
+            bar.addWidget(self.extended)
+        bar.addStretch(1)
+        return bar
+
+    @property
+    def allow_extended_limits(self) -> bool:
+        return self.extended is not None and self.extended.isChecked()
+
+    # --- values ---------------------------------------------------------------------------------
 
     def show_value(self, value: np.ndarray, x_points, y_points=None, **options) -> None:
         self.model.set_value(value, x_points, y_points, **options)
         rows = self.model.rowCount()
-        self.table.setMinimumHeight(min(rows, 12) * self.table.verticalHeader().defaultSectionSize()
+        self.table.setMinimumHeight(min(rows, 8) * self.table.verticalHeader().defaultSectionSize()
                                     + self.table.horizontalHeader().height() + 4)
+        writable = options.get("writable", True)
+        for button in self.block_buttons.values():
+            button.setEnabled(writable)
+        self.operand.setEnabled(writable)
         self._draw()
 
     def set_reference(self, reference) -> None:
         self.model.set_reference(reference)
+
+    def selected_cells(self) -> list[tuple[int, ...]]:
+        return sorted({self.model.cell(index) for index in self.table.selectionModel().selectedIndexes()})
+
+    def apply_block(self, operation: str) -> None:
+        """A block operation on the selected cells: the new array is committed (one write), or why not refused."""
+        try:
+            operand = 0.0
+            if operation != "interpolate":
+                operand = parse_typed(self.operand.text())
+            axes = [self.model.x_points] + ([self.model.y_points] if self.model.is_map else [])
+            new = block_operation(self.model.value, self.selected_cells(), operation, operand, axes)
+        except ValueError as exc:
+            self.refused.emit(f"{operation}: {exc}")
+            return
+        if not np.array_equal(new, self.model.value, equal_nan=True):
+            self.committed.emit(new)
+
+    # --- drawing --------------------------------------------------------------------------------
 
     def _draw(self) -> None:
         value, x = self.model.value, self.model.x_points
@@ -73,8 +165,12 @@ class TableField(QWidget):
             self._image.setColorMap(colour_map())
             self.plot.addItem(self._image)
             self.plot.setLabel("left", self.y_label or "")
+            self.views.setTabText(0, "heat map")
+            self.surface = SurfaceView(self._x_label, self.y_label or "Y", self.unit)
+            self.views.addTab(self.surface, "3D")
         self._image.setImage(value, autoLevels=True)
         # cells centred on the breakpoints' indices; the axes are labelled with the breakpoints
         self._image.setRect(-0.5, -0.5, value.shape[0], value.shape[1])
         self.plot.getAxis("bottom").setTicks([[(i, f"{p:g}") for i, p in enumerate(x)]])
         self.plot.getAxis("left").setTicks([[(i, f"{p:g}") for i, p in enumerate(y)]])
+        self.surface.set_surface(value, x, y)

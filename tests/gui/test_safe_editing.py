@@ -1,0 +1,242 @@
+"""Typing values into every editor of the window, key by key as a user does, against the demo ECU:
+what is typed is what is written, a value beyond the limits is refused with the limit named and the
+ECU keeps its value, Enter writes, Esc and leaving the field write nothing, verbal values by text
+and drop-down, block operations on a map's range. One window for the module (opening one costs
+a second or two)."""
+
+from __future__ import annotations
+
+import uuid
+
+import numpy as np
+import pytest
+from gui_helpers import WAIT_MS
+from PySide6.QtCore import Qt
+from PySide6.QtTest import QTest
+from PySide6.QtWidgets import QApplication
+
+from workbench.gui.models.fixes import COLUMNS as FIX_COLUMNS
+from workbench.gui.project import Connection, demo_project
+
+
+@pytest.fixture(scope="module")
+def ecu():
+    from workbench.sim import serve_demo
+
+    channel = f"gui-edit-{uuid.uuid4().hex[:10]}"
+    with serve_demo({"interface": "virtual", "channel": channel}, pcm_target_bar=25.0) as simulator:
+        yield channel, simulator
+
+
+@pytest.fixture(scope="module")
+def window(qapp, ecu, request):
+    from pytestqt.qtbot import QtBot
+
+    from workbench.gui.widgets.main_window import MainWindow
+
+    project = demo_project()
+    project.connection = Connection(interface="virtual", channel=ecu[0])
+    project.plots = []  # no DAQ: the tests type, the plots are tested elsewhere
+    window = MainWindow(project)
+    window.show()
+    bot = QtBot(request)
+    with bot.waitSignal(window.loaded, timeout=WAIT_MS):
+        window.load()
+    with bot.waitSignal(window.controller.connected, timeout=WAIT_MS):
+        window.connect_ecu()
+    window.activateWindow()
+    bot.waitUntil(window.isActiveWindow, timeout=WAIT_MS)
+    yield window
+    window.close()
+    window.deleteLater()
+
+
+@pytest.fixture
+def writes(window, monkeypatch):
+    """Every write the window asks the session for, by name."""
+    asked = []
+    controller = window.controller
+    call = controller.call
+
+    def counting(method, *args, **kwargs):
+        if method in ("write", "override", "release"):
+            asked.append(args[0])
+        return call(method, *args, **kwargs)
+
+    monkeypatch.setattr(controller, "call", counting)
+    return asked
+
+
+def keys(text: str) -> None:
+    """Type ``text`` as a keyboard does: every key to the widget that has the focus."""
+    for char in text:
+        QTest.keyClick(QApplication.focusWidget(), char)
+
+
+def press(key) -> None:
+    QTest.keyClick(QApplication.focusWidget(), key)
+
+
+def editor_on(window, qtbot, name: str):
+    editor = window.open_editor(name)
+    qtbot.waitUntil(lambda: editor.value is not None, timeout=WAIT_MS)
+    return editor
+
+
+def scalar_typed(editor, text: str) -> None:
+    field = editor.field.input
+    field.setFocus()
+    field.selectAll()
+    keys(text)
+
+
+def cell_typed(view, row: int, column: int, text: str) -> None:
+    view.setFocus()
+    view.setCurrentIndex(view.model().index(row, column))
+    keys(text)  # the first key opens the cell's field, the others go into it
+
+
+def fix_row(panel, stem: str) -> int:
+    return next(row for row, fix in enumerate(panel.model.rows) if fix.pair.stem == stem)
+
+
+def fixes_listed(window, qtbot):
+    panel = window.fix_panel
+    qtbot.waitUntil(lambda: len(panel.model.rows) > 10, timeout=WAIT_MS)
+    return panel
+
+
+def test_900_typed_into_every_editor_kind_is_refused_with_the_limit_and_the_ecu_keeps_its_value(window, qtbot, ecu):
+    session = window.controller.session
+    before = {name: session.read(name) for name in ("xsSWITCH_TANK_THR", "zvRailPConv", "xvPRV_DC_FF",
+                                                     "cfFUELLEVELLOW_VALUE", "zfRAILPRESSURE_VALUE")}
+    scalar = editor_on(window, qtbot, "xsSWITCH_TANK_THR")
+    scalar_typed(scalar, "900")
+    assert scalar.field.input.text() == "900"  # every keystroke taken: no range that drops the last one
+    with qtbot.waitSignal(scalar.refused, timeout=WAIT_MS) as refused:
+        press(Qt.Key_Return)
+    assert refused.args[0] == "xsSWITCH_TANK_THR: 900 is above the upper limit 800"
+    assert "above the upper limit 800" in scalar.status.text()
+
+    for name, cell, limit in (("zvRailPConv", "[1]", "50"), ("xvPRV_DC_FF", "[1, 0]", "100")):
+        table = editor_on(window, qtbot, name)
+        cell_typed(table.field.table, 0, 1, "900")
+        with qtbot.waitSignal(table.refused, timeout=WAIT_MS) as refused:
+            press(Qt.Key_Enter)
+        assert refused.args[0] == f"{name}: 900 at {cell} is above the upper limit {limit}"
+
+    verbal = editor_on(window, qtbot, "cfFUELLEVELLOW_VALUE")
+    scalar_typed(verbal, "900")
+    with qtbot.waitSignal(verbal.refused, timeout=WAIT_MS) as refused:
+        press(Qt.Key_Return)
+    assert refused.args[0] == "cfFUELLEVELLOW_VALUE: 900 is above the upper limit 1"
+
+    panel = fixes_listed(window, qtbot)
+    for stem, limit in (("zfRAILPRESSURE", "50"), ("cfFUELLEVELLOW", "1")):
+        cell_typed(panel.table, fix_row(panel, stem), FIX_COLUMNS.index("override"), "900")
+        with qtbot.waitSignal(panel.refused, timeout=WAIT_MS) as refused:
+            press(Qt.Key_Return)
+        assert refused.args[0] == f"{stem}_VALUE: 900 is above the upper limit {limit}"
+    after = {name: session.read(name) for name in before}
+    assert all(np.array_equal(np.asarray(after[n]), np.asarray(before[n])) for n in before), (before, after)
+    assert not window.errors
+
+
+def test_esc_and_leaving_a_field_write_nothing_and_show_the_ecus_value_again(window, qtbot, writes):
+    scalar = editor_on(window, qtbot, "xsSWITCH_TANK_THR")
+    shown = scalar.field.input.text()
+    scalar_typed(scalar, "30")
+    press(Qt.Key_Escape)
+    assert scalar.field.input.text() == shown
+    scalar_typed(scalar, "31")
+    window.browser.search.setFocus()  # a click elsewhere
+    assert scalar.field.input.text() == shown
+
+    table = editor_on(window, qtbot, "xvPRV_DC_FF")
+    view = table.field.table
+    cell_typed(view, 1, 1, "42")
+    press(Qt.Key_Escape)
+    cell_typed(view, 1, 2, "43")
+    press(Qt.Key_Tab)
+    cell_typed(view, 1, 3, "44")
+    window.browser.search.setFocus()
+    panel = fixes_listed(window, qtbot)
+    cell_typed(panel.table, fix_row(panel, "zfRAILPRESSURE"), FIX_COLUMNS.index("override"), "12")
+    press(Qt.Key_Escape)
+    cell_typed(panel.table, fix_row(panel, "zfRAILPRESSURE"), FIX_COLUMNS.index("override"), "13")
+    window.browser.search.setFocus()
+    QApplication.processEvents()
+    assert writes == []
+    assert view.state() != view.State.EditingState and panel.table.state() != view.State.EditingState
+
+
+def test_enter_writes_what_was_typed_and_verbal_values_take_their_text(window, qtbot):
+    session = window.controller.session
+    scalar = editor_on(window, qtbot, "xsSWITCH_TANK_THR")
+    scalar_typed(scalar, "26,5")
+    press(Qt.Key_Return)
+    qtbot.waitUntil(lambda: session.read("xsSWITCH_TANK_THR") == pytest.approx(26.5), timeout=WAIT_MS)
+    qtbot.waitUntil(lambda: scalar.modified_badge.isVisible(), timeout=WAIT_MS)
+    scalar.undo_stack.undo()
+    qtbot.waitUntil(lambda: session.read("xsSWITCH_TANK_THR") == pytest.approx(20.0), timeout=WAIT_MS)
+
+    verbal = editor_on(window, qtbot, "cfFUELLEVELLOW_VALUE")
+    scalar_typed(verbal, "low")
+    press(Qt.Key_Return)
+    qtbot.waitUntil(lambda: session.read("cfFUELLEVELLOW_VALUE") == "Low", timeout=WAIT_MS)
+    qtbot.waitUntil(lambda: verbal.field.input.text() == "Low", timeout=WAIT_MS)
+    field = verbal.field.input
+    field.setFocus()
+    field.open_choices()  # the drop-down
+    assert [a.text() for a in field.choices.actions()] == ["Normal", "Low"]
+    field.choices.actions()[0].trigger()
+    qtbot.waitUntil(lambda: session.read("cfFUELLEVELLOW_VALUE") == "Normal", timeout=WAIT_MS)
+
+    panel = fixes_listed(window, qtbot)
+    qtbot.waitUntil(lambda: panel.model.rows[fix_row(panel, "cfFUELLEVELLOW")].override == "Normal", timeout=WAIT_MS)
+    cell_typed(panel.table, fix_row(panel, "cfFUELLEVELLOW"), FIX_COLUMNS.index("override"), "Low")
+    press(Qt.Key_Return)
+    qtbot.waitUntil(lambda: session.read("cfFUELLEVELLOW_VALUE") == "Low", timeout=WAIT_MS)
+    session.write("cfFUELLEVELLOW_VALUE", "Normal")
+    assert not window.errors
+
+
+def test_a_maps_range_is_interpolated_between_its_corners_and_a_product_beyond_the_limits_is_refused(window, qtbot):
+    session = window.controller.session
+    editor = editor_on(window, qtbot, "xvPRV_DC_FF")
+    field, model = editor.field, editor.field.model
+    original = session.read("xvPRV_DC_FF")
+    selection = field.table.selectionModel()
+    from PySide6.QtCore import QItemSelection, QItemSelectionModel
+
+    selection.select(QItemSelection(model.index(1, 1), model.index(3, 4)), QItemSelectionModel.ClearAndSelect)
+    assert field.selected_cells()[0] == (1, 1) and field.selected_cells()[-1] == (4, 3)
+    field.apply_block("interpolate")
+    x, y = model.x_points, model.y_points
+    qtbot.waitUntil(lambda: not np.array_equal(session.read("xvPRV_DC_FF"), original), timeout=WAIT_MS)
+    written = session.read("xvPRV_DC_FF")
+    corners = [(1, 1), (4, 1), (1, 3), (4, 3)]
+    assert all(written[c] == pytest.approx(original[c], abs=0.01) for c in corners)
+    wx = (x[2] - x[1]) / (x[4] - x[1])
+    wy = (y[2] - y[1]) / (y[3] - y[1])
+    expected = ((1 - wx) * (1 - wy) * original[1, 1] + wx * (1 - wy) * original[4, 1]
+                + (1 - wx) * wy * original[1, 3] + wx * wy * original[4, 3])
+    assert written[2, 2] == pytest.approx(expected, abs=0.01)
+    assert np.array_equal(written[0], original[0])  # outside the range: untouched
+
+    field.operand.setText("1000")
+    with qtbot.waitSignal(editor.refused, timeout=WAIT_MS) as refused:
+        field.apply_block("multiply")
+    assert "is above the upper limit 100" in refused.args[0]
+    assert np.array_equal(session.read("xvPRV_DC_FF"), written)
+    session.write("xvPRV_DC_FF", original)
+
+
+def test_a_map_has_a_3d_view_that_renders_offscreen(window, qtbot):
+    editor = editor_on(window, qtbot, "xvPRV_DC_FF")
+    surface = editor.field.surface
+    editor.field.views.setCurrentWidget(surface)
+    surface.resize(320, 220)
+    image = surface.grab().toImage()
+    colours = {image.pixel(x, y) for x in range(0, image.width(), 8) for y in range(0, image.height(), 8)}
+    assert len(colours) > 8  # shaded quads, not an empty background
