@@ -9,6 +9,7 @@ in the GUI compare and convert without knowing where they came from:
 * ``CURVE``: ``value`` has shape ``(nx,)``, ``axes[0]`` the X axis;
 * ``MAP``: ``value`` has shape ``(nx, ny)`` and is indexed ``[x, y]`` whatever the memory order
   (ROW_DIR/COLUMN_DIR is the record layout's business, not the value's);
+* ``CUBOID``, ``CUBE_4``, ``CUBE_5``: shape ``(nx, ny, nz[, n4[, n5]])``, one axis each, likewise;
 * ``AXIS_PTS``: ``value`` holds the axis points (shape ``(n,)``).
 
 Verbal values (TAB_VERB) in arrays are numpy ``object`` arrays of ``str``. Numbers are float64
@@ -50,7 +51,7 @@ class CalValue:
     """A CHARACTERISTIC's (or AXIS_PTS') value, physical; see the module docstring for the shapes."""
 
     name: str
-    kind: str  # VALUE, ASCII, VAL_BLK, CURVE, MAP, CUBOID, AXIS_PTS
+    kind: str  # VALUE, ASCII, VAL_BLK, CURVE, MAP, CUBOID, CUBE_4, CUBE_5, AXIS_PTS
     value: Scalar | np.ndarray
     axes: tuple[Axis, ...] = ()
     unit: str = ""

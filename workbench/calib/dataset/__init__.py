@@ -13,7 +13,8 @@ from typing import TYPE_CHECKING
 from workbench.lazy_exports import lazy_exports
 
 _EXPORTS = {
-    "workbench.calib.dataset.model": ("CsFlag", "Dataset", "FunctionInfo", "HistoryEntry", "ObjectInfo"),
+    "workbench.calib.dataset.model": ("CsFlag", "Dataset", "FunctionInfo", "HistoryEntry", "InstancePart", "ObjectInfo",
+                                      "member_name"),
     "workbench.calib.dataset.formats": ("FORMATS", "dataset_losses", "dump_dataset", "format_of", "load_dataset",
                                         "load_dataset_string", "save_dataset"),
     "workbench.calib.dataset.diff": ("DatasetDiff", "ObjectDiff", "diff_datasets"),
@@ -24,4 +25,5 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
     from workbench.calib.dataset.diff import DatasetDiff, ObjectDiff, diff_datasets
     from workbench.calib.dataset.formats import (FORMATS, dataset_losses, dump_dataset, format_of, load_dataset,
                                                  load_dataset_string, save_dataset)
-    from workbench.calib.dataset.model import CsFlag, Dataset, FunctionInfo, HistoryEntry, ObjectInfo
+    from workbench.calib.dataset.model import (CsFlag, Dataset, FunctionInfo, HistoryEntry, InstancePart, ObjectInfo,
+                                               member_name)

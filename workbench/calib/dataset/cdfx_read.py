@@ -1,79 +1,44 @@
-"""Read CDFX files (ASAM CDF 2.0 XML) into a :class:`~workbench.calib.dataset.model.Dataset`.
+"""Read CDFX files (ASAM CDF 2.0 and 2.1 XML) into a :class:`~workbench.calib.dataset.model.Dataset`.
 
 ``MSRSW / SW-SYSTEMS / SW-SYSTEM / SW-INSTANCE-SPEC / SW-INSTANCE-TREE / SW-INSTANCE``, one
-instance per object:
+instance per object; what each category becomes is :mod:`~workbench.calib.dataset.cdfx_values`'
+business. Read here:
 
-* categories VALUE, DEPENDENT_VALUE, BOOLEAN (one ``V`` or ``VT``), ASCII (one ``VT``), VAL_BLK
-  (``SW-ARRAYSIZE``, x first), CURVE, MAP, and the axis objects COM_AXIS, RES_AXIS, CURVE_AXIS;
 * values in ``SW-VALUE-CONT / SW-VALUES-PHYS`` as ``V`` (numbers, also ``0x`` hex), ``VT``
-  (texts, kept exactly, spaces included) and ``VG`` groups. Document order is x fastest: a MAP
-  has one ``VG`` per Y point holding the values along X, a 2-D VAL_BLK one per y index (as the
-  rows of DCM and the CDF 2.0 examples); ``LABEL`` s of groups are not kept;
-* axes in ``SW-AXIS-CONTS / SW-AXIS-CONT`` (CATEGORY STD_AXIS, FIX_AXIS, COM_AXIS, RES_AXIS,
-  CURVE_AXIS, UNIT-DISPLAY-NAME, SW-INSTANCE-REF, SW-VALUES-PHYS). A referenced axis without
-  its own points takes them from the referenced instance in the same file;
-* LONG-NAME, DISPLAY-NAME, SW-FEATURE-REF, SW-CS-HISTORY (CS-ENTRY, also spelled SW-CS-ENTRY),
-  SW-CS-FLAGS, the functions of SW-CS-COLLECTIONS (FEATURE), SW-INSTANCE-TREE-ORIGIN, comments;
+  (texts, kept exactly, spaces included) and ``VG`` groups (their ``LABEL`` s are not kept);
+* axes in ``SW-AXIS-CONTS / SW-AXIS-CONT`` (CATEGORY, UNIT-DISPLAY-NAME, SW-INSTANCE-REF,
+  SW-ARRAYSIZE, SW-VALUES-PHYS);
+* structures and arrays of instances: an SW-INSTANCE inside another is a member (``outer.member``)
+  or, named by SW-ARRAY-INDEX instead of SHORT-NAME, an element (``outer[i]``); the enclosing
+  instances are kept in ``ObjectInfo.container``;
+* LONG-NAME, DISPLAY-NAME, SW-FEATURE-REF, SW-MODEL-LINK (CDF 2.1), SW-CS-HISTORY (CS-ENTRY, also
+  spelled SW-CS-ENTRY), SW-CS-FLAGS, the functions of SW-CS-COLLECTIONS (FEATURE),
+  SW-INSTANCE-TREE-ORIGIN, comments;
 * SW-INSTANCE-PROPS-VARIANTS holding a single variant without criteria (INCA writes every
-  instance so) is read as the instance's values.
+  instance so) is read as the instance's values; other variant-coded values are left out with a note.
 
-Refused with a :class:`~workbench.errors.DatasetParseError` naming ``file:line``: anything else
-inside these elements, structures and arrays of instances (CDF 2.1 categories, nested
-SW-INSTANCEs, SW-ARRAY-INDEX), variant-coded values, counts that do not match. Administrative
-elements that hold no value (ADMIN-DATA, SDGS, LOCS, SD, collections of other categories, long
-names of the system and tree) are read past and listed in ``Dataset.notes``.
+Refused with a :class:`~workbench.errors.DatasetParseError` naming ``file:line``: XML that is not
+well-formed, an element the CDF DTDs do not allow where it stands, numbers that are not numbers.
+Administrative elements that hold no value (ADMIN-DATA, SDGS, LOCS, SD, collections of other
+categories, long names of the system and tree) are read past and listed in ``Dataset.notes``.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
-import numpy as np
-
+from workbench.calib.dataset.cdfx_values import AXIS_KINDS, AxisCont, Instance, add_instances
 from workbench.calib.dataset.cdfx_xml import children, comments_in, content, file_comments, local_name, parse
-from workbench.calib.dataset.model import CsFlag, Dataset, FunctionInfo, HistoryEntry, ObjectInfo
-from workbench.calib.dataset.numbers import NumberError, parse_number, scalar, to_array
-from workbench.calib.values import Axis, CalValue
+from workbench.calib.dataset.model import CsFlag, Dataset, FunctionInfo, HistoryEntry, InstancePart, member_name
+from workbench.calib.dataset.numbers import NumberError, parse_number
 from workbench.errors import DatasetParseError
 from workbench.findings import Finding, Severity
 
-__all__ = ["read"]
+__all__ = ["HISTORY_DETAILS", "read"]
 
-SCALAR_CATEGORIES = ("VALUE", "DEPENDENT_VALUE", "BOOLEAN")
-AXIS_CATEGORIES = ("COM_AXIS", "RES_AXIS", "CURVE_AXIS")
-AXIS_KINDS = ("STD_AXIS", "FIX_AXIS") + AXIS_CATEGORIES
-CATEGORIES = SCALAR_CATEGORIES + ("ASCII", "VAL_BLK", "CURVE", "MAP") + AXIS_CATEGORIES
 HISTORY_DETAILS = ("CSPR", "CSWP", "CSTO", "CSTV", "CSPI", "CSDI")
 _ADMINISTRATIVE = ("ADMIN-DATA", "SDGS", "LOCS")
-
-
-@dataclass
-class _AxisCont:
-    line: int
-    kind: str = ""
-    unit: str = ""
-    ref: str | None = None
-    size: int | None = None
-    points: list | None = None
-
-
-@dataclass
-class _Instance:
-    """One SW-INSTANCE as read, before references between instances are resolved."""
-
-    name: str
-    line: int
-    category: str = ""
-    long_name: str = ""
-    display_name: str = ""
-    feature: str = ""
-    unit: str = ""
-    size: list[int] | None = None
-    values: list | None = None
-    axes: list[_AxisCont] = field(default_factory=list)
-    history: tuple[HistoryEntry, ...] = ()
-    flags: tuple[CsFlag, ...] = ()
-    comments: tuple[str, ...] = ()
+_CONTENTS = ("SW-VALUE-CONT", "SW-AXIS-CONTS", "SW-CS-HISTORY", "SW-CS-FLAGS")
+_TEXTS = {"LONG-NAME": "long_name", "DISPLAY-NAME": "display_name", "CATEGORY": "category",
+          "SW-FEATURE-REF": "feature", "SW-MODEL-LINK": "model_link"}
 
 
 def read(data: bytes, path: str = "<string>") -> Dataset:
@@ -88,7 +53,7 @@ class _Reader:
     def __init__(self, path: str):
         self.path = path
         self.dataset = Dataset(source=path, format="cdfx")
-        self.instances: dict[str, _Instance] = {}
+        self.instances: dict[str, Instance] = {}
 
     def error(self, message: str, element) -> DatasetParseError:
         return DatasetParseError(message, self.path, element.sourceline or 0)
@@ -122,8 +87,7 @@ class _Reader:
             raise self.error(f"{len(systems)} SW-SYSTEMs; one dataset per file is supported", systems[1])
         if systems:
             self.system(systems[0])
-        for instance in self.instances.values():
-            self.add(instance)
+        add_instances(self.dataset, self.instances, self.path)
         return self.dataset
 
     def expect(self, element, name: str, parent: str):
@@ -148,7 +112,7 @@ class _Reader:
             if name == "SHORT-NAME":
                 self.dataset.name = content(child).strip()
             elif name == "CATEGORY":
-                pass  # VCD / NO_VCD: what the instances show (variant-coded values are refused one by one)
+                pass  # VCD / NO_VCD: what the instances show (variant-coded values are left out one by one)
             elif name == "LONG-NAME":
                 self.note(name, child, "of the SW-INSTANCE-TREE")
             elif name == "SW-INSTANCE-TREE-ORIGIN":
@@ -190,60 +154,64 @@ class _Reader:
 
     # ---- one instance ----
 
-    def instance(self, element) -> None:
+    def instance(self, element, container: tuple[InstancePart, ...] = ()) -> None:
+        """Read ``element`` (with the instances nested in it) into :attr:`instances`."""
         line = element.sourceline or 0
         found = dict(children(element))
-        if "SW-ARRAY-INDEX" in found or "SW-INSTANCE" in found:
-            raise self.error("arrays and structures of instances (SW-ARRAY-INDEX, nested SW-INSTANCE) "
-                             "are not supported", element)
-        if "SHORT-NAME" not in found or not content(found["SHORT-NAME"]).strip():
-            raise self.error("SW-INSTANCE without a SHORT-NAME", element)
-        instance = _Instance(content(found["SHORT-NAME"]).strip(), line, comments=tuple(comments_in(element)))
-        if instance.name in self.instances:
-            raise self.error(f"{instance.name} is defined twice (first at line {self.instances[instance.name].line})",
-                             element)
-        for name, child in children(element):
-            if name in ("SHORT-NAME",):
+        part = self.part(element, found)
+        name = member_name(container + (part,))
+        instance = Instance(name, line, container, comments=tuple(comments_in(element)))
+        nested = []
+        for tag, child in children(element):
+            if tag in ("SHORT-NAME", "SW-ARRAY-INDEX"):
                 continue
-            if name == "LONG-NAME":
-                instance.long_name = content(child).strip()
-            elif name == "DISPLAY-NAME":
-                instance.display_name = content(child).strip()
-            elif name == "CATEGORY":
-                instance.category = content(child).strip()
-            elif name == "SW-FEATURE-REF":
-                instance.feature = content(child).strip()
-            elif name == "SW-INSTANCE-PROPS-VARIANTS":
-                self.single_variant(instance, child)
-            elif name in ("SW-VALUE-CONT", "SW-AXIS-CONTS", "SW-CS-HISTORY", "SW-CS-FLAGS"):
-                self.contents(instance, name, child)
+            if tag in _TEXTS:
+                setattr(instance, _TEXTS[tag], content(child).strip())
+            elif tag == "SW-INSTANCE-PROPS-VARIANTS":
+                self.variants(instance, child)
+            elif tag in _CONTENTS:
+                self.contents(instance, tag, child)
+            elif tag == "SW-INSTANCE":
+                nested.append(child)
             else:
-                raise self.unexpected(name, child, "SW-INSTANCE", "SHORT-NAME, LONG-NAME, DISPLAY-NAME, CATEGORY, "
-                                      "SW-FEATURE-REF, SW-VALUE-CONT, SW-AXIS-CONTS, SW-CS-HISTORY, SW-CS-FLAGS")
-        if instance.category not in CATEGORIES:
-            what = f"category {instance.category!r}" if instance.category else "no CATEGORY"
-            raise self.error(f"{instance.name}: {what}; supported: {', '.join(CATEGORIES)}", element)
-        if instance.values is None:
-            raise self.error(f"{instance.name}: no SW-VALUE-CONT/SW-VALUES-PHYS with its values", element)
-        self.instances[instance.name] = instance
+                raise self.unexpected(tag, child, "SW-INSTANCE", "SHORT-NAME or SW-ARRAY-INDEX, LONG-NAME, DISPLAY-NAME, "
+                                      "CATEGORY, SW-FEATURE-REF, SW-MODEL-LINK, SW-VALUE-CONT, SW-AXIS-CONTS, "
+                                      "SW-CS-HISTORY, SW-CS-FLAGS, SW-INSTANCE-PROPS-VARIANTS, SW-INSTANCE")
+        if instance.values is not None or instance.left_out:
+            if name in self.instances:
+                raise self.error(f"{name} is defined twice (first at line {self.instances[name].line})", element)
+            self.instances[name] = instance
+        elif not nested:
+            self.dataset.notes.append(Finding("left-out", name, f"{name}: no SW-VALUE-CONT/SW-VALUES-PHYS with its "
+                                              f"values; left out", self.path, line, severity=Severity.WARNING))
+        inner = container + (InstancePart(part.name, instance.category, instance.long_name, part.index),)
+        for child in nested:
+            self.instance(child, inner)
 
-    def single_variant(self, instance: _Instance, element) -> None:
+    def part(self, element, found: dict) -> InstancePart:
+        """The instance's own name: its SHORT-NAME, or its SW-ARRAY-INDEX (``[2]`` or ``2``) in an array."""
+        if "SHORT-NAME" in found and content(found["SHORT-NAME"]).strip():
+            return InstancePart(content(found["SHORT-NAME"]).strip())
+        if "SW-ARRAY-INDEX" in found and content(found["SW-ARRAY-INDEX"]).strip():
+            return InstancePart(content(found["SW-ARRAY-INDEX"]).strip().strip("[]").strip(), index=True)
+        raise self.error("SW-INSTANCE without a SHORT-NAME or SW-ARRAY-INDEX", element)
+
+    def variants(self, instance: Instance, element) -> None:
         variants = [self.expect(v, "SW-INSTANCE-PROPS-VARIANT", "SW-INSTANCE-PROPS-VARIANTS") for _, v in children(element)]
         criteria = [c for v in variants for name, c in children(v) if name == "SW-VCD-CRITERION-VALUES" and len(c)]
         if len(variants) != 1 or criteria:
-            raise self.error(f"{instance.name}: variant-coded values ({len(variants)} variants) are not supported",
-                             element)
+            instance.left_out = f"variant-coded values ({len(variants)} variants) are not supported"
+            return
         for name, child in children(variants[0]):
             if name == "SW-VCD-CRITERION-VALUES":
                 continue
-            if name not in ("SW-VALUE-CONT", "SW-AXIS-CONTS", "SW-CS-HISTORY", "SW-CS-FLAGS"):
-                raise self.unexpected(name, child, "SW-INSTANCE-PROPS-VARIANT",
-                                      "SW-VALUE-CONT, SW-AXIS-CONTS, SW-CS-HISTORY, SW-CS-FLAGS")
+            if name not in _CONTENTS:
+                raise self.unexpected(name, child, "SW-INSTANCE-PROPS-VARIANT", ", ".join(_CONTENTS))
             self.contents(instance, name, child)
 
-    def contents(self, instance: _Instance, name: str, element) -> None:
+    def contents(self, instance: Instance, name: str, element) -> None:
         if name == "SW-VALUE-CONT":
-            instance.unit, instance.size, instance.values = self.value_cont(element, "SW-VALUE-CONT")
+            instance.unit, instance.size, instance.values, instance.value_line = self.value_cont(element)
         elif name == "SW-AXIS-CONTS":
             instance.axes = [self.axis_cont(self.expect(a, "SW-AXIS-CONT", "SW-AXIS-CONTS")) for _, a in children(element)]
         elif name == "SW-CS-HISTORY":
@@ -251,21 +219,21 @@ class _Reader:
         else:
             instance.flags = tuple(self.flag(self.expect(f, "SW-CS-FLAG", "SW-CS-FLAGS")) for _, f in children(element))
 
-    def value_cont(self, element, parent: str) -> tuple[str, list[int] | None, list | None]:
-        unit, size, values = "", None, None
+    def value_cont(self, element) -> tuple[str, list[int] | None, list | None, int]:
+        unit, size, values, line = "", None, None, 0
         for name, child in children(element):
             if name == "UNIT-DISPLAY-NAME":
                 unit = content(child).strip()
             elif name == "SW-ARRAYSIZE":
                 size = [self.count(v) for _, v in children(child)]
             elif name == "SW-VALUES-PHYS":
-                values = self.values(child)
+                values, line = self.values(child), child.sourceline or 0
             else:
-                raise self.unexpected(name, child, parent, "UNIT-DISPLAY-NAME, SW-ARRAYSIZE, SW-VALUES-PHYS")
-        return unit, size, values
+                raise self.unexpected(name, child, "SW-VALUE-CONT", "UNIT-DISPLAY-NAME, SW-ARRAYSIZE, SW-VALUES-PHYS")
+        return unit, size, values, line
 
-    def axis_cont(self, element) -> _AxisCont:
-        axis = _AxisCont(element.sourceline or 0)
+    def axis_cont(self, element) -> AxisCont:
+        axis = AxisCont(element.sourceline or 0)
         for name, child in children(element):
             if name == "CATEGORY":
                 axis.kind = content(child).strip()
@@ -283,7 +251,7 @@ class _Reader:
             elif name == "SW-VALUES-PHYS":
                 axis.points = self.values(child)
                 if any(isinstance(p, list) for p in axis.points):
-                    raise self.error("axis points in VG groups (pairs of a rescale axis) are not supported", child)
+                    raise self.error("axis points in VG groups: an axis lists its points as V or VT", child)
             else:
                 raise self.unexpected(name, child, "SW-AXIS-CONT",
                                       "CATEGORY, UNIT-DISPLAY-NAME, SW-INSTANCE-REF, SW-ARRAYSIZE, SW-VALUES-PHYS")
@@ -348,115 +316,3 @@ class _Reader:
                 raise self.unexpected(tag, child, "SW-CS-FLAG", "CATEGORY, FLAG, CSUS, DATE, REMARK")
         return CsFlag(fields.get("CATEGORY", ""), fields.get("FLAG", ""), fields.get("CSUS", ""), fields.get("DATE", ""),
                       fields.get("REMARK", ""))
-
-    # ---- from instances to values ----
-
-    def add(self, instance: _Instance) -> None:
-        info = ObjectInfo(display_name=instance.display_name, functions=(instance.feature,) if instance.feature else (),
-                          comments=instance.comments, history=instance.history, flags=instance.flags,
-                          category=instance.category, line=instance.line)
-        try:
-            value = self.value(instance)
-        except NumberError as exc:
-            raise DatasetParseError(f"{instance.name}: {exc}", self.path, instance.line) from None
-        self.dataset.add(value, info)
-
-    def fail(self, instance: _Instance, message: str) -> DatasetParseError:
-        return DatasetParseError(f"{instance.name}: {message}", self.path, instance.line)
-
-    def value(self, instance: _Instance) -> CalValue:
-        category, items = instance.category, instance.values
-        common = {"unit": instance.unit, "comment": instance.long_name}
-        if category in SCALAR_CATEGORIES + ("ASCII",):
-            if len(items) != 1 or isinstance(items[0], list):
-                raise self.fail(instance, f"a {category} holds one value, found {len(_flat(items))}")
-            if category == "ASCII":
-                if not isinstance(items[0], str):
-                    raise self.fail(instance, "an ASCII holds its text in <VT>")
-                return CalValue(instance.name, "ASCII", items[0], comment=instance.long_name)
-            item = items[0] if isinstance(items[0], str) else scalar(items[0])
-            return CalValue(instance.name, "VALUE", item, **common)
-        if category == "VAL_BLK":
-            return CalValue(instance.name, "VAL_BLK", self.block(instance), **common)
-        axes = tuple(self.axis(instance, a) for a in instance.axes)
-        if category in AXIS_CATEGORIES and not axes:
-            if any(isinstance(i, list) for i in items):
-                raise self.fail(instance, "axis points in VG groups (pairs of a rescale axis) are not supported")
-            return CalValue(instance.name, "AXIS_PTS", to_array(items), **common)
-        expected = 2 if category == "MAP" else 1
-        if len(axes) != expected:
-            raise self.fail(instance, f"a {category} has {expected} SW-AXIS-CONT, found {len(axes)}")
-        shape = tuple(len(a.values) for a in axes)
-        return CalValue(instance.name, "MAP" if category == "MAP" else "CURVE", self.grid(instance, shape), axes=axes,
-                        **common)
-
-    def block(self, instance: _Instance) -> np.ndarray:
-        items = instance.values
-        shape = tuple(instance.size) if instance.size else _nested_shape(items)
-        if shape is None:
-            raise self.fail(instance, "VG groups of different lengths and no SW-ARRAYSIZE")
-        return self.grid(instance, shape)
-
-    def grid(self, instance: _Instance, shape: tuple[int, ...]) -> np.ndarray:
-        """The values in ``shape`` (x first), read x fastest; VG groups must match the shape."""
-        items = instance.values
-        flat = _flat(items)
-        if len(flat) != int(np.prod(shape)):
-            raise self.fail(instance, f"{len(flat)} values for the shape {' x '.join(map(str, shape))}")
-        if any(isinstance(i, list) for i in items) and _squeezed(_nested_shape(items)) != _squeezed(shape):
-            rows = "one VG per Y point holding the values along X" if len(shape) == 2 else "innermost VGs along x"
-            raise self.fail(instance, f"its VG groups do not make {' x '.join(map(str, shape))} values ({rows})")
-        return to_array(flat).reshape(shape, order="F").copy()
-
-    def axis(self, instance: _Instance, axis: _AxisCont) -> Axis:
-        kind = axis.kind
-        referenced = self.instances.get(axis.ref) if axis.ref else None
-        if not kind:
-            kind = referenced.category if referenced and referenced.category in AXIS_CATEGORIES else "STD_AXIS"
-        points = axis.points
-        if points is None:
-            if kind == "CURVE_AXIS":
-                raise DatasetParseError(f"{instance.name}: its CURVE_AXIS lists no axis points (SW-VALUES-PHYS); "
-                                        f"computing them from {axis.ref} needs the A2L", self.path, axis.line)
-            if referenced is None:
-                what = f"references {axis.ref!r}, which the file does not hold," if axis.ref else "has"
-                raise DatasetParseError(f"{instance.name}: an axis that {what} no SW-VALUES-PHYS", self.path, axis.line)
-            points = referenced.values
-            if any(isinstance(p, list) for p in points):
-                raise DatasetParseError(f"{instance.name}: its axis {axis.ref} holds rescale pairs (VG groups), not axis points; "
-                                        f"computing the points needs the A2L",
-                                        self.path, axis.line)
-        if axis.size is not None and axis.size != len(points):
-            raise DatasetParseError(f"{instance.name}: the axis's SW-ARRAYSIZE says {axis.size}, it has {len(points)} "
-                                    f"points", self.path, axis.line)
-        unit = axis.unit or (referenced.unit if referenced is not None and axis.points is None else "")
-        return Axis(to_array(points), kind=kind, name=axis.ref, unit=unit)
-
-
-def _flat(items: list) -> list:
-    out: list = []
-    for item in items:
-        if isinstance(item, list):
-            out += _flat(item)
-        else:
-            out.append(item)
-    return out
-
-
-def _squeezed(shape: tuple[int, ...] | None) -> tuple[int, ...] | None:
-    """``shape`` without trailing 1s: a curve's values in one VG group are still a curve."""
-    while shape and len(shape) > 1 and shape[-1] == 1:
-        shape = shape[:-1]
-    return shape
-
-
-def _nested_shape(items: list) -> tuple[int, ...] | None:
-    """The shape of nested VG groups, x first (innermost group along x); None when ragged."""
-    if not any(isinstance(i, list) for i in items):
-        return (len(items),)
-    if not all(isinstance(i, list) for i in items):
-        return None
-    shapes = {_nested_shape(i) for i in items}
-    if len(shapes) != 1 or None in shapes:
-        return None
-    return shapes.pop() + (len(items),)

@@ -12,10 +12,11 @@ from lxml import etree
 
 from workbench.errors import DatasetParseError
 
-__all__ = ["children", "comments_in", "content", "file_comments", "local_name", "parse"]
+__all__ = ["DOCTYPE", "DOCTYPE_21", "children", "comments_in", "content", "file_comments", "local_name", "parse"]
 
 DOCTYPE = ('<!DOCTYPE MSRSW PUBLIC "-//ASAM//DTD CALIBRATION DATA FORMAT:V2.0.0:LAI:IAI:XML:CDF200.XSD//EN" '
            '"cdf_v2.0.0.sl.dtd">')
+DOCTYPE_21 = '<!DOCTYPE MSRSW PUBLIC "-//ASAM//DTD CALIBRATION DATA FORMAT:V2.1:LAI:IAI:XML //EN" "cdf_v2.1.0.sl.dtd">'
 
 
 def parse(data: bytes, path: str) -> etree._Element:
@@ -53,8 +54,13 @@ def children(element) -> Iterator[tuple[str, etree._Element]]:
 
 
 def comments_in(element) -> list[str]:
-    """The lines of the XML comments anywhere below ``element``, in document order, stripped."""
-    return [line for node in element.iter(etree.Comment) for line in _lines(node)]
+    """The lines of the XML comments below ``element`` (an SW-INSTANCE), in document order, stripped;
+    those inside an SW-INSTANCE nested in it belong to that one."""
+    return [line for node in element.iter(etree.Comment) if _instance_of(node) is element for line in _lines(node)]
+
+
+def _instance_of(node):
+    return next((a for a in node.iterancestors() if local_name(a) == "SW-INSTANCE"), None)
 
 
 def file_comments(root) -> list[str]:

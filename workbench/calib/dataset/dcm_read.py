@@ -5,6 +5,9 @@ WERT and TEXT lines mixed, quoted or bare FUNKTION and DISPLAYNAME names, ``*SST
 naming the STUETZSTELLENVERTEILUNG of a group curve or map, comments (``*``, ``!``, ``.``)
 anywhere, empty lines, trailing spaces, any line end, a BOM, UTF-8 or Windows-1252.
 
+``WERT true`` / ``WERT false`` (booleans as some tools write them) are read as 1 and 0, each with
+a warning in ``Dataset.notes``.
+
 Strict where a guess could change a value: an unknown keyword, a keyword in a block that cannot
 hold it, a count that does not match the values, a text where a number belongs, a block without
 END — each is a :class:`~workbench.errors.DatasetParseError` naming ``file:line:column`` and what
@@ -24,6 +27,7 @@ from workbench.calib.dataset.model import Dataset, FunctionInfo, ObjectInfo
 from workbench.calib.dataset.numbers import NumberError, parse_number, scalar, to_array
 from workbench.calib.values import Axis, CalValue
 from workbench.errors import DatasetParseError
+from workbench.findings import Finding, Severity
 
 __all__ = ["read"]
 
@@ -63,6 +67,7 @@ _SINGLE = ("LANGNAME", "DISPLAYNAME", "FUNKTION", "VAR", "EINHEIT_W", "EINHEIT_X
 _SST = re.compile(r"SST([XY])\s+(\S+)\Z")
 _NAME = re.compile(r"[A-Za-z_][\w.\[\]]*\Z")
 _COUNT = re.compile(r"\d+\Z")
+_BOOLEANS = {"true": 1, "false": 0}
 
 
 def read(data: bytes, path: str = "<string>") -> Dataset:
@@ -93,6 +98,7 @@ class _Reader:
         self.at = 0
         self.dataset = Dataset(source=path, format="dcm")
         self.format_line = 0
+        self.current = ""  # the object being read, for the notes
 
     def error(self, message: str, line: Line | int, column: int = 0) -> DatasetParseError:
         number = line if isinstance(line, int) else line.number
@@ -245,7 +251,9 @@ class _Reader:
             variants=self.variants(single.get("VAR")),
             category=block.keyword,
             line=header.number,
+            value_line=_first(block, _VALUES) or _first(block, _X),
         )
+        self.current = name
         try:
             value = _BUILDERS[OBJECT_KEYWORDS[block.keyword].kind](self, block, texts)
         except NumberError as exc:
@@ -296,12 +304,20 @@ class _Reader:
                     text_keyword = {"WERT": "TEXT", "ST/X": "ST_TX/X", "ST/Y": "ST_TX/Y"}[line.keyword]
                     raise self.error(f"{line.keyword} takes numbers; the text {token.text!r} belongs on a "
                                      f"{text_keyword} line", line, token.column)
+                elif line.keyword == "WERT" and token.text.lower() in _BOOLEANS:
+                    items.append(self.boolean(line, token))
                 else:
                     try:
                         items.append(parse_number(token.text))
                     except NumberError as exc:
                         raise self.error(f"{line.keyword}: {exc}", line, token.column) from None
         return items
+
+    def boolean(self, line: Line, token: Token) -> int:
+        number = _BOOLEANS[token.text.lower()]
+        self.dataset.notes.append(Finding("read-as", self.current, f"{self.current}: WERT {token.text} read as {number}",
+                                          self.path, line.number, token.column, severity=Severity.WARNING))
+        return number
 
     def lines_of(self, block: _Block, keywords: tuple[str, ...]) -> list[Line]:
         return [line for line in block.lines if line.keyword in keywords]
@@ -389,6 +405,10 @@ class _Reader:
             raise self.count_error(block, "points", nx, len(xs))
         return CalValue(block.name, "AXIS_PTS", to_array(xs), unit=texts.get("EINHEIT_X", ""),
                         comment=texts.get("LANGNAME", ""))
+
+
+def _first(block: _Block, keywords: tuple[str, ...]) -> int:
+    return next((line.number for line in block.lines if line.keyword in keywords), 0)
 
 
 _BUILDERS = {"VALUE": _Reader.value, "ASCII": _Reader.ascii, "VAL_BLK": _Reader.val_blk, "CURVE": _Reader.curve,

@@ -6,9 +6,11 @@ comments, the units, the axis points and values, six to a line (WERT/ST/X for nu
 TEXT/ST_TX/X for texts). Numbers are written so that they read back to the same value
 (:mod:`~workbench.calib.dataset.numbers`); lines end in ``\\n``.
 
-What DCM cannot hold is listed by :func:`losses` before anything is written; values it cannot
-hold at all (a CUBOID, a name with spaces) make :func:`write` raise. The names CDF gives its
-containers (MSRSW, SW-SYSTEM, SW-INSTANCE-TREE) are labels, not data, and are not listed.
+What DCM cannot keep is listed by :func:`losses` as warnings; objects it cannot hold at all (a
+CUBOID, CUBE_4, CUBE_5, a VAL_BLK of more than two dimensions, a name DCM cannot spell) are left
+out of the file, each named. Members of CDF structures and arrays of instances keep their names
+(``outer.member``, ``outer[2]``). The names CDF gives its containers (MSRSW, SW-SYSTEM,
+SW-INSTANCE-TREE) are labels, not data, and are not listed.
 """
 
 from __future__ import annotations
@@ -22,9 +24,9 @@ from workbench.calib.dataset.dcm_lines import quote
 from workbench.calib.dataset.model import Dataset, ObjectInfo
 from workbench.calib.dataset.numbers import format_number
 from workbench.calib.values import CalValue
+from workbench.calib.dataset.losses import LEFT_OUT, left_out, loss
 from workbench.errors import InputError
-from workbench.calib.dataset.losses import loss, refuse_errors
-from workbench.findings import Finding, Severity
+from workbench.findings import Finding
 
 __all__ = ["losses", "write"]
 
@@ -38,10 +40,11 @@ _MAP_KEYWORD = {"STD_AXIS": "KENNFELD", "FIX_AXIS": "FESTKENNFELD"}
 def write(dataset: Dataset, encoding: str = "utf-8") -> bytes:
     """The DCM text of ``dataset`` in ``encoding`` (e.g. ``"cp1252"`` for tools that want ANSI).
 
-    :raises InputError: an object DCM cannot hold (see :func:`losses`, severity error), or a
-        character ``encoding`` cannot hold (naming the object).
+    What DCM cannot hold at all is left out (see :func:`losses`).
+
+    :raises InputError: a character ``encoding`` cannot hold (naming its line).
     """
-    refuse_errors(losses(dataset))
+    skipped = left_out(losses(dataset))
     lines = [line for c in dataset.comments for line in _comment(c)]
     lines += ["", "KONSERVIERUNG_FORMAT 2.0", ""] if lines else ["KONSERVIERUNG_FORMAT 2.0", ""]
     if dataset.module_header:
@@ -56,7 +59,8 @@ def write(dataset: Dataset, encoding: str = "utf-8") -> bytes:
         lines += [f"  KRITERIUM {' '.join((name, *values))}" for name, values in dataset.variant_criteria.items()]
         lines += ["END", ""]
     for name, value in dataset.items():
-        lines += _block(value, dataset.info_of(name)) + [""]
+        if name not in skipped:
+            lines += _block(value, dataset.info_of(name)) + [""]
     text = "\n".join(lines)
     try:
         return text.encode(encoding)
@@ -66,11 +70,11 @@ def write(dataset: Dataset, encoding: str = "utf-8") -> bytes:
 
 
 def losses(dataset: Dataset) -> list[Finding]:
-    """What DCM cannot keep of ``dataset``: warnings (kept in part) and errors (cannot be written)."""
+    """What DCM cannot keep of ``dataset``, as warnings; kind ``left-out``: an object not written at all."""
     found: list[Finding] = []
 
-    def lose(name: str, message: str, severity: Severity = Severity.WARNING) -> None:
-        found.append(loss("not-in-dcm", name, message, severity))
+    def lose(name: str, message: str, kind: str = "not-in-dcm") -> None:
+        found.append(loss(kind, name, message))
 
     for label, text in (("A2L file name", dataset.a2l_file), ("data file name", dataset.data_file)):
         if text:
@@ -78,12 +82,23 @@ def losses(dataset: Dataset) -> list[Finding]:
     with_history = [name for name, function in dataset.functions.items() if function.history]
     if with_history:
         lose(", ".join(with_history), "the history of these functions has no place in DCM")
+    containers: set[str] = set()
     for name, value in dataset.items():
         info = dataset.info_of(name)
         if not _NAME.match(name):
-            lose(name, "this name cannot be written to DCM (DCM names are identifiers)", Severity.ERROR)
-        if value.kind == "CUBOID" or (value.kind == "VAL_BLK" and value.value.ndim > 2):
-            lose(name, f"a {value.shape} array cannot be written to DCM (one or two dimensions)", Severity.ERROR)
+            lose(name, "this name cannot be written to DCM (DCM names are identifiers)", LEFT_OUT)
+            continue
+        if value.kind in _BEYOND_DCM or (value.kind == "VAL_BLK" and value.value.ndim > 2):
+            shape = " x ".join(map(str, value.shape))
+            lose(name, f"a {value.kind} of {shape} values cannot be written to DCM (one or two dimensions)", LEFT_OUT)
+            continue
+        if info.container and info.container[0].name not in containers:
+            containers.add(info.container[0].name)
+            lose(info.container[0].name, "DCM has no structures or arrays of instances: their members are written "
+                                         "as objects of their own (names kept, the enclosing instances' categories "
+                                         "and long names not)")
+        if info.model_link:
+            lose(name, "its model link (SW-MODEL-LINK) has no place in DCM")
         if info.history or info.flags:
             lose(name, "the calibration history and flags have no place in DCM")
         if any("\n" in t or "\r" in t for t in _texts(value, info)):
@@ -96,7 +111,12 @@ def losses(dataset: Dataset) -> list[Finding]:
                        f"written as {_keyword(value)}")
         if value.kind == "VALUE" and info.category not in ("", "VALUE", "FESTWERT"):
             lose(name, f"its category {info.category} is written as FESTWERT")
+        if value.kind == "VAL_BLK" and info.category not in ("", "VAL_BLK", "FESTWERTEBLOCK"):
+            lose(name, f"its category {info.category} is written as FESTWERTEBLOCK")
     return found
+
+
+_BEYOND_DCM = ("CUBOID", "CUBE_4", "CUBE_5")
 
 
 def _texts(value: CalValue, info: ObjectInfo) -> Iterable[str]:

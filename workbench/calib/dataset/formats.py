@@ -77,26 +77,28 @@ def load_dataset_string(data: str | bytes, format: str, path: str = "<string>") 
 
 
 def dump_dataset(dataset: Dataset, format: str, encoding: str = "utf-8") -> bytes:
-    """The file content of ``dataset`` in ``format`` and ``encoding``.
+    """The file content of ``dataset`` in ``format`` and ``encoding``; what the format cannot hold
+    at all is left out (see :func:`dataset_losses`).
 
-    :raises InputError: an object the format cannot hold (see :func:`dataset_losses`), a DCM
-        character ``encoding`` cannot hold.
+    :raises InputError: a DCM character ``encoding`` cannot hold.
     """
     return importlib.import_module(format_of("", format).writer).write(dataset, _known(encoding))
 
 
 def dataset_losses(dataset: Dataset, format: str) -> list[Finding]:
-    """What ``format`` cannot keep of ``dataset`` (warnings) or cannot hold at all (errors)."""
+    """What ``format`` cannot keep of ``dataset``, as warnings naming the object (kind ``left-out``:
+    an object the format cannot hold at all, left out of the file)."""
     return importlib.import_module(format_of("", format).writer).losses(dataset)
 
 
 def save_dataset(dataset: Dataset, path: str | Path, format: str | None = None, encoding: str = "utf-8"
                  ) -> list[Finding]:
-    """Write ``dataset`` to ``path`` atomically; returns what the format could not keep (warnings).
+    """Write ``dataset`` to ``path`` atomically; returns what the format could not keep (warnings,
+    objects it cannot hold at all left out).
 
     ``encoding``: UTF-8 unless a tool wants another (``cp1252`` for an ANSI DCM).
 
-    :raises InputError: an object the format cannot hold, or a place that cannot be written.
+    :raises InputError: a character ``encoding`` cannot hold, or a place that cannot be written.
     :raises WorkbenchError: the write failed (e.g. a full disk).
     """
     spec = format_of(path, format)

@@ -1,21 +1,26 @@
-"""What a format cannot keep of a dataset, as findings a writer lists before it writes."""
+"""What a format cannot keep of a dataset, as findings a writer lists before it writes.
+
+A loss is a warning: the file is written all the same. Where an object cannot be written at
+all (a CUBOID to DCM, a name DCM cannot spell), the object is left out of the file and the
+warning says so; the rest of the dataset is written.
+"""
 
 from __future__ import annotations
 
-from workbench.errors import InputError
 from workbench.findings import Finding, Severity
 
-__all__ = ["loss", "refuse_errors"]
+__all__ = ["LEFT_OUT", "left_out", "loss"]
+
+LEFT_OUT = "left-out"
 
 
-def loss(kind: str, name: str, message: str, severity: Severity = Severity.WARNING) -> Finding:
-    """A finding ``name: message`` of ``kind`` ("not-in-dcm", "not-in-cdfx")."""
-    return Finding(kind, name, f"{name}: {message}", severity=severity)
+def loss(kind: str, name: str, message: str) -> Finding:
+    """A warning ``name: message`` of ``kind`` ("not-in-dcm", "not-in-cdfx", or :data:`LEFT_OUT`)."""
+    if kind == LEFT_OUT:
+        message += "; left out of the file"
+    return Finding(kind, name, f"{name}: {message}", severity=Severity.WARNING)
 
 
-def refuse_errors(findings: list[Finding]) -> None:
-    """:raises InputError: naming the first finding of severity error (and how many more there are)."""
-    errors = [f for f in findings if f.severity == Severity.ERROR]
-    if errors:
-        more = f" (and {len(errors) - 1} more)" if len(errors) > 1 else ""
-        raise InputError(errors[0].message + more)
+def left_out(findings: list[Finding]) -> set[str]:
+    """The names of the objects that ``findings`` leave out of the file."""
+    return {f.name for f in findings if f.kind == LEFT_OUT}

@@ -16,8 +16,17 @@ KENNLINIE / FESTKENNLINIE /     CURVE               ``CURVE``: axis STD_AXIS / F
 GRUPPENKENNLINIE                                    COM_AXIS (named by ``*SSTX``)
 KENNFELD / FESTKENNFELD /       MAP                 ``MAP``: shape ``(nx, ny)``, indexed ``[x, y]``
 GRUPPENKENNFELD
+(none)                          CUBOID, CUBE_4,     ``CUBOID``, ``CUBE_4``, ``CUBE_5``: shape
+                                CUBE_5              ``(nx, ny, nz[, n4[, n5]])``, one axis each
 STUETZSTELLENVERTEILUNG         COM_AXIS, RES_AXIS  ``AXIS_PTS``: the points
+FESTWERTEBLOCK 2 @ n            RES_AXIS of rescale ``VAL_BLK`` ``(2, n)``: (axis point, index)
+                                pairs               pairs, category RES_AXIS kept
 ==============================  ==================  ===========================================
+
+The members of a CDF structure (an SW-INSTANCE nested in another) and the elements of an array of
+instances (SW-ARRAY-INDEX) are objects of their own, named as A2L instances name them:
+``outer.member``, ``outer[2]``, ``outer[2].member``; ``ObjectInfo.container`` keeps the enclosing
+instances so that a CDFX file is written nested again.
 
 ``CalValue.comment`` holds the long name (DCM LANGNAME, CDFX LONG-NAME), as an A2L object's
 long identifier; ``ObjectInfo.comments`` the free comment lines.
@@ -32,7 +41,7 @@ from workbench.calib.values import CalValue
 from workbench.errors import InputError
 from workbench.findings import Finding
 
-__all__ = ["CsFlag", "Dataset", "FunctionInfo", "HistoryEntry", "ObjectInfo"]
+__all__ = ["CsFlag", "Dataset", "FunctionInfo", "HistoryEntry", "InstancePart", "ObjectInfo", "member_name"]
 
 
 @dataclass(frozen=True)
@@ -58,6 +67,24 @@ class CsFlag:
 
 
 @dataclass(frozen=True)
+class InstancePart:
+    """One SW-INSTANCE that encloses an object of a CDF structure or array of instances."""
+
+    name: str  # its SHORT-NAME, or its SW-ARRAY-INDEX (an element of an array of instances)
+    category: str = ""  # STRUCTURE, VALUE_ARRAY ... as its file says
+    long_name: str = ""
+    index: bool = False  # an element of an array: written as SW-ARRAY-INDEX, named ``outer[name]``
+
+
+def member_name(parts: "tuple[InstancePart, ...]") -> str:
+    """The A2L-style name of nested instances: ``a.b``, ``a[1]``, ``a[1].b``."""
+    name = ""
+    for part in parts:
+        name = f"{name}[{part.name}]" if part.index else f"{name}.{part.name}" if name else part.name
+    return name
+
+
+@dataclass(frozen=True)
 class ObjectInfo:
     """What a dataset file says about one object besides its value, unit and long name."""
 
@@ -69,6 +96,9 @@ class ObjectInfo:
     variants: tuple[tuple[str, str], ...] = ()  # DCM VAR criterion=value pairs
     category: str = ""  # the object's keyword or category in its file (FESTKENNLINIE, BOOLEAN ...)
     line: int = 0  # where it starts in its file (1-based; 0: not read from a file)
+    value_line: int = 0  # where its values start (DCM: the first WERT/TEXT/ST line; CDFX: SW-VALUES-PHYS)
+    container: tuple[InstancePart, ...] = ()  # CDF: the SW-INSTANCEs around it, outermost first
+    model_link: str = ""  # CDF 2.1 SW-MODEL-LINK: where the value lives in a simulation model
 
 
 @dataclass(frozen=True)
@@ -138,3 +168,11 @@ class Dataset(MutableMapping):
     def info_of(self, name: str) -> ObjectInfo:
         """The :class:`ObjectInfo` of ``name`` (an empty one for an object added without)."""
         return self.info.get(name, ObjectInfo())
+
+    def where(self, name: str) -> str:
+        """``file:line`` of the values of ``name`` as read (``file`` alone, or ``""``, where not known)."""
+        info = self.info_of(name)
+        line = info.value_line or info.line
+        if not self.source:
+            return ""
+        return f"{self.source}:{line}" if line else self.source
