@@ -170,10 +170,11 @@ def _check(session: Session, dataset: Mapping[str, CalValue], extended: bool, pr
     """Every object checked: ``({name: planned edits}, {name: why refused}, the ECU's bytes read)``."""
     model = session.model
     layouts, refused = object_layouts(model, dataset)
+    where = getattr(dataset, "where", lambda name: "")  # a dataset read from a file: file:line of the values
     for name in list(layouts):
         violations = check_limits(model, dataset[name], extended=extended)
         if violations:
-            refused[name] = "; ".join(without_name(name, str(v)) for v in violations)
+            refused[name] = _located(where(name), "; ".join(without_name(name, str(v)) for v in violations))
             del layouts[name]
     current = ByteStore(fallback=EcuReader(session, progress, "reading the ECU's values"))
     resolved, failed = resolve_all(layouts, current.fetch)
@@ -186,7 +187,7 @@ def _check(session: Session, dataset: Mapping[str, CalValue], extended: bool, pr
         try:
             edits = value_edits(model, value, current.read, check=False)
         except WorkbenchError as exc:
-            refused[name] = without_name(name, str(exc))
+            refused[name] = _located(where(name), without_name(name, str(exc)))
             continue
         outside = [e for e in edits if writable is not None and not _inside(e.span, writable)]
         if outside:
@@ -224,6 +225,10 @@ def _conflicts(model, planned: dict[str, _Planned], current: ByteStore) -> list[
 
 def _overlap(a: Span, b: Span) -> bool:
     return a.extension == b.extension and a.address < b.end and b.address < a.end
+
+
+def _located(where: str, reason: str) -> str:
+    return f"{where}: {reason}" if where else reason
 
 
 def _changes(session: Session, dataset: Mapping[str, CalValue], planned: dict[str, _Planned], changing: list[str],
