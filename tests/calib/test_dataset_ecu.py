@@ -19,7 +19,7 @@ from workbench.calib.dataset import Dataset, dataset_losses, dump_dataset, load_
 from workbench.calib.dataset.model import InstancePart, ObjectInfo
 from workbench.calib.values import Axis, CalValue
 from workbench.sim import serve_demo
-from workbench.sync import ApplyRefused, apply_dataset, read_dataset
+from workbench.sync import ApplyRefused, apply_dataset, read_dataset, sync_compare, sync_download
 
 _GRIDS = {"tqCUBE": ("CUBOID", (2, 3, 2), 0x40000040), "tqCUBE4": ("CUBE_4", (2, 2, 2, 2), 0x4000008C),
           "tqCUBE5": ("CUBE_5", (2, 2, 2, 2, 2), 0x400000EC)}
@@ -110,7 +110,7 @@ def test_cdf21_shapes_go_from_a_file_to_the_ecu_and_back_into_both_formats(ecu, 
     assert apply_dataset(ecu, _file(dcm, "cdfx")).counts()["unchanged"] == 3  # DCM -> CDFX -> ECU: the same values
 
 
-def test_a_value_beyond_its_limit_is_refused_with_the_file_and_line_of_the_value(ecu):
+def test_a_value_beyond_its_limit_is_refused_with_the_file_and_line_of_the_value(ecu, tmp_path):
     text = ("KONSERVIERUNG_FORMAT 2.0\n\nFESTWERTEBLOCK tbBLOCK 3 @ 4\n  WERT 1 2 3\n  WERT 4 5 6\n  WERT 7 8 9\n"
             "  WERT 10 11 12\nEND\n\nFESTWERT tsCal.gain\n  LANGNAME \"a member\"\n  WERT 5000\nEND\n")
     dataset = load_dataset_string(text, "dcm", "limits.dcm")
@@ -124,3 +124,7 @@ def test_a_value_beyond_its_limit_is_refused_with_the_file_and_line_of_the_value
                 if "<V>5000</V>" in text)
     with pytest.raises(ApplyRefused, match=rf"tsCal.gain: limits.cdfx:{line - 1}: "):  # its SW-VALUES-PHYS
         apply_dataset(ecu, cdfx)
+    path = tmp_path / "limits.dcm"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(ApplyRefused, match=rf"tsCal.gain: {path}:12: "):  # the cache sync's download alike
+        sync_download(ecu, sync_compare(ecu, path))

@@ -188,9 +188,9 @@ def _differing_runs(leaf: Span, wanted: bytes, held: bytes) -> list[tuple[Span, 
 def _download_dataset(session: Session, report: SyncReport, progress: Progress | None) -> DownloadResult:
     reference = report.reference
     assert isinstance(reference, DatasetReference)
-    changed = Dataset(source=reference.label)
+    changed = Dataset(source=reference.dataset.source or reference.label)
     for name in report.changed:
-        changed.add(reference.dataset[name])
+        changed.add(reference.dataset[name], reference.dataset.info_of(name))  # a refusal names file:line
     applied = apply_dataset(session, changed, progress=progress, source=reference.label)
     again = sync_compare(session, DatasetReference(reference.path, changed))
     if not again.equal:
