@@ -61,6 +61,14 @@ def test_cdfx_notes_are_warnings(capsys, tmp_path):
     assert code == 0 and out == f"{source}:1: warning: <ADMIN-DATA> (administrative data) is not kept\n"
 
 
+def test_converting_cdf21_to_dcm_names_what_it_leaves_out_and_writes_the_rest(capsys, tmp_path):
+    code, out, err = run(capsys, "cal", "convert", CORPUS / "constructs" / "cdf21_style.cdfx", tmp_path / "c.dcm")
+    assert code == 0 and "flcu.cube.FILL: a CUBOID of 2 x 3 x 2 values cannot be written to DCM" in out
+    assert out.count("left out of the file") == 4 and err.strip().endswith("wrote " + str(tmp_path / "c.dcm")
+                                                                           + ": 10 objects (CDFX -> DCM)")
+    assert list(load_dataset(tmp_path / "c.dcm"))[-2:] == ["flcu_limit[0]", "flcu_limit[1]"]
+
+
 @pytest.mark.parametrize("argv, message", [
     (["convert", "{missing}", "{out}.cdfx"], "error: {missing}: no such file\n"),
     (["convert", "{bad}", "{out}.cdfx"], "error: {bad}:2:8: WERT: 'abc' is not a number\n"),

@@ -57,8 +57,10 @@ def _convert(args: argparse.Namespace) -> int:
     dataset = load_dataset(args.input)
     report = Report("convert")
     report.extend(dataset.notes)
-    report.extend(save_dataset(dataset, args.output, encoding=args.encoding))
-    summary = (f"wrote {args.output}: {len(dataset)} objects ({format_of(args.input).name.upper()} -> "
+    losses = save_dataset(dataset, args.output, encoding=args.encoding)
+    report.extend(losses)
+    written = len(dataset) - sum(f.kind == "left-out" for f in losses)  # what the target cannot hold is left out
+    summary = (f"wrote {args.output}: {written} objects ({format_of(args.input).name.upper()} -> "
                f"{target.name.upper()})")
     print_report(report, as_json=args.json, verbose=False, summary=summary, output=args.output)
     return 0
