@@ -1,14 +1,23 @@
 """GUI tests: pytest-qt's QApplication (offscreen, .ci/run sets QT_QPA_PLATFORM), the demo's files
-read once, and the simulated ECU on a virtual bus of each test's own."""
+read once, and the simulated ECU on a virtual bus of each test's own.
+
+Offscreen, the window opens on a laptop's screen of 1366 x 768 (Qt's offscreen default is 800 x 600):
+what the tests see is what a user with a small screen sees."""
 
 from __future__ import annotations
 
+import os
 import uuid
 
 import pytest
 
+from workbench.gui.app import screenshot_screen
 from workbench.gui.project import Connection, demo_project
 from workbench.gui.workspace import load_workspace
+
+SCREEN = (1366, 768)
+if os.environ.get("QT_QPA_PLATFORM") == "offscreen":
+    screenshot_screen(SCREEN)
 
 
 @pytest.fixture(scope="session")

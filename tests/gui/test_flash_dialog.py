@@ -27,7 +27,6 @@ def _planned(dialog, qtbot):
 
 def test_a_calib_flash_from_the_s19_programs_its_partial_ranges_and_verifies(window, qtbot):
     dialog = window.open_flash_dialog()
-    assert window.hub.acquisition is None  # no DAQ while flashing
     assert dialog.path.text() == str(demo.s19()) and dialog.selected_regions() == ["CALIB"]
     info = _planned(dialog, qtbot)
     assert info["CALIB"].startswith("Partial: FC0000h-") and "FDFFF0h-FDFFFFh" in info["CALIB"]
@@ -35,19 +34,26 @@ def test_a_calib_flash_from_the_s19_programs_its_partial_ranges_and_verifies(win
     progress = []
     dialog.flash_started.connect(lambda task: task.progress.changed.connect(
         lambda done, total, label: progress.append((done, total, label)), Qt.DirectConnection))
+    plot = window.plots[0]
+    qtbot.waitUntil(lambda: plot.samples_shown() > 0, timeout=WAIT_MS)  # measuring while the dialog is open
     with qtbot.waitSignal(dialog.flashed, timeout=FLASH_MS) as flashed:
         dialog.start()
+        assert window.hub.acquisition is None  # no DAQ while flashing: paused, and the status bar says why
+        assert window.status.daq.text().startswith("DAQ paused: flashing since ")
     qtbot.waitUntil(lambda: dialog.flash_button.isEnabled(), timeout=WAIT_MS)
     result = flashed.args[0]
     assert "verified" in result.describe() and result.application_running
     assert progress and progress[-1][0] == progress[-1][1] == dialog.plan.size
     assert any("KiB/s" in label for _, _, label in progress)  # the rate and the time left
     assert dialog.progress.value() == dialog.progress.maximum()
+    assert dialog.progress_label.text() == "done: verified, the application runs"  # not the last phase
+    # measuring resumes by itself, the dialog still open; the pause is a gap in the line
+    qtbot.waitUntil(lambda: window.hub.acquisition is not None and window.hub.acquisition.state.running,
+                    timeout=WAIT_MS)
+    assert window.status.daq.text().startswith("DAQ ") and "paused" not in window.status.daq.text()
+    buffer = window.hub.buffer(plot.signals[0])
+    qtbot.waitUntil(lambda: len(buffer.gaps) >= 1 and buffer.last()[0] > buffer.gaps[-1], timeout=WAIT_MS)
     dialog.close_button.click()
-    qtbot.waitUntil(lambda: window.hub.acquisition is not None, timeout=WAIT_MS)  # DAQ again after the flash
-    plot = window.plots[0]
-    before = plot.samples_shown()
-    qtbot.waitUntil(lambda: plot.samples_shown() != before, timeout=WAIT_MS)
 
 
 def test_the_working_page_flashed_into_cal_rom_becomes_the_reference_page(window, qtbot):

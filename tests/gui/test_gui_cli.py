@@ -25,11 +25,11 @@ def png_size(path) -> tuple[int, int]:
 
 
 def test_demo_renders_the_window_with_live_samples_to_a_png(tmp_path):
-    result = run("demo", "--screenshot", "demo.png", "--settle", "0.5", cwd=tmp_path)
+    result = run("demo", "--screenshot", "demo.png", "--settle", "0.5", "--size", "1366x768", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     assert "first live sample on screen" in result.stdout and "screenshot: demo.png" in result.stdout
-    width, height = png_size(tmp_path / "demo.png")
-    assert width >= 1200 and height >= 800
+    width, height = png_size(tmp_path / "demo.png")  # a laptop's screen, all of it and not more
+    assert 1300 <= width <= 1366 and 700 <= height <= 768
 
 
 def test_gui_on_a_project_file_connects_to_an_ecu_of_another_process(tmp_path, free_udp_port):

@@ -3,7 +3,9 @@
 import numpy as np
 import pytest
 from PySide6.QtCore import QPointF, Qt
-from PySide6.QtGui import QDropEvent
+from PySide6.QtGui import QColor, QDropEvent
+
+from workbench.gui import theme
 
 from workbench.gui.mime import signals_mime
 from workbench.gui.signal_hub import SignalHub, SignalInfo
@@ -72,3 +74,33 @@ def test_dropping_names_adds_the_known_ones(plot):
     event = QDropEvent(QPointF(10, 10), Qt.CopyAction, mime, Qt.LeftButton, Qt.NoModifier)
     plot.dropEvent(event)
     assert plot.signals == ["duty"]
+
+
+def test_a_pause_in_the_measurement_is_a_gap_in_the_drawn_line(qtbot):
+    hub = SignalHub()
+    hub.add_signals([SignalInfo("rail", "XCP", "bar")])
+    hub.sink("rail", np.linspace(0, 5, 501), np.full(501, 20.0))
+    hub.mark_gap(["rail"])  # e.g. DAQ stopped for a flash
+    hub.sink("rail", np.linspace(15, 20, 501), np.full(501, 30.0))
+    plot = PlotWindow(hub, "Gap", span_s=30.0)
+    qtbot.addWidget(plot)
+    plot.resize(800, 300)
+    plot.show()
+    plot.add_signals(["rail"])
+    plot.set_following(False)
+    plot.plot.vb.setRange(xRange=(0, 20), yRange=(0, 40), padding=0)
+    plot.refresh()
+    image = plot.graphics.grab().toImage()
+    trace = QColor(theme.trace_colour(0))
+
+    def drawn_between(t0: float, t1: float) -> bool:
+        scene = plot.plot.vb.mapViewToScene
+        x0, x1 = int(scene(QPointF(t0, 0)).x()), int(scene(QPointF(t1, 0)).x())
+        return any(_near(QColor(image.pixel(x, y)), trace) for x in range(x0, x1) for y in range(image.height()))
+
+    assert drawn_between(1, 4) and drawn_between(16, 19)  # the measured stretches
+    assert not drawn_between(6, 14)  # not the straight line across the pause
+
+
+def _near(a, b) -> bool:
+    return abs(a.red() - b.red()) + abs(a.green() - b.green()) + abs(a.blue() - b.blue()) < 60

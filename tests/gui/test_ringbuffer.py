@@ -58,3 +58,18 @@ def test_a_reader_never_sees_a_torn_window_while_a_writer_appends():
     finally:
         stop.set()
         writer.join()
+
+
+def test_a_pause_is_a_nan_between_the_samples_either_side_and_no_value_is_held_across_it():
+    buffer = RingBuffer(100)
+    buffer.append(np.array([0.0, 1.0, 2.0]), np.array([10.0, 11.0, 12.0]))
+    buffer.mark_gap()
+    buffer.mark_gap()  # twice at one place: one gap
+    buffer.append(np.array([40.0, 41.0]), np.array([20.0, 21.0]))
+    t, v = buffer.window(-np.inf, np.inf, gaps=True)
+    assert t.tolist() == [0.0, 1.0, 2.0, 2.0, 40.0, 41.0]
+    assert np.isnan(v[3]) and not np.isnan(np.delete(v, 3)).any()
+    assert len(buffer.window(-np.inf, np.inf)[0]) == 5  # without gaps: the samples only
+    assert buffer.at(2.0) == 12.0 and buffer.at(20.0) is None and buffer.at(40.5) == 20.0
+    buffer.append(np.arange(100, 200, dtype=float), np.zeros(100))  # the pause falls out of the buffer
+    assert buffer.gaps == []

@@ -17,6 +17,7 @@ plotted live; the fix calibrations and an editor on xsSWITCH_TANK_THR are open.
 examples:
   workbench demo
   workbench demo --screenshot demo.png
+  workbench demo --screenshot small.png --size 1366x768    # the window on a laptop's screen
 """
 
 
@@ -38,4 +39,4 @@ def run(args: argparse.Namespace) -> int:
     from workbench.gui.app import run_demo
 
     return run_demo(screenshot=args.screenshot, settle_s=args.settle, time_scale=args.time_scale,
-                    pcm_target_bar=args.pcm_target)
+                    pcm_target_bar=args.pcm_target, screen=args.size)

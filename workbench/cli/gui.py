@@ -40,6 +40,17 @@ def add_screenshot_arguments(parser: argparse.ArgumentParser) -> None:
                        help="render the window to PNG once live samples are on screen, then exit (implies --connect)")
     group.add_argument("--settle", type=float, default=4.0, metavar="S",
                        help="seconds of live data before the screenshot (default 4)")
+    group.add_argument("--size", type=screen_size, metavar="WxH",
+                       help="render the screenshot offscreen on a screen of WxH pixels, e.g. 1366x768 (default: the "
+                            "display's screen, or 1600x1000 without a display); the window fits it")
+
+
+def screen_size(text: str) -> tuple[int, int]:
+    """argparse type: ``WxH`` in pixels, e.g. ``1366x768``."""
+    match = re.fullmatch(r"\s*(\d+)\s*[xX×]\s*(\d+)\s*", text)
+    if match is None or min(int(match[1]), int(match[2])) < 200:
+        raise argparse.ArgumentTypeError(f"a screen size is WxH pixels (at least 200x200), e.g. 1366x768, not {text!r}")
+    return int(match[1]), int(match[2])
 
 
 def require_gui(screenshot: bool = False) -> None:
@@ -52,7 +63,7 @@ def require_gui(screenshot: bool = False) -> None:
     """
     problem = display_problem()
     if problem and screenshot:
-        os.environ["QT_QPA_PLATFORM"] = "offscreen"
+        os.environ["QT_QPA_PLATFORM"] = "offscreen"  # workbench.gui.app.screenshot_screen sizes its screen
     elif problem:
         raise WorkbenchError(problem)
     try:
@@ -110,4 +121,4 @@ def run(args: argparse.Namespace) -> int:
             "bitrate", None)
         project.connection = Connection(interface, channel, bitrate, settings, args.host, args.port, args.protocol)
     return run_window(project, connect=args.connect or args.screenshot is not None, screenshot=args.screenshot,
-                      settle_s=args.settle)
+                      settle_s=args.settle, screen=args.size)

@@ -59,7 +59,9 @@ class RecordRequest:
 class DaqAcquisition(QObject):
     """Measures the wanted signals of one session until :meth:`stop`.
 
-    ``sink(name, times, values)`` gets every signal's new samples (from the acquisition thread).
+    ``sink(name, times, values)`` gets every signal's new samples (from the acquisition thread);
+    ``gap(names)`` is told when their measurement pauses (stopped, restarted with other signals, failed),
+    so the plots break their lines there.
     """
 
     failed = Signal(object)  # the exception that stopped the measurement
@@ -67,10 +69,12 @@ class DaqAcquisition(QObject):
     recording_started = Signal(object)  # the RecordRequest
     recording_stopped = Signal(object)  # workbench.record.RecordingStats, or None when it could not start
 
-    def __init__(self, session, sink: Callable, origin: float, parent: QObject | None = None):
+    def __init__(self, session, sink: Callable, origin: float, parent: QObject | None = None,
+                 gap: Callable | None = None):
         super().__init__(parent)
         self.session = session
         self.sink = sink
+        self.gap = gap or (lambda names: None)
         self.origin = origin
         self.state = DaqState()
         self._wanted: tuple[str, ...] = ()
@@ -142,17 +146,20 @@ class DaqAcquisition(QObject):
 
     def _measure(self, names: tuple[str, ...]) -> None:
         state = self.state
-        with self.session.measure(list(names)) as measurement:
-            state.signals, state.running = names, True
-            self.started.emit(names)
-            while not self._stop.is_set() and not self._changed.is_set():
-                for batch in measurement.read(_READ_TIMEOUT_S):
-                    times = batch.host_time - self.origin
-                    for name, values in batch.values.items():
-                        self.sink(name, times, values)
-                stats = measurement.stats
-                state.samples, state.lost, state.overloads = stats.samples, stats.lost, stats.overloads
-        state.running = False
+        try:
+            with self.session.measure(list(names)) as measurement:
+                state.signals, state.running = names, True
+                self.started.emit(names)
+                while not self._stop.is_set() and not self._changed.is_set():
+                    for batch in measurement.read(_READ_TIMEOUT_S):
+                        times = batch.host_time - self.origin
+                        for name, values in batch.values.items():
+                            self.sink(name, times, values)
+                    stats = measurement.stats
+                    state.samples, state.lost, state.overloads = stats.samples, stats.lost, stats.overloads
+        finally:
+            state.running = False
+            self.gap(names)
 
     def _record(self, names: tuple[str, ...], request: RecordRequest) -> None:
         from workbench.record import Recorder
@@ -177,6 +184,7 @@ class DaqAcquisition(QObject):
                     state.samples, state.lost, state.overloads = stats.samples, stats.lost, stats.overloads
         finally:
             state.running, state.recording = False, None
+            self.gap(names)
         if self._recording is request:  # the recording ended by itself (the session closed)
             self._recording = None
         self.recording_stopped.emit(recorder.stats)

@@ -9,9 +9,11 @@ shows live samples (and ``settle_s`` more seconds have passed), then closes.
 
 from __future__ import annotations
 
+import json
 import logging
 import os
 import sys
+import tempfile
 import time
 import uuid
 from pathlib import Path
@@ -25,7 +27,9 @@ from workbench.gui.widgets.main_window import MainWindow
 
 log = logging.getLogger(__name__)
 
-__all__ = ["application", "run_demo", "run_window"]
+__all__ = ["application", "run_demo", "run_window", "screenshot_screen"]
+
+SCREENSHOT_SCREEN = (1600, 1000)  # the screen of an offscreen screenshot when no size is given
 
 
 def application() -> QApplication:
@@ -39,14 +43,33 @@ def application() -> QApplication:
     return app
 
 
+def screenshot_screen(size: tuple[int, int] | None) -> None:
+    """Before the QApplication exists: render offscreen on one screen of ``size`` pixels (given, or
+    :data:`SCREENSHOT_SCREEN` when offscreen already), so a screenshot shows the window as it fits that
+    screen; without a size on a display, the display's own screen."""
+    platform = os.environ.get("QT_QPA_PLATFORM", "")
+    if QApplication.instance() is not None or (size is None and platform != "offscreen"):
+        return
+    width, height = size or SCREENSHOT_SCREEN
+    config = Path(tempfile.gettempdir()) / f"workbench-screen-{width}x{height}.json"
+    config.write_text(json.dumps({"screens": [{"name": f"{width}x{height}", "x": 0, "y": 0, "width": width,
+                                               "height": height, "logicalDpi": 96, "dpr": 1}]}))
+    os.environ["QT_QPA_PLATFORM"] = f"offscreen:configfile={config}"
+
+
 def demo_channel() -> str:
     """A virtual CAN channel nobody else uses."""
     return f"workbench-demo-{os.getpid()}-{uuid.uuid4().hex[:8]}"
 
 
 def run_window(project: Project, *, connect: bool, screenshot: Path | None = None, settle_s: float = 4.0,
-               started: float | None = None) -> int:
-    """Show the window on ``project`` until it is closed (or the screenshot is taken); returns the exit code."""
+               started: float | None = None, screen: tuple[int, int] | None = None) -> int:
+    """Show the window on ``project`` until it is closed (or the screenshot is taken); returns the exit code.
+
+    :param screen: the screenshot's screen (width, height): rendered offscreen on one of that size.
+    """
+    if screenshot is not None:
+        screenshot_screen(screen)
     app = application()
     started = time.perf_counter() if started is None else started
     window = MainWindow(project)
@@ -71,6 +94,7 @@ def _take_screenshot_when_live(window: MainWindow, path: Path, settle_s: float, 
         QTimer.singleShot(int(settle_s * 1000), shoot)
 
     def shoot() -> None:
+        QApplication.processEvents()  # the layouts of texts that changed just now
         if not window.grab().save(str(path)):
             print(f"error: cannot write the screenshot {path}", file=sys.stderr)
             outcome["code"] = 1
@@ -94,7 +118,7 @@ DEMO_STEP_S = 6.0
 
 
 def run_demo(*, screenshot: Path | None = None, settle_s: float = 4.0, time_scale: float = 1.0,
-             pcm_target_bar: float | None = None) -> int:
+             pcm_target_bar: float | None = None, screen: tuple[int, int] | None = None) -> int:
     """Serve the demo ECU in this process on a private virtual bus and open the window on it.
 
     :param pcm_target_bar: the PCM's TargetRailPressure, held; None: it steps through
@@ -107,6 +131,8 @@ def run_demo(*, screenshot: Path | None = None, settle_s: float = 4.0, time_scal
     project = demo_project()
     project.connection = Connection(interface="virtual", channel=channel)
     targets = DEMO_TARGETS_BAR if pcm_target_bar is None else (pcm_target_bar,)
+    if screenshot is not None:
+        screenshot_screen(screen)
     with serve_demo({"interface": "virtual", "channel": channel}, pcm_target_bar=targets[0],
                     time_scale=time_scale) as simulator:
         application()
@@ -121,4 +147,5 @@ def run_demo(*, screenshot: Path | None = None, settle_s: float = 4.0, time_scal
         steps.timeout.connect(next_target)
         if len(targets) > 1:
             steps.start()
-        return run_window(project, connect=True, screenshot=screenshot, settle_s=settle_s, started=started)
+        return run_window(project, connect=True, screenshot=screenshot, settle_s=settle_s, started=started,
+                          screen=screen)

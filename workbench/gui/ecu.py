@@ -8,7 +8,12 @@ this file lists every session method the GUI uses:
 ``Session.open``, ``.info()``, ``.epk``, ``.read_only``, ``.page()``, ``.set_page()``,
 ``.copy_reference_to_working()``, ``.read()``, ``.read_value()``, ``.read_many()``, ``.write()``,
 ``.measure()`` (in :mod:`workbench.gui.acquisition`), ``.fixes()``, ``.override()``, ``.release()``,
-``.close()``.
+``.close()``; the dataset functions of :mod:`workbench.sync` take the session in the window's workers.
+
+A :class:`~workbench.errors.ConnectionLostError` from any call (or from the DAQ thread, through
+:meth:`EcuController.connection_lost`) ends the session: ``lost`` says what and when, and the
+controller tries to open the session again every few seconds until the ECU answers (``connected``
+follows) or :meth:`EcuController.stop_reconnecting` is called.
 """
 
 from __future__ import annotations
@@ -18,8 +23,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from PySide6.QtCore import QObject, Signal
+from PySide6.QtCore import QObject, QTimer, Signal
 
+from workbench.errors import ConnectionLostError
 from workbench.gui.project import Connection
 from workbench.gui.worker import Task, run_task
 
@@ -56,29 +62,45 @@ class EcuController(QObject):
     failed = Signal(object)  # an exception of a call nobody else handles
     written = Signal(str)  # a calibration was written (its name): editors and the fix panel refresh
     page_changed = Signal(str)  # "working" / "reference"
+    lost = Signal(object)  # the ConnectionLostError that ended the session (after ``disconnected``)
+    reconnecting = Signal(int)  # an attempt to open the session again starts (its number)
+
+    RECONNECT_MS = 2000
 
     def __init__(self, parent: QObject | None = None):
         super().__init__(parent)
         self.session = None
         self.info = None
+        self.lost_error: ConnectionLostError | None = None  # while the connection is lost
+        self._target = None  # (a2l, connection, accept_epk_mismatch) of the last open
+        self._attempt = 0
+        self._retry = QTimer(self)
+        self._retry.setSingleShot(True)
+        self._retry.timeout.connect(self.reconnect)
 
     @property
     def is_connected(self) -> bool:
         return self.session is not None
 
+    @property
+    def reconnecting_active(self) -> bool:
+        return self.lost_error is not None and (self._retry.isActive() or self._attempt > 0)
+
     def open(self, a2l, connection: Connection, accept_epk_mismatch: bool = False) -> Task:
         """Connect to the ECU of ``a2l`` (a path or a loaded A2lDocument) as ``connection`` says;
         ``connected`` or ``failed`` follows."""
         self.close()
+        self._target = (a2l, connection, accept_epk_mismatch)
+        return run_task(_open, a2l, connection, accept_epk_mismatch, on_done=self._opened, on_error=self.failed.emit)
 
-        def done(result: Connected) -> None:
-            self.session, self.info = result.session, result.info
-            self.connected.emit(result)
-
-        return run_task(_open, a2l, connection, accept_epk_mismatch, on_done=done, on_error=self.failed.emit)
+    def _opened(self, result: Connected) -> None:
+        self.stop_reconnecting()
+        self.session, self.info = result.session, result.info
+        self.connected.emit(result)
 
     def close(self) -> None:
         """Disconnect (stops DAQ, frees the bus); ``disconnected`` follows when there was a session."""
+        self.stop_reconnecting()
         session, self.session = self.session, None
         if session is not None:
             session.close()
@@ -86,12 +108,56 @@ class EcuController(QObject):
 
     def call(self, method: str, *args, on_done: Callable[[Any], None] | None = None,
              on_error: Callable[[BaseException], None] | None = None, **kwargs) -> Task | None:
-        """Run ``session.<method>(*args, **kwargs)`` in the pool; errors go to ``on_error`` or ``failed``."""
+        """Run ``session.<method>(*args, **kwargs)`` in the pool; errors go to ``on_error`` or ``failed``
+        (a lost connection to :meth:`connection_lost` instead)."""
         session = self.session
         if session is None:
             return None
-        return run_task(getattr(session, method), *args, on_done=on_done, on_error=on_error or self.failed.emit,
-                        **kwargs)
+        failed = on_error or self.failed.emit
+
+        def error(exc: BaseException) -> None:
+            if isinstance(exc, ConnectionLostError):
+                self.connection_lost(exc)
+            else:
+                failed(exc)
+
+        return run_task(getattr(session, method), *args, on_done=on_done, on_error=error, **kwargs)
+
+    # --- a lost connection --------------------------------------------------------------------------
+
+    def connection_lost(self, exc: ConnectionLostError) -> None:
+        """The ECU stopped answering: the session is closed (in a worker: its stop commands would wait for
+        their timeouts), ``disconnected`` and ``lost`` follow, and reconnecting starts."""
+        session, self.session = self.session, None
+        if session is None:
+            return
+        self.lost_error = exc
+        run_task(session.close, on_error=lambda error: log.debug("closing a lost session: %s", error))
+        self.disconnected.emit()
+        self.lost.emit(exc)
+        self._attempt = 0
+        self._retry.start(self.RECONNECT_MS)
+
+    def reconnect(self) -> None:
+        """One attempt to open the session again (now); the next follows after ``RECONNECT_MS`` if it fails."""
+        if self._target is None or self.session is not None:
+            return
+        self._retry.stop()
+        self._attempt += 1
+        self.reconnecting.emit(self._attempt)
+
+        def failed(error: BaseException) -> None:
+            log.debug("reconnect attempt %d: %s", self._attempt, error)
+            if self.lost_error is not None:
+                self._retry.start(self.RECONNECT_MS)
+
+        run_task(_open, *self._target, on_done=self._opened, on_error=failed)
+
+    def stop_reconnecting(self) -> None:
+        """No further attempts (one under way still connects if the ECU answers)."""
+        self._retry.stop()
+        self.lost_error = None
+        self._attempt = 0
 
     def write(self, name: str, value, *, allow_extended_limits: bool = False,
               on_done: Callable[[Any], None] | None = None,

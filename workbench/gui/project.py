@@ -20,6 +20,9 @@ and edit::
     [[editors]]
     name = "xsSWITCH_TANK_THR"
 
+    [columns]                        # column widths of the window's tables, as the user left them
+    fixes = [180, 90, 90, 34, 60]
+
 This module holds no Qt: it reads and writes files (atomically) and keeps the list of recent
 projects in the user's config folder (platformdirs).
 """
@@ -85,6 +88,7 @@ class Project:
     plots: list[PlotSpec] = field(default_factory=list)
     tables: list[list[str]] = field(default_factory=list)  # numeric views: their signals
     editors: list[str] = field(default_factory=list)  # calibration editors open, by name
+    columns: dict[str, list[int]] = field(default_factory=dict)  # a table's column widths, by the table's name
     layout: str | None = None  # the window's dock layout (Qt's saveState, base64)
     path: Path | None = None  # where it was loaded from / saved to
 
@@ -110,6 +114,8 @@ class Project:
             data["tables"] = [{"signals": list(signals)} for signals in self.tables]
         if self.editors:
             data["editors"] = [{"name": name} for name in self.editors]
+        if self.columns:
+            data["columns"] = {name: list(widths) for name, widths in self.columns.items()}
         if self.layout:
             data["layout"] = self.layout
         return data
@@ -179,6 +185,8 @@ def project_from_dict(data: dict[str, Any], path: Path | None = None) -> Project
                                                       "tables.signals")])
     for editor in expect(data.get("editors", []), list, "editors"):
         project.editors.append(str(expect(editor, dict, "editors").get("name", "")))
+    for name, widths in expect(data.get("columns", {}), dict, "columns").items():
+        project.columns[str(name)] = [int(w) for w in expect(widths, list, f"columns.{name}") if isinstance(w, int)]
     if "layout" in data:
         project.layout = expect(data["layout"], str, "layout")
     return project

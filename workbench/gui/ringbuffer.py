@@ -4,6 +4,10 @@ A :class:`RingBuffer` keeps the last ``capacity`` (time, value) pairs of one sig
 that long; appending past the end moves the newest half to the front (amortised O(1)), so the
 samples are always one contiguous slice and a plot reads a time window with two ``searchsorted``
 and one copy, never a concatenation of chunks.
+
+A pause in the measurement (stopped for a flash, restarted with other signals, a lost connection)
+is marked with :meth:`RingBuffer.mark_gap`; :meth:`RingBuffer.window` then puts a NaN between the
+samples either side of it, so a plot breaks its line there instead of drawing what was never measured.
 """
 
 from __future__ import annotations
@@ -26,6 +30,7 @@ class RingBuffer:
         self._value = np.empty(2 * capacity)
         self._start = self._end = 0
         self._lock = threading.Lock()
+        self._gaps: list[float] = []  # times of the last sample before each pause, ascending
         self.total = 0  # samples ever appended
 
     def __len__(self) -> int:
@@ -51,15 +56,36 @@ class RingBuffer:
             self._end += n
             self._start = max(self._start, self._end - self.capacity)
             self.total += n
+            oldest = self._time[self._start]
+            while self._gaps and self._gaps[0] < oldest:
+                self._gaps.pop(0)
 
-    def window(self, t0: float, t1: float, margin: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    def mark_gap(self) -> None:
+        """The measurement pauses after the newest sample: no line joins it to the next one."""
+        with self._lock:
+            if self._end > self._start:
+                last = float(self._time[self._end - 1])
+                if not self._gaps or self._gaps[-1] != last:
+                    self._gaps.append(last)
+
+    @property
+    def gaps(self) -> list[float]:
+        with self._lock:
+            return list(self._gaps)
+
+    def window(self, t0: float, t1: float, margin: int = 1, gaps: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """Copies of the samples with ``t0 <= time <= t1``, plus ``margin`` samples on either side
-        (so a line runs to the plot's edges)."""
+        (so a line runs to the plot's edges); with ``gaps``, a NaN after the last sample before each pause."""
         with self._lock:
             times = self._time[self._start:self._end]
             lo = max(int(np.searchsorted(times, t0, "left")) - margin, 0)
             hi = min(int(np.searchsorted(times, t1, "right")) + margin, len(times))
-            return times[lo:hi].copy(), self._value[self._start + lo:self._start + hi].copy()
+            t, v = times[lo:hi].copy(), self._value[self._start + lo:self._start + hi].copy()
+            breaks = [g for g in self._gaps if len(t) and t[0] <= g < t[-1]] if gaps else []
+        if breaks:
+            at = np.searchsorted(t, breaks, "right")
+            t, v = np.insert(t, at, breaks), np.insert(v, at, np.nan)
+        return t, v
 
     def last(self) -> tuple[float, float] | None:
         """The newest (time, value), or None when empty."""
@@ -69,11 +95,14 @@ class RingBuffer:
             return float(self._time[self._end - 1]), float(self._value[self._end - 1])
 
     def at(self, t: float) -> float | None:
-        """The value of the newest sample at or before ``t`` (a sample-and-hold reading), or None."""
+        """The value of the newest sample at or before ``t`` (a sample-and-hold reading), or None (also
+        during a pause: after its last sample, before the next)."""
         with self._lock:
             times = self._time[self._start:self._end]
             i = int(np.searchsorted(times, t, "right")) - 1
-            return None if i < 0 else float(self._value[self._start + i])
+            if i < 0 or (times[i] < t and float(times[i]) in self._gaps):
+                return None
+            return float(self._value[self._start + i])
 
     def span(self) -> tuple[float, float] | None:
         """(oldest, newest) time, or None when empty."""
@@ -85,3 +114,4 @@ class RingBuffer:
     def clear(self) -> None:
         with self._lock:
             self._start = self._end = 0
+            self._gaps.clear()

@@ -118,6 +118,11 @@ class SignalHub(QObject):
             values = values.reshape(len(values), -1)[:, 0]
         self.buffer(name).append(times, values)
 
+    def mark_gap(self, names) -> None:
+        """The samples of ``names`` pause here (any thread): their plots break the line."""
+        for name in names:
+            self.buffer(name).mark_gap()
+
     def now(self) -> float:
         """Seconds since the origin, on the samples' time axis."""
         return time.time() - self.origin
@@ -162,3 +167,4 @@ class SignalHub(QObject):
             acquisition.stop()
         if monitor is not None:
             monitor.close()
+            self.mark_gap(name for name, info in list(self._catalog.items()) if info.source == "CAN2")

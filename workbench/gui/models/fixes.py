@@ -15,7 +15,8 @@ from workbench.gui.models.rows import RowsModel
 
 __all__ = ["FixModel"]
 
-COLUMNS = ("signal", "kind", "live", "override", "on")
+COLUMNS = ("signal", "live", "override", "on", "kind")
+KIND_SHORT = {"CAN signal": "CAN", "sensor": "sensor"}
 ON = COLUMNS.index("on")
 OVERRIDE = COLUMNS.index("override")
 
@@ -59,7 +60,8 @@ class FixModel(RowsModel):
         fix = self.rows[index.row()]
         column = COLUMNS[index.column()]
         if role == Qt.DisplayRole:
-            return {"signal": fix.pair.signal, "kind": fix.pair.kind, "live": self.live_text(fix),
+            return {"signal": fix.pair.signal, "kind": KIND_SHORT.get(fix.pair.kind, fix.pair.kind),
+                    "live": self.live_text(fix),
                     "override": format_value(fix.override), "on": None}[column]
         if role == Qt.EditRole and column == "override":
             return fix.override
@@ -76,8 +78,8 @@ class FixModel(RowsModel):
             source = (f"\nlive: {fix.pair.live}" if fix.pair.live else
                       "\nlive: as sent on CAN2" if self.bus_value(fix) is not None else
                       "\nlive: the A2L has no measurement of it")
-            return (f"{fix.pair.signal}\n{fix.pair.enable} / {fix.pair.value}: while {fix.pair.enable} = 1 the ECU "
-                    f"uses {fix.pair.value} instead of {fix.pair.signal}{source}\n"
+            return (f"{fix.pair.signal} ({fix.pair.kind})\n{fix.pair.enable} / {fix.pair.value}: while "
+                    f"{fix.pair.enable} = 1 the ECU uses {fix.pair.value} instead of {fix.pair.signal}{source}\n"
                     "override: Enter writes, Esc restores")
         return None
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QUndoCommand, QUndoStack
-from PySide6.QtWidgets import QHBoxLayout, QLabel, QToolButton, QVBoxLayout, QWidget
+from PySide6.QtWidgets import QHBoxLayout, QLabel, QSizePolicy, QToolButton, QVBoxLayout, QWidget
 
 from workbench.errors import InputError
 from workbench.gui import theme
@@ -76,8 +76,9 @@ class CalibrationEditor(QWidget):
         self.title = ElidedLabel(mode=Qt.ElideMiddle, minimum=60)
         self.title.setStyleSheet("font-weight: 600;")
         self.title.setText(info.name, "\n".join(t for t in (kind_text, info.description) if t))
-        head.addWidget(self.title, 1)
+        head.addWidget(self.title)
         kind = ElidedLabel(kind_text, mode=Qt.ElideRight, minimum=0)
+        kind.setSizePolicy(QSizePolicy.Ignored, QSizePolicy.Preferred)  # gives way first: the name stays whole
         kind.setStyleSheet(f"color: {theme.MUTED};")
         head.addWidget(kind, 1)
         self.modified_badge = QLabel("modified")

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 from PySide6.QtCore import QTimer
-from PySide6.QtWidgets import QAbstractItemView, QCheckBox, QHBoxLayout, QHeaderView, QLabel, QTableView, QVBoxLayout, QWidget
+from PySide6.QtWidgets import QAbstractItemView, QCheckBox, QHBoxLayout, QLabel, QTableView, QVBoxLayout, QWidget
 
 from workbench.gui import theme
 from workbench.gui.models.trace import TraceModel
+from workbench.gui.widgets.columns import share_columns
 
 __all__ = ["CanTrace"]
 
@@ -39,9 +40,7 @@ class CanTrace(QWidget):
         self.table.verticalHeader().setDefaultSectionSize(20)
         self.table.setShowGrid(False)
         self.table.setSelectionBehavior(QAbstractItemView.SelectRows)
-        header = self.table.horizontalHeader()
-        header.setSectionResizeMode(QHeaderView.ResizeToContents)
-        header.setStretchLastSection(True)
+        share_columns(self.table, (1, 0.8, 1.8, 0.5, 2.2, 4))  # time, id, message, dlc, data, decoded
         layout.addWidget(self.table)
         self.timer = QTimer(self)
         self.timer.setInterval(REFRESH_MS)

@@ -16,7 +16,7 @@ class ElidedLabel(QLabel):
         self.minimum = minimum
         self.full_text = ""
         self.extra_tip = ""
-        self.setSizePolicy(QSizePolicy.Ignored, QSizePolicy.Preferred)
+        self.setSizePolicy(QSizePolicy.Preferred, QSizePolicy.Preferred)  # its whole text if there is room
         self.setText(text)
 
     def setText(self, text: str, tip: str = "") -> None:  # noqa: N802 - Qt's name

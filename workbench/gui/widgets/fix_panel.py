@@ -6,13 +6,14 @@ from the drop-down); a value the session refuses is said below the table, the li
 
 from __future__ import annotations
 
-from PySide6.QtCore import QTimer, Signal
-from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QLabel, QTableView, QVBoxLayout, QWidget
+from PySide6.QtCore import Qt, QTimer, Signal
+from PySide6.QtWidgets import QAbstractItemView, QLabel, QTableView, QVBoxLayout, QWidget
 
 from workbench.errors import InputError
 from workbench.gui import theme
 from workbench.gui.formatting import format_value
 from workbench.gui.models.fixes import COLUMNS, FixModel
+from workbench.gui.widgets.columns import share_columns
 from workbench.gui.widgets.value_input import ValueDelegate
 
 __all__ = ["FixPanel"]
@@ -58,12 +59,8 @@ class FixPanel(QWidget):
         self.delegate = ValueDelegate(self.table, states=self._states)
         self.delegate.refused.connect(self._say_refused)
         self.table.setItemDelegateForColumn(COLUMNS.index("override"), self.delegate)
-        header = self.table.horizontalHeader()
-        header.setSectionResizeMode(QHeaderView.Interactive)
-        header.setStretchLastSection(False)
-        header.setSectionResizeMode(COLUMNS.index("on"), QHeaderView.Fixed)
-        for column, width in zip(range(len(COLUMNS)), (190, 80, 96, 96, 34)):
-            header.resizeSection(column, width)
+        self.table.setTextElideMode(Qt.ElideMiddle)
+        share_columns(self.table, (4.2, 2, 2, 0.8, 1.2))  # signal, live, override, on, kind
         layout.addWidget(self.table)
         self.message = QLabel()
         self.message.setWordWrap(True)

@@ -24,6 +24,7 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
 )
 
+from workbench.errors import Cancelled
 from workbench.gui import theme
 from workbench.gui.worker import Task
 
@@ -219,6 +220,7 @@ class FlashDialog(QDialog):
             self.progress_label.setText("cancelling at the next block …")
 
     def _progressed(self, done: int, total: int, label: str) -> None:
+        self.progress_label.setStyleSheet(f"color: {theme.MUTED};")
         self.progress.setMaximum(max(total, 1))
         self.progress.setValue(done)
         self.progress_label.setText(label)
@@ -226,11 +228,19 @@ class FlashDialog(QDialog):
     def _done(self, result) -> None:
         self.progress.setValue(self.progress.maximum())
         self.result.setPlainText(result.describe())
+        self._final("done: " + ("verified, the application runs" if result.application_running
+                                else "verified, the ECU is in its boot loader"), theme.GOOD)
         self.flashed.emit(result)
 
     def _failed(self, exc) -> None:
         self.result.setPlainText(f"⚠ {exc}")
+        self._final("cancelled" if isinstance(exc, Cancelled) else "failed: see below", theme.BAD)
         self.flash_failed.emit(exc)
+
+    def _final(self, text: str, colour: str) -> None:
+        """The flash is over: the progress line says how it ended (not the last phase it reported)."""
+        self.progress_label.setText(text)
+        self.progress_label.setStyleSheet(f"color: {colour};")
 
     def _finished(self) -> None:
         self._busy(False)

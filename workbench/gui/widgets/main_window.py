@@ -23,9 +23,11 @@ from PySide6.QtWidgets import (
     QMainWindow,
     QSplitter,
     QTabWidget,
+    QVBoxLayout,
     QWidget,
 )
 
+from workbench.errors import ConnectionLostError
 from workbench.gui import theme
 from workbench.gui.a2l_info import calibration_info, measurement_info
 from workbench.gui.acquisition import DaqAcquisition, RecordRequest
@@ -35,12 +37,14 @@ from workbench.gui.mime import names_from_mime
 from workbench.gui.project import PlotSpec, Project, recent_projects, remember_project, save_project
 from workbench.gui.signal_hub import SignalHub
 from workbench.gui.widgets.calibration_editor import CalibrationEditor
+from workbench.gui.widgets.columns import column_widths, set_column_widths
 from workbench.gui.widgets.can_trace import CanTrace
 from workbench.gui.widgets.connection_dialog import ConnectionDialog
 from workbench.gui.widgets.epk_dialog import EpkChoice, EpkDialog
 from workbench.gui.widgets.errors import show_error
 from workbench.gui.widgets.fix_panel import FixPanel
 from workbench.gui.widgets.flash_dialog import FlashDialog
+from workbench.gui.widgets.lost_banner import LostBanner
 from workbench.gui.widgets.numeric_view import NumericView
 from workbench.gui.widgets.plot_window import PlotWindow
 from workbench.gui.widgets.status_bar import EcuStatusBar
@@ -72,12 +76,16 @@ class MainWindow(QMainWindow):
         self.sync_report = None  # the last cache sync's workbench.sync.SyncReport
         self.last_recording = None  # the last recording's workbench.record.RecordingStats
         self.errors: list = []  # the error dialogs shown (tests look at them)
-        self.resize(1600, 980)
         self._build()
+        self.fit_to_screen()
         self.controller.connected.connect(self._connected)
         self.controller.disconnected.connect(self._disconnected)
         self.controller.failed.connect(self.show_error)
         self.controller.page_changed.connect(self.status.show_page)
+        self.controller.lost.connect(self._lost)
+        self.controller.reconnecting.connect(
+            lambda attempt: self.status.set_pause(f"reconnecting (attempt {attempt})", self.status.pause[1]
+                                                  if self.status.pause else None))
         self.hub.failed.connect(self.show_error)
         self._update_title()
 
@@ -89,7 +97,14 @@ class MainWindow(QMainWindow):
         self.setCorner(Qt.BottomRightCorner, Qt.RightDockWidgetArea)
         self.plot_area = QSplitter(Qt.Vertical)
         self.plot_area.setChildrenCollapsible(False)
-        self.setCentralWidget(self.plot_area)
+        central = QWidget()
+        column = QVBoxLayout(central)
+        column.setContentsMargins(0, 0, 0, 0)
+        column.setSpacing(0)
+        self.lost_banner = LostBanner(self.controller)
+        column.addWidget(self.lost_banner)
+        column.addWidget(self.plot_area, 1)
+        self.setCentralWidget(central)
         self.browser = VariableBrowser()
         self.browser.open_requested.connect(self.open_variable)
         self.browser_dock = self._dock("Variables", self.browser, Qt.LeftDockWidgetArea)
@@ -112,12 +127,37 @@ class MainWindow(QMainWindow):
         self.trace_dock = self._dock("CAN trace", self.trace, Qt.BottomDockWidgetArea)
         self.tabifyDockWidget(self.numeric_dock, self.trace_dock)
         self.numeric_dock.raise_()
-        self.resizeDocks([self.browser_dock, self.editor_dock], [370, 470], Qt.Horizontal)
-        self.resizeDocks([self.editor_dock, self.fix_dock], [330, 520], Qt.Vertical)
-        self.resizeDocks([self.numeric_dock], [210], Qt.Vertical)
         self.status = EcuStatusBar(self.hub)
         self.setStatusBar(self.status)
         self._actions()
+
+    def fit_to_screen(self) -> None:
+        """The screen the window opens on, all of it up to 1600 x 1000 and 92 % of a larger one, never more;
+        the docks share the space in proportion (on 1366 x 768 as on 1920 x 1080)."""
+        space = self.screen().availableGeometry()
+        width = min(space.width(), max(1600, int(space.width() * 0.92)))
+        height = min(space.height(), max(1000, int(space.height() * 0.92)))
+        self.resize(width, height)
+        self.resizeDocks([self.browser_dock, self.editor_dock], [int(width * 0.22), int(width * 0.3)], Qt.Horizontal)
+        self.resizeDocks([self.editor_dock, self.fix_dock], [int(height * 0.36), int(height * 0.5)], Qt.Vertical)
+        self.resizeDocks([self.numeric_dock], [int(height * 0.22)], Qt.Vertical)
+
+    def showEvent(self, event) -> None:
+        super().showEvent(event)
+        if not event.spontaneous():
+            self._frame_within_screen()
+
+    def _frame_within_screen(self) -> None:
+        """The window's frame (title bar, borders) inside the screen too: the window gives them room."""
+        space = self.screen().availableGeometry()
+        frame = self.frameGeometry()
+        extra_w, extra_h = frame.width() - self.width(), frame.height() - self.height()
+        if frame.width() > space.width() or frame.height() > space.height():
+            self.resize(min(self.width(), space.width() - extra_w), min(self.height(), space.height() - extra_h))
+        frame = self.frameGeometry()
+        if not space.contains(frame):
+            self.move(max(space.left(), min(frame.left(), space.right() + 1 - frame.width())),
+                      max(space.top(), min(frame.top(), space.bottom() + 1 - frame.height())))
 
     def _dock(self, title: str, widget: QWidget, area) -> QDockWidget:
         dock = QDockWidget(title, self)
@@ -239,6 +279,10 @@ class MainWindow(QMainWindow):
             self.editor_tabs.setCurrentWidget(self.editors[self.project.editors[0]])
         if self.project.layout:
             self.restoreState(QByteArray(base64.b64decode(self.project.layout)))
+        tables = self.column_tables()
+        for name, widths in self.project.columns.items():
+            if name in tables:
+                set_column_widths(tables[name], widths)
 
     def open_project_dialog(self) -> None:
         path, _ = QFileDialog.getOpenFileName(self, "Open project", "", "Projects (*.toml *.json);;All files (*)")
@@ -263,8 +307,16 @@ class MainWindow(QMainWindow):
         project.plots = [PlotSpec(p.title, p.signals, p.span_s) for p in self.plots]
         project.tables = [self.numeric.signals] if self.numeric.signals else []
         project.editors = list(self.editors)
+        project.columns = {name: column_widths(view) for name, view in self.column_tables().items()}
         project.layout = base64.b64encode(bytes(self.saveState())).decode("ascii")
         return project
+
+    def column_tables(self) -> dict:
+        """The tables whose column widths the project file keeps, by name."""
+        tables = {"variables": self.browser.table, "fixes": self.fix_panel.table, "numeric": self.numeric,
+                  "trace": self.trace.table}
+        tables.update({f"plot {number}": plot.legend for number, plot in enumerate(self.plots, 1)})
+        return tables
 
     def save(self) -> None:
         if self.project.path is None:
@@ -404,20 +456,28 @@ class MainWindow(QMainWindow):
                                      self.hub.origin, bitrate)
             except Exception as exc:  # noqa: BLE001 - XCP goes on without the CAN2 view
                 self.show_error(exc)
-        acquisition = DaqAcquisition(session, self.hub.sink, self.hub.origin, self)
+        acquisition = DaqAcquisition(session, self.hub.sink, self.hub.origin, self, gap=self.hub.mark_gap)
         acquisition.recording_stopped.connect(self._recording_stopped)
         self.hub.attach(acquisition, monitor)
+        self.status.set_pause(None)
         self.record_action.setEnabled(True)
 
     def _disconnected(self) -> None:
         self.hub.detach()
         self.status.show_disconnected()
+        self.status.set_pause(None)
         self.connect_action.setEnabled(True)
         for action in (self.disconnect_action, self.flash_action, self.working_action, self.reference_action,
                        self.copy_action, self.record_action):
             action.setEnabled(False)
         self.record_action.setChecked(False)
         self._update_title()
+
+    def _lost(self, exc) -> None:
+        """The ECU stopped answering: say what and when; the controller reconnects when it answers again."""
+        self.status.show_lost(exc)
+        self.status.set_pause("connection lost", exc.when)
+        self.connect_action.setEnabled(True)
 
     def _copy_reference(self) -> None:
         self.controller.call("copy_reference_to_working",
@@ -466,21 +526,36 @@ class MainWindow(QMainWindow):
         session = self.controller.session
         if session is None:
             return None
-        self.hub.detach()  # the ECU flashes with no DAQ running
         self.flash_dialog = FlashDialog(session, self.project.s19, self)
         if regions:
             self.flash_dialog.select_regions(regions)
-        self.flash_dialog.flashed.connect(self._flashed)
-        self.flash_dialog.finished.connect(lambda _: self._start_measuring(check_cache=False))
+        self.flash_dialog.flash_started.connect(self._flash_started)
         self.flash_dialog.open()
         return self.flash_dialog
 
-    def _flashed(self, result) -> None:
+    def _flash_started(self, task) -> None:
+        """The ECU flashes with no DAQ running; measuring resumes by itself when the flash is over."""
+        self.hub.detach()
+        self.status.set_pause("flashing")
+        task.finished.connect(self._flash_over)
+
+    def _flash_over(self) -> None:
+        """Read what the ECU is now (the application again, or the boot loader after a failed flash)."""
+        self.status.set_pause("reading the ECU after the flash")
+        self.controller.call("info", on_done=self._ecu_after_flash)
+
+    def _ecu_after_flash(self, info) -> None:
         session = self.controller.session
-        if session is not None:
-            self.status.show_connected(session, self.controller.info)
+        if session is None:
+            return
+        self.controller.info = info
+        self.status.show_connected(session, info)
         for editor in self.editors.values():
             editor.reload()
+        if info.boot:
+            self.status.set_pause("the ECU stays in its boot loader (flash the application)")
+            return
+        self._start_measuring(check_cache=False)
 
     def check_cache(self) -> Task:
         """Compare the ECU's calibrations with the project's s19 (thesis figure 39: checksums first, objects
@@ -527,6 +602,9 @@ class MainWindow(QMainWindow):
     # --- errors and closing ---------------------------------------------------------------------
 
     def show_error(self, exc: BaseException) -> None:
+        if isinstance(exc, ConnectionLostError):  # not a dialog: the banner and the status bar say it
+            self.controller.connection_lost(exc)
+            return
         self.errors.append(show_error(self, exc))
 
     def closeEvent(self, event) -> None:

@@ -4,11 +4,12 @@ from __future__ import annotations
 
 from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtGui import QColor
-from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QTableWidget, QTableWidgetItem
+from PySide6.QtWidgets import QAbstractItemView, QTableWidget, QTableWidgetItem
 
 from workbench.gui import theme
 from workbench.gui.mime import SignalDropTarget
 from workbench.gui.signal_hub import SignalHub
+from workbench.gui.widgets.columns import share_columns
 
 __all__ = ["NumericView"]
 
@@ -32,9 +33,8 @@ class NumericView(SignalDropTarget, QTableWidget):
         self.setAcceptDrops(True)
         self.viewport().setAcceptDrops(True)
         self.setDragDropMode(QAbstractItemView.DropOnly)
-        header = self.horizontalHeader()
-        header.setSectionResizeMode(QHeaderView.ResizeToContents)
-        header.setSectionResizeMode(0, QHeaderView.Stretch)
+        self.setTextElideMode(Qt.ElideMiddle)
+        share_columns(self, (3.2, 1.6, 0.8, 0.8))  # signal, value, unit, source
         self.timer = QTimer(self)
         self.timer.setInterval(REFRESH_MS)
         self.timer.timeout.connect(self.refresh)
@@ -52,7 +52,7 @@ class NumericView(SignalDropTarget, QTableWidget):
             row = self.rowCount()
             self.insertRow(row)
             item = QTableWidgetItem(name)
-            item.setToolTip(info.description or name)
+            item.setToolTip(f"{name}\n{info.description}" if info.description else name)
             self.setItem(row, 0, item)
             value = QTableWidgetItem("—")
             value.setFont(theme.mono_font(11))

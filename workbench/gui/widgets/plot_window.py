@@ -2,7 +2,7 @@
 
 pyqtgraph draws; a QTimer (25 Hz) copies the visible time window out of each signal's ring
 buffer and hands it to the curve, which downsamples to the pixels it has (peak method, so
-spikes stay visible). While *following*, the x range slides with the newest sample; panning or
+spikes stay visible); a pause in the measurement is a break in the line. While *following*, the x range slides with the newest sample; panning or
 zooming with the mouse stops following, the Follow button resumes it. A cursor shows every
 signal's value at one instant. Signals with the same unit share a y-axis; each axis is coloured
 like its first signal and autoscales unless the user zooms it.
@@ -17,7 +17,6 @@ from PySide6.QtWidgets import (
     QAbstractItemView,
     QComboBox,
     QHBoxLayout,
-    QHeaderView,
     QLabel,
     QSplitter,
     QTableWidget,
@@ -30,6 +29,7 @@ from PySide6.QtWidgets import (
 from workbench.gui import theme
 from workbench.gui.mime import SignalDropTarget
 from workbench.gui.signal_hub import SignalHub
+from workbench.gui.widgets.columns import share_columns
 
 __all__ = ["PlotWindow"]
 
@@ -133,11 +133,8 @@ class PlotWindow(SignalDropTarget, QWidget):
         self.legend.setShowGrid(False)
         self.legend.setTextElideMode(Qt.ElideMiddle)
         self.legend.verticalHeader().setDefaultSectionSize(22)
-        header = self.legend.horizontalHeader()
-        header.setSectionResizeMode(0, QHeaderView.Stretch)
-        header.setSectionResizeMode(1, QHeaderView.ResizeToContents)
-        header.setSectionResizeMode(2, QHeaderView.ResizeToContents)
-        self.legend.setMinimumWidth(200)
+        share_columns(self.legend, (3, 1.6, 0.9))  # signal, value, unit
+        self.legend.setMinimumWidth(160)
         self.legend.setToolTip("Del removes the selected signals; drop names here or on the plot to add them")
         splitter.addWidget(self.legend)
         splitter.setStretchFactor(0, 1)
@@ -193,7 +190,7 @@ class PlotWindow(SignalDropTarget, QWidget):
         colour = theme.trace_colour(len(self._order))
         # a 1-pixel (cosmetic) pen: wider ones make Qt stroke every segment, ~4x slower; downsampling to
         # about one min/max pair per pixel column keeps spikes and draws no line nobody can see
-        curve = pg.PlotDataItem(pen=pg.mkPen(colour, width=1), name=name, autoDownsampleFactor=1.0)
+        curve = pg.PlotDataItem(pen=pg.mkPen(colour, width=1), name=name, autoDownsampleFactor=1.0, connect="finite")
         curve.setDownsampling(auto=True, method="peak")
         curve.setClipToView(True)
         axis = self._axis_for(info.unit, colour)
@@ -246,7 +243,8 @@ class PlotWindow(SignalDropTarget, QWidget):
             item = QTableWidgetItem(name)
             item.setData(Qt.DecorationRole, colour)
             item.setForeground(colour)
-            item.setToolTip(self.hub.info(name).description or name)
+            description = self.hub.info(name).description
+            item.setToolTip(f"{name}\n{description}" if description else name)
             self.legend.setItem(row, 0, item)
             value = QTableWidgetItem("—")
             value.setTextAlignment(Qt.AlignRight | Qt.AlignVCenter)
@@ -326,7 +324,7 @@ class PlotWindow(SignalDropTarget, QWidget):
         else:
             (x0, x1), _ = self.plot.vb.viewRange()
         for name, curve in self._curves.items():
-            t, v = self.hub.buffer(name).window(x0, x1)
+            t, v = self.hub.buffer(name).window(x0, x1, gaps=True)  # a pause breaks the line (NaN)
             curve.setData(t, v)
         if not self.cursor_button.isChecked() and self.frames % LEGEND_EVERY == 0:
             self._update_legend_values(None)

@@ -1,15 +1,27 @@
-"""The status bar: who the ECU is, whether its EPK matches, what is locked, which page, bus load, DAQ."""
+"""The status bar: who the ECU is, whether its EPK matches, what is locked, which page, bus load, DAQ,
+and - when the measurement stands still - why and since when (flashing, reconnecting, connection lost).
+
+Every text fits: the ECU's name and the link give way first (cut with "…", all of it in the tooltip),
+the measurement's state is short and complete."""
 
 from __future__ import annotations
 
-from PySide6.QtCore import QTimer
-from PySide6.QtWidgets import QLabel, QSizePolicy, QStatusBar
+import time
+
+from PySide6.QtCore import Qt, QTimer
+from PySide6.QtWidgets import QLabel, QStatusBar
 
 from workbench.gui import theme
+from workbench.gui.widgets.elided_label import ElidedLabel
 
-__all__ = ["EcuStatusBar"]
+__all__ = ["EcuStatusBar", "clock"]
 
 REFRESH_MS = 500
+
+
+def clock(when: float) -> str:
+    """``when`` (seconds since the epoch) as the wall-clock time a user compares with their watch."""
+    return time.strftime("%H:%M:%S", time.localtime(when))
 
 
 def _badge(text: str, colour: str, tip: str = "") -> QLabel:
@@ -24,8 +36,9 @@ class EcuStatusBar(QStatusBar):
     def __init__(self, hub, parent=None):
         super().__init__(parent)
         self.hub = hub
-        self.link = QLabel("not connected")
-        self.ecu = QLabel()
+        self.pause: tuple[str, float] | None = None  # why the measurement stands still, since when
+        self.link = ElidedLabel("not connected", mode=Qt.ElideRight, minimum=80)
+        self.ecu = ElidedLabel(mode=Qt.ElideRight, minimum=60)
         self.epk = _badge("EPK —", theme.MUTED)
         self.protection = QLabel()
         self.page = QLabel()
@@ -33,9 +46,6 @@ class EcuStatusBar(QStatusBar):
         self.daq = QLabel()
         self.recording = QLabel()
         self.recording.setStyleSheet(f"color: {theme.BAD}; font-weight: bold;")
-        for widget in (self.link, self.ecu):  # long texts: they give way (tooltip: all of it) before the window grows
-            widget.setSizePolicy(QSizePolicy.Ignored, QSizePolicy.Preferred)
-            widget.setMinimumWidth(60)
         self.addWidget(self.link, 3)
         self.addWidget(self.ecu, 2)
         for widget in (self.epk, self.protection, self.page):
@@ -49,28 +59,27 @@ class EcuStatusBar(QStatusBar):
 
     def show_connected(self, session, info) -> None:
         self.link.setText(f"● {info.link}")
-        self.link.setToolTip(info.link)
         self.link.setStyleSheet(f"color: {theme.GOOD};")
         ident = info.identification or info.a2l_name or "ECU"
         self.ecu.setText(f"{ident}{'  (boot loader)' if info.boot else ''}")
-        self.ecu.setToolTip(self.ecu.text())
         epk = session.epk
         if epk.matches is True:
-            self._set_badge(self.epk, f"EPK ✓ {epk.ecu}", theme.GOOD, epk.describe())
+            self._set_badge(self.epk, "EPK ✓", theme.GOOD, f"{epk.ecu}\n{epk.describe()}")
         elif epk.matches is False:
             self._set_badge(self.epk, "EPK ✗ read-only" if session.read_only else "EPK ✗ writes allowed",
                             theme.BAD, epk.describe())
         else:
             self._set_badge(self.epk, "EPK not checked", theme.MUTED, epk.describe())
         locked = ", ".join(info.protected)
-        self.protection.setText(f"seed & key: {locked}" if locked else "no seed & key")
+        self.protection.setText("seed & key" if locked else "no seed & key")
         self.protection.setToolTip("resources protected by seed & key at connect (unlocked on use): "
                                    + (locked or "none"))
         self.show_page("working")
 
     def show_page(self, page: str) -> None:
         colour = theme.ACCENT if page == "working" else theme.WARN
-        self.page.setText(f"<span style='color:{colour}'>■</span> {page} page")
+        self.page.setText(f"<span style='color:{colour}'>■</span> {page}")
+        self.page.setToolTip(f"the ECU and XCP use the {page} page")
 
     def show_disconnected(self) -> None:
         self.link.setText("○ not connected")
@@ -79,6 +88,16 @@ class EcuStatusBar(QStatusBar):
         self._set_badge(self.epk, "EPK —", theme.MUTED, "")
         self.protection.setText("")
         self.page.setText("")
+
+    def show_lost(self, exc) -> None:
+        """The connection is lost: what and when, in red (the link keeps its place)."""
+        self.link.setText(f"✕ connection lost at {clock(exc.when)}: {exc.reason}", tip=str(exc))
+        self.link.setStyleSheet(f"color: {theme.BAD};")
+
+    def set_pause(self, reason: str | None, since: float | None = None) -> None:
+        """Why the measurement stands still (``flashing``, ``reconnecting`` ...), None when it runs again."""
+        self.pause = None if reason is None else (reason, time.time() if since is None else since)
+        self.refresh()
 
     @staticmethod
     def _set_badge(label: QLabel, text: str, colour: str, tip: str) -> None:
@@ -89,20 +108,33 @@ class EcuStatusBar(QStatusBar):
     def refresh(self) -> None:
         monitor = self.hub.can_monitor
         load = monitor.bus_load() if monitor is not None else None
-        self.bus.setText("" if load is None else f"bus load {load * 100:.1f} %")
+        self.bus.setText("" if load is None else f"bus {load * 100:.1f} %")
+        self.bus.setToolTip("CAN bus load over the last second")
         acquisition = self.hub.acquisition
         state = acquisition.state if acquisition is not None else None
         if state is not None and state.recording is not None:
             size = state.file_bytes / 2**20
-            self.recording.setText(f"● REC {state.recording.name} · {state.recorded_s:.1f} s · {size:.1f} MiB")
+            name = state.recording.name
+            name = name if len(name) <= 24 else "…" + name[-23:]
+            self.recording.setText(f"● REC {name} · {state.recorded_s:.0f} s · {size:.1f} MiB")
             self.recording.setToolTip(f"recording to {state.recording}")
         else:
             self.recording.setText("")
+        if self.pause is not None and (state is None or not state.running):
+            reason, since = self.pause
+            self.daq.setText(f"DAQ paused: {reason} since {clock(since)}")
+            self.daq.setToolTip("the plots show a gap for the time nothing was measured")
+            self.daq.setStyleSheet(f"color: {theme.WARN};")
+            return
         if state is None or not state.running:
             self.daq.setText("DAQ idle")
+            self.daq.setToolTip("")
             self.daq.setStyleSheet(f"color: {theme.MUTED};")
             return
         trouble = state.lost or state.overloads
-        self.daq.setText(f"DAQ {len(state.signals)} signals · {state.samples:,} samples · lost {state.lost} · "
-                         f"overloads {state.overloads}")
+        self.daq.setText(f"DAQ {len(state.signals)} signals · {state.samples:,} samples · lost {state.lost}"
+                         + (f" · overloads {state.overloads}" if state.overloads else ""))
+        self.daq.setToolTip("samples received by DAQ since the measurement (re)started; lost: DTOs the ECU "
+                            "sent that never arrived (by their counters); overloads: the ECU's DAQ overload "
+                            f"indications ({state.overloads})")
         self.daq.setStyleSheet(f"color: {theme.WARN if trouble else theme.GOOD};")

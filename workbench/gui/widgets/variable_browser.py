@@ -8,7 +8,6 @@ from PySide6.QtWidgets import (
     QAbstractItemView,
     QComboBox,
     QGridLayout,
-    QHeaderView,
     QLabel,
     QLineEdit,
     QTableView,
@@ -18,6 +17,7 @@ from PySide6.QtWidgets import (
 
 from workbench.gui import theme
 from workbench.gui.models.variables import ALL, KIND_LABELS, Variable, VariableFilter, VariableModel
+from workbench.gui.widgets.columns import share_columns
 
 __all__ = ["VariableBrowser"]
 
@@ -60,8 +60,7 @@ class VariableBrowser(QWidget):
         self.table.setTextElideMode(Qt.ElideMiddle)
         self.table.verticalHeader().hide()
         self.table.verticalHeader().setDefaultSectionSize(22)
-        self.table.horizontalHeader().setSectionResizeMode(QHeaderView.Interactive)
-        self.table.horizontalHeader().setStretchLastSection(True)
+        share_columns(self.table, (6, 1.9, 1.2, 1.1, 1.5, 2.5))  # name, kind, type, unit, functions, description
         self.table.doubleClicked.connect(lambda index: self.open_requested.emit(index.data(Qt.UserRole)))
         layout.addWidget(self.table, 1)
         self.count = QLabel()
@@ -77,10 +76,9 @@ class VariableBrowser(QWidget):
         self._fill(self.kind_box, sorted({r.kind for r in rows}), "every kind", KIND_LABELS)
         self._fill(self.function_box, sorted({f for r in rows for f in r.functions}), "every function")
         self._fill(self.unit_box, sorted({r.unit for r in rows if r.unit}), "every unit")
-        for column, width in enumerate((225, 82, 80, 45, 100)):
-            self.table.setColumnWidth(column, width)
         for column in (2, 4):  # type and functions: filters and tooltips tell them, the width is the name's
             self.table.setColumnHidden(column, True)
+        self.table._column_sharer.share()
         self._count()
 
     def _fill(self, box: QComboBox, values: list[str], everything: str, labels: dict | None = None) -> None:
