@@ -15,6 +15,7 @@ from workbench.errors import (
     EpkMismatchError,
     InputError,
     LimitsError,
+    PageError,
     PartialWriteError,
     UnknownSymbolError,
     WorkbenchError,
@@ -27,8 +28,9 @@ __version__ = "0.1.0"
 
 logging.getLogger(__name__).addHandler(logging.NullHandler())
 
-_ERRORS = ["A2lParseError", "Cancelled", "ConnectionLostError", "ConversionError", "EpkMismatchError", "InputError", "LimitsError",
-           "PartialWriteError", "UnknownSymbolError", "WorkbenchError", "XcpCommandError", "XcpTimeoutError"]
+_ERRORS = ["A2lParseError", "Cancelled", "ConnectionLostError", "ConversionError", "EpkMismatchError", "InputError",
+           "LimitsError", "PageError", "PartialWriteError", "UnknownSymbolError", "WorkbenchError", "XcpCommandError",
+           "XcpTimeoutError"]
 _lazy, __getattr__, _dir = lazy_exports(__name__, {"workbench.session": ("Session",)})
 __all__ = sorted(_ERRORS + _lazy + ["__version__"])
 

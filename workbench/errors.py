@@ -147,6 +147,10 @@ class PartialWriteError(WorkbenchError):
         super().__init__(f"{cause}; {name} is half written: {', '.join(written)} reached the ECU, {failed} did not")
 
 
+class PageError(WorkbenchError):
+    """A write refused because XCP accesses a calibration page it may not write (the reference page)."""
+
+
 class EpkMismatchError(WorkbenchError):
     """The EPK in the ECU differs from the one in the A2L/image."""
 

@@ -135,8 +135,10 @@ def test_enums_write_by_text(demo, rom):
     edits = value_edits(demo, CalValue("zfRAILPRESSURE_EN", "VALUE", "ON"), rom)
     assert edits == [ByteEdit(demo.characteristic("zfRAILPRESSURE_EN").address, b"\x01", 0, "zfRAILPRESSURE_EN",
                               "FNC_VALUES")]
-    with pytest.raises(ConversionError, match="'MAYBE' is not one of its texts .*OFF, ON"):
+    with pytest.raises(LimitsError, match=r"zfRAILPRESSURE_EN: 'MAYBE' is not one of its values \(OFF, ON\)"):
         value_edits(demo, CalValue("zfRAILPRESSURE_EN", "VALUE", "MAYBE"), rom)
+    with pytest.raises(ConversionError, match="'MAYBE' is not one of its texts .*OFF, ON"):  # unchecked: the codec
+        value_edits(demo, CalValue("zfRAILPRESSURE_EN", "VALUE", "MAYBE"), rom, check=False)
 
 
 def test_value_edits_refuse_a_value_beyond_the_limits_before_computing(demo, rom):

@@ -101,7 +101,7 @@ def test_demo_limits(demo):
     assert check_limits(demo, CalValue("xsSWITCH_TANK_THR", "VALUE", 800.00001)) == []  # float32 precision
     (above,) = check_limits(demo, CalValue("xsSWITCH_TANK_THR", "VALUE", 900.0))
     assert (above.name, above.rule, str(above)) == ("xsSWITCH_TANK_THR", "limits",
-                                                    "xsSWITCH_TANK_THR: 900 is above the upper limit 800")
+                                                    "xsSWITCH_TANK_THR: 900 is above the upper limit 800 bar")
     (nan,) = check_limits(demo, CalValue("xsSWITCH_TANK_THR", "VALUE", float("nan")))
     assert "is not a number" in str(nan)
     assert check_limits(demo, CalValue("zfRAILPRESSURE_EN", "VALUE", "ON")) == []
@@ -118,9 +118,9 @@ def test_map_limits_axes_and_shape(demo):
     bent = Axis(np.array([50, 100, 90, 400, 900.0]), "COM_AXIS", "xaPRV_FF_MANIFOLD", "bar")
     found = check_limits(demo, CalValue("xvPRV_DC_FF", "MAP", values, (target, bent)))
     messages = [str(v) for v in found]
-    assert "xvPRV_DC_FF axis Y (xaPRV_FF_MANIFOLD): 900 at [4] is above the upper limit 800" in messages
+    assert "xvPRV_DC_FF axis Y (xaPRV_FF_MANIFOLD): 900 at [4] is above the upper limit 800 bar" in messages
     assert "xvPRV_DC_FF axis Y (xaPRV_FF_MANIFOLD): points 1 and 2 (100, 90) break MON_INCREASE" in messages
-    assert "xvPRV_DC_FF: 2 values, first 120 at [3, 1] is above the upper limit 100" in messages
+    assert "xvPRV_DC_FF: 2 values, first 120 at [3, 1] is above the upper limit 100 %" in messages
     assert found[-1].index == (3, 1)
     short = check_limits(demo, CalValue("xvPRV_DC_FF", "MAP", values[:5], (target, manifold)))
     assert [v.rule for v in short] == ["shape", "limits"]

@@ -7,20 +7,25 @@ written); the session refuses a write that has any, before it sends a byte, with
 - ``read-only``: READ_ONLY, or CALIBRATION_ACCESS NO_CALIBRATION / NOT_IN_MCD_SYSTEM;
 - ``kind``: the value is of another kind than the object (a MAP given for a CURVE);
 - ``shape``: a VAL_BLK's MATRIX_DIM, an ASCII's length, a CURVE's or MAP's values against its
-  axes, an axis longer than MAX_AXIS_POINTS (or, when its count is fixed, of another length);
+  axes (values given without axes: against the numbers of points the A2L fixes), an axis longer
+  than MAX_AXIS_POINTS (or, when its count is fixed, of another length);
+- ``text``: a text where the conversion takes numbers, or a text an enum (verbal conversion) does
+  not list (the message lists those it does);
 - ``limits``: a number outside LOWER/UPPER (with ``extended=True``: outside EXTENDED_LIMITS, where
   the object has them), or NaN; checked for the values and every axis (against its AXIS_DESCR, or
   the AXIS_PTS it refers to). A value within float32 precision (relative 1e-7) of a limit passes;
 - ``monotony``: axis points against MONOTONY (MON_INCREASE, MON_DECREASE, STRICT_INCREASE,
   STRICT_DECREASE, MONOTONOUS, STRICT_MON, NOT_MON); an axis without MONOTONY must not decrease.
 
-A violation names the object (and axis), the rule, how many elements break it and the first.
+A violation names the object (and axis), the rule, how many elements break it and the first, and
+the limit with its unit.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -30,10 +35,12 @@ from workbench.calib.values import CalValue
 if TYPE_CHECKING:
     from workbench.a2l.model import A2lModel
 
-__all__ = ["LimitViolation", "check_limits"]
+__all__ = ["LimitViolation", "check_cells", "check_limits"]
 
 _AXES_OF = {"CURVE": 1, "MAP": 2, "CUBOID": 3, "CUBE_4": 4, "CUBE_5": 5}
+_ARRAYS = ("VAL_BLK", *_AXES_OF)
 _TOLERANCE = 1e-7
+_SHOWN = 12  # an enum's texts listed in a refusal
 
 
 @dataclass(frozen=True)
@@ -41,7 +48,7 @@ class LimitViolation:
     """One rule a value breaks. ``index``: the first element that breaks it (None: the whole value)."""
 
     name: str
-    rule: str  # read-only, kind, shape, limits, monotony
+    rule: str  # read-only, kind, shape, text, limits, monotony
     message: str
     index: tuple[int, ...] | None = None
 
@@ -59,14 +66,13 @@ def check_limits(model: "A2lModel", value: CalValue, *, extended: bool = False) 
     if not isinstance(obj, (Characteristic, AxisPts)):
         return [LimitViolation(value.name, "kind", f"{value.name} is a {obj.kind}, not a calibration object")]
     kind = obj.type if isinstance(obj, Characteristic) else "AXIS_PTS"
-    if not obj.writable:
-        why = "READ_ONLY" if obj.read_only else f"CALIBRATION_ACCESS {obj.calibration_access}"
-        found.append(LimitViolation(obj.name, "read-only", f"{obj.name} cannot be written ({why})"))
+    found += _write_access(obj)
     if value.kind != kind:
         found.append(LimitViolation(obj.name, "kind", f"{obj.name} is a {kind}, the value a {value.kind}"))
         return found
     if kind == "AXIS_PTS":
-        found += _axis_rules(obj.name, "", np.asarray(value.value), obj, obj.monotony, extended, obj.max_axis_points)
+        found += _axis_rules(model, obj.name, "", np.asarray(value.value), obj, obj.monotony, extended,
+                             obj.max_axis_points)
         return found
     if kind == "ASCII":
         capacity = int(np.prod(obj.shape)) if obj.shape else 1
@@ -84,13 +90,83 @@ def check_limits(model: "A2lModel", value: CalValue, *, extended: bool = False) 
                                                        f"{shape}"))
     if kind in _AXES_OF:
         found += _axes_rules(model, obj, value, extended)
-    found += _range(obj.name, "", np.asarray(value.value, dtype=object), obj, extended)
+    values = np.asarray(value.value, dtype=object)
+    texts = _texts(model, obj.name, "", values, obj)
+    return found + (texts or _range(obj.name, "", values, obj, extended, model.unit_of(obj)))
+
+
+def check_cells(model: "A2lModel", name: str, cells: Mapping[tuple[int, ...], Any], *, extended: bool = False
+                ) -> list[LimitViolation]:
+    """Every violation of single values written into an array object (VAL_BLK, CURVE, MAP, ...): write access,
+    each index against the shape (where the A2L fixes it), texts and limits of each value.
+
+    :raises UnknownSymbolError: the object does not exist.
+    """
+    obj = model.object(name)
+    if not isinstance(obj, Characteristic) or obj.type not in _ARRAYS:
+        kind = obj.type if isinstance(obj, Characteristic) else obj.kind
+        return [LimitViolation(name, "kind", f"{name} ({kind}): values are written by cell only into a VAL_BLK, "
+                                             "CURVE, MAP or CUBOID (axis points whole, their order is checked)")]
+    found = _write_access(obj)
+    shape = obj.shape if obj.type == "VAL_BLK" else _static_shape(model, obj)
+    unit = model.unit_of(obj)
+    for index, value in cells.items():
+        label = f"[{', '.join(str(i) for i in index)}]"
+        if len(index) != len(shape or obj.axes) or (shape and not all(0 <= i < n for i, n in zip(index, shape))):
+            extent = f"has shape {shape}" if shape else f"has {len(obj.axes)} axes"
+            found.append(LimitViolation(name, "shape", f"{name} {extent}: there is no value {label}", index))
+            continue
+        values = np.asarray(value, dtype=object)
+        if values.shape != ():
+            found.append(LimitViolation(name, "shape", f"{name}{label}: one value, not {values.shape}", index))
+            continue
+        found += _texts(model, name, label, values, obj) or _range(name, label, values, obj, extended, unit)
     return found
+
+
+def _write_access(obj: Characteristic | AxisPts) -> list[LimitViolation]:
+    if obj.writable:
+        return []
+    why = "READ_ONLY" if obj.read_only else f"CALIBRATION_ACCESS {obj.calibration_access}"
+    return [LimitViolation(obj.name, "read-only", f"{obj.name} cannot be written ({why})")]
+
+
+def _texts(model: "A2lModel", name: str, label: str, values: np.ndarray, source) -> list[LimitViolation]:
+    """The texts among ``values`` that the conversion of ``source`` cannot take (numbers pass)."""
+    flat = values.reshape(-1).tolist()
+    texts = [v for v in flat if isinstance(v, str)]
+    if not texts:
+        return []
+    conversion = model.conversion(source)
+    if conversion.verbal:
+        texts = [t for t in texts if t not in conversion.raw_of and t.strip() not in conversion.raw_of]
+        if not texts:
+            return []
+        allowed = ", ".join(conversion.allowed[:_SHOWN]) + (" ..." if len(conversion.allowed) > _SHOWN else "")
+        return [LimitViolation(name, "text", f"{name}{label}: {texts[0]!r} is not one of its values ({allowed})")]
+    unit = model.unit_of(source)
+    lower, upper = source.lower_limit, source.upper_limit
+    return [LimitViolation(name, "text", f"{name}{label}: {texts[0]!r} is not a number (a value from {lower:g} to "
+                                         f"{upper:g}{' ' + unit if unit else ''})")]
+
+
+def _static_shape(model: "A2lModel", obj: Characteristic) -> tuple[int, ...] | None:
+    """The numbers of points the A2L fixes for ``obj``'s axes (None: one of them lies in ECU memory)."""
+    from workbench.calib.layout import object_layout
+
+    layout = object_layout(model, obj)
+    return None if layout.needs_counts else layout.resolve().shape
 
 
 def _axes_rules(model: "A2lModel", obj: Characteristic, value: CalValue, extended: bool) -> list[LimitViolation]:
     found = []
-    if value.axes and len(value.axes) != len(obj.axes):
+    if not value.axes:  # the values alone, the axes as they are: their shape is known when the A2L fixes it
+        shape = _static_shape(model, obj)
+        if shape is not None and np.shape(value.value) != shape:
+            return [LimitViolation(obj.name, "shape", f"{obj.name} has shape {shape}, the value "
+                                                      f"{np.shape(value.value)}")]
+        return []
+    if len(value.axes) != len(obj.axes):
         return [LimitViolation(obj.name, "shape", f"{obj.name} has {len(obj.axes)} axes, the value {len(value.axes)}")]
     lengths = tuple(len(np.asarray(axis.values).reshape(-1)) for axis in value.axes)
     if value.axes and np.shape(value.value) != lengths:
@@ -105,25 +181,30 @@ def _axes_rules(model: "A2lModel", obj: Characteristic, value: CalValue, extende
                                                            f"value has {len(points)}"))
         if descr.attribute in ("COM_AXIS", "RES_AXIS") and descr.axis_pts_ref:
             source = model.resolve(descr, "axis_pts_ref", "AXIS_PTS", f"CHARACTERISTIC {obj.name}")
-            found += _axis_rules(obj.name, f"{label} ({source.name})", points, source, source.monotony, extended,
-                                 min(descr.max_axis_points, source.max_axis_points) or source.max_axis_points)
+            found += _axis_rules(model, obj.name, f"{label} ({source.name})", points, source, source.monotony,
+                                 extended, min(descr.max_axis_points, source.max_axis_points) or source.max_axis_points)
         elif descr.attribute != "FIX_AXIS":
-            found += _axis_rules(obj.name, label, points, descr, descr.monotony, extended, descr.max_axis_points)
+            found += _axis_rules(model, obj.name, label, points, descr, descr.monotony, extended,
+                                 descr.max_axis_points)
     return found
 
 
-def _axis_rules(name: str, label: str, points: np.ndarray, limits_of, monotony: str | None, extended: bool,
-                max_points: int) -> list[LimitViolation]:
+def _axis_rules(model: "A2lModel", name: str, label: str, points: np.ndarray, limits_of, monotony: str | None,
+                extended: bool, max_points: int) -> list[LimitViolation]:
+    texts = _texts(model, name, label, np.asarray(points, dtype=object), limits_of)
+    if texts:
+        return texts
     points = np.asarray(points, dtype=np.float64).reshape(-1)
     found = []
     if max_points and len(points) > max_points:
         found.append(LimitViolation(name, "shape", f"{name}{label}: {len(points)} points, MAX_AXIS_POINTS is {max_points}"))
-    found += _range(name, label, points.astype(object), limits_of, extended)
+    found += _range(name, label, points.astype(object), limits_of, extended, model.unit_of(limits_of))
     found += _monotony(name, label, points, monotony)
     return found
 
 
-def _range(name: str, label: str, values: np.ndarray, limits_of, extended: bool) -> list[LimitViolation]:
+def _range(name: str, label: str, values: np.ndarray, limits_of, extended: bool, unit: str = ""
+           ) -> list[LimitViolation]:
     """Violations of LOWER/UPPER (or EXTENDED_LIMITS) by the numbers among ``values`` (texts pass)."""
     lower, upper = limits_of.lower_limit, limits_of.upper_limit
     which = "limits"
@@ -153,7 +234,7 @@ def _range(name: str, label: str, values: np.ndarray, limits_of, extended: bool)
         else:
             word = "lower" if "lower" in words else "upper"
             message = (f"{name}{label}: {many}{numeric[first]:g}{where} is {words.split()[0]} the {word} "
-                       f"{which[:-1]} {limit:g}")
+                       f"{which[:-1]} {limit:g}{' ' + unit if unit else ''}")
         found.append(LimitViolation(name, "limits", message, index))
     return found
 

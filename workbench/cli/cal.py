@@ -15,7 +15,8 @@ _DESCRIPTION = """\
 Calibrations by name, physical values.
 In the ECU (the common ECU options: --a2l, the CAN bus or --host, --key-function ...):
   get      read calibrations (curves and maps with their axes) and measurements
-  set      write one: limits, shape and write access checked first, read back after
+  set      write one (NAME[x,y]: one value of a map): checked before connecting, then only what
+           changes written and read back
   list     the calibrations matching a pattern, with their values
   fix      override a signal with its _EN/_VALUE fix calibration, release it, list them all
   page     show or switch the calibration page (working/reference), copy reference to working

@@ -5,13 +5,17 @@ from __future__ import annotations
 import argparse
 import csv
 import json
+import re
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from workbench.cli.ecu_options import add_ecu_arguments, open_session
 from workbench.cli.options import print_json
 from workbench.cli.render import decimals, jsonable, table_lines, value_text
 from workbench.errors import InputError
+
+if TYPE_CHECKING:
+    from workbench.a2l import A2lDocument
 
 
 def add_commands(commands: argparse._SubParsersAction) -> None:
@@ -25,11 +29,14 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
     get.set_defaults(func=_get)
 
     put = commands.add_parser(
-        "set", help="write a calibration by name (limits checked, read back)",
+        "set", help="write a calibration by name (checked before connecting, read back)",
         description="Write NAME in physical units: a number, an enum's text, a list for a curve or value block "
                     "('[1, 2, 3]' or '1,2,3'), a nested list for a map (indexed [x][y]), or --from a JSON or CSV file "
-                    "(a map's CSV: one row per X point). Limits, shape and write access are checked before anything "
-                    "is sent; the value is read back.")
+                    "(a map's CSV: one row per X point). 'NAME[x,y]' writes one value of a curve, map or value "
+                    "block. Limits, shape, texts, write access and writable memory are checked before connecting "
+                    "(exit 2, nothing sent); once connected, a read-only session (EPK mismatch) or the reference "
+                    "page refuses the write before it is sent (exit 1). Only what changes is written, and that "
+                    "is read back and printed.")
     put.add_argument("name", metavar="NAME")
     put.add_argument("value", metavar="VALUE", nargs="?")
     put.add_argument("--from", dest="source", metavar="FILE", help="the value from a .json or .csv file")
@@ -144,16 +151,60 @@ def _value_from_file(path: Path) -> Any:
     raise InputError(f"{path}: a value file is .json or .csv")
 
 
+def _offline(args: argparse.Namespace) -> tuple[A2lDocument, list | None]:
+    """The A2L and the memory it lets calibrations be written to: what a write is checked against before
+    connecting (a refusal then sends nothing; the bus is not even opened)."""
+    from workbench import demo
+    from workbench.a2l import load_a2l, read_xcp_config
+    from workbench.calib.writable import writable_spans
+
+    doc = load_a2l(args.a2l or demo.a2l())
+    return doc, writable_spans(doc.memory_segments(), read_xcp_config(doc).segments)
+
+
 def _set(args: argparse.Namespace) -> int:
+    from workbench.calib.writable import checked_cells, checked_value
+
     value = parse_value(args.value, args.source)
-    with open_session(args) as session:
-        written = session.write(args.name, value, allow_extended_limits=args.extended_limits)
+    doc, writable = _offline(args)
+    model = doc.model()
+    name, index = _cell(model, args.name)
+    extended = args.extended_limits
+    if index is None:
+        checked_value(model, name, value, extended=extended, writable=writable)
+    else:
+        checked_cells(model, name, {index: value}, extended=extended, writable=writable)
+    with open_session(args, doc) as session:
+        if index is not None:
+            read_back = session.write_cells(name, {index: value}, allow_extended_limits=extended)[index]
+            return _print_cell(args, model, name, index, read_back)
+        written = session.write(name, value, allow_extended_limits=extended)
     if args.json:
         print_json({args.name: _value_dict(written)})
         return 0
     lines = table_lines(written.value, written.axes, written.unit)
     print(f"{args.name} = {lines[0]} (written, read back)" if len(lines) == 1 else
           "\n".join([f"{args.name} (written, read back):"] + [f"  {line}" for line in lines]))
+    return 0
+
+
+def _cell(model, text: str) -> tuple[str, tuple[int, ...] | None]:
+    """NAME, or NAME[x,y] / NAME[x][y]: one value of an array (unless the A2L has an object of that very name)."""
+    match = _CELL.fullmatch(text.strip())
+    if match is None or text in model:
+        return text, None
+    return match["name"], tuple(int(number) for number in re.findall(r"\d+", match["index"]))
+
+
+_CELL = re.compile(r"(?P<name>[^\[\]\s]+)(?P<index>(\[\s*\d+\s*(,\s*\d+\s*)*\])+)")
+
+
+def _print_cell(args: argparse.Namespace, model, name: str, index: tuple[int, ...], value: Any) -> int:
+    label = f"{name}[{', '.join(str(i) for i in index)}]"
+    if args.json:
+        print_json({label: jsonable(value)})
+        return 0
+    print(f"{label} = {value_text(value, model.unit_of(model.object(name)))} (written, read back)")
     return 0
 
 
@@ -192,7 +243,16 @@ def _fix(args: argparse.Namespace) -> int:
         raise InputError("give SIGNAL (with VALUE or --release) or --list")
     if args.signal and args.release == (args.value is not None):
         raise InputError("give either VALUE (override) or --release, not both or neither")
-    with open_session(args) as session:
+    doc = None
+    if args.value is not None:  # the override value checked before connecting
+        from workbench.calib.fixes import find_fix_pairs, resolve_fix
+        from workbench.calib.writable import checked_value
+
+        doc, writable = _offline(args)
+        model = doc.model()
+        pair = resolve_fix(find_fix_pairs(model.names("CHARACTERISTIC"), model.names("MEASUREMENT")), args.signal)
+        checked_value(model, pair.value, parse_value(args.value, None), writable=writable)
+    with open_session(args, doc) as session:
         if args.list:
             states = session.fixes()
         elif args.release:

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 from workbench.cli.options import add_bus_arguments, add_ethernet_arguments, add_output_arguments, bus_settings
 
 if TYPE_CHECKING:
+    from workbench.a2l import A2lDocument
     from workbench.session import Session
 
 
@@ -30,14 +31,14 @@ def add_ecu_arguments(parser: argparse.ArgumentParser, *, json_output: bool = Tr
         add_output_arguments(parser)
 
 
-def open_session(args: argparse.Namespace) -> Session:
-    """The session the ECU options describe (connected, EPK checked)."""
+def open_session(args: argparse.Namespace, a2l: A2lDocument | None = None) -> Session:
+    """The session the ECU options describe (connected, EPK checked); ``a2l``: the A2L already loaded."""
     from workbench.session import Session
 
     settings = {key: value for key, value in (bus_settings(args) or {}).items() if value is not None}
     interface = settings.pop("interface", None)
     channel = settings.pop("channel", None)
     bitrate = settings.pop("bitrate", None)
-    return Session.open(args.a2l, interface=interface, channel=channel, bitrate=bitrate, bus_kwargs=settings,
+    return Session.open(a2l or args.a2l, interface=interface, channel=channel, bitrate=bitrate, bus_kwargs=settings,
                         host=args.host, port=args.port, protocol=args.protocol, key_function=args.key_function,
                         accept_epk_mismatch=args.accept_epk_mismatch)

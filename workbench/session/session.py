@@ -29,6 +29,7 @@ from workbench.session.epk import EpkCheck, check_epk
 from workbench.session.fixes import FixAccess
 from workbench.session.info import EcuInfo, PageState, read_ecu_info
 from workbench.session.measure import DaqMeasurement, EventAccess
+from workbench.session.memory import KnownMemory
 from workbench.session.values import ValueAccess
 from workbench.xcp.link import Link
 from workbench.xcp.master import KeyFunction, Timeouts, XcpMaster
@@ -64,6 +65,7 @@ class Session(ValueAccess, EventAccess, FixAccess):
         self._closers: list = []  # things to stop on close (a recorder ...)
         self._daq: DaqMeasurement | None = None  # the DAQ measurement running (one at a time)
         self._event_info: dict = {}  # GET_DAQ_EVENT_INFO by event number
+        self._known_memory = KnownMemory()  # calibration bytes as last read or written (session.values)
         self._layouts: dict = {}  # name -> ObjectLayout, ResolvedLayout (when static), MeasurementCodec
         self._resolved: dict = {}
         self._codecs: dict = {}
@@ -169,11 +171,13 @@ class Session(ValueAccess, EventAccess, FixAccess):
         return self.epk.matches is False and not self.accept_epk_mismatch
 
     def require_writable(self) -> None:
-        """:raises EpkMismatchError: the EPKs differ and the caller did not accept it."""
+        """:raises EpkMismatchError: the EPKs differ and the caller did not accept it (writes, page switches
+        and page copies are refused then, before anything is sent)."""
         if self.read_only:
             raise EpkMismatchError(self.epk.a2l or "", self.epk.ecu or "",
-                                   "the session is read-only; flash the matching software or open the session "
-                                   "with accept_epk_mismatch=True (--accept-epk-mismatch) to write anyway")
+                                   "the session is read-only (no writes, no page switches); flash the matching "
+                                   "software or open the session with accept_epk_mismatch=True "
+                                   "(--accept-epk-mismatch) to write anyway")
 
     def info(self) -> EcuInfo:
         """What the ECU says about itself, beside what the A2L says."""
@@ -215,8 +219,11 @@ class Session(ValueAccess, EventAccess, FixAccess):
                              working, reference)
 
     def set_page(self, page: str | int, segment: int = 0) -> None:
-        """Switch ECU and XCP to ``"working"``, ``"reference"`` or a page number."""
+        """Switch ECU and XCP to ``"working"``, ``"reference"`` or a page number.
+
+        :raises EpkMismatchError: the session is read-only (nothing is sent)."""
         with self.lock:
+            self.require_writable()
             self.master.set_cal_page(segment, self._page_number(page, segment), _ECU_AND_XCP)
 
     def copy_reference_to_working(self, segment: int = 0) -> None:

@@ -1,43 +1,58 @@
 """Reading and writing objects by name, in physical units: the part of :class:`~workbench.session.Session`
 a calibration script uses most.
 
-A write is refused before anything is sent when the object is read-only, the value breaks its
-limits (EXTENDED_LIMITS only with ``allow_extended_limits``), its shape or monotony, or it lies
-outside the memory the A2L says is writable (a calibration MEMORY_SEGMENT of RAM, or a
-calibration page's working page). It is then written with DOWNLOAD (only the bytes that change),
-read back and compared; a write that fails halfway says which fields reached the ECU.
+A write is refused before anything is sent when the session is read-only (EPK mismatch), the object
+is read-only, the value breaks its limits (EXTENDED_LIMITS only with ``allow_extended_limits``), its
+shape, texts or monotony, or it lies outside the memory the A2L says is writable
+(:mod:`workbench.calib.writable`, which the CLI runs before it connects). Once connected, XCP must be
+on a page it may write (a segment's reference page is refused, saying how to switch), which the
+session asks the ECU once and then knows.
+
+A write sends what changes and reads back only that: a VALUE is one DOWNLOAD (after SET_MTA) and
+one read-back; the values of a CURVE or MAP are compared with what the session knows of the object
+(the bytes it last read with :meth:`read_value` or wrote, kept while no CONNECT, page switch or
+other DOWNLOAD came between; else read once), and only the elements that differ are written;
+:meth:`write_cells` writes single values without knowing the rest. The value returned is decoded
+from the bytes read back, the rest of the object as known. A write that fails halfway says which
+fields reached the ECU.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+import logging
+from collections.abc import Iterable, Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from workbench.a2l.objects import AxisPts, Characteristic, Measurement
-from workbench.calib.codec import value_edits
+from workbench.calib.cells import cell_edits, cell_span, cell_values
 from workbench.calib.layout import ResolvedLayout, object_layout
 from workbench.calib.memory import ByteEdit, Span
 from workbench.calib.signals import MeasurementCodec, measurement_codec
 from workbench.calib.values import CalValue
-from workbench.errors import InputError, PartialWriteError, WorkbenchError
-from workbench.session.memory import read_merged
+from workbench.calib.writable import check_inside, checked_cells, checked_value, writable_spans
+from workbench.errors import InputError, PageError, PartialWriteError, WorkbenchError, XcpCommandError
+from workbench.session.memory import KnownMemory, read_merged
+from workbench.xcp_protocol import Err, Resource
 
 if TYPE_CHECKING:
     from workbench.a2l.model import A2lModel
+    from workbench.a2l.xcp import XcpSegment
     from workbench.session.session import Session
+
+log = logging.getLogger(__name__)
 
 __all__ = ["ValueAccess"]
 
-_WRITABLE_PROGRAM_TYPES = {"DATA", "OFFLINE_DATA", "VARIABLES", "CALIBRATION_VARIABLES", "SERAM"}
-_WRITABLE_MEMORY = {"RAM", "EEPROM", "REGISTER"}
+_NOT_WRITABLE = "XCP_WRITE_ACCESS_NOT_ALLOWED"
 
 
 class ValueAccess:
     """Mixed into :class:`Session`: values by name. Layouts and codecs are kept per name (the A2L does not change)."""
 
     lock: Any
+    _known_memory: KnownMemory
     _layouts: dict
     _resolved: dict
     _codecs: dict
@@ -77,7 +92,7 @@ class ValueAccess:
             raise InputError(f"{name} is a {type(obj).__name__.upper()}, not a calibration object: use read()")
         with self.lock, self.on_page(page):
             resolved = self._resolve([name])[name]
-            return resolved.decode(self._read_spans(resolved.spans()))
+            return resolved.decode(self._fresh_bytes(resolved.spans()))
 
     def read_many(self: Session, names: Iterable[str], *, page: str | int | None = None) -> dict[str, Any]:
         """Several objects at once, neighbouring addresses merged into few UPLOADs: ``{name: value}``."""
@@ -96,8 +111,9 @@ class ValueAccess:
             codec = self._codecs[name] = measurement_codec(self.model, name)
         return codec
 
-    def _resolve(self: Session, names: list[str]) -> dict[str, ResolvedLayout]:
-        """Each object placed in memory; layouts kept per name, resolved ones too unless they read counts."""
+    def _resolve(self: Session, names: list[str], read=None) -> dict[str, ResolvedLayout]:
+        """Each object placed in memory; layouts kept per name, resolved ones too unless they read counts
+        (``read(spans) -> {span: bytes}``, default: from the ECU)."""
         layouts = {}
         for name in names:
             if name not in self._layouts:
@@ -106,7 +122,7 @@ class ValueAccess:
         static = {name: self._resolved[name] for name in names if name in self._resolved}
         dynamic = [name for name in names if name not in static]
         counts = [span for name in dynamic for span in layouts[name].fixed_part()]
-        firsts = self._read_spans(counts) if counts else {}
+        firsts = (read or self._read_spans)(counts) if counts else {}
         for name in dynamic:
             resolved = static[name] = layouts[name].resolve(firsts)
             if not layouts[name].needs_counts:
@@ -123,87 +139,151 @@ class ValueAccess:
 
         ``value``: a number or an enum's text (VALUE), a ``str`` (ASCII), an array of the object's
         shape (VAL_BLK; a CURVE's or MAP's values, indexed [x, y], its axes unchanged), or a
-        :class:`CalValue` (new axis points too).
+        :class:`CalValue` (new axis points too). Only the elements that differ from what the session
+        knows are sent (see the module docstring); one cell: :meth:`write_cells`.
 
         :raises InputError: unknown name, read-only object, a value beyond the limits, of the wrong
             shape or outside the writable memory (LimitsError, ConversionError are InputErrors).
         :raises EpkMismatchError: the session is read-only (the ECU's EPK differs from the A2L's).
+        :raises PageError: XCP is on a page it may not write (the reference page); nothing was sent.
         :raises XcpCommandError, XcpTimeoutError: the ECU refused or did not answer (the message says
             which fields were written before).
         """
         with self.lock:
             self.require_writable()
-            target = self._as_cal_value(name, value)
-            read = self._reader()
-            edits = value_edits(self.model, target, read, extended=allow_extended_limits)
-            self._check_writable_memory(name, edits)
+            target = checked_value(self.model, name, value, extended=allow_extended_limits,
+                                   writable=self.writable_spans())
+            layout = self._write_layout(name)
+            self._check_pages(name, layout.spans())
+            plain = layout.kind in ("VALUE", "ASCII") and layout.obj.bit_mask is None
+            current = None if plain else self._known_bytes(layout.spans())
+            edits = layout.encode(target, current)
+            if not edits and current is not None:  # nothing differs from what the session knew: make sure
+                current = self._fresh_bytes(layout.spans())
+                edits = layout.encode(target, current)
             self._apply(name, edits)
-            return self.read_value(name)
+            return self._written_value(name, layout)
 
-    def _as_cal_value(self: Session, name: str, value: Any) -> CalValue:
-        if isinstance(value, CalValue):
-            if value.name != name:
-                raise InputError(f"the value is {value.name}'s, not {name}'s")
-            return value
-        obj = self.model.object(name)
-        if isinstance(obj, Measurement):
-            raise InputError(f"{name} is a MEASUREMENT: measurements are read, calibrations written")
-        current = self.read_value(name)
-        if current.kind in ("VALUE", "ASCII"):
-            return CalValue(name, current.kind, value.item() if isinstance(value, np.generic) else value,
-                            current.axes, current.unit, current.comment)
-        array = np.asarray(value)
-        if array.dtype.kind not in "OU":
-            array = array.astype(float)
-        return CalValue(name, current.kind, array, current.axes, current.unit, current.comment)
+    def write_cells(self: Session, name: str, cells: Mapping[Any, Any], *, allow_extended_limits: bool = False
+                    ) -> dict[tuple[int, ...], Any]:
+        """Write single values of a VAL_BLK, CURVE, MAP or CUBOID: ``cells`` maps an index ``(x, y, ...)``
+        (an int for one axis) to a physical value. Only those values are sent and read back; returns
+        ``{(x, y, ...): value the ECU holds}``.
 
-    def _reader(self: Session):
-        cache: dict[Span, bytes] = {}
-
-        def read(span: Span) -> bytes:
-            if span not in cache:
-                cache.update(self._read_spans([span]))
-            return cache[span]
-
-        return read
-
-    def _check_writable_memory(self: Session, name: str, edits: list[ByteEdit]) -> None:
-        writable = self.writable_spans()
-        if writable is None:
-            return
-        for edit in edits:
-            span = edit.span
-            if not any(w.extension == span.extension and w.address <= span.address and span.end <= w.end
-                       for w in writable):
-                raise InputError(f"{name}: {edit.field or 'its bytes'} at {span} lie outside the A2L's writable "
-                                 f"memory (MEMORY_SEGMENTs of calibration RAM); not written")
+        :raises: as :meth:`write` (an index outside the object is a LimitsError).
+        """
+        with self.lock:
+            self.require_writable()
+            indexed = checked_cells(self.model, name, cells, extended=allow_extended_limits,
+                                    writable=self.writable_spans())
+            layout = self._write_layout(name)
+            spans = [cell_span(layout, index) for index in indexed]
+            self._check_pages(name, spans)
+            current = self._known_bytes(spans) if layout.obj.bit_mask is not None else None
+            self._apply(name, cell_edits(layout, indexed, current))
+            return cell_values(layout, self._known_bytes(spans), indexed)
 
     def writable_spans(self: Session) -> list[Span] | None:
         """Where the A2L lets calibrations be written (None: the A2L has no MEMORY_SEGMENTs to tell)."""
-        segments = self.doc.memory_segments(self.module)
-        if not segments:
-            return None
-        spans = [Span(s.address, s.size) for s in segments
-                 if s.prg_type in _WRITABLE_PROGRAM_TYPES and s.memory_type in _WRITABLE_MEMORY]
-        spans += [Span(s.address, s.size, s.address_extension) for s in self.config.segments]
-        return spans
+        return writable_spans(self.doc.memory_segments(self.module), self.config.segments)
+
+    def _write_layout(self: Session, name: str) -> ResolvedLayout:
+        """The object placed in memory, counts stored in the ECU taken from what the session knows."""
+        return self._resolve([name], self._known_bytes)[name]
+
+    def _known(self: Session) -> KnownMemory:
+        self._known_memory.valid(self.master.memory_changes)
+        return self._known_memory
+
+    def _known_bytes(self: Session, spans: Iterable[Span]) -> dict[Span, bytes]:
+        """The bytes of ``spans``: as the session knows them, the others read (and known from then on)."""
+        known = self._known()
+        spans = list(spans)
+        missing = [span for span in spans if known.get(span) is None]
+        if missing:
+            known.store(self._read_spans(missing))
+        return {span: known.get(span) for span in spans}
+
+    def _fresh_bytes(self: Session, spans: Iterable[Span]) -> dict[Span, bytes]:
+        data = self._read_spans(spans)
+        self._known().store(data)
+        return data
 
     def _apply(self: Session, name: str, edits: list[ByteEdit]) -> None:
-        """DOWNLOAD every edit, then read each back and compare byte for byte."""
+        """Check the edits' memory and page, DOWNLOAD each, read them back and compare byte for byte."""
+        if not edits:
+            return
+        check_inside(name, ((edit.span, edit.field) for edit in edits), self.writable_spans())
+        self._known()
         done: list[ByteEdit] = []
         for edit in edits:
             try:
                 self.master.write(edit.address, edit.data, edit.extension)
             except WorkbenchError as exc:
                 if not done:
+                    self._explain_refusal(name, edit, exc)
                     raise
                 raise PartialWriteError(name, [_field(e) for e in done], _field(edit), exc) from exc
             done.append(edit)
         back = self._read_spans([edit.span for edit in edits])
+        self._known_memory.keep(self.master.memory_changes)  # the changes since were these edits
+        self._known_memory.store(back)
         wrong = [_field(edit) for edit in edits if back[edit.span] != edit.data]
         if wrong:
             raise WorkbenchError(f"{name}: the ECU holds other bytes than were written to {', '.join(wrong)} "
                                  "(a read-only area, or the ECU overwrote them)")
+
+    def _written_value(self: Session, name: str, layout: ResolvedLayout) -> CalValue:
+        """The value the ECU holds now: the bytes read back, the rest as the session knows it."""
+        plan = self._layouts[name]
+        if plan.needs_counts:
+            layout = plan.resolve(self._known_bytes(plan.fixed_part()))
+        return layout.decode(self._known_bytes(layout.spans()))
+
+    # --- pages --------------------------------------------------------------------------------
+
+    def _check_pages(self: Session, name: str, spans: list[Span]) -> None:
+        """:raises PageError: a span lies in a calibration segment whose page XCP accesses may not be written."""
+        for segment in self._segments_of(spans):
+            protected = {p.number for p in segment.pages if p.xcp_write_access == _NOT_WRITABLE}
+            page = self._xcp_page(segment.number) if protected else None
+            if page in protected:
+                working, reference = self.page_numbers(segment.number)
+                which = "the reference page" if page == reference else f"page {page}"
+                option = f" --segment {segment.number}" if segment.number else ""
+                raise PageError(f"{name} is not written: {which} of segment {segment.number} is active and XCP may "
+                                f"not write it; switch to the working page first: `workbench cal page working{option}` "
+                                f"(Session.set_page('working'))")
+
+    def _segments_of(self: Session, spans: list[Span]) -> list[XcpSegment]:
+        return [segment for segment in self.config.segments
+                if any(span.extension == segment.address_extension
+                       and segment.address <= span.address < segment.address + segment.size for span in spans)]
+
+    def _xcp_page(self: Session, segment: int) -> int | None:
+        """The page XCP accesses in ``segment`` (asked once, then known); None: the slave does not say."""
+        master = self.master
+        if segment in master.xcp_pages:
+            return master.xcp_pages[segment]
+        info = master.connect_info
+        if info is not None and not info.resources & Resource.CAL_PAG:
+            return None
+        try:
+            return master.get_cal_page(segment, 0x02)
+        except XcpCommandError as exc:
+            log.debug("GET_CAL_PAGE of segment %d: %s", segment, exc)
+            return None
+
+    def _explain_refusal(self: Session, name: str, edit: ByteEdit, exc: WorkbenchError) -> None:
+        """A DOWNLOAD refused as write-protected: when XCP turns out to be on a page it may not write
+        (switched by another master since the session asked), say so instead."""
+        if isinstance(exc, XcpCommandError) and exc.code in (Err.WRITE_PROTECTED, Err.ACCESS_DENIED):
+            for segment in self._segments_of([edit.span]):
+                self.master.xcp_pages.pop(segment.number, None)
+            try:
+                self._check_pages(name, [edit.span])
+            except PageError as page_error:
+                raise page_error from exc
 
 
 def _field(edit: ByteEdit) -> str:

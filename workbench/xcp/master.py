@@ -94,6 +94,10 @@ class XcpMaster:
         self.comm_mode: CommModeInfo | None = None
         self.protected: Resource = Resource(0)
         self._unlocking = False
+        # What a caller may remember about the slave's memory holds while this count stays the same: it
+        # grows with every CONNECT, DOWNLOAD/PROGRAM, page switch and page copy, whoever sends them.
+        self.memory_changes = 0
+        self.xcp_pages: dict[int, int] = {}  # segment -> page XCP accesses, as last set or read (CONNECT clears)
 
     # --- the slave's parameters ---------------------------------------------------------------
 
@@ -192,6 +196,8 @@ class XcpMaster:
 
     def connect(self, mode: int = 0, *, timeout: str = "t1") -> ConnectInfo:
         """CONNECT (mode 0 normal, 1 user defined), then GET_STATUS and GET_COMM_MODE_INFO when offered."""
+        self.memory_changes += 1
+        self.xcp_pages.clear()
         self.connect_info = ConnectInfo.parse(self.command(Cmd.CONNECT, bytes((mode,)), timeout=timeout))
         self.comm_mode = None
         if self.connect_info.optional_comm_mode:
@@ -333,6 +339,7 @@ class XcpMaster:
                  timeout: str | None = None, max_bs: int | None = None, min_st_s: float | None = None) -> None:
         """DOWNLOAD (or PROGRAM) ``data`` at the MTA: blocks of a first frame and _NEXT frames when the slave
         offers master block mode (``max_bs`` frames a block, ``min_st_s`` apart), else one command a frame."""
+        self.memory_changes += 1
         per_frame = self.max_cto - 2
         block_mode = max_bs is not None or (self.comm_mode is not None and self.comm_mode.master_block_mode)
         frames = max(1, max_bs if max_bs is not None else (self.comm_mode.max_bs if block_mode else 1))
@@ -395,13 +402,23 @@ class XcpMaster:
 
     def get_cal_page(self, segment: int, mode: int = 0x02) -> int:
         """The page of ``segment`` the ECU (mode 0x01) or XCP (0x02) accesses."""
-        return self.command(Cmd.GET_CAL_PAGE, bytes((mode, segment)))[2]
+        page = self.command(Cmd.GET_CAL_PAGE, bytes((mode, segment)))[2]
+        if mode == 0x02:
+            self.xcp_pages[segment] = page
+        return page
 
     def set_cal_page(self, segment: int, page: int, mode: int = 0x03) -> None:
         """Switch ``segment`` to ``page`` for the ECU (0x01), XCP (0x02) or both (0x03); 0x80: all segments."""
+        self.memory_changes += 1
+        self.xcp_pages.pop(segment, None)
+        if mode & 0x80:
+            self.xcp_pages.clear()
         self.command(Cmd.SET_CAL_PAGE, bytes((mode, segment, page)))
+        if mode & 0x02 and not mode & 0x80:
+            self.xcp_pages[segment] = page
 
     def copy_cal_page(self, source_segment: int, source_page: int, target_segment: int, target_page: int) -> None:
+        self.memory_changes += 1
         self.command(Cmd.COPY_CAL_PAGE, bytes((source_segment, source_page, target_segment, target_page)))
 
     def get_pag_processor_info(self) -> PagProcessorInfo:

@@ -1,0 +1,108 @@
+"""`workbench cal set` on the bus, in-process through main() on a virtual CAN bus, command by command: refused
+before connecting (nothing sent), one DOWNLOAD and one read-back once connected, the page and a read-only
+session refused before the write is sent."""
+
+from __future__ import annotations
+
+import itertools
+import json
+from pathlib import Path
+
+import pytest
+from xcp_commands import CommandLog
+
+from workbench import demo
+from workbench.cli import main
+from workbench.sim import serve_demo
+
+_channels = itertools.count()
+CONNECTED = ["CONNECT", "GET_COMM_MODE_INFO", "GET_STATUS", "GET_ID", "UPLOAD"]  # UPLOAD: the EPK GET_ID names
+WRITE = ["GET_SEED", "UNLOCK", "GET_CAL_PAGE", "SET_MTA", "DOWNLOAD", "SHORT_UPLOAD", "DISCONNECT"]
+
+
+@pytest.fixture
+def bus():
+    channel = f"cal-set-{next(_channels)}"
+    with serve_demo({"interface": "virtual", "channel": channel}, pcm_target_bar=25.0) as sim, \
+            CommandLog(channel) as log:
+        yield ["--interface", "virtual", "--channel", channel], log, sim
+
+
+def run(capsys, *argv: str) -> tuple[int, str, str]:
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["xsSWITCH_TANK_THR", "900"], "xsSWITCH_TANK_THR: 900 is above the upper limit 800 bar"),
+    (["xsSWITCH_TANK_THR", "abc"], "xsSWITCH_TANK_THR: 'abc' is not a number (a value from 0 to 800 bar)"),
+    (["cfENABLEFLCU_VALUE", "Foo"], "cfENABLEFLCU_VALUE: 'Foo' is not one of its values (Disabled, Enabled)"),
+    (["xvPRV_DC_FF", "1,2,3"], "xvPRV_DC_FF has shape (6, 5), the value (3,)"),
+    (["xvPRV_DC_FF[2,3]", "200"], "xvPRV_DC_FF[2, 3]: 200 is above the upper limit 100 %"),
+    (["xvPRV_DC_FF[6][0]", "1"], "xvPRV_DC_FF has shape (6, 5): there is no value [6, 0]"),
+    (["xaPRV_FF_TARGET", "0,10,5,30,40,50"], "xaPRV_FF_TARGET: points 1 and 2 (10, 5) break MON_INCREASE"),
+    (["zsRailPressure", "1"], "zsRailPressure is a MEASUREMENT: measurements are read, calibrations written"),
+])
+def test_a_refused_value_sends_nothing_not_even_connect(bus, capsys, argv, message):
+    options, log, _ = bus
+    code, out, err = run(capsys, "cal", "set", *argv, *options)
+    assert (code, out, err) == (2, "", f"error: {message}\n")
+    assert log.take() == []
+
+
+def test_a_value_is_one_download_and_one_read_back(bus, capsys):
+    options, log, sim = bus
+    code, out, err = run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "20.1", *options)
+    assert (code, err) == (0, "")
+    assert log.take() == CONNECTED + WRITE
+    assert out == "xsSWITCH_TANK_THR = 20.1 bar (written, read back)\n"  # the float32 the ECU holds, shortest
+
+
+def test_a_map_cell_is_its_own_bytes_only(bus, capsys):
+    options, log, sim = bus
+    code, out, err = run(capsys, "cal", "set", "xvPRV_DC_FF[2,3]", "42", *options)
+    assert (code, out, err) == (0, "xvPRV_DC_FF[2, 3] = 42 % (written, read back)\n", "")
+    assert log.take() == CONNECTED + WRITE
+    download = next(frame for frame in log.frames if frame.data[0] == 0xF0)
+    assert download.data[1] == 4  # one float32
+    code, out, _ = run(capsys, "cal", "get", "xvPRV_DC_FF", "--json", *options)
+    assert json.loads(out)["xvPRV_DC_FF"]["value"][2][3] == 42.0
+    code, out, _ = run(capsys, "cal", "set", "xvPRV_DC_FF[0, 4]", "5", "--json", *options)
+    assert (code, json.loads(out)) == (0, {"xvPRV_DC_FF[0, 4]": 5.0})
+
+
+def test_the_reference_page_is_refused_before_the_write_saying_how_to_switch(bus, capsys):
+    options, log, sim = bus
+    assert run(capsys, "cal", "page", "reference", *options)[0] == 0
+    log.take()
+    code, out, err = run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "21", *options)
+    assert (code, out) == (1, "")
+    assert err == ("error: xsSWITCH_TANK_THR is not written: the reference page of segment 0 is active and XCP may "
+                   "not write it; switch to the working page first: `workbench cal page working` "
+                   "(Session.set_page('working'))\n")
+    assert "DOWNLOAD" not in log.take()
+    assert run(capsys, "cal", "page", "working", *options)[0] == 0
+    assert run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "21", *options)[:2] == (
+        0, "xsSWITCH_TANK_THR = 21 bar (written, read back)\n")
+
+
+def test_a_read_only_session_refuses_page_switches(bus, capsys, tmp_path):
+    options, log, sim = bus
+    text = Path(demo.a2l()).read_text(encoding="utf-8")
+    a2l = tmp_path / "other.a2l"
+    a2l.write_text(text.replace('EPK "10300020250301"', 'EPK "99999920991231"'), encoding="utf-8")
+    for argv in (["page", "reference"], ["page", "copy"], ["set", "xsSWITCH_TANK_THR", "21"]):
+        code, out, err = run(capsys, "cal", *argv, "--a2l", str(a2l), *options)
+        assert (code, out) == (1, "") and "the session is read-only (no writes, no page switches)" in err
+        assert log.take() == CONNECTED + ["DISCONNECT"]
+    assert sim.ecu.pages.xcp_page == sim.ecu.pages.ecu_page == 0
+    code, out, _ = run(capsys, "cal", "page", "--a2l", str(a2l), *options)
+    assert code == 0 and "segment 0: ECU on the working page, XCP on the working page" in out
+
+
+def test_a_fix_override_beyond_its_limits_sends_nothing(bus, capsys):
+    options, log, _ = bus
+    code, out, err = run(capsys, "cal", "fix", "zfRAILPRESSURE", "900", *options)
+    assert (code, out) == (2, "") and err.startswith("error: zfRAILPRESSURE_VALUE: 900 is above the upper limit")
+    assert log.take() == []

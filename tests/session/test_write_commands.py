@@ -1,0 +1,179 @@
+"""What a write costs on the bus, counted command by command on the virtual CAN bus: a value is one DOWNLOAD and
+one read-back, a map cell only its own bytes, a refused write nothing at all; pages and read-only sessions."""
+
+from __future__ import annotations
+
+import struct
+
+import numpy as np
+import pytest
+from conftest import FAST, edited_a2l
+from xcp_commands import CommandLog
+
+from workbench import EpkMismatchError, PageError, Session
+from workbench.errors import InputError, LimitsError, UnknownSymbolError
+
+FIRST_WRITE = ["GET_SEED", "UNLOCK", "GET_CAL_PAGE"]  # once a session: CAL/PAG unlocked, the page XCP is on asked
+WRITE = ["SET_MTA", "DOWNLOAD", "SHORT_UPLOAD"]
+
+
+@pytest.fixture
+def log(sim, channel):
+    with CommandLog(channel) as commands:
+        yield commands
+
+
+def _mta(frame) -> int:
+    return struct.unpack_from("<I", bytes(frame.data), 4)[0]
+
+
+def _downloaded(log) -> tuple[int, bytes]:
+    """(address, bytes) of the one SET_MTA + DOWNLOAD of the last take."""
+    mta, download = (f for f in log.frames if f.data[0] in (0xF6, 0xF0))
+    return _mta(mta), bytes(download.data[2:2 + download.data[1]])
+
+
+def test_a_value_is_one_download_and_one_read_back(ecu, sim, log):
+    log.take()
+    written = ecu.write("xsSWITCH_TANK_THR", 25.5)
+    assert log.take() == FIRST_WRITE + WRITE
+    address = ecu.model.characteristic("xsSWITCH_TANK_THR").address
+    assert _downloaded(log) == (address, struct.pack("<f", 25.5))
+    assert written.value == 25.5 and struct.unpack("<f", sim.ecu.read(address, 4))[0] == 25.5
+    assert ecu.write("xsSWITCH_TANK_THR", 30.0).value == 30.0
+    assert log.take() == WRITE  # unlocked, and the page is known now
+    assert ecu.write("cfENABLEFLCU_VALUE", "Enabled").value == "Enabled"
+    assert log.take() == WRITE
+
+
+def test_the_value_returned_is_the_one_read_back(ecu, log):
+    written = ecu.write("xsSWITCH_TANK_THR", 20.1)  # a FLOAT32_IEEE: the ECU holds the nearest float32
+    assert log.take()[-1] == "SHORT_UPLOAD"
+    assert written.value == float(np.float32(20.1)) != 20.1
+    assert ecu.write_cells("xvPRV_DC_FF", {(0, 1): 33.3}) == {(0, 1): float(np.float32(33.3))}
+
+
+def test_a_map_cell_after_reading_the_map_sends_only_that_cell(ecu, sim, log):
+    ff = ecu.read_value("xvPRV_DC_FF")
+    ecu.write("xsSWITCH_TANK_THR", 21.0)  # unlocked, page known
+    log.take()
+    new = ff.value.copy()
+    new[2, 3] = 42.0
+    written = ecu.write("xvPRV_DC_FF", new)
+    assert log.take() == WRITE
+    cell = ecu.model.characteristic("xvPRV_DC_FF").address + 4 * (3 * 6 + 2)  # [manifold][target] floats
+    assert _downloaded(log) == (cell, struct.pack("<f", 42.0))
+    assert np.array_equal(written.value, new) and written.axes == ff.axes  # decoded from what is known
+    assert struct.unpack("<f", sim.ecu.read(cell, 4))[0] == 42.0
+
+
+def test_a_map_cell_by_index_needs_nothing_read(ecu, sim, log):
+    log.take()
+    assert ecu.write_cells("xvPRV_DC_FF", {(2, 3): 42.0}) == {(2, 3): 42.0}
+    assert log.take() == FIRST_WRITE + WRITE
+    cell = ecu.model.characteristic("xvPRV_DC_FF").address + 4 * (3 * 6 + 2)
+    assert _downloaded(log) == (cell, struct.pack("<f", 42.0))
+    assert ecu.write_cells("zvRailPConv", {0: 1.0, 1: 9.0}) == {(0,): 1.0, (1,): 9.0}  # indices as tuples
+    assert log.take() == ["SET_MTA", "DOWNLOAD", "DOWNLOAD_NEXT", "SET_MTA", "UPLOAD"]  # neighbours: one block of 8 bytes
+    assert ecu.read("zvRailPConv")[:2].tolist() == [1.0, 9.0]
+
+
+def test_a_map_not_read_before_is_read_once(ecu, log):
+    ecu.write("xsSWITCH_TANK_THR", 21.0)
+    log.take()
+    new = ecu.read("xvPRV_DC_FF")  # read(): values only, nothing the write may rely on
+    log.take()
+    new[1, 1] = 7.0
+    assert ecu.write("xvPRV_DC_FF", new).value[1, 1] == 7.0
+    commands = log.take()
+    assert commands[-2:] == ["DOWNLOAD", "SHORT_UPLOAD"] and commands.count("DOWNLOAD") == 1
+    reads = commands[:commands.index("DOWNLOAD") - 1]
+    assert "SHORT_UPLOAD" not in reads and reads.count("UPLOAD") >= 1 and set(reads) == {"SET_MTA", "UPLOAD"}
+
+
+def test_what_the_session_knows_is_forgotten_when_the_memory_changes(ecu, sim):
+    ff = ecu.read_value("xvPRV_DC_FF")
+    ecu.write_cells("xvPRV_DC_FF", {(2, 3): 42.0})
+    ecu.copy_reference_to_working()  # the ECU holds the flashed map again; the session knew 42 at [2, 3]
+    new = ff.value.copy()
+    new[2, 3], new[1, 1] = 42.0, 7.0
+    written = ecu.write("xvPRV_DC_FF", new)
+    assert np.array_equal(written.value, new) and np.array_equal(ecu.read("xvPRV_DC_FF"), new)
+
+
+@pytest.mark.parametrize("name, value, error, message", [
+    ("xsSWITCH_TANK_THR", 900.0, LimitsError, "xsSWITCH_TANK_THR: 900 is above the upper limit 800 bar"),
+    ("xsSWITCH_TANK_THR", "abc", LimitsError, r"xsSWITCH_TANK_THR: 'abc' is not a number \(a value from 0 to 800 bar\)"),
+    ("cfENABLEFLCU_VALUE", "Foo", LimitsError, r"cfENABLEFLCU_VALUE: 'Foo' is not one of its values \(Disabled, "
+                                                r"Enabled\)"),
+    ("xvPRV_DC_FF", np.zeros((5, 6)), LimitsError, r"xvPRV_DC_FF has shape \(6, 5\), the value \(5, 6\)"),
+    ("xaPRV_FF_TARGET", [0, 10, 5, 30, 40, 50], LimitsError, "break MON_INCREASE"),
+    ("zsRailPressure", 3.0, InputError, "zsRailPressure is a MEASUREMENT"),
+    ("xsSWITCH_TANK_TRH", 3.0, UnknownSymbolError, "did you mean 'xsSWITCH_TANK_THR'"),
+])
+def test_a_refused_write_sends_nothing(ecu, log, name, value, error, message):
+    log.take()
+    with pytest.raises(error, match=message):
+        ecu.write(name, value)
+    assert log.take() == []
+
+
+@pytest.mark.parametrize("cells, message", [
+    ({(2, 3): 200.0}, r"xvPRV_DC_FF\[2, 3\]: 200 is above the upper limit 100 %"),
+    ({(6, 0): 1.0}, r"xvPRV_DC_FF has shape \(6, 5\): there is no value \[6, 0\]"),
+    ({(1,): 1.0}, r"there is no value \[1\]"),
+    ({(0, 0): "x"}, r"xvPRV_DC_FF\[0, 0\]: 'x' is not a number"),
+])
+def test_a_refused_cell_sends_nothing(ecu, log, cells, message):
+    log.take()
+    with pytest.raises(LimitsError, match=message):
+        ecu.write_cells("xvPRV_DC_FF", cells)
+    assert log.take() == []
+
+
+def test_a_read_only_calibration_and_memory_outside_the_writable_are_refused_before_sending(tmp_path, sim, channel):
+    a2l = edited_a2l(tmp_path, "DATA RAM INTERN 0x40000000 0x20000", "DATA RAM INTERN 0x40000000 0x10")
+    with Session.open(a2l, interface="virtual", channel=channel, timeouts=FAST) as ecu, CommandLog(channel) as log:
+        with pytest.raises(InputError, match="xsSWITCH_TANK_THR: its bytes at 0x.* lie outside the A2L's writable"):
+            ecu.write("xsSWITCH_TANK_THR", 21.0)
+        with pytest.raises(InputError, match=r"xvPRV_DC_FF: the value \[0, 0\] at .* outside the A2L's writable"):
+            ecu.write_cells("xvPRV_DC_FF", {(0, 0): 1.0})
+        assert log.take() == []
+
+
+def test_the_reference_page_is_refused_before_the_download_saying_how_to_switch(ecu, sim, log):
+    ecu.set_page("reference")
+    log.take()
+    with pytest.raises(PageError, match=r"xsSWITCH_TANK_THR is not written: the reference page of segment 0 is "
+                                        r"active .*`workbench cal page working`"):
+        ecu.write("xsSWITCH_TANK_THR", 21.0)
+    with pytest.raises(PageError, match="xvPRV_DC_FF is not written"):
+        ecu.write_cells("xvPRV_DC_FF", {(0, 0): 1.0})
+    assert "DOWNLOAD" not in log.take()
+    ecu.set_page("working")
+    log.take()
+    assert ecu.write("xsSWITCH_TANK_THR", 21.0).value == 21.0
+    assert log.take() == WRITE  # the switch told the session the page XCP is on
+
+
+def test_a_page_switched_by_someone_else_is_said_when_the_ecu_refuses(ecu, sim):
+    ecu.write("xsSWITCH_TANK_THR", 21.0)  # the session knows: XCP is on the working page
+    sim.ecu.pages.xcp_page = 1  # another master switched it
+    with pytest.raises(PageError, match="the reference page of segment 0 is active") as refused:
+        ecu.write("xsSWITCH_TANK_THR", 22.0)
+    assert "ERR_WRITE_PROTECTED" in str(refused.value.__cause__)
+    sim.ecu.pages.xcp_page = 0
+
+
+def test_a_read_only_session_refuses_page_switches_before_sending(tmp_path, sim, channel):
+    a2l = edited_a2l(tmp_path, 'EPK "10300020250301"', 'EPK "99999920991231"')
+    with Session.open(a2l, interface="virtual", channel=channel, timeouts=FAST) as ecu, CommandLog(channel) as log:
+        assert ecu.read_only
+        for refused in (lambda: ecu.set_page("reference"), ecu.copy_reference_to_working,
+                        lambda: ecu.write("xsSWITCH_TANK_THR", 21.0),
+                        lambda: ecu.write_cells("xvPRV_DC_FF", {(0, 0): 1.0})):
+            with pytest.raises(EpkMismatchError, match=r"read-only \(no writes, no page switches\)"):
+                refused()
+        assert log.take() == []
+        assert ecu.read("xsSWITCH_TANK_THR", page="reference") == 20.0  # reading another page is fine
+    assert sim.ecu.pages.xcp_page == sim.ecu.pages.ecu_page == 0

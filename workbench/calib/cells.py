@@ -1,0 +1,97 @@
+"""Single values of an array object (VAL_BLK, CURVE, MAP, CUBOID ...): where each lies, its bytes and back.
+
+Writing one cell of a map needs neither the rest of the map nor its axes: the cell's place follows
+from the record layout (:mod:`workbench.calib.layout`: COLUMN_DIR varies the X index fastest,
+ROW_DIR the last; with STATIC_ADDRESS_OFFSETS each value keeps its place in the MAX_AXIS_POINTS
+array), so a session downloads and reads back those bytes alone. A cell is indexed as the value
+is, ``[x, y, ...]``. An object with a BIT_MASK needs the cells' current bytes to keep the other bits.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from workbench.calib import rawtypes
+from workbench.calib.memory import ByteEdit, MemoryBytes, Span
+from workbench.errors import ConversionError
+
+if TYPE_CHECKING:
+    from workbench.calib.layout import ResolvedLayout
+
+__all__ = ["cell_edits", "cell_span", "cell_values"]
+
+_AXIS_KINDS = ("CURVE", "MAP", "CUBOID", "CUBE_4", "CUBE_5")
+
+
+def cell_span(layout: ResolvedLayout, index: tuple[int, ...]) -> Span:
+    """The bytes of the value at ``index``.
+
+    :raises ConversionError: the object holds no value there.
+    """
+    field = layout.field("FNC_VALUES")
+    shape = layout.shape
+    if len(index) != len(shape) or not all(0 <= i < n for i, n in zip(index, shape)):
+        raise ConversionError(f"{layout.name} has shape {shape}: there is no value {list(index)}")
+    static = layout.plan.record_layout.static_address_offsets and layout.kind in _AXIS_KINDS
+    stored = tuple(axis.max_points for axis in layout.plan.axes) if static else shape
+    order = "F" if field.mode == "COLUMN_DIR" else "C"
+    size = rawtypes.element_size(field.datatype)
+    position = int(np.ravel_multi_index(index, stored, order=order))
+    return Span(layout.address + field.offset + position * size, size, layout.extension)
+
+
+def cell_edits(layout: ResolvedLayout, cells: Mapping[tuple[int, ...], Any],
+               current: Mapping[Span, bytes] | None = None) -> list[ByteEdit]:
+    """The edits that write each cell's physical value (converted, rounded, range-checked for the data
+    type); cells next to each other in memory become one edit. ``current``: the cells' bytes now
+    (needed for a BIT_MASK).
+
+    :raises ConversionError: a value the conversion or data type cannot take, a cell outside the
+        object, a BIT_MASK without ``current``.
+    """
+    obj = layout.obj
+    field = layout.field("FNC_VALUES")
+    spans = {index: cell_span(layout, index) for index in cells}
+    values = np.array([cells[index] for index in spans], dtype=object)
+    try:
+        raw = layout.model.conversion(obj).to_raw(values, datatype=field.datatype)
+    except ConversionError as exc:
+        raise ConversionError(f"{obj.name}: {exc}") from None
+    raw = rawtypes.to_datatype(raw, field.datatype, obj.name)
+    if obj.bit_mask is not None:
+        if current is None:
+            raise ConversionError(f"{obj.name} has a BIT_MASK: writing a value needs its current bytes to keep "
+                                  "the other bits")
+        memory = MemoryBytes(current)
+        old = np.concatenate([_raw(memory, span, field) for span in spans.values()])
+        raw = rawtypes.insert_bits(old, raw, obj.bit_mask, field.datatype, obj.name)
+    edits: list[ByteEdit] = []
+    for span, number in sorted(zip(spans.values(), raw.tolist()), key=lambda pair: pair[0]):
+        data = rawtypes.encode(np.array([number]), field.datatype, field.byte_order)
+        last = edits[-1] if edits else None
+        if last is not None and last.span.end == span.address and last.extension == span.extension:
+            edits[-1] = ByteEdit(last.address, last.data + data, last.extension, obj.name, field.spelled)
+        else:
+            edits.append(ByteEdit(span.address, data, span.extension, obj.name, field.spelled))
+    return edits
+
+
+def cell_values(layout: ResolvedLayout, memory: Mapping[Span, bytes], indices: Iterable[tuple[int, ...]]
+                ) -> dict[tuple[int, ...], Any]:
+    """The physical value of each cell from ``memory`` (which holds at least the cells' bytes)."""
+    obj = layout.obj
+    field = layout.field("FNC_VALUES")
+    indices = list(indices)
+    held = MemoryBytes(memory)
+    raw = np.concatenate([_raw(held, cell_span(layout, index), field) for index in indices])
+    if obj.bit_mask is not None:
+        raw = rawtypes.extract_bits(raw, obj.bit_mask, field.datatype)
+    physical = np.asarray(layout.model.conversion(obj).to_physical(raw), dtype=object)
+    return dict(zip(indices, physical.tolist()))
+
+
+def _raw(memory: MemoryBytes, span: Span, field) -> np.ndarray:
+    return rawtypes.decode(memory.read(span.address, span.size, span.extension), field.datatype, field.byte_order, 1)
