@@ -115,10 +115,10 @@ def test_900_typed_into_every_editor_kind_is_refused_with_the_limit_and_the_ecu_
     assert scalar.field.input.text() == "900"  # every keystroke taken: no range that drops the last one
     with qtbot.waitSignal(scalar.refused, timeout=WAIT_MS) as refused:
         press(Qt.Key_Return)
-    assert refused.args[0] == "xsSWITCH_TANK_THR: 900 is above the upper limit 800"
+    assert refused.args[0] == "xsSWITCH_TANK_THR: 900 is above the upper limit 800 bar"
     assert "above the upper limit 800" in scalar.status.text()
 
-    for name, cell, limit in (("zvRailPConv", "[1]", "50"), ("xvPRV_DC_FF", "[1, 0]", "100")):
+    for name, cell, limit in (("zvRailPConv", "[1]", "50 bar"), ("xvPRV_DC_FF", "[1, 0]", "100 %")):
         table = editor_on(window, qtbot, name)
         cell_typed(table.field.table, 0, 1, "900")
         with qtbot.waitSignal(table.refused, timeout=WAIT_MS) as refused:
@@ -132,7 +132,7 @@ def test_900_typed_into_every_editor_kind_is_refused_with_the_limit_and_the_ecu_
     assert refused.args[0] == "cfFUELLEVELLOW_VALUE: 900 is above the upper limit 1"
 
     panel = fixes_listed(window, qtbot)
-    for stem, limit in (("zfRAILPRESSURE", "50"), ("cfFUELLEVELLOW", "1")):
+    for stem, limit in (("zfRAILPRESSURE", "50 bar"), ("cfFUELLEVELLOW", "1")):
         cell_typed(panel.table, fix_row(panel, stem), FIX_COLUMNS.index("override"), "900")
         with qtbot.waitSignal(panel.refused, timeout=WAIT_MS) as refused:
             press(Qt.Key_Return)
