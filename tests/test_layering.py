@@ -4,7 +4,8 @@ gui -> session (the ECU by name) -> (xcp, calib, can) -> (a2l, elf, image); reco
 stand on the session, sync (datasets and images with the ECU, cache sync) on the session and
 flash; sim uses image/a2l/can/elf but never xcp; only the CLI and the GUI sit on top. The ``workbench`` package itself exports Session lazily. A module may always use the shared
 foundation (errors, progress, fileio, demo, findings, lazy_exports) and what the simulated
-slave and the master share: xcp_protocol (the XCP names) and bus_defaults (the default bus);
+slave and the master share: xcp_protocol (the XCP names), xcp_framing (XCP on Ethernet's header) and
+bus_defaults (the default bus);
 they import nothing, so sim stays free of xcp.
 """
 
@@ -16,7 +17,8 @@ import pytest
 import workbench
 
 PACKAGE = Path(workbench.__file__).parent
-FOUNDATION = {"errors", "progress", "fileio", "demo", "findings", "lazy_exports", "xcp_protocol", "bus_defaults"}
+FOUNDATION = {"errors", "progress", "fileio", "demo", "findings", "lazy_exports", "xcp_protocol", "xcp_framing",
+              "bus_defaults"}
 ALLOWED = {
     "elf": set(),
     "image": set(),
@@ -61,6 +63,6 @@ def test_no_core_module_imports_qt():
         assert "PySide6" not in source and "pyqtgraph" not in source, path
 
 
-@pytest.mark.parametrize("module", ["xcp_protocol.py", "bus_defaults.py"])
+@pytest.mark.parametrize("module", ["xcp_protocol.py", "xcp_framing.py", "bus_defaults.py"])
 def test_the_neutral_ground_of_master_and_simulator_stands_on_nothing(module):
     assert _imported_subpackages(PACKAGE / module) == set()

@@ -1,6 +1,6 @@
 """A raw XCP-on-Ethernet master for the tests: frames CTOs with its own CTR, unframes what comes back.
 
-It parses the LEN/CTR headers itself (not with ``workbench.sim.eth_framing``), so a framing
+It parses the LEN/CTR headers itself (not with ``workbench.xcp_framing``), so a framing
 mistake on the slave's side cannot hide behind the same mistake here.
 """
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from workbench.sim.eth_framing import FramingError, StreamDecoder, frame, split_datagram
+from workbench.xcp_framing import FramingError, StreamDecoder, frame, split_datagram
 
 
 def test_a_packet_behind_its_little_endian_header():

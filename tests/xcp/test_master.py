@@ -6,10 +6,12 @@ import struct
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import pytest
 from conftest import FAST, can_settings
 
+import workbench
 from workbench.errors import WorkbenchError, XcpCommandError, XcpTimeoutError
 from workbench.image import ChecksumType, checksum
 from workbench.xcp.link import Link
@@ -125,24 +127,25 @@ def test_nothing_answers_connect_on_an_empty_bus():
             XcpMaster(link, timeouts=FAST).connect()
 
 
-def test_importing_pyxcp_through_the_link_leaves_the_interpreter_alone():
-    """pyxcp installs rich's traceback and display hooks and a console log handler when imported."""
+def test_the_link_is_ours_pyxcp_stays_out_of_the_workbench():
+    """pyxcp is the independent reference master of the tests and benchmarks, nothing the workbench imports."""
     code = (
-        "import logging, sys\n"
+        "import sys\n"
         "from workbench.sim.demo_ecu import build_demo_ecu\n"
         "from workbench.sim.server import Simulator\n"
         "from workbench.xcp.link import Link, LinkSettings\n"
+        "from workbench.xcp.master import XcpMaster\n"
+        "settings = LinkSettings('CAN', {'interface': 'virtual', 'channel': 'h'}, 0x7F0, 0x7F1, max_dlc_required=True)\n"
         "with Simulator(build_demo_ecu().ecu, {'interface': 'virtual', 'channel': 'h'}, time_scale=None):\n"
-        "    with Link(LinkSettings('CAN', {'interface': 'virtual', 'channel': 'h'}, 0x7F0, 0x7F1)):\n"
-        "        pass\n"
-        "assert 'pyxcp' in sys.modules\n"
-        "assert sys.excepthook is sys.__excepthook__, sys.excepthook\n"
-        "assert sys.displayhook is sys.__displayhook__, sys.displayhook\n"
-        "assert logging.getLogger('pyxcp').handlers == [], logging.getLogger('pyxcp').handlers\n"
+        "    with Link(settings) as link:\n"
+        "        XcpMaster(link).connect()\n"
+        "assert 'pyxcp' not in sys.modules\n"
     )
-    result = subprocess.run([sys.executable, "-c", code, "--not-for-pyxcp"], capture_output=True, text=True)
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
     assert result.stdout == "" and result.stderr == ""
+    sources = Path(workbench.__file__).parent.rglob("*.py")
+    assert [path.name for path in sources if "import pyxcp" in path.read_text() or "from pyxcp" in path.read_text()] == []
 
 
 def test_an_unknown_interface_is_bad_input():

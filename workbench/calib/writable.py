@@ -3,11 +3,9 @@
 :func:`checked_value` makes the :class:`~workbench.calib.values.CalValue` to write from what a caller
 gives (a number, an enum's text, a string, an array of the object's shape, a CalValue) and refuses it
 with :class:`~workbench.errors.LimitsError` when it breaks its object's rules
-(:func:`~workbench.calib.limits.check_limits`: write access, kind, shape, texts, limits, monotony),
-with :class:`~workbench.errors.ConversionError` when its conversion or data type cannot take it (a
-value a TAB_NOINTP does not list, beyond the data type), or with
-:class:`~workbench.errors.InputError` when it is a measurement or lies outside the memory the A2L
-lets calibrations be written to. :func:`checked_cells` does the same for single values of an
+(:func:`~workbench.calib.limits.check_limits`: write access, kind, shape, texts, limits, monotony)
+or with :class:`~workbench.errors.InputError` when it is a measurement or lies outside the memory
+the A2L lets calibrations be written to. :func:`checked_cells` does the same for single values of an
 array. A session runs them before it sends anything; the CLI before it even connects.
 
 Writable memory (:func:`writable_spans`): the MEMORY_SEGMENTs of RAM (or EEPROM, registers) holding
@@ -24,7 +22,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from workbench.a2l.objects import Measurement
-from workbench.calib.cells import cell_edits, cell_span
+from workbench.calib.cells import cell_span
 from workbench.calib.layout import object_layout
 from workbench.calib.limits import check_cells, check_limits
 from workbench.calib.memory import Span
@@ -89,8 +87,6 @@ def checked_value(model: A2lModel, name: str, value: Any, *, extended: bool = Fa
         resolved = layout.resolve()
         spans = resolved.spans() if target.axes else [resolved.span()]
         check_inside(name, ((span, "") for span in spans), writable)
-        if obj.bit_mask is None:  # what the conversion or the data type refuses (a BIT_MASK needs the ECU's bits)
-            resolved.encode(target)
     return target
 
 
@@ -112,8 +108,6 @@ def checked_cells(model: A2lModel, name: str, cells: Mapping[Any, Any], *, exten
     if not layout.needs_counts:
         resolved = layout.resolve()
         check_inside(name, ((cell_span(resolved, index), f"the value {list(index)}") for index in indexed), writable)
-        if resolved.obj.bit_mask is None:
-            cell_edits(resolved, indexed)
     return indexed
 
 

@@ -55,7 +55,7 @@ from workbench.record.daq_channels import DaqGroup
 from workbench.record.mdf_stream import HeaderSpec, MdfStreamWriter, SourceSpec
 from workbench.record.timebase import RecordingClock
 from workbench.session.measure import SampleBatch
-from workbench.xcp.link import _widen_udp_receive_buffer as widen_udp_receive_buffer  # the master's, for our listener
+from workbench.xcp.transport.can import widen_udp_receive_buffer  # the master's, for our listener
 
 if TYPE_CHECKING:
     import can

@@ -25,7 +25,7 @@ from workbench.image import ChecksumType, load_image, split_by_region
 from workbench.sim.bsw import Bsw
 from workbench.sim.can2 import Can2Driver
 from workbench.sim.ecu import SimulatedEcu
-from workbench.sim.eth_framing import HEADER_SIZE
+from workbench.xcp_framing import HEADER_SIZE
 from workbench.sim.faults import FaultPlan
 from workbench.sim.flcu import FlcuApplication
 from workbench.sim.layout import ApplicationLayout

@@ -1,4 +1,4 @@
-"""XCP on Ethernet for the simulated ECU: UDP/IP or TCP/IP, framed as :mod:`workbench.sim.eth_framing` says.
+"""XCP on Ethernet for the simulated ECU: UDP/IP or TCP/IP, framed as :mod:`workbench.xcp_framing` says.
 
 One master at a time, as ECUs do:
 
@@ -29,7 +29,7 @@ from typing import Any
 
 from workbench.errors import InputError, WorkbenchError
 from workbench.sim.ecu import SimulatedEcu
-from workbench.sim.eth_framing import CTR_MODULO, FramingError, StreamDecoder, frame, split_datagram
+from workbench.xcp_framing import CTR_MODULO, FramingError, StreamDecoder, frame, split_datagram
 from workbench.sim.xcp_port import XcpPort
 from workbench.xcp_protocol import Cmd
 

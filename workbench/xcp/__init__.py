@@ -1,1 +1,1 @@
-"""The XCP master: a link over pyxcp's transports, the commands, DAQ, seed & key."""
+"""The XCP master: the link and its transports (CAN, CAN FD, UDP, TCP), the commands, DAQ, seed & key."""

@@ -1,40 +1,48 @@
-"""One XCP link to an ECU over pyxcp's transport layer: XCP on CAN (any python-can bus) or XCP on Ethernet.
+"""One XCP link to an ECU: XCP on CAN (any python-can bus) or XCP on Ethernet (UDP, TCP), at wire speed.
 
-pyxcp frames the packets (the Ethernet header and counter), runs the receive thread and
-queues the responses; this module hides every pyxcp quirk behind four calls
-(:meth:`Link.exchange`, :meth:`Link.send`, :meth:`Link.receive`, :meth:`Link.close`):
+The master (:mod:`workbench.xcp.master`) sends packets and reads responses through five members:
+:meth:`Link.exchange`, :meth:`Link.send`, :meth:`Link.receive`, :meth:`Link.close` and
+:attr:`Link.dto_handler`. Which thread reads the wire depends on what runs:
 
-* ``import pyxcp`` installs rich's traceback and display hooks in the interpreter: they are
-  put back as they were;
-* pyxcp's application object would parse ``sys.argv``: it is built from a dictionary instead;
-* its logger gets a rich console handler: removed, so its records go where the user's
-  logging sends them (warnings and up);
-* its request path raises its own exception classes and builds long diagnostic texts: the
-  master (:mod:`workbench.xcp.master`) sends packets itself and reads the responses.
+* no DAQ: the caller's own thread sends and then reads the transport directly (no hand-over between
+  threads, so a command costs what the wire costs);
+* DAQ (a ``dto_handler`` set): one receiver (a thread on the socket; python-can's Notifier on CAN) hands
+  every DTO to the handler with its host receive time and every response to the waiting caller.
 
-A late response to a command that timed out would be taken for the answer to the next one;
-every exchange therefore drops what is queued before it sends.
+A late response to a command that timed out (or a doubled one) would be taken for the answer to the next
+command; every exchange therefore drops what came before it sends, except for the last frame of a master
+block, whose early error response must not be lost. Event (EV) and service (SERV) packets are logged,
+never taken for responses.
+
+A lost ECU is said at once as :class:`~workbench.errors.ConnectionLostError`: a closed TCP connection, a
+socket or bus error, and, while DAQ runs with :meth:`Link.watch_dtos`, no DTO for the time given. The link
+stays lost (every call raises it, without waiting for timeouts) until a CONNECT goes out again: it tries
+once more (TCP: on a new connection).
 """
 
 from __future__ import annotations
 
 import logging
-import socket
-import sys
 import threading
+import time
+from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any, NoReturn
 
-from workbench.errors import InputError, WorkbenchError
-from workbench.xcp_protocol import CAN_ID_EXTENDED_FLAG
+from workbench.errors import ConnectionLostError, WorkbenchError
+from workbench.xcp.transport import LinkBroken, open_transport
+from workbench.xcp_protocol import PID_ERR, PID_EV, PID_SERV, Cmd
+
+if TYPE_CHECKING:
+    import can
 
 log = logging.getLogger(__name__)
 
-__all__ = ["Link", "LinkSettings"]
+__all__ = ["DtoHandler", "Link", "LinkSettings"]
 
-DtoHandler = Callable[[bytes, int], None]  # (packet, host receive time in ns)
-_import_lock = threading.Lock()
+DtoHandler = Callable[[bytes, int], None]  # (packet, host receive time in ns since the epoch)
+_CONNECT = int(Cmd.CONNECT)
 
 
 @dataclass(frozen=True)
@@ -43,8 +51,8 @@ class LinkSettings:
 
     CAN: ``bus`` is python-can's ``Bus(**bus)`` keyword arguments (``interface``, ``channel``,
     ``bitrate``, and any backend option such as udp_multicast's ``port`` or Vector's
-    ``app_name``); ids without the extended flag, ``*_extended`` says which are 29-bit.
-    Ethernet: ``host`` and ``port``.
+    ``app_name``); ids without the extended flag, ``*_extended`` says which are 29-bit; ``fd``: CAN FD
+    frames of up to ``max_dlc`` bytes. Ethernet: ``host`` and ``port``.
     """
 
     transport: str = "CAN"
@@ -57,6 +65,8 @@ class LinkSettings:
     daq_can_ids: tuple[tuple[int, bool], ...] = ()  # extra ids the slave sends DTOs on (DAQ_LIST_CAN_ID)
     host: str | None = None
     port: int | None = None
+    fd: bool = False
+    max_dlc: int = 8
 
     def describe(self) -> str:
         if self.transport == "CAN":
@@ -65,226 +75,237 @@ class LinkSettings:
         return f"XCP on {self.transport} ({self.host}:{self.port})"
 
 
-def _pyxcp():
-    """pyxcp's modules, imported without the hooks and console logging its package installs."""
-    with _import_lock:
-        hooks = sys.excepthook, sys.displayhook
-        try:
-            import pyxcp.config
-            import pyxcp.transport.can
-            import pyxcp.transport.eth
-            from pyxcp.transport.transport_ext import FrameCategory
-        finally:
-            sys.excepthook, sys.displayhook = hooks
-    return pyxcp.config, pyxcp.transport.can, pyxcp.transport.eth, FrameCategory
-
-
-def _lighten(transport) -> None:
-    """Attach the transport to no master, and skip the diagnostic record pyxcp formats (a hex dump) for
-    every frame it receives: at a saturated bus's 8,000 DTOs a second that costs a good share of a core."""
-    transport.parent = _Service()
-    transport._record_pdu = lambda *args, **kwargs: None
-
-
-UDP_RECEIVE_BUFFER = 4 << 20  # bytes: a second of a saturated bus as udp_multicast datagrams
-
-
-def _widen_udp_receive_buffer(bus) -> None:
-    """udp_multicast carries each CAN frame as a datagram: with the kernel's default buffer (about 200 kB,
-    ~270 frames) a busy interpreter pausing for 30 ms at a saturated bus's 8,000 frames/s loses frames."""
-    sock = getattr(getattr(bus, "_multicast", None), "_socket", None)  # python-can keeps it private
-    if sock is not None:
-        try:
-            sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, UDP_RECEIVE_BUFFER)
-        except OSError:  # capped by the system (net.core.rmem_max): keep what it gives
-            log.debug("could not widen the udp_multicast receive buffer", exc_info=True)
-
-
-def _quiet_pyxcp_logging() -> None:
-    logger = logging.getLogger("pyxcp")
-    for handler in list(logger.handlers):
-        logger.removeHandler(handler)
-    logger.setLevel(logging.WARNING)
-    logger.propagate = True
-
-
-class _Policy:
-    """pyxcp's frame sink: passes DTOs on, drops everything else (pyxcp calls ``feed`` from Python)."""
-
-    def __init__(self, daq_category):
-        self._daq = daq_category
-        self.handler: DtoHandler | None = None
-
-    def feed(self, category, counter, timestamp, payload) -> None:
-        handler = self.handler
-        if handler is not None and category == self._daq:
-            handler(payload, timestamp)
-
-    def finalize(self, *args) -> None:
-        pass
-
-
-class _Service:
-    """What pyxcp's transport expects of its parent master."""
-
-    def _setService(self, service) -> None:  # noqa: N802 (pyxcp's name)
-        pass
-
-
 class Link:
-    """An open XCP link. ``bus`` (CAN only) is a python-can bus the caller owns and keeps open."""
+    """An open XCP link. ``bus`` (CAN only) is a python-can bus the caller owns and keeps open.
 
-    def __init__(self, settings: LinkSettings, bus=None):
+    :raises InputError: bad settings (an unknown interface or transport, no host or port).
+    :raises WorkbenchError: the bus cannot be opened or the ECU's address cannot be reached.
+    """
+
+    def __init__(self, settings: LinkSettings, bus: can.BusABC | None = None):
         self.settings = settings
-        self._bus = bus
-        self._owned_bus = None
-        self._transport = None
-        self._policy = None
-        self._lock = threading.Lock()
         self.closed = False
-        self.open()
+        self.lost: ConnectionLostError | None = None
+        self.events: deque[bytes] = deque(maxlen=64)  # the newest EV and SERV packets
+        self._lock = threading.RLock()  # one caller on the wire at a time
+        self._arrived = threading.Condition()  # guards the responses and ``lost`` between receiver and caller
+        self._responses: deque[bytes] = deque()
+        self._handler: DtoHandler | None = None
+        self._receiving = False
+        self._dto_silence_s: float | None = None
+        self._last_dto = 0.0  # time.monotonic() of the last DTO (or of the watch's start)
+        self._transport = open_transport(settings, bus)
 
     @property
     def is_can(self) -> bool:
         return self.settings.transport == "CAN"
 
-    def open(self) -> None:
-        config_module, can_module, eth_module, frame_category = _pyxcp()
-        self._policy = _Policy(frame_category.DAQ)
-        try:
-            if self.is_can:
-                self._transport = self._open_can(config_module, can_module)
-            else:
-                self._transport = self._open_ethernet(config_module, eth_module)
-        except BaseException:
-            self.close()
-            raise
-        finally:
-            _quiet_pyxcp_logging()
+    @property
+    def counter_gaps(self) -> int:
+        """XCP on Ethernet: jumps in the slave's packet counter seen so far (packets lost on the way)."""
+        return getattr(self._transport, "counter_gaps", 0)
 
-    def _application(self, config_module, transport: dict[str, dict]):
-        app = config_module.create_application_from_config({"Transport": transport}, log_level=logging.WARNING)
-        _quiet_pyxcp_logging()
-        app.transport.create_daq_timestamps = True  # host receive time of every DTO, for the clock mapping
-        return app
+    def describe(self) -> str:
+        return self._transport.describe()
 
-    def _open_can(self, config_module, can_module):
-        settings = self.settings
-        if self._bus is None:
-            self._owned_bus = self._bus = open_bus(settings.bus)
-            _widen_udp_receive_buffer(self._bus)
-        flag = CAN_ID_EXTENDED_FLAG
-        app = self._application(config_module, {"CAN": {
-            "can_id_master": settings.can_id_master | (flag if settings.can_id_master_extended else 0),
-            "can_id_slave": settings.can_id_slave | (flag if settings.can_id_slave_extended else 0),
-            "max_dlc_required": settings.max_dlc_required,
-            "padding_value": 0,
-        }})
-        transport = can_module.Can(app.transport, policy=self._policy, transport_layer_interface=self._bus)
-        _lighten(transport)
-        transport.connect()
-        if settings.daq_can_ids:  # accept DTOs on their own ids; pyxcp's daq_identifier would prepend a PID
-            ids = [can_module.Identifier(ident | (flag if extended else 0)) for ident, extended in settings.daq_can_ids]
-            transport.can_interface.update_daq_filters(ids)
-        return transport
-
-    def _open_ethernet(self, config_module, eth_module):
-        settings = self.settings
-        if not settings.host or not settings.port:
-            raise InputError(f"XCP on {settings.transport} needs a host and a port")
-        app = self._application(config_module, {"Eth": {
-            "host": settings.host, "port": settings.port, "protocol": settings.transport, "tcp_nodelay": True,
-        }})
-        try:
-            transport = eth_module.Eth(app.transport, policy=self._policy)
-            _lighten(transport)
-            transport.connect()
-        except OSError as exc:
-            raise WorkbenchError(f"cannot reach the ECU at {settings.host}:{settings.port} "
-                                 f"({settings.transport}): {exc.strerror or exc}") from None
-        except Exception as exc:  # pyxcp raises a bare Exception when the address does not resolve
-            raise WorkbenchError(f"cannot reach the ECU at {settings.host}:{settings.port}: {exc}") from None
-        return transport
-
-    # --- packets ------------------------------------------------------------------------------
+    # --- DTOs ---------------------------------------------------------------------------------
 
     @property
     def dto_handler(self) -> DtoHandler | None:
-        return self._policy.handler if self._policy is not None else None
+        return self._handler
 
     @dto_handler.setter
     def dto_handler(self, handler: DtoHandler | None) -> None:
-        self._policy.handler = handler
+        """Set: DTOs go to ``handler`` from a receiver that starts now; None: the receiver stops (the caller's
+        thread reads the wire again) and DTOs are dropped."""
+        with self._lock:
+            self._handler = handler
+            if handler is None:
+                self._dto_silence_s = None
+            if self.closed:
+                return
+            if handler is not None and not self._receiving:
+                self._receiving = True
+                self._transport.start_receiver(self._dispatch, self._broken)
+            elif handler is None and self._receiving:
+                self._transport.stop_receiver()
+                self._receiving = False
+
+    def watch_dtos(self, silence_s: float | None) -> None:
+        """Take ``silence_s`` seconds without a DTO (from now) for a lost ECU while a ``dto_handler`` is set
+        (None: do not watch). :meth:`check` and every command say so."""
+        with self._arrived:
+            self._dto_silence_s = silence_s
+            self._last_dto = time.monotonic()
+
+    def check(self) -> None:
+        """:raises ConnectionLostError: the link is lost (also: no DTO within the watched time)."""
+        silence = self._dto_silence_s
+        if silence is not None and self._handler is not None and self.lost is None:
+            quiet = time.monotonic() - self._last_dto
+            if quiet > silence:
+                self._lose(f"no DTO for {_duration(quiet)} (expected within {_duration(silence)})",
+                           time.time() - quiet + silence)
+        if self.lost is not None:
+            raise ConnectionLostError(self.lost.what, self.lost.reason, self.lost.when)
+
+    # --- packets ------------------------------------------------------------------------------
 
     def exchange(self, packet: bytes, timeout_s: float, *, drop_queued: bool = True) -> bytes | None:
         """Send a command packet (PID first) and return the next response or error packet, None on timeout.
 
         ``drop_queued``: forget responses that came late before sending (False for the last frame of a
         master block, whose early error response must not be lost).
+
+        :raises ConnectionLostError: the link is lost. :raises WorkbenchError: the link is closed, or the
+            packet could not be sent.
         """
         with self._lock:
-            if self._transport is None or self.closed:
-                raise WorkbenchError("the XCP link is closed")
+            if packet[0] == _CONNECT and self.lost is not None:
+                self._revive()
+            self._usable()
             if drop_queued:
-                self._drop_queued()
+                self._drop_responses()
             self._send(packet)
             return self._receive(timeout_s)
 
     def send(self, packet: bytes) -> None:
         """Send a packet that gets no response (the leading frames of a master block)."""
         with self._lock:
+            self._usable()
             self._send(packet)
 
     def receive(self, timeout_s: float) -> bytes | None:
         """The next response packet (slave block mode, a response that came late), None on timeout."""
         with self._lock:
+            self._usable()
             return self._receive(timeout_s)
 
-    def _send(self, packet: bytes) -> None:
-        transport = self._transport
-        if transport is None or self.closed:
+    def _usable(self) -> None:
+        if self.closed:
             raise WorkbenchError("the XCP link is closed")
-        frame = transport.framing.prepare_request(packet[0], bytes(packet[1:]))
+        self.check()
+
+    def _send(self, packet: bytes) -> None:
         try:
-            transport.send(frame)
-        except OSError as exc:
-            raise WorkbenchError(f"cannot send to the ECU ({self.settings.describe()}): {exc}") from None
-        except Exception as exc:  # python-can's CanOperationError and friends
-            raise WorkbenchError(f"cannot send to the ECU ({self.settings.describe()}): {exc}") from None
+            self._transport.send(packet)
+        except LinkBroken as exc:
+            self._fail(exc.reason)
 
     def _receive(self, timeout_s: float) -> bytes | None:
-        transport = self._transport
-        condition, queue = transport.resQueue_condition, transport.resQueue
-        with condition:
-            if not queue and (timeout_s <= 0 or not condition.wait_for(lambda: bool(queue), timeout_s)):
+        if self._receiving:
+            with self._arrived:
+                if not self._responses and self.lost is None:
+                    self._arrived.wait_for(lambda: self._responses or self.lost is not None, timeout_s)
+                if self._responses:
+                    return self._responses.popleft()
+            self.check()
+            return None
+        responses = self._responses
+        if responses:  # the rest of a datagram that carried several
+            return responses.popleft()
+        deadline = time.monotonic() + timeout_s
+        transport, dispatch = self._transport, self._dispatch
+        while True:
+            try:
+                packets = transport.receive(timeout_s)
+            except LinkBroken as exc:
+                self._fail(exc.reason)
+            if packets:
+                host_ns = time.time_ns()
+                for packet in packets:
+                    dispatch(packet, host_ns)
+                if responses:
+                    return responses.popleft()
+            timeout_s = deadline - time.monotonic()
+            if timeout_s <= 0:
                 return None
-            return bytes(queue.popleft())
 
-    def _drop_queued(self) -> None:
-        transport = self._transport
-        with transport.resQueue_condition:
-            if transport.resQueue:
-                log.debug("dropping %d late response(s)", len(transport.resQueue))
-                transport.resQueue.clear()
+    def _drop_responses(self) -> None:
+        if not self._receiving:  # what the wire holds: read it (and drop it) now
+            transport = self._transport
+            try:
+                while (packets := transport.receive(0)) is not None:
+                    for packet in packets:
+                        self._dispatch(packet, 0)
+            except LinkBroken as exc:
+                self._fail(exc.reason)
+        with self._arrived:
+            if self._responses:
+                log.debug("dropping %d late response(s)", len(self._responses))
+                self._responses.clear()
+
+    def _dispatch(self, packet: bytes, host_ns: int) -> None:
+        """Where a packet from the slave goes: a response to the caller, a DTO to the handler."""
+        pid = packet[0]
+        if pid >= PID_ERR:
+            with self._arrived:
+                self._responses.append(packet)
+                self._arrived.notify()
+        elif pid >= PID_SERV:
+            self.events.append(packet)
+            log.info("%s: %s packet %s", self.describe(), "event" if pid == PID_EV else "service request",
+                     packet.hex(" "))
+        else:
+            self._last_dto = time.monotonic()
+            handler = self._handler
+            if handler is not None:
+                try:
+                    handler(packet, host_ns)
+                except Exception as exc:  # a receiver must not die of one DTO (nor print a traceback)
+                    log.error("DTO %s not taken: %s: %s", packet[:8].hex(" "), type(exc).__name__, exc)
+                    log.debug("the DTO handler failed", exc_info=True)
+
+    # --- a lost link --------------------------------------------------------------------------
+
+    def _broken(self, reason: str) -> None:
+        """The transport cannot go on (from the receiver's thread or the caller's)."""
+        self._lose(reason, time.time())
+
+    def _fail(self, reason: str) -> NoReturn:
+        """The transport broke under the caller: the link is lost (or was closed under it); raise that."""
+        self._broken(reason)
+        self._usable()
+        raise ConnectionLostError(self.describe(), reason)
+
+    def _lose(self, reason: str, when: float) -> None:
+        with self._arrived:
+            if self.lost is None and not self.closed:
+                self.lost = ConnectionLostError(self.describe(), reason, when)
+                log.debug("link lost: %s", self.lost)
+            self._arrived.notify_all()
+
+    def _revive(self) -> None:
+        """A CONNECT after the link was lost: start over (TCP: on a new connection).
+
+        :raises WorkbenchError: a new connection cannot be made.
+        """
+        if self._receiving:
+            self._transport.stop_receiver()
+            self._receiving = False
+        self._handler = None
+        self._dto_silence_s = None
+        reconnect = getattr(self._transport, "reconnect", None)
+        if reconnect is not None:
+            reconnect()
+        with self._arrived:
+            self.lost = None
+            self._responses.clear()
+
+    # --- closing ------------------------------------------------------------------------------
 
     def close(self) -> None:
-        """Stop the receive thread and close what this link opened; safe to call twice."""
+        """Stop the receiver and close what this link opened; safe to call twice."""
         if self.closed:
             return
-        self.closed = True
-        if self._policy is not None:
-            self._policy.handler = None
-        transport, self._transport = self._transport, None
-        if transport is not None:
-            try:
-                transport.close()
-                # pyxcp does not wait for its receive thread: a bus shut under it logs a bad file descriptor
-                if transport.listener.is_alive():
-                    transport.listener.join(timeout=1.0)
-            except Exception:  # closing must not fail a session that is going away
-                log.debug("closing the pyxcp transport failed", exc_info=True)
-        if self._owned_bus is not None:
-            self._owned_bus.shutdown()
+        with self._arrived:
+            self.closed = True
+            self._handler = None
+            self._arrived.notify_all()
+        try:
+            self._transport.close()
+        except Exception:  # closing must not fail a session that is going away
+            log.debug("closing the XCP transport failed", exc_info=True)
 
     def __enter__(self) -> Link:
         return self
@@ -293,20 +314,5 @@ class Link:
         self.close()
 
 
-def open_bus(config: dict[str, Any]):
-    """A python-can bus from ``Bus(**config)`` keyword arguments, errors as one line.
-
-    :raises InputError: an unknown interface (naming the known ones).
-    :raises WorkbenchError: the bus cannot be opened (driver missing, device busy ...).
-    """
-    import can
-
-    interface = config.get("interface")
-    if interface not in can.interfaces.VALID_INTERFACES:
-        raise InputError(f"unknown python-can interface {interface!r} "
-                         f"(known: {', '.join(sorted(can.interfaces.VALID_INTERFACES))})")
-    try:
-        return can.Bus(**config)
-    except (can.CanError, OSError, ValueError, ImportError, TypeError) as exc:
-        where = f"{interface} {config.get('channel', '')}".strip()
-        raise WorkbenchError(f"cannot open the CAN bus ({where}): {exc}") from None
+def _duration(seconds: float) -> str:
+    return f"{seconds * 1000:.0f} ms" if seconds < 10 else f"{seconds:.1f} s"

@@ -418,8 +418,9 @@ class MainWindow(QMainWindow):
         self.disconnect_action.setEnabled(True)
         self.flash_action.setEnabled(True)
         writable = not info.boot and not session.read_only
-        for action in (self.working_action, self.reference_action, self.copy_action):
-            action.setEnabled(writable and bool(info.pages))  # a read-only session refuses page switches
+        for action in (self.working_action, self.reference_action):
+            action.setEnabled(bool(info.pages))
+        self.copy_action.setEnabled(writable and bool(info.pages))
         self._update_title()
         if session.epk.matches is False and session.read_only:
             self.epk_dialog = EpkDialog(self.workspace.doc.name if self.workspace else "A2L",

@@ -8,17 +8,21 @@ little-endian.
 Each side counts its own packets in CTR (the slave: responses, events and DTOs alike), from 0,
 wrapping after 0xFFFF. A packet is never empty; the receiver names the largest packet it takes
 (the slave: MAX_CTO), so a LEN beyond it is a framing error, not a memory problem.
+
+Neutral ground (it imports nothing of the workbench): the simulated slave (:mod:`workbench.sim.eth_port`)
+and the master's transport (:mod:`workbench.xcp.transport.ethernet`) frame alike.
 """
 
 from __future__ import annotations
 
 import struct
 
-__all__ = ["HEADER_SIZE", "FramingError", "StreamDecoder", "frame", "split_datagram"]
+__all__ = ["CTR_MODULO", "HEADER_SIZE", "MAX_PACKET", "FramingError", "StreamDecoder", "frame", "split_datagram"]
 
 _HEADER = struct.Struct("<HH")
 HEADER_SIZE = _HEADER.size
 CTR_MODULO = 0x10000
+MAX_PACKET = 0xFFFF  # the largest LEN: what a master takes before CONNECT tells it MAX_CTO and MAX_DTO
 
 
 class FramingError(ValueError):
