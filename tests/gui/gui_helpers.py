@@ -6,6 +6,19 @@ from __future__ import annotations
 WAIT_MS = 15_000
 
 
+def offline_window(qtbot, project=None):
+    """A MainWindow on ``project`` (the demo's), shown, its files read, no ECU."""
+    from workbench.gui.project import demo_project
+    from workbench.gui.widgets.main_window import MainWindow
+
+    window = MainWindow(project or demo_project())
+    qtbot.addWidget(window)
+    window.show()
+    with qtbot.waitSignal(window.loaded, timeout=WAIT_MS):
+        window.load()
+    return window
+
+
 def open_window(qtbot, project):
     """A MainWindow on ``project``, shown, its files read, connected (for ``yield`` in a fixture)."""
     from workbench.gui.widgets.main_window import MainWindow
@@ -18,3 +31,38 @@ def open_window(qtbot, project):
     with qtbot.waitSignal(window.controller.connected, timeout=WAIT_MS):
         window.connect_ecu()
     return window
+
+
+def shared_window(request, channel: str, plots=None):
+    """A MainWindow on the demo project, connected to the ECU on ``channel``, for a module's tests
+    (``yield`` it from a module-scoped fixture; it is closed after them). ``plots``: instead of the demo's."""
+    from pytestqt.qtbot import QtBot
+
+    from workbench.gui.project import Connection, demo_project
+    from workbench.gui.widgets.main_window import MainWindow
+
+    project = demo_project()
+    project.connection = Connection(interface="virtual", channel=channel)
+    if plots is not None:
+        project.plots = plots
+    window = MainWindow(project)
+    window.show()
+    bot = QtBot(request)
+    with bot.waitSignal(window.loaded, timeout=WAIT_MS):
+        window.load()
+    with bot.waitSignal(window.controller.connected, timeout=WAIT_MS):
+        window.connect_ecu()
+    window.activateWindow()
+    bot.waitUntil(window.isActiveWindow, timeout=WAIT_MS)
+    return window
+
+
+def demo_ecu_on_a_channel_of_its_own(prefix: str):
+    """The demo ECU on a virtual bus of its own: ``(channel, simulator)`` (``yield from`` in a fixture)."""
+    import uuid
+
+    from workbench.sim import serve_demo
+
+    channel = f"{prefix}-{uuid.uuid4().hex[:10]}"
+    with serve_demo({"interface": "virtual", "channel": channel}, pcm_target_bar=25.0) as simulator:
+        yield channel, simulator

@@ -6,46 +6,24 @@ a second or two)."""
 
 from __future__ import annotations
 
-import uuid
-
 import numpy as np
 import pytest
-from gui_helpers import WAIT_MS
+from gui_helpers import WAIT_MS, demo_ecu_on_a_channel_of_its_own, shared_window
 from PySide6.QtCore import Qt
 from PySide6.QtTest import QTest
 from PySide6.QtWidgets import QApplication
 
 from workbench.gui.models.fixes import COLUMNS as FIX_COLUMNS
-from workbench.gui.project import Connection, demo_project
 
 
 @pytest.fixture(scope="module")
 def ecu():
-    from workbench.sim import serve_demo
-
-    channel = f"gui-edit-{uuid.uuid4().hex[:10]}"
-    with serve_demo({"interface": "virtual", "channel": channel}, pcm_target_bar=25.0) as simulator:
-        yield channel, simulator
+    yield from demo_ecu_on_a_channel_of_its_own("gui-edit")
 
 
 @pytest.fixture(scope="module")
 def window(qapp, ecu, request):
-    from pytestqt.qtbot import QtBot
-
-    from workbench.gui.widgets.main_window import MainWindow
-
-    project = demo_project()
-    project.connection = Connection(interface="virtual", channel=ecu[0])
-    project.plots = []  # no DAQ: the tests type, the plots are tested elsewhere
-    window = MainWindow(project)
-    window.show()
-    bot = QtBot(request)
-    with bot.waitSignal(window.loaded, timeout=WAIT_MS):
-        window.load()
-    with bot.waitSignal(window.controller.connected, timeout=WAIT_MS):
-        window.connect_ecu()
-    window.activateWindow()
-    bot.waitUntil(window.isActiveWindow, timeout=WAIT_MS)
+    window = shared_window(request, ecu[0], plots=[])  # no plots: the tests type, the plots are tested elsewhere
     yield window
     window.close()
     window.deleteLater()

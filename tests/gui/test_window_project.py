@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from gui_helpers import offline_window
 from PySide6.QtCore import QPointF, Qt
 from PySide6.QtGui import QDropEvent
 from PySide6.QtWidgets import QToolButton
@@ -12,11 +13,7 @@ from workbench.gui.widgets.main_window import MainWindow
 
 
 def test_the_open_windows_and_signals_are_saved_and_restored(qtbot, tmp_path):
-    window = MainWindow(demo_project())
-    qtbot.addWidget(window)
-    window.show()
-    with qtbot.waitSignal(window.loaded, timeout=15_000):
-        window.load()
+    window = offline_window(qtbot)
     window.fix_panel.table.horizontalHeader().resizeSection(0, 123)  # as a user drags the column's edge
     window.add_plot(PlotSpec("Mine", ["xsPidP"], 30.0)).add_signals(["FLCU_TO_PCM_002.RailPressure"])
     window.numeric.add_signals(["xsTankPressDiff"])
@@ -30,7 +27,7 @@ def test_the_open_windows_and_signals_are_saved_and_restored(qtbot, tmp_path):
     project = load_project(tmp_path / "bench.toml")
     assert project.plots[-1] == PlotSpec("Mine", ["xsPidP", "FLCU_TO_PCM_002.RailPressure"], 30.0)
     assert project.tables[0][-1] == "xsTankPressDiff" and project.editors[-1] == "xsEMPTY_TANK_THR"
-    assert project.columns["fixes"][0] == 123 and len(project.columns["plot 3"]) == 3
+    assert project.columns["fixes"][0] == 123 and len(project.columns["plot 3"]) == 4
     again = MainWindow(project)
     qtbot.addWidget(again)
     again.show()
@@ -45,11 +42,7 @@ def test_the_open_windows_and_signals_are_saved_and_restored(qtbot, tmp_path):
 
 
 def test_the_window_fits_the_screen_and_stays_within_it_after_edits_and_new_windows(qtbot):
-    window = MainWindow(demo_project())
-    qtbot.addWidget(window)
-    window.show()
-    with qtbot.waitSignal(window.loaded, timeout=15_000):
-        window.load()
+    window = offline_window(qtbot)
     screen = window.screen().availableGeometry()
     assert window.width() <= screen.width() and window.height() <= screen.height()
     assert window.minimumSizeHint().width() <= screen.width()

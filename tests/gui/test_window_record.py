@@ -51,6 +51,16 @@ def test_recording_the_plotted_signals_while_they_are_drawn(window, qtbot, tmp_p
         assert pressure.unit == "bar" and len(pressure) > 100 and np.all(np.diff(pressure.timestamps) > 0)
         assert "zsSensVolt[0]" not in mdf.channels_db
         assert np.allclose(mdf.get("TargetRailPressure").samples, 25.0)  # CAN2 through the project's DBC
+        recorded = mdf.get("zsRailPressure")
+
+    with qtbot.waitSignal(window.measurement_opened, timeout=WAIT_MS) as opened:  # the file, for analysis
+        window.open_measurement(path)
+    offline = opened.args[0]
+    assert offline.title == "run.mf4 (offline)" and "run.mf4:zsRailPressure" in offline.signals
+    assert dict(window.hub.info("run.mf4:EnableFLCU").states)[1.0] == "Enabled"  # CAN2, verbal, by the file
+    t, v = window.hub.buffer("run.mf4:zsRailPressure").window(-np.inf, np.inf)
+    assert np.array_equal(t, recorded.timestamps) and np.allclose(v, recorded.samples)
+    assert window.browser.variable("run.mf4:xsDC").kind == "MDF"
 
 
 def test_a_file_that_cannot_be_written_is_an_error_and_measuring_goes_on(window, qtbot, tmp_path):

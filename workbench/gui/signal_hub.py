@@ -30,13 +30,14 @@ _CAPACITY = 300_000  # samples kept per signal: 5 minutes at 1 kHz
 @dataclass(frozen=True)
 class SignalInfo:
     name: str
-    source: str  # "XCP" (DAQ) or "CAN2" (DBC)
+    source: str  # "XCP" (DAQ), "CAN2" (DBC) or "MDF" (a measurement file)
     unit: str = ""
     description: str = ""
     minimum: float | None = None
     maximum: float | None = None
     states: tuple[tuple[float, str], ...] = ()  # verbal values (TAB_VERB): value -> text
     decimals: int | None = None  # the A2L's FORMAT; None: as many as the value needs
+    label: str = ""  # how a legend names it when not by its name (a file's channel: without the file)
 
     def format(self, value: float | None) -> str:
         """``value`` as the A2L shows it: its verbal name, or its FORMAT's decimals."""
@@ -117,6 +118,13 @@ class SignalHub(QObject):
         elif values.ndim > 1:  # an array measurement: its first element (views show scalars)
             values = values.reshape(len(values), -1)[:, 0]
         self.buffer(name).append(times, values)
+
+    def load(self, name: str, times, values) -> None:
+        """All the samples of ``name`` at once (a measurement file's channel), in a buffer that holds them."""
+        buffer = RingBuffer(max(len(times), 1))
+        buffer.append(times, values)
+        with self._lock:
+            self._buffers[name] = buffer
 
     def mark_gap(self, names) -> None:
         """The samples of ``names`` pause here (any thread): their plots break the line."""

@@ -14,19 +14,21 @@ from workbench.gui import theme
 from workbench.gui.mime import signals_mime
 from workbench.gui.models.rows import RowsModel
 
-__all__ = ["ALL", "Variable", "VariableFilter", "VariableModel", "variables_of_a2l", "variables_of_dbc"]
+__all__ = ["ALL", "Variable", "VariableFilter", "VariableModel", "variables_of_a2l", "variables_of_dbc",
+           "variables_of_file"]
 
 ALL = ""  # a filter that lets every row through
 COLUMNS = ("name", "kind", "type", "unit", "functions", "description")
-KIND_LABELS = {"MEASUREMENT": "signal", "CHARACTERISTIC": "calibration", "AXIS_PTS": "axis", "CAN2": "CAN2"}
+KIND_LABELS = {"MEASUREMENT": "signal", "CHARACTERISTIC": "calibration", "AXIS_PTS": "axis", "CAN2": "CAN2",
+               "MDF": "recorded"}
 KIND_COLOURS = {"MEASUREMENT": theme.TRACE_COLOURS[0], "CHARACTERISTIC": theme.TRACE_COLOURS[1],
-                "AXIS_PTS": theme.TRACE_COLOURS[4], "CAN2": theme.TRACE_COLOURS[2]}
+                "AXIS_PTS": theme.TRACE_COLOURS[4], "CAN2": theme.TRACE_COLOURS[2], "MDF": theme.TRACE_COLOURS[6]}
 
 
 @dataclass(frozen=True)
 class Variable:
     name: str
-    kind: str  # MEASUREMENT, CHARACTERISTIC, AXIS_PTS, CAN2
+    kind: str  # MEASUREMENT, CHARACTERISTIC, AXIS_PTS, CAN2, MDF (a channel of a measurement file)
     type: str  # VALUE/CURVE/MAP... for a calibration, the data type for a measurement
     unit: str
     functions: tuple[str, ...]
@@ -34,7 +36,7 @@ class Variable:
 
     @property
     def plottable(self) -> bool:
-        return self.kind in ("MEASUREMENT", "CAN2")
+        return self.kind in ("MEASUREMENT", "CAN2", "MDF")
 
     @property
     def editable(self) -> bool:
@@ -59,6 +61,11 @@ def variables_of_a2l(model) -> list[Variable]:
 def variables_of_dbc(signals) -> list[Variable]:
     """Rows for the CAN monitor's :class:`~workbench.gui.can_monitor.DbcSignal`\\ s."""
     return [Variable(s.name, "CAN2", "signal", s.unit, (s.message,), s.comment) for s in signals]
+
+
+def variables_of_file(file: str, channels) -> list[Variable]:
+    """Rows for the channels of a measurement file (:class:`~workbench.gui.offline.FileChannel`), ``file:name``."""
+    return [Variable(f"{file}:{c.name}", "MDF", "recorded", c.unit, (file,), c.comment) for c in channels]
 
 
 class VariableModel(RowsModel):

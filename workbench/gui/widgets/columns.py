@@ -30,10 +30,11 @@ class _Sharer(QObject):
         header.sectionResized.connect(self._resized)
         view.viewport().installEventFilter(self)
 
-    def _resized(self, column: int, *_) -> None:
+    def _resized(self, column: int, old: int, new: int) -> None:
         header = self.view.horizontalHeader()
         last = header.logicalIndex(header.count() - 1)  # the one Qt stretches when the table resizes
-        if not self._setting and column != last and self.view.isVisible():
+        shown_or_hidden = not old or not new
+        if not self._setting and column != last and not shown_or_hidden and self.view.isVisible():
             self.user_sized = True
 
     def share(self) -> None:

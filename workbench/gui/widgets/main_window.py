@@ -34,10 +34,13 @@ from workbench.gui.acquisition import DaqAcquisition, RecordRequest
 from workbench.gui.ecu import Connected, EcuController
 from workbench.gui.formatting import format_value
 from workbench.gui.mime import names_from_mime
+from workbench.gui.parameter_sets import ParameterSets
 from workbench.gui.project import PlotSpec, Project, recent_projects, remember_project, save_project
-from workbench.gui.signal_hub import SignalHub
+from workbench.gui.models.variables import variables_of_file
+from workbench.gui.signal_hub import SignalHub, SignalInfo
 from workbench.gui.widgets.calibration_editor import CalibrationEditor
 from workbench.gui.widgets.columns import column_widths, set_column_widths
+from workbench.gui.widgets.compare_view import CompareView
 from workbench.gui.widgets.can_trace import CanTrace
 from workbench.gui.widgets.connection_dialog import ConnectionDialog
 from workbench.gui.widgets.epk_dialog import EpkChoice, EpkDialog
@@ -61,6 +64,7 @@ __all__ = ["MainWindow"]
 class MainWindow(QMainWindow):
     loaded = Signal()  # the project's files are read and its windows open
     live = Signal()  # every measurement window shows samples
+    measurement_opened = Signal(object)  # the plot of a measurement file opened for analysis
 
     def __init__(self, project: Project | None = None, parent: QWidget | None = None):
         super().__init__(parent)
@@ -125,8 +129,16 @@ class MainWindow(QMainWindow):
         self.numeric_dock = self._dock("Numeric", self.numeric, Qt.BottomDockWidgetArea)
         self.trace = CanTrace(self.hub)
         self.trace_dock = self._dock("CAN trace", self.trace, Qt.BottomDockWidgetArea)
+        self.compare = CompareView()
+        self.compare.open_requested.connect(self.open_editor)
+        self.compare_dock = self._dock("Compare", self.compare, Qt.BottomDockWidgetArea)
         self.tabifyDockWidget(self.numeric_dock, self.trace_dock)
+        self.tabifyDockWidget(self.trace_dock, self.compare_dock)
         self.numeric_dock.raise_()
+        self.parameter_sets = ParameterSets(self, self.compare)
+        self.parameter_sets.compared.connect(lambda _: self.compare_dock.raise_())
+        self.parameter_sets.message.connect(lambda text: self.statusBar().showMessage(text, 15000))
+        self.parameter_sets.applied.connect(lambda _: [editor.reload() for editor in self.editors.values()])
         self.status = EcuStatusBar(self.hub)
         self.setStatusBar(self.status)
         self._actions()
@@ -209,6 +221,9 @@ class MainWindow(QMainWindow):
         self.save_as_action = self._action("Save as…", self.save_as, "save the project under a new name",
                                            QKeySequence.SaveAs)
         self.settings_action = self._action("Connection…", self.edit_connection, "connection settings")
+        self.open_mdf_action = self._action("Open measurement file…", self.open_measurement_dialog,
+                                            "an MDF file (ours, or any asammdf reads) in a plot with cursors, "
+                                            "no ECU needed")
         toolbar = self.addToolBar("main")
         toolbar.setObjectName("main_toolbar")
         toolbar.setMovable(False)
@@ -217,7 +232,7 @@ class MainWindow(QMainWindow):
             toolbar.addSeparator() if item is None else toolbar.addAction(item)
         menu = self.menuBar()
         file_menu = menu.addMenu("&File")
-        for action in (self.open_action, self.save_action, self.save_as_action):
+        for action in (self.open_action, self.save_action, self.save_as_action, self.open_mdf_action):
             file_menu.addAction(action)
         self.recent_menu = file_menu.addMenu("Recent projects")
         self.recent_menu.aboutToShow.connect(self._fill_recent)
@@ -231,10 +246,26 @@ class MainWindow(QMainWindow):
                                         "start the working page over from the flashed values")
         self.copy_action.setEnabled(False)
         ecu_menu.addAction(self.copy_action)
+        self._calibration_menu(menu.addMenu("&Calibration"))
         view_menu = menu.addMenu("&View")
         view_menu.addAction(self.plot_action)
-        for dock in (self.browser_dock, self.editor_dock, self.fix_dock, self.numeric_dock, self.trace_dock):
+        for dock in (self.browser_dock, self.editor_dock, self.fix_dock, self.numeric_dock, self.trace_dock,
+                     self.compare_dock):
             view_menu.addAction(dock.toggleViewAction())
+
+    def _calibration_menu(self, menu) -> None:
+        sets = self.parameter_sets
+        menu.addAction(self._action("Open parameter set…", sets.open_dialog,
+                                    "a DCM/CDFX compared with the ECU (offline: with the project's s19), to apply"))
+        self.save_set_action = self._action("Save the ECU's values as parameter set…", sets.save_dialog,
+                                            "every calibration of the working page into a DCM or CDFX file")
+        self.compare_pages_action = self._action("Compare working ↔ reference page", sets.compare_pages,
+                                                 "every calibration of the working page beside the flashed one")
+        for action in (self.save_set_action, self.compare_pages_action):
+            action.setEnabled(False)
+            menu.addAction(action)
+        menu.addAction(self._action("Compare two parameter sets…", sets.compare_files_dialog,
+                                    "two DCM/CDFX files (or s19 images) object by object"))
 
     def _fill_recent(self) -> None:
         self.recent_menu.clear()
@@ -314,7 +345,7 @@ class MainWindow(QMainWindow):
     def column_tables(self) -> dict:
         """The tables whose column widths the project file keeps, by name."""
         tables = {"variables": self.browser.table, "fixes": self.fix_panel.table, "numeric": self.numeric,
-                  "trace": self.trace.table}
+                  "trace": self.trace.table, "compare": self.compare.table}
         tables.update({f"plot {number}": plot.legend for number, plot in enumerate(self.plots, 1)})
         return tables
 
@@ -397,6 +428,33 @@ class MainWindow(QMainWindow):
             self.editor_tabs.removeTab(index)
             widget.deleteLater()
 
+    def open_measurement_dialog(self) -> None:
+        path, _ = QFileDialog.getOpenFileName(self, "Open measurement file", "",
+                                              "MDF (*.mf4 *.mdf *.dat);;All files (*)")
+        if path:
+            self.open_measurement(Path(path))
+
+    def open_measurement(self, path: Path) -> Task:
+        """Read an MDF file (in a worker) and show it in a plot of its own, with cursors; ``measurement_opened``
+        follows with that plot. Its channels join the variable browser (kind "recorded") to be dragged."""
+        from workbench.gui.offline import read_measurement_file
+
+        return run_task(read_measurement_file, path, on_done=lambda channels: self._measurement_read(path, channels),
+                        on_error=self.show_error)
+
+    def _measurement_read(self, path: Path, channels) -> None:
+        names = [f"{path.name}:{channel.name}" for channel in channels]
+        self.hub.add_signals(SignalInfo(name, "MDF", channel.unit, channel.comment, states=channel.states,
+                                        label=channel.name) for name, channel in zip(names, channels))
+        for name, channel in zip(names, channels):
+            self.hub.load(name, channel.times, channel.values)
+        self.browser.add_variables(variables_of_file(path.name, channels))
+        shown = [n for n, c in zip(names, channels) if not c.name.startswith("HostTime")][:6]
+        plot = self.add_plot(PlotSpec(f"{path.name} (offline)", shown))
+        plot.show_all()
+        plot.cursor_button.setChecked(True)
+        self.measurement_opened.emit(plot)
+
     # --- connection -----------------------------------------------------------------------------
 
     def edit_connection(self) -> None:
@@ -421,6 +479,8 @@ class MainWindow(QMainWindow):
         for action in (self.working_action, self.reference_action):
             action.setEnabled(bool(info.pages))
         self.copy_action.setEnabled(writable and bool(info.pages))
+        self.save_set_action.setEnabled(not info.boot)
+        self.compare_pages_action.setEnabled(not info.boot and bool(info.pages))
         self._update_title()
         if session.epk.matches is False and session.read_only:
             self.epk_dialog = EpkDialog(self.workspace.doc.name if self.workspace else "A2L",
@@ -468,7 +528,7 @@ class MainWindow(QMainWindow):
         self.status.set_pause(None)
         self.connect_action.setEnabled(True)
         for action in (self.disconnect_action, self.flash_action, self.working_action, self.reference_action,
-                       self.copy_action, self.record_action):
+                       self.copy_action, self.record_action, self.save_set_action, self.compare_pages_action):
             action.setEnabled(False)
         self.record_action.setChecked(False)
         self._update_title()

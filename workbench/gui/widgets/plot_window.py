@@ -3,7 +3,8 @@
 pyqtgraph draws; a QTimer (25 Hz) copies the visible time window out of each signal's ring
 buffer and hands it to the curve, which downsamples to the pixels it has (peak method, so
 spikes stay visible); a pause in the measurement is a break in the line. While *following*, the x range slides with the newest sample; panning or
-zooming with the mouse stops following, the Follow button resumes it. A cursor shows every
+zooming with the mouse stops following, the Follow button resumes it. Two cursors show every
+signal's value at two instants and the time between them; one cursor shows every
 signal's value at one instant. Signals with the same unit share a y-axis; each axis is coloured
 like its first signal and autoscales unless the user zooms it.
 """
@@ -97,7 +98,11 @@ class PlotWindow(SignalDropTarget, QWidget):
         self.cursor_button = self._tool("Cursor", "a cursor with every signal's value (stops following)",
                                         checkable=True)
         self.cursor_button.toggled.connect(self.set_cursor)
-        for widget in (self.follow_button, self.span_box, self.autoscale_button, self.cursor_button):
+        self.cursor2_button = self._tool("2nd", "a second cursor: each signal's value there and the time between the "
+                                                "cursors", checkable=True)
+        self.cursor2_button.toggled.connect(self.set_second_cursor)
+        for widget in (self.follow_button, self.span_box, self.autoscale_button, self.cursor_button,
+                       self.cursor2_button):
             bar.addWidget(widget)
         layout.addLayout(bar)
 
@@ -122,18 +127,22 @@ class PlotWindow(SignalDropTarget, QWidget):
         self.cursor = pg.InfiniteLine(angle=90, movable=True, pen=pg.mkPen(theme.WARN, width=1.5))
         self.cursor.setZValue(100)
         self.cursor.sigPositionChanged.connect(self._show_cursor_values)
-        self.cursor_label = pg.TextItem(color=theme.WARN, anchor=(0, 1))
+        self.cursor_label = pg.TextItem(color=theme.WARN, anchor=(0, 0))  # inside the plot, below its top
+        self.cursor2 = pg.InfiniteLine(angle=90, movable=True, pen=pg.mkPen(theme.ACCENT, width=1.5))
+        self.cursor2.setZValue(100)
+        self.cursor2.sigPositionChanged.connect(self._show_cursor_values)
         splitter.addWidget(self.graphics)
 
-        self.legend = QTableWidget(0, 3)
-        self.legend.setHorizontalHeaderLabels(["signal", "value", "unit"])
+        self.legend = QTableWidget(0, 4)
+        self.legend.setHorizontalHeaderLabels(["signal", "value", "at 2nd", "unit"])
         self.legend.verticalHeader().hide()
         self.legend.setSelectionBehavior(QAbstractItemView.SelectRows)
         self.legend.setEditTriggers(QAbstractItemView.NoEditTriggers)
         self.legend.setShowGrid(False)
         self.legend.setTextElideMode(Qt.ElideMiddle)
         self.legend.verticalHeader().setDefaultSectionSize(22)
-        share_columns(self.legend, (3, 1.6, 0.9))  # signal, value, unit
+        self.legend.setColumnHidden(2, True)  # shown with the second cursor
+        share_columns(self.legend, (3, 1.6, 1.6, 0.9))  # signal, value, at the 2nd cursor, unit
         self.legend.setMinimumWidth(160)
         self.legend.setToolTip("Del removes the selected signals; drop names here or on the plot to add them")
         splitter.addWidget(self.legend)
@@ -240,21 +249,23 @@ class PlotWindow(SignalDropTarget, QWidget):
         self.legend.setRowCount(len(self._order))
         for row, name in enumerate(self._order):
             colour = QColor(self._curves[name].opts["pen"].color())
-            item = QTableWidgetItem(name)
+            item = QTableWidgetItem(self.hub.info(name).label or name)
             item.setData(Qt.DecorationRole, colour)
             item.setForeground(colour)
             description = self.hub.info(name).description
             item.setToolTip(f"{name}\n{description}" if description else name)
             self.legend.setItem(row, 0, item)
-            value = QTableWidgetItem("—")
-            value.setTextAlignment(Qt.AlignRight | Qt.AlignVCenter)
-            value.setFont(theme.mono_font())
-            self.legend.setItem(row, 1, value)
+            for column in (1, 2):
+                value = QTableWidgetItem("—")
+                value.setTextAlignment(Qt.AlignRight | Qt.AlignVCenter)
+                value.setFont(theme.mono_font())
+                self.legend.setItem(row, column, value)
             unit = QTableWidgetItem(self.hub.info(name).unit)
             unit.setForeground(QColor(theme.MUTED))
-            self.legend.setItem(row, 2, unit)
+            self.legend.setItem(row, 3, unit)
 
-    def _update_legend_values(self, at: float | None) -> None:
+    def _update_legend_values(self, at: float | None, column: int = 1) -> None:
+        """Each signal's value at ``at`` (None: its newest) into the legend's ``column``."""
         for row, name in enumerate(self._order):
             buffer = self.hub.buffer(name)
             if at is None:
@@ -262,9 +273,14 @@ class PlotWindow(SignalDropTarget, QWidget):
                 value = None if last is None else last[1]
             else:
                 value = buffer.at(at)
-            item = self.legend.item(row, 1)
+            item = self.legend.item(row, column)
             if item is not None:
                 item.setText(self.hub.info(name).format(value))
+
+    def value_at_cursors(self, name: str) -> tuple[str, str]:
+        """The legend's texts of ``name`` at the cursor and the second cursor."""
+        row = self._order.index(name)
+        return self.legend.item(row, 1).text(), self.legend.item(row, 2).text()
 
     def keyPressEvent(self, event) -> None:
         if event.key() in (Qt.Key_Delete, Qt.Key_Backspace):
@@ -281,6 +297,13 @@ class PlotWindow(SignalDropTarget, QWidget):
             self.follow_button.setChecked(on)
         if on and self.cursor_button.isChecked():
             self.cursor_button.setChecked(False)
+
+    def show_all(self) -> None:
+        """Every sample of the signals in view (not following): a file opened for analysis."""
+        spans = [span for span in (self.hub.buffer(n).span() for n in self._order) if span]
+        self.set_following(False)
+        if spans:
+            self.plot.vb.setXRange(min(s[0] for s in spans), max(s[1] for s in spans), padding=0.01)
 
     def set_span(self, span_s: float) -> None:
         self.span_s = span_s
@@ -302,14 +325,35 @@ class PlotWindow(SignalDropTarget, QWidget):
             self.plot.addItem(self.cursor_label, ignoreBounds=True)
             self._show_cursor_values()
         else:
+            self.cursor2_button.setChecked(False)
             self.plot.removeItem(self.cursor)
             self.plot.removeItem(self.cursor_label)
 
+    def set_second_cursor(self, on: bool) -> None:
+        if on and not self.cursor_button.isChecked():
+            self.cursor_button.setChecked(True)
+        self.legend.setColumnHidden(2, not on)
+        self.legend._column_sharer.share()
+        if on:
+            (x0, x1), _ = self.plot.vb.viewRange()
+            self.cursor2.setPos(x0 + (x1 - x0) * 0.75)
+            self.plot.addItem(self.cursor2, ignoreBounds=True)
+        else:
+            self.plot.removeItem(self.cursor2)
+        self._show_cursor_values()
+
     def _show_cursor_values(self, *_) -> None:
+        if not self.cursor_button.isChecked():
+            return
         t = float(self.cursor.value())
-        self.cursor_label.setText(f"t = {t:.3f} s")
-        _, (y0, y1) = self.plot.vb.viewRange()
-        self.cursor_label.setPos(t, y1)
+        text = f"t = {t:.3f} s"
+        if self.cursor2_button.isChecked():
+            t2 = float(self.cursor2.value())
+            text = f"t1 = {t:.3f} s   t2 = {t2:.3f} s   Δt = {t2 - t:.3f} s"
+            self._update_legend_values(t2, column=2)
+        self.cursor_label.setText(text)
+        (x0, _), (_, y1) = self.plot.vb.viewRange()
+        self.cursor_label.setPos(x0, y1)  # the plot's top left: the times stay readable wherever the cursors are
         self._update_legend_values(t)
 
     # --- refresh --------------------------------------------------------------------------------

@@ -81,6 +81,14 @@ class VariableBrowser(QWidget):
         self.table._column_sharer.share()
         self._count()
 
+    def add_variables(self, rows: list[Variable]) -> None:
+        """More rows (a measurement file's channels), the filters kept."""
+        known = {row.name for row in self.model.rows}
+        kind, function, unit = (box.currentData() for box in (self.kind_box, self.function_box, self.unit_box))
+        self.set_variables(self.model.rows + [row for row in rows if row.name not in known])
+        for box, value in ((self.kind_box, kind), (self.function_box, function), (self.unit_box, unit)):
+            box.setCurrentIndex(max(box.findData(value), 0))
+
     def _fill(self, box: QComboBox, values: list[str], everything: str, labels: dict | None = None) -> None:
         box.blockSignals(True)
         box.clear()

@@ -1,0 +1,92 @@
+"""Parameter sets in the window against the demo ECU: the working page compared with the reference page,
+the ECU's values saved as a DCM, a changed parameter set compared with the ECU and applied with the
+checks of ``cal load`` (a dry run first; a refused object and nothing is written), two files compared."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from gui_helpers import WAIT_MS, demo_ecu_on_a_channel_of_its_own, shared_window
+from PySide6.QtWidgets import QMessageBox
+
+from workbench.calib.dataset import load_dataset, save_dataset
+from workbench.calib.values import CalValue
+
+
+@pytest.fixture(scope="module")
+def ecu():
+    yield from demo_ecu_on_a_channel_of_its_own("gui-sets")
+
+
+@pytest.fixture(scope="module")
+def window(qapp, ecu, request):
+    window = shared_window(request, ecu[0], plots=[])
+    yield window
+    window.close()
+    window.deleteLater()
+
+
+def test_the_working_page_is_compared_with_the_reference_page(window, qtbot):
+    session = window.controller.session
+    session.write("xsSWITCH_TANK_THR", 27.5)
+    view = window.compare
+    with qtbot.waitSignal(window.parameter_sets.compared, timeout=WAIT_MS):
+        window.compare_pages_action.trigger()
+    assert view.rows_shown() == ["xsSWITCH_TANK_THR"]  # only what differs
+    assert view.sides.text() == "A: reference page (CAL ROM)   ·   B: working page (CAL RAM)"
+    row = [view.proxy.index(0, column).data() for column in range(5)]
+    assert row == ["xsSWITCH_TANK_THR", "differs", "20 bar", "27.5 bar", "Δ 7.5"]
+    view.show_equal.setChecked(True)
+    assert len(view.rows_shown()) > 50
+    view.show_equal.setChecked(False)
+    session.write("xsSWITCH_TANK_THR", 20.0)
+
+
+def test_a_parameter_set_saved_changed_and_applied_with_the_checks_of_cal_load(window, qtbot, tmp_path):
+    session = window.controller.session
+    sets = window.parameter_sets
+    with qtbot.waitSignal(sets.message, timeout=WAIT_MS) as saved:
+        sets.save(tmp_path / "base.dcm")
+    assert saved.args[0].endswith(f"saved to {tmp_path / 'base.dcm'}")
+    dataset = load_dataset(tmp_path / "base.dcm")
+    assert dataset["xsSWITCH_TANK_THR"].value == pytest.approx(20.0)
+    tuned = dataset["xvPRV_DC_FF"]
+    values = np.array(tuned.value, dtype=float)
+    values[1, 2] += 5.0
+    dataset["xvPRV_DC_FF"] = CalValue(tuned.name, tuned.kind, values, tuned.axes, tuned.unit)
+    save_dataset(dataset, tmp_path / "tuned.dcm")
+
+    with qtbot.waitSignal(sets.compared, timeout=WAIT_MS):
+        sets.open(tmp_path / "tuned.dcm")
+    view = window.compare
+    assert view.rows_shown() == ["xvPRV_DC_FF"] and view.apply_button.isVisible()
+    assert view.elements.rowCount() == 1 and view.elements.index(0, 0).data().startswith("value[1, 2] at (")
+    before = session.read("xvPRV_DC_FF")
+    view.apply_button.click()  # a dry run, then the question
+    qtbot.waitUntil(lambda: sets.confirm is not None and sets.confirm.isVisible(), timeout=WAIT_MS)
+    assert sets.confirm.text() == "Write 1 changed object(s) of tuned.dcm into the ECU?"
+    assert np.array_equal(session.read("xvPRV_DC_FF"), before)  # nothing written before the answer
+    with qtbot.waitSignal(sets.applied, timeout=WAIT_MS) as applied:
+        sets.confirm.button(QMessageBox.Ok).click()
+    assert applied.args[0].named("applied") == ["xvPRV_DC_FF"]
+    assert session.read("xvPRV_DC_FF")[1, 2] == pytest.approx(values[1, 2], abs=0.01)
+    qtbot.waitUntil(lambda: view.rows_shown() == [], timeout=WAIT_MS)  # compared again: the ECU holds the file
+
+    dataset["xsSWITCH_TANK_THR"] = CalValue("xsSWITCH_TANK_THR", "VALUE", 900.0, unit="bar")
+    save_dataset(dataset, tmp_path / "bad.dcm")
+    sets.confirm = None
+    with qtbot.waitSignal(sets.compared, timeout=WAIT_MS):
+        sets.open(tmp_path / "bad.dcm")
+    view.apply_button.click()
+    qtbot.waitUntil(lambda: sets.confirm is not None and sets.confirm.isVisible(), timeout=WAIT_MS)
+    assert sets.confirm.text() == "1 object(s) of bad.dcm are refused; nothing is written."
+    assert "xsSWITCH_TANK_THR" in sets.confirm.detailedText() and "upper limit 800" in sets.confirm.detailedText()
+    assert sets.confirm.button(QMessageBox.Ok) is None
+    sets.confirm.close()
+    assert session.read("xsSWITCH_TANK_THR") == pytest.approx(20.0)
+    session.write("xvPRV_DC_FF", before)
+
+    with qtbot.waitSignal(sets.compared, timeout=WAIT_MS):
+        sets.compare_files(tmp_path / "base.dcm", tmp_path / "bad.dcm")
+    assert view.rows_shown() == ["xvPRV_DC_FF", "xsSWITCH_TANK_THR"] and not view.apply_button.isVisible()
+    assert not window.errors

@@ -1,0 +1,227 @@
+"""Parameter sets in the window, as CANape keeps them: open a DCM/CDFX and compare it with the ECU (or,
+offline, with the project's s19), save the ECU's working page as one, compare the working page with
+the reference page or two files, and apply one to the ECU.
+
+Everything is the library's: :func:`workbench.sync.read_dataset`, :func:`~workbench.sync.sync_compare`,
+:func:`~workbench.calib.dataset.diff_datasets`, :func:`~workbench.calib.dataset.save_dataset` and
+:func:`~workbench.sync.apply_dataset` - the same checks as ``workbench cal load``: a dry run first
+lists what would change and what is refused; one refusal and nothing is written.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from PySide6.QtCore import QObject, Qt, Signal
+from PySide6.QtWidgets import QFileDialog, QMessageBox, QProgressDialog
+
+from workbench.gui.worker import Task
+
+__all__ = ["ParameterSets"]
+
+FILES = "Parameter sets (*.dcm *.cdfx *.cdf);;All files (*)"
+PAGES = ("reference page (CAL ROM)", "working page (CAL RAM)")
+
+
+def compare_pages(session, progress=None):
+    """The reference page (A) against the working page (B), every calibration."""
+    from workbench.calib.dataset import diff_datasets
+    from workbench.sync import read_dataset
+
+    reference = read_dataset(session, page="reference", progress=progress)
+    working = read_dataset(session, page="working", progress=progress)
+    return diff_datasets(reference, working, a_label=PAGES[0], b_label=PAGES[1])
+
+
+def compare_with_ecu(session, path: Path, progress=None):
+    """The ECU (A) against the file (B), the file's values as the ECU would hold them."""
+    from workbench.sync import load_reference, sync_compare
+
+    return sync_compare(session, load_reference(path), progress=progress).diff.reversed()
+
+
+def compare_files(a: Path, b: Path, model=None):
+    """Two files: parameter sets, or a flash image decoded by name with the A2L ``model``."""
+    from workbench.calib.dataset import diff_datasets
+
+    return diff_datasets(_values(a, model), _values(b, model), a_label=str(a), b_label=str(b))
+
+
+def _values(path: Path, model):
+    from workbench.calib.dataset import load_dataset
+    from workbench.sync import image_dataset, is_image_file
+
+    if is_image_file(path):
+        from workbench.image import load_image
+
+        return image_dataset(model, load_image(path), source=str(path))
+    return load_dataset(path)
+
+
+def save_working_page(session, path: Path, progress=None) -> str:
+    """The working page's calibrations into ``path`` (DCM or CDFX by its extension); what was written."""
+    from workbench.calib.dataset import save_dataset
+    from workbench.sync import read_dataset
+
+    dataset = read_dataset(session, page="working", progress=progress)
+    losses = save_dataset(dataset, path)
+    return f"{len(dataset)} calibrations saved to {path}" + (f" ({len(losses)} notes)" if losses else "")
+
+
+def apply_file(session, path: Path, dry_run: bool, progress=None):
+    """``workbench cal load`` in the window: :func:`~workbench.sync.apply_dataset` of the file."""
+    from workbench.calib.dataset import load_dataset
+    from workbench.sync import apply_dataset
+
+    return apply_dataset(session, load_dataset(path), dry_run=dry_run, progress=progress, source=str(path))
+
+
+class ParameterSets(QObject):
+    """The window's parameter-set commands; results go to ``view`` (a :class:`CompareView`)."""
+
+    compared = Signal(object)  # the DatasetDiff shown
+    applied = Signal(object)  # the ApplyReport of a written parameter set
+    message = Signal(str)  # a line for the status bar
+
+    def __init__(self, window, view):
+        super().__init__(window)
+        self.window = window
+        self.view = view
+        self.file: Path | None = None  # the parameter set B of the view, when it is one
+        self.last = None  # how to compare again: (function, args, can_apply)
+        self.confirm: QMessageBox | None = None  # the apply's question (tests answer it)
+        self.progress: QProgressDialog | None = None
+        view.refresh_requested.connect(self.compare_again)
+        view.apply_requested.connect(self.ask_apply)
+
+    @property
+    def session(self):
+        return self.window.controller.session
+
+    # --- commands -------------------------------------------------------------------------------
+
+    def open_dialog(self) -> None:
+        path, _ = QFileDialog.getOpenFileName(self.window, "Open parameter set", "", FILES)
+        if path:
+            self.open(Path(path))
+
+    def open(self, path: Path) -> Task:
+        """Compare the parameter set with the ECU (offline: with the project's s19)."""
+        self.file = Path(path)
+        if self.session is not None:
+            return self._compare(compare_with_ecu, (self.session, self.file), can_apply=True, progress=True)
+        s19 = self.window.project.s19
+        if s19 is None:
+            return self._compare(compare_files, (self.file, self.file, None))
+        return self._compare(compare_files, (Path(s19), self.file, self.window.workspace.model))
+
+    def compare_pages(self) -> Task | None:
+        if self.session is None:
+            return None
+        self.file = None
+        return self._compare(compare_pages, (self.session,), progress=True)
+
+    def compare_files_dialog(self) -> None:
+        a, _ = QFileDialog.getOpenFileName(self.window, "Compare: parameter set A", "", FILES)
+        b, _ = QFileDialog.getOpenFileName(self.window, "Compare with parameter set B", "", FILES) if a else ("", "")
+        if a and b:
+            self.compare_files(Path(a), Path(b))
+
+    def compare_files(self, a: Path, b: Path) -> Task:
+        self.file = None
+        model = self.window.workspace.model if self.window.workspace is not None else None
+        return self._compare(compare_files, (a, b, model))
+
+    def save_dialog(self) -> None:
+        if self.session is None:
+            return
+        path, _ = QFileDialog.getSaveFileName(self.window, "Save the ECU's calibrations as", "parameters.dcm", FILES)
+        if path:
+            self.save(Path(path))
+
+    def save(self, path: Path) -> Task | None:
+        if self.session is None:
+            return None
+        return self._run(save_working_page, (self.session, path), "saving the working page", self.message.emit)
+
+    def compare_again(self) -> None:
+        if self.last is not None:
+            function, args, can_apply = self.last
+            self._compare(function, args, can_apply=can_apply, progress=self.session is not None)
+
+    # --- applying -------------------------------------------------------------------------------
+
+    def ask_apply(self) -> Task | None:
+        """A dry run of the parameter set, then the question (what would change, what is refused)."""
+        if self.session is None or self.file is None:
+            return None
+        return self._run(apply_file, (self.session, self.file, True), "checking", self._confirm)
+
+    def _confirm(self, report) -> None:
+        box = QMessageBox(self.window)
+        box.setWindowTitle("Apply parameter set")
+        changing = report.named("would change")
+        refused = report.named("refused")
+        if refused:
+            box.setIcon(QMessageBox.Warning)
+            box.setText(f"{len(refused)} object(s) of {self.file.name} are refused; nothing is written.")
+            box.setStandardButtons(QMessageBox.Close)
+        else:
+            box.setIcon(QMessageBox.Question)
+            box.setText(f"Write {len(changing)} changed object(s) of {self.file.name} into the ECU?"
+                        if changing else f"The ECU already holds every value of {self.file.name}.")
+            box.setStandardButtons(QMessageBox.Ok | QMessageBox.Cancel if changing else QMessageBox.Close)
+        box.setInformativeText(report.summary())
+        box.setDetailedText(report.to_text())
+        box.setModal(False)
+        if changing and not refused:
+            box.button(QMessageBox.Ok).clicked.connect(self._apply)
+        self.confirm = box
+        box.show()
+
+    def _apply(self) -> Task | None:
+        if self.session is None or self.file is None:
+            return None
+
+        def done(report) -> None:
+            self.message.emit(report.summary())
+            self.applied.emit(report)
+            self.compare_again()
+
+        return self._run(apply_file, (self.session, self.file, False), "writing the parameter set", done)
+
+    # --- workers --------------------------------------------------------------------------------
+
+    def _compare(self, function, args, *, can_apply: bool = False, progress: bool = False) -> Task:
+        self.last = (function, args, can_apply)
+
+        def show(diff) -> None:
+            self.view.show_diff(diff, can_apply=can_apply)
+            self.compared.emit(diff)
+
+        return self._run(function, args, "comparing" if progress else None, show)
+
+    def _run(self, function, args, label: str | None, on_done, on_error=None) -> Task:
+        task = Task(function, *args, progress=label is not None)
+        task.succeeded.connect(on_done)
+        task.failed.connect(on_error or self.window.show_error)
+        if label is not None:
+            self.progress = _progress_dialog(self.window, task, label)
+        return task.start()
+
+
+def _progress_dialog(parent, task: Task, label: str) -> QProgressDialog:
+    """A progress dialog that follows ``task`` (shown after half a second) and cancels it."""
+    dialog = QProgressDialog(label, "Cancel", 0, 0, parent)
+    dialog.setWindowModality(Qt.NonModal)
+    dialog.setMinimumDuration(500)
+    dialog.canceled.connect(task.cancel)
+
+    def progressed(done: int, total: int, text: str) -> None:
+        dialog.setMaximum(max(total, 1))
+        dialog.setValue(done)
+        dialog.setLabelText(text or label)
+
+    task.progress.changed.connect(progressed)
+    task.finished.connect(dialog.reset)
+    return dialog

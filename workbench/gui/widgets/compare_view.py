@@ -1,0 +1,122 @@
+"""The compare view (CANape's "compare" window): two sets of calibration values side by side - the
+working page against the reference page, the ECU against a parameter set, two parameter sets - one
+row per object, the differing ones first shown; the selected object's differing elements below.
+Double-click opens the object's editor; a parameter set compared with the ECU can be applied from here.
+"""
+
+from __future__ import annotations
+
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtWidgets import (
+    QAbstractItemView,
+    QCheckBox,
+    QHBoxLayout,
+    QLabel,
+    QLineEdit,
+    QPushButton,
+    QSplitter,
+    QTableView,
+    QVBoxLayout,
+    QWidget,
+)
+
+from workbench.gui import theme
+from workbench.gui.models.compare import CompareFilter, CompareModel, ElementModel
+from workbench.gui.widgets.columns import share_columns
+from workbench.gui.widgets.elided_label import ElidedLabel
+
+__all__ = ["CompareView"]
+
+
+class CompareView(QWidget):
+    open_requested = Signal(str)  # an object's name (double-click)
+    apply_requested = Signal()  # apply B (a parameter set) to the ECU
+    refresh_requested = Signal()  # compare again
+
+    def __init__(self, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.diff = None
+        self.model = CompareModel(self)
+        self.proxy = CompareFilter(self)
+        self.proxy.setSourceModel(self.model)
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(4, 4, 4, 4)
+        self.sides = ElidedLabel("nothing compared yet: Calibration ▸ Compare …", mode=Qt.ElideMiddle)
+        self.sides.setStyleSheet(f"color: {theme.MUTED};")
+        layout.addWidget(self.sides)
+        bar = QHBoxLayout()
+        self.search = QLineEdit()
+        self.search.setPlaceholderText("filter by name")
+        self.search.setClearButtonEnabled(True)
+        self.search.textChanged.connect(lambda text: self.proxy.set_filter(search=text))
+        bar.addWidget(self.search, 1)
+        self.show_equal = QCheckBox("equal ones too")
+        self.show_equal.toggled.connect(lambda on: self.proxy.set_filter(show_equal=on))
+        bar.addWidget(self.show_equal)
+        self.summary = QLabel()
+        self.summary.setStyleSheet(f"color: {theme.MUTED};")
+        bar.addWidget(self.summary)
+        self.refresh_button = QPushButton("Compare again")
+        self.refresh_button.clicked.connect(self.refresh_requested)
+        self.refresh_button.setEnabled(False)
+        bar.addWidget(self.refresh_button)
+        self.apply_button = QPushButton("Apply B to the ECU…")
+        self.apply_button.setToolTip("write the parameter set's values into the ECU (checked first, as cal load)")
+        self.apply_button.clicked.connect(self.apply_requested)
+        self.apply_button.setVisible(False)
+        bar.addWidget(self.apply_button)
+        layout.addLayout(bar)
+        splitter = QSplitter(Qt.Vertical)
+        self.table = QTableView()
+        self.table.setModel(self.proxy)
+        self.table.setSortingEnabled(True)
+        self.table.sortByColumn(-1, Qt.AscendingOrder)
+        self.table.setSelectionBehavior(QAbstractItemView.SelectRows)
+        self.table.setSelectionMode(QAbstractItemView.SingleSelection)
+        self.table.setEditTriggers(QAbstractItemView.NoEditTriggers)
+        self.table.setTextElideMode(Qt.ElideMiddle)
+        self.table.verticalHeader().hide()
+        self.table.verticalHeader().setDefaultSectionSize(22)
+        self.table.setAlternatingRowColors(True)
+        self.table.setShowGrid(False)
+        self.table.setFont(theme.mono_font())
+        self.table.doubleClicked.connect(lambda index: self.open_requested.emit(index.data(Qt.UserRole).name))
+        self.table.selectionModel().currentRowChanged.connect(self._show_elements)
+        share_columns(self.table, (3, 1.3, 1.8, 1.8, 2.4))
+        splitter.addWidget(self.table)
+        self.elements = ElementModel(self)
+        self.element_table = QTableView()
+        self.element_table.setModel(self.elements)
+        self.element_table.verticalHeader().hide()
+        self.element_table.verticalHeader().setDefaultSectionSize(20)
+        self.element_table.setFont(theme.mono_font(9))
+        self.element_table.setShowGrid(False)
+        share_columns(self.element_table, (2.5, 1.5, 1.5, 1.5))
+        splitter.addWidget(self.element_table)
+        splitter.setStretchFactor(0, 3)
+        splitter.setStretchFactor(1, 1)
+        layout.addWidget(splitter, 1)
+
+    def show_diff(self, diff, *, can_apply: bool = False) -> None:
+        """Show ``diff`` (a :class:`~workbench.calib.dataset.DatasetDiff`); ``can_apply``: B is a parameter set
+        that may be written into the ECU (A is the ECU)."""
+        self.diff = diff
+        self.model.set_diff(diff)
+        self.elements.set_rows([])
+        self.sides.setText(f"A: {diff.a_label}   ·   B: {diff.b_label}")
+        counts = diff.counts()
+        differing = len(diff.objects) - counts["equal"]
+        self.summary.setText(f"{differing} of {len(diff.objects)} objects differ")
+        self.apply_button.setVisible(can_apply)
+        self.refresh_button.setEnabled(True)
+        first = self.proxy.index(0, 0)
+        if first.isValid():
+            self.table.setCurrentIndex(first)
+
+    def _show_elements(self, current, _previous=None) -> None:
+        diff = current.data(Qt.UserRole) if current.isValid() else None
+        self.elements.set_rows(diff.differences if diff is not None and diff.status != "equal" else [])
+
+    def rows_shown(self) -> list[str]:
+        """The names of the rows the filter lets through, in their order."""
+        return [self.proxy.index(row, 0).data(Qt.UserRole).name for row in range(self.proxy.rowCount())]
