@@ -218,3 +218,40 @@ def test_a_map_has_a_3d_view_that_renders_offscreen(window, qtbot):
     image = surface.grab().toImage()
     colours = {image.pixel(x, y) for x in range(0, image.width(), 8) for y in range(0, image.height(), 8)}
     assert len(colours) > 8  # shaded quads, not an empty background
+
+
+def test_extended_limits_are_written_only_when_the_user_chose_them(qtbot, tmp_path, ecu):
+    from workbench import demo
+    from workbench.a2l import load_a2l
+    from workbench.gui.a2l_info import calibration_info
+    from workbench.gui.ecu import EcuController
+    from workbench.gui.project import Connection
+    from workbench.gui.widgets.calibration_editor import CalibrationEditor
+
+    text = demo.a2l().read_text(encoding="utf-8")
+    block = "/* Conversion Method      */ CM_bar\n      /* Lower Limit            */ 0\n      /* Upper Limit            */ 800\n"
+    at = text.index(block, text.index("/* Name                   */ xsSWITCH_TANK_THR"))
+    text = text[:at + len(block)] + "      EXTENDED_LIMITS 0 1000\n" + text[at + len(block):]
+    (tmp_path / "extended.a2l").write_text(text, encoding="utf-8")
+    doc = load_a2l(tmp_path / "extended.a2l")
+    controller = EcuController()
+    with qtbot.waitSignal(controller.connected, timeout=WAIT_MS):
+        controller.open(doc, Connection(interface="virtual", channel=ecu[0]))
+    editor = CalibrationEditor(controller, calibration_info(doc.model(), "xsSWITCH_TANK_THR"))
+    qtbot.addWidget(editor)
+    editor.show()
+    editor.activateWindow()
+    editor.reload()
+    qtbot.waitUntil(lambda: editor.value is not None, timeout=WAIT_MS)
+    assert editor.field.extended.text() == "extended 0 … 1000 bar" and not editor.field.extended.isChecked()
+    scalar_typed(editor, "900")
+    with qtbot.waitSignal(editor.refused, timeout=WAIT_MS) as refused:
+        press(Qt.Key_Return)
+    assert refused.args[0].endswith("900 is above the upper limit 800 bar")
+    editor.field.extended.setChecked(True)  # the explicit choice
+    scalar_typed(editor, "900")
+    press(Qt.Key_Return)
+    session = controller.session
+    qtbot.waitUntil(lambda: session.read("xsSWITCH_TANK_THR") == pytest.approx(900.0), timeout=WAIT_MS)
+    session.write("xsSWITCH_TANK_THR", 20.0)
+    controller.close()

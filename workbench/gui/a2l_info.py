@@ -43,7 +43,6 @@ class CalibrationInfo:
     unit: str
     limits: tuple[float, float]
     decimals: int | None
-    step: float | None
     states: tuple[str, ...]  # the texts of a verbal value
     writable: bool
     axis_labels: tuple[str, ...]  # "target [bar]" per axis, X first
@@ -66,5 +65,5 @@ def calibration_info(model, name: str) -> CalibrationInfo:
         labels.append(f"{quantity} [{unit}]" if unit else quantity)
     states = tuple(conversion.allowed) if getattr(conversion, "verbal", False) else ()
     return CalibrationInfo(name, getattr(obj, "type", "AXIS_PTS"), obj.long_identifier, model.unit_of(obj),
-                           (obj.lower_limit, obj.upper_limit), decimals, getattr(obj, "step_size", None), states,
+                           (obj.lower_limit, obj.upper_limit), decimals, states,
                            obj.writable, tuple(labels), obj.functions, getattr(obj, "extended_limits", None))

@@ -24,7 +24,7 @@ from typing import Any
 
 from PySide6.QtCore import QObject, Signal
 
-from workbench.errors import WorkbenchError
+from workbench.errors import ConnectionLostError, WorkbenchError
 
 log = logging.getLogger(__name__)
 
@@ -137,12 +137,14 @@ class DaqAcquisition(QObject):
                 self.state.running = False
                 if not self._stop.is_set():
                     self.failed.emit(exc)
-                if request is not None:  # measuring goes on without the file
+                lost = isinstance(exc, ConnectionLostError)  # nothing more to measure on this session
+                if request is not None:  # the Recorder finalized the file with what came
                     self._recording = None
                     self.recording_stopped.emit(None)
-                    self._changed.set()
-                else:
-                    self._wanted = ()
+                    if not lost:  # measuring goes on without the file
+                        self._changed.set()
+                        continue
+                self._wanted = ()
 
     def _measure(self, names: tuple[str, ...]) -> None:
         state = self.state

@@ -82,10 +82,6 @@ class EcuController(QObject):
     def is_connected(self) -> bool:
         return self.session is not None
 
-    @property
-    def reconnecting_active(self) -> bool:
-        return self.lost_error is not None and (self._retry.isActive() or self._attempt > 0)
-
     def open(self, a2l, connection: Connection, accept_epk_mismatch: bool = False) -> Task:
         """Connect to the ECU of ``a2l`` (a path or a loaded A2lDocument) as ``connection`` says;
         ``connected`` or ``failed`` follows."""
