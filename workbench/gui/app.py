@@ -21,6 +21,7 @@ from pathlib import Path
 from PySide6.QtCore import QTimer
 from PySide6.QtWidgets import QApplication
 
+from workbench.fileio import atomic_write_text
 from workbench.gui import theme
 from workbench.gui.project import Connection, Project, demo_project
 from workbench.gui.widgets.main_window import MainWindow
@@ -52,8 +53,8 @@ def screenshot_screen(size: tuple[int, int] | None) -> None:
         return
     width, height = size or SCREENSHOT_SCREEN
     config = Path(tempfile.gettempdir()) / f"workbench-screen-{width}x{height}.json"
-    config.write_text(json.dumps({"screens": [{"name": f"{width}x{height}", "x": 0, "y": 0, "width": width,
-                                               "height": height, "logicalDpi": 96, "dpr": 1}]}))
+    atomic_write_text(config, json.dumps({"screens": [{"name": f"{width}x{height}", "x": 0, "y": 0, "width": width,
+                                                       "height": height, "logicalDpi": 96, "dpr": 1}]}))
     os.environ["QT_QPA_PLATFORM"] = f"offscreen:configfile={config}"
 
 

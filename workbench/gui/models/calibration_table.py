@@ -48,6 +48,7 @@ class CalibrationTableModel(QAbstractTableModel):
         self.y_points: np.ndarray | None = None
         self.decimals: int | None = None
         self.writable = True
+        self.axis_labels: tuple[str, str | None] | None = None  # "target [bar]" of X, of Y (set by the table)
 
     def set_value(self, value: np.ndarray, x_points, y_points=None, *, decimals=None, writable=True) -> None:
         self.beginResetModel()
@@ -111,6 +112,9 @@ class CalibrationTableModel(QAbstractTableModel):
         return None
 
     def headerData(self, section, orientation, role=Qt.DisplayRole):
+        if role == Qt.ToolTipRole:  # which axis the breakpoints are: X across, Y down
+            label = self.axis_labels[0 if orientation == Qt.Horizontal else 1] if self.axis_labels else ""
+            return f"{'X' if orientation == Qt.Horizontal else 'Y'}: {label}" if label else None
         if role != Qt.DisplayRole:
             return None
         if orientation == Qt.Horizontal:

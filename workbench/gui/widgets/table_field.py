@@ -49,6 +49,7 @@ class TableField(QWidget):
         self.unit = unit
         self.y_label = y_label
         self.model = CalibrationTableModel(self)
+        self.model.axis_labels = (x_label, y_label)
         self.model.edited.connect(self.committed)
         self.model.refused.connect(self.refused)
         layout = QVBoxLayout(self)
