@@ -25,7 +25,7 @@ class SurfaceView(QWidget):
         self.x_label, self.y_label, self.unit = x_label, y_label, unit
         self.values = np.zeros((0, 0))
         self.x_points = self.y_points = np.zeros(0)
-        self.azimuth, self.elevation = -55.0, 28.0
+        self.azimuth, self.elevation = 35.0, 28.0  # the corner of the first breakpoints in front
         self._drag: QPointF | None = None
         self.setMinimumSize(160, 120)
         self.setSizePolicy(QSizePolicy.Expanding, QSizePolicy.Expanding)
@@ -55,8 +55,8 @@ class SurfaceView(QWidget):
         x, y, z = points[..., 0], points[..., 1], points[..., 2]
         rx = x * np.cos(a) - y * np.sin(a)
         ry = x * np.sin(a) + y * np.cos(a)
-        depth = ry * np.cos(e) + z * np.sin(e)
-        up = z * np.cos(e) - ry * np.sin(e)
+        depth = ry * np.cos(e) - z * np.sin(e)  # seen from above, looking along ry: larger is farther
+        up = z * np.cos(e) + ry * np.sin(e)
         scale = min(self.width(), self.height()) * 0.3
         centre = np.array([self.width() / 2, self.height() / 2 + 6])
         screen = np.stack([centre[0] + rx * scale, centre[1] - up * scale], axis=-1)
@@ -74,7 +74,8 @@ class SurfaceView(QWidget):
             return
         grid = self._unit_cube()
         screen, depth = self._project(grid)
-        self._draw_axes(painter, grid)
+        floor = self._floor(grid)
+        self._draw_floor(painter, floor)
         low, high = np.nanmin(self.values), np.nanmax(self.values)
         nx, ny = self.values.shape
         quads = [(i, j) for i in range(nx - 1) for j in range(ny - 1)]
@@ -86,36 +87,45 @@ class SurfaceView(QWidget):
             painter.setBrush(shade(0.5 if high == low else (mean - low) / (high - low)))
             painter.setPen(edge)
             painter.drawPolygon(QPolygonF([QPointF(*screen[c]) for c in corners]))
+        self._draw_labels(painter, floor)
 
-    def _draw_axes(self, painter: QPainter, grid: np.ndarray) -> None:
-        """The floor's two edges with the breakpoints, and the value range beside the vertical edge."""
+    def _floor(self, grid: np.ndarray) -> np.ndarray:
+        """The grid's points on the floor below the surface, on screen."""
         floor = grid.copy()
         floor[..., 2] = -0.8
-        screen, _ = self._project(floor)
-        painter.setPen(QPen(QColor(theme.BORDER), 1))
+        return self._project(floor)[0]
+
+    def _draw_floor(self, painter: QPainter, floor: np.ndarray) -> None:
         nx, ny = self.values.shape
+        painter.setPen(QPen(QColor(theme.BORDER), 1))
         for a, b in (((0, 0), (nx - 1, 0)), ((0, 0), (0, ny - 1)), ((nx - 1, 0), (nx - 1, ny - 1)),
                      ((0, ny - 1), (nx - 1, ny - 1))):
-            painter.drawLine(QPointF(*screen[a]), QPointF(*screen[b]))
+            painter.drawLine(QPointF(*floor[a]), QPointF(*floor[b]))
+
+    def _draw_labels(self, painter: QPainter, floor: np.ndarray) -> None:
+        """The first and last breakpoints and the name of each axis, outside the floor's edges (on top of the
+        surface); the value range in the corner."""
+        nx, ny = self.values.shape
+        centre = floor.reshape(-1, 2).mean(axis=0)
         painter.setPen(QColor(theme.MUTED))
         metrics = painter.fontMetrics()
-        for i in (0, nx - 1):
-            self._label(painter, screen[i, 0], format_value(float(self.x_points[i])) if i < len(self.x_points) else "",
-                        metrics, below=True)
-        for j in (ny - 1,):
-            self._label(painter, screen[0, j], format_value(float(self.y_points[j])) if j < len(self.y_points) else "",
-                        metrics, below=True)
-        self._label(painter, (screen[nx - 1, 0] + screen[0, 0]) / 2, self.x_label, metrics, below=True, offset=16)
-        self._label(painter, (screen[0, ny - 1] + screen[0, 0]) / 2, self.y_label, metrics, below=True, offset=16)
+        for ends, points, title in ((((0, 0), (nx - 1, 0)), self.x_points, self.x_label),
+                                    (((0, 0), (0, ny - 1)), self.y_points, self.y_label)):
+            start, end = floor[ends[0]], floor[ends[1]]
+            outward = (start + end) / 2 - centre
+            outward = outward / (np.hypot(*outward) or 1.0)
+            for at, index in ((start, 0), (end, -1)):
+                text = format_value(float(points[index])) if len(points) else ""
+                self._text(painter, at + outward * 14, text, metrics)
+            self._text(painter, (start + end) / 2 + outward * 32, title, metrics)
         low, high = np.nanmin(self.values), np.nanmax(self.values)
         unit = f" {self.unit}" if self.unit else ""
         painter.drawText(6, metrics.height(), f"{format_value(low)} … {format_value(high)}{unit}")
 
     @staticmethod
-    def _label(painter: QPainter, at, text: str, metrics, below: bool, offset: int = 4) -> None:
+    def _text(painter: QPainter, centre, text: str, metrics) -> None:
         width = metrics.horizontalAdvance(text)
-        y = at[1] + (metrics.ascent() + offset if below else -offset)
-        painter.drawText(QPointF(at[0] - width / 2, y), text)
+        painter.drawText(QPointF(centre[0] - width / 2, centre[1] + metrics.ascent() / 2), text)
 
     # --- turning --------------------------------------------------------------------------------
 
