@@ -39,6 +39,11 @@ def test_rail_pressure_dropped_on_a_new_plot_arrives_by_daq(window, qtbot):
     assert np.median(np.diff(t)) == pytest.approx(0.004, rel=0.05)  # the 4 ms task's event, by the ECU's clock
     state = window.hub.acquisition.state
     assert state.lost == 0 and state.overloads == 0
+    window.statusBar().clearMessage()
+    window.status.refresh()
+    qtbot.wait(50)  # the status bar lays its labels out again
+    for label in (window.status.daq, window.status.bus, window.status.epk, window.status.page):
+        assert label.text() and label.width() >= label.sizeHint().width(), label.text()  # not cut
 
 
 def test_can2_signals_decoded_from_the_dbc_arrive_beside_xcp(window, qtbot):
