@@ -67,6 +67,16 @@ def test_a_map_cell_after_reading_the_map_sends_only_that_cell(ecu, sim, log):
     assert struct.unpack("<f", sim.ecu.read(cell, 4))[0] == 42.0
 
 
+def test_one_axis_point_sends_that_point_only(ecu, log):
+    points = ecu.read_value("xaPRV_FF_TARGET").value.copy()
+    ecu.write("xsSWITCH_TANK_THR", 21.0)
+    log.take()
+    points[2] = 21.0
+    assert ecu.write("xaPRV_FF_TARGET", points).value.tolist() == points.tolist()
+    assert log.take() == WRITE
+    assert ecu.read_value("xvPRV_DC_FF").axes[0].values.tolist() == points.tolist()  # the map's axis
+
+
 def test_a_map_cell_by_index_needs_nothing_read(ecu, sim, log):
     log.take()
     assert ecu.write_cells("xvPRV_DC_FF", {(2, 3): 42.0}) == {(2, 3): 42.0}
@@ -74,7 +84,7 @@ def test_a_map_cell_by_index_needs_nothing_read(ecu, sim, log):
     cell = ecu.model.characteristic("xvPRV_DC_FF").address + 4 * (3 * 6 + 2)
     assert _downloaded(log) == (cell, struct.pack("<f", 42.0))
     assert ecu.write_cells("zvRailPConv", {0: 1.0, 1: 9.0}) == {(0,): 1.0, (1,): 9.0}  # indices as tuples
-    assert log.take() == ["SET_MTA", "DOWNLOAD", "DOWNLOAD_NEXT", "SET_MTA", "UPLOAD"]  # neighbours: one block of 8 bytes
+    assert log.take() == ["SET_MTA", "DOWNLOAD", "DOWNLOAD_NEXT", "SET_MTA", "UPLOAD"]  # neighbours: one 8-byte block
     assert ecu.read("zvRailPConv")[:2].tolist() == [1.0, 9.0]
 
 
@@ -103,7 +113,8 @@ def test_what_the_session_knows_is_forgotten_when_the_memory_changes(ecu, sim):
 
 @pytest.mark.parametrize("name, value, error, message", [
     ("xsSWITCH_TANK_THR", 900.0, LimitsError, "xsSWITCH_TANK_THR: 900 is above the upper limit 800 bar"),
-    ("xsSWITCH_TANK_THR", "abc", LimitsError, r"xsSWITCH_TANK_THR: 'abc' is not a number \(a value from 0 to 800 bar\)"),
+    ("xsSWITCH_TANK_THR", "abc", LimitsError,
+     r"xsSWITCH_TANK_THR: 'abc' is not a number \(a value from 0 to 800 bar\)"),
     ("cfENABLEFLCU_VALUE", "Foo", LimitsError, r"cfENABLEFLCU_VALUE: 'Foo' is not one of its values \(Disabled, "
                                                 r"Enabled\)"),
     ("xvPRV_DC_FF", np.zeros((5, 6)), LimitsError, r"xvPRV_DC_FF has shape \(6, 5\), the value \(5, 6\)"),

@@ -3,9 +3,11 @@
 :func:`checked_value` makes the :class:`~workbench.calib.values.CalValue` to write from what a caller
 gives (a number, an enum's text, a string, an array of the object's shape, a CalValue) and refuses it
 with :class:`~workbench.errors.LimitsError` when it breaks its object's rules
-(:func:`~workbench.calib.limits.check_limits`: write access, kind, shape, texts, limits, monotony)
-or with :class:`~workbench.errors.InputError` when it is a measurement or lies outside the memory
-the A2L lets calibrations be written to. :func:`checked_cells` does the same for single values of an
+(:func:`~workbench.calib.limits.check_limits`: write access, kind, shape, texts, limits, monotony),
+with :class:`~workbench.errors.ConversionError` when its conversion or data type cannot take it (a
+value a TAB_NOINTP does not list, beyond the data type), or with
+:class:`~workbench.errors.InputError` when it is a measurement or lies outside the memory the A2L
+lets calibrations be written to. :func:`checked_cells` does the same for single values of an
 array. A session runs them before it sends anything; the CLI before it even connects.
 
 Writable memory (:func:`writable_spans`): the MEMORY_SEGMENTs of RAM (or EEPROM, registers) holding
@@ -22,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from workbench.a2l.objects import Measurement
-from workbench.calib.cells import cell_span
+from workbench.calib.cells import cell_edits, cell_span
 from workbench.calib.layout import object_layout
 from workbench.calib.limits import check_cells, check_limits
 from workbench.calib.memory import Span
@@ -31,6 +33,7 @@ from workbench.errors import InputError, LimitsError
 
 if TYPE_CHECKING:
     from workbench.a2l.document import MemorySegment
+    from workbench.calib.layout import ResolvedLayout
     from workbench.a2l.model import A2lModel
     from workbench.a2l.xcp import XcpSegment
 
@@ -62,12 +65,15 @@ def check_inside(name: str, spans: Iterable[tuple[Span, str]], writable: list[Sp
 
 
 def checked_value(model: A2lModel, name: str, value: Any, *, extended: bool = False,
-                  writable: list[Span] | None = None) -> CalValue:
+                  writable: list[Span] | None = None, resolved: ResolvedLayout | None = None) -> CalValue:
     """``value`` as the CalValue to write into ``name`` (a bare array: the values, the axes as they are).
 
     :param extended: check against EXTENDED_LIMITS instead of the limits.
+    :param resolved: the object placed in memory, when the caller has it (a session): its bytes are
+        checked against ``writable``, and the caller encodes the value itself (conversion refusals).
     :raises UnknownSymbolError: no such object. :raises LimitsError: the value breaks its object's
-        rules. :raises InputError: a measurement, or memory the A2L does not let be written.
+        rules. :raises ConversionError: the conversion or data type cannot take it. :raises InputError:
+        a measurement, or memory the A2L does not let be written.
     """
     obj = model.object(name)
     if isinstance(obj, Measurement):
@@ -82,20 +88,23 @@ def checked_value(model: A2lModel, name: str, value: Any, *, extended: bool = Fa
     violations = check_limits(model, target, extended=extended)
     if violations:
         raise LimitsError(violations)
-    layout = object_layout(model, obj)
-    if not layout.needs_counts:
-        resolved = layout.resolve()
+    trial = resolved is None and getattr(obj, "bit_mask", None) is None  # a BIT_MASK needs the ECU's other bits
+    resolved = resolved or _static(model, name)
+    if resolved is not None:
         spans = resolved.spans() if target.axes else [resolved.span()]
         check_inside(name, ((span, "") for span in spans), writable)
+        if trial:  # what the conversion or the data type refuses
+            resolved.encode(target)
     return target
 
 
 def checked_cells(model: A2lModel, name: str, cells: Mapping[Any, Any], *, extended: bool = False,
-                  writable: list[Span] | None = None) -> dict[tuple[int, ...], Any]:
+                  writable: list[Span] | None = None, resolved: ResolvedLayout | None = None
+                  ) -> dict[tuple[int, ...], Any]:
     """``cells`` (index -> physical value; an index is ``(x, y, ...)``, or an int for one axis) checked
     for writing into the array object ``name``: ``{(x, y, ...): value}``.
 
-    :raises UnknownSymbolError, LimitsError, InputError: as :func:`checked_value`.
+    :raises UnknownSymbolError, LimitsError, ConversionError, InputError: as :func:`checked_value`.
     """
     if not cells:
         raise InputError(f"{name}: no values to write")
@@ -104,11 +113,19 @@ def checked_cells(model: A2lModel, name: str, cells: Mapping[Any, Any], *, exten
     violations = check_cells(model, name, indexed, extended=extended)
     if violations:
         raise LimitsError(violations)
-    layout = object_layout(model, name)
-    if not layout.needs_counts:
-        resolved = layout.resolve()
+    trial = resolved is None
+    resolved = resolved or _static(model, name)
+    if resolved is not None:
         check_inside(name, ((cell_span(resolved, index), f"the value {list(index)}") for index in indexed), writable)
+        if trial and resolved.obj.bit_mask is None:
+            cell_edits(resolved, indexed)
     return indexed
+
+
+def _static(model: A2lModel, name: str) -> ResolvedLayout | None:
+    """The object placed in memory when the A2L alone tells where everything lies (no count in ECU memory)."""
+    layout = object_layout(model, name)
+    return None if layout.needs_counts else layout.resolve()
 
 
 def _bare(kind: str, value: Any) -> Any:

@@ -21,13 +21,14 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Iterable, Mapping
+from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from workbench.a2l.objects import AxisPts, Characteristic, Measurement
 from workbench.calib.cells import cell_edits, cell_span, cell_values
-from workbench.calib.layout import ResolvedLayout, object_layout
+from workbench.calib.layout import ObjectLayout, ResolvedLayout, object_layout
 from workbench.calib.memory import ByteEdit, Span
 from workbench.calib.signals import MeasurementCodec, measurement_codec
 from workbench.calib.values import CalValue
@@ -114,11 +115,7 @@ class ValueAccess:
     def _resolve(self: Session, names: list[str], read=None) -> dict[str, ResolvedLayout]:
         """Each object placed in memory; layouts kept per name, resolved ones too unless they read counts
         (``read(spans) -> {span: bytes}``, default: from the ECU)."""
-        layouts = {}
-        for name in names:
-            if name not in self._layouts:
-                self._layouts[name] = object_layout(self.model, name)
-            layouts[name] = self._layouts[name]
+        layouts = {name: self._plan(name) for name in names}
         static = {name: self._resolved[name] for name in names if name in self._resolved}
         dynamic = [name for name in names if name not in static]
         counts = [span for name in dynamic for span in layouts[name].fixed_part()]
@@ -151,16 +148,17 @@ class ValueAccess:
         """
         with self.lock:
             self.require_writable()
+            static = self._static_layout(name)
             target = checked_value(self.model, name, value, extended=allow_extended_limits,
-                                   writable=self.writable_spans())
-            layout = self._write_layout(name)
+                                   writable=self.writable_spans(), resolved=static)
+            layout = static or self._write_layout(name)
+            bits = getattr(layout.obj, "bit_mask", None) is not None  # the other bits of a BIT_MASK come from the ECU
+            edits = None if bits else layout.encode(target)  # the conversion's refusals: before anything is sent
             self._check_pages(name, layout.spans())
-            plain = layout.kind in ("VALUE", "ASCII") and layout.obj.bit_mask is None
-            current = None if plain else self._known_bytes(layout.spans())
-            edits = layout.encode(target, current)
-            if not edits and current is not None:  # nothing differs from what the session knew: make sure
-                current = self._fresh_bytes(layout.spans())
-                edits = layout.encode(target, current)
+            if bits or layout.kind not in ("VALUE", "ASCII"):  # only the elements that differ
+                edits = layout.encode(target, self._known_bytes(layout.spans()))
+                if not edits:  # nothing differs from what the session knew: make sure
+                    edits = layout.encode(target, self._fresh_bytes(layout.spans()))
             self._apply(name, edits)
             return self._written_value(name, layout)
 
@@ -174,18 +172,41 @@ class ValueAccess:
         """
         with self.lock:
             self.require_writable()
+            static = self._static_layout(name)
             indexed = checked_cells(self.model, name, cells, extended=allow_extended_limits,
-                                    writable=self.writable_spans())
-            layout = self._write_layout(name)
+                                    writable=self.writable_spans(), resolved=static)
+            layout = static or self._write_layout(name)
             spans = [cell_span(layout, index) for index in indexed]
+            bits = layout.obj.bit_mask is not None
+            edits = None if bits else cell_edits(layout, indexed)
             self._check_pages(name, spans)
-            current = self._known_bytes(spans) if layout.obj.bit_mask is not None else None
-            self._apply(name, cell_edits(layout, indexed, current))
+            if bits:
+                edits = cell_edits(layout, indexed, self._known_bytes(spans))
+            self._apply(name, edits)
             return cell_values(layout, self._known_bytes(spans), indexed)
 
     def writable_spans(self: Session) -> list[Span] | None:
         """Where the A2L lets calibrations be written (None: the A2L has no MEMORY_SEGMENTs to tell)."""
+        return self._writable_memory
+
+    @cached_property
+    def _writable_memory(self: Session) -> list[Span] | None:  # the A2L does not change: read once
         return writable_spans(self.doc.memory_segments(self.module), self.config.segments)
+
+    def _static_layout(self: Session, name: str) -> ResolvedLayout | None:
+        """A calibration object placed in memory from the A2L alone; None when a count lies in ECU memory
+        (or ``name`` is no calibration object: the checks say so)."""
+        if name in self._resolved:
+            return self._resolved[name]
+        if self.model.kind_of(name) not in ("CHARACTERISTIC", "AXIS_PTS") or self._plan(name).needs_counts:
+            return None
+        resolved = self._resolved[name] = self._plan(name).resolve()
+        return resolved
+
+    def _plan(self: Session, name: str) -> ObjectLayout:
+        if name not in self._layouts:
+            self._layouts[name] = object_layout(self.model, name)
+        return self._layouts[name]
 
     def _write_layout(self: Session, name: str) -> ResolvedLayout:
         """The object placed in memory, counts stored in the ECU taken from what the session knows."""
