@@ -41,6 +41,7 @@ def test_working_read_only_measures_but_refuses_calibration(window, qtbot):
     assert not editor.field.input.isEnabled()
     assert "EPK differs" in editor.status.text()
     assert not window.copy_action.isEnabled()
+    assert not window.working_action.isEnabled() and not window.reference_action.isEnabled()  # no page switches
 
 
 def test_disconnect_closes_the_session(window, qtbot):

@@ -7,11 +7,11 @@ import struct
 
 import numpy as np
 import pytest
-from conftest import FAST, edited_a2l
+from conftest import FAST, demo_a2l_text, edited_a2l
 from xcp_commands import CommandLog
 
 from workbench import EpkMismatchError, PageError, Session
-from workbench.errors import InputError, LimitsError, UnknownSymbolError
+from workbench.errors import ConversionError, InputError, LimitsError, UnknownSymbolError
 
 FIRST_WRITE = ["GET_SEED", "UNLOCK", "GET_CAL_PAGE"]  # once a session: CAL/PAG unlocked, the page XCP is on asked
 WRITE = ["SET_MTA", "DOWNLOAD", "SHORT_UPLOAD"]
@@ -149,6 +149,18 @@ def test_a_read_only_calibration_and_memory_outside_the_writable_are_refused_bef
             ecu.write("xsSWITCH_TANK_THR", 21.0)
         with pytest.raises(InputError, match=r"xvPRV_DC_FF: the value \[0, 0\] at .* outside the A2L's writable"):
             ecu.write_cells("xvPRV_DC_FF", {(0, 0): 1.0})
+        assert log.take() == []
+
+
+def test_what_the_data_type_cannot_hold_is_refused_before_sending(tmp_path, sim, channel):
+    text = demo_a2l_text()
+    start = text.index("*/ xsSWITCH_TANK_THR\n")
+    limit = text.index("/* Upper Limit            */ 800", start)
+    a2l = tmp_path / "wide.a2l"  # an upper limit beyond what a FLOAT32_IEEE holds
+    a2l.write_text(text[:limit] + text[limit:].replace("*/ 800", "*/ 1e40", 1), encoding="utf-8")
+    with Session.open(a2l, interface="virtual", channel=channel, timeouts=FAST) as ecu, CommandLog(channel) as log:
+        with pytest.raises(ConversionError, match="xsSWITCH_TANK_THR: 1e\\+39 does not fit FLOAT32_IEEE"):
+            ecu.write("xsSWITCH_TANK_THR", 1e39)
         assert log.take() == []
 
 

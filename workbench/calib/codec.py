@@ -249,8 +249,11 @@ def _new_counts(layout: "ResolvedLayout", axes: tuple[Axis, ...]) -> dict[str, i
 
 
 def _raw_for(layout: "ResolvedLayout", source, values: Any, datatype: str, what: str) -> np.ndarray:
-    """Physical -> raw of the data type (converted, rounded, range-checked)."""
-    raw = layout.model.conversion(source).to_raw(values, datatype=datatype)
+    """Physical -> raw of the data type (converted, rounded, range-checked); a refusal names ``what``."""
+    try:
+        raw = layout.model.conversion(source).to_raw(values, datatype=datatype)
+    except ConversionError as exc:
+        raise ConversionError(f"{what}: {exc}") from None
     return rawtypes.to_datatype(raw, datatype, what)
 
 

@@ -476,9 +476,8 @@ class MainWindow(QMainWindow):
         self.disconnect_action.setEnabled(True)
         self.flash_action.setEnabled(True)
         writable = not info.boot and not session.read_only
-        for action in (self.working_action, self.reference_action):
-            action.setEnabled(bool(info.pages))
-        self.copy_action.setEnabled(writable and bool(info.pages))
+        for action in (self.working_action, self.reference_action, self.copy_action):
+            action.setEnabled(writable and bool(info.pages))  # a read-only session refuses page switches
         self.save_set_action.setEnabled(not info.boot)
         self.compare_pages_action.setEnabled(not info.boot and bool(info.pages))
         self._update_title()
