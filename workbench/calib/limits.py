@@ -95,10 +95,10 @@ def check_limits(model: "A2lModel", value: CalValue, *, extended: bool = False) 
     return found + (texts or _range(obj.name, "", values, obj, extended, model.unit_of(obj)))
 
 
-def check_cells(model: "A2lModel", name: str, cells: Mapping[tuple[int, ...], Any], *, extended: bool = False
-                ) -> list[LimitViolation]:
+def check_cells(model: "A2lModel", name: str, cells: Mapping[tuple[int, ...], Any], *, extended: bool = False,
+                shape: tuple[int, ...] | None = None) -> list[LimitViolation]:
     """Every violation of single values written into an array object (VAL_BLK, CURVE, MAP, ...): write access,
-    each index against the shape (where the A2L fixes it), texts and limits of each value.
+    each index against the shape (``shape``, else where the A2L fixes it), texts and limits of each value.
 
     :raises UnknownSymbolError: the object does not exist.
     """
@@ -108,7 +108,7 @@ def check_cells(model: "A2lModel", name: str, cells: Mapping[tuple[int, ...], An
         return [LimitViolation(name, "kind", f"{name} ({kind}): values are written by cell only into a VAL_BLK, "
                                              "CURVE, MAP or CUBOID (axis points whole, their order is checked)")]
     found = _write_access(obj)
-    shape = obj.shape if obj.type == "VAL_BLK" else _static_shape(model, obj)
+    shape = shape or (obj.shape if obj.type == "VAL_BLK" else _static_shape(model, obj))
     unit = model.unit_of(obj)
     for index, value in cells.items():
         label = f"[{', '.join(str(i) for i in index)}]"

@@ -110,7 +110,7 @@ def checked_cells(model: A2lModel, name: str, cells: Mapping[Any, Any], *, exten
         raise InputError(f"{name}: no values to write")
     indexed = {_index(index): value.item() if isinstance(value, np.generic) else value
                for index, value in cells.items()}
-    violations = check_cells(model, name, indexed, extended=extended)
+    violations = check_cells(model, name, indexed, extended=extended, shape=resolved.shape if resolved else None)
     if violations:
         raise LimitsError(violations)
     trial = resolved is None
