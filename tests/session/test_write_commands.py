@@ -200,3 +200,48 @@ def test_a_read_only_session_refuses_page_switches_before_sending(tmp_path, sim,
         assert log.take() == []
         assert ecu.read("xsSWITCH_TANK_THR", page="reference") == 20.0  # reading another page is fine
     assert sim.ecu.pages.xcp_page == sim.ecu.pages.ecu_page == 0
+
+
+class _MemoryMaster:
+    """A master on plain bytes (no bus): what the session reads and writes, for layouts the demo ECU has not."""
+
+    def __init__(self, content: dict[int, bytes]):
+        self.memory = bytearray(0x400)
+        for address, data in content.items():
+            self.memory[address:address + len(data)] = data
+        self.memory_changes, self.xcp_pages, self.connect_info, self.log = 0, {}, None, []
+
+    def read(self, address: int, size: int, extension: int = 0) -> bytes:
+        self.log.append(("read", address, size))
+        return bytes(self.memory[address:address + size])
+
+    def write(self, address: int, data: bytes, extension: int = 0) -> None:
+        self.memory_changes += 1
+        self.log.append(("write", address, data))
+        self.memory[address:address + len(data)] = data
+
+
+def test_a_curve_whose_count_lies_in_memory_takes_more_points_and_is_decoded_from_what_was_read_back():
+    from types import SimpleNamespace
+
+    from workbench.a2l import load_a2l_string
+    from workbench.calib.values import Axis, CalValue
+
+    doc = load_a2l_string(
+        'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n/begin MODULE M ""\n/begin MOD_COMMON "" BYTE_ORDER MSB_FIRST '
+        '/end MOD_COMMON\n/begin RECORD_LAYOUT K NO_AXIS_PTS_X 1 UBYTE AXIS_PTS_X 2 SWORD INDEX_INCR DIRECT '
+        'FNC_VALUES 3 UWORD ROW_DIR DIRECT /end RECORD_LAYOUT\n/begin CHARACTERISTIC k "" CURVE 0x100 K 0 '
+        'NO_COMPU_METHOD 0 1000\n  /begin AXIS_DESCR STD_AXIS NO_INPUT_QUANTITY NO_COMPU_METHOD 5 -100 100 '
+        '/end AXIS_DESCR\n/end CHARACTERISTIC\n/end MODULE\n/end PROJECT\n', "dynamic.a2l")
+    master = _MemoryMaster({0x100: bytes.fromhex("03 00 FFF6 0000 000A 0064 00C8 012C")})
+    ecu = Session(doc, SimpleNamespace(segments=()), None, master)
+    longer = CalValue("k", "CURVE", np.array([1, 2, 3, 4]), (Axis(np.array([-10, 0, 10, 20])),))
+    written = ecu.write("k", longer)
+    assert written.same_values(longer)
+    assert bytes(master.memory[0x100:0x112]) == bytes.fromhex("04 00 FFF6 0000 000A 0014 0001 0002 0003 0004")
+    reads = [entry for entry in master.log if entry[0] == "read"]
+    assert reads == [("read", 0x100, 1), ("read", 0x100, 14), ("read", 0x100, 18)]  # count, object, read-back
+    master.log.clear()
+    again = CalValue("k", "CURVE", np.array([1, 2, 7, 4]), written.axes)
+    assert ecu.write("k", again).same_values(again)
+    assert master.log == [("write", 0x10E, bytes.fromhex("0007")), ("read", 0x10E, 2)]  # the one value, known

@@ -82,11 +82,20 @@ class KnownMemory:
                 held[start - block.address:end - block.address] = raw[start - span.address:end - span.address]
 
     def get(self, span: Span) -> bytes | None:
-        """The bytes of ``span`` when one block known holds all of them."""
+        """The bytes of ``span`` when the blocks known hold all of them (one block, or several side by side)."""
+        data = bytearray(span.size)
+        pieces = []
         for block, held in self._blocks.items():
-            if block.extension == span.extension and block.address <= span.address and span.end <= block.end:
-                return bytes(held[span.address - block.address:span.end - block.address])
-        return None
+            start, end = max(block.address, span.address), min(block.end, span.end)
+            if block.extension == span.extension and start < end:
+                data[start - span.address:end - span.address] = held[start - block.address:end - block.address]
+                pieces.append((start, end))
+        reached = span.address
+        for start, end in sorted(pieces):
+            if start > reached:
+                break
+            reached = max(reached, end)
+        return bytes(data) if reached >= span.end else None
 
     def blocks(self) -> dict[Span, bytes]:
         return {span: bytes(held) for span, held in self._blocks.items()}
