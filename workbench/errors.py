@@ -157,7 +157,22 @@ class EpkMismatchError(WorkbenchError):
     def __init__(self, expected: str, actual: str, hint: str = ""):
         self.expected = expected
         self.actual = actual
-        super().__init__(f"EPK mismatch: file has {expected!r}, ECU has {actual!r}" + (f"; {hint}" if hint else ""))
+        super().__init__(f"EPK mismatch: file has {epk_text(expected)}, ECU has {epk_text(actual)}"
+                         + (f"; {hint}" if hint else ""))
+
+
+def epk_text(epk: str) -> str:
+    """An EPK (as read: one character a byte, latin-1) as messages and reports show it: ``'10300020250301'``,
+    ``erased (14 bytes FF)`` where the flash holds no software, else its bytes in hex."""
+    raw = epk.encode("latin-1", "replace")
+    if raw and set(raw) <= {0xFF}:
+        return f"erased ({len(raw)} bytes FF)"
+    if raw and set(raw) <= {0}:
+        return f"empty ({len(raw)} bytes 00)"
+    text = epk.rstrip("\0 ")
+    if text.isascii() and text.isprintable():
+        return repr(text)
+    return f"bytes {raw.hex(' ').upper()}"
 
 
 class Cancelled(WorkbenchError):

@@ -12,9 +12,14 @@ from workbench.sim import serve_demo
 
 
 @pytest.fixture
-def bus(free_udp_port):
-    with serve_demo({"interface": "udp_multicast", "port": free_udp_port}, pcm_target_bar=25.0):
-        yield ["--bus-kwargs", f"port={free_udp_port}"]
+def sim(free_udp_port):
+    with serve_demo({"interface": "udp_multicast", "port": free_udp_port}, pcm_target_bar=25.0) as simulator:
+        yield simulator
+
+
+@pytest.fixture
+def bus(sim, free_udp_port):
+    return ["--bus-kwargs", f"port={free_udp_port}"]
 
 
 def run(capsys, *argv: str) -> tuple[int, str, str]:
@@ -36,14 +41,40 @@ def test_cal_get_shows_units_and_tables(bus, capsys):
     assert code == 0
     lines = out.splitlines()
     assert lines[0] == "xsSWITCH_TANK_THR = 20.00 bar"
-    assert lines[1] == "zvTankPConv:"
+    assert lines[1] == "zvTankPConv: x [V], values [bar]"
     assert lines[2].split() == ["x", "0.5", "1", "1.5", "2", "2.5", "3", "3.5", "4", "4.5"]
     assert lines[3].split() == ["value", "0.00", "100.00", "200.00", "300.00", "400.00", "500.00", "600.00", "700.00",
-                                "800.00", "bar"]
+                                "800.00"]
     assert lines[4] == "xsTankCtrlState = TANK1_ON" or lines[4].startswith("xsTankCtrlState = ")
     code, out, _ = run(capsys, "cal", "get", "xvPRV_DC_FF", "--json", *bus)
     data = json.loads(out)["xvPRV_DC_FF"]
     assert data["kind"] == "MAP" and len(data["value"]) == 6 and data["axes"][1]["name"] == "xaPRV_FF_MANIFOLD"
+
+
+def test_a_map_is_shown_as_the_window_shows_it(bus, capsys):
+    """X across, Y down (as the window and CANape), each axis named with its unit; JSON stays indexed [x][y]."""
+    code, out, _ = run(capsys, "cal", "get", "xvPRV_DC_FF", *bus)
+    lines = out.splitlines()
+    assert lines[0] == ("xvPRV_DC_FF: x = xaPRV_FF_TARGET [bar] across, y = xaPRV_FF_MANIFOLD [bar] down, "
+                        "values [%]")
+    assert lines[1].split() == ["y", "\\", "x", "0", "10", "20", "30", "40", "50"]
+    assert [line.split()[0] for line in lines[2:]] == ["50", "100", "200", "400", "700"]
+    assert lines[4].split() == ["200", "0.00", "70.00", "70.00", "70.00", "70.00", "70.00"]
+    as_json = json.loads(run(capsys, "cal", "get", "xvPRV_DC_FF", "--json", *bus)[1])["xvPRV_DC_FF"]
+    table = [[float(cell) for cell in line.split()[1:]] for line in lines[2:]]
+    assert [list(column) for column in zip(*table)] == as_json["value"]  # the grid is the [x][y] array turned
+
+
+def test_cal_get_takes_the_globs_cal_list_takes(bus, capsys):
+    code, out, _ = run(capsys, "cal", "get", "xsPRV_K*", "xsSWITCH_TANK_THR", *bus)
+    assert code == 0 and [line.split()[0] for line in out.splitlines()] == ["xsPRV_KP", "xsPRV_KI", "xsPRV_KD",
+                                                                            "xsSWITCH_TANK_THR"]
+    listed = [line.split()[0] for line in run(capsys, "cal", "list", "xsPRV_K*", *bus)[1].splitlines()]
+    assert listed == ["xsPRV_KP", "xsPRV_KI", "xsPRV_KD"]
+    code, out, _ = run(capsys, "cal", "get", "zsRail[PV]*", "--json", *bus)
+    assert code == 0 and set(json.loads(out)) == {"zsRailPressure", "zsRailPressureTmp", "zsRailVoltFilt"}
+    code, out, err = run(capsys, "cal", "get", "xsNOTHING*", *bus)
+    assert (code, out, err) == (2, "", "error: no object matches 'xsNOTHING*'\n")
 
 
 def test_cal_set_reads_back_and_refuses_bad_values(bus, capsys):
@@ -88,10 +119,20 @@ def test_cal_fix_override_release_list(bus, capsys):
     assert states["zfRAILPRESSURE"]["active"] is True and len(states) == 17
     code, out, _ = run(capsys, "cal", "fix", "zfRAILPRESSURE", "--release", *bus)
     assert code == 0 and "off" in out
-    code, _, err = run(capsys, "cal", "fix", "RailPressure", "3", *bus)
-    assert code == 2 and "2 fix calibrations" in err
     code, _, err = run(capsys, "cal", "fix", "zfRAILPRESSURE", *bus)
     assert code == 2 and "either VALUE" in err
+
+
+def test_cal_fix_shows_the_live_value_after_the_switch(bus, capsys):
+    """The live value printed is the ECU's once it has used the switch: the override, then its own again."""
+    code, out, _ = run(capsys, "cal", "fix", "zfRAILPRESSURE", "12.5", "--json", *bus)
+    assert code == 0 and json.loads(out)[0]["live"] == 12.5
+    code, out, _ = run(capsys, "cal", "fix", "zfRAILPRESSURE", "--release", "--json", *bus)
+    state = json.loads(out)[0]
+    assert code == 0 and state["active"] is False and state["override"] == 12.5
+    assert state["live"] != 12.5  # the sensor's own pressure (the PCM asks for 25 bar)
+    code, _, err = run(capsys, "cal", "fix", "RailPressure", "3", *bus)
+    assert code == 2 and "2 fix calibrations" in err
 
 
 def test_measure_polls_and_samples(bus, capsys):
@@ -123,3 +164,27 @@ def test_raw_values(bus, capsys):
     assert lines[1:] == ["cfENABLEFLCU_VALUE = 0", "xsSWITCH_TANK_THR = 20"]
     code, out, _ = run(capsys, "measure", "xsTankCtrlState", "--duration", "0.15", "--json", "--raw", *bus)
     assert isinstance(json.loads(out.splitlines()[0])["values"]["xsTankCtrlState"], int)
+
+
+def test_an_erased_epk_reads_as_erased(sim, bus, capsys):
+    area = sim.ecu.memory.area_at(sim.ecu.params.epk_address, sim.ecu.params.epk_length)
+    start = sim.ecu.params.epk_address - area.start
+    area.data[start:start + sim.ecu.params.epk_length] = b"\xff" * sim.ecu.params.epk_length  # as after an erase
+    code, out, _ = run(capsys, "info", *bus)
+    assert "EPK           ECU erased (14 bytes FF), A2L '10300020250301': MISMATCH (read-only)" in out
+    code, _, err = run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "12", *bus)
+    assert code == 1 and "ECU has erased (14 bytes FF)" in err and "\xff" not in err
+
+
+def test_epk_text():
+    from workbench.errors import epk_text
+
+    assert epk_text("10300020250301\0\0") == "'10300020250301'"
+    assert epk_text("\xff" * 4) == "erased (4 bytes FF)" and epk_text("\0" * 2) == "empty (2 bytes 00)"
+    assert epk_text("10\xff\x01") == "bytes 31 30 FF 01"
+
+
+def test_convert_help_names_only_options_it_has(capsys):
+    assert main(["cal", "convert", "--help"]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert "--a2l" not in text and "Exit 0: written" in text

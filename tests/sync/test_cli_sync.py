@@ -82,14 +82,47 @@ def test_a_bad_object_is_listed_and_nothing_is_written(bus, capsys, tmp_path):
     assert run(capsys, "cal", "get", "xsPRV_KP", *bus)[1] == "xsPRV_KP = 5.0000 %/bar\n"
 
 
+def test_a_dry_run_exits_as_the_load_would(bus, capsys, tmp_path):
+    run(capsys, "cal", "save", "curve.dcm", "zvTankPConv", "xsSWITCH_TANK_THR", *bus)
+    text = (tmp_path / "curve.dcm").read_text()
+    (tmp_path / "beyond.dcm").write_text(text.replace("WERT 600.0 700.0 800.0", "WERT 600.0 700.0 900.0")
+                                         .replace("WERT 20.0", "WERT 25.0"))
+    for argv in (["cal", "load", "beyond.dcm", "--dry-run"], ["cal", "load", "beyond.dcm"]):
+        code, out, err = run(capsys, *argv, *bus)
+        assert code == 2 and "zvTankPConv" in out and "refused" in out, argv
+        assert err.count("\n") == 1 and err.startswith("error: 1 of 2 objects refused, nothing written: zvTankPConv: ")
+    code, out, err = run(capsys, "cal", "load", "beyond.dcm", "--dry-run", "--json", *bus)
+    assert code == 2 and json.loads(out)["counts"]["refused"] == 1
+    assert run(capsys, "cal", "load", "curve.dcm", "--dry-run", *bus)[0] == 0
+    assert run(capsys, "cal", "get", "xsSWITCH_TANK_THR", *bus)[1] == "xsSWITCH_TANK_THR = 20.00 bar\n"
+
+
+def test_sync_download_refuses_what_load_refuses(bus, capsys, tmp_path):
+    """One rule: a dataset that cal load refuses (a name the A2L lacks) is refused by cal sync --download too."""
+    run(capsys, "cal", "save", "some.dcm", "xsPRV_K*", *bus)
+    text = (tmp_path / "some.dcm").read_text()
+    (tmp_path / "tuned.dcm").write_text(text.replace("WERT 5.0", "WERT 7.0").replace("xsPRV_KI", "xsPRV_KX"))
+    load = run(capsys, "cal", "load", "tuned.dcm", *bus)
+    code, out, err = run(capsys, "cal", "sync", "--reference", "tuned.dcm", "--download", *bus)
+    assert load[0] == code == 2 and err == load[2]
+    assert out.splitlines()[-3:] == load[1].splitlines()
+    assert run(capsys, "cal", "get", "xsPRV_KP", *bus)[1] == "xsPRV_KP = 5.0000 %/bar\n"  # nothing written
+    code, out, _ = run(capsys, "cal", "sync", "--reference", "tuned.dcm", "--download", "--json", *bus)
+    assert code == 2 and json.loads(out)["download"]["counts"]["refused"] == 1
+
+
 def test_sync_report_upload_and_download(bus, capsys, tmp_path):
     code, out, _ = run(capsys, "cal", "sync", *bus)
-    assert code == 0 and out.splitlines()[-1] == 'the data in the ECU equals "FLCU.s19" (58 objects); 0 bytes uploaded'
+    assert code == 0 and out.splitlines()[-1] == ('the data in the ECU equals "FLCU.s19" (58 objects); 0 bytes read '
+                                                  'from the ECU')
     run(capsys, "cal", "set", "xsEMPTY_TANK_THR", "7.5", *bus)
     code, out, _ = run(capsys, "cal", "sync", *bus)
     lines = out.splitlines()
     assert code == 1 and lines[-1] == "choose --upload (ECU -> file) or --download (file -> ECU)"
     assert lines[-2].startswith('the data in the ECU differs from "FLCU.s19": 1 object differs; ')
+    assert lines[-2].endswith(" bytes read from the ECU") and "uploaded" not in out  # nothing went to a file
+    assert lines[0] == f"file: {demo.s19()}" and lines[2].split() == ["name", "status", "where", "file", "ECU", "ECU",
+                                                                      "-", "file"]
     assert any(line.split()[:6] == ["xsEMPTY_TANK_THR", "changed", "value", "5.0", "7.5", "+2.5"] for line in lines)
 
     shutil.copy(demo.s19(), tmp_path / "mine.s19")

@@ -23,7 +23,7 @@ from __future__ import annotations
 import difflib
 import fnmatch
 import re
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from typing import TYPE_CHECKING, NamedTuple, Union
 
 import numpy as np
@@ -33,13 +33,13 @@ from workbench.a2l.objects import (
     Function, Group, Location, Measurement, ModCommon, RecordLayout, Unit,
 )
 from workbench.a2l.readers import READERS, read_mod_common
-from workbench.errors import A2lParseError, UnknownSymbolError
+from workbench.errors import A2lParseError, InputError, UnknownSymbolError
 
 if TYPE_CHECKING:
     from workbench.a2l.compu import Conversion
     from workbench.a2l.document import A2lDocument, Block
 
-__all__ = ["A2lModel", "OBJECT_KINDS", "ObjectSummary", "closest_names"]
+__all__ = ["A2lModel", "OBJECT_KINDS", "ObjectSummary", "closest_names", "is_glob", "name_pattern"]
 
 OBJECT_KINDS = ("CHARACTERISTIC", "MEASUREMENT", "AXIS_PTS", "BLOB", "INSTANCE")  # the shared "objects" namespace
 _TABLE_KINDS = ("COMPU_TAB", "COMPU_VTAB", "COMPU_VTAB_RANGE")
@@ -49,6 +49,7 @@ _LISTS = {  # name-list blocks: which kind of owner names which kind of member
     "GROUP": ("REF_CHARACTERISTIC", "REF_MEASUREMENT"),
 }
 _SUGGESTIONS = 3
+_GLOB_CHARACTERS = frozenset("*?[")
 
 # positional parameter index (name = 0) of what a summary shows, per kind
 _SUMMARY_SLOTS = {
@@ -210,13 +211,30 @@ class A2lModel:
         :raises ValueError: a malformed regular expression.
         """
         kinds = OBJECT_KINDS[:4] if kind is None else (kind,) if isinstance(kind, str) else tuple(kind)
-        source = pattern if regex else fnmatch.translate(pattern)
-        try:
-            matcher = re.compile(source, re.IGNORECASE if ignore_case else 0)
-        except re.error as error:
-            raise ValueError(f"bad pattern {pattern!r}: {error}") from None
+        matcher = name_pattern(pattern, regex=regex, ignore_case=ignore_case)
         return [self._get(kind_, name) for kind_ in kinds for name in self._names.get(kind_, ())
                 if matcher.fullmatch(name)]
+
+    def expand(self, names: Iterable[str], kind: str | tuple[str, ...] | None = None, *, what: str = "object"
+               ) -> list[str]:
+        """``names`` as the object names they stand for, in the order given, each once: a name stays (it must
+        exist), a glob (:func:`is_glob`: ``xsPRV_*``, ``zf?ANK*``) becomes the names of ``kind`` it matches, in
+        document order. The CLI's name arguments, datasets and the window's search take names this way.
+
+        :raises UnknownSymbolError: a name the module lacks (the closest suggested).
+        :raises InputError: a glob that matches no object of ``kind`` (``what`` names them in the message).
+        """
+        found: list[str] = []
+        for name in names:
+            if is_glob(name):
+                matches = [obj.name for obj in self.find(name, kind)]
+                if not matches:
+                    raise InputError(f"no {what} matches {name!r}")
+                found += matches
+            else:
+                self.kind_of(name)
+                found.append(name)
+        return list(dict.fromkeys(found))
 
     def summaries(self, kind: str | tuple[str, ...] | None = None) -> list["ObjectSummary"]:
         """Name, kind, type, description, conversion, unit and address of every object of ``kind``
@@ -440,6 +458,24 @@ class A2lModel:
 
     def _unknown(self, name: str, known, what: str) -> UnknownSymbolError:
         return UnknownSymbolError(name, f"{what} of {self.doc.name}", closest_names(name, known))
+
+
+def is_glob(text: str) -> bool:
+    """Whether ``text`` is a glob (holds ``*``, ``?`` or ``[``) rather than a name: one rule for every face."""
+    return not _GLOB_CHARACTERS.isdisjoint(text)
+
+
+def name_pattern(pattern: str, *, regex: bool = False, ignore_case: bool = False) -> re.Pattern:
+    """The compiled pattern whose ``fullmatch`` tells the names ``pattern`` (a glob, or with ``regex`` a regular
+    expression) matches.
+
+    :raises ValueError: a malformed regular expression.
+    """
+    source = pattern if regex else fnmatch.translate(pattern)
+    try:
+        return re.compile(source, re.IGNORECASE if ignore_case else 0)
+    except re.error as error:
+        raise ValueError(f"bad pattern {pattern!r}: {error}") from None
 
 
 def closest_names(name: str, known, count: int = _SUGGESTIONS) -> list[str]:

@@ -11,6 +11,7 @@ import argparse
 import importlib
 import logging
 import os
+import signal
 import sys
 
 from workbench import __version__
@@ -84,4 +85,8 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def entry_point() -> None:
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        # A background job of a non-interactive shell (`workbench sim &` in a script) starts with SIGINT
+        # ignored, and Python then leaves it so: Ctrl-C and kill -INT would not stop what says they do.
+        signal.signal(signal.SIGINT, signal.default_int_handler)
     sys.exit(main())

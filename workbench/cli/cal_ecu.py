@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 from workbench.cli.ecu_options import add_ecu_arguments, open_session
 from workbench.cli.options import print_json
-from workbench.cli.render import decimals, jsonable, table_lines, value_text
+from workbench.cli.render import decimals, jsonable, value_block, value_text
 from workbench.errors import InputError
 
 if TYPE_CHECKING:
@@ -21,8 +21,10 @@ if TYPE_CHECKING:
 def add_commands(commands: argparse._SubParsersAction) -> None:
     """Register the ECU commands in the ``cal`` group's sub-commands."""
     get = commands.add_parser("get", help="read calibrations (and measurements) by name",
-                              description="Read objects by name in physical units; curves and maps with their axes.")
-    get.add_argument("names", nargs="+", metavar="NAME")
+                              description="Read objects by name (or glob) in physical units; curves and maps with their axes "
+                                          "named, a map with X across and Y down as the window shows it (--json: "
+                                          "the value indexed [x][y], as cal set takes it).")
+    get.add_argument("names", nargs="+", metavar="NAME", help="a name or a glob ('xsPRV_*', as cal list and save take)")
     get.add_argument("--page", choices=("working", "reference"), help="read this page (default: the one XCP is on)")
     get.add_argument("--raw", action="store_true", help="raw values, as the ECU holds them (no conversion)")
     add_ecu_arguments(get)
@@ -79,8 +81,9 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
 def _get(args: argparse.Namespace) -> int:
     with open_session(args) as session:
         model = session.model
+        names = model.expand(args.names)
         found = {}
-        for name in args.names:
+        for name in names:
             kind = model.kind_of(name)
             if args.raw:
                 found[name] = session.read(name, page=args.page, raw=True)
@@ -95,10 +98,9 @@ def _get(args: argparse.Namespace) -> int:
         obj = model.object(name)
         places = None if args.raw else decimals(model.format_of(obj))
         if hasattr(value, "axes"):
-            lines = table_lines(value.value, value.axes, value.unit, places)
+            print(value_block(name, value.value, value.axes, value.unit, places))
         else:
-            lines = [value_text(value, "" if args.raw else model.unit_of(obj), places)]
-        print(f"{name} = {lines[0]}" if len(lines) == 1 else "\n".join([f"{name}:"] + [f"  {line}" for line in lines]))
+            print(value_block(name, value, unit="" if args.raw else model.unit_of(obj), places=places))
     return 0
 
 
@@ -182,9 +184,7 @@ def _set(args: argparse.Namespace) -> int:
     if args.json:
         print_json({args.name: _value_dict(written)})
         return 0
-    lines = table_lines(written.value, written.axes, written.unit)
-    print(f"{args.name} = {lines[0]} (written, read back)" if len(lines) == 1 else
-          "\n".join([f"{args.name} (written, read back):"] + [f"  {line}" for line in lines]))
+    print(value_block(args.name, written.value, written.axes, written.unit, note=" (written, read back)"))
     return 0
 
 

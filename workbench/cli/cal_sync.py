@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 from workbench.cli.ecu_options import add_ecu_arguments, open_session
 from workbench.cli.options import print_json
 from workbench.cli.progressbar import ProgressBar
-from workbench.errors import InputError
+from workbench.errors import InputError, epk_text
 
 if TYPE_CHECKING:
     from workbench.sync.reference import Reference
@@ -45,7 +45,9 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
                     "one refusal and nothing is written (exit 2). Then only the objects whose bytes change are "
                     "written and read back; a failure halfway names the objects that reached the ECU (exit 1).")
     load.add_argument("input", metavar="IN", help="the dataset to apply")
-    load.add_argument("--dry-run", action="store_true", help="check and show what would change; write nothing")
+    load.add_argument("--dry-run", action="store_true",
+                      help="check and show what would change, write nothing; the exit codes are those of the load "
+                           "(2: an object is refused)")
     load.add_argument("--extended-limits", action="store_true", help="allow values up to the EXTENDED_LIMITS")
     add_ecu_arguments(load)
     load.set_defaults(func=_load)
@@ -56,7 +58,8 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
                     "compared per calibration segment by BUILD_CHECKSUM, only the blocks that differ are uploaded; "
                     "a dataset object by object. The differing objects are listed with both values. Then --upload "
                     "writes the reference anew with the ECU's data (ECU -> file, atomically; --output elsewhere), "
-                    "--download writes the file's data into the ECU and verifies it. Exit codes: 0 equal (or "
+                    "--download writes the file's data into the ECU and verifies it (a dataset checked as cal load checks it: one "
+                    "object refused and nothing is written, exit 2). Exit codes: 0 equal (or "
                     "uploaded/downloaded), 1 they differ (no direction given) or the operation failed, 2 bad input.")
     sync.add_argument("--reference", metavar="FILE",
                       help=f"image ({_IMAGES}) or dataset ({_DATASETS}); default: the demo's s19 with the demo's A2L")
@@ -117,7 +120,7 @@ def _save_image(args: argparse.Namespace) -> int:
         print_json({"output": args.output, "region": region, "bytes": image.size,
                     "ranges": [[r.start, r.end] for r in image.ranges], "epk": epk})
         return 0
-    print(f"wrote {args.output}: {region} {' '.join(map(str, image.ranges))} ({image.size} bytes, EPK {epk!r})")
+    print(f"wrote {args.output}: {region} {' '.join(map(str, image.ranges))} ({image.size} bytes, EPK {epk_text(epk or '')})")
     return 0
 
 
@@ -139,6 +142,8 @@ def _load(args: argparse.Namespace) -> int:
             _show(exc.report, args)
             raise
     _show(result, args)
+    if not result.ok:  # a dry run that lists a refusal fails as the load itself would: exit 2
+        raise ApplyRefused(result)
     return 0
 
 
@@ -153,7 +158,7 @@ def _show(result, args: argparse.Namespace) -> None:
 
 
 def _sync(args: argparse.Namespace) -> int:
-    from workbench.sync import sync_compare, sync_download, sync_upload
+    from workbench.sync import ApplyFailed, ApplyRefused, sync_compare, sync_download, sync_upload
 
     if args.output and not args.upload:
         raise InputError("--output names the file --upload writes")
@@ -172,7 +177,14 @@ def _sync(args: argparse.Namespace) -> int:
             message, code = f"upload: wrote {written} with the ECU's data", 0
         elif args.download:
             with _progress(args, "downloading") as progress:
-                done = sync_download(session, report, progress=progress)
+                try:
+                    done = sync_download(session, report, progress=progress)
+                except (ApplyRefused, ApplyFailed) as exc:  # a dataset: checked as cal load checks it
+                    if args.json:
+                        print_json({**result, "download": exc.report.to_dict()})
+                    else:
+                        print(exc.report.to_text())
+                    raise
             result["download"] = {"objects": done.objects, "bytes": done.bytes, "verified": done.verified}
             message, code = done.describe(), 0
         else:

@@ -40,7 +40,7 @@ def info_lines(info) -> list[str]:
         f"ECU           {info.identification or '(no identification)'}",
         f"link          {info.link}",
         f"A2L name      {info.a2l_name or '-'}",
-        f"EPK           ECU {info.epk_ecu!r}, A2L {info.epk_a2l!r}: {epk}",
+        f"EPK           ECU {_epk(info.epk_ecu)}, A2L {_epk(info.epk_a2l)}: {epk}",
         f"state         {'boot loader (programming only)' if info.boot else 'application running'}",
         f"resources     {', '.join(info.resources) or '-'}; locked: {', '.join(info.protected) or 'none'}",
         f"packets       MAX_CTO {info.max_cto}, MAX_DTO {info.max_dto}, {info.byte_order}, "
@@ -65,3 +65,9 @@ def info_lines(info) -> list[str]:
         lines.append(f"page          segment {page.segment}: ECU on {page.name(page.ecu_page)}, "
                      f"XCP on {page.name(page.xcp_page)}")
     return lines
+
+
+def _epk(text: str | None) -> str:
+    from workbench.errors import epk_text
+
+    return "-" if text is None else epk_text(text)

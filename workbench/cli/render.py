@@ -47,24 +47,46 @@ def value_text(value: Any, unit: str = "", places: int | None = None) -> str:
 
 
 def table_lines(value: Any, axes: tuple = (), unit: str = "", places: int | None = None) -> list[str]:
-    """A CURVE as two rows (axis, values), a MAP as a grid (X down, Y across), anything else on one line."""
+    """A CURVE as two rows (axis, values), a MAP as a grid with X across and Y down (as the window and CANape
+    show it), each after a legend line naming the axes and units; anything else on one line."""
     if not isinstance(value, np.ndarray) or value.ndim == 0:
         return [value_text(value, unit, places)]
     cells = np.vectorize(lambda v: number(v, places), otypes=[object])(value) if value.size else value
+    values = _label("values", None, unit)
     if value.ndim == 1 and len(axes) == 1:
-        head = [number(v) for v in axes[0].values.tolist()]
-        width = max(len(text) for text in head + list(cells))
-        return ["x     " + " ".join(text.rjust(width) for text in head),
-                "value " + " ".join(text.rjust(width) for text in cells) + (f"  {unit}" if unit else "")]
-    if value.ndim == 2 and len(axes) == 2:
-        ys = [number(v) for v in axes[1].values.tolist()]
         xs = [number(v) for v in axes[0].values.tolist()]
+        width = max(len(text) for text in xs + list(cells))
+        return [f"{_axis_label('x', axes[0])}, {values}",
+                "x     " + " ".join(text.rjust(width) for text in xs),
+                "value " + " ".join(text.rjust(width) for text in cells)]
+    if value.ndim == 2 and len(axes) == 2:
+        xs = [number(v) for v in axes[0].values.tolist()]
+        ys = [number(v) for v in axes[1].values.tolist()]
         width = max(len(text) for text in ys + xs + [str(c) for c in cells.ravel()])
-        lines = ["x \\ y".ljust(width) + " " + " ".join(text.rjust(width) for text in ys) + (f"  {unit}" if unit else "")]
-        for x, row in zip(xs, cells):
-            lines.append(x.rjust(width) + " " + " ".join(str(c).rjust(width) for c in row))
+        lines = [f"{_axis_label('x', axes[0])} across, {_axis_label('y', axes[1])} down, {values}",
+                 "y \\ x".ljust(width) + " " + " ".join(text.rjust(width) for text in xs)]
+        for y, column in zip(ys, cells.T):
+            lines.append(y.rjust(width) + " " + " ".join(str(c).rjust(width) for c in column))
         return lines
     return [value_text(value, unit, places)]
+
+
+def value_block(name: str, value: Any, axes: tuple = (), unit: str = "", places: int | None = None,
+                note: str = "") -> str:
+    """``name = value unit`` on one line, or ``name: legend`` and the table of a curve or map indented below it."""
+    lines = table_lines(value, axes, unit, places)
+    if len(lines) == 1:
+        return f"{name} = {lines[0]}{note}"
+    return "\n".join([f"{name}{note}: {lines[0]}"] + [f"  {line}" for line in lines[1:]])
+
+
+def _axis_label(letter: str, axis) -> str:
+    return _label(letter, axis.name, axis.unit)
+
+
+def _label(what: str, name: str | None, unit: str) -> str:
+    """``x = xaNAME [bar]``, ``x [V]``, ``values [%]``: what a row or column holds."""
+    return what + (f" = {name}" if name else "") + (f" [{unit}]" if unit else "")
 
 
 def jsonable(value: Any) -> Any:

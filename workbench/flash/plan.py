@@ -15,7 +15,7 @@ from pathlib import Path
 from dataclasses import dataclass, replace
 from typing import Any
 
-from workbench.errors import InputError
+from workbench.errors import InputError, epk_text
 from workbench.flash.errors import FlashRefused
 from workbench.flash.layout import DEMO_APP_KEY, AppKey, FlashLayout, FlashRegion, Sector
 from workbench.image import ERASED, AddressRange, MemoryImage, load_image
@@ -199,8 +199,8 @@ def _check_epk(image: MemoryImage, layout: FlashLayout, source: str) -> str | No
     found = image.read(layout.addr_epk, len(expected))
     text = found.decode("latin-1").rstrip("\0\xff")
     if held.size != len(expected) or found != expected:
-        raise FlashRefused(f"{source}: the image's EPK {text!r} at {layout.addr_epk:X}h differs from the A2L's "
-                           f"{layout.epk!r}: the A2L does not describe this software (nothing was erased)")
+        raise FlashRefused(f"{source}: the image's EPK {epk_text(found.decode('latin-1'))} at {layout.addr_epk:X}h differs from the "
+                           f"A2L's {epk_text(layout.epk)}: the A2L does not describe this software (nothing was erased)")
     return text
 
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import logging
 from dataclasses import dataclass
 
-from workbench.errors import XcpCommandError
+from workbench.errors import XcpCommandError, epk_text
 from workbench.xcp.master import XcpMaster
 from workbench.xcp_protocol import IdType
 
@@ -36,9 +36,9 @@ class EpkCheck:
         if self.a2l is None:
             return "the A2L states no EPK: not checked"
         if self.ecu is None:
-            return f"the ECU's EPK could not be read (A2L: {self.a2l!r})"
+            return f"the ECU's EPK could not be read (A2L: {epk_text(self.a2l)})"
         verdict = "match" if self.matches else "MISMATCH"
-        return f"EPK {verdict}: A2L {self.a2l!r}, ECU {self.ecu!r} ({self.source})"
+        return f"EPK {verdict}: A2L {epk_text(self.a2l)}, ECU {epk_text(self.ecu)} ({self.source})"
 
 
 def _clean(text: str) -> str:

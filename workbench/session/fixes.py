@@ -7,16 +7,23 @@ value; a release writes ``_EN`` = 0 and leaves ``_VALUE`` for the next time.
 
 from __future__ import annotations
 
+import time
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
+from workbench.a2l.xcp import read_daq_events
 from workbench.calib.fixes import FixPair, find_fix_pairs, resolve_fix
 
 if TYPE_CHECKING:
     from workbench.session.session import Session
 
 __all__ = ["FixAccess", "FixState"]
+
+_SETTLE_S = 0.5  # the longest an override or release waits for the ECU to show the switched signal
+_UNKNOWN_PERIOD_S = 0.01  # the raster assumed for a signal on no cyclic event
 
 
 @dataclass(frozen=True)
@@ -61,20 +68,53 @@ class FixAccess:
                         self._is_on(pair.enable, values[pair.enable]))
 
     def override(self: Session, signal: str, value: Any) -> FixState:
-        """Replace ``signal`` by ``value`` (physical, in the _VALUE's units): _VALUE first, then _EN = 1."""
+        """Replace ``signal`` by ``value`` (physical, in the _VALUE's units): _VALUE first, then _EN = 1.
+        The state returned is read once the ECU has computed the signal with the switch (see :meth:`release`)."""
         pair = self.fix(signal)
         with self.lock:
+            before = self.fix_state(pair.stem).live
             self.write(pair.value, value)
             self.write(pair.enable, 1)
-        return self.fix_state(pair.stem)
+        return self._settled(pair, before)
 
     def release(self: Session, signal: str) -> FixState:
-        """Give ``signal`` back to the ECU: _EN = 0."""
+        """Give ``signal`` back to the ECU: _EN = 0. The state returned is read once the ECU has computed the
+        signal again: after two periods of its DAQ event, and while it still shows the value it had before the
+        switch, every period up to half a second (a value that equals the override stays so)."""
         pair = self.fix(signal)
-        self.write(pair.enable, 0)
-        return self.fix_state(pair.stem)
+        with self.lock:
+            before = self.fix_state(pair.stem).live
+            self.write(pair.enable, 0)
+        return self._settled(pair, before)
+
+    def _settled(self: Session, pair: FixPair, before: Any) -> FixState:
+        if pair.live is None:
+            return self.fix_state(pair.stem)
+        period = self._period_s(pair.live)
+        deadline = time.monotonic() + max(_SETTLE_S, 10 * period)
+        time.sleep(2 * period)
+        state = self.fix_state(pair.stem)
+        while _same(state.live, before) and time.monotonic() < deadline:
+            time.sleep(period)
+            state = self.fix_state(pair.stem)
+        return state
+
+    def _period_s(self: Session, measurement: str) -> float:
+        """The period of the DAQ event the A2L names for ``measurement`` (else the fastest event)."""
+        preferred = read_daq_events(self.model.block(measurement)).preferred
+        number = preferred if preferred is not None else self.fastest_event()
+        daq = self.config.daq
+        periods = [event.period_s for event in (daq.events if daq else ()) if event.number == number and event.period_s]
+        return periods[0] if periods else _UNKNOWN_PERIOD_S
 
     def _is_on(self: Session, enable: str, value: Any) -> bool:
         if isinstance(value, str):  # a verbal conversion (OFF/ON): its raw value decides
             value = self.model.conversion(self.model.object(enable)).to_raw(value)
         return value == 1
+
+
+def _same(a: Any, b: Any) -> bool:
+    try:
+        return bool(np.all(np.asarray(a) == np.asarray(b)))
+    except (TypeError, ValueError):
+        return a == b

@@ -33,7 +33,7 @@ from workbench.calib.dataset.diff import EQUAL, ObjectDiff
 from workbench.calib.layout import ResolvedLayout
 from workbench.calib.memory import Span
 from workbench.calib.values import CalValue
-from workbench.errors import InputError, WorkbenchError
+from workbench.errors import InputError, WorkbenchError, epk_text
 from workbench.progress import Progress
 from workbench.session import Session
 from workbench.session.memory import merge_spans
@@ -71,7 +71,7 @@ class AreaCheck:
         if self.scan.equal:
             return f"{head}: equal"
         count = len(self.scan.differing)
-        return f"{head}: {count} block{' differs' if count == 1 else 's differ'}, {self.uploaded} bytes uploaded"
+        return f"{head}: {count} block{' differs' if count == 1 else 's differ'}, {self.uploaded} bytes read"
 
 
 @dataclass(frozen=True)
@@ -83,7 +83,7 @@ class ByteDifference:
     ecu: bytes
 
     def __str__(self) -> str:
-        return f"{self.span}: reference {self.reference.hex(' ').upper()}, ECU {self.ecu.hex(' ').upper()}"
+        return f"{self.span}: file {self.reference.hex(' ').upper()}, ECU {self.ecu.hex(' ').upper()}"
 
 
 @dataclass
@@ -131,13 +131,15 @@ class SyncReport:
         return f'the data in the ECU differs from "{name}": {", ".join(parts)}'
 
     def to_text(self) -> str:
-        lines = [f"reference: {self.reference.label}"]
+        """The file compared, each segment's checksums, the differing objects (columns ``file`` and ``ECU``),
+        notes, and a summary with the bytes read from the ECU."""
+        lines = [f"file: {self.reference.label}"]
         lines += [area.describe() for area in self.areas]
-        if not self.diff.equal:
-            lines += self.diff.to_text().splitlines()[2:-1]  # the table without the A/B header and the count line
+        if not self.diff.equal:  # the table without the A/B header and the count line
+            lines += self.diff.to_text(columns=("file", "ECU")).splitlines()[2:-1]
         lines += [f"outside the objects: {difference}" for difference in self.outside]
         lines += [f"note: {note}" for note in self.notes]
-        lines.append(f"{self.summary()}; {self.bytes_uploaded} bytes uploaded")
+        lines.append(f"{self.summary()}; {self.bytes_uploaded} bytes read from the ECU")
         return "\n".join(lines)
 
     def to_dict(self) -> dict:
@@ -227,7 +229,7 @@ def _check_epk(session: Session, view: ImageView, reference: ImageReference) -> 
         return  # the image does not hold the EPK
     held = view.read(Span(address, size)).decode("latin-1").replace("\0", "").strip()
     if held != epk.replace("\0", "").strip():
-        raise InputError(f"{reference.label} holds EPK {held!r}, the A2L {epk!r}: it belongs to other software "
+        raise InputError(f"{reference.label} holds EPK {epk_text(held)}, the A2L {epk_text(epk)}: it belongs to other software "
                          "(flash it, or compare a file of this software)")
 
 

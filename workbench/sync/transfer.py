@@ -8,7 +8,8 @@ ECU's values of the differing objects (in the file's own units and axis labels).
 :func:`sync_download` makes the ECU hold what the file holds. From an image: the bytes that differ,
 and only those, with DOWNLOAD, refused before anything is written when one lies outside the A2L's
 writable memory; then every compared range is checked again with BUILD_CHECKSUM. From a dataset:
-its differing objects through :func:`~workbench.sync.apply.apply_dataset` (checked first, read back),
+the whole dataset through :func:`~workbench.sync.apply.apply_dataset`, as ``cal load`` applies it (every
+object checked first, one refused and nothing is written; only what changes written and read back),
 then read again and compared.
 """
 
@@ -26,7 +27,7 @@ from workbench.image import MemoryImage
 from workbench.progress import Progress
 from workbench.progress import report as report_progress
 from workbench.session import Session
-from workbench.sync.apply import apply_dataset
+from workbench.sync.apply import APPLIED, apply_dataset
 from workbench.sync.areas import ImageView
 from workbench.sync.cache import SyncReport, sync_compare
 from workbench.sync.ecu import on_pages
@@ -186,15 +187,17 @@ def _differing_runs(leaf: Span, wanted: bytes, held: bytes) -> list[tuple[Span, 
 
 
 def _download_dataset(session: Session, report: SyncReport, progress: Progress | None) -> DownloadResult:
+    """The whole dataset through apply_dataset, the rule ``cal load`` follows: every object checked first (one
+    refused, nothing written), then only the objects whose bytes change written; those read again after."""
     reference = report.reference
     assert isinstance(reference, DatasetReference)
-    changed = Dataset(source=reference.dataset.source or reference.label)
-    for name in report.changed:
-        changed.add(reference.dataset[name], reference.dataset.info_of(name))  # a refusal names file:line
-    applied = apply_dataset(session, changed, progress=progress, source=reference.label)
-    again = sync_compare(session, DatasetReference(reference.path, changed))
+    applied = apply_dataset(session, reference.dataset, progress=progress, source=reference.label)
+    written = Dataset(source=reference.dataset.source or reference.label)
+    for name in applied.named(APPLIED):
+        written.add(reference.dataset[name], reference.dataset.info_of(name))
+    again = sync_compare(session, DatasetReference(reference.path, written))
     if not again.equal:
         raise WorkbenchError(f"after the download the ECU still differs from {reference.label} in "
                              f"{', '.join(again.changed)}")
-    return DownloadResult(applied.named("applied"), None,
-                          f"verified: {len(changed)} objects read back equal the file's")
+    return DownloadResult(applied.named(APPLIED), None,
+                          f"verified: {len(written)} objects read back equal the file's")

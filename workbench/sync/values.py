@@ -28,7 +28,6 @@ Fetch = Callable[[list[Span]], Mapping[Span, bytes]]
 _T = TypeVar("_T")
 _R = TypeVar("_R")
 CALIBRATION_KINDS = ("CHARACTERISTIC", "AXIS_PTS")
-_PATTERN_CHARACTERS = set("*?[")
 
 
 def calibration_names(model: A2lModel, names: Iterable[str] | None = None) -> list[str]:
@@ -40,19 +39,11 @@ def calibration_names(model: A2lModel, names: Iterable[str] | None = None) -> li
     """
     if names is None:
         return [o.name for o in model.find("*", kind=CALIBRATION_KINDS)]
-    found: list[str] = []
-    for name in names:
-        if _PATTERN_CHARACTERS & set(name):
-            matches = [o.name for o in model.find(name, kind=CALIBRATION_KINDS)]
-            if not matches:
-                raise InputError(f"no calibration matches {name!r}")
-            found += matches
-            continue
-        obj = model.object(name)
-        if not isinstance(obj, (Characteristic, AxisPts)):
-            raise InputError(f"{name} is a {obj.kind}, not a calibration object")
-        found.append(name)
-    return list(dict.fromkeys(found))
+    found = model.expand(names, CALIBRATION_KINDS, what="calibration")
+    for name in found:
+        if model.kind_of(name) not in CALIBRATION_KINDS:
+            raise InputError(f"{name} is a {model.kind_of(name)}, not a calibration object")
+    return found
 
 
 def object_layouts(model: A2lModel, names: Iterable[str]) -> tuple[dict[str, ObjectLayout], dict[str, str]]:

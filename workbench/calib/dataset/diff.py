@@ -85,9 +85,10 @@ class DatasetDiff:
             } for o in self.objects],
         }
 
-    def to_text(self, *, show_equal: bool = False) -> str:
-        """A table, one line per difference, and a summary line."""
-        rows = [("name", "status", "where", "A", "B", "B - A")]
+    def to_text(self, *, show_equal: bool = False, columns: tuple[str, str] = ("A", "B")) -> str:
+        """A table, one line per difference, and a summary line; ``columns`` heads the two sides' columns."""
+        a, b = columns
+        rows = [("name", "status", "where", a, b, f"{b} - {a}")]
         for o in self.objects:
             if o.status == EQUAL and not show_equal:
                 continue

@@ -3,13 +3,13 @@ CAN2 signal of the DBCs, with type, unit, function groups and description; filte
 
 from __future__ import annotations
 
-import fnmatch
 import re
 from dataclasses import dataclass
 
 from PySide6.QtCore import QSortFilterProxyModel, Qt
 from PySide6.QtGui import QColor
 
+from workbench.a2l.model import is_glob, name_pattern
 from workbench.gui import theme
 from workbench.gui.mime import signals_mime
 from workbench.gui.models.rows import RowsModel
@@ -130,8 +130,7 @@ class VariableFilter(QSortFilterProxyModel):
             self.beginFilterChange()
         if search is not None:
             self.search = search.strip()
-            self._pattern = (re.compile(fnmatch.translate(self.search), re.IGNORECASE)
-                             if any(c in self.search for c in "*?[") else None)
+            self._pattern = name_pattern(self.search, ignore_case=True) if is_glob(self.search) else None
         if kind is not None:
             self.kind = kind
         if function is not None:
