@@ -123,6 +123,13 @@ def test_cal_fix_override_release_list(bus, capsys):
     assert code == 2 and "either VALUE" in err
 
 
+def test_cal_fix_takes_a_can_signal_by_the_name_the_window_shows(bus, capsys):
+    code, out, _ = run(capsys, "cal", "fix", "FLCU_TO_PCM_002.RailPressure", "30", "--json", *bus)
+    state = json.loads(out)[0]
+    assert code == 0 and (state["fix"], state["active"], state["override"]) == ("cfRAILPRESSURE", True, 30.0)
+    assert run(capsys, "cal", "fix", "FLCU_TO_PCM_002.RailPressure", "--release", *bus)[0] == 0
+
+
 def test_cal_fix_shows_the_live_value_after_the_switch(bus, capsys):
     """The live value printed is the ECU's once it has used the switch: the override, then its own again."""
     code, out, _ = run(capsys, "cal", "fix", "zfRAILPRESSURE", "12.5", "--json", *bus)

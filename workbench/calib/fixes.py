@@ -128,14 +128,15 @@ def _abbreviated(signal: str, by_upper: dict[str, list[str]]) -> str | None:
 
 
 def resolve_fix(pairs: list[FixPair], signal: str) -> FixPair:
-    """The pair ``signal`` names (stem, _EN/_VALUE name, signal or measurement, case-blind).
+    """The pair ``signal`` names (stem, _EN/_VALUE name, signal or measurement, or a CAN signal as
+    ``Message.Signal``; case-blind).
 
     :raises UnknownSymbolError: no pair has that name (the closest are suggested).
     :raises InputError: two pairs answer to it (both are named: choose one).
     """
     key = signal.upper()
     exact = [pair for pair in pairs if key in {pair.stem.upper(), pair.enable.upper(), pair.value.upper()}]
-    found = exact or [pair for pair in pairs if key in pair.names()]
+    found = exact or [pair for pair in pairs if key in pair.names()] or _can_signal_fix(pairs, key)
     if len(found) == 1:
         return found[0]
     if found:
@@ -146,3 +147,17 @@ def resolve_fix(pairs: list[FixPair], signal: str) -> FixPair:
     close = difflib.get_close_matches(key, sorted({n for pair in pairs for n in pair.names()}), n=3, cutoff=0.6)
     where = "the A2L's fix calibrations" + (f" (did you mean {', '.join(close)}?)" if close else "")
     raise UnknownSymbolError(signal, where)
+
+
+def _can_signal_fix(pairs: list[FixPair], key: str) -> list[FixPair]:
+    """The CAN fix of a DBC signal named as the window names it, ``Message.Signal`` (upper-cased ``key``):
+    ``cf<SIGNAL>``, or ``cf<MESSAGE>_<SIGNAL>`` where the signal's name repeats across messages."""
+    message, dot, name = key.partition(".")
+    if not dot:
+        return []
+    stems = (f"CF{message}_{name}", f"CF{name}")
+    for stem in stems:
+        found = [pair for pair in pairs if pair.stem.upper() == stem]
+        if found:
+            return found
+    return []
