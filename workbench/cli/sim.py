@@ -99,17 +99,17 @@ def run(args: argparse.Namespace) -> int:
         time_scale=args.time_scale, valid_key=not args.no_app_key, unlocked=args.unlocked, static_daq=args.static_daq,
     )
     stop = threading.Event()
-    previous = signal.signal(signal.SIGTERM, lambda *_: stop.set()) if threading.current_thread() is threading.main_thread() else None
+    previous = {}
+    if threading.current_thread() is threading.main_thread():  # Ctrl-C and SIGTERM stop serving, also the moment
+        for number in (signal.SIGINT, signal.SIGTERM):         # the banner is out
+            previous[number] = signal.signal(number, lambda *_: stop.set())
     try:
         with simulator:
             _announce(args, simulator, files)
-            try:
-                stop.wait(args.duration)
-            except KeyboardInterrupt:
-                pass
+            stop.wait(args.duration)
     finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+        for number, handler in previous.items():
+            signal.signal(number, handler)
     if not args.json:
         print("workbench sim: stopped", flush=True)
     return 0
