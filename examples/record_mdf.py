@@ -15,7 +15,7 @@ port = {"port": int(sys.argv[2])} if len(sys.argv) > 2 else {}
 
 with Session.open(bus_kwargs=port) as ecu:
     stats = record(ecu, out, ["zsRailPressure", "zsSensVolt", "xsTankCtrlState", "xsDC"],
-                   can2=demo.dbc_can2(), raw_can=True, duration=2.0)
+                   can2=demo.dbc_can2(), raw_can=True, duration=2.0, overwrite=True)  # a second run replaces it
 print(f"recorded {stats.describe()}")
 
 with MDF(out) as mdf:

@@ -1,4 +1,5 @@
-"""The scripts in examples/ run as a user runs them: a separate process against the simulated ECU."""
+"""The scripts in examples/ run as a user runs them: a separate process against the simulated ECU, twice in a row
+(what one run leaves behind, a file or a value in the ECU, must not break the next)."""
 
 from __future__ import annotations
 
@@ -21,9 +22,12 @@ def port(free_udp_port):
 
 
 def run(script: str, *args: str) -> str:
-    result = subprocess.run([sys.executable, str(EXAMPLES / script), *args], capture_output=True, text=True, timeout=60)
-    assert result.returncode == 0, result.stderr
-    assert result.stderr == ""
+    """The output of the second of two runs in a row."""
+    for _ in range(2):
+        result = subprocess.run([sys.executable, str(EXAMPLES / script), *args], capture_output=True, text=True,
+                                timeout=60)
+        assert result.returncode == 0, result.stderr
+        assert result.stderr == ""
     return result.stdout
 
 
