@@ -1,17 +1,48 @@
-"""Fixtures every test package may use."""
+"""Fixtures every test package may use, and the settings of the whole run: Qt offscreen when no display
+answers, and under pytest-xdist ports of each worker's own."""
 
 from __future__ import annotations
 
+import os
 import socket
+import sys
+import zlib
 
 import pytest
 
+# The suite starts many Python processes (xdist workers, `workbench` commands, examples): each reads the
+# bytecode this one leaves (asserts rewritten, site-packages compiled), which PYTHONDONTWRITEBYTECODE would
+# forbid; compiling the imports again costs a process about three times their import time.
+sys.dont_write_bytecode = False
+os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
+
+
+def pytest_configure(config) -> None:
+    """The README's test command runs on a machine without a screen too: Qt's offscreen platform is chosen when
+    no display answers (Qt's xcb platform would abort the interpreter); an explicit QT_QPA_PLATFORM stays."""
+    from workbench.cli.gui import display_problem
+
+    if display_problem() is not None:
+        os.environ["QT_QPA_PLATFORM"] = "offscreen"
+
 
 def free_port(kind: socket.SocketKind) -> int:
-    """A port of ``kind`` (SOCK_DGRAM: UDP, SOCK_STREAM: TCP) that nothing on this host holds right now."""
-    with socket.socket(socket.AF_INET, kind) as probe:
-        probe.bind(("", 0))
-        return probe.getsockname()[1]
+    """A port of ``kind`` (SOCK_DGRAM: UDP, SOCK_STREAM: TCP) that nothing on this host holds right now.
+
+    Under pytest-xdist a worker takes only the ports that hash to its own number, so tests running at once on
+    two workers never share a port (python-can's udp_multicast binds with SO_REUSEADDR: two buses on one port
+    hear each other whatever their group); the kernel's choice keeps them apart from other processes on the
+    host. A hash, not the remainder: Linux hands out even TCP ports to bind() first.
+    """
+    workers = int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1"))
+    worker = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw") or 0)
+    for _ in range(100 * workers):
+        with socket.socket(socket.AF_INET, kind) as probe:
+            probe.bind(("", 0))
+            port = probe.getsockname()[1]
+        if zlib.crc32(port.to_bytes(2, "big")) % workers == worker:
+            return port
+    raise RuntimeError(f"no free port for xdist worker {worker} of {workers}")
 
 
 @pytest.fixture

@@ -21,7 +21,7 @@ from workbench.xcp_protocol import Resource
 
 CUTS = int(os.environ.get("WORKBENCH_FLASH_POWER_CUTS", "100"))  # in four tests of a quarter each
 RUNS = int(os.environ.get("WORKBENCH_FLASH_FAULT_RUNS", "25"))  # per kind and direction: 100 frames in all
-IMAGE_BYTES = 64 * 1024
+IMAGE_BYTES = 16 * 1024  # with the demo application 3,900 PROGRAM frames to cut at; 64 KiB cost twice the CPU
 QUICK = Timeouts(t1=0.05, t2=0.2, t3=0.2, t4=0.5, t5=0.05, t6=0.1, t7=0.01)  # the simulator answers in microseconds
 
 pytestmark = pytest.mark.slow
