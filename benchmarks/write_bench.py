@@ -95,8 +95,8 @@ def main() -> None:
           f"cell {cell:,.0f}/s, raw pyxcp SET_MTA+DOWNLOAD+SHORT_UPLOAD {raw:,.0f}/s: {value / raw:.2f}x and "
           f"{cell / raw:.2f}x")
     writes, reads, trips = at_the_bus_limit(args.seconds)
-    print(f"at 1 Mbit/s (bus timing model): {writes:,.0f} writes/s of the {trips / 3:,.0f} the bus carries (three round "
-          f"trips each): {3 * writes / trips:.0%}; reads by name in the same run {reads / trips:.0%} of theirs")
+    print(f"at 1 Mbit/s (bus timing model): {writes:,.0f} writes/s of the {trips / 3:,.0f} the bus carries (three "
+          f"round trips each): {3 * writes / trips:.0%}; reads by name in the same run {reads / trips:.0%} of theirs")
 
 
 if __name__ == "__main__":
