@@ -140,3 +140,17 @@ def test_the_demo_s19_flashes_with_the_cli_in_process(bench, capsys):
     out = capsys.readouterr().out
     assert "read back" in out
     assert bench.flash_content(CALIB)[:14] == load_image(demo.s19()).read(CALIB.start, 14)
+
+
+def test_a_dry_run_refuses_what_the_flash_refuses(bench, tmp_path, capsys):
+    """The dry run asks the ECU what the flash asks first (programming offered, no DAQ running, its sectors):
+    a flash that would be refused is a dry run refused, exit 1, as the flash itself."""
+    path = tmp_path / "calib.s19"
+    calib_image_with(THRESHOLD, 29.0).save(path)
+    with bench.session.measure(["zsRailPressure"]):  # another master's DAQ runs on the ECU
+        assert run_cli(bench, str(path), "--region", "CALIB", "--dry-run") == 1
+    assert capsys.readouterr().err == ("error: a DAQ measurement runs on the ECU: stop it before flashing; nothing "
+                                       "was touched\n")
+    bench.session.connect()
+    assert run_cli(bench, str(path), "--region", "CALIB", "--dry-run") == 0
+    assert "dry run: nothing was flashed" in capsys.readouterr().out

@@ -19,8 +19,8 @@ FDFFF0h-FDFFFFh"), only those are programmed. Refused before anything is erased:
 EPK differs from the A2L's, data outside the flash regions, BOOT without --allow-boot. The
 application-valid key is cleared first and set last, so a flash that breaks off leaves the ECU in
 its boot loader, where the same command finishes it. Ctrl-C stops at the next block the same way.
-Exit codes: 0 flashed (or --dry-run, or --verify-only found no difference), 1 refused, failed,
-cancelled or differing, 2 bad input.
+Exit codes: 0 flashed (or --dry-run found nothing to refuse, or --verify-only no difference),
+1 refused, failed, cancelled or differing, 2 bad input; a dry run refuses what the flash would.
 
 examples:
   workbench flash assets/FLCU.s19 --region CALIB --dry-run
@@ -43,7 +43,9 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
                       help="flash the working page (CAL RAM) into CAL ROM instead of a file")
     what.add_argument("--allow-boot", action="store_true", help="allow flashing the boot loader's region")
     how = parser.add_argument_group("how")
-    how.add_argument("--dry-run", action="store_true", help="connect, print the plan and the time it takes, flash nothing")
+    how.add_argument("--dry-run", action="store_true",
+                     help="connect, check what the flash checks first, print the plan and the time it takes, flash "
+                          "nothing (exit codes as the flash's)")
     how.add_argument("--verify-only", action="store_true",
                      help="compare the ECU's flash with the file by checksums, flash nothing (exit 1 on a difference)")
     how.add_argument("--verify", choices=("checksum", "readback"), default="checksum",
@@ -115,6 +117,9 @@ def _working_page_plan(session, app_key, args: argparse.Namespace):
 
 
 def _dry_run(session, plan, args: argparse.Namespace) -> int:
+    from workbench.flash import check_flash
+
+    plan, notes = check_flash(session, plan)  # refused as the flash would be: exit 1, nothing touched
     pgm = session.config.pgm
     mode = pgm.communication_mode if pgm is not None and pgm.communication_mode else session.config.communication_mode
     per_frame = (pgm.max_cto_pgm if pgm is not None and pgm.max_cto_pgm else session.config.max_cto) - 2
@@ -124,9 +129,11 @@ def _dry_run(session, plan, args: argparse.Namespace) -> int:
     state = "boot loader (programming only)" if session.in_boot else "application running"
     if args.json:
         print_json({"plan": plan.to_dict(), "ecu": {"epk": session.epk.describe(), "state": state},
-                    "bitrate": bitrate, "seconds": list(estimate) if estimate else None})
+                    "bitrate": bitrate, "seconds": list(estimate) if estimate else None, "notes": notes})
         return 0
     print(plan.describe())
+    for note in notes:
+        print(f"note: {note}")
     print(f"ECU: {state}; {session.epk.describe()}")
     if estimate:
         print(f"programming on the bus at {bitrate / 1000:g} kbit/s: {estimate[0]:.2g}-{estimate[1]:.2g} s "

@@ -25,7 +25,7 @@ _EXPORTS = {
     "workbench.flash.errors": ("FlashError", "FlashRefused"),
     "workbench.flash.layout": ("DEMO_APP_KEY", "AppKey", "FlashLayout", "FlashRegion", "Sector"),
     "workbench.flash.plan": ("FlashPlan", "RegionPlan", "plan_file", "plan_flash"),
-    "workbench.flash.sequence": ("FlashOptions", "FlashResult", "Verify", "flash_ecu"),
+    "workbench.flash.sequence": ("FlashOptions", "FlashResult", "Verify", "check_flash", "flash_ecu"),
     "workbench.flash.compare": ("RangeCheck", "verify_ecu"),
     "workbench.flash.working_page": ("plan_working_page",),
 }
@@ -36,5 +36,5 @@ if TYPE_CHECKING:
     from workbench.flash.errors import FlashError, FlashRefused
     from workbench.flash.layout import DEMO_APP_KEY, AppKey, FlashLayout, FlashRegion, Sector
     from workbench.flash.plan import FlashPlan, RegionPlan, plan_file, plan_flash
-    from workbench.flash.sequence import FlashOptions, FlashResult, Verify, flash_ecu
+    from workbench.flash.sequence import FlashOptions, FlashResult, Verify, check_flash, flash_ecu
     from workbench.flash.working_page import plan_working_page

@@ -39,7 +39,7 @@ from workbench.xcp_protocol import Err, Resource
 
 log = logging.getLogger(__name__)
 
-__all__ = ["FlashOptions", "FlashResult", "Verify", "flash_ecu"]
+__all__ = ["FlashOptions", "FlashResult", "Verify", "check_flash", "flash_ecu"]
 
 T = TypeVar("T")
 
@@ -109,6 +109,42 @@ def flash_ecu(session: Session, plan: FlashPlan, *, progress: Progress | None = 
         return _Flash(session, plan, progress, options).run()
 
 
+def check_flash(session: Session, plan: FlashPlan, options: FlashOptions = FlashOptions()
+                ) -> tuple[FlashPlan, list[str]]:
+    """The checks of :func:`flash_ecu` that write nothing, against the connected ECU: it offers programming, no DAQ
+    runs, it programs by address, and its sectors (GET_SECTOR_INFO, when it answers) replace the A2L's in the plan.
+    A dry run asks the same. Returns the plan to flash and notes (sectors that differ from the A2L's).
+
+    :raises FlashRefused: the flash would be refused; nothing was touched.
+    """
+    master = session.master
+    info = master.connect_info
+    if info is None or not info.resources & Resource.PGM:
+        raise FlashRefused("the ECU offers no programming (CONNECT: no PGM resource); nothing was touched")
+    if master.get_status().daq_running:
+        raise FlashRefused("a DAQ measurement runs on the ECU: stop it before flashing; nothing was touched")
+    if not options.ecu_sectors:
+        return plan, []
+    try:
+        processor = master.get_pgm_processor_info()
+        sectors = [master.get_sector_info(n) for n in range(processor.max_sectors)]
+    except XcpCommandError as exc:
+        if exc.code not in (Err.CMD_UNKNOWN, Err.OUT_OF_RANGE):
+            raise
+        log.info("the ECU gives no sector information (%s): the A2L's sectors apply", exc)
+        return plan, []
+    if not processor.absolute_mode:
+        raise FlashRefused("the ECU programs in functional mode only; the workbench clears and programs by "
+                           "address (absolute mode); nothing was touched")
+    ecu = tuple(Sector("", s.number, AddressRange(s.address, s.address + s.length), s.clear_sequence,
+                       s.program_sequence) for s in sectors)
+    layout = plan.layout
+    notes = []
+    if {s.range for s in ecu} != {s.range for s in layout.sectors}:
+        notes.append(f"the ECU's sectors differ from the A2L's ({layout.sectors_from or 'none'}): used the ECU's")
+    return with_sectors(plan, layout.with_sectors(ecu, "ECU")), notes
+
+
 class _Meter:
     """Bytes done and total, rate and time left, to a :class:`Progress` (which may cancel)."""
 
@@ -153,7 +189,8 @@ class _Flash:
     def run(self) -> FlashResult:
         began = time.perf_counter()
         try:
-            self._prepare()
+            self.plan, notes = check_flash(self.session, self.plan, self.options)  # writes nothing
+            self.notes += notes
             start = self._program_start()
             use_max = self.options.use_program_max and "PROGRAM_MAX" in self.session.config.optional_commands
             self.writer = RangeWriter(self.master, start, self.expected, use_max=use_max,
@@ -189,33 +226,6 @@ class _Flash:
         return FlashResult(self.plan, time.perf_counter() - began, self.meter.seconds, self.writer.bytes_sent,
                            verified, self.writer.recoveries, self.rewrites, self.session.epk.describe(), running,
                            tuple(self.notes))
-
-    def _prepare(self) -> None:
-        """Checks that write nothing: DAQ stopped, PGM offered, the ECU's sectors."""
-        info = self.master.connect_info
-        if info is None or not info.resources & Resource.PGM:
-            raise FlashRefused("the ECU offers no programming (CONNECT: no PGM resource); nothing was touched")
-        if self.master.get_status().daq_running:
-            raise FlashRefused("a DAQ measurement runs on the ECU: stop it before flashing; nothing was touched")
-        if not self.options.ecu_sectors:
-            return
-        try:
-            processor = self.master.get_pgm_processor_info()
-            sectors = [self.master.get_sector_info(n) for n in range(processor.max_sectors)]
-        except XcpCommandError as exc:
-            if exc.code not in (Err.CMD_UNKNOWN, Err.OUT_OF_RANGE):
-                raise
-            log.info("the ECU gives no sector information (%s): the A2L's sectors apply", exc)
-            return
-        if not processor.absolute_mode:
-            raise FlashRefused("the ECU programs in functional mode only; the workbench clears and programs by "
-                               "address (absolute mode); nothing was touched")
-        ecu = tuple(Sector("", s.number, AddressRange(s.address, s.address + s.length), s.clear_sequence,
-                           s.program_sequence) for s in sectors)
-        layout = self.plan.layout
-        if {s.range for s in ecu} != {s.range for s in layout.sectors}:
-            self.notes.append(f"the ECU's sectors differ from the A2L's ({layout.sectors_from or 'none'}): used the ECU's")
-        self.plan = with_sectors(self.plan, layout.with_sectors(ecu, "ECU"))
 
     def _program_start(self) -> ProgramStartInfo:
         self.meter.phase("PROGRAM_START")
