@@ -153,6 +153,24 @@ def test_measure_polls_and_samples(bus, capsys):
     assert "0 lost" in err
 
 
+def test_measure_takes_can2_signals_by_the_names_the_window_plots(bus, capsys):
+    """A CAN2 signal of the DBC by its bare name or as Message.Signal (the window's name), beside A2L names."""
+    code, out, _ = run(capsys, "measure", "RailPressure", "zsRailPressure", "FLCU_TO_PCM_001.FuelLevelLow",
+                       "--duration", "0.6", "--json", *bus)
+    rows = [json.loads(line)["values"] for line in out.splitlines()]
+    assert code == 0 and list(rows[0]) == ["FLCU_TO_PCM_002.RailPressure", "zsRailPressure",
+                                           "FLCU_TO_PCM_001.FuelLevelLow"]
+    received = [row for row in rows if row["FLCU_TO_PCM_002.RailPressure"] is not None]
+    assert received and abs(received[-1]["FLCU_TO_PCM_002.RailPressure"] - received[-1]["zsRailPressure"]) < 1.0
+    assert received[-1]["FLCU_TO_PCM_001.FuelLevelLow"] in ("Normal", "Low")  # the DBC's value table
+    code, out, err = run(capsys, "measure", "zsRailPressure", "RailPressure", "--daq", "--duration", "0.6", "--json",
+                         *bus)
+    events = [json.loads(line)["event"] for line in out.splitlines()]
+    assert code == 0 and "CAN2" in events and "Task4ms" in events, err
+    code, out, err = run(capsys, "measure", "Railpressure", *bus)
+    assert (code, out) == (2, "") and "'RailPressure'" in err and "'zsRailPressure'" in err
+
+
 def test_no_ecu_is_one_line_and_exit_1(free_udp_port, capsys):
     code, out, err = run(capsys, "cal", "get", "xsSWITCH_TANK_THR", "--bus-kwargs", f"port={free_udp_port}")
     assert code == 1 and out == "" and err.count("\n") == 1 and "no ECU answers" in err

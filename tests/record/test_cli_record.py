@@ -61,7 +61,6 @@ def test_an_existing_file_needs_overwrite(bus, capsys, tmp_path):
 
 
 @pytest.mark.parametrize(("options", "message"), [
-    (["--can2", "x.dbc"], "--can2: only with --record"),
     (["--raw-can", "--overwrite"], "--raw-can, --overwrite: only with --record"),
     (["--record", "x.mf4", "--raw"], "--raw does not go with --record"),
 ])

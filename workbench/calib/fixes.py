@@ -20,6 +20,7 @@ import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
+from workbench.can.naming import fix_stem
 from workbench.errors import InputError, UnknownSymbolError
 
 __all__ = ["FixPair", "find_fix_pairs", "resolve_fix"]
@@ -155,8 +156,7 @@ def _can_signal_fix(pairs: list[FixPair], key: str) -> list[FixPair]:
     message, dot, name = key.partition(".")
     if not dot:
         return []
-    stems = (f"CF{message}_{name}", f"CF{name}")
-    for stem in stems:
+    for stem in (fix_stem(name, message).upper(), fix_stem(name).upper()):
         found = [pair for pair in pairs if pair.stem.upper() == stem]
         if found:
             return found

@@ -39,6 +39,40 @@ def fix_value_name(signal: str, message: str | None = None) -> str:
     return fix_stem(signal, message) + FIX_VALUE_SUFFIX
 
 
+def dbc_signal_name(message: str, signal: str) -> str:
+    """``Message.Signal``: a CAN signal of a DBC by name, as the window lists and plots it and ``measure`` and
+    ``cal fix`` take it."""
+    return f"{message}.{signal}"
+
+
+def find_dbc_signal(databases, name: str):
+    """``(message, signal)`` (cantools) that ``name`` names in ``databases``: ``Message.Signal``, or the signal's
+    bare name when one message alone has it.
+
+    :raises UnknownSymbolError: no such signal (the closest names suggested).
+    :raises InputError: the bare name is a signal of several messages (their qualified names are given).
+    """
+    from workbench.errors import InputError, UnknownSymbolError
+
+    found, known = [], []
+    for database in databases:
+        for message in database.messages:
+            for signal in message.signals:
+                qualified = dbc_signal_name(message.name, signal.name)
+                known.append(qualified)
+                if name in (qualified, signal.name):
+                    found.append((message, signal))
+    if len(found) == 1:
+        return found[0]
+    if found:
+        names = ", ".join(dbc_signal_name(m.name, s.name) for m, s in found)
+        raise InputError(f"{name!r} is a signal of {len(found)} messages: {names}; name it as Message.Signal")
+    import difflib
+
+    close = difflib.get_close_matches(name, known + [k.split(".", 1)[1] for k in known], n=3, cutoff=0.6)
+    raise UnknownSymbolError(name, "the CAN2 database's signals", close)
+
+
 def tx_enable_name(message: str) -> str:
     return f"cs{message}_En"
 

@@ -13,6 +13,10 @@ from workbench.cli.options import positive_float
 from workbench.cli.render import decimals, jsonable, value_text
 
 EPILOG = """\
+A NAME is an A2L object, or a CAN2 signal of the DBC as the window names it (Message.Signal, or the
+signal's name when one message alone has it; the DBC is --can2, by default the demo's with the demo's
+A2L): its newest value beside the polled ones, or with --daq a row of its own per frame (event CAN2).
+
 In a terminal the values refresh in place; piped (or with --json) every sample is a line: with
 --json a JSON object {"time": s, "event": ..., "values": {name: value}}, else "time name=value ...".
 Ctrl-C or --duration ends the measurement (exit 0); with --daq the samples and losses are
@@ -26,6 +30,7 @@ ends it. The CAN2 bus is the XCP bus unless --can2-interface/--can2-channel name
 
 examples:
   workbench measure zsRailPressure xsDC                       # polled 10 times a second
+  workbench measure zsRailPressure RailPressure               # the sensor and the CAN2 signal the ECU sends
   workbench measure zsRailPressure zsSensVolt --daq --duration 5 --json > rail.jsonl
   workbench measure xsDC --daq --event Task100ms --host 127.0.0.1 --protocol tcp
   workbench measure zsRailPressure xsTankCtrlState --record run.mf4 --can2 dbc/FLCU_CAN2.dbc --raw-can
@@ -43,9 +48,10 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     parser.add_argument("--rate", type=positive_float, default=10.0, metavar="HZ", help="polling rate (default 10 Hz)")
     parser.add_argument("--duration", type=positive_float, metavar="S", help="stop after S seconds (default: Ctrl-C)")
     parser.add_argument("--raw", action="store_true", help="raw values, as the ECU holds them (no conversion)")
-    recording = parser.add_argument_group("recording")
+    recording = parser.add_argument_group("recording and CAN2")
     recording.add_argument("--record", metavar="OUT.mf4", help="record by DAQ to this MDF4 file (implies --daq)")
-    recording.add_argument("--can2", metavar="DBC", help="also record the CAN2 frames of this DBC's messages, decoded")
+    recording.add_argument("--can2", metavar="DBC", help="the CAN2 DBC: its signals by name, and with --record its "
+                                                         "frames decoded in the file")
     recording.add_argument("--raw-can", action="store_true",
                            help="also log every frame of the CAN2 bus raw (ASAM MDF bus logging)")
     recording.add_argument("--can2-interface", metavar="NAME", help="python-can interface of the CAN2 bus "
@@ -64,36 +70,102 @@ def run(args: argparse.Namespace) -> int:
     with open_session(args) as session:
         if args.record:
             return _record(args, session)
-        view = _view(args, session)
+        names, can2, databases = _split_names(args, session)
+        view = _view(args, session, can2)
+        monitor = _can2_monitor(args, session, can2, databases) if can2 else None
         try:
-            if args.daq:
-                _sample(args, session, view)
+            if args.daq and names:
+                _sample(args, session, names, view, monitor)
             else:
-                _poll(args, session, view)
+                _poll(args, session, names, view, monitor)
         except KeyboardInterrupt:
             pass  # Ctrl-C is how a measurement ends
         finally:
+            if monitor is not None:
+                monitor.close()
             view.close()
     return 0
+
+
+def _split_names(args: argparse.Namespace, session) -> tuple[list[str], dict[str, Any], list]:
+    """The A2L's names among NAME..., the CAN2 signals (``Message.Signal`` -> cantools signal) of the DBC (--can2,
+    or the demo's with the demo's A2L) as the window names and plots them, and the DBC's databases."""
+    from workbench.can.naming import dbc_signal_name, find_dbc_signal
+    from workbench.errors import UnknownSymbolError
+
+    model = session.model
+    names, can2, databases = [], {}, None
+    for name in args.names:
+        if name in model:
+            names.append(name)
+            continue
+        if databases is None:
+            databases = _can2_databases(args)
+        try:
+            message, signal = find_dbc_signal(databases, name)
+        except UnknownSymbolError as exc:
+            try:
+                model.kind_of(name)
+            except UnknownSymbolError as in_a2l:
+                where = "the A2L's objects" + (" or the CAN2 DBC's signals" if databases else " (CAN2 signals with --can2 DBC)")
+                raise UnknownSymbolError(name, where, in_a2l.suggestions[:2] + exc.suggestions[:2]) from None
+            raise
+        can2[dbc_signal_name(message.name, signal.name)] = signal
+    return names, can2, databases or []
+
+
+def _can2_databases(args: argparse.Namespace) -> list:
+    """The CAN2 DBC's database: --can2 DBC, else the demo's with the demo's A2L (none: an empty list)."""
+    from pathlib import Path
+
+    from workbench import demo
+    from workbench.can import load_dbc
+
+    if args.can2:
+        return [load_dbc(args.can2).database]
+    if args.a2l is None or Path(args.a2l).resolve() == Path(demo.a2l()).resolve():
+        return [load_dbc(demo.dbc_can2()).database]
+    return []
+
+
+def _can2_monitor(args: argparse.Namespace, session, can2: dict[str, Any], databases: list):
+    """A listener on the CAN2 bus (the XCP bus unless --can2-interface/--can2-channel) decoding the DBC, as the
+    window's; the newest value of each signal, the samples since the last look."""
+    bus = _can2_bus(args, session)
+    if bus is None:
+        settings = session.link.settings
+        if settings.transport != "CAN":
+            from workbench.errors import InputError
+
+            raise InputError(f"the session runs {settings.describe()}: name the CAN2 bus of "
+                             f"{', '.join(can2)} (--can2-interface/--can2-channel)")
+        bus = dict(settings.bus)
+    return _Can2Samples(bus, can2, databases, time.time())
 
 
 def _deadline(args: argparse.Namespace) -> float:
     return time.monotonic() + args.duration if args.duration else float("inf")
 
 
-def _poll(args: argparse.Namespace, session, view) -> None:
+def _poll(args: argparse.Namespace, session, names: list[str], view, monitor) -> None:
+    """Every 1/rate s: the A2L's names read, the CAN2 signals' newest values beside them."""
     started, deadline, period = time.monotonic(), _deadline(args), 1.0 / args.rate
     next_at = started
     while time.monotonic() < deadline:
-        values = session.read_many(args.names)
-        view.show(time.monotonic() - started, "poll", _raw(session, values) if args.raw else values)
+        values = session.read_many(names) if names else {}
+        if args.raw:
+            values = _raw(session, values)
+        if monitor is not None:
+            values.update(monitor.latest(raw=args.raw))
+        view.show(time.monotonic() - started, "poll", {name: values[name] for name in view.order})
         next_at += period
         time.sleep(max(0.0, min(next_at, deadline) - time.monotonic()))
 
 
-def _sample(args: argparse.Namespace, session, view) -> None:
+def _sample(args: argparse.Namespace, session, names: list[str], view, monitor) -> None:
+    """DAQ samples as the ECU sends them; each CAN2 frame's signals as a row of their own (event CAN2)."""
     deadline = _deadline(args)
-    with session.measure(args.names, event=args.event) as live:
+    with session.measure(names, event=args.event) as live:
         try:
             while time.monotonic() < deadline:
                 for batch in live.read(0.05):
@@ -101,6 +173,8 @@ def _sample(args: argparse.Namespace, session, view) -> None:
                     for row in range(len(batch)):
                         view.show(float(batch.time[row]), batch.event_name,
                                   {name: column[row] for name, column in values.items()})
+                for when, values in monitor.drain(raw=args.raw) if monitor is not None else ():
+                    view.show(when, "CAN2", values)
         finally:
             stats = live.stats
             print(f"measure: {stats.samples} samples, {stats.lost} lost, {stats.overloads} overload indications",
@@ -111,10 +185,7 @@ def _check_recording_options(args: argparse.Namespace) -> None:
     from workbench.errors import InputError
 
     if args.record is None:
-        given = [option for option, value in (("--can2", args.can2), ("--raw-can", args.raw_can),
-                                              ("--can2-interface", args.can2_interface),
-                                              ("--can2-channel", args.can2_channel), ("--overwrite", args.overwrite))
-                 if value]
+        given = [option for option, value in (("--raw-can", args.raw_can), ("--overwrite", args.overwrite)) if value]
         if given:
             raise InputError(f"{', '.join(given)}: only with --record OUT.mf4")
     elif args.raw:
@@ -158,19 +229,80 @@ def _raw(session, values: dict[str, Any]) -> dict[str, Any]:
     return {name: session.to_raw(name, value) for name, value in values.items()}
 
 
-def _view(args: argparse.Namespace, session):
+def _view(args: argparse.Namespace, session, can2: dict[str, Any]):
     model = session.model
-    formats = {name: ("", None) if args.raw else
-               (model.unit_of(model.object(name)), decimals(model.format_of(model.object(name))))
-               for name in args.names}
+    formats = {name: ("", None) if args.raw else (signal.unit or "", None) for name, signal in can2.items()}
+    formats.update({name: ("", None) if args.raw else
+                    (model.unit_of(model.object(name)), decimals(model.format_of(model.object(name))))
+                    for name in args.names if name not in formats and name in model})
+    order = list(dict.fromkeys(name if name in model else _can2_name(name, can2) for name in args.names))
     if args.json:
-        return _JsonLines()
+        return _JsonLines(order)
     if sys.stdout.isatty():
-        return _LiveTable(args.names, formats)
-    return _TextLines(formats)
+        return _LiveTable(order, formats)
+    return _TextLines(order, formats)
+
+
+def _can2_name(name: str, can2: dict[str, Any]) -> str:
+    """The ``Message.Signal`` a name given for a CAN2 signal stands for."""
+    return name if name in can2 else next(key for key in can2 if key.split(".", 1)[1] == name)
+
+
+class _Can2Samples:
+    """The window's CAN monitor on the CAN2 bus, keeping what ``measure`` shows of ``signals``
+    (``Message.Signal`` -> cantools signal): the newest physical value of each, and the frames' samples since the
+    last :meth:`drain` (host time of reception, s since ``origin``)."""
+
+    def __init__(self, bus: dict[str, Any], signals: dict[str, Any], databases: list, origin: float):
+        import threading
+
+        from workbench.gui.can_monitor import CanMonitor  # no Qt: the window's listener, the window's names
+
+        self.signals = signals
+        self.newest: dict[str, float] = {}
+        self.pending: list[tuple[float, dict[str, float]]] = []
+        self._lock = threading.Lock()
+        self.monitor = CanMonitor(bus, databases, self._sink, origin)
+
+    def _sink(self, name: str, times, values) -> None:
+        if name not in self.signals:
+            return
+        with self._lock:
+            self.newest[name] = float(values[-1])
+            if self.pending and self.pending[-1][0] == float(times[-1]):
+                self.pending[-1][1][name] = float(values[-1])
+            else:
+                self.pending.append((float(times[-1]), {name: float(values[-1])}))
+
+    def latest(self, *, raw: bool = False) -> dict[str, Any]:
+        """Every signal's newest value (None before its first frame)."""
+        with self._lock:
+            return {name: self._shown(name, self.newest.get(name), raw) for name in self.signals}
+
+    def drain(self, *, raw: bool = False) -> list[tuple[float, dict[str, Any]]]:
+        with self._lock:
+            pending, self.pending = self.pending, []
+        return [(when, {name: self._shown(name, value, raw) for name, value in values.items()})
+                for when, values in pending]
+
+    def _shown(self, name: str, value: float | None, raw: bool) -> Any:
+        """Physical (a VAL_ table's text), or raw as the frame carries it."""
+        if value is None:
+            return None
+        signal = self.signals[name]
+        if raw:
+            return signal.conversion.numeric_scaled_to_raw(value)
+        choices = signal.choices or {}
+        return str(choices[value]) if value in choices else value
+
+    def close(self) -> None:
+        self.monitor.close()
 
 
 class _JsonLines:
+    def __init__(self, order: list[str]):
+        self.order = order
+
     def show(self, when: float, event: str, values: dict[str, Any]) -> None:
         line = {"time": round(when, 6), "event": event, "values": {n: jsonable(v) for n, v in values.items()}}
         print(json.dumps(line), flush=True)
@@ -180,11 +312,12 @@ class _JsonLines:
 
 
 class _TextLines:
-    def __init__(self, formats: dict[str, tuple[str, int | None]]):
-        self.formats = formats
+    def __init__(self, order: list[str], formats: dict[str, tuple[str, int | None]]):
+        self.order, self.formats = order, formats
 
     def show(self, when: float, event: str, values: dict[str, Any]) -> None:
-        shown = " ".join(f"{name}={value_text(value, *self.formats[name])}" for name, value in values.items())
+        shown = " ".join(f"{name}={'-' if value is None else value_text(value, *self.formats[name])}"
+                         for name, value in values.items())
         print(f"{when:.4f} {shown}", flush=True)
 
     def close(self) -> None:
@@ -200,7 +333,7 @@ class _LiveTable:
         from rich.console import Console
         from rich.live import Live
 
-        self.names, self.formats = names, formats
+        self.names, self.order, self.formats = names, names, formats
         self.latest: dict[str, tuple[float, str, Any]] = {}
         self.counts: dict[str, int] = dict.fromkeys(names, 0)
         self._shown_at = 0.0
