@@ -8,7 +8,7 @@ from PySide6.QtGui import QDropEvent
 from PySide6.QtWidgets import QToolButton
 
 from workbench.gui.mime import signals_mime
-from workbench.gui.project import PlotSpec, demo_project, load_project
+from workbench.gui.project import PlotSpec, load_project
 from workbench.gui.widgets.main_window import MainWindow
 
 
