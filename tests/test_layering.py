@@ -31,8 +31,10 @@ ALLOWED = {
     "record": {"a2l", "xcp", "calib", "can", "session"},
     "flash": {"a2l", "elf", "image", "xcp", "session"},
     "sync": {"a2l", "image", "xcp", "calib", "session", "flash"},
+    "testbench": {"a2l", "calib", "can", "record", "session", "sim"},
     "gui": {"a2l", "elf", "image", "xcp", "calib", "record", "can", "sim", "session", "flash", "sync"},
-    "cli": {"a2l", "elf", "image", "xcp", "calib", "record", "can", "sim", "gui", "session", "flash", "sync"},
+    "cli": {"a2l", "elf", "image", "xcp", "calib", "record", "can", "sim", "gui", "session", "flash", "sync",
+            "testbench"},
 }
 
 

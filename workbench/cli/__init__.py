@@ -29,6 +29,7 @@ GROUPS: list[tuple[str, str]] = [
     ("flash", "flash the CALIB or APPLICATIVE region from an s19/hex"),
     ("gui", "open the calibration workbench window"),
     ("demo", "start the simulated ECU and the GUI connected to it"),
+    ("test", "run requirement tests on the ECU, with MDF4 evidence and a traced report"),
 ]
 
 

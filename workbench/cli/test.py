@@ -1,0 +1,111 @@
+"""``workbench test``: run requirement tests (the shipped FLCU suite by default) with pytest and the workbench plugin."""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+from pathlib import Path
+
+from workbench.cli.ecu_options import add_ecu_arguments
+from workbench.cli.options import bus_settings, positive_int
+from workbench.errors import InputError, WorkbenchError
+
+EPILOG = """\
+Without PATH the FLCU's software requirements (SW_REQ_ID_001-008, the demo application's 29
+sub-requirements) are tested. Without bus options every test gets a fresh simulated demo ECU on a
+virtual bus of its own; with them (--interface/--channel/--bus-kwargs, or --host/--port) the tests run
+against that ECU: a real one, or `workbench sim` in another process, whose fault injection the tests
+find by the same bus options (against a real ECU the tests that need it are skipped).
+
+--report DIR writes DIR/junit.xml (a testcase property 'requirement' per requirement id),
+DIR/report.html (traceability, each test's steps, plots of its signals with the expectation bands)
+and each test's MDF4 evidence under DIR/evidence. -n N spreads the tests over N processes
+(pytest-xdist), each test with its own simulated ECU. Exit 0: every test passed; 1: a test failed;
+2: bad input (options, a path, no tests found).
+
+examples:
+  workbench test --report out/
+  workbench test -n 2 --report out/
+  workbench test -k tank_ctrl
+  workbench test --interface udp_multicast --channel 239.74.163.2 --bus-kwargs port=43200
+  workbench test my_tests/ --a2l project.a2l --interface socketcan --channel can0 --dbc vehicle.dbc
+"""
+
+_PYTEST_EXIT = {0: 0, 1: 1, 2: 130, 3: 1, 4: 2, 5: 2}
+
+
+def add_subparser(subparsers, name: str, help_text: str) -> None:
+    parser = subparsers.add_parser(
+        name, help=help_text, epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter,
+        description="Run requirement tests (pytest with the workbench plugin): scripted steps on the ECU by name, "
+                    "each test's signals recorded to MDF4, results traced to requirement ids.")
+    parser.add_argument("paths", nargs="*", metavar="PATH", help="test files or folders (default: the FLCU suite)")
+    parser.add_argument("--report", metavar="DIR", help="write DIR/junit.xml, DIR/report.html and the MF4 evidence")
+    parser.add_argument("-n", dest="workers", type=positive_int, metavar="N",
+                        help="run the tests in N worker processes (pytest-xdist; simulated ECUs only)")
+    parser.add_argument("-k", dest="keyword", metavar="EXPR", help="only the tests whose names match EXPR (pytest -k)")
+    parser.add_argument("--requirements", metavar="CSV", help="requirements catalogue (id,name,description) to trace "
+                                                               "(default for the FLCU suite: its own)")
+    parser.add_argument("--dbc", metavar="DBC", help="CAN2 database (default: the demo's)")
+    parser.add_argument("--can2-interface", metavar="NAME", help="python-can interface of CAN2 (default: the XCP bus's)")
+    parser.add_argument("--can2-channel", metavar="CHANNEL", help="CAN2 on its own bus (default: the XCP bus)")
+    parser.add_argument("--sim-s19", metavar="S19", help="flash image of the simulated demo ECU (default: the demo's)")
+    parser.add_argument("--sim-control", metavar="HOST:PORT",
+                        help="a workbench sim's control channel (default: found by the bus options)")
+    add_ecu_arguments(parser, json_output=False)
+    parser.set_defaults(func=run)
+
+
+def suite_path() -> Path:
+    """The shipped FLCU requirement suite."""
+    return Path(__file__).resolve().parent.parent / "testbench" / "flcu_suite"
+
+
+def pytest_arguments(args: argparse.Namespace) -> list[str]:
+    """The pytest command line for ``args``. :raises InputError: options that cannot work together."""
+    paths = [str(path) for path in args.paths] or [str(suite_path())]
+    for path in args.paths:
+        if not Path(path.split("::")[0]).exists():
+            raise InputError(f"{path}: no such test file or folder")
+    bus = {key: value for key, value in (bus_settings(args) or {}).items() if value is not None}
+    if "timing" in bus:
+        raise InputError("--timing cannot be passed to the tests; give --bitrate (and --bus-kwargs)")
+    argv = [*paths, "-p", "workbench.testbench.plugin", "-p", "no:cacheprovider", "-rfEs", "-o", "junit_family=xunit1"]
+    for option, value in (("--interface", bus.pop("interface", None)), ("--channel", bus.pop("channel", None)),
+                          ("--bitrate", bus.pop("bitrate", None)), ("--a2l", args.a2l), ("--host", args.host),
+                          ("--port", args.port), ("--protocol", args.protocol), ("--key-function", args.key_function),
+                          ("--dbc", args.dbc), ("--can2-interface", args.can2_interface),
+                          ("--can2-channel", args.can2_channel), ("--sim-s19", args.sim_s19),
+                          ("--sim-control", args.sim_control), ("--report", args.report), ("-k", args.keyword)):
+        if value is not None:
+            argv += [option, str(value)]
+    if bus:
+        argv += ["--bus-kwargs", *(f"{key}={value}" for key, value in bus.items())]
+    if args.accept_epk_mismatch:
+        argv.append("--accept-epk-mismatch")
+    requirements = args.requirements or (str(suite_path() / "requirements.csv") if not args.paths else None)
+    if requirements:
+        argv += ["--requirements", requirements]
+    if args.workers:
+        if args.interface or args.channel or args.host or bus:
+            raise InputError("-n runs a simulated ECU per worker; a real ECU (bus options) takes one master at a time")
+        if importlib.util.find_spec("xdist") is None:
+            raise InputError("-n needs pytest-xdist: pip install pytest-xdist")
+        argv += ["-p", "xdist.plugin", "-n", str(args.workers)]
+    return argv
+
+
+def run(args: argparse.Namespace) -> int:
+    import pytest
+
+    argv = pytest_arguments(args)
+    if args.report:
+        report = Path(args.report)
+        if report.exists() and not report.is_dir():
+            raise InputError(f"--report {report}: is a file; name a folder")
+    code = int(pytest.main(argv))
+    if code == 5:
+        raise InputError("no tests found (check PATH and -k)")
+    if code == 3:
+        raise WorkbenchError("pytest stopped with an internal error (see above)")
+    return _PYTEST_EXIT.get(code, 1)

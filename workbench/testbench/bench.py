@@ -1,0 +1,546 @@
+"""The step vocabulary of a requirement test on a :class:`~workbench.session.Session`, in physical units by name.
+
+::
+
+    from workbench import Session
+    from workbench.testbench import Bench, within, equals
+
+    with Session.open(interface="udp_multicast", channel="239.74.163.2") as session, \\
+            Bench(session, dbc="dbc/FLCU_CAN2.dbc", evidence="run.mf4") as ecu:
+        ecu.watch("zsRailPressure", "xsTankCtrlState")
+        ecu.send("PCM_TO_FLCU_001", period=0.1, EnableFLCU=1)                 # stimulate
+        ecu.send("PCM_TO_FLCU_002", period=0.1, TargetRailPressure=25.0)
+        ecu.wait_until("zsRailPressure", within(24.0, 26.0), timeout=3.0)      # wait
+        ecu.expect("zsRailPressure", within(24.0, 26.0), for_s=1.0)            # expect
+        ecu.expect("FLCU_TO_PCM_002.RailPressure", within(24.0, 26.0), for_s=0.3)
+        ecu.expect_period("FLCU_TO_PCM_002", 0.100, tolerance_s=0.010)
+        ecu.write("xsSWITCH_TANK_THR", 5.0)
+        ecu.expect_edge("xsTankCtrlState", equals("TANK2_ON"), within=0.2)
+
+Signals are MEASUREMENTs of the A2L (sampled by DAQ on their A2L event, recorded to the evidence file)
+or CAN2 signals as ``MESSAGE.SIGNAL`` (every frame the bench hears, decoded with the DBC). Time is the
+bench's: seconds since it started, on the host's clock (DAQ samples carry the ECU's time mapped to it).
+Every step logs one line (logger ``workbench.testbench``) and is kept in :attr:`Bench.steps` for the
+report; a failed expectation raises :class:`ExpectationFailed` (an ``AssertionError``) in one line:
+what was expected, the value, the time. Closing the bench stops what it sends, clears the simulator's
+faults and writes back every calibration it changed, as it was before.
+"""
+
+from __future__ import annotations
+
+import logging
+import tempfile
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from workbench.a2l.objects import Measurement
+from workbench.errors import InputError, UnknownSymbolError, WorkbenchError
+from workbench.testbench.conditions import Condition, as_condition
+from workbench.testbench.evidence import Evidence
+from workbench.testbench.simulator import NoSimulator, SimSteps, SimulatorControl
+from workbench.testbench.timeline import Timeline
+
+if TYPE_CHECKING:
+    from workbench.can.dbc_file import DbcFile
+    from workbench.calib.values import CalValue
+    from workbench.session import Session
+    from workbench.testbench.can2 import Can2Port
+
+__all__ = ["Bench", "ExpectationFailed", "Step"]
+
+log = logging.getLogger("workbench.testbench")
+
+DATA_LATENCY_S = 2.0  # how long past a window the bench waits for its samples before it calls them missing
+
+
+class ExpectationFailed(AssertionError):
+    """An expectation or a wait that did not hold: one line naming the signal, what was expected, the value and the time."""
+
+
+@dataclass
+class Step:
+    """One step as the log and the report show it; times in s on the bench's clock."""
+
+    kind: str  # "stimulus", "wait", "expect", "note"
+    text: str
+    t_start: float
+    t_end: float
+    signal: str | None = None
+    unit: str = ""
+    band: tuple[float, float] | None = None  # the numeric band an expectation drew (inf: open)
+    target: str | None = None  # a text value it expected ("TANK1_ON"), or "!= value"
+    passed: bool | None = None
+    detail: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        data = asdict(self)
+        if self.band is not None:
+            data["band"] = [None if not np.isfinite(b) else float(b) for b in self.band]
+        return data
+
+
+@dataclass
+class _Signal:
+    name: str
+    source: str  # "daq" or "can"
+    unit: str = ""
+    choices: dict[str, float] = field(default_factory=dict)  # CAN: VAL_ text -> physical value
+
+
+class Bench:
+    """Steps on ``session``: stimulate, wait, expect. A context manager; :meth:`close` restores what it changed.
+
+    :param dbc: the CAN2 database (path or :class:`~workbench.can.DbcFile`) for CAN2 steps.
+    :param can2_bus: the CAN2 bus as python-can ``Bus`` settings (default: the session's XCP on CAN bus).
+    :param simulator: the simulated ECU's controls (default: none, as for a real ECU).
+    :param evidence: the MF4 file the test's signals are recorded to (default: one in a new temporary folder).
+    """
+
+    def __init__(self, session: Session, *, dbc: DbcFile | str | Path | None = None,
+                 can2_bus: dict[str, Any] | None = None, simulator: SimulatorControl | None = None,
+                 evidence: str | Path | None = None):
+        self.session = session
+        self.timeline = Timeline()
+        self.steps: list[Step] = []
+        self.last_stimulus: float | None = None
+        self._signals: dict[str, _Signal] = {}
+        self._watched: list[str] = []
+        self._journal: dict[str, CalValue] = {}  # calibration -> its value before the bench first wrote it
+        self.can2: Can2Port | None = None
+        if dbc is not None:
+            from workbench.can import load_dbc
+            from workbench.testbench.can2 import Can2Port
+
+            dbc = load_dbc(dbc) if isinstance(dbc, (str, Path)) else dbc
+            can2_bus = can2_bus or _session_can_bus(session)
+            if can2_bus is not None:
+                self.can2 = Can2Port(can2_bus, dbc, self.timeline)
+        self.sim = SimSteps(simulator or NoSimulator("this ECU is not simulated"), self._begin, self._stimulated, self.now)
+        path = Path(evidence) if evidence is not None else Path(tempfile.mkdtemp(prefix="workbench-bench-")) / "evidence.mf4"
+        self.evidence = Evidence(session, path, self.timeline, dbc=self.can2.dbc if self.can2 else None,
+                                 can_bus=self.can2.settings if self.can2 else None)
+        self.closed = False
+
+    # --- time and the log ---------------------------------------------------------------------
+
+    def now(self) -> float:
+        """Seconds since the bench started."""
+        return self.timeline.now()
+
+    def _add(self, step: Step) -> Step:
+        self.steps.append(step)
+        result = "" if step.passed is None else (" -> ok" if step.passed else " -> FAILED")
+        log.info("%7.3f s  %-8s %s%s%s", step.t_start, step.kind, step.text, result,
+                 f" ({step.detail})" if step.detail else "")
+        return step
+
+    def note(self, text: str) -> None:
+        """A line of the test's own in the log and the report."""
+        self._add(Step("note", text, self.now(), self.now()))
+
+    def _stimulated(self, text: str, t_start: float | None = None) -> None:
+        moment = self.now() if t_start is None else t_start
+        self.last_stimulus = moment
+        self._add(Step("stimulus", text, moment, self.now()))
+
+    def _fail(self, step: Step, detail: str) -> None:
+        step.passed, step.detail, step.t_end = False, detail, max(step.t_end, step.t_start)
+        self._add(step)
+        raise ExpectationFailed(f"{step.text}: {detail}")
+
+    # --- signals --------------------------------------------------------------------------------
+
+    def signal(self, name: str) -> _Signal:
+        """A MEASUREMENT of the A2L, or ``MESSAGE.SIGNAL`` of the CAN2 DBC. :raises UnknownSymbolError, InputError:"""
+        known = self._signals.get(name)
+        if known is not None:
+            return known
+        model = self.session.model
+        try:
+            obj = model.object(name)
+        except UnknownSymbolError:
+            found = self._can_signal(name)
+            if found is None:
+                raise
+            self._signals[name] = found
+            return found
+        if not isinstance(obj, Measurement):
+            raise InputError(f"{name} is a {type(obj).__name__.upper()}: a calibration is written (write, override), "
+                             "the MEASUREMENT it acts on is watched")
+        self._signals[name] = _Signal(name, "daq", model.unit_of(obj))
+        return self._signals[name]
+
+    def _can_signal(self, name: str) -> _Signal | None:
+        message_name, _, signal_name = name.partition(".")
+        if self.can2 is None or not signal_name:
+            return None
+        message = self.can2.message(message_name)
+        for signal in message.signals:
+            if signal.name == signal_name:
+                choices = {str(text): float(raw) * signal.scale + signal.offset for raw, text in (signal.choices or {}).items()}
+                return _Signal(name, "can", signal.unit or "", choices)
+        raise UnknownSymbolError(signal_name, f"the signals of {message_name}")
+
+    def watch(self, *names: str) -> None:
+        """Sample and record these MEASUREMENTs (and check these CAN2 signals exist) from now on.
+        Watch before the first step, and a test's evidence is one file."""
+        for name in names:
+            if self.signal(name).source == "daq" and name not in self._watched:
+                self._watched.append(name)
+        if self.evidence.recording:
+            self._begin()
+
+    def _sampled(self, name: str) -> _Signal:
+        signal = self.signal(name)
+        if signal.source == "daq" and name not in self._watched:
+            self._watched.append(name)
+        self._begin()
+        return signal
+
+    def _begin(self) -> None:
+        """Start the recording at the first step (of what is watched, and CAN2), and let every watched
+        signal be sampled once before the step, so that an edge after it has a "before"."""
+        if not (self._watched or self.can2 is not None) or not self.evidence.ensure(self._watched):
+            return
+        missing = self.timeline.wait_started(self._watched, self.now() + DATA_LATENCY_S)
+        if missing:
+            raise WorkbenchError(f"no DAQ samples of {', '.join(missing)} within {DATA_LATENCY_S:g} s of starting "
+                                 "the recording")
+
+    def _condition(self, signal: _Signal, wanted: Any) -> Condition:
+        condition = as_condition(wanted)
+        if not condition.is_value:
+            return condition
+        value = condition.value
+        if signal.source == "can" and isinstance(value, str):
+            if value not in signal.choices:
+                raise InputError(f"{signal.name} has no value {value!r} (its DBC values: {', '.join(signal.choices) or 'none'})")
+            return Condition(value=signal.choices[value], tolerance=condition.tolerance, negate=condition.negate)
+        if signal.source == "daq" and not isinstance(value, str):
+            model = self.session.model
+            text = model.conversion(model.object(signal.name)).to_physical(value)
+            if isinstance(text, str):  # a verbal conversion: its samples are texts
+                return Condition(value=text, negate=condition.negate)
+        return condition
+
+    # --- stimulate ------------------------------------------------------------------------------
+
+    def write(self, name: str, value: Any) -> None:
+        """Write a calibration in physical units (restored when the bench closes)."""
+        self._begin()
+        start = self.now()
+        self._remember(name)
+        written = self.session.write(name, value)
+        self._stimulated(f"write {name} = {_text(written.value)}{_unit(written.unit)}", start)
+
+    def override(self, signal: str, value: Any) -> None:
+        """Replace a signal by its fix calibration's value (``_VALUE``, then ``_EN`` = 1). Its live
+        MEASUREMENT, if the A2L has one, is watched from the start of the recording when the recording has
+        not started yet (a recording is not restarted for it: watch it first to have it in any case)."""
+        pair = self.session.fix(signal)
+        if (pair.live is not None and not self.evidence.recording
+                and isinstance(self.session.model.object(pair.live), Measurement)):
+            self.watch(pair.live)
+        self._begin()
+        start = self.now()
+        self._remember(pair.value)
+        self._remember(pair.enable)
+        state = self.session.override(signal, value)
+        self._stimulated(f"override {pair.stem} = {_text(state.override)}{_unit(self._unit_of(pair.value))}", start)
+
+    def release(self, signal: str) -> None:
+        """Give a signal back to the ECU (``_EN`` = 0)."""
+        pair = self.session.fix(signal)
+        self._begin()
+        start = self.now()
+        self._remember(pair.enable)
+        self.session.release(signal)
+        self._stimulated(f"release {pair.stem}", start)
+
+    def _unit_of(self, name: str) -> str:
+        model = self.session.model
+        return model.unit_of(model.object(name))
+
+    def _remember(self, name: str) -> None:
+        if name not in self._journal:
+            self._journal[name] = self.session.read_value(name)
+
+    def send(self, message: str, period: float | None = None, *, dlc: int | None = None, **signals: float) -> None:
+        """Send a CAN2 frame of ``message`` with ``signals`` (physical; the others keep their values), once or
+        every ``period`` s; a message sent periodically gets new values from its next frame on. ``dlc``
+        sends it with another length than the DBC's (a fault; the next send without it is right again). Values outside the DBC range are sent as given."""
+        port = self._port()
+        self._begin()
+        start = self.now()
+        done, delay = port.send(message, signals, period_s=period, dlc=dlc)
+        values = " ".join(f"{name}={_text(value)}" for name, value in signals.items())
+        self._stimulated(f"send {message} {values}".rstrip() + (f" DLC {dlc}" if dlc is not None else "") + f" {done}",
+                         start + delay)
+
+    def stop(self, message: str) -> None:
+        """Stop sending ``message`` periodically (the ECU sees its RX timeout)."""
+        port = self._port()
+        self._begin()
+        if not port.stop(message):
+            raise InputError(f"{message} is not being sent periodically")
+        self._stimulated(f"stop sending {message}")
+
+    def _port(self) -> Can2Port:
+        if self.can2 is None:
+            raise InputError("the bench has no CAN2 bus: give a DBC and the CAN2 bus (--dbc, --can2-interface/--can2-channel)")
+        return self.can2
+
+    def read(self, name: str) -> Any:
+        """Poll a value (a MEASUREMENT or a calibration) once, in physical units."""
+        value = self.session.read(name)
+        self.note(f"read {name} = {_text(value)}")
+        return value
+
+    # --- wait -----------------------------------------------------------------------------------
+
+    def wait(self, seconds: float) -> None:
+        self._begin()
+        start = self.now()
+        time.sleep(seconds)
+        self._add(Step("wait", f"wait {seconds:g} s", start, self.now()))
+
+    def wait_until(self, name: str, condition: Any, timeout: float) -> float:
+        """Wait until ``name`` meets ``condition``; returns the time (bench s) of the first sample that did.
+        :raises ExpectationFailed: not within ``timeout`` s."""
+        signal = self._sampled(name)
+        wanted = self._condition(signal, condition)
+        start = self.now()
+        step = self._step("wait", f"wait until {name} {wanted.describe(signal.unit)} (timeout {timeout:g} s)",
+                          start, signal, wanted)
+        hit, last = self._first(name, wanted, start, start + timeout)
+        if hit is None:
+            self._fail(step, f"not within {timeout:g} s; {_last_seen(last, signal.unit)}")
+        step.passed, step.t_end, step.detail = True, hit, f"at t={hit:.3f} s"
+        self._add(step)
+        return hit
+
+    # --- expect ---------------------------------------------------------------------------------
+
+    def expect(self, name: str, condition: Any, for_s: float, *, since: float | None = None) -> tuple[float, float] | None:
+        """``name`` meets ``condition`` in every sample of the ``for_s`` seconds from ``since`` (bench s;
+        default: now), at least one. Returns the (min, max) it took (None for texts).
+        :raises ExpectationFailed: at the first sample that did not."""
+        signal = self._sampled(name)
+        wanted = self._condition(signal, condition)
+        start = self.now() if since is None else since
+        end = start + for_s
+        step = self._step("expect", f"expect {name} {wanted.describe(signal.unit)} for {for_s:g} s", start, signal, wanted)
+        step.t_end = end
+        values = self._window(step, name, start, end, lambda times, values: (times, ~wanted.test(values)), signal.unit)
+        step.passed = True
+        span = None
+        if values.dtype.kind in "fiub":
+            span = float(np.min(values)), float(np.max(values))
+            step.detail = f"{len(values)} samples, {_text(span[0])}..{_text(span[1])}{_unit(signal.unit)}"
+        else:
+            step.detail = f"{len(values)} samples"
+        self._add(step)
+        return span
+
+    def expect_follows(self, name: str, reference: str, tolerance: float, for_s: float, *,
+                       since: float | None = None) -> float:
+        """Every sample of ``name`` in the ``for_s`` seconds from ``since`` (default: now) equals the latest
+        sample of ``reference`` at or before it, within ``tolerance`` (texts: the same text), e.g. a command
+        and the value it is computed from, a CAN2 signal and the measurement it carries. Returns the largest
+        difference (0 for texts)."""
+        signal = self._sampled(name)
+        self._sampled(reference)
+        start = self.now() if since is None else since
+        end = start + for_s
+        step = Step("expect", f"expect {name} = {reference} ± {tolerance:g}{_unit(signal.unit)} for {for_s:g} s",
+                    start, end, name, signal.unit)
+        differences: list[np.ndarray] = []
+
+        def judge(times, values):
+            ref_times, ref_values = self.timeline.samples(reference, -np.inf, end)
+            index = np.searchsorted(ref_times, times, side="right") - 1
+            held = ref_values[np.maximum(index, 0)] if len(ref_values) else np.full(len(times), np.nan)
+            if values.dtype.kind in "fiub" and held.dtype.kind in "fiub":
+                apart = np.abs(values.astype(float) - held.astype(float))
+                apart[index < 0] = np.inf
+                differences[:] = [apart]
+                return times, ~(apart <= tolerance)
+            return times, (index < 0) | (values.astype(str) != held.astype(str))
+
+        values = self._window(step, name, start, end, judge, signal.unit, reference)
+        largest = float(np.max(differences[0])) if differences else 0.0
+        step.passed, step.detail = True, f"{len(values)} samples, at most {largest:.4g}{_unit(signal.unit)} apart"
+        self._add(step)
+        return largest
+
+    def _window(self, step: Step, name: str, start: float, end: float, judge, unit: str,
+                reference: str | None = None) -> np.ndarray:
+        """The samples of ``name`` in [start, end] once all have come; fails at the first one ``judge`` marks."""
+        seen = start
+        while True:
+            times, values = self.timeline.samples(name, start, end)
+            _, bad = judge(times, values)
+            bad = np.flatnonzero(bad)
+            if len(bad):
+                first = bad[0]
+                against = ""
+                if reference is not None:
+                    before = self.timeline.last_before(reference, times[first])
+                    against = f" against {_text(before[1]) if before else 'no sample'} of {reference}"
+                self._fail(step, f"{_text(values[first])}{_unit(unit)}{against} at t={times[first]:.3f} s")
+            horizon = self.timeline.horizon(name)
+            if horizon is not None and horizon >= end:
+                break
+            if not self.timeline.wait_past(name, max(seen, horizon or seen), end + DATA_LATENCY_S):
+                self._fail(step, f"no samples after t={max(seen, horizon or seen):.3f} s (is DAQ running?)")
+            seen = self.timeline.horizon(name) or seen
+        if not len(values):
+            self._fail(step, f"no samples between t={start:.3f} s and t={end:.3f} s")
+        return values
+
+    def expect_edge(self, name: str, condition: Any, within: float, *, after: float | None = None) -> float:
+        """``name`` comes to meet ``condition`` within ``within`` s of the last stimulus (or of ``after``),
+        having not met it then. Returns the latency in s. The signal must be sampled before the stimulus:
+        watch it first. :raises ExpectationFailed: no edge, or too late."""
+        signal = self._sampled(name)
+        wanted = self._condition(signal, condition)
+        reference = after if after is not None else self.last_stimulus
+        if reference is None:
+            raise InputError(f"expect_edge({name}): no stimulus yet to measure from (or give after=)")
+        step = self._step("expect", f"expect {name} {wanted.describe(signal.unit)} within {within * 1000:g} ms "
+                          f"of t={reference:.3f} s", reference, signal, wanted)
+        step.t_end = reference + within
+        before = self.timeline.last_before(name, reference)
+        if before is None:
+            raise InputError(f"{name} was not sampled before t={reference:.3f} s: watch it before the stimulus "
+                             f"(ecu.watch({name!r}))")
+        if wanted.test(np.array([before[1]]))[0]:
+            self._fail(step, f"no edge: it was already {_text(before[1])}{_unit(signal.unit)} at t={before[0]:.3f} s")
+        hit, last = self._first(name, wanted, reference, reference + within)
+        if hit is None:
+            self._fail(step, f"not within {within * 1000:g} ms; {_last_seen(last, signal.unit)}")
+        step.passed, step.detail = True, f"after {(hit - reference) * 1000:.0f} ms, at t={hit:.3f} s"
+        self._add(step)
+        return hit - reference
+
+    def expect_period(self, message: str, period_s: float, tolerance_s: float, *, for_s: float = 1.0,
+                      jitter_s: float | None = None) -> float:
+        """Frames of ``message`` heard over the next ``for_s`` s come every ``period_s`` ± ``tolerance_s``, and
+        no two are further apart than ``period_s`` ± ``jitter_s``. The period is the median of the slopes
+        between every two frames (a frame the host delayed does not move it); the default jitter, 90 % of
+        the period, fails a missing frame (a gap of two periods) or a doubled one (no gap), not the host's
+        scheduling. Returns the period found."""
+        port = self._port()
+        jitter = 0.9 * period_s if jitter_s is None else jitter_s
+        frame_id = port.message(message).frame_id
+        self._begin()
+        start = self.now()
+        step = Step("expect", f"expect {message} (0x{frame_id:X}) every {period_s * 1000:g} ± {tolerance_s * 1000:g} ms "
+                    f"(each gap {period_s * 1000:g} ± {jitter * 1000:.0f} ms) for {for_s:g} s", start, start + for_s)
+        time.sleep(max(0.0, start + for_s + period_s / 2 - self.now()))  # the frame closing the window may come late
+        times = port.frame_times(message, start, start + for_s)
+        if len(times) < 3:
+            self._fail(step, f"{len(times)} frame(s) between t={start:.3f} s and t={start + for_s:.3f} s")
+        gaps = np.diff(times)
+        wrong = np.flatnonzero(np.abs(gaps - period_s) > jitter)
+        if len(wrong):
+            first = wrong[0]
+            self._fail(step, f"{gaps[first] * 1000:.1f} ms between the frames at t={times[first]:.3f} s and "
+                       f"t={times[first + 1]:.3f} s")
+        i, j = np.triu_indices(len(times), k=1)
+        period = float(np.median((times[j] - times[i]) / (j - i)))
+        if abs(period - period_s) > tolerance_s:
+            self._fail(step, f"{period * 1000:.1f} ms (the median over {len(times)} frames from t={times[0]:.3f} s)")
+        step.passed, step.detail = True, f"{len(times)} frames, {period * 1000:.1f} ms"
+        self._add(step)
+        return period
+
+    # --- internals of waiting -----------------------------------------------------------------
+
+    def _step(self, kind: str, text: str, start: float, signal: _Signal, wanted: Condition) -> Step:
+        target = None
+        if wanted.is_text:
+            target = f"{'!= ' if wanted.negate else ''}{wanted.value}"
+        band = None if wanted.negate else wanted.band()
+        return Step(kind, text, start, start, signal.name, signal.unit, band, target)
+
+    def _first(self, name: str, wanted: Condition, start: float, end: float) -> tuple[float | None, tuple | None]:
+        """The first sample time in [start, end] meeting ``wanted`` (None: none), and the last sample seen."""
+        seen = start
+        while True:
+            times, values = self.timeline.samples(name, start, end)
+            hits = np.flatnonzero(wanted.test(values))
+            if len(hits):
+                return float(times[hits[0]]), None
+            last = (float(times[-1]), values[-1]) if len(times) else None
+            horizon = self.timeline.horizon(name)
+            if horizon is not None and horizon >= end:
+                return None, last
+            if not self.timeline.wait_past(name, max(seen, horizon or seen), end + DATA_LATENCY_S):
+                return None, last
+            seen = self.timeline.horizon(name) or seen
+
+    # --- closing --------------------------------------------------------------------------------
+
+    def close(self) -> None:
+        """Stop sending, clear the simulator's faults, write back the calibrations changed, stop the recording.
+        Safe to call twice. :raises WorkbenchError: something could not be restored (everything else still is)."""
+        if self.closed:
+            return
+        self.closed = True
+        problems: list[str] = []
+        if self.sim.touched:
+            try:
+                self.sim.clear()
+            except WorkbenchError as exc:
+                problems.append(str(exc))
+        if self.can2 is not None:
+            self.can2.stop_all()
+        for name, value in reversed(list(self._journal.items())):
+            try:
+                self.session.write(name, value, allow_extended_limits=True)
+                self.note(f"restore {name} = {_text(value.value)}{_unit(value.unit)}")
+            except WorkbenchError as exc:
+                problems.append(f"{name} not restored: {exc}")
+        try:
+            self.evidence.stop()
+        except WorkbenchError as exc:
+            problems.append(str(exc))
+        if self.can2 is not None:
+            self.can2.close()
+        self.sim.control.close()
+        if problems:
+            raise WorkbenchError("; ".join(problems))
+
+    def __enter__(self) -> Bench:
+        return self
+
+    def __exit__(self, *exc_info) -> None:
+        self.close()
+
+
+def _session_can_bus(session: Session) -> dict[str, Any] | None:
+    settings = session.link.settings
+    return dict(settings.bus) if settings.transport == "CAN" and settings.bus else None
+
+
+def _text(value: Any) -> str:
+    if isinstance(value, bytes):
+        value = value.decode(errors="replace")
+    if isinstance(value, (float, np.floating)):
+        return f"{float(value):.6g}"
+    if isinstance(value, np.ndarray):
+        return np.array2string(value, precision=6, separator=", ")
+    return str(value.item() if isinstance(value, np.generic) else value)
+
+
+def _unit(unit: str) -> str:
+    return f" {unit}" if unit else ""
+
+
+def _last_seen(last: tuple | None, unit: str) -> str:
+    return "no samples" if last is None else f"last {_text(last[1])}{_unit(unit)} at t={last[0]:.3f} s"

@@ -1,0 +1,172 @@
+"""The bench's CAN2 port: frames sent from the DBC by message and signal names, frames heard decoded.
+
+The bench plays the other nodes of CAN2 (for the FLCU: the PCM) on a python-can bus of its own.
+Every frame it hears of a DBC message is decoded into the :class:`~workbench.testbench.timeline.Timeline`
+as ``MESSAGE.SIGNAL`` (physical values, numbers) and its receive time is kept for period checks.
+
+Periodic frames start half a period after a frame the ECU sent (when one is heard within a period):
+the ECU reads its mailboxes once per task cycle, so a message that arrives mid-cycle is read once
+per cycle even when the host's scheduling jitters by a few milliseconds, as a real PCM whose cycle
+is not in phase with the ECU's would be most of the time.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from workbench.errors import InputError, UnknownSymbolError
+
+if TYPE_CHECKING:
+    import can
+
+    from workbench.can.dbc_file import DbcFile
+    from workbench.testbench.timeline import Timeline
+
+__all__ = ["Can2Port"]
+
+PHASE_WAIT_S = 0.15  # how long a periodic start waits to hear the ECU's cycle
+
+
+class Can2Port:
+    """Sends and hears the messages of ``dbc`` on the bus ``settings`` name (python-can ``Bus`` keyword arguments)."""
+
+    def __init__(self, settings: dict[str, Any], dbc: DbcFile, timeline: Timeline):
+        import can
+
+        self.dbc = dbc
+        self.database = dbc.database
+        self.settings = settings
+        self._timeline = timeline
+        try:
+            self.bus = can.Bus(**settings)
+        except (can.CanError, OSError, ValueError, TypeError) as exc:
+            raise InputError(f"cannot open the CAN2 bus {settings.get('interface')} {settings.get('channel')}: {exc}") from None
+        self._by_id = {(m.frame_id, m.is_extended_frame): m for m in self.database.messages}
+        self._frames: dict[str, list[float]] = {}  # message -> receive times (bench s)
+        self._lock = threading.Lock()
+        self._heard = threading.Event()
+        self._last_heard: float | None = None  # bench time of the latest frame another node sent
+        self._tasks: dict[str, Any] = {}  # message -> python-can periodic task
+        self._signals: dict[str, dict[str, float]] = {}  # message -> the signal values it is sent with
+        port = self
+
+        class _Listener(can.Listener):
+            def on_message_received(self, msg: can.Message) -> None:
+                port._on_frame(msg)
+
+        self._notifier = can.Notifier(self.bus, [_Listener()], timeout=0.05)
+
+    # --- hearing --------------------------------------------------------------------------------
+
+    def _on_frame(self, frame: can.Message) -> None:
+        if frame.is_error_frame or frame.is_remote_frame:
+            return
+        message = self._by_id.get((frame.arbitration_id, frame.is_extended_id))
+        if message is None:
+            return
+        moment = frame.timestamp - self._timeline.epoch
+        with self._lock:
+            self._frames.setdefault(message.name, []).append(moment)
+            self._last_heard = moment
+        self._heard.set()
+        try:
+            decoded = message.decode(bytes(frame.data), decode_choices=False)
+        except Exception:  # a frame of the wrong length: its time is kept, it has no values
+            return
+        for signal, value in decoded.items():
+            self._timeline.add(f"{message.name}.{signal}", np.array([frame.timestamp]), np.array([float(value)]))
+
+    def frame_times(self, message: str, start: float = -np.inf, end: float = np.inf) -> np.ndarray:
+        """Receive times (bench s) of ``message`` between ``start`` and ``end``."""
+        self.message(message)
+        with self._lock:
+            times = np.array(self._frames.get(message, ()), dtype=float)
+        return times[(times >= start) & (times <= end)]
+
+    # --- sending --------------------------------------------------------------------------------
+
+    def message(self, name: str):
+        try:
+            return self.database.get_message_by_name(name)
+        except KeyError:
+            raise UnknownSymbolError(name, f"the messages of {self.dbc.path.name}") from None
+
+    def frame(self, name: str, signals: dict[str, float], dlc: int | None = None):
+        """A frame of message ``name`` with ``signals`` (physical; the others keep their previous or
+        initial values); values outside a signal's DBC range are sent as given (a fault to inject)."""
+        import can
+
+        message = self.message(name)
+        unknown = set(signals) - {signal.name for signal in message.signals}
+        if unknown:
+            raise UnknownSymbolError(sorted(unknown)[0], f"the signals of {name}")
+        values = self._signals.setdefault(name, {s.name: s.initial or 0 for s in message.signals})
+        values.update(signals)
+        try:
+            data = message.encode(values, strict=False)
+        except Exception as exc:  # cantools' EncodeError and friends: a value the raw type cannot hold
+            raise InputError(f"{name}: cannot encode {signals}: {exc}") from None
+        if dlc is not None:
+            if not 0 <= dlc <= 8:
+                raise InputError(f"{name}: a classic CAN frame has a DLC of 0..8, not {dlc}")
+            data = bytes(data).ljust(8, b"\0")[:dlc]
+        return can.Message(arbitration_id=message.frame_id, is_extended_id=message.is_extended_frame, data=data)
+
+    def send(self, name: str, signals: dict[str, float], *, period_s: float | None = None,
+             dlc: int | None = None) -> tuple[str, float]:
+        """One frame now, or every ``period_s`` until :meth:`stop`; a message already sent periodically
+        gets the new values from its next frame on, in the same rhythm. ``dlc`` (another length than the
+        DBC's) holds for this call's frames only. Returns what it did and
+        how long it waited for the ECU's cycle (s) before the first frame."""
+        task = self._tasks.get(name)
+        frame = self.frame(name, signals, dlc)
+        if task is not None and period_s in (None, task.period):
+            task.modify_data(frame)
+            return "from its next frame on", 0.0
+        if task is not None:
+            self.stop(name)
+        if period_s is None:
+            self.bus.send(frame)
+            return "once", 0.0
+        delay = self._phase_delay(period_s)
+        if delay:
+            time.sleep(delay)
+        self._tasks[name] = self.bus.send_periodic(frame, period_s)
+        return (f"every {period_s * 1000:g} ms" + (", half a cycle after the ECU's frames" if delay else ""),
+                delay)
+
+    def _phase_delay(self, period_s: float) -> float:
+        """Seconds to wait so that the first frame goes half a period after a frame of another node."""
+        if self._last_heard is None:
+            self._heard.wait(min(period_s, PHASE_WAIT_S))
+        with self._lock:
+            last = self._last_heard
+        if last is None:
+            return 0.0
+        now = self._timeline.now()
+        due = last + period_s / 2
+        while due < now:
+            due += period_s
+        return due - now
+
+    def stop(self, name: str) -> bool:
+        """Stop sending ``name``; False when it was not sent periodically."""
+        self.message(name)
+        task = self._tasks.pop(name, None)
+        if task is None:
+            return False
+        task.stop()
+        return True
+
+    def stop_all(self) -> None:
+        for name in list(self._tasks):
+            self.stop(name)
+
+    def close(self) -> None:
+        self.stop_all()
+        self._notifier.stop()
+        self.bus.shutdown()

@@ -1,0 +1,204 @@
+"""The pytest plugin of requirement tests (entry point ``pytest11``, so plain ``pytest`` finds it).
+
+* the ``ecu`` fixture: a :class:`~workbench.testbench.Bench` on the ECU the options name (``--a2l``,
+  ``--interface``, ``--channel``, ``--bitrate``, ``--bus-kwargs``, ``--host``, ``--port``, ``--protocol``,
+  as ``workbench`` takes them), or on a fresh simulated demo ECU per test without bus options; the
+  test's signals recorded to MDF4 as its evidence; its calibrations restored after it;
+* ``@requirement("SW_REQ_ID_002.2")`` -> the JUnit testcase property ``requirement`` (one per id);
+* ``--report DIR``: DIR/junit.xml, DIR/report.html (traceability, steps, plots) and the evidence under DIR.
+
+Costs nothing to a test that does not use it: this module imports only pytest; the fixture imports the
+rest when a test asks for it.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import re
+from pathlib import Path
+
+import pytest
+
+from workbench.testbench.markers import REQUIREMENT_MARK, SIMULATOR_MARK
+
+__all__ = ["ecu"]
+
+_TARGET = pytest.StashKey()
+_REPORT_DIR = pytest.StashKey()
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    group = parser.getgroup("workbench", "workbench requirement tests (the ecu fixture)")
+    group.addoption("--a2l", metavar="A2L", help="the ECU's A2L (default: the built-in demo ECU's)")
+    group.addoption("--interface", help="python-can interface of XCP on CAN (no bus options: a simulated demo "
+                                        "ECU per test)")
+    group.addoption("--channel", help="python-can channel")
+    group.addoption("--bitrate", type=int, help="CAN bit rate in bit/s (default: the A2L's BAUDRATE)")
+    group.addoption("--bus-kwargs", nargs="+", metavar="KEY=VALUE", help="python-can bus keyword arguments "
+                                                                        "(udp_multicast's port=N ...)")
+    group.addoption("--host", help="XCP on Ethernet at this host")
+    group.addoption("--port", type=int, help="XCP on Ethernet port (default: the A2L's)")
+    group.addoption("--protocol", choices=("udp", "tcp"), help="XCP on Ethernet: udp (default) or tcp")
+    group.addoption("--key-function", metavar="NAME", help="seed & key function (default: the A2L's)")
+    group.addoption("--accept-epk-mismatch", action="store_true", help="write although the EPKs differ")
+    group.addoption("--dbc", metavar="DBC", help="CAN2 database (default: the demo's FLCU_CAN2.dbc)")
+    group.addoption("--can2-interface", metavar="NAME", help="python-can interface of CAN2 (default: the XCP bus's)")
+    group.addoption("--can2-channel", metavar="CHANNEL", help="channel of CAN2 (default: the XCP bus)")
+    group.addoption("--sim-s19", metavar="S19", help="flash image of the simulated demo ECU (default: the demo's)")
+    group.addoption("--sim-control", metavar="HOST:PORT", help="a workbench sim's control channel (default: found by "
+                                                               "the bus options)")
+    group.addoption("--report", metavar="DIR", help="write DIR/junit.xml, DIR/report.html and the MF4 evidence")
+    group.addoption("--requirements", metavar="CSV", help="the requirements (id,name,description) the report traces")
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_configure(config: pytest.Config) -> None:
+    config.addinivalue_line("markers", f"{REQUIREMENT_MARK}(*ids): the requirements a test verifies (JUnit property "
+                                       "'requirement')")
+    config.addinivalue_line("markers", f"{SIMULATOR_MARK}: needs the simulated ECU's faults/plant (skipped elsewhere)")
+    report = config.getoption("report")
+    if report:
+        directory = Path(report)
+        if directory.exists() and not directory.is_dir():
+            raise pytest.UsageError(f"--report {report}: is a file; name a folder")
+        config.stash[_REPORT_DIR] = directory
+        if not config.option.xmlpath:
+            config.option.xmlpath = str(directory / "junit.xml")
+    config.pluginmanager.register(_Outcomes(config, keep_all=bool(report)), "workbench-testbench-outcomes")
+    if any(getattr(config.option, dest, None) for dest in _ECU_OPTIONS):  # bad ECU options: a usage error at once
+        _target(config)
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    for item in items:
+        for mark in item.iter_markers(REQUIREMENT_MARK):
+            for requirement_id in mark.args:
+                item.user_properties.append(("requirement", str(requirement_id)))
+
+
+_ECU_OPTIONS = ("a2l", "interface", "channel", "bitrate", "bus_kwargs", "host", "port", "protocol", "key_function",
+                "dbc", "can2_interface", "can2_channel", "sim_s19", "sim_control")
+
+
+def _target(config: pytest.Config):
+    """The ECU of this run (built once per process from the options). :raises pytest.UsageError: bad options."""
+    if _TARGET not in config.stash:
+        from workbench.errors import InputError
+        from workbench.testbench.options import target_from_options
+
+        try:
+            config.stash[_TARGET] = target_from_options(config.option)
+        except InputError as exc:
+            raise pytest.UsageError(str(exc)) from None
+    return config.stash[_TARGET]
+
+
+def _evidence_dir(config: pytest.Config) -> Path:
+    report = config.stash.get(_REPORT_DIR, None)
+    if report is not None:
+        return report
+    if not hasattr(config, "_workbench_evidence"):
+        config._workbench_evidence = config._tmp_path_factory.mktemp("workbench-evidence", numbered=True)
+    return config._workbench_evidence
+
+
+def safe_name(nodeid: str) -> str:
+    """A test's node id as a file name: ``test_canrx.py::test_x[a]`` -> ``test_canrx.py-test_x-a``."""
+    return re.sub(r"[^\w.]+", "-", nodeid).strip("-")
+
+
+@pytest.fixture
+def ecu(request: pytest.FixtureRequest):
+    """A :class:`~workbench.testbench.Bench` on the ECU under test (see the plugin's options)."""
+    logging.getLogger("workbench.testbench").setLevel(logging.INFO)
+    config = request.config
+    target = _target(config)
+    directory = _evidence_dir(config)
+    name = safe_name(request.node.nodeid)
+    with target.bench(directory / "evidence" / f"{name}.mf4") as bench:
+        if request.node.get_closest_marker(SIMULATOR_MARK) and not bench.sim.available:
+            pytest.skip(f"needs the simulated ECU: {bench.sim.control.where}")
+        try:
+            yield bench
+        finally:
+            _write_record(directory, name, request.node, bench)
+
+
+def _write_record(directory: Path, name: str, node: pytest.Item, bench) -> None:
+    """What the report needs of a test beyond its outcome: its steps and evidence (workers write it, the
+    controller reads it)."""
+    record = {
+        "nodeid": node.nodeid,
+        "epoch": bench.timeline.epoch,
+        "steps": [step.to_dict() for step in bench.steps],
+        "evidence": [str(path) for path in bench.evidence.parts],
+    }
+    path = directory / "tests" / f"{name}.json"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(record, indent=1), encoding="utf-8")
+
+
+def _one_line(report: pytest.TestReport) -> str:
+    if report.skipped and isinstance(report.longrepr, tuple):
+        return str(report.longrepr[2]).removeprefix("Skipped: ")
+    crash = getattr(report.longrepr, "reprcrash", None)
+    if crash is not None:
+        return crash.message.splitlines()[0] if crash.message else ""
+    return str(report.longrepr).splitlines()[-1] if report.longrepr else ""
+
+
+class _Outcomes:
+    """The outcome of every test, on the controller (xdist forwards the workers' reports), for the report
+    and the requirements' summary."""
+
+    def __init__(self, config: pytest.Config, keep_all: bool):
+        self.config = config
+        self.keep_all = keep_all  # for a report; else only the tests that trace requirements
+        self.results: dict[str, dict] = {}
+
+    def pytest_runtest_logreport(self, report: pytest.TestReport) -> None:
+        requirements = [str(value) for key, value in report.user_properties if key == "requirement"]
+        if not requirements and not self.keep_all:
+            return
+        entry = self.results.setdefault(report.nodeid, {"outcome": "passed", "duration": 0.0, "message": "",
+                                                        "requirements": requirements})
+        entry["duration"] += report.duration
+        if report.when == "call":
+            entry["outcome"], entry["message"] = report.outcome, _one_line(report)
+        elif report.failed and entry["outcome"] != "failed":  # an error in setup or teardown
+            entry["outcome"], entry["message"] = "error", _one_line(report)
+        elif report.skipped:
+            entry["outcome"], entry["message"] = "skipped", _one_line(report)
+
+    def pytest_sessionfinish(self, session: pytest.Session) -> None:
+        config = self.config
+        directory = config.stash.get(_REPORT_DIR, None)
+        if directory is None or hasattr(config, "workerinput"):
+            return
+        from workbench.testbench.report import write_report
+
+        target = config.stash.get(_TARGET, None)
+        write_report(directory, self.results, requirements=config.getoption("requirements"),
+                     ecu=target.describe() if target is not None else "")
+
+    def pytest_terminal_summary(self, terminalreporter) -> None:
+        traced = {nodeid: entry for nodeid, entry in self.results.items() if entry["requirements"]}
+        if not traced or hasattr(self.config, "workerinput"):
+            return
+        failed: dict[str, list[str]] = {}
+        verified: set[str] = set()
+        for nodeid, entry in traced.items():
+            for requirement_id in entry["requirements"]:
+                if entry["outcome"] in ("failed", "error"):
+                    failed.setdefault(requirement_id, []).append(nodeid)
+                elif entry["outcome"] == "passed":
+                    verified.add(requirement_id)
+        verified -= set(failed)
+        terminalreporter.section("requirements")
+        terminalreporter.write_line(f"{len(verified)} verified, {len(failed)} failed")
+        for requirement_id, nodeids in sorted(failed.items()):
+            terminalreporter.write_line(f"FAILED {requirement_id}: {', '.join(nodeids)}", red=True)
+        directory = self.config.stash.get(_REPORT_DIR, None)
+        if directory is not None:
+            terminalreporter.write_line(f"report: {directory / 'report.html'}")

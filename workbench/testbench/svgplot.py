@@ -1,0 +1,126 @@
+"""Small inline SVG plots for the report: recorded samples (held between samples), expectation bands, stimuli.
+
+Plain SVG, no script: the report opens in any browser and in a headless one for a screenshot. Long
+signals are reduced to the minimum and maximum per pixel column, so a spike is never lost.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from html import escape
+
+import numpy as np
+
+__all__ = ["Band", "plot_svg"]
+
+WIDTH, HEIGHT = 760, 190
+LEFT, RIGHT, TOP, BOTTOM = 92, 12, 22, 28
+PASS, FAIL, LINE = "#2e7d32", "#c62828", "#1f4e9a"
+
+
+@dataclass(frozen=True)
+class Band:
+    """An expectation drawn over the signal: [t0, t1] x [low, high] (an open side: None)."""
+
+    t0: float
+    t1: float
+    low: float | None
+    high: float | None
+    passed: bool | None
+    label: str = ""
+
+
+def _nice_ticks(low: float, high: float, count: int = 5) -> list[float]:
+    if high <= low:
+        return [low]
+    raw = (high - low) / count
+    magnitude = 10 ** np.floor(np.log10(raw))
+    step = min((m * magnitude for m in (1, 2, 2.5, 5, 10) if m * magnitude >= raw), default=raw)
+    first = np.ceil(low / step) * step
+    return [float(v) for v in np.arange(first, high + step * 1e-9, step)]
+
+
+def _reduce(t: np.ndarray, y: np.ndarray, columns: int) -> tuple[np.ndarray, np.ndarray]:
+    """At most about 2 * ``columns`` points: min and max per column, in time order."""
+    if len(t) <= 2 * columns:
+        return t, y
+    edges = np.linspace(t[0], t[-1], columns + 1)
+    index = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, columns - 1)
+    keep = []
+    for column in np.unique(index):
+        members = np.flatnonzero(index == column)
+        low, high = members[np.argmin(y[members])], members[np.argmax(y[members])]
+        keep += sorted({low, high})
+    keep = np.array(keep)
+    return t[keep], y[keep]
+
+
+def plot_svg(t: np.ndarray, y: np.ndarray, *, title: str, unit: str = "", bands: list[Band] = (),
+             stimuli: list[float] = (), labels: dict[float, str] | None = None,
+             span: tuple[float, float] | None = None) -> str:
+    """One signal over time (s) as an SVG element; ``labels`` names the values of a verbal signal."""
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(y, dtype=float)
+    t0 = min([*(t[:1]), *(b.t0 for b in bands), *stimuli], default=0.0) if span is None else span[0]
+    t1 = max([*(t[-1:]), *(b.t1 for b in bands), *stimuli], default=1.0) if span is None else span[1]
+    if t1 <= t0:
+        t1 = t0 + 1.0
+    finite = [v for b in bands for v in (b.low, b.high) if v is not None and np.isfinite(v)]
+    values = np.concatenate([y[np.isfinite(y)], finite, list(labels or ())]) if len(y) or finite else np.array([0.0, 1.0])
+    y0, y1 = (float(np.min(values)), float(np.max(values))) if len(values) else (0.0, 1.0)
+    pad = (y1 - y0) * 0.08 or max(abs(y0) * 0.1, 0.5)
+    y0, y1 = y0 - pad, y1 + pad
+    plot_w, plot_h = WIDTH - LEFT - RIGHT, HEIGHT - TOP - BOTTOM
+
+    def x_of(v):
+        return LEFT + (np.asarray(v, dtype=float) - t0) / (t1 - t0) * plot_w
+
+    def y_of(v):
+        return TOP + (y1 - np.asarray(v, dtype=float)) / (y1 - y0) * plot_h
+
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{HEIGHT}" '
+             f'viewBox="0 0 {WIDTH} {HEIGHT}" font-family="sans-serif" font-size="11">',
+             f'<rect x="{LEFT}" y="{TOP}" width="{plot_w}" height="{plot_h}" fill="#fff" stroke="#999"/>',
+             f'<text x="{LEFT}" y="14" font-weight="bold">{escape(title)}</text>']
+    for band in bands:
+        low = y0 if band.low is None or not np.isfinite(band.low) else max(band.low, y0)
+        high = y1 if band.high is None or not np.isfinite(band.high) else min(band.high, y1)
+        if band.low is not None and band.high is not None and band.low == band.high:
+            low, high = band.low - (y1 - y0) * 0.02, band.high + (y1 - y0) * 0.02
+        colour = FAIL if band.passed is False else PASS
+        x_a, x_b = float(x_of(max(band.t0, t0))), float(x_of(min(band.t1, t1)))
+        y_a, y_b = float(y_of(high)), float(y_of(low))
+        parts.append(f'<rect x="{x_a:.1f}" y="{y_a:.1f}" width="{max(x_b - x_a, 1.5):.1f}" height="{max(y_b - y_a, 1.5):.1f}" '
+                     f'fill="{colour}" fill-opacity="0.18" stroke="{colour}" stroke-dasharray="4 2">'
+                     f'<title>{escape(band.label)}</title></rect>')
+    for moment in stimuli:
+        x = float(x_of(moment))
+        parts.append(f'<line x1="{x:.1f}" y1="{TOP}" x2="{x:.1f}" y2="{TOP + plot_h}" stroke="#e08a00" '
+                     'stroke-dasharray="2 3"/>')
+    ticks = sorted(labels) if labels else _nice_ticks(y0, y1)
+    for tick in ticks:
+        if y0 <= tick <= y1:
+            level = float(y_of(tick))
+            text = labels[tick] if labels else f"{tick:g}"
+            parts.append(f'<line x1="{LEFT - 4}" y1="{level:.1f}" x2="{LEFT + plot_w}" y2="{level:.1f}" stroke="#eee"/>'
+                         f'<text x="{LEFT - 6}" y="{level + 4:.1f}" text-anchor="end">{escape(text)}</text>')
+    for tick in _nice_ticks(t0, t1, 8):
+        x = float(x_of(tick))
+        parts.append(f'<text x="{x:.1f}" y="{HEIGHT - 10}" text-anchor="middle">{tick:g}</text>')
+    parts.append(f'<text x="{WIDTH - RIGHT}" y="{HEIGHT - 10}" text-anchor="end">s</text>')
+    if unit and not labels:
+        parts.append(f'<text x="{LEFT + 4}" y="{TOP + 12}" fill="#666">{escape(unit)}</text>')
+    inside = (t >= t0) & (t <= t1)
+    tt, yy = _reduce(t[inside], y[inside], plot_w)
+    if len(tt):
+        xs, ys = x_of(tt), y_of(yy)
+        # hold each sample until the next one, as the ECU holds its value between two DAQ samples
+        points = [f"{xs[0]:.1f},{ys[0]:.1f}"]
+        for i in range(1, len(xs)):
+            points.append(f"{xs[i]:.1f},{ys[i - 1]:.1f} {xs[i]:.1f},{ys[i]:.1f}")
+        parts.append(f'<polyline points="{" ".join(points)}" fill="none" stroke="{LINE}" stroke-width="1.4"/>')
+    else:
+        parts.append(f'<text x="{LEFT + plot_w / 2}" y="{TOP + plot_h / 2}" text-anchor="middle" fill="#999">'
+                     'no samples recorded</text>')
+    parts.append("</svg>")
+    return "".join(parts)
