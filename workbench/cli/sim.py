@@ -6,6 +6,7 @@ import argparse
 import signal
 import sys
 import threading
+from contextlib import ExitStack
 
 from workbench.cli.options import (
     add_bus_arguments,
@@ -32,12 +33,20 @@ and PGM are locked until UNLOCK with the seed & key plugin workbench.sim.seedkey
 (--unlocked serves them open). --static-daq offers four static DAQ lists (two fixed to the 4 ms and
 50 ms events) instead of dynamic DAQ, as older ECUs do.
 
+Faults (--fault, repeatable): a sensor's voltage (rail=4.9: out of its 0.5-4.5 V span), an output
+driver's error (OTV1=OPEN_LOAD; OTV2, PRV, LED; SHORT_TO_GND, SHORT_TO_BAT ...), a channel id error on
+an RX message (chid:PCM_TO_FLCU_001), and with --pcm a PCM message that stops (pcm-stop:PCM_TO_FLCU_002:
+an RX timeout) or has another DLC (pcm-dlc:PCM_TO_FLCU_002=2). The same faults, and more, can be
+injected while it runs through its control channel (127.0.0.1, a free port, shown in the banner): the
+requirement tests (workbench test) find it by the bus options alone.
+
 examples:
   workbench sim --pcm
   workbench sim --interface udp_multicast --channel 239.74.163.2 --bus-kwargs port=43200
   workbench sim --interface virtual --channel demo --time-scale 10
   workbench sim --interface socketcan --channel vcan0 --can2-channel vcan1
   workbench sim --host 127.0.0.1 --port 5555 --protocol tcp --pcm
+  workbench sim --pcm --fault rail=4.9 --fault OTV1=OPEN_LOAD
 """
 
 
@@ -67,13 +76,18 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     sim.add_argument("--static-daq", action="store_true",
                      help="static DAQ lists (fixed lists, ODTs and entries; no ALLOC_DAQ) instead of dynamic DAQ")
     sim.add_argument("--duration", type=positive_float, metavar="S", help="stop by itself after S real seconds")
+    sim.add_argument("--fault", action="append", default=[], metavar="FAULT",
+                     help="inject a fault from the start (repeatable; see below)")
+    sim.add_argument("--no-control", action="store_true", help="no control channel (fault injection while it runs)")
     add_output_arguments(parser)
     parser.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    from workbench.sim.demo_ecu import DemoFiles
+    from workbench.sim.control import ControlServer, endpoint_keys
+    from workbench.sim.demo_ecu import DemoFiles, build_demo_ecu
     from workbench.sim.eth_port import EthernetEndpoint
+    from workbench.sim.inject import FlcuFaults
     from workbench.sim.serve import serve_demo
 
     bus = bus_settings(args)
@@ -94,18 +108,23 @@ def run(args: argparse.Namespace) -> int:
         a2l=args.a2l or defaults.a2l, elf=args.elf or defaults.elf,
         s19=args.s19 or defaults.s19, dbc=args.dbc or defaults.dbc,
     )
-    simulator = serve_demo(
-        bus, ethernet=ethernet, can2=can2, files=files, pcm_target_bar=args.pcm_target if args.pcm else None,
-        time_scale=args.time_scale, valid_key=not args.no_app_key, unlocked=args.unlocked, static_daq=args.static_daq,
-    )
+    demo = build_demo_ecu(files, transport=ethernet.protocol if ethernet is not None else "CAN",
+                          valid_key=not args.no_app_key, unlocked=args.unlocked, static_daq=args.static_daq)
+    simulator = serve_demo(bus, ethernet=ethernet, can2=can2, demo=demo,
+                           pcm_target_bar=args.pcm_target if args.pcm else None, time_scale=args.time_scale)
     stop = threading.Event()
     previous = {}
     if threading.current_thread() is threading.main_thread():  # Ctrl-C and SIGTERM stop serving, also the moment
         for number in (signal.SIGINT, signal.SIGTERM):         # the banner is out
             previous[number] = signal.signal(number, lambda *_: stop.set())
     try:
-        with simulator:
-            _announce(args, simulator, files)
+        with simulator, ExitStack() as stack:
+            faults = FlcuFaults(demo, simulator.lock, simulator.pcm)
+            injected = [faults.apply(spec) for spec in args.fault]
+            control = None
+            if not args.no_control:
+                control = stack.enter_context(ControlServer(faults, endpoint_keys(simulator.describe())))
+            _announce(args, simulator, files, injected, control.address if control else None)
             stop.wait(args.duration)
     finally:
         for number, handler in previous.items():
@@ -115,10 +134,12 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _announce(args: argparse.Namespace, simulator, files) -> None:
+def _announce(args: argparse.Namespace, simulator, files, faults: list[str], control: tuple | None) -> None:
     info = simulator.describe()
     info["files"] = {key: str(value) for key, value in vars(files).items()}
     info["pcm"] = {"target_bar": args.pcm_target} if args.pcm else None
+    info["faults"] = faults
+    info["control"] = {"host": control[0], "port": control[1]} if control else None
     if args.json:
         print_json(info)
         sys.stdout.flush()
@@ -142,6 +163,9 @@ def _announce(args: argparse.Namespace, simulator, files) -> None:
         f"  DAQ          {_daq_text(info['daq'], simulator.ecu.params.events)}",
         f"  PCM          TargetRailPressure {args.pcm_target} bar, EnableFLCU 1" if args.pcm else "  PCM          off (--pcm)",
         "  seed & key   workbench.sim.seedkey:compute_key" + (" (not needed: --unlocked)" if args.unlocked else ""),
+        *(f"  fault        {fault}" for fault in faults),
+        f"  control      {control[0]}:{control[1]} (fault injection; workbench test finds it by the bus options)"
+        if control else "  control      off (--no-control)",
         "serving; Ctrl-C stops",
     ]
     print("\n".join(lines), flush=True)

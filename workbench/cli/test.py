@@ -70,6 +70,7 @@ def pytest_arguments(args: argparse.Namespace) -> list[str]:
     bus = {key: value for key, value in (bus_settings(args) or {}).items() if value is not None}
     if "timing" in bus:
         raise InputError("--timing cannot be passed to the tests; give --bitrate (and --bus-kwargs)")
+    real_ecu = bool(bus) or bool(args.host)
     argv = [*paths, "-p", "workbench.testbench.plugin", "-p", "no:cacheprovider", "-rfEs", "-o", "junit_family=xunit1"]
     for option, value in (("--interface", bus.pop("interface", None)), ("--channel", bus.pop("channel", None)),
                           ("--bitrate", bus.pop("bitrate", None)), ("--a2l", args.a2l), ("--host", args.host),
@@ -87,11 +88,11 @@ def pytest_arguments(args: argparse.Namespace) -> list[str]:
     if requirements:
         argv += ["--requirements", requirements]
     if args.workers:
-        if args.interface or args.channel or args.host or bus:
+        if real_ecu:
             raise InputError("-n runs a simulated ECU per worker; a real ECU (bus options) takes one master at a time")
         if importlib.util.find_spec("xdist") is None:
             raise InputError("-n needs pytest-xdist: pip install pytest-xdist")
-        argv += ["-p", "xdist.plugin", "-n", str(args.workers)]
+        argv += ["-p", "xdist", "-n", str(args.workers)]  # its entry point's name
     return argv
 
 

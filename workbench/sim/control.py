@@ -29,7 +29,7 @@ from typing import Any
 
 from workbench.errors import InputError, WorkbenchError
 
-__all__ = ["CALLS", "ControlClient", "ControlServer", "endpoint_key", "find_control"]
+__all__ = ["CALLS", "ControlClient", "ControlServer", "endpoint_key", "endpoint_keys", "find_control"]
 
 log = logging.getLogger(__name__)
 
@@ -45,6 +45,18 @@ def endpoint_key(bus: Mapping[str, Any] | None = None, *, host: str | None = Non
     if bus is not None:
         return "can|{}|{}|{}".format(bus.get("interface", ""), bus.get("channel", ""), bus.get("port", ""))
     return f"{(protocol or 'udp').lower()}|{host}|{port}"
+
+
+def endpoint_keys(served: Mapping[str, Any]) -> list[str]:
+    """The keys a simulator registers its control channel under, from its :meth:`Simulator.describe
+    <workbench.sim.server.Simulator.describe>`: the XCP endpoint, and the CAN bus it serves on."""
+    xcp, buses = served.get("xcp") or {}, served.get("buses") or {}
+    keys = []
+    if xcp.get("transport") in ("UDP", "TCP"):
+        keys.append(endpoint_key(host=xcp.get("host"), port=xcp.get("port"), protocol=xcp["transport"]))
+    if isinstance(buses.get("CAN1"), Mapping) and "interface" in buses["CAN1"]:
+        keys.append(endpoint_key(buses["CAN1"]))
+    return keys
 
 
 def _registry() -> Path:

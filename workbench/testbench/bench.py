@@ -106,7 +106,8 @@ class Bench:
         self.session = session
         self.timeline = Timeline()
         self.steps: list[Step] = []
-        self.last_stimulus: float | None = None
+        self.last_stimulus: float | None = None  # when the latest stimulus began (bench s)
+        self._stimulus_done: float | None = None  # ... and when it was complete
         self._signals: dict[str, _Signal] = {}
         self._watched: list[str] = []
         self._journal: dict[str, CalValue] = {}  # calibration -> its value before the bench first wrote it
@@ -143,9 +144,10 @@ class Bench:
         self._add(Step("note", text, self.now(), self.now()))
 
     def _stimulated(self, text: str, t_start: float | None = None) -> None:
-        moment = self.now() if t_start is None else t_start
-        self.last_stimulus = moment
-        self._add(Step("stimulus", text, moment, self.now()))
+        done = self.now()
+        moment = done if t_start is None else min(t_start, done)
+        self.last_stimulus, self._stimulus_done = moment, max(done, moment)
+        self._add(Step("stimulus", text, moment, done))
 
     def _fail(self, step: Step, detail: str) -> None:
         step.passed, step.detail, step.t_end = False, detail, max(step.t_end, step.t_start)
@@ -404,28 +406,29 @@ class Bench:
 
     def expect_edge(self, name: str, condition: Any, within: float, *, after: float | None = None) -> float:
         """``name`` comes to meet ``condition`` within ``within`` s of the last stimulus (or of ``after``),
-        having not met it then. Returns the latency in s. The signal must be sampled before the stimulus:
-        watch it first. :raises ExpectationFailed: no edge, or too late."""
+        having not met it when the stimulus began. The deadline counts from the end of the stimulus (a
+        write is complete when the ECU answered it). Returns the latency in s. The signal must be sampled
+        before the stimulus: watch it first. :raises ExpectationFailed: no edge, or too late."""
         signal = self._sampled(name)
         wanted = self._condition(signal, condition)
-        reference = after if after is not None else self.last_stimulus
+        reference, done = (after, after) if after is not None else (self.last_stimulus, self._stimulus_done)
         if reference is None:
             raise InputError(f"expect_edge({name}): no stimulus yet to measure from (or give after=)")
         step = self._step("expect", f"expect {name} {wanted.describe(signal.unit)} within {within * 1000:g} ms "
-                          f"of t={reference:.3f} s", reference, signal, wanted)
-        step.t_end = reference + within
+                          f"of t={done:.3f} s", reference, signal, wanted)
+        step.t_end = done + within
         before = self.timeline.last_before(name, reference)
         if before is None:
             raise InputError(f"{name} was not sampled before t={reference:.3f} s: watch it before the stimulus "
                              f"(ecu.watch({name!r}))")
         if wanted.test(np.array([before[1]]))[0]:
             self._fail(step, f"no edge: it was already {_text(before[1])}{_unit(signal.unit)} at t={before[0]:.3f} s")
-        hit, last = self._first(name, wanted, reference, reference + within)
+        hit, last = self._first(name, wanted, reference, done + within)
         if hit is None:
             self._fail(step, f"not within {within * 1000:g} ms; {_last_seen(last, signal.unit)}")
-        step.passed, step.detail = True, f"after {(hit - reference) * 1000:.0f} ms, at t={hit:.3f} s"
+        step.passed, step.detail = True, f"after {max(hit - done, 0.0) * 1000:.0f} ms, at t={hit:.3f} s"
         self._add(step)
-        return hit - reference
+        return max(hit - done, 0.0)
 
     def expect_period(self, message: str, period_s: float, tolerance_s: float, *, for_s: float = 1.0,
                       jitter_s: float | None = None) -> float:

@@ -17,7 +17,9 @@ def test_enable_is_read_from_frame_0x110(ecu):
     frame and a CANRX period, and each CANRX step finds new data (status OK throughout)."""
     assert ecu.can2.message("PCM_TO_FLCU_001").frame_id == 0x110, "the DBC puts PCM_TO_FLCU_001 elsewhere"
     ecu.watch(ENABLE, STATUS_1)
-    ecu.send("PCM_TO_FLCU_001", period=CAN_PERIOD_S, EnableFLCU=1)
+    ecu.send("PCM_TO_FLCU_001", period=CAN_PERIOD_S, EnableFLCU=0)
+    ecu.wait_until(ENABLE, 0, timeout=RX_LATENCY_S)  # whatever the ECU last received
+    ecu.send("PCM_TO_FLCU_001", EnableFLCU=1)
     ecu.expect_edge(ENABLE, 1, within=RX_LATENCY_S)
     ecu.expect(STATUS_1, "CAN_RX_OK", for_s=0.5)
     ecu.send("PCM_TO_FLCU_001", EnableFLCU=0)
@@ -29,7 +31,9 @@ def test_target_rail_pressure_is_read_from_frame_0x220(ecu):
     """TargetRailPressure arrives in frame 0x220 and is read every 100 ms, to its resolution."""
     assert ecu.can2.message("PCM_TO_FLCU_002").frame_id == 0x220, "the DBC puts PCM_TO_FLCU_002 elsewhere"
     ecu.watch(TARGET, STATUS_2)
-    ecu.send("PCM_TO_FLCU_002", period=CAN_PERIOD_S, TargetRailPressure=30.0)
+    ecu.send("PCM_TO_FLCU_002", period=CAN_PERIOD_S, TargetRailPressure=12.5)
+    ecu.wait_until(TARGET, equals(12.5, RESOLUTION_BAR), timeout=RX_LATENCY_S)  # whatever the ECU last received
+    ecu.send("PCM_TO_FLCU_002", TargetRailPressure=30.0)
     ecu.expect_edge(TARGET, equals(30.0, RESOLUTION_BAR), within=RX_LATENCY_S)
     ecu.send("PCM_TO_FLCU_002", TargetRailPressure=12.5)
     ecu.expect_edge(TARGET, equals(12.5, RESOLUTION_BAR), within=RX_LATENCY_S)

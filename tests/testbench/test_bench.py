@@ -1,0 +1,92 @@
+"""The step vocabulary on a simulated demo ECU (the plugin's own wiring): steps that pass, steps that fail in
+one line, the evidence it records, what it restores, and what only a simulator can do."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+from asammdf import MDF
+
+from workbench.errors import InputError
+from workbench.testbench import Bench, ExpectationFailed, SimulatorUnavailable, at_least, equals, within
+from workbench.testbench.target import EcuTarget
+
+TIME = r"t=\d+\.\d{3} s"
+
+
+@pytest.fixture(scope="module")
+def target() -> EcuTarget:
+    return EcuTarget()
+
+
+def test_steps_on_measurements_and_can2_with_evidence(target, tmp_path):
+    evidence = tmp_path / "run.mf4"
+    with target.bench(evidence) as ecu:
+        ecu.watch("xsSystemAbilitation", "xsTankCtrlState", "zsRailPressure")
+        ecu.send("PCM_TO_FLCU_001", period=0.1, EnableFLCU=1)
+        ecu.send("PCM_TO_FLCU_002", period=0.1, TargetRailPressure=25.0)
+        ecu.wait_until("xsSystemAbilitation", "ON", timeout=2.0)
+        ecu.expect("xsTankCtrlState", "TANK1_ON", for_s=0.2)
+        ecu.expect("FLCU_TO_PCM_002.RailPressure", at_least(0.0), for_s=0.2)
+        ecu.expect_period("FLCU_TO_PCM_003", 0.1, tolerance_s=0.1, for_s=0.5, jitter_s=10.0)  # a loaded host: no timing
+        ecu.send("PCM_TO_FLCU_001", EnableFLCU=0)
+        latency = ecu.expect_edge("xsTankCtrlState", "OFF", within=2.0)
+        assert 0.0 <= latency < 2.0
+        kinds = [(step.kind, step.passed) for step in ecu.steps]
+        assert kinds[0] == ("note", None) and ("stimulus", None) in kinds
+        assert [passed for kind, passed in kinds if kind in ("wait", "expect")] == [True] * 5
+        assert "FLCU_TO_PCM_003 (0x145) every 100" in ecu.steps[-3].text
+        assert ecu.evidence.parts == [evidence]  # everything watched first: one file
+    with MDF(evidence) as mdf:
+        groups = [group.channel_group.acq_name for group in mdf.groups]
+        assert {"Task4ms", "Task50ms", "FLCU_TO_PCM_002"} <= set(groups)
+        assert len(mdf.get("zsRailPressure").samples) > 50
+
+
+def test_a_failed_expectation_is_one_line_naming_signal_band_value_and_time(target, tmp_path):
+    with target.bench(tmp_path / "failing.mf4") as ecu:
+        ecu.watch("xsDC", "xsTankCtrlState")
+        with pytest.raises(ExpectationFailed) as failed:
+            ecu.expect("xsDC", within(50.0, 60.0), for_s=0.2)  # no PCM: the system is off, the duty 0
+        assert re.fullmatch(rf"expect xsDC within \[50, 60\] % for 0.2 s: 0 % at {TIME}", str(failed.value))
+        with pytest.raises(ExpectationFailed, match=rf"^wait until xsTankCtrlState = TANK1_ON \(timeout 0.3 s\): "
+                                                    rf"not within 0.3 s; last OFF at {TIME}$"):
+            ecu.wait_until("xsTankCtrlState", "TANK1_ON", timeout=0.3)
+        ecu.write("xsSWITCH_TANK_THR", 5.0)
+        with pytest.raises(ExpectationFailed, match=rf"no edge: it was already OFF at {TIME}$"):
+            ecu.expect_edge("xsTankCtrlState", "OFF", within=0.2)
+        with pytest.raises(InputError, match="zsRailPressure was not sampled before"):
+            ecu.expect_edge("zsRailPressure", equals(0.0), within=0.2)  # watched only now: no "before"
+        assert ecu.evidence.parts[-1].name == "failing.part2.mf4"  # a new signal: a new part
+        with pytest.raises(InputError, match="a calibration is written"):
+            ecu.expect("xsSWITCH_TANK_THR", 5.0, for_s=0.1)
+        assert [step.passed for step in ecu.steps if step.kind != "note" and step.passed is not None] == [False] * 3
+
+
+def test_calibrations_faults_and_sends_are_undone(target, tmp_path):
+    with target.bench(tmp_path / "undo.mf4") as ecu:
+        before = ecu.session.read_many(["xsSWITCH_TANK_THR", "zfRAILPRESSURE_EN", "zfRAILPRESSURE_VALUE"])
+        ecu.watch("zsRailPressure")
+        ecu.write("xsSWITCH_TANK_THR", 5.0)
+        ecu.override("zfRAILPRESSURE", 33.0)
+        ecu.wait_until("zsRailPressure", equals(33.0), timeout=1.0)
+        ecu.sim.sensor_voltage("tank1", 4.9)
+        ecu.send("PCM_TO_FLCU_002", period=0.1, TargetRailPressure=10.0)
+        ecu.close()
+        assert ecu.session.read_many(list(before)) == before
+        assert "ANIN_CH_ID_000" not in ecu.sim.control.faults.demo.plant._voltage_overrides
+        assert ecu.can2._tasks == {}
+        assert [step.text for step in ecu.steps[-3:]] == [
+            "restore zfRAILPRESSURE_EN = OFF", "restore zfRAILPRESSURE_VALUE = 0 bar", "restore xsSWITCH_TANK_THR = 20 bar"]
+
+
+def test_a_real_ecu_has_no_simulator_controls(target, tmp_path):
+    with target.bench(tmp_path / "sim.mf4") as simulated:
+        real = Bench(simulated.session, evidence=tmp_path / "real.mf4")  # no simulator given: as on a real ECU
+        assert not real.sim.available
+        with pytest.raises(SimulatorUnavailable, match="sensor_voltage: plant inputs and faults need the simulated ECU"):
+            real.sim.sensor_voltage("rail", 4.9)
+        with pytest.raises(InputError, match="no CAN2 bus"):
+            real.send("PCM_TO_FLCU_001", EnableFLCU=1)
+        real.close()

@@ -1,0 +1,86 @@
+"""``workbench test``: bad input is exit 2; the shipped suite, run with the command's pytest arguments (in this
+process, as pytester runs pytest: a process of its own would cost its imports), fails naming the requirement
+against a demo ECU whose s19 breaks it while an unrelated one passes, and passes against ``workbench sim`` in
+another process given only bus options, fault injection included."""
+
+from __future__ import annotations
+
+import argparse
+import struct
+import xml.etree.ElementTree as ET
+
+from sim_process import start_sim_process
+
+import workbench.testbench.options  # noqa: F401 (kept across pytester's runs, see test_plugin.py)
+from workbench import demo
+from workbench.cli import build_parser, main
+from workbench.cli.test import pytest_arguments
+from workbench.elf import ElfSymbols
+from workbench.image import load_image
+
+CAL_RAM, CAL_ROM = 0x40000000, 0xFC0000
+PRV = "rail_pressure_follows_the_target"  # SW_REQ_ID_003.1
+FUEL = "fuel_level_from_both_tank_pressures"  # SW_REQ_ID_006.1
+
+
+pytest_plugins = ["pytester"]
+
+
+def _run(pytester, *args: str):
+    """``workbench test ARGS`` as the command runs pytest, in this process."""
+    parsed: argparse.Namespace = build_parser().parse_args(["test", *args])
+    return pytester.runpytest_inprocess(*pytest_arguments(parsed))
+
+
+def _outcomes(junit) -> dict[str, tuple[str, list[str]]]:
+    outcomes = {}
+    for case in ET.parse(junit).iter("testcase"):
+        kinds = [child.tag for child in case if child.tag in ("failure", "error", "skipped")]
+        outcomes[case.get("name")] = (kinds[0] if kinds else "passed",
+                                      [p.get("value") for p in case.iter("property") if p.get("name") == "requirement"])
+    return outcomes
+
+
+def test_bad_input_is_exit_2(capsys, tmp_path):
+    assert main(["test", str(tmp_path / "none.py")]) == 2
+    assert capsys.readouterr().err.strip() == f"error: {tmp_path / 'none.py'}: no such test file or folder"
+    assert main(["test", "-n", "2", "--interface", "virtual", "--channel", "x"]) == 2
+    assert "a real ECU (bus options) takes one master at a time" in capsys.readouterr().err
+    (tmp_path / "file").write_text("")
+    assert main(["test", "--report", str(tmp_path / "file")]) == 2
+    assert capsys.readouterr().err.strip() == f"error: --report {tmp_path / 'file'}: is a file; name a folder"
+
+
+def test_a_flash_whose_calibration_breaks_a_requirement_fails_that_requirement(pytester, tmp_path):
+    """xsPRV_DC_MAX = 0 % in the s19's CAL ROM: the PRV cannot open, the rail cannot follow its target."""
+    image = load_image(demo.s19())
+    address = ElfSymbols(demo.elf()).symbol("xsPRV_DC_MAX").address - CAL_RAM + CAL_ROM
+    assert struct.unpack("<f", image.read(address, 4)) == (100.0,)
+    image.add(address, struct.pack("<f", 0.0), overwrite=True)
+    broken = tmp_path / "broken.s19"
+    image.save(broken)
+    run = _run(pytester, "--sim-s19", str(broken), "-k", f"{PRV} or {FUEL}", "--report", str(tmp_path / "out"))
+    assert run.ret == 1
+    run.stdout.fnmatch_lines(["FAILED SW_REQ_ID_003.1: test_prv_ctrl.py::test_rail_pressure_follows_the_target"])
+    outcomes = _outcomes(tmp_path / "out" / "junit.xml")
+    assert outcomes == {"test_rail_pressure_follows_the_target": ("failure", ["SW_REQ_ID_003.1"]),
+                        "test_fuel_level_from_both_tank_pressures": ("passed", ["SW_REQ_ID_006.1"])}
+    html = (tmp_path / "out" / "report.html").read_text()
+    assert "wait until zsRailPressure within [24, 26] bar (timeout 2.3 s): not within 2.3 s; last 0 bar" in html
+    evidence = sorted(p.name for p in (tmp_path / "out" / "evidence").iterdir())
+    assert evidence == ["test_fuel_level.py-test_fuel_level_from_both_tank_pressures.mf4",
+                        "test_prv_ctrl.py-test_rail_pressure_follows_the_target.mf4"]  # one file each: all watched
+
+
+def test_the_suite_runs_against_workbench_sim_in_another_process(pytester, tmp_path, free_udp_port):
+    bus = ["--interface", "udp_multicast", "--bus-kwargs", f"port={free_udp_port}"]
+    process, banner = start_sim_process(*bus)
+    try:
+        assert "control      127.0.0.1:" in banner
+        run = _run(pytester, *bus, "-k", "outside_its_span and rail", "--report", str(tmp_path / "out"))
+    finally:
+        process.terminate()
+        process.wait(timeout=30)
+    assert run.ret == 0
+    assert _outcomes(tmp_path / "out" / "junit.xml") == {  # passed, not skipped: the faults reached the other process
+        "test_a_sensor_outside_its_span_is_diagnosed[rail]": ("passed", ["SW_REQ_ID_008.4"])}

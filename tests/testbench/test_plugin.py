@@ -1,0 +1,87 @@
+"""The pytest plugin as plain pytest meets it: requirement ids as JUnit properties, the ecu fixture on a fresh
+simulated ECU, its evidence and the report; ECU options checked at once; tests that need the simulator skipped
+on another ECU; nothing heavy imported by a test run that does not use it."""
+
+from __future__ import annotations
+
+import itertools
+import json
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+import pytest
+
+import workbench.testbench.options  # noqa: F401 (imported here, the inner runs of pytester do not import it again:
+from workbench.sim import serve_demo  # it drops the modules a run imported, and two generations would meet)
+
+pytest_plugins = ["pytester"]
+_channels = itertools.count()
+
+TESTS = '''
+from workbench.testbench import needs_simulator, requirement, within
+
+@requirement("R1", "R2")
+def test_on_the_ecu(ecu):
+    ecu.watch("xsDC")
+    ecu.expect("xsDC", within(0, 100), for_s=0.1)
+
+@requirement("R3")
+def test_without_the_ecu():
+    assert 1 + 1 == 3
+
+@requirement("R4")
+@needs_simulator
+def test_with_a_fault(ecu):
+    ecu.sim.sensor_voltage("rail", 4.9)
+'''
+
+
+def _properties(junit) -> dict[str, list[str]]:
+    return {case.get("name"): [p.get("value") for p in case.iter("property") if p.get("name") == "requirement"]
+            for case in ET.parse(junit).iter("testcase")}
+
+
+def test_requirements_evidence_and_report(pytester):
+    pytester.makepyfile(test_flcu=TESTS)
+    result = pytester.runpytest_inprocess("--report", "out", "-p", "no:cacheprovider")
+    result.assert_outcomes(passed=2, failed=1)
+    result.stdout.fnmatch_lines(["*requirements*", "3 verified, 1 failed", "FAILED R3: test_flcu.py::test_without_the_ecu",
+                                 "report: out*report.html"])
+    out = pytester.path / "out"
+    assert _properties(out / "junit.xml") == {"test_on_the_ecu": ["R1", "R2"], "test_without_the_ecu": ["R3"],
+                                              "test_with_a_fault": ["R4"]}
+    assert sorted(p.name for p in (out / "evidence").iterdir()) == ["test_flcu.py-test_on_the_ecu.mf4",
+                                                                      "test_flcu.py-test_with_a_fault.mf4"]
+    record = json.loads((out / "tests" / "test_flcu.py-test_on_the_ecu.json").read_text())
+    assert [step["passed"] for step in record["steps"] if step["kind"] == "expect"] == [True]
+    html = (out / "report.html").read_text()
+    assert html.index("<h2>Traceability</h2>") < html.index("<svg") and "assert (1 + 1) == 3" in html
+
+
+def test_bad_ecu_options_are_usage_errors(pytester):
+    pytester.makepyfile(test_flcu=TESTS)
+    result = pytester.runpytest_inprocess("--sim-s19", "missing.s19", "-p", "no:cacheprovider")
+    assert result.ret == pytest.ExitCode.USAGE_ERROR
+    result.stderr.fnmatch_lines(["*missing.s19: no such file*"])
+    result = pytester.runpytest_inprocess("--interface", "virtual", "--host", "127.0.0.1", "-p", "no:cacheprovider")
+    assert result.ret == pytest.ExitCode.USAGE_ERROR
+    result.stderr.fnmatch_lines(["*either CAN options*or Ethernet ones*"])
+
+
+def test_an_ecu_without_simulator_control_skips_what_needs_it(pytester):
+    channel = f"plugin-test-{next(_channels)}"
+    pytester.makepyfile(test_flcu=TESTS)
+    with serve_demo({"interface": "virtual", "channel": channel}):  # served, but registers no control channel
+        result = pytester.runpytest_inprocess("--interface", "virtual", "--channel", channel, "-k", "on_the_ecu or fault",
+                                              "-p", "no:cacheprovider", "-rs")
+    result.assert_outcomes(passed=1, skipped=1)
+    result.stdout.fnmatch_lines(["*needs the simulated ECU: no simulator registered a control channel for XCP on CAN*"])
+
+
+def test_a_test_run_that_does_not_use_it_loads_nothing_heavy():
+    code = ("import sys, json, workbench.testbench.plugin, workbench.testbench; "
+            "print(json.dumps(sorted({m.split('.')[0] for m in sys.modules} & "
+            "{'numpy', 'can', 'cantools', 'asammdf', 'pyxcp', 'elftools'})))")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert json.loads(run.stdout) == []
