@@ -64,7 +64,7 @@ def test_traceability_steps_and_plots(tmp_path):
     assert "zsRailPressure" in rail and 'fill="#2e7d32"' in rail and "<polyline" in rail  # a passed band, the samples
     assert ">TANK1_ON</text>" in state and 'fill="#c62828"' in state  # verbal labels; the failed band in red
     first_x = float(re.search(r'points="([\d.]+),', rail)[1])
-    assert first_x > 92 + 0.2 * (760 - 104)  # the samples start 0.5 s into the test, not at its start
+    assert first_x > 56 + 0.2 * (760 - 68)  # the samples start 0.5 s into the test, not at its start
 
 
 def test_a_test_without_steps_and_a_bad_catalogue(tmp_path):

@@ -71,7 +71,9 @@ def pytest_arguments(args: argparse.Namespace) -> list[str]:
     if "timing" in bus:
         raise InputError("--timing cannot be passed to the tests; give --bitrate (and --bus-kwargs)")
     real_ecu = bool(bus) or bool(args.host)
-    argv = [*paths, "-p", "workbench.testbench.plugin", "-p", "no:cacheprovider", "-rfEs", "-o", "junit_family=xunit1"]
+    argv = [*paths, "-p", "workbench.testbench.plugin", "-p", "no:cacheprovider", "-rfEs", "-o", "junit_family=xunit1",
+            # this command imported the workbench before pytest could mark its plugin's package for rewriting
+            "-W", "ignore:Module already imported so cannot be rewritten:pytest.PytestAssertRewriteWarning"]
     for option, value in (("--interface", bus.pop("interface", None)), ("--channel", bus.pop("channel", None)),
                           ("--bitrate", bus.pop("bitrate", None)), ("--a2l", args.a2l), ("--host", args.host),
                           ("--port", args.port), ("--protocol", args.protocol), ("--key-function", args.key_function),

@@ -335,7 +335,7 @@ class Bench:
         wanted = self._condition(signal, condition)
         start = self.now() if since is None else since
         end = start + for_s
-        step = self._step("expect", f"expect {name} {wanted.describe(signal.unit)} for {for_s:g} s", start, signal, wanted)
+        step = self._step("expect", f"expect {name} {wanted.describe(signal.unit)} for {for_s:.3g} s", start, signal, wanted)
         step.t_end = end
         values = self._window(step, name, start, end, lambda times, values: (times, ~wanted.test(values)), signal.unit)
         step.passed = True
@@ -382,11 +382,9 @@ class Bench:
     def _window(self, step: Step, name: str, start: float, end: float, judge, unit: str,
                 reference: str | None = None) -> np.ndarray:
         """The samples of ``name`` in [start, end] once all have come; fails at the first one ``judge`` marks."""
-        seen = start
-        while True:
-            times, values = self.timeline.samples(name, start, end)
-            _, bad = judge(times, values)
-            bad = np.flatnonzero(bad)
+        times, values = np.empty(0), np.empty(0)
+        for times, values in self._arriving(name, start, end):
+            bad = np.flatnonzero(judge(times, values)[1])
             if len(bad):
                 first = bad[0]
                 against = ""
@@ -394,15 +392,25 @@ class Bench:
                     before = self.timeline.last_before(reference, times[first])
                     against = f" against {_text(before[1]) if before else 'no sample'} of {reference}"
                 self._fail(step, f"{_text(values[first])}{_unit(unit)}{against} at t={times[first]:.3f} s")
-            horizon = self.timeline.horizon(name)
-            if horizon is not None and horizon >= end:
-                break
-            if not self.timeline.wait_past(name, max(seen, horizon or seen), end + DATA_LATENCY_S):
-                self._fail(step, f"no samples after t={max(seen, horizon or seen):.3f} s (is DAQ running?)")
-            seen = self.timeline.horizon(name) or seen
+        horizon = self.timeline.horizon(name)
+        if horizon is None or horizon < end:
+            self._fail(step, f"no samples after t={max(start, horizon or start):.3f} s (is DAQ running?)")
         if not len(values):
             self._fail(step, f"no samples between t={start:.3f} s and t={end:.3f} s")
         return values
+
+    def _arriving(self, name: str, start: float, end: float):
+        """(times, values) of ``name`` in [start, end] each time more came; the last once a sample past ``end``
+        came, or none for DATA_LATENCY_S past it."""
+        seen = start
+        while True:
+            yield self.timeline.samples(name, start, end)
+            horizon = self.timeline.horizon(name)
+            if horizon is not None and horizon >= end:
+                return
+            if not self.timeline.wait_past(name, max(seen, horizon or seen), end + DATA_LATENCY_S):
+                return
+            seen = self.timeline.horizon(name) or seen
 
     def expect_edge(self, name: str, condition: Any, within: float, *, after: float | None = None) -> float:
         """``name`` comes to meet ``condition`` within ``within`` s of the last stimulus (or of ``after``),
@@ -473,19 +481,13 @@ class Bench:
 
     def _first(self, name: str, wanted: Condition, start: float, end: float) -> tuple[float | None, tuple | None]:
         """The first sample time in [start, end] meeting ``wanted`` (None: none), and the last sample seen."""
-        seen = start
-        while True:
-            times, values = self.timeline.samples(name, start, end)
+        last = None
+        for times, values in self._arriving(name, start, end):
             hits = np.flatnonzero(wanted.test(values))
             if len(hits):
                 return float(times[hits[0]]), None
-            last = (float(times[-1]), values[-1]) if len(times) else None
-            horizon = self.timeline.horizon(name)
-            if horizon is not None and horizon >= end:
-                return None, last
-            if not self.timeline.wait_past(name, max(seen, horizon or seen), end + DATA_LATENCY_S):
-                return None, last
-            seen = self.timeline.horizon(name) or seen
+            last = (float(times[-1]), values[-1]) if len(times) else last
+        return None, last
 
     # --- closing --------------------------------------------------------------------------------
 

@@ -12,6 +12,7 @@ is not in phase with the ECU's would be most of the time.
 
 from __future__ import annotations
 
+import logging
 import threading
 import time
 from typing import TYPE_CHECKING, Any
@@ -27,6 +28,8 @@ if TYPE_CHECKING:
     from workbench.testbench.timeline import Timeline
 
 __all__ = ["Can2Port"]
+
+log = logging.getLogger(__name__)
 
 PHASE_WAIT_S = 0.15  # how long a periodic start waits to hear the ECU's cycle
 
@@ -63,6 +66,12 @@ class Can2Port:
     # --- hearing --------------------------------------------------------------------------------
 
     def _on_frame(self, frame: can.Message) -> None:
+        try:
+            self._take(frame)
+        except Exception:  # python-can's notifier thread would end: the frames after it must still come
+            log.exception("CAN2 frame 0x%X not taken", frame.arbitration_id)
+
+    def _take(self, frame: can.Message) -> None:
         if frame.is_error_frame or frame.is_remote_frame:
             return
         message = self._by_id.get((frame.arbitration_id, frame.is_extended_id))

@@ -14,7 +14,8 @@ import numpy as np
 __all__ = ["Band", "plot_svg"]
 
 WIDTH, HEIGHT = 760, 190
-LEFT, RIGHT, TOP, BOTTOM = 92, 12, 22, 28
+LEFT, RIGHT, TOP, BOTTOM = 56, 12, 22, 28  # LEFT grows with the longest label of a verbal signal
+CHAR_PX = 6.5  # the width of a character at 11 px
 PASS, FAIL, LINE = "#2e7d32", "#c62828", "#1f4e9a"
 
 
@@ -70,18 +71,19 @@ def plot_svg(t: np.ndarray, y: np.ndarray, *, title: str, unit: str = "", bands:
     y0, y1 = (float(np.min(values)), float(np.max(values))) if len(values) else (0.0, 1.0)
     pad = (y1 - y0) * 0.08 or max(abs(y0) * 0.1, 0.5)
     y0, y1 = y0 - pad, y1 + pad
-    plot_w, plot_h = WIDTH - LEFT - RIGHT, HEIGHT - TOP - BOTTOM
+    left = max(LEFT, 12 + CHAR_PX * max((len(text) for text in (labels or {}).values()), default=0))
+    plot_w, plot_h = WIDTH - left - RIGHT, HEIGHT - TOP - BOTTOM
 
     def x_of(v):
-        return LEFT + (np.asarray(v, dtype=float) - t0) / (t1 - t0) * plot_w
+        return left + (np.asarray(v, dtype=float) - t0) / (t1 - t0) * plot_w
 
     def y_of(v):
         return TOP + (y1 - np.asarray(v, dtype=float)) / (y1 - y0) * plot_h
 
     parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{HEIGHT}" '
              f'viewBox="0 0 {WIDTH} {HEIGHT}" font-family="sans-serif" font-size="11">',
-             f'<rect x="{LEFT}" y="{TOP}" width="{plot_w}" height="{plot_h}" fill="#fff" stroke="#999"/>',
-             f'<text x="{LEFT}" y="14" font-weight="bold">{escape(title)}</text>']
+             f'<rect x="{left:.0f}" y="{TOP}" width="{plot_w:.0f}" height="{plot_h}" fill="#fff" stroke="#999"/>',
+             f'<text x="{left:.0f}" y="14" font-weight="bold">{escape(title)}</text>']
     for band in bands:
         low = y0 if band.low is None or not np.isfinite(band.low) else max(band.low, y0)
         high = y1 if band.high is None or not np.isfinite(band.high) else min(band.high, y1)
@@ -101,15 +103,15 @@ def plot_svg(t: np.ndarray, y: np.ndarray, *, title: str, unit: str = "", bands:
     for tick in ticks:
         if y0 <= tick <= y1:
             level = float(y_of(tick))
-            text = labels[tick] if labels else f"{tick:g}"
-            parts.append(f'<line x1="{LEFT - 4}" y1="{level:.1f}" x2="{LEFT + plot_w}" y2="{level:.1f}" stroke="#eee"/>'
-                         f'<text x="{LEFT - 6}" y="{level + 4:.1f}" text-anchor="end">{escape(text)}</text>')
+            text = labels[tick] if labels else f"{tick + 0.0:g}"  # + 0.0: no "-0"
+            parts.append(f'<line x1="{left - 4:.0f}" y1="{level:.1f}" x2="{left + plot_w:.0f}" y2="{level:.1f}" '
+                         f'stroke="#eee"/><text x="{left - 6:.0f}" y="{level + 4:.1f}" text-anchor="end">{escape(text)}</text>')
     for tick in _nice_ticks(t0, t1, 8):
         x = float(x_of(tick))
         parts.append(f'<text x="{x:.1f}" y="{HEIGHT - 10}" text-anchor="middle">{tick:g}</text>')
     parts.append(f'<text x="{WIDTH - RIGHT}" y="{HEIGHT - 10}" text-anchor="end">s</text>')
     if unit and not labels:
-        parts.append(f'<text x="{LEFT + 4}" y="{TOP + 12}" fill="#666">{escape(unit)}</text>')
+        parts.append(f'<text x="{left + 4:.0f}" y="{TOP + 12}" fill="#666">{escape(unit)}</text>')
     inside = (t >= t0) & (t <= t1)
     tt, yy = _reduce(t[inside], y[inside], plot_w)
     if len(tt):
@@ -120,7 +122,7 @@ def plot_svg(t: np.ndarray, y: np.ndarray, *, title: str, unit: str = "", bands:
             points.append(f"{xs[i]:.1f},{ys[i - 1]:.1f} {xs[i]:.1f},{ys[i]:.1f}")
         parts.append(f'<polyline points="{" ".join(points)}" fill="none" stroke="{LINE}" stroke-width="1.4"/>')
     else:
-        parts.append(f'<text x="{LEFT + plot_w / 2}" y="{TOP + plot_h / 2}" text-anchor="middle" fill="#999">'
+        parts.append(f'<text x="{left + plot_w / 2:.0f}" y="{TOP + plot_h / 2}" text-anchor="middle" fill="#999">'
                      'no samples recorded</text>')
     parts.append("</svg>")
     return "".join(parts)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pytest
+
 from workbench.testbench import at_least, needs_simulator, requirement
 
 from .flcu import STEP_50MS_S, SWITCH_TANK_BAR, set_tanks, start_running
@@ -9,34 +11,27 @@ from .flcu import STEP_50MS_S, SWITCH_TANK_BAR, set_tanks, start_running
 HELD_S = 0.3
 
 
-@requirement("SW_REQ_ID_007.1")
-@needs_simulator
-def test_tank1_valve_follows_its_state_and_closes_on_its_diagnostic_error(ecu):
-    """OTV1 is commanded open while TankCtrl draws tank 1 and its driver reports no error; an open load
-    closes it within one 50 ms step."""
-    ecu.watch("xsOTV1Cmd", "xsValve1State")
-    start_running(ecu)
-    set_tanks(ecu, 700.0, 700.0 - SWITCH_TANK_BAR - 2.0)  # tank 1 the fuller beyond the delta: TankCtrl draws it
-    ecu.wait_until("xsOTV1Cmd", "ON", timeout=2 * STEP_50MS_S)
-    ecu.expect_follows("xsOTV1Cmd", "xsValve1State", 0, for_s=0.2)
-    ecu.sim.actuator_error("OTV1", "OPEN_LOAD")
-    ecu.expect_edge("xsOTV1Cmd", "OFF", within=STEP_50MS_S)
-    ecu.expect("xsOTV1Cmd", "OFF", for_s=HELD_S)
+VALVES = [  # valve, its command, TankCtrl's state of it, the tank pressures that make TankCtrl draw it, a fault
+    pytest.param("OTV1", "xsOTV1Cmd", "xsValve1State", (700.0, 700.0 - SWITCH_TANK_BAR - 2.0), "OPEN_LOAD",
+                 marks=requirement("SW_REQ_ID_007.1"), id="OTV1"),
+    pytest.param("OTV2", "xsOTV2Cmd", "xsValve2State", (700.0 - SWITCH_TANK_BAR - 2.0, 700.0), "SHORT_TO_GND",
+                 marks=requirement("SW_REQ_ID_007.2"), id="OTV2"),
+]
 
 
-@requirement("SW_REQ_ID_007.2")
 @needs_simulator
-def test_tank2_valve_follows_its_state_and_closes_on_its_diagnostic_error(ecu):
-    """OTV2 is commanded open while TankCtrl draws tank 2 (the fuller beyond the delta) and its driver
-    reports no error; a short to ground closes it within one 50 ms step."""
-    ecu.watch("xsOTV2Cmd", "xsValve2State")
+@pytest.mark.parametrize(("valve", "command", "state", "tanks", "fault"), VALVES)
+def test_a_tank_valve_follows_its_state_and_closes_on_its_diagnostic_error(ecu, valve, command, state, tanks, fault):
+    """The valve is commanded open while TankCtrl draws its tank (the fuller one beyond the delta) and its
+    driver reports no error; a driver error closes it within one 50 ms step, and it stays closed."""
+    ecu.watch(command, state)
     start_running(ecu)
-    set_tanks(ecu, 700.0 - SWITCH_TANK_BAR - 2.0, 700.0)
-    ecu.wait_until("xsOTV2Cmd", "ON", timeout=2 * STEP_50MS_S)
-    ecu.expect_follows("xsOTV2Cmd", "xsValve2State", 0, for_s=0.2)
-    ecu.sim.actuator_error("OTV2", "SHORT_TO_GND")
-    ecu.expect_edge("xsOTV2Cmd", "OFF", within=STEP_50MS_S)
-    ecu.expect("xsOTV2Cmd", "OFF", for_s=HELD_S)
+    set_tanks(ecu, *tanks)
+    ecu.wait_until(command, "ON", timeout=2 * STEP_50MS_S)
+    ecu.expect_follows(command, state, 0, for_s=0.2)
+    ecu.sim.actuator_error(valve, fault)
+    ecu.expect_edge(command, "OFF", within=STEP_50MS_S)
+    ecu.expect(command, "OFF", for_s=HELD_S)
 
 
 @requirement("SW_REQ_ID_007.3")
