@@ -38,6 +38,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from workbench.a2l.objects import Measurement
+from workbench.can.naming import dbc_signal_name, find_dbc_signal
 from workbench.errors import InputError, UnknownSymbolError, WorkbenchError
 from workbench.testbench.conditions import Condition, as_condition
 from workbench.testbench.evidence import Evidence
@@ -165,7 +166,7 @@ class Bench:
         try:
             obj = model.object(name)
         except UnknownSymbolError:
-            found = self._can_signal(name)
+            found = self._can_signal(name)  # or a CAN2 signal: Message.Signal, or a name one message alone has
             if found is None:
                 raise
             self._signals[name] = found
@@ -177,15 +178,11 @@ class Bench:
         return self._signals[name]
 
     def _can_signal(self, name: str) -> _Signal | None:
-        message_name, _, signal_name = name.partition(".")
-        if self.can2 is None or not signal_name:
+        if self.can2 is None:
             return None
-        message = self.can2.message(message_name)
-        for signal in message.signals:
-            if signal.name == signal_name:
-                choices = {str(text): float(raw) * signal.scale + signal.offset for raw, text in (signal.choices or {}).items()}
-                return _Signal(name, "can", signal.unit or "", choices)
-        raise UnknownSymbolError(signal_name, f"the signals of {message_name}")
+        message, signal = find_dbc_signal([self.can2.database], name)
+        choices = {str(text): float(raw) * signal.scale + signal.offset for raw, text in (signal.choices or {}).items()}
+        return _Signal(dbc_signal_name(message.name, signal.name), "can", signal.unit or "", choices)
 
     def watch(self, *names: str) -> None:
         """Sample and record these MEASUREMENTs (and check these CAN2 signals exist) from now on.
@@ -314,6 +311,7 @@ class Bench:
         """Wait until ``name`` meets ``condition``; returns the time (bench s) of the first sample that did.
         :raises ExpectationFailed: not within ``timeout`` s."""
         signal = self._sampled(name)
+        name = signal.name  # a CAN2 signal by its qualified name, as the timeline keeps it
         wanted = self._condition(signal, condition)
         start = self.now()
         step = self._step("wait", f"wait until {name} {wanted.describe(signal.unit)} (timeout {timeout:g} s)",
@@ -332,6 +330,7 @@ class Bench:
         default: now), at least one. Returns the (min, max) it took (None for texts).
         :raises ExpectationFailed: at the first sample that did not."""
         signal = self._sampled(name)
+        name = signal.name  # a CAN2 signal by its qualified name, as the timeline keeps it
         wanted = self._condition(signal, condition)
         start = self.now() if since is None else since
         end = start + for_s
@@ -355,7 +354,8 @@ class Bench:
         and the value it is computed from, a CAN2 signal and the measurement it carries. Returns the largest
         difference (0 for texts)."""
         signal = self._sampled(name)
-        self._sampled(reference)
+        name = signal.name  # a CAN2 signal by its qualified name, as the timeline keeps it
+        reference = self._sampled(reference).name
         start = self.now() if since is None else since
         end = start + for_s
         step = Step("expect", f"expect {name} = {reference} ± {tolerance:g}{_unit(signal.unit)} for {for_s:g} s",
@@ -418,6 +418,7 @@ class Bench:
         write is complete when the ECU answered it). Returns the latency in s. The signal must be sampled
         before the stimulus: watch it first. :raises ExpectationFailed: no edge, or too late."""
         signal = self._sampled(name)
+        name = signal.name  # a CAN2 signal by its qualified name, as the timeline keeps it
         wanted = self._condition(signal, condition)
         reference, done = (after, after) if after is not None else (self.last_stimulus, self._stimulus_done)
         if reference is None:
