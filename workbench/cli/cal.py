@@ -29,7 +29,7 @@ Dataset files (DCM, CDFX; no ECU needed):
   diff     compare two datasets object by object: files, an s19/hex, or 'ecu' (exit 1 when they differ)
 Exit codes: 0 success (diff, sync: equal), 1 the operation failed (the ECU refused or did not answer;
 diff, sync: they differ), 2 bad input (unknown name, a value beyond the limits, a file that cannot be
-read, a bad option)."""
+read, a bad option); load --dry-run exits as the load would."""
 
 
 def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: str) -> None:
