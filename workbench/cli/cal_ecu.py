@@ -21,9 +21,9 @@ if TYPE_CHECKING:
 def add_commands(commands: argparse._SubParsersAction) -> None:
     """Register the ECU commands in the ``cal`` group's sub-commands."""
     get = commands.add_parser("get", help="read calibrations (and measurements) by name",
-                              description="Read objects by name (or glob) in physical units; curves and maps with their axes "
-                                          "named, a map with X across and Y down as the window shows it (--json: "
-                                          "the value indexed [x][y], as cal set takes it).")
+                              description="Read objects by name (or glob) in physical units; curves and maps with their "
+                                          "axes named, a map with X across and Y down as the window shows it "
+                                          "(--json: the value indexed [x][y], as cal set takes it).")
     get.add_argument("names", nargs="+", metavar="NAME", help="a name or a glob ('xsPRV_*', as cal list and save take)")
     get.add_argument("--page", choices=("working", "reference"), help="read this page (default: the one XCP is on)")
     get.add_argument("--raw", action="store_true", help="raw values, as the ECU holds them (no conversion)")

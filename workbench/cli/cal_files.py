@@ -19,8 +19,8 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
         "convert", help="convert a dataset file between DCM and CDFX (no ECU needed)",
         description=(f"Read IN and write OUT, each {_FORMATS}. Every value and axis point is kept exactly; what the "
                      "output format cannot keep (e.g. the history in DCM, VAR in CDFX) is listed as a warning. "
-                     "OUT is written atomically. Exit 0: written (the warnings listed); 2: bad input (IN cannot be read "
-                     "or is malformed, an unknown extension; nothing written)."),
+                     "OUT is written atomically. Exit 0: written (the warnings listed); 2: bad input (IN cannot be "
+                     "read or is malformed, an unknown extension; nothing written)."),
     )
     convert.add_argument("input", metavar="IN", help="the dataset file to read")
     convert.add_argument("output", metavar="OUT", help="the dataset file to write")

@@ -58,8 +58,8 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
                     "compared per calibration segment by BUILD_CHECKSUM, only the blocks that differ are uploaded; "
                     "a dataset object by object. The differing objects are listed with both values. Then --upload "
                     "writes the reference anew with the ECU's data (ECU -> file, atomically; --output elsewhere), "
-                    "--download writes the file's data into the ECU and verifies it (a dataset checked as cal load checks it: one "
-                    "object refused and nothing is written, exit 2). Exit codes: 0 equal (or "
+                    "--download writes the file's data into the ECU and verifies it (a dataset checked as cal load checks "
+                    "it: one object refused and nothing is written, exit 2). Exit codes: 0 equal (or "
                     "uploaded/downloaded), 1 they differ (no direction given) or the operation failed, 2 bad input.")
     sync.add_argument("--reference", metavar="FILE",
                       help=f"image ({_IMAGES}) or dataset ({_DATASETS}); default: the demo's s19 with the demo's A2L")
@@ -120,7 +120,8 @@ def _save_image(args: argparse.Namespace) -> int:
         print_json({"output": args.output, "region": region, "bytes": image.size,
                     "ranges": [[r.start, r.end] for r in image.ranges], "epk": epk})
         return 0
-    print(f"wrote {args.output}: {region} {' '.join(map(str, image.ranges))} ({image.size} bytes, EPK {epk_text(epk or '')})")
+    print(f"wrote {args.output}: {region} {' '.join(map(str, image.ranges))} ({image.size} bytes, "
+          f"EPK {epk_text(epk or '')})")
     return 0
 
 

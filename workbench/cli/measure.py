@@ -90,6 +90,7 @@ def run(args: argparse.Namespace) -> int:
 def _split_names(args: argparse.Namespace, session) -> tuple[list[str], dict[str, Any], list]:
     """The A2L's names among NAME..., the CAN2 signals (``Message.Signal`` -> cantools signal) of the DBC (--can2,
     or the demo's with the demo's A2L) as the window names and plots them, and the DBC's databases."""
+    from workbench.a2l.model import closest_names
     from workbench.can.naming import dbc_signal_name, find_dbc_signal
     from workbench.errors import UnknownSymbolError
 
@@ -103,13 +104,11 @@ def _split_names(args: argparse.Namespace, session) -> tuple[list[str], dict[str
             databases = _can2_databases(args)
         try:
             message, signal = find_dbc_signal(databases, name)
-        except UnknownSymbolError as exc:
-            try:
-                model.kind_of(name)
-            except UnknownSymbolError as in_a2l:
-                where = "the A2L's objects" + (" or the CAN2 DBC's signals" if databases else " (CAN2 signals with --can2 DBC)")
-                raise UnknownSymbolError(name, where, in_a2l.suggestions[:2] + exc.suggestions[:2]) from None
-            raise
+        except UnknownSymbolError as in_dbc:
+            known = [known for kind in ("MEASUREMENT", "CHARACTERISTIC", "AXIS_PTS") for known in model.names(kind)]
+            where = "the A2L's objects" + (" or the CAN2 DBC's signals" if databases else " (CAN2 signals: --can2 DBC)")
+            alike = closest_names(name, known, 2) + list(in_dbc.suggestions[:2])
+            raise UnknownSymbolError(name, where, alike) from None
         can2[dbc_signal_name(message.name, signal.name)] = signal
     return names, can2, databases or []
 

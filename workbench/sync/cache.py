@@ -229,8 +229,8 @@ def _check_epk(session: Session, view: ImageView, reference: ImageReference) -> 
         return  # the image does not hold the EPK
     held = view.read(Span(address, size)).decode("latin-1").replace("\0", "").strip()
     if held != epk.replace("\0", "").strip():
-        raise InputError(f"{reference.label} holds EPK {epk_text(held)}, the A2L {epk_text(epk)}: it belongs to other software "
-                         "(flash it, or compare a file of this software)")
+        raise InputError(f"{reference.label} holds EPK {epk_text(held)}, the A2L {epk_text(epk)}: it belongs to other "
+                         "software (flash it, or compare a file of this software)")
 
 
 def _overlaps(spans: list[Span], leaves: list[Span]) -> bool:
