@@ -56,7 +56,7 @@ def test_a_closed_pipe_ends_quietly(tmp_path):
 
 @pytest.mark.parametrize("package", ["workbench.a2l", "workbench.can", "workbench.elf", "workbench.image", "workbench.sim",
                                      "workbench.calib", "workbench.calib.dataset", "workbench.flash", "workbench.sync",
-                                     "workbench.record"])
+                                     "workbench.record", "workbench.testbench"])
 def test_every_export_resolves_and_no_submodule_shadows_it(package):
     module = importlib.import_module(package)
     for info in pkgutil.iter_modules(module.__path__):  # a submodule's first import sets it on its package

@@ -16,6 +16,7 @@ import workbench.testbench.options  # noqa: F401 (imported here, the inner runs 
 from workbench.sim import serve_demo  # it drops the modules a run imported, and two generations would meet)
 
 pytest_plugins = ["pytester"]
+PLUGIN = ("-p", "workbench.testbench.plugin", "-p", "no:cacheprovider")  # also where its entry point is not installed
 _channels = itertools.count()
 
 TESTS = '''
@@ -44,7 +45,7 @@ def _properties(junit) -> dict[str, list[str]]:
 
 def test_requirements_evidence_and_report(pytester):
     pytester.makepyfile(test_flcu=TESTS)
-    result = pytester.runpytest_inprocess("--report", "out", "-p", "no:cacheprovider")
+    result = pytester.runpytest_inprocess("--report", "out", *PLUGIN)
     result.assert_outcomes(passed=2, failed=1)
     result.stdout.fnmatch_lines(["*requirements*", "3 verified, 1 failed", "FAILED R3: test_flcu.py::test_without_the_ecu",
                                  "report: out*report.html"])
@@ -61,10 +62,10 @@ def test_requirements_evidence_and_report(pytester):
 
 def test_bad_ecu_options_are_usage_errors(pytester):
     pytester.makepyfile(test_flcu=TESTS)
-    result = pytester.runpytest_inprocess("--sim-s19", "missing.s19", "-p", "no:cacheprovider")
+    result = pytester.runpytest_inprocess("--sim-s19", "missing.s19", *PLUGIN)
     assert result.ret == pytest.ExitCode.USAGE_ERROR
     result.stderr.fnmatch_lines(["*missing.s19: no such file*"])
-    result = pytester.runpytest_inprocess("--interface", "virtual", "--host", "127.0.0.1", "-p", "no:cacheprovider")
+    result = pytester.runpytest_inprocess("--interface", "virtual", "--host", "127.0.0.1", *PLUGIN)
     assert result.ret == pytest.ExitCode.USAGE_ERROR
     result.stderr.fnmatch_lines(["*either CAN options*or Ethernet ones*"])
 
@@ -74,7 +75,7 @@ def test_an_ecu_without_simulator_control_skips_what_needs_it(pytester):
     pytester.makepyfile(test_flcu=TESTS)
     with serve_demo({"interface": "virtual", "channel": channel}):  # served, but registers no control channel
         result = pytester.runpytest_inprocess("--interface", "virtual", "--channel", channel, "-k", "on_the_ecu or fault",
-                                              "-p", "no:cacheprovider", "-rs")
+                                              *PLUGIN, "-rs")
     result.assert_outcomes(passed=1, skipped=1)
     result.stdout.fnmatch_lines(["*needs the simulated ECU: no simulator registered a control channel for XCP on CAN*"])
 

@@ -151,6 +151,7 @@ class Bench:
         self._add(Step("stimulus", text, moment, done))
 
     def _fail(self, step: Step, detail: str) -> None:
+        __tracebackhide__ = True  # pytest shows the test's line and this one-line failure, not the bench's
         step.passed, step.detail, step.t_end = False, detail, max(step.t_end, step.t_start)
         self._add(step)
         raise ExpectationFailed(f"{step.text}: {detail}")
@@ -310,6 +311,7 @@ class Bench:
     def wait_until(self, name: str, condition: Any, timeout: float) -> float:
         """Wait until ``name`` meets ``condition``; returns the time (bench s) of the first sample that did.
         :raises ExpectationFailed: not within ``timeout`` s."""
+        __tracebackhide__ = True  # pytest shows the test's line and this one-line failure, not the bench's
         signal = self._sampled(name)
         name = signal.name  # a CAN2 signal by its qualified name, as the timeline keeps it
         wanted = self._condition(signal, condition)
@@ -329,6 +331,7 @@ class Bench:
         """``name`` meets ``condition`` in every sample of the ``for_s`` seconds from ``since`` (bench s;
         default: now), at least one. Returns the (min, max) it took (None for texts).
         :raises ExpectationFailed: at the first sample that did not."""
+        __tracebackhide__ = True  # pytest shows the test's line and this one-line failure, not the bench's
         signal = self._sampled(name)
         name = signal.name  # a CAN2 signal by its qualified name, as the timeline keeps it
         wanted = self._condition(signal, condition)
@@ -353,6 +356,7 @@ class Bench:
         sample of ``reference`` at or before it, within ``tolerance`` (texts: the same text), e.g. a command
         and the value it is computed from, a CAN2 signal and the measurement it carries. Returns the largest
         difference (0 for texts)."""
+        __tracebackhide__ = True  # pytest shows the test's line and this one-line failure, not the bench's
         signal = self._sampled(name)
         name = signal.name  # a CAN2 signal by its qualified name, as the timeline keeps it
         reference = self._sampled(reference).name
@@ -382,6 +386,7 @@ class Bench:
     def _window(self, step: Step, name: str, start: float, end: float, judge, unit: str,
                 reference: str | None = None) -> np.ndarray:
         """The samples of ``name`` in [start, end] once all have come; fails at the first one ``judge`` marks."""
+        __tracebackhide__ = True  # pytest shows the test's line and this one-line failure, not the bench's
         times, values = np.empty(0), np.empty(0)
         for times, values in self._arriving(name, start, end):
             bad = np.flatnonzero(judge(times, values)[1])
@@ -417,6 +422,7 @@ class Bench:
         having not met it when the stimulus began. The deadline counts from the end of the stimulus (a
         write is complete when the ECU answered it). Returns the latency in s. The signal must be sampled
         before the stimulus: watch it first. :raises ExpectationFailed: no edge, or too late."""
+        __tracebackhide__ = True  # pytest shows the test's line and this one-line failure, not the bench's
         signal = self._sampled(name)
         name = signal.name  # a CAN2 signal by its qualified name, as the timeline keeps it
         wanted = self._condition(signal, condition)
@@ -446,6 +452,7 @@ class Bench:
         between every two frames (a frame the host delayed does not move it); the default jitter, 90 % of
         the period, fails a missing frame (a gap of two periods) or a doubled one (no gap), not the host's
         scheduling. Returns the period found."""
+        __tracebackhide__ = True  # pytest shows the test's line and this one-line failure, not the bench's
         port = self._port()
         jitter = 0.9 * period_s if jitter_s is None else jitter_s
         frame_id = port.message(message).frame_id
