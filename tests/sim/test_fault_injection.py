@@ -3,6 +3,8 @@ the control channel that serves them to another process (workbench.sim.control).
 
 from __future__ import annotations
 
+import os
+
 import pytest
 
 from workbench.elf import ElfSymbols
@@ -134,5 +136,9 @@ def test_the_control_channel_is_found_by_the_bus_it_serves(tmp_path, monkeypatch
         client.close()
     assert faults.calls == [("rail", 4.9), ("rail", -1.0)]
     assert find_control(endpoint_key(bus)) is None  # unregistered when it closed
+    with ControlServer(faults, endpoint_keys(served)):
+        entry = next(tmp_path.rglob("*.json"))
+        entry.write_text(entry.read_text().replace(f'"pid": {os.getpid()}', '"pid": 999999999'))
+        assert find_control(endpoint_key(bus)) is None and not entry.exists()  # left behind by a killed simulator
     with pytest.raises(Exception, match="does not answer"):
         ControlClient("127.0.0.1", free_tcp_port)

@@ -67,6 +67,18 @@ def _registry() -> Path:
     return Path(os.environ.get("XDG_RUNTIME_DIR") or tempfile.gettempdir()) / f"workbench-{user}" / "sim-control"
 
 
+def _alive(pid) -> bool:
+    if not isinstance(pid, int) or pid <= 0:
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # another user's process (PermissionError), or no signals on this OS: maybe alive
+        return True
+    return True
+
+
 def _entry(key: str) -> Path:
     return _registry() / (hashlib.sha1(key.encode()).hexdigest()[:16] + ".json")
 
@@ -178,13 +190,17 @@ class ControlClient:
 
 def find_control(key: str) -> ControlClient | None:
     """The control channel of the simulator registered under ``key``, connected; None when no running
-    simulator registered one (a real ECU, or a simulator on another host)."""
+    simulator registered one (a real ECU, or a simulator on another host). A registration its simulator
+    left behind (killed) is removed."""
     path = _entry(key)
     try:
         record = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, ValueError):
         return None
     if record.get("key") != key:
+        return None
+    if not _alive(record.get("pid")):
+        path.unlink(missing_ok=True)
         return None
     try:
         return ControlClient(record["host"], int(record["port"]))
