@@ -32,10 +32,13 @@ LAYOUT_PATTERN = re.compile(
     rf"(\d+)\s*\|\s*(\d+)\s*@\s*[01]\s*[-+]\s*\(\s*{NUMBER_PATTERN}\s*,\s*{NUMBER_PATTERN}\s*\)"
     rf"\s*\[\s*{NUMBER_PATTERN}\s*\|\s*{NUMBER_PATTERN}\s*\]")
 # Space and // comments before a token, then the token. A string ends at the first '"' that is not
-# part of a \" (cantools' "(\\"|[^"])*?" matches the same strings, more slowly).
+# part of a \" (cantools' "(\\"|[^"])*?" matches the same strings, more slowly). A run of space and a
+# comment, and a run of characters in a string each match one way only (the whole run, the whole line):
+# space at the end of the text, where no token follows, or a string without its closing quote must not
+# be tried split in every way (that took minutes for 30 blank lines or 40 characters).
 _TOKEN = re.compile(
-    r"(?P<space>(?:\s+|//[^\n]*)*)"
-    r'(?:(?P<string>"(?:[^"\\]+|\\"|\\)*")'
+    r"(?P<space>(?:\s+(?!\s)|//[^\n]*(?![^\n]))*)"
+    r'(?:(?P<string>"(?:[^"\\]+(?![^"\\])|\\"|\\)*")'
     rf"|(?P<layout>{LAYOUT_PATTERN.pattern})"
     rf"|(?P<number>{NUMBER_PATTERN}(?![\w.]))"
     r"|(?P<word>\w+)"
