@@ -4,9 +4,11 @@ One module per concern; their public names are also this package's, imported on 
 (``import workbench.can`` loads no cantools):
 
 * :mod:`~workbench.can.naming` — fix-calibration and mailbox names;
-* :mod:`~workbench.can.dbc_file` — :func:`load_dbc`: cantools with located errors and warnings;
+* :mod:`~workbench.can.dbc_file` — :func:`load_dbc`: as cantools reads, with located errors and warnings;
 * :mod:`~workbench.can.dbc_text`, :mod:`~workbench.can.dbc_repair`, :mod:`~workbench.can.dbc_repair_attributes`
   — what CANdb++ reads and cantools refuses, repaired in the text with a warning per problem;
+* :mod:`~workbench.can.dbc_read`, :mod:`~workbench.can.dbc_database` — a DBC's content read from its
+  statements by cantools' rules, or (where that reader is not sure) taken from cantools' database;
 * :mod:`~workbench.can.model` — the Message/SignalOfMsg properties of a DBC's messages;
 * :mod:`~workbench.can.mailboxes` — the canMap: mailboxes per network and role;
 * :mod:`~workbench.can.table` — a node's message table over one or more DBCs;

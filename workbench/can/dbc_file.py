@@ -1,6 +1,6 @@
-"""Loading a DBC file with cantools: what CANdb++ reads loads, with a located warning per problem.
+"""Loading a DBC file as cantools reads it: what CANdb++ reads loads, with a located warning per problem.
 
-cantools parses; this module adds what the workbench needs around it:
+cantools' reading is the reference; this module adds what the workbench needs around it:
 
 * the file is decoded as UTF-8 (with or without BOM), as UTF-16 when it starts with a
   UTF-16 BOM, and, failing that, as Windows-1252 (CANdb++'s encoding), so umlauts in
@@ -18,7 +18,12 @@ cantools parses; this module adds what the workbench needs around it:
   where the position is known, the line (a syntax error quotes a few characters around the
   spot, not the whole line); its "Overwriting message" warnings about duplicate names/ids
   are dropped because the validation reports those itself;
-* the line of every ``BO_`` and ``SG_`` is indexed, so findings can point into the file.
+* the line of every ``BO_`` and ``SG_`` is indexed, so findings can point into the file;
+* what the commands need (:attr:`DbcFile.content`: nodes, messages, signals, the period and
+  timeout attributes) is read from the statements the repair cut, by :mod:`workbench.can.dbc_read`
+  with cantools' rules, without building cantools' database; where that reader is not sure to read
+  as cantools does, cantools loads the file then and there. cantools' database, with its codecs for
+  encoding and decoding, is :attr:`DbcFile.database`, built on first use.
 
 Every command (``workbench dbc table|check|fixcal|callbacks``, the simulated ECU) loads
 through :func:`load_dbc`, so they agree on what a file holds.
@@ -31,12 +36,14 @@ import logging
 import re
 import warnings
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import cantools.database
-from cantools.database.can import Database
-
+from workbench.can.dbc_read import Unreadable, read_content
 from workbench.can.dbc_repair import EXTENDED_ID_FLAG, Repaired, repair
+from workbench.can.dbc_text import DbcText
+from workbench.can.model import DbcContent
 from workbench.errors import InputError
 from workbench.fileio import read_input
 from workbench.findings import Finding, Severity
@@ -52,19 +59,42 @@ _SYNTAX_EXCERPT = re.compile(r'"(.*)>>!<<(.*)"$')
 _EXCERPT_CHARS = 30
 _UTF16_BOMS = (codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)
 
+if TYPE_CHECKING:
+    from cantools.database.can import Database
 
-@dataclass(frozen=True)
+
+@dataclass(frozen=True, eq=False)
 class DbcFile:
-    """A loaded DBC: the cantools database plus where each message and signal is in the file."""
+    """A loaded DBC: its content, where each message and signal is in the file, and cantools' database."""
 
     path: Path
-    database: Database
-    message_lines: dict[str, tuple[int, ...]] = field(default_factory=dict)
-    """Message name → 1-based lines of its ``BO_`` s (more than one when the name is doubled)."""
-    signal_lines: dict[tuple[int, str], int] = field(default_factory=dict)
-    """(line of the message's ``BO_``, signal name) → 1-based line of the signal's ``SG_``."""
+    content: DbcContent
+    """Nodes, messages and signals as cantools reads them (what the commands use)."""
+    repaired: Repaired = field(repr=False)
+    """The text cantools reads, and where each message and signal is in the file."""
     warnings: tuple[Finding, ...] = ()
     """What the load repaired or ignored, one warning per problem, located ``file:line``."""
+
+    @property
+    def message_lines(self) -> dict[str, tuple[int, ...]]:
+        """Message name → 1-based lines of its ``BO_`` s (more than one when the name is doubled)."""
+        return self.repaired.message_lines
+
+    @property
+    def signal_lines(self) -> dict[tuple[int, str], int]:
+        """(line of the message's ``BO_``, signal name) → 1-based line of the signal's ``SG_``."""
+        return self.repaired.signal_lines
+
+    @cached_property
+    def database(self) -> Database:
+        """cantools' database of the file, with the codecs to encode and decode its messages; built on first use.
+
+        :raises InputError: cantools refuses the file (``path:line: reason``).
+        """
+        database, problems = _parse(self.path, self.repaired)
+        for problem in problems:
+            log.warning("%s", problem)
+        return database
 
     def message_line(self, name: str, occurrence: int = 0) -> int:
         """The line of the ``occurrence``-th ``BO_`` named ``name`` (0 when unknown)."""
@@ -86,12 +116,21 @@ def load_dbc(path: str | Path) -> DbcFile:
     :raises InputError: the file cannot be read or cantools rejects it (``path:line: reason``).
     """
     path = Path(path)
-    text = _decode(path, read_input(path, "a DBC file"))
+    text = DbcText(_decode(path, read_input(path, "a DBC file")))
     repaired = repair(text, str(path))
+    try:
+        content = read_content(text if repaired.text == text.text else DbcText(repaired.text), repaired.original_name)
+    except Unreadable as exc:
+        log.debug("%s: read by cantools (%s)", path, exc)
+    else:
+        return DbcFile(path, content, repaired, repaired.warnings)
+    from workbench.can.dbc_database import content_of_database  # noqa: PLC0415 (it loads cantools)
+
     database, cantools_warnings = _parse(path, repaired)
-    _restore_names(database, repaired)
-    return DbcFile(path, database, repaired.message_lines, repaired.signal_lines,
-                   repaired.warnings + cantools_warnings)
+    content = content_of_database(database, repaired.message_lines)
+    dbc = DbcFile(path, content, repaired, repaired.warnings + cantools_warnings)
+    vars(dbc)["database"] = database  # cached_property's cache: parsed already
+    return dbc
 
 
 def _decode(path: Path, raw: bytes) -> str:
@@ -129,6 +168,8 @@ def _parse(path: Path, repaired: Repaired) -> tuple[Database, tuple[Finding, ...
 
     :raises InputError: cantools refuses the text.
     """
+    import cantools.database  # noqa: PLC0415 (cantools loads only when a file needs its database)
+
     cantools_log = logging.getLogger("cantools")
     collector = _WarningCollector()
     cantools_log.addHandler(collector)
@@ -149,8 +190,9 @@ def _parse(path: Path, repaired: Repaired) -> tuple[Database, tuple[Finding, ...
         else:
             problems.append(message)
     problems += [str(w.message) for w in caught]
-    if not isinstance(database, Database):
+    if not isinstance(database, cantools.database.can.Database):
         raise InputError(f"{path}: not a CAN database")
+    _restore_names(database, repaired)
     return database, tuple(Finding("cantools", path.name, f"cantools: {_one_line(problem)}", str(path),
                                    severity=Severity.WARNING) for problem in problems)
 

@@ -83,9 +83,9 @@ class _Message:
     signals: set[str] = field(default_factory=set)
 
 
-def repair(text: str, path: str) -> Repaired:
-    """The DBC ``text`` of the file ``path`` with every problem above repaired, and a warning for each."""
-    return _Repairer(DbcText(text), path).run()
+def repair(dbc: DbcText, path: str) -> Repaired:
+    """The DBC text of the file ``path`` with every problem above repaired, and a warning for each."""
+    return _Repairer(dbc, path).run()
 
 
 class _Repairer:
@@ -150,6 +150,8 @@ class _Repairer:
         self._edit(statement.start, statement.end, "\n" * self.dbc.text.count("\n", statement.start, statement.end))
 
     def _edited_text(self) -> str:
+        if not self.edits:
+            return self.dbc.text
         text, parts, position = self.dbc.text, [], 0
         for start, _order, end, replacement in sorted(self.edits):
             if start < position:  # inside a dropped statement

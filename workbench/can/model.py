@@ -6,6 +6,10 @@ the message has none, and 0 counts as missing). A message without a timeout gets
 times its period, as the thesis's import does; :attr:`Message.timeout_is_default` says so
 and the validation reports the missing attribute.
 
+A loaded DBC holds its messages once, as :class:`DbcContent` (read by
+:mod:`workbench.can.dbc_read`, or from cantools' database by :mod:`workbench.can.dbc_database`);
+:func:`messages_of` gives them a network and a role.
+
 A message's role is relative to one node of the DBC: the node sends it (TX), or the node
 receives at least one of its signals (RX); any other message is not in that node's table
 (role ``None``). Mailboxes are assigned later by :mod:`workbench.can.mailboxes`.
@@ -13,21 +17,25 @@ receives at least one of its signals (RX); any other message is not in that node
 
 from __future__ import annotations
 
+import dataclasses
 import enum
-from collections import Counter
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
-from cantools.database.can import Message as CantoolsMessage
-from cantools.database.can import Signal as CantoolsSignal
-
-from workbench.can.dbc_file import DbcFile
 from workbench.can.naming import raw_c_type
 from workbench.errors import InputError
+
+if TYPE_CHECKING:
+    from workbench.can.dbc_file import DbcFile
 
 PERIOD_ATTRIBUTE = "GenMsgCycleTime"
 TIMEOUT_ATTRIBUTE = "GenMsgTimeoutTime"
 FRAME_FORMAT_ATTRIBUTE = "VFrameFormat"
 DEFAULT_TIMEOUT_PERIODS = 3
+
+__all__ = ["DEFAULT_TIMEOUT_PERIODS", "FRAME_FORMAT_ATTRIBUTE", "PERIOD_ATTRIBUTE", "TIMEOUT_ATTRIBUTE", "DbcContent",
+           "Message", "Role", "SignalOfMsg", "check_node", "messages_of", "period_and_timeout", "role_of",
+           "value_table_of"]
 
 
 class Role(str, enum.Enum):
@@ -157,9 +165,24 @@ class Message:
         }
 
 
+@dataclass(frozen=True)
+class DbcContent:
+    """What the commands read from a DBC: its nodes, its messages in file order, attribute facts."""
+
+    nodes: tuple[str, ...]
+    """The ``BU_`` nodes."""
+    messages: tuple[Message, ...]
+    """Every message in file order, with its line; no network, role or source yet."""
+    attributes: frozenset[str]
+    """The names of the attributes the file defines (``BA_DEF_``)."""
+    frame_formats: dict[str, str] = field(default_factory=dict)
+    """Message name → the ``VFrameFormat`` set on it (its ENUM choice's name, or the value as text);
+    of the first message of that name that sets one."""
+
+
 def check_node(dbc: DbcFile, node: str) -> None:
     """:raises InputError: ``node`` is not one of the DBC's ``BU_`` nodes."""
-    nodes = [n.name for n in dbc.database.nodes]
+    nodes = dbc.content.nodes
     if node not in nodes:
         raise InputError(f"{dbc.path}: node {node!r} is not in this DBC (nodes: {', '.join(nodes) or 'none'})")
 
@@ -171,17 +194,11 @@ def messages_of(dbc: DbcFile, network: str | None, node: str | None) -> list[Mes
     """
     if node is not None:
         check_node(dbc, node)
-    value_tables = _value_tables(dbc)
-    seen: Counter[str] = Counter()
-    messages = []
-    for message in dbc.database.messages:
-        line = dbc.message_line(message.name, seen[message.name])
-        seen[message.name] += 1
-        messages.append(_message(dbc, message, network, node, value_tables, line))
-    return messages
+    return [dataclasses.replace(message, network=network, role=role_of(message, node), source=dbc)
+            for message in dbc.content.messages]
 
 
-def role_of(message: CantoolsMessage, node: str | None) -> Role | None:
+def role_of(message: Message, node: str | None) -> Role | None:
     if node is None:
         return None
     if node in message.senders:
@@ -191,14 +208,20 @@ def role_of(message: CantoolsMessage, node: str | None) -> Role | None:
     return None
 
 
-def message_attribute_ms(dbc: DbcFile, message: CantoolsMessage, name: str) -> int | None:
-    """A positive millisecond attribute of a message, its DBC default, or ``None`` (missing or 0)."""
-    attributes = message.dbc.attributes if message.dbc else {}
-    if name in attributes:
-        value = attributes[name].value
-    else:
-        definition = dbc.database.dbc.attribute_definitions.get(name) if dbc.database.dbc else None
-        value = definition.default_value if definition is not None else None
+def period_and_timeout(period, timeout) -> tuple[int | None, int | None, bool]:
+    """Period, timeout (ms) and whether the timeout is the default, from the attributes' values (or defaults).
+
+    A value that is no positive integer (missing, 0, text) is no period or timeout; a missing timeout is
+    :data:`DEFAULT_TIMEOUT_PERIODS` × period.
+    """
+    period, timeout = _positive_ms(period), _positive_ms(timeout)
+    timeout_is_default = timeout is None
+    if timeout is None and period is not None:
+        timeout = DEFAULT_TIMEOUT_PERIODS * period
+    return period, timeout, timeout_is_default
+
+
+def _positive_ms(value) -> int | None:
     try:
         value = int(value)
     except (TypeError, ValueError):
@@ -206,65 +229,9 @@ def message_attribute_ms(dbc: DbcFile, message: CantoolsMessage, name: str) -> i
     return value if value > 0 else None
 
 
-def _message(dbc: DbcFile, message: CantoolsMessage, network: str | None, node: str | None,
-             value_tables: dict[str, tuple[tuple[int, str], ...]], line: int) -> Message:
-    period = message_attribute_ms(dbc, message, PERIOD_ATTRIBUTE)
-    timeout = message_attribute_ms(dbc, message, TIMEOUT_ATTRIBUTE)
-    timeout_is_default = timeout is None
-    if timeout is None and period is not None:
-        timeout = DEFAULT_TIMEOUT_PERIODS * period
-    return Message(
-        name=message.name,
-        frame_id=message.frame_id,
-        network=network,
-        dlc=message.length,
-        period_ms=period,
-        timeout_ms=timeout,
-        timeout_is_default=timeout_is_default,
-        extended=message.is_extended_frame,
-        role=role_of(message, node),
-        signals=tuple(_signal(signal, value_tables) for signal in message.signals),
-        senders=tuple(message.senders),
-        comment=_comment(message.comment),
-        source=dbc,
-        line=line,
-    )
-
-
-def _value_tables(dbc: DbcFile) -> dict[str, tuple[tuple[int, str], ...]]:
-    tables = dbc.database.dbc.value_tables if dbc.database.dbc else None
-    return {name: _sorted_choices(table) for name, table in (tables or {}).items()}
-
-
-def _sorted_choices(choices) -> tuple[tuple[int, str], ...]:
-    return tuple(sorted((int(value), str(text)) for value, text in (choices or {}).items()))
-
-
-def _signal(signal: CantoolsSignal, value_tables: dict[str, tuple[tuple[int, str], ...]]) -> SignalOfMsg:
-    choices = _sorted_choices(signal.choices)
-    table = next((name for name, entries in value_tables.items() if choices and entries == choices), None)
-    return SignalOfMsg(
-        name=signal.name,
-        bit_start=signal.start,
-        length=signal.length,
-        byte_order="Intel" if signal.byte_order == "little_endian" else "Motorola",
-        is_signed=signal.is_signed,
-        is_float=signal.is_float,
-        factor=signal.scale,
-        offset=signal.offset,
-        minimum=signal.minimum,
-        maximum=signal.maximum,
-        unit=signal.unit or "",
-        comment=_comment(signal.comment),
-        receivers=tuple(signal.receivers),
-        multiplexer_ids=tuple(signal.multiplexer_ids) if signal.multiplexer_ids is not None else None,
-        choices=choices,
-        value_table=table,
-    )
-
-
-def _comment(comment) -> str:
-    """cantools gives a str, or a dict of language → str for multilingual (ARXML-style) comments."""
-    if isinstance(comment, dict):
-        comment = next(iter(comment.values()), "")
-    return comment or ""
+def value_table_of(choices: tuple[tuple[int, str], ...], value_tables: dict[str, tuple[tuple[int, str], ...]],
+                   ) -> str | None:
+    """The name of the first value table whose entries are ``choices`` (both sorted by value), if any."""
+    if not choices:
+        return None
+    return next((name for name, entries in value_tables.items() if entries == choices), None)

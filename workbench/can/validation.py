@@ -181,8 +181,7 @@ def _timing_findings(dbc: DbcFile, messages: list[Message]) -> list[Finding]:
 
 
 def _defines(dbc: DbcFile, attribute: str) -> bool:
-    database = dbc.database
-    return bool(database.dbc and attribute in database.dbc.attribute_definitions)
+    return attribute in dbc.content.attributes
 
 
 def _file_finding(kind: str, dbc: DbcFile, text: str, severity: Severity) -> Finding:
@@ -190,26 +189,12 @@ def _file_finding(kind: str, dbc: DbcFile, text: str, severity: Severity) -> Fin
 
 
 def _format_findings(dbc: DbcFile, message: Message) -> list[Finding]:
-    frame_format = _explicit_frame_format(dbc, message.name)
+    frame_format = dbc.content.frame_formats.get(message.name)
     if frame_format in _EXTENDED_FORMATS and not message.extended:
         return [_finding("id-format", message, None, f"{FRAME_FORMAT_ATTRIBUTE} is {frame_format} but the id is standard")]
     if frame_format in _STANDARD_FORMATS and message.extended:
         return [_finding("id-format", message, None, f"{FRAME_FORMAT_ATTRIBUTE} is {frame_format} but the id is extended")]
     return []
-
-
-def _explicit_frame_format(dbc: DbcFile, name: str) -> str | None:
-    database = dbc.database
-    definition = database.dbc.attribute_definitions.get(FRAME_FORMAT_ATTRIBUTE) if database.dbc else None
-    for message in database.messages:
-        if message.name != name or not message.dbc or FRAME_FORMAT_ATTRIBUTE not in message.dbc.attributes:
-            continue
-        value = message.dbc.attributes[FRAME_FORMAT_ATTRIBUTE].value
-        choices = definition.choices if definition is not None and definition.choices else None
-        if isinstance(value, int) and choices and 0 <= value < len(choices):
-            return choices[value]
-        return str(value)
-    return None
 
 
 def _duplicate_findings(messages: list[Message]) -> list[Finding]:
