@@ -44,16 +44,41 @@ def test_the_benchmark_dbc_reads_as_cantools_reads_it(defects, tmp_path):
     assert read == outcome(path, by_cantools=True)
 
 
-def test_what_the_reader_does_not_model_is_read_by_cantools(write_dbc):
-    # extended multiplexing and long names: cantools' own rules apply, through its database
+_MESSAGE = 'BO_ 1 M: 8 A\n SG_ S : 0|8@1+ (1,0) [0|0] "" A\n'
+
+
+@pytest.mark.parametrize("text", [
+    'VERSION ""\nNS_ :\n\tCM_\n\tBA_\n',  # the NS_ list runs to the end
+    f'BU_: A\n{_MESSAGE}// a comment without its newline',
+    f'BU_: A\n{_MESSAGE}CM_ BO_ 1 "a comment";\xa0\n',  # space cantools does not skip
+    f'BU_: A\n{_MESSAGE}CM_ BO_ 1 "a\xa0comment";\n',  # ... in a string, where it may
+    f'BU_: A FILTER\n{_MESSAGE}',  # a keyword as a name
+    f'BU_: A\n{_MESSAGE}BA_DEF_ BO_ "GenMsgCycleTime" INT 0;\n',  # one limit of two
+    f'BU_: A\n{_MESSAGE}BA_DEF_ BO_ "GenMsgCycleTime" INT 0 9;\nBA_DEF_DEF_ "GenMsgCycleTime" "x";\n',
+    f'BU_: A\n{_MESSAGE}BA_DEF_ BO_ "VFrameFormat" INT 0 15;\nBA_DEF_DEF_ "VFrameFormat" 16;\n',
+    'BU_: A\nBO_ 1 M: 010 A\n SG_ S : 0|8@1+ (1,0) [0|0] "" A\n',  # cantools reads the DLC with int(x, 0)
+    'BU_: A\nBO_ 1 M: 8 A\n SG_ S M : 0|8@1+ (1,0) [0|0] "" A\n SG_ T mX : 8|8@1+ (1,0) [0|0] "" A\n',
+])
+def test_odd_files_read_as_cantools_reads_them(text, tmp_path):
+    path = tmp_path / "odd.dbc"
+    path.write_text(text, encoding="utf-8")
+    assert_reads_as_cantools(path)
+
+
+def test_extended_multiplexing_and_long_names_read_as_cantools_reads_them(write_dbc):
     path = write_dbc(
         'BO_ 16 M: 8 ECU\n SG_ MUX M : 0|8@1+ (1,0) [0|0] "" PEER\n SG_ A m1 : 8|8@1+ (1,0) [0|0] "" PEER\n'
         ' SG_ SHORT : 16|8@1+ (1,0) [0|0] "" PEER\n',
-        'SG_MUL_VAL_ 16 A MUX 1-3;\nBA_DEF_ SG_ "SystemSignalLongSymbol" STRING ;\n'
-        'BA_ "SystemSignalLongSymbol" SG_ 16 SHORT "A_Rather_Long_Name";\n')
-    (message,) = load_dbc(path).content.messages
-    assert [(s.name, s.multiplexer_ids) for s in message.signals] == [
-        ("MUX", None), ("A", (1, 2, 3)), ("A_Rather_Long_Name", None)]
+        'SG_MUL_VAL_ 16 A MUX 1-3, 7-7;\nBA_DEF_ SG_ "SystemSignalLongSymbol" STRING ;\n'
+        'BA_DEF_ BU_ "SystemNodeLongSymbol" STRING ;\nBA_ "SystemSignalLongSymbol" SG_ 16 SHORT "A_Rather_Long_Name";\n'
+        'BA_ "SystemNodeLongSymbol" BU_ PEER "The_Peer_Of_The_ECU";\n')
+    dbc = load_dbc(path)
+    (message,) = dbc.content.messages
+    assert [(s.name, s.multiplexer_ids, s.receivers) for s in message.signals] == [
+        ("MUX", None, ("The_Peer_Of_The_ECU",)), ("A", (1, 2, 3, 7), ("The_Peer_Of_The_ECU",)),
+        ("A_Rather_Long_Name", None, ("The_Peer_Of_The_ECU",))]
+    assert dbc.content.nodes == ("ECU", "The_Peer_Of_The_ECU")
+    assert "database" not in vars(dbc)  # read without building cantools' database (the fixture compares)
 
 
 def test_the_table_of_a_file_the_reader_reads_loads_no_cantools():
@@ -89,6 +114,9 @@ _ATTRIBUTES = {  # name: (object kind, the types it may be defined with)
     "DBName": ("", ("STRING", "INT 0 9")),
     "Baudrate": ("", ("INT 0 1000000", "STRING")),
     "Owner": ("BU_ ", ("STRING",)),
+    "SystemMessageLongSymbol": ("BO_ ", ("STRING", "INT 0 9")),
+    "SystemSignalLongSymbol": ("SG_ ", ("STRING",)),
+    "SystemNodeLongSymbol": ("BU_ ", ("STRING",)),
 }
 _UNITS = ('""', '"km/h"', '"a\\"b"')
 _COMMENTS = ("text", 'with \\"quotes\\"', "")
@@ -132,13 +160,16 @@ def _dbc_texts(draw) -> str:
         lines.append(f'CM_ {one(targets)} "{one(_COMMENTS)}";')
     for _ in range(draw(st.integers(0, 3))):
         frame_id, name = one(signals or [("16", "S1")])
+        multiplexer = one([signal for message_id, signal in signals if message_id == frame_id] or ["MUX"])
         lines.append(rare((f'VAL_ {frame_id} {name} 1 "on" 0 "off" ;', f'VAL_ {frame_id} {name} ;',
                            f'VAL_ {frame_id} {name} 1 ;', f"SIG_VALTYPE_ {frame_id} {name} : {one('012')};",
-                           f"BO_TX_BU_ {frame_id} : A,B;"), (f'VAL_ {frame_id} {name} 1.5 "half" ;',)))
+                           f"BO_TX_BU_ {frame_id} : A,B;",
+                           f"SG_MUL_VAL_ {frame_id} {name} {multiplexer} {one(('0-0', '1-3', '1-3, 5-5', '2-1'))};"),
+                          (f'VAL_ {frame_id} {name} 1.5 "half" ;', f"SG_MUL_VAL_ {frame_id} {name} {multiplexer} 0 3;")))
     return "\n".join(lines) + "\n"
 
 
-@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(text=_dbc_texts())
 def test_random_dbcs_read_as_cantools_reads_them(text, tmp_path):
     path = tmp_path / "random.dbc"

@@ -8,8 +8,6 @@ the reader to this one: for every DBC both must give the same content.
 
 from __future__ import annotations
 
-from collections import Counter
-
 from cantools.database.can import Database
 from cantools.database.can import Message as CantoolsMessage
 from cantools.database.can import Signal as CantoolsSignal
@@ -29,18 +27,18 @@ __all__ = ["content_of_database"]
 
 
 def content_of_database(database: Database, message_lines: dict[str, tuple[int, ...]]) -> DbcContent:
-    """The content of a cantools database; ``message_lines``: the lines of the ``BO_`` s of each message name."""
+    """The content of a cantools database; ``message_lines``: the lines of the ``BO_`` s it read, by name.
+
+    The database's messages are those ``BO_`` s in file order (whatever their long names).
+    """
     definitions = database.dbc.attribute_definitions if database.dbc else {}
     value_tables = {name: _sorted_choices(table)
                     for name, table in ((database.dbc.value_tables if database.dbc else None) or {}).items()}
-    seen: Counter[str] = Counter()
+    lines = sorted(line for lines in message_lines.values() for line in lines)
     messages = []
     frame_formats: dict[str, str] = {}
-    for message in database.messages:
-        lines = message_lines.get(message.name, ())
-        line = lines[seen[message.name]] if seen[message.name] < len(lines) else 0
-        seen[message.name] += 1
-        messages.append(_message(message, definitions, value_tables, line))
+    for index, message in enumerate(database.messages):
+        messages.append(_message(message, definitions, value_tables, lines[index] if index < len(lines) else 0))
         frame_format = _frame_format(message, definitions.get(FRAME_FORMAT_ATTRIBUTE))
         if frame_format is not None:
             frame_formats.setdefault(message.name, frame_format)

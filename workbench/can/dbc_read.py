@@ -22,7 +22,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from decimal import Decimal
 
-from workbench.can.dbc_repair import PLACEHOLDER_MESSAGE
 from workbench.can.dbc_repair_attributes import FRAME_FORMATS
 from workbench.can.dbc_text import KEYWORDS, LAYOUT, NUMBER, NUMBER_PATTERN, OTHER, STRING, WORD, DbcText, Statement, Token
 from workbench.can.model import (
@@ -45,8 +44,9 @@ _LAYOUT = re.compile(
 _FOREIGN_SPACE = re.compile(r"[^\S \t\r\n]")
 _COMMENT = re.compile(r"//[^\n]*")
 _OBJECTS = ("BO_", "SG_", "BU_", "EV_")
-_LONG_NAMES = frozenset({"SystemMessageLongSymbol", "SystemSignalLongSymbol", "SystemNodeLongSymbol",
-                         "SystemEnvVarLongSymbol"})
+# names longer than 32 characters, as CANdb++ writes them
+_LONG_MESSAGE, _LONG_SIGNAL, _LONG_NODE = "SystemMessageLongSymbol", "SystemSignalLongSymbol", "SystemNodeLongSymbol"
+_RANGE_MAX = 100_000  # SG_MUL_VAL_ values cantools lists one by one
 _INTEGER_TYPES = ("INT", "HEX")
 _FLOAT_SIGNAL_TYPES = (1, 2)  # SIG_VALTYPE_ 1: IEEE float, 2: double
 _SEND_TYPE = "GenMsgSendType"
@@ -57,7 +57,7 @@ class Unreadable(Exception):
     """The reader is not sure to read the text as cantools does: the load asks cantools."""
 
 
-def read_content(dbc: DbcText, original_name: Callable[[str], str] = str) -> DbcContent:
+def read_content(dbc: DbcText, original_name: Callable[[str], str]) -> DbcContent:
     """The content of the DBC text ``dbc`` (as repaired); ``original_name`` gives a name as the file writes it.
 
     :raises Unreadable: the reader is not sure to read the text as cantools does.
@@ -118,16 +118,15 @@ class _Reader:
         self.messages: list[_Message] = []
         self.message_comments: dict[int, str] = {}
         self.signal_comments: dict[tuple[int, str], str] = {}
-        self.definition_statements: list[Statement] = []
+        # BA_DEF_, BA_DEF_REL_, BA_, BA_REL_: read once the whole file is (a definition may follow its values)
+        self.later: dict[str, list[list[Token]]] = {"BA_DEF_": [], "BA_DEF_REL_": [], "BA_": [], "BA_REL_": []}
         self.defaults: dict[str, str] = {}
-        self.relation_definition_statements: list[Statement] = []
         self.relation_defaults: dict[str, str] = {}
-        self.attribute_statements: list[Statement] = []
-        self.relation_statements: list[Statement] = []
         self.value_tables: dict[str, dict[int, str]] = {}
         self.choices: dict[int, dict[str, dict[int, str]]] = {}
         self.senders: dict[int, list[str]] = {}
         self.signal_types: dict[int, dict[str, int]] = {}
+        self.multiplexing: dict[int, dict[str, dict[str, list[int]]]] = {}
 
     # -- statements ------------------------------------------------------------------------------
 
@@ -148,21 +147,21 @@ class _Reader:
                 self.messages.append(message)
             elif keyword == "CM_":
                 self._comment(tokens)
-            elif keyword == "BA_":
-                self.attribute_statements.append(statement)
+            elif keyword in self.later:
+                self.later[keyword].append(tokens)
             elif keyword == "VAL_":
                 self._choices(tokens)
             elif keyword in _OTHER_STATEMENTS:
                 _OTHER_STATEMENTS[keyword](self, tokens)
             else:
                 raise Unreadable(f"{keyword} statement")
+        if statements[-1].keyword == "NS_":  # cantools ends the list at a token followed by ':', not at the end
+            raise Unreadable("NS_ up to the end")
         return self._content()
 
     def _message(self, statement: Statement) -> _Message:
         tokens = statement.tokens
         _expect(tokens, (NUMBER, WORD, ":", NUMBER, WORD))
-        if tokens[2].text == PLACEHOLDER_MESSAGE:  # the repair skips it: cantools would too, with its signals
-            raise Unreadable(PLACEHOLDER_MESSAGE)
         return _Message(int(tokens[1].text), _word(tokens[2]), int(tokens[4].text, 0), _word(tokens[5]),
                         statement.line, [])
 
@@ -220,12 +219,6 @@ class _Reader:
         _expect(tokens[:2], (WORD,))
         self.value_tables[_word(tokens[1])] = _pairs(tokens, 2)
 
-    def _definition(self, tokens: list[Token]) -> None:
-        self.definition_statements.append(tokens)
-
-    def _relation_definition(self, tokens: list[Token]) -> None:
-        self.relation_definition_statements.append(tokens)
-
     def _default(self, tokens: list[Token]) -> None:
         name, value = _name_and_value(tokens)
         self.defaults[name] = value
@@ -233,9 +226,6 @@ class _Reader:
     def _relation_default(self, tokens: list[Token]) -> None:
         name, value = _name_and_value(tokens)
         self.relation_defaults[name] = value
-
-    def _relation(self, tokens: list[Token]) -> None:
-        self.relation_statements.append(tokens)
 
     def _signal_type(self, tokens: list[Token]) -> None:
         _expect(tokens, (NUMBER, WORD, ":", NUMBER, ";"))
@@ -265,33 +255,47 @@ class _Reader:
         _converts(int, tokens[3].text)  # the data size
 
     def _extended_multiplexing(self, tokens: list[Token]) -> None:
-        raise Unreadable("SG_MUL_VAL_ (extended multiplexing)")
+        """``SG_MUL_VAL_ id signal multiplexer 1-3, 5-5;``: ``1`` and ``-3`` are numbers to cantools."""
+        _expect(tokens[:4], (NUMBER, WORD, WORD))
+        _expect(tokens[-1:], (";",), first=0)
+        ranges = tokens[4:-1]
+        if len(ranges) % 3 != 2 or any(t.kind != NUMBER for t in ranges[0::3] + ranges[1::3]) or any(
+                t.text != "," or t.kind != OTHER for t in ranges[2::3]):
+            raise Unreadable("SG_MUL_VAL_ syntax")
+        ids: list[int] = []
+        for lower, upper in zip(ranges[0::3], ranges[1::3]):
+            first, last = int(lower.text), int(upper.text[1:])
+            if last - first > _RANGE_MAX:
+                raise Unreadable("a huge SG_MUL_VAL_ range")
+            ids.extend(range(first, last + 1))
+        by_multiplexer = self.multiplexing.setdefault(int(tokens[1].text), {})
+        by_multiplexer.setdefault(_word(tokens[3]), {})[_word(tokens[2])] = ids
 
     # -- what the statements say -----------------------------------------------------------------
 
     def _content(self) -> DbcContent:
-        definitions = self._definitions(self.definition_statements, self.defaults, relation=False)
-        relation_definitions = self._definitions(self.relation_definition_statements, self.relation_defaults,
-                                                 relation=True)
-        message_attributes, signal_attributes = self._attributes(definitions)
+        self.definitions = self._definitions(self.later["BA_DEF_"], self.defaults, relation=False)
+        relation_definitions = self._definitions(self.later["BA_DEF_REL_"], self.relation_defaults, relation=True)
+        self.attributes = self._attributes()
         self._relation_attributes(relation_definitions)
-        value_tables = {self.original(name): tuple(sorted(table.items())) for name, table in self.value_tables.items()}
+        self.sorted_tables = {self.original(name): tuple(sorted(table.items()))
+                              for name, table in self.value_tables.items()}
         messages, frame_formats = [], {}
         for message in self.messages:
-            attributes = message_attributes.get(message.frame_id, {})
-            frame_format = _frame_format(attributes, definitions.get(FRAME_FORMAT_ATTRIBUTE))
-            _check_send_type(attributes, definitions.get(_SEND_TYPE))
-            name = self.original(message.name)
+            attributes = self.attributes["BO_"].get(message.frame_id, {})
+            frame_format = _frame_format(attributes, self.definitions.get(FRAME_FORMAT_ATTRIBUTE))
+            _check_send_type(attributes, self.definitions.get(_SEND_TYPE))
+            built = self._built(message, attributes)
             if frame_format is not None:
-                frame_formats.setdefault(name, frame_format)
-            messages.append(self._built(message, name, attributes, definitions, signal_attributes, value_tables))
+                frame_formats.setdefault(built.name, frame_format)
+            messages.append(built)
         unused = [f"VAL_ {frame_id} {signal}" for frame_id, table in self.choices.items() for signal in table]
         unused += [f"SIG_VALTYPE_ {frame_id} {signal}" for frame_id, types in self.signal_types.items()
                    for signal in types]
         if unused:
             raise Unreadable(f"unused {', '.join(unused)}")
-        return DbcContent(tuple(self.original(node) for node in self.nodes), tuple(messages),
-                          frozenset(definitions), frame_formats)
+        return DbcContent(tuple(self.original(self._node(node)) for node in self.nodes), tuple(messages),
+                          frozenset(self.definitions), frame_formats)
 
     def _definitions(self, statements: list[list[Token]], defaults: dict[str, str], *, relation: bool,
                      ) -> dict[str, _Definition]:
@@ -319,108 +323,134 @@ class _Reader:
             definitions[name] = definition
         return definitions
 
-    def _attributes(self, definitions: dict[str, _Definition],
-                    ) -> tuple[dict[int, dict[str, object]], dict[tuple[int, str], dict[str, object]]]:
-        """The values of the ``BA_`` of messages and signals, converted as cantools converts them."""
-        messages: dict[int, dict[str, object]] = {}
-        signals: dict[tuple[int, str], dict[str, object]] = {}
-        database: dict[str, object] = {}
-        for statement in self.attribute_statements:
-            tokens = statement.tokens
+    def _attributes(self) -> dict[str | None, dict]:
+        """The ``BA_`` values, converted as cantools converts them, by object kind (``None``: the file's).
+
+        ``BO_``: frame id → name → value; ``SG_``: (frame id, signal) → ...; ``BU_``: node → ...
+        """
+        attributes: dict[str | None, dict] = {"BO_": {}, "SG_": {}, "BU_": {}, "EV_": {}, None: {}}
+        for tokens in self.later["BA_"]:
             _expect(tokens[:2], (STRING,))
             _expect(tokens[-1:], (";",), first=0)
             name, kind = _string(tokens[1]), tokens[2].text if tokens[2].kind == WORD else None
-            if name in _LONG_NAMES:
-                raise Unreadable(name)
             shape = {"BO_": (NUMBER,), "SG_": (NUMBER, WORD), "BU_": (WORD,), "EV_": (WORD,), None: ()}[kind]
             value_at = 2 + (len(shape) + 1 if kind else 0)
             if len(tokens) != value_at + 2 or tokens[value_at].kind not in (NUMBER, STRING):
                 raise Unreadable("BA_ syntax")
             if kind:
                 _expect(tokens[2:value_at], (kind, *shape), first=0)
-            value = _attribute_value(definitions[name], _value(tokens[value_at]))
+            value = _attribute_value(self.definitions[name], _value(tokens[value_at]))
             if kind == "BO_":
-                messages.setdefault(int(tokens[3].text), {})[name] = value
+                key = int(tokens[3].text)
             elif kind == "SG_":
-                signals.setdefault((int(tokens[3].text), _word(tokens[4])), {})[name] = value
-            elif kind is None:
-                database[name] = value
+                key = (int(tokens[3].text), _word(tokens[4]))
+            else:
+                key = tokens[3].text if kind else None
+            attributes[kind].setdefault(key, {})[name] = value
+        database = attributes[None].get(None, {})
         if "DBName" in database and not isinstance(database["DBName"], str):
             raise Unreadable("DBName is no text")
         if "Baudrate" in database:
-            int(float(database["Baudrate"]))
-        return messages, signals
+            _converts(lambda value: int(float(value)), database["Baudrate"])
+        return attributes
 
     def _relation_attributes(self, definitions: dict[str, _Definition]) -> None:
-        for tokens in self.relation_statements:
+        for tokens in self.later["BA_REL_"]:
             if len(tokens) > 2 and tokens[2].text == "BU_SG_REL_":
                 _expect(tokens, (STRING, "BU_SG_REL_", WORD, "SG_", NUMBER, WORD, None, ";"))
                 frame_id = tokens[5]
             else:
                 _expect(tokens, (STRING, "BU_BO_REL_", WORD, NUMBER, None, ";"))
                 frame_id = tokens[4]
-            name = _string(tokens[1])
-            if name in _LONG_NAMES:
-                raise Unreadable(name)
-            _attribute_value(definitions[name], _value(tokens[-2]))
+            _attribute_value(definitions[_string(tokens[1])], _value(tokens[-2]))
             _converts(int, frame_id.text)
 
-    def _built(self, message: _Message, name: str, attributes: dict[str, object], definitions: dict[str, _Definition],
-               signal_attributes: dict[tuple[int, str], dict[str, object]],
-               value_tables: dict[str, tuple[tuple[int, str], ...]]) -> Message:
+    def _node(self, name: str) -> str:
+        """A node's name: its ``SystemNodeLongSymbol`` when it has one (cantools' long names)."""
+        long_name = self.attributes["BU_"].get(name, {}).get(_LONG_NODE)
+        return str(long_name) if long_name is not None else name
+
+    def _built(self, message: _Message, attributes: dict[str, object]) -> Message:
         frame_id, extended = message.frame_id & 0x7FFFFFFF, bool(message.frame_id & 0x80000000)
         if frame_id.bit_length() > (29 if extended else 11):
             raise Unreadable("frame id too long")
-        senders = [message.sender]
-        senders += [node for node in dict.fromkeys(self.senders.get(message.frame_id, ())) if node not in senders]
+        senders = [self._node(message.sender)]
+        added = (self._node(node) for node in self.senders.get(message.frame_id, ()))
+        senders += [node for node in dict.fromkeys(added) if node not in senders]
         if senders == [_NO_NODE]:
             senders = []
         multiplexers = [s.name for s in message.signals if s.mux is not None and s.mux.endswith("M")]
-        multiplexer = multiplexers[0] if len(multiplexers) == 1 else None
-        choices = self.choices.get(message.frame_id, {})
-        types = self.signal_types.get(message.frame_id, {})
-        signals = tuple(self._built_signal(signal, message.frame_id, multiplexer, choices.pop(signal.name, None),
-                                           types.pop(signal.name, None) in _FLOAT_SIGNAL_TYPES,
-                                           signal_attributes.get((message.frame_id, signal.name), {}), definitions,
-                                           value_tables)
-                        for signal in message.signals)
+        multiplexing = _Multiplexing(multiplexers[0] if len(multiplexers) == 1 else None,
+                                     self.multiplexing.get(message.frame_id, {}))
         period, timeout, timeout_is_default = period_and_timeout(
-            _attribute(attributes, definitions, PERIOD_ATTRIBUTE), _attribute(attributes, definitions, TIMEOUT_ATTRIBUTE))
-        return Message(name=name, frame_id=frame_id, network=None, dlc=message.dlc, period_ms=period, timeout_ms=timeout,
-                       timeout_is_default=timeout_is_default, extended=extended, role=None, signals=signals,
-                       senders=tuple(self.original(sender) for sender in senders),
-                       comment=self.message_comments.get(message.frame_id) or "", line=message.line)
+            _attribute(attributes, self.definitions, PERIOD_ATTRIBUTE),
+            _attribute(attributes, self.definitions, TIMEOUT_ATTRIBUTE))
+        return Message(
+            name=self.original(str(attributes.get(_LONG_MESSAGE, message.name))), frame_id=frame_id, network=None,
+            dlc=message.dlc, period_ms=period, timeout_ms=timeout, timeout_is_default=timeout_is_default,
+            extended=extended, role=None,
+            signals=tuple(self._built_signal(signal, message.frame_id, multiplexing) for signal in message.signals),
+            senders=tuple(self.original(sender) for sender in senders),
+            comment=self.message_comments.get(message.frame_id) or "", line=message.line)
 
-    def _built_signal(self, signal: _Signal, frame_id: int, multiplexer: str | None, choices: dict[int, str] | None,
-                      is_float: bool, attributes: dict[str, object], definitions: dict[str, _Definition],
-                      value_tables: dict[str, tuple[tuple[int, str], ...]]) -> SignalOfMsg:
+    def _built_signal(self, signal: _Signal, frame_id: int, multiplexing: _Multiplexing) -> SignalOfMsg:
         start, length, order, sign, factor, offset, minimum, maximum = signal.layout.groups()
+        attributes = self.attributes["SG_"].get((frame_id, signal.name), {})
         if int(length) <= 0:
             raise Unreadable("a signal of no bits")
         if not isinstance(attributes.get("GenSigStartValue", 0), (int, float)):
             raise Unreadable("GenSigStartValue is no number")
         if "SPN" in attributes and not isinstance(attributes["SPN"], int):
             raise Unreadable("SPN is no integer")
+        # the first signal of that name in a message with that id claims its VAL_ and SIG_VALTYPE_
+        choices = self.choices.get(frame_id, {}).pop(signal.name, None)
+        is_float = self.signal_types.get(frame_id, {}).pop(signal.name, None) in _FLOAT_SIGNAL_TYPES
         scale, offset = _conversion(_number(factor), _number(offset), choices is not None, is_float)
         receivers = signal.receivers if signal.receivers != [_NO_NODE] else []
         sorted_choices = tuple(sorted(choices.items())) if choices else ()
         return SignalOfMsg(
-            name=self.original(signal.name), bit_start=int(start), length=int(length),
-            byte_order="Motorola" if order == "0" else "Intel", is_signed=sign == "-", is_float=is_float,
-            factor=scale, offset=offset,
+            name=self.original(str(attributes.get(_LONG_SIGNAL, signal.name))), bit_start=int(start),
+            length=int(length), byte_order="Motorola" if order == "0" else "Intel", is_signed=sign == "-",
+            is_float=is_float, factor=scale, offset=offset,
             minimum=None if minimum == maximum == "0" else _number(minimum),
             maximum=None if minimum == maximum == "0" else _number(maximum),
             unit=signal.unit, comment=self.signal_comments.get((frame_id, signal.name)) or "",
-            receivers=tuple(self.original(receiver) for receiver in receivers),
-            multiplexer_ids=_multiplexer_ids(signal.mux, multiplexer),
-            choices=sorted_choices, value_table=value_table_of(sorted_choices, value_tables))
+            receivers=tuple(self.original(self._node(receiver)) for receiver in receivers),
+            multiplexer_ids=multiplexing.ids(signal), choices=sorted_choices,
+            value_table=value_table_of(sorted_choices, self.sorted_tables))
+
+
+@dataclass
+class _Multiplexing:
+    """The multiplexers of one message: its one ``M`` signal, and what ``SG_MUL_VAL_`` says."""
+
+    multiplexer: str | None
+    """The message's multiplexer signal (``None`` when it has none, or more than one)."""
+    values: dict[str, dict[str, list[int]]]
+    """``SG_MUL_VAL_``: multiplexer → signal → the multiplexer values that select it."""
+
+    def ids(self, signal: _Signal) -> tuple[int, ...] | None:
+        """The multiplexer values that select ``signal`` (``m3``: 3, and its ``SG_MUL_VAL_`` ranges), as cantools."""
+        ids = []
+        multiplexer = self.multiplexer
+        if multiplexer is not None:
+            if signal.mux is not None and not signal.mux.endswith("M"):
+                if not signal.mux.startswith("m"):
+                    raise Unreadable(f"multiplexer marker {signal.mux}")
+                ids.append(int(signal.mux[1:]))
+        else:
+            multiplexer = next((name for name, signals in reversed(self.values.items()) if signal.name in signals),
+                               None)
+        if multiplexer is None:
+            return None
+        ids += self.values.get(multiplexer, {}).get(signal.name, ())
+        return tuple(set(ids)) if ids else None  # cantools' order: list(set(ids))
 
 
 _OTHER_STATEMENTS: dict[str, Callable[[_Reader, list[Token]], None]] = {
     "VERSION": _Reader._version, "NS_": _Reader._namespace, "BS_": _Reader._bit_timing, "BU_": _Reader._nodes,
-    "VAL_TABLE_": _Reader._value_table, "BA_DEF_": _Reader._definition, "BA_DEF_DEF_": _Reader._default,
-    "BA_DEF_REL_": _Reader._relation_definition, "BA_DEF_DEF_REL_": _Reader._relation_default,
-    "BA_REL_": _Reader._relation, "SIG_VALTYPE_": _Reader._signal_type, "BO_TX_BU_": _Reader._add_senders,
+    "VAL_TABLE_": _Reader._value_table, "BA_DEF_DEF_": _Reader._default, "BA_DEF_DEF_REL_": _Reader._relation_default,
+    "SIG_VALTYPE_": _Reader._signal_type, "BO_TX_BU_": _Reader._add_senders,
     "SIG_GROUP_": _Reader._signal_group, "EV_": _Reader._environment_variable,
     "ENVVAR_DATA_": _Reader._environment_data, "SG_MUL_VAL_": _Reader._extended_multiplexing,
 }
