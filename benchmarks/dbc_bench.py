@@ -41,14 +41,14 @@ API_C = "#include \"api.h\"\n\nvoid Api_Init(void)\n{\n    // <initCbk>\n    // 
 
 def run_process(command: list[str], env: dict, ok_codes: tuple[int, ...] = (0,)) -> tuple[float, float]:
     """Wall and CPU (user + system) seconds of one run of ``command``."""
-    start = time.perf_counter()
-    process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env)
-    _, status, usage = os.wait4(process.pid, 0)
-    elapsed = time.perf_counter() - start
-    stderr = process.stderr.read().decode(errors="replace")
-    process.stderr.close()
-    if os.waitstatus_to_exitcode(status) not in ok_codes:
-        raise SystemExit(f"failed: {' '.join(command)}\n{stderr}")
+    with tempfile.TemporaryFile() as stderr:  # a file, not a pipe: hundreds of warnings would fill a pipe
+        start = time.perf_counter()
+        process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=stderr, env=env)
+        _, status, usage = os.wait4(process.pid, 0)
+        elapsed = time.perf_counter() - start
+        if os.waitstatus_to_exitcode(status) not in ok_codes:
+            stderr.seek(0)
+            raise SystemExit(f"failed: {' '.join(command)}\n{stderr.read().decode(errors='replace')}")
     return elapsed, usage.ru_utime + usage.ru_stime
 
 
