@@ -135,15 +135,16 @@ def _dbc_texts(draw) -> str:
     signals: list[tuple[str, str]] = []
     for _ in range(draw(st.integers(1, 3))):
         frame_id = rare(("1", "16", "2047", "2048", "2147483664", "3221225472", "16"), ("0x10", "1.0", "-1"))
-        lines.append(f"BO_ {frame_id} {rare(('M1', 'M2', 'M1'), ('2M', 'FILTER'))}: {rare(('8', '0', '64', '4'), ('08', '8.0'))} "
-                     f"{one((*nodes, 'Vector__XXX'))}")
+        name, dlc = rare(("M1", "M2", "M1"), ("2M", "FILTER")), rare(("8", "0", "64", "4"), ("08", "8.0"))
+        lines.append(f"BO_ {frame_id} {name}: {dlc} {one((*nodes, 'Vector__XXX'))}")
         for _ in range(draw(st.integers(0, 4))):
             name = rare(("S1", "S2", "S3", "MUX", "S1"), ("3S", "VERSION"))
             signals.append((frame_id, name))
             lines.append(
                 f" SG_ {name}{one(('', '', ' M', ' m0', ' m1', ' m12', ' m1M', ' x', ' mX'))} : "
                 f"{draw(st.integers(0, 70))}|{rare(('1', '8', '16', '32', '64', '70'), ('0',))}@{one('01')}{one('+-')} "
-                f"({rare(('1', '1.0', '0.5', '2', '2.0', '-1', '1e2'), ('.5',))},{one(('0', '0.0', '-40', '1.5', '-0'))}) "
+                f"({rare(('1', '1.0', '0.5', '2', '2.0', '-1', '1e2'), ('.5',))},"
+                f"{one(('0', '0.0', '-40', '1.5', '-0'))}) "
                 f"[{one(('0|0', '0|0.0', '-1|1', '0|255', '1e3|2.5'))}] {one(_UNITS)} "
                 f"{rare(('Vector__XXX', 'A', 'A,B', 'Vector__XXX,A'), ('A B', 'FILTER'))}")
         lines.append("")
@@ -165,7 +166,8 @@ def _dbc_texts(draw) -> str:
                            f'VAL_ {frame_id} {name} 1 ;', f"SIG_VALTYPE_ {frame_id} {name} : {one('012')};",
                            f"BO_TX_BU_ {frame_id} : A,B;",
                            f"SG_MUL_VAL_ {frame_id} {name} {multiplexer} {one(('0-0', '1-3', '1-3, 5-5', '2-1'))};"),
-                          (f'VAL_ {frame_id} {name} 1.5 "half" ;', f"SG_MUL_VAL_ {frame_id} {name} {multiplexer} 0 3;")))
+                          (f'VAL_ {frame_id} {name} 1.5 "half" ;',
+                           f"SG_MUL_VAL_ {frame_id} {name} {multiplexer} 0 3;")))
     return "\n".join(lines) + "\n"
 
 

@@ -23,7 +23,18 @@ from dataclasses import dataclass
 from decimal import Decimal
 
 from workbench.can.dbc_repair_attributes import FRAME_FORMATS
-from workbench.can.dbc_text import KEYWORDS, LAYOUT, NUMBER, NUMBER_PATTERN, OTHER, STRING, WORD, DbcText, Statement, Token
+from workbench.can.dbc_text import (
+    KEYWORDS,
+    LAYOUT,
+    NUMBER,
+    NUMBER_PATTERN,
+    OTHER,
+    STRING,
+    WORD,
+    DbcText,
+    Statement,
+    Token,
+)
 from workbench.can.model import (
     FRAME_FORMAT_ATTRIBUTE,
     PERIOD_ATTRIBUTE,

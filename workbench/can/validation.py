@@ -191,10 +191,12 @@ def _file_finding(kind: str, dbc: DbcFile, text: str, severity: Severity) -> Fin
 def _format_findings(dbc: DbcFile, message: Message) -> list[Finding]:
     frame_format = dbc.content.frame_formats.get(message.name)
     if frame_format in _EXTENDED_FORMATS and not message.extended:
-        return [_finding("id-format", message, None, f"{FRAME_FORMAT_ATTRIBUTE} is {frame_format} but the id is standard")]
-    if frame_format in _STANDARD_FORMATS and message.extended:
-        return [_finding("id-format", message, None, f"{FRAME_FORMAT_ATTRIBUTE} is {frame_format} but the id is extended")]
-    return []
+        kind = "standard"
+    elif frame_format in _STANDARD_FORMATS and message.extended:
+        kind = "extended"
+    else:
+        return []
+    return [_finding("id-format", message, None, f"{FRAME_FORMAT_ATTRIBUTE} is {frame_format} but the id is {kind}")]
 
 
 def _duplicate_findings(messages: list[Message]) -> list[Finding]:
