@@ -219,7 +219,8 @@ class A2lModel:
                ) -> list[str]:
         """``names`` as the object names they stand for, in the order given, each once: a name stays (it must
         exist), a glob (:func:`is_glob`: ``xsPRV_*``, ``zf?ANK*``) becomes the names of ``kind`` it matches, in
-        document order. The CLI's name arguments, datasets and the window's search take names this way.
+        document order. The CLI's name arguments and datasets take names this way; the window's search uses the
+        same glob rule (:func:`name_pattern`).
 
         :raises UnknownSymbolError: a name the module lacks (the closest suggested).
         :raises InputError: a glob that matches no object of ``kind`` (``what`` names them in the message).
