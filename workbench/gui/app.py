@@ -18,7 +18,7 @@ import time
 import uuid
 from pathlib import Path
 
-from PySide6.QtCore import QTimer
+from PySide6.QtCore import QThreadPool, QTimer
 from PySide6.QtWidgets import QApplication
 
 from workbench.fileio import atomic_write_text
@@ -83,6 +83,7 @@ def run_window(project: Project, *, connect: bool, screenshot: Path | None = Non
     window.show()
     window.load()
     code = app.exec()
+    QThreadPool.globalInstance().waitForDone(5000)  # a call still under way (a reconnect attempt) ends first
     return outcome["code"] or code
 
 

@@ -74,6 +74,7 @@ class EcuController(QObject):
         self.lost_error: ConnectionLostError | None = None  # while the connection is lost
         self._target = None  # (a2l, connection, accept_epk_mismatch) of the last open
         self._attempt = 0
+        self._generation = 0  # counts opens and closes: a reconnect attempt of an earlier one is not taken
         self._retry = QTimer(self)
         self._retry.setSingleShot(True)
         self._retry.timeout.connect(self.reconnect)
@@ -96,6 +97,7 @@ class EcuController(QObject):
 
     def close(self) -> None:
         """Disconnect (stops DAQ, frees the bus); ``disconnected`` follows when there was a session."""
+        self._generation += 1
         self.stop_reconnecting()
         session, self.session = self.session, None
         if session is not None:
@@ -142,12 +144,20 @@ class EcuController(QObject):
         self._attempt += 1
         self.reconnecting.emit(self._attempt)
 
+        generation = self._generation
+
+        def done(result: Connected) -> None:
+            if generation != self._generation:  # closed (or opened anew) meanwhile: not this session
+                run_task(result.session.close)
+                return
+            self._opened(result)
+
         def failed(error: BaseException) -> None:
             log.debug("reconnect attempt %d: %s", self._attempt, error)
             if self.lost_error is not None:
                 self._retry.start(self.RECONNECT_MS)
 
-        run_task(_open, *self._target, on_done=self._opened, on_error=failed)
+        run_task(_open, *self._target, on_done=done, on_error=failed)
 
     def stop_reconnecting(self) -> None:
         """No further attempts (one under way still connects if the ECU answers)."""
