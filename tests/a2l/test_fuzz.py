@@ -1,6 +1,7 @@
 """Random mutations of real A2L files: the reader parses them or raises A2lParseError, and update, merge,
 diff, check and the XCP reader fail with our errors only."""
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -11,8 +12,8 @@ from hypothesis import strategies as st
 from workbench import demo
 from workbench.a2l.check import check_document
 from workbench.a2l.document import A2lDocument
-from workbench.a2l.source import decode_source
-from workbench.a2l.tokens import _OPAQUE, _simple_opaque_spans
+from workbench.a2l.source import SourceMap, decode_source
+from workbench.a2l.tokens import _OPAQUE, _simple_opaque_spans, tokenize
 from workbench.a2l.diff import diff_documents
 from workbench.a2l.merge import merge_documents
 from workbench.a2l.reports import ConflictPolicy
@@ -84,3 +85,41 @@ def test_numpy_string_and_comment_finder_agrees_with_the_regex(index, operations
     simple = _simple_opaque_spans(data, np.frombuffer(data, np.uint8))
     if simple is not None:  # None: the file is not simple, and the regex decides alone
         assert simple.tolist() == [list(match.span()) for match in _OPAQUE.finditer(data)]
+
+
+def _reference_tokens(data: bytes) -> list[tuple[int, int]]:
+    """Tokens read plainly: strings and comments as the regex finds them (comments dropped), the text
+    between them split at blanks (every byte up to 0x20)."""
+    tokens, position = [], 0
+    for match in _OPAQUE.finditer(data):
+        tokens += [(position + m.start(), position + m.end())
+                   for m in re.finditer(rb"[^\x00-\x20]+", data[position : match.start()])]
+        if data[match.start()] == ord('"'):
+            tokens.append(match.span())
+        position = match.end()
+    return tokens + [(position + m.start(), position + m.end()) for m in re.finditer(rb"[^\x00-\x20]+", data[position:])]
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(index=st.integers(0, len(FILES) - 1), operations=st.lists(mutation, min_size=0, max_size=4),
+       soup=st.lists(st.sampled_from([b" ", b"\n", b'"', b'""', b"\\", b"/*", b"*/", b"//", b"a", b"x y", b"0x1",
+                                      b"ECU_ADDRESS", b"/begin", b"KEYWORD_LONGER_THAN_24_BYTES"]), max_size=30))
+def test_tokens_keys_and_matching_agree_with_a_plain_reading(index, operations, soup):
+    data = mutate(FILES[index].read_bytes(), operations)[:4000] + b"".join(soup)
+    try:
+        source = decode_source(data, None)
+        tokens = tokenize(source.data, SourceMap.single(source))
+    except A2lParseError:
+        return
+    data = source.data
+    assert list(zip(tokens.starts.tolist(), tokens.ends.tolist())) == _reference_tokens(data)
+    raws = [tokens.raw(i) for i in range(len(tokens))]
+    keys, exact = tokens.keys(np.arange(len(tokens)))
+    # equal keys exactly for equal bytes: as many distinct keys as distinct texts, each key one text
+    keyed = {}
+    for i, raw in enumerate(raws):
+        if exact[i]:
+            assert keyed.setdefault(tuple(keys[:, i].tolist()), raw) == raw
+    assert len(keyed) == len({raw for i, raw in enumerate(raws) if exact[i]})
+    for word in set(raws[:40]) | {b"ECU_ADDRESS", b"/end"}:
+        assert tokens.matching(word).tolist() == [i for i, raw in enumerate(raws) if raw == word]

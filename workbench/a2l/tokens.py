@@ -21,13 +21,11 @@ from workbench.a2l.source import SourceMap
 # be reported at its start instead of silently swallowing the file.
 _OPAQUE = re.compile(rb'"[^"\\]*(?:(?:\\.|"")[^"\\]*)*"?|/\*.*?(?:\*/|\Z)|//[^\n]*', re.S)
 
-_IN_COMMENT, _IN_STRING = 1, 2
-
 
 class Tokens:
     """Token ``i`` is ``data[starts[i]:ends[i]]``; strings keep their quotes."""
 
-    __slots__ = ("data", "starts", "ends", "_starts_list", "_ends_list", "_lengths", "_matches")
+    __slots__ = ("data", "starts", "ends", "_starts_list", "_ends_list", "_lengths", "_matches", "_first_bytes")
 
     def __init__(self, data: bytes, starts: np.ndarray, ends: np.ndarray):
         self.data = data
@@ -37,6 +35,7 @@ class Tokens:
         self._ends_list: array | None = None
         self._lengths: np.ndarray | None = None
         self._matches: dict[bytes, np.ndarray] = {}
+        self._first_bytes: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.starts)
@@ -64,9 +63,32 @@ class Tokens:
         data = self.data
         return [data[start:end] for start, end in zip(self.starts[indices].tolist(), self.ends[indices].tolist())]
 
-    def first_bytes(self) -> np.ndarray:
-        """The first byte of every token (``"`` for strings, ``/`` for directives ...)."""
-        return np.frombuffer(self.data, np.uint8)[self.starts] if len(self.starts) else np.zeros(0, np.uint8)
+    def first_bytes(self, indices: np.ndarray | None = None) -> np.ndarray:
+        """The first byte of every token (``"`` for strings, ``/`` for directives ...), or of ``indices``."""
+        if indices is not None:
+            return np.frombuffer(self.data, np.uint8)[self.starts[indices]]
+        if self._first_bytes is None:
+            self._first_bytes = np.frombuffer(self.data, np.uint8)[self.starts] if len(self.starts) \
+                else np.zeros(0, np.uint8)
+        return self._first_bytes
+
+    def keys(self, indices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Per token of ``indices``: a (4, n) uint64 key (length, then the bytes in three 64-bit words)
+        that equals another token's exactly when their bytes are equal, and whether it could be made
+        (False for tokens longer than 24 bytes or within the file's last 24: compare their bytes)."""
+        starts = self.starts[indices]
+        lengths = self.ends[indices] - starts
+        exact = (lengths <= 24) & (starts <= len(self.data) - 24)
+        keys = np.zeros((4, len(indices)), dtype=np.uint64)
+        keys[0] = lengths
+        every = bool(exact.all())
+        if len(indices) and (every or exact.any()):
+            words = np.ndarray((len(self.data) - 7,), "<u8", self.data, 0, (1,))
+            rows = slice(None) if every else np.flatnonzero(exact)
+            starts, lengths = starts[rows], lengths[rows]
+            for part in range(3):
+                keys[1 + part, rows] = words[starts + 8 * part] & _MASKS[np.clip(lengths - 8 * part, 0, 8)]
+        return keys, exact
 
     def matching(self, word: bytes, candidates: np.ndarray | None = None) -> np.ndarray:
         """Indices of the tokens (among ``candidates``, default all) whose bytes equal ``word``."""
@@ -81,14 +103,30 @@ class Tokens:
         return self._compare(word, candidates[lengths == len(word)])
 
     def _compare(self, word: bytes, indices: np.ndarray) -> np.ndarray:
+        """The ``indices`` (tokens of ``len(word)`` bytes, in order) whose bytes are ``word``: compared
+        eight bytes at a time, through an unaligned 64-bit view of the data."""
         if not len(indices) or not word:
             return indices
-        buffer = np.frombuffer(self.data, np.uint8)
         starts = self.starts[indices]
+        size, data = len(word), self.data
+        # the last few tokens of the file have no eight bytes after their start: compared byte by byte
+        near_end = int(np.searchsorted(starts, len(data) - max(size, 8), side="right"))
         keep = np.ones(len(indices), dtype=bool)
-        for k, char in enumerate(word):
-            keep &= buffer[starts + k] == char
+        if near_end:
+            words = np.ndarray((len(data) - 7,), "<u8", data, 0, (1,))
+            head = starts[:near_end]
+            if size < 8:
+                mask = (1 << 8 * size) - 1
+                keep[:near_end] = words[head] & np.uint64(mask) == int.from_bytes(word, "little")
+            else:
+                for offset in sorted({*range(0, size - 7, 8), size - 8}):
+                    keep[:near_end] &= words[head + offset] == int.from_bytes(word[offset : offset + 8], "little")
+        for row, start in enumerate(starts[near_end:].tolist(), near_end):
+            keep[row] = data[start : start + size] == word
         return indices[keep]
+
+
+_MASKS = np.array([(1 << 8 * size) - 1 for size in range(9)], dtype=np.uint64)  # the low ``size`` bytes
 
 
 def _as_array(values: np.ndarray) -> array:
@@ -105,28 +143,46 @@ def tokenize(data: bytes, source_map: SourceMap) -> Tokens:
         return Tokens(data, empty, empty)
     buffer = np.frombuffer(data, np.uint8)
     spans = opaque_spans(data, buffer)
-    opaque_starts, opaque_ends = spans[:, 0], spans[:, 1]
-    is_string = buffer[opaque_starts] == 0x22
-    _check_terminated(data, buffer, opaque_starts, opaque_ends, is_string, source_map)
-    # region code per byte: 0 between, 1 in a comment, 2 in a string
-    edges = np.empty(2 * len(spans) + 2, dtype=np.int64)
-    edges[0], edges[-1] = 0, size
-    edges[1:-1] = spans.ravel()
-    codes = np.zeros(len(edges) - 1, dtype=np.uint8)
-    codes[1::2] = np.where(is_string, _IN_STRING, _IN_COMMENT)
-    region = np.repeat(codes, np.diff(edges))
+    is_string = buffer[spans[:, 0]] == 0x22
+    _check_terminated(data, buffer, spans[:, 0], spans[:, 1], is_string, source_map)
+    strings, comments = spans[is_string], spans[~is_string]
     solid = buffer > 0x20  # every A2L blank (space, tab, CR, LF, FF, VT) is a control character or space
-    solid &= region == 0
-    solid |= region == _IN_STRING
+    _mark(solid, comments, False)
+    _mark(solid, strings, True)
     # a token boundary is a change between solid and blank, or either end of a string
     boundary = np.ones(size + 1, dtype=bool)
     np.not_equal(solid[1:], solid[:-1], out=boundary[1:size])
-    boundary[opaque_starts[is_string]] = True
-    boundary[opaque_ends[is_string]] = True
+    boundary[strings[:, 0]] = True
+    boundary[strings[:, 1]] = True
     cuts = np.flatnonzero(boundary)
     head = cuts[:-1] if cuts[-1] == size else cuts
     tail = cuts[1:] if cuts[0] == 0 else cuts
-    return Tokens(data, head[solid[head]], tail[solid[tail - 1]])
+    if len(strings) and (solid[strings[:, 0] - 1].any() or solid[np.minimum(strings[:, 1], size - 1)].any()):
+        # a string that touches another token: a solid stretch between two cuts may be followed by another
+        return Tokens(data, head[solid[head]], tail[solid[tail - 1]])
+    # solid and blank stretches alternate between the cuts: every other cut starts a token, the next ends it
+    first = 0 if solid[0] else 1
+    starts = cuts[first::2]
+    return Tokens(data, np.ascontiguousarray(starts[: len(cuts[first + 1 :: 2])]),
+                  np.ascontiguousarray(cuts[first + 1 :: 2]))
+
+
+def _mark(solid: np.ndarray, spans: np.ndarray, value: bool) -> None:
+    """Set ``solid`` to ``value`` over the spans (a slice each when they are few, else one mask)."""
+    if len(spans) <= 64:
+        for start, end in spans.tolist():
+            solid[start:end] = value
+        return
+    edges = np.empty(2 * len(spans) + 2, dtype=np.int64)
+    edges[0], edges[-1] = 0, len(solid)
+    edges[1:-1] = spans.ravel()
+    inside = np.zeros(len(edges) - 1, dtype=bool)
+    inside[1::2] = True
+    mask = np.repeat(inside, np.diff(edges))
+    if value:
+        solid |= mask
+    else:
+        solid &= ~mask
 
 
 def opaque_spans(data: bytes, buffer: np.ndarray) -> np.ndarray:

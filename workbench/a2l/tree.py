@@ -25,15 +25,23 @@ class BlockTable:
 
     begin: np.ndarray
     end: np.ndarray
-    keyword: list[str]
     keyword_id: np.ndarray  # per block: the index of its keyword in ``keyword_names``
     keyword_names: list[str]  # the distinct keywords
     parent: np.ndarray  # -1 for a top-level block
     _child_order: np.ndarray
     _child_offsets: np.ndarray
+    _keywords: list[str] | None = None
 
     def __len__(self) -> int:
         return len(self.begin)
+
+    @property
+    def keyword(self) -> list[str]:
+        """The keyword of every block (made on first use: an update never needs them all)."""
+        if self._keywords is None:
+            names = self.keyword_names
+            self._keywords = [names[number] for number in self.keyword_id.tolist()]
+        return self._keywords
 
     def having_keyword(self, keyword: str) -> np.ndarray:
         """Indices of the blocks with this keyword, in document order."""
@@ -81,17 +89,41 @@ def parse_blocks(tokens: Tokens, begins: np.ndarray, ends: np.ndarray, source_ma
     end = events[paired[1::2]]
     in_order = np.argsort(begin)
     begin, end, block_level = begin[in_order], end[in_order], level[paired[0::2]][in_order]
-    opening = tokens.raw_many(begin + 1)
-    if opening != tokens.raw_many(end + 1):
+    opening, opening_exact = tokens.keys(begin + 1)
+    closing, closing_exact = tokens.keys(end + 1)
+    exact = opening_exact & closing_exact
+    if not (opening[:, exact] == closing[:, exact]).all() \
+            or tokens.raw_many((begin + 1)[~exact]) != tokens.raw_many((end + 1)[~exact]):
         _diagnose(tokens, events, signs, source_map)
-    numbers: dict[bytes, int] = {}  # a few dozen distinct keywords for a hundred thousand blocks
-    keyword_id = np.array([numbers.setdefault(raw, len(numbers)) for raw in opening], dtype=np.int64)
-    names = [raw.decode("latin-1") for raw in numbers]
-    keywords = [names[number] for number in keyword_id.tolist()]
+    keyword_id, names = _keyword_numbers(tokens, begin + 1, opening, opening_exact)
     parent = _parents(begin, block_level)
     child_order = np.argsort(parent, kind="stable")
     child_offsets = np.concatenate(([0], np.cumsum(np.bincount(parent + 1, minlength=len(begin) + 1))))
-    return BlockTable(begin, end, keywords, keyword_id, names, parent, child_order, child_offsets)
+    return BlockTable(begin, end, keyword_id, names, parent, child_order, child_offsets)
+
+
+def _keyword_numbers(tokens: Tokens, keywords: np.ndarray, keys: np.ndarray, exact: np.ndarray
+                     ) -> tuple[np.ndarray, list[str]]:
+    """Number the keyword tokens by their text, in order of first appearance: (numbers, texts). A few
+    dozen distinct keywords for a hundred thousand blocks: grouped by their :meth:`Tokens.keys`."""
+    if not len(keywords):
+        return np.zeros(0, np.int64), []
+    if not exact.all():  # a keyword longer than 24 bytes, or one at the very end: by their bytes
+        numbers: dict[bytes, int] = {}
+        found = np.array([numbers.setdefault(raw, len(numbers)) for raw in tokens.raw_many(keywords)], np.int64)
+        return found, [raw.decode("latin-1") for raw in numbers]
+    order = np.lexsort(keys[::-1])
+    ordered = keys[:, order]
+    starts_group = np.ones(len(order), dtype=bool)
+    starts_group[1:] = (ordered[:, 1:] != ordered[:, :-1]).any(axis=0)
+    group = np.cumsum(starts_group) - 1  # per position in ``order``
+    first_rows = order[starts_group]  # the first row of each group (lexsort is stable)
+    rank = np.empty(len(first_rows), dtype=np.int64)
+    rank[np.argsort(first_rows)] = np.arange(len(first_rows))  # groups by first appearance
+    numbers = np.empty(len(order), dtype=np.int64)
+    numbers[order] = rank[group]
+    names = [raw.decode("latin-1") for raw in tokens.raw_many(keywords[np.sort(first_rows)])]
+    return numbers, names
 
 
 def first_of_each(keys: np.ndarray) -> np.ndarray:
@@ -118,7 +150,7 @@ def _check_keywords_follow(tokens: Tokens, directives: np.ndarray, name: str, so
     after = directives + 1
     bad = after >= len(tokens)
     ok = ~bad
-    bad[ok] = ~_IDENT_START[tokens.first_bytes()[after[ok]]]
+    bad[ok] = ~_IDENT_START[tokens.first_bytes(after[ok])]
     if bad.any():
         where = int(directives[np.argmax(bad)])
         raise source_map.error(f"{name} must be followed by a block keyword", tokens.starts_list[where])

@@ -10,10 +10,14 @@ same ELF reads no DWARF and answers most paths with one dict lookup.
 
 from __future__ import annotations
 
+import pickle
 import re
 import struct
+from itertools import repeat
 from pathlib import Path
 from typing import NamedTuple
+
+import numpy as np
 
 from workbench.elf import dwarf
 from workbench.elf.cache import IndexCache
@@ -61,16 +65,20 @@ class DebugData:
         self._cache = IndexCache(cache_dir) if use_cache else None
         self._reader: dwarf.DwarfReader | None = None
         self._index: DwarfIndex | None = None
+        # symbol path -> what resolve() answered for it: a ResolvedSymbol, or why not (see _failure)
+        self._found: dict[str, ResolvedSymbol | tuple] = {}
+        self._stored_index: bytes | None = None  # the cache's variables and types, unpickled when needed
         cached = self._cache.load(self.path) if self._cache is not None else None
         self.from_cache = cached is not None and self._take_cached(cached)
         if not self.from_cache:
             self.elf = ElfSymbols(self.path)
             # the variables at file scope and in namespaces; those inside functions are read when needed
-            self._variables: list[tuple] = self._read_variables(progress) if self.elf.has_dwarf else []
+            self._variables: list[tuple] | None = self._read_variables(progress) if self.elf.has_dwarf else []
             self._statics: list[tuple] | None = None  # Variable fields
             # symbol path -> address: the names that designate one variable, then every path resolved since
             self._addresses = _unique_addresses(self._variables)
             self._types = {}
+            self._has_variables = bool(self._variables)
         self._first: dict[str, tuple] | None = None  # name -> the first variable of that name (Variable fields)
         self._globals: VariableTable | None = None
         self._static_table: VariableTable | None = None
@@ -84,13 +92,25 @@ class DebugData:
         try:
             self.elf = ElfSymbols.from_facts(self.path, cached["elf"])
             self._addresses: dict[str, int] = cached["addresses"]
-            # plain tuples, made Variables when a name needs the lookup (most runs never do)
-            self._variables = cached["variables"]
-            self._statics = cached["statics"]
-            self._types: dict[int, CType] = cached["types"]
+            self._found = cached["found"]
+            self._has_variables = cached["has_variables"]
+            # variables and types: most runs never need them (the paths they resolve are in _addresses)
+            self._stored_index = cached["index"]
         except (KeyError, TypeError, ValueError):
             return False
-        return isinstance(self._addresses, dict) and isinstance(self._types, dict)
+        self._variables = self._statics = self._types = None
+        return isinstance(self._addresses, dict) and isinstance(self._found, dict) \
+            and isinstance(self._stored_index, bytes)
+
+    def _load_index(self) -> None:
+        """Unpickle the cached variables and types (a damaged entry is an InputError naming the cache)."""
+        if self._variables is not None:
+            return
+        try:
+            self._variables, self._statics, self._types = pickle.loads(self._stored_index)
+        except Exception as exc:  # the entry's outer pickle was fine: this one is damaged or foreign
+            raise InputError(f"{self.path}: the ELF index cache is damaged ({exc}); remove it or use --no-cache") \
+                from None
 
     def __enter__(self) -> "DebugData":
         return self
@@ -100,13 +120,29 @@ class DebugData:
 
     @property
     def has_dwarf(self) -> bool:
-        return bool(self._variables)
+        return self._has_variables
 
     def resolve(self, path: str) -> ResolvedSymbol:
         """Address, size and type of an A2L symbol path; raises :class:`UnknownSymbolError`
-        (with the reason) when the ELF does not have it. The address is remembered (and cached
-        with the index) for :meth:`addresses`."""
-        found = self._resolve(path)
+        (with the reason) when the ELF does not have it. The answer is remembered (and cached
+        with the index)."""
+        found = self._found.get(path)
+        if found is None:
+            found = self._lookup(path)
+            self._found[path] = found
+        if found.__class__ is tuple:
+            raise _failure(path, found)
+        return found
+
+    def _lookup(self, path: str) -> ResolvedSymbol | tuple:
+        """:meth:`resolve`'s answer, not remembered: the symbol, or why not (see :func:`_failure`). The
+        address is remembered for :meth:`addresses`."""
+        try:
+            found = self._resolve(path)
+        except AmbiguousSymbolError as exc:
+            return ("ambiguous", tuple(exc.candidates))
+        except UnknownSymbolError as exc:
+            return ("unknown", exc.where)
         self._addresses[path] = found.address
         return found
 
@@ -133,8 +169,9 @@ class DebugData:
     def _dwarf_variable(self, path: str) -> tuple[Variable, str] | None:
         """The DWARF variable ``path`` starts with: at file scope or in a namespace first, else a
         function's static. Raises :class:`AmbiguousSymbolError`."""
-        if not self._variables:
+        if not self._has_variables:
             return None
+        self._load_index()
         found = self._plain_variable(path)
         if found is not None:
             return found
@@ -203,17 +240,36 @@ class DebugData:
             raise UnknownSymbolError(path, str(found))
         return found
 
-    def addresses(self, paths: list[str], progress: Progress | None = None) -> list[int | None]:
-        """The address of every symbol path (None where the ELF does not have it): the hot path of
-        an address update. Plain names and paths resolved before cost one dict lookup each."""
-        found = list(map(self._addresses.get, paths))
-        unknown = [row for row, address in enumerate(found) if address is None]
+    def addresses(self, paths: list[str], progress: Progress | None = None) -> np.ndarray:
+        """The address of every symbol path as an int64 array: -1 where the ELF does not have it, -2 where
+        the address does not fit 63 bits (:meth:`find` has it). The hot path of an address update: plain
+        names and paths resolved before cost one dict lookup each."""
+        get = self._addresses.get
+        try:
+            found = np.fromiter(map(get, paths, repeat(-1)), np.int64, len(paths))
+        except OverflowError:  # an address beyond 2**63 (none fits an A2L): one at a time
+            found = np.array([_int64_or_unknown(get(path, -1)) for path in paths], np.int64)
+        unknown = np.flatnonzero(found < 0).tolist()
         for done, row in enumerate(unknown):
             if done % 2000 == 0:
                 report(progress, done, len(unknown), "resolving symbol paths")
-            symbol = self.find(paths[row])
-            if symbol is not None:
-                found[row] = symbol.address
+            path = paths[row]
+            symbol = self._found.get(path)
+            if symbol is None:
+                symbol = self._lookup(path)
+                if symbol.__class__ is tuple:  # remembered: the update asks why next
+                    self._found[path] = symbol
+            if symbol.__class__ is not tuple:
+                found[row] = _int64_or_unknown(symbol.address)
+        return found
+
+    def symbols(self, paths: list[str]) -> list[ResolvedSymbol | None]:
+        """:meth:`find` of many paths (None where the ELF does not have one), remembering only the
+        addresses (an update with ``--types`` looks up every object)."""
+        found: list[ResolvedSymbol | None] = []
+        for path in paths:
+            symbol = self._found.get(path) or self._lookup(path)
+            found.append(None if symbol.__class__ is tuple else symbol)
         return found
 
     def find(self, path: str) -> ResolvedSymbol | None:
@@ -242,16 +298,20 @@ class DebugData:
 
     def save(self) -> None:
         """Write the index cache if this run added to it (an ELF without DWARF is not cached)."""
-        if self._cache is None or not self._variables or self._index_size() == self._stored:
+        if self._cache is None or not self._has_variables or self._index_size() == self._stored:
             return
-        statics = None if self._statics is None else list(map(tuple, self._statics))
-        self._cache.store(self.path, {"elf": self.elf.facts(), "addresses": self._addresses,
-                                      "variables": list(map(tuple, self._variables)), "statics": statics,
-                                      "types": self._types})
+        index = self._stored_index
+        if self._variables is not None:
+            statics = None if self._statics is None else list(map(tuple, self._statics))
+            index = pickle.dumps((list(map(tuple, self._variables)), statics, self._types), protocol=5)
+        self._cache.store(self.path, {"elf": self.elf.facts(), "addresses": self._addresses, "found": self._found,
+                                      "has_variables": self._has_variables, "index": index})
         self._stored = self._index_size()
 
-    def _index_size(self) -> tuple[int, int, bool]:
-        return len(self._addresses), len(self._types), self._statics is not None
+    def _index_size(self) -> tuple[int, int, int, bool]:
+        loaded = self._variables is not None
+        return (len(self._addresses), len(self._found), len(self._types) if loaded else -1,
+                loaded and self._statics is not None)
 
     # -- DWARF ------------------------------------------------------------------------------
     def _dwarf(self) -> dwarf.DwarfReader:
@@ -295,6 +355,7 @@ class DebugData:
             raise InputError(f"{self.path}: unreadable DWARF ({exc})") from None
 
     def _type(self, offset: int | None) -> CType:
+        self._load_index()
         if offset is not None and offset in self._types:
             return self._types[offset]
         if self._resolver is None:
@@ -303,6 +364,17 @@ class DebugData:
             return self._resolver.resolve(offset)
         except _DAMAGED_DWARF as exc:
             raise InputError(f"{self.path}: unreadable DWARF type at 0x{offset or 0:x} ({exc})") from None
+
+
+def _failure(path: str, why: tuple) -> UnknownSymbolError:
+    """The error a remembered failure stands for: ("ambiguous", candidates) or ("unknown", where)."""
+    kind, detail = why
+    return AmbiguousSymbolError(path, list(detail)) if kind == "ambiguous" else UnknownSymbolError(path, detail)
+
+
+def _int64_or_unknown(address: int) -> int:
+    """``address`` as :meth:`DebugData.addresses` gives it (-1: unknown, -2: beyond 63 bits)."""
+    return address if 0 <= address < 2**63 else -2 if address >= 2**63 else -1
 
 
 def _variable_names(path: str) -> list[str]:

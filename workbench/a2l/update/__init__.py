@@ -89,25 +89,27 @@ def update_document(doc: A2lDocument, debug: DebugData, *, mode: UpdateMode = Up
     pending: list[tuple] = []  # findings as (token, kind, name, message, block, severity), located at the end
     report_progress(progress, 1, 3, "looking up symbols")
     if types:
-        symbols = [debug.find(symbol) for symbol in objects.symbols]
-        addresses = [symbol.address if symbol is not None else None for symbol in symbols]
+        symbols = debug.symbols(objects.symbols)
+        addresses = np.array([-1 if symbol is None else symbol.address if symbol.address < 2**63 else -2
+                              for symbol in symbols], dtype=np.int64)
     else:
         addresses = debug.addresses(objects.symbols, progress)
     report_progress(progress, 2, 3, "updating addresses")
-    # the new address of every object: None when the ELF lacks its symbol
-    targets = [address + offset if address is not None else None
-               for address, offset in zip(addresses, objects.symbol_offsets)]
-    usable = np.fromiter((address is not None and 0 <= address <= MAX_ADDRESS for address in targets), bool,
-                         len(targets))
+    # the new address of every object (-1: the ELF lacks its symbol, -2: its address is beyond 63 bits)
+    found = addresses >= 0
+    targets = np.where(found, addresses + np.asarray(objects.symbol_offsets, dtype=np.int64), addresses)
+    usable = found & (targets >= 0) & (targets <= MAX_ADDRESS)
     has_token = objects.address_token_array >= 0
     removed: dict[str, int] = {}
     for row in np.flatnonzero(~usable | ~has_token).tolist():  # the few objects that need more than a new value
-        if targets[row] is None:
+        if addresses[row] == -1:
             _missing(objects, row, debug, mode, report, removed, pending)
         elif not usable[row]:
-            _unaddressable(objects, row, targets[row], mode, report, pending)
+            target = int(targets[row]) if found[row] else debug.resolve(objects.symbols[row]).address \
+                + objects.symbol_offsets[row]
+            _unaddressable(objects, row, target, mode, report, pending)
         else:
-            _insert_address(objects, row, targets[row], edits, report, pending)
+            _insert_address(objects, row, int(targets[row]), edits, report, pending)
     located = np.flatnonzero(usable & has_token)
     _replace_addresses(objects, located, targets, edits, report, pending if report_addresses else None)
     _update_link_maps(objects, targets, edits, report)
@@ -197,7 +199,7 @@ def _insert_address(objects: AddressedObjects, row: int, address: int, edits: Ed
     report.count(keyword, "updated")
 
 
-def _replace_addresses(objects: AddressedObjects, rows: np.ndarray, targets: list[int | None], edits: Edits,
+def _replace_addresses(objects: AddressedObjects, rows: np.ndarray, targets: np.ndarray, edits: Edits,
                        report: UpdateReport, pending: list[tuple] | None) -> None:
     """Rewrite the address token of ``rows`` where its value is not the target (the hot path of a
     large update: whole columns at a time)."""
@@ -205,8 +207,9 @@ def _replace_addresses(objects: AddressedObjects, rows: np.ndarray, targets: lis
     tokens = objects.address_token_array[rows]
     starts, ends = doc.tokens.starts[tokens], doc.tokens.ends[tokens]
     olds, read = int_values(doc.data, starts, ends)
-    news = [targets[row] for row in rows.tolist()]
-    differs = read & (olds != np.array(news, dtype=np.int64))
+    new_values = targets[rows]
+    news = new_values.tolist()
+    differs = read & (olds != new_values)
     old_values = olds.tolist()
     for index in np.flatnonzero(~read).tolist():  # signed, long or malformed: one at a time
         raw = doc.data[int(starts[index]) : int(ends[index])]
@@ -236,7 +239,7 @@ def _replace_addresses(objects: AddressedObjects, rows: np.ndarray, targets: lis
                             "%s: 0x%X -> 0x%X" % (name, old_values[i], news[i]), objects.keywords[row], Severity.INFO))
 
 
-def _update_link_maps(objects: AddressedObjects, targets: list[int | None], edits: Edits,
+def _update_link_maps(objects: AddressedObjects, targets: np.ndarray, edits: Edits,
                       report: UpdateReport) -> None:
     """CANape's ``IF_DATA CANAPE_EXT ... LINK_MAP "symbol" address ...`` repeats an object's address (CANape's
     own address update reads it): it follows the new ECU_ADDRESS, as CANape and a2ltool keep it."""
@@ -248,8 +251,8 @@ def _update_link_maps(objects: AddressedObjects, targets: list[int | None], edit
     updated = 0
     for block, token in zip(if_data.tolist(), link_maps.tolist()):
         row = row_of_block.get(int(doc.blocks.parent[block]))
-        target = targets[row] if row is not None else None
-        if target is None or not 0 <= target <= MAX_ADDRESS or doc.raw(doc.block_begin[block] + 2) != b"CANAPE_EXT":
+        target = int(targets[row]) if row is not None else -1
+        if not 0 <= target <= MAX_ADDRESS or doc.raw(doc.block_begin[block] + 2) != b"CANAPE_EXT":
             continue
         address_token = token + 2
         if address_token >= doc.block_end[block]:
