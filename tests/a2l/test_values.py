@@ -4,7 +4,7 @@ import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
 
-from workbench.a2l.values import format_int_like, int_or_none, int_values
+from workbench.a2l.values import format_int_like, hex_digits_like, int_or_none, int_values
 
 number = st.one_of(
     st.integers(0, 2**70).map(lambda v: b"%d" % v),
@@ -29,3 +29,27 @@ def test_int_values_agree_with_int_or_none(tokens):
 def test_format_keeps_the_spelling():
     assert [format_int_like(old, 0x4031A0) for old in (b"0x00000000", b"0X0", b"0xabcd", b"17", b"-0x1")] == [
         b"0x004031A0", b"0X4031A0", b"0x4031a0", b"4207008", b"0x4031A0"]
+
+
+@given(st.lists(st.tuples(number, st.integers(0, 2**63 - 1)), min_size=1, max_size=30))
+def test_hex_digits_for_many_tokens_are_what_format_int_like_writes(pairs):
+    """The vectorized rewrite of an update's hex addresses: the same bytes as one token at a time,
+    for every token it takes (the hex tokens of 1-15 digits the value fits)."""
+    tokens = [token for token, _ in pairs]
+    data = b" ".join(tokens)
+    starts = np.cumsum([0] + [len(t) + 1 for t in tokens[:-1]])
+    ends = starts + np.array([len(t) for t in tokens])
+    values = np.array([value for _, value in pairs], dtype=np.int64)
+    _, read = int_values(data, starts, ends)
+    rows = np.flatnonzero(read)
+    done, digit_starts, digits = hex_digits_like(data, starts[rows], ends[rows], values[rows])
+    written = bytearray(data)
+    np.frombuffer(written, np.uint8)[np.concatenate([np.arange(s, e) for s, e in zip(
+        digit_starts.tolist(), ends[rows[done]].tolist())] or [np.zeros(0, np.int64)])] = digits
+    for row in rows.tolist():
+        token, value = tokens[row], int(values[row])
+        expected = format_int_like(token, value)
+        hexadecimal = token[:2] in (b"0x", b"0X") and value < 16 ** (len(token) - 2)
+        assert (row in rows[done].tolist()) == hexadecimal, token
+        if hexadecimal:
+            assert written[int(starts[row]) : int(ends[row])] == expected, (token, value)

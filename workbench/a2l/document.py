@@ -19,7 +19,7 @@ from workbench.a2l import grammar
 from workbench.a2l.includes import Include, splice_includes
 from workbench.a2l.source import SourceFile, SourceMap, read_source, source_from_text
 from workbench.a2l.tokens import Tokens
-from workbench.a2l.tree import BlockTable, find_directives, first_of_each, parse_blocks
+from workbench.a2l.tree import BlockTable, first_of_each, parse_blocks
 from workbench.a2l.values import is_int, is_number, parse_int, parse_number, parse_string
 from workbench.errors import A2lParseError
 
@@ -80,8 +80,7 @@ class A2lDocument:
     @classmethod
     def from_source(cls, source: SourceFile, *, validate: bool = True) -> "A2lDocument":
         spliced = splice_includes(source)
-        begins, ends, _ = find_directives(spliced.tokens, spliced.source_map)
-        blocks = parse_blocks(spliced.tokens, begins, ends, spliced.source_map)
+        blocks = parse_blocks(spliced.tokens, spliced.begins, spliced.ends, spliced.source_map)
         document = cls(spliced.data, spliced.source_map, spliced.tokens, blocks, spliced.includes, spliced.count)
         if validate:
             from workbench.a2l.validate import validate_document
@@ -112,12 +111,13 @@ class A2lDocument:
         return self.source_map.position(offset)
 
     def token_position(self, token: int) -> tuple[str, int, int]:
-        return self.position(self.tokens.starts_list[token])
+        return self.position(self.tokens.span(token)[0])
 
     def error(self, message: str, token: int) -> A2lParseError:
         """An :class:`A2lParseError` located at ``token`` (its buffer offset kept as ``offset`` for sorting)."""
-        error = self.source_map.error(message, self.tokens.starts_list[token])
-        error.offset = self.tokens.starts_list[token]
+        offset = self.tokens.span(token)[0]
+        error = self.source_map.error(message, offset)
+        error.offset = offset
         return error
 
     # -- token values --------------------------------------------------------------
@@ -150,11 +150,9 @@ class A2lDocument:
         ``quoted``: string tokens, returned without their quotes and escapes."""
         if not len(tokens):
             return []
-        data, starts, ends = self.data, self.tokens.starts[tokens].tolist(), self.tokens.ends[tokens].tolist()
-        cut = 1 if quoted else 0
-        joined = b"\0".join([data[start + cut : end - cut] for start, end in zip(starts, ends)])
+        joined = self.tokens.joined(tokens, 1 if quoted else 0)
         if quoted and (b"\\" in joined or b'""' in joined):  # escapes: resolve them one string at a time
-            return [parse_string(data[start:end], self.encoding) for start, end in zip(starts, ends)]
+            return [parse_string(raw, self.encoding) for raw in self.tokens.raw_many(tokens)]
         return joined.decode(self.encoding).split("\0")
 
     # -- blocks ----------------------------------------------------------------------
@@ -387,7 +385,7 @@ class Block:
     def span(self) -> tuple[int, int]:
         """Byte offsets from ``/begin`` to the end of the closing keyword."""
         tokens = self.doc.tokens
-        return tokens.starts_list[self.begin_token], tokens.ends_list[self.end_token + 1]
+        return tokens.span(self.begin_token)[0], tokens.span(self.end_token + 1)[1]
 
     @property
     def position(self) -> tuple[str, int, int]:

@@ -30,18 +30,27 @@ class Edit(NamedTuple):
 
 
 class Edits:
-    """Many edits of one buffer, kept as three columns (a large update makes tens of thousands)."""
+    """Many edits of one buffer, kept as three columns (a large update makes tens of thousands), and
+    replacements of the same length kept as arrays (:meth:`overwrite_columns`)."""
 
-    __slots__ = ("starts", "ends", "texts")
+    __slots__ = ("starts", "ends", "texts", "_overwrites")
 
     def __init__(self, edits: Iterable[Edit] = ()):
         self.starts: list[int] = []
         self.ends: list[int] = []
         self.texts: list[bytes] = []
+        # (starts, lengths, bytes): replacement i is as long as what it replaces, its bytes follow those of i - 1
+        self._overwrites: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
         self.extend(edits)
 
     def __len__(self) -> int:
-        return len(self.starts)
+        return len(self.starts) + sum(len(starts) for starts, _, _ in self._overwrites)
+
+    def overwrite_columns(self, starts: np.ndarray, lengths: np.ndarray, replacement: np.ndarray) -> None:
+        """Replacements that keep the length: ``lengths[i]`` bytes at ``starts[i]`` become the next
+        ``lengths[i]`` bytes of ``replacement`` (uint8), without a bytes object each."""
+        if len(starts):
+            self._overwrites.append((np.asarray(starts, np.int64), np.asarray(lengths, np.int64), replacement))
 
     def append(self, edit: Edit) -> None:
         self.starts.append(edit.start)
@@ -60,18 +69,25 @@ class Edits:
     def apply(self, data: bytes) -> bytes:
         """``data`` with every edit applied. Insertions at one offset keep their order; raises
         ValueError when two edits overlap."""
-        if not self.starts:
+        if not len(self):
             return data
-        starts = np.asarray(self.starts, dtype=np.int64)
-        ends = np.asarray(self.ends, dtype=np.int64)
+        listed = len(self.starts)
+        column_starts = [starts for starts, _, _ in self._overwrites]
+        column_lengths = [lengths for _, lengths, _ in self._overwrites]
+        starts = np.concatenate([np.asarray(self.starts, dtype=np.int64), *column_starts])
+        lengths = np.concatenate([np.fromiter(map(len, self.texts), dtype=np.int64, count=listed), *column_lengths])
+        ends = np.concatenate([np.asarray(self.ends, dtype=np.int64), *(s + n for s, n in zip(column_starts,
+                                                                                             column_lengths))])
         order = np.argsort(starts, kind="stable")
         overlapping = np.flatnonzero(starts[order[1:]] < ends[order[:-1]])
         if len(overlapping):
             raise ValueError(f"overlapping edits at byte {int(starts[order[overlapping[0] + 1]])}")
-        lengths = np.fromiter(map(len, self.texts), dtype=np.int64, count=len(self.texts))
         same = lengths == ends - starts
-        data = _overwrite(data, starts[same], lengths[same], [self.texts[i] for i in np.flatnonzero(same).tolist()])
-        rest = order[~same[order]]  # the edits that change the length, in order
+        listed_same = np.flatnonzero(same[:listed]).tolist()
+        replacement = np.concatenate([np.frombuffer(b"".join([self.texts[i] for i in listed_same]), np.uint8),
+                                      *(replacement for _, _, replacement in self._overwrites)])
+        data = _overwrite(data, starts[same], lengths[same], replacement)
+        rest = order[~same[order]]  # the edits that change the length, in order (all listed ones)
         if not len(rest):
             return data
         gap_starts = [0, *ends[rest].tolist()]
@@ -87,7 +103,8 @@ class Edits:
         crosses an ``/include`` boundary."""
         segments = source_map.segments
         if len(segments) == 1:
-            return [(segments[0].source, self)] if self.starts else []
+            return [(segments[0].source, self)] if len(self) else []
+        self._list_overwrites()
         offsets = np.asarray([segment.offset for segment in segments], dtype=np.int64)
         owner = np.maximum(np.searchsorted(offsets, np.asarray(self.starts, dtype=np.int64), side="right") - 1, 0)
         found: dict[int, tuple[SourceFile, Edits]] = {}
@@ -106,17 +123,27 @@ class Edits:
         return list(found.values())
 
 
-def _overwrite(data: bytes, starts: np.ndarray, lengths: np.ndarray, texts: list[bytes]) -> bytes:
-    """``data`` with ``texts`` written over it at ``starts``, each as long as what it replaces:
+    def _list_overwrites(self) -> None:
+        """Turn the column replacements into listed edits (for the per-edit work of :meth:`by_file`)."""
+        for starts, lengths, replacement in self._overwrites:
+            raw = replacement.tobytes()
+            offsets = (np.cumsum(lengths) - lengths).tolist()
+            for start, length, offset in zip(starts.tolist(), lengths.tolist(), offsets):
+                self.append(Edit(start, start + length, raw[offset : offset + length]))
+        self._overwrites = []
+
+
+def _overwrite(data: bytes, starts: np.ndarray, lengths: np.ndarray, replacement: np.ndarray) -> bytes:
+    """``data`` with ``replacement`` written over it, ``lengths[i]`` bytes at ``starts[i]`` each:
     one vectorized copy instead of a slice per edit (an update rewrites every address)."""
-    if not texts:
+    if not len(replacement):
         return data
-    out = np.frombuffer(data, np.uint8).copy()
-    # byte k of text i goes to starts[i] + k: positions = each start repeated, plus 0..length-1
+    out = bytearray(data)
+    # byte k of edit i goes to starts[i] + k: positions = each start repeated, plus 0..length-1
     first = np.cumsum(lengths) - lengths
-    positions = np.repeat(starts - first, lengths) + np.arange(int(lengths.sum()))
-    out[positions] = np.frombuffer(b"".join(texts), np.uint8)
-    return out.tobytes()
+    positions = np.repeat(starts - first, lengths) + np.arange(len(replacement))
+    np.frombuffer(out, np.uint8)[positions] = replacement
+    return bytes(out)
 
 
 def _in_newline_style(text: bytes, main: "SourceFile", source: "SourceFile") -> bytes:

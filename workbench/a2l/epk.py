@@ -101,8 +101,8 @@ def epk_edits(doc: "A2lDocument", epk: ElfEpk, module: "Block") -> tuple[list[Ed
                                    f"ADDR_EPK 0x{epk.address:X} added", "MOD_PAR"))
     if inserts:
         args = mod_par.args
-        anchor = doc.tokens.ends_list[args[-1] if args else mod_par.keyword_token]
-        indent = indentation_of(doc.data, doc.tokens.starts_list[mod_par.begin_token]) + b"  "
+        anchor = doc.tokens.span(args[-1] if args else mod_par.keyword_token)[1]
+        indent = indentation_of(doc.data, doc.tokens.span(mod_par.begin_token)[0]) + b"  "
         newline = newline_bytes(doc)
         edits.append(Edit(anchor, anchor, b"".join(newline + indent + line for line in inserts)))
     return edits, findings

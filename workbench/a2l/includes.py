@@ -11,6 +11,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING, NamedTuple
 
+import numpy as np
+
 from workbench.a2l.source import Segment, SourceFile, SourceMap, read_source, transcoded
 from workbench.a2l.tokens import Tokens, tokenize
 from workbench.a2l.tree import find_directives
@@ -36,6 +38,8 @@ class Spliced(NamedTuple):
     tokens: Tokens  # of ``data``
     includes: list[Include]  # the file's own directives (not those of included files)
     count: int  # directives met, nested ones included
+    begins: np.ndarray  # token indices of the /begin and /end directives of ``data``
+    ends: np.ndarray
 
 
 def splice_includes(source: SourceFile, encoding: str | None = None, _chain: tuple[Path, ...] = ()) -> Spliced:
@@ -51,9 +55,9 @@ def splice_includes(source: SourceFile, encoding: str | None = None, _chain: tup
         source = transcoded(source, encoding)
     source_map = SourceMap.single(source)
     tokens = tokenize(source.data, source_map)
-    _, _, directives = find_directives(tokens, source_map)
+    begins, ends, directives = find_directives(tokens, source_map)
     if not len(directives):
-        return Spliced(source.data, source_map, tokens, [], 0)
+        return Spliced(source.data, source_map, tokens, [], 0, begins, ends)
     chain = _chain + ((source.path.resolve(),) if source.path is not None else ())
     pieces: list[bytes] = []
     segments: list[Segment] = []
@@ -87,7 +91,9 @@ def splice_includes(source: SourceFile, encoding: str | None = None, _chain: tup
     pieces.append(source.data[position:])
     buffer = b"".join(pieces)
     spliced_map = SourceMap(segments)
-    return Spliced(buffer, spliced_map, tokenize(buffer, spliced_map), includes, count)
+    spliced_tokens = tokenize(buffer, spliced_map)
+    begins, ends, _ = find_directives(spliced_tokens, spliced_map)
+    return Spliced(buffer, spliced_map, spliced_tokens, includes, count, begins, ends)
 
 
 def _include_name(source: SourceFile, raw: bytes) -> str:

@@ -52,7 +52,6 @@ def finding_at(doc: "A2lDocument", token: int, kind: str, name: str, message: st
 def findings_at(doc: "A2lDocument", items: list[tuple]) -> list[Finding]:
     """Many findings at once: ``items`` are (token, kind, name, message, block, severity) tuples;
     their positions are computed in one vectorized pass."""
-    starts = doc.tokens.starts_list
-    positions = doc.source_map.positions([starts[item[0]] for item in items])
+    positions = doc.source_map.positions(doc.tokens.starts[[item[0] for item in items]].tolist())
     return [Finding(kind, name, message, file, line, column, block, severity)
             for (_, kind, name, message, block, severity), (file, line, column) in zip(items, positions)]

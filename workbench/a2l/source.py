@@ -67,13 +67,22 @@ class SourceFile:
         return line, column
 
     def positions(self, offsets: list[int]) -> list[tuple[int, int]]:
-        """:meth:`position` of many offsets at once (one vectorized search)."""
+        """:meth:`position` of many offsets at once (one vectorized search; a few offsets: newlines
+        counted up to them, without the line table of the whole file)."""
         if not offsets:
             return []
-        starts = self.line_starts()
-        lines = np.searchsorted(starts, offsets, side="right").tolist()
-        line_starts = starts[np.asarray(lines, dtype=np.int64) - 1].tolist()
         data, encoding = self.data, self.encoding
+        if self._line_starts is None and len(offsets) <= 1000:
+            separator = b"\r" if self.newline == "\r" else b"\n"
+            lines, line_starts, line, previous = {}, {}, 1, 0
+            for offset in sorted(set(offsets)):
+                line += data.count(separator, previous, offset)
+                lines[offset], line_starts[offset], previous = line, data.rfind(separator, 0, offset) + 1, offset
+            lines, line_starts = [lines[offset] for offset in offsets], [line_starts[offset] for offset in offsets]
+        else:
+            starts = self.line_starts()
+            lines = np.searchsorted(starts, offsets, side="right").tolist()
+            line_starts = starts[np.asarray(lines, dtype=np.int64) - 1].tolist()
         return [(line, offset - start + 1 if data[start:offset].isascii()
                  else len(data[start:offset].decode(encoding, "replace")) + 1)
                 for line, start, offset in zip(lines, line_starts, offsets)]

@@ -78,6 +78,35 @@ def int_values(data: bytes, starts: np.ndarray, ends: np.ndarray) -> tuple[np.nd
     return values, read
 
 
+_HEX_DIGITS = np.frombuffer(b"0123456789ABCDEF0123456789abcdef", np.uint8)
+
+
+def hex_digits_like(data: bytes, starts: np.ndarray, ends: np.ndarray, values: np.ndarray
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The new digits of ``0x`` hex tokens ``data[start:end]`` that :func:`int_values` reads, for the
+    ``values`` that fit their digit count: what :func:`format_ints_like` writes, made for all of them
+    at once. Returns (the rows done, where their digits start, the digit bytes of those rows in order,
+    as many as each token has); the other rows need :func:`format_ints_like`."""
+    buffer = np.frombuffer(data, np.uint8)
+    lengths = ends - starts
+    widths = lengths - 2
+    hexadecimal = (lengths > 2) & (lengths <= 17) & (buffer[starts] == ord("0")) \
+        & (buffer[np.minimum(starts + 1, len(buffer) - 1)] | 0x20 == ord("x"))
+    done = np.flatnonzero(hexadecimal & (values >= 0) & (values >> (4 * np.minimum(widths, 15)) == 0))
+    widths = widths[done]
+    if not len(done):
+        return done, done, np.zeros(0, np.uint8)
+    offsets = np.cumsum(widths) - widths  # of each row's digits in the flat layout
+    row_of = np.repeat(np.arange(len(done)), widths)
+    column = np.arange(len(row_of)) - offsets[row_of]
+    old = buffer[np.repeat(starts[done] + 2, widths) + column]
+    # the letter case the token was written in: lower when it has a-f and no A-F (as format_ints_like)
+    lower = np.logical_or.reduceat((old >= ord("a")) & (old <= ord("f")), offsets) \
+        & ~np.logical_or.reduceat((old >= ord("A")) & (old <= ord("F")), offsets)
+    nibbles = (values[done][row_of] >> (4 * (widths[row_of] - 1 - column))) & 0xF
+    return done, starts[done] + 2, _HEX_DIGITS[nibbles + 16 * lower[row_of]]
+
+
 def parse_number(raw: bytes) -> int | float:
     """An A2L number: an int when written as one, else a float; raises ValueError otherwise."""
     if is_int(raw):

@@ -25,7 +25,7 @@ from workbench.a2l.includes import includes_not_found_from
 from workbench.a2l.reports import IncludeMode, UpdateMode, findings_at
 from workbench.a2l.update.removal import removal_edits
 from workbench.a2l.update.typecheck import TypeChecker
-from workbench.a2l.values import format_ints_like, int_or_none, int_values
+from workbench.a2l.values import format_ints_like, hex_digits_like, int_or_none, int_values
 from workbench.elf.debugdata import DebugData
 from workbench.errors import WorkbenchError
 from workbench.fileio import write_output
@@ -190,8 +190,8 @@ def _insert_address(objects: AddressedObjects, row: int, address: int, edits: Ed
                     pending: list[tuple]) -> None:
     """A MEASUREMENT without ECU_ADDRESS gets one after its positional parameters."""
     doc = objects.doc
-    anchor = doc.tokens.ends_list[objects.anchor_tokens[row]]
-    indent = indentation_of(doc.data, doc.tokens.starts_list[doc.block_begin[objects.blocks[row]]]) + b"  "
+    anchor = doc.tokens.span(objects.anchor_tokens[row])[1]
+    indent = indentation_of(doc.data, doc.tokens.span(doc.block_begin[objects.blocks[row]])[0]) + b"  "
     edits.append(Edit(anchor, anchor, newline_bytes(doc) + indent + b"ECU_ADDRESS 0x%X" % address))
     name, keyword = objects.names[row], objects.keywords[row]
     pending.append((objects.name_tokens[row], "address-updated", name, f"{name}: ECU_ADDRESS 0x{address:X} added",
@@ -220,9 +220,13 @@ def _replace_addresses(objects: AddressedObjects, rows: np.ndarray, targets: np.
                             f"'{raw.decode(doc.encoding)}'", int(tokens[index]))
         differs[index] = old_values[index] != news[index]
     changed = np.flatnonzero(differs)
-    changed_starts, changed_ends = starts[changed].tolist(), ends[changed].tolist()
-    raws = [doc.data[start:end] for start, end in zip(changed_starts, changed_ends)]
-    edits.extend_columns(changed_starts, changed_ends, format_ints_like(raws, [news[i] for i in changed.tolist()]))
+    # hex tokens the new value fits: their digits overwritten as columns; the rest token by token
+    done, digit_starts, digits = hex_digits_like(doc.data, starts[changed], ends[changed], new_values[changed])
+    edits.overwrite_columns(digit_starts, ends[changed[done]] - digit_starts, digits)
+    others = np.delete(changed, done)
+    other_starts, other_ends = starts[others].tolist(), ends[others].tolist()
+    raws = [doc.data[start:end] for start, end in zip(other_starts, other_ends)]
+    edits.extend_columns(other_starts, other_ends, format_ints_like(raws, [news[i] for i in others.tolist()]))
     numbers = objects.keyword_numbers
     totals = np.bincount(numbers[rows], minlength=len(KEYWORDS))
     updated = np.bincount(numbers[rows[changed]], minlength=len(KEYWORDS))
@@ -263,7 +267,7 @@ def _update_link_maps(objects: AddressedObjects, targets: np.ndarray, edits: Edi
             raise doc.error(f"{objects.keywords[row]} {objects.names[row]}: the LINK_MAP address must be an integer, "
                             f"found '{raw.decode(doc.encoding)}'", address_token)
         if int_or_none(raw) != target:
-            start, end = doc.tokens.starts_list[address_token], doc.tokens.ends_list[address_token]
+            start, end = doc.tokens.span(address_token)
             edits.append(Edit(start, end, format_ints_like([raw], [target])[0]))
             updated += 1
     if updated:
