@@ -46,7 +46,7 @@ def test_a_closed_pipe_ends_quietly(tmp_path):
         "parser = argparse.ArgumentParser()\n"
         "parser.add_argument('--debug', action='store_true')\n"
         "parser.set_defaults(func=flood, group='flood')\n"
-        "cli.build_parser = lambda: parser\n"
+        "cli.build_parser = lambda *only: parser\n"
         "sys.exit(cli.main([]))\n"
     )
     proc = subprocess.run(f"{sys.executable} {script} | head -1", shell=True, capture_output=True, text=True)

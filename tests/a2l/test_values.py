@@ -50,6 +50,7 @@ def test_hex_digits_for_many_tokens_are_what_format_int_like_writes(pairs):
         token, value = tokens[row], int(values[row])
         expected = format_int_like(token, value)
         hexadecimal = token[:2] in (b"0x", b"0X") and value < 16 ** (len(token) - 2)
-        assert (row in rows[done].tolist()) == hexadecimal, token
-        if hexadecimal:
-            assert written[int(starts[row]) : int(ends[row])] == expected, (token, value)
+        if row in rows[done].tolist():
+            assert hexadecimal and written[int(starts[row]) : int(ends[row])] == expected, (token, value)
+        else:  # left to format_int_like: not hex, too big for its digits, or among the data's last 8 bytes
+            assert not hexadecimal or int(starts[row]) + 10 > len(data), token

@@ -37,7 +37,8 @@ class Target(NamedTuple):
 
 
 class AddressedObjects:
-    """Every addressed object of ``doc`` in document order, one row each; the columns are lists.
+    """Every addressed object of ``doc`` in document order, one row each; the columns are integer
+    arrays (``names``, ``symbols`` and ``symbol_offsets`` are lists).
 
     Raises :class:`A2lParseError` at an object that lacks positional parameters or has a
     malformed SYMBOL_LINK (the first in the file).
@@ -57,13 +58,11 @@ class AddressedObjects:
             row = int(short[0])
             raise doc.error(f"{KEYWORDS[numbers[row]]} {doc.raw(int(name_tokens[row])).decode(doc.encoding)}: "
                             f"missing parameter(s), {_POSITIONAL[numbers[row]]} expected", int(name_tokens[row]) - 1)
-        self.blocks: list[int] = blocks.tolist()
-        self.keyword_numbers = numbers  # index into KEYWORDS, as an array
-        self.keywords: list[str] = [KEYWORDS[number] for number in numbers.tolist()]
-        self.name_tokens: list[int] = name_tokens.tolist()
+        self.blocks = blocks
+        self.keyword_numbers = numbers  # index into KEYWORDS
+        self.name_tokens = name_tokens
         self.address_token_array = addresses  # -1: a MEASUREMENT without ECU_ADDRESS
-        self.address_tokens: list[int] = addresses.tolist()
-        self.anchor_tokens: list[int] = anchors.tolist()
+        self.anchor_tokens = anchors
         self.names: list[str] = doc.texts(name_tokens)
         self.symbols: list[str] = list(self.names)
         self.symbol_offsets: list[int] = [0] * len(self.names)
@@ -74,10 +73,14 @@ class AddressedObjects:
     def __len__(self) -> int:
         return len(self.blocks)
 
+    def keyword(self, row: int) -> str:
+        return KEYWORDS[self.keyword_numbers[row]]
+
     def target(self, row: int) -> Target:
-        address = self.address_tokens[row]
-        return Target(self.keywords[row], self.blocks[row], self.names[row], self.name_tokens[row], self.symbols[row],
-                      self.symbol_offsets[row], address if address >= 0 else None, self.anchor_tokens[row])
+        address = int(self.address_token_array[row])
+        return Target(self.keyword(row), int(self.blocks[row]), self.names[row], int(self.name_tokens[row]),
+                      self.symbols[row], self.symbol_offsets[row], address if address >= 0 else None,
+                      int(self.anchor_tokens[row]))
 
     def _read_symbol_links(self, rows: np.ndarray, links: np.ndarray, ends: np.ndarray) -> None:
         """Take the symbol name and offset of the rows with a SYMBOL_LINK "name" offset (an option may
@@ -91,7 +94,7 @@ class AddressedObjects:
         bad |= np.array([raw not in offsets for raw in offset_raws], dtype=bool)
         if bad.any():
             row, link = int(rows[np.argmax(bad)]), int(links[np.argmax(bad)])
-            raise doc.error(f"{self.keywords[row]} {self.names[row]}: SYMBOL_LINK needs a string and an integer "
+            raise doc.error(f"{self.keyword(row)} {self.names[row]}: SYMBOL_LINK needs a string and an integer "
                             "offset", link)
         names = doc.texts(links + 1, quoted=True)
         for row, name, raw in zip(rows.tolist(), names, offset_raws):

@@ -221,13 +221,18 @@ def _simple_opaque_spans(data: bytes, buffer: np.ndarray) -> np.ndarray | None:
     """The spans found with numpy alone, valid when the file is simple: each quote closes the
     string the one before opened (no escaped or doubled quotes, no quote inside a comment).
     None when the file is not that simple; the regex then decides (and reports problems)."""
-    quotes = np.flatnonzero(buffer == 0x22)
+    marks = buffer == 0x22
+    marks |= buffer == 0x2F
+    marks = np.flatnonzero(marks)  # quotes and slashes: one pass over the file finds both
+    is_quote = buffer[marks] == 0x22
+    quotes = marks[is_quote]
     if len(quotes) % 2 or (len(quotes) and (buffer[quotes[quotes > 0] - 1] == 0x5C).any()):
         return None
     opens, closes = quotes[0::2], quotes[1::2] + 1
     if len(opens) > 1 and (opens[1:] == closes[:-1]).any():  # "" inside a string, or strings that touch
         return None
-    slashes = np.flatnonzero(buffer[:-1] == 0x2F)
+    slashes = marks[~is_quote]
+    slashes = slashes[: len(slashes) - (len(slashes) and slashes[-1] == len(buffer) - 1)]  # one ends the file
     following = buffer[slashes + 1]
     candidates = slashes[(following == 0x2A) | (following == 0x2F)]
     if len(candidates) and len(opens):  # a comment start inside a string is text

@@ -44,6 +44,7 @@ def int_or_none(raw: bytes) -> int | None:
     return int(raw, 16) if b"x" in raw or b"X" in raw else int(raw, 10)
 
 
+_MASKS = [np.uint64((1 << 8 * size) - 1) for size in range(9)]  # the low ``size`` bytes of a word
 _DIGIT_VALUE = np.full(256, 99, dtype=np.int8)  # 99: not a digit in any base used here
 _DIGIT_VALUE[np.frombuffer(b"0123456789", np.uint8)] = np.arange(10)
 _DIGIT_VALUE[np.frombuffer(b"abcdef", np.uint8)] = np.arange(10, 16)
@@ -78,7 +79,7 @@ def int_values(data: bytes, starts: np.ndarray, ends: np.ndarray) -> tuple[np.nd
     return values, read
 
 
-_HEX_DIGITS = np.frombuffer(b"0123456789ABCDEF0123456789abcdef", np.uint8)
+_LETTER_BITS = np.uint64(0x4040404040404040)  # bit 6 of each byte: set in A-F and a-f, clear in 0-9
 
 
 def hex_digits_like(data: bytes, starts: np.ndarray, ends: np.ndarray, values: np.ndarray
@@ -90,21 +91,28 @@ def hex_digits_like(data: bytes, starts: np.ndarray, ends: np.ndarray, values: n
     buffer = np.frombuffer(data, np.uint8)
     lengths = ends - starts
     widths = lengths - 2
-    hexadecimal = (lengths > 2) & (lengths <= 17) & (buffer[starts] == ord("0")) \
-        & (buffer[np.minimum(starts + 1, len(buffer) - 1)] | 0x20 == ord("x"))
-    done = np.flatnonzero(hexadecimal & (values >= 0) & (values >> (4 * np.minimum(widths, 15)) == 0))
-    widths = widths[done]
-    if not len(done):
-        return done, done, np.zeros(0, np.uint8)
-    offsets = np.cumsum(widths) - widths  # of each row's digits in the flat layout
-    row_of = np.repeat(np.arange(len(done)), widths)
-    column = np.arange(len(row_of)) - offsets[row_of]
-    old = buffer[np.repeat(starts[done] + 2, widths) + column]
-    # the letter case the token was written in: lower when it has a-f and no A-F (as format_ints_like)
-    lower = np.logical_or.reduceat((old >= ord("a")) & (old <= ord("f")), offsets) \
-        & ~np.logical_or.reduceat((old >= ord("A")) & (old <= ord("F")), offsets)
-    nibbles = (values[done][row_of] >> (4 * (widths[row_of] - 1 - column))) & 0xF
-    return done, starts[done] + 2, _HEX_DIGITS[nibbles + 16 * lower[row_of]]
+    hexadecimal = (lengths > 2) & (lengths <= 17) & (starts + 2 + 8 <= len(data)) \
+        & (buffer[starts] == ord("0")) & (buffer[np.minimum(starts + 1, len(buffer) - 1)] | 0x20 == ord("x"))
+    fitting = hexadecimal & (values >= 0) & (values >> (4 * np.minimum(widths, 15)) == 0)
+    done, digits = [], []
+    words = np.ndarray((len(data) - 7,), "<u8", data, 0, (1,)) if len(data) >= 8 else None
+    for width in np.flatnonzero(np.bincount(widths[fitting], minlength=1)).tolist():  # a few widths
+        rows = np.flatnonzero(fitting & (widths == width))
+        first = starts[rows] + 2
+        # the letter case the token was written in: lower when it has a-f and no A-F (as format_ints_like);
+        # in a hex digit bit 6 marks a letter, bit 5 a lower-case one (read eight digits at a time)
+        heads = words[first] & _MASKS[min(width, 8)]
+        tails = words[first + max(width - 8, 0)] & _MASKS[min(width, 8)]
+        letters, lowers = (heads | tails) & _LETTER_BITS, ((heads & (heads << 1)) | (tails & (tails << 1))) & _LETTER_BITS
+        lower = (lowers != 0) & (lowers == letters)
+        shifts = 4 * np.arange(width - 1, -1, -1, dtype=np.int64)
+        nibbles = ((values[rows, None] >> shifts) & 0xF).astype(np.uint8)
+        digits.append((nibbles + 48 + (nibbles > 9) * (7 + 32 * lower[:, None]).astype(np.uint8)).ravel())
+        done.append(rows)
+    if not done:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.uint8)
+    done_rows = np.concatenate(done)
+    return done_rows, starts[done_rows] + 2, np.concatenate(digits)
 
 
 def parse_number(raw: bytes) -> int | float:

@@ -33,7 +33,9 @@ GROUPS: list[tuple[str, str]] = [
 ]
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The ``workbench`` parser; with ``only``, that group's commands alone (the other groups are
+    listed by name): ``workbench a2l update`` need not import and build every group."""
     parser = argparse.ArgumentParser(
         prog="workbench",
         description="XCP/A2L calibration and measurement workbench.",
@@ -42,12 +44,22 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--debug", action="store_true", help="show tracebacks and debug logging")
     subparsers = parser.add_subparsers(title="command groups", dest="group", metavar="GROUP", parser_class=CommandParser)
     for group, help_text in GROUPS:
+        if only is not None and group != only:
+            subparsers.add_parser(group, help=help_text)
+            continue
         try:
             importlib.import_module(f"{__name__}.{group}").add_subparser(subparsers, group, help_text)
         except ImportError as exc:  # an optional dependency is missing
             sub = subparsers.add_parser(group, help=f"{help_text} (unavailable)")
             sub.set_defaults(func=_unavailable(group, exc))
     return parser
+
+
+def _group_named(argv: list[str]) -> str | None:
+    """The command group ``argv`` runs: its first word that is no option (the options before a group
+    take no value), None when that is no group."""
+    word = next((word for word in argv if not word.startswith("-")), None)
+    return word if word in dict(GROUPS) else None
 
 
 def _unavailable(group: str, exc: ImportError):
@@ -59,7 +71,7 @@ def _unavailable(group: str, exc: ImportError):
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code (0 ok, 1 failed, 2 bad input)."""
-    parser = build_parser()
+    parser = build_parser(_group_named(sys.argv[1:] if argv is None else argv))
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # argparse: --help/--version exit 0, usage errors 2

@@ -193,8 +193,8 @@ def _insert_address(objects: AddressedObjects, row: int, address: int, edits: Ed
     anchor = doc.tokens.span(objects.anchor_tokens[row])[1]
     indent = indentation_of(doc.data, doc.tokens.span(doc.block_begin[objects.blocks[row]])[0]) + b"  "
     edits.append(Edit(anchor, anchor, newline_bytes(doc) + indent + b"ECU_ADDRESS 0x%X" % address))
-    name, keyword = objects.names[row], objects.keywords[row]
-    pending.append((objects.name_tokens[row], "address-updated", name, f"{name}: ECU_ADDRESS 0x{address:X} added",
+    name, keyword = objects.names[row], objects.keyword(row)
+    pending.append((int(objects.name_tokens[row]), "address-updated", name, f"{name}: ECU_ADDRESS 0x{address:X} added",
                     keyword, Severity.INFO))
     report.count(keyword, "updated")
 
@@ -216,7 +216,7 @@ def _replace_addresses(objects: AddressedObjects, rows: np.ndarray, targets: np.
         old_values[index] = int_or_none(raw)
         if old_values[index] is None:
             row = int(rows[index])
-            raise doc.error(f"{objects.keywords[row]} {objects.names[row]}: the address must be an integer, found "
+            raise doc.error(f"{objects.keyword(row)} {objects.names[row]}: the address must be an integer, found "
                             f"'{raw.decode(doc.encoding)}'", int(tokens[index]))
         differs[index] = old_values[index] != news[index]
     changed = np.flatnonzero(differs)
@@ -240,7 +240,7 @@ def _replace_addresses(objects: AddressedObjects, rows: np.ndarray, targets: np.
             row = int(rows[i])
             name = objects.names[row]
             pending.append((int(tokens[i]), "address-updated", name,
-                            "%s: 0x%X -> 0x%X" % (name, old_values[i], news[i]), objects.keywords[row], Severity.INFO))
+                            "%s: 0x%X -> 0x%X" % (name, old_values[i], news[i]), objects.keyword(row), Severity.INFO))
 
 
 def _update_link_maps(objects: AddressedObjects, targets: np.ndarray, edits: Edits,
@@ -251,7 +251,7 @@ def _update_link_maps(objects: AddressedObjects, targets: np.ndarray, edits: Edi
     if_data, link_maps = doc.option_tokens("IF_DATA", "LINK_MAP")
     if not len(if_data):
         return
-    row_of_block = {block: row for row, block in enumerate(objects.blocks)}
+    row_of_block = {block: row for row, block in enumerate(objects.blocks.tolist())}
     updated = 0
     for block, token in zip(if_data.tolist(), link_maps.tolist()):
         row = row_of_block.get(int(doc.blocks.parent[block]))
@@ -260,11 +260,11 @@ def _update_link_maps(objects: AddressedObjects, targets: np.ndarray, edits: Edi
             continue
         address_token = token + 2
         if address_token >= doc.block_end[block]:
-            raise doc.error(f"{objects.keywords[row]} {objects.names[row]}: LINK_MAP needs a symbol name and an "
+            raise doc.error(f"{objects.keyword(row)} {objects.names[row]}: LINK_MAP needs a symbol name and an "
                             "address", token)
         raw = doc.raw(address_token)
         if int_or_none(raw) is None:
-            raise doc.error(f"{objects.keywords[row]} {objects.names[row]}: the LINK_MAP address must be an integer, "
+            raise doc.error(f"{objects.keyword(row)} {objects.names[row]}: the LINK_MAP address must be an integer, "
                             f"found '{raw.decode(doc.encoding)}'", address_token)
         if int_or_none(raw) != target:
             start, end = doc.tokens.span(address_token)
@@ -285,26 +285,26 @@ def _check_types(objects: AddressedObjects, symbols: list, edits: Edits, report:
 
 def _missing(objects: AddressedObjects, row: int, debug: DebugData, mode: UpdateMode, report: UpdateReport,
              removed: dict[str, int], pending: list[tuple]) -> None:
-    keyword, name, symbol = objects.keywords[row], objects.names[row], objects.symbols[row]
+    keyword, name, symbol = objects.keyword(row), objects.names[row], objects.symbols[row]
     why = debug.resolve_error(symbol)
     # a name that fits several variables (statics of two functions or units) is never guessed
     kind = "symbol-ambiguous" if debug.is_ambiguous(symbol) else "symbol-not-found"
     link = f" (SYMBOL_LINK {symbol!r})" if symbol != name else ""
     severity = Severity.ERROR if mode is UpdateMode.STRICT else Severity.WARNING
-    pending.append((objects.name_tokens[row], kind, name, f"{keyword} {name}{link}: {why}", keyword, severity))
+    pending.append((int(objects.name_tokens[row]), kind, name, f"{keyword} {name}{link}: {why}", keyword, severity))
     report.count(keyword, "not-found")
     if mode is UpdateMode.REMOVE_MISSING:
-        removed[name] = objects.blocks[row]
-        pending.append((objects.name_tokens[row], "removed", name, f"{keyword} {name} removed", keyword,
+        removed[name] = int(objects.blocks[row])
+        pending.append((int(objects.name_tokens[row]), "removed", name, f"{keyword} {name} removed", keyword,
                         Severity.WARNING))
         report.count(keyword, "removed")
 
 
 def _unaddressable(objects: AddressedObjects, row: int, address: int, mode: UpdateMode, report: UpdateReport,
                    pending: list[tuple]) -> None:
-    keyword, name = objects.keywords[row], objects.names[row]
+    keyword, name = objects.keyword(row), objects.names[row]
     severity = Severity.ERROR if mode is UpdateMode.STRICT else Severity.WARNING
-    pending.append((objects.name_tokens[row], "address-out-of-range", name,
+    pending.append((int(objects.name_tokens[row]), "address-out-of-range", name,
                     f"{keyword} {name}: address 0x{address:X} does not fit the 32 bits of an A2L address; "
                     "left unchanged", keyword, severity))
     report.count(keyword, "out-of-range")
