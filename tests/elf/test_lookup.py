@@ -105,18 +105,31 @@ def _variable_dies(elf_path: Path) -> dict[int, bool]:
 def test_a_name_missing_at_file_scope_decodes_only_the_variables_inside_functions(elf_name, monkeypatch):
     """The function statics are read for a name the globals lack; the file-scope variables, read once
     already, are stepped over (an ELF of 50,000 globals decoded them all a second time)."""
-    from workbench.elf import dwarf
+    from workbench.elf import dwarf, variable_readers
 
     debug = DebugData(MATRIX / elf_name, use_cache=False)
     decoded = []
+    make_reader = variable_readers.variable_reader
+
+    def recording_reader(*args):
+        read = make_reader(*args)
+
+        def recording(data, position, unit):
+            decoded.append(position - 1)  # the DIE's offset: its abbreviation code is one byte here
+            return read(data, position, unit)
+
+        return recording
+
+    monkeypatch.setattr(variable_readers, "variable_reader", recording_reader)
+    debug._dwarf()._plan_cache.clear()  # the readers are made again, recording
     decode = dwarf.DwarfReader._decode
 
-    def recording(self, plan, position, unit, wanted, prefix=None):
+    def decoding(self, plan, position, unit, wanted):
         if wanted is dwarf.VARIABLE_ATTRS:
-            decoded.append(position - 1)  # the DIE's offset: its abbreviation code is one byte here
-        return decode(self, plan, position, unit, wanted, prefix)
+            decoded.append(position - 1)
+        return decode(self, plan, position, unit, wanted)
 
-    monkeypatch.setattr(dwarf.DwarfReader, "_decode", recording)
+    monkeypatch.setattr(dwarf.DwarfReader, "_decode", decoding)
     assert debug.find("no_such_variable") is None
     variables = _variable_dies(MATRIX / elf_name)
     decoded_variables = [offset for offset in decoded if offset in variables]

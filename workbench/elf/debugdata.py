@@ -172,9 +172,9 @@ class DebugData:
         if not self._has_variables:
             return None
         self._load_index()
-        found = self._plain_variable(path)
-        if found is not None:
-            return found
+        plain = self._plain_variable(path)
+        if plain is not None:
+            return Variable._make(plain[0]), plain[1]
         found = None
         if any(name in self._first_of_name() for name in _variable_names(path)):  # else no global can fit
             if self._globals is None:
@@ -188,10 +188,10 @@ class DebugData:
             found = self._static_table.find(path)
         return found
 
-    def _plain_variable(self, path: str) -> tuple[Variable, str] | None:
-        """The variable of a path that starts with a plain name which designates one variable at file scope
-        (``x``, ``x.in.phys``, ``x[3]``: most paths of an A2L): what the scoped lookup would answer, for a
-        dict lookup; None for other paths."""
+    def _plain_variable(self, path: str) -> tuple[tuple, str] | None:
+        """The variable (its fields) and member suffix of a path that starts with a plain name which designates
+        one variable at file scope (``x``, ``x.in.phys``, ``x[3]``: most paths of an A2L): what the scoped
+        lookup would answer, for a dict lookup; None for other paths."""
         if "::" in path or "{" in path:
             return None
         head = _HEAD.match(path)
@@ -202,7 +202,22 @@ class DebugData:
         # a unique name's address is in _addresses; the first variable of that name lives there
         if variable is None or variable[1] is None or self._addresses.get(name) != variable[1]:
             return None
-        return Variable._make(variable), path[head.end():]
+        return variable, path[head.end():]
+
+    def _member_address(self, path: str) -> int | None:
+        """The address of a member or element of a variable :meth:`_plain_variable` finds, when the walk
+        succeeds (None: ask :meth:`_lookup`, which also says why not)."""
+        if not self._has_variables:
+            return None
+        self._load_index()
+        plain = self._plain_variable(path)
+        if plain is None:
+            return None
+        (_, address, type_offset, *_), suffix = plain
+        try:
+            return address + self._walk(path, type_offset, suffix)[0]
+        except UnknownSymbolError:
+            return None
 
     def _first_of_name(self) -> dict[str, tuple]:
         """Name -> the first variable at file scope or in a namespace of that name (Variable fields)."""
@@ -250,10 +265,16 @@ class DebugData:
         except OverflowError:  # an address beyond 2**63 (none fits an A2L): one at a time
             found = np.array([_int64_or_unknown(get(path, -1)) for path in paths], np.int64)
         unknown = np.flatnonzero(found < 0).tolist()
+        remembered, member_address = self._addresses, self._member_address
         for done, row in enumerate(unknown):
             if done % 2000 == 0:
                 report(progress, done, len(unknown), "resolving symbol paths")
             path = paths[row]
+            address = member_address(path)  # most paths: a member of a variable (x.in.phys, x[3])
+            if address is not None:
+                remembered[path] = address
+                found[row] = _int64_or_unknown(address)
+                continue
             symbol = self._found.get(path)
             if symbol is None:
                 symbol = self._lookup(path)

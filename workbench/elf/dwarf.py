@@ -17,7 +17,7 @@ DW_OP_addrx in a location nor DWARF 5 type units.)
 from __future__ import annotations
 
 import struct
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 
 # tags
@@ -40,7 +40,7 @@ VARIABLE_ATTRS = frozenset({AT_SIBLING, AT_NAME, AT_TYPE, AT_LOCATION, AT_SPECIF
 _SIBLING = frozenset({AT_SIBLING})
 
 # DW_OP codes of the static locations read here
-_OP_ADDR, _OP_CONSTU, _OP_PLUS, _OP_PLUS_UCONST, _OP_ADDRX, _OP_GNU_ADDR_INDEX = 0x03, 0x10, 0x22, 0x23, 0xA1, 0xFB
+OP_ADDR, _OP_CONSTU, _OP_PLUS, _OP_PLUS_UCONST, _OP_ADDRX, _OP_GNU_ADDR_INDEX = 0x03, 0x10, 0x22, 0x23, 0xA1, 0xFB
 
 _FIXED_SIZE = {0x0B: 1, 0x05: 2, 0x06: 4, 0x07: 8, 0x0C: 1, 0x11: 1, 0x12: 2, 0x13: 4, 0x14: 8, 0x1E: 16,
                0x20: 8, 0x25: 1, 0x26: 2, 0x27: 3, 0x28: 4, 0x29: 1, 0x2A: 2, 0x2B: 3, 0x2C: 4, 0x1C: 4, 0x24: 8}
@@ -221,9 +221,11 @@ class DwarfReader:
         """Walk the DIE tree of ``unit`` in order, fast: yields ("enter", offset, tag, attrs) for a DIE of
         a tag in ``descend`` that has children (then its children, then ("leave", offset, tag, {})), and
         ("item", offset, tag, attrs) for a DIE of a tag in ``collect`` (with ``within``: only inside a DIE
-        of one of those tags). Only the ``wanted`` attributes are decoded; every other DIE is stepped over
-        with its subtree, through DW_AT_sibling or, where the producer left it out (clang), by stepping
-        over each descendant's attributes."""
+        of one of those tags); a variable DIE collected for :data:`VARIABLE_ATTRS` comes as a tuple in
+        :data:`~workbench.elf.variable_readers.VARIABLE_FIELDS` order instead of a dict. Only the
+        ``wanted`` attributes are decoded; every other DIE is stepped over with its subtree, through
+        DW_AT_sibling or, where the producer left it out (clang), by stepping over each descendant's
+        attributes."""
         root = self.die(unit.first_die, unit)
         if root is None or not root.has_children:
             return
@@ -246,7 +248,7 @@ class DwarfReader:
                 offset = position
                 continue
             try:
-                tag, has_children, plan, prefix, skip = plans[code]
+                tag, has_children, plan, variable_reader, skip = plans[code]
             except KeyError:
                 raise DwarfError(f"unknown abbreviation {code} at .debug_info+0x{offset:x}") from None
             if tag in descend and has_children:
@@ -258,14 +260,20 @@ class DwarfReader:
                 offset = position
                 continue
             if inside and tag in collect:
-                attrs, position = self._decode(plan, position, unit, wanted, prefix)
-                yield "item", offset, tag, attrs
+                if variable_reader is not None and wanted is VARIABLE_ATTRS:
+                    fields, position = variable_reader(data, position, unit)
+                    sibling = fields[-1]
+                    yield "item", offset, tag, fields
+                else:
+                    attrs, position = self._decode(plan, position, unit, wanted)
+                    sibling = attrs.get(AT_SIBLING)
+                    yield "item", offset, tag, attrs
             elif skip is not None and not has_children:
                 offset = self._step_over(skip, position)
                 continue
             else:
                 attrs, position = self._decode(plan, position, unit, _SIBLING)
-            sibling = attrs.get(AT_SIBLING)
+                sibling = attrs.get(AT_SIBLING)
             if not has_children:
                 offset = position
             elif isinstance(sibling, int) and sibling > offset:
@@ -295,21 +303,22 @@ class DwarfReader:
                     depth += 1
         return position
 
-    def _plans(self, unit: Unit) -> dict[int, tuple[int, bool, tuple, tuple | None, int | tuple | None]]:
+    def _plans(self, unit: Unit) -> dict[int, tuple[int, bool, tuple, Callable | None, int | tuple | None]]:
         """Per abbreviation: (tag, has children, ((attribute, form, bytes or -1 when variable), ...), the
-        fixed prefix of a variable DIE (see :func:`_fixed_prefix`), how to step over its attributes (see
-        :func:`_skip_plan`))."""
+        reader of a variable DIE (see :mod:`workbench.elf.variable_readers`), how to step over its
+        attributes (see :func:`_skip_plan`))."""
         key = (unit.abbrev_offset, unit.offset_size, unit.address_size, unit.version)
         plans = self._plan_cache.get(key)
         if plans is None:
+            from workbench.elf.variable_readers import variable_reader  # it reads this module's forms
             sizes = {0x0E: unit.offset_size, 0x1F: unit.offset_size, 0x17: unit.offset_size,
                      0x10: unit.address_size if unit.version == 2 else unit.offset_size,
                      0x01: unit.address_size, 0x19: 0, 0x21: 0, 0x1D: unit.offset_size}
             plans = {}
             for code, (tag, has_children, specs) in self._abbrevs(unit.abbrev_offset).items():
                 steps = tuple((attr, form, _FIXED_SIZE.get(form, sizes.get(form, -1))) for attr, form, _ in specs)
-                prefix = _fixed_prefix(specs, steps, VARIABLE_ATTRS, self.order) if tag == TAG_VARIABLE else None
-                plans[code] = (tag, has_children, steps, prefix, _skip_plan(steps))
+                reader = variable_reader(self, specs, steps) if tag == TAG_VARIABLE else None
+                plans[code] = (tag, has_children, steps, reader, _skip_plan(steps))
             self._plan_cache[key] = plans
         return plans
 
@@ -334,28 +343,11 @@ class DwarfReader:
                 position += 1 + data[position]
         return position
 
-    def _decode(self, plan: tuple, position: int, unit: Unit, wanted: frozenset, prefix=None) -> tuple[dict, int]:
+    def _decode(self, plan: tuple, position: int, unit: Unit, wanted: frozenset) -> tuple[dict, int]:
         """Decode the ``wanted`` attributes of one DIE and step over the others; returns them and the
-        offset after the attributes. ``prefix`` (see :func:`_fixed_prefix`) reads the leading
-        fixed-size attributes with one ``struct`` call."""
+        offset after the attributes."""
         data = self.info
         attrs = {}
-        if prefix is not None:
-            layout, fields, count = prefix
-            for (attr, kind, constant), value in zip(fields, layout.unpack_from(data, position)
-                                                     if layout.size else ()):
-                attrs[attr] = value
-            for attr, kind, constant in fields:
-                if kind == "strp":
-                    attrs[attr] = _cstring(self.strings, attrs[attr])
-                elif kind == "line_strp":
-                    attrs[attr] = _cstring(self.line_strings, attrs[attr])
-                elif kind == "ref":
-                    attrs[attr] += unit.offset
-                elif kind == "constant":
-                    attrs[attr] = constant
-            position += layout.size
-            plan = plan[count:]
         for attr, form, size in plan:
             if attr in wanted:
                 attrs[attr], position = self._read_form(form, position, unit, None)
@@ -407,7 +399,7 @@ class DwarfReader:
         if not isinstance(location, (bytes, bytearray)) or not location:
             return None
         op = location[0]
-        if op == _OP_ADDR:
+        if op == OP_ADDR:
             end = 1 + unit.address_size
             address = int.from_bytes(location[1:end], _BYTEORDER[self.order])
         elif op in (_OP_ADDRX, _OP_GNU_ADDR_INDEX):
@@ -449,10 +441,10 @@ class DwarfReader:
             return int.from_bytes(data[position : position + size], _BYTEORDER[self.order]), position + size
         if form == 0x0E:  # strp
             offset = self._offset(data, position, unit.offset_size)
-            return _cstring(self.strings, offset), position + unit.offset_size
+            return cstring(self.strings, offset), position + unit.offset_size
         if form == 0x1F:  # line_strp
             offset = self._offset(data, position, unit.offset_size)
-            return _cstring(self.line_strings, offset), position + unit.offset_size
+            return cstring(self.line_strings, offset), position + unit.offset_size
         if form == 0x08:  # string
             end = data.index(b"\0", position)
             return data[position:end].decode("utf-8", "replace"), end + 1
@@ -504,43 +496,12 @@ class DwarfReader:
         position = self._unit_bases(unit)[0] + index * unit.offset_size
         if position + unit.offset_size > len(self.str_offsets):
             return None
-        return _cstring(self.strings, self._offset(self.str_offsets, position, unit.offset_size))
+        return cstring(self.strings, self._offset(self.str_offsets, position, unit.offset_size))
 
 
 _BYTEORDER = {"<": "little", ">": "big"}
 # fixed-size forms whose value needs more than a struct read: data16, ref_sig8, strx1-4, addrx1-4
-_DECODED_FORMS = frozenset({0x1E, 0x20, 0x25, 0x26, 0x27, 0x28, 0x29, 0x2A, 0x2B, 0x2C})
-_STRUCT_CODES = {1: "B", 2: "H", 4: "I", 8: "Q"}
-
-
-def _fixed_prefix(specs: tuple, steps: tuple, wanted: frozenset, order: str):
-    """How to read the leading fixed-size attributes of an abbreviation with one ``struct`` call:
-    (Struct, [(attribute, kind, constant)] of the wanted ones in order, steps covered); None when
-    the first attribute already has a variable size."""
-    codes, fields, count = [], [], 0
-    for (attr, form, implicit), (_, _, size) in zip(specs, steps):
-        if size < 0 or form in _DECODED_FORMS:  # leave these to _read_form
-            break
-        count += 1
-        if attr not in wanted:
-            codes.append(f"{size}x" if size else "")
-            continue
-        if size == 0:  # flag_present, implicit_const: the value is in the abbreviation
-            fields.append((attr, "constant", True if form == 0x19 else implicit))
-            continue
-        if size not in _STRUCT_CODES:
-            return None if not count - 1 else _finish(codes, fields, count - 1, order)
-        kind = {0x0E: "strp", 0x1F: "line_strp", 0x11: "ref", 0x12: "ref", 0x13: "ref", 0x14: "ref"}.get(form, "int")
-        codes.append(_STRUCT_CODES[size])
-        fields.append((attr, kind, None))
-    return _finish(codes, fields, count, order) if count else None
-
-
-def _finish(codes: list[str], fields: list, count: int, order: str):
-    # struct-decoded fields first (in order), then the constants, matching the unpack order
-    decoded = [f for f in fields if f[1] != "constant"]
-    constants = [f for f in fields if f[1] == "constant"]
-    return struct.Struct(order + "".join(codes)), decoded + constants, count
+DECODED_FORMS = frozenset({0x1E, 0x20, 0x25, 0x26, 0x27, 0x28, 0x29, 0x2A, 0x2B, 0x2C})
 
 
 _SKIP_BYTES, _SKIP_BLOCK, _SKIP_STRING, _SKIP_LEB, _SKIP_BLOCK1 = range(5)
@@ -600,7 +561,8 @@ def _sleb(data: bytes, position: int) -> tuple[int, int]:
     return value, end
 
 
-def _cstring(section: bytes, offset: int) -> str:
+def cstring(section: bytes, offset: int) -> str:
+    """The NUL-terminated UTF-8 string at ``offset`` of a string section."""
     end = section.find(b"\0", offset)
     return section[offset : end if end >= 0 else len(section)].decode("utf-8", "replace")
 

@@ -41,6 +41,7 @@ class DwarfIndex:
         self._layouts: dict[int, tuple[list[int], list[int]]] = {}  # unit -> starts and ends of its top DIEs
         self._functions: dict[int, tuple[str, ...]] = {}  # subprogram DIE -> its qualified name
         self._definitions: dict[tuple[int, tuple[str, ...]], int] | None = None
+        self._byte_order = "little" if reader.order == "<" else "big"
 
     # -- variables ---------------------------------------------------------------------------
     def global_variables(self, progress: Progress | None = None) -> list[tuple]:
@@ -93,26 +94,29 @@ class DwarfIndex:
                         found.append(variable)
         return found
 
-    def _variable(self, attrs: dict, unit: dwarf.Unit, offset: int, scope: tuple[str, ...], unit_name: str,
+    def _variable(self, fields: tuple, unit: dwarf.Unit, offset: int, scope: tuple[str, ...], unit_name: str,
                   function: bool = False) -> tuple | None:
-        """The :class:`Variable` fields of a variable DIE, as a plain tuple (50,000 of them are made and
-        cached on every read of a large ELF); None for a declaration or a DIE without a name."""
-        get = attrs.get
-        name, type_offset, external = get(dwarf.AT_NAME), get(dwarf.AT_TYPE), get(dwarf.AT_EXTERNAL, False)
-        specification = get(dwarf.AT_SPECIFICATION)
-        origin = specification or get(dwarf.AT_ABSTRACT_ORIGIN)
+        """The :class:`Variable` fields of a variable DIE (its attributes in VARIABLE_FIELDS order), as a plain
+        tuple (50,000 of them are made and cached on every read of a large ELF); None for a declaration or a
+        DIE without a name."""
+        name, type_offset, external, location, declaration, specification, origin, _ = fields
+        origin = specification or origin
         if origin is not None:
-            declaration = self.reader.die(origin)
-            if declaration is not None:
-                name = name or declaration.attrs.get(dwarf.AT_NAME)
-                type_offset = type_offset or declaration.attrs.get(dwarf.AT_TYPE)
-                external = external or declaration.attrs.get(dwarf.AT_EXTERNAL, False)
+            declared = self.reader.die(origin)
+            if declared is not None:
+                name = name or declared.attrs.get(dwarf.AT_NAME)
+                type_offset = type_offset or declared.attrs.get(dwarf.AT_TYPE)
+                external = external or declared.attrs.get(dwarf.AT_EXTERNAL, False)
             if specification is not None and not function:
                 known = self._declared.get(specification)
                 scope = known if known is not None else self.scope_of(specification)
-        location = get(dwarf.AT_LOCATION)
-        address = self.reader.static_address(location, unit) if location is not None else None
-        if address is None and get(dwarf.AT_DECLARATION):
+        if location is None:
+            address = None
+        elif location.__class__ is bytes and len(location) == 1 + unit.address_size and location[0] == dwarf.OP_ADDR:
+            address = int.from_bytes(location[1:], self._byte_order)  # most: DW_OP_addr a
+        else:
+            address = self.reader.static_address(location, unit)
+        if address is None and declaration:
             self._declared[offset] = scope
             return None
         if name.__class__ is not str:

@@ -1,0 +1,119 @@
+"""Readers of variable DIEs, made for each abbreviation: the hot loop of reading a large ELF's DWARF.
+
+An ELF of 50,000 variables has 50,000 variable DIEs of a handful of abbreviations. A reader made
+for one abbreviation (Python source generated from its attribute forms, compiled once and shared
+by every unit with the same abbreviation) reads a DIE with one ``struct`` call per run of
+fixed-size attributes and no loop over them, about twice as fast as decoding attribute by
+attribute. It returns the attributes :mod:`workbench.elf.dwarf_index` reads a variable for as a
+tuple in :data:`VARIABLE_FIELDS` order (None where the DIE lacks one, ``external`` False).
+"""
+
+from __future__ import annotations
+
+import itertools
+import struct
+from collections.abc import Callable
+
+from workbench.elf import dwarf
+
+__all__ = ["VARIABLE_FIELDS", "VariableReader", "variable_reader"]
+
+VARIABLE_FIELDS = (dwarf.AT_NAME, dwarf.AT_TYPE, dwarf.AT_EXTERNAL, dwarf.AT_LOCATION, dwarf.AT_DECLARATION,
+                   dwarf.AT_SPECIFICATION, dwarf.AT_ABSTRACT_ORIGIN, dwarf.AT_SIBLING)
+NAME, TYPE, EXTERNAL, LOCATION, DECLARATION, SPECIFICATION, ABSTRACT_ORIGIN, SIBLING = range(len(VARIABLE_FIELDS))
+
+# (data, position, unit) -> (fields, the position after the DIE's attributes)
+VariableReader = Callable[[bytes, int, "dwarf.Unit"], tuple[tuple, int]]
+
+_STRUCT_CODES = {1: "B", 2: "H", 4: "I", 8: "Q"}
+_REFERENCES = frozenset({0x11, 0x12, 0x13, 0x14})  # ref1-ref8: relative to the unit
+_BLOCKS = frozenset({0x18, 0x09})  # exprloc, block: a uleb length, then the bytes
+_compiled: dict[tuple, Callable] = {}
+
+
+def variable_reader(reader: "dwarf.DwarfReader", specs: tuple, steps: tuple) -> VariableReader:
+    """The reader of the variable DIEs of one abbreviation: ``specs`` its (attribute, form, implicit
+    value) triples, ``steps`` (attribute, form, size in bytes or -1) as the unit lays them out."""
+    key = (specs, tuple(size for _, _, size in steps), reader.order)
+    compiled = _compiled.get(key)
+    if compiled is None:
+        compiled = _compiled[key] = _compile(specs, steps, reader.order)
+    strings, line_strings, read_form = reader.strings, reader.line_strings, reader._read_form
+
+    def read(data: bytes, position: int, unit: "dwarf.Unit") -> tuple[tuple, int]:
+        return compiled(data, position, unit, strings, line_strings, read_form)
+
+    return read
+
+
+def _compile(specs: tuple, steps: tuple, order: str) -> Callable:
+    slots = {attr: slot for slot, attr in enumerate(VARIABLE_FIELDS)}
+    values = ["None"] * len(VARIABLE_FIELDS)
+    values[EXTERNAL] = "False"
+    namespace: dict[str, object] = {"cstring": dwarf.cstring}
+    numbers = itertools.count()
+    lines = ["def read(data, position, unit, strings, line_strings, read_form):"]
+    run: list[str] = []  # struct codes of the current run of fixed-size attributes
+    run_values: list[tuple[int, int, str]] = []  # (slot, form, local) of the wanted ones among them
+
+    def flush() -> None:
+        if not run:
+            return
+        layout = struct.Struct(order + "".join(run))
+        name = f"S{len(namespace)}"
+        namespace[name] = layout
+        if run_values:
+            lines.append(f"    {', '.join(v for _, _, v in run_values)}, = {name}.unpack_from(data, position)")
+        lines.append(f"    position += {layout.size}")
+        for slot, form, variable in run_values:
+            values[slot] = _converted(form, variable)
+        run.clear()
+        run_values.clear()
+
+    for (attr, form, implicit), (_, _, size) in zip(specs, steps):
+        slot = slots.get(attr)
+        if size == 0:  # flag_present, implicit_const: the value is in the abbreviation
+            if slot is not None:
+                constant = f"C{len(namespace)}"
+                namespace[constant] = True if form == 0x19 else implicit
+                values[slot] = constant
+        elif size in _STRUCT_CODES and form not in dwarf.DECODED_FORMS:
+            if slot is None:
+                run.append(f"{size}x")
+            else:
+                variable = f"v{next(numbers)}"
+                run.append(_STRUCT_CODES[size])
+                run_values.append((slot, form, variable))
+        else:
+            flush()
+            variable = f"v{next(numbers)}"
+            if form in _BLOCKS:  # most locations: a length byte and a few bytes
+                lines += [f"    if data[position] < 0x80:",
+                          f"        {variable} = data[position + 1 : position + 1 + data[position]]",
+                          f"        position += 1 + data[position]",
+                          f"    else:",
+                          f"        {variable}, position = read_form({form}, position, unit, None)"]
+            elif form == 0x08:  # an inline string
+                lines += [f"    end = data.index(b'\\0', position)",
+                          f"    {variable} = data[position:end].decode('utf-8', 'replace')",
+                          f"    position = end + 1"]
+            else:
+                namespace[f"C{len(namespace)}"] = implicit
+                lines.append(f"    {variable}, position = read_form({form}, position, unit, C{len(namespace) - 1})")
+            if slot is not None:
+                values[slot] = variable
+    flush()
+    lines.append(f"    return ({', '.join(values)},), position")
+    exec(compile("\n".join(lines), "<variable reader>", "exec"), namespace)
+    return namespace["read"]
+
+
+def _converted(form: int, variable: str) -> str:
+    """The expression that turns a struct-read value of ``form`` into the attribute's value."""
+    if form == 0x0E:  # strp
+        return f"cstring(strings, {variable})"
+    if form == 0x1F:  # line_strp
+        return f"cstring(line_strings, {variable})"
+    if form in _REFERENCES:
+        return f"({variable} + unit.offset)"
+    return variable
