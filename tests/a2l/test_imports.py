@@ -29,3 +29,26 @@ def test_a_cached_update_imports_no_heavy_library(tmp_path):
     assert code == 0 and "elftools" in first  # the first run reads DWARF
     code, cached = run_update(tmp_path)
     assert (code, cached) == (0, [])
+
+
+def test_a_cached_update_reads_neither_the_variables_nor_writes_the_cache_again(tmp_path):
+    """The cache answers every path of the file (those the ELF lacks included): the second update
+    leaves the variables pickled and the cache file as it was."""
+    from workbench.a2l import load_a2l
+    from workbench.a2l.update import update_document
+    from workbench.elf.debugdata import DebugData
+
+    text = (FIXTURES / "types.a2l").read_text().replace("/end MODULE", '/begin MEASUREMENT gone "a removed variable" '
+                                                        "UBYTE NO_COMPU_METHOD 0 0 0 255 ECU_ADDRESS 0x0 /end MEASUREMENT"
+                                                        "\n/end MODULE")
+    (tmp_path / "in.a2l").write_text(text)
+    doc = load_a2l(tmp_path / "in.a2l")
+    with DebugData(ELF, cache_dir=tmp_path / "cache") as debug:
+        first = update_document(doc, debug)
+    assert any(f.kind == "symbol-not-found" and f.name == "gone" for f in first.report.findings)
+    entry = next((tmp_path / "cache").iterdir())
+    written = entry.stat().st_mtime_ns
+    with DebugData(ELF, cache_dir=tmp_path / "cache") as debug:
+        again = update_document(doc, debug)
+        assert debug.from_cache and debug._variables is None
+    assert again.data == first.data and entry.stat().st_mtime_ns == written

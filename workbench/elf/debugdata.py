@@ -111,6 +111,8 @@ class DebugData:
         except Exception as exc:  # the entry's outer pickle was fine: this one is damaged or foreign
             raise InputError(f"{self.path}: the ELF index cache is damaged ({exc}); remove it or use --no-cache") \
                 from None
+        if self._stored is not None:  # what the cache holds: loading it adds nothing to store
+            self._stored = (*self._stored[:2], len(self._types), self._statics is not None)
 
     def __enter__(self) -> "DebugData":
         return self
@@ -270,13 +272,13 @@ class DebugData:
             if done % 2000 == 0:
                 report(progress, done, len(unknown), "resolving symbol paths")
             path = paths[row]
-            address = member_address(path)  # most paths: a member of a variable (x.in.phys, x[3])
-            if address is not None:
-                remembered[path] = address
-                found[row] = _int64_or_unknown(address)
-                continue
-            symbol = self._found.get(path)
+            symbol = self._found.get(path)  # a path looked up before (one the ELF lacks, say)
             if symbol is None:
+                address = member_address(path)  # most paths: a member of a variable (x.in.phys, x[3])
+                if address is not None:
+                    remembered[path] = address
+                    found[row] = _int64_or_unknown(address)
+                    continue
                 symbol = self._lookup(path)
                 if symbol.__class__ is tuple:  # remembered: the update asks why next
                     self._found[path] = symbol
