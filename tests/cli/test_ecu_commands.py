@@ -57,7 +57,7 @@ def test_a_map_is_shown_as_the_window_shows_it(bus, capsys):
     lines = out.splitlines()
     assert lines[0] == ("xvPRV_DC_FF: x = xaPRV_FF_TARGET [bar] across, y = xaPRV_FF_MANIFOLD [bar] down, "
                         "values [%]")
-    assert lines[1].split() == ["y", "\\", "x", "0", "10", "20", "30", "40", "50"]
+    assert lines[1].split() == ["y\\x", "0", "10", "20", "30", "40", "50"]
     assert [line.split()[0] for line in lines[2:]] == ["50", "100", "200", "400", "700"]
     assert lines[4].split() == ["200", "0.00", "70.00", "70.00", "70.00", "70.00", "70.00"]
     as_json = json.loads(run(capsys, "cal", "get", "xvPRV_DC_FF", "--json", *bus)[1])["xvPRV_DC_FF"]
@@ -88,15 +88,47 @@ def test_cal_set_reads_back_and_refuses_bad_values(bus, capsys):
     assert code == 2 and "MEASUREMENT" in err
 
 
-def test_cal_set_a_map_from_a_file(bus, capsys, tmp_path):
-    import numpy as np
+def test_cal_set_takes_what_cal_get_shows(bus, capsys, tmp_path):
+    """One orientation: the tables cal get prints, each row split at its spaces into a CSV row, are what
+    cal set --from takes (a map X across and Y down, a curve one row; axis points optional and written
+    too); a grid that fits only turned is refused naming the rows x columns and writes nothing; what
+    cal get --json printed is taken unchanged."""
+    lines = run(capsys, "cal", "get", "xvPRV_DC_FF", "zvTankPConv", *bus)[1].splitlines()
+    before = json.loads(run(capsys, "cal", "get", "xvPRV_DC_FF", "--json", *bus)[1])["xvPRV_DC_FF"]["value"]
+    table = [line.split() for line in lines[1:7]]
+    table[3][2] = "55"  # y = 200 (the third Y point), x = 10 (the second X point)
+    (tmp_path / "map.csv").write_text("\n".join(",".join(row) for row in table) + "\n")
+    code, out, err = run(capsys, "cal", "set", "xvPRV_DC_FF", "--from", str(tmp_path / "map.csv"), *bus)
+    assert (code, err) == (0, "") and out.splitlines()[4].split()[:3] == ["200", "0", "55"]
+    after = json.loads(run(capsys, "cal", "get", "xvPRV_DC_FF", "--json", *bus)[1])["xvPRV_DC_FF"]["value"]
+    before[1][2] = 55.0
+    assert after == before
 
-    rows = [[float(x * 10 + y) for y in range(5)] for x in range(6)]
-    (tmp_path / "ff.csv").write_text("\n".join(",".join(map(str, row)) for row in rows))
-    code, out, err = run(capsys, "cal", "set", "xvPRV_DC_FF", "--from", str(tmp_path / "ff.csv"), *bus)
-    assert code == 0, err
-    code, out, _ = run(capsys, "cal", "get", "xvPRV_DC_FF", "--json", *bus)
-    assert np.array_equal(json.loads(out)["xvPRV_DC_FF"]["value"], rows)
+    grid = [[float(10 * y + x) for x in range(6)] for y in range(5)]  # the values alone, 5 Y rows x 6 X columns
+    (tmp_path / "values.csv").write_text("\n".join(",".join(map(str, row)) for row in grid))
+    assert run(capsys, "cal", "set", "xvPRV_DC_FF", "--from", str(tmp_path / "values.csv"), *bus)[0] == 0
+    as_json = json.loads(run(capsys, "cal", "get", "xvPRV_DC_FF", "--json", *bus)[1])["xvPRV_DC_FF"]
+    assert as_json["value"] == [list(column) for column in zip(*grid)]  # indexed [x][y]
+    turned = tmp_path / "turned.csv"
+    turned.write_text("\n".join(",".join(str(row[y] + 1) for row in grid) for y in range(6)))
+    code, out, err = run(capsys, "cal", "set", "xvPRV_DC_FF", "--from", str(turned), *bus)
+    assert (code, out) == (2, "") and err == (f"error: {turned}: 6 rows x 5 columns of values (the file holds it "
+                                              "turned); xvPRV_DC_FF takes 5 rows x 6 columns, X across, Y down, as "
+                                              "`workbench cal get` prints it\n")
+    as_json["value"][0][0] = 3.0
+    (tmp_path / "map.json").write_text(json.dumps({"xvPRV_DC_FF": as_json}))
+    assert run(capsys, "cal", "set", "xvPRV_DC_FF", "--from", str(tmp_path / "map.json"), *bus)[0] == 0
+    assert json.loads(run(capsys, "cal", "get", "xvPRV_DC_FF", "--json", *bus)[1])["xvPRV_DC_FF"] == as_json
+
+    curve = [line.split() for line in lines[8:10]]
+    curve[0][1], curve[1][-1] = "0.25", "750"  # an axis point and a value
+    (tmp_path / "curve.csv").write_text("\n".join(",".join(row) for row in curve))
+    assert run(capsys, "cal", "set", "zvTankPConv", "--from", str(tmp_path / "curve.csv"), *bus)[0] == 0
+    written = json.loads(run(capsys, "cal", "get", "zvTankPConv", "--json", *bus)[1])["zvTankPConv"]
+    assert written["axes"][0]["points"][:2] == [0.25, 1.0] and written["value"][-1] == 750.0
+    (tmp_path / "column.csv").write_text("\n".join(curve[1][1:]))
+    code, _, err = run(capsys, "cal", "set", "zvTankPConv", "--from", str(tmp_path / "column.csv"), *bus)
+    assert code == 2 and "9 rows x 1 column of values (the file holds it turned); zvTankPConv takes 1 row x 9" in err
     code, _, err = run(capsys, "cal", "set", "xvPRV_DC_FF", "[1, 2", *bus)
     assert code == 2 and "not a list" in err
 

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import csv
-import json
 import re
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from workbench.cli.cal_values import typed_value, value_from_file
 from workbench.cli.ecu_options import add_ecu_arguments, open_session
 from workbench.cli.options import print_json
 from workbench.cli.render import decimals, jsonable, value_block, value_text
@@ -33,8 +32,11 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
     put = commands.add_parser(
         "set", help="write a calibration by name (checked before connecting, read back)",
         description="Write NAME in physical units: a number, an enum's text, a list for a curve or value block "
-                    "('[1, 2, 3]' or '1,2,3'), a nested list for a map (indexed [x][y]), or --from a JSON or CSV file "
-                    "(a map's CSV: one row per X point). 'NAME[x,y]' writes one value of a curve, map or value "
+                    "('[1, 2, 3]' or '1,2,3'), a nested list for a map (indexed [x][y], as cal get --json gives "
+                    "it), or --from a .json file (that, or what cal get NAME --json printed) or a .csv file laid "
+                    "out as cal get prints it: a curve one row, a map X across and Y down (one row per Y point), "
+                    "with or without the axis points (then written too where they differ); another shape is refused "
+                    "naming the rows x columns expected. 'NAME[x,y]' writes one value of a curve, map or value "
                     "block. Limits, shape, texts, write access and writable memory are checked before connecting "
                     "(exit 2, nothing sent); once connected, a read-only session (EPK mismatch) or the reference "
                     "page refuses the write before it is sent (exit 1). Only what changes is written, and that "
@@ -112,47 +114,6 @@ def _value_dict(value: Any) -> Any:
     return jsonable(value)
 
 
-def parse_value(text: str | None, source: str | None) -> Any:
-    """A value as typed on the command line or held in a .json/.csv file."""
-    if source is not None:
-        if text is not None:
-            raise InputError("give VALUE or --from FILE, not both")
-        return _value_from_file(Path(source))
-    if text is None:
-        raise InputError("give the value to write (or --from FILE)")
-    stripped = text.strip()
-    if stripped.startswith("["):
-        try:
-            return json.loads(stripped)
-        except json.JSONDecodeError as exc:
-            raise InputError(f"VALUE {text!r} is not a list: {exc.msg} at column {exc.colno}") from None
-    if "," in stripped:
-        return [_scalar(part) for part in stripped.split(",")]
-    return _scalar(stripped)
-
-
-def _scalar(text: str) -> Any:
-    try:
-        return int(text, 0) if text.strip().lstrip("+-").isdigit() else float(text)
-    except ValueError:
-        return text.strip()
-
-
-def _value_from_file(path: Path) -> Any:
-    from workbench.fileio import read_input
-
-    data = read_input(path, "a value file").decode("utf-8-sig")
-    if path.suffix.lower() == ".json":
-        try:
-            return json.loads(data)
-        except json.JSONDecodeError as exc:
-            raise InputError(f"{path}:{exc.lineno}:{exc.colno}: {exc.msg}") from None
-    if path.suffix.lower() == ".csv":
-        rows = [[_scalar(cell) for cell in row if cell.strip()] for row in csv.reader(data.splitlines()) if row]
-        return rows[0] if len(rows) == 1 else rows
-    raise InputError(f"{path}: a value file is .json or .csv")
-
-
 def _offline(args: argparse.Namespace) -> tuple[A2lDocument, list | None]:
     """The A2L and the memory it lets calibrations be written to: what a write is checked against before
     connecting (a refusal then sends nothing; the bus is not even opened)."""
@@ -167,10 +128,14 @@ def _offline(args: argparse.Namespace) -> tuple[A2lDocument, list | None]:
 def _set(args: argparse.Namespace) -> int:
     from workbench.calib.writable import checked_cells, checked_value
 
-    value = parse_value(args.value, args.source)
+    if args.source is not None and args.value is not None:
+        raise InputError("give VALUE or --from FILE, not both")
+    value = typed_value(args.value) if args.source is None else None
     doc, writable = _offline(args)
     model = doc.model()
     name, index = _cell(model, args.name)
+    if args.source is not None:
+        value = value_from_file(Path(args.source), model, name, cell=index is not None)
     extended = args.extended_limits
     if index is None:
         checked_value(model, name, value, extended=extended, writable=writable)
@@ -251,14 +216,14 @@ def _fix(args: argparse.Namespace) -> int:
         doc, writable = _offline(args)
         model = doc.model()
         pair = resolve_fix(find_fix_pairs(model.names("CHARACTERISTIC"), model.names("MEASUREMENT")), args.signal)
-        checked_value(model, pair.value, parse_value(args.value, None), writable=writable)
+        checked_value(model, pair.value, typed_value(args.value), writable=writable)
     with open_session(args, doc) as session:
         if args.list:
             states = session.fixes()
         elif args.release:
             states = [session.release(args.signal)]
         else:
-            states = [session.override(args.signal, parse_value(args.value, None))]
+            states = [session.override(args.signal, typed_value(args.value))]
     if args.json:
         print_json([{"fix": s.pair.stem, "kind": s.pair.kind, "signal": s.signal, "enable": s.pair.enable,
                      "value": s.pair.value, "live": jsonable(s.live), "override": jsonable(s.override),

@@ -48,7 +48,8 @@ def value_text(value: Any, unit: str = "", places: int | None = None) -> str:
 
 def table_lines(value: Any, axes: tuple = (), unit: str = "", places: int | None = None) -> list[str]:
     """A CURVE as two rows (axis, values), a MAP as a grid with X across and Y down (as the window and CANape
-    show it), each after a legend line naming the axes and units; anything else on one line."""
+    show it), each after a legend line naming the axes and units; anything else on one line. Each row of a
+    table, split at its spaces, is a CSV row ``cal set --from`` takes (a cell holds no space)."""
     if not isinstance(value, np.ndarray) or value.ndim == 0:
         return [value_text(value, unit, places)]
     cells = np.vectorize(lambda v: number(v, places), otypes=[object])(value) if value.size else value
@@ -64,7 +65,7 @@ def table_lines(value: Any, axes: tuple = (), unit: str = "", places: int | None
         ys = [number(v) for v in axes[1].values.tolist()]
         width = max(len(text) for text in ys + xs + [str(c) for c in cells.ravel()])
         lines = [f"{_axis_label('x', axes[0])} across, {_axis_label('y', axes[1])} down, {values}",
-                 "y \\ x".ljust(width) + " " + " ".join(text.rjust(width) for text in xs)]
+                 "y\\x".ljust(width) + " " + " ".join(text.rjust(width) for text in xs)]
         for y, column in zip(ys, cells.T):
             lines.append(y.rjust(width) + " " + " ".join(str(c).rjust(width) for c in column))
         return lines
