@@ -12,6 +12,7 @@ from workbench.errors import (
     Cancelled,
     ConnectionLostError,
     ConversionError,
+    EcuSilentError,
     EpkMismatchError,
     InputError,
     LimitsError,
@@ -28,9 +29,9 @@ __version__ = "0.1.0"
 
 logging.getLogger(__name__).addHandler(logging.NullHandler())
 
-_ERRORS = ["A2lParseError", "Cancelled", "ConnectionLostError", "ConversionError", "EpkMismatchError", "InputError",
-           "LimitsError", "PageError", "PartialWriteError", "UnknownSymbolError", "WorkbenchError", "XcpCommandError",
-           "XcpTimeoutError"]
+_ERRORS = ["A2lParseError", "Cancelled", "ConnectionLostError", "ConversionError", "EcuSilentError",
+           "EpkMismatchError", "InputError", "LimitsError", "PageError", "PartialWriteError", "UnknownSymbolError",
+           "WorkbenchError", "XcpCommandError", "XcpTimeoutError"]
 _lazy, __getattr__, _dir = lazy_exports(__name__, {"workbench.session": ("Session",)})
 __all__ = sorted(_ERRORS + _lazy + ["__version__"])
 

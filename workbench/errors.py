@@ -128,7 +128,8 @@ class ConnectionLostError(WorkbenchError):
 
     ``what`` names the link ("XCP on UDP (127.0.0.1:5555)"), ``reason`` what was seen ("no DTO for
     300 ms"), ``when`` the wall-clock time it was noticed (seconds since the epoch, as ``time.time()``).
-    The session is unusable afterwards: close it and open a new one to reconnect.
+    Every command of the session raises it at once from then on, until a CONNECT (``Session.connect()``,
+    or a new session) reaches the ECU again.
     """
 
     def __init__(self, what: str, reason: str, when: float | None = None):
@@ -136,7 +137,19 @@ class ConnectionLostError(WorkbenchError):
         self.reason = reason
         self.when = time.time() if when is None else when
         clock = time.strftime("%H:%M:%S", time.localtime(self.when)) + f".{int(self.when % 1 * 1000):03d}"
-        super().__init__(f"connection to the ECU lost at {clock}: {what}: {reason}")
+        WorkbenchError.__init__(self, f"connection to the ECU lost at {clock}: {what}: {reason}")  # not super():
+        # in EcuSilentError the next class is XcpTimeoutError, whose arguments differ
+
+
+class EcuSilentError(ConnectionLostError, XcpTimeoutError):
+    """A command went unanswered and so did the SYNCH after it: the ECU stopped answering (also an
+    :class:`XcpTimeoutError` of ``command``)."""
+
+    def __init__(self, what: str, command: str, timeout_s: float, when: float | None = None):
+        self.command = command
+        self.timeout_s = timeout_s
+        super().__init__(what, f"XCP {command}: no response within {timeout_s * 1000:.0f} ms, none to SYNCH either",
+                         when)
 
 
 class PartialWriteError(WorkbenchError):

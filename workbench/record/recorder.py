@@ -48,7 +48,7 @@ import numpy as np
 
 from workbench import __version__
 from workbench.can import DbcFile, load_dbc
-from workbench.errors import InputError, WorkbenchError
+from workbench.errors import ConnectionLostError, InputError, WorkbenchError
 from workbench.progress import Progress
 from workbench.record.can_channels import CanMessageGroups, RawCanGroup
 from workbench.record.daq_channels import DaqGroup
@@ -316,7 +316,9 @@ class Recorder:
                     return
         except BaseException as exc:  # kept for stop(), which raises it where the caller sees it
             self._error = exc
-            log.error("recording to %s failed: %s", self.path, exc)
+            lost = isinstance(exc, ConnectionLostError)  # the end of the recording, not a failure of it
+            log.log(logging.INFO if lost else logging.ERROR, "recording to %s %s: %s", self.path,
+                    "ended" if lost else "failed", exc)
 
     def _take_daq(self, timeout_s: float) -> None:
         measurement = self.measurement
@@ -419,6 +421,8 @@ class Recorder:
     def stop(self) -> RecordingStats:
         """Stop DAQ and the CAN bus, write what is left and finalize the file; safe to call twice.
 
+        :raises ConnectionLostError: the ECU was lost: the recording ended there (the file is finalized with
+            everything that came before).
         :raises WorkbenchError: the recording failed on the way (the file holds what was flushed before).
         """
         with self._lock:
@@ -435,6 +439,9 @@ class Recorder:
                 self._finish()
         if self._error is not None:
             error, self._error = self._error, None
+            if isinstance(error, ConnectionLostError):
+                raise ConnectionLostError(error.what, f"{error.reason}; {self.stats.describe()} recorded before",
+                                          error.when) from None
             raise WorkbenchError(f"recording to {self.path} failed: {error}") from error
         return self.stats
 

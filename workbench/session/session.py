@@ -23,7 +23,7 @@ from typing import Any
 from workbench import demo
 from workbench.a2l import A2lDocument, load_a2l, read_xcp_config
 from workbench.a2l.xcp import XcpConfig, XcpSegment
-from workbench.errors import EpkMismatchError, InputError, WorkbenchError, XcpTimeoutError
+from workbench.errors import ConnectionLostError, EpkMismatchError, InputError, WorkbenchError, XcpTimeoutError
 from workbench.session.connection import Connection, link_settings, timeouts_of
 from workbench.session.epk import EpkCheck, check_epk
 from workbench.session.fixes import FixAccess
@@ -115,6 +115,8 @@ class Session(ValueAccess, EventAccess, FixAccess):
                 raise XcpTimeoutError("CONNECT", exc.timeout_s,
                                       f"no ECU answers on {self.link.settings.describe()}: is it powered, on this "
                                       "bus/address, with these ids?") from None
+            except ConnectionLostError as exc:  # e.g. nothing listens at the address: it was never there
+                raise WorkbenchError(f"cannot reach the ECU: {exc.what}: {exc.reason}") from None
             self.epk = check_epk(self.master, self.doc.epk(self.module), self.doc.addr_epk(self.module))
             if self.epk.matches is False:
                 log.warning("%s%s", self.epk.describe(),
@@ -134,12 +136,12 @@ class Session(ValueAccess, EventAccess, FixAccess):
             for closer in reversed(self._closers):
                 try:
                     closer()
-                except WorkbenchError as exc:
-                    log.warning("closing: %s", exc)
+                except WorkbenchError as exc:  # a lost ECU was said where it was found
+                    log.log(logging.INFO if isinstance(exc, ConnectionLostError) else logging.WARNING, "closing: %s", exc)
             self._closers.clear()
             try:
-                if self.master.connected:
-                    self.master.disconnect()
+                if self.master.connected and not self.master.silent and self.link.lost is None:
+                    self.master.disconnect()  # not to an ECU found gone: it would only wait out T1 twice
             except WorkbenchError as exc:
                 log.debug("DISCONNECT: %s", exc)
             finally:

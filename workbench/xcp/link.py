@@ -15,9 +15,10 @@ block, whose early error response must not be lost. Event (EV) and service (SERV
 never taken for responses.
 
 A lost ECU is said at once as :class:`~workbench.errors.ConnectionLostError`: a closed TCP connection, a
-socket or bus error, and, while DAQ runs with :meth:`Link.watch_dtos`, no DTO for the time given. The link
-stays lost (every call raises it, without waiting for timeouts) until a CONNECT goes out again: it tries
-once more (TCP: on a new connection).
+socket or bus error, and while DAQ runs with :meth:`Link.watch_dtos` nothing from the ECU for the time
+given. The link stays lost (every call raises it, without waiting for timeouts) until a CONNECT goes out
+again: it tries once more (TCP: on a new connection). (A command unanswered with its SYNCH is the master's
+to say: :class:`~workbench.errors.EcuSilentError`; it may try again, as a flash's repairs do.)
 """
 
 from __future__ import annotations
@@ -43,6 +44,7 @@ __all__ = ["DtoHandler", "Link", "LinkSettings"]
 
 DtoHandler = Callable[[bytes, int], None]  # (packet, host receive time in ns since the epoch)
 _CONNECT = int(Cmd.CONNECT)
+_GRACE_S = 0.25  # at most this long a silence is confirmed before the ECU counts as lost
 
 
 @dataclass(frozen=True)
@@ -93,7 +95,7 @@ class Link:
         self._handler: DtoHandler | None = None
         self._receiving = False
         self._dto_silence_s: float | None = None
-        self._last_dto = 0.0  # time.monotonic() of the last DTO (or of the watch's start)
+        self._last_seen = 0.0  # time.monotonic() of the ECU's last packet (or of the DTO watch's start)
         self._transport = open_transport(settings, bus)
 
     @property
@@ -132,22 +134,34 @@ class Link:
                 self._receiving = False
 
     def watch_dtos(self, silence_s: float | None) -> None:
-        """Take ``silence_s`` seconds without a DTO (from now) for a lost ECU while a ``dto_handler`` is set
-        (None: do not watch). :meth:`check` and every command say so."""
+        """While a ``dto_handler`` is set, take ``silence_s`` seconds (from now) without a packet from the ECU
+        (a DTO, or a response) for a lost ECU; None: do not watch. :meth:`check` and every command say so."""
         with self._arrived:
             self._dto_silence_s = silence_s
-            self._last_dto = time.monotonic()
+            self._last_seen = time.monotonic()
 
     def check(self) -> None:
-        """:raises ConnectionLostError: the link is lost (also: no DTO within the watched time)."""
+        """:raises ConnectionLostError: the link is lost (also: DTOs watched and none within the time)."""
         silence = self._dto_silence_s
         if silence is not None and self._handler is not None and self.lost is None:
-            quiet = time.monotonic() - self._last_dto
-            if quiet > silence:
-                self._lose(f"no DTO for {_duration(quiet)} (expected within {_duration(silence)})",
-                           time.time() - quiet + silence)
+            quiet = time.monotonic() - self._last_seen
+            if quiet > silence and not self._heard_within(min(silence, _GRACE_S)):
+                quiet = time.monotonic() - self._last_seen
+                self._lose(ConnectionLostError(self.describe(), f"nothing from the ECU for {_duration(quiet)} while "
+                                               f"DAQ runs (a DTO was due within {_duration(silence)})",
+                                               time.time() - quiet + silence))
         if self.lost is not None:
             raise ConnectionLostError(self.lost.what, self.lost.reason, self.lost.when)
+
+    def _heard_within(self, seconds: float) -> bool:
+        """Whether a packet comes within ``seconds``: on a loaded host the receiving threads may merely not
+        have run for a while, which is no lost ECU."""
+        seen, deadline = self._last_seen, time.monotonic() + seconds
+        while time.monotonic() < deadline:
+            time.sleep(0.01)
+            if self._last_seen != seen:
+                return True
+        return False
 
     # --- packets ------------------------------------------------------------------------------
 
@@ -238,6 +252,7 @@ class Link:
     def _dispatch(self, packet: bytes, host_ns: int) -> None:
         """Where a packet from the slave goes: a response to the caller, a DTO to the handler."""
         pid = packet[0]
+        self._last_seen = time.monotonic()
         if pid >= PID_ERR:
             with self._arrived:
                 self._responses.append(packet)
@@ -247,7 +262,6 @@ class Link:
             log.info("%s: %s packet %s", self.describe(), "event" if pid == PID_EV else "service request",
                      packet.hex(" "))
         else:
-            self._last_dto = time.monotonic()
             handler = self._handler
             if handler is not None:
                 try:
@@ -260,7 +274,7 @@ class Link:
 
     def _broken(self, reason: str) -> None:
         """The transport cannot go on (from the receiver's thread or the caller's)."""
-        self._lose(reason, time.time())
+        self._lose(ConnectionLostError(self.describe(), reason))
 
     def _fail(self, reason: str) -> NoReturn:
         """The transport broke under the caller: the link is lost (or was closed under it); raise that."""
@@ -268,15 +282,15 @@ class Link:
         self._usable()
         raise ConnectionLostError(self.describe(), reason)
 
-    def _lose(self, reason: str, when: float) -> None:
+    def _lose(self, error: ConnectionLostError) -> None:
         with self._arrived:
             if self.lost is None and not self.closed:
-                self.lost = ConnectionLostError(self.describe(), reason, when)
-                log.debug("link lost: %s", self.lost)
+                self.lost = error
+                log.debug("link lost: %s", error)
             self._arrived.notify_all()
 
     def _revive(self) -> None:
-        """A CONNECT after the link was lost: start over (TCP: on a new connection).
+        """A CONNECT after the link was lost: start over (TCP: on a new connection; a DAQ that ran is gone).
 
         :raises WorkbenchError: a new connection cannot be made.
         """

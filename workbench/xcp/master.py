@@ -23,7 +23,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from workbench.errors import WorkbenchError, XcpCommandError, XcpTimeoutError
+from workbench.errors import EcuSilentError, WorkbenchError, XcpCommandError, XcpTimeoutError
 from workbench.xcp.info import (
     CommModeInfo,
     ConnectInfo,
@@ -93,6 +93,7 @@ class XcpMaster:
         self.connect_info: ConnectInfo | None = None
         self.comm_mode: CommModeInfo | None = None
         self.protected: Resource = Resource(0)
+        self.silent = False  # the last command went unanswered, and so did the SYNCH after it
         self._unlocking = False
         # What a caller may remember about the slave's memory holds while this count stays the same: it
         # grows with every CONNECT, DOWNLOAD/PROGRAM, page switch and page copy, whoever sends them.
@@ -149,7 +150,9 @@ class XcpMaster:
         attempts, busy = 0, 0
         while True:
             response = self._skip_late_synch(command, self.link.exchange(packet, timeout_s), timeout_s)
-            if response is None:
+            if response is not None:
+                self.silent = False
+            else:
                 attempts += 1
                 if command in (Cmd.CONNECT, Cmd.SYNCH):
                     if attempts < 3:
@@ -186,11 +189,13 @@ class XcpMaster:
     def synch_after_timeout(self, command: Cmd, timeout_s: float) -> None:
         """After ``command`` went unanswered: SYNCH, so the next command starts clean.
 
-        :raises XcpTimeoutError: the ECU does not answer SYNCH either: it is gone.
+        :raises EcuSilentError: the ECU does not answer SYNCH either: it is gone (an XcpTimeoutError and a
+            ConnectionLostError).
         """
         response = self.link.exchange(bytes((Cmd.SYNCH,)), self.timeouts.t1)
         if response is None:
-            raise XcpTimeoutError(command.name, timeout_s)
+            self.silent = True
+            raise EcuSilentError(self.link.describe(), command.name, timeout_s)
 
     # --- session ------------------------------------------------------------------------------
 

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from workbench.errors import InputError, WorkbenchError
+from workbench.errors import ConnectionLostError, InputError, WorkbenchError
 from workbench.xcp.daq.assemble import DtoAssembler
 from workbench.xcp.daq.clock import DaqClock
 from workbench.xcp.daq.plan import DaqListPlan, DaqPlan
@@ -32,6 +32,7 @@ __all__ = ["DaqBatch", "DaqStats", "DaqStream"]
 
 _START_SELECTED, _STOP_ALL = 1, 0
 _SELECT = 2
+_LOST_CHECK_S = 0.1  # read(None) looks this often whether the ECU is lost
 
 
 @dataclass(frozen=True)
@@ -108,8 +109,15 @@ class DaqStream:
                                       overload_in_pid=self.processor.overload_indication == "PID")
         master.link.dto_handler = self._on_dto
         master.start_stop_synch(_START_SELECTED)
+        master.link.watch_dtos(self.silence_limit())
         self.running = True
         return self
+
+    def silence_limit(self) -> float | None:
+        """How long the ECU may stay silent before it counts as lost: 3 periods of the slowest cyclic event
+        measured, at least T1; None when no list samples a cyclic event."""
+        periods = [period for daq in self.plan.lists if (period := self.event_periods.get(daq.event))]
+        return max(self.master.timeouts.t1, 3 * max(periods)) if periods else None
 
     def _allocate(self) -> None:
         """Dynamic lists for the plan: FREE_DAQ, ALLOC_DAQ, every ALLOC_ODT, every ALLOC_ODT_ENTRY."""
@@ -151,19 +159,31 @@ class DaqStream:
 
     def read(self, timeout_s: float | None = 0.0) -> list[DaqBatch]:
         """The samples that arrived since the last read, one batch per list; waits up to ``timeout_s``
-        for the first one (None: until one arrives)."""
+        for the first one (None: until one arrives).
+
+        :raises ConnectionLostError: none came and the ECU is lost (:meth:`silence_limit`, a broken link).
+        """
         if self.assembler is None:
             return []
         samples = self.assembler.take()
-        if not samples and timeout_s != 0:
-            self._arrived.wait(timeout_s)
+        while not samples and timeout_s != 0:
+            self._arrived.wait(_LOST_CHECK_S if timeout_s is None else timeout_s)
             self._arrived.clear()
             samples = self.assembler.take()
+            if timeout_s is not None:
+                break
+            self._check_link()
+        if not samples:
+            self._check_link()
         by_list: dict[int, list] = {}
         for sample in samples:
             by_list.setdefault(sample.daq_list, []).append(sample)
         lists = {daq.number: daq for daq in self.plan.lists}
         return [self._batch(lists[number], found) for number, found in by_list.items()]
+
+    def _check_link(self) -> None:
+        if self.running:
+            self.master.link.check()
 
     def _batch(self, daq: DaqListPlan, samples: list) -> DaqBatch:
         host_ns = np.fromiter((s.host_ns for s in samples), dtype=np.int64, count=len(samples))
@@ -204,6 +224,8 @@ class DaqStream:
                     self.master.clear_daq_list(daq.number)
             else:
                 self.master.free_daq()
+        except ConnectionLostError as exc:  # said where it was found; nothing to stop on a lost ECU
+            log.debug("stopping DAQ: %s", exc)
         except WorkbenchError as exc:
             log.warning("stopping DAQ: %s", exc)
 

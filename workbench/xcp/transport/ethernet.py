@@ -134,7 +134,7 @@ class EthernetTransport(Transport):
 
     def _why(self, exc: OSError) -> str:
         if isinstance(exc, ConnectionRefusedError):
-            return f"nothing answers at {self.host}:{self.port} any more (connection refused)"
+            return f"nothing listens at {self.host}:{self.port} (connection refused)"
         if isinstance(exc, (ConnectionResetError, BrokenPipeError)):
             return "the ECU closed the TCP connection" if self.kind == "TCP" else f"the socket failed: {exc.strerror}"
         return f"the socket failed: {exc.strerror or exc}"

@@ -1,0 +1,105 @@
+"""A lost ECU in-process, on each transport: the simulator stops (or its power is cut) while DAQ runs or between
+polled reads; the session says so as ConnectionLostError naming the link, sends nothing more, closes at once,
+and a CONNECT reaches the ECU again when it is back."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+from conftest import FAST
+
+from workbench import ConnectionLostError, EcuSilentError, Session, XcpTimeoutError
+from workbench.sim import EthernetEndpoint, serve_demo
+
+SIGNALS = ["zsRailPressure", "xsDC"]  # Task4ms and Task100ms: DTOs are due within max(T1, 3 x 100 ms)
+
+
+def serve(transport: str, channel: str, port: int):
+    if transport == "CAN":
+        return serve_demo({"interface": "virtual", "channel": channel}), {"interface": "virtual", "channel": channel}
+    return serve_demo(ethernet=EthernetEndpoint("127.0.0.1", port, transport)), {
+        "host": "127.0.0.1", "port": port, "protocol": transport.lower()}
+
+
+@pytest.fixture(params=["CAN", "UDP", "TCP"])
+def transport(request) -> str:
+    return request.param
+
+
+@pytest.fixture
+def port(transport, free_udp_port, free_tcp_port) -> int:
+    return free_tcp_port if transport == "TCP" else free_udp_port
+
+
+def test_the_simulator_stopping_during_daq_is_said_and_the_session_closes_at_once(transport, channel, port):
+    simulator, options = serve(transport, channel, port)
+    session = Session.open(**options, timeouts=FAST)
+    live = session.measure(SIGNALS).start()
+    try:
+        assert _read_until_lost(live, wanted=5) >= 5  # samples came before
+        simulator.close()
+        with pytest.raises(ConnectionLostError, match=f"XCP on {transport}") as lost:
+            _read_until_lost(live)
+        assert lost.value.when <= time.time()
+        if transport == "TCP":
+            assert "closed the TCP connection" in lost.value.reason  # said at once, no silence waited for
+        with pytest.raises(ConnectionLostError):  # every call at once from then on
+            session.read("xsSWITCH_TANK_THR")
+        started = time.monotonic()
+        session.close()  # no stop command waits out a timeout
+        assert time.monotonic() - started < FAST.t1
+        assert not live.running
+    finally:
+        session.close()
+        simulator.close()
+
+
+def test_an_ecu_that_stops_answering_polls_is_lost_and_connect_reaches_it_again(sim, channel):
+    with Session.open(interface="virtual", channel=channel, timeouts=FAST) as session:
+        sim.power_off()
+        with pytest.raises(EcuSilentError, match=f"SHORT_UPLOAD: no response within {FAST.t1 * 1000:.0f} ms, none to "
+                                                 "SYNCH") as silent:
+            session.read("xsSWITCH_TANK_THR")
+        assert isinstance(silent.value, XcpTimeoutError) and isinstance(silent.value, ConnectionLostError)
+        sim.power_on()
+        session.connect()
+        assert session.read("xsSWITCH_TANK_THR") == 20.0
+
+
+def test_closing_a_session_whose_ecu_was_found_silent_sends_nothing_more(sim, channel):
+    session = Session.open(interface="virtual", channel=channel, timeouts=FAST)
+    sim.power_off()
+    with pytest.raises(EcuSilentError):
+        session.read("xsSWITCH_TANK_THR")
+    sent, exchange = [], session.link.exchange
+    session.link.exchange = lambda packet, *args, **kwargs: sent.append(packet) or exchange(packet, *args, **kwargs)
+    session.close()
+    assert sent == [] and session.link.closed  # no DISCONNECT waiting out T1 twice
+
+
+@pytest.mark.parametrize("protocol", ["UDP", "TCP"])
+def test_an_ethernet_ecu_gone_between_polls_is_said_at_once(protocol, free_udp_port, free_tcp_port):
+    port = free_udp_port if protocol == "UDP" else free_tcp_port
+    simulator, options = serve(protocol, "", port)
+    try:
+        with Session.open(**options, timeouts=FAST) as session:
+            assert session.read("xsSWITCH_TANK_THR") == 20.0
+            simulator.close()
+            started = time.monotonic()
+            with pytest.raises(ConnectionLostError, match="closed the TCP connection|nothing listens"):
+                for _ in range(3):  # UDP: the host's ICMP answer comes with the next datagram
+                    session.read("xsSWITCH_TANK_THR")
+            assert time.monotonic() - started < 2 * FAST.t1  # not after T1 and SYNCH's T1 each time
+    finally:
+        simulator.close()
+
+
+def _read_until_lost(live, wanted: int | None = None, timeout_s: float = 10.0) -> int:
+    """Read until ``wanted`` samples came (or, with None, until read() raises); the samples read."""
+    samples, deadline = 0, time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        samples += sum(len(batch) for batch in live.read(0.05))
+        if wanted is not None and samples >= wanted:
+            return samples
+    raise AssertionError(f"{samples} samples, and the ECU was not found lost within {timeout_s} s")
