@@ -1,14 +1,24 @@
-"""Polling reads through the session against raw pyxcp, and against the CAN bus limit.
+"""Polling by name and a DAQ stream through the session's own transport, each against a reference in the same run.
 
-1. Against raw pyxcp: a ``workbench sim`` process on a udp_multicast port of its own; in this
-   process, alternating rounds of ``Session.read("xsSWITCH_TANK_THR")`` (by name, in physical
-   units: model lookup, codec, SHORT_UPLOAD, conversion) and pyxcp's ``Master.shortUpload`` of the
-   same 4 bytes (no conversion). Figure: reads/s of each and the ratio (goal: at least 0.9x).
-2. At 1 Mbit/s: the simulator with its bus timing model (``--bitrate``); the session's reads/s as
-   a fraction of the round trips the bus carries (a request and a response frame, both padded to
-   8 bytes by MAX_DLC_REQUIRED, exact bit counts from :func:`workbench.sim.can_timing.frame_bits`).
+1. XCP on Ethernet (UDP and TCP): a ``workbench sim --host`` process; in this process, alternating rounds of
+   ``Session.read("xsSWITCH_TANK_THR")`` (by name, physical: model lookup, codec, SHORT_UPLOAD, conversion)
+   and a raw socket master sending the same SHORT_UPLOAD (LEN/CTR framed by hand, a blocking receive) to the
+   same slave. Figure: microseconds per read and the ratio (goal: at most 2x the raw socket).
+2. In-process on a ``virtual`` bus without a bus model: the simulator in this process; alternating rounds of
+   ``Session.read`` and a raw python-can master (``bus.send``, then ``bus.recv`` until the slave's id) doing
+   the same SHORT_UPLOAD. Figure: reads/s and the ratio (goal: at least 0.8x the raw master).
+3. In-process at 1 Mbit/s (the simulator's bus timing model): the session's reads/s as a fraction of the round
+   trips the bus carries (a request and a response, both padded to 8 bytes by MAX_DLC_REQUIRED, exact bit
+   counts from :func:`workbench.sim.can_timing.frame_bits`). Goal: at least 95 %.
+4. Between processes on udp_multicast: ``Session.read`` against pyxcp's ``shortUpload``, the independent
+   master, on a ``workbench sim`` process.
+5. DAQ on XCP on UDP and TCP: a ``workbench sim --host`` process; one DAQ list of ``--daq-kib`` KiB on the
+   4 ms event (ODTs of MAX_DTO 1024 bytes), through the session's link for ``--daq-seconds``: DTOs/s against
+   those the slave offers, samples lost, overloads, gaps in the slave's packet counter.
 
-Plain script: ``.venv/bin/python benchmarks/session_bench.py [--seconds 2] [--rounds 3]``.
+Rounds alternate the two sides and each ratio is taken from a pair of neighbouring rounds (the median is
+printed with the range), so a machine that drifts moves both. Plain script:
+``.venv/bin/python benchmarks/session_bench.py [--seconds 1] [--rounds 5] [--only ethernet,virtual,bus,pyxcp,daq]``.
 """
 
 from __future__ import annotations
@@ -16,42 +26,179 @@ from __future__ import annotations
 import argparse
 import logging
 import socket
+import statistics
+import struct
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 
 import can
 
 from workbench import Session
+from workbench.sim import serve_demo
 from workbench.sim.can_timing import frame_bits
 from workbench.sim.seedkey import compute_key
+from workbench.xcp.daq import DaqSignal, DaqStream, plan_daq
+from workbench.xcp_protocol import Cmd
 
 NAME = "xsSWITCH_TANK_THR"
+HEADER = struct.Struct("<HH")
+CAL_RAM = 0x40000010  # any mapped memory can be sampled; the .cal_ram image is a large readable block
+TASK_4MS = 0
+SECTIONS = ("ethernet", "virtual", "bus", "pyxcp", "daq")
 
 
-def free_udp_port() -> int:
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:
+def free_port(kind: socket.SocketKind) -> int:
+    with socket.socket(socket.AF_INET, kind) as probe:
         probe.bind(("", 0))
         return probe.getsockname()[1]
 
 
-def start_simulator(port: int, *extra: str) -> subprocess.Popen:
+def start_simulator(*options: str) -> subprocess.Popen:
     process = subprocess.Popen([sys.executable, "-c", "from workbench.cli import entry_point; entry_point()", "sim",
-                                "--bus-kwargs", f"port={port}", *extra],
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                                *options], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     for line in process.stdout:
         if line.startswith("serving"):
             return process
     raise RuntimeError(process.stderr.read())
 
 
-def rate(call, seconds: float) -> float:
+def stop(process: subprocess.Popen) -> None:
+    process.terminate()
+    process.wait(10)
+
+
+def rate(call: Callable[[], object], seconds: float) -> float:
     count, started = 0, time.perf_counter()
     while time.perf_counter() - started < seconds:
         call()
         count += 1
     return count / (time.perf_counter() - started)
 
+
+def alternate(ours: Callable[[], object], reference: Callable[[], object], seconds: float, rounds: int
+              ) -> tuple[list[float], list[float]]:
+    """Rates of ``ours`` and ``reference`` in alternating rounds (warmed up first)."""
+    rate(ours, 0.1), rate(reference, 0.1)
+    ours_rates, reference_rates = [], []
+    for _ in range(rounds):
+        ours_rates.append(rate(ours, seconds))
+        reference_rates.append(rate(reference, seconds))
+    return ours_rates, reference_rates
+
+
+def ratios(ours: list[float], reference: list[float]) -> str:
+    """The reference's time per call over ours, round by round: median (min-max)."""
+    values = [a / b for a, b in zip(ours, reference)]
+    return f"{statistics.median(values):.2f}x ({min(values):.2f}-{max(values):.2f})"
+
+
+def short_upload(address: int) -> bytes:
+    return bytes([Cmd.SHORT_UPLOAD, 4, 0, 0]) + struct.pack("<I", address)
+
+
+# --- 1. XCP on Ethernet: Session.read vs a raw socket ---------------------------------------------
+
+class RawSocketMaster:
+    """SHORT_UPLOAD by hand: one framed packet out, one datagram (or segment) back."""
+
+    def __init__(self, port: int, protocol: str):
+        kind = socket.SOCK_DGRAM if protocol == "udp" else socket.SOCK_STREAM
+        self.sock = socket.socket(socket.AF_INET, kind)
+        if protocol == "tcp":
+            self.sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        self.sock.connect(("127.0.0.1", port))
+        self.sock.settimeout(1.0)
+        self.ctr = 0
+
+    def request(self, packet: bytes) -> bytes:
+        self.sock.send(HEADER.pack(len(packet), self.ctr) + packet)
+        self.ctr = (self.ctr + 1) & 0xFFFF
+        return self.sock.recv(0xFFFF)[HEADER.size:]
+
+    def close(self) -> None:
+        self.request(bytes([Cmd.DISCONNECT]))
+        self.sock.close()
+
+
+def ethernet(protocol: str, seconds: float, rounds: int) -> str:
+    port = free_port(socket.SOCK_DGRAM if protocol == "udp" else socket.SOCK_STREAM)
+    simulator = start_simulator("--host", "127.0.0.1", "--port", str(port), "--protocol", protocol)
+    try:
+        ours, reference = [], []
+        for _ in range(rounds):  # one master connected at a time: the slave has one
+            with Session.open(host="127.0.0.1", port=port, protocol=protocol) as ecu:
+                address = ecu.model.characteristic(NAME).address
+                rate(lambda: ecu.read(NAME), 0.1)
+                ours.append(rate(lambda: ecu.read(NAME), seconds))
+            raw = RawSocketMaster(port, protocol)
+            raw.request(bytes([Cmd.CONNECT, 0]))
+            packet = short_upload(address)
+            rate(lambda: raw.request(packet), 0.1)
+            reference.append(rate(lambda: raw.request(packet), seconds))
+            raw.close()
+    finally:
+        stop(simulator)
+    return (f"polling, XCP on {protocol.upper()} between processes: Session.read by name "
+            f"{1e6 / max(ours):.1f} us, raw socket SHORT_UPLOAD {1e6 / max(reference):.1f} us (best rounds): "
+            f"Session.read takes {ratios(reference, ours)} the raw socket's time (goal <= 2x)")
+
+
+# --- 2. in-process virtual bus: Session.read vs a raw python-can master -----------------------------
+
+class RawCanMaster:
+    def __init__(self, channel: str):
+        self.bus = can.Bus(interface="virtual", channel=channel)
+
+    def request(self, packet: bytes) -> bytes:
+        self.bus.send(can.Message(arbitration_id=0x7F0, is_extended_id=False, data=packet.ljust(8, b"\0")))
+        while (message := self.bus.recv(1.0)) is not None:
+            if message.arbitration_id == 0x7F1:
+                return bytes(message.data)
+        raise TimeoutError("no response")
+
+    def close(self) -> None:
+        self.request(bytes([Cmd.DISCONNECT]))
+        self.bus.shutdown()
+
+
+def in_process(seconds: float, rounds: int) -> str:
+    channel = f"session-bench-{time.monotonic_ns()}"
+    with serve_demo({"interface": "virtual", "channel": channel}):
+        ours, reference = [], []
+        for _ in range(rounds):
+            with Session.open(interface="virtual", channel=channel) as ecu:
+                address = ecu.model.characteristic(NAME).address
+                rate(lambda: ecu.read(NAME), 0.1)
+                ours.append(rate(lambda: ecu.read(NAME), seconds))
+            raw = RawCanMaster(channel)
+            raw.request(bytes([Cmd.CONNECT, 0]))
+            packet = short_upload(address)
+            rate(lambda: raw.request(packet), 0.1)
+            reference.append(rate(lambda: raw.request(packet), seconds))
+            raw.close()
+    return (f"polling, in-process virtual bus, no bus model: Session.read by name {max(ours):,.0f}/s, raw python-can "
+            f"SHORT_UPLOAD {max(reference):,.0f}/s (best rounds): {ratios(ours, reference)} of the raw master's "
+            f"reads/s (goal >= 0.8x)")
+
+
+# --- 3. in-process at 1 Mbit/s ---------------------------------------------------------------------
+
+def at_the_bus_limit(seconds: float, rounds: int, bitrate: int = 1_000_000) -> str:
+    channel = f"session-bench-bus-{time.monotonic_ns()}"
+    with serve_demo({"interface": "virtual", "channel": channel, "bitrate": bitrate}):
+        with Session.open(interface="virtual", channel=channel) as ecu:
+            rate(lambda: ecu.read(NAME), 0.1)
+            achieved = [rate(lambda: ecu.read(NAME), seconds) for _ in range(rounds)]
+    frame = can.Message(arbitration_id=0x7F0, is_extended_id=False, data=bytes(8))
+    limit = bitrate / (2 * frame_bits(frame))
+    return (f"polling at 1 Mbit/s (the simulator's bus model, in-process): {statistics.median(achieved):,.0f} reads/s "
+            f"(median of {rounds}) of the {limit:,.0f} round trips/s the bus carries: "
+            f"{statistics.median(achieved) / limit:.1%} (goal >= 95 %)")
+
+
+# --- 4. between processes on udp_multicast: Session.read vs pyxcp ------------------------------------
 
 def pyxcp_master(port: int):
     from pyxcp.config import create_application_from_config
@@ -67,51 +214,76 @@ def pyxcp_master(port: int):
     return master
 
 
-def against_pyxcp(seconds: float, rounds: int) -> tuple[float, float]:
-    """Best of ``rounds`` for each master, the two alternating, one connected at a time."""
-    port = free_udp_port()
-    simulator = start_simulator(port)
+def against_pyxcp(seconds: float, rounds: int) -> str:
+    port = free_port(socket.SOCK_DGRAM)
+    simulator = start_simulator("--bus-kwargs", f"port={port}")
     try:
-        session_rates, pyxcp_rates = [], []
+        ours, reference = [], []
         for _ in range(rounds):
             with Session.open(bus_kwargs={"port": port}) as ecu:
                 address = ecu.model.characteristic(NAME).address
-                session_rates.append(rate(lambda: ecu.read(NAME), seconds))
+                ours.append(rate(lambda: ecu.read(NAME), seconds))
             with pyxcp_master(port) as master:
                 master.connect()
-                pyxcp_rates.append(rate(lambda: master.shortUpload(4, address), seconds))
+                reference.append(rate(lambda: master.shortUpload(4, address), seconds))
                 master.disconnect()
-        return max(session_rates), max(pyxcp_rates)
     finally:
-        simulator.terminate()
-        simulator.wait(10)
+        stop(simulator)
+    return (f"polling, udp_multicast between processes: Session.read by name {max(ours):,.0f}/s, raw pyxcp shortUpload "
+            f"{max(reference):,.0f}/s (best rounds): {ratios(ours, reference)}")
 
 
-def at_the_bus_limit(seconds: float, bitrate: int = 1_000_000) -> tuple[float, float]:
-    port = free_udp_port()
-    simulator = start_simulator(port, "--bitrate", str(bitrate))
+# --- 5. DAQ on Ethernet ----------------------------------------------------------------------------
+
+def daq_on_ethernet(protocol: str, kib: int, seconds: float) -> str:
+    port = free_port(socket.SOCK_DGRAM if protocol == "udp" else socket.SOCK_STREAM)
+    simulator = start_simulator("--host", "127.0.0.1", "--port", str(port), "--protocol", protocol)
     try:
-        with Session.open(bus_kwargs={"port": port}) as ecu:
-            achieved = rate(lambda: ecu.read(NAME), seconds)
-        frame = can.Message(arbitration_id=0x7F0, is_extended_id=False, data=bytes(8))
-        limit = bitrate / (2 * frame_bits(frame))
-        return achieved, limit
+        with Session.open(host="127.0.0.1", port=port, protocol=protocol) as ecu:
+            master = ecu.master
+            processor, resolution = master.get_daq_processor_info(), master.get_daq_resolution_info()
+            signals = {TASK_4MS: [DaqSignal("block", CAL_RAM, kib * 1024, element_size=1)]}
+            plan = plan_daq(signals, processor, resolution, master.max_dto, consistency={TASK_4MS: "DAQ"})
+            odts = len(plan.lists[0].odts)
+            with DaqStream(master, plan, processor, resolution, {TASK_4MS: 0.004}) as stream:
+                stream.read(1.0)  # start-up
+                first, gaps, started = stream.stats, ecu.link.counter_gaps, time.perf_counter()
+                while time.perf_counter() - started < seconds:
+                    stream.read(0.1)
+                elapsed = time.perf_counter() - started
+                stats = stream.stats
+            gaps = ecu.link.counter_gaps - gaps
     finally:
-        simulator.terminate()
-        simulator.wait(10)
+        stop(simulator)
+    received = (stats.dtos - first.dtos) / elapsed
+    offered = odts / 0.004
+    return (f"DAQ on XCP on {protocol.upper()} between processes, {kib} KiB every 4 ms ({odts} DTOs of up to "
+            f"{master.max_dto} bytes, {kib * 1024 / 0.004 / 2**20:.1f} MiB/s) for {elapsed:.0f} s: {received:,.0f} of the "
+            f"{offered:,.0f} DTOs/s offered ({received / offered:.1%}); {stats.samples - first.samples} samples, "
+            f"{stats.lost - first.lost} lost, {stats.overloads - first.overloads} overloads, CTR gaps {gaps}")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--seconds", type=float, default=2.0)
-    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--seconds", type=float, default=1.0, help="length of each round")
+    parser.add_argument("--rounds", type=int, default=5)
+    parser.add_argument("--daq-kib", type=int, default=16, help="KiB sampled every 4 ms by DAQ on Ethernet")
+    parser.add_argument("--daq-seconds", type=float, default=10.0)
+    parser.add_argument("--only", default=",".join(SECTIONS), help=f"comma-separated, of {', '.join(SECTIONS)}")
     args = parser.parse_args()
-    session, raw = against_pyxcp(args.seconds, args.rounds)
-    print(f"polling, udp_multicast between processes: session.read by name {session:,.0f}/s, raw pyxcp shortUpload "
-          f"{raw:,.0f}/s: {session / raw:.2f}x")
-    achieved, limit = at_the_bus_limit(args.seconds)
-    print(f"polling at 1 Mbit/s (bus timing model): {achieved:,.0f} reads/s of the {limit:,.0f} round trips/s the bus "
-          f"carries: {achieved / limit:.0%}")
+    only = set(args.only.split(","))
+    if "ethernet" in only:
+        for protocol in ("udp", "tcp"):
+            print(ethernet(protocol, args.seconds, args.rounds), flush=True)
+    if "virtual" in only:
+        print(in_process(args.seconds, args.rounds), flush=True)
+    if "bus" in only:
+        print(at_the_bus_limit(args.seconds, args.rounds), flush=True)
+    if "pyxcp" in only:
+        print(against_pyxcp(args.seconds, args.rounds), flush=True)
+    if "daq" in only:
+        for protocol in ("udp", "tcp"):
+            print(daq_on_ethernet(protocol, args.daq_kib, args.daq_seconds), flush=True)
 
 
 if __name__ == "__main__":

@@ -20,6 +20,7 @@ What a value may be when writing:
 
 from __future__ import annotations
 
+import struct
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
@@ -35,7 +36,7 @@ if TYPE_CHECKING:
     from workbench.a2l.objects import AxisPts, Characteristic
     from workbench.calib.layout import Field, ResolvedLayout
 
-__all__ = ["decode", "encode", "read_value", "value_edits"]
+__all__ = ["decode", "encode", "read_value", "value_decoder", "value_edits"]
 
 _ENCODINGS = {None: "latin-1", "UTF8": "utf-8", "UTF16": "utf-16", "UTF32": "utf-32"}
 
@@ -91,6 +92,22 @@ def decode(layout: "ResolvedLayout", memory: MemoryBytes) -> CalValue:
         return CalValue(obj.name, "VALUE", _scalar(physical), unit=unit, comment=comment)
     axes = tuple(_axis(layout, index, memory) for index in range(len(layout.counts)))
     return CalValue(obj.name, layout.kind, physical, axes, unit, comment)
+
+
+def value_decoder(layout: "ResolvedLayout") -> Callable[[bytes], Any]:
+    """``data -> value``: the physical value (``decode(...).value``) from the bytes of ``layout.span()``
+    alone, which must hold all of the object (no axis object of its own). A plain VALUE is one struct
+    unpack and its conversion (a polled read's few microseconds); anything else goes through :func:`decode`."""
+    span, field = layout.span(), layout.field("FNC_VALUES")
+    fmt = rawtypes.struct_format(field.datatype, field.byte_order) if field is not None else None
+    if layout.kind != "VALUE" or layout.obj.bit_mask is not None or fmt is None:
+        return lambda data: decode(layout, MemoryBytes({span: data})).value
+    unpack, offset = struct.Struct(fmt).unpack_from, field.offset
+    conversion = layout.model.conversion(layout.obj)
+    if conversion.conversion_type in ("IDENTICAL", "NO_COMPU_METHOD"):
+        return lambda data: unpack(data, offset)[0]
+    to_physical = conversion.to_physical
+    return lambda data: _scalar(to_physical(unpack(data, offset)[0]))
 
 
 def _field_values(layout: "ResolvedLayout", keyword: str, memory: MemoryBytes, axis: str | None = None) -> np.ndarray:

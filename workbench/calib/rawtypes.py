@@ -15,7 +15,7 @@ from workbench.a2l.datatypes import DATATYPES, datatype_range
 from workbench.errors import ConversionError
 
 __all__ = ["decode", "element_size", "encode", "extract_bits", "insert_bits", "mask_shift", "numpy_dtype",
-           "round_half_away", "signed", "to_datatype"]
+           "round_half_away", "signed", "struct_format", "to_datatype"]
 
 _CODES = {"UBYTE": "u1", "SBYTE": "i1", "UWORD": "u2", "SWORD": "i2", "ULONG": "u4", "SLONG": "i4",
           "A_UINT64": "u8", "A_INT64": "i8", "FLOAT16_IEEE": "f2", "FLOAT32_IEEE": "f4", "FLOAT64_IEEE": "f8"}
@@ -42,6 +42,18 @@ def numpy_dtype(datatype: str, byte_order: str) -> np.dtype | None:
     if byte_order in _WORD_SWAPPED and int(code[1]) > 2:
         return None
     return np.dtype(_ORDERS[_order(byte_order)] + code)
+
+
+def struct_format(datatype: str, byte_order: str) -> str | None:
+    """The :mod:`struct` format of one element as stored (None for the word-swapped orders)."""
+    code = _known(datatype)
+    if byte_order in _WORD_SWAPPED and int(code[1]) > 2:
+        return None
+    return _ORDERS[_order(byte_order)] + _STRUCT_CODES[code]
+
+
+_STRUCT_CODES = {"u1": "B", "i1": "b", "u2": "H", "i2": "h", "u4": "I", "i4": "i", "u8": "Q", "i8": "q", "f2": "e",
+                 "f4": "f", "f8": "d"}
 
 
 def _order(byte_order: str) -> str:

@@ -69,6 +69,8 @@ class Session(ValueAccess, EventAccess, FixAccess):
         self._layouts: dict = {}  # name -> ObjectLayout, ResolvedLayout (when static), MeasurementCodec
         self._resolved: dict = {}
         self._codecs: dict = {}
+        self._readers: dict = {}  # name -> (span, decode) of a polled read (values.py)
+        self._model = None
 
     # --- opening and closing ------------------------------------------------------------------
 

@@ -28,6 +28,7 @@ import numpy as np
 
 from workbench.a2l.objects import AxisPts, Characteristic, Measurement
 from workbench.calib.cells import cell_edits, cell_span, cell_values
+from workbench.calib.codec import value_decoder
 from workbench.calib.layout import ObjectLayout, ResolvedLayout, object_layout
 from workbench.calib.memory import ByteEdit, Span
 from workbench.calib.signals import MeasurementCodec, measurement_codec
@@ -57,11 +58,16 @@ class ValueAccess:
     _layouts: dict
     _resolved: dict
     _codecs: dict
+    _readers: dict
+    _model: A2lModel | None
 
     @property
     def model(self: Session) -> A2lModel:
         """The A2L's objects (:class:`~workbench.a2l.model.A2lModel`)."""
-        return self.doc.model(self.module)
+        model = self._model
+        if model is None:  # kept: finding the module again costs more than a polled read's own work
+            model = self._model = self.doc.model(self.module)
+        return model
 
     # --- reading ------------------------------------------------------------------------------
 
@@ -73,8 +79,25 @@ class ValueAccess:
         :param raw: the value as the ECU holds it, before the COMPU_METHOD (integers for integer types).
         :raises UnknownSymbolError: no such object (the closest names are suggested).
         """
-        value = self.read_many([name], page=page)[name]
+        reader = self._readers.get(name) if page is None else None
+        if reader is not None:  # read before, static and in one span: one command and its decoding
+            span, decode = reader
+            with self.lock:
+                value = decode(self.master.read(span.address, span.size, span.extension))
+        else:
+            value = self.read_many([name], page=page)[name]
+            self._keep_reader(name)
         return self.to_raw(name, value) if raw else value
+
+    def _keep_reader(self: Session, name: str) -> None:
+        """Remember how to read ``name`` again when its bytes lie in one span that never moves."""
+        codec = self._codecs.get(name)
+        if codec is not None:
+            self._readers[name] = (codec.span, codec.decode)
+            return
+        resolved = self._resolved.get(name)
+        if resolved is not None and resolved.spans() == [resolved.span()]:
+            self._readers[name] = (resolved.span(), value_decoder(resolved))
 
     def to_raw(self: Session, name: str, value: Any) -> Any:
         """A physical value of ``name`` as its raw data type holds it (enum texts become their numbers)."""
