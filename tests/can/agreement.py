@@ -22,7 +22,7 @@ def outcome(path: Path, *, by_cantools: bool = False) -> tuple:
                 dbc = dbc_file.load_dbc(path)
         else:
             dbc = dbc_file.load_dbc(path)
-    except Exception as exc:  # noqa: BLE001 (an error, whatever its class, must be the same either way)
+    except Exception as exc:  # noqa: BLE001 - an error, whatever its class, must be the same either way
         return ("refused", type(exc).__name__, str(exc))
     content = dbc.content
     return ("read", content, json.dumps([message.to_dict() for message in content.messages]),

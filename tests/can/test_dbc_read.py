@@ -126,9 +126,12 @@ _VALUES = ("0", "1", "2", "20", "100", "-1", "1.5", "1e3", '"x"', '"100"', '"Cyc
 
 @st.composite
 def _dbc_texts(draw) -> str:
-    one = lambda options: draw(st.sampled_from(options))  # noqa: E731
-    # what cantools refuses, or reads as something else, now and then
-    rare = lambda usual, odd: one(odd) if draw(st.integers(0, 39)) == 0 else one(usual)  # noqa: E731
+    def one(options):
+        return draw(st.sampled_from(options))
+
+    def rare(usual, odd):  # what cantools refuses, or reads as something else, now and then
+        return one(odd) if draw(st.integers(0, 39)) == 0 else one(usual)
+
     nodes = draw(st.lists(st.sampled_from(_NODES), max_size=3, unique=True))
     lines = ['VERSION ""', "", "NS_ :", "\tCM_", "\tBA_", "", "BS_:", "", "BU_: " + " ".join(nodes), ""]
     lines += [f'VAL_TABLE_ {name} 1 "on" 0 "off" ;' for name in one(((), ("VT",), ("VT", "VT2")))]

@@ -124,7 +124,7 @@ def load_dbc(path: str | Path) -> DbcFile:
         log.debug("%s: read by cantools (%s)", path, exc)
     else:
         return DbcFile(path, content, repaired, repaired.warnings)
-    from workbench.can.dbc_database import content_of_database  # noqa: PLC0415 (it loads cantools)
+    from workbench.can.dbc_database import content_of_database  # here: it loads cantools
 
     database, cantools_warnings = _parse(path, repaired)
     content = content_of_database(database, repaired.message_lines)
@@ -168,7 +168,7 @@ def _parse(path: Path, repaired: Repaired) -> tuple[Database, tuple[Finding, ...
 
     :raises InputError: cantools refuses the text.
     """
-    import cantools.database  # noqa: PLC0415 (cantools loads only when a file needs its database)
+    import cantools.database  # here: cantools loads only when a file needs its database
 
     cantools_log = logging.getLogger("cantools")
     collector = _WarningCollector()

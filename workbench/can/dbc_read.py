@@ -3,16 +3,18 @@
 What the commands need of a DBC (nodes, messages, signals, comments, value descriptions,
 the period and timeout attributes) is read here from the statements :mod:`workbench.can.dbc_text`
 cut (those of the repaired text, :mod:`workbench.can.dbc_repair`), with cantools' rules: its
-grammar, its conversions of numbers and attribute values, how it picks a message's multiplexer,
-which ``VAL_`` a signal takes. Reading is the cheap part of a load; cantools also builds codecs
-for encoding and decoding, which :attr:`DbcFile.database <workbench.can.dbc_file.DbcFile.database>`
-builds when someone decodes.
+grammar, its conversions of numbers and attribute values, how it picks a message's multiplexer
+(``SG_MUL_VAL_`` included), which ``VAL_`` a signal takes, CANdb++'s long names
+(``System{Message,Signal,Node}LongSymbol``). The statements are cut once, for the repair and for this
+reading; cantools would cut the text again, parse it with its grammar and build codecs for encoding
+and decoding, which :attr:`DbcFile.database <workbench.can.dbc_file.DbcFile.database>` builds when
+someone decodes.
 
-The reader gives up (:class:`Unreadable`) wherever it is not sure to read as cantools does —
-a statement outside cantools' grammar, a value cantools would refuse, features it does not
-model (extended multiplexing ``SG_MUL_VAL_``, the ``System...LongSymbol`` long names) — and the
-load then asks cantools, which reads the file or names the problem. The tests hold it to
-:mod:`workbench.can.dbc_database`: both must give the same content for every DBC.
+The reader gives up (:class:`Unreadable`) wherever it is not sure to read as cantools does — a
+statement outside cantools' grammar, a value cantools would refuse or convert in a way it does not
+follow, space cantools' tokenizer does not skip — and the load then asks cantools, which reads the
+file or names the problem. The tests hold it to :mod:`workbench.can.dbc_database`: both must give
+the same content for every DBC, or refuse it alike.
 """
 
 from __future__ import annotations

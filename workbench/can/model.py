@@ -208,7 +208,7 @@ def role_of(message: Message, node: str | None) -> Role | None:
     return None
 
 
-def period_and_timeout(period, timeout) -> tuple[int | None, int | None, bool]:
+def period_and_timeout(period: object, timeout: object) -> tuple[int | None, int | None, bool]:
     """Period, timeout (ms) and whether the timeout is the default, from the attributes' values (or defaults).
 
     A value that is no positive integer (missing, 0, text) is no period or timeout; a missing timeout is
