@@ -84,7 +84,10 @@ class _Message:
 
 
 def repair(dbc: DbcText, path: str) -> Repaired:
-    """The DBC text of the file ``path`` with every problem above repaired, and a warning for each."""
+    """The DBC text of the file ``path`` with every problem above repaired, and a warning for each.
+
+    The statements it ignores are marked :attr:`~workbench.can.dbc_text.Statement.dropped`: repair a text once.
+    """
     return _Repairer(dbc, path).run()
 
 
