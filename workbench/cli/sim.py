@@ -40,6 +40,10 @@ an RX timeout) or has another DLC (pcm-dlc:PCM_TO_FLCU_002=2). The same faults, 
 injected while it runs through its control channel (127.0.0.1, a free port, shown in the banner): the
 requirement tests (workbench test) find it by the bus options alone.
 
+--profile serves the demo through another implementation of XCP's options, as other ECUs have
+them (docs/slave-profiles.md; --profile list shows them). Where the profile changes what the A2L
+says, --write-a2l PATH writes the A2L a master needs for it (the demo's A2L otherwise).
+
 examples:
   workbench sim --pcm
   workbench sim --interface udp_multicast --channel 239.74.163.2 --bus-kwargs port=43200
@@ -47,6 +51,7 @@ examples:
   workbench sim --interface socketcan --channel vcan0 --can2-channel vcan1
   workbench sim --host 127.0.0.1 --port 5555 --protocol tcp --pcm
   workbench sim --pcm --fault rail=4.9 --fault OTV1=OPEN_LOAD
+  workbench sim --profile segments --write-a2l segments.a2l
 """
 
 
@@ -75,6 +80,10 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     sim.add_argument("--unlocked", action="store_true", help="no seed & key: CAL/PAG, DAQ and PGM open at CONNECT")
     sim.add_argument("--static-daq", action="store_true",
                      help="static DAQ lists (fixed lists, ODTs and entries; no ALLOC_DAQ) instead of dynamic DAQ")
+    sim.add_argument("--profile", default="demo", metavar="NAME",
+                     help="serve through this slave profile ('list' lists them; default: demo)")
+    sim.add_argument("--write-a2l", metavar="PATH", help="write the A2L that describes the ECU served (the profile's)")
+    parser.defer(lambda: _list_profiles_in(parser))
     sim.add_argument("--duration", type=positive_float, metavar="S", help="stop by itself after S real seconds")
     sim.add_argument("--fault", action="append", default=[], metavar="FAULT",
                      help="inject a fault from the start (repeatable; see below)")
@@ -83,13 +92,36 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     parser.set_defaults(func=run)
 
 
+def _list_profiles_in(parser: argparse.ArgumentParser) -> None:
+    """The profiles' names at the end of the help (imported only when the help is shown or sim runs)."""
+    from workbench.sim.profiles import PROFILES
+
+    parser.epilog += "\nprofiles: " + ", ".join(PROFILES) + "\n"
+
+
+def _print_profiles(as_json: bool) -> int:
+    from workbench.sim.profiles import PROFILES
+
+    if as_json:
+        print_json([{"name": p.name, "changes": p.changes, "exercises": p.exercises, "own_a2l": p.changes_a2l}
+                    for p in PROFILES.values()])
+    else:
+        for p in PROFILES.values():
+            print(f"{p.name:26} {p.changes}\n{'':26} exercises: {p.exercises}")
+    return 0
+
+
 def run(args: argparse.Namespace) -> int:
     from workbench.sim.control import ControlServer, endpoint_keys
     from workbench.sim.demo_ecu import DemoFiles, build_demo_ecu
     from workbench.sim.eth_port import EthernetEndpoint
     from workbench.sim.inject import FlcuFaults
+    from workbench.sim.profiles import profile
     from workbench.sim.serve import serve_demo
 
+    if args.profile == "list":
+        return _print_profiles(args.json)
+    chosen = profile(args.profile)
     bus = bus_settings(args)
     if (args.port is not None or args.protocol is not None) and not args.host:
         raise InputError("--port and --protocol are for XCP on Ethernet: give --host too (e.g. --host 127.0.0.1)")
@@ -109,9 +141,12 @@ def run(args: argparse.Namespace) -> int:
         s19=args.s19 or defaults.s19, dbc=args.dbc or defaults.dbc,
     )
     demo = build_demo_ecu(files, transport=ethernet.protocol if ethernet is not None else "CAN",
-                          valid_key=not args.no_app_key, unlocked=args.unlocked, static_daq=args.static_daq)
+                          valid_key=not args.no_app_key, unlocked=args.unlocked, static_daq=args.static_daq,
+                          slave_profile=chosen)
     simulator = serve_demo(bus, ethernet=ethernet, can2=can2, demo=demo,
                            pcm_target_bar=args.pcm_target if args.pcm else None, time_scale=args.time_scale)
+    if args.write_a2l:
+        _write_a2l(simulator, args.write_a2l)
     stop = threading.Event()
     previous = {}
     if threading.current_thread() is threading.main_thread():  # Ctrl-C and SIGTERM stop serving, also the moment
@@ -134,9 +169,22 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _write_a2l(simulator, path: str) -> None:
+    """The served ECU's A2L at ``path`` (atomically); the simulator is closed when that fails."""
+    from workbench.fileio import write_output
+
+    doc = simulator.a2l
+    try:
+        write_output(path, doc.source.file_bytes(doc.data))
+    except BaseException:
+        simulator.close()
+        raise
+
+
 def _announce(args: argparse.Namespace, simulator, files, faults: list[str], control: tuple | None) -> None:
     info = simulator.describe()
     info["files"] = {key: str(value) for key, value in vars(files).items()}
+    info["a2l"] = args.write_a2l or (str(files.a2l) if simulator.a2l.path == files.a2l else None)
     info["pcm"] = {"target_bar": args.pcm_target} if args.pcm else None
     info["faults"] = faults
     info["control"] = {"host": control[0], "port": control[1]} if control else None
@@ -162,6 +210,8 @@ def _announce(args: argparse.Namespace, simulator, files, faults: list[str], con
         f"  time scale   {info['time_scale']}x",
         f"  DAQ          {_daq_text(info['daq'], simulator.ecu.params.events)}",
         f"  PCM          TargetRailPressure {args.pcm_target} bar, EnableFLCU 1" if args.pcm else "  PCM          off (--pcm)",
+        f"  profile      {info['profile']}" + ("" if info["profile"] == "demo" else f": {_profile_changes(info['profile'])}"),
+        f"  A2L          {info['a2l']}" if info["a2l"] else "  A2L          the profile's own: write it with --write-a2l PATH",
         "  seed & key   workbench.sim.seedkey:compute_key" + (" (not needed: --unlocked)" if args.unlocked else ""),
         *(f"  fault        {fault}" for fault in faults),
         f"  control      {control[0]}:{control[1]} (fault injection; workbench test finds it by the bus options)"
@@ -169,6 +219,12 @@ def _announce(args: argparse.Namespace, simulator, files, faults: list[str], con
         "serving; Ctrl-C stops",
     ]
     print("\n".join(lines), flush=True)
+
+
+def _profile_changes(name: str) -> str:
+    from workbench.sim.profiles import profile
+
+    return profile(name).changes
 
 
 def _daq_text(daq: dict, events) -> str:

@@ -25,6 +25,8 @@ from workbench.xcp_protocol import CAN_ID_EXTENDED_FLAG
 log = logging.getLogger(__name__)
 
 MAX_DLC = 8  # classic CAN
+MAX_FD_DLC = 64
+FD_LENGTHS = (12, 16, 20, 24, 32, 48, 64)  # CAN FD data lengths beyond 8
 
 BusSpec = can.BusABC | Mapping[str, Any]
 
@@ -115,8 +117,9 @@ class CanBuses:
 class CanXcpPort(XcpPort):
     """XCP on CAN on the ``CAN1`` role of ``buses``: commands on CAN_ID_MASTER, responses and DTOs on CAN_ID_SLAVE.
 
-    With MAX_DLC_REQUIRED the slave pads every frame to DLC 8 and ignores master frames of
-    another DLC, as AUTOSAR's CanXcp does.
+    With MAX_DLC_REQUIRED the slave pads every frame to MAX_DLC (8; 64 on CAN FD) and ignores master
+    frames of another length, as AUTOSAR's CanXcp does. On CAN FD (:attr:`XcpParameters.can_fd`) frames
+    carry up to 64 bytes with the bit rate switch; a packet is padded to the next length CAN FD has.
     """
 
     transport = "CAN"
@@ -126,6 +129,7 @@ class CanXcpPort(XcpPort):
         self.buses = buses
         self.master_id = split_can_id(ecu.params.can_id_master)
         self.slave_id = split_can_id(ecu.params.can_id_slave)
+        self.max_dlc = MAX_FD_DLC if ecu.params.can_fd else MAX_DLC
         self._short_frame_seen = False
 
     def start(self) -> None:
@@ -135,20 +139,23 @@ class CanXcpPort(XcpPort):
         return (message.arbitration_id, message.is_extended_id) == self.master_id
 
     def on_frame(self, message: can.Message) -> None:
-        if message.is_remote_frame or (self.ecu.params.max_dlc_required and message.dlc != MAX_DLC):
+        if message.is_remote_frame or (self.ecu.params.max_dlc_required and len(message.data) != self.max_dlc):
             # MAX_DLC_REQUIRED binds the master too: a shorter frame is no XCP packet (AUTOSAR CanXcp ignores it)
             level = logging.DEBUG if self._short_frame_seen else logging.WARNING
             self._short_frame_seen = True
-            log.log(level, "XCP frame with DLC %d ignored: the A2L says MAX_DLC_REQUIRED, the master must pad to 8",
-                    message.dlc)
+            log.log(level, "XCP frame of %d bytes ignored: the A2L says MAX_DLC_REQUIRED, the master must pad to %d",
+                    len(message.data), self.max_dlc)
             return
         self.on_command(bytes(message.data))
 
     def _frame(self, packet: bytes) -> can.Message:
+        fd = self.ecu.params.can_fd
         if self.ecu.params.max_dlc_required:
-            packet = packet.ljust(MAX_DLC, b"\0")
+            packet = packet.ljust(self.max_dlc, b"\0")
+        elif fd and len(packet) > MAX_DLC:
+            packet = packet.ljust(next(length for length in FD_LENGTHS if length >= len(packet)), b"\0")
         identifier, extended = self.slave_id
-        return can.Message(arbitration_id=identifier, is_extended_id=extended, data=packet)
+        return can.Message(arbitration_id=identifier, is_extended_id=extended, data=packet, is_fd=fd, bitrate_switch=fd)
 
     def _transmit_response(self, packet: bytes) -> None:
         self.buses.transmitter("CAN1").send(self._frame(packet))

@@ -32,6 +32,8 @@ from workbench.sim.layout import ApplicationLayout
 from workbench.sim.memory_map import HDS9
 from workbench.sim.pcm import PcmNode
 from workbench.sim.plant import FuelSystemPlant
+from workbench.sim.profile_a2l import profile_document
+from workbench.sim.profiles import SlaveProfile, profile
 from workbench.sim.scheduler import Scheduler
 from workbench.sim.xcp.parameters import DEMO_STATIC_LISTS, EventChannel, XcpParameters
 from workbench.xcp_protocol import CAN_ID_EXTENDED_FLAG, Resource
@@ -62,9 +64,10 @@ class DemoEcu:
     ecu: SimulatedEcu
     can2: Can2Driver
     plant: FuelSystemPlant
-    a2l: A2lDocument
+    a2l: A2lDocument  # what a master needs: the A2L file's, or the profile's own when it changes IF_DATA XCP
     dbc: DbcFile
     files: DemoFiles
+    profile: SlaveProfile = profile("demo")
 
     def pcm_node(self, enable: bool = True, target_bar: float = 25.0) -> PcmNode:
         """A residual-bus PCM for this ECU's CAN2 database."""
@@ -136,6 +139,7 @@ def build_demo_ecu(
     valid_key: bool = True,
     unlocked: bool = False,
     static_daq: bool = False,
+    slave_profile: SlaveProfile | str = "demo",
     scheduler: Scheduler | None = None,
     faults: FaultPlan | None = None,
     rng: random.Random | None = None,
@@ -143,14 +147,23 @@ def build_demo_ecu(
     """The FLCU ECU with its plant on one scheduler (the plant steps every millisecond), not powered yet.
 
     ``transport`` ("CAN", "UDP" or "TCP") picks the A2L block whose packet sizes the slave uses;
-    ``unlocked`` serves CAL/PAG, DAQ and PGM without seed & key; ``static_daq`` offers the static DAQ lists
-    :data:`~workbench.sim.xcp.parameters.DEMO_STATIC_LISTS` instead of dynamic DAQ.
+    ``slave_profile`` (a :class:`SlaveProfile` or its name, see :mod:`workbench.sim.profiles`) changes how the
+    slave implements XCP's options, and :attr:`DemoEcu.a2l` then says so; ``unlocked`` serves CAL/PAG, DAQ and PGM
+    without seed & key; ``static_daq`` offers the static DAQ lists
+    :data:`~workbench.sim.xcp.parameters.DEMO_STATIC_LISTS` instead of dynamic DAQ (the A2L still says dynamic).
 
-    :raises InputError: a file is missing or malformed.
+    :raises InputError: a file is missing or malformed, or no profile has that name.
     """
     files = files or DemoFiles.defaults()
+    chosen = profile(slave_profile) if isinstance(slave_profile, str) else slave_profile
     doc = load_a2l(files.a2l)
-    params = xcp_parameters(doc, read_xcp_config(doc), transport)
+    config = read_xcp_config(doc)
+    params = chosen.parameters(xcp_parameters(doc, config, transport), transport)
+    if chosen.changes_a2l:
+        described = {name: chosen.parameters(xcp_parameters(doc, config, name), name)
+                     for name in ("CAN", "UDP", "TCP") if getattr(config, name.lower()) is not None}
+        doc = profile_document(doc, described, HDS9, chosen.name,
+                               chosen.t1_ms / 1000 if chosen.t1_ms is not None else None)
     if unlocked:
         params = replace(params, protected=Resource(0))
     if static_daq:
@@ -179,4 +192,4 @@ def build_demo_ecu(
         faults=faults,
         rng=rng,
     )
-    return DemoEcu(ecu, can2, plant, doc, dbc, files)
+    return DemoEcu(ecu, can2, plant, doc, dbc, files, chosen)

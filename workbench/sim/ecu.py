@@ -47,7 +47,7 @@ class ApplicationMemory:
         self._pages = ecu.pages
 
     def read(self, address: int, size: int) -> bytes:
-        return self._memory.read(self._pages.translate(address, size, self._pages.ecu_page), size)
+        return self._memory.read(self._pages.translate(address, size, self._pages.ecu_pages), size)
 
     def write(self, address: int, data: bytes) -> None:
         self._memory.write(address, data)
@@ -83,7 +83,7 @@ class SimulatedEcu:
             list(memory_map.flash), memory_map.ram_windows, {"XCP_INFO": (self.info.start, self.info.data)}
         )
         self.memory.load_flash(flash)
-        self.pages = CalPageSwitch(memory_map)
+        self.pages = CalPageSwitch(memory_map, self.params.segments)
         self.scheduler = scheduler or Scheduler()
         self.faults = faults or FaultPlan()
         self.dto_sink = dto_sink or (lambda sample: None)

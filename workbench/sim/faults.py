@@ -44,6 +44,8 @@ class FaultPlan:
         self._program_frames = 0
         self._frame_faults: dict[str, list[_Armed]] = {"tx": [], "rx": []}
         self._command_faults: list[_Armed] = []
+        self._late_answers: list[_Armed] = []
+        self._answers: dict[int, int] = {}
         self._power_losses: list[int] = []
         self.fired: list[str] = []
 
@@ -65,6 +67,13 @@ class FaultPlan:
         with self._lock:
             self._command_faults.append(_Armed(self._commands.get(key, 0) + n, Err(code), key))
 
+    def delay_answer(self, command: Cmd, seconds: float, n: int = 1) -> None:
+        """Answer the n-th ``command`` from now ``seconds`` late, as a busy slave would: the answers to the
+        commands after it (a SYNCH ...) wait their turn behind it."""
+        _check_n(n)
+        with self._lock:
+            self._late_answers.append(_Armed(self._answers.get(int(command), 0) + n, seconds, int(command)))
+
     def power_loss_at_program(self, n: int = 1) -> None:
         """Cut the power when the n-th PROGRAM/PROGRAM_NEXT/PROGRAM_MAX frame arrives (before it is written)."""
         _check_n(n)
@@ -76,6 +85,7 @@ class FaultPlan:
             for faults in self._frame_faults.values():
                 faults.clear()
             self._command_faults.clear()
+            self._late_answers.clear()
             self._power_losses.clear()
 
     def _arm_frame(self, n: int, direction: str, fault: FrameFault) -> None:
@@ -117,6 +127,17 @@ class FaultPlan:
                     self.fired.append(f"reject command 0x{command:02X} with {armed.what.name}")
                     return armed.what
             return None
+
+    def on_answer(self, command: int) -> float:
+        """Seconds the answer to ``command`` leaves late (0: at once)."""
+        with self._lock:
+            self._answers[command] = self._answers.get(command, 0) + 1
+            for armed in list(self._late_answers):
+                if armed.command == command and armed.at == self._answers[command]:
+                    self._late_answers.remove(armed)
+                    self.fired.append(f"answer command 0x{command:02X} {armed.what} s late")
+                    return armed.what
+            return 0.0
 
     def on_program_frame(self) -> bool:
         with self._lock:

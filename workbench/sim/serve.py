@@ -7,6 +7,8 @@ with serve_demo({"interface": "virtual", "channel": "bench"}, pcm_target_bar=25.
     ...  # XCP on CAN on the virtual bus "bench", the FLCU messages there too
 with serve_demo(ethernet=EthernetEndpoint("127.0.0.1", 5555, "TCP")) as sim:
     ...  # XCP on TCP at 127.0.0.1:5555 (MAX_CTO/MAX_DTO of the A2L's XCP_ON_TCP_IP)
+with serve_demo({"interface": "virtual", "channel": "bench"}, profile="segments") as sim:
+    ...  # calibrations in XCP segment 1; Session.open(sim.a2l, ...) reads that from the profile's A2L
 ```
 """
 
@@ -22,6 +24,7 @@ from workbench.bus_defaults import SOFTWARE_INTERFACES, complete_bus_settings
 from workbench.errors import InputError
 from workbench.sim.demo_ecu import DemoEcu, DemoFiles, build_demo_ecu
 from workbench.sim.faults import FaultPlan
+from workbench.sim.profiles import SlaveProfile
 from workbench.sim.server import Simulator
 
 if TYPE_CHECKING:
@@ -44,6 +47,7 @@ def serve_demo(
     valid_key: bool = True,
     unlocked: bool = False,
     static_daq: bool = False,
+    profile: SlaveProfile | str = "demo",
     faults: FaultPlan | None = None,
     rng: random.Random | None = None,
 ) -> Simulator:
@@ -58,7 +62,9 @@ def serve_demo(
         ``ethernet.port`` is None, the port) of the A2L's XCP_ON_UDP_IP / XCP_ON_TCP_IP.
     :param can2: the FLCU messages on a bus of their own (settings completed as ``bus``'s).
     :param demo: an ECU built by :func:`build_demo_ecu` for the same transport (default: built here
-        from ``files`` with ``valid_key``, ``unlocked``, ``static_daq``, ``faults`` and ``rng``).
+        from ``files`` with ``valid_key``, ``unlocked``, ``static_daq``, ``profile``, ``faults`` and ``rng``).
+    :param profile: a slave profile (:mod:`workbench.sim.profiles`, e.g. ``"motorola"``): the demo served
+        through another implementation of XCP's options; the simulator's :attr:`~Simulator.a2l` says how.
     :param pcm_target_bar: add a residual-bus PCM sending EnableFLCU = 1 and this TargetRailPressure
         (bar) every 100 ms.
     :param time_scale: simulated seconds per real second; None: only ``Simulator.advance`` moves time.
@@ -69,7 +75,8 @@ def serve_demo(
         raise InputError("with XCP on Ethernet the CAN bus carries only the FLCU messages: give bus or can2, not both")
     if demo is None:
         demo = build_demo_ecu(files, transport=ethernet.protocol if ethernet is not None else "CAN",
-                              valid_key=valid_key, unlocked=unlocked, static_daq=static_daq, faults=faults, rng=rng)
+                              valid_key=valid_key, unlocked=unlocked, static_daq=static_daq, slave_profile=profile,
+                              faults=faults, rng=rng)
     if ethernet is not None and ethernet.port is None:
         block = getattr(read_xcp_config(demo.a2l), ethernet.protocol.lower())
         ethernet = replace(ethernet, port=block.port)
@@ -88,7 +95,7 @@ def serve_demo(
         except ValueError as exc:
             raise InputError(f"PCM TargetRailPressure {pcm_target_bar} bar: {exc}") from None
     simulator = Simulator(demo.ecu, bus, can2, ethernet=ethernet, can2_driver=demo.can2, pcm=pcm, bitrate=timing,
-                          time_scale=time_scale)
+                          time_scale=time_scale, a2l=demo.a2l, profile=demo.profile.name)
     return simulator.start()
 
 

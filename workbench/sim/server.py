@@ -28,6 +28,7 @@ from workbench.sim.scheduler import US_PER_S
 from workbench.sim.xcp_port import XcpPort
 
 if TYPE_CHECKING:
+    from workbench.a2l import A2lDocument
     from workbench.sim.can2 import Can2Driver
     from workbench.sim.can_timing import BusClock
     from workbench.sim.pcm import PcmNode
@@ -54,12 +55,16 @@ class Simulator:
         pcm: PcmNode | None = None,
         bitrate: int | None = None,
         time_scale: float | None = 1.0,
+        a2l: A2lDocument | None = None,
+        profile: str = "demo",
     ):
         """
         :param can1: the bus of XCP on CAN (python-can settings or an open bus); it also carries CAN2
             unless ``can2`` is given.
         :param ethernet: serve XCP on UDP/TCP there instead (then ``can1`` stays None).
         :param bitrate: bit/s of the bus timing model of every bus (None: frames go at once).
+        :param a2l: the A2L that describes this ECU to a master (kept as :attr:`a2l`); ``profile`` names the
+            slave profile it was built with (for :meth:`describe`).
         :raises ValueError: not exactly one XCP transport, or a non-positive ``time_scale``.
         """
         if time_scale is not None and time_scale <= 0:
@@ -67,6 +72,8 @@ class Simulator:
         if (can1 is None) == (ethernet is None):
             raise ValueError("XCP needs exactly one transport: can1 (XCP on CAN) or ethernet (XCP on UDP/TCP)")
         self.ecu = ecu
+        self.a2l = a2l
+        self.profile = profile
         self.can2_driver = can2_driver
         self.pcm = pcm
         self.bitrate = bitrate
@@ -238,6 +245,7 @@ class Simulator:
             "state": self.ecu.state.value,
             "time_scale": self.time_scale,
             "daq": self._describe_daq(),
+            "profile": self.profile,
         }
 
     def _describe_daq(self) -> dict[str, Any]:

@@ -30,6 +30,9 @@ class XcpPort(ABC):
         self.ecu = ecu
         self.lock = lock
         self._timers: list[threading.Timer] = []
+        self._answers = 0  # commands answered (for a slow slave's pace)
+        self._waiting: list[list[bytes]] | None = None  # answers held back behind a slow one
+        self._late_lock = threading.Lock()
 
     # --- life cycle, implemented by the front ends ---------------------------------------------
 
@@ -66,9 +69,45 @@ class XcpPort(ABC):
         for _ in range(2 if fault is not None and fault.action is FrameAction.DUPLICATE else 1):
             with self.lock:
                 packets = self.ecu.handle_cto(cto)
-            for packet in packets:
-                for now in self._faulted(packet, self._transmit_response):
-                    self._transmit_response(now)
+            self._answer(cto[0] if cto else 0, packets)
+
+    def _answer(self, command: int, packets: list[bytes]) -> None:
+        """Send a command's answers; a slow slave's (or one the fault plan delays) leave late, and the answers
+        after them wait their turn (a slave answers its commands in order: SYNCH after the command it interrupts)."""
+        with self._late_lock:
+            late_s = max(self._pace(), self.ecu.faults.on_answer(command)) if packets else 0.0
+            if self._waiting is not None:
+                self._waiting.append(packets)
+            elif late_s:
+                self._waiting = [packets]
+                self._later(late_s, self._send_waiting, None)
+            else:
+                self._respond(packets)
+
+    def _send_waiting(self, _) -> None:
+        with self._late_lock:
+            waiting, self._waiting = self._waiting or [], None
+            for packets in waiting:
+                self._respond(packets)
+
+    def _pace(self) -> float:
+        """How late this answer of a slow slave leaves (every ``delayed_every``-th one is)."""
+        params = self.ecu.params
+        if not params.response_delay_s:
+            return 0.0
+        self._answers += 1
+        return params.response_delay_s if self._answers % params.delayed_every == 0 else 0.0
+
+    def _respond(self, packets: list[bytes]) -> None:
+        for packet in packets:
+            for now in self._faulted(packet, self._transmit_response):
+                self._transmit_response(now)
+
+    def _later(self, delay_s: float, send: Callable[[Any], object], what: Any) -> None:
+        timer = threading.Timer(delay_s, send, (what,))
+        timer.daemon = True
+        self._timers = [t for t in self._timers if t.is_alive()] + [timer]
+        timer.start()
 
     def send_dtos(self, packets: list[bytes]) -> None:
         """The ECU's ``dto_sink``: one DAQ list sample, its DTOs through the ``"tx"`` faults."""
@@ -86,8 +125,5 @@ class XcpPort(ABC):
         if fault.action is FrameAction.DUPLICATE:
             return [packet, packet]
         if fault.action is FrameAction.DELAY:
-            timer = threading.Timer(fault.delay_s, send_later, (packet,))
-            timer.daemon = True
-            self._timers = [t for t in self._timers if t.is_alive()] + [timer]
-            timer.start()
+            self._later(fault.delay_s, send_later, packet)
         return []

@@ -1,12 +1,13 @@
-"""Calibration page commands: one segment (CAL RAM), page 0 working (RAM), page 1 reference (ROM).
+"""Calibration page commands: the CAL RAM segments (one on the demo), page 0 working (RAM), page 1 reference (ROM).
 
-GET_SEGMENT_INFO mode 2 reports the A2L's ADDRESS_MAPPING: source = the CAL RAM address,
-destination = the CAL ROM address, length = the segment size.
+GET_SEGMENT_INFO mode 2 reports the A2L's ADDRESS_MAPPING of a segment: source = its CAL RAM address,
+destination = the CAL ROM address that mirrors it, length = its size. SET_CAL_PAGE's mode bit 0x80
+switches every segment at once, unless the slave lacks it (:attr:`XcpParameters.all_segments_mode`
+false: ERR_MODE_NOT_VALID, the master switches segment by segment).
 """
 
 from __future__ import annotations
 
-import struct
 from typing import TYPE_CHECKING
 
 from workbench.sim.paging import PAGES, REFERENCE_PAGE
@@ -19,7 +20,6 @@ if TYPE_CHECKING:
 MODE_ECU = 0x01
 MODE_XCP = 0x02
 MODE_ALL = 0x80
-MAX_SEGMENTS = 1
 MAX_MAPPING = 1
 
 
@@ -40,71 +40,78 @@ class CalPageCommands:
     def _pages(self):
         return self.slave.target.pages
 
+    def _segment(self, number: int, error: Err = Err.SEGMENT_NOT_VALID):
+        segments = self._pages.segments
+        if number >= len(segments):
+            raise XcpNegative(error)
+        return segments[number]
+
     def _get_pag_processor_info(self, req: bytes) -> bytes:
-        return bytes([MAX_SEGMENTS, 0])  # no FREEZE support
+        return bytes([len(self._pages.segments), 0])  # no FREEZE support
 
     def _get_segment_info(self, req: bytes) -> bytes:
         need(req, 4)
-        mode, segment, info = req[1], req[2], req[3]
+        mode, number, info = req[1], req[2], req[3]
         mapping_index = req[4] if len(req) > 4 else 0
-        if segment >= MAX_SEGMENTS:
-            raise XcpNegative(Err.OUT_OF_RANGE)
-        memory_map = self.slave.target.memory_map
+        segment = self._segment(number, Err.OUT_OF_RANGE)
         if mode == 0:
-            values = {0: memory_map.cal_ram.start, 1: memory_map.cal_ram.size}
+            values = {0: segment.start, 1: segment.size}
         elif mode == 1:
             return bytes([len(PAGES), 0, MAX_MAPPING, 0, 0])
         elif mode == 2:
             if mapping_index >= MAX_MAPPING:
                 raise XcpNegative(Err.OUT_OF_RANGE)
-            values = {0: memory_map.cal_ram.start, 1: memory_map.cal_rom_start, 2: memory_map.cal_ram.size}
+            values = {0: segment.start, 1: self.slave.target.memory_map.rom_address(segment.start), 2: segment.size}
         else:
             raise XcpNegative(Err.MODE_NOT_VALID)
         if info not in values:
             raise XcpNegative(Err.OUT_OF_RANGE)
-        return struct.pack("<BBBI", 0, 0, 0, values[info])
+        return self.slave.pack("BBBI", 0, 0, 0, values[info])
 
     def _get_cal_page(self, req: bytes) -> bytes:
         need(req, 3)
-        mode, segment = req[1], req[2]
-        if segment >= MAX_SEGMENTS:
-            raise XcpNegative(Err.SEGMENT_NOT_VALID)
+        mode, number = req[1], req[2]
+        self._segment(number)
         if mode == MODE_ECU:
-            page = self._pages.ecu_page
+            page = self._pages.ecu_pages[number]
         elif mode == MODE_XCP:
-            page = self._pages.xcp_page
+            page = self._pages.xcp_pages[number]
         else:
             raise XcpNegative(Err.MODE_NOT_VALID)
         return bytes([0, 0, page])
 
     def _set_cal_page(self, req: bytes) -> bytes:
         need(req, 4)
-        mode, segment, page = req[1], req[2], req[3]
+        mode, number, page = req[1], req[2], req[3]
         if not mode & (MODE_ECU | MODE_XCP) or mode & ~(MODE_ECU | MODE_XCP | MODE_ALL):
             raise XcpNegative(Err.MODE_NOT_VALID)
-        if not mode & MODE_ALL and segment >= MAX_SEGMENTS:
-            raise XcpNegative(Err.SEGMENT_NOT_VALID)
+        if mode & MODE_ALL and not self.slave.params.all_segments_mode:
+            raise XcpNegative(Err.MODE_NOT_VALID)
+        if not mode & MODE_ALL:
+            self._segment(number)
         if page not in PAGES:
             raise XcpNegative(Err.PAGE_NOT_VALID)
-        if mode & MODE_ECU:
-            self._pages.ecu_page = page
-        if mode & MODE_XCP:
-            self._pages.xcp_page = page
+        numbers = range(len(self._pages.segments)) if mode & MODE_ALL else (number,)
+        for n in numbers:
+            if mode & MODE_ECU:
+                self._pages.ecu_pages[n] = page
+            if mode & MODE_XCP:
+                self._pages.xcp_pages[n] = page
         return b""
 
     def _copy_cal_page(self, req: bytes) -> bytes:
         need(req, 5)
         src_segment, src_page, dst_segment, dst_page = req[1:5]
-        if src_segment >= MAX_SEGMENTS or dst_segment >= MAX_SEGMENTS:
-            raise XcpNegative(Err.SEGMENT_NOT_VALID)
+        source, destination = self._segment(src_segment), self._segment(dst_segment)
         if src_page not in PAGES or dst_page not in PAGES:
             raise XcpNegative(Err.PAGE_NOT_VALID)
+        if src_segment != dst_segment:
+            raise XcpNegative(Err.SEGMENT_NOT_VALID)  # pages of one segment only: segments differ in size
         if src_page == dst_page:
             return b""
         if dst_page == REFERENCE_PAGE:
             raise XcpNegative(Err.WRITE_PROTECTED)  # the reference page is flash
-        target = self.slave.target  # reference -> working: CAL ROM over CAL RAM
-        memory_map = target.memory_map
-        rom = target.memory.read(memory_map.cal_rom_start, memory_map.cal_ram.size)
-        target.memory.write(memory_map.cal_ram.start, rom)
+        target = self.slave.target  # reference -> working: the segment's CAL ROM over its CAL RAM
+        rom = target.memory.read(target.memory_map.rom_address(source.start), source.size)
+        target.memory.write(destination.start, rom)
         return b""

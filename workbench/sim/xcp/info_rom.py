@@ -28,9 +28,11 @@ class InfoRom:
         texts.update({f"sector:{n}": sector.name for n, sector in enumerate(memory_map.sectors)})
         data = bytearray()
         index = {}
+        align = params.address_granularity  # every text starts on an element: UPLOAD reads whole ones from there
         for key, text in texts.items():
             encoded = text.encode("ascii", "replace")[:MAX_TEXT]  # XCP texts are ASCII, their lengths a byte
             index[key] = (memory_map.info_rom_start + len(data), len(encoded))
             data += encoded + b"\0"
+            data += bytes(-len(data) % align)
         return cls(memory_map.info_rom_start, bytes(data), index)
 

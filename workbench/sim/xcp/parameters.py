@@ -7,7 +7,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from workbench.image import ChecksumType
+from workbench.image import AddressRange, ChecksumType
+from workbench.sim.seedkey import SEED_LENGTH
 from workbench.xcp_protocol import MAX_DAQ_PID, TIME_UNIT_S, Resource
 
 # time unit codes (seconds: TIME_UNIT_S) of GET_DAQ_RESOLUTION_INFO's TIMESTAMP_MODE bits 4..7 and
@@ -57,6 +58,19 @@ class StaticDaqList:
     fixed_event: int | None = None
 
 
+@dataclass(frozen=True)
+class PredefinedDaqList:
+    """A DAQ list the slave configured itself (PREDEFINED, numbered below MIN_DAQ): one ODT of ``entries``
+    ((address, size) pairs) sampled on ``event``; the master may start it but not change it."""
+
+    event: int
+    entries: tuple[tuple[int, int], ...]
+
+
+IDENTIFICATION_FIELDS = ("ABSOLUTE", "RELATIVE_BYTE", "RELATIVE_WORD", "RELATIVE_WORD_ALIGNED")
+PID_SIZES = {"ABSOLUTE": 1, "RELATIVE_BYTE": 2, "RELATIVE_WORD": 3, "RELATIVE_WORD_ALIGNED": 4}
+
+
 # The lists `workbench sim --static-daq` offers: one fixed to each of Task4ms and Task50ms, two for any event
 # (the 4 ms task's thirteen floats fill list 0 exactly; all Task50ms signals fit list 1).
 DEMO_STATIC_LISTS = (
@@ -69,20 +83,40 @@ DEMO_STATIC_LISTS = (
 
 @dataclass(frozen=True)
 class DaqParameters:
-    max_daq: int = 16  # dynamic DAQ lists that can be allocated (MIN_DAQ = 0); static lists: their number
+    max_daq: int = 16  # DAQ lists in all (predefined ones included) a dynamic configuration can hold; static: their number
     max_odt_total: int = MAX_DAQ_PID + 1  # one absolute PID (0x00..0xFB) per ODT of all lists
     max_odt_entry_size: int = 4  # MAX_ODT_ENTRY_SIZE_DAQ, bytes: smaller than a DTO's payload on purpose
     granularity: int = 1  # GRANULARITY_ODT_ENTRY_SIZE_DAQ
-    timestamp_size: int = 4  # DWORD, in the first ODT of each list whose mode asks for timestamps
+    timestamp_size: int = 4  # bytes (0: no timestamps), in the first ODT of each list whose mode asks for them
     timestamp_unit: int = TIMESTAMP_UNIT_10US
     timestamp_ticks: int = 1
+    timestamp_fixed: bool = False  # TIMESTAMP_FIXED: every list is timestamped, whatever its mode says
+    identification_field: str = "ABSOLUTE"  # how a DTO names its list and ODT (IDENTIFICATION_FIELDS)
     static_lists: tuple[StaticDaqList, ...] = ()  # given: static DAQ configuration (no ALLOC_*), these lists only
+    predefined: tuple[PredefinedDaqList, ...] = ()  # MIN_DAQ lists of a dynamic configuration, before the allocated
+    max_daq_counts_allocated: bool = False  # GET_DAQ_PROCESSOR_INFO's MAX_DAQ = MIN_DAQ + lists allocated so far
 
     def __post_init__(self) -> None:
         if sum(daq.odts for daq in self.static_lists) > self.max_odt_total:
             raise ValueError(f"static DAQ lists with more than {self.max_odt_total} ODTs: absolute PIDs run out")
         if any(not (1 <= daq.odts <= 0xFF and 1 <= daq.entries <= 0xFF) for daq in self.static_lists):
             raise ValueError("a static DAQ list has 1..255 ODTs of 1..255 entries")
+        if self.static_lists and self.predefined:
+            raise ValueError("predefined DAQ lists belong to a dynamic configuration, static lists to a static one")
+        if self.identification_field not in PID_SIZES:
+            raise ValueError(f"identification field must be one of {', '.join(IDENTIFICATION_FIELDS)}")
+        if self.timestamp_size not in (0, 1, 2, 4) or (self.timestamp_fixed and not self.timestamp_size):
+            raise ValueError("timestamps are 0 (none), 1, 2 or 4 bytes; TIMESTAMP_FIXED needs some")
+
+    @property
+    def min_daq(self) -> int:
+        """MIN_DAQ: the predefined lists, numbered 0..MIN_DAQ-1."""
+        return len(self.predefined)
+
+    @property
+    def pid_size(self) -> int:
+        """Bytes of a DTO's identification field (PID, and the list number of a relative one)."""
+        return PID_SIZES[self.identification_field]
 
     @property
     def static(self) -> bool:
@@ -100,12 +134,24 @@ class XcpParameters:
     can_id_master: int = 0x7F0  # master -> slave (bit 31 set: extended id)
     can_id_slave: int = 0x7F1  # slave -> master, responses and DTOs
     baudrate: int = 1_000_000
-    max_dlc_required: bool = True  # XCP_ON_CAN MAX_DLC_REQUIRED: frames both ways have DLC 8 (shorter ones are ignored)
+    max_dlc_required: bool = True  # XCP_ON_CAN MAX_DLC_REQUIRED: frames both ways have MAX_DLC (shorter ones are ignored)
+    can_fd: bool = False  # XCP on CAN FD: frames of up to 64 bytes (MAX_CTO/MAX_DTO up to 64)
     max_cto: int = 8
     max_dto: int = 8
+    byte_order: str = "<"  # of XCP's own multi-byte fields ("<" Intel, BYTE_ORDER_MSB_LAST; ">" Motorola)
+    address_granularity: int = 1  # bytes per element of UPLOAD/DOWNLOAD/PROGRAM/...: counts and address alignment
+    slave_block_mode: bool = True  # an UPLOAD of more than one response's worth is answered in several responses
+    master_block_mode: bool = True  # DOWNLOAD/PROGRAM blocks of up to max_bs _NEXT frames (False: one frame each)
     max_bs: int = 42  # _NEXT frames of a master block after its DOWNLOAD/PROGRAM: (1 + 42) * 6 >= 255 bytes
     min_st_100us: int = 0
     protected: Resource = Resource.CAL_PAG | Resource.DAQ | Resource.PGM  # locked at CONNECT until UNLOCK
+    seed_length: int = SEED_LENGTH  # bytes of a seed (and of its key): more than MAX_CTO - 2 take several packets
+    get_id: bool = True  # GET_ID implemented (False: ERR_CMD_UNKNOWN, the EPK is read at ADDR_EPK)
+    segments: tuple[AddressRange, ...] = ()  # calibration segments 0, 1, ... in CAL RAM (none: one, all of it)
+    all_segments_mode: bool = True  # SET_CAL_PAGE's mode bit 0x80 (every segment at once)
+    response_delay_s: float = 0.0  # responses leave this late (a slow slave; the A2L's T1 says how slow is fine)
+    delayed_every: int = 1  # ... every n-th of them (1: all)
+    service_packets: bool = False  # EV and SERV packets between the responses
     checksum_type: ChecksumType = ChecksumType.CRC_32
     max_checksum_block: int = 0x20000  # BUILD_CHECKSUM limit: the SEGMENT CHECKSUM MAX_BLOCK_SIZE of the A2L
     epk_address: int = 0xFC0000
@@ -119,12 +165,34 @@ class XcpParameters:
         EventChannel(2, "Task100ms", 0.100),
     )
 
+    def __post_init__(self) -> None:
+        if self.byte_order not in "<>" or len(self.byte_order) != 1:
+            raise ValueError(f"byte order is '<' (Intel) or '>' (Motorola), not {self.byte_order!r}")
+        if self.address_granularity not in (1, 2, 4):
+            raise ValueError("address granularity is 1 (BYTE), 2 (WORD) or 4 (DWORD) bytes")
+        if not SEED_LENGTH <= self.seed_length <= 0xFF:
+            raise ValueError(f"a seed has {SEED_LENGTH} to 255 bytes")
+
+    @property
+    def data_offset(self) -> int:
+        """Where the data of a DOWNLOAD/PROGRAM/…_NEXT frame starts: after command and count, aligned to an element."""
+        return max(2, self.address_granularity)
+
     @property
     def max_data_per_frame(self) -> int:
-        """Data bytes of a DOWNLOAD/PROGRAM/…_NEXT frame (command and count byte excluded)."""
-        return self.max_cto - 2
+        """Data bytes of a DOWNLOAD/PROGRAM/…_NEXT frame: whole elements after command, count and alignment."""
+        ag = self.address_granularity
+        return (self.max_cto - self.data_offset) // ag * ag
+
+    @property
+    def max_data_per_response(self) -> int:
+        """Data bytes of an UPLOAD response: whole elements after the PID and its alignment bytes."""
+        ag = self.address_granularity
+        return (self.max_cto - ag) // ag * ag
 
     @property
     def max_block_bytes(self) -> int:
-        """Largest master block: the first frame and MAX_BS _NEXT frames (ASAM: MAX_BS counts the _NEXT packets)."""
-        return min(255, (1 + self.max_bs) * self.max_data_per_frame)
+        """Largest master block: the first frame and MAX_BS _NEXT frames (ASAM: MAX_BS counts the _NEXT packets),
+        255 elements at most; a single frame without master block mode."""
+        frames = 1 + self.max_bs if self.master_block_mode else 1
+        return min(255 * self.address_granularity, frames * self.max_data_per_frame)

@@ -13,7 +13,6 @@
 
 from __future__ import annotations
 
-import struct
 from typing import TYPE_CHECKING
 
 from workbench.sim.memory import MemoryAccessError
@@ -83,15 +82,16 @@ class ProgrammingCommands:
         self.active = True
         self.slave.target.halt_application()
         params = self.slave.params
-        return bytes([0, COMM_MODE_PGM_MASTER_BLOCK, params.max_cto, params.max_bs, params.min_st_100us, 0])
+        comm_mode = COMM_MODE_PGM_MASTER_BLOCK if params.master_block_mode else 0
+        return bytes([0, comm_mode, params.max_cto, params.max_bs, params.min_st_100us, 0])
 
     def _program_clear(self, req: bytes) -> bytes:
         need(req, 8)
         self._require_active()
-        mode, clear_range = req[1], struct.unpack_from("<I", req, 4)[0]
+        mode, clear_range = req[1], self.slave.unpack_from("I", req, 4)[0]
         memory_map = self.slave.target.memory_map
         if mode == CLEAR_ABSOLUTE:
-            ranges = [(self.slave.mta, clear_range)]
+            ranges = [(self.slave.mta, self.slave.elements(clear_range))]
         elif mode == CLEAR_FUNCTIONAL:
             chosen = [s for s in memory_map.sectors if s.functional_bit & clear_range]
             if not chosen or clear_range & ~sum(s.functional_bit for s in memory_map.sectors):
@@ -122,13 +122,11 @@ class ProgrammingCommands:
         return self.slave.continue_block(req, Cmd.PROGRAM_NEXT)
 
     def _program_max(self, req: bytes) -> bytes:
-        count = self.slave.params.max_cto - 1
-        need(req, 1 + count)
         self._require_active()
+        data = self.slave.max_frame_data(req)
         self._frame_arrived()
-        self.slave.require_mta_in(count)
-        self._write(self.slave.mta, req[1 : 1 + count])
-        self.slave.mta += count
+        self._write(self.slave.mta, data)
+        self.slave.mta += len(data)
         return b""
 
     def _program_reset(self, req: bytes) -> bytes:
@@ -153,4 +151,4 @@ class ProgrammingCommands:
         if mode > 1:
             raise XcpNegative(Err.MODE_NOT_VALID)
         value = sector.range.start if mode == 0 else sector.range.size
-        return struct.pack("<BBBI", sector.clear_sequence, sector.program_sequence, 0, value)
+        return self.slave.pack("BBBI", sector.clear_sequence, sector.program_sequence, 0, value)

@@ -10,8 +10,14 @@ or none — the documented silences:
 * while the ECU has no power (also right after an injected power loss).
 
 Everything else gets a positive (``FF …``) or negative (``FE code …``) response; a
-handler never raises anything but :class:`XcpNegative`. Multi-byte parameters are
-Intel (little-endian), as BYTE_ORDER_MSB_LAST in the A2L says.
+handler never raises anything but :class:`XcpNegative`. Multi-byte parameters are in the
+byte order of :attr:`XcpParameters.byte_order` (the demo: Intel, BYTE_ORDER_MSB_LAST).
+
+With an address granularity above BYTE (WORD, DWORD) addresses stay byte addresses, and every
+transfer moves whole elements from an address aligned to one: UPLOAD, DOWNLOAD, PROGRAM and their
+variants count elements and carry the spec's alignment bytes; a misaligned MTA is ERR_OUT_OF_RANGE.
+With :attr:`XcpParameters.service_packets` an EV_USER or a SERV_TEXT packet goes before every
+response, as a slave reporting its own business does.
 """
 
 from __future__ import annotations
@@ -47,6 +53,9 @@ COMM_MODE_SLAVE_BLOCK = 0x40
 COMM_MODE_MASTER_BLOCK = 0x01
 MAX_UPLOAD = 255  # elements of one UPLOAD in slave block mode
 SESSION_DAQ_RUNNING = 0x40
+PID_EV, PID_SERV = 0xFD, 0xFC
+EV_USER, SERV_TEXT = 0xFE, 0x01
+_GRANULARITY_CODES = {1: 0, 2: 1, 4: 2}  # COMM_MODE_BASIC bits 1..2
 
 
 class SlaveTarget(Protocol):
@@ -103,6 +112,8 @@ class XcpSlave:
     ):
         self.target = target
         self.params = params
+        self.order = params.byte_order
+        self.granularity = params.address_granularity
         self.info = info
         self.faults = faults or FaultPlan()
         self._rng = rng or random.Random()
@@ -115,7 +126,7 @@ class XcpSlave:
             Cmd.GET_STATUS: self._get_status,
             Cmd.SYNCH: self._synch,
             Cmd.GET_COMM_MODE_INFO: self._get_comm_mode_info,
-            Cmd.GET_ID: self._get_id,
+            **({Cmd.GET_ID: self._get_id} if params.get_id else {}),
             Cmd.GET_SEED: self._get_seed,
             Cmd.UNLOCK: self._unlock,
             Cmd.SET_MTA: self._set_mta,
@@ -132,6 +143,11 @@ class XcpSlave:
         }
         self.reset()
 
+    @property
+    def commands(self) -> frozenset[Cmd]:
+        """Every command this slave implements (the A2L's OPTIONAL_CMDs are those beyond the four mandatory ones)."""
+        return frozenset(Cmd(code) for code in self._handlers)
+
     # --- session -------------------------------------------------------------------------
 
     def reset(self) -> None:
@@ -141,6 +157,10 @@ class XcpSlave:
         self.locked = self.params.protected
         self._block: _Block | None = None
         self._seed: tuple[Resource, bytes] | None = None
+        self._seed_sent = 0  # seed bytes GET_SEED has sent so far
+        self._key = b""  # key bytes UNLOCK has brought so far
+        self._key_length = 0  # ... of how many
+        self._chatter = 0
         self.daq.free()
         self.pgm.active = False
 
@@ -179,9 +199,34 @@ class XcpSlave:
             return [XcpNegative(Err.GENERIC).packet()]
         if response is None:
             return []
-        if isinstance(response, list):
-            return response
-        return [bytes([PID_RES]) + response]
+        packets = response if isinstance(response, list) else [bytes([PID_RES]) + response]
+        return self._service_packets() + packets
+
+    def _service_packets(self) -> list[bytes]:
+        """What a chatty slave sends before a response: an EV_USER or a SERV_TEXT, in turns."""
+        if not self.params.service_packets:
+            return []
+        self._chatter += 1
+        if self._chatter % 2:
+            return [bytes([PID_EV, EV_USER, self._chatter & 0xFF])]
+        return [bytes([PID_SERV, SERV_TEXT]) + f"n{self._chatter}".encode()[: self.params.max_cto - 3] + b"\0"]
+
+    # --- packing in the slave's byte order -------------------------------------------------------
+
+    def pack(self, fmt: str, *values) -> bytes:
+        return struct.pack(self.order + fmt, *values)
+
+    def unpack_from(self, fmt: str, buffer: bytes, offset: int = 0) -> tuple:
+        return struct.unpack_from(self.order + fmt, buffer, offset)
+
+    def elements(self, count: int) -> int:
+        """Bytes in ``count`` elements of the address granularity."""
+        return count * self.granularity
+
+    def require_aligned(self, address: int) -> None:
+        """Transfers start on an element: a misaligned address (or MTA) is ERR_OUT_OF_RANGE."""
+        if address % self.granularity:
+            raise XcpNegative(Err.OUT_OF_RANGE)
 
     def _check_resource(self, command: int) -> None:
         resource = (
@@ -203,7 +248,7 @@ class XcpSlave:
 
     def read(self, address: int, size: int) -> bytes:
         try:
-            return self.target.memory.read(self.target.pages.translate(address, size, self.target.pages.xcp_page), size)
+            return self.target.memory.read(self.target.pages.translate(address, size, self.target.pages.xcp_pages), size)
         except MemoryAccessError as exc:
             raise memory_error(exc) from None
 
@@ -212,7 +257,7 @@ class XcpSlave:
         target = self.target
         try:
             target.memory.area_at(address, size)
-            physical = target.pages.translate(address, size, target.pages.xcp_page)
+            physical = target.pages.translate(address, size, target.pages.xcp_pages)
         except MemoryAccessError as exc:
             raise memory_error(exc) from None
         if target.pages.in_window(address):
@@ -232,18 +277,21 @@ class XcpSlave:
     # --- block transfers (DOWNLOAD/PROGRAM and their _NEXT) ---------------------------------
 
     def start_block(self, req: bytes, next_command: Cmd, writer: Writer) -> bytes | None:
+        """The first frame of a DOWNLOAD/PROGRAM: ``req[1]`` elements in all, the frame's share from
+        :attr:`XcpParameters.data_offset`; more than one frame holds only in master block mode."""
         need(req, 2)
-        count = req[1]
-        per_frame = self.params.max_data_per_frame
-        if count == 0 or count > self.params.max_block_bytes:
+        size = self.elements(req[1])
+        per_frame, offset = self.params.max_data_per_frame, self.params.data_offset
+        if size == 0 or size > self.params.max_block_bytes:
             raise XcpNegative(Err.OUT_OF_RANGE)
-        first = min(count, per_frame)
-        need(req, 2 + first)
-        self.require_mta_in(count)
-        writer.check(self.mta, count)
-        self._write_chunk(writer, req[2 : 2 + first])
-        if count > first:
-            self._block = _Block(next_command, count - first, writer)
+        self.require_aligned(self.mta)
+        first = min(size, per_frame)
+        need(req, offset + first)
+        self.require_mta_in(size)
+        writer.check(self.mta, size)
+        self._write_chunk(writer, req[offset : offset + first])
+        if size > first:
+            self._block = _Block(next_command, size - first, writer)
             return None
         return b""
 
@@ -252,12 +300,13 @@ class XcpSlave:
         block = self._block
         if block is None or block.next_command != next_command:
             raise XcpNegative(Err.SEQUENCE)
-        if req[1] != block.remaining:
+        remaining = block.remaining // self.granularity
+        if req[1] != remaining:
             self._block = None
-            raise XcpNegative(Err.SEQUENCE, bytes([block.remaining]))
-        chunk = min(block.remaining, self.params.max_data_per_frame)
-        need(req, 2 + chunk)
-        self._write_chunk(block.writer, req[2 : 2 + chunk])
+            raise XcpNegative(Err.SEQUENCE, bytes([remaining]))
+        chunk, offset = min(block.remaining, self.params.max_data_per_frame), self.params.data_offset
+        need(req, offset + chunk)
+        self._write_chunk(block.writer, req[offset : offset + chunk])
         block.remaining -= chunk
         if block.remaining:
             return None
@@ -275,17 +324,16 @@ class XcpSlave:
             self.daq.free()
             self.locked = self.params.protected
         self.connected = True
-        comm_mode = COMM_MODE_OPTIONAL | COMM_MODE_SLAVE_BLOCK  # byte order Intel, granularity BYTE
-        return struct.pack(
-            "<BBBHBB", int(self.available), comm_mode, self.params.max_cto, self.params.max_dto,
-            PROTOCOL_LAYER_VERSION, TRANSPORT_LAYER_VERSION,
-        )
+        comm_mode = (COMM_MODE_OPTIONAL | (COMM_MODE_SLAVE_BLOCK if self.params.slave_block_mode else 0)
+                     | _GRANULARITY_CODES[self.granularity] << 1 | (self.order == ">"))
+        return self.pack("BBBHBB", int(self.available), comm_mode, self.params.max_cto, self.params.max_dto,
+                         PROTOCOL_LAYER_VERSION, TRANSPORT_LAYER_VERSION)
 
     def disconnect(self) -> None:
         """End the session as DISCONNECT does (also when the transport loses the master): DAQ stops and is freed."""
         self.daq.free()
         self.connected = False
-        self._seed = None
+        self._seed, self._key = None, b""
 
     def _disconnect(self, req: bytes) -> bytes:
         self.disconnect()
@@ -293,17 +341,15 @@ class XcpSlave:
 
     def _get_status(self, req: bytes) -> bytes:
         session = SESSION_DAQ_RUNNING if self.daq.running else 0
-        return struct.pack("<BBBH", session, int(self.locked & self.available), 0, 0)
+        return self.pack("BBBH", session, int(self.locked & self.available), 0, 0)
 
     def _synch(self, req: bytes) -> bytes:
         self._block = None
         raise XcpNegative(Err.CMD_SYNCH)
 
     def _get_comm_mode_info(self, req: bytes) -> bytes:
-        return struct.pack(
-            "<BBBBBBB", 0, COMM_MODE_MASTER_BLOCK, 0, self.params.max_bs, self.params.min_st_100us, 0,
-            TRANSPORT_LAYER_VERSION,
-        )
+        optional = COMM_MODE_MASTER_BLOCK if self.params.master_block_mode else 0
+        return bytes([0, optional, 0, self.params.max_bs, self.params.min_st_100us, 0, TRANSPORT_LAYER_VERSION])
 
     def _get_id(self, req: bytes) -> bytes:
         need(req, 2)
@@ -314,35 +360,51 @@ class XcpSlave:
         else:
             raise XcpNegative(Err.OUT_OF_RANGE)
         self.mta = address
-        return struct.pack("<BBBI", 0, 0, 0, length)  # mode 0: upload the text from the MTA
+        return self.pack("BBBI", 0, 0, 0, length)  # mode 0: upload the text (length in bytes) from the MTA
 
     def _get_seed(self, req: bytes) -> bytes:
+        """Mode 0 starts a seed, mode 1 asks for the part that did not fit: each response carries the length
+        still to come and as much of it as fits (MAX_CTO - 2 bytes)."""
         need(req, 3)
         mode, resource = req[1], req[2]
-        if mode == 1:  # remaining part: the whole seed always fits the first response
-            if self._seed is None:
+        if mode == 1:
+            if self._seed is None or self._seed_sent == 0:
                 raise XcpNegative(Err.SEQUENCE)
-            return bytes([0])
-        if mode != 0 or resource not in (Resource.CAL_PAG, Resource.DAQ, Resource.PGM):
+        elif mode != 0 or resource not in (Resource.CAL_PAG, Resource.DAQ, Resource.PGM):
             raise XcpNegative(Err.OUT_OF_RANGE)
-        if not resource & self.available:
+        elif not resource & self.available:
             raise XcpNegative(Err.OUT_OF_RANGE)
-        if not resource & self.locked:
+        elif not resource & self.locked:
             self._seed = None
             return bytes([0])  # already unlocked: seed length 0
-        seed = bytes(self._rng.getrandbits(8) for _ in range(seedkey.SEED_LENGTH))
-        self._seed = (Resource(resource), seed)
-        return bytes([len(seed)]) + seed
+        else:
+            seed = bytes(self._rng.getrandbits(8) for _ in range(self.params.seed_length))
+            self._seed, self._seed_sent, self._key = (Resource(resource), seed), 0, b""
+        seed = self._seed[1]
+        part = seed[self._seed_sent : self._seed_sent + self.params.max_cto - 2]
+        remaining = len(seed) - self._seed_sent
+        self._seed_sent += len(part)
+        return bytes([remaining]) + part
 
     def _unlock(self, req: bytes) -> bytes:
+        """The key in one or more UNLOCKs, each naming the key bytes still to come (its own included)."""
         need(req, 2)
-        if self._seed is None:
+        if self._seed is None or self._seed_sent < len(self._seed[1]):
             raise XcpNegative(Err.SEQUENCE)
         resource, seed = self._seed
-        self._seed = None
-        length = req[1]
-        need(req, 2 + length)
-        if req[2 : 2 + length] != seedkey.compute_key(seed, resource):
+        remaining = req[1]
+        part = req[2 : 2 + min(remaining, self.params.max_cto - 2)]
+        if remaining == 0 or len(part) < min(remaining, self.params.max_cto - 2) or (
+                self._key and remaining != self._key_length - len(self._key)):
+            self._seed, self._key = None, b""
+            raise XcpNegative(Err.SEQUENCE if remaining else Err.CMD_SYNTAX)
+        if not self._key:
+            self._key_length = remaining
+        self._key += part
+        if len(self._key) < self._key_length:
+            return bytes([int(self.locked & self.available)])  # more parts to come
+        key, self._seed, self._key = self._key, None, b""
+        if key != seedkey.compute_key(seed, resource):
             self.daq.free()
             self.connected = False  # a wrong key ends the session (ASAM XCP: ERR_ACCESS_LOCKED, disconnect)
             raise XcpNegative(Err.ACCESS_LOCKED)
@@ -353,42 +415,51 @@ class XcpSlave:
         need(req, 8)
         if req[3] != 0:
             raise XcpNegative(Err.OUT_OF_RANGE)
-        self.mta = struct.unpack_from("<I", req, 4)[0]
+        self.mta = self.unpack_from("I", req, 4)[0]
         return b""
+
+    def _responses(self, data: bytes) -> list[bytes]:
+        """``data`` in UPLOAD responses: the PID, alignment bytes up to an element, then whole elements."""
+        per_response, pad = self.params.max_data_per_response, bytes([PID_RES]) + bytes(self.granularity - 1)
+        return [pad + data[i : i + per_response] for i in range(0, len(data), per_response)]
 
     def _upload(self, req: bytes) -> list[bytes]:
         need(req, 2)
-        count = req[1]
-        if count == 0:
+        size = self.elements(req[1])
+        limit = self.elements(MAX_UPLOAD) if self.params.slave_block_mode else self.params.max_data_per_response
+        if size == 0 or size > limit:
             raise XcpNegative(Err.OUT_OF_RANGE)
-        self.require_mta_in(count)
-        data = self.read(self.mta, count)
-        self.mta += count
-        per_frame = self.params.max_cto - 1
-        return [bytes([PID_RES]) + data[i : i + per_frame] for i in range(0, count, per_frame)]
+        self.require_aligned(self.mta)
+        self.require_mta_in(size)
+        data = self.read(self.mta, size)
+        self.mta += size
+        return self._responses(data)
 
-    def _short_upload(self, req: bytes) -> bytes:
+    def _short_upload(self, req: bytes) -> list[bytes]:
         need(req, 8)
-        count = req[1]
-        if count == 0 or count > self.params.max_cto - 1 or req[3] != 0:
+        size = self.elements(req[1])
+        address = self.unpack_from("I", req, 4)[0]
+        if size == 0 or size > self.params.max_data_per_response or req[3] != 0:
             raise XcpNegative(Err.OUT_OF_RANGE)
-        address = struct.unpack_from("<I", req, 4)[0]
-        data = self.read(address, count)
-        self.mta = address + count
-        return data
+        self.require_aligned(address)
+        data = self.read(address, size)
+        self.mta = address + size
+        return self._responses(data)
 
     def _build_checksum(self, req: bytes) -> bytes:
         need(req, 8)
-        size = struct.unpack_from("<I", req, 4)[0]
+        size = self.elements(self.unpack_from("I", req, 4)[0])
         kind: ChecksumType = self.params.checksum_type
         if size == 0 or size % kind.element_size:
             raise XcpNegative(Err.OUT_OF_RANGE)
         if size > self.params.max_checksum_block:
-            raise XcpNegative(Err.OUT_OF_RANGE, struct.pack("<BBI", 0, 0, self.params.max_checksum_block))
+            limit = self.params.max_checksum_block // self.granularity
+            raise XcpNegative(Err.OUT_OF_RANGE, self.pack("BBI", 0, 0, limit))
+        self.require_aligned(self.mta)
         self.require_mta_in(size)
         value = checksum(self.read(self.mta, size), kind)
         self.mta += size
-        return struct.pack("<BBBI", int(kind), 0, 0, value)
+        return self.pack("BBBI", int(kind), 0, 0, value)
 
     def _download_writer(self) -> Writer:
         return Writer(self.check_writable, self.write)
@@ -399,21 +470,30 @@ class XcpSlave:
     def _download_next(self, req: bytes) -> bytes | None:
         return self.continue_block(req, Cmd.DOWNLOAD_NEXT)
 
+    def max_frame_data(self, req: bytes) -> bytes:
+        """The data of a DOWNLOAD_MAX/PROGRAM_MAX: whole elements after the command and its alignment bytes,
+        at the (aligned) MTA."""
+        size = self.params.max_data_per_response  # the same layout as an UPLOAD response
+        need(req, self.granularity + size)
+        self.require_aligned(self.mta)
+        self.require_mta_in(size)
+        return req[self.granularity : self.granularity + size]
+
     def _download_max(self, req: bytes) -> bytes:
-        count = self.params.max_cto - 1
-        need(req, 1 + count)
-        self.require_mta_in(count)
-        self.write(self.mta, req[1 : 1 + count])
-        self.mta += count
+        data = self.max_frame_data(req)
+        self.write(self.mta, data)
+        self.mta += len(data)
         return b""
 
     def _short_download(self, req: bytes) -> bytes:
         need(req, 8)
-        count = req[1]
-        if req[3] != 0 or 8 + count > self.params.max_cto:  # on classic CAN no data byte fits
+        size = self.elements(req[1])
+        if req[3] != 0 or 8 + size > self.params.max_cto:  # on classic CAN no data byte fits
             raise XcpNegative(Err.OUT_OF_RANGE)
-        address = struct.unpack_from("<I", req, 4)[0]
-        self.write(address, req[8 : 8 + count])
-        self.mta = address + count
+        address = self.unpack_from("I", req, 4)[0]
+        self.require_aligned(address)
+        need(req, 8 + size)
+        self.write(address, req[8 : 8 + size])
+        self.mta = address + size
         return b""
 
