@@ -107,16 +107,28 @@ def test_too_many_odts_for_absolute_pids_is_refused():
         plan_daq(signals, **DEMO)
 
 
-def test_too_many_lists_is_refused():
+def test_max_daq_is_no_limit_of_a_dynamic_plan():
+    """A dynamic configuration may count in MAX_DAQ only the lists allocated so far (0 before ALLOC_DAQ):
+    ALLOC_DAQ tells whether the lists fit, not the plan."""
     signals = {e: [DaqSignal(e, 0x10 * e, 1)] for e in range(3)}
-    with pytest.raises(InputError, match="MAX_DAQ"):
-        plan_daq(signals, processor=processor(max_daq=2), resolution=resolution(), max_dto=8)
+    plan = plan_daq(signals, processor=processor(max_daq=0), resolution=resolution(), max_dto=8)
+    assert [daq.number for daq in plan.lists] == [0, 1, 2]
 
 
-def test_no_room_for_data_is_refused():
+def test_a_relative_odt_number_is_a_pid_too():
+    signals = {0: [DaqSignal("big", 0x1000, 6 * 253, element_size=2)]}
+    with pytest.raises(InputError, match="holds 252 at most"):
+        plan_daq(signals, processor=processor("RELATIVE_BYTE"), resolution=resolution(timestamp_size=0), max_dto=8)
+
+
+def test_timestamps_that_leave_no_room_for_data_are_left_out_unless_fixed():
+    """RELATIVE_WORD_ALIGNED (4 bytes) and a 4-byte timestamp fill a CAN DTO: the samples go by arrival time."""
+    plan = plan_daq({0: [DaqSignal("x", 0, 1)]}, processor=processor("RELATIVE_WORD_ALIGNED"),
+                    resolution=resolution(timestamp_size=4), max_dto=8)
+    assert plan.timestamp_size == 0 and not plan.lists[0].timestamps
+    fixed = DaqResolutionInfo(1, 4, 4, True, 1e-5, 1)
     with pytest.raises(InputError, match="no room for data"):
-        plan_daq({0: [DaqSignal("x", 0, 1)]}, processor=processor("RELATIVE_WORD_ALIGNED"),
-                 resolution=resolution(timestamp_size=4), max_dto=8)
+        plan_daq({0: [DaqSignal("x", 0, 1)]}, processor=processor("RELATIVE_WORD_ALIGNED"), resolution=fixed, max_dto=8)
 
 
 @settings(max_examples=150, deadline=None)

@@ -5,9 +5,15 @@ from __future__ import annotations
 import time
 
 import numpy as np
+import pytest
+from conftest import FAST, serve
 
 from workbench.elf import ElfSymbols
+from workbench.errors import WorkbenchError
+from workbench.sim.demo_ecu import build_demo_ecu
+from workbench.sim.profiles import SlaveProfile
 from workbench.xcp.daq import DaqSignal, DaqStream, plan_daq
+from workbench.xcp_protocol import Cmd
 
 
 def collect(stream, seconds: float):
@@ -63,3 +69,27 @@ def test_stop_and_close_leave_the_ecu_quiet(rig):
     received = stream.stats.dtos
     time.sleep(0.1)
     assert stream.stats.dtos == received
+
+
+def test_a_slave_whose_max_daq_counts_allocated_lists_takes_what_fits_and_says_what_does_not():
+    """MAX_DAQ 0 before ALLOC_DAQ (ASAM: MIN_DAQ + DAQ_COUNT) is no reason to refuse; ALLOC_DAQ is the judge."""
+    counted = SlaveProfile("two-lists", "", "", daq={"max_daq": 2, "max_daq_counts_allocated": True})
+    with serve(build_demo_ecu(slave_profile=counted), 1.0) as rig:
+        assert rig.master.get_daq_processor_info().max_daq == 0
+        with start_stream(rig, {0: ["zsRailPressure"], 1: ["xsDC"]}) as stream:
+            assert {b.daq_list.event for b in collect(stream, 0.2)} == {0, 1}
+            assert rig.master.get_daq_processor_info().max_daq == 2
+        with pytest.raises(WorkbenchError, match=r"no room for the DAQ lists of 3 event\(s\) \(ALLOC_DAQ: "
+                                                 r"ERR_MEMORY_OVERFLOW\); measure fewer events"):
+            start_stream(rig, {0: ["zsRailPressure"], 1: ["xsDC"], 2: ["xsFuelLevel"]}).start()
+
+
+def test_a_write_daq_answered_after_its_timeout_starts_the_configuration_over(rig):
+    """WRITE_DAQ moves the DAQ pointer: repeated after a timeout it would write the next entry (or run past the
+    ODT's last). A late answer makes the stream configure the lists again from FREE_DAQ instead."""
+    rig.demo.ecu.faults.delay_answer(Cmd.WRITE_DAQ, 1.5 * FAST.t1, n=2)
+    with start_stream(rig, {0: ["zsRailPressure", "zsSensVolt"]}) as stream:
+        batches = collect(stream, 0.3)
+    assert rig.demo.ecu.faults.fired == [f"answer command 0x{Cmd.WRITE_DAQ:02X} {1.5 * FAST.t1} s late"]
+    volts = np.concatenate([b.column("zsSensVolt") for b in batches]).view("<f4")
+    assert len(volts) > 20 and np.all((volts >= 0) & (volts <= 5)) and stream.stats.lost == 0

@@ -9,11 +9,13 @@ import time
 from pathlib import Path
 
 import pytest
-from conftest import FAST, can_settings
+from conftest import FAST, can_settings, serve
 
 import workbench
 from workbench.errors import WorkbenchError, XcpCommandError, XcpTimeoutError
 from workbench.image import ChecksumType, checksum
+from workbench.sim.demo_ecu import build_demo_ecu
+from workbench.sim.profiles import SlaveProfile
 from workbench.xcp.link import Link
 from workbench.xcp.master import XcpMaster
 from workbench.xcp_protocol import Err, IdType, Resource
@@ -168,3 +170,28 @@ def test_late_answers_do_not_desynchronise_the_commands(rig, threshold):
     assert len(rig.demo.ecu.faults.fired) == 3
     rig.master.set_mta(CAL_RAM)  # the next commands get their own answers
     assert rig.master.read(CAL_RAM, 20) == rig.demo.ecu.read(CAL_RAM, 20)
+
+
+def test_a_late_answer_to_connect_does_not_shift_the_answers_after_it():
+    """A slow slave (every answer 0.6 T1 late) whose first CONNECT answer comes after T1: the repeated CONNECT
+    takes it, and the repeat's own answer, still on its way, must not become the answer of the command after
+    it (on CAN responses carry no tag), nor shift every answer after that by one."""
+    slow = SlaveProfile("slow", "", "", xcp={"response_delay_s": 0.6 * FAST.t1})
+    demo = build_demo_ecu(slave_profile=slow)
+    demo.ecu.faults.delay_frame(1, 0.7 * FAST.t1, "tx")  # CONNECT's answer at 1.3 T1: the master gave up on it
+    with serve(demo, None) as rig:  # connects
+        assert demo.ecu.faults.fired == ["delay tx frame 1"]
+        assert rig.master.comm_mode.max_bs == 42 and rig.master.protected == Resource.CAL_PAG | Resource.DAQ | Resource.PGM
+        assert rig.master.read(CAL_RAM, 20) == demo.ecu.read(CAL_RAM, 20)
+
+
+def test_an_unlock_answered_after_its_timeout_is_not_sent_again():
+    """UNLOCK consumes its seed: repeated after a timeout it is ERR_SEQUENCE even though the first one unlocked.
+    The master starts over with GET_SEED instead, which says (length 0) that the resource is open."""
+    late = SlaveProfile("late-unlock", "", "", xcp={"response_delay_s": 1.5 * FAST.t1, "delayed_every": 5})
+    demo = build_demo_ecu(slave_profile=late)
+    with serve(demo, None) as rig:  # CONNECT, GET_COMM_MODE_INFO, GET_STATUS: answers 1-3
+        rig.master.unlock(Resource.CAL_PAG)  # GET_SEED (answer 4), UNLOCK (answer 5, after T1)
+        assert not rig.master.protected & Resource.CAL_PAG
+        assert rig.master.get_status().protected == Resource.DAQ | Resource.PGM
+        assert rig.master.read(CAL_RAM, 20) == demo.ecu.read(CAL_RAM, 20)

@@ -10,7 +10,6 @@ import pytest
 from workbench.errors import XcpCommandError
 from workbench.sim.ecu import EcuState
 from workbench.xcp.info import ProgramStartInfo, SectorInfo
-from workbench.xcp.master import XcpMaster
 from workbench.xcp_protocol import Cmd, Err
 
 CALIB = 0xFC0000
@@ -33,7 +32,7 @@ def test_sector_and_processor_info(rig):
 def test_program_start_says_how_to_program(rig):
     start = rig.master.program_start()
     assert (start.master_block_mode, start.max_cto_pgm, start.max_bs_pgm, start.min_st_pgm_s) == (True, 8, 42, 0.0)
-    assert XcpMaster.program_block_size(start) == 252  # 42 whole frames: 1 + MAX_BS allows 43, 255 bytes 42.5
+    assert rig.master.program_block_size(start) == 252  # 42 whole frames: 1 + MAX_BS allows 43, 255 bytes 42.5
     assert rig.demo.ecu.state is EcuState.HALTED
 
 
@@ -43,7 +42,7 @@ def test_program_in_blocks_in_program_max_frames_or_one_frame_a_command(rig, pro
     data = os.urandom(1000)
     rig.master.program(data, start, use_max=use_max)
     assert rig.demo.ecu.read(CALIB, len(data)) == data
-    assert XcpMaster.program_block_size(start, use_max=use_max) == (252 if master_block_mode else 7 if use_max else 6)
+    assert rig.master.program_block_size(start, use_max=use_max) == (252 if master_block_mode else 7 if use_max else 6)
 
 
 def test_a_refused_block_is_reported_by_its_early_response(rig, programming):

@@ -70,9 +70,11 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
     page = commands.add_parser("page", help="show or switch the calibration page",
                                description="Without an argument: the pages the ECU and XCP use. working/reference: "
                                            "switch both to that page. copy: copy the reference page (CAL ROM) onto "
-                                           "the working page (CAL RAM), undoing every change since start-up.")
+                                           "the working page (CAL RAM), undoing every change since start-up. Every "
+                                           "calibration segment of the A2L at once, unless --segment names one; "
+                                           "--json gives a list, one object per segment.")
     page.add_argument("action", nargs="?", choices=("working", "reference", "copy"))
-    page.add_argument("--segment", type=int, default=0, help="calibration segment (default 0)")
+    page.add_argument("--segment", type=int, help="only this calibration segment (default: every one)")
     add_ecu_arguments(page)
     page.set_defaults(func=_page)
 
@@ -247,11 +249,14 @@ def _page(args: argparse.Namespace) -> int:
             session.set_page(args.action, args.segment)
         elif args.action == "copy":
             session.copy_reference_to_working(args.segment)
-        state = session.page(args.segment)
+        states = session.pages() if args.segment is None else [session.page(args.segment)]
     if args.json:
-        print_json({"segment": state.segment, "ecu": state.name(state.ecu_page), "xcp": state.name(state.xcp_page)})
+        print_json([{"segment": state.segment, "ecu": state.name(state.ecu_page), "xcp": state.name(state.xcp_page)}
+                    for state in states])
         return 0
-    done = {"copy": "copied the reference page onto the working page; "}.get(args.action or "", "")
-    print(f"{done}segment {state.segment}: ECU on the {state.name(state.ecu_page)} page, "
-          f"XCP on the {state.name(state.xcp_page)} page")
+    if args.action == "copy":
+        print("copied the reference page onto the working page")
+    for state in states:
+        print(f"segment {state.segment}: ECU on the {state.name(state.ecu_page)} page, "
+              f"XCP on the {state.name(state.xcp_page)} page")
     return 0

@@ -33,13 +33,20 @@ class ChecksumVerifier:
     confirm_mismatch: bool = True  # ask a mismatch again (a search that narrows mismatches down confirms by itself)
 
     def differing(self, address: int, expected: bytes) -> list[AddressRange]:
-        """The blocks of ``[address, address + len(expected))`` whose content differs from ``expected``."""
+        """The blocks of ``[address, address + len(expected))`` whose content differs from ``expected``.
+
+        BUILD_CHECKSUM covers whole elements of the address granularity (from an aligned address) and of
+        the checksum type (ADD_x2/x4 sum words): bytes before the first and after the last are read back.
+        """
         bad = []
-        offset = 0
+        offset = min(-address % self.master.granularity, len(expected))  # before the first element: read back
+        if offset and self.master.read(address, offset) != expected[:offset]:
+            bad.append(AddressRange(address, address + offset))
         while offset < len(expected):
             size = min(self.max_block, len(expected) - offset)
-            if self.kind is not None and size % self.kind.element_size:  # an ADD_x2/x4 sum of an odd tail
-                size -= size % self.kind.element_size
+            unit = max(self.kind.element_size if self.kind is not None else 1, self.master.granularity)
+            if size % unit:  # an ADD_x2/x4 sum, or a granularity, of an odd tail
+                size -= size % unit
                 if not size:
                     tail = expected[offset:]
                     if self.master.read(address + offset, len(tail)) != tail:

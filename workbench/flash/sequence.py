@@ -303,7 +303,7 @@ class _Flash:
     # --- programming and verification ----------------------------------------------------------
 
     def _program_sector(self, sector: Sector) -> None:
-        pieces = self.expected.crop(sector.range.start, sector.range.end).segments
+        pieces = _whole_elements(self.expected.crop(sector.range.start, sector.range.end), self.master.granularity)
         before = self.meter.done
         for attempt in range(self.options.max_rewrites + 1):
             try:
@@ -421,3 +421,18 @@ def _merged(image: MemoryImage, more: MemoryImage) -> MemoryImage:
         for address, data in source.segments:
             merged.add(address, data, overwrite=True)
     return merged
+
+
+def _whole_elements(image: MemoryImage, granularity: int) -> list[tuple[int, bytes]]:
+    """The ranges of ``image`` to PROGRAM, widened to whole elements of the address granularity (the bytes
+    added are the erased value, which programs nothing) and joined where they then touch."""
+    if granularity == 1:
+        return image.segments
+    widened: list[list[int]] = []
+    for address, data in image.segments:
+        start, end = address - address % granularity, -(-(address + len(data)) // granularity) * granularity
+        if widened and start <= widened[-1][1]:
+            widened[-1][1] = max(widened[-1][1], end)
+        else:
+            widened.append([start, end])
+    return [(start, image.read(start, end - start, ERASED)) for start, end in widened]

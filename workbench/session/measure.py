@@ -109,7 +109,8 @@ class DaqMeasurement:
                 static = None if processor.dynamic else [master.get_daq_list_info(n) for n in range(processor.max_daq)]
                 plan = plan_daq(groups, processor, resolution, master.max_dto, first_list=processor.min_daq,
                                 consistency={n: i.consistency for n, i in info.items() if i is not None},
-                                prescaler=self.prescaler, static_lists=static, event_name=session.event_name)
+                                prescaler=self.prescaler, static_lists=static, event_name=session.event_name,
+                                address_granularity=master.granularity)
                 self.stream = DaqStream(master, plan, processor, resolution,
                                         {n: i.period_s * self.prescaler for n, i in info.items()
                                          if i is not None and i.period_s})

@@ -17,13 +17,21 @@ from __future__ import annotations
 
 import logging
 import threading
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
 from workbench import demo
 from workbench.a2l import A2lDocument, load_a2l, read_xcp_config
 from workbench.a2l.xcp import XcpConfig, XcpSegment
-from workbench.errors import ConnectionLostError, EpkMismatchError, InputError, WorkbenchError, XcpTimeoutError
+from workbench.errors import (
+    ConnectionLostError,
+    EpkMismatchError,
+    InputError,
+    WorkbenchError,
+    XcpCommandError,
+    XcpTimeoutError,
+)
 from workbench.session.connection import Connection, link_settings, timeouts_of
 from workbench.session.epk import EpkCheck, check_epk
 from workbench.session.fixes import FixAccess
@@ -34,13 +42,15 @@ from workbench.session.values import ValueAccess
 from workbench.xcp.link import Link
 from workbench.xcp.master import KeyFunction, Timeouts, XcpMaster
 from workbench.xcp.seedkey import load_key_function
-from workbench.xcp_protocol import Resource
+from workbench.xcp_protocol import Err, Resource
 
 log = logging.getLogger(__name__)
 
 __all__ = ["Session"]
 
-_XCP_ONLY, _ECU_AND_XCP = 0x02, 0x03
+_XCP_ONLY, _ECU_AND_XCP, _ALL_SEGMENTS = 0x02, 0x03, 0x80
+# what a slave without SET_CAL_PAGE's "all segments" mode answers it
+_NO_ALL_SEGMENTS = {Err.MODE_NOT_VALID, Err.CMD_SYNTAX, Err.OUT_OF_RANGE, Err.SEGMENT_NOT_VALID, Err.PAGE_NOT_VALID}
 
 
 class Session(ValueAccess, EventAccess, FixAccess):
@@ -71,6 +81,7 @@ class Session(ValueAccess, EventAccess, FixAccess):
         self._codecs: dict = {}
         self._readers: dict = {}  # name -> (span, decode) of a polled read (values.py)
         self._model = None
+        self._all_segments: bool | None = None  # SET_CAL_PAGE's "all segments" mode works (None: not tried yet)
 
     # --- opening and closing ------------------------------------------------------------------
 
@@ -208,6 +219,25 @@ class Session(ValueAccess, EventAccess, FixAccess):
         raise InputError(f"the A2L describes no calibration segment {number} (it has "
                          f"{', '.join(str(s.number) for s in self.config.segments) or 'none'})")
 
+    def segment_numbers(self) -> list[int]:
+        """The calibration segments the A2L describes (XCP SEGMENTs of its MEMORY_SEGMENTs), by number.
+
+        :raises InputError: it describes none: there are no pages to switch.
+        """
+        numbers = sorted({segment.number for segment in self.config.segments})
+        if not numbers:
+            self.segment(0)  # raises, naming what the A2L has
+        return numbers
+
+    def segments_of(self, names: Iterable[str]) -> list[int]:
+        """The calibration segments that hold the objects ``names`` (by their addresses); objects outside
+        every segment (measurements in RAM) need none."""
+        found = set()
+        for name in names:
+            address = self.model.object(name).address
+            found.update(s.number for s in self.config.segments if s.address <= address < s.address + s.size)
+        return sorted(found)
+
     def page_numbers(self, segment: int = 0) -> tuple[int, int]:
         """(working page, reference page) of a segment: the page XCP may write, and one it may not."""
         pages = self.segment(segment).pages
@@ -216,26 +246,47 @@ class Session(ValueAccess, EventAccess, FixAccess):
         return (writable[0] if writable else 0), (locked[0] if locked else 1)
 
     def page(self, segment: int = 0) -> PageState:
-        """The pages the ECU and XCP access now."""
+        """The pages the ECU and XCP access now in ``segment``."""
         with self.lock:
             working, reference = self.page_numbers(segment)
             return PageState(segment, self.master.get_cal_page(segment, 0x01), self.master.get_cal_page(segment, 0x02),
                              working, reference)
 
-    def set_page(self, page: str | int, segment: int = 0) -> None:
-        """Switch ECU and XCP to ``"working"``, ``"reference"`` or a page number.
+    def pages(self) -> list[PageState]:
+        """The pages of every calibration segment."""
+        with self.lock:
+            return [self.page(number) for number in self.segment_numbers()]
+
+    def set_page(self, page: str | int, segment: int | None = None) -> None:
+        """Switch ECU and XCP to ``"working"``, ``"reference"`` or a page number: in ``segment``, or (None) in
+        every calibration segment, at once with SET_CAL_PAGE's "all segments" mode where the slave has it.
 
         :raises EpkMismatchError: the session is read-only (nothing is sent)."""
         with self.lock:
             self.require_writable()
-            self.master.set_cal_page(segment, self._page_number(page, segment), _ECU_AND_XCP)
+            numbers = self.segment_numbers() if segment is None else [segment]
+            chosen = {number: self._page_number(page, number) for number in numbers}
+            if segment is None and len(set(chosen.values())) == 1 and self._all_segments is not False:
+                try:
+                    self.master.set_cal_page(0, chosen[numbers[0]], _ECU_AND_XCP | _ALL_SEGMENTS)
+                    self._all_segments = True
+                    return
+                except XcpCommandError as error:
+                    if error.code not in _NO_ALL_SEGMENTS:
+                        raise
+                    log.debug("SET_CAL_PAGE for all segments: %s; switching them one by one", error)
+                    self._all_segments = False
+            for number, page_number in chosen.items():
+                self.master.set_cal_page(number, page_number, _ECU_AND_XCP)
 
-    def copy_reference_to_working(self, segment: int = 0) -> None:
-        """COPY_CAL_PAGE reference -> working: the working page starts over from the flashed values."""
+    def copy_reference_to_working(self, segment: int | None = None) -> None:
+        """COPY_CAL_PAGE reference -> working in ``segment`` (None: every calibration segment): the working
+        page starts over from the flashed values."""
         with self.lock:
             self.require_writable()
-            working, reference = self.page_numbers(segment)
-            self.master.copy_cal_page(segment, reference, segment, working)
+            for number in self.segment_numbers() if segment is None else [segment]:
+                working, reference = self.page_numbers(number)
+                self.master.copy_cal_page(number, reference, number, working)
 
     def _page_number(self, page: str | int, segment: int) -> int:
         if isinstance(page, int):
@@ -246,27 +297,34 @@ class Session(ValueAccess, EventAccess, FixAccess):
             raise InputError(f"page must be 'working', 'reference' or a number, not {page!r}")
         return choices[page.lower()]
 
-    def on_page(self, page: str | int | None, segment: int = 0):
-        """A context in which XCP (not the ECU) accesses ``page``; None: leave the pages as they are."""
-        return _XcpPage(self, None if page is None else self._page_number(page, segment), segment)
+    def on_page(self, page: str | int | None, segment: int | Iterable[int] | None = None):
+        """A context in which XCP (not the ECU) accesses ``page`` of ``segment`` (a number, several, or None:
+        every calibration segment); ``page`` None: leave the pages as they are."""
+        if page is None:
+            return _XcpPages(self, {})
+        numbers = self.segment_numbers() if segment is None else [segment] if isinstance(segment, int) else segment
+        return _XcpPages(self, {number: self._page_number(page, number) for number in numbers})
 
 
-class _XcpPage:
-    def __init__(self, session: Session, page: int | None, segment: int):
-        self.session, self.page, self.segment = session, page, segment
-        self.previous: int | None = None
+class _XcpPages:
+    """XCP on the given page of each segment inside the context; each segment back on its page after."""
+
+    def __init__(self, session: Session, pages: dict[int, int]):
+        self.session, self.pages = session, pages
+        self.previous: dict[int, int] = {}
 
     def __enter__(self):
-        if self.page is not None:
-            master = self.session.master
-            self.previous = master.get_cal_page(self.segment, _XCP_ONLY)
-            if self.previous != self.page:
-                master.set_cal_page(self.segment, self.page, _XCP_ONLY)
+        master = self.session.master
+        for segment, page in self.pages.items():
+            previous = master.get_cal_page(segment, _XCP_ONLY)
+            if previous != page:
+                master.set_cal_page(segment, page, _XCP_ONLY)
+                self.previous[segment] = previous
         return self
 
     def __exit__(self, *exc_info):
-        if self.page is not None and self.previous is not None and self.previous != self.page:
-            self.session.master.set_cal_page(self.segment, self.previous, _XCP_ONLY)
+        for segment, previous in self.previous.items():
+            self.session.master.set_cal_page(segment, previous, _XCP_ONLY)
 
 
 def _key_function(given: KeyFunction | str | None, config: XcpConfig, doc: A2lDocument

@@ -12,7 +12,10 @@ reads the response, so it controls what pyxcp's request path does not:
 * a negative response raises :class:`~workbench.errors.XcpCommandError` naming the command and
   the error; a locked resource is unlocked with the seed & key function, once, and the command
   repeated;
-* UPLOAD uses the slave's block mode and DOWNLOAD the master block mode when offered.
+* UPLOAD uses the slave's block mode and DOWNLOAD the master block mode when offered;
+* with an address granularity above BYTE every transfer counts elements, carries the spec's alignment
+  bytes and starts on an element: :meth:`XcpMaster.read` and :meth:`XcpMaster.write` widen any byte range
+  to whole elements (a write reads the bytes it does not change first).
 """
 
 from __future__ import annotations
@@ -122,6 +125,19 @@ class XcpMaster:
     def granularity(self) -> int:
         return self.connect_info.address_granularity if self.connect_info else 1
 
+    @property
+    def per_response(self) -> int:
+        """Data bytes of one UPLOAD response: whole elements after the PID and its alignment bytes."""
+        return self._whole(self.max_cto - self.granularity)
+
+    def _whole(self, size: int) -> int:
+        """``size`` rounded down to whole elements."""
+        return size - size % self.granularity
+
+    def _elements(self, size: int) -> int:
+        """Elements that hold ``size`` bytes (rounded up)."""
+        return -(-size // self.granularity)
+
     # --- one command --------------------------------------------------------------------------
 
     def command(self, command: Cmd, payload: bytes = b"", *, timeout: str | None = None, repeat: bool = True) -> bytes:
@@ -164,6 +180,8 @@ class XcpMaster:
                 log.info("XCP %s: no response within %.0f ms; repeating after SYNCH", command.name, timeout_s * 1e3)
                 continue
             if response[0] == PID_RES:
+                if attempts and command == Cmd.CONNECT:
+                    self.resynchronize()  # the answer to the CONNECT that timed out may still be on its way
                 return response[1:]
             if response[0] == PID_ERR and len(response) > 1:
                 code = response[1]
@@ -187,7 +205,9 @@ class XcpMaster:
         return response
 
     def synch_after_timeout(self, command: Cmd, timeout_s: float) -> None:
-        """After ``command`` went unanswered: SYNCH, so the next command starts clean.
+        """After ``command`` went unanswered: SYNCH, so the next command starts clean. A slow slave's late
+        answer to ``command`` comes before SYNCH's ERR_CMD_SYNCH and is dropped with it (on CAN nothing else
+        tells responses apart: taken for the next command's, it would shift every answer by one).
 
         :raises EcuSilentError: the ECU does not answer SYNCH either: it is gone (an XcpTimeoutError and a
             ConnectionLostError).
@@ -196,6 +216,9 @@ class XcpMaster:
         if response is None:
             self.silent = True
             raise EcuSilentError(self.link.describe(), command.name, timeout_s)
+        while response is not None and response[:2] != bytes((PID_ERR, Err.CMD_SYNCH)):
+            log.debug("XCP %s: a late answer dropped after SYNCH", command.name)
+            response = self.link.receive(self.timeouts.t1)
 
     # --- session ------------------------------------------------------------------------------
 
@@ -254,32 +277,43 @@ class XcpMaster:
                                  f"no SEED_AND_KEY_EXTERNAL_FUNCTION; give one as 'module:function'")
         self._unlocking = True
         try:
-            seed = self._seed(resource)
-            if not seed:  # length 0: already unlocked
-                self.protected &= ~resource
-                return
-            try:
-                key = bytes(self.key_function(seed, int(resource)))
-            except Exception as exc:  # the plugin is the user's code: report it, don't crash
-                raise WorkbenchError(f"the seed & key function {self.key_function_name or ''} failed for {name}: "
-                                     f"{type(exc).__name__}: {exc}".replace("  ", " ")) from exc
-            if not key:
-                raise WorkbenchError(f"the seed & key function {self.key_function_name or ''} returned no key for {name}")
-            chunk = self.max_cto - 2
-            for start in range(0, len(key), chunk):
-                remaining = len(key) - start
-                payload = self.command(Cmd.UNLOCK, bytes((remaining,)) + key[start:start + chunk])
-            self.protected = Resource(payload[0] & 0x1D)
+            for attempt in range(2):  # GET_SEED and UNLOCK are no commands to repeat: after a timeout start over
+                try:
+                    self._seed_and_key(resource, name)
+                    break
+                except XcpTimeoutError as error:
+                    if attempt or isinstance(error, EcuSilentError):
+                        raise
+                    log.info("XCP seed & key for %s: a command timed out; starting over with GET_SEED", name)
         finally:
             self._unlocking = False
         if resource & self.protected:
             raise WorkbenchError(f"UNLOCK of {name} was accepted but the resource is still protected")
 
+    def _seed_and_key(self, resource: Resource, name: str) -> None:
+        """One GET_SEED ... UNLOCK exchange (the seed and the key in as many packets as they need)."""
+        seed = self._seed(resource)
+        if not seed:  # length 0: already unlocked (an UNLOCK whose answer was lost may have done it)
+            self.protected &= ~resource
+            return
+        try:
+            key = bytes(self.key_function(seed, int(resource)))
+        except Exception as exc:  # the plugin is the user's code: report it, don't crash
+            raise WorkbenchError(f"the seed & key function {self.key_function_name or ''} failed for {name}: "
+                                 f"{type(exc).__name__}: {exc}".replace("  ", " ")) from exc
+        if not key:
+            raise WorkbenchError(f"the seed & key function {self.key_function_name or ''} returned no key for {name}")
+        chunk = self.max_cto - 2
+        for start in range(0, len(key), chunk):
+            remaining = len(key) - start
+            payload = self.command(Cmd.UNLOCK, bytes((remaining,)) + key[start:start + chunk], repeat=False)
+        self.protected = Resource(payload[0] & 0x1D)
+
     def _seed(self, resource: Resource) -> bytes:
-        payload = self.command(Cmd.GET_SEED, bytes((0, resource)))
+        payload = self.command(Cmd.GET_SEED, bytes((0, resource)), repeat=False)
         total, seed = payload[0], bytes(payload[1:1 + min(payload[0], self.max_cto - 2)])
         while len(seed) < total:
-            payload = self.command(Cmd.GET_SEED, bytes((1, resource)))
+            payload = self.command(Cmd.GET_SEED, bytes((1, resource)), repeat=False)
             seed += bytes(payload[1:1 + min(payload[0], self.max_cto - 2)])
         return seed[:total]
 
@@ -289,43 +323,62 @@ class XcpMaster:
         self.command(Cmd.SET_MTA, struct.pack(f"{self.order}2xBI", extension, address))
 
     def short_upload(self, address: int, size: int, extension: int = 0) -> bytes:
-        elements = size // self.granularity
+        """SHORT_UPLOAD of ``size`` bytes (whole elements, at most :attr:`per_response`) at an aligned ``address``."""
+        elements = self._elements(size)
         payload = self.command(Cmd.SHORT_UPLOAD, struct.pack(f"{self.order}BxBI", elements, extension, address))
-        return self._data(payload, size, Cmd.SHORT_UPLOAD)
+        return self._data(payload[self.granularity - 1:], size, Cmd.SHORT_UPLOAD)
 
     def upload(self, size: int) -> bytes:
-        """UPLOAD ``size`` bytes from the MTA (which advances), in as few commands as the slave allows."""
+        """UPLOAD ``size`` bytes from the MTA (which advances by whole elements), in as few commands as the slave
+        allows; the data follow each response's PID and alignment bytes."""
         data = bytearray()
-        per_frame = self.max_cto - 1
-        per_command = min(255 * self.granularity, size) if self.connect_info and self.connect_info.slave_block_mode else per_frame
+        per_frame, skip = self.per_response, self.granularity - 1
+        block = self.connect_info is not None and self.connect_info.slave_block_mode
+        per_command = 255 * self.granularity if block else per_frame
         while len(data) < size:
             count = min(per_command, size - len(data))
-            payload = self.command(Cmd.UPLOAD, bytes((count // self.granularity,)), repeat=False)
-            chunk = bytearray(payload[:min(count, per_frame)])
-            while len(chunk) < count:  # slave block mode: the rest follows in further responses
+            elements = self._elements(count)
+            payload = self.command(Cmd.UPLOAD, bytes((elements,)), repeat=False)
+            wanted = elements * self.granularity
+            chunk = bytearray(payload[skip:skip + min(wanted, per_frame)])
+            while len(chunk) < wanted:  # slave block mode: the rest follows in further responses
                 more = self.link.receive(self.timeouts.t1)
                 if more is None:
                     self.synch_after_timeout(Cmd.UPLOAD, self.timeouts.t1)
                     raise XcpTimeoutError("UPLOAD", self.timeouts.t1)
                 if more[0] != PID_RES:
                     raise XcpCommandError("UPLOAD", more[1] if len(more) > 1 else 0)
-                chunk += more[1:1 + min(count - len(chunk), per_frame)]
-            data += chunk
+                chunk += more[1 + skip:1 + skip + min(wanted - len(chunk), per_frame)]
+            data += chunk[:count]
         return bytes(data)
 
     def read(self, address: int, size: int, extension: int = 0) -> bytes:
         """``size`` bytes at ``address``: SHORT_UPLOAD when it fits one response, else SET_MTA + UPLOAD;
-        a timeout is repeated from SET_MTA (twice) after SYNCH."""
-        if size <= self.max_cto - 1:
+        a timeout is repeated from SET_MTA (twice) after SYNCH. Read as whole elements of the granularity."""
+        start, end = self._aligned(address, size)
+        if (start, end) != (address, address + size):
+            return self.read(start, end - start, extension)[address - start:address - start + size]
+        if size <= self.per_response:
             return self.short_upload(address, size, extension)
         return self._repeat_from_mta(lambda: self._set_mta_and(address, extension, lambda: self.upload(size)))
 
     def write(self, address: int, data: bytes, extension: int = 0) -> None:
         """DOWNLOAD ``data`` to ``address`` (master block mode when the slave offers it); a timeout is
-        repeated from SET_MTA (twice) after SYNCH."""
+        repeated from SET_MTA (twice) after SYNCH. Bytes that share an element with ``data`` (address
+        granularity WORD or DWORD) are read first and written back as they were."""
         if not data:
             return
+        start, end = self._aligned(address, len(data))
+        if (start, end) != (address, address + len(data)):
+            whole = bytearray(self.read(start, end - start, extension))
+            whole[address - start:address - start + len(data)] = data
+            address, data = start, bytes(whole)
         self._repeat_from_mta(lambda: self._set_mta_and(address, extension, lambda: self.download(data)))
+
+    def _aligned(self, address: int, size: int) -> tuple[int, int]:
+        """``[address, address + size)`` widened to whole elements: (start, end)."""
+        ag = self.granularity
+        return address - address % ag, -(-(address + size) // ag) * ag
 
     def _set_mta_and(self, address: int, extension: int, action: Callable[[], bytes | None]):
         self.set_mta(address, extension)
@@ -342,10 +395,10 @@ class XcpMaster:
 
     def download(self, data: bytes, *, command: Cmd = Cmd.DOWNLOAD, next_command: Cmd = Cmd.DOWNLOAD_NEXT,
                  timeout: str | None = None, max_bs: int | None = None, min_st_s: float | None = None) -> None:
-        """DOWNLOAD (or PROGRAM) ``data`` at the MTA: blocks of a first frame and _NEXT frames when the slave
-        offers master block mode (``max_bs`` frames a block, ``min_st_s`` apart), else one command a frame."""
+        """DOWNLOAD (or PROGRAM) ``data`` (whole elements) at the MTA: blocks of a first frame and _NEXT frames when
+        the slave offers master block mode (``max_bs`` frames a block, ``min_st_s`` apart), else one command a frame."""
         self.memory_changes += 1
-        per_frame = self.max_cto - 2
+        per_frame = self._per_frame(self.max_cto)
         block_mode = max_bs is not None or (self.comm_mode is not None and self.comm_mode.master_block_mode)
         frames = max(1, max_bs if max_bs is not None else (self.comm_mode.max_bs if block_mode else 1))
         separation = min_st_s if min_st_s is not None else (self.comm_mode.min_st_s if block_mode and self.comm_mode else 0.0)
@@ -353,16 +406,21 @@ class XcpMaster:
         for start in range(0, len(data), per_block):
             self._download_block(data[start:start + per_block], command, next_command, timeout, separation)
 
+    def _per_frame(self, max_cto: int) -> int:
+        """Data bytes of a DOWNLOAD/PROGRAM/_NEXT frame: whole elements after command, count and alignment."""
+        return self._whole(max_cto - max(2, self.granularity))
+
     def _download_block(self, block: bytes, command: Cmd, next_command: Cmd, timeout: str | None,
                         separation_s: float, per_frame: int | None = None) -> None:
-        per_frame = per_frame or self.max_cto - 2
+        per_frame = per_frame or self._per_frame(self.max_cto)
         first, rest = block[:per_frame], block[per_frame:]
         elements = len(block) // self.granularity
+        align = bytes(max(2, self.granularity) - 2)  # AG DWORD: two alignment bytes before the data
         if not rest:
-            self.command(command, bytes((elements,)) + first, timeout=timeout, repeat=False)
+            self.command(command, bytes((elements,)) + align + first, timeout=timeout, repeat=False)
             return
         self._unlock_for(command)
-        self.link.send(bytes((command, elements)) + first)
+        self.link.send(bytes((command, elements)) + align + first)
         sent = len(first)
         while sent < len(block):
             chunk = block[sent:sent + per_frame]
@@ -372,7 +430,7 @@ class XcpMaster:
             early = self.link.receive(0)  # a slave that rejects a block answers before its end
             if early is not None and early[0] == PID_ERR:
                 raise XcpCommandError(command.name, early[1] if len(early) > 1 else 0)
-            packet = bytes((next_command, remaining)) + chunk
+            packet = bytes((next_command, remaining)) + align + chunk
             sent += len(chunk)
             if sent < len(block):
                 self.link.send(packet)
@@ -449,14 +507,13 @@ class XcpMaster:
         """PROGRAM_CLEAR in absolute mode: erase ``size`` bytes (whole sectors) from the MTA."""
         self.command(Cmd.PROGRAM_CLEAR, struct.pack(f"{self.order}B2xI", 0, size // self.granularity))
 
-    @staticmethod
-    def program_block_size(start: ProgramStartInfo, *, use_max: bool = False) -> int:
+    def program_block_size(self, start: ProgramStartInfo, *, use_max: bool = False) -> int:
         """Bytes :meth:`program` sends per response: a master block of whole frames (at most 1 + MAX_BS_PGM
-        of them and 255 bytes), else one PROGRAM_MAX (``use_max``) or PROGRAM frame."""
-        per_frame = start.max_cto_pgm - 2
+        of them and 255 elements), else one PROGRAM_MAX (``use_max``) or PROGRAM frame."""
+        per_frame = self._per_frame(start.max_cto_pgm)
         if start.master_block_mode:
-            return min(255 // per_frame, 1 + start.max_bs_pgm) * per_frame
-        return per_frame + 1 if use_max else per_frame
+            return min(255 * self.granularity // per_frame, 1 + start.max_bs_pgm) * per_frame
+        return self._whole(start.max_cto_pgm - self.granularity) if use_max else per_frame
 
     def program(self, data: bytes, start: ProgramStartInfo, *, use_max: bool = False) -> None:
         """PROGRAM ``data`` at the MTA (which advances), as :meth:`program_start` allowed: master blocks of
@@ -467,7 +524,7 @@ class XcpMaster:
         :raises XcpCommandError: the slave refuses a block (the early response of a block is caught).
         :raises XcpTimeoutError: the last frame of a block went unanswered.
         """
-        per_frame = start.max_cto_pgm - 2
+        per_frame = self._per_frame(start.max_cto_pgm)
         if start.master_block_mode:
             size = self.program_block_size(start)
             for offset in range(0, len(data), size):
@@ -476,13 +533,15 @@ class XcpMaster:
             return
         offset = 0
         if use_max:
-            per_max = start.max_cto_pgm - 1
-            while len(data) - offset >= per_max:
-                self.command(Cmd.PROGRAM_MAX, data[offset:offset + per_max], repeat=False)
+            per_max = self.program_block_size(start, use_max=True)
+            while len(data) - offset >= per_max:  # PROGRAM_MAX: alignment bytes after the command, like an UPLOAD
+                self.command(Cmd.PROGRAM_MAX, bytes(self.granularity - 1) + data[offset:offset + per_max],
+                             repeat=False)
                 offset += per_max
+        align = bytes(max(2, self.granularity) - 2)
         for offset in range(offset, len(data), per_frame):
             chunk = data[offset:offset + per_frame]
-            self.command(Cmd.PROGRAM, bytes((len(chunk) // self.granularity,)) + chunk, repeat=False)
+            self.command(Cmd.PROGRAM, bytes((len(chunk) // self.granularity,)) + align + chunk, repeat=False)
 
     def program_reset(self) -> None:
         """PROGRAM_RESET: the slave resets (answering first or not at all); the session ends either way.
@@ -549,21 +608,24 @@ class XcpMaster:
     def free_daq(self) -> None:
         self.command(Cmd.FREE_DAQ)
 
+    # ALLOC_* and WRITE_DAQ are not repeated after a timeout: done twice they fail (ERR_SEQUENCE) or write the
+    # next entry (the DAQ pointer moves on); the caller starts the configuration over instead.
+
     def alloc_daq(self, count: int) -> None:
-        self.command(Cmd.ALLOC_DAQ, struct.pack(f"{self.order}xH", count))
+        self.command(Cmd.ALLOC_DAQ, struct.pack(f"{self.order}xH", count), repeat=False)
 
     def alloc_odt(self, daq_list: int, count: int) -> None:
-        self.command(Cmd.ALLOC_ODT, struct.pack(f"{self.order}xHB", daq_list, count))
+        self.command(Cmd.ALLOC_ODT, struct.pack(f"{self.order}xHB", daq_list, count), repeat=False)
 
     def alloc_odt_entry(self, daq_list: int, odt: int, count: int) -> None:
-        self.command(Cmd.ALLOC_ODT_ENTRY, struct.pack(f"{self.order}xHBB", daq_list, odt, count))
+        self.command(Cmd.ALLOC_ODT_ENTRY, struct.pack(f"{self.order}xHBB", daq_list, odt, count), repeat=False)
 
     def set_daq_ptr(self, daq_list: int, odt: int, entry: int) -> None:
         self.command(Cmd.SET_DAQ_PTR, struct.pack(f"{self.order}xHBB", daq_list, odt, entry))
 
     def write_daq(self, size: int, address: int, extension: int = 0, bit_offset: int = 0xFF) -> None:
         self.command(Cmd.WRITE_DAQ, struct.pack(f"{self.order}BBBI", bit_offset, size // self.granularity,
-                                                extension, address))
+                                                extension, address), repeat=False)
 
     def clear_daq_list(self, daq_list: int) -> None:
         """CLEAR_DAQ_LIST: empty a (static) list's ODT entries and reset its mode; the list must be stopped."""

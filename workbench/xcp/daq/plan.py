@@ -25,14 +25,17 @@ which). A static ODT is never left empty: its empty first entry would end the li
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable, Hashable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from workbench.errors import InputError
 from workbench.xcp.daq.assign import assign_static_lists
 from workbench.xcp.info import DaqListInfo, DaqProcessorInfo, DaqResolutionInfo
+
+log = logging.getLogger(__name__)
 
 __all__ = ["DaqListPlan", "DaqPlan", "DaqSignal", "Odt", "OdtEntry", "plan_daq"]
 
@@ -136,12 +139,13 @@ def plan_daq(groups: dict[int, Sequence[DaqSignal]], processor: DaqProcessorInfo
              max_dto: int, *, timestamps: bool = True, first_list: int = 0,
              consistency: Mapping[int, str] | None = None, prescaler: int = 1,
              static_lists: Sequence[DaqListInfo] | None = None,
-             event_name: Callable[[int], str] | None = None) -> DaqPlan:
+             event_name: Callable[[int], str] | None = None, address_granularity: int = 1) -> DaqPlan:
     """One DAQ list per event of ``groups`` (event number -> signals), numbered from ``first_list``.
 
     ``prescaler``: every list sends one sample in ``prescaler`` events (the slave must offer it).
 
-    ``timestamps``: ask for the slave's timestamps (when it supports them; TIMESTAMP_FIXED forces them).
+    ``timestamps``: ask for the slave's timestamps (when it supports them; TIMESTAMP_FIXED forces them), unless
+    they leave the first ODT no room for data (a 4-byte timestamp after a 4-byte identification field on CAN).
     ``consistency``: per event, what GET_DAQ_EVENT_INFO says the slave keeps consistent: "ODT" (the
     default) keeps every scalar within one ODT; "DAQ" or "EVENT" lets a value continue in the next ODT,
     so every ODT is filled to the last byte.
@@ -149,6 +153,8 @@ def plan_daq(groups: dict[int, Sequence[DaqSignal]], processor: DaqProcessorInfo
     static (``processor.dynamic`` false); each event then gets one of these lists (``first_list`` does not
     apply) that takes its event and holds its ODTs within that list's MAX_ODT and MAX_ODT_ENTRIES.
     ``event_name(number)``: an event's name, for the messages.
+    ``address_granularity``: CONNECT's, in bytes: WRITE_DAQ counts an entry's size in these elements from an
+    aligned address, so entries are whole elements of it too.
 
     :raises InputError: a signal cannot be sampled with these limits, or the lists need more
         ODTs or lists than the slave has (for static lists: which event fits no list, and why).
@@ -159,10 +165,16 @@ def plan_daq(groups: dict[int, Sequence[DaqSignal]], processor: DaqProcessorInfo
             "1..255" if processor.prescaler_supported else "no prescaler (choose a slower event instead)"))
     if not processor.dynamic and static_lists is None:
         raise ValueError("the slave's DAQ lists are static: plan with their GET_DAQ_LIST_INFO (static_lists)")
+    if address_granularity > resolution.granularity:
+        resolution = replace(resolution, granularity=address_granularity)
     pid_size = processor.pid_size
     stamped = resolution.timestamp_size > 0 and (resolution.timestamp_fixed or (timestamps and processor.timestamp_supported))
     timestamp_size = resolution.timestamp_size if stamped else 0
     capacity = max_dto - pid_size
+    if stamped and capacity - timestamp_size < resolution.granularity <= capacity and not resolution.timestamp_fixed:
+        log.info("DAQ without timestamps: after the %d-byte identification field a %d-byte timestamp leaves the "
+                 "%d-byte DTO no room for data; samples are timed by their arrival", pid_size, timestamp_size, max_dto)
+        timestamp_size = 0
     if capacity - timestamp_size < resolution.granularity or resolution.max_entry_size < resolution.granularity:
         raise InputError(f"the slave's DTO ({max_dto} bytes) leaves no room for data after its "
                          f"{pid_size}-byte identification field and {timestamp_size}-byte timestamp")
@@ -193,7 +205,7 @@ def plan_daq(groups: dict[int, Sequence[DaqSignal]], processor: DaqProcessorInfo
     plan = DaqPlan(tuple(lists), pid_size, processor.identification_field, timestamp_size, max_dto,
                    static=static_lists is not None)
     if not plan.static:
-        _check_totals(plan, processor)
+        _check_totals(plan)
     return plan
 
 
@@ -309,14 +321,17 @@ def _positions(signals: Sequence[DaqSignal], odts: list[Odt]) -> dict[Hashable, 
             for s in signals}
 
 
-def _check_totals(plan: DaqPlan, processor: DaqProcessorInfo) -> None:
+def _check_totals(plan: DaqPlan) -> None:
+    """The limits of the identification field. Not MAX_DAQ: in a dynamic configuration it counts the lists
+    allocated so far (ASAM: MIN_DAQ + DAQ_COUNT, so MIN_DAQ before ALLOC_DAQ) or, in some slaves, the limit;
+    ALLOC_DAQ says (ERR_MEMORY_OVERFLOW) when the lists do not fit."""
     lists = len(plan.lists)
-    if plan.lists and plan.lists[-1].number >= processor.max_daq:
-        raise InputError(f"the measurement needs DAQ list {plan.lists[-1].number} but the slave has "
-                         f"{processor.max_daq} (MAX_DAQ); measure fewer events at once")
     if plan.identification_field == "ABSOLUTE" and plan.odt_count > MAX_ABSOLUTE_ODTS:
         raise InputError(f"the measurement needs {plan.odt_count} ODTs in {lists} DAQ lists; absolute ODT numbers "
                          f"allow {MAX_ABSOLUTE_ODTS}: measure fewer signals at once")
     for daq in plan.lists:
-        if len(daq.odts) > 0xFF:
-            raise InputError(f"DAQ list {daq.number} needs {len(daq.odts)} ODTs; a list holds 255 at most")
+        if len(daq.odts) > MAX_ABSOLUTE_ODTS:  # a relative ODT number is a PID too (0x00..0xFB)
+            raise InputError(f"DAQ list {daq.number} needs {len(daq.odts)} ODTs; a list holds "
+                             f"{MAX_ABSOLUTE_ODTS} at most: measure fewer signals on event {daq.event}")
+        if plan.identification_field == "RELATIVE_BYTE" and daq.number > 0xFF:
+            raise InputError(f"DAQ list {daq.number}: a RELATIVE_BYTE identification field numbers 256 lists at most")

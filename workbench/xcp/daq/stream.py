@@ -14,17 +14,19 @@ from __future__ import annotations
 
 import logging
 import threading
-from collections.abc import Hashable
+from collections.abc import Hashable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
 
-from workbench.errors import ConnectionLostError, InputError, WorkbenchError
+from workbench.errors import ConnectionLostError, InputError, WorkbenchError, XcpCommandError, XcpTimeoutError
 from workbench.xcp.daq.assemble import DtoAssembler
 from workbench.xcp.daq.clock import DaqClock
 from workbench.xcp.daq.plan import DaqListPlan, DaqPlan
 from workbench.xcp.info import DaqProcessorInfo, DaqResolutionInfo
 from workbench.xcp.master import XcpMaster
+from workbench.xcp_protocol import Err
 
 log = logging.getLogger(__name__)
 
@@ -61,6 +63,17 @@ class DaqStats:
     unknown: int  # DTOs of no list of this measurement
 
 
+@contextmanager
+def _room_for(what: str, advice: str) -> Iterator[None]:
+    """An ERR_MEMORY_OVERFLOW of the allocation inside as a sentence: the slave has no room for ``what``."""
+    try:
+        yield
+    except XcpCommandError as error:
+        if error.code != Err.MEMORY_OVERFLOW:
+            raise
+        raise WorkbenchError(f"the ECU has no room for {what} ({error.command}: {error.name}); {advice}") from error
+
+
 class DaqStream:
     """``event_periods``: event number -> cycle in seconds (for gap detection; None: not cyclic)."""
 
@@ -90,20 +103,16 @@ class DaqStream:
         if plan.static == self.processor.dynamic:
             raise InputError(f"the DAQ plan is for {'static' if plan.static else 'dynamic'} lists but the slave's are "
                              f"{'dynamic' if self.processor.dynamic else 'static'}: plan again from what it reports")
-        if plan.static:
-            self._clear_static_lists()
-        else:
-            self._allocate()
+        for attempt in range(2):
+            try:
+                self._configure()
+                break
+            except XcpTimeoutError as error:  # a slow slave: the master's SYNCH resynchronised, start over
+                if attempt or isinstance(error, ConnectionLostError):  # ... unless SYNCH went unanswered too
+                    raise
+                log.info("DAQ configuration: a command timed out; configuring again")
         if not plan.lists:
             return self
-        for daq in plan.lists:
-            for number, odt in enumerate(daq.odts):
-                if odt.entries:
-                    master.set_daq_ptr(daq.number, number, 0)
-                for entry in odt.entries:
-                    master.write_daq(entry.size, entry.address, entry.extension)
-            master.set_daq_list_mode(daq.number, daq.event, timestamp=daq.timestamps, prescaler=daq.prescaler,
-                                     priority=daq.priority)
         first_pids = {daq.number: master.start_stop_daq_list(daq.number, _SELECT) for daq in plan.lists}
         self.assembler = DtoAssembler(plan, first_pids, master.order,
                                       overload_in_pid=self.processor.overload_indication == "PID")
@@ -119,18 +128,44 @@ class DaqStream:
         periods = [period for daq in self.plan.lists if (period := self.event_periods.get(daq.event))]
         return max(self.master.timeouts.t1, 3 * max(periods)) if periods else None
 
+    def _configure(self) -> None:
+        """Lists, ODTs and entries as planned, then each list's mode: everything before the start (repeatable)."""
+        master, plan = self.master, self.plan
+        if plan.static:
+            self._clear_static_lists()
+        else:
+            self._allocate()
+        for daq in plan.lists:
+            for number, odt in enumerate(daq.odts):
+                if odt.entries:
+                    master.set_daq_ptr(daq.number, number, 0)
+                for entry in odt.entries:
+                    master.write_daq(entry.size, entry.address, entry.extension)
+            master.set_daq_list_mode(daq.number, daq.event, timestamp=daq.timestamps, prescaler=daq.prescaler,
+                                     priority=daq.priority)
+
     def _allocate(self) -> None:
-        """Dynamic lists for the plan: FREE_DAQ, ALLOC_DAQ, every ALLOC_ODT, every ALLOC_ODT_ENTRY."""
+        """Dynamic lists for the plan: FREE_DAQ, ALLOC_DAQ, every ALLOC_ODT, every ALLOC_ODT_ENTRY.
+
+        :raises WorkbenchError: the slave has no room for them (ERR_MEMORY_OVERFLOW): the message says what to
+            measure less of. Its MAX_DAQ cannot tell beforehand: a dynamic configuration may count in it only
+            the lists allocated so far.
+        """
         master, plan = self.master, self.plan
         master.free_daq()
         if not plan.lists:
             return
-        master.alloc_daq(len(plan.lists))  # dynamic lists are numbered from MIN_DAQ: the plan starts there
-        for daq in plan.lists:
-            master.alloc_odt(daq.number, len(daq.odts))
-        for daq in plan.lists:
-            for number, odt in enumerate(daq.odts):
-                master.alloc_odt_entry(daq.number, number, len(odt.entries))
+        events = len(plan.lists)
+        with _room_for(f"the DAQ lists of {events} event(s)", "measure fewer events at once"):
+            master.alloc_daq(events)  # dynamic lists are numbered from MIN_DAQ: the plan starts there
+        with _room_for(f"{plan.odt_count} ODTs", "measure fewer signals at once"):
+            for daq in plan.lists:
+                master.alloc_odt(daq.number, len(daq.odts))
+        with _room_for(f"{sum(len(odt.entries) for daq in plan.lists for odt in daq.odts)} ODT entries",
+                       "measure fewer signals at once"):
+            for daq in plan.lists:
+                for number, odt in enumerate(daq.odts):
+                    master.alloc_odt_entry(daq.number, number, len(odt.entries))
 
     def _clear_static_lists(self) -> None:
         """Static lists for the plan: stop every list (a running one cannot be cleared), empty the plan's."""
