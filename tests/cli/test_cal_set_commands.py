@@ -96,7 +96,7 @@ def test_a_read_only_session_refuses_page_switches(bus, capsys, tmp_path):
         code, out, err = run(capsys, "cal", *argv, "--a2l", str(a2l), *options)
         assert (code, out) == (1, "") and "the session is read-only (no writes, no page switches)" in err
         assert log.take() == CONNECTED + ["DISCONNECT"]
-    assert sim.ecu.pages.xcp_page == sim.ecu.pages.ecu_page == 0
+    assert sim.ecu.pages.xcp_pages == sim.ecu.pages.ecu_pages == [0]
     code, out, _ = run(capsys, "cal", "page", "--a2l", str(a2l), *options)
     assert code == 0 and "segment 0: ECU on the working page, XCP on the working page" in out
 

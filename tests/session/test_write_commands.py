@@ -181,11 +181,11 @@ def test_the_reference_page_is_refused_before_the_download_saying_how_to_switch(
 
 def test_a_page_switched_by_someone_else_is_said_when_the_ecu_refuses(ecu, sim):
     ecu.write("xsSWITCH_TANK_THR", 21.0)  # the session knows: XCP is on the working page
-    sim.ecu.pages.xcp_page = 1  # another master switched it
+    sim.ecu.pages.xcp_pages[0] = 1  # another master switched it
     with pytest.raises(PageError, match="the reference page of segment 0 is active") as refused:
         ecu.write("xsSWITCH_TANK_THR", 22.0)
     assert "ERR_WRITE_PROTECTED" in str(refused.value.__cause__)
-    sim.ecu.pages.xcp_page = 0
+    sim.ecu.pages.xcp_pages[0] = 0
 
 
 def test_a_read_only_session_refuses_page_switches_before_sending(tmp_path, sim, channel):
@@ -199,7 +199,7 @@ def test_a_read_only_session_refuses_page_switches_before_sending(tmp_path, sim,
                 refused()
         assert log.take() == []
         assert ecu.read("xsSWITCH_TANK_THR", page="reference") == 20.0  # reading another page is fine
-    assert sim.ecu.pages.xcp_page == sim.ecu.pages.ecu_page == 0
+    assert sim.ecu.pages.xcp_pages == sim.ecu.pages.ecu_pages == [0]
 
 
 class _MemoryMaster:

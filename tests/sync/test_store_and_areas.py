@@ -71,6 +71,7 @@ class FakeMaster:
     """BUILD_CHECKSUM (CRC-32) over bytes in a dict; counts the commands; refuses blocks beyond ``limit``."""
 
     order = "<"
+    granularity = 1  # bytes per address (BYTE)
 
     def __init__(self, memory: bytes, base: int, limit: int = 1 << 20):
         self.memory, self.base, self.limit = bytearray(memory), base, limit

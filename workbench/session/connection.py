@@ -58,13 +58,20 @@ def _can(config: XcpConfig, connection: Connection) -> tuple[LinkSettings, XcpCo
         raise InputError("the A2L has no XCP_ON_CAN block; use --host/--port for XCP on Ethernet")
     given = {"interface": connection.interface, "channel": connection.channel, **connection.bus_kwargs}
     bus = complete_bus_settings({key: value for key, value in given.items() if value is not None})
-    bitrate = connection.bitrate or (can.baudrate if bus["interface"] not in SOFTWARE_INTERFACES else None)
+    hardware = bus["interface"] not in SOFTWARE_INTERFACES
+    bitrate = connection.bitrate or (can.baudrate if hardware else None)
     if bitrate:
         bus["bitrate"] = bitrate
+    fd = (can.max_dlc or 8) > 8  # the A2L's CAN_FD block: frames of up to MAX_DLC bytes
+    if fd:
+        bus.setdefault("fd", True)
+        if hardware and can.fd_data_baudrate:
+            bus.setdefault("data_bitrate", can.fd_data_baudrate)
     settings = LinkSettings(
         "CAN", bus, can.can_id_master, can.can_id_slave, can.can_id_master_is_extended, can.can_id_slave_is_extended,
         can.max_dlc_required,
         tuple((item.can_id, item.is_extended) for item in can.daq_list_can_ids if item.can_id is not None),
+        fd=fd, max_dlc=can.max_dlc if fd else 8,
     )
     return settings, _for_transport(config, "CAN")
 

@@ -270,6 +270,7 @@ class Session(ValueAccess, EventAccess, FixAccess):
                 try:
                     self.master.set_cal_page(0, chosen[numbers[0]], _ECU_AND_XCP | _ALL_SEGMENTS)
                     self._all_segments = True
+                    self.master.xcp_pages.update(chosen)
                     return
                 except XcpCommandError as error:
                     if error.code not in _NO_ALL_SEGMENTS:
