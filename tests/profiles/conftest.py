@@ -1,8 +1,8 @@
 """The demo ECU served through every slave profile, on CAN and on Ethernet, and a Session on each.
 
 One simulator per (profile, transport) and one session on it (the profile's A2L, its timeouts), shared
-by the tests of the package as a user's long session would be (pytest runs the tests grouped by it);
-each test leaves the ECU and the session as it found them (the flash test, last, excepted). Ethernet
+by the tests of the package as a user's long session would be (pytest runs the tests grouped by it; with
+pytest-xdist each worker has its own); each test leaves the ECU and the session as it found them. Ethernet
 alternates UDP and TCP over the profiles, so both run without doubling the matrix.
 """
 

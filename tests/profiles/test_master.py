@@ -1,8 +1,8 @@
 """The master against every slave profile, on CAN and on Ethernet: connect, poll, DAQ, pages, write, read-back,
 fix override, cache sync and flash, each reading only what the slave and its A2L say.
 
-The tests of one (profile, transport) share its simulator and run in this file's order; each leaves the
-ECU as it found it, except the flash test, last.
+The tests of one (profile, transport) share its simulator and its session (in a test worker of their own,
+in any order); each leaves the ECU and the session as it found them.
 """
 
 from __future__ import annotations
@@ -145,13 +145,18 @@ def test_cache_sync_finds_the_one_changed_calibration(ecu):
 
 
 def test_flash_calib_in_packets_the_slave_allows(ecu, served):
-    """Last of the profile's tests: the ECU keeps the new CAL ROM."""
-    image = load_image(demo.s19()).crop(HDS9.region("CALIB").start, HDS9.region("CALIB").end)
+    """CALIB with one value changed, then the demo's CALIB again (tests of this profile may follow on this ECU)."""
+    calib = HDS9.region("CALIB")
+    original = load_image(demo.s19()).crop(calib.start, calib.end)
+    changed = load_image(demo.s19()).crop(calib.start, calib.end)
     rom = HDS9.rom_address(ElfSymbols(demo.elf()).symbol(THRESHOLD).address)
-    image.add(rom, struct.pack("<f", 27.5), overwrite=True)
-    plan = plan_flash(image, FlashLayout.from_a2l(ecu.doc, ecu.config), ["CALIB"], source="cal.s19")
-    result = flash_ecu(ecu, plan)
-    assert result.application_running and result.verified
-    assert served.memory(rom, 4) == struct.pack("<f", 27.5)
-    assert ecu.read(THRESHOLD) == 27.5 and ecu.epk.matches is True
-
+    changed.add(rom, struct.pack("<f", 27.5), overwrite=True)
+    layout = FlashLayout.from_a2l(ecu.doc, ecu.config)
+    try:
+        result = flash_ecu(ecu, plan_flash(changed, layout, ["CALIB"], source="cal.s19"))
+        assert result.application_running and result.verified
+        assert served.memory(rom, 4) == struct.pack("<f", 27.5)
+        assert ecu.read(THRESHOLD) == 27.5 and ecu.epk.matches is True
+    finally:
+        flash_ecu(ecu, plan_flash(original, layout, ["CALIB"], source="FLCU.s19"))
+    assert ecu.read(THRESHOLD) == 20.0
