@@ -1,7 +1,7 @@
 """The demo ECU served through every slave profile, on CAN and on Ethernet, and a Session on each.
 
 One simulator per (profile, transport) and one session on it (the profile's A2L, its timeouts), shared
-by the tests of the package as a user's long session would be (pytest runs the tests grouped by it; with
+by the tests of the module as a user's long session would be (pytest runs the tests grouped by it; with
 pytest-xdist each worker has its own); each test leaves the ECU and the session as it found them. Ethernet
 alternates UDP and TCP over the profiles, so both run without doubling the matrix.
 """
@@ -47,7 +47,7 @@ def _free_port(kind: socket.SocketKind) -> int:
         return probe.getsockname()[1]
 
 
-@pytest.fixture(scope="package", params=CASES, ids=[f"{name}-{transport}" for name, transport in CASES])
+@pytest.fixture(scope="module", params=CASES, ids=[f"{name}-{transport}" for name, transport in CASES])
 def served(request) -> Served:
     name, transport = request.param
     if transport == "CAN":

@@ -65,7 +65,7 @@ def test_the_demo_profile_is_the_demo_a2l_itself_and_quiet_profiles_keep_it():
 
 def test_the_slow_profile_says_its_t1_and_keeps_the_other_timeouts():
     slow, demo = (read_xcp_config(build_demo_ecu(slave_profile=name).a2l).timeouts for name in ("slow", "demo"))
-    assert slow.t1 == 0.25 and replace(slow, t1=demo.t1) == demo
+    assert slow.t1 == 0.3 and replace(slow, t1=demo.t1) == demo
 
 
 def test_an_unknown_profile_names_the_known_ones():

@@ -113,10 +113,10 @@ PROFILES: dict[str, SlaveProfile] = {p.name: p for p in (
                  can={"seed_length": 20}, ethernet={"seed_length": 255}),
     SlaveProfile("unlocked", "no seed & key: CAL/PAG, DAQ and PGM are open at CONNECT",
                  "resources unprotected (GET_STATUS says none; no GET_SEED needed)", xcp={"protected": Resource(0)}),
-    SlaveProfile("slow", "every 16th response leaves 150 ms late, 60 % of the A2L's T1 of 250 ms (a slave busy now "
+    SlaveProfile("slow", "every 16th response leaves 150 ms late, half the A2L's T1 of 300 ms (a slave busy now "
                  "and then; the answers after a late one wait their turn)",
                  "waiting out T1 as the A2L states it; a late answer never taken for the next command's",
-                 xcp={"response_delay_s": 0.15, "delayed_every": 16}, t1_ms=250),
+                 xcp={"response_delay_s": 0.15, "delayed_every": 16}, t1_ms=300),
     SlaveProfile("chatty", "an EV_USER or a SERV_TEXT packet before every response",
                  "EV and SERV packets between responses (they are no answers)", xcp={"service_packets": True}),
 )}
