@@ -129,7 +129,10 @@ class FaultPlan:
             return None
 
     def on_answer(self, command: int) -> float:
-        """Seconds the answer to ``command`` leaves late (0: at once)."""
+        """Seconds the answer to ``command`` leaves late (0: at once). Answers are counted only while a late one
+        is armed (``n`` counts from the arming)."""
+        if not self._late_answers:
+            return 0.0
         with self._lock:
             self._answers[command] = self._answers.get(command, 0) + 1
             for armed in list(self._late_answers):
