@@ -49,7 +49,8 @@ def test_a_granularity_above_byte_counts_elements_aligns_and_pads(granularity):
 def test_without_block_modes_one_packet_carries_each_transfer():
     xcp = probe(slave_block_mode=False, master_block_mode=False, max_bs=1, protected=Resource(0))
     assert not xcp.connect()[1] & 0x40
-    assert xcp.ok(Cmd.GET_COMM_MODE_INFO)[1] == 0 and xcp.ok(Cmd.GET_COMM_MODE_INFO)[3] == 1  # no master block, MAX_BS 1
+    comm_mode = xcp.ok(Cmd.GET_COMM_MODE_INFO)
+    assert (comm_mode[1], comm_mode[3]) == (0, 1)  # no master block mode, MAX_BS 1 all the same
     xcp.set_mta(CAL_GAIN)
     assert xcp.err(Cmd.UPLOAD, 8) == Err.OUT_OF_RANGE
     assert len(xcp.send(Cmd.UPLOAD, 7)) == 1

@@ -181,7 +181,8 @@ def test_a_late_answer_to_connect_does_not_shift_the_answers_after_it():
     demo.ecu.faults.delay_frame(1, 0.7 * FAST.t1, "tx")  # CONNECT's answer at 1.3 T1: the master gave up on it
     with serve(demo, None) as rig:  # connects
         assert demo.ecu.faults.fired == ["delay tx frame 1"]
-        assert rig.master.comm_mode.max_bs == 42 and rig.master.protected == Resource.CAL_PAG | Resource.DAQ | Resource.PGM
+        assert rig.master.comm_mode.max_bs == 42
+        assert rig.master.protected == Resource.CAL_PAG | Resource.DAQ | Resource.PGM
         assert rig.master.read(CAL_RAM, 20) == demo.ecu.read(CAL_RAM, 20)
 
 

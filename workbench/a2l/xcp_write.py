@@ -94,7 +94,7 @@ def _line(name: str, values: Iterable[str]) -> str:
 def _protocol_layer(layer: XcpProtocolLayer) -> list[str]:
     t = layer.timeouts
     body = [f"0x{layer.protocol_version:04X}",
-            " ".join(str(round(value * 1000)) for value in (t.t1, t.t2, t.t3, t.t4, t.t5, t.t6, t.t7)) + "  /* T1-T7 [ms] */",
+            " ".join(str(round(v * 1000)) for v in (t.t1, t.t2, t.t3, t.t4, t.t5, t.t6, t.t7)) + "  /* T1-T7 [ms] */",
             f"{layer.max_cto} {layer.max_dto}  /* MAX_CTO MAX_DTO */", f"BYTE_ORDER_{layer.byte_order}",
             f"ADDRESS_GRANULARITY_{_GRANULARITY_NAMES[layer.address_granularity]}"]
     body += [f"OPTIONAL_CMD {command}" for command in sorted(layer.optional_commands, key=_command_order)]
@@ -123,7 +123,8 @@ def _communication_mode(mode: XcpCommunicationMode | None) -> list[str]:
 
 
 def _daq(daq: XcpDaq) -> list[str]:
-    body = [daq.config_type, f"{daq.max_daq} {daq.max_event_channels} {daq.min_daq}  /* MAX_DAQ MAX_EVENT_CHANNEL MIN_DAQ */",
+    body = [daq.config_type,
+            f"{daq.max_daq} {daq.max_event_channels} {daq.min_daq}  /* MAX_DAQ MAX_EVENT_CHANNEL MIN_DAQ */",
             daq.optimisation_type, daq.address_extension, f"IDENTIFICATION_FIELD_TYPE_{daq.identification_field}",
             f"GRANULARITY_ODT_ENTRY_SIZE_DAQ_{_GRANULARITY_NAMES[daq.granularity]}", str(daq.max_odt_entry_size),
             daq.overload_indication]

@@ -210,8 +210,10 @@ def _announce(args: argparse.Namespace, simulator, files, faults: list[str], con
         f"  time scale   {info['time_scale']}x",
         f"  DAQ          {_daq_text(info['daq'], simulator.ecu.params.events)}",
         f"  PCM          TargetRailPressure {args.pcm_target} bar, EnableFLCU 1" if args.pcm else "  PCM          off (--pcm)",
-        f"  profile      {info['profile']}" + ("" if info["profile"] == "demo" else f": {_profile_changes(info['profile'])}"),
-        f"  A2L          {info['a2l']}" if info["a2l"] else "  A2L          the profile's own: write it with --write-a2l PATH",
+        f"  profile      {info['profile']}" + ("" if info["profile"] == "demo"
+                                                  else f": {_profile_changes(info['profile'])}"),
+        f"  A2L          {info['a2l']}" if info["a2l"]
+        else "  A2L          the profile's own: write it with --write-a2l PATH",
         "  seed & key   workbench.sim.seedkey:compute_key" + (" (not needed: --unlocked)" if args.unlocked else ""),
         *(f"  fault        {fault}" for fault in faults),
         f"  control      {control[0]}:{control[1]} (fault injection; workbench test finds it by the bus options)"

@@ -47,7 +47,8 @@ class CalPageSwitch:
             raise MemoryAccessError(AccessFault.CROSSES_AREA, address, size)
         if not inside:
             return address
-        touched = {pages[n] for n, s in enumerate(self.segments) if s.start < address + max(size, 1) and address < s.end}
+        end = address + max(size, 1)
+        touched = {pages[n] for n, s in enumerate(self.segments) if s.start < end and address < s.end}
         if len(touched) > 1:
             raise MemoryAccessError(AccessFault.CROSSES_AREA, address, size)
         if touched == {REFERENCE_PAGE}:

@@ -67,7 +67,8 @@ def _in_place(doc: A2lDocument, offset: int, text: str) -> bytes:
     indent = doc.data[line_start:offset].decode(doc.encoding)
     indent = indent if not indent.strip() else ""
     newline = doc.source.newline
-    return newline.join(line if i == 0 else indent + line for i, line in enumerate(text.splitlines())).encode(doc.encoding)
+    lines = [line if i == 0 else indent + line for i, line in enumerate(text.splitlines())]
+    return newline.join(lines).encode(doc.encoding)
 
 
 def _memory_segments(base, segments: tuple[XcpSegment, ...]) -> str:
@@ -82,7 +83,8 @@ def _describe(config: XcpConfig, params: Mapping[str, XcpParameters], memory_map
     common_transport = "CAN" if "CAN" in params else next(iter(params))
     common = params[common_transport]
     layer = _protocol_layer(config, common, t1_s)
-    described = replace(config, **vars(layer), daq=_daq(config, common), max_segments=len(_segments(common, memory_map)),
+    described = replace(config, **vars(layer), daq=_daq(config, common),
+                        max_segments=len(_segments(common, memory_map)),
                         segments=_xcp_segments(config, common, memory_map), pgm=_pgm(config, common))
     if config.can is not None and "CAN" in params:
         can = params["CAN"]

@@ -61,7 +61,8 @@ _PREDEFINED = (PredefinedDaqList(0, ((0x40020000, 4), (0x40020004, 4))), Predefi
 PROFILES: dict[str, SlaveProfile] = {p.name: p for p in (
     SlaveProfile("demo", "nothing: the demo ECU as docs/demo-ecu.md describes it",
                  "the reference: dynamic DAQ (MAX_DAQ 16), absolute ODT numbers, one segment, Intel, BYTE"),
-    SlaveProfile("daq-counted", "GET_DAQ_PROCESSOR_INFO's MAX_DAQ counts the lists allocated so far: 0 before ALLOC_DAQ",
+    SlaveProfile("daq-counted",
+                 "GET_DAQ_PROCESSOR_INFO's MAX_DAQ counts the lists allocated so far: 0 before ALLOC_DAQ",
                  "MAX_DAQ = MIN_DAQ + DAQ_COUNT of a dynamic configuration (the limit shows only as "
                  "ERR_MEMORY_OVERFLOW)", daq={"max_daq_counts_allocated": True}),
     SlaveProfile("daq-predefined", "two predefined DAQ lists (MIN_DAQ 2, on the 4 ms and 100 ms events) before the "

@@ -112,7 +112,8 @@ class DaqProcessor:
             self._odt_count += shape.odts
         for predefined in self.params.predefined:
             entries = [OdtEntry(address, size) for address, size in predefined.entries]
-            self.lists.append(DaqList([entries], self._first_pid(), predefined.event, predefined.event, predefined=True))
+            self.lists.append(DaqList([entries], self._first_pid(), predefined.event, predefined.event,
+                                      predefined=True))
             self._odt_count += 1
 
     def _first_pid(self) -> int:
@@ -376,7 +377,8 @@ class DaqProcessor:
         samples = []
         memory_read = self.slave.read
         byteorder = "little" if self.slave.order == "<" else "big"
-        stamp = (timestamp_ticks % (1 << 8 * self.params.timestamp_size)).to_bytes(self.params.timestamp_size, byteorder)
+        size = self.params.timestamp_size
+        stamp = (timestamp_ticks % (1 << 8 * size)).to_bytes(size, byteorder)
         for number, daq in enumerate(self.lists):
             if not daq.running or daq.event != channel:
                 continue

@@ -83,7 +83,7 @@ DEMO_STATIC_LISTS = (
 
 @dataclass(frozen=True)
 class DaqParameters:
-    max_daq: int = 16  # DAQ lists in all (predefined ones included) a dynamic configuration can hold; static: their number
+    max_daq: int = 16  # DAQ lists (predefined ones included) a dynamic configuration can hold; static: their number
     max_odt_total: int = MAX_DAQ_PID + 1  # one absolute PID (0x00..0xFB) per ODT of all lists
     max_odt_entry_size: int = 4  # MAX_ODT_ENTRY_SIZE_DAQ, bytes: smaller than a DTO's payload on purpose
     granularity: int = 1  # GRANULARITY_ODT_ENTRY_SIZE_DAQ
@@ -134,7 +134,7 @@ class XcpParameters:
     can_id_master: int = 0x7F0  # master -> slave (bit 31 set: extended id)
     can_id_slave: int = 0x7F1  # slave -> master, responses and DTOs
     baudrate: int = 1_000_000
-    max_dlc_required: bool = True  # XCP_ON_CAN MAX_DLC_REQUIRED: frames both ways have MAX_DLC (shorter ones are ignored)
+    max_dlc_required: bool = True  # XCP_ON_CAN MAX_DLC_REQUIRED: frames both ways have MAX_DLC (others are ignored)
     can_fd: bool = False  # XCP on CAN FD: frames of up to 64 bytes (MAX_CTO/MAX_DTO up to 64)
     max_cto: int = 8
     max_dto: int = 8
@@ -175,7 +175,7 @@ class XcpParameters:
 
     @property
     def data_offset(self) -> int:
-        """Where the data of a DOWNLOAD/PROGRAM/…_NEXT frame starts: after command and count, aligned to an element."""
+        """Where the data of a DOWNLOAD/PROGRAM/…_NEXT frame start: after command and count, on an element."""
         return max(2, self.address_granularity)
 
     @property

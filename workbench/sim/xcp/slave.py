@@ -248,7 +248,8 @@ class XcpSlave:
 
     def read(self, address: int, size: int) -> bytes:
         try:
-            return self.target.memory.read(self.target.pages.translate(address, size, self.target.pages.xcp_pages), size)
+            pages = self.target.pages
+            return self.target.memory.read(pages.translate(address, size, pages.xcp_pages), size)
         except MemoryAccessError as exc:
             raise memory_error(exc) from None
 
