@@ -342,26 +342,19 @@ def test_fixed_axes_from_the_a2l_and_from_memory():
         layout.encode(CalValue("par", "CURVE", np.array([1.0, 2, 3]), (Axis(np.array([0.0, 1, 2]), "FIX_AXIS"),)), data)
 
 
-def test_com_axis_counts_in_memory_and_curve_axis():
+def test_com_axis_counts_in_memory():
     model = module('/begin RECORD_LAYOUT A NO_AXIS_PTS_X 1 UWORD AXIS_PTS_X 2 UWORD INDEX_INCR DIRECT /end RECORD_LAYOUT\n'
                    '/begin RECORD_LAYOUT V FNC_VALUES 1 UWORD ROW_DIR DIRECT /end RECORD_LAYOUT\n'
                    '/begin AXIS_PTS ax "" 0x500 NO_INPUT_QUANTITY A 0 NO_COMPU_METHOD 4 0 1000 /end AXIS_PTS\n'
                    '/begin CHARACTERISTIC cur "" CURVE 0x520 V 0 NO_COMPU_METHOD 0 1000 /begin AXIS_DESCR COM_AXIS '
-                   'NO_INPUT_QUANTITY NO_COMPU_METHOD 4 0 1000 AXIS_PTS_REF ax /end AXIS_DESCR /end CHARACTERISTIC\n'
-                   '/begin CHARACTERISTIC rescaled "" CURVE 0x540 V 0 NO_COMPU_METHOD 0 1000 /begin AXIS_DESCR '
-                   'CURVE_AXIS NO_INPUT_QUANTITY NO_COMPU_METHOD 3 0 1000 CURVE_AXIS_REF cur /end AXIS_DESCR '
-                   '/end CHARACTERISTIC')
-    memory = Memory({0x500: bytes.fromhex("0002 0064 00C8"), 0x520: bytes.fromhex("0001 0002"),
-                     0x540: bytes.fromhex("0007 0008")})
+                   'NO_INPUT_QUANTITY NO_COMPU_METHOD 4 0 1000 AXIS_PTS_REF ax /end AXIS_DESCR /end CHARACTERISTIC')
+    memory = Memory({0x500: bytes.fromhex("0002 0064 00C8"), 0x520: bytes.fromhex("0001 0002")})
     layout = object_layout(model, "cur")
     assert layout.fixed_part() == [Span(0x500, 2)]  # the AXIS_PTS' count
     curve = layout.resolve(read_spans(layout.fixed_part(), memory.read))
     assert curve.spans() == [Span(0x520, 4), Span(0x500, 6)]
     value = curve.decode(read_spans(curve.spans(), memory.read))
     assert list(value.axes[0].values) == [100, 200] and value.axes[0].name == "ax"
-    rescaled = read_value(model, "rescaled", memory.read)
-    assert list(rescaled.axes[0].values) == [1, 2] and rescaled.axes[0].kind == "CURVE_AXIS"
-    assert list(rescaled.value) == [7, 8]
     axis = read_value(model, "ax", memory.read)
     assert axis.kind == "AXIS_PTS" and list(axis.value) == [100, 200]
     ax_layout = resolved(model, "ax", memory)

@@ -13,9 +13,26 @@ What a value may be when writing:
 - VAL_BLK: an array of the MATRIX_DIM shape;
 - CURVE, MAP, ...: an array ``(nx, ny, ...)`` of the values (the axes stay), or a CalValue whose
   ``axes`` give new points too. A new number of points is written when the layout stores it
-  (NO_AXIS_PTS); axes that are fixed (FIX_AXIS) cannot change; a COM_AXIS or CURVE_AXIS whose
-  points changed is written into the AXIS_PTS / CURVE it refers to (with that object's name);
+  (NO_AXIS_PTS); axes that are fixed (FIX_AXIS) cannot change; a COM_AXIS whose points changed is
+  written into the AXIS_PTS it refers to, a CURVE_AXIS into its rescale curve (below), each edit
+  with that object's name;
 - AXIS_PTS: an array of points, or a CalValue of kind AXIS_PTS.
+
+A CURVE_AXIS (AXIS_DESCR with CURVE_AXIS_REF) stores no points: its rescale curve maps the axis'
+input quantity to a map index, and the ECU looks the map up at that (fractional) index. ASAM
+MCD-2MC: "CURVE_AXIS uses a separate CURVE to rescale the axis. The referenced CURVE is used to lookup
+an axis index, and the index value is used by the controller to determine the operating point in the
+CURVE, MAP, CUBOID, CUBE_4, or CUBE_5" (the AXIS_DESCR attribute; its Appendix B works an example:
+X_NORM takes 850 to index 3.9 of a 7 x 6 map, the index clamped to the curve's ends; asamint's
+``calibration/curve_axis.py`` implements it so). So the curve's axis holds input values and its
+values indices, and the map's number of points is its own (FIX_NO_AXIS_PTS, NO_AXIS_PTS in memory,
+MAX_AXIS_POINTS), not the curve's. Point k of the axis, in the input quantity's unit, is where the
+curve equals k (:func:`curve_axis_points`; NaN for an index the curve never reaches): the ASAM CDF
+2.0 demo writes exactly these as the map's axis labels (its curves X_CURVE_N3 and Y_CURVE_N2 give
+0, 1, 2 at 800, 1600, 3200 rpm and 0, 1 at 300, 350; the map's points are 800, 1600, 3200 and 300,
+350). Written points make the curve give index k at point k: its axis the points, its values 0 ..
+n-1 (only what differs is sent); a curve of another number of points that memory cannot change is
+refused (write the curve itself).
 """
 
 from __future__ import annotations
@@ -141,10 +158,37 @@ def _axis(layout: "ResolvedLayout", index: int, memory: MemoryBytes) -> Axis:
     if plan.reference is not None:
         referenced = layout.references[plan.name]
         value = decode(referenced, memory)
-        points = value.value if referenced.kind == "AXIS_PTS" else np.asarray(value.value)
-        return Axis(np.asarray(points), plan.attribute, referenced.name, value.unit, descr.input_quantity)
+        if plan.attribute == "CURVE_AXIS":
+            points = _rescaled_points(layout, value, layout.counts[index])
+            return Axis(points, plan.attribute, referenced.name, value.axes[0].unit, descr.input_quantity)
+        return Axis(np.asarray(value.value), plan.attribute, referenced.name, value.unit, descr.input_quantity)
     return Axis(_axis_points(layout, index, memory), plan.attribute, None, layout.model.unit_of(descr),
                 descr.input_quantity)
+
+
+def curve_axis_points(inputs: Any, indices: Any, count: int) -> np.ndarray:
+    """The ``count`` points of a CURVE_AXIS whose rescale curve gives ``indices`` at ``inputs`` (its
+    axis): point k is the first input at which the curve, linear between its points, equals k; NaN
+    where it never does (see the module docstring)."""
+    xs, ys = np.asarray(inputs, dtype=np.float64), np.asarray(indices, dtype=np.float64)
+    points = np.full(count, np.nan)
+    for k in range(count):
+        for j in range(len(ys)):
+            if ys[j] == k:
+                points[k] = xs[j]
+                break
+            if j + 1 < len(ys) and min(ys[j], ys[j + 1]) < k < max(ys[j], ys[j + 1]):
+                points[k] = xs[j] + (k - ys[j]) * (xs[j + 1] - xs[j]) / (ys[j + 1] - ys[j])
+                break
+    return points
+
+
+def _rescaled_points(layout: "ResolvedLayout", curve: CalValue, count: int) -> np.ndarray:
+    try:
+        return curve_axis_points(curve.axes[0].values, curve.value, count)
+    except (TypeError, ValueError):
+        raise ConversionError(f"{layout.name}: the rescale curve {curve.name} of a CURVE_AXIS holds texts, "
+                              "not map indices") from None
 
 
 def _axis_points(layout: "ResolvedLayout", index: int, memory: MemoryBytes) -> np.ndarray:
@@ -256,7 +300,7 @@ def _new_counts(layout: "ResolvedLayout", axes: tuple[Axis, ...]) -> dict[str, i
             continue
         changed = True
         if not plan.in_memory:
-            where = f" (it comes from {plan.reference.name})" if plan.reference is not None else ""
+            where = f" (it comes from {plan.reference.name})" if plan.reference and plan.attribute != "CURVE_AXIS" else ""
             raise ConversionError(f"{layout.name}: axis {plan.name} has {count} points{where}, the value {points}; "
                                   "its number of points is not stored in memory, so it cannot change")
         if points > plan.max_points or points < 1:
@@ -322,11 +366,10 @@ def _write_axis(layout: "ResolvedLayout", index: int, axis: Axis, new: list, cur
     """Queue (in ``new``) the bytes of one of the value's axes; returns the edits of a referenced object."""
     plan = layout.plan.axes[index]
     points = np.asarray(axis.values).reshape(-1)
+    if plan.attribute == "CURVE_AXIS":
+        return _write_rescale_curve(layout, index, points, current)
     if plan.reference is not None:
-        referenced = layout.references[plan.name]
-        if referenced.kind == "AXIS_PTS":
-            return _write_axis_pts(referenced, points, current)
-        return encode(referenced, points, current)
+        return _write_axis_pts(layout.references[plan.name], points, current)
     if plan.attribute == "FIX_AXIS":
         if current is None:
             return []
@@ -336,6 +379,24 @@ def _write_axis(layout: "ResolvedLayout", index: int, axis: Axis, new: list, cur
         return []
     new.append(_axis_field_bytes(layout, index, points))
     return []
+
+
+def _write_rescale_curve(layout: "ResolvedLayout", index: int, points: np.ndarray, current: MemoryBytes | None
+                         ) -> list[ByteEdit]:
+    """The edits that make a CURVE_AXIS' rescale curve give index k at ``points[k]`` (none when the
+    curve gives these points already)."""
+    plan = layout.plan.axes[index]
+    curve = layout.references[plan.name]
+    if current is not None:
+        present = _rescaled_points(layout, decode(curve, current), len(points))
+        if np.array_equal(present, np.asarray(points, dtype=np.float64), equal_nan=True):
+            return []
+    if len(points) != curve.counts[0] and not curve.plan.axes[0].in_memory:
+        raise ConversionError(f"{layout.name}: axis {plan.name} is a CURVE_AXIS; its {len(points)} points would make "
+                              f"the rescale curve {curve.name} (input -> index) {len(points)} points long, and it has "
+                              f"{curve.counts[0]} that memory cannot change: write {curve.name} itself")
+    indices = CalValue(curve.name, "CURVE", np.arange(len(points), dtype=np.float64), (Axis(points),))
+    return encode(curve, indices, current)
 
 
 def _axis_field_bytes(layout: "ResolvedLayout", index: int, points: np.ndarray) -> tuple["Field", bytes]:

@@ -14,9 +14,11 @@ The rules:
 - Items are placed in the order of their position numbers. The first starts at the object's
   address; each following one at the next address aligned for its data type (ALIGNMENT_* of the
   RECORD_LAYOUT, else of MOD_COMMON, else ASAP2's natural alignment).
-- An axis' number of points is, in this order: NO_AXIS_PTS_<axis> read from memory (at most
-  MAX_AXIS_POINTS), FIX_NO_AXIS_PTS_<axis>, the number a FIX_AXIS_PAR/_DIST/_LIST gives, the
-  count of the AXIS_PTS (COM_AXIS, RES_AXIS) or CURVE (CURVE_AXIS) it refers to, MAX_AXIS_POINTS.
+- An axis' number of points is, in this order: the count of the AXIS_PTS it refers to (COM_AXIS,
+  RES_AXIS), NO_AXIS_PTS_<axis> read from memory (at most MAX_AXIS_POINTS), FIX_NO_AXIS_PTS_<axis>,
+  the number a FIX_AXIS_PAR/_DIST/_LIST gives, MAX_AXIS_POINTS. A CURVE_AXIS counts its own points:
+  its rescale curve maps inputs to indices of this object and may have another number of points
+  (see :mod:`workbench.calib.codec`).
 - Without STATIC_RECORD_LAYOUT, items follow each other at the actual number of points; with it
   (and with STATIC_ADDRESS_OFFSETS) every item keeps the place it has at MAX_AXIS_POINTS.
   STATIC_ADDRESS_OFFSETS also keeps each value at its place in the full MAX_AXIS_POINTS array.
@@ -204,7 +206,7 @@ class ObjectLayout:
               reference: "ObjectLayout | None" = None) -> _Axis:
         layout = self.record_layout
         fix_no = layout.entry("FIX_NO_AXIS_PTS", name)
-        in_memory = layout.entry("NO_AXIS_PTS", name) is not None and reference is None
+        in_memory = layout.entry("NO_AXIS_PTS", name) is not None and (reference is None or attribute == "CURVE_AXIS")
         if fixed is None and fix_no is not None:
             fixed = fix_no.count
         if attribute == "STD_AXIS" and layout.entry("AXIS_PTS", name) is None:
@@ -247,7 +249,7 @@ class ObjectLayout:
         references = {axis.name: axis.reference.resolve(data) for axis in self.axes if axis.reference}
         known: dict[str, int] = {}
         for axis in self.axes:
-            if axis.reference is not None:
+            if axis.reference is not None and axis.attribute != "CURVE_AXIS":
                 known[axis.name] = references[axis.name].counts[0]
             elif axis.fixed_count is not None:
                 known[axis.name] = axis.fixed_count

@@ -12,8 +12,8 @@ written); the session refuses a write that has any, before it sends a byte, with
 - ``text``: a text where the conversion takes numbers, or a text an enum (verbal conversion) does
   not list (the message lists those it does);
 - ``limits``: a number outside LOWER/UPPER (with ``extended=True``: outside EXTENDED_LIMITS, where
-  the object has them), or NaN; checked for the values and every axis (against its AXIS_DESCR, or
-  the AXIS_PTS it refers to). A value within float32 precision (relative 1e-7) of a limit passes;
+  the object has them), or NaN; checked for the values and every axis (against its AXIS_DESCR, the
+  AXIS_PTS it refers to, or a CURVE_AXIS' rescale curve's axis, whose points these become). A value within float32 precision (relative 1e-7) of a limit passes;
 - ``monotony``: axis points against MONOTONY (MON_INCREASE, MON_DECREASE, STRICT_INCREASE,
   STRICT_DECREASE, MONOTONOUS, STRICT_MON, NOT_MON); an axis without MONOTONY must not decrease.
 
@@ -183,6 +183,13 @@ def _axes_rules(model: "A2lModel", obj: Characteristic, value: CalValue, extende
             source = model.resolve(descr, "axis_pts_ref", "AXIS_PTS", f"CHARACTERISTIC {obj.name}")
             found += _axis_rules(model, obj.name, f"{label} ({source.name})", points, source, source.monotony,
                                  extended, min(descr.max_axis_points, source.max_axis_points) or source.max_axis_points)
+        elif descr.attribute == "CURVE_AXIS" and descr.curve_axis_ref:
+            # the points become the rescale curve's axis (calib.codec); an index it never reaches has none (NaN)
+            curve = model.resolve(descr, "curve_axis_ref", "CHARACTERISTIC", f"CHARACTERISTIC {obj.name}")
+            reached = [p for p in points.tolist() if not (isinstance(p, float) and p != p)]
+            if curve.axes:
+                found += _axis_rules(model, obj.name, f"{label} ({curve.name})", np.asarray(reached, dtype=object),
+                                     curve.axes[0], curve.axes[0].monotony, extended, descr.max_axis_points)
         elif descr.attribute != "FIX_AXIS":
             found += _axis_rules(model, obj.name, label, points, descr, descr.monotony, extended,
                                  descr.max_axis_points)

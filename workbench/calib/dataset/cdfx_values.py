@@ -12,10 +12,11 @@ turns each into a :class:`~workbench.calib.values.CalValue`:
 * any other category is read by the shape of its values (a note says so).
 
 An axis that references another instance without listing its points takes them from that
-instance. Left out with a note (the file is still read): an axis whose points the file does not
-give (a CURVE_AXIS or RES_AXIS computed from its reference, or a reference to an instance the file
-does not hold: computing or finding them needs the A2L), variant-coded values, an instance without
-values. Refused with a :class:`~workbench.errors.DatasetParseError`: counts and shapes that do
+instance; a CURVE_AXIS computes them from its rescale curve (point k where the curve gives index k,
+:func:`~workbench.calib.codec.curve_axis_points`). Left out with a note (the file is still read): an
+axis whose points the file does not give (a RES_AXIS computed from its reference, a reference to an
+instance the file does not hold: computing or finding them needs the A2L), variant-coded values,
+an instance without values. Refused with a :class:`~workbench.errors.DatasetParseError`: counts and shapes that do
 not match, a text where a number belongs.
 """
 
@@ -25,6 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from workbench.calib.codec import curve_axis_points
 from workbench.calib.dataset.model import CsFlag, Dataset, HistoryEntry, InstancePart, ObjectInfo
 from workbench.calib.dataset.numbers import NumberError, scalar, to_array
 from workbench.calib.values import Axis, CalValue
@@ -204,8 +206,7 @@ class _Builder:
     def referenced_points(self, instance: Instance, axis: AxisCont, kind: str, referenced: Instance | None) -> list:
         """The points of an axis that lists none, from the instance it references."""
         if kind == "CURVE_AXIS":
-            raise _LeftOut(f"its CURVE_AXIS lists no axis points (SW-VALUES-PHYS); computing them from "
-                           f"{axis.ref} needs the A2L", axis.line)
+            return self.rescaled_points(instance, axis, referenced)
         if referenced is None:
             what = f"references {axis.ref!r}, which the file does not hold," if axis.ref else "has"
             raise _LeftOut(f"an axis that {what} no SW-VALUES-PHYS", axis.line)
@@ -213,6 +214,17 @@ class _Builder:
             raise _LeftOut(f"its axis {axis.ref} holds rescale pairs (VG groups), not axis points; computing "
                            f"the points needs the A2L", axis.line)
         return referenced.values
+
+
+    def rescaled_points(self, instance: Instance, axis: AxisCont, curve: Instance | None) -> list:
+        """A CURVE_AXIS that lists no points: point k where its rescale curve (input -> index) gives k."""
+        if curve is None or len(curve.axes) != 1 or axis.size is None or curve.values is None \
+                or any(isinstance(v, (list, str)) for v in curve.values):
+            why = "the file does not hold its rescale curve" if curve is None else "no SW-ARRAYSIZE and rescale curve"
+            raise _LeftOut(f"its CURVE_AXIS lists no axis points (SW-VALUES-PHYS) and {why} to compute them from "
+                           f"({axis.ref})", axis.line)
+        inputs = self.axis(curve, curve.axes[0]).values
+        return curve_axis_points(inputs, to_array(curve.values), axis.size).tolist()
 
 
 def _item(item):
