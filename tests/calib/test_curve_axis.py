@@ -100,7 +100,8 @@ def test_the_worked_example_of_the_standard(model):
     assert index == pytest.approx([3.9, 1.7])
     (i, fx), (j, fy) = ((int(k), k - int(k)) for k in index)
     grid = value.value  # indexed [x, y]
-    z = ((grid[i, j] * (1 - fx) + grid[i + 1, j] * fx) * (1 - fy) + (grid[i, j + 1] * (1 - fx) + grid[i + 1, j + 1] * fx) * fy)
+    low, high = (grid[i, k] * (1 - fx) + grid[i + 1, k] * fx for k in (j, j + 1))
+    z = low * (1 - fy) + high * fy
     assert z == pytest.approx(2.194)
 
 

@@ -300,7 +300,8 @@ def _new_counts(layout: "ResolvedLayout", axes: tuple[Axis, ...]) -> dict[str, i
             continue
         changed = True
         if not plan.in_memory:
-            where = f" (it comes from {plan.reference.name})" if plan.reference and plan.attribute != "CURVE_AXIS" else ""
+            shared = plan.reference is not None and plan.attribute != "CURVE_AXIS"
+            where = f" (it comes from {plan.reference.name})" if shared else ""
             raise ConversionError(f"{layout.name}: axis {plan.name} has {count} points{where}, the value {points}; "
                                   "its number of points is not stored in memory, so it cannot change")
         if points > plan.max_points or points < 1:
