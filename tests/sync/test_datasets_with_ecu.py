@@ -183,3 +183,36 @@ def test_a_read_only_session_applies_nothing_but_may_dry_run(channel, tmp_path):
             assert apply_dataset(ecu, dataset, dry_run=True).named("would change") == ["xsPRV_KP"]
             with pytest.raises(EpkMismatchError):
                 apply_dataset(ecu, dataset)
+
+
+def test_each_object_is_read_once_and_only_what_changes_is_written(sim, channel, tmp_path):
+    """Counted on the bus: the checks read the objects (merged UPLOADs, no address twice), the writes after them
+    read nothing again: per changed object SET_MTA, DOWNLOAD of the changed bytes, their SHORT_UPLOAD read-back."""
+    sys.path.insert(0, str(Path(__file__).parents[1]))
+    from xcp_commands import CommandLog
+
+    model = load_a2l(demo.a2l()).model()
+    dataset = image_dataset(model, load_image(demo.s19()), ["xvPRV_DC_FF", "xsSWITCH_TANK_THR", "xsPRV_K*"])
+    ff = dataset["xvPRV_DC_FF"].value.copy()
+    ff[2, 3] = 42.0
+    dataset["xvPRV_DC_FF"] = replace(dataset["xvPRV_DC_FF"], value=ff)
+    dataset["xsSWITCH_TANK_THR"] = replace(dataset["xsSWITCH_TANK_THR"], value=25.0)
+    with Session.open(interface="virtual", channel=channel, timeouts=FAST) as ecu, CommandLog(channel) as log:
+        log.take()
+        assert apply_dataset(ecu, dataset).named("applied") == ["xvPRV_DC_FF", "xsSWITCH_TANK_THR"]
+        commands = log.take()
+        mta = [int.from_bytes(bytes(f.data[4:8]), "little") for f in log.frames if f.data[0] == Cmd.SET_MTA]
+    reads = commands.index("GET_SEED")  # the first write unlocks CAL/PAG and asks the page XCP is on
+    assert commands[:reads] == ["SET_MTA", "UPLOAD"] * (reads // 2) and len(set(mta[:reads // 2])) == reads // 2
+    write = ["SET_MTA", "DOWNLOAD", "SHORT_UPLOAD"]
+    assert commands[reads:] == ["GET_SEED", "UNLOCK", "GET_CAL_PAGE"] + write + write
+    assert mta[reads // 2] == model.characteristic("xvPRV_DC_FF").address + 4 * (3 * 6 + 2)  # the one cell
+
+    moved = edited_a2l(tmp_path, "0x400000E4 /* @ECU_Address@xsPRV_KP@ */", "0xFC00E4")  # into CAL ROM (flash)
+    dataset["xsPRV_KP"] = replace(dataset["xsPRV_KP"], value=7.0)
+    with Session.open(a2l=moved, interface="virtual", channel=channel, timeouts=FAST) as ecu:
+        with pytest.raises(ApplyRefused) as refused:
+            apply_dataset(ecu, dataset)
+    assert [(o.name, o.reason) for o in refused.value.report.outcomes if o.status == "refused"] == [
+        ("xsPRV_KP", "FNC_VALUES at 0xFC00E4..0xFC00E7 lie outside the A2L's writable memory (MEMORY_SEGMENTs of "
+                     "calibration RAM); not written")]

@@ -235,6 +235,14 @@ class ValueAccess:
         """The object placed in memory, counts stored in the ECU taken from what the session knows."""
         return self._resolve([name], self._known_bytes)[name]
 
+    def remember(self: Session, data: Mapping[Span, bytes]) -> None:
+        """Calibration bytes the caller has just read from the ECU (e.g. with :meth:`read_memory`, on
+        the page XCP is on, nothing written since): known from now on, as if the session had read them,
+        so that a write there reads nothing again (forgotten at the next CONNECT, page switch or
+        another's DOWNLOAD)."""
+        with self.lock:
+            self._known().store(data)
+
     def _known(self: Session) -> KnownMemory:
         self._known_memory.valid(self.master.memory_changes)
         return self._known_memory

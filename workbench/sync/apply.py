@@ -12,7 +12,8 @@ inside the A2L's writable memory, and no two objects writing other bytes to the 
 MAP's axis and the AXIS_PTS it shares, given twice with other points). One refusal and nothing is
 written: :class:`ApplyRefused` carries the report that lists every refusal. Then only the objects
 whose bytes change are written, in the dataset's order, each through
-:meth:`Session.write <workbench.session.Session.write>` (only the changed bytes, read back). A
+:meth:`Session.write <workbench.session.Session.write>` (only the changed bytes, read back): the
+session knows what the checks read, so each object is read once. A
 failure halfway stops there and raises :class:`ApplyFailed`; its report says which objects reached
 the ECU, which one failed (and which of its fields were written), and which were not written.
 """
@@ -27,6 +28,7 @@ from workbench.calib.dataset import DatasetDiff, diff_datasets
 from workbench.calib.limits import check_limits
 from workbench.calib.memory import ByteEdit, Span
 from workbench.calib.values import CalValue
+from workbench.calib.writable import check_inside
 from workbench.errors import InputError, PartialWriteError, WorkbenchError
 from workbench.progress import Progress, report
 from workbench.session import Session
@@ -189,10 +191,10 @@ def _check(session: Session, dataset: Mapping[str, CalValue], extended: bool, pr
         except WorkbenchError as exc:
             refused[name] = _located(where(name), without_name(name, str(exc)))
             continue
-        outside = [e for e in edits if writable is not None and not _inside(e.span, writable)]
-        if outside:
-            refused[name] = (f"{outside[0].field or 'its bytes'} at {outside[0].span} lie outside the A2L's writable "
-                             "memory")
+        try:
+            check_inside(name, ((edit.span, edit.field) for edit in edits), writable)
+        except InputError as exc:
+            refused[name] = without_name(name, str(exc))
             continue
         planned[name] = _Planned(value, edits)
     for name, other, where in _conflicts(model, planned, current):
@@ -200,10 +202,6 @@ def _check(session: Session, dataset: Mapping[str, CalValue], extended: bool, pr
     for name in refused:
         planned.pop(name, None)
     return planned, refused, current
-
-
-def _inside(span: Span, writable: list[Span]) -> bool:
-    return any(w.extension == span.extension and w.address <= span.address and span.end <= w.end for w in writable)
 
 
 def _conflicts(model, planned: dict[str, _Planned], current: ByteStore) -> list[tuple[str, str, str]]:

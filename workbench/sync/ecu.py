@@ -19,7 +19,9 @@ __all__ = ["EcuReader", "on_pages"]
 class EcuReader:
     """A :data:`~workbench.sync.values.Fetch` over the session's ECU; counts what it uploaded.
 
-    Reads on the page XCP is on: the caller chooses it (``session.on_page``).
+    Reads on the page XCP is on: the caller chooses it (``session.on_page``). What it reads the session
+    knows from then on (:meth:`Session.remember <workbench.session.Session.remember>`), so a write of
+    those objects after it reads nothing again.
     """
 
     session: Session
@@ -39,16 +41,19 @@ class EcuReader:
         total = sum(block.size for block in merge_spans(wanted))
         done = 0
 
+        blocks: dict[Span, bytes] = {}
+
         def read(block: Span) -> bytes:
             nonlocal done
             report(self.progress, done, total, self.label)
-            data = self.session.read_memory(block.address, block.size, block.extension)
+            data = blocks[block] = self.session.read_memory(block.address, block.size, block.extension)
             done += block.size
             self.bytes_read += block.size
             return data
 
         with self.session.lock:
             found = read_merged(wanted, read)
+            self.session.remember(blocks)
         report(self.progress, total, total, self.label)
         return found
 
