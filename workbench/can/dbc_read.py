@@ -140,6 +140,10 @@ class _Reader:
         self.senders: dict[int, list[str]] = {}
         self.signal_types: dict[int, dict[str, int]] = {}
         self.multiplexing: dict[int, dict[str, dict[str, list[int]]]] = {}
+        # once every statement is read (_content)
+        self.definitions: dict[str, _Definition] = {}
+        self.attributes: dict[str | None, dict] = {}
+        self.sorted_tables: dict[str, tuple[tuple[int, str], ...]] = {}
 
     # -- statements ------------------------------------------------------------------------------
 
