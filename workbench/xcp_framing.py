@@ -17,10 +17,10 @@ from __future__ import annotations
 
 import struct
 
-__all__ = ["CTR_MODULO", "HEADER_SIZE", "MAX_PACKET", "FramingError", "StreamDecoder", "frame", "split_datagram"]
+__all__ = ["CTR_MODULO", "HEADER", "HEADER_SIZE", "MAX_PACKET", "FramingError", "StreamDecoder", "frame", "split_datagram"]
 
-_HEADER = struct.Struct("<HH")
-HEADER_SIZE = _HEADER.size
+HEADER = struct.Struct("<HH")  # LEN, CTR
+HEADER_SIZE = HEADER.size
 CTR_MODULO = 0x10000
 MAX_PACKET = 0xFFFF  # the largest LEN: what a master takes before CONNECT tells it MAX_CTO and MAX_DTO
 
@@ -31,7 +31,7 @@ class FramingError(ValueError):
 
 def frame(packet: bytes, ctr: int) -> bytes:
     """``packet`` behind its LEN/CTR header (``ctr`` is taken modulo 0x10000)."""
-    return _HEADER.pack(len(packet), ctr % CTR_MODULO) + packet
+    return HEADER.pack(len(packet), ctr % CTR_MODULO) + packet
 
 
 def split_datagram(datagram: bytes, max_packet: int) -> list[tuple[int, bytes]]:
@@ -44,7 +44,7 @@ def split_datagram(datagram: bytes, max_packet: int) -> list[tuple[int, bytes]]:
     while offset < len(datagram):
         if len(datagram) - offset < HEADER_SIZE:
             raise FramingError(f"{len(datagram) - offset} byte(s) after packet {len(packets)}: no room for a header")
-        length, ctr = _HEADER.unpack_from(datagram, offset)
+        length, ctr = HEADER.unpack_from(datagram, offset)
         _check_length(length, max_packet)
         offset += HEADER_SIZE
         if len(datagram) - offset < length:
@@ -71,7 +71,7 @@ class StreamDecoder:
         self._buffer += data
         packets = []
         while len(self._buffer) >= HEADER_SIZE:
-            length, ctr = _HEADER.unpack_from(self._buffer)
+            length, ctr = HEADER.unpack_from(self._buffer)
             _check_length(length, self.max_packet)
             if len(self._buffer) < HEADER_SIZE + length:
                 break

@@ -175,9 +175,10 @@ class Link:
             packet could not be sent.
         """
         with self._lock:
-            if packet[0] == _CONNECT and self.lost is not None:
-                self._revive()
-            self._usable()
+            if self.closed or self.lost is not None or self._dto_silence_s is not None:
+                if packet[0] == _CONNECT and self.lost is not None:
+                    self._revive()
+                self._usable()
             if drop_queued:
                 self._drop_responses()
             self._send(packet)
@@ -207,43 +208,46 @@ class Link:
             self._fail(exc.reason)
 
     def _receive(self, timeout_s: float) -> bytes | None:
+        responses = self._responses
         if self._receiving:
             with self._arrived:
-                if not self._responses and self.lost is None:
-                    self._arrived.wait_for(lambda: self._responses or self.lost is not None, timeout_s)
-                if self._responses:
-                    return self._responses.popleft()
+                if not responses and self.lost is None:
+                    self._arrived.wait_for(lambda: responses or self.lost is not None, timeout_s)
+                if responses:
+                    return responses.popleft()
             self.check()
             return None
-        responses = self._responses
         if responses:  # the rest of a datagram that carried several
             return responses.popleft()
         deadline = time.monotonic() + timeout_s
-        transport, dispatch = self._transport, self._dispatch
         while True:
-            try:
-                packets = transport.receive(timeout_s)
-            except LinkBroken as exc:
-                self._fail(exc.reason)
-            if packets:
-                host_ns = time.time_ns()
-                for packet in packets:
-                    dispatch(packet, host_ns)
-                if responses:
-                    return responses.popleft()
-            timeout_s = deadline - time.monotonic()
+            packets = self._read_wire(timeout_s)
+            if packets is None:
+                return None
+            if responses:
+                return responses.popleft()
+            timeout_s = deadline - time.monotonic()  # something else came (another node's frame, a DTO)
             if timeout_s <= 0:
                 return None
 
+    def _read_wire(self, timeout_s: float) -> list[bytes] | None:
+        """The caller's thread reads the transport (no receiver runs): responses are queued, the rest
+        dispatched; the packets read, None when nothing came within ``timeout_s``."""
+        try:
+            packets = self._transport.receive(timeout_s)
+        except LinkBroken as exc:
+            self._fail(exc.reason)
+        for packet in packets or ():
+            if packet[0] >= PID_ERR:
+                self._responses.append(packet)
+            else:
+                self._dispatch(packet, 0)  # an event; a DTO after DAQ stopped is dropped
+        return packets
+
     def _drop_responses(self) -> None:
-        if not self._receiving:  # what the wire holds: read it (and drop it) now
-            transport = self._transport
-            try:
-                while (packets := transport.receive(0)) is not None:
-                    for packet in packets:
-                        self._dispatch(packet, 0)
-            except LinkBroken as exc:
-                self._fail(exc.reason)
+        if not self._receiving:  # what the wire holds: read it now, to drop it with the rest
+            while self._read_wire(0) is not None:
+                pass
         with self._arrived:
             if self._responses:
                 log.debug("dropping %d late response(s)", len(self._responses))

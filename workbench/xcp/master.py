@@ -84,6 +84,10 @@ def resource_of(command: Cmd) -> Resource | None:
     return None
 
 
+_RESOURCE_OF = {command: resource_of(command) for command in Cmd}  # looked up for every command
+_LATE_SYNCH = bytes((PID_ERR, Err.CMD_SYNCH))
+
+
 class XcpMaster:
     """XCP commands on one link. Not thread-safe: one caller at a time (the session serialises)."""
 
@@ -198,8 +202,10 @@ class XcpMaster:
         """ERR_CMD_SYNCH only ever answers SYNCH: arriving for another command, it is the answer to a SYNCH
         that came after its timeout (a slow or busy ECU). On CAN nothing else tells responses apart, so
         it is dropped and the command's own response awaited."""
+        if response is None or response[:2] != _LATE_SYNCH or command == Cmd.SYNCH:
+            return response  # (tested first: this runs for every command)
         deadline = time.monotonic() + timeout_s
-        while (command != Cmd.SYNCH and response is not None and response[:2] == bytes((PID_ERR, Err.CMD_SYNCH))):
+        while response is not None and response[:2] == _LATE_SYNCH:
             log.debug("XCP %s: a late answer to SYNCH dropped", command.name)
             response = self.link.receive(max(deadline - time.monotonic(), 0.0))
         return response
@@ -261,7 +267,7 @@ class XcpMaster:
     # --- seed & key ---------------------------------------------------------------------------
 
     def _unlock_for(self, command: Cmd) -> None:
-        resource = resource_of(command)
+        resource = _RESOURCE_OF[command]
         if resource is not None and resource & self.protected and not self._unlocking:
             self.unlock(resource)
 

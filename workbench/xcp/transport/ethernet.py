@@ -18,17 +18,24 @@ import socket
 
 from workbench.errors import WorkbenchError
 from workbench.xcp.transport.base import LinkBroken, Transport
-from workbench.xcp_framing import CTR_MODULO, MAX_PACKET, FramingError, StreamDecoder, frame, split_datagram
+from workbench.xcp_framing import (
+    CTR_MODULO,
+    HEADER,
+    HEADER_SIZE,
+    MAX_PACKET,
+    FramingError,
+    StreamDecoder,
+    frame,
+    split_datagram,
+)
 
 log = logging.getLogger(__name__)
 
-__all__ = ["CONNECT_TIMEOUT_S", "RECEIVE_BUFFER", "EthernetTransport"]
+__all__ = ["CONNECT_TIMEOUT_S", "RECEIVE_BUFFER", "SEND_TIMEOUT_S", "EthernetTransport"]
 
 CONNECT_TIMEOUT_S = 3.0  # a TCP connection that is not accepted within this is refused
 RECEIVE_BUFFER = 4 << 20  # bytes of socket buffer: a DAQ stream at full rate rides out the interpreter's pauses
-# The socket stays blocking (so a send waits for room); a read waits in select() and then takes what is there
-# without waiting (a UDP datagram select() announced may still be dropped for a bad checksum).
-_DONT_WAIT = getattr(socket, "MSG_DONTWAIT", 0)
+SEND_TIMEOUT_S = 2.0  # a TCP send that finds no room for this long: the ECU reads nothing any more
 
 
 class EthernetTransport(Transport):
@@ -46,6 +53,7 @@ class EthernetTransport(Transport):
         self._rx_ctr: int | None = None  # the CTR the slave's next packet should carry
         self._buffer = bytearray(MAX_PACKET + 64)
         self._view = memoryview(self._buffer)
+        self._timeout = SEND_TIMEOUT_S  # the socket's, changed only when a wait asks for another (a system call)
         self._decoder = StreamDecoder(MAX_PACKET) if self.kind == "TCP" else None
         self._socket = self._connect()
 
@@ -66,7 +74,7 @@ class EthernetTransport(Transport):
                 sock.settimeout(CONNECT_TIMEOUT_S)
             _widen_receive_buffer(sock)
             sock.connect(address)  # UDP: the slave's datagrams only, and its ICMP errors reported to us
-            sock.settimeout(None)
+            sock.settimeout(SEND_TIMEOUT_S)
         except OSError as exc:
             sock.close()
             reason = "no answer" if isinstance(exc, TimeoutError) else exc.strerror or str(exc)
@@ -82,6 +90,7 @@ class EthernetTransport(Transport):
             self._socket.close()
             self._socket = self._connect()
             self._decoder = StreamDecoder(MAX_PACKET)
+            self._timeout = SEND_TIMEOUT_S
         self._rx_ctr = None
 
     # --- packets ------------------------------------------------------------------------------
@@ -89,6 +98,8 @@ class EthernetTransport(Transport):
     def send(self, packet: bytes) -> None:
         data = frame(packet, self._tx_ctr)
         self._tx_ctr = (self._tx_ctr + 1) % CTR_MODULO
+        if self._timeout < SEND_TIMEOUT_S and self.kind == "TCP":  # a stream may wait for room, not too briefly
+            self._set_timeout(SEND_TIMEOUT_S)
         try:
             self._socket.sendall(data)
         except OSError as exc:
@@ -97,13 +108,21 @@ class EthernetTransport(Transport):
     def receive(self, timeout_s: float) -> list[bytes] | None:
         sock = self._socket
         try:
-            if not select.select((sock,), (), (), timeout_s)[0]:
-                return None
-            size = sock.recv_into(self._buffer, 0, _DONT_WAIT)
-        except BlockingIOError:
+            if timeout_s <= 0:
+                if not select.select((sock,), (), (), 0)[0]:
+                    return None
+            elif timeout_s != self._timeout:
+                self._set_timeout(timeout_s)
+            size = sock.recv_into(self._buffer)  # the socket's timeout: poll and read in one call
+        except TimeoutError:
             return None
         except (OSError, ValueError) as exc:  # ValueError: select() on a socket closed under it
             raise LinkBroken(self._why(exc) if isinstance(exc, OSError) else "the socket was closed") from None
+        if self._decoder is None and size > HEADER_SIZE:
+            length, ctr = HEADER.unpack_from(self._buffer)
+            if size == HEADER_SIZE + length:  # one packet, as a response mostly comes
+                self._check_counter(ctr)
+                return [bytes(self._view[HEADER_SIZE:size])]
         data = self._view[:size]
         if self._decoder is None:
             try:
@@ -120,17 +139,23 @@ class EthernetTransport(Transport):
                 raise LinkBroken(f"the ECU's TCP stream cannot be framed ({exc})") from None
         return self._check_counters(framed)
 
+    def _set_timeout(self, seconds: float) -> None:
+        self._socket.settimeout(seconds)
+        self._timeout = seconds
+
     def _check_counters(self, framed: list[tuple[int, bytes]]) -> list[bytes]:
-        expected = self._rx_ctr
         for ctr, _ in framed:
-            if expected is not None and ctr != expected:
-                self.counter_gaps += 1
-                log.log(logging.INFO if self.counter_gaps == 1 else logging.DEBUG,
-                        "%s: the slave's CTR jumped from %d to %d (%d packet(s) missing, or the slave restarted)",
-                        self.describe(), expected, ctr, (ctr - expected) % CTR_MODULO)
-            expected = (ctr + 1) % CTR_MODULO
-        self._rx_ctr = expected
+            self._check_counter(ctr)
         return [packet for _, packet in framed]
+
+    def _check_counter(self, ctr: int) -> None:
+        expected = self._rx_ctr
+        if expected is not None and ctr != expected:
+            self.counter_gaps += 1
+            log.log(logging.INFO if self.counter_gaps == 1 else logging.DEBUG,
+                    "%s: the slave's CTR jumped from %d to %d (%d packet(s) missing, or the slave restarted)",
+                    self.describe(), expected, ctr, (ctr - expected) % CTR_MODULO)
+        self._rx_ctr = (ctr + 1) % CTR_MODULO
 
     def _why(self, exc: OSError) -> str:
         if isinstance(exc, ConnectionRefusedError):
