@@ -119,6 +119,19 @@ def test_a_16_bit_counter_is_unwrapped_with_the_host_clock_even_when_sampled_rar
     assert abs(more_host[-1] - (1000 + 2.6 + 1e-4)) < 2e-4  # the fastest arrival sets the offset
 
 
+def test_a_byte_counter_survives_a_host_stall_near_its_wrap_and_counts_a_real_gap():
+    """A 1-byte millisecond counter (a wrap every 256 ms) on a 4 ms event: a 150 ms stall of the host delivers
+    the samples of that time in a burst, which is no wrap; 300 ms without samples (a real gap) is one."""
+    clock = DaqClock(1, 1e-3)
+    true_s = np.concatenate((np.arange(0, 0.4, 0.004), [0.7, 0.704]))
+    counts = np.rint(true_s * 1e3).astype(np.int64) % 256
+    arrival_s = true_s + 0.0005
+    arrival_s[50:] = np.maximum(arrival_s[50:], 0.35)  # from 0.2 s the host stalls: what came meanwhile, at 0.35 s
+    host_ns = (5_000_000_000 + arrival_s * 1e9).astype(np.int64)
+    seconds = np.concatenate([clock.times(0, counts[i:i + 20], host_ns[i:i + 20])[0] for i in range(0, len(counts), 20)])
+    assert np.allclose(seconds, true_s, atol=1e-9)
+
+
 def test_without_timestamps_the_host_clock_is_used():
     clock = DaqClock(0, 1e-5)
     seconds, host = clock.times(0, None, np.array([2_000_000_000, 2_500_000_000]))

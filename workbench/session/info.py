@@ -84,7 +84,8 @@ def read_ecu_info(session: Session) -> EcuInfo:
             events = [e for e in (_optional(lambda n=n: master.get_daq_event_info(n)) for n in range(count)) if e]
     pages = []
     if connect.resources & Resource.CAL_PAG and not session.in_boot:
-        pages = [p for p in (_optional(lambda s=s.number: session.page(s)) for s in session.config.segments) if p]
+        segments = _optional(session.calibration_segments, ())  # the A2L's, else the ECU's
+        pages = [p for p in (_optional(lambda s=s.number: session.page(s)) for s in segments) if p]
     return EcuInfo(
         link=session.link.settings.describe(),
         identification=_optional(lambda: master.get_id(IdType.ASCII).decode("latin-1"), ""),

@@ -23,7 +23,7 @@ from typing import Any
 
 from workbench import demo
 from workbench.a2l import A2lDocument, load_a2l, read_xcp_config
-from workbench.a2l.xcp import XcpConfig, XcpSegment
+from workbench.a2l.xcp import XcpConfig, XcpPage, XcpSegment
 from workbench.errors import (
     ConnectionLostError,
     EpkMismatchError,
@@ -82,6 +82,7 @@ class Session(ValueAccess, EventAccess, FixAccess):
         self._readers: dict = {}  # name -> (span, decode) of a polled read (values.py)
         self._model = None
         self._all_segments: bool | None = None  # SET_CAL_PAGE's "all segments" mode works (None: not tried yet)
+        self._slave_segments: tuple[XcpSegment, ...] | None = None  # what GET_SEGMENT_INFO says, when asked
 
     # --- opening and closing ------------------------------------------------------------------
 
@@ -213,29 +214,48 @@ class Session(ValueAccess, EventAccess, FixAccess):
     # --- calibration pages --------------------------------------------------------------------
 
     def segment(self, number: int = 0) -> XcpSegment:
-        for segment in self.config.segments:
+        for segment in self.calibration_segments():
             if segment.number == number:
                 return segment
-        raise InputError(f"the A2L describes no calibration segment {number} (it has "
-                         f"{', '.join(str(s.number) for s in self.config.segments) or 'none'})")
+        raise InputError(f"the ECU has no calibration segment {number} (it has "
+                         f"{', '.join(str(s.number) for s in self.calibration_segments()) or 'none'})")
+
+    def calibration_segments(self) -> tuple[XcpSegment, ...]:
+        """The calibration segments: the A2L's (XCP SEGMENTs of its MEMORY_SEGMENTs), else what the slave says
+        (GET_PAG_PROCESSOR_INFO, GET_SEGMENT_INFO; working page 0, reference page 1); asked once a session.
+
+        :raises InputError: neither describes one: there are no pages to switch.
+        """
+        if self.config.segments:
+            return self.config.segments
+        if self._slave_segments is None:
+            with self.lock:
+                try:
+                    count = self.master.get_pag_processor_info().max_segments
+                    ranges = [self.master.get_segment_range(number) for number in range(count)]
+                except XcpCommandError as error:
+                    raise InputError(f"the A2L describes no calibration segments (XCP SEGMENT) and the ECU says none "
+                                     f"either ({error})") from None
+                self._slave_segments = tuple(_segment_of_slave(n, *r) for n, r in enumerate(ranges))
+        if not self._slave_segments:
+            raise InputError("neither the A2L (XCP SEGMENT) nor the ECU (GET_PAG_PROCESSOR_INFO) has calibration pages")
+        return self._slave_segments
 
     def segment_numbers(self) -> list[int]:
-        """The calibration segments the A2L describes (XCP SEGMENTs of its MEMORY_SEGMENTs), by number.
+        """The calibration segments' numbers (:meth:`calibration_segments`).
 
-        :raises InputError: it describes none: there are no pages to switch.
+        :raises InputError: there are none: no pages to switch.
         """
-        numbers = sorted({segment.number for segment in self.config.segments})
-        if not numbers:
-            self.segment(0)  # raises, naming what the A2L has
-        return numbers
+        return sorted({segment.number for segment in self.calibration_segments()})
 
     def segments_of(self, names: Iterable[str]) -> list[int]:
         """The calibration segments that hold the objects ``names`` (by their addresses); objects outside
         every segment (measurements in RAM) need none."""
         found = set()
+        segments = self.calibration_segments()
         for name in names:
             address = self.model.object(name).address
-            found.update(s.number for s in self.config.segments if s.address <= address < s.address + s.size)
+            found.update(s.number for s in segments if s.address <= address < s.address + s.size)
         return sorted(found)
 
     def page_numbers(self, segment: int = 0) -> tuple[int, int]:
@@ -326,6 +346,13 @@ class _XcpPages:
     def __exit__(self, *exc_info):
         for segment, previous in self.previous.items():
             self.session.master.set_cal_page(segment, previous, _XCP_ONLY)
+
+
+def _segment_of_slave(number: int, address: int, size: int) -> XcpSegment:
+    """A segment the slave reports and the A2L does not describe: page 0 the working page, page 1 the reference."""
+    pages = (XcpPage(0, "ECU_ACCESS_DONT_CARE", "XCP_READ_ACCESS_DONT_CARE", "XCP_WRITE_ACCESS_DONT_CARE"),
+             XcpPage(1, "ECU_ACCESS_DONT_CARE", "XCP_READ_ACCESS_DONT_CARE", "XCP_WRITE_ACCESS_NOT_ALLOWED"))
+    return XcpSegment("", address, size, number, len(pages), 0, 0, 0, pages, ())
 
 
 def _key_function(given: KeyFunction | str | None, config: XcpConfig, doc: A2lDocument

@@ -493,6 +493,13 @@ class XcpMaster:
     def get_pag_processor_info(self) -> PagProcessorInfo:
         return PagProcessorInfo.parse(self.command(Cmd.GET_PAG_PROCESSOR_INFO))
 
+    def get_segment_range(self, segment: int) -> tuple[int, int]:
+        """GET_SEGMENT_INFO mode 0 (basic): ``segment``'s address and length."""
+        address, length = (struct.unpack_from(f"{self.order}3xI", self.command(Cmd.GET_SEGMENT_INFO,
+                                                                              bytes((0, segment, info, 0))))[0]
+                           for info in (0, 1))
+        return address, length
+
     # --- flash programming --------------------------------------------------------------------
 
     def get_pgm_processor_info(self) -> PgmProcessorInfo:

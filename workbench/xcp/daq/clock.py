@@ -1,9 +1,12 @@
 """DAQ time: the slave's wrapping timestamp counter unwrapped into seconds, and mapped to host time.
 
 Host arrival times come in bursts (a CAN controller's queue, the OS scheduler), so a sample's
-time is the slave's timestamp when it sends one. The counter wraps (1, 2 or 4 bytes); host
-arrival times tell how many times it wrapped between two samples, so even a 16-bit counter of
-10 µs ticks that wraps every 0.65 s is unwrapped for a list sampled once a second.
+time is the slave's timestamp when it sends one. The counter wraps (1, 2 or 4 bytes); host arrival
+times tell how many times it wrapped between two samples: a sample cannot have travelled faster than
+the fastest one so far, so it takes the most wraps that keep its travel time at or above that (less a
+margin of an eighth of a wrap). A 16-bit counter of 10 µs ticks that wraps every 0.65 s is unwrapped
+for a list sampled once a second, and a 1-byte millisecond counter (a wrap every 256 ms) through a
+stall of the host of up to 220 ms (a count of wraps rounded from arrival gaps erred past 128 ms).
 
 Host time = slave time + offset, where the offset is the smallest (arrival − slave time) seen:
 the sample that travelled fastest. It may rise slowly (``max_drift``) so that a slave clock
@@ -26,7 +29,7 @@ class DaqClock:
         self.modulus = 1 << (8 * timestamp_size) if timestamp_size else 0
         self.resolution_s = resolution_s
         self.max_drift = max_drift
-        self._last: dict[int, tuple[int, int, int]] = {}  # list -> (last raw count, unwrapped count, host ns)
+        self._last: dict[int, tuple[int, int, float]] = {}  # list -> (last raw count, unwrapped, fastest travel s)
         self._origin_count: int | None = None
         self._origin_host_ns: int | None = None
         self._offset_s: float | None = None
@@ -52,18 +55,20 @@ class DaqClock:
     def _unwrap(self, daq_list: int, counts: np.ndarray, host_ns: np.ndarray) -> np.ndarray:
         if not len(counts):
             return counts
+        host_s = host_ns * 1e-9
         last = self._last.get(daq_list)
         if last is None:
-            previous_raw, previous, previous_ns = int(counts[0]), int(counts[0]), int(host_ns[0])
+            previous_raw, previous, fastest = int(counts[0]), int(counts[0]), float(host_s[0] - counts[0] * self.resolution_s)
         else:
-            previous_raw, previous, previous_ns = last
-        raw = np.concatenate(([previous_raw], counts))
-        ns = np.concatenate(([previous_ns], host_ns))
-        step = np.mod(np.diff(raw), self.modulus)
-        expected = np.diff(ns) * 1e-9 / self.resolution_s  # counts the host clock saw pass
-        wraps = np.maximum(np.rint((expected - step) / self.modulus), 0).astype(np.int64)
-        unwrapped = previous + np.cumsum(step + wraps * self.modulus)
-        self._last[daq_list] = (int(counts[-1]), int(unwrapped[-1]), int(host_ns[-1]))
+            previous_raw, previous, fastest = last
+        steps = np.mod(np.diff(np.concatenate(([previous_raw], counts))), self.modulus)
+        unwrapped = previous + np.cumsum(steps)  # no wrap beyond what each step shows
+        wrap_s = self.modulus * self.resolution_s
+        travel = host_s - unwrapped * self.resolution_s  # minus what the missing wraps would add to the slave time
+        missing = np.floor((travel - fastest + wrap_s / 8) / wrap_s).astype(np.int64)
+        unwrapped = unwrapped + np.maximum.accumulate(np.maximum(missing, 0)) * self.modulus
+        fastest = min(fastest, float(np.min(host_s - unwrapped * self.resolution_s)))
+        self._last[daq_list] = (int(counts[-1]), int(unwrapped[-1]), fastest)
         return unwrapped
 
     def _host(self, seconds: np.ndarray, host_ns: np.ndarray) -> np.ndarray:
