@@ -1,5 +1,10 @@
 """Fixtures every test package may use, and the settings of the whole run: Qt offscreen when no display
-answers, and under pytest-xdist ports of each worker's own."""
+answers, and under pytest-xdist ports of each worker's own.
+
+A test imports helpers by module name, never from a conftest (pytest imports every directory's conftest.py
+as ``conftest``, so which one such an import finds depends on the directories collected): a helper of one
+directory's tests lives beside them (pytest puts a test's directory on sys.path), one that several
+directories share lives in tests/ itself (pyproject's ``pythonpath``); tests/test_suite_layout.py keeps it so."""
 
 from __future__ import annotations
 

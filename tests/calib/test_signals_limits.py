@@ -3,7 +3,6 @@ pya2ldb placing the same record layouts."""
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -14,7 +13,6 @@ from workbench.calib import Axis, CalValue, check_limits, measurement_codec, obj
 from workbench.errors import ConversionError, UnknownSymbolError
 
 ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "tests" / "a2l"))
 
 
 @pytest.fixture(scope="module")

@@ -6,11 +6,10 @@ from __future__ import annotations
 import json
 import random
 import struct
-import sys
-from pathlib import Path
 
 import pytest
 from flash_images import CALIB, application_image, calib_image_with, calibration_rom_address
+from sim_process import start_sim_process
 
 from workbench import demo
 from workbench.cli import main
@@ -19,8 +18,6 @@ from workbench.image import MemoryImage, load_image
 from workbench.session import Session
 from workbench.sim.memory_map import HDS9
 
-sys.path.insert(0, str(Path(__file__).parents[1] / "sim"))  # the sim tests' helper that runs ``workbench sim``
-from sim_process import start_sim_process  # noqa: E402
 
 THRESHOLD = "xsSWITCH_TANK_THR"
 

@@ -3,16 +3,14 @@
 from __future__ import annotations
 
 import itertools
-from pathlib import Path
 
 import pytest
+from session_helpers import FAST
 
-from workbench import Session, demo
+from workbench import Session
 from workbench.sim import EthernetEndpoint, serve_demo
-from workbench.xcp.master import Timeouts
 
 _channels = itertools.count()
-FAST = Timeouts(t1=0.3, t2=0.6, t3=0.6, t4=2.0, t5=0.3, t6=0.3, t7=0.02)
 
 
 @pytest.fixture
@@ -40,16 +38,3 @@ def ethernet_ecu(request, free_udp_port, free_tcp_port):
     with serve_demo(ethernet=EthernetEndpoint("127.0.0.1", port, request.param), pcm_target_bar=25.0):
         with Session.open(host="127.0.0.1", port=port, protocol=request.param.lower(), timeouts=FAST) as session:
             yield session
-
-
-def demo_a2l_text() -> str:
-    return Path(demo.a2l()).read_text(encoding="utf-8")
-
-
-def edited_a2l(tmp_path: Path, old: str, new: str, count: int = 1) -> Path:
-    """The demo A2L with ``old`` replaced by ``new`` (it must occur), written to ``tmp_path``."""
-    text = demo_a2l_text()
-    assert old in text, old
-    path = tmp_path / "edited.a2l"
-    path.write_text(text.replace(old, new, count), encoding="utf-8")
-    return path

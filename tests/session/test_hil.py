@@ -8,7 +8,7 @@ import itertools
 
 import can
 import pytest
-from conftest import FAST
+from session_helpers import FAST
 from hil_scenario import run_scenario
 
 from workbench import Session

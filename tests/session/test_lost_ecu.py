@@ -7,7 +7,7 @@ from __future__ import annotations
 import time
 
 import pytest
-from conftest import FAST
+from session_helpers import FAST
 
 from workbench import ConnectionLostError, EcuSilentError, Session, XcpTimeoutError
 from workbench.sim import EthernetEndpoint, serve_demo

@@ -7,6 +7,7 @@ import time
 
 import numpy as np
 import pytest
+from session_helpers import FAST
 
 from workbench.errors import InputError
 
@@ -71,8 +72,6 @@ def test_calibrations_are_polled_not_sampled(ecu):
 
 
 def test_closing_the_session_stops_daq(sim, channel):
-    from conftest import FAST
-
     from workbench import Session
 
     session = Session.open(interface="virtual", channel=channel, timeouts=FAST)
@@ -91,8 +90,6 @@ def test_a_prescaler_the_ecu_does_not_offer_is_refused(ecu):
 
 
 def test_a_session_whose_ecu_vanished_says_so_closes_quickly_and_frees_the_bus(sim, channel):
-    from conftest import FAST
-
     from workbench import ConnectionLostError, Session
 
     session = Session.open(interface="virtual", channel=channel, timeouts=FAST)

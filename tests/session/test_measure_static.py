@@ -7,7 +7,7 @@ import time
 
 import numpy as np
 import pytest
-from conftest import FAST
+from session_helpers import FAST
 
 from workbench import Session
 from workbench.a2l.xcp import read_daq_events

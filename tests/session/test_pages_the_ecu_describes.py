@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import re
 
-from conftest import FAST
+from session_helpers import FAST
 
 from workbench import Session
 from workbench.a2l import load_a2l_string, read_xcp_config

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import FAST, edited_a2l
+from session_helpers import FAST, edited_a2l
 
 from workbench import EpkMismatchError, Session
 from workbench.calib.values import Axis, CalValue

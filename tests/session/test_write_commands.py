@@ -7,7 +7,7 @@ import struct
 
 import numpy as np
 import pytest
-from conftest import FAST, demo_a2l_text, edited_a2l
+from session_helpers import FAST, demo_a2l_text, edited_a2l
 from xcp_commands import CommandLog
 
 from workbench import EpkMismatchError, PageError, Session

@@ -3,7 +3,6 @@ failure halfway that names what reached the ECU."""
 
 from __future__ import annotations
 
-import sys
 from dataclasses import replace
 from pathlib import Path
 
@@ -18,10 +17,9 @@ from workbench.sim import serve_demo
 from workbench.sync import ApplyFailed, ApplyRefused, apply_dataset, image_dataset, read_dataset, sync_compare
 from workbench.xcp_protocol import Cmd, Err
 
+from demo_calibrations import demo_dataset
 from sync_helpers import FAST, downloads, edited_a2l
-
-sys.path.insert(0, str(Path(__file__).parents[1] / "calib"))
-from demo_calibrations import demo_dataset  # noqa: E402
+from xcp_commands import CommandLog
 
 
 def ecu_diff(ecu, dataset):
@@ -188,9 +186,6 @@ def test_a_read_only_session_applies_nothing_but_may_dry_run(channel, tmp_path):
 def test_each_object_is_read_once_and_only_what_changes_is_written(sim, channel, tmp_path):
     """Counted on the bus: the checks read the objects (merged UPLOADs, no address twice), the writes after them
     read nothing again: per changed object SET_MTA, DOWNLOAD of the changed bytes, their SHORT_UPLOAD read-back."""
-    sys.path.insert(0, str(Path(__file__).parents[1]))
-    from xcp_commands import CommandLog
-
     model = load_a2l(demo.a2l()).model()
     dataset = image_dataset(model, load_image(demo.s19()), ["xvPRV_DC_FF", "xsSWITCH_TANK_THR", "xsPRV_K*"])
     ff = dataset["xvPRV_DC_FF"].value.copy()

@@ -1,45 +1,11 @@
-"""Fixtures: the demo ECU served on a private ``virtual`` bus, and an XcpMaster connected to it."""
+"""Fixtures: the demo ECU served on a private ``virtual`` bus, and an XcpMaster connected to it (:mod:`xcp_helpers`)."""
 
 from __future__ import annotations
 
-import itertools
-from contextlib import contextmanager
-from dataclasses import dataclass
-
 import pytest
+from xcp_helpers import serve
 
-from workbench.sim.demo_ecu import DemoEcu, build_demo_ecu
-from workbench.sim.seedkey import compute_key
-from workbench.sim.server import Simulator
-from workbench.xcp.link import Link, LinkSettings
-from workbench.xcp.master import Timeouts, XcpMaster
-
-_channels = itertools.count()
-FAST = Timeouts(t1=0.2, t2=0.4, t3=0.4, t4=1.0, t5=0.2, t6=0.2, t7=0.02)
-
-
-@dataclass
-class Rig:
-    demo: DemoEcu
-    simulator: Simulator
-    link: Link
-    master: XcpMaster
-
-
-def can_settings(channel: str) -> LinkSettings:
-    return LinkSettings("CAN", {"interface": "virtual", "channel": channel}, 0x7F0, 0x7F1, max_dlc_required=True)
-
-
-@contextmanager
-def serve(demo: DemoEcu, time_scale: float | None):
-    """``demo`` (with its PCM) on a virtual channel of its own and a master connected to it with short timeouts."""
-    channel = f"xcp-test-{next(_channels)}"
-    simulator = Simulator(demo.ecu, {"interface": "virtual", "channel": channel}, can2_driver=demo.can2,
-                          pcm=demo.pcm_node(), time_scale=time_scale)
-    with simulator, Link(can_settings(channel)) as link:
-        master = XcpMaster(link, timeouts=FAST, key_function=compute_key)
-        master.connect()
-        yield Rig(demo, simulator, link, master)
+from workbench.sim.demo_ecu import build_demo_ecu
 
 
 @pytest.fixture

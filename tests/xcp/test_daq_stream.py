@@ -6,7 +6,7 @@ import time
 
 import numpy as np
 import pytest
-from conftest import FAST, serve
+from xcp_helpers import FAST, serve
 
 from workbench.elf import ElfSymbols
 from workbench.errors import WorkbenchError

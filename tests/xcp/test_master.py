@@ -9,7 +9,7 @@ import time
 from pathlib import Path
 
 import pytest
-from conftest import FAST, can_settings, serve
+from xcp_helpers import FAST, can_settings, serve
 
 import workbench
 from workbench.errors import WorkbenchError, XcpCommandError, XcpTimeoutError
