@@ -159,7 +159,7 @@ def apply_edits(data: bytes, edits: Iterable[Edit]) -> bytes:
 
 
 def replace_token(doc: "A2lDocument", token: int, text: bytes) -> Edit:
-    return Edit(doc.tokens.starts_list[token], doc.tokens.ends_list[token], text)
+    return Edit(*doc.tokens.span(token), text)
 
 
 def remove_block(doc: "A2lDocument", block: "Block") -> Edit:

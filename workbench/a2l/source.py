@@ -39,6 +39,7 @@ class SourceFile:
     newline: str = "\n"
     file_encoding: str | None = None  # the file's own encoding when ``data`` was converted from it
     _line_starts: np.ndarray | None = field(default=None, repr=False)
+    _counted: int = field(default=0, repr=False)  # offsets located by counting newlines (see positions)
 
     @property
     def name(self) -> str:
@@ -60,11 +61,7 @@ class SourceFile:
 
     def position(self, offset: int) -> tuple[int, int]:
         """1-based (line, column) of a byte offset; the column counts characters, not bytes."""
-        starts = self.line_starts()
-        line = int(np.searchsorted(starts, offset, side="right"))
-        line_start = int(starts[line - 1])
-        column = len(self.data[line_start:offset].decode(self.encoding, "replace")) + 1
-        return line, column
+        return self.positions([offset])[0]
 
     def positions(self, offsets: list[int]) -> list[tuple[int, int]]:
         """:meth:`position` of many offsets at once (one vectorized search; a few offsets: newlines
@@ -72,7 +69,8 @@ class SourceFile:
         if not offsets:
             return []
         data, encoding = self.data, self.encoding
-        if self._line_starts is None and len(offsets) <= 1000:
+        self._counted += len(offsets)
+        if self._line_starts is None and self._counted <= 1000:  # after that many: the table is cheaper
             separator = b"\r" if self.newline == "\r" else b"\n"
             lines, line_starts, line, previous = {}, {}, 1, 0
             for offset in sorted(set(offsets)):
