@@ -39,7 +39,7 @@ from a2l_generate import generate  # noqa: E402
 HERE = Path(__file__).resolve().parent
 CHECKOUT = HERE.parent
 A2LTOOL = shutil.which("a2ltool") or str(Path(sys.executable).with_name("a2ltool"))
-_LAUNCH = "import sys; from workbench.cli import main; sys.exit(main(sys.argv[1:]))"
+_LAUNCH = "from workbench.cli import entry_point; entry_point()"  # what the console script runs
 
 
 @dataclass
