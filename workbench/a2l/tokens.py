@@ -105,13 +105,12 @@ class Tokens:
         exact = (lengths <= 24) & (starts <= len(self.data) - 24)
         keys = np.zeros((4, len(indices)), dtype=np.uint64)
         keys[0] = lengths
-        every = bool(exact.all())
-        if len(indices) and (every or exact.any()):
+        rows = np.flatnonzero(exact)
+        if len(rows):
             words = np.ndarray((len(self.data) - 7,), "<u8", self.data, 0, (1,))
-            rows = slice(None) if every else np.flatnonzero(exact)
-            starts, lengths = starts[rows], lengths[rows]
-            for part in range(3):
-                keys[1 + part, rows] = words[starts + 8 * part] & _MASKS[np.clip(lengths - 8 * part, 0, 8)]
+            for part in range(3):  # the words after a token's end are 0: most keywords need two
+                rows = rows[lengths[rows] > 8 * part]
+                keys[1 + part, rows] = words[starts[rows] + 8 * part] & _MASKS[np.minimum(lengths[rows] - 8 * part, 8)]
         return keys, exact
 
     def matching(self, word: bytes, candidates: np.ndarray | None = None) -> np.ndarray:
@@ -258,12 +257,10 @@ def _simple_opaque_spans(data: bytes, buffer: np.ndarray) -> np.ndarray | None:
     if not comments:
         return strings.astype(np.int64)
     comments = np.asarray(comments, dtype=np.int64)
-    holder = np.searchsorted(comments[:, 0], quotes, side="right") - 1
-    held = holder >= 0
-    if (quotes[held] < comments[holder[held], 1]).any():  # a quote inside a comment
-        return None
-    spans = np.concatenate((strings, comments)).astype(np.int64)
-    return spans[np.argsort(spans[:, 0], kind="stable")]
+    if (np.searchsorted(quotes, comments[:, 1]) > np.searchsorted(quotes, comments[:, 0])).any():
+        return None  # a quote inside a comment
+    # both are in order and disjoint: the comments go between the strings
+    return np.insert(strings.astype(np.int64), np.searchsorted(strings[:, 0], comments[:, 0]), comments, axis=0)
 
 
 def _check_terminated(data: bytes, buffer: np.ndarray, starts: np.ndarray, ends: np.ndarray,
