@@ -213,3 +213,24 @@ def test_update_against_the_elf_of_its_source(capsys, corpus, elves, tmp_path, n
                    for c in d["changes"] if "CANAPE_EXT" not in c["field"]]
         removed = {d["name"] for d in json.loads(stdout)["differences"] if d["status"] == "removed"}
         assert changes == [] and removed == missing  # a2ltool drops the objects it cannot find
+
+
+@pytest.mark.skipif(A2LTOOL is None, reason="a2ltool is not installed (pip install -e .[dev])")
+@pytest.mark.parametrize("name", sorted(UPDATES))
+def test_types_agree_with_a2ltools_full_update(capsys, corpus, elves, tmp_path, name):
+    """`update --types --remove-missing` sets what a2ltool's FULL update sets, block by block (`a2l diff`):
+    a CURVE/MAP/AXIS_PTS whose C variable is a struct takes the member at its RECORD_LAYOUT's positions
+    (FNC_VALUES: data type, limits; AXIS_PTS_X ...: point counts, FIX_NO_AXIS_PTS), a COM_AXIS the count of
+    the AXIS_PTS it names, an enum a COMPU_METHOD TAB_VERB with its COMPU_VTAB, a pointer INSTANCE its
+    ADDRESS_TYPE, CANape's LINK_MAP the element type."""
+    source, _ = UPDATES[name]
+    ours, theirs = tmp_path / "ours.a2l", tmp_path / "theirs.a2l"
+    code, _, _ = run(capsys, "a2l", "update", corpus / name, elves[source], "-o", ours, "--types", "--remove-missing",
+                     "--no-cache")
+    assert code == 0
+    subprocess.run([A2LTOOL, corpus / name, "--elffile", elves[source], "--update", "FULL", "--output", theirs],
+                   check=True, capture_output=True, timeout=120)
+    code, stdout, _ = run(capsys, "a2l", "diff", ours, theirs, "--json")
+    assert (code, json.loads(stdout)["differences"]) == (0, [])
+    blocks = load_a2l(theirs).blocks
+    assert len(blocks) > 30  # what was compared: every named block of the file

@@ -135,3 +135,82 @@ def test_the_demo_map_keeps_its_axes(tmp_path):
     out = tmp_path / "types.a2l"
     update_file(demo.a2l(), demo.elf(), out, types=True)
     assert out.read_bytes() == demo.a2l().read_bytes()
+
+
+STRUCTS = """ASAP2_VERSION 1 71
+/begin PROJECT P ""
+  /begin MODULE M ""
+    /begin COMPU_METHOD CM "" IDENTICAL "%8.3" "" /end COMPU_METHOD
+    /begin RECORD_LAYOUT RL_MAP AXIS_PTS_X 1 UWORD INDEX_INCR DIRECT AXIS_PTS_Y 2 UWORD INDEX_INCR DIRECT
+      FNC_VALUES 3 UBYTE ROW_DIR DIRECT FIX_NO_AXIS_PTS_X 5 FIX_NO_AXIS_PTS_Y 5 /end RECORD_LAYOUT
+    /begin RECORD_LAYOUT RL_SHARED AXIS_PTS_X 1 UWORD INDEX_INCR DIRECT AXIS_PTS_Y 2 UWORD INDEX_INCR DIRECT
+      FNC_VALUES 3 UBYTE ROW_DIR DIRECT /end RECORD_LAYOUT
+    /begin CHARACTERISTIC engineMap "tMap {float xAxis[8]; float yAxis[4]; int16_t values[4][8]}" MAP 0x0 RL_MAP 0 CM -40000 40000
+      /begin AXIS_DESCR STD_AXIS NO_INPUT_QUANTITY CM 5 0 100 /end AXIS_DESCR
+      /begin AXIS_DESCR STD_AXIS NO_INPUT_QUANTITY CM 5 0 100 /end AXIS_DESCR
+    /end CHARACTERISTIC
+    /begin CHARACTERISTIC sharedMap "the same struct, a layout shared" MAP 0x0 RL_SHARED 0 CM 0 1
+      /begin AXIS_DESCR STD_AXIS NO_INPUT_QUANTITY CM 5 0 100 /end AXIS_DESCR
+      /begin AXIS_DESCR STD_AXIS NO_INPUT_QUANTITY CM 5 0 100 /end AXIS_DESCR
+      SYMBOL_LINK "engineMap" 0
+    /end CHARACTERISTIC
+    /begin CHARACTERISTIC otherMap "" MAP 0x0 RL_SHARED 0 CM 0 1
+      /begin AXIS_DESCR STD_AXIS NO_INPUT_QUANTITY CM 8 0 100 /end AXIS_DESCR
+      /begin AXIS_DESCR STD_AXIS NO_INPUT_QUANTITY CM 4 0 100 /end AXIS_DESCR
+      SYMBOL_LINK "engineMap" 0
+    /end CHARACTERISTIC
+  /end MODULE
+/end PROJECT
+"""
+
+
+def test_a_struct_of_axes_and_values_is_read_member_by_member(tmp_path, capsys):
+    """The RECORD_LAYOUT's positions name the struct's members (a2ltool's reading): the axes' point counts
+    and the layout's types and FIX_NO_AXIS_PTS counts follow them; a layout other objects share is reported."""
+    source, out = tmp_path / "in.a2l", tmp_path / "out.a2l"
+    source.write_text(STRUCTS)
+    assert main(["a2l", "update", str(source), str(ELF), "-o", str(out), "--types", "--no-cache", "--json"]) == 0
+    findings = {(f["name"], f["kind"]): f["message"] for f in json.loads(capsys.readouterr().out)["findings"]}
+    doc = load_a2l(out)
+    engine, shared, _ = doc.objects("CHARACTERISTIC")
+    assert [doc.int_value(axis.args[3]) for axis in engine.children_named("AXIS_DESCR")] == [8, 4]
+    assert _texts(doc, engine.args[7:]) == ["-32768", "32767"]  # int16_t values
+    layouts = {block.name: doc.model().record_layout(block.name) for block in doc.blocks_named("RECORD_LAYOUT")}
+    assert [(e.keyword, e.axis, e.datatype, e.count) for e in layouts["RL_MAP"].entries] == [
+        ("AXIS_PTS", "X", "FLOAT32_IEEE", None), ("AXIS_PTS", "Y", "FLOAT32_IEEE", None),
+        ("FNC_VALUES", None, "SWORD", None), ("FIX_NO_AXIS_PTS", "X", None, 8), ("FIX_NO_AXIS_PTS", "Y", None, 4)]
+    assert "no other object uses the layout" in findings[("engineMap", "datatype-updated")]
+    assert [doc.int_value(axis.args[3]) for axis in shared.children_named("AXIS_DESCR")] == [8, 4]
+    assert layouts["RL_SHARED"].entries[2].datatype == "UBYTE"  # shared by two objects: not edited
+    assert "2 objects share the layout" in findings[("sharedMap", "datatype-mismatch")]
+
+
+def test_an_enum_becomes_one_verbal_conversion_for_every_object_of_it(tmp_path, capsys):
+    """tState is an anonymous enum behind a typedef (OFF 0, ON 1, BROKEN 200): the objects without a conversion
+    get COMPU_METHOD tState (TAB_VERB), added once with its COMPU_VTAB; one with a conversion keeps it."""
+    elf = Path(__file__).parents[1] / "elf" / "fixtures" / "types_dwarf5.elf"
+    source, out = tmp_path / "in.a2l", tmp_path / "out.a2l"
+    source.write_text("""ASAP2_VERSION 1 71
+/begin PROJECT P ""
+  /begin MODULE M ""
+    /begin COMPU_METHOD CM "" IDENTICAL "%8.3" "" /end COMPU_METHOD
+    /begin MEASUREMENT state "enum" UBYTE NO_COMPU_METHOD 1 0 0 255 ECU_ADDRESS 0x0 /end MEASUREMENT
+    /begin MEASUREMENT stateAgain "the same enum" UBYTE NO_COMPU_METHOD 1 0 0 255 ECU_ADDRESS 0x0
+      SYMBOL_LINK "state" 0
+    /end MEASUREMENT
+    /begin MEASUREMENT stateIdentical "the same enum, a conversion of its own" UBYTE CM 1 0 0 255 ECU_ADDRESS 0x0
+      SYMBOL_LINK "state" 0
+    /end MEASUREMENT
+  /end MODULE
+/end PROJECT
+""")
+    assert main(["a2l", "update", str(source), str(elf), "-o", str(out), "--types", "--no-cache", "--json"]) == 0
+    findings = [(f["name"], f["kind"]) for f in json.loads(capsys.readouterr().out)["findings"]]
+    assert findings.count(("state", "conversion-added")) == 1 and ("stateAgain", "conversion-added") not in findings
+    model = load_a2l(out).model()  # validated: the added blocks are well-formed
+    assert [model.measurement(name).conversion for name in ("state", "stateAgain", "stateIdentical")] == [
+        "tState", "tState", "CM"]
+    assert model.names("COMPU_METHOD") == ["CM", "tState"] and model.names("COMPU_VTAB") == ["tState"]
+    assert model.compu_method("tState").conversion_type == "TAB_VERB"
+    assert model.compu_table("tState").pairs == ((0, "OFF"), (1, "ON"), (200, "BROKEN"))
+    assert model.conversion(model.measurement("state")).to_physical(200) == "BROKEN"

@@ -1,7 +1,7 @@
 """Token values: the vectorized integer reader agrees with the one-at-a-time parser."""
 
 import numpy as np
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from workbench.a2l.values import format_int_like, hex_digits_like, int_or_none, int_values
@@ -31,6 +31,7 @@ def test_format_keeps_the_spelling():
         b"0x004031A0", b"0X4031A0", b"0x4031a0", b"4207008", b"0x4031A0"]
 
 
+@settings(deadline=None)  # no time limit per example: the machine may be loaded
 @given(st.lists(st.tuples(number, st.integers(0, 2**63 - 1)), min_size=1, max_size=30))
 def test_hex_digits_for_many_tokens_are_what_format_int_like_writes(pairs):
     """The vectorized rewrite of an update's hex addresses: the same bytes as one token at a time,

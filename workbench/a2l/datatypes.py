@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from workbench.elf.ctypes_model import CType
+    from workbench.elf.ctypes_model import CMember, CType
 
 # data type -> (size in bytes, encoding)
 DATATYPES: dict[str, tuple[int, str]] = {
@@ -18,8 +18,7 @@ _BY_SIZE_AND_ENCODING = {value: key for key, value in DATATYPES.items()}
 
 def datatype_for(ctype: "CType") -> str | None:
     """The ASAP2 data type of a scalar C type (arrays: of their element), None for structs and the like."""
-    while ctype.kind == "array" and ctype.element is not None:
-        ctype = ctype.element
+    ctype = element_type(ctype)
     if ctype.kind not in ("base", "enum", "pointer"):
         return None
     encoding = {"bool": "unsigned", "address": "unsigned"}.get(ctype.encoding or "unsigned", ctype.encoding)
@@ -43,3 +42,20 @@ def array_dims(ctype: "CType") -> tuple[int, ...]:
         dims += ctype.dims
         ctype = ctype.element
     return dims
+
+
+def element_type(ctype: "CType") -> "CType":
+    """The element of a (possibly nested) C array; the type itself for a scalar."""
+    while ctype.kind == "array" and ctype.element is not None:
+        ctype = ctype.element
+    return ctype
+
+
+def member_at(ctype: "CType", position: int) -> "CMember | None":
+    """What a RECORD_LAYOUT item at ``position`` holds of a variable of this C type, as a2ltool reads it:
+    a struct's member number ``position`` (counted from 1), else the variable itself at position 1 (or 0)."""
+    from workbench.elf.ctypes_model import CMember  # here: this module is read without the ELF reader
+
+    if ctype.kind == "struct":
+        return ctype.members[position - 1] if 1 <= position <= len(ctype.members) else None
+    return CMember("", 0, ctype) if position in (0, 1) else None

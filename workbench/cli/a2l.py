@@ -62,7 +62,9 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
                          help="drop objects whose symbol is not in the ELF (and their name-list references)")
     missing.add_argument("--strict", action="store_true", help="any symbol missing is an error; nothing is written")
     update.add_argument("--types", action="store_true",
-                        help="also check and update data types, array sizes, bit masks and limits from DWARF")
+                        help="also check and update data types, array sizes, bit masks and limits from DWARF (a struct "
+                             "member by member at its RECORD_LAYOUT's positions; an enum becomes a COMPU_METHOD "
+                             "TAB_VERB with its COMPU_VTAB)")
     update.add_argument("--no-epk", action="store_true", help="leave MOD_PAR EPK and ADDR_EPK alone")
     includes = update.add_mutually_exclusive_group()
     includes.add_argument("--update-includes", action="store_true",

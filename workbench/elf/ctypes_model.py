@@ -47,6 +47,7 @@ class CType:
     typedef: str | None = field(default=None, compare=False)  # e.g. real32_T
     bases: tuple[CMember, ...] = ()  # C++ base classes, in declaration order
     declared_only: bool = False  # a struct the DWARF only declares (no unit defines it)
+    enumerators: tuple[tuple[str, int], ...] = ()  # enums: (name, value) in declaration order
 
     def member(self, name: str) -> CMember | None:
         """The member declared in this type itself with this name."""
@@ -146,7 +147,8 @@ class TypeResolver:
         if tag == dwarf.TAG_ENUM:
             underlying = attrs.get(dwarf.AT_TYPE)
             encoding = self.resolve(underlying).encoding if underlying is not None else "unsigned"
-            return CType("enum", size, name, encoding or "unsigned")
+            encoding = encoding or "unsigned"
+            return CType("enum", size, name, encoding, enumerators=self._enumerators(die, size, encoding == "signed"))
         if tag in (dwarf.TAG_POINTER, dwarf.TAG_REFERENCE):
             return CType("pointer", size or die.unit.address_size, name, "address")
         if tag == dwarf.TAG_SUBROUTINE_TYPE:
@@ -175,6 +177,18 @@ class TypeResolver:
                 bases.append(self._base(child))
         kind = "union" if die.tag == dwarf.TAG_UNION else "struct"
         return CType(kind, size, name, members=tuple(members), bases=tuple(bases))
+
+    def _enumerators(self, die: dwarf.Die, size: int, signed: bool) -> tuple[tuple[str, int], ...]:
+        """(name, value) of an enum's enumerators; of a signed enum, a value stored as unsigned data of
+        the enum's size with its high bit set is the negative one."""
+        found = []
+        for child in self.reader.children(die):
+            name, value = child.attrs.get(dwarf.AT_NAME), child.attrs.get(dwarf.AT_CONST_VALUE)
+            if child.tag == dwarf.TAG_ENUMERATOR and isinstance(name, str) and isinstance(value, int):
+                if signed and size and 1 << (8 * size - 1) <= value < 1 << (8 * size):
+                    value -= 1 << (8 * size)
+                found.append((name, value))
+        return tuple(found)
 
     def _base(self, die: dwarf.Die) -> CMember:
         base = self.resolve(die.attrs.get(dwarf.AT_TYPE))

@@ -276,7 +276,9 @@ def _update_link_maps(objects: AddressedObjects, targets: np.ndarray, edits: Edi
 
 def _check_types(objects: AddressedObjects, symbols: list, edits: Edits, report: UpdateReport) -> None:
     checker = TypeChecker(objects.doc)
-    for row, symbol in enumerate(symbols):
+    axes_first = np.argsort(objects.keyword_numbers != KEYWORDS.index("AXIS_PTS"), kind="stable")
+    for row in axes_first.tolist():  # the point counts of AXIS_PTS, then the COM_AXIS that name them
+        symbol = symbols[row]
         if symbol is not None and not objects.symbol_offsets[row]:  # with an offset the link's type is not the object's
             type_edits, type_findings = checker.check(objects.target(row), symbol)
             edits.extend(type_edits)
