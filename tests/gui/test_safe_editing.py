@@ -6,6 +6,8 @@ a second or two)."""
 
 from __future__ import annotations
 
+import uuid
+
 import numpy as np
 import pytest
 from gui_helpers import WAIT_MS, demo_ecu_on_a_channel_of_its_own, shared_window
@@ -48,11 +50,24 @@ def writes(window, monkeypatch):
 def keys(text: str) -> None:
     """Type ``text`` as a keyboard does: every key to the widget that has the focus."""
     for char in text:
-        QTest.keyClick(QApplication.focusWidget(), char)
+        press(char)
 
 
 def press(key) -> None:
-    QTest.keyClick(QApplication.focusWidget(), key)
+    focused = QApplication.focusWidget()
+    assert focused is not None, "no widget has the keyboard focus"  # (Qt would abort on a key sent to none)
+    QTest.keyClick(focused, key)
+
+
+def focus(widget) -> None:
+    """The keyboard's focus on ``widget``, its window made the active one first (another test's window may be)."""
+    window = widget.window()
+    window.activateWindow()
+    for _ in range(WAIT_MS // 10):
+        if window.isActiveWindow():
+            break
+        QTest.qWait(10)
+    widget.setFocus()
 
 
 def editor_on(window, qtbot, name: str):
@@ -63,13 +78,13 @@ def editor_on(window, qtbot, name: str):
 
 def scalar_typed(editor, text: str) -> None:
     field = editor.field.input
-    field.setFocus()
+    focus(field)
     field.selectAll()
     keys(text)
 
 
 def cell_typed(view, row: int, column: int, text: str) -> None:
-    view.setFocus()
+    focus(view)
     view.setCurrentIndex(view.model().index(row, column))
     keys(text)  # the first key opens the cell's field, the others go into it
 
@@ -164,7 +179,7 @@ def test_enter_writes_what_was_typed_and_verbal_values_take_their_text(window, q
     qtbot.waitUntil(lambda: session.read("cfFUELLEVELLOW_VALUE") == "Low", timeout=WAIT_MS)
     qtbot.waitUntil(lambda: verbal.field.input.text() == "Low", timeout=WAIT_MS)
     field = verbal.field.input
-    field.setFocus()
+    focus(field)
     field.open_choices()  # the drop-down
     assert [a.text() for a in field.choices.actions()] == ["Normal", "Low"]
     field.choices.actions()[0].trigger()
@@ -220,38 +235,39 @@ def test_a_map_has_a_3d_view_that_renders_offscreen(window, qtbot):
     assert len(colours) > 8  # shaded quads, not an empty background
 
 
-def test_extended_limits_are_written_only_when_the_user_chose_them(qtbot, tmp_path, ecu):
+def test_extended_limits_are_written_only_when_the_user_chose_them(qtbot, tmp_path):
     from workbench import demo
     from workbench.a2l import load_a2l
     from workbench.gui.a2l_info import calibration_info
     from workbench.gui.ecu import EcuController
     from workbench.gui.project import Connection
     from workbench.gui.widgets.calibration_editor import CalibrationEditor
+    from workbench.sim import serve_demo
 
+    channel = f"gui-extended-{uuid.uuid4().hex[:10]}"
     text = demo.a2l().read_text(encoding="utf-8")
     block = "/* Conversion Method      */ CM_bar\n      /* Lower Limit            */ 0\n      /* Upper Limit            */ 800\n"
     at = text.index(block, text.index("/* Name                   */ xsSWITCH_TANK_THR"))
     text = text[:at + len(block)] + "      EXTENDED_LIMITS 0 1000\n" + text[at + len(block):]
     (tmp_path / "extended.a2l").write_text(text, encoding="utf-8")
     doc = load_a2l(tmp_path / "extended.a2l")
-    controller = EcuController()
-    with qtbot.waitSignal(controller.connected, timeout=WAIT_MS):
-        controller.open(doc, Connection(interface="virtual", channel=ecu[0]))
-    editor = CalibrationEditor(controller, calibration_info(doc.model(), "xsSWITCH_TANK_THR"))
-    qtbot.addWidget(editor)
-    editor.show()
-    editor.activateWindow()
-    editor.reload()
-    qtbot.waitUntil(lambda: editor.value is not None, timeout=WAIT_MS)
-    assert editor.field.extended.text() == "extended 0 … 1000 bar" and not editor.field.extended.isChecked()
-    scalar_typed(editor, "900")
-    with qtbot.waitSignal(editor.refused, timeout=WAIT_MS) as refused:
+    with serve_demo({"interface": "virtual", "channel": channel}, pcm_target_bar=25.0):  # an ECU of its own
+        controller = EcuController()
+        with qtbot.waitSignal(controller.connected, timeout=WAIT_MS):
+            controller.open(doc, Connection(interface="virtual", channel=channel))
+        editor = CalibrationEditor(controller, calibration_info(doc.model(), "xsSWITCH_TANK_THR"))
+        qtbot.addWidget(editor)
+        editor.show()
+        editor.reload()
+        qtbot.waitUntil(lambda: editor.value is not None, timeout=WAIT_MS)
+        assert editor.field.extended.text() == "extended 0 … 1000 bar" and not editor.field.extended.isChecked()
+        scalar_typed(editor, "900")
+        with qtbot.waitSignal(editor.refused, timeout=WAIT_MS) as refused:
+            press(Qt.Key_Return)
+        assert refused.args[0].endswith("900 is above the upper limit 800 bar")
+        editor.field.extended.setChecked(True)  # the explicit choice
+        scalar_typed(editor, "900")
         press(Qt.Key_Return)
-    assert refused.args[0].endswith("900 is above the upper limit 800 bar")
-    editor.field.extended.setChecked(True)  # the explicit choice
-    scalar_typed(editor, "900")
-    press(Qt.Key_Return)
-    session = controller.session
-    qtbot.waitUntil(lambda: session.read("xsSWITCH_TANK_THR") == pytest.approx(900.0), timeout=WAIT_MS)
-    session.write("xsSWITCH_TANK_THR", 20.0)
-    controller.close()
+        session = controller.session
+        qtbot.waitUntil(lambda: session.read("xsSWITCH_TANK_THR") == pytest.approx(900.0), timeout=WAIT_MS)
+        controller.close()

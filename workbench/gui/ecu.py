@@ -107,14 +107,16 @@ class EcuController(QObject):
     def call(self, method: str, *args, on_done: Callable[[Any], None] | None = None,
              on_error: Callable[[BaseException], None] | None = None, **kwargs) -> Task | None:
         """Run ``session.<method>(*args, **kwargs)`` in the pool; errors go to ``on_error`` or ``failed``
-        (a lost connection to :meth:`connection_lost` instead)."""
+        (a lost connection to :meth:`connection_lost` instead; none when the session was closed meanwhile)."""
         session = self.session
         if session is None:
             return None
         failed = on_error or self.failed.emit
 
         def error(exc: BaseException) -> None:
-            if isinstance(exc, ConnectionLostError):
+            if self.session is not session:  # closed (or lost) under the call: its failure is no news
+                log.debug("%s on a session closed meanwhile: %s", method, exc)
+            elif isinstance(exc, ConnectionLostError):
                 self.connection_lost(exc)
             else:
                 failed(exc)

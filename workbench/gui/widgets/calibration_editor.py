@@ -65,7 +65,7 @@ class CalibrationEditor(QWidget):
         self._build()
         controller.written.connect(self._written_elsewhere)
         controller.page_changed.connect(lambda _: self.reload())
-        controller.connected.connect(lambda _: self.reload())
+        controller.connected.connect(self._connected)
 
     def _build(self) -> None:
         info = self.info
@@ -137,6 +137,10 @@ class CalibrationEditor(QWidget):
         self.controller.call("read_value", self.info.name, on_done=self._show, on_error=self._failed)
         self.controller.call("read", self.info.name, page="reference", on_done=self._show_reference,
                              on_error=lambda _: self._show_reference(None))
+
+    def _connected(self, _) -> None:
+        self._say("")  # what was under way on the session before is over with it
+        self.reload()
 
     def _written_elsewhere(self, name: str) -> None:
         if name == self.info.name:

@@ -70,9 +70,14 @@ class FixPanel(QWidget):
         self.timer = QTimer(self)
         self.timer.setInterval(REFRESH_MS)
         self.timer.timeout.connect(self.refresh)
-        controller.connected.connect(lambda _: (self.refresh(), self.timer.start()))
+        controller.connected.connect(self._connected)
         controller.disconnected.connect(self.timer.stop)
         controller.written.connect(lambda _: (self.message.setText(""), self.refresh()))
+
+    def _connected(self, _) -> None:
+        self._busy = False  # a request on the session before (closed under it) is not waited for
+        self.refresh()
+        self.timer.start()
 
     def _states(self, index) -> tuple[str, ...]:
         """The verbal values of a row's ``_VALUE`` (its drop-down), none for a number."""
