@@ -12,6 +12,7 @@ import pytest
 from crafted import timing
 
 from workbench.can.dbc_file import load_dbc
+from workbench.can.dbc_repair_attributes import FRAME_FORMATS
 from workbench.can.model import messages_of
 from workbench.cli import main
 from workbench.errors import InputError
@@ -239,6 +240,58 @@ def test_frame_format_as_int_without_default_and_as_string(write_dbc):
     dbc = load_dbc(path)
     assert [w[0] for w in _warnings(dbc)] == ["attribute-type"]
     assert [m.is_fd for m in dbc.database.messages] == [False, True]
+
+
+def test_a_numeric_attributes_default_that_is_no_number_is_ignored(write_dbc, capsys):
+    # cantools refused the whole file: "[<class 'decimal.ConversionSyntax'>]", without a place
+    path = _message_m_with(
+        write_dbc, 'BA_DEF_ BO_ "Level" INT 0 9;\nBA_DEF_DEF_ "Level" "high";\nBA_DEF_ SG_ "Gain" FLOAT 0 1;\n'
+                   'BA_DEF_DEF_ "Gain" "";\nBA_DEF_ BO_ "Mask" HEX 0 255;\nBA_DEF_DEF_  "Mask" many;\n'
+                   'BA_DEF_REL_ BU_SG_REL_ "Wire" INT 0 9;\nBA_DEF_DEF_REL_ "Wire" "x";\n'
+                   'BA_DEF_ BO_ "Quoted" INT 0 99;\nBA_DEF_DEF_ "Quoted" "10";\nBA_ "Level" BO_ 16 4;\n')
+    dbc = load_dbc(path)
+    line = _line(path, 'BA_DEF_DEF_ "Level"')
+    assert [(w.kind, w.line, w.column, w.message) for w in dbc.warnings] == [
+        ("attribute-value", line, 21, 'attribute Level is INT but its default "high" is no number: ignored (no '
+                                      "default)"),
+        ("attribute-value", line + 2, 20, 'attribute Gain is FLOAT but its default "" is no number: ignored (no '
+                                          "default)"),
+        ("attribute-value", line + 4, 21, "attribute Mask is HEX but its default many is no number: ignored (no "
+                                          "default)"),
+        ("attribute-value", line + 6, 24, 'attribute Wire is INT but its default "x" is no number: ignored (no '
+                                          "default)"),
+    ]
+    definitions = dbc.database.dbc.attribute_definitions
+    assert [definitions[name].default_value for name in ("Level", "Gain", "Mask", "Quoted")] == [None, None, None, 10]
+    assert dbc.database.dbc.relation_attribute_definitions["Wire"].default_value is None
+    assert _message(dbc, "M").dbc.attributes["Level"].value == 4
+    assert main(["dbc", "table", str(path)]) == 0
+    assert f"{path}:{line}:21: warning: attribute Level is INT but its default" in capsys.readouterr().err
+
+
+def test_frame_format_used_without_definition_is_candbs_enum(write_dbc, capsys):
+    # the repair's INT definition without a default made cantools refuse the file
+    path = write_dbc(f"BO_ 16 M: 1 ECU\n{PLAIN}\nBO_ 2147483665 X: 1 ECU\n{PLAIN}\nBO_ 18 F: 1 ECU\n{PLAIN}",
+                     'BA_ "VFrameFormat" BO_ 2147483665 1;\nBA_ "VFrameFormat" BO_ 18 StandardCAN_FD;\n'
+                     'BA_ "VFrameFormat" BO_ 16 20;\n')
+    path.write_text(path.read_text().replace('BA_DEF_ BO_ "VFrameFormat" ENUM "StandardCAN","ExtendedCAN";\n', "")
+                    .replace('BA_DEF_DEF_ "VFrameFormat" "StandardCAN";\n', ""))
+    dbc = load_dbc(path)
+    line = _line(path, 'BA_ "VFrameFormat"')
+    assert _warnings(dbc) == [
+        ("attribute-definition", line, "attribute VFrameFormat has no BA_DEF_: read as the ENUM of CANdb++'s frame "
+                                       "formats (StandardCAN, ExtendedCAN, J1939PG, ...) with the default "
+                                       "StandardCAN, as CANdb++ defines it, its values by index or name"),
+        ("attribute-value", line + 2, "attribute VFrameFormat: value 20 is none of its 16 choices (0..15): ignored"),
+    ]
+    definition = dbc.database.dbc.attribute_definitions["VFrameFormat"]
+    assert (definition.type_name, tuple(definition.choices), definition.default_value) == (
+        "ENUM", FRAME_FORMATS, "StandardCAN")
+    assert dbc.content.frame_formats == {"X": "ExtendedCAN", "F": "StandardCAN_FD"}
+    assert [(m.name, m.is_extended_frame, m.is_fd) for m in dbc.database.messages] == [
+        ("M", False, False), ("X", True, False), ("F", False, True)]
+    assert main(["dbc", "table", str(path)]) == 0
+    assert f"{path}:{line}: warning: attribute VFrameFormat has no BA_DEF_" in capsys.readouterr().err
 
 
 def test_signal_syntax_cantools_refuses(write_dbc):

@@ -17,10 +17,10 @@ Each problem is repaired where it stands and reported once, as a warning located
 * a ``VAL_`` value without its text gets an empty one (``value-description``);
 * a statement without its closing ``;`` is closed (``missing-semicolon``);
 * a ``BA_`` of an attribute that no ``BA_DEF_`` defines is read with a definition made from its
-  values (``attribute-definition``); an attribute type DBC does not have (canmatrix's ``BOOL``)
-  is read as ``STRING`` (``attribute-type``); an ``ENUM`` value out of its range, or one of
-  the wrong type, is ignored, an ``ENUM`` value given by name is read as its index
-  (``attribute-value``);
+  values, ``VFrameFormat`` with CANdb++'s (``attribute-definition``); an attribute type DBC does
+  not have (canmatrix's ``BOOL``) is read as ``STRING`` (``attribute-type``); an ``ENUM`` value
+  out of its range, or one of the wrong type, and a default of a numeric attribute that is no
+  number are ignored, an ``ENUM`` value given by name is read as its index (``attribute-value``);
 * signal receivers separated by spaces instead of commas (``receivers``), a signal of 0 bits
   (``signal-length``) or outside any message (``orphan-signal``), the obsolete bit timing in
   ``BS_:`` (``bit-timing``) and statements cantools cannot read (``SGTYPE_``, ``CAT_DEF_``,
@@ -126,9 +126,12 @@ class _Repairer:
 
     # -- bookkeeping -------------------------------------------------------------------------
 
-    def warn(self, kind: str, statement: Statement, name: str, message: str) -> None:
-        """A warning about ``name``, located at the statement's keyword."""
-        self.warnings.append(Finding(kind, name, message, self.path, statement.line, 0, statement.keyword,
+    def warn(self, kind: str, statement: Statement, name: str, message: str, at: Token | None = None) -> None:
+        """A warning about ``name``, located at the token ``at`` (line and column), else at the statement's keyword."""
+        line, column = statement.line, 0
+        if at is not None:
+            line, column = self.dbc.line_of(at.start), at.start - self.dbc.text.rfind("\n", 0, at.start)
+        self.warnings.append(Finding(kind, name, message, self.path, line, column, statement.keyword,
                                      Severity.WARNING))
 
     def _edit(self, start: int, end: int, replacement: str) -> None:
