@@ -1,22 +1,19 @@
 """Import an A2L into pya2ldb and keep what its C++ parser reported.
 
-pya2ldb's parser logs syntax errors from C++ straight to the process's stdout and
-carries on, so the only way to see them is to capture file descriptors 1 and 2
-around the import.
+pya2ldb's parser logs syntax errors from C++ straight to the process's stdout and carries on; the
+import runs once per distinct file in a child process whose output is kept (:mod:`pya2ldb_cache`),
+and this process opens the database it left.
 """
 
 from __future__ import annotations
 
-import contextlib
-import ctypes
-import os
 import re
 import sys
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from pya2l import import_a2l
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from pya2ldb_cache import import_once  # noqa: E402
 
 _COMMENT = re.compile(r"/\*.*?\*/|//[^\n]*", re.S)
 
@@ -36,29 +33,6 @@ class ImportedA2l:
 
 
 def import_file(path: Path) -> ImportedA2l:
-    with _fd_output() as output:
-        session = import_a2l(str(path), in_memory=True, encoding="utf-8", progress_bar=False, loglevel="ERROR")
-    return ImportedA2l(path, session, output)
-
-
-@contextlib.contextmanager
-def _fd_output():
-    lines: list[str] = []
-    with tempfile.TemporaryFile() as sink:
-        sys.stdout.flush()
-        sys.stderr.flush()
-        saved = [os.dup(1), os.dup(2)]
-        os.dup2(sink.fileno(), 1)
-        os.dup2(sink.fileno(), 2)
-        try:
-            yield lines
-        finally:
-            ctypes.CDLL(None).fflush(None)  # C stdio buffers of the parser's logger
-            sys.stdout.flush()
-            sys.stderr.flush()
-            os.dup2(saved[0], 1)
-            os.dup2(saved[1], 2)
-            for fd in saved:
-                os.close(fd)
-            sink.seek(0)
-            lines.extend(sink.read().decode("utf-8", "replace").splitlines())
+    imported = import_once(path)
+    assert imported.returncode == 0, f"pya2ldb failed on {path}:\n" + "\n".join(imported.output[-40:])
+    return ImportedA2l(path, imported.session(), list(imported.output))
