@@ -8,20 +8,23 @@ import itertools
 
 import can
 import pytest
-from session_helpers import FAST
 from hil_scenario import run_scenario
 
 from workbench import Session
 from workbench.sim import EthernetEndpoint, serve_demo
+from workbench.xcp.master import Timeouts
 
 _channels = itertools.count()
+# The scenario tests what the FLCU does, not how fast it answers: a loaded machine may take more than the
+# other tests' 300 ms for a response, and waiting longer costs nothing when the answer comes.
+PATIENT = Timeouts(t1=3.0, t2=6.0, t3=6.0, t4=10.0, t5=3.0, t6=3.0, t7=0.02)
 
 
 def test_over_xcp_on_can_in_process():
     channel = f"hil-{next(_channels)}"
     with serve_demo({"interface": "virtual", "channel": channel}):
         with can.Bus(interface="virtual", channel=channel) as can2:
-            with Session.open(interface="virtual", channel=channel, timeouts=FAST) as ecu:
+            with Session.open(interface="virtual", channel=channel, timeouts=PATIENT) as ecu:
                 run_scenario(ecu, can2)
 
 
@@ -46,5 +49,5 @@ def test_over_xcp_on_ethernet(protocol, free_udp_port, free_tcp_port):
     channel = f"hil-{next(_channels)}"
     with serve_demo({"interface": "virtual", "channel": channel}, ethernet=EthernetEndpoint("127.0.0.1", port, protocol)):
         with can.Bus(interface="virtual", channel=channel) as can2:
-            with Session.open(host="127.0.0.1", port=port, protocol=protocol.lower(), timeouts=FAST) as ecu:
+            with Session.open(host="127.0.0.1", port=port, protocol=protocol.lower(), timeouts=PATIENT) as ecu:
                 run_scenario(ecu, can2)
