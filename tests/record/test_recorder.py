@@ -4,6 +4,8 @@ decoded again by asammdf, the time axis shared, the session's close, overwriting
 
 from __future__ import annotations
 
+import time
+
 import can
 import numpy as np
 import pytest
@@ -128,8 +130,14 @@ def test_can2_alone_starts_the_axis_at_the_recording(session, tmp_path, read_mdf
 
 
 def test_the_can2_bus_may_be_opened_by_the_caller(demo_ecu, session, tmp_path, read_mdf):
+    """Recorded from the caller's bus (the only one there is), which stays open. The recording runs until 20
+    CAN2 frames were decoded (five messages at most, each every 100 ms: three of each at least), not for a fixed
+    time a loaded machine may spend starting DAQ; a recorder that does not read that bus decodes none."""
     with can.Bus(interface="virtual", channel=demo_ecu.channel) as bus:
-        record(session, tmp_path / "own.mf4", ["xsDC"], can2=demo.dbc_can2(), can_bus=bus, duration=0.6)
+        with Recorder(session, tmp_path / "own.mf4", ["xsDC"], can2=demo.dbc_can2(), can_bus=bus) as recorder:
+            deadline = time.monotonic() + 15.0
+            while recorder.stats.can_frames < 20 and time.monotonic() < deadline:
+                time.sleep(0.05)
         assert bus.state is not None  # still open: it is the caller's
     assert len(channel(read_mdf(tmp_path / "own.mf4"), "FLCU_TO_PCM_001", "FuelLevel")) > 2
 
