@@ -2,20 +2,16 @@
 must read the objects and conversions as we do.
 
 Each distinct file is imported once for the whole run (and kept between runs) by
-:mod:`pya2ldb_cache`, in a child process whose output is searched for the parser's error lines
-(pya2ldb's C++ parser logs problems to stdout and carries on); the questions are asked here, in
-this process, of the database it left.
+:mod:`pya2ldb_cache`, which keeps what pya2ldb's C++ parser printed (it logs problems to stdout and
+carries on) to be searched for error lines; the questions are asked of the database it left.
 """
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import numpy as np
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from pya2ldb_cache import import_once  # noqa: E402
+from pya2ldb_cache import import_once
 
 
 def _imported(path: Path, encoding: str = "utf-8", *, strict: bool = True):

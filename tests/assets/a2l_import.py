@@ -1,19 +1,17 @@
 """Import an A2L into pya2ldb and keep what its C++ parser reported.
 
 pya2ldb's parser logs syntax errors from C++ straight to the process's stdout and carries on; the
-import runs once per distinct file in a child process whose output is kept (:mod:`pya2ldb_cache`),
-and this process opens the database it left.
+import runs once per distinct file with that output kept (:mod:`pya2ldb_cache`), and this process
+opens the database it left.
 """
 
 from __future__ import annotations
 
 import re
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from pya2ldb_cache import import_once  # noqa: E402
+from pya2ldb_cache import import_once
 
 _COMMENT = re.compile(r"/\*.*?\*/|//[^\n]*", re.S)
 
