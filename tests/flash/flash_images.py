@@ -1,13 +1,16 @@
-"""Helpers of the flash tests: the bench (the demo ECU on a private ``virtual`` bus, simulated time standing
-still so only XCP runs, and a session on it with short timeouts) and images to flash."""
+"""Helpers of the flash tests: the bench (the demo ECU on a private ``virtual`` bus, or on a lockstep wire where
+timeouts cost no time, simulated time standing still so only XCP runs, and a session on it with short
+timeouts) and images to flash."""
 
 from __future__ import annotations
 
 import itertools
 import random
 import struct
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
 from dataclasses import dataclass
+
+from lockstep_bus import LockstepWire
 
 from workbench import demo
 from workbench.elf import ElfSymbols
@@ -30,7 +33,7 @@ class Bench:
     demo: DemoEcu
     simulator: Simulator
     session: Session
-    channel: str  # the private virtual bus
+    channel: str | None  # the private virtual bus (None on a lockstep wire)
 
     @property
     def ecu(self):
@@ -53,12 +56,20 @@ class Bench:
 
 
 @contextmanager
-def open_bench():
-    """A :class:`Bench`; the simulator and the session are closed on leaving."""
-    channel = f"flash-test-{next(_channels)}"
+def open_bench(*, lockstep: bool = False):
+    """A :class:`Bench`; the simulator and the session are closed on leaving. ``lockstep``: on a
+    :class:`LockstepWire` instead of a virtual bus (no ``workbench`` command reaches it)."""
     demo_ecu = build_demo_ecu()
-    with Simulator(demo_ecu.ecu, {"interface": "virtual", "channel": channel}, time_scale=None) as simulator, \
-            Session.open(demo.a2l(), interface="virtual", channel=channel, timeouts=FAST) as session:
+    with ExitStack() as stack:
+        if lockstep:
+            wire = stack.enter_context(LockstepWire())
+            channel, ecu_bus, master_bus = None, wire.ecu, {"bus": wire.master}
+        else:
+            channel = f"flash-test-{next(_channels)}"
+            ecu_bus = {"interface": "virtual", "channel": channel}
+            master_bus = ecu_bus
+        simulator = stack.enter_context(Simulator(demo_ecu.ecu, ecu_bus, time_scale=None))
+        session = stack.enter_context(Session.open(demo.a2l(), **master_bus, timeouts=FAST))
         yield Bench(demo_ecu, simulator, session, channel)
 
 
