@@ -26,7 +26,7 @@ def test_the_dialog_shows_both_epks_and_nothing_is_measured_before_the_user_chos
     dialog = window.epk_dialog
     assert dialog is not None and dialog.isVisible()
     texts = [label.text() for label in dialog.findChildren(QLabel)]
-    assert OLD_EPK in texts and "10300020250301" in texts
+    assert repr(OLD_EPK) in texts and "'10300020250301'" in texts  # as workbench.errors.epk_text shows an EPK
     assert window.hub.acquisition is None
     assert window.status.epk.text() == "EPK ✗ read-only"
 

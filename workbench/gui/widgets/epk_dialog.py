@@ -7,6 +7,7 @@ from enum import Enum
 
 from PySide6.QtWidgets import QDialog, QDialogButtonBox, QGridLayout, QLabel, QPushButton, QVBoxLayout
 
+from workbench.errors import epk_text
 from workbench.gui import theme
 
 __all__ = ["EpkChoice", "EpkDialog"]
@@ -34,7 +35,8 @@ class EpkDialog(QDialog):
         for row, (caption, left, right) in enumerate(rows, 1):
             grid.addWidget(QLabel(caption), row, 0)
             for column, text in ((1, left), (2, right)):
-                value = QLabel(text or "—")
+                shown = epk_text(text) if caption.startswith("EPK") and text else text  # erased: not "ÿÿÿ"
+                value = QLabel(shown or "—")
                 value.setFont(theme.mono_font(11))
                 if caption.startswith("EPK"):
                     value.setStyleSheet(f"color: {theme.BAD if left != right else theme.GOOD};")

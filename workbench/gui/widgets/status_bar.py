@@ -11,6 +11,7 @@ import time
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtWidgets import QLabel, QStatusBar
 
+from workbench.errors import epk_text
 from workbench.gui import theme
 from workbench.gui.widgets.elided_label import ElidedLabel
 
@@ -64,7 +65,7 @@ class EcuStatusBar(QStatusBar):
         self.ecu.setText(f"{ident}{'  (boot loader)' if info.boot else ''}")
         epk = session.epk
         if epk.matches is True:
-            self._set_badge(self.epk, "EPK ✓", theme.GOOD, f"{epk.ecu}\n{epk.describe()}")
+            self._set_badge(self.epk, "EPK ✓", theme.GOOD, f"{epk_text(epk.ecu)}\n{epk.describe()}")
         elif epk.matches is False:
             self._set_badge(self.epk, "EPK ✗ read-only" if session.read_only else "EPK ✗ writes allowed",
                             theme.BAD, epk.describe())
