@@ -27,12 +27,14 @@ import time
 import can
 import numpy as np
 
+from workbench.bus_defaults import BusSpec
 from workbench.sim.can_timing import frame_bits
 from workbench.sim.seedkey import compute_key
 from workbench.xcp.daq import DaqSignal, DaqStream, DtoAssembler, plan_daq
 from workbench.xcp.info import DaqProcessorInfo, DaqResolutionInfo
 from workbench.xcp.link import Link, LinkSettings
 from workbench.xcp.master import XcpMaster
+from workbench.xcp_protocol import CanId
 
 BITRATE = 1_000_000
 CAL_RAM = 0x40000010  # any mapped memory can be sampled; the .cal_ram image is a large readable block
@@ -113,7 +115,8 @@ def run_at_bus_limit(seconds: float, load: float = 0.9, *, between_processes: bo
         bus = {"interface": "virtual", "channel": f"daq-bench-{time.monotonic_ns()}"}
         served = serve_demo({**bus, "bitrate": BITRATE}, pcm_target_bar=25.0)
     try:
-        with Link(LinkSettings("CAN", bus, 0x7F0, 0x7F1, max_dlc_required=True)) as link:
+        with Link(LinkSettings("CAN", BusSpec.from_kwargs(bus), CanId(0x7F0), CanId(0x7F1),
+                               max_dlc_required=True)) as link:
             master = XcpMaster(link, key_function=compute_key)
             master.connect()
             processor, resolution = master.get_daq_processor_info(), master.get_daq_resolution_info()

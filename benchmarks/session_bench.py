@@ -258,7 +258,8 @@ def daq_on_ethernet(protocol: str, kib: int, seconds: float) -> str:
     received = (stats.dtos - first.dtos) / elapsed
     offered = odts / 0.004
     return (f"DAQ on XCP on {protocol.upper()} between processes, {kib} KiB every 4 ms ({odts} DTOs of up to "
-            f"{master.max_dto} bytes, {kib * 1024 / 0.004 / 2**20:.1f} MiB/s) for {elapsed:.0f} s: {received:,.0f} of the "
+            f"{master.max_dto} bytes, {kib * 1024 / 0.004 / 2**20:.1f} MiB/s) for {elapsed:.0f} s: {received:,.0f} "
+            f"of the "
             f"{offered:,.0f} DTOs/s offered ({received / offered:.1%}); {stats.samples - first.samples} samples, "
             f"{stats.lost - first.lost} lost, {stats.overloads - first.overloads} overloads, CTR gaps {gaps}")
 

@@ -34,7 +34,7 @@ class CommandLog:
         """The commands sent since the last take (or since the log was opened)."""
         self.frames = []
         while (message := self.bus.recv(0)) is not None:
-            if message.arbitration_id == self.master_id:
+            if self.master_id.matches(message):
                 self.frames.append(message)
         return [_name(message.data[0]) for message in self.frames]
 

@@ -1,4 +1,5 @@
-"""The CAN bus a workbench command or script uses when it is told none, shared by the master and the simulator.
+"""The CAN bus as one value (:class:`BusSpec`), and the bus a workbench command or script uses when it is told
+none, shared by the master and the simulator.
 
 Neutral ground (it imports nothing): the simulator serves where the master looks by default,
 so both take the defaults from here.
@@ -7,9 +8,10 @@ so both take the defaults from here.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
 from typing import Any
 
-__all__ = ["DEFAULT_CHANNELS", "DEFAULT_INTERFACE", "SOFTWARE_INTERFACES", "complete_bus_settings"]
+__all__ = ["DEFAULT_CHANNELS", "DEFAULT_INTERFACE", "SOFTWARE_INTERFACES", "BusSpec", "complete_bus_settings"]
 
 DEFAULT_INTERFACE = "udp_multicast"
 DEFAULT_CHANNELS = {"udp_multicast": "239.74.163.2", "virtual": "workbench"}
@@ -29,3 +31,66 @@ def complete_bus_settings(settings: Mapping[str, Any] | None = None) -> dict[str
     if interface == "udp_multicast":
         completed.setdefault("receive_own_messages", False)
     return completed
+
+
+@dataclass(frozen=True)
+class BusSpec:
+    """A CAN bus, kept whole from the command line (or a script) to the bus python-can opens.
+
+    ``interface`` and ``channel`` are python-can's; ``bitrate`` the bit rate the bus runs at (for a
+    software interface, virtual or udp_multicast, which has none of its own: the simulator's bus timing
+    model); ``options`` every other keyword of ``can.Bus`` (udp_multicast's ``port``, ``fd``,
+    ``data_bitrate``, Vector's ``app_name`` ...). ``BusSpec()`` is the default bus, udp_multicast on
+    239.74.163.2, where ``workbench sim`` serves.
+    """
+
+    interface: str = DEFAULT_INTERFACE
+    channel: str | int | None = None
+    bitrate: int | None = None
+    options: Mapping[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:  # the defaults of complete_bus_settings: a channel, udp_multicast's echo off
+        given = {"interface": self.interface, "channel": self.channel, **self.options}
+        completed = complete_bus_settings({key: value for key, value in given.items() if value is not None})
+        completed.pop("interface")
+        object.__setattr__(self, "channel", completed.pop("channel", None))
+        object.__setattr__(self, "options", completed)
+
+    @classmethod
+    def from_kwargs(cls, kwargs: Mapping[str, Any]) -> BusSpec:
+        """The bus ``can.Bus(**kwargs)`` opens (None values left out, the workbench's defaults filled in)."""
+        given = {key: value for key, value in kwargs.items() if value is not None}
+        return cls(given.pop("interface", DEFAULT_INTERFACE), given.pop("channel", None), given.pop("bitrate", None),
+                   given)
+
+    def kwargs(self) -> dict[str, Any]:
+        """python-can's ``Bus(**kwargs)`` keyword arguments."""
+        kwargs: dict[str, Any] = {"interface": self.interface, "channel": self.channel, **self.options}
+        if self.bitrate is not None:
+            kwargs["bitrate"] = self.bitrate
+        return {key: value for key, value in kwargs.items() if value is not None}
+
+    def with_bitrate(self, bitrate: int | None) -> BusSpec:
+        return replace(self, bitrate=bitrate)
+
+    def with_options(self, **options: Any) -> BusSpec:
+        """These options added (those already given are kept)."""
+        return replace(self, options={**options, **self.options})
+
+    def with_channel(self, channel: str | int) -> BusSpec:
+        """The same interface and options on another channel (a udp_multicast ``port`` stays)."""
+        return replace(self, channel=channel)
+
+    @property
+    def software(self) -> bool:
+        """A bus of python-can's own making (no bit timing of its own)."""
+        return self.interface in SOFTWARE_INTERFACES
+
+    @property
+    def fd(self) -> bool:
+        return bool(self.options.get("fd"))
+
+    def describe(self) -> str:
+        """``udp_multicast 239.74.163.2 port 43200``: interface, channel, and a udp_multicast port when given."""
+        port = self.options.get("port") if self.interface == "udp_multicast" else None
+        return " ".join(str(part) for part in (self.interface, self.channel, f"port {port}" if port else None) if part)

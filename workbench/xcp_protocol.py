@@ -1,5 +1,6 @@
 """ASAM XCP 1.x names shared by the simulated slave and the master: command, error and packet
-codes, resource bits, GET_ID types, time units, the CAN id flag.
+codes, resource bits, GET_ID types, time units, and the CAN identifier (:class:`CanId`, with the A2L's
+extended flag in one place).
 
 Neutral ground: it imports nothing, so :mod:`workbench.sim` and the master in
 :mod:`workbench.xcp` can both use it without depending on each other (DESIGN: sim never
@@ -8,10 +9,11 @@ depends on xcp).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from enum import IntEnum, IntFlag
 
-__all__ = ["CAN_ID_EXTENDED_FLAG", "MAX_DAQ_PID", "PID_ERR", "PID_EV", "PID_RES", "PID_SERV", "TIME_UNIT_S", "Cmd",
-           "Err", "IdType", "Resource"]
+__all__ = ["CAN_ID_EXTENDED_FLAG", "MAX_DAQ_PID", "PID_ERR", "PID_EV", "PID_RES", "PID_SERV", "TIME_UNIT_S", "CanId",
+           "Cmd", "Err", "IdType", "Resource"]
 
 PID_RES = 0xFF  # positive response
 PID_ERR = 0xFE  # negative response
@@ -20,6 +22,49 @@ PID_SERV = 0xFC  # service request packet (SERV_RESET, SERV_TEXT)
 MAX_DAQ_PID = 0xFB  # DTO packet ids run from 0x00 to 0xFB
 
 CAN_ID_EXTENDED_FLAG = 0x80000000  # bit 31 of an XCP-on-CAN id (CAN_ID_MASTER/SLAVE, DAQ_LIST_CAN_ID): a 29-bit id
+_STANDARD_MASK, _EXTENDED_MASK = 0x7FF, 0x1FFFFFFF
+
+
+@dataclass(frozen=True, order=True)
+class CanId:
+    """A CAN identifier: ``id`` and whether it is a 29-bit (extended) one, as python-can's ``Message`` has it
+    (``arbitration_id``, ``is_extended_id``). The A2L's XCP_ON_CAN writes the two as one number with bit 31
+    (0x80000000) set for an extended id: :meth:`from_a2l` and :attr:`a2l`.
+
+    :raises ValueError: an id the frame format cannot carry (above 0x7FF standard, 0x1FFFFFFF extended).
+    """
+
+    id: int
+    extended: bool = False
+
+    def __post_init__(self) -> None:
+        if not 0 <= self.id <= self.mask:
+            hint = f"; a 29-bit id has bit 31 set in the A2L (0x{self.id | CAN_ID_EXTENDED_FLAG:X})" if (
+                not self.extended and self.id <= _EXTENDED_MASK) else ""
+            raise ValueError(f"CAN id 0x{self.id:X} does not fit a{'n extended' if self.extended else ' standard'} "
+                             f"frame{hint}")
+
+    @classmethod
+    def from_a2l(cls, number: int) -> CanId:
+        """The id an A2L number means (bit 31: extended)."""
+        return cls(number & ~CAN_ID_EXTENDED_FLAG, bool(number & CAN_ID_EXTENDED_FLAG))
+
+    @property
+    def a2l(self) -> int:
+        """The number the A2L writes: the id, with bit 31 set when it is extended."""
+        return self.id | (CAN_ID_EXTENDED_FLAG if self.extended else 0)
+
+    @property
+    def mask(self) -> int:
+        """All the id's bits: 0x7FF or 0x1FFFFFFF (for a receive filter that takes this id only)."""
+        return _EXTENDED_MASK if self.extended else _STANDARD_MASK
+
+    def matches(self, message) -> bool:
+        """Whether a python-can ``Message`` carries this id."""
+        return message.arbitration_id == self.id and message.is_extended_id == self.extended
+
+    def __str__(self) -> str:
+        return f"0x{self.id:X}" + (" (extended)" if self.extended else "")
 
 # Time unit codes of DAQ events and timestamps (A2L EVENT TIME_UNIT, GET_DAQ_EVENT_INFO,
 # GET_DAQ_RESOLUTION_INFO TIMESTAMP_MODE bits 4..7) -> seconds: code n < 10 counts 10**(n - 9) s.

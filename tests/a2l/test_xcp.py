@@ -9,6 +9,7 @@ from workbench.a2l import load_a2l, load_a2l_string
 from workbench.a2l.ifdata import Word, read_if_data
 from workbench.a2l.xcp import XcpDaqListCanId, read_xcp_config
 from workbench.errors import A2lParseError
+from workbench.xcp_protocol import CanId
 
 
 @pytest.fixture
@@ -60,11 +61,10 @@ def test_pages_segments_and_sectors(config):
 
 def test_can_extended_ids_and_daq_list_ids(config):
     can = config.can
-    assert can.can_id_master == 0x12345 and can.can_id_master_is_extended
-    assert can.can_id_slave == 0x12346 and can.can_id_slave_is_extended
-    assert can.can_id_broadcast == 0x100
+    assert (can.can_id_master, can.can_id_slave) == (CanId(0x12345, extended=True), CanId(0x12346, extended=True))
+    assert can.can_id_broadcast == CanId(0x100)
     assert (can.baudrate, can.sample_point, can.max_dlc_required) == (500000, 75, False)
-    assert can.daq_list_can_ids == (XcpDaqListCanId(0, 0x310, True), XcpDaqListCanId(1, None, False))
+    assert can.daq_list_can_ids == (XcpDaqListCanId(0, CanId(0x310, extended=True)), XcpDaqListCanId(1, None))
     assert (can.max_dlc, can.fd_data_baudrate) == (64, 2000000)
 
 
@@ -130,8 +130,7 @@ def test_generic_if_data_tree(fixtures):
 
 def test_demo_master_states_the_demo_contract():
     config = read_xcp_config(load_a2l(demo.master_a2l()))
-    assert (config.can.can_id_master, config.can.can_id_slave) == (0x7F0, 0x7F1)
-    assert not config.can.can_id_master_is_extended
+    assert (config.can.can_id_master, config.can.can_id_slave) == (CanId(0x7F0), CanId(0x7F1))
     assert config.can.baudrate == 1_000_000 and config.max_cto == config.max_dto == 8
     assert config.daq.identification_field == "ABSOLUTE" and config.daq.max_odt_entry_size == 4
     assert config.daq.timestamp.size == 4 and config.daq.timestamp.unit_s == pytest.approx(1e-5)
@@ -195,3 +194,35 @@ def test_the_demo_measurements_are_sampled_on_their_task():
     events = {block.name: read_daq_events(block).preferred for block in doc.objects("MEASUREMENT")}
     assert events["zsRailPressure"] == 0 and events["xsDC"] == 1 and events["csPCM_TO_FLCU_001_EnableFLCU"] == 2
     assert None not in events.values()
+
+
+def _can_block(ids: str):
+    return load_a2l_string(f"""ASAP2_VERSION 1 71
+/begin PROJECT P "" /begin MODULE M ""
+  /begin IF_DATA XCP
+    /begin PROTOCOL_LAYER 0x0100 1 2 3 4 5 6 7 8 8 BYTE_ORDER_MSB_LAST ADDRESS_GRANULARITY_BYTE /end PROTOCOL_LAYER
+    /begin XCP_ON_CAN 0x0100
+      {ids}
+    /end XCP_ON_CAN
+  /end IF_DATA
+/end MODULE /end PROJECT
+""")
+
+
+def test_every_can_id_keeps_its_extended_flag_through_a_round_trip():
+    from workbench.a2l.xcp_write import format_if_data_xcp
+
+    config = read_xcp_config(_can_block("CAN_ID_BROADCAST 0x80000100 CAN_ID_MASTER 0x98FF0000 CAN_ID_SLAVE 0x7F1"))
+    can = config.can
+    assert (can.can_id_broadcast, can.can_id_master, can.can_id_slave) == (
+        CanId(0x100, extended=True), CanId(0x18FF0000, extended=True), CanId(0x7F1))
+    written = format_if_data_xcp(config)
+    assert "CAN_ID_BROADCAST 0x80000100" in written and "CAN_ID_MASTER 0x98FF0000" in written
+    assert "CAN_ID_SLAVE 0x7F1" in written
+
+
+def test_a_standard_can_id_out_of_range_says_how_an_extended_one_is_written():
+    with pytest.raises(A2lParseError, match=r"XCP_ON_CAN CAN_ID_MASTER: CAN id 0x18FF0000 does not fit a standard "
+                                            r"frame; a 29-bit id has bit 31 set in the A2L \(0x98FF0000\)") as info:
+        read_xcp_config(_can_block("CAN_ID_MASTER 0x18FF0000 CAN_ID_SLAVE 0x7F1"))
+    assert info.value.line == 5

@@ -13,7 +13,8 @@ import pytest
 from sim_process import start_sim_process
 
 CLI = [sys.executable, "-c", "from workbench.cli import entry_point; entry_point()"]
-LOST = re.compile(r"error: connection to the ECU lost at \d\d:\d\d:\d\d\.\d{3}: XCP on (UDP|TCP) \(127\.0\.0\.1:\d+\): ")
+LOST = re.compile(r"error: connection to the ECU lost at \d\d:\d\d:\d\d\.\d{3}: "
+                  r"XCP on (UDP|TCP) \(127\.0\.0\.1:\d+\): ")
 
 
 @pytest.mark.parametrize("protocol", ["udp", "tcp"])

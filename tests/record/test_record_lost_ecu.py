@@ -25,8 +25,9 @@ def test_a_recording_ends_when_the_ecu_is_lost_and_the_file_holds_what_came(demo
     try:
         recorder.wait(0.5)
         demo_ecu.simulator.close()
-        with pytest.raises(ConnectionLostError, match=rf"XCP on CAN .*nothing from the ECU for .*; {re.escape(str(path))}:"
-                                                      r" [\d.]+ s, [\d,]+ samples .* recorded before"):
+        expected = (rf"XCP on CAN .*nothing from the ECU for .*; {re.escape(str(path))}: [\d.]+ s, [\d,]+ samples "
+                    r".* recorded before")
+        with pytest.raises(ConnectionLostError, match=expected):
             recorder.wait(30)
     finally:
         recorder.stop()
@@ -51,8 +52,9 @@ def test_workbench_measure_record_ends_with_one_line_when_the_simulator_is_kille
         simulator.communicate(timeout=10)
     assert (recording.returncode, out) == (1, ""), err
     assert re.fullmatch(rf"error: connection to the ECU lost at \d\d:\d\d:\d\d\.\d{{3}}: XCP on CAN \(udp_multicast "
-                        rf"239\.74\.163\.2, ids 0x7F0/0x7F1\): nothing from the ECU for [\d.]+ m?s while DAQ runs \(a "
-                        rf"DTO was due within 1000 ms\); {re.escape(str(path))}: .* recorded before\n", err), err
+                        rf"239\.74\.163\.2 port {free_udp_port}, ids 0x7F0/0x7F1\): nothing from the ECU for "
+                        rf"[\d.]+ m?s while DAQ runs \(a DTO was due within 1000 ms\); {re.escape(str(path))}: "
+                        r".* recorded before\n", err), err
     assert path.read_bytes()[:8] == b"MDF     "
     times = master(read_mdf(path), "Task4ms")
     assert len(times) >= 100 and np.allclose(np.diff(times), 0.004, atol=1e-6)

@@ -10,9 +10,11 @@ import time
 import can
 import pytest
 
+from workbench.bus_defaults import BusSpec
 from workbench.errors import ConnectionLostError, WorkbenchError
 from workbench.xcp.link import Link, LinkSettings
 from workbench.xcp.transport.can import frame_length
+from workbench.xcp_protocol import CanId
 
 _channels = itertools.count()
 MASTER, SLAVE, DAQ_ID = 0x7F0, 0x7F1, 0x1234567
@@ -60,8 +62,8 @@ def channel() -> str:
 
 
 def settings(channel: str, **changes) -> LinkSettings:
-    return LinkSettings(**{"transport": "CAN", "bus": {"interface": "virtual", "channel": channel},
-                           "can_id_master": MASTER, "can_id_slave": SLAVE, **changes})
+    return LinkSettings(**{"transport": "CAN", "bus": BusSpec("virtual", channel), "can_id_master": CanId(MASTER),
+                           "can_id_slave": CanId(SLAVE), **changes})
 
 
 @pytest.mark.parametrize(("size", "fd", "max_dlc", "required", "length"), [
@@ -82,11 +84,12 @@ def test_a_packet_longer_than_a_frame_is_refused(size, fd):
 def test_commands_and_responses_on_extended_ids_padded_as_the_a2l_says(channel):
     slave = ScriptedSlave(channel, lambda data: [(0x18FF0001, True, bytes([0xFF, 1, 2]))])
     try:
-        with Link(settings(channel, can_id_master=0x18FF0000, can_id_master_extended=True, can_id_slave=0x18FF0001,
-                           can_id_slave_extended=True, max_dlc_required=True)) as link:
+        with Link(settings(channel, can_id_master=CanId(0x18FF0000, extended=True),
+                           can_id_slave=CanId(0x18FF0001, extended=True), max_dlc_required=True)) as link:
             assert link.exchange(bytes([0xFC]), 1.0) == bytes([0xFF, 1, 2])
         sent = slave.received[0]
-        assert (sent.arbitration_id, sent.is_extended_id, bytes(sent.data)) == (0x18FF0000, True, bytes([0xFC]) + bytes(7))
+        assert (sent.arbitration_id, sent.is_extended_id) == (0x18FF0000, True)
+        assert bytes(sent.data) == bytes([0xFC]) + bytes(7)
     finally:
         slave.close()
 
@@ -142,7 +145,7 @@ def test_during_daq_one_notifier_reads_dtos_on_every_daq_id_and_responses_reach_
     slave = ScriptedSlave(channel, echo)
     dtos = []
     try:
-        with Link(settings(channel, daq_can_ids=((DAQ_ID, True),))) as link:
+        with Link(settings(channel, daq_can_ids=(CanId(DAQ_ID, extended=True),))) as link:
             link.dto_handler = lambda packet, host_ns: dtos.append((packet, host_ns))
             assert can.Notifier.find_instances(link._transport.bus)
             before = time.time_ns()

@@ -55,7 +55,8 @@ class UdpSlave:
 
 
 class TcpSlave:
-    """Accepts one connection; ``answer(packet) -> [bytes to write, ...]`` (each written on its own, a pause between)."""
+    """Accepts one connection; ``answer(packet) -> [bytes to write, ...]`` (each written on its own, with a pause
+    between)."""
 
     def __init__(self, answer):
         self.listener = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
@@ -101,7 +102,8 @@ def test_udp_several_packets_in_one_datagram_and_the_counters(caplog):
     def answer(packet):
         ctr = next(counter)
         if packet[0] == 0xF4:  # a DTO and an event come in the datagram before the response; then CTR jumps by 3
-            return [framed(ctr, bytes([0x00, 1]), bytes([0xFD, 0x00]), bytes([0xFF, 7])), framed(ctr + 6, bytes([0x01]))]
+            return [framed(ctr, bytes([0x00, 1]), bytes([0xFD, 0x00]), bytes([0xFF, 7])),
+                    framed(ctr + 6, bytes([0x01]))]
         return [framed(ctr, bytes([0xFF]) + packet[1:])]
 
     slave = UdpSlave(answer)

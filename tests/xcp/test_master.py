@@ -135,9 +135,11 @@ def test_the_link_is_ours_pyxcp_stays_out_of_the_workbench():
         "import sys\n"
         "from workbench.sim.demo_ecu import build_demo_ecu\n"
         "from workbench.sim.server import Simulator\n"
+        "from workbench.bus_defaults import BusSpec\n"
         "from workbench.xcp.link import Link, LinkSettings\n"
+        "from workbench.xcp_protocol import CanId\n"
         "from workbench.xcp.master import XcpMaster\n"
-        "settings = LinkSettings('CAN', {'interface': 'virtual', 'channel': 'h'}, 0x7F0, 0x7F1, max_dlc_required=True)\n"
+        "settings = LinkSettings('CAN', BusSpec('virtual', 'h'), CanId(0x7F0), CanId(0x7F1), max_dlc_required=True)\n"
         "with Simulator(build_demo_ecu().ecu, {'interface': 'virtual', 'channel': 'h'}, time_scale=None):\n"
         "    with Link(settings) as link:\n"
         "        XcpMaster(link).connect()\n"
@@ -151,11 +153,12 @@ def test_the_link_is_ours_pyxcp_stays_out_of_the_workbench():
 
 
 def test_an_unknown_interface_is_bad_input():
+    from workbench.bus_defaults import BusSpec
     from workbench.errors import InputError
     from workbench.xcp.link import LinkSettings
 
     with pytest.raises(InputError, match="unknown python-can interface 'nosuchcan'"):
-        Link(LinkSettings("CAN", {"interface": "nosuchcan", "channel": "x"}, 1, 2))
+        Link(LinkSettings("CAN", BusSpec("nosuchcan", "x")))
 
 
 def test_late_answers_do_not_desynchronise_the_commands(rig, threshold):

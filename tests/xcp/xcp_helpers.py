@@ -7,11 +7,13 @@ import itertools
 from contextlib import contextmanager
 from dataclasses import dataclass
 
+from workbench.bus_defaults import BusSpec
 from workbench.sim.demo_ecu import DemoEcu
 from workbench.sim.seedkey import compute_key
 from workbench.sim.server import Simulator
 from workbench.xcp.link import Link, LinkSettings
 from workbench.xcp.master import Timeouts, XcpMaster
+from workbench.xcp_protocol import CanId
 
 __all__ = ["FAST", "Rig", "can_settings", "serve"]
 
@@ -28,7 +30,7 @@ class Rig:
 
 
 def can_settings(channel: str) -> LinkSettings:
-    return LinkSettings("CAN", {"interface": "virtual", "channel": channel}, 0x7F0, 0x7F1, max_dlc_required=True)
+    return LinkSettings("CAN", BusSpec("virtual", channel), CanId(0x7F0), CanId(0x7F1), max_dlc_required=True)
 
 
 @contextmanager

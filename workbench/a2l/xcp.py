@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 from workbench.a2l.ifdata import IfDataNode, Word, read_if_data
 from workbench.errors import A2lParseError
-from workbench.xcp_protocol import CAN_ID_EXTENDED_FLAG, TIME_UNIT_S
+from workbench.xcp_protocol import TIME_UNIT_S, CanId
 
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument, Block
@@ -184,21 +184,18 @@ class XcpPgm:
 @dataclass(frozen=True)
 class XcpDaqListCanId:
     daq_list: int
-    can_id: int | None  # None: VARIABLE (set by the master at run time)
-    is_extended: bool = False
+    can_id: CanId | None  # None: VARIABLE (set by the master at run time)
 
 
 @dataclass(frozen=True)
 class XcpOnCan:
     version: int
-    can_id_master: int  # master -> ECU (commands), without the extended flag
-    can_id_slave: int  # ECU -> master (responses, DTOs)
-    can_id_master_is_extended: bool
-    can_id_slave_is_extended: bool
+    can_id_master: CanId  # master -> ECU (commands)
+    can_id_slave: CanId  # ECU -> master (responses, DTOs)
     baudrate: int | None
     sample_point: int | None  # percent
     max_dlc_required: bool
-    can_id_broadcast: int | None = None
+    can_id_broadcast: CanId | None = None
     daq_list_can_ids: tuple[XcpDaqListCanId, ...] = ()
     max_dlc: int | None = None  # CAN FD
     fd_data_baudrate: int | None = None  # CAN FD data phase
@@ -507,25 +504,22 @@ def _pgm(node: IfDataNode | None) -> XcpPgm | None:
 def _can(node: IfDataNode | None) -> XcpOnCan | None:
     if node is None:
         return None
-    master = node.number_after("CAN_ID_MASTER")
-    slave = node.number_after("CAN_ID_SLAVE")
+    master = _can_id(node, "CAN_ID_MASTER")
+    slave = _can_id(node, "CAN_ID_SLAVE")
     if master is None or slave is None:
         raise A2lParseError("XCP_ON_CAN needs CAN_ID_MASTER and CAN_ID_SLAVE", *node.location)
-    broadcast = node.number_after("CAN_ID_BROADCAST")
     baudrate = node.number_after("BAUDRATE")
     sample_point = node.number_after("SAMPLE_POINT")
     fd = node.block("CAN_FD")
     numbers = node.leading_numbers()
     return XcpOnCan(
         version=int(numbers[0]) if numbers else 0x0100,
-        can_id_master=int(master) & ~CAN_ID_EXTENDED_FLAG,
-        can_id_slave=int(slave) & ~CAN_ID_EXTENDED_FLAG,
-        can_id_master_is_extended=bool(int(master) & CAN_ID_EXTENDED_FLAG),
-        can_id_slave_is_extended=bool(int(slave) & CAN_ID_EXTENDED_FLAG),
+        can_id_master=master,
+        can_id_slave=slave,
         baudrate=int(baudrate) if baudrate is not None else None,
         sample_point=int(sample_point) if sample_point is not None else None,
         max_dlc_required=node.has("MAX_DLC_REQUIRED"),
-        can_id_broadcast=int(broadcast) & ~CAN_ID_EXTENDED_FLAG if broadcast is not None else None,
+        can_id_broadcast=_can_id(node, "CAN_ID_BROADCAST"),
         daq_list_can_ids=tuple(_daq_list_can_id(item) for item in node.blocks("DAQ_LIST_CAN_ID")),
         max_dlc=_int_or_none(fd.number_after("MAX_DLC")) if fd is not None else None,
         fd_data_baudrate=_int_or_none(fd.number_after("CAN_FD_DATA_TRANSFER_BAUDRATE")) if fd is not None else None,
@@ -535,12 +529,18 @@ def _can(node: IfDataNode | None) -> XcpOnCan | None:
 
 def _daq_list_can_id(node: IfDataNode) -> XcpDaqListCanId:
     numbers = node.leading_numbers()
-    fixed = node.number_after("FIXED")
-    return XcpDaqListCanId(
-        daq_list=int(numbers[0]) if numbers else 0,
-        can_id=int(fixed) & ~CAN_ID_EXTENDED_FLAG if fixed is not None else None,
-        is_extended=bool(fixed is not None and int(fixed) & CAN_ID_EXTENDED_FLAG),
-    )
+    return XcpDaqListCanId(daq_list=int(numbers[0]) if numbers else 0, can_id=_can_id(node, "FIXED"))
+
+
+def _can_id(node: IfDataNode, keyword: str) -> CanId | None:
+    """The CAN id after ``keyword`` (bit 31: extended), None when it is not there."""
+    number = node.number_after(keyword)
+    if number is None:
+        return None
+    try:
+        return CanId.from_a2l(int(number))
+    except ValueError as exc:
+        raise A2lParseError(f"{node.name} {keyword}: {exc}", *node.location) from None
 
 
 def _ip(node: IfDataNode | None, protocol: str) -> XcpOnIp | None:

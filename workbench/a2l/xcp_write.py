@@ -22,7 +22,7 @@ from workbench.a2l.xcp import (
     XcpProtocolLayer,
     XcpSegment,
 )
-from workbench.xcp_protocol import CAN_ID_EXTENDED_FLAG, TIME_UNIT_S, Cmd
+from workbench.xcp_protocol import TIME_UNIT_S, CanId, Cmd
 
 __all__ = ["format_if_data_xcp", "format_memory_segment", "format_segment"]
 
@@ -174,16 +174,15 @@ def _overrides(block: XcpOnCan | XcpOnIp) -> list[str]:
     return lines + (_pgm(block.pgm) if block.pgm is not None else [])
 
 
-def _can_id(identifier: int, extended: bool) -> str:
-    return f"0x{identifier | (CAN_ID_EXTENDED_FLAG if extended else 0):X}"
+def _can_id(can_id: CanId) -> str:
+    return f"0x{can_id.a2l:X}"
 
 
 def _can(can: XcpOnCan) -> list[str]:
     body = [f"0x{can.version:04X}"]
     if can.can_id_broadcast is not None:
-        body.append(f"CAN_ID_BROADCAST {_can_id(can.can_id_broadcast, False)}")
-    body += [f"CAN_ID_MASTER {_can_id(can.can_id_master, can.can_id_master_is_extended)}",
-             f"CAN_ID_SLAVE {_can_id(can.can_id_slave, can.can_id_slave_is_extended)}"]
+        body.append(f"CAN_ID_BROADCAST {_can_id(can.can_id_broadcast)}")
+    body += [f"CAN_ID_MASTER {_can_id(can.can_id_master)}", f"CAN_ID_SLAVE {_can_id(can.can_id_slave)}"]
     if can.baudrate is not None:
         body.append(f"BAUDRATE {can.baudrate}")
     if can.sample_point is not None:
@@ -191,7 +190,7 @@ def _can(can: XcpOnCan) -> list[str]:
     if can.max_dlc_required:
         body.append("MAX_DLC_REQUIRED")
     for item in can.daq_list_can_ids:
-        where = "VARIABLE" if item.can_id is None else f"FIXED {_can_id(item.can_id, item.is_extended)}"
+        where = "VARIABLE" if item.can_id is None else f"FIXED {_can_id(item.can_id)}"
         body.append(_line("DAQ_LIST_CAN_ID", [str(item.daq_list), where]))
     if can.max_dlc is not None:
         body.append(_line("CAN_FD", [f"MAX_DLC {can.max_dlc}"] + (

@@ -10,7 +10,7 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from workbench.cli.options import add_bus_arguments, add_ethernet_arguments, add_output_arguments, bus_settings
+from workbench.cli.options import add_bus_arguments, add_ethernet_arguments, add_output_arguments, bus_spec
 
 if TYPE_CHECKING:
     from workbench.a2l import A2lDocument
@@ -32,13 +32,9 @@ def add_ecu_arguments(parser: argparse.ArgumentParser, *, json_output: bool = Tr
 
 
 def open_session(args: argparse.Namespace, a2l: A2lDocument | None = None) -> Session:
-    """The session the ECU options describe (connected, EPK checked); ``a2l``: the A2L already loaded."""
+    """The session the ECU options describe (connected, EPK checked); ``a2l``: the A2L already loaded. The bus
+    is built once from the options and handed over whole."""
     from workbench.session import Session
 
-    settings = {key: value for key, value in (bus_settings(args) or {}).items() if value is not None}
-    interface = settings.pop("interface", None)
-    channel = settings.pop("channel", None)
-    bitrate = settings.pop("bitrate", None)
-    return Session.open(a2l or args.a2l, interface=interface, channel=channel, bitrate=bitrate, bus_kwargs=settings,
-                        host=args.host, port=args.port, protocol=args.protocol, key_function=args.key_function,
-                        accept_epk_mismatch=args.accept_epk_mismatch)
+    return Session.open(a2l or args.a2l, bus=bus_spec(args), host=args.host, port=args.port, protocol=args.protocol,
+                        key_function=args.key_function, accept_epk_mismatch=args.accept_epk_mismatch)

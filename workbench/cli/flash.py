@@ -124,7 +124,8 @@ def _dry_run(session, plan, args: argparse.Namespace) -> int:
     mode = pgm.communication_mode if pgm is not None and pgm.communication_mode else session.config.communication_mode
     per_frame = (pgm.max_cto_pgm if pgm is not None and pgm.max_cto_pgm else session.config.max_cto) - 2
     block = min(255 // per_frame, 1 + mode.max_bs) * per_frame if mode and mode.max_bs else per_frame
-    bitrate = session.link.settings.bus.get("bitrate") or (session.config.can.baudrate if session.config.can else None)
+    bitrate = (session.bus_spec.bitrate if session.bus_spec else None) or (
+        session.config.can.baudrate if session.config.can else None)
     estimate = plan.bus_time_s(bitrate, block, per_frame) if bitrate and session.link.is_can else None
     state = "boot loader (programming only)" if session.in_boot else "application running"
     if args.json:

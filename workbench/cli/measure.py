@@ -8,6 +8,7 @@ import sys
 import time
 from typing import Any
 
+from workbench.bus_defaults import BusSpec
 from workbench.cli.ecu_options import add_ecu_arguments, open_session
 from workbench.cli.options import positive_float
 from workbench.cli.render import decimals, jsonable, value_text
@@ -131,15 +132,12 @@ def _can2_monitor(args: argparse.Namespace, session, can2: dict[str, Any], datab
     """A listener on the CAN2 bus (the XCP bus unless --can2-interface/--can2-channel) decoding the DBC, as the
     window's; the newest value of each signal, the samples since the last look."""
     bus = _can2_bus(args, session)
-    if bus is None:
-        settings = session.link.settings
-        if settings.transport != "CAN":
-            from workbench.errors import InputError
+    if bus is None and not session.link.is_can:
+        from workbench.errors import InputError
 
-            raise InputError(f"the session runs {settings.describe()}: name the CAN2 bus of "
-                             f"{', '.join(can2)} (--can2-interface/--can2-channel)")
-        bus = dict(settings.bus)
-    return _Can2Samples(bus, can2, databases, time.time())
+        raise InputError(f"the session runs {session.link.describe()}: name the CAN2 bus of "
+                         f"{', '.join(can2)} (--can2-interface/--can2-channel)")
+    return _Can2Samples(session, bus, can2, databases, time.time())
 
 
 def _deadline(args: argparse.Namespace) -> float:
@@ -213,15 +211,15 @@ def _record(args: argparse.Namespace, session) -> int:
     return 0
 
 
-def _can2_bus(args: argparse.Namespace, session) -> dict[str, Any] | None:
-    """The CAN2 bus the options name; None: the recorder takes the XCP bus."""
+def _can2_bus(args: argparse.Namespace, session) -> BusSpec | None:
+    """The CAN2 bus the options name; None: the XCP bus. Another channel of the XCP bus's interface keeps its
+    options (a udp_multicast ``port`` given with --bus-kwargs)."""
     if args.can2_interface is None and args.can2_channel is None:
         return None
-    from workbench.bus_defaults import complete_bus_settings
-
-    xcp_bus = session.link.settings.bus if session.link.settings.transport == "CAN" else {}
-    return complete_bus_settings({"interface": args.can2_interface or xcp_bus.get("interface"),
-                                  "channel": args.can2_channel})
+    xcp_bus = session.bus_spec
+    if xcp_bus is not None and args.can2_interface in (None, xcp_bus.interface):
+        return xcp_bus.with_channel(args.can2_channel) if args.can2_channel is not None else xcp_bus
+    return BusSpec(args.can2_interface or (xcp_bus.interface if xcp_bus else "udp_multicast"), args.can2_channel)
 
 
 def _raw(session, values: dict[str, Any]) -> dict[str, Any]:
@@ -252,7 +250,7 @@ class _Can2Samples:
     (``Message.Signal`` -> cantools signal): the newest physical value of each, and the frames' samples since the
     last :meth:`drain` (host time of reception, s since ``origin``)."""
 
-    def __init__(self, bus: dict[str, Any], signals: dict[str, Any], databases: list, origin: float):
+    def __init__(self, session, bus: BusSpec | None, signals: dict[str, Any], databases: list, origin: float):
         import threading
 
         from workbench.gui.can_monitor import CanMonitor  # no Qt: the window's listener, the window's names
@@ -261,7 +259,7 @@ class _Can2Samples:
         self.newest: dict[str, float] = {}
         self.pending: list[tuple[float, dict[str, float]]] = []
         self._lock = threading.Lock()
-        self.monitor = CanMonitor(bus, databases, self._sink, origin)
+        self.monitor = CanMonitor(session, databases, self._sink, origin, bus=bus)
 
     def _sink(self, name: str, times, values) -> None:
         if name not in self.signals:

@@ -10,6 +10,8 @@ import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+from workbench.bus_defaults import BusSpec
+
 if TYPE_CHECKING:
     from workbench.findings import Report
 
@@ -134,6 +136,13 @@ def bus_settings(args: argparse.Namespace) -> dict[str, Any] | None:
     settings = {key: getattr(args, key) for key in PYTHON_CAN_KEYS if key in args}
     settings.update(getattr(args, "bus_kwargs", {}))
     return settings or None
+
+
+def bus_spec(args: argparse.Namespace) -> BusSpec | None:
+    """The bus the options name, whole (None: none given; the session takes the default bus then)."""
+    settings = bus_settings(args) or {}
+    given = {key: value for key, value in settings.items() if value is not None and value is not False}  # --fd: False
+    return BusSpec.from_kwargs(given) if given else None
 
 
 def add_ethernet_arguments(parser: argparse.ArgumentParser) -> None:

@@ -1,9 +1,10 @@
 """CAN2 beside XCP: a listener on the ECU's bus that decodes the DBC's messages and keeps a trace.
 
-:class:`CanMonitor` opens a second python-can bus on the same channel as the session (python-can's
-Notifier runs its own receive thread), decodes every frame the DBCs know into signals named
-``Message.Signal`` (their samples go to the same sink as the DAQ's), keeps the newest frames for the
-trace view, and counts the bits on the bus for the bus load. Nothing here blocks the GUI.
+:class:`CanMonitor` listens through the session (:meth:`~workbench.session.Session.listen_can`: on the
+XCP bus the link's own receive thread, on another bus one it shares with a recorder), decodes every frame
+the DBCs know into signals named ``Message.Signal`` (their samples go to the same sink as the DAQ's),
+keeps the newest frames for the trace view, and counts the bits on the bus for the bus load. Nothing here
+blocks the GUI.
 """
 
 from __future__ import annotations
@@ -14,11 +15,9 @@ import threading
 import time
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import Any
-
 import numpy as np
 
-from workbench.errors import WorkbenchError
+from workbench.bus_defaults import BusSpec
 
 log = logging.getLogger(__name__)
 
@@ -60,12 +59,14 @@ def dbc_signals(databases: Iterable) -> list[DbcSignal]:
 
 
 class CanMonitor:
-    """Listen on ``bus_settings`` (python-can keywords) and decode with ``databases`` (cantools)."""
+    """Listen to ``bus`` through ``session`` (default: its XCP bus) and decode with ``databases`` (cantools).
 
-    def __init__(self, bus_settings: dict[str, Any], databases: Iterable, sink: Callable, origin: float,
-                 bitrate: int | None = None):
-        import can
+    :raises InputError: no ``bus`` on a session whose XCP runs on Ethernet. :raises WorkbenchError: the bus
+        cannot be opened.
+    """
 
+    def __init__(self, session, databases: Iterable, sink: Callable, origin: float, bitrate: int | None = None,
+                 bus: BusSpec | None = None):
         self.databases = list(databases)
         self.sink = sink
         self.origin = origin
@@ -79,12 +80,7 @@ class CanMonitor:
         for database in self.databases:
             for message in database.messages:
                 self._messages[(message.frame_id, message.is_extended_frame)] = message
-        try:
-            self.bus = can.Bus(**bus_settings)
-        except (can.CanError, OSError, ValueError, ImportError) as exc:
-            raise WorkbenchError(f"CAN monitor: cannot open {bus_settings.get('interface')} "
-                                 f"{bus_settings.get('channel')}: {exc}") from None
-        self.notifier = can.Notifier(self.bus, [self._on_frame])
+        self.listening = session.listen_can(self._on_frame, bus)
 
     def _on_frame(self, msg) -> None:
         if msg.is_error_frame or msg.is_remote_frame:
@@ -129,11 +125,8 @@ class CanMonitor:
             return list(self.trace)
 
     def close(self) -> None:
-        """Stop the notifier and close the monitor's bus; safe to call twice."""
-        notifier, self.notifier = self.notifier, None
-        if notifier is not None:
-            notifier.stop()
-            self.bus.shutdown()
+        """Stop listening (the bus closes with its last listener); safe to call twice."""
+        self.listening.close()
 
 
 def _number(value) -> str:

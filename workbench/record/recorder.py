@@ -39,7 +39,7 @@ import threading
 import time
 import weakref
 from collections import deque
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -47,6 +47,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from workbench import __version__
+from workbench.bus_defaults import BusSpec
 from workbench.can import DbcFile, load_dbc
 from workbench.errors import ConnectionLostError, InputError, WorkbenchError
 from workbench.progress import Progress
@@ -55,12 +56,12 @@ from workbench.record.daq_channels import DaqGroup
 from workbench.record.mdf_stream import HeaderSpec, MdfStreamWriter, SourceSpec
 from workbench.record.timebase import RecordingClock
 from workbench.session.measure import SampleBatch
-from workbench.xcp.transport.can import widen_udp_receive_buffer  # the master's, for our listener
 
 if TYPE_CHECKING:
     import can
 
     from workbench.session import Session
+    from workbench.session.can_listeners import Listening
 
 log = logging.getLogger(__name__)
 
@@ -108,10 +109,11 @@ class Recorder:
     :param event, prescaler: as :meth:`~workbench.session.Session.measure` takes them.
     :param can2: a DBC (path or :class:`~workbench.can.DbcFile`): record the CAN2 bus's frames of
         its messages, decoded into one channel group per message.
-    :param can_bus: the CAN2 bus, as python-can ``Bus`` settings or an open bus (it stays the
-        caller's); default: a second bus object on the session's XCP on CAN bus (the demo ECU sends
-        its CAN2 messages there). Needed when the session runs XCP on Ethernet or on a bus it was
-        handed open.
+    :param can_bus: the CAN2 bus, as a :class:`~workbench.bus_defaults.BusSpec`, python-can ``Bus``
+        settings or an open bus (it stays the caller's); default: the session's XCP on CAN bus (the demo
+        ECU sends its CAN2 messages there), listened to through the link's own receiver. Needed when the
+        session runs XCP on Ethernet. Whoever else listens to the same bus through the session (the
+        window's CAN monitor) shares its one bus object (:meth:`~workbench.session.Session.listen_can`).
     :param raw_can: also log every frame of that bus raw, as ASAM MDF bus logging (the XCP frames
         too, when XCP shares the bus).
     :param overwrite: replace an existing file when the recording ends (else an existing file is refused).
@@ -126,7 +128,8 @@ class Recorder:
 
     def __init__(self, session: Session, path: str | Path, signals: Sequence[str] = (), *,
                  event: str | int | None = None, prescaler: int = 1, can2: DbcFile | str | Path | None = None,
-                 can_bus: dict[str, Any] | can.BusABC | None = None, raw_can: bool = False, overwrite: bool = False,
+                 can_bus: BusSpec | Mapping[str, Any] | can.BusABC | None = None, raw_can: bool = False,
+                 overwrite: bool = False,
                  flush_s: float = 1.0, compress: bool = True,
                  on_samples: Callable[[SampleBatch], Any] | None = None):
         if not signals and can2 is None and not raw_can:
@@ -141,7 +144,7 @@ class Recorder:
         self.measurement = session.measure(signals, event=event, prescaler=prescaler) if signals else None
         self.dbc = load_dbc(can2) if isinstance(can2, (str, Path)) else can2
         self.raw_can = raw_can
-        self._can_bus_given = can_bus
+        self._can_bus = BusSpec.from_kwargs(can_bus) if isinstance(can_bus, Mapping) else can_bus
         self.flush_s = flush_s
         self.compress = compress
         self.on_samples = on_samples
@@ -154,9 +157,7 @@ class Recorder:
         self._raw_index = 0
         self._clock = RecordingClock()
         self._frames: deque = deque()
-        self._bus = None
-        self._owned_bus = False
-        self._notifier = None
+        self._listening: Listening | None = None
         self._thread: threading.Thread | None = None
         self._stopping = threading.Event()
         self._lock = threading.Lock()
@@ -180,27 +181,15 @@ class Recorder:
         session = self.session
         groups = self._daq_groups()
         self._messages = CanMessageGroups(self.dbc.database, self.dbc.path) if self.dbc is not None else None
-        can_bus = self._can_bus_settings() if (self.dbc is not None or self.raw_can) else None
-        self._raw = RawCanGroup(CAN2_BUS_CHANNEL, _describe_bus(can_bus), fd=_is_fd(can_bus)) if self.raw_can else None
-        specs = [group.spec for group in groups]
-        self._message_base = len(specs)
-        specs += self._messages.specs if self._messages is not None else []
-        self._raw_index = len(specs)
-        specs += [self._raw.spec] if self._raw is not None else []
-        if self.path.exists():
-            fd, name = tempfile.mkstemp(prefix=f"{self.path.stem}.", suffix=".recording.mf4", dir=self.path.parent)
-            os.close(fd)
-            self._writing_path = Path(name)
-        self._started_at = time.time()
+        if self.dbc is not None or self.raw_can:
+            self._listen()
         try:
-            self._writer = MdfStreamWriter(self._writing_path, specs, self._header(), compress=self.compress,
-                                           start_time=self._started_at)
-        except OSError as exc:
-            raise InputError(f"{self._writing_path}: cannot create ({exc.strerror or exc})") from None
+            self._writer = self._create_file(groups)
+        except BaseException:
+            self._close_bus()
+            raise
         self._daq_index = {group.event: (index, group) for index, group in enumerate(groups)}
         try:
-            if can_bus is not None:
-                self._open_bus(can_bus)
             if self.measurement is not None:
                 self.measurement.start()
             else:
@@ -222,12 +211,35 @@ class Recorder:
         self._thread.start()
         return self
 
+    def _create_file(self, groups: list[DaqGroup]) -> MdfStreamWriter:
+        """The file's skeleton: the DAQ groups, a group per DBC message, the bus log.
+
+        :raises InputError: the file cannot be created.
+        """
+        listening = self._listening
+        self._raw = RawCanGroup(CAN2_BUS_CHANNEL, listening.describe(), fd=listening.fd) if self.raw_can else None
+        specs = [group.spec for group in groups]
+        self._message_base = len(specs)
+        specs += self._messages.specs if self._messages is not None else []
+        self._raw_index = len(specs)
+        specs += [self._raw.spec] if self._raw is not None else []
+        try:
+            if self.path.exists():
+                fd, name = tempfile.mkstemp(prefix=f"{self.path.stem}.", suffix=".recording.mf4", dir=self.path.parent)
+                os.close(fd)
+                self._writing_path = Path(name)
+            self._started_at = time.time()
+            return MdfStreamWriter(self._writing_path, specs, self._header(), compress=self.compress,
+                                   start_time=self._started_at)
+        except OSError as exc:
+            raise InputError(f"{self._writing_path}: cannot create ({exc.strerror or exc})") from None
+
     def _daq_groups(self) -> list[DaqGroup]:
         measurement = self.measurement
         if measurement is None:
             return []
         session = self.session
-        source = SourceSpec(session.doc.module(session.module).name or "ECU", session.link.settings.describe(),
+        source = SourceSpec(session.doc.module(session.module).name or "ECU", session.link.describe(),
                             f"A2L {session.doc.name}", kind="ECU",
                             bus="CAN" if session.link.settings.transport == "CAN" else "ETHERNET")
         encodings: dict = {}
@@ -245,41 +257,26 @@ class Recorder:
         info = self.session.event_info(event)
         return info.period_s if info is not None else None
 
-    def _can_bus_settings(self):
-        given = self._can_bus_given
-        if given is not None:
-            return given
-        settings = self.session.link.settings
-        if settings.transport != "CAN" or not settings.bus:
-            raise InputError(f"the session runs {settings.describe()}: name the CAN2 bus to record (can_bus=python-can "
-                             "settings, --can2-interface/--can2-channel)")
-        return dict(settings.bus)
+    def _listen(self) -> None:
+        """Queue the CAN2 bus's frames (the session's XCP bus unless ``can_bus`` names another).
 
-    def _open_bus(self, settings) -> None:
+        :raises InputError: no CAN2 bus is known (XCP on Ethernet). :raises WorkbenchError: it cannot be opened.
+        """
         import can
 
-        if isinstance(settings, can.BusABC):
-            self._bus = settings
-        else:
-            try:
-                self._bus = can.Bus(**settings)
-            except (can.CanError, OSError, ValueError, TypeError) as exc:
-                raise InputError(f"cannot open the CAN2 bus {_describe_bus(settings)}: {exc}") from None
-            self._owned_bus = True
-            widen_udp_receive_buffer(self._bus)  # raw logging of a saturated bus: ride out the recording's pauses
         frames = self._frames
 
         class _Queue(can.Listener):
             def on_message_received(self, msg: can.Message) -> None:
                 frames.append(msg)
 
-        self._notifier = can.Notifier(self._bus, [_Queue()], timeout=0.1)
+        self._listening = self.session.listen_can(_Queue(), self._can_bus)
 
     def _header(self) -> HeaderSpec:
         session = self.session
         parts = []
         if self.measurement is not None:
-            parts.append(f"{len(self.measurement.names)} signals by XCP DAQ ({session.link.settings.describe()})")
+            parts.append(f"{len(self.measurement.names)} signals by XCP DAQ ({session.link.describe()})")
         if self.dbc is not None:
             parts.append(f"CAN2 decoded with {self.dbc.path.name}")
         if self.raw_can:
@@ -455,12 +452,9 @@ class Recorder:
             self._writing_path = self.path
 
     def _close_bus(self) -> None:
-        if self._notifier is not None:
-            self._notifier.stop()
-            self._notifier = None
-        if self._owned_bus and self._bus is not None:
-            self._bus.shutdown()
-        self._bus = None
+        listening, self._listening = self._listening, None
+        if listening is not None:
+            listening.close()
 
     @property
     def stats(self) -> RecordingStats:
@@ -490,17 +484,3 @@ def record(session: Session, path: str | Path, signals: Sequence[str] = (), *, d
     with Recorder(session, path, signals, **options) as recorder:
         recorder.wait(duration, progress)
     return recorder.stats
-
-
-def _describe_bus(settings) -> str:
-    if settings is None:
-        return ""
-    if isinstance(settings, dict):
-        return " ".join(str(settings[key]) for key in ("interface", "channel") if settings.get(key) is not None)
-    return str(getattr(settings, "channel_info", type(settings).__name__))
-
-
-def _is_fd(settings) -> bool:
-    if isinstance(settings, dict):
-        return bool(settings.get("fd"))
-    return getattr(settings, "protocol", None) is not None and "FD" in str(getattr(settings, "protocol", ""))

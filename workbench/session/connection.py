@@ -1,19 +1,19 @@
 """How a session reaches the ECU: the A2L's IF_DATA XCP, overridden by what the caller says.
 
-XCP on CAN takes python-can's own names: ``interface``, ``channel``, ``bitrate`` and any backend
-keyword (``bus_kwargs``: udp_multicast's ``port``, Vector's ``app_name`` ...). XCP on Ethernet
-takes ``host``, ``port`` and ``protocol`` ("udp"/"tcp"). Without any of them, the A2L decides:
-its XCP_ON_CAN ids on the default bus (udp_multicast on 239.74.163.2, where ``workbench sim``
-serves), or its XCP_ON_UDP_IP/TCP_IP address when it has no XCP on CAN.
+XCP on CAN takes one :class:`~workbench.bus_defaults.BusSpec` (python-can's ``interface``, ``channel``,
+``bitrate`` and any backend keyword: udp_multicast's ``port``, Vector's ``app_name`` ...). XCP on Ethernet
+takes ``host``, ``port`` and ``protocol`` ("udp"/"tcp"). Without any of them, the A2L decides: its
+XCP_ON_CAN ids on the default bus (udp_multicast on 239.74.163.2, where ``workbench sim`` serves), or its
+XCP_ON_UDP_IP/TCP_IP address when it has no XCP on CAN. The A2L completes the bus: its BAUDRATE for a
+hardware interface given none, CAN FD with its data bit rate where it has a CAN_FD block.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import Any
+from dataclasses import dataclass
 
-from workbench.a2l.xcp import XcpConfig
-from workbench.bus_defaults import SOFTWARE_INTERFACES, complete_bus_settings
+from workbench.a2l.xcp import XcpConfig, XcpOnCan
+from workbench.bus_defaults import BusSpec
 from workbench.errors import InputError
 from workbench.xcp.link import LinkSettings
 from workbench.xcp.master import Timeouts
@@ -25,13 +25,11 @@ __all__ = ["Connection", "link_settings", "timeouts_of"]
 class Connection:
     """The caller's overrides; None means "as the A2L says" (or the default bus)."""
 
-    interface: str | None = None
-    channel: str | int | None = None
-    bitrate: int | None = None
-    bus_kwargs: dict[str, Any] = field(default_factory=dict)
+    bus: BusSpec | None = None
     host: str | None = None
     port: int | None = None
     protocol: str | None = None  # "udp" or "tcp"
+    open_bus: bool = False  # XCP on CAN goes on a python-can bus the caller opened (``bus`` is None then)
 
     @property
     def wants_ethernet(self) -> bool:
@@ -43,10 +41,10 @@ def link_settings(config: XcpConfig, connection: Connection) -> tuple[LinkSettin
 
     :raises InputError: the A2L describes no transport that fits the request.
     """
-    if connection.interface and connection.wants_ethernet:
+    if (connection.bus is not None or connection.open_bus) and connection.wants_ethernet:
         raise InputError("give either CAN options (--interface/--channel) or Ethernet ones (--host/--port/--protocol)")
     ethernet = connection.wants_ethernet or (config.can is None and (config.udp or config.tcp) is not None
-                                             and connection.interface is None)
+                                             and connection.bus is None and not connection.open_bus)
     if ethernet:
         return _ethernet(config, connection)
     return _can(config, connection)
@@ -56,24 +54,22 @@ def _can(config: XcpConfig, connection: Connection) -> tuple[LinkSettings, XcpCo
     can = config.can
     if can is None:
         raise InputError("the A2L has no XCP_ON_CAN block; use --host/--port for XCP on Ethernet")
-    given = {"interface": connection.interface, "channel": connection.channel, **connection.bus_kwargs}
-    bus = complete_bus_settings({key: value for key, value in given.items() if value is not None})
-    hardware = bus["interface"] not in SOFTWARE_INTERFACES
-    bitrate = connection.bitrate or (can.baudrate if hardware else None)
-    if bitrate:
-        bus["bitrate"] = bitrate
     fd = (can.max_dlc or 8) > 8  # the A2L's CAN_FD block: frames of up to MAX_DLC bytes
-    if fd:
-        bus.setdefault("fd", True)
-        if hardware and can.fd_data_baudrate:
-            bus.setdefault("data_bitrate", can.fd_data_baudrate)
-    settings = LinkSettings(
-        "CAN", bus, can.can_id_master, can.can_id_slave, can.can_id_master_is_extended, can.can_id_slave_is_extended,
-        can.max_dlc_required,
-        tuple((item.can_id, item.is_extended) for item in can.daq_list_can_ids if item.can_id is not None),
-        fd=fd, max_dlc=can.max_dlc if fd else 8,
-    )
+    bus = None if connection.open_bus else _completed(connection.bus or BusSpec(), can, fd)
+    settings = LinkSettings("CAN", bus, can.can_id_master, can.can_id_slave, can.max_dlc_required,
+                            tuple(item.can_id for item in can.daq_list_can_ids if item.can_id is not None),
+                            fd=fd, max_dlc=can.max_dlc if fd else 8)
     return settings, _for_transport(config, "CAN")
+
+
+def _completed(bus: BusSpec, can: XcpOnCan, fd: bool) -> BusSpec:
+    """The bus as the A2L completes it: its BAUDRATE for a hardware interface given none, CAN FD."""
+    if bus.bitrate is None and not bus.software:
+        bus = bus.with_bitrate(can.baudrate)
+    if fd:
+        data_bitrate = can.fd_data_baudrate if not bus.software else None
+        bus = bus.with_options(fd=True, **({"data_bitrate": data_bitrate} if data_bitrate else {}))
+    return bus
 
 
 def _ethernet(config: XcpConfig, connection: Connection) -> tuple[LinkSettings, XcpConfig]:

@@ -19,11 +19,12 @@ import logging
 import threading
 from collections.abc import Iterable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from workbench import demo
 from workbench.a2l import A2lDocument, load_a2l, read_xcp_config
 from workbench.a2l.xcp import XcpConfig, XcpPage, XcpSegment
+from workbench.bus_defaults import BusSpec
 from workbench.errors import (
     ConnectionLostError,
     EpkMismatchError,
@@ -32,6 +33,7 @@ from workbench.errors import (
     XcpCommandError,
     XcpTimeoutError,
 )
+from workbench.session.can_listeners import CanListeners, Listening
 from workbench.session.connection import Connection, link_settings, timeouts_of
 from workbench.session.epk import EpkCheck, check_epk
 from workbench.session.fixes import FixAccess
@@ -43,6 +45,9 @@ from workbench.xcp.link import Link
 from workbench.xcp.master import KeyFunction, Timeouts, XcpMaster
 from workbench.xcp.seedkey import load_key_function
 from workbench.xcp_protocol import Err, Resource
+
+if TYPE_CHECKING:
+    import can
 
 log = logging.getLogger(__name__)
 
@@ -73,6 +78,7 @@ class Session(ValueAccess, EventAccess, FixAccess):
         self.epk: EpkCheck = EpkCheck(None, None, "")
         self.closed = False
         self._closers: list = []  # things to stop on close (a recorder ...)
+        self._can_listeners = CanListeners(link)
         self._daq: DaqMeasurement | None = None  # the DAQ measurement running (one at a time)
         self._event_info: dict = {}  # GET_DAQ_EVENT_INFO by event number
         self._known_memory = KnownMemory()  # calibration bytes as last read or written (session.values)
@@ -95,8 +101,9 @@ class Session(ValueAccess, EventAccess, FixAccess):
         """Connect to the ECU the A2L describes.
 
         :param a2l: the A2L (path or loaded document); default: the built-in demo ECU's.
-        :param interface, channel, bitrate, bus_kwargs: python-can's bus options (XCP on CAN); ``bus``:
-            an open python-can bus to use instead (it stays the caller's).
+        :param interface, channel, bitrate, bus_kwargs: python-can's bus options (XCP on CAN); or ``bus``:
+            the bus whole, a :class:`~workbench.bus_defaults.BusSpec`, or an open python-can bus to use
+            instead (it stays the caller's).
         :param host, port, protocol: XCP on Ethernet ("udp"/"tcp").
         :param key_function: seed & key: a function ``f(seed, resource) -> key`` or its name
             (``module:function``, ``file.py:function``, an entry point); default: the A2L's
@@ -106,10 +113,12 @@ class Session(ValueAccess, EventAccess, FixAccess):
         :raises InputError: bad A2L or options; :raises WorkbenchError: the bus or ECU cannot be reached.
         """
         doc = a2l if isinstance(a2l, A2lDocument) else load_a2l(a2l or demo.a2l())
-        connection = Connection(interface, channel, bitrate, dict(bus_kwargs or {}), host, port, protocol)
+        spec = _bus_spec(bus, {"interface": interface, "channel": channel, "bitrate": bitrate, **(bus_kwargs or {})})
+        opened = bus if bus is not None and not isinstance(bus, BusSpec) else None
+        connection = Connection(spec, host, port, protocol, open_bus=opened is not None)
         settings, config = link_settings(read_xcp_config(doc, module), connection)
         function, name = _key_function(key_function, config, doc)
-        link = Link(settings, bus=bus)
+        link = Link(settings, bus=opened)
         try:
             master = XcpMaster(link, timeouts=timeouts or timeouts_of(config), key_function=function,
                                key_function_name=name)
@@ -153,6 +162,7 @@ class Session(ValueAccess, EventAccess, FixAccess):
                 except WorkbenchError as exc:  # a lost ECU was said where it was found
                     log.log(logging.INFO if isinstance(exc, ConnectionLostError) else logging.WARNING, "closing: %s", exc)
             self._closers.clear()
+            self._can_listeners.close()
             try:
                 if self.master.connected and not self.master.silent and self.link.lost is None:
                     self.master.disconnect()  # not to an ECU found gone: it would only wait out T1 twice
@@ -160,6 +170,17 @@ class Session(ValueAccess, EventAccess, FixAccess):
                 log.debug("DISCONNECT: %s", exc)
             finally:
                 self.link.close()
+
+    def listen_can(self, listener, bus: BusSpec | can.BusABC | None = None) -> Listening:
+        """Hand every CAN frame of ``bus`` (default: the session's XCP on CAN bus, which the demo ECU's CAN2
+        messages share) to ``listener`` (a python-can Listener or a callable) until the returned
+        :class:`~workbench.session.can_listeners.Listening` closes or the session does. One bus object and one
+        receive thread a bus, whoever listens (see :mod:`workbench.session.can_listeners`).
+
+        :raises InputError: no ``bus`` on a session whose XCP runs on Ethernet. :raises WorkbenchError: the bus
+            cannot be opened.
+        """
+        return self._can_listeners.add(listener, bus)
 
     def on_close(self, closer) -> None:
         """Call ``closer()`` when the session closes (before DISCONNECT)."""
@@ -181,6 +202,12 @@ class Session(ValueAccess, EventAccess, FixAccess):
         """The ECU answers in its boot loader: programming only (no calibration, no DAQ)."""
         info = self.master.connect_info
         return info is not None and not info.resources & (Resource.CAL_PAG | Resource.DAQ)
+
+    @property
+    def bus_spec(self) -> BusSpec | None:
+        """The CAN bus XCP runs on, as the A2L completed it (its bit rate, CAN FD); None on Ethernet or on a
+        bus the caller opened."""
+        return self.link.settings.bus
 
     @property
     def read_only(self) -> bool:
@@ -353,6 +380,19 @@ def _segment_of_slave(number: int, address: int, size: int) -> XcpSegment:
     pages = (XcpPage(0, "ECU_ACCESS_DONT_CARE", "XCP_READ_ACCESS_DONT_CARE", "XCP_WRITE_ACCESS_DONT_CARE"),
              XcpPage(1, "ECU_ACCESS_DONT_CARE", "XCP_READ_ACCESS_DONT_CARE", "XCP_WRITE_ACCESS_NOT_ALLOWED"))
     return XcpSegment("", address, size, number, len(pages), 0, 0, 0, pages, ())
+
+
+def _bus_spec(bus: Any, given: dict[str, Any]) -> BusSpec | None:
+    """The bus the options name: ``bus`` when it is a BusSpec, else the python-can keywords (None: none given).
+
+    :raises InputError: a BusSpec and keywords both.
+    """
+    given = {key: value for key, value in given.items() if value is not None}
+    if isinstance(bus, BusSpec):
+        if given:
+            raise InputError(f"give the bus as a BusSpec or as python-can options ({', '.join(given)}), not both")
+        return bus
+    return BusSpec.from_kwargs(given) if given else None
 
 
 def _key_function(given: KeyFunction | str | None, config: XcpConfig, doc: A2lDocument

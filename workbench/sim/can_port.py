@@ -20,7 +20,6 @@ from workbench.sim.bus import ECHOING_INTERFACES, EchoFilter, Receiver, Transmit
 from workbench.sim.can_timing import BusClock
 from workbench.sim.ecu import SimulatedEcu
 from workbench.sim.xcp_port import XcpPort
-from workbench.xcp_protocol import CAN_ID_EXTENDED_FLAG
 
 log = logging.getLogger(__name__)
 
@@ -29,11 +28,6 @@ MAX_FD_DLC = 64
 FD_LENGTHS = (12, 16, 20, 24, 32, 48, 64)  # CAN FD data lengths beyond 8
 
 BusSpec = can.BusABC | Mapping[str, Any]
-
-
-def split_can_id(raw: int) -> tuple[int, bool]:
-    """An A2L CAN id (bit 31 = extended) as ``(identifier, is_extended)``."""
-    return raw & 0x1FFFFFFF, bool(raw & CAN_ID_EXTENDED_FLAG)
 
 
 class CanBuses:
@@ -127,8 +121,8 @@ class CanXcpPort(XcpPort):
     def __init__(self, ecu: SimulatedEcu, lock, buses: CanBuses):
         super().__init__(ecu, lock)
         self.buses = buses
-        self.master_id = split_can_id(ecu.params.can_id_master)
-        self.slave_id = split_can_id(ecu.params.can_id_slave)
+        self.master_id = ecu.params.can_id_master
+        self.slave_id = ecu.params.can_id_slave
         self.max_dlc = MAX_FD_DLC if ecu.params.can_fd else MAX_DLC
         self._short_frame_seen = False
 
@@ -136,7 +130,7 @@ class CanXcpPort(XcpPort):
         """Nothing of its own to open: :class:`CanBuses` opens the bus and hands frames to :meth:`on_frame`."""
 
     def accepts(self, message: can.Message) -> bool:
-        return (message.arbitration_id, message.is_extended_id) == self.master_id
+        return self.master_id.matches(message)
 
     def on_frame(self, message: can.Message) -> None:
         if message.is_remote_frame or (self.ecu.params.max_dlc_required and len(message.data) != self.max_dlc):
@@ -154,8 +148,9 @@ class CanXcpPort(XcpPort):
             packet = packet.ljust(self.max_dlc, b"\0")
         elif fd and len(packet) > MAX_DLC:
             packet = packet.ljust(next(length for length in FD_LENGTHS if length >= len(packet)), b"\0")
-        identifier, extended = self.slave_id
-        return can.Message(arbitration_id=identifier, is_extended_id=extended, data=packet, is_fd=fd, bitrate_switch=fd)
+        slave = self.slave_id
+        return can.Message(arbitration_id=slave.id, is_extended_id=slave.extended, data=packet, is_fd=fd,
+                           bitrate_switch=fd)
 
     def _transmit_response(self, packet: bytes) -> None:
         self.buses.transmitter("CAN1").send(self._frame(packet))
@@ -165,5 +160,5 @@ class CanXcpPort(XcpPort):
 
     def describe(self) -> dict[str, Any]:
         params = self.ecu.params
-        return {"transport": "CAN", "can_id_master": params.can_id_master, "can_id_slave": params.can_id_slave,
+        return {"transport": "CAN", "can_id_master": params.can_id_master.a2l, "can_id_slave": params.can_id_slave.a2l,
                 "max_cto": params.max_cto, "max_dto": params.max_dto}

@@ -36,7 +36,7 @@ from workbench.sim.profile_a2l import profile_document
 from workbench.sim.profiles import SlaveProfile, profile
 from workbench.sim.scheduler import Scheduler
 from workbench.sim.xcp.parameters import DEMO_STATIC_LISTS, EventChannel, XcpParameters
-from workbench.xcp_protocol import CAN_ID_EXTENDED_FLAG, Resource
+from workbench.xcp_protocol import Resource
 
 ECU_NODE = "FLCU"
 MAX_ETHERNET_DTO = 65507 - HEADER_SIZE  # the largest UDP payload (IPv4) less the LEN/CTR header
@@ -113,8 +113,8 @@ def xcp_parameters(doc: A2lDocument, config: XcpConfig, transport: str = "CAN") 
     if config.can is not None:  # on Ethernet too: the ids stay the A2L's, unused
         can = config.can
         ids = {
-            "can_id_master": can.can_id_master | (CAN_ID_EXTENDED_FLAG if can.can_id_master_is_extended else 0),
-            "can_id_slave": can.can_id_slave | (CAN_ID_EXTENDED_FLAG if can.can_id_slave_is_extended else 0),
+            "can_id_master": can.can_id_master,
+            "can_id_slave": can.can_id_slave,
             "baudrate": can.baudrate or defaults.baudrate,
             "max_dlc_required": can.max_dlc_required,
         }

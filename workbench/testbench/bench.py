@@ -538,7 +538,7 @@ class Bench:
 
 def _session_can_bus(session: Session) -> dict[str, Any] | None:
     settings = session.link.settings
-    return dict(settings.bus) if settings.transport == "CAN" and settings.bus else None
+    return settings.bus.kwargs() if settings.transport == "CAN" and settings.bus else None
 
 
 def _text(value: Any) -> str:

@@ -124,7 +124,7 @@ class EcuTarget:
             return RemoteSimulator(ControlClient(host, int(port)))
         settings = session.link.settings
         if settings.transport == "CAN":
-            key = endpoint_key(settings.bus)
+            key = endpoint_key(settings.bus.kwargs() if settings.bus else {})
         else:
             key = endpoint_key(host=settings.host, port=settings.port, protocol=settings.transport)
         client = find_control(key)

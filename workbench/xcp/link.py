@@ -28,12 +28,13 @@ import threading
 import time
 from collections import deque
 from collections.abc import Callable
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, NoReturn
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, NoReturn
 
 from workbench.errors import ConnectionLostError, WorkbenchError
 from workbench.xcp.transport import LinkBroken, open_transport
-from workbench.xcp_protocol import PID_ERR, PID_EV, PID_SERV, Cmd
+from workbench.bus_defaults import BusSpec
+from workbench.xcp_protocol import PID_ERR, PID_EV, PID_SERV, CanId, Cmd
 
 if TYPE_CHECKING:
     import can
@@ -51,20 +52,18 @@ _GRACE_S = 0.25  # at most this long a silence is confirmed before the ECU count
 class LinkSettings:
     """How to reach the ECU: ``transport`` "CAN", "UDP" or "TCP".
 
-    CAN: ``bus`` is python-can's ``Bus(**bus)`` keyword arguments (``interface``, ``channel``,
-    ``bitrate``, and any backend option such as udp_multicast's ``port`` or Vector's
-    ``app_name``); ids without the extended flag, ``*_extended`` says which are 29-bit; ``fd``: CAN FD
-    frames of up to ``max_dlc`` bytes. Ethernet: ``host`` and ``port``.
+    CAN: the ``bus`` (opened from it unless the link is handed an open one), the ids of commands
+    (``can_id_master``), of responses and DTOs (``can_id_slave``) and of DTOs moved to ids of their own
+    (``daq_can_ids``, DAQ_LIST_CAN_ID); ``fd``: CAN FD frames of up to ``max_dlc`` bytes. Ethernet:
+    ``host`` and ``port``.
     """
 
     transport: str = "CAN"
-    bus: dict[str, Any] = field(default_factory=dict)
-    can_id_master: int = 0
-    can_id_slave: int = 0
-    can_id_master_extended: bool = False
-    can_id_slave_extended: bool = False
+    bus: BusSpec | None = None
+    can_id_master: CanId = CanId(0x7F0)
+    can_id_slave: CanId = CanId(0x7F1)
     max_dlc_required: bool = False
-    daq_can_ids: tuple[tuple[int, bool], ...] = ()  # extra ids the slave sends DTOs on (DAQ_LIST_CAN_ID)
+    daq_can_ids: tuple[CanId, ...] = ()
     host: str | None = None
     port: int | None = None
     fd: bool = False
@@ -72,8 +71,8 @@ class LinkSettings:
 
     def describe(self) -> str:
         if self.transport == "CAN":
-            where = " ".join(str(self.bus[k]) for k in ("interface", "channel") if self.bus.get(k) is not None)
-            return f"XCP on CAN ({where or 'bus'}, ids 0x{self.can_id_master:X}/0x{self.can_id_slave:X})"
+            where = self.bus.describe() if self.bus is not None else "bus"
+            return f"XCP on CAN{' FD' if self.fd else ''} ({where}, ids {self.can_id_master}/{self.can_id_slave})"
         return f"XCP on {self.transport} ({self.host}:{self.port})"
 
 
@@ -93,6 +92,7 @@ class Link:
         self._arrived = threading.Condition()  # guards the responses and ``lost`` between receiver and caller
         self._responses: deque[bytes] = deque()
         self._handler: DtoHandler | None = None
+        self._listeners: list = []  # other listeners on the bus (add_listener)
         self._receiving = False
         self._dto_silence_s: float | None = None
         self._last_seen = 0.0  # time.monotonic() of the ECU's last packet (or of the DTO watch's start)
@@ -124,14 +124,42 @@ class Link:
             self._handler = handler
             if handler is None:
                 self._dto_silence_s = None
+            self._update_receiver()
+
+    def _update_receiver(self) -> None:
+        """A receiver runs while DTOs are awaited or other listeners share the bus; else the caller reads."""
+        wanted = not self.closed and (self._handler is not None or bool(self._listeners))
+        if wanted and not self._receiving:
+            self._receiving = True
+            self._transport.start_receiver(self._dispatch, self._broken)
+        elif not wanted and self._receiving:
+            self._transport.stop_receiver()
+            self._receiving = False
+
+    # --- other listeners on the bus (XCP on CAN) ----------------------------------------------
+
+    @property
+    def can_bus(self) -> can.BusABC:
+        """XCP on CAN: the python-can bus the link uses (its own or the caller's)."""
+        if not self.is_can:
+            raise WorkbenchError(f"{self.describe()} runs on no CAN bus")
+        return self._transport.bus
+
+    def add_listener(self, listener) -> None:
+        """XCP on CAN: also hand every frame of the bus (the XCP ones too) to ``listener`` (a python-can
+        Listener or a callable) from the link's receiver, which runs while any listens."""
+        with self._lock:
             if self.closed:
-                return
-            if handler is not None and not self._receiving:
-                self._receiving = True
-                self._transport.start_receiver(self._dispatch, self._broken)
-            elif handler is None and self._receiving:
-                self._transport.stop_receiver()
-                self._receiving = False
+                raise WorkbenchError("the XCP link is closed")
+            self._transport.add_listener(listener)
+            self._listeners.append(listener)
+            self._update_receiver()
+
+    def remove_listener(self, listener) -> None:
+        with self._lock:
+            self._listeners.remove(listener)
+            self._transport.remove_listener(listener)
+            self._update_receiver()
 
     def watch_dtos(self, silence_s: float | None) -> None:
         """While a ``dto_handler`` is set, take ``silence_s`` seconds (from now) without a packet from the ECU

@@ -99,8 +99,8 @@ class ConnectionDialog(QDialog):
     def _prefill(self, connection: Connection, config) -> None:
         can = getattr(config, "can", None)
         if can is not None:
-            master = f"{can.can_id_master:X}{'x' if can.can_id_master_is_extended else 'h'}"
-            slave = f"{can.can_id_slave:X}{'x' if can.can_id_slave_is_extended else 'h'}"
+            master = f"{can.can_id_master.id:X}{'x' if can.can_id_master.extended else 'h'}"
+            slave = f"{can.can_id_slave.id:X}{'x' if can.can_id_slave.extended else 'h'}"
             self.ids.setText(f"master {master}, slave {slave}, {can.baudrate // 1000} kbit/s")
         ethernet = getattr(config, "udp", None) or getattr(config, "tcp", None)
         if connection.host or connection.port or connection.protocol:

@@ -507,12 +507,12 @@ class MainWindow(QMainWindow):
         from workbench.gui.can_monitor import CanMonitor
 
         monitor = None
-        settings = session.link.settings
-        if settings.transport == "CAN" and self.workspace is not None and self.workspace.dbcs:
-            bitrate = settings.bus.get("bitrate") or (session.config.can.baudrate if session.config.can else None)
+        if session.link.is_can and self.workspace is not None and self.workspace.dbcs:
+            spec = session.bus_spec
+            bitrate = (spec.bitrate if spec else None) or (session.config.can.baudrate if session.config.can else None)
             try:
-                monitor = CanMonitor(dict(settings.bus), [d.database for d in self.workspace.dbcs], self.hub.sink,
-                                     self.hub.origin, bitrate)
+                monitor = CanMonitor(session, [d.database for d in self.workspace.dbcs], self.hub.sink, self.hub.origin,
+                                     bitrate)
             except Exception as exc:  # noqa: BLE001 - XCP goes on without the CAN2 view
                 self.show_error(exc)
         acquisition = DaqAcquisition(session, self.hub.sink, self.hub.origin, self, gap=self.hub.mark_gap)

@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 
 from workbench.image import AddressRange, ChecksumType
 from workbench.sim.seedkey import SEED_LENGTH
-from workbench.xcp_protocol import MAX_DAQ_PID, TIME_UNIT_S, Resource
+from workbench.xcp_protocol import MAX_DAQ_PID, TIME_UNIT_S, CanId, Resource
 
 # time unit codes (seconds: TIME_UNIT_S) of GET_DAQ_RESOLUTION_INFO's TIMESTAMP_MODE bits 4..7 and
 # of GET_DAQ_EVENT_INFO: code n counts 10**(n - 9) s (0: 1 ns ... 6: 1 ms ... 9: 1 s)
@@ -131,8 +131,8 @@ class DaqParameters:
 
 @dataclass(frozen=True)
 class XcpParameters:
-    can_id_master: int = 0x7F0  # master -> slave (bit 31 set: extended id)
-    can_id_slave: int = 0x7F1  # slave -> master, responses and DTOs
+    can_id_master: CanId = CanId(0x7F0)  # master -> slave
+    can_id_slave: CanId = CanId(0x7F1)  # slave -> master, responses and DTOs
     baudrate: int = 1_000_000
     max_dlc_required: bool = True  # XCP_ON_CAN MAX_DLC_REQUIRED: frames both ways have MAX_DLC (others are ignored)
     can_fd: bool = False  # XCP on CAN FD: frames of up to 64 bytes (MAX_CTO/MAX_DTO up to 64)

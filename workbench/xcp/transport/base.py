@@ -20,6 +20,8 @@ import threading
 import time
 from collections.abc import Callable
 
+from workbench.errors import WorkbenchError
+
 log = logging.getLogger(__name__)
 
 __all__ = ["RECEIVER_POLL_S", "Broken", "Deliver", "LinkBroken", "Transport"]
@@ -96,6 +98,13 @@ class Transport:
         receiver, self._receiver = self._receiver, None
         if receiver is not None and receiver is not threading.current_thread():
             receiver.join(timeout=2 * RECEIVER_POLL_S + 1.0)
+
+    def add_listener(self, listener) -> None:
+        """Hand every frame of the wire to ``listener`` too, while a receiver runs (XCP on CAN only)."""
+        raise WorkbenchError(f"{self.describe()} has no bus to listen to")
+
+    def remove_listener(self, listener) -> None:
+        raise ValueError("no such listener")
 
     def close(self) -> None:
         raise NotImplementedError

@@ -35,7 +35,6 @@ __all__ = ["UDP_RECEIVE_BUFFER", "CanTransport", "frame_length", "open_bus", "wi
 
 UDP_RECEIVE_BUFFER = 4 << 20  # bytes: a second of a saturated bus as udp_multicast datagrams
 _FD_LENGTHS = (8, 12, 16, 20, 24, 32, 48, 64)
-_STANDARD_MASK, _EXTENDED_MASK = 0x7FF, 0x1FFFFFFF
 
 
 def frame_length(packet_size: int, *, fd: bool, max_dlc: int, max_dlc_required: bool) -> int:
@@ -70,24 +69,32 @@ class CanTransport(Transport):
         self._can = can
         self.settings = settings
         self._owned = bus is None
-        self.bus = open_bus(settings.bus) if bus is None else bus
-        self._master = (settings.can_id_master, settings.can_id_master_extended)
-        self._incoming = frozenset({(settings.can_id_slave, settings.can_id_slave_extended), *settings.daq_can_ids})
+        if bus is None and settings.bus is None:
+            raise InputError("XCP on CAN needs a bus: its python-can settings or an open bus")
+        self.bus = open_bus(settings.bus.kwargs()) if bus is None else bus
+        self._master = settings.can_id_master
+        self._ids = (settings.can_id_slave, *settings.daq_can_ids)  # what the slave sends on
+        self._incoming = frozenset((can_id.id, can_id.extended) for can_id in self._ids)
         self._fd = settings.fd
-        self._bitrate_switch = settings.fd and bool(settings.bus.get("data_bitrate"))
+        data_bitrate = settings.bus.options.get("data_bitrate") if settings.bus is not None else None
+        self._bitrate_switch = settings.fd and bool(data_bitrate)
         self._notifier: can.Notifier | None = None
         self._shared_notifier: can.Notifier | None = None
         self._listener: _XcpListener | None = None
+        self._others: list = []  # listeners beside the link's (add_listener): they hear every frame
         if self._owned:
             widen_udp_receive_buffer(self.bus)
-            self.bus.set_filters([{"can_id": ident, "can_mask": _EXTENDED_MASK if extended else _STANDARD_MASK,
-                                   "extended": extended} for ident, extended in sorted(self._incoming)])
+            self.bus.set_filters(self._filters())
 
     def describe(self) -> str:
-        bus = self.settings.bus
-        where = " ".join(str(bus[k]) for k in ("interface", "channel") if bus.get(k) is not None)
-        return (f"XCP on CAN{' FD' if self._fd else ''} ({where or 'bus'}, "
-                f"ids 0x{self.settings.can_id_master:X}/0x{self.settings.can_id_slave:X})")
+        if self.settings.bus is None:  # a bus the caller opened: python-can says what it is
+            settings = self.settings
+            return (f"XCP on CAN{' FD' if self._fd else ''} ({self.bus.channel_info}, ids {settings.can_id_master}/"
+                    f"{settings.can_id_slave})")
+        return self.settings.describe()
+
+    def _filters(self) -> list[dict]:
+        return [{"can_id": can_id.id, "can_mask": can_id.mask, "extended": can_id.extended} for can_id in self._ids]
 
     # --- packets ------------------------------------------------------------------------------
 
@@ -98,13 +105,17 @@ class CanTransport(Transport):
                                   max_dlc_required=settings.max_dlc_required)
         except ValueError as exc:
             raise WorkbenchError(str(exc)) from None
-        identifier, extended = self._master
-        message = self._can.Message(arbitration_id=identifier, is_extended_id=extended, is_fd=self._fd,
+        master = self._master
+        message = self._can.Message(arbitration_id=master.id, is_extended_id=master.extended, is_fd=self._fd,
                                     bitrate_switch=self._bitrate_switch, data=packet.ljust(length, b"\0"), check=False)
         try:
             self.bus.send(message)
         except (self._can.CanError, OSError, ValueError) as exc:  # a full transmit queue, a bus that is off
             raise WorkbenchError(f"cannot send to the ECU ({self.describe()}): {exc}") from None
+        if self._others:  # they hear the whole bus: the link's own frames too, as sent (a bus does not echo them)
+            message.timestamp, message.is_rx = time.time(), False
+            for listener in self._others:
+                listener(message)
 
     def receive(self, timeout_s: float) -> list[bytes] | None:
         try:
@@ -125,9 +136,10 @@ class CanTransport(Transport):
         running = [notifier for notifier in can.Notifier.find_instances(self.bus) if not notifier.stopped]
         if running:  # someone reads this bus already: listen there (python-can allows one Notifier per bus)
             self._shared_notifier = running[0]
-            self._shared_notifier.add_listener(self._listener)
+            for listener in (self._listener, *self._others):
+                self._shared_notifier.add_listener(listener)
         else:
-            self._notifier = can.Notifier(self.bus, [self._listener], timeout=RECEIVER_POLL_S)
+            self._notifier = can.Notifier(self.bus, [self._listener, *self._others], timeout=RECEIVER_POLL_S)
 
     def stop_receiver(self) -> None:
         notifier, self._notifier = self._notifier, None
@@ -137,8 +149,25 @@ class CanTransport(Transport):
             listener.deliver = None
         if notifier is not None:
             notifier.stop(timeout=2 * RECEIVER_POLL_S + 1.0)
-        if shared is not None and listener is not None and listener in shared.listeners:
-            shared.remove_listener(listener)
+        for taken in (listener, *self._others) if shared is not None else ():
+            if taken is not None and taken in shared.listeners:
+                shared.remove_listener(taken)
+
+    def add_listener(self, listener) -> None:
+        if not self._others and self._owned:
+            self.bus.set_filters(None)  # they hear every frame, not only the XCP ones
+        self._others.append(listener)
+        notifier = self._notifier or self._shared_notifier
+        if notifier is not None:
+            notifier.add_listener(listener)
+
+    def remove_listener(self, listener) -> None:
+        self._others.remove(listener)
+        notifier = self._notifier or self._shared_notifier
+        if notifier is not None and listener in notifier.listeners:
+            notifier.remove_listener(listener)
+        if not self._others and self._owned:
+            self.bus.set_filters(self._filters())
 
     def _stop_from_receiver(self) -> None:
         """The bus failed under the Notifier: stop it from its own thread (it would read the dead bus again
@@ -165,7 +194,8 @@ class _XcpListener:
 
     def __call__(self, message: can.Message) -> None:
         deliver = self.deliver
-        if deliver is not None and (message.arbitration_id, message.is_extended_id) in self.incoming and _is_data(message):
+        if (deliver is not None and (message.arbitration_id, message.is_extended_id) in self.incoming
+                and _is_data(message)):
             deliver(bytes(message.data), time.time_ns())
 
     def on_error(self, exc: Exception) -> None:

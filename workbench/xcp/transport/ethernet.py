@@ -66,7 +66,8 @@ class EthernetTransport(Transport):
         try:
             family, _, _, _, address = socket.getaddrinfo(self.host, self.port, 0, kind)[0]
         except (socket.gaierror, UnicodeError) as exc:
-            raise WorkbenchError(f"cannot reach the ECU at {where}: unknown host ({getattr(exc, 'strerror', exc)})") from None
+            reason = getattr(exc, "strerror", None) or exc
+            raise WorkbenchError(f"cannot reach the ECU at {where}: unknown host ({reason})") from None
         sock = socket.socket(family, kind)
         try:
             if kind == socket.SOCK_STREAM:
