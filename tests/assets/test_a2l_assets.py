@@ -18,6 +18,8 @@ from pya2l.api.validate import Level, Validator
 
 from workbench import demo
 from workbench.can import naming
+from workbench.sim.demo_ecu import build_demo_ecu
+from workbench.xcp_protocol import PID_ERR, Cmd, Err
 
 MASTER = demo.master_a2l()
 FRAGMENTS = demo.fragment_a2ls()
@@ -36,14 +38,7 @@ A2L_TYPES = {
     "FLOAT32_IEEE": (4, "float"),
     "FLOAT64_IEEE": (8, "float"),
 }
-# issue 5: the commands the simulated ECU implements beyond CONNECT, DISCONNECT, GET_STATUS, SYNCH
-SIMULATOR_OPTIONAL_COMMANDS = (
-    "GET_COMM_MODE_INFO GET_ID SET_MTA UPLOAD SHORT_UPLOAD DOWNLOAD DOWNLOAD_NEXT DOWNLOAD_MAX SHORT_DOWNLOAD "
-    "BUILD_CHECKSUM GET_SEED UNLOCK GET_CAL_PAGE SET_CAL_PAGE COPY_CAL_PAGE GET_PAG_PROCESSOR_INFO GET_SEGMENT_INFO "
-    "GET_DAQ_PROCESSOR_INFO GET_DAQ_RESOLUTION_INFO GET_DAQ_EVENT_INFO FREE_DAQ ALLOC_DAQ ALLOC_ODT ALLOC_ODT_ENTRY "
-    "SET_DAQ_PTR WRITE_DAQ SET_DAQ_LIST_MODE START_STOP_DAQ_LIST START_STOP_SYNCH PROGRAM_START PROGRAM_CLEAR PROGRAM "
-    "PROGRAM_NEXT PROGRAM_MAX PROGRAM_RESET GET_PGM_PROCESSOR_INFO GET_SECTOR_INFO"
-).split()
+MANDATORY_COMMANDS = {"CONNECT", "DISCONNECT", "GET_STATUS", "SYNCH"}  # no OPTIONAL_CMD names them
 C_RAW_TYPES = {"uint8_T": "UBYTE", "uint16_T": "UWORD", "uint32_T": "ULONG", "int8_T": "SBYTE", "int16_T": "SWORD", "int32_T": "SLONG"}
 
 
@@ -319,12 +314,25 @@ def test_memory_segments_hold_the_elf_sections(a2l, elf):
 # ---------------------------------------------------------------- XCP parameters
 
 
+def _commands_the_simulator_answers() -> set[str]:
+    """Every XCP command the simulated demo ECU answers otherwise than ERR_CMD_UNKNOWN, each sent to it after a
+    CONNECT of its own (with a payload of zeros: a refusal of the payload still says the command is there)."""
+    ecu = build_demo_ecu().ecu
+    ecu.power_on()
+    answered = set()
+    for command in Cmd:
+        ecu.handle_cto(bytes((Cmd.CONNECT, 0)))
+        if ecu.handle_cto(bytes((command,)).ljust(8, b"\0"))[-1:] != [bytes((PID_ERR, Err.CMD_UNKNOWN))]:
+            answered.add(command.name)
+    return answered
+
+
 def test_master_xcp_states_the_documented_parameters(a2l):
     xcp = _xcp(a2l, _module(a2l["FLCU_master"]).if_data)
     protocol = xcp["PROTOCOL_LAYER"]
     assert protocol[8:12] == [8, 8, "BYTE_ORDER_MSB_LAST", "ADDRESS_GRANULARITY_BYTE"]  # MAX_CTO, MAX_DTO
     assert protocol[12]["SEED_AND_KEY_EXTERNAL_FUNCTION"] == "workbench.sim.seedkey:compute_key"
-    assert sorted(protocol[12]["OPTIONAL_CMD"]) == sorted(SIMULATOR_OPTIONAL_COMMANDS)
+    assert sorted(protocol[12]["OPTIONAL_CMD"]) == sorted(_commands_the_simulator_answers() - MANDATORY_COMMANDS)
 
     can = xcp["XCP_ON_CAN"][0][1]
     assert (can["CAN_ID_MASTER"], can["CAN_ID_SLAVE"], can["BAUDRATE"]) == (0x7F0, 0x7F1, 1_000_000)

@@ -42,10 +42,7 @@ def test_a_profiles_a2l_is_clean_and_says_what_its_slave_does(name):
         assert config.byte_order == ("MSB_FIRST" if params.byte_order == ">" else "MSB_LAST")
         assert config.address_granularity == params.address_granularity
         implemented = {c.name for c in slave.commands} - MANDATORY
-        if PROFILES[name].changes_a2l:
-            assert config.optional_commands == implemented
-        else:  # the demo's own A2L leaves GET_DAQ_CLOCK out: never more than the slave has
-            assert config.optional_commands <= implemented
+        assert config.optional_commands == implemented
         assert config.max_segments == len(params.segments or [0]) == len(config.segments)
         assert config.daq.config_type == ("STATIC" if params.daq.static else "DYNAMIC")
         assert (config.daq.min_daq, config.daq.identification_field) == (params.daq.min_daq,
