@@ -8,7 +8,7 @@ import time
 
 import can
 import pytest
-from conftest import FAST
+from session_helpers import FAST
 
 from workbench import Session
 from workbench.bus_defaults import BusSpec

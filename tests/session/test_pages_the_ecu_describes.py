@@ -5,20 +5,28 @@ from __future__ import annotations
 
 import re
 
+import pytest
 from session_helpers import FAST
+from xcp_commands import CommandLog
 
-from workbench import Session
+from workbench import PageError, Session
 from workbench.a2l import load_a2l_string, read_xcp_config
 from workbench.sim import serve_demo
+from workbench.xcp_protocol import Cmd, Err
+
+
+def _without_segments(sim):
+    """The profile's A2L with its XCP SEGMENT blocks taken out: the pages are the ECU's to tell."""
+    text = sim.a2l.data.decode(sim.a2l.encoding)
+    silent = load_a2l_string(re.sub(r"/begin IF_DATA XCP\s+/begin SEGMENT.*?/end SEGMENT\s+/end IF_DATA", "",
+                                    text, flags=re.S), sim.a2l.path)
+    assert read_xcp_config(silent).segments == ()
+    return silent
 
 
 def test_pages_the_ecu_says_it_has_when_the_a2l_is_silent(channel):
     with serve_demo({"interface": "virtual", "channel": channel}, profile="segments-one-by-one") as sim:
-        text = sim.a2l.data.decode(sim.a2l.encoding)
-        silent = load_a2l_string(re.sub(r"/begin IF_DATA XCP\s+/begin SEGMENT.*?/end SEGMENT\s+/end IF_DATA", "",
-                                        text, flags=re.S), sim.a2l.path)
-        assert read_xcp_config(silent).segments == ()
-        with Session.open(silent, interface="virtual", channel=channel, timeouts=FAST) as ecu:
+        with Session.open(_without_segments(sim), interface="virtual", channel=channel, timeouts=FAST) as ecu:
             assert [(s.number, s.address, s.size) for s in ecu.calibration_segments()] == [
                 (0, 0x40000000, 0x10), (1, 0x40000010, 0x1FFF0)]
             ecu.write("xsSWITCH_TANK_THR", 24.0)
@@ -28,3 +36,35 @@ def test_pages_the_ecu_says_it_has_when_the_a2l_is_silent(channel):
             assert [state.name(state.xcp_page) for state in ecu.info().pages] == ["reference", "reference"]
             ecu.set_page("working")
             assert ecu.read("xsSWITCH_TANK_THR") == 24.0
+
+
+def test_a_write_on_the_reference_page_the_ecu_describes_is_refused_before_sending(channel):
+    """The write's page check knows the segments the page switching knows: here the ECU's."""
+    with serve_demo({"interface": "virtual", "channel": channel}, profile="segments-one-by-one") as sim:
+        with Session.open(_without_segments(sim), interface="virtual", channel=channel, timeouts=FAST) as ecu, \
+                CommandLog(channel) as log:
+            ecu.set_page("reference")
+            log.take()
+            with pytest.raises(PageError, match=r"xsSWITCH_TANK_THR is not written: the reference page of segment 1 "
+                                                 r"is active .* `workbench cal page working --segment 1`"):
+                ecu.write("xsSWITCH_TANK_THR", 24.0)
+            with pytest.raises(PageError, match="the reference page of segment 1"):
+                ecu.write_cells("xvPRV_DC_FF", {(0, 0): 1.0})
+            assert log.take() == []
+            ecu.set_page("working")
+            assert ecu.write("xsSWITCH_TANK_THR", 24.0).value == 24.0
+            log.take()
+            assert ecu.write("xsSWITCH_TANK_THR", 23.0).value == 23.0
+            assert log.take() == ["SET_MTA", "DOWNLOAD", "SHORT_UPLOAD"]  # the segments were asked once
+
+
+def test_an_ecu_without_page_commands_is_asked_once_a_session(sim, channel):
+    """Neither the A2L nor the ECU (ERR_CMD_UNKNOWN) has segments: no page to check, and each write after the
+    first is SET_MTA, DOWNLOAD and the read-back."""
+    with Session.open(_without_segments(sim), interface="virtual", channel=channel, timeouts=FAST) as ecu, \
+            CommandLog(channel) as log:
+        sim.ecu.faults.reject_command(1, Err.CMD_UNKNOWN, Cmd.GET_PAG_PROCESSOR_INFO)
+        ecu.write("xsSWITCH_TANK_THR", 24.0)
+        assert "GET_PAG_PROCESSOR_INFO" in log.take()
+        assert ecu.write("xsSWITCH_TANK_THR", 23.0).value == 23.0
+        assert log.take() == ["SET_MTA", "DOWNLOAD", "SHORT_UPLOAD"]

@@ -11,7 +11,8 @@ from session_helpers import FAST, demo_a2l_text, edited_a2l
 from xcp_commands import CommandLog
 
 from workbench import EpkMismatchError, PageError, Session
-from workbench.errors import ConversionError, InputError, LimitsError, UnknownSymbolError
+from workbench.errors import ConversionError, InputError, LimitsError, UnknownSymbolError, XcpCommandError
+from workbench.xcp_protocol import Err
 
 FIRST_WRITE = ["GET_SEED", "UNLOCK", "GET_CAL_PAGE"]  # once a session: CAL/PAG unlocked, the page XCP is on asked
 WRITE = ["SET_MTA", "DOWNLOAD", "SHORT_UPLOAD"]
@@ -219,6 +220,9 @@ class _MemoryMaster:
         self.memory_changes += 1
         self.log.append(("write", address, data))
         self.memory[address:address + len(data)] = data
+
+    def get_pag_processor_info(self):
+        raise XcpCommandError("GET_PAG_PROCESSOR_INFO", Err.CMD_UNKNOWN)  # plain bytes have no pages
 
 
 def test_a_curve_whose_count_lies_in_memory_takes_more_points_and_is_decoded_from_what_was_read_back():

@@ -261,6 +261,8 @@ class Session(ValueAccess, EventAccess, FixAccess):
                     count = self.master.get_pag_processor_info().max_segments
                     ranges = [self.master.get_segment_range(number) for number in range(count)]
                 except XcpCommandError as error:
+                    if error.code == Err.CMD_UNKNOWN:  # it has no PAG commands: asked no more (a write checks pages)
+                        self._slave_segments = ()
                     raise InputError(f"the A2L describes no calibration segments (XCP SEGMENT) and the ECU says none "
                                      f"either ({error})") from None
                 self._slave_segments = tuple(_segment_of_slave(n, *r) for n, r in enumerate(ranges))

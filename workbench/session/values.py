@@ -6,7 +6,8 @@ is read-only, the value breaks its limits (EXTENDED_LIMITS only with ``allow_ext
 shape, texts or monotony, or it lies outside the memory the A2L says is writable
 (:mod:`workbench.calib.writable`, which the CLI runs before it connects). Once connected, XCP must be
 on a page it may write (a segment's reference page is refused, saying how to switch), which the
-session asks the ECU once and then knows.
+session asks the ECU once and then knows; the segments are those the page switching uses, the A2L's or,
+where it has none, the ECU's.
 
 A write sends what changes and reads back only that: a VALUE is one DOWNLOAD (after SET_MTA) and
 one read-back; the values of a CURVE or MAP are compared with what the session knows of the object
@@ -308,9 +309,20 @@ class ValueAccess:
                                 f"(Session.set_page('working'))")
 
     def _segments_of(self: Session, spans: list[Span]) -> list[XcpSegment]:
-        return [segment for segment in self.config.segments
+        return [segment for segment in self._page_segments()
                 if any(span.extension == segment.address_extension
                        and segment.address <= span.address < segment.address + segment.size for span in spans)]
+
+    def _page_segments(self: Session) -> tuple[XcpSegment, ...]:
+        """The calibration segments the page switching uses (:meth:`Session.calibration_segments`: the A2L's,
+        else the ECU's); none when neither tells, or the ECU offers no CAL/PAG now (boot)."""
+        info = self.master.connect_info
+        if not self.config.segments and info is not None and not info.resources & Resource.CAL_PAG:
+            return ()
+        try:
+            return self.calibration_segments()
+        except InputError:
+            return ()
 
     def _xcp_page(self: Session, segment: int) -> int | None:
         """The page XCP accesses in ``segment`` (asked once, then known); None: the slave does not say."""
