@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import re
 import shutil
 
 import pytest
@@ -117,6 +118,24 @@ def test_fixcal_writes_the_three_files(tmp_path, capsys):
     assert main(["dbc", "fixcal", FLCU, "--node", "FLCU", "-o", str(tmp_path / "a2l"), "--a2l-only"]) == 0
     assert [p.name for p in (tmp_path / "a2l").iterdir()] == ["FLCU_CAN2_fixcal.a2l"]
     assert main(["dbc", "fixcal", FLCU, "--node", "FLCU", "--a2l-only", "--c-only"]) == 2
+
+
+def test_fixcal_links_each_value_to_the_measurements_the_csv_names(tmp_path, capsys):
+    """The demo's CSV makes the generated fragment's calibrations those of a2l/modules/CANRX and CANTX."""
+    measurements = demo.path("dbc", "FLCU_CAN2_measurements.csv")
+    assert main(["dbc", "fixcal", FLCU, "--node", "FLCU", "-o", str(tmp_path), "--a2l-only",
+                 "--measurements", str(measurements)]) == 0
+    text = (tmp_path / "FLCU_CAN2_fixcal.a2l").read_text()
+    demo_text = "".join(demo.path("a2l", "modules", f"{m}.a2l").read_text() for m in ("CANRX", "CANTX"))
+    links = re.findall(r"COMPARISON_QUANTITY (\w+)", text)
+    assert len(links) == 13 and "xsLEDEn" in links and links == re.findall(r"COMPARISON_QUANTITY (\w+)", demo_text)
+    bad = tmp_path / "bad.csv"
+    bad.write_text("signal,measurement\nFuelLevelLow,xsLEDEn\nLowFuel,xsLEDEn\n")
+    capsys.readouterr()
+    assert main(["dbc", "fixcal", FLCU, "--node", "FLCU", "-o", str(tmp_path / "no"), "--measurements", str(bad)]) == 2
+    assert capsys.readouterr().err == (f"error: {FLCU}: LowFuel (given the measurement xsLEDEn): not a signal of the "
+                                       "node's messages\n")
+    assert not (tmp_path / "no").exists()
 
 
 def test_fixcal_refuses_collisions_and_suggests_qualified_names(tmp_path, capsys):

@@ -18,7 +18,7 @@ from workbench import demo
 from workbench.can.dbc_file import load_dbc
 from workbench.can.fixcal import FixKind, fix_calibrations
 from workbench.can.fixcal_c import c_literal
-from workbench.can.fixcal_output import fixcal_files
+from workbench.can.fixcal_output import fixcal_files, read_signal_measurements
 from workbench.can.model import messages_of
 from workbench.can.naming import fix_enable_name, fix_value_name, raw_c_type
 from workbench.errors import InputError
@@ -28,7 +28,11 @@ CAL_RAM_DEFINITION = re.compile(r"^CAL_RAM\s+(\w+)\s+(c[fs]\w+)\s*=\s*([^;]+);",
 C_SIZES = {"uint8_T": 1, "int8_T": 1, "uint16_T": 2, "int16_T": 2, "uint32_T": 4, "int32_T": 4, "real32_T": 4}
 
 
+DEMO_MEASUREMENTS = demo.path("dbc", "FLCU_CAN2_measurements.csv")  # the signals' live measurements
+
+
 def _flcu_files(**parts):
+    parts.setdefault("measurements", read_signal_measurements(DEMO_MEASUREMENTS))
     return fixcal_files(load_dbc(demo.dbc_can2()), "FLCU", master_a2l=demo.master_a2l(), **parts)
 
 
@@ -187,6 +191,37 @@ def test_a2l_fragment_is_read_by_pya2ldb(fragment):
     tables = {t.name: t for t in fragment.query(model.CompuVtab).all()}
     assert [(p.inVal, p.outVal) for p in tables["VTAB_Std_eDiagStatusT"].pairs][:2] == [(0, "NO_ERROR"), (1, "SHORT_TO_GND")]
     assert {r.name for r in fragment.query(model.RecordLayout).all()} == {"Scalar_UBYTE", "Scalar_UWORD"}
+    linked = {name: c.comparison_quantity.name for name, c in characteristics.items() if c.comparison_quantity}
+    assert len(linked) == 13 and set(linked) == {c.name for c in _flcu_files().calibrations
+                                                 if c.kind is FixKind.FIX_VALUE}
+    assert (linked["cfFUELLEVELLOW_VALUE"], linked["cfENABLEFLCU_VALUE"]) == ("xsLEDEn", "csPCM_TO_FLCU_001_EnableFLCU")
+
+
+def test_signal_measurements_by_name_or_as_message_signal_and_refused_when_unknown_or_ambiguous():
+    text = _flcu_files(c=False, measurements={"FLCU_TO_PCM_001.FuelLevelLow": "xsLEDEn"}).texts["FLCU_CAN2_fixcal.a2l"]
+    assert text.count("COMPARISON_QUANTITY") == 1
+    assert re.search(r"cfFUELLEVELLOW_VALUE\n(?:.*\n){8}      COMPARISON_QUANTITY xsLEDEn\n    /end CHARACTERISTIC",
+                     text)
+    with pytest.raises(InputError, match=r"FLCU_CAN2\.dbc: FuelLevelLo \(given the measurement xsLEDEn\): not a "
+                                         r"signal of the node's messages$"):
+        _flcu_files(measurements={"FuelLevelLo": "xsLEDEn"})
+    with pytest.raises(InputError, match=r"Sgn1 \(given the measurement x\): a signal of 64 messages "
+                                         r"\(C3RXAAA\.Sgn1, .*\): name it as Message\.Signal$"):
+        fixcal_files(load_dbc(demo.dbc_can3()), "EAXLE", c=False, qualified=True, measurements={"Sgn1": "x"})
+
+
+@pytest.mark.parametrize(("text", "error"), [
+    ("FuelLevelLow,xsLEDEn\n", r"x\.csv:1: the first row must be 'signal,measurement'$"),
+    ("signal,measurement\nFuelLevelLow\n",
+     r"x\.csv:2: expected 'signal,measurement' \(two names\), got 'FuelLevelLow'$"),
+    ("signal,measurement\n# a comment\n\nFuelLevelLow,xs LED\n", r"x\.csv:4: expected .* got 'FuelLevelLow,xs LED'$"),
+    ("signal,measurement\nFuelLevelLow,a\nFuelLevelLow,b\n", r"x\.csv:3: FuelLevelLow is given twice$"),
+])
+def test_a_signal_measurements_file_is_refused_at_the_line_that_is_wrong(tmp_path, text, error):
+    path = tmp_path / "x.csv"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(InputError, match=error):
+        read_signal_measurements(path)
 
 
 def test_qualified_can3_fragment_is_read_by_pya2ldb(tmp_path):
@@ -264,7 +299,7 @@ _A2LTOOL = shutil.which("a2ltool", path=str(Path(sys.executable).parent)) or shu
 @pytest.mark.skipif(_A2LTOOL is None, reason="a2ltool is not installed (pip install -e .[dev])")
 def test_a2l_fragment_passes_a2ltool_and_merges_into_the_master(tmp_path):
     fragment = tmp_path / "FLCU_CAN2_fixcal.a2l"
-    fragment.write_text(_flcu_files(c=False).texts[fragment.name])
+    fragment.write_text(_flcu_files(c=False, measurements=None).texts[fragment.name])  # standalone: no links
 
     def a2ltool(*args) -> str:
         done = subprocess.run([_A2LTOOL, *map(str, args)], capture_output=True, text=True, check=True)
@@ -278,13 +313,16 @@ def test_a2l_fragment_passes_a2ltool_and_merges_into_the_master(tmp_path):
     master_count = demo.master_a2l().read_text(encoding="utf-8").count("/begin CHARACTERISTIC")
     assert merged_text.count("/begin CHARACTERISTIC") == master_count + 29
 
-    # with the demo's own CANRX/CANTX fragments, which define the same 29 calibrations
-    modules = demo.path("a2l", "modules")
-    a2ltool(demo.master_a2l(), "--merge", modules / "CANRX.a2l", "--merge", modules / "CANTX.a2l",
-            "--merge", fragment, "--output", merged)
+    # linked to the signals' live measurements, with every demo fragment: CANRX/CANTX define the same 29
+    # calibrations (links included), the others the measurements they name
+    fragment.write_text(_flcu_files(c=False).texts[fragment.name])
+    modules = [arg for path in demo.fragment_a2ls() for arg in ("--merge", path)]
+    a2ltool(demo.master_a2l(), "--merge-includes", *modules, "--merge", fragment, "--output", merged)
     merged_text = merged.read_text()
     assert ".MERGE" not in merged_text  # identical definitions fold, different ones would be renamed
-    assert merged_text.count("/begin CHARACTERISTIC") == master_count + 29
+    assert merged_text.count("/begin CHARACTERISTIC") == demo.a2l().read_text(encoding="utf-8").count(
+        "/begin CHARACTERISTIC")
+    assert "No problems found" in a2ltool(merged, "--check", "--strict")
 
 
 @pytest.mark.gcc

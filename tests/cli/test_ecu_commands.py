@@ -4,6 +4,7 @@ on a udp_multicast port of the test's own, output and exit codes as a user meets
 from __future__ import annotations
 
 import json
+import re
 
 import pytest
 
@@ -149,6 +150,10 @@ def test_cal_fix_override_release_list(bus, capsys):
     code, out, _ = run(capsys, "cal", "fix", "--list", "--json", *bus)
     states = {item["fix"]: item for item in json.loads(out)}
     assert states["zfRAILPRESSURE"]["active"] is True and len(states) == 17
+    assert states["cfFUELLEVELLOW"]["live"] in ("ON", "OFF")  # xsLEDEn, the A2L's COMPARISON_QUANTITY
+    code, out, _ = run(capsys, "cal", "fix", "--list", *bus)
+    assert code == 0 and "live -" not in out  # every fix of the demo has a live value
+    assert re.search(r"cfFUELLEVELLOW\s+off\s+override \S+\s+live (ON|OFF)\b", out)
     code, out, _ = run(capsys, "cal", "fix", "zfRAILPRESSURE", "--release", *bus)
     assert code == 0 and "off" in out
     code, _, err = run(capsys, "cal", "fix", "zfRAILPRESSURE", *bus)

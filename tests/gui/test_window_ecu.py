@@ -8,8 +8,11 @@ import pytest
 from gui_helpers import WAIT_MS, open_window
 from PySide6.QtCore import Qt
 
+from workbench.calib.fixes import find_fix_pairs
 from workbench.gui.models.fixes import COLUMNS as FIX_COLUMNS
+from workbench.gui.models.fixes import FixModel
 from workbench.gui.project import PlotSpec
+from workbench.session.fixes import FixState
 
 
 @pytest.fixture
@@ -75,11 +78,24 @@ def test_a_fix_override_replaces_the_rail_pressure_until_released(window, qtbot)
                     timeout=WAIT_MS)
     low = model.index(next(r for r, f in enumerate(model.rows) if f.pair.stem == "cfFUELLEVELLOW"),
                       FIX_COLUMNS.index("live"))
-    qtbot.waitUntil(lambda: model.data(low) == "Normal", timeout=WAIT_MS)  # no measurement: as sent on CAN2
+    qtbot.waitUntil(lambda: model.data(low) == "OFF", timeout=WAIT_MS)  # xsLEDEn: the A2L's COMPARISON_QUANTITY
+    assert "live: xsLEDEn" in model.data(low, Qt.ToolTipRole)
     index = model.index(_fix_row(panel, "zsRailPressure"), FIX_COLUMNS.index("on"))
     assert model.data(index, Qt.CheckStateRole) == Qt.Checked
     assert model.setData(index, Qt.Unchecked.value, Qt.CheckStateRole)
     qtbot.waitUntil(lambda: not session.fix_state("zfRAILPRESSURE").active, timeout=WAIT_MS)
+
+
+def test_a_fix_without_a_live_measurement_shows_its_value_as_sent_on_can2(qapp):
+    """A third-party A2L that neither links nor names FuelLevelLow's source: the CAN2 monitor's value."""
+    pairs = find_fix_pairs(["cfFUELLEVELLOW_EN", "cfFUELLEVELLOW_VALUE"], ["xsLEDEn"])
+    model = FixModel(bus_value=lambda fix: "Low" if fix.pair.stem == "cfFUELLEVELLOW" else None)
+    model.set_fixes([FixState(pairs[0], None, "Normal", False)])
+    live = model.index(0, FIX_COLUMNS.index("live"))
+    assert model.data(live) == "Low" and "live: as sent on CAN2" in model.data(live, Qt.ToolTipRole)
+    unknown = FixModel()
+    unknown.set_fixes([FixState(pairs[0], None, "Normal", False)])
+    assert unknown.data(unknown.index(0, FIX_COLUMNS.index("live"))) == "—"
 
 
 def test_the_page_buttons_switch_the_ecu_to_the_reference_page_and_back(window, qtbot):

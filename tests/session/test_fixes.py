@@ -27,7 +27,9 @@ def test_every_fixable_signal_is_listed_with_its_values(ecu):
     # a sent signal computed under an abbreviated name: RailPSDiagnosticStatus from xsRailPSDiagStatus
     assert states["cfRAILPSDIAGNOSTICSTATUS"].pair.live == "xsRailPSDiagStatus"
     assert states["cfRAILPSDIAGNOSTICSTATUS"].live == "NO_ERROR"
-    assert states["cfFUELLEVELLOW"].pair.live is None  # from xsLEDEn: no name tells (the window shows CAN2's)
+    # FuelLevelLow is sent from xsLEDEn: no name tells, the A2L's COMPARISON_QUANTITY does
+    assert states["cfFUELLEVELLOW"].pair.live == "xsLEDEn" and states["cfFUELLEVELLOW"].live in ("ON", "OFF")
+    assert all(state.pair.live is not None for state in states.values())
 
 
 def test_an_override_writes_value_then_enable_and_a_release_gives_the_signal_back(ecu):

@@ -8,10 +8,17 @@ receives. The thesis names them
 * ``zf<SENSOR>_EN/_VALUE`` for a sensor (``zfRAILPRESSURE`` fixes ``zsRailPressure``);
 * any other ``<stem>_EN/_VALUE`` pair follows the same rule.
 
-:func:`find_fix_pairs` finds every pair among an A2L's CHARACTERISTICs and the MEASUREMENT each
-one overrides, from the names alone (case-blind; a measurement whose words abbreviate the signal's,
-``xsRailPSDiagStatus`` for ``RailPSDiagnosticStatus``, when nothing matches exactly); :func:`resolve_fix` finds the pair a user means by any of
-its names, and refuses to guess between two (``RailPressure`` has a CAN fix and a sensor fix).
+:func:`find_fix_pairs` finds every pair among an A2L's CHARACTERISTICs and the MEASUREMENT that shows
+its signal's live value. The A2L says it where it links them: the ``COMPARISON_QUANTITY`` of the
+``_VALUE`` (or ``_EN``) names that measurement (``workbench dbc fixcal --measurements`` writes it; the
+demo's ``cfFUELLEVELLOW_VALUE`` names ``xsLEDEn``, the variable FuelLevelLow is sent from). An A2L
+without the link (third-party files) is read by the names alone (case-blind): ``cs<Message>_<Signal>``
+for a received signal, ``zs<Sensor>`` for a sensor, a measurement of the signal's name, else one whose
+words abbreviate the signal's (``xsRailPSDiagStatus`` for ``RailPSDiagnosticStatus``). Where none is
+found the window shows the value as sent on CAN2, when it knows the DBC. :func:`fix_pairs_of` reads an
+A2L model so, for the session, ``cal fix`` and the window alike. :func:`resolve_fix` finds the pair a
+user means by any of its names, and refuses to guess between two (``RailPressure`` has a CAN fix and a
+sensor fix).
 """
 
 from __future__ import annotations
@@ -19,11 +26,15 @@ from __future__ import annotations
 import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from workbench.can.naming import fix_stem
 from workbench.errors import InputError, UnknownSymbolError
 
-__all__ = ["FixPair", "find_fix_pairs", "resolve_fix"]
+if TYPE_CHECKING:
+    from workbench.a2l.model import A2lModel
+
+__all__ = ["FixPair", "find_fix_pairs", "fix_pairs_of", "resolve_fix"]
 
 ENABLE, VALUE = "_EN", "_VALUE"
 KINDS = {"cf": "CAN signal", "zf": "sensor"}
@@ -36,7 +47,7 @@ class FixPair:
     value: str  # cfRAILPRESSURE_VALUE
     kind: str  # "CAN signal", "sensor" or "fix"
     measurement: str | None  # the signal it overrides, when the A2L has it (zsRailPressure, csPCM_TO_FLCU_001_EnableFLCU)
-    source: str | None = None  # else a measurement of the same name: a sent signal's source (cfFUELLEVEL: xsFuelLevel)
+    source: str | None = None  # else the measurement the signal is computed from (cfFUELLEVELLOW: xsLEDEn)
 
     @property
     def signal(self) -> str:
@@ -64,16 +75,23 @@ def _bare(measurement: str) -> str:
 
 
 def find_fix_pairs(characteristics: Iterable[str], measurements: Iterable[str],
-                   explicit: Mapping[str, tuple[str, str]] | None = None) -> list[FixPair]:
-    """Every ``_EN``/``_VALUE`` pair of ``characteristics``, with the measurement it overrides.
+                   explicit: Mapping[str, tuple[str, str]] | None = None,
+                   links: Mapping[str, str] | None = None) -> list[FixPair]:
+    """Every ``_EN``/``_VALUE`` pair of ``characteristics``, with the measurement that shows its signal.
 
     ``explicit``: signal name -> (enable, value) for pairs the naming rule does not find.
+    ``links``: characteristic -> the MEASUREMENT its COMPARISON_QUANTITY names; a pair's link (its
+    ``_VALUE``'s, else its ``_EN``'s) is its live measurement whatever the names say (one that is not
+    among ``measurements`` is ignored).
     """
     names = set(characteristics)
+    measurements = list(measurements)
+    known = set(measurements)
     by_upper: dict[str, list[str]] = {}
     for measurement in measurements:
         by_upper.setdefault(measurement.upper(), []).append(measurement)
         by_upper.setdefault(_bare(measurement).upper(), []).append(measurement)
+    links = links or {}
     pairs = []
     for enable in sorted(names):
         if not enable.endswith(ENABLE):
@@ -82,7 +100,10 @@ def find_fix_pairs(characteristics: Iterable[str], measurements: Iterable[str],
         if stem + VALUE not in names:
             continue
         measurement, source = _overridden(stem, by_upper)
-        if measurement is None and source is None:
+        link = next((links[n] for n in (stem + VALUE, enable) if links.get(n) in known), None)
+        if link is not None and link != measurement:  # the A2L's link, not a name, says where the value is
+            measurement, source = None, link
+        elif measurement is None and source is None:
             source = _abbreviated(stem[2:], by_upper)
         pairs.append(FixPair(stem, enable, stem + VALUE, KINDS.get(stem[:2], "fix"), measurement, source))
     for signal, (enable, value) in (explicit or {}).items():
@@ -90,6 +111,19 @@ def find_fix_pairs(characteristics: Iterable[str], measurements: Iterable[str],
         found = by_upper.get(signal.upper(), [])
         pairs.append(FixPair(stem, enable, value, "fix", found[0] if len(found) == 1 else signal))
     return pairs
+
+
+def fix_pairs_of(model: "A2lModel", explicit: Mapping[str, tuple[str, str]] | None = None) -> list[FixPair]:
+    """:func:`find_fix_pairs` of an A2L: its CHARACTERISTICs and MEASUREMENTs, the COMPARISON_QUANTITY of
+    every ``_EN``/``_VALUE`` characteristic as its link."""
+    characteristics = model.names("CHARACTERISTIC")
+    links = {}
+    for name in characteristics:
+        if name.endswith((ENABLE, VALUE)):
+            link = model.characteristic(name).comparison_quantity
+            if link:
+                links[name] = link
+    return find_fix_pairs(characteristics, model.names("MEASUREMENT"), explicit, links)
 
 
 def _overridden(stem: str, by_upper: dict[str, list[str]]) -> tuple[str | None, str | None]:

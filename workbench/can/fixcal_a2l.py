@@ -11,7 +11,11 @@ merge silently:
   ``CM_<table>`` when the descriptions are a DBC ``VAL_TABLE_``, else ``CM_CAN_<Signal>``;
 * ``_VALUE`` otherwise: LINEAR ``CM_CAN_<factor>[_<offset>][_<unit>]`` (``CM_CAN_0p01_bar``:
   phys = 0.01 · raw + 0), or ``CM_Identity`` for factor 1, offset 0 and no unit;
-* record layouts ``Scalar_<datatype>`` (``Scalar_UBYTE``, ``Scalar_UWORD`` ...).
+* record layouts ``Scalar_<datatype>`` (``Scalar_UBYTE``, ``Scalar_UWORD`` ...);
+* ``_VALUE`` of a signal whose live MEASUREMENT is known (a sent signal's source variable, a
+  received signal's published value): ``COMPARISON_QUANTITY <measurement>`` (ASAM MCD-2MC: the
+  measurement a calibration tool shows beside the adjustable object), so a tool that reads the
+  A2L finds the signal's live value by the link, not by its name.
 
 Two conversions that would get one name but differ (``µs`` and ``s`` both spell ``_s``;
 ``Sgn2`` with other value descriptions in another message, under ``--qualified``) must not
@@ -27,7 +31,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from decimal import Decimal
 
@@ -89,11 +93,14 @@ def mod_common_lines(a2l_text: str) -> tuple[str, ...]:
 
 
 def a2l_fragment(calibrations: Sequence[FixCalibration], module: str, title: str,
-                 mod_common: Sequence[str] = ()) -> str:
+                 mod_common: Sequence[str] = (), comparison: Mapping[str, str] | None = None) -> str:
     """The A2L text: PROJECT/MODULE ``module`` (an identifier) described by ``title``.
 
     :param mod_common: the MOD_COMMON keyword lines (:func:`mod_common_lines` of the master).
+    :param comparison: calibration name -> the MEASUREMENT its COMPARISON_QUANTITY names (a ``_VALUE``'s
+        live signal); the measurement is defined elsewhere (the module that computes or publishes it).
     """
+    comparison = comparison or {}
     conversions: dict[str, _Conversion] = {}
     layouts: set[str] = set()
     characteristics = []
@@ -102,7 +109,8 @@ def a2l_fragment(calibrations: Sequence[FixCalibration], module: str, title: str
         conversions[conversion.name] = conversion
         layout = f"Scalar_{A2L_DATATYPES[calibration.c_type]}"
         layouts.add(layout)
-        characteristics.append(_characteristic(calibration, layout, conversion.name))
+        characteristics.append(_characteristic(calibration, layout, conversion.name,
+                                               comparison.get(calibration.name)))
     tables = sorted((c.table, c.table_text()) for c in conversions.values() if c.table)
     parts = [
         f"/* ASAP2 fragment: {title}.\n"
@@ -126,8 +134,9 @@ def a2l_fragment(calibrations: Sequence[FixCalibration], module: str, title: str
     return "".join(parts)
 
 
-def _characteristic(calibration: FixCalibration, layout: str, conversion: str) -> str:
+def _characteristic(calibration: FixCalibration, layout: str, conversion: str, comparison: str | None) -> str:
     name = calibration.name
+    link = f"      COMPARISON_QUANTITY {comparison}\n" if comparison else ""
     return (
         "    /begin CHARACTERISTIC\n"
         f"      /* Name                   */ {name}\n"
@@ -139,6 +148,7 @@ def _characteristic(calibration: FixCalibration, layout: str, conversion: str) -
         f"      /* Conversion Method      */ {conversion}\n"
         f"      /* Lower Limit            */ {format_number(calibration.lower)}\n"
         f"      /* Upper Limit            */ {format_number(calibration.upper)}\n"
+        f"{link}"
         "    /end CHARACTERISTIC\n"
     )
 

@@ -212,12 +212,12 @@ def _fix(args: argparse.Namespace) -> int:
         raise InputError("give either VALUE (override) or --release, not both or neither")
     doc = None
     if args.value is not None:  # the override value checked before connecting
-        from workbench.calib.fixes import find_fix_pairs, resolve_fix
+        from workbench.calib.fixes import fix_pairs_of, resolve_fix
         from workbench.calib.writable import checked_value
 
         doc, writable = _offline(args)
         model = doc.model()
-        pair = resolve_fix(find_fix_pairs(model.names("CHARACTERISTIC"), model.names("MEASUREMENT")), args.signal)
+        pair = resolve_fix(fix_pairs_of(model), args.signal)
         checked_value(model, pair.value, typed_value(args.value), writable=writable)
     with open_session(args, doc) as session:
         if args.list:

@@ -85,6 +85,11 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     fixcal.add_argument("--master", metavar="A2L", default=None,
                         help="master A2L whose MOD_COMMON (byte order, alignments) the fragment repeats "
                              "(default: the demo project's a2l/FLCU_master.a2l)")
+    fixcal.add_argument("--measurements", metavar="CSV", default=None,
+                        help="rows 'signal,measurement' (first row just that): the MEASUREMENT that shows each "
+                             "signal's live value (a sent signal's source variable, a received signal's published "
+                             "value), written as its _VALUE's COMPARISON_QUANTITY so tools find it by the link; "
+                             "a signal by its name or as Message.Signal")
     parts = fixcal.add_mutually_exclusive_group()
     parts.add_argument("--a2l-only", action="store_true", help="write only the A2L fragment")
     parts.add_argument("--c-only", action="store_true", help="write only the C header and source")
@@ -168,13 +173,14 @@ def _print_load_warnings(dbcs) -> None:
 def _fixcal(args: argparse.Namespace) -> int:
     from workbench import demo
     from workbench.can.dbc_file import load_dbc
-    from workbench.can.fixcal_output import fixcal_files
+    from workbench.can.fixcal_output import fixcal_files, read_signal_measurements
 
     master = args.master if args.master is not None else demo.master_a2l()
+    measurements = read_signal_measurements(args.measurements) if args.measurements else None
     dbc = load_dbc(args.dbc)
     _print_load_warnings([dbc])
     files = fixcal_files(dbc, args.node, c=not args.a2l_only, a2l=not args.c_only, master_a2l=master,
-                         qualified=args.qualified)
+                         qualified=args.qualified, measurements=measurements)
     for path in files.write(args.output):
         print(path)
     print(f"{len(files.calibrations)} calibrations for {args.node}", file=sys.stderr)

@@ -1,6 +1,7 @@
 """Fix calibrations through the session: override a signal with its ``_EN``/``_VALUE`` pair, release it.
 
-The pairs come from the A2L's names (:mod:`workbench.calib.fixes`) or a mapping the caller gives.
+The pairs come from the A2L (:func:`workbench.calib.fixes.fix_pairs_of`: its COMPARISON_QUANTITY links, else
+its names) or a mapping the caller gives.
 An override writes ``_VALUE`` first and then ``_EN`` = 1, so the ECU never switches to a stale
 value; a release writes ``_EN`` = 0 and leaves ``_VALUE`` for the next time.
 """
@@ -15,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from workbench.a2l.xcp import read_daq_events
-from workbench.calib.fixes import FixPair, find_fix_pairs, resolve_fix
+from workbench.calib.fixes import FixPair, fix_pairs_of, resolve_fix
 
 if TYPE_CHECKING:
     from workbench.session.session import Session
@@ -45,8 +46,7 @@ class FixAccess:
 
     def fix_pairs(self: Session) -> list[FixPair]:
         """Every ``_EN``/``_VALUE`` pair of the A2L (and of :attr:`fix_mapping`)."""
-        model = self.model
-        return find_fix_pairs(model.names("CHARACTERISTIC"), model.names("MEASUREMENT"), self.fix_mapping)
+        return fix_pairs_of(self.model, self.fix_mapping)
 
     def fix(self: Session, signal: str) -> FixPair:
         """The pair ``signal`` names (stem, _EN/_VALUE, signal or measurement name; two candidates are refused)."""

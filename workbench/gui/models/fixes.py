@@ -1,8 +1,9 @@
 """The fix-calibration panel's rows: every ``_EN``/``_VALUE`` pair with the signal it overrides, the
 signal's live value, the override value and whether the override is on (``session.fixes()``).
 
-A live value the session cannot read (no MEASUREMENT of the signal: a CAN signal the ECU sends,
-computed under another name) comes from ``bus_value(fix)``: the window's CAN2 monitor."""
+The live value is the measurement the A2L links to the pair (its COMPARISON_QUANTITY) or names so
+(:mod:`workbench.calib.fixes`); where there is none (a third-party A2L whose sent signal is computed under
+another name) it comes from ``bus_value(fix)``: the window's CAN2 monitor."""
 
 from __future__ import annotations
 
