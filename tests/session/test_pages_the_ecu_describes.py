@@ -5,11 +5,10 @@ from __future__ import annotations
 
 import re
 
-import pytest
-from session_helpers import FAST
+from session_helpers import FAST, WRITE, refused_on_the_reference_page
 from xcp_commands import CommandLog
 
-from workbench import PageError, Session
+from workbench import Session
 from workbench.a2l import load_a2l_string, read_xcp_config
 from workbench.sim import serve_demo
 from workbench.xcp_protocol import Cmd, Err
@@ -43,19 +42,7 @@ def test_a_write_on_the_reference_page_the_ecu_describes_is_refused_before_sendi
     with serve_demo({"interface": "virtual", "channel": channel}, profile="segments-one-by-one") as sim:
         with Session.open(_without_segments(sim), interface="virtual", channel=channel, timeouts=FAST) as ecu, \
                 CommandLog(channel) as log:
-            ecu.set_page("reference")
-            log.take()
-            with pytest.raises(PageError, match=r"xsSWITCH_TANK_THR is not written: the reference page of segment 1 "
-                                                 r"is active .* `workbench cal page working --segment 1`"):
-                ecu.write("xsSWITCH_TANK_THR", 24.0)
-            with pytest.raises(PageError, match="the reference page of segment 1"):
-                ecu.write_cells("xvPRV_DC_FF", {(0, 0): 1.0})
-            assert log.take() == []
-            ecu.set_page("working")
-            assert ecu.write("xsSWITCH_TANK_THR", 24.0).value == 24.0
-            log.take()
-            assert ecu.write("xsSWITCH_TANK_THR", 23.0).value == 23.0
-            assert log.take() == ["SET_MTA", "DOWNLOAD", "SHORT_UPLOAD"]  # the segments were asked once
+            refused_on_the_reference_page(ecu, log, 1)
 
 
 def test_an_ecu_without_page_commands_is_asked_once_a_session(sim, channel):
@@ -67,4 +54,4 @@ def test_an_ecu_without_page_commands_is_asked_once_a_session(sim, channel):
         ecu.write("xsSWITCH_TANK_THR", 24.0)
         assert "GET_PAG_PROCESSOR_INFO" in log.take()
         assert ecu.write("xsSWITCH_TANK_THR", 23.0).value == 23.0
-        assert log.take() == ["SET_MTA", "DOWNLOAD", "SHORT_UPLOAD"]
+        assert log.take() == WRITE

@@ -7,7 +7,7 @@ import struct
 
 import numpy as np
 import pytest
-from session_helpers import FAST, demo_a2l_text, edited_a2l
+from session_helpers import FAST, WRITE, demo_a2l_text, edited_a2l, refused_on_the_reference_page
 from xcp_commands import CommandLog
 
 from workbench import EpkMismatchError, PageError, Session
@@ -15,7 +15,6 @@ from workbench.errors import ConversionError, InputError, LimitsError, UnknownSy
 from workbench.xcp_protocol import Err
 
 FIRST_WRITE = ["GET_SEED", "UNLOCK", "GET_CAL_PAGE"]  # once a session: CAL/PAG unlocked, the page XCP is on asked
-WRITE = ["SET_MTA", "DOWNLOAD", "SHORT_UPLOAD"]
 
 
 @pytest.fixture
@@ -165,19 +164,8 @@ def test_what_the_data_type_cannot_hold_is_refused_before_sending(tmp_path, sim,
         assert log.take() == []
 
 
-def test_the_reference_page_is_refused_before_the_download_saying_how_to_switch(ecu, sim, log):
-    ecu.set_page("reference")
-    log.take()
-    with pytest.raises(PageError, match=r"xsSWITCH_TANK_THR is not written: the reference page of segment 0 is "
-                                        r"active .*`workbench cal page working`"):
-        ecu.write("xsSWITCH_TANK_THR", 21.0)
-    with pytest.raises(PageError, match="xvPRV_DC_FF is not written"):
-        ecu.write_cells("xvPRV_DC_FF", {(0, 0): 1.0})
-    assert "DOWNLOAD" not in log.take()
-    ecu.set_page("working")
-    log.take()
-    assert ecu.write("xsSWITCH_TANK_THR", 21.0).value == 21.0
-    assert log.take() == WRITE  # the switch told the session the page XCP is on
+def test_the_reference_page_is_refused_before_the_download_saying_how_to_switch(ecu, log):
+    refused_on_the_reference_page(ecu, log, 0)
 
 
 def test_a_page_switched_by_someone_else_is_said_when_the_ecu_refuses(ecu, sim):
