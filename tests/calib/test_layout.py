@@ -142,7 +142,7 @@ def test_enums_write_by_text(demo, rom):
 
 
 def test_value_edits_refuse_a_value_beyond_the_limits_before_computing(demo, rom):
-    with pytest.raises(LimitsError, match="xsSWITCH_TANK_THR: 900 is above the upper limit 800") as caught:
+    with pytest.raises(LimitsError, match="xsSWITCH_TANK_THR: 900.00 is above the upper limit 800.00") as caught:
         value_edits(demo, CalValue("xsSWITCH_TANK_THR", "VALUE", 900.0), rom)
     assert caught.value.violations[0].rule == "limits" and caught.value.exit_code == 2
     edits = value_edits(demo, CalValue("xsSWITCH_TANK_THR", "VALUE", 25.0), rom)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from workbench.a2l import load_a2l, load_a2l_string
-from workbench.calib import Axis, CalValue, check_limits, measurement_codec, object_layout
+from workbench.calib import Axis, CalValue, check_cells, check_limits, measurement_codec, object_layout
 from workbench.errors import ConversionError, UnknownSymbolError
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -99,12 +99,28 @@ def test_demo_limits(demo):
     assert check_limits(demo, CalValue("xsSWITCH_TANK_THR", "VALUE", 800.00001)) == []  # float32 precision
     (above,) = check_limits(demo, CalValue("xsSWITCH_TANK_THR", "VALUE", 900.0))
     assert (above.name, above.rule, str(above)) == ("xsSWITCH_TANK_THR", "limits",
-                                                    "xsSWITCH_TANK_THR: 900 is above the upper limit 800 bar")
+                                                    "xsSWITCH_TANK_THR: 900.00 is above the upper limit 800.00 bar")
     (nan,) = check_limits(demo, CalValue("xsSWITCH_TANK_THR", "VALUE", float("nan")))
     assert "is not a number" in str(nan)
     assert check_limits(demo, CalValue("zfRAILPRESSURE_EN", "VALUE", "ON")) == []
     (kind,) = check_limits(demo, CalValue("xsSWITCH_TANK_THR", "CURVE", np.zeros(3)))
     assert kind.rule == "kind"
+
+
+def test_a_value_just_beyond_a_limit_reads_other_than_the_limit(demo):
+    """The limit in the A2L's format (CM_bar: %8.2), the value with the digits it takes to differ from it."""
+    (just,) = check_limits(demo, CalValue("xsSWITCH_TANK_THR", "VALUE", 800.0004))
+    assert str(just) == "xsSWITCH_TANK_THR: 800.0004 is above the upper limit 800.00 bar"
+    (below,) = check_limits(demo, CalValue("xsSWITCH_TANK_THR", "VALUE", -1e-6))
+    assert str(below) == "xsSWITCH_TANK_THR: -0.000001 is below the lower limit 0.00 bar"  # not "-0.00 ... 0.00"
+    cells = check_cells(demo, "xvPRV_DC_FF", {(1, 0): 100.004})  # CM_Percent: %6.2
+    assert [str(v) for v in cells] == ["xvPRV_DC_FF[1, 0]: 100.004 is above the upper limit 100.00 %"]
+    plain = module("/begin CHARACTERISTIC k \"\" VALUE 0x10 L 0 NO_COMPU_METHOD 0 100 /end CHARACTERISTIC\n"
+                   "/begin RECORD_LAYOUT L FNC_VALUES 1 FLOAT32_IEEE ROW_DIR DIRECT /end RECORD_LAYOUT")
+    (unformatted,) = check_limits(plain, CalValue("k", "VALUE", 100.0001))  # no FORMAT: the shortest text
+    assert str(unformatted) == "k: 100.0001 is above the upper limit 100"
+    (text,) = check_limits(demo, CalValue("xsSWITCH_TANK_THR", "VALUE", "abc"))
+    assert str(text) == "xsSWITCH_TANK_THR: 'abc' is not a number (a value from 0.00 to 800.00 bar)"
 
 
 def test_map_limits_axes_and_shape(demo):
@@ -116,9 +132,9 @@ def test_map_limits_axes_and_shape(demo):
     bent = Axis(np.array([50, 100, 90, 400, 900.0]), "COM_AXIS", "xaPRV_FF_MANIFOLD", "bar")
     found = check_limits(demo, CalValue("xvPRV_DC_FF", "MAP", values, (target, bent)))
     messages = [str(v) for v in found]
-    assert "xvPRV_DC_FF axis Y (xaPRV_FF_MANIFOLD): 900 at [4] is above the upper limit 800 bar" in messages
+    assert "xvPRV_DC_FF axis Y (xaPRV_FF_MANIFOLD): 900.00 at [4] is above the upper limit 800.00 bar" in messages
     assert "xvPRV_DC_FF axis Y (xaPRV_FF_MANIFOLD): points 1 and 2 (100, 90) break MON_INCREASE" in messages
-    assert "xvPRV_DC_FF: 2 values, first 120 at [3, 1] is above the upper limit 100 %" in messages
+    assert "xvPRV_DC_FF: 2 values, first 120.00 at [3, 1] is above the upper limit 100.00 %" in messages
     assert found[-1].index == (3, 1)
     short = check_limits(demo, CalValue("xvPRV_DC_FF", "MAP", values[:5], (target, manifold)))
     assert [v.rule for v in short] == ["shape", "limits"]

@@ -35,11 +35,11 @@ def run(capsys, *argv: str) -> tuple[int, str, str]:
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["xsSWITCH_TANK_THR", "900"], "xsSWITCH_TANK_THR: 900 is above the upper limit 800 bar"),
-    (["xsSWITCH_TANK_THR", "abc"], "xsSWITCH_TANK_THR: 'abc' is not a number (a value from 0 to 800 bar)"),
+    (["xsSWITCH_TANK_THR", "900"], "xsSWITCH_TANK_THR: 900.00 is above the upper limit 800.00 bar"),
+    (["xsSWITCH_TANK_THR", "abc"], "xsSWITCH_TANK_THR: 'abc' is not a number (a value from 0.00 to 800.00 bar)"),
     (["cfENABLEFLCU_VALUE", "Foo"], "cfENABLEFLCU_VALUE: 'Foo' is not one of its values (Disabled, Enabled)"),
     (["xvPRV_DC_FF", "1,2,3"], "xvPRV_DC_FF has shape (6, 5), the value (3,)"),
-    (["xvPRV_DC_FF[2,3]", "200"], "xvPRV_DC_FF[2, 3]: 200 is above the upper limit 100 %"),
+    (["xvPRV_DC_FF[2,3]", "200"], "xvPRV_DC_FF[2, 3]: 200.00 is above the upper limit 100.00 %"),
     (["xvPRV_DC_FF[6][0]", "1"], "xvPRV_DC_FF has shape (6, 5): there is no value [6, 0]"),
     (["xaPRV_FF_TARGET", "0,10,5,30,40,50"], "xaPRV_FF_TARGET: points 1 and 2 (10, 5) break MON_INCREASE"),
     (["zsRailPressure", "1"], "zsRailPressure is a MEASUREMENT: measurements are read, calibrations written"),
@@ -104,5 +104,5 @@ def test_a_read_only_session_refuses_page_switches(bus, capsys, tmp_path):
 def test_a_fix_override_beyond_its_limits_sends_nothing(bus, capsys):
     options, log, _ = bus
     code, out, err = run(capsys, "cal", "fix", "zfRAILPRESSURE", "900", *options)
-    assert (code, out) == (2, "") and err.startswith("error: zfRAILPRESSURE_VALUE: 900 is above the upper limit")
+    assert (code, out) == (2, "") and err.startswith("error: zfRAILPRESSURE_VALUE: 900.00 is above the upper limit 50.00 bar")
     assert log.take() == []

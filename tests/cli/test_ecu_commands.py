@@ -82,7 +82,7 @@ def test_cal_set_reads_back_and_refuses_bad_values(bus, capsys):
     code, out, _ = run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "12.5", *bus)
     assert (code, out) == (0, "xsSWITCH_TANK_THR = 12.5 bar (written, read back)\n")
     code, out, err = run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "900", *bus)
-    assert (code, out) == (2, "") and err == "error: xsSWITCH_TANK_THR: 900 is above the upper limit 800 bar\n"
+    assert (code, out) == (2, "") and err == "error: xsSWITCH_TANK_THR: 900.00 is above the upper limit 800.00 bar\n"
     code, _, err = run(capsys, "cal", "set", "xsSWITCH_TANK_THRX", "5", *bus)
     assert code == 2 and "did you mean 'xsSWITCH_TANK_THR'" in err
     code, _, err = run(capsys, "cal", "set", "zsRailPressure", "5", *bus)

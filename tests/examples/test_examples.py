@@ -39,7 +39,7 @@ def test_measure(port):
 
 def test_calibrate(port):
     out = run("calibrate.py", port)
-    assert "now: 25.0 bar" in out and "refused: xsSWITCH_TANK_THR: 2500 is above the upper limit 800" in out
+    assert "now: 25.0 bar" in out and "refused: xsSWITCH_TANK_THR: 2500.00 is above the upper limit 800.00" in out
     assert "restored: 20.0 bar, 35.0 %" in out
 
 

@@ -108,15 +108,15 @@ def test_900_typed_into_every_editor_kind_is_refused_with_the_limit_and_the_ecu_
     assert scalar.field.input.text() == "900"  # every keystroke taken: no range that drops the last one
     with qtbot.waitSignal(scalar.refused, timeout=WAIT_MS) as refused:
         press(Qt.Key_Return)
-    assert refused.args[0] == "xsSWITCH_TANK_THR: 900 is above the upper limit 800 bar"
+    assert refused.args[0] == "xsSWITCH_TANK_THR: 900.00 is above the upper limit 800.00 bar"
     assert "above the upper limit 800" in scalar.status.text()
 
-    for name, cell, limit in (("zvRailPConv", "[1]", "50 bar"), ("xvPRV_DC_FF", "[1, 0]", "100 %")):
+    for name, cell, limit in (("zvRailPConv", "[1]", "50.00 bar"), ("xvPRV_DC_FF", "[1, 0]", "100.00 %")):
         table = editor_on(window, qtbot, name)
         cell_typed(table.field.table, 0, 1, "900")
         with qtbot.waitSignal(table.refused, timeout=WAIT_MS) as refused:
             press(Qt.Key_Enter)
-        assert refused.args[0] == f"{name}: 900 at {cell} is above the upper limit {limit}"
+        assert refused.args[0] == f"{name}: 900.00 at {cell} is above the upper limit {limit}"
 
     verbal = editor_on(window, qtbot, "cfFUELLEVELLOW_VALUE")
     scalar_typed(verbal, "900")
@@ -125,11 +125,12 @@ def test_900_typed_into_every_editor_kind_is_refused_with_the_limit_and_the_ecu_
     assert refused.args[0] == "cfFUELLEVELLOW_VALUE: 900 is above the upper limit 1"
 
     panel = fixes_listed(window, qtbot)
-    for stem, limit in (("zfRAILPRESSURE", "50 bar"), ("cfFUELLEVELLOW", "1")):
+    for stem, refusal in (("zfRAILPRESSURE", "900.00 is above the upper limit 50.00 bar"),
+                          ("cfFUELLEVELLOW", "900 is above the upper limit 1")):
         cell_typed(panel.table, fix_row(panel, stem), FIX_COLUMNS.index("override"), "900")
         with qtbot.waitSignal(panel.refused, timeout=WAIT_MS) as refused:
             press(Qt.Key_Return)
-        assert refused.args[0] == f"{stem}_VALUE: 900 is above the upper limit {limit}"
+        assert refused.args[0] == f"{stem}_VALUE: {refusal}"
     after = {name: session.read(name) for name in before}
     assert all(np.array_equal(np.asarray(after[n]), np.asarray(before[n])) for n in before), (before, after)
     assert not window.errors
@@ -264,7 +265,7 @@ def test_extended_limits_are_written_only_when_the_user_chose_them(qtbot, tmp_pa
         scalar_typed(editor, "900")
         with qtbot.waitSignal(editor.refused, timeout=WAIT_MS) as refused:
             press(Qt.Key_Return)
-        assert refused.args[0].endswith("900 is above the upper limit 800 bar")
+        assert refused.args[0].endswith("900.00 is above the upper limit 800.00 bar")
         editor.field.extended.setChecked(True)  # the explicit choice
         scalar_typed(editor, "900")
         press(Qt.Key_Return)

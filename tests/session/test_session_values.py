@@ -77,7 +77,7 @@ def test_new_axis_points_go_into_the_curve(ecu):
 
 def test_a_value_beyond_the_limits_is_refused_before_anything_is_sent(ecu, sim):
     frames_before = sim.ecu.faults._frames["rx"]
-    with pytest.raises(LimitsError, match="xsSWITCH_TANK_THR: 900 is above the upper limit 800 bar"):
+    with pytest.raises(LimitsError, match="xsSWITCH_TANK_THR: 900.00 is above the upper limit 800.00 bar"):
         ecu.write("xsSWITCH_TANK_THR", 900.0)
     assert sim.ecu.faults.frames_seen("rx") == frames_before  # nothing at all (tests/session/test_write_commands.py)
     assert ecu.read("xsSWITCH_TANK_THR") == 20.0

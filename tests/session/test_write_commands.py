@@ -112,9 +112,9 @@ def test_what_the_session_knows_is_forgotten_when_the_memory_changes(ecu, sim):
 
 
 @pytest.mark.parametrize("name, value, error, message", [
-    ("xsSWITCH_TANK_THR", 900.0, LimitsError, "xsSWITCH_TANK_THR: 900 is above the upper limit 800 bar"),
+    ("xsSWITCH_TANK_THR", 900.0, LimitsError, "xsSWITCH_TANK_THR: 900.00 is above the upper limit 800.00 bar"),
     ("xsSWITCH_TANK_THR", "abc", LimitsError,
-     r"xsSWITCH_TANK_THR: 'abc' is not a number \(a value from 0 to 800 bar\)"),
+     r"xsSWITCH_TANK_THR: 'abc' is not a number \(a value from 0.00 to 800.00 bar\)"),
     ("cfENABLEFLCU_VALUE", "Foo", LimitsError, r"cfENABLEFLCU_VALUE: 'Foo' is not one of its values \(Disabled, "
                                                 r"Enabled\)"),
     ("xvPRV_DC_FF", np.zeros((5, 6)), LimitsError, r"xvPRV_DC_FF has shape \(6, 5\), the value \(5, 6\)"),
@@ -130,7 +130,7 @@ def test_a_refused_write_sends_nothing(ecu, log, name, value, error, message):
 
 
 @pytest.mark.parametrize("cells, message", [
-    ({(2, 3): 200.0}, r"xvPRV_DC_FF\[2, 3\]: 200 is above the upper limit 100 %"),
+    ({(2, 3): 200.0}, r"xvPRV_DC_FF\[2, 3\]: 200.00 is above the upper limit 100.00 %"),
     ({(6, 0): 1.0}, r"xvPRV_DC_FF has shape \(6, 5\): there is no value \[6, 0\]"),
     ({(1,): 1.0}, r"there is no value \[1\]"),
     ({(0, 0): "x"}, r"xvPRV_DC_FF\[0, 0\]: 'x' is not a number"),

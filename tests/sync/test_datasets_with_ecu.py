@@ -101,7 +101,7 @@ def test_a_dry_run_shows_what_would_change_and_writes_nothing(sim, ecu):
 
 @pytest.mark.parametrize("spoil, reason", [
     (lambda ds: ds.__setitem__("xsSWITCH_TANK_THR", replace(ds["xsSWITCH_TANK_THR"], value=900.0)),
-     "900 is above the upper limit 800"),
+     "900.00 is above the upper limit 800.00"),
     (lambda ds: ds.add(replace(ds["xsPRV_KP"], name="xsPRV_KQ")), "not in the A2L; did you mean xsPRV_KP"),
     (lambda ds: ds.__setitem__("zvRailPConv", replace(ds["zvRailPConv"], value=np.zeros(3))), "shape"),
     (lambda ds: ds.__setitem__("xaPRV_FF_TARGET", replace(ds["xaPRV_FF_TARGET"],

@@ -18,7 +18,9 @@ written); the session refuses a write that has any, before it sends a byte, with
   STRICT_DECREASE, MONOTONOUS, STRICT_MON, NOT_MON); an axis without MONOTONY must not decrease.
 
 A violation names the object (and axis), the rule, how many elements break it and the first, and
-the limit with its unit.
+the limit with its unit. The limit is written in the A2L's display format (its FORMAT's decimals:
+``800.00 bar``), the refused value with those decimals and as many more as it takes to differ from
+the limit (``800.0004 is above the upper limit 800.00 bar``, not ``800 ... 800``).
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from workbench.a2l.objects import AxisPts, Characteristic
+from workbench.a2l.objects import AxisPts, Characteristic, format_parts
 from workbench.calib.values import CalValue
 
 if TYPE_CHECKING:
@@ -41,6 +43,8 @@ _AXES_OF = {"CURVE": 1, "MAP": 2, "CUBOID": 3, "CUBE_4": 4, "CUBE_5": 5}
 _ARRAYS = ("VAL_BLK", *_AXES_OF)
 _TOLERANCE = 1e-7
 _SHOWN = 12  # an enum's texts listed in a refusal
+_MORE_DECIMALS = 20  # the most decimals a refused value gets beyond its format's to differ from the limit
+_FIXED_BELOW = 1e15  # numbers this large are written %g, not with every digit before the point
 
 
 @dataclass(frozen=True)
@@ -92,7 +96,7 @@ def check_limits(model: "A2lModel", value: CalValue, *, extended: bool = False) 
         found += _axes_rules(model, obj, value, extended)
     values = np.asarray(value.value, dtype=object)
     texts = _texts(model, obj.name, "", values, obj)
-    return found + (texts or _range(obj.name, "", values, obj, extended, model.unit_of(obj)))
+    return found + (texts or _range(model, obj.name, "", values, obj, extended))
 
 
 def check_cells(model: "A2lModel", name: str, cells: Mapping[tuple[int, ...], Any], *, extended: bool = False,
@@ -109,7 +113,6 @@ def check_cells(model: "A2lModel", name: str, cells: Mapping[tuple[int, ...], An
                                              "CURVE, MAP or CUBOID (axis points whole, their order is checked)")]
     found = _write_access(obj)
     shape = shape or (obj.shape if obj.type == "VAL_BLK" else _static_shape(model, obj))
-    unit = model.unit_of(obj)
     for index, value in cells.items():
         label = f"[{', '.join(str(i) for i in index)}]"
         if len(index) != len(shape or obj.axes) or (shape and not all(0 <= i < n for i, n in zip(index, shape))):
@@ -120,7 +123,7 @@ def check_cells(model: "A2lModel", name: str, cells: Mapping[tuple[int, ...], An
         if values.shape != ():
             found.append(LimitViolation(name, "shape", f"{name}{label}: one value, not {values.shape}", index))
             continue
-        found += _texts(model, name, label, values, obj) or _range(name, label, values, obj, extended, unit)
+        found += _texts(model, name, label, values, obj) or _range(model, name, label, values, obj, extended)
     return found
 
 
@@ -145,9 +148,10 @@ def _texts(model: "A2lModel", name: str, label: str, values: np.ndarray, source)
         allowed = ", ".join(conversion.allowed[:_SHOWN]) + (" ..." if len(conversion.allowed) > _SHOWN else "")
         return [LimitViolation(name, "text", f"{name}{label}: {texts[0]!r} is not one of its values ({allowed})")]
     unit = model.unit_of(source)
-    lower, upper = source.lower_limit, source.upper_limit
-    return [LimitViolation(name, "text", f"{name}{label}: {texts[0]!r} is not a number (a value from {lower:g} to "
-                                         f"{upper:g}{' ' + unit if unit else ''})")]
+    decimals = _decimals(model, source)
+    lower, upper = (_number(limit, decimals) for limit in (source.lower_limit, source.upper_limit))
+    return [LimitViolation(name, "text", f"{name}{label}: {texts[0]!r} is not a number (a value from {lower} to "
+                                         f"{upper}{' ' + unit if unit else ''})")]
 
 
 def _static_shape(model: "A2lModel", obj: Characteristic) -> tuple[int, ...] | None:
@@ -205,14 +209,15 @@ def _axis_rules(model: "A2lModel", name: str, label: str, points: np.ndarray, li
     found = []
     if max_points and len(points) > max_points:
         found.append(LimitViolation(name, "shape", f"{name}{label}: {len(points)} points, MAX_AXIS_POINTS is {max_points}"))
-    found += _range(name, label, points.astype(object), limits_of, extended, model.unit_of(limits_of))
+    found += _range(model, name, label, points.astype(object), limits_of, extended)
     found += _monotony(name, label, points, monotony)
     return found
 
 
-def _range(name: str, label: str, values: np.ndarray, limits_of, extended: bool, unit: str = ""
+def _range(model: "A2lModel", name: str, label: str, values: np.ndarray, limits_of, extended: bool
            ) -> list[LimitViolation]:
-    """Violations of LOWER/UPPER (or EXTENDED_LIMITS) by the numbers among ``values`` (texts pass)."""
+    """Violations of LOWER/UPPER (or EXTENDED_LIMITS) by the numbers among ``values`` (texts pass), the limits
+    in the display format of ``limits_of`` (an object or axis) and its unit."""
     lower, upper = limits_of.lower_limit, limits_of.upper_limit
     which = "limits"
     if extended and getattr(limits_of, "extended_limits", None):
@@ -240,10 +245,36 @@ def _range(name: str, label: str, values: np.ndarray, limits_of, extended: bool,
             message = f"{name}{label}: {many}NaN{where} is not a number"
         else:
             word = "lower" if "lower" in words else "upper"
-            message = (f"{name}{label}: {many}{numeric[first]:g}{where} is {words.split()[0]} the {word} "
-                       f"{which[:-1]} {limit:g}{' ' + unit if unit else ''}")
+            unit = model.unit_of(limits_of)
+            shown, limit_text = _beside_limit(float(numeric[first]), limit, _decimals(model, limits_of))
+            message = (f"{name}{label}: {many}{shown}{where} is {words.split()[0]} the {word} "
+                       f"{which[:-1]} {limit_text}{' ' + unit if unit else ''}")
         found.append(LimitViolation(name, "limits", message, index))
     return found
+
+
+def _decimals(model: "A2lModel", limits_of) -> int | None:
+    """The decimals of the display format of an object or axis (FORMAT, else its COMPU_METHOD's)."""
+    return format_parts(model.format_of(limits_of))[1]
+
+
+def _number(value: float, decimals: int | None) -> str:
+    """``value`` with ``decimals`` (``%g`` without, and for numbers too large to write out)."""
+    if decimals is None or not abs(value) < _FIXED_BELOW:
+        return f"{value:g}"
+    return f"{value:.{decimals}f}"
+
+
+def _beside_limit(value: float, limit: float, decimals: int | None) -> tuple[str, str]:
+    """(the value, the limit) as a refusal shows them: the limit in the A2L's format, the value in it too with as
+    many more digits as it takes to read other than the limit (800.0004 beside 800.00, 1e-10 beside 0)."""
+    limit_text = _number(limit, decimals)
+    if decimals is None or not abs(value) < _FIXED_BELOW:
+        candidates = (f"{value:.{digits}g}" for digits in range(6, 18))
+    else:
+        candidates = (f"{value:.{places}f}" for places in range(decimals, decimals + _MORE_DECIMALS))
+    shown = next((text for text in candidates if float(text) != float(limit_text)), repr(value))
+    return shown, limit_text
 
 
 def _close(values: np.ndarray, limit: float) -> np.ndarray:
