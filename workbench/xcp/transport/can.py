@@ -76,6 +76,9 @@ class CanTransport(Transport):
         self._ids = (settings.can_id_slave, *settings.daq_can_ids)  # what the slave sends on
         self._incoming = frozenset((can_id.id, can_id.extended) for can_id in self._ids)
         self._fd = settings.fd
+        limit = settings.max_dlc if settings.fd else 8  # the frame length of each packet size, looked up per command
+        self._lengths = [frame_length(size, fd=settings.fd, max_dlc=limit, max_dlc_required=settings.max_dlc_required)
+                         for size in range(limit + 1)]
         data_bitrate = settings.bus.options.get("data_bitrate") if settings.bus is not None else None
         self._bitrate_switch = settings.fd and bool(data_bitrate)
         self._notifier: can.Notifier | None = None
@@ -99,12 +102,14 @@ class CanTransport(Transport):
     # --- packets ------------------------------------------------------------------------------
 
     def send(self, packet: bytes) -> None:
-        settings = self.settings
-        try:
-            length = frame_length(len(packet), fd=self._fd, max_dlc=settings.max_dlc,
-                                  max_dlc_required=settings.max_dlc_required)
-        except ValueError as exc:
-            raise WorkbenchError(str(exc)) from None
+        if len(packet) >= len(self._lengths):
+            settings = self.settings
+            try:  # too long for a frame: say so
+                frame_length(len(packet), fd=self._fd, max_dlc=settings.max_dlc,
+                             max_dlc_required=settings.max_dlc_required)
+            except ValueError as exc:
+                raise WorkbenchError(str(exc)) from None
+        length = self._lengths[len(packet)]
         master = self._master
         message = self._can.Message(arbitration_id=master.id, is_extended_id=master.extended, is_fd=self._fd,
                                     bitrate_switch=self._bitrate_switch, data=packet.ljust(length, b"\0"), check=False)
