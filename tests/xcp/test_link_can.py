@@ -211,3 +211,15 @@ def _wait_for(condition, timeout_s: float = 5.0) -> None:
     while not condition():
         assert time.monotonic() < deadline, "timed out"
         time.sleep(0.005)
+
+
+def test_a_bus_the_link_opens_filters_the_xcp_ids_except_while_others_listen(channel):
+    with Link(settings(channel, daq_can_ids=(CanId(DAQ_ID, extended=True),))) as link:
+        bus = link.can_bus
+        assert bus.filters == [{"can_id": SLAVE, "can_mask": 0x7FF, "extended": False},
+                               {"can_id": DAQ_ID, "can_mask": 0x1FFFFFFF, "extended": True}]
+        heard = []
+        link.add_listener(heard.append)
+        assert bus.filters is None and [n for n in can.Notifier.find_instances(bus) if not n.stopped]
+        link.remove_listener(heard.append)
+        assert len(bus.filters) == 2 and not [n for n in can.Notifier.find_instances(bus) if not n.stopped]
