@@ -42,7 +42,7 @@ def test_a_file_written_by_another_tool_is_analysed_with_two_cursors_without_an_
     plot.cursor.setPos(2.0)
     plot.cursor2_button.setChecked(True)
     plot.cursor2.setPos(8.0)
-    assert plot.value_at_cursors("drive.mf4:group 0.speed") == ("22", "28")
+    assert plot.value_at_cursors("drive.mf4:group 0.speed") == ("22.00", "28.00")  # no precision: by range
     assert plot.value_at_cursors("drive.mf4:gear") == ("N", "SECOND")  # by the file's value table
     assert "Δt = 6.000 s" in plot.cursor_label.textItem.toPlainText()
     assert window.browser.variable("drive.mf4:gear").plottable

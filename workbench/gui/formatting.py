@@ -5,7 +5,11 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-__all__ = ["format_value", "parse_typed", "with_unit"]
+import numpy as np
+
+__all__ = ["format_value", "parse_typed", "range_decimals", "with_unit"]
+
+MAX_DECIMALS = 6  # beyond these a fixed number of decimals says less than significant digits do
 
 
 def format_value(value, decimals: int | None = None, states=()) -> str:
@@ -26,6 +30,21 @@ def format_value(value, decimals: int | None = None, states=()) -> str:
     if value == int(value) and abs(value) < 1e9:
         return str(int(value))
     return f"{value:.6g}"
+
+
+def range_decimals(values: np.ndarray, digits: int = 4) -> int | None:
+    """Decimals for a signal that comes without a display format (another tool's measurement file): its
+    largest magnitude with ``digits`` significant digits, and at least three of its span (a small swing
+    about a large value shows); 0 for whole numbers; None (significant digits) for tiny values."""
+    finite = np.asarray(values, dtype=np.float64)
+    finite = finite[np.isfinite(finite)]
+    if not finite.size or np.array_equal(finite, np.round(finite)):
+        return 0
+    magnitude, span = float(np.max(np.abs(finite))), float(np.ptp(finite))
+    decimals = digits - 1 - math.floor(math.log10(magnitude))
+    if span > 0:
+        decimals = max(decimals, 2 - math.floor(math.log10(span)))
+    return max(decimals, 0) if decimals <= MAX_DECIMALS else None
 
 
 def with_unit(text: str, unit: str) -> str:

@@ -1,16 +1,20 @@
 """A measurement file for analysis without an ECU: every plottable channel of an MDF file (ours, or any
-other that asammdf reads) as the plots take them - time, value, unit, and the texts of a verbal
-channel (kept as their numbers, so they plot as steps). Plain asammdf, no Qt: run in a worker.
+other that asammdf reads) as the plots take them - time, value, unit, the texts of a verbal
+channel (kept as their numbers, so they plot as steps) and the decimals to show: the channel's own
+precision where it has one (our recordings carry the A2L's FORMAT, as CANape's do), else as many as its
+range needs (never the floats' full repr). Plain asammdf, no Qt: run in a worker.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from workbench.errors import InputError
+from workbench.gui.formatting import range_decimals
 
 __all__ = ["FileChannel", "read_measurement_file"]
 
@@ -23,6 +27,7 @@ class FileChannel:
     times: np.ndarray  # seconds, the file's time axis
     values: np.ndarray  # float64
     states: tuple[tuple[float, str], ...] = ()  # raw number -> text of a verbal channel
+    decimals: int | None = None  # shown: the channel's precision (our recorder's: the A2L's FORMAT), else by range
 
 
 def read_measurement_file(path: str | Path) -> list[FileChannel]:
@@ -74,9 +79,22 @@ def _channel(mdf, raw, group: int, index: int) -> FileChannel | None:
     elif physical.dtype.kind in "iufb" and physical.ndim == 1:
         values = physical.astype(np.float64)
     comment = raw.comment if isinstance(raw.comment, str) else ""
+    decimals = _precision(mdf.groups[group].channels[index])
+    if decimals is None and not states:
+        decimals = range_decimals(values)
     return FileChannel(raw.name, raw.unit or "", comment, np.asarray(raw.timestamps, dtype=np.float64), values,
-                       states)
+                       states, decimals)
+
+
+def _precision(channel) -> int | None:
+    """The display precision an MDF 4 channel carries (cn_precision, when its flag says it is valid)."""
+    from asammdf.blocks import v4_constants as v4c
+
+    flags, precision = getattr(channel, "flags", 0), getattr(channel, "precision", 0xFF)
+    if isinstance(flags, int) and flags & v4c.FLAG_CN_PRECISION and precision != 0xFF:
+        return int(precision)
+    return None
 
 
 def _renamed(channel: FileChannel, name: str) -> FileChannel:
-    return FileChannel(name, channel.unit, channel.comment, channel.times, channel.values, channel.states)
+    return dataclasses.replace(channel, name=name)

@@ -6,7 +6,8 @@ onto the host's), so the recording can be aligned with anything else the host re
 
 Each signal is stored as the ECU sent it, bit field taken out (BIT_MASK, BIT_OPERATION), with
 its COMPU_METHOD as an MDF conversion where one maps (:mod:`workbench.record.conversions`),
-named as in the A2L, with its unit and its long identifier as comment. Arrays (MATRIX_DIM) are
+named as in the A2L, with its unit, its long identifier as comment and its display format's decimals as the
+channel's precision (asammdf, CANape and the window's offline view show as many). Arrays (MATRIX_DIM) are
 one channel per element, ``name[i]`` (``name[x][y]`` ...): every MDF reader plots and exports
 scalar channels, CANape lists A2L arrays element by element the same way, and asammdf reads a
 conversion on every element; asammdf's array channels (CA blocks) carry one conversion for all
@@ -20,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from workbench.a2l.objects import format_parts
 from workbench.calib import rawtypes
 from workbench.calib.signals import MeasurementCodec
 from workbench.record.conversions import MdfEncoding, mdf_encoding
@@ -53,8 +55,8 @@ class DaqGroup:
                                 "host clock of each sample, s since 1970-01-01 UTC: the ECU's timestamp mapped "
                                 "onto the host's clock")]
         for signal in self.signals:
-            channels += [ChannelSpec(name, signal.dtype, _unit(signal), _comment(signal), signal.encoding.conversion)
-                         for name in signal.element_names]
+            channels += [ChannelSpec(name, signal.dtype, _unit(signal), _comment(signal), signal.encoding.conversion,
+                                     _decimals(signal)) for name in signal.element_names]
         cycle = f", every {period_s * 1e3:g} ms" if period_s else ""
         self.spec = GroupSpec(event_name, tuple(channels),
                               f"XCP DAQ event {event} {event_name}{cycle}: {len(self.signals)} signals", source)
@@ -108,10 +110,23 @@ def _stored(codec: MeasurementCodec, encodings: dict) -> _Stored:
     return _Stored(codec, encoding, dtype, names)
 
 
+def _physical(signal: _Stored) -> bool:
+    """False for raw values of a conversion that could not be carried (readers see no physical values)."""
+    encoding = signal.encoding
+    return encoding.conversion is not None or encoding.physical or signal.codec.conversion.conversion_type == "IDENTICAL"
+
+
 def _unit(signal: _Stored) -> str:
-    if signal.encoding.conversion is None and not signal.encoding.physical and signal.codec.conversion.conversion_type != "IDENTICAL":
-        return ""  # raw values of a conversion that could not be carried: not in the physical unit
-    return signal.codec.unit
+    return signal.codec.unit if _physical(signal) else ""
+
+
+def _decimals(signal: _Stored) -> int | None:
+    """The A2L's display format (the MEASUREMENT's FORMAT, else its COMPU_METHOD's), as the window shows it
+    live; none for a verbal value (its texts) or for raw values of a conversion that could not be carried."""
+    if signal.codec.verbal or not _physical(signal):
+        return None
+    measurement = signal.codec.measurement
+    return format_parts(measurement.format)[1] if measurement.format else signal.codec.conversion.decimals
 
 
 def _comment(signal: _Stored) -> str:

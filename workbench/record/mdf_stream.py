@@ -58,13 +58,15 @@ _UPDATE_CYCLE_COUNTERS = 0x01
 @dataclass(frozen=True)
 class ChannelSpec:
     """One channel: ``dtype`` of the stored values (a structured dtype makes a composed channel, as
-    ASAM bus logging's ``CAN_DataFrame``), ``conversion`` an asammdf conversion dictionary."""
+    ASAM bus logging's ``CAN_DataFrame``), ``conversion`` an asammdf conversion dictionary, ``decimals``
+    the physical value's display precision (the channel's cn_precision; None: not given)."""
 
     name: str
     dtype: np.dtype
     unit: str = ""
     comment: str = ""
     conversion: dict | None = None
+    decimals: int | None = None
 
 
 @dataclass(frozen=True)
@@ -167,6 +169,7 @@ class MdfStreamWriter:
                        for channel in spec.channels]
             mdf.append(signals, acq_name=spec.acq_name, acq_source=acq_source, comment=spec.comment,
                        common_timebase=True)
+            _set_precisions(mdf.groups[-1].channels, spec.channels)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         fd, temporary = tempfile.mkstemp(prefix=f".{self.path.name}.", suffix=".tmp.mf4", dir=self.path.parent)
         os.close(fd)  # asammdf's save() opens it again (and would add ".mf4" to another suffix)
@@ -367,6 +370,18 @@ def _mark(handle, *, finalized: bool) -> None:
     handle.seek(_UNFINALIZED_FLAGS_AT)
     handle.write(struct.pack("<H", 0 if finalized else _UPDATE_CYCLE_COUNTERS))
     handle.flush()
+
+
+def _set_precisions(channels, specs: Sequence[ChannelSpec]) -> None:
+    """The display precision of the channels that have one (asammdf's ``Signal`` takes none): cn_precision
+    and its "precision valid" flag, as CANape writes the A2L's FORMAT."""
+    from asammdf.blocks import v4_constants as v4c
+
+    decimals = {spec.name: spec.decimals for spec in specs if spec.decimals is not None}
+    for channel in channels:
+        if channel.name in decimals:
+            channel.precision = min(decimals[channel.name], 0xFE)  # 0xFF would mean "unlimited"
+            channel.flags |= v4c.FLAG_CN_PRECISION
 
 
 def _local_time(epoch_s: float | None) -> datetime:

@@ -21,6 +21,7 @@ ALL = ""  # a filter that lets every row through
 COLUMNS = ("name", "kind", "type", "unit", "functions", "description")
 KIND_LABELS = {"MEASUREMENT": "signal", "CHARACTERISTIC": "calibration", "AXIS_PTS": "axis", "CAN2": "CAN2",
                "MDF": "recorded"}
+KIND_SHORT = {"CHARACTERISTIC": "calib."}  # the table's kind column: short, the filter and tooltips say it all
 KIND_COLOURS = {"MEASUREMENT": theme.TRACE_COLOURS[0], "CHARACTERISTIC": theme.TRACE_COLOURS[1],
                 "AXIS_PTS": theme.TRACE_COLOURS[4], "CAN2": theme.TRACE_COLOURS[2], "MDF": theme.TRACE_COLOURS[6]}
 
@@ -80,7 +81,7 @@ class VariableModel(RowsModel):
         column = COLUMNS[index.column()]
         if role == Qt.DisplayRole:
             if column == "kind":
-                return KIND_LABELS.get(row.kind, row.kind)
+                return KIND_SHORT.get(row.kind) or KIND_LABELS.get(row.kind, row.kind)
             if column == "functions":
                 return ", ".join(row.functions)
             return getattr(row, column)

@@ -376,12 +376,15 @@ class MainWindow(QMainWindow):
         plot = PlotWindow(self.hub, spec.title, spec.span_s)
         plot.add_signals([n for n in spec.signals if self.hub.known(n)])
         plot.samples_arrived.connect(self._check_live)
+        plot.close_requested.connect(lambda: self._remove_plot(plot))
         self.plot_area.addWidget(plot)
         self.plots.append(plot)
         return plot
 
     def _remove_plot(self, plot: PlotWindow) -> None:
         self.plots.remove(plot)
+        self.hub.hide(plot)  # its signals are no longer measured for it
+        plot.timer.stop()
         plot.setParent(None)
         plot.deleteLater()
 
@@ -445,7 +448,8 @@ class MainWindow(QMainWindow):
     def _measurement_read(self, path: Path, channels) -> None:
         names = [f"{path.name}:{channel.name}" for channel in channels]
         self.hub.add_signals(SignalInfo(name, "MDF", channel.unit, channel.comment, states=channel.states,
-                                        label=channel.name) for name, channel in zip(names, channels))
+                                        decimals=channel.decimals, label=channel.name)
+                             for name, channel in zip(names, channels))
         for name, channel in zip(names, channels):
             self.hub.load(name, channel.times, channel.values)
         self.browser.add_variables(variables_of_file(path.name, channels))

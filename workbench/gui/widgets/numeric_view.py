@@ -9,7 +9,8 @@ from PySide6.QtWidgets import QAbstractItemView, QTableWidget, QTableWidgetItem
 from workbench.gui import theme
 from workbench.gui.mime import SignalDropTarget
 from workbench.gui.signal_hub import SignalHub
-from workbench.gui.widgets.columns import share_columns
+from workbench.gui.widgets.columns import refit_columns, share_columns
+from workbench.gui.widgets.names import NameDelegate
 
 __all__ = ["NumericView"]
 
@@ -33,8 +34,8 @@ class NumericView(SignalDropTarget, QTableWidget):
         self.setAcceptDrops(True)
         self.viewport().setAcceptDrops(True)
         self.setDragDropMode(QAbstractItemView.DropOnly)
-        self.setTextElideMode(Qt.ElideMiddle)
-        share_columns(self, (3.2, 1.6, 0.8, 0.8))  # signal, value, unit, source
+        self.setItemDelegateForColumn(0, NameDelegate(self))  # names keep their distinct ends
+        share_columns(self, (3.2, 1.6, 1, 1), fit=(2, 3))  # signal, value, unit, source
         self.timer = QTimer(self)
         self.timer.setInterval(REFRESH_MS)
         self.timer.timeout.connect(self.refresh)
@@ -63,6 +64,7 @@ class NumericView(SignalDropTarget, QTableWidget):
                 cell.setForeground(QColor(theme.MUTED))
                 self.setItem(row, column, cell)
             self._names.append(name)
+        refit_columns(self)
         self.hub.show(self, self._names)
         self.signals_changed.emit(self.signals)
 

@@ -6,7 +6,10 @@ spikes stay visible); a pause in the measurement is a break in the line. While *
 zooming with the mouse stops following, the Follow button resumes it. Two cursors show every
 signal's value at two instants and the time between them; one cursor shows every
 signal's value at one instant. Signals with the same unit share a y-axis; each axis is coloured
-like its first signal and autoscales unless the user zooms it.
+like its first signal and autoscales unless the user zooms it. The axes take at most a third of the
+plot's width: those beyond it (in the order their units came, the selected signal's first) are not
+drawn, nor the axis of verbal signals (states such as ON/OFF: its numbers say nothing) unless it is the
+only one or selected; their curves keep their own scale and the legend their values and units.
 """
 
 from __future__ import annotations
@@ -30,11 +33,16 @@ from PySide6.QtWidgets import (
 from workbench.gui import theme
 from workbench.gui.mime import SignalDropTarget
 from workbench.gui.signal_hub import SignalHub
-from workbench.gui.widgets.columns import share_columns
+from workbench.gui.widgets.columns import refit_columns, share_columns, wanted_width
+from workbench.gui.widgets.names import NameDelegate
 
 __all__ = ["PlotWindow"]
 
 REFRESH_HZ = 25
+LEGEND_SHARE = 0.42  # of the window's width for the legend at most, until the user drags its edge
+LEGEND_NAME_PX = 170  # the names' column's share of the legend's width: longer names are cut
+AXES_SHARE = 0.4  # of the plot's width, at most, for its y-axes (one is always drawn)
+AXIS_WIDTH_PX = 50  # what an axis takes, counted alike for all (their widths follow their ticks: no flicker)
 LEGEND_EVERY = 4  # refreshes per update of the legend's numbers (6 Hz: readable, and a frame saved)
 SPANS_S = (2.0, 5.0, 10.0, 30.0, 60.0, 300.0)
 
@@ -45,6 +53,7 @@ class _Axis:
     def __init__(self, unit: str, view: pg.ViewBox, item: pg.AxisItem):
         self.unit, self.view, self.item = unit, view, item
         self.traces: list[str] = []
+        self.column: int | None = None  # in the plot's layout, while drawn
 
 
 class PlotWindow(SignalDropTarget, QWidget):
@@ -52,6 +61,7 @@ class PlotWindow(SignalDropTarget, QWidget):
 
     signals_changed = Signal(list)  # the names shown, in order
     samples_arrived = Signal()  # the first samples are on screen (once per window)
+    close_requested = Signal()  # the window's close button
 
     def __init__(self, hub: SignalHub, title: str = "Measurement", span_s: float = 10.0,
                  parent: QWidget | None = None):
@@ -101,8 +111,10 @@ class PlotWindow(SignalDropTarget, QWidget):
         self.cursor2_button = self._tool("2nd", "a second cursor: each signal's value there and the time between the "
                                                 "cursors", checkable=True)
         self.cursor2_button.toggled.connect(self.set_second_cursor)
+        self.close_button = self._tool("✕", "close this measurement window")
+        self.close_button.clicked.connect(self.close_requested)
         for widget in (self.follow_button, self.span_box, self.autoscale_button, self.cursor_button,
-                       self.cursor2_button):
+                       self.cursor2_button, self.close_button):
             bar.addWidget(widget)
         layout.addLayout(bar)
 
@@ -123,11 +135,15 @@ class PlotWindow(SignalDropTarget, QWidget):
         self.plot.getAxis("left").hide()
         self.graphics.addItem(self.plot, row=0, col=100)
         self.plot.vb.sigResized.connect(self._sync_views)
+        self.plot.vb.sigResized.connect(self._fit_axes)
         self.plot.vb.sigRangeChangedManually.connect(self._user_moved)
+        self.plot.vb.sigRangeChanged.connect(self._place_cursor_label)
         self.cursor = pg.InfiniteLine(angle=90, movable=True, pen=pg.mkPen(theme.WARN, width=1.5))
         self.cursor.setZValue(100)
         self.cursor.sigPositionChanged.connect(self._show_cursor_values)
-        self.cursor_label = pg.TextItem(color=theme.WARN, anchor=(0, 0))  # inside the plot, below its top
+        backing = QColor(theme.PLOT_BACKGROUND)
+        backing.setAlpha(210)  # the times stay readable over the curves
+        self.cursor_label = pg.TextItem(color=theme.WARN, anchor=(0, 0), fill=backing)  # inside the plot, at its top
         self.cursor2 = pg.InfiniteLine(angle=90, movable=True, pen=pg.mkPen(theme.ACCENT, width=1.5))
         self.cursor2.setZValue(100)
         self.cursor2.sigPositionChanged.connect(self._show_cursor_values)
@@ -139,17 +155,40 @@ class PlotWindow(SignalDropTarget, QWidget):
         self.legend.setSelectionBehavior(QAbstractItemView.SelectRows)
         self.legend.setEditTriggers(QAbstractItemView.NoEditTriggers)
         self.legend.setShowGrid(False)
-        self.legend.setTextElideMode(Qt.ElideMiddle)
+        self.legend.setItemDelegateForColumn(0, NameDelegate(self.legend))  # names keep their distinct ends
         self.legend.verticalHeader().setDefaultSectionSize(22)
         self.legend.setColumnHidden(2, True)  # shown with the second cursor
-        share_columns(self.legend, (3, 1.6, 1.6, 0.9))  # signal, value, at the 2nd cursor, unit
+        share_columns(self.legend, (1, 1, 1, 1), fit=(1, 2, 3))  # signal, value, at the 2nd cursor, unit
+        self._value_chars = 0  # the longest value text the legend showed
         self.legend.setMinimumWidth(160)
         self.legend.setToolTip("Del removes the selected signals; drop names here or on the plot to add them")
+        self.legend.itemSelectionChanged.connect(self._fit_axes)  # the selected signal's axis is drawn
         splitter.addWidget(self.legend)
         splitter.setStretchFactor(0, 1)
         splitter.setStretchFactor(1, 0)
         splitter.setSizes([700, 300])
+        splitter.splitterMoved.connect(self._legend_moved)
+        self.splitter = splitter
+        self._legend_sized_by_user = False
         layout.addWidget(splitter, 1)
+
+    def resizeEvent(self, event) -> None:
+        super().resizeEvent(event)
+        self._size_legend()
+
+    def _size_legend(self) -> None:
+        """The legend as wide as its columns want (names up to :data:`LEGEND_NAME_PX`), at most
+        :data:`LEGEND_SHARE` of the window; the plot the rest. Once the user dragged the edge, theirs."""
+        width = self.splitter.width()
+        if self._legend_sized_by_user or width <= 0:
+            return
+        wanted = wanted_width(self.legend, {0: LEGEND_NAME_PX})
+        legend = max(min(wanted, int(width * LEGEND_SHARE)), self.legend.minimumWidth())
+        if self.splitter.sizes()[1] != legend:
+            self.splitter.setSizes([width - legend, legend])
+
+    def _legend_moved(self, *_) -> None:
+        self._legend_sized_by_user = True
 
     def _tool(self, text: str, tip: str, *, checkable: bool = False, checked: bool = False) -> QToolButton:
         button = QToolButton()
@@ -224,18 +263,42 @@ class PlotWindow(SignalDropTarget, QWidget):
         pen = pg.mkPen(colour)
         item.setPen(pen)
         item.setTextPen(pen)
-        self.graphics.addItem(item, row=0, col=99 - len(self._axes))
         view.enableAutoRange(axis=pg.ViewBox.YAxis, enable=True)
         axis = _Axis(unit, view, item)
         self._axes.append(axis)
         self._sync_views()
+        self._fit_axes()
         return axis
 
     def _drop_axis(self, axis: _Axis) -> None:
-        self.graphics.removeItem(axis.item)
+        if axis.item.scene() is not None:
+            self.graphics.removeItem(axis.item)
         if axis.view is not self.plot.vb:
             self.plot.scene().removeItem(axis.view)
         self._axes.remove(axis)
+        self._fit_axes()
+
+    def drawn_axes(self) -> list[str]:
+        """The units whose y-axes are drawn, left to right."""
+        return [axis.unit for axis in reversed(self._axes) if axis.item.scene() is not None]
+
+    def _fit_axes(self, *_) -> None:
+        """Draw the y-axes that fit :data:`AXES_SHARE` of the plot's width (see the module docstring)."""
+        selected = {self._order[index.row()] for index in self.legend.selectedIndexes()}
+        def verbal(axis: _Axis) -> bool:  # its signals are states (ON/OFF ...): their texts are in the legend
+            return all(self.hub.info(name).states for name in axis.traces)
+
+        ranked = sorted(self._axes, key=lambda axis: (not selected.intersection(axis.traces), verbal(axis)))
+        drawn = [axis for axis in ranked[:max(1, int(self.graphics.width() * AXES_SHARE / AXIS_WIDTH_PX))]
+                 if axis is ranked[0] or not verbal(axis) or selected.intersection(axis.traces)]
+        wanted = {id(axis): 99 - index for index, axis in enumerate(self._axes) if axis in drawn}  # right to left
+        for axis in self._axes:
+            if axis.item.scene() is not None and axis.column != wanted.get(id(axis)):
+                self.graphics.removeItem(axis.item)
+        for axis in self._axes:
+            if id(axis) in wanted and axis.item.scene() is None:
+                axis.column = wanted[id(axis)]
+                self.graphics.addItem(axis.item, row=0, col=axis.column)
 
     def _sync_views(self) -> None:
         for axis in self._axes:
@@ -263,9 +326,12 @@ class PlotWindow(SignalDropTarget, QWidget):
             unit = QTableWidgetItem(self.hub.info(name).unit)
             unit.setForeground(QColor(theme.MUTED))
             self.legend.setItem(row, 3, unit)
+        refit_columns(self.legend)
+        self._size_legend()
 
     def _update_legend_values(self, at: float | None, column: int = 1) -> None:
         """Each signal's value at ``at`` (None: its newest) into the legend's ``column``."""
+        longest = 0
         for row, name in enumerate(self._order):
             buffer = self.hub.buffer(name)
             if at is None:
@@ -275,7 +341,13 @@ class PlotWindow(SignalDropTarget, QWidget):
                 value = buffer.at(at)
             item = self.legend.item(row, column)
             if item is not None:
-                item.setText(self.hub.info(name).format(value))
+                text = self.hub.info(name).format(value)
+                item.setText(text)
+                longest = max(longest, len(text))
+        if longest > self._value_chars:  # a longer value than any before: the value columns widen (rarely)
+            self._value_chars = longest
+            refit_columns(self.legend)
+            self._size_legend()
 
     def value_at_cursors(self, name: str) -> tuple[str, str]:
         """The legend's texts of ``name`` at the cursor and the second cursor."""
@@ -333,7 +405,8 @@ class PlotWindow(SignalDropTarget, QWidget):
         if on and not self.cursor_button.isChecked():
             self.cursor_button.setChecked(True)
         self.legend.setColumnHidden(2, not on)
-        self.legend._column_sharer.share()
+        refit_columns(self.legend)
+        self._size_legend()
         if on:
             (x0, x1), _ = self.plot.vb.viewRange()
             self.cursor2.setPos(x0 + (x1 - x0) * 0.75)
@@ -349,12 +422,16 @@ class PlotWindow(SignalDropTarget, QWidget):
         text = f"t = {t:.3f} s"
         if self.cursor2_button.isChecked():
             t2 = float(self.cursor2.value())
-            text = f"t1 = {t:.3f} s   t2 = {t2:.3f} s   Δt = {t2 - t:.3f} s"
+            text = f"t1 = {t:.3f} s\nt2 = {t2:.3f} s\nΔt = {t2 - t:.3f} s"  # one below the other: a narrow plot
             self._update_legend_values(t2, column=2)
         self.cursor_label.setText(text)
-        (x0, _), (_, y1) = self.plot.vb.viewRange()
-        self.cursor_label.setPos(x0, y1)  # the plot's top left: the times stay readable wherever the cursors are
+        self._place_cursor_label()
         self._update_legend_values(t)
+
+    def _place_cursor_label(self, *_) -> None:
+        """The cursors' times at the plot's top left, wherever the cursors are and however it is zoomed."""
+        (x0, _), (_, y1) = self.plot.vb.viewRange()
+        self.cursor_label.setPos(x0, y1)
 
     # --- refresh --------------------------------------------------------------------------------
 

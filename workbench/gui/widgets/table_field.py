@@ -13,6 +13,7 @@ from PySide6.QtWidgets import (
     QCheckBox,
     QHBoxLayout,
     QHeaderView,
+    QLabel,
     QLineEdit,
     QSplitter,
     QTableView,
@@ -79,7 +80,20 @@ class TableField(QWidget):
         self.plot.setMenuEnabled(False)
         self.plot.setLabel("bottom", x_label)
         self.plot.setMinimumHeight(120)
-        self.views.addTab(self.plot, "plot")
+        page = QWidget()
+        column = QVBoxLayout(page)
+        column.setContentsMargins(4, 2, 0, 0)
+        column.setSpacing(0)
+        # a heat map's axis titles read across, in one line above it (two when narrow): up its Y-axis a title
+        # is cut at the height a heat map gets, and one line costs less height than a title under the X-axis
+        titles = (f"↑ Y: {y_label}", f"→ X: {x_label}")  # a line breaks between them, not inside one
+        self.axis_titles = QLabel("    ".join(t.replace(" ", "\u00a0") for t in titles) if y_label else "")
+        self.axis_titles.setWordWrap(True)
+        self.axis_titles.setStyleSheet(f"color: {theme.MUTED};")
+        self.axis_titles.hide()
+        column.addWidget(self.axis_titles)
+        column.addWidget(self.plot, 1)
+        self.views.addTab(page, "plot")
         self.surface: SurfaceView | None = None
         self._x_label = x_label
         splitter.addWidget(self.views)
@@ -95,6 +109,7 @@ class TableField(QWidget):
         self.operand.setPlaceholderText("value")
         self.operand.setToolTip("the value of set, add and multiply")
         self.operand.setMaximumWidth(90)
+        self.operand.setMinimumWidth(self.operand.fontMetrics().horizontalAdvance("value") + 26)  # + padding
         bar.addWidget(self.operand)
         self.block_buttons = {}
         for operation, text, tip in _OPERATIONS:
@@ -165,7 +180,9 @@ class TableField(QWidget):
             self._image = pg.ImageItem(axisOrder="col-major")
             self._image.setColorMap(colour_map())
             self.plot.addItem(self._image)
-            self.plot.setLabel("left", self.y_label or "")
+            self.plot.setLabel("bottom", None)  # both titles are above the map
+            self.plot.setMinimumHeight(80)
+            self.axis_titles.setVisible(bool(self.y_label))
             self.views.setTabText(0, "heat map")
             self.surface = SurfaceView(self._x_label, self.y_label or "Y", self.unit)
             self.views.addTab(self.surface, "3D")

@@ -17,7 +17,8 @@ from PySide6.QtWidgets import (
 
 from workbench.gui import theme
 from workbench.gui.models.variables import ALL, KIND_LABELS, Variable, VariableFilter, VariableModel
-from workbench.gui.widgets.columns import share_columns
+from workbench.gui.widgets.columns import refit_columns, share_columns
+from workbench.gui.widgets.names import NameDelegate
 
 __all__ = ["VariableBrowser"]
 
@@ -34,6 +35,7 @@ class VariableBrowser(QWidget):
         layout.setContentsMargins(4, 4, 4, 4)
         self.search = QLineEdit()
         self.search.setPlaceholderText("search names and descriptions (words, or a glob: xs*THR)")
+        self.search.setToolTip(self.search.placeholderText())
         self.search.setClearButtonEnabled(True)
         self.search.textChanged.connect(lambda text: self.proxy.set_filters(search=text))
         layout.addWidget(self.search)
@@ -45,7 +47,11 @@ class VariableBrowser(QWidget):
             caption = QLabel(label)
             caption.setStyleSheet(f"color: {theme.MUTED};")
             filters.addWidget(caption, 0, column)
+            box.setSizeAdjustPolicy(QComboBox.AdjustToMinimumContentsLengthWithIcon)  # a narrow dock: no cut
+            box.setMinimumContentsLength(4)
+            box.setToolTip(f"show one {label} only")
             filters.addWidget(box, 1, column)
+            filters.setColumnStretch(column, 1)
             box.currentIndexChanged.connect(lambda _, b=box, k=key: self.proxy.set_filters(**{k: b.currentData()}))
         layout.addLayout(filters)
         self.table = QTableView()
@@ -57,10 +63,13 @@ class VariableBrowser(QWidget):
         self.table.setDragDropMode(QAbstractItemView.DragOnly)
         self.table.setAlternatingRowColors(True)
         self.table.setShowGrid(False)
-        self.table.setTextElideMode(Qt.ElideMiddle)
+        self.table.setTextElideMode(Qt.ElideRight)
+        self.table.setItemDelegateForColumn(0, NameDelegate(self.table))  # names keep their distinct ends
         self.table.verticalHeader().hide()
         self.table.verticalHeader().setDefaultSectionSize(22)
-        share_columns(self.table, (6, 1.9, 1.2, 1.1, 1.5, 2.5))  # name, kind, type, unit, functions, description
+        # name, kind, type, unit, functions, description: the name as wide as it needs while there is room,
+        # kind and unit as their texts, the description what is left (none when that is too little to read)
+        share_columns(self.table, (3, 1, 1, 1, 1, 2), fit=(1, 3), capped=(0,), optional=(5,))
         self.table.doubleClicked.connect(lambda index: self.open_requested.emit(index.data(Qt.UserRole)))
         layout.addWidget(self.table, 1)
         self.count = QLabel()
@@ -73,12 +82,12 @@ class VariableBrowser(QWidget):
 
     def set_variables(self, rows: list[Variable]) -> None:
         self.model.set_rows(rows)
-        self._fill(self.kind_box, sorted({r.kind for r in rows}), "every kind", KIND_LABELS)
-        self._fill(self.function_box, sorted({f for r in rows for f in r.functions}), "every function")
-        self._fill(self.unit_box, sorted({r.unit for r in rows if r.unit}), "every unit")
+        self._fill(self.kind_box, sorted({r.kind for r in rows}), KIND_LABELS)
+        self._fill(self.function_box, sorted({f for r in rows for f in r.functions}))
+        self._fill(self.unit_box, sorted({r.unit for r in rows if r.unit}))
         for column in (2, 4):  # type and functions: filters and tooltips tell them, the width is the name's
             self.table.setColumnHidden(column, True)
-        self.table._column_sharer.share()
+        refit_columns(self.table)
         self._count()
 
     def add_variables(self, rows: list[Variable]) -> None:
@@ -89,10 +98,10 @@ class VariableBrowser(QWidget):
         for box, value in ((self.kind_box, kind), (self.function_box, function), (self.unit_box, unit)):
             box.setCurrentIndex(max(box.findData(value), 0))
 
-    def _fill(self, box: QComboBox, values: list[str], everything: str, labels: dict | None = None) -> None:
+    def _fill(self, box: QComboBox, values: list[str], labels: dict | None = None) -> None:
         box.blockSignals(True)
         box.clear()
-        box.addItem(everything, ALL)
+        box.addItem("all", ALL)
         for value in values:
             box.addItem((labels or {}).get(value, value), value)
         box.blockSignals(False)
