@@ -72,3 +72,24 @@ def test_a_file_that_is_no_measurement_is_one_error(qtbot, tmp_path):
     window.open_measurement(tmp_path / "notes.mf4")
     qtbot.waitUntil(lambda: bool(window.errors), timeout=15_000)
     assert window.errors[0].text().startswith(f"{tmp_path / 'notes.mf4'}: not a measurement file asammdf reads")
+
+
+def test_a_channel_shows_its_precision_else_as_many_decimals_as_its_range_needs(tmp_path):
+    from workbench.gui.formatting import range_decimals
+    from workbench.gui.offline import read_measurement_file
+    from workbench.record.mdf_stream import ChannelSpec, GroupSpec, MdfStreamWriter
+
+    t = np.arange(0, 2, 0.01)
+    pressure = 22.0 + np.sin(t) * 1.2345678  # as our recorder writes a MEASUREMENT with FORMAT "%8.2"
+    channels = (ChannelSpec("zsRailPressure", np.dtype("<f8"), "bar", decimals=2),
+                ChannelSpec("duty", np.dtype("<f8"), "%"), ChannelSpec("count", np.dtype("<u2")))
+    path = tmp_path / "ours.mf4"
+    writer = MdfStreamWriter(path, [GroupSpec("Task10ms", channels)])
+    writer.append(0, t, [pressure, 6.86631 * (1 + t), np.arange(len(t), dtype=np.uint16)])
+    writer.close()
+    found = {channel.name: channel for channel in read_measurement_file(path)}
+    assert found["zsRailPressure"].decimals == 2  # the A2L's FORMAT travelled with the file
+    assert found["duty"].decimals == 2 and found["count"].decimals == 0  # by range: 6.87 ... 20.4 %, whole numbers
+    assert range_decimals(np.array([698.0, 699.5, 700.0])) == 2  # a small swing about a large value shows
+    assert range_decimals(np.array([0.0012, 0.0031])) == 6 and range_decimals(np.array([1e-9, 3e-9])) is None
+    assert range_decimals(np.array([1500.5, 6500.25])) == 0 and range_decimals(np.array([np.nan])) == 0

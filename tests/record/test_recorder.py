@@ -1,6 +1,6 @@
 """Recording the simulated ECU to MDF4 and reading it back with asammdf (and python-can): every DAQ sample on
-the ECU's clock, A2L names, units, comments and conversions, CAN2 decoded with the DBC, the raw bus log
-decoded again by asammdf, the time axis shared, the session's close, overwriting, and refusals."""
+the ECU's clock, A2L names, units, comments, conversions and display decimals, CAN2 decoded with the DBC, the
+raw bus log decoded again by asammdf, the time axis shared, the session's close, overwriting, and refusals."""
 
 from __future__ import annotations
 
@@ -9,9 +9,11 @@ import time
 import can
 import numpy as np
 import pytest
+from asammdf.blocks import v4_constants as v4c
 from mdf_reading import channel, group_index, master, texts
 
 from workbench import Session, demo
+from workbench.a2l.objects import format_parts
 from workbench.errors import InputError
 from workbench.record import Recorder, record
 from workbench.sim import EthernetEndpoint, serve_demo
@@ -51,6 +53,13 @@ def test_every_sample_is_in_the_file_on_the_ecu_clock(session, tmp_path, read_md
     for element in range(4):
         signal = channel(mdf, "Task4ms", f"zsSensVolt[{element}]")
         assert signal.unit == "V" and np.array_equal(signal.samples, volts[:, element])
+
+    model = session.model
+    blocks = {block.name: block for block in mdf.groups[group_index(mdf, "Task4ms")].channels}
+    wanted = format_parts(model.format_of(model.measurement("zsRailPressure")))[1]
+    assert blocks["zsRailPressure"].flags & v4c.FLAG_CN_PRECISION and blocks["zsRailPressure"].precision == wanted
+    verbal = {block.name: block for block in mdf.groups[group_index(mdf, "Task50ms")].channels}["xsTankCtrlState"]
+    assert not verbal.flags & v4c.FLAG_CN_PRECISION  # texts have no decimals
 
     state = channel(mdf, "Task50ms", "xsTankCtrlState")  # TAB_VERB: raw values, texts through the conversion
     assert texts(state.samples) == np.concatenate([b.values["xsTankCtrlState"] for b in by_event["Task50ms"]]).tolist()

@@ -284,7 +284,9 @@ class PlotWindow(SignalDropTarget, QWidget):
 
     def _fit_axes(self, *_) -> None:
         """Draw the y-axes that fit :data:`AXES_SHARE` of the plot's width (see the module docstring)."""
-        selected = {self._order[index.row()] for index in self.legend.selectedIndexes()}
+        selected = {self._order[index.row()] for index in self.legend.selectedIndexes()
+                    if index.row() < len(self._order)}  # the legend is refilled after a removal
+
         def verbal(axis: _Axis) -> bool:  # its signals are states (ON/OFF ...): their texts are in the legend
             return all(self.hub.info(name).states for name in axis.traces)
 
