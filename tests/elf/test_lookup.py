@@ -105,11 +105,11 @@ def _variable_dies(elf_path: Path) -> dict[int, bool]:
 def test_a_name_missing_at_file_scope_decodes_only_the_variables_inside_functions(elf_name, monkeypatch):
     """The function statics are read for a name the globals lack; the file-scope variables, read once
     already, are stepped over (an ELF of 50,000 globals decoded them all a second time)."""
-    from workbench.elf import dwarf, variable_readers
+    from workbench.elf import die_readers, dwarf
 
     debug = DebugData(MATRIX / elf_name, use_cache=False)
     decoded = []
-    make_reader = variable_readers.variable_reader
+    make_reader = die_readers.variable_reader
 
     def recording_reader(*args):
         read = make_reader(*args)
@@ -120,7 +120,7 @@ def test_a_name_missing_at_file_scope_decodes_only_the_variables_inside_function
 
         return recording
 
-    monkeypatch.setattr(variable_readers, "variable_reader", recording_reader)
+    monkeypatch.setattr(die_readers, "variable_reader", recording_reader)
     debug._dwarf()._plan_cache.clear()  # the readers are made again, recording
     decode = dwarf.DwarfReader._decode
 

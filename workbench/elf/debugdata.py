@@ -33,6 +33,7 @@ from workbench.progress import Progress, report
 __all__ = ["AmbiguousSymbolError", "DebugData", "ResolvedSymbol"]
 
 _HEAD = re.compile(r"[A-Za-z_$][A-Za-z0-9_$]*")  # the variable name a member/element path starts with
+_HEAD_AND_SUFFIX = re.compile(r"^([A-Za-z_$][A-Za-z0-9_$]*|)(.*)$", re.M)  # one line: head, member suffix
 _DWARF_SECTIONS = (".debug_info", ".debug_types", ".debug_abbrev", ".debug_str", ".debug_line_str",
                    ".debug_str_offsets", ".debug_addr")
 # what decoding damaged DWARF raises: reads past a section's end, unknown codes, bad struct reads
@@ -194,32 +195,46 @@ class DebugData:
         """The variable (its fields) and member suffix of a path that starts with a plain name which designates
         one variable at file scope (``x``, ``x.in.phys``, ``x[3]``: most paths of an A2L): what the scoped
         lookup would answer, for a dict lookup; None for other paths."""
-        if "::" in path or "{" in path:
+        if not self._has_variables:
             return None
-        head = _HEAD.match(path)
-        if head is None:
-            return None
-        name = head.group()
+        self._load_index()
+        name, suffix = _head_and_suffix(path)
         variable = self._first_of_name().get(name)
         # a unique name's address is in _addresses; the first variable of that name lives there
         if variable is None or variable[1] is None or self._addresses.get(name) != variable[1]:
             return None
-        return variable, path[head.end():]
+        return variable, suffix
 
-    def _member_address(self, path: str) -> int | None:
-        """The address of a member or element of a variable :meth:`_plain_variable` finds, when the walk
-        succeeds (None: ask :meth:`_lookup`, which also says why not)."""
-        if not self._has_variables:
-            return None
+    def _member_addresses(self, paths: list[str], rows: list[int]) -> tuple[list[int], list[int], list[int]]:
+        """The rows whose path is a member or element of a variable :meth:`_plain_variable` finds (``x.in.phys``,
+        ``x[3]``: most paths an update has to resolve) and whose walk succeeds, with their addresses (remembered),
+        and the other rows. Done for all at once: one regular expression splits every path into its head and
+        member suffix, and a loop without calls takes what it can from the walks of earlier paths."""
+        if not rows or not self._has_variables:
+            return [], [], rows
         self._load_index()
-        plain = self._plain_variable(path)
-        if plain is None:
-            return None
-        (_, address, type_offset, *_), suffix = plain
-        try:
-            return address + self._walk(path, type_offset, suffix)[0]
-        except UnknownSymbolError:
-            return None
+        texts = [paths[row] for row in rows]
+        joined = "\n".join(texts)
+        splits = _HEAD_AND_SUFFIX.findall(joined)
+        if "::" in joined or "{" in joined or len(splits) != len(rows):  # scoped, Vector's or odd names among them
+            splits = [_head_and_suffix(path) for path in texts]
+        first, known, walks = self._first_of_name(), self._addresses, self._walks
+        members, addresses, others = [], [], []
+        for row, path, (name, suffix), variable in zip(rows, texts, splits, map(first.get, (h for h, _ in splits))):
+            if variable is not None and variable[1] is not None and known.get(name) == variable[1]:
+                walked = walks.get((variable[2], suffix))
+                if walked is None:
+                    try:
+                        walked = self._walk(path, variable[2], suffix)
+                    except UnknownSymbolError:
+                        pass
+                if walked.__class__ is tuple:
+                    known[path] = variable[1] + walked[0]
+                    members.append(row)
+                    addresses.append(variable[1] + walked[0])
+                    continue
+            others.append(row)
+        return members, addresses, others
 
     def _first_of_name(self) -> dict[str, tuple]:
         """Name -> the first variable at file scope or in a namespace of that name (Variable fields)."""
@@ -267,21 +282,21 @@ class DebugData:
         except OverflowError:  # an address beyond 2**63 (none fits an A2L): one at a time
             found = np.array([_int64_or_unknown(get(path, -1)) for path in paths], np.int64)
         unknown = np.flatnonzero(found < 0).tolist()
-        remembered, member_address = self._addresses, self._member_address
-        for done, row in enumerate(unknown):
-            if done % 2000 == 0:
-                report(progress, done, len(unknown), "resolving symbol paths")
+        looked_up = self._found
+        members, addresses, others = self._member_addresses(paths, [row for row in unknown if paths[row] not in looked_up])
+        others += [row for row in unknown if paths[row] in looked_up]
+        report(progress, len(members), len(unknown), "resolving symbol paths")
+        try:
+            found[members] = addresses
+        except OverflowError:  # beyond 63 bits
+            found[members] = list(map(_int64_or_unknown, addresses))
+        for row in others:  # paths looked up before (one the ELF lacks, say), scoped names, .symtab ...
             path = paths[row]
-            symbol = self._found.get(path)  # a path looked up before (one the ELF lacks, say)
+            symbol = looked_up.get(path)
             if symbol is None:
-                address = member_address(path)  # most paths: a member of a variable (x.in.phys, x[3])
-                if address is not None:
-                    remembered[path] = address
-                    found[row] = _int64_or_unknown(address)
-                    continue
                 symbol = self._lookup(path)
                 if symbol.__class__ is tuple:  # remembered: the update asks why next
-                    self._found[path] = symbol
+                    looked_up[path] = symbol
             if symbol.__class__ is not tuple:
                 found[row] = _int64_or_unknown(symbol.address)
         return found
@@ -398,6 +413,12 @@ def _failure(path: str, why: tuple) -> UnknownSymbolError:
 def _int64_or_unknown(address: int) -> int:
     """``address`` as :meth:`DebugData.addresses` gives it (-1: unknown, -2: beyond 63 bits)."""
     return address if 0 <= address < 2**63 else -2 if address >= 2**63 else -1
+
+
+def _head_and_suffix(path: str) -> tuple[str, str]:
+    """A path's variable name and member suffix, ("", "") for a scoped or Vector name (see _plain_variable)."""
+    head = None if "::" in path or "{" in path else _HEAD.match(path)
+    return (head.group(), path[head.end():]) if head is not None else ("", "")
 
 
 def _variable_names(path: str) -> list[str]:

@@ -148,16 +148,16 @@ class DwarfReader:
         table = {}
         data, position = self.abbrev, offset
         while True:
-            code, position = _uleb(data, position)
+            code, position = uleb(data, position)
             if code == 0:
                 break
-            tag, position = _uleb(data, position)
+            tag, position = uleb(data, position)
             has_children = data[position] == 1
             position += 1
             specs = []
             while True:
-                attr, position = _uleb(data, position)
-                form, position = _uleb(data, position)
+                attr, position = uleb(data, position)
+                form, position = uleb(data, position)
                 implicit = None
                 if form == 0x21:  # implicit_const: the value lives in the abbreviation
                     implicit, position = _sleb(data, position)
@@ -182,7 +182,7 @@ class DwarfReader:
     def die(self, offset: int, unit: Unit | None = None) -> Die | None:
         """The DIE at ``offset`` (None for a null entry, which ends a list of children)."""
         unit = unit or self.unit_of(offset)
-        code, position = _uleb(self.info, offset)
+        code, position = uleb(self.info, offset)
         if code == 0:
             return None
         try:
@@ -223,7 +223,7 @@ class DwarfReader:
         a tag in ``descend`` that has children (then its children, then ("leave", offset, tag, {})), and
         ("item", offset, tag, attrs) for a DIE of a tag in ``collect`` (with ``within``: only inside a DIE
         of one of those tags); a variable DIE collected for :data:`VARIABLE_ATTRS` comes as a tuple in
-        :data:`~workbench.elf.variable_readers.VARIABLE_FIELDS` order instead of a dict. Only the
+        :data:`~workbench.elf.die_readers.VARIABLE_FIELDS` order instead of a dict. Only the
         ``wanted`` attributes are decoded; every other DIE is stepped over with its subtree, through
         DW_AT_sibling or, where the producer left it out (clang), by stepping over each descendant's
         attributes."""
@@ -238,7 +238,7 @@ class DwarfReader:
             code = data[offset]
             position = offset + 1
             if code >= 0x80:
-                code, position = _uleb(data, offset)
+                code, position = uleb(data, offset)
             if code == 0:
                 if not open_scopes:
                     return
@@ -270,7 +270,7 @@ class DwarfReader:
                     sibling = attrs.get(AT_SIBLING)
                     yield "item", offset, tag, attrs
             elif skip is not None and not has_children:
-                offset = self._step_over(skip, position)
+                offset = position + skip if skip.__class__ is int else skip(data, position)
                 continue
             else:
                 attrs, position = self._decode(plan, position, unit, _SIBLING)
@@ -287,13 +287,13 @@ class DwarfReader:
         plans = self._plans(unit)
         data, end, depth = self.info, unit.end, 1
         while depth and position < end:
-            code, position = _uleb(data, position)
+            code, position = uleb(data, position)
             if code == 0:
                 depth -= 1
                 continue
             tag, has_children, plan, _, skip = plans[code]
             if skip is not None and not has_children:
-                position = self._step_over(skip, position)
+                position = position + skip if skip.__class__ is int else skip(data, position)
                 continue
             attrs, position = self._decode(plan, position, unit, _SIBLING)
             if has_children:
@@ -306,12 +306,12 @@ class DwarfReader:
 
     def _plans(self, unit: Unit) -> dict[int, tuple[int, bool, tuple, Callable | None, int | tuple | None]]:
         """Per abbreviation: (tag, has children, ((attribute, form, bytes or -1 when variable), ...), the
-        reader of a variable DIE (see :mod:`workbench.elf.variable_readers`), how to step over its
-        attributes (see :func:`_skip_plan`))."""
+        reader of a variable DIE (see :mod:`workbench.elf.die_readers`), how to step over its
+        attributes (see :func:`~workbench.elf.die_readers.skipper`))."""
         key = (unit.abbrev_offset, unit.offset_size, unit.address_size, unit.version)
         plans = self._plan_cache.get(key)
         if plans is None:
-            from workbench.elf.variable_readers import variable_reader  # it reads this module's forms
+            from workbench.elf.die_readers import skipper, variable_reader  # made from this module's forms
             sizes = {0x0E: unit.offset_size, 0x1F: unit.offset_size, 0x17: unit.offset_size,
                      0x10: unit.address_size if unit.version == 2 else unit.offset_size,
                      0x01: unit.address_size, 0x19: 0, 0x21: 0, 0x1D: unit.offset_size}
@@ -319,30 +319,9 @@ class DwarfReader:
             for code, (tag, has_children, specs) in self._abbrevs(unit.abbrev_offset).items():
                 steps = tuple((attr, form, _FIXED_SIZE.get(form, sizes.get(form, -1))) for attr, form, _ in specs)
                 reader = variable_reader(self, specs, steps) if tag == TAG_VARIABLE else None
-                plans[code] = (tag, has_children, steps, reader, _skip_plan(steps))
+                plans[code] = (tag, has_children, steps, reader, skipper(steps))
             self._plan_cache[key] = plans
         return plans
-
-    def _step_over(self, skip: int | tuple, position: int) -> int:
-        """The offset after one DIE's attributes, stepped over by its :func:`_skip_plan`."""
-        if skip.__class__ is int:
-            return position + skip
-        data = self.info
-        for kind, size in skip:
-            if kind == _SKIP_BYTES:
-                position += size
-            elif kind == _SKIP_BLOCK:
-                length, position = _uleb(data, position)
-                position += length
-            elif kind == _SKIP_STRING:
-                position = data.index(b"\0", position) + 1
-            elif kind == _SKIP_LEB:
-                while data[position] >= 0x80:
-                    position += 1
-                position += 1
-            else:  # _SKIP_BLOCK1
-                position += 1 + data[position]
-        return position
 
     def _decode(self, plan: tuple, position: int, unit: Unit, wanted: frozenset) -> tuple[dict, int]:
         """Decode the ``wanted`` attributes of one DIE and step over the others; returns them and the
@@ -355,7 +334,7 @@ class DwarfReader:
             elif size >= 0:
                 position += size
             elif form in (0x18, 0x09):  # exprloc, block: uleb length
-                length, position = _uleb(data, position)
+                length, position = uleb(data, position)
                 position += length
             elif form == 0x0A:
                 position += 1 + data[position]
@@ -404,7 +383,7 @@ class DwarfReader:
             end = 1 + unit.address_size
             address = int.from_bytes(location[1:end], _BYTEORDER[self.order])
         elif op in (_OP_ADDRX, _OP_GNU_ADDR_INDEX):
-            index, end = _uleb(location, 1)
+            index, end = uleb(location, 1)
             address = self.indexed_address(index, unit)
             if address is None:
                 return None
@@ -414,10 +393,10 @@ class DwarfReader:
         if not rest:
             return address
         if rest[0] == _OP_PLUS_UCONST:
-            offset, after = _uleb(rest, 1)
+            offset, after = uleb(rest, 1)
             return address + offset if after == len(rest) else None
         if rest[0] == _OP_CONSTU:
-            offset, after = _uleb(rest, 1)
+            offset, after = uleb(rest, 1)
             return address + offset if rest[after:] == bytes([_OP_PLUS]) else None
         return None
 
@@ -450,11 +429,11 @@ class DwarfReader:
             end = data.index(b"\0", position)
             return data[position:end].decode("utf-8", "replace"), end + 1
         if form == 0x0F:  # udata
-            return _uleb(data, position)
+            return uleb(data, position)
         if form == 0x0D:  # sdata
             return _sleb(data, position)
         if form == 0x15:  # ref_udata
-            value, position = _uleb(data, position)
+            value, position = uleb(data, position)
             return unit.offset + value, position
         if form in (0x10, 0x17):  # ref_addr, sec_offset
             size = unit.address_size if form == 0x10 and unit.version == 2 else unit.offset_size
@@ -464,7 +443,7 @@ class DwarfReader:
             size = unit.address_size
             return int.from_bytes(data[position : position + size], _BYTEORDER[self.order]), position + size
         if form in (0x18, 0x09):  # exprloc, block
-            length, position = _uleb(data, position)
+            length, position = uleb(data, position)
             return data[position : position + length], position + length
         if form == 0x0A:  # block1
             length = data[position]
@@ -479,17 +458,17 @@ class DwarfReader:
         if form == 0x21:  # implicit_const
             return implicit, position
         if form in (0x1A, 0x1F02):  # strx, GNU_str_index
-            index, position = _uleb(data, position)
+            index, position = uleb(data, position)
             return self._indexed_string(index, unit), position
         if form in (0x1B, 0x1F01):  # addrx, GNU_addr_index
-            index, position = _uleb(data, position)
+            index, position = uleb(data, position)
             return self.indexed_address(index, unit), position
         if form in (0x22, 0x23):  # loclistx, rnglistx: an index, not followed here
-            return _uleb(data, position)
+            return uleb(data, position)
         if form in (0x1D, 0x1F20, 0x1F21):  # strp_sup, GNU_ref_alt, GNU_strp_alt: another file
             return None, position + unit.offset_size
         if form == 0x16:  # indirect
-            actual, position = _uleb(data, position)
+            actual, position = uleb(data, position)
             return self._read_form(actual, position, unit, implicit)
         raise DwarfError(f"unknown DWARF form 0x{form:x} at .debug_info+0x{position:x}")
 
@@ -505,43 +484,16 @@ _BYTEORDER = {"<": "little", ">": "big"}
 DECODED_FORMS = frozenset({0x1E, 0x20, 0x25, 0x26, 0x27, 0x28, 0x29, 0x2A, 0x2B, 0x2C})
 
 
-_SKIP_BYTES, _SKIP_BLOCK, _SKIP_STRING, _SKIP_LEB, _SKIP_BLOCK1 = range(5)
-_SKIP_FORMS = {0x18: _SKIP_BLOCK, 0x09: _SKIP_BLOCK, 0x08: _SKIP_STRING, 0x0A: _SKIP_BLOCK1,
-               **dict.fromkeys((0x0F, 0x0D, 0x15, 0x1A, 0x1B, 0x22, 0x23, 0x1F01, 0x1F02), _SKIP_LEB)}
-
-
-def _skip_plan(steps: tuple) -> int | tuple | None:
-    """How to step over the attributes of a DIE of this abbreviation without decoding them: the byte
-    count when every form has a fixed size, else ((kind, bytes), ...) with neighbouring fixed sizes
-    summed; None for a form only :meth:`DwarfReader._read_form` can step over (DW_FORM_indirect)."""
-    skip: list[list[int]] = []
-    for _, form, size in steps:
-        if size >= 0:
-            if skip and skip[-1][0] == _SKIP_BYTES:
-                skip[-1][1] += size
-            else:
-                skip.append([_SKIP_BYTES, size])
-        elif form in _SKIP_FORMS:
-            skip.append([_SKIP_FORMS[form], 0])
-        else:
-            return None
-    if not skip:
-        return 0
-    if len(skip) == 1 and skip[0][0] == _SKIP_BYTES:
-        return skip[0][1]
-    return tuple(map(tuple, skip))
-
-
 def member_offset(value: object) -> int | None:
     """DW_AT_data_member_location: a constant, or DW_OP_plus_uconst n."""
     if isinstance(value, int):
         return value
     if isinstance(value, (bytes, bytearray)) and value[:1] == bytes([_OP_PLUS_UCONST]):
-        return _uleb(value, 1)[0]
+        return uleb(value, 1)[0]
     return None
 
 
-def _uleb(data: bytes, position: int) -> tuple[int, int]:
+def uleb(data: bytes, position: int) -> tuple[int, int]:
     byte = data[position]
     if byte < 0x80:
         return byte, position + 1
@@ -556,7 +508,7 @@ def _uleb(data: bytes, position: int) -> tuple[int, int]:
 
 
 def _sleb(data: bytes, position: int) -> tuple[int, int]:
-    value, end = _uleb(data, position)
+    value, end = uleb(data, position)
     if data[end - 1] & 0x40:  # the sign bit of the last byte
         value -= 1 << (7 * (end - position))
     return value, end

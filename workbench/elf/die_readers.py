@@ -1,11 +1,15 @@
-"""Readers of variable DIEs, made for each abbreviation: the hot loop of reading a large ELF's DWARF.
+"""Code made for each DIE abbreviation: the hot loops of reading a large ELF's DWARF.
 
-An ELF of 50,000 variables has 50,000 variable DIEs of a handful of abbreviations. A reader made
-for one abbreviation (Python source generated from its attribute forms, compiled once and shared
-by every unit with the same abbreviation) reads a DIE with one ``struct`` call per run of
-fixed-size attributes and no loop over them, about twice as fast as decoding attribute by
-attribute. It returns the attributes :mod:`workbench.elf.dwarf_index` reads a variable for as a
-tuple in :data:`VARIABLE_FIELDS` order (None where the DIE lacks one, ``external`` False).
+An ELF of 50,000 variables has 50,000 variable DIEs of a handful of abbreviations. Code made for
+one abbreviation (Python source generated from its attribute forms, compiled once and shared by
+every unit with the same abbreviation) handles a DIE without a loop over its attributes:
+
+- :func:`variable_reader` reads a variable DIE with one ``struct`` call per run of fixed-size
+  attributes, about twice as fast as decoding attribute by attribute, into the attributes
+  :mod:`workbench.elf.dwarf_index` reads a variable for: a tuple in :data:`VARIABLE_FIELDS`
+  order (None where the DIE lacks one, ``external`` False);
+- :func:`skipper` steps over a DIE's attributes: the byte count when all have a fixed size,
+  else a function of (data, position) that returns the position after them.
 """
 
 from __future__ import annotations
@@ -16,7 +20,7 @@ from collections.abc import Callable
 
 from workbench.elf import dwarf
 
-__all__ = ["VARIABLE_FIELDS", "VariableReader", "variable_reader"]
+__all__ = ["VARIABLE_FIELDS", "VariableReader", "skipper", "variable_reader"]
 
 VARIABLE_FIELDS = (dwarf.AT_NAME, dwarf.AT_TYPE, dwarf.AT_EXTERNAL, dwarf.AT_LOCATION, dwarf.AT_DECLARATION,
                    dwarf.AT_SPECIFICATION, dwarf.AT_ABSTRACT_ORIGIN, dwarf.AT_SIBLING)
@@ -117,3 +121,46 @@ def _converted(form: int, variable: str) -> str:
     if form in _REFERENCES:
         return f"({variable} + unit.offset)"
     return variable
+
+
+_LEBS = frozenset({0x0F, 0x0D, 0x15, 0x1A, 0x1B, 0x22, 0x23, 0x1F01, 0x1F02})  # forms that are one LEB128
+_skippers: dict[tuple, Callable] = {}
+
+
+def skipper(steps: tuple) -> int | Callable[[bytes, int], int] | None:
+    """How to step over the attributes of a DIE of this abbreviation (``steps``: (attribute, form, size in
+    bytes or -1)): their byte count when every form has a fixed size, else a function (data, position) ->
+    the position after them; None for a form only the generic decoder steps over (DW_FORM_indirect)."""
+    key = tuple((form, size) for _, form, size in steps)
+    if all(size >= 0 for _, size in key):
+        return sum(size for _, size in key)
+    if key in _skippers:
+        return _skippers[key]
+    lines, fixed = ["def skip(data, position):"], 0
+    for form, size in key:
+        if size >= 0:
+            fixed += size
+            continue
+        if fixed:
+            lines.append(f"    position += {fixed}")
+            fixed = 0
+        if form in _BLOCKS:
+            lines += ["    if data[position] < 0x80:",
+                      "        position += 1 + data[position]",
+                      "    else:",
+                      "        length, position = uleb(data, position)",
+                      "        position += length"]
+        elif form == 0x08:
+            lines.append("    position = data.index(b'\\0', position) + 1")
+        elif form == 0x0A:  # block1
+            lines.append("    position += 1 + data[position]")
+        elif form in _LEBS:
+            lines += ["    while data[position] >= 0x80:", "        position += 1", "    position += 1"]
+        else:
+            _skippers[key] = None
+            return None
+    lines.append(f"    return position + {fixed}")
+    namespace = {"uleb": dwarf.uleb}
+    exec(compile("\n".join(lines), "<die skipper>", "exec"), namespace)
+    _skippers[key] = namespace["skip"]
+    return namespace["skip"]
