@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import itertools
 import struct
+import types
 from collections.abc import Callable
 
 from workbench.elf import dwarf
@@ -42,19 +43,16 @@ def variable_reader(reader: "dwarf.DwarfReader", specs: tuple, steps: tuple) -> 
     compiled = _compiled.get(key)
     if compiled is None:
         compiled = _compiled[key] = _compile(specs, steps, reader.order)
-    strings, line_strings, read_form = reader.strings, reader.line_strings, reader._read_form
-
-    def read(data: bytes, position: int, unit: "dwarf.Unit") -> tuple[tuple, int]:
-        return compiled(data, position, unit, strings, line_strings, read_form)
-
-    return read
+    # the same code, this reader's sections bound as its defaults: no call in between
+    return types.FunctionType(compiled.__code__, compiled.__globals__, "read",
+                              (reader.strings, reader.line_strings, reader._read_form))
 
 
 def _compile(specs: tuple, steps: tuple, order: str) -> Callable:
     slots = {attr: slot for slot, attr in enumerate(VARIABLE_FIELDS)}
     values = ["None"] * len(VARIABLE_FIELDS)
     values[EXTERNAL] = "False"
-    namespace: dict[str, object] = {"cstring": dwarf.cstring}
+    namespace: dict[str, object] = {}
     numbers = itertools.count()
     lines = ["def read(data, position, unit, strings, line_strings, read_form):"]
     run: list[str] = []  # struct codes of the current run of fixed-size attributes
@@ -114,10 +112,9 @@ def _compile(specs: tuple, steps: tuple, order: str) -> Callable:
 
 def _converted(form: int, variable: str) -> str:
     """The expression that turns a struct-read value of ``form`` into the attribute's value."""
-    if form == 0x0E:  # strp
-        return f"cstring(strings, {variable})"
-    if form == 0x1F:  # line_strp
-        return f"cstring(line_strings, {variable})"
+    if form in (0x0E, 0x1F):  # strp, line_strp: a NUL-terminated string in .debug_str / .debug_line_str
+        section = "strings" if form == 0x0E else "line_strings"
+        return f"{section}[{variable} : {section}.index(b'\\0', {variable})].decode('utf-8', 'replace')"
     if form in _REFERENCES:
         return f"({variable} + unit.offset)"
     return variable

@@ -16,7 +16,9 @@ Variables come as plain tuples of :class:`~workbench.elf.lookup.Variable`'s fiel
 
 from __future__ import annotations
 
+import gc
 from bisect import bisect_right
+from contextlib import contextmanager
 from pathlib import PurePosixPath, PureWindowsPath
 
 from workbench.elf import dwarf
@@ -47,6 +49,10 @@ class DwarfIndex:
     def global_variables(self, progress: Progress | None = None) -> list[tuple]:
         """Every named variable at file scope or in a namespace, as :class:`Variable` fields (reports
         progress in bytes of DWARF)."""
+        with _no_cyclic_gc():  # tens of thousands of tuples that live on: no collections while they are made
+            return self._global_variables(progress)
+
+    def _global_variables(self, progress: Progress | None) -> list[tuple]:
         found: list[tuple] = []
         total = len(self.reader.info)
         for unit in self.reader.units:
@@ -220,6 +226,17 @@ class DwarfIndex:
                     where = self.scope_of(specification) if isinstance(specification, int) else scope
                     definitions.setdefault((_record_kind(tag), where + (attrs[dwarf.AT_NAME],)), offset)
         return definitions
+
+
+@contextmanager
+def _no_cyclic_gc():
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
 
 
 def _record_kind(tag: int) -> int:
