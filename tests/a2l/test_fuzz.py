@@ -123,3 +123,15 @@ def test_tokens_keys_and_matching_agree_with_a_plain_reading(index, operations, 
     assert len(keyed) == len({raw for i, raw in enumerate(raws) if exact[i]})
     for word in set(raws[:40]) | {b"ECU_ADDRESS", b"/end"}:
         assert tokens.matching(word).tolist() == [i for i, raw in enumerate(raws) if raw == word]
+
+
+def test_block_keywords_are_numbered_alike_when_their_hashes_collide(monkeypatch):
+    """Keywords are grouped by one hash of their keys; were every hash the same, the grouping falls back
+    to the keys themselves and numbers them as before."""
+    from workbench.a2l import tree
+
+    expected = (MASTER.blocks.keyword_id.tolist(), MASTER.blocks.keyword_names)
+    monkeypatch.setattr(tree, "_hashes", lambda keys: np.zeros(keys.shape[1], np.uint64))
+    again = A2lDocument.from_source(decode_source(demo.master_a2l().read_bytes(), demo.master_a2l()))
+    assert (again.blocks.keyword_id.tolist(), again.blocks.keyword_names) == expected
+    assert again.blocks.keyword == MASTER.blocks.keyword

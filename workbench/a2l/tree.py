@@ -84,16 +84,18 @@ def parse_blocks(tokens: Tokens, begins: np.ndarray, ends: np.ndarray, source_ma
         _diagnose(tokens, events, signs, source_map)
     # A begin at level L is closed by the next end at level L (depth before that end).
     level = np.where(signs > 0, depth, depth + 1)
-    paired = np.lexsort((events, level))
-    begin = events[paired[0::2]]
-    end = events[paired[1::2]]
-    in_order = np.argsort(begin)
-    begin, end, block_level = begin[in_order], end[in_order], level[paired[0::2]][in_order]
-    opening, opening_exact = tokens.keys(begin + 1)
-    closing, closing_exact = tokens.keys(end + 1)
-    exact = opening_exact & closing_exact
-    if not (opening[:, exact] == closing[:, exact]).all() \
-            or tokens.raw_many((begin + 1)[~exact]) != tokens.raw_many((end + 1)[~exact]):
+    paired = np.lexsort((events, level))  # by level, then position: each begin is followed by its end
+    partner = np.empty(len(events), dtype=np.int64)
+    partner[paired[0::2]] = paired[1::2]
+    opens = np.flatnonzero(signs > 0)  # the begins in document order
+    closes = partner[opens]
+    begin, end, block_level = events[opens], events[closes], level[opens]
+    keys, exact = tokens.keys(events + 1)  # the keywords after every /begin and /end
+    opening, closing = keys[:, opens], keys[:, closes]
+    opening_exact, both = exact[opens], exact[opens] & exact[closes]
+    same = np.array_equal(opening, closing) if both.all() else (opening[:, both] == closing[:, both]).all() \
+        and tokens.raw_many((begin + 1)[~both]) == tokens.raw_many((end + 1)[~both])
+    if not same:
         _diagnose(tokens, events, signs, source_map)
     keyword_id, names = _keyword_numbers(tokens, begin + 1, opening, opening_exact)
     parent = _parents(begin, block_level)
@@ -112,18 +114,31 @@ def _keyword_numbers(tokens: Tokens, keywords: np.ndarray, keys: np.ndarray, exa
         numbers: dict[bytes, int] = {}
         found = np.array([numbers.setdefault(raw, len(numbers)) for raw in tokens.raw_many(keywords)], np.int64)
         return found, [raw.decode("latin-1") for raw in numbers]
-    order = np.lexsort(keys[::-1])
-    ordered = keys[:, order]
+    hashed = _hashes(keys)  # sorted by one number per key: equal keywords are neighbours
+    order = np.argsort(hashed, kind="stable")
+    ordered = hashed[order]
     starts_group = np.ones(len(order), dtype=bool)
-    starts_group[1:] = (ordered[:, 1:] != ordered[:, :-1]).any(axis=0)
+    starts_group[1:] = ordered[1:] != ordered[:-1]
     group = np.cumsum(starts_group) - 1  # per position in ``order``
-    first_rows = order[starts_group]  # the first row of each group (lexsort is stable)
+    first_rows = order[starts_group]  # the first row of each group (the sort is stable)
+    if not np.array_equal(keys[:, order], keys[:, first_rows[group]]):  # two keywords with one number
+        order = np.lexsort(keys[::-1])
+        ordered = keys[:, order]
+        starts_group[1:] = (ordered[:, 1:] != ordered[:, :-1]).any(axis=0)
+        group = np.cumsum(starts_group) - 1
+        first_rows = order[starts_group]
     rank = np.empty(len(first_rows), dtype=np.int64)
     rank[np.argsort(first_rows)] = np.arange(len(first_rows))  # groups by first appearance
     numbers = np.empty(len(order), dtype=np.int64)
     numbers[order] = rank[group]
     names = [raw.decode("latin-1") for raw in tokens.raw_many(keywords[np.sort(first_rows)])]
     return numbers, names
+
+
+def _hashes(keys: np.ndarray) -> np.ndarray:
+    """One number per column of :meth:`Tokens.keys` (unequal keys may share one: the caller checks)."""
+    return keys[0] ^ keys[1] * np.uint64(0x9E3779B97F4A7C15) ^ keys[2] * np.uint64(0xC2B2AE3D27D4EB4F) \
+        ^ keys[3] * np.uint64(0x165667B19E3779F9)
 
 
 def first_of_each(keys: np.ndarray) -> np.ndarray:
