@@ -93,3 +93,10 @@ def test_a_channel_shows_its_precision_else_as_many_decimals_as_its_range_needs(
     assert range_decimals(np.array([698.0, 699.5, 700.0])) == 2  # a small swing about a large value shows
     assert range_decimals(np.array([0.0012, 0.0031])) == 6 and range_decimals(np.array([1e-9, 3e-9])) is None
     assert range_decimals(np.array([1500.5, 6500.25])) == 0 and range_decimals(np.array([np.nan])) == 0
+
+
+def test_a_can2_signal_shows_one_raw_steps_decimals_live_as_its_recording_does(demo_workspace):
+    infos = {info.name: info for info in demo_workspace.can2_infos()}
+    target = infos["PCM_TO_FLCU_002.TargetRailPressure"]  # factor 0.01 in the DBC
+    assert target.decimals == 2 and target.format(25.0) == "25.00" and target.format(24.96) == "24.96"
+    assert infos["PCM_TO_FLCU_001.EnableFLCU"].format(1.0) == "Enabled"  # a value table: its texts

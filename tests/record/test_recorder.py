@@ -70,6 +70,8 @@ def test_every_sample_is_in_the_file_on_the_ecu_clock(session, tmp_path, read_md
     target = channel(mdf, "PCM_TO_FLCU_002", "TargetRailPressure")  # CAN2, decoded with the DBC
     assert target.unit == "bar" and np.allclose(target.samples, 25.0)
     assert set(channel(mdf, "PCM_TO_FLCU_002", "TargetRailPressure", raw=True).samples.tolist()) == {2500}
+    block = mdf.groups[group_index(mdf, "PCM_TO_FLCU_002")].channels[1]
+    assert block.name == "TargetRailPressure" and block.precision == 2  # one raw step of the DBC's factor 0.01
     assert set(texts(channel(mdf, "PCM_TO_FLCU_001", "EnableFLCU").samples)) == {"Enabled"}
     assert np.all(np.diff(target.timestamps) > 0) and np.median(np.diff(target.timestamps)) == pytest.approx(0.1, abs=0.01)
     daq_span = (min(starts), master(mdf, "Task4ms")[-1])

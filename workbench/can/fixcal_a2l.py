@@ -33,10 +33,9 @@ import itertools
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from decimal import Decimal
 
 from workbench.can.fixcal import FixCalibration, FixKind, format_number
-from workbench.can.model import SignalOfMsg
+from workbench.can.model import SignalOfMsg, step_decimals
 
 A2L_DATATYPES = {
     "uint8_T": "UBYTE", "int8_T": "SBYTE", "uint16_T": "UWORD", "int16_T": "SWORD",
@@ -45,7 +44,6 @@ A2L_DATATYPES = {
 }
 _ON_OFF = ("CM_OnOff", "VTAB_OnOff")
 _MOD_COMMON = re.compile(r'/begin\s+MOD_COMMON\s+"(?:[^"\\]|\\.)*"(.*?)/end\s+MOD_COMMON', re.S)
-_MAX_DECIMALS = 9
 _UNIT_WORDS = {"%": "Percent", "°": "deg", "µ": "u", "μ": "u", "²": "2", "³": "3", "/": "_per_"}
 
 
@@ -196,8 +194,9 @@ def _linear(signal: SignalOfMsg) -> _Conversion:
         parts.append(_unit_word(signal.unit))
     name = "CM_CAN_" + "_".join(p for p in parts if p)
     unit = f" [{signal.unit}]" if signal.unit else ""
-    return _Conversion(name, f"phys = {factor} * raw + {offset}{unit}", "LINEAR", f'"%8.{_decimals(signal)}"',
-                       signal.unit, coefficients=f"{factor} {offset}")
+    display = f'"%8.{step_decimals(signal.factor, signal.offset)}"'
+    return _Conversion(name, f"phys = {factor} * raw + {offset}{unit}", "LINEAR", display, signal.unit,
+                       coefficients=f"{factor} {offset}")
 
 
 def _compu_method(name: str, title: str, kind: str, display_format: str, unit: str, extra: str | None) -> str:
@@ -216,12 +215,6 @@ def _compu_method(name: str, title: str, kind: str, display_format: str, unit: s
 def _record_layout(layout: str) -> str:
     datatype = layout.removeprefix("Scalar_")
     return f"    /begin RECORD_LAYOUT {layout}\n      FNC_VALUES 1 {datatype} ROW_DIR DIRECT\n    /end RECORD_LAYOUT\n"
-
-
-def _decimals(signal: SignalOfMsg) -> int:
-    """Decimals that show one raw step: 2 for a factor of 0.01, 6 for 1e-06, 0 for whole factors and offsets."""
-    digits = [-Decimal(repr(float(number))).normalize().as_tuple().exponent for number in (signal.factor, signal.offset)]
-    return min(max(0, *digits), _MAX_DECIMALS)
 
 
 def _name_number(text: str) -> str:

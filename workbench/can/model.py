@@ -20,6 +20,7 @@ from __future__ import annotations
 import dataclasses
 import enum
 from dataclasses import dataclass, field
+from decimal import Decimal
 from typing import TYPE_CHECKING
 
 from workbench.can.naming import raw_c_type
@@ -35,7 +36,9 @@ DEFAULT_TIMEOUT_PERIODS = 3
 
 __all__ = ["DEFAULT_TIMEOUT_PERIODS", "FRAME_FORMAT_ATTRIBUTE", "PERIOD_ATTRIBUTE", "TIMEOUT_ATTRIBUTE", "DbcContent",
            "Message", "Role", "SignalOfMsg", "check_node", "messages_of", "period_and_timeout", "role_of",
-           "value_table_of"]
+           "step_decimals", "value_table_of"]
+
+MAX_STEP_DECIMALS = 9
 
 
 class Role(str, enum.Enum):
@@ -235,3 +238,10 @@ def value_table_of(choices: tuple[tuple[int, str], ...], value_tables: dict[str,
     if not choices:
         return None
     return next((name for name, entries in value_tables.items() if entries == choices), None)
+
+
+def step_decimals(factor: float, offset: float) -> int:
+    """Decimals that show one raw step of a scaled signal: 2 for a factor of 0.01, 6 for 1e-06, 0 for whole
+    factors and offsets (the display format of its fix calibration, its live value and its recorded channel)."""
+    digits = [-Decimal(repr(float(number))).normalize().as_tuple().exponent for number in (factor, offset)]
+    return min(max(0, *digits), MAX_STEP_DECIMALS)

@@ -29,12 +29,19 @@ class Workspace:
         return dbc_signals(dbc.database for dbc in self.dbcs)
 
     def can2_infos(self) -> list[SignalInfo]:
-        """The DBCs' signals as the views describe them: unit, comment, range and value table."""
-        choices = {f"{message.name}.{signal.name}": tuple((float(raw), str(text))
-                                                          for raw, text in (signal.choices or {}).items())
+        """The DBCs' signals as the views describe them: unit, comment, range, value table, and the decimals of
+        one raw step (as their fix calibrations and recordings show them)."""
+        from workbench.can.model import step_decimals
+
+        signals = {f"{message.name}.{signal.name}": signal
                    for dbc in self.dbcs for message in dbc.database.messages for signal in message.signals}
-        return [SignalInfo(s.name, "CAN2", s.unit, s.comment, s.minimum, s.maximum, choices.get(s.name, ()))
-                for s in self.dbc_signals()]
+        infos = []
+        for s in self.dbc_signals():
+            signal = signals.get(s.name)
+            states = tuple((float(raw), str(text)) for raw, text in (signal.choices or {}).items()) if signal else ()
+            decimals = None if signal is None or states or signal.is_float else step_decimals(signal.scale, signal.offset)
+            infos.append(SignalInfo(s.name, "CAN2", s.unit, s.comment, s.minimum, s.maximum, states, decimals))
+        return infos
 
 
 def load_workspace(project: Project) -> Workspace:

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from workbench.can.model import step_decimals
 from workbench.record.mdf_stream import ChannelSpec, GroupSpec, SourceSpec
 
 __all__ = ["CanMessageGroups", "RawCanGroup", "can_frame_dtype"]
@@ -104,4 +105,5 @@ def _channel(signal) -> ChannelSpec:
         conversion = {"default_addr": scaling or {"a": 1.0, "b": 0.0}}
         for i, (raw, text) in enumerate(signal.choices.items()):
             conversion[f"val_{i}"], conversion[f"text_{i}"] = float(raw), str(text)
-    return ChannelSpec(signal.name, _dtype(signal), signal.unit or "", signal.comment or "", conversion)
+    decimals = None if signal.choices or signal.is_float else step_decimals(signal.scale, signal.offset)
+    return ChannelSpec(signal.name, _dtype(signal), signal.unit or "", signal.comment or "", conversion, decimals)
