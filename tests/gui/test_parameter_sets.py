@@ -35,7 +35,7 @@ def test_the_working_page_is_compared_with_the_reference_page(window, qtbot):
     assert view.rows_shown() == ["xsSWITCH_TANK_THR"]  # only what differs
     assert view.sides.text() == "A: reference page (CAL ROM)   ·   B: working page (CAL RAM)"
     row = [view.proxy.index(0, column).data() for column in range(5)]
-    assert row == ["xsSWITCH_TANK_THR", "differs", "20 bar", "27.5 bar", "Δ 7.5"]
+    assert row == ["xsSWITCH_TANK_THR", "differs", "20.00 bar", "27.50 bar", "Δ 7.50"]  # CM_bar's %8.2
     view.show_equal.setChecked(True)
     assert len(view.rows_shown()) > 50
     view.show_equal.setChecked(False)
@@ -61,6 +61,9 @@ def test_a_parameter_set_saved_changed_and_applied_with_the_checks_of_cal_load(w
     view = window.compare
     assert view.rows_shown() == ["xvPRV_DC_FF"] and view.apply_button.isVisible()
     assert view.elements.rowCount() == 1 and view.elements.index(0, 0).data().startswith("value[1, 2] at (")
+    a, b, delta = (view.elements.index(0, column).data() for column in (1, 2, 3))
+    assert delta == "+5.00" and float(b) - float(a) == pytest.approx(5.0)  # CM_Percent's %6.2, as the editor
+    assert a == f"{float(a):.2f}" and view.elements.index(0, 0).data().endswith(".00)")  # axis points: %x.2 too
     before = session.read("xvPRV_DC_FF")
     view.apply_button.click()  # a dry run, then the question
     qtbot.waitUntil(lambda: sets.confirm is not None and sets.confirm.isVisible(), timeout=WAIT_MS)

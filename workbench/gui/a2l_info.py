@@ -7,7 +7,9 @@ from dataclasses import dataclass
 from workbench.errors import WorkbenchError
 from workbench.gui.signal_hub import SignalInfo
 
-__all__ = ["CalibrationInfo", "calibration_info", "measurement_info", "verbal_states"]
+__all__ = ["CalibrationInfo", "calibration_info", "measurement_info", "value_decimals", "verbal_states"]
+
+_AXES = "xyz"
 
 
 def verbal_states(model, obj) -> tuple[tuple[float, str], ...]:
@@ -31,6 +33,21 @@ def measurement_info(model, name: str) -> SignalInfo | None:
     decimals = format_parts(measurement.format)[1] if measurement.format else conversion.decimals
     return SignalInfo(name, "XCP", unit, measurement.long_identifier, measurement.lower_limit,
                       measurement.upper_limit, verbal_states(model, measurement), decimals)
+
+
+def value_decimals(model, name: str, where: str = "value") -> int | None:
+    """The decimals the views show an element of calibration ``name`` with (its FORMAT, else its conversion's), as
+    a :class:`~workbench.calib.dataset.DatasetDiff` names the element: ``value[2, 1]`` the values', ``x[4]`` or
+    ``y`` an axis' points. None: no such object in the A2L, or no format."""
+    from workbench.a2l.objects import format_parts
+
+    try:
+        obj = model.object(name)
+        axis = _AXES.find(where[:1]) if where[1:2] in ("", "[", ".") else -1
+        axes = getattr(obj, "axes", ())
+        return format_parts(model.format_of(axes[axis] if 0 <= axis < len(axes) else obj))[1]
+    except (WorkbenchError, KeyError):
+        return None
 
 
 @dataclass(frozen=True)

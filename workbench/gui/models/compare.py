@@ -1,6 +1,7 @@
 """The compare view's rows: one per object of a :class:`~workbench.calib.dataset.DatasetDiff` (working
 page vs reference page, the ECU vs a parameter set, two parameter sets), with both values and what
-differs; its details: the differing elements of one object."""
+differs; its details: the differing elements of one object. Numbers have the decimals of the A2L's
+display format, as in the other views (``decimals(name, where)``, e.g. ``a2l_info.value_decimals``)."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ from workbench.gui import theme
 from workbench.gui.formatting import format_value
 from workbench.gui.models.rows import RowsModel
 
-__all__ = ["CompareFilter", "CompareModel", "ElementModel", "describe_value"]
+__all__ = ["CompareFilter", "CompareModel", "ElementModel", "describe_value", "no_decimals"]
 
 COLUMNS = ("object", "status", "A", "B", "difference")
 STATUS_TEXT = {"only-in-a": "only in A", "only-in-b": "only in B", "shape-changed": "shape differs",
@@ -21,29 +22,35 @@ STATUS_COLOUR = {"only-in-a": theme.ACCENT, "only-in-b": theme.ACCENT, "shape-ch
                  "changed": theme.WARN, "equal": theme.MUTED}
 
 
-def describe_value(value) -> str:
-    """A CalValue in one cell: a scalar with its unit, an array by its kind and shape."""
+def no_decimals(name: str, where: str) -> int | None:
+    return None
+
+
+def describe_value(value, decimals: int | None = None) -> str:
+    """A CalValue in one cell: a scalar with ``decimals`` and its unit, an array by its kind and shape."""
     if value is None:
         return "—"
     if value.kind in ("VALUE", "ASCII"):
         unit = f" {value.unit}" if value.unit and not isinstance(value.value, str) else ""
-        return f"{format_value(value.value)}{unit}"
+        return f"{format_value(value.value, decimals)}{unit}"
     return f"{value.kind} {' x '.join(map(str, np.shape(value.value)))}"
 
 
-def _difference(diff) -> str:
+def _difference(diff, decimals) -> str:
     if diff.status == "equal":
         return ""
     if diff.status in ("only-in-a", "only-in-b"):
         return "not in " + ("B" if diff.status == "only-in-a" else "A")
     if diff.status == "shape-changed":
         return "; ".join(f"{d.where}: {d.a} → {d.b}" for d in diff.differences)
-    deltas = [d.delta for d in diff.differences if d.delta is not None]
+    numeric = [d for d in diff.differences if d.delta is not None]
     if len(diff.differences) == 1:
         d = diff.differences[0]
-        return f"Δ {format_value(d.delta)}" if d.delta is not None else f"{d.where}: {d.a} → {d.b}"
-    largest = max(deltas, key=abs) if deltas else None
-    return f"{len(diff.differences)} values" + (f", max Δ {format_value(largest)}" if largest is not None else "")
+        return (f"Δ {format_value(d.delta, decimals(diff.name, d.where))}" if d.delta is not None
+                else f"{d.where}: {d.a} → {d.b}")
+    largest = max(numeric, key=lambda d: abs(d.delta)) if numeric else None
+    return f"{len(diff.differences)} values" + (
+        f", max Δ {format_value(largest.delta, decimals(diff.name, largest.where))}" if largest is not None else "")
 
 
 class CompareModel(RowsModel):
@@ -55,6 +62,7 @@ class CompareModel(RowsModel):
         super().__init__(parent)
         self.a_label = "A"
         self.b_label = "B"
+        self.decimals = no_decimals  # (object, element "value"/"x[2]") -> the A2L's decimals for it
 
     def set_diff(self, diff) -> None:
         self.a_label, self.b_label = diff.a_label, diff.b_label
@@ -72,8 +80,10 @@ class CompareModel(RowsModel):
         diff = self.rows[index.row()]
         column = COLUMNS[index.column()]
         if role == Qt.DisplayRole:
+            places = self.decimals(diff.name, "value")
             return {"object": diff.name, "status": STATUS_TEXT.get(diff.status, diff.status),
-                    "A": describe_value(diff.a), "B": describe_value(diff.b), "difference": _difference(diff)}[column]
+                    "A": describe_value(diff.a, places), "B": describe_value(diff.b, places),
+                    "difference": _difference(diff, self.decimals)}[column]
         if role == Qt.ForegroundRole and column == "status":
             return QColor(STATUS_COLOUR.get(diff.status, theme.TEXT))
         if role == Qt.TextAlignmentRole and column in ("A", "B"):
@@ -118,16 +128,29 @@ class ElementModel(RowsModel):
 
     COLUMNS = ("where", "A", "B", "B − A")
 
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.name = ""
+        self.decimals = no_decimals
+
+    def show(self, name: str, elements) -> None:
+        """The differing elements of object ``name``."""
+        self.name = name
+        self.set_rows(list(elements))
+
     def data(self, index, role=Qt.DisplayRole):
         if not index.isValid() or role not in (Qt.DisplayRole, Qt.TextAlignmentRole):
             return None
         element = self.rows[index.row()]
         if role == Qt.TextAlignmentRole:
             return int(Qt.AlignRight | Qt.AlignVCenter) if index.column() else None
-        where = element.where + (f" at ({', '.join(format_value(p) for p in element.at)})" if element.at else "")
-        return (where, _plain(element.a), _plain(element.b),
-                "" if element.delta is None else f"{element.delta:+.6g}")[index.column()]
+        places = self.decimals(self.name, element.where)
+        points = (format_value(p, self.decimals(self.name, axis)) for p, axis in zip(element.at, "xyz"))
+        where = element.where + (f" at ({', '.join(points)})" if element.at else "")
+        delta = "" if element.delta is None else (f"{element.delta:+.6g}" if places is None
+                                                  else f"{element.delta:+.{places}f}")
+        return (where, _plain(element.a, places), _plain(element.b, places), delta)[index.column()]
 
 
-def _plain(value) -> str:
-    return format_value(value) if isinstance(value, (int, float, np.number)) else str(value)
+def _plain(value, decimals: int | None) -> str:
+    return format_value(value, decimals) if isinstance(value, (int, float, np.number)) else str(value)

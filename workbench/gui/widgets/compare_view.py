@@ -21,7 +21,8 @@ from PySide6.QtWidgets import (
 )
 
 from workbench.gui import theme
-from workbench.gui.models.compare import CompareFilter, CompareModel, ElementModel
+from workbench.gui.a2l_info import value_decimals
+from workbench.gui.models.compare import CompareFilter, CompareModel, ElementModel, no_decimals
 from workbench.gui.widgets.columns import share_columns
 from workbench.gui.widgets.elided_label import ElidedLabel
 
@@ -97,12 +98,18 @@ class CompareView(QWidget):
         splitter.setStretchFactor(1, 1)
         layout.addWidget(splitter, 1)
 
+    def set_a2l(self, model) -> None:
+        """Show numbers with the decimals of ``model``'s display formats (the project's A2L)."""
+        decimals = (lambda name, where: value_decimals(model, name, where)) if model is not None else no_decimals
+        self.model.decimals = self.elements.decimals = decimals
+        self.model.layoutChanged.emit()
+
     def show_diff(self, diff, *, can_apply: bool = False) -> None:
         """Show ``diff`` (a :class:`~workbench.calib.dataset.DatasetDiff`); ``can_apply``: B is a parameter set
         that may be written into the ECU (A is the ECU)."""
         self.diff = diff
         self.model.set_diff(diff)
-        self.elements.set_rows([])
+        self.elements.show("", [])
         self.sides.setText(f"A: {diff.a_label}   ·   B: {diff.b_label}")
         counts = diff.counts()
         differing = len(diff.objects) - counts["equal"]
@@ -115,7 +122,8 @@ class CompareView(QWidget):
 
     def _show_elements(self, current, _previous=None) -> None:
         diff = current.data(Qt.UserRole) if current.isValid() else None
-        self.elements.set_rows(diff.differences if diff is not None and diff.status != "equal" else [])
+        shown = diff is not None and diff.status != "equal"
+        self.elements.show(diff.name if shown else "", diff.differences if shown else [])
 
     def rows_shown(self) -> list[str]:
         """The names of the rows the filter lets through, in their order."""

@@ -292,6 +292,7 @@ class MainWindow(QMainWindow):
         self.hub.set_resolver(lambda name: measurement_info(model, name))
         self.hub.add_signals(workspace.can2_infos())
         self.browser.set_variables(workspace.variables)
+        self.compare.set_a2l(model)
         self._open_windows()
         self._update_title()
         self.loaded.emit()
