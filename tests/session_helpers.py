@@ -10,7 +10,7 @@ import pytest
 from workbench import PageError, demo
 from workbench.xcp.master import Timeouts
 
-__all__ = ["FAST", "WRITE", "demo_a2l_text", "edited_a2l", "refused_on_the_reference_page"]
+__all__ = ["FAST", "WRITE", "demo_a2l_text", "edited_a2l", "extended_limits_a2l", "refused_on_the_reference_page"]
 
 FAST = Timeouts(t1=0.3, t2=0.6, t3=0.6, t4=2.0, t5=0.3, t6=0.3, t7=0.02)
 WRITE = ["SET_MTA", "DOWNLOAD", "SHORT_UPLOAD"]  # a value written and read back
@@ -27,6 +27,13 @@ def edited_a2l(tmp_path: Path, old: str, new: str, count: int = 1) -> Path:
     path = tmp_path / "edited.a2l"
     path.write_text(text.replace(old, new, count), encoding="utf-8")
     return path
+
+
+def extended_limits_a2l(tmp_path: Path) -> Path:
+    """The demo A2L with EXTENDED_LIMITS 0 1000 on xsSWITCH_TANK_THR (its limits 0 800), written to ``tmp_path``."""
+    end = ("/* Upper Limit            */ 800\n    /end CHARACTERISTIC\n\n    /begin MEASUREMENT\n"
+           "      /* Name                   */ xsTankCtrlState")  # the block before xsTankCtrlState's
+    return edited_a2l(tmp_path, end, end.replace("\n", "\n      EXTENDED_LIMITS 0 1000\n", 1))
 
 
 def refused_on_the_reference_page(ecu, log, segment: int) -> None:

@@ -6,11 +6,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from gui_helpers import WAIT_MS, demo_ecu_on_a_channel_of_its_own, shared_window
+from gui_helpers import WAIT_MS, demo_ecu_on_a_channel_of_its_own, open_window, shared_window
 from PySide6.QtWidgets import QMessageBox
+from session_helpers import extended_limits_a2l
 
-from workbench.calib.dataset import load_dataset, save_dataset
+from workbench.calib.dataset import Dataset, load_dataset, save_dataset
 from workbench.calib.values import CalValue
+from workbench.gui.project import Connection, demo_project
 
 
 @pytest.fixture(scope="module")
@@ -85,6 +87,7 @@ def test_a_parameter_set_saved_changed_and_applied_with_the_checks_of_cal_load(w
     assert sets.confirm.text() == "1 object(s) of bad.dcm are refused; nothing is written."
     assert "xsSWITCH_TANK_THR" in sets.confirm.detailedText() and "upper limit 800" in sets.confirm.detailedText()
     assert sets.confirm.button(QMessageBox.Ok) is None
+    assert sets.confirm.checkBox() is None  # no EXTENDED_LIMITS in the demo A2L: no such choice offered
     sets.confirm.close()
     assert session.read("xsSWITCH_TANK_THR") == pytest.approx(20.0)
     session.write("xvPRV_DC_FF", before)
@@ -93,3 +96,39 @@ def test_a_parameter_set_saved_changed_and_applied_with_the_checks_of_cal_load(w
         sets.compare_files(tmp_path / "base.dcm", tmp_path / "bad.dcm")
     assert view.rows_shown() == ["xvPRV_DC_FF", "xsSWITCH_TANK_THR"] and not view.apply_button.isVisible()
     assert not window.errors
+
+
+@pytest.fixture
+def extended_ecu():
+    yield from demo_ecu_on_a_channel_of_its_own("gui-sets-extended")
+
+
+def test_values_within_their_extended_limits_are_applied_only_when_the_user_chooses_them(extended_ecu, qtbot,
+                                                                                         tmp_path):
+    """As `cal load --extended-limits`: an A2L whose xsSWITCH_TANK_THR has EXTENDED_LIMITS 0 1000, a set with 900."""
+    project = demo_project()
+    project.a2l = extended_limits_a2l(tmp_path)
+    project.connection = Connection(interface="virtual", channel=extended_ecu[0])
+    project.plots, project.tables, project.editors = [], [], []
+    window = open_window(qtbot, project)
+    session, sets = window.controller.session, window.parameter_sets
+    save_dataset(Dataset({"xsSWITCH_TANK_THR": CalValue("xsSWITCH_TANK_THR", "VALUE", 900.0, unit="bar"),
+                          "xsPRV_KP": CalValue("xsPRV_KP", "VALUE", 6.0)}), tmp_path / "wide.dcm")
+    with qtbot.waitSignal(sets.compared, timeout=WAIT_MS):
+        sets.open(tmp_path / "wide.dcm")
+    window.compare.apply_button.click()
+    qtbot.waitUntil(lambda: sets.confirm is not None and sets.confirm.isVisible(), timeout=WAIT_MS)
+    refused = sets.confirm
+    assert refused.text() == "1 object(s) of wide.dcm are refused; nothing is written."
+    choice = refused.checkBox()
+    assert choice.text() == "allow values up to the EXTENDED_LIMITS (1: xsSWITCH_TANK_THR)" and not choice.isChecked()
+    choice.setChecked(True)  # the explicit choice: checked again with the EXTENDED_LIMITS
+    qtbot.waitUntil(lambda: sets.confirm is not refused and sets.confirm.isVisible(), timeout=WAIT_MS)
+    assert sets.confirm.text() == "Write 2 changed object(s) of wide.dcm into the ECU?"
+    assert sets.confirm.checkBox().isChecked() and session.read("xsSWITCH_TANK_THR") == pytest.approx(20.0)
+    with qtbot.waitSignal(sets.applied, timeout=WAIT_MS) as applied:
+        sets.confirm.button(QMessageBox.Ok).click()
+    assert applied.args[0].named("applied") == ["xsSWITCH_TANK_THR", "xsPRV_KP"]
+    assert session.read("xsSWITCH_TANK_THR") == pytest.approx(900.0)
+    assert not window.errors
+    window.close()

@@ -18,6 +18,7 @@ from workbench.sync import ApplyFailed, ApplyRefused, apply_dataset, image_datas
 from workbench.xcp_protocol import Cmd, Err
 
 from demo_calibrations import demo_dataset
+from session_helpers import extended_limits_a2l
 from sync_helpers import FAST, downloads, edited_a2l
 from xcp_commands import CommandLog
 
@@ -120,6 +121,26 @@ def test_one_bad_object_and_nothing_is_written(sim, ecu, spoil, reason):
     assert reason in bad.reason and reason in str(refused.value)
     assert report.named("not written") == ["xsPRV_KP"]
     assert report.reached_ecu == []
+
+
+def test_the_report_names_what_extended_limits_decide_and_writes_it_only_when_allowed(sim, channel, tmp_path):
+    a2l = extended_limits_a2l(tmp_path)
+    with Session.open(a2l, interface="virtual", channel=channel, timeouts=FAST) as ecu:
+        dataset = read_dataset(ecu, ["xsSWITCH_TANK_THR", "xsPRV_KP", "zfRAILPRESSURE_VALUE"])
+        dataset["xsSWITCH_TANK_THR"] = replace(dataset["xsSWITCH_TANK_THR"], value=900.0)
+        dry = apply_dataset(ecu, dataset, dry_run=True)
+        assert dry.extended_limits == ["xsSWITCH_TANK_THR"] and dry.named("refused") == ["xsSWITCH_TANK_THR"]
+        assert dry.to_dict()["extended_limits"] == ["xsSWITCH_TANK_THR"]
+        allowed = apply_dataset(ecu, dataset, dry_run=True, allow_extended_limits=True)
+        assert allowed.extended_limits == allowed.named("would change") == ["xsSWITCH_TANK_THR"]
+        dataset["zfRAILPRESSURE_VALUE"] = replace(dataset["zfRAILPRESSURE_VALUE"], value=900.0)  # no EXTENDED_LIMITS
+        dataset["xsSWITCH_TANK_THR"] = replace(dataset["xsSWITCH_TANK_THR"], value=1500.0)  # beyond them too
+        assert apply_dataset(ecu, dataset, dry_run=True, allow_extended_limits=True).extended_limits == []
+        assert apply_dataset(ecu, read_dataset(ecu), dry_run=True).extended_limits == []  # nothing beyond a limit
+        dataset = read_dataset(ecu, ["xsSWITCH_TANK_THR"])
+        dataset["xsSWITCH_TANK_THR"] = replace(dataset["xsSWITCH_TANK_THR"], value=900.0)
+        assert apply_dataset(ecu, dataset, allow_extended_limits=True).named("applied") == ["xsSWITCH_TANK_THR"]
+        assert ecu.read("xsSWITCH_TANK_THR") == 900.0
 
 
 def test_every_problem_is_listed_before_anything_is_written(sim, ecu):

@@ -1,6 +1,8 @@
 """Parameter sets in the window, as CANape keeps them: open a DCM/CDFX and compare it with the ECU (or,
 offline, with the project's s19), save the ECU's working page as one, compare the working page with
-the reference page or two files, and apply one to the ECU.
+the reference page or two files, and apply one to the ECU. Where the set holds values beyond their limits
+and within their EXTENDED_LIMITS (the report's ``extended_limits``), the question offers that choice
+explicitly, as ``cal load --extended-limits`` does; ticking it checks the set again with them.
 
 Everything is the library's: :func:`workbench.sync.read_dataset`, :func:`~workbench.sync.sync_compare`,
 :func:`~workbench.calib.dataset.diff_datasets`, :func:`~workbench.calib.dataset.save_dataset` and
@@ -13,7 +15,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from PySide6.QtCore import QObject, Qt, Signal
-from PySide6.QtWidgets import QFileDialog, QMessageBox, QProgressDialog
+from PySide6.QtWidgets import QCheckBox, QFileDialog, QMessageBox, QProgressDialog
 
 from workbench.gui.worker import Task
 
@@ -68,12 +70,13 @@ def save_working_page(session, path: Path, progress=None) -> str:
     return f"{len(dataset)} calibrations saved to {path}" + (f" ({len(losses)} notes)" if losses else "")
 
 
-def apply_file(session, path: Path, dry_run: bool, progress=None):
-    """``workbench cal load`` in the window: :func:`~workbench.sync.apply_dataset` of the file."""
+def apply_file(session, path: Path, dry_run: bool, extended_limits: bool = False, progress=None):
+    """``workbench cal load [--extended-limits]`` in the window: :func:`~workbench.sync.apply_dataset` of the file."""
     from workbench.calib.dataset import load_dataset
     from workbench.sync import apply_dataset
 
-    return apply_dataset(session, load_dataset(path), dry_run=dry_run, progress=progress, source=str(path))
+    return apply_dataset(session, load_dataset(path), dry_run=dry_run, allow_extended_limits=extended_limits,
+                         progress=progress, source=str(path))
 
 
 class ParameterSets(QObject):
@@ -88,6 +91,7 @@ class ParameterSets(QObject):
         self.window = window
         self.view = view
         self.file: Path | None = None  # the parameter set B of the view, when it is one
+        self.extended_limits = False  # the user chose to apply values up to the EXTENDED_LIMITS (per file)
         self.last = None  # how to compare again: (function, args, can_apply)
         self.confirm: QMessageBox | None = None  # the apply's question (tests answer it)
         self.progress: QProgressDialog | None = None
@@ -108,6 +112,7 @@ class ParameterSets(QObject):
     def open(self, path: Path) -> Task:
         """Compare the parameter set with the ECU (offline: with the project's s19)."""
         self.file = Path(path)
+        self.extended_limits = False
         if self.session is not None:
             return self._compare(compare_with_ecu, (self.session, self.file), can_apply=True, progress=True)
         s19 = self.window.project.s19
@@ -155,13 +160,23 @@ class ParameterSets(QObject):
         """A dry run of the parameter set, then the question (what would change, what is refused)."""
         if self.session is None or self.file is None:
             return None
-        return self._run(apply_file, (self.session, self.file, True), "checking", self._confirm)
+        return self._run(apply_file, (self.session, self.file, True, self.extended_limits), "checking",
+                         self._confirm)
 
     def _confirm(self, report) -> None:
+        if self.confirm is not None:
+            self.confirm.close()
         box = QMessageBox(self.window)
         box.setWindowTitle("Apply parameter set")
         changing = report.named("would change")
         refused = report.named("refused")
+        if report.extended_limits:  # the explicit choice, offered only where it decides something
+            names = ", ".join(report.extended_limits[:3]) + (" …" if len(report.extended_limits) > 3 else "")
+            choice = QCheckBox(f"allow values up to the EXTENDED_LIMITS ({len(report.extended_limits)}: {names})",
+                               box)  # owned by the box: PySide6's setCheckBox leaves the Python object the owner
+            choice.setChecked(self.extended_limits)
+            choice.toggled.connect(self._choose_extended_limits)
+            box.setCheckBox(choice)
         if refused:
             box.setIcon(QMessageBox.Warning)
             box.setText(f"{len(refused)} object(s) of {self.file.name} are refused; nothing is written.")
@@ -188,7 +203,13 @@ class ParameterSets(QObject):
             self.applied.emit(report)
             self.compare_again()
 
-        return self._run(apply_file, (self.session, self.file, False), "writing the parameter set", done)
+        return self._run(apply_file, (self.session, self.file, False, self.extended_limits),
+                         "writing the parameter set", done)
+
+    def _choose_extended_limits(self, allowed: bool) -> None:
+        """Check the set again with (or without) its EXTENDED_LIMITS: a new question follows."""
+        self.extended_limits = allowed
+        self.ask_apply()
 
     # --- workers --------------------------------------------------------------------------------
 

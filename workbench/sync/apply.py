@@ -63,6 +63,9 @@ class ApplyReport:
     outcomes: list[ObjectOutcome] = field(default_factory=list)
     diff: DatasetDiff | None = None  # the objects that change: the ECU before (A), the dataset as stored (B)
     warnings: list[str] = field(default_factory=list)
+    extended_limits: list[str] = field(default_factory=list)
+    """Objects whose values are beyond their limits and within their EXTENDED_LIMITS: refused unless
+    ``allow_extended_limits`` (a choice to offer the user only when this is not empty)."""
 
     def counts(self) -> dict[str, int]:
         return {status: sum(o.status == status for o in self.outcomes) for status in STATUSES}
@@ -105,7 +108,8 @@ class ApplyReport:
                 "reached_ecu": self.reached_ecu,
                 "objects": [{"name": o.name, "status": o.status, "reason": o.reason, "written": list(o.written)}
                             for o in self.outcomes],
-                "diff": self.diff.to_dict() if self.diff is not None else None, "warnings": self.warnings}
+                "diff": self.diff.to_dict() if self.diff is not None else None, "warnings": self.warnings,
+                "extended_limits": self.extended_limits}
 
 
 class ApplyRefused(InputError):
@@ -142,7 +146,8 @@ def apply_dataset(session: Session, dataset: Mapping[str, CalValue], *, dry_run:
     """Check every object of ``dataset`` against the A2L and the ECU, then write those that change.
 
     :param dry_run: check and say what would change; write nothing (also on a read-only session).
-    :param allow_extended_limits: values up to the EXTENDED_LIMITS pass.
+    :param allow_extended_limits: values up to the EXTENDED_LIMITS pass (the report's ``extended_limits`` names
+        the objects this decides, either way).
     :returns: the report (every object applied or unchanged; on a dry run, what would change).
     :raises ApplyRefused: an object failed a check; nothing was written (the report lists every one).
     :raises ApplyFailed: a write failed halfway (the report names what reached the ECU).
@@ -152,7 +157,7 @@ def apply_dataset(session: Session, dataset: Mapping[str, CalValue], *, dry_run:
     with session.lock:
         if not dry_run:
             session.require_writable()
-        planned, refused, current = _check(session, dataset, allow_extended_limits, progress, result.warnings)
+        planned, refused, current = _check(session, dataset, allow_extended_limits, progress, result)
         changing = [name for name, plan in planned.items() if plan.edits]
         result.diff = _changes(session, dataset, planned, changing, current, result)
         pending = WOULD_CHANGE if dry_run else NOT_WRITTEN
@@ -168,13 +173,16 @@ def apply_dataset(session: Session, dataset: Mapping[str, CalValue], *, dry_run:
 
 
 def _check(session: Session, dataset: Mapping[str, CalValue], extended: bool, progress: Progress | None,
-           warnings: list[str]) -> tuple[dict[str, _Planned], dict[str, str], ByteStore]:
-    """Every object checked: ``({name: planned edits}, {name: why refused}, the ECU's bytes read)``."""
+           result: ApplyReport) -> tuple[dict[str, _Planned], dict[str, str], ByteStore]:
+    """Every object checked: ``({name: planned edits}, {name: why refused}, the ECU's bytes read)``; the objects
+    the EXTENDED_LIMITS decide go to ``result.extended_limits``."""
     model = session.model
     layouts, refused = object_layouts(model, dataset)
     where = getattr(dataset, "where", lambda name: "")  # a dataset read from a file: file:line of the values
     for name in list(layouts):
         violations = check_limits(model, dataset[name], extended=extended)
+        if _extended_decides(model, dataset[name], extended, violations):
+            result.extended_limits.append(name)
         if violations:
             refused[name] = _located(where(name), "; ".join(without_name(name, str(v)) for v in violations))
             del layouts[name]
@@ -202,6 +210,18 @@ def _check(session: Session, dataset: Mapping[str, CalValue], extended: bool, pr
     for name in refused:
         planned.pop(name, None)
     return planned, refused, current
+
+
+def _extended_decides(model, value: CalValue, extended: bool, violations: list) -> bool:
+    """Whether ``value`` is beyond its object's limits and within its EXTENDED_LIMITS (``violations``: those of
+    the check made with ``extended``; the other check is made only for an object that has EXTENDED_LIMITS)."""
+    if not getattr(model.object(value.name), "extended_limits", None):
+        return False
+    if extended:
+        normal, wide = check_limits(model, value), violations
+    else:
+        normal, wide = violations, check_limits(model, value, extended=True)
+    return bool(normal) and all(v.rule == "limits" for v in normal) and not wide
 
 
 def _conflicts(model, planned: dict[str, _Planned], current: ByteStore) -> list[tuple[str, str, str]]:
