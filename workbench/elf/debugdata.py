@@ -239,7 +239,7 @@ class DebugData:
     def _first_of_name(self) -> dict[str, tuple]:
         """Name -> the first variable at file scope or in a namespace of that name (Variable fields)."""
         if self._first is None:
-            self._first = {variable[0]: variable for variable in reversed(self._variables)}
+            self._first = dict(zip((variable[0] for variable in reversed(self._variables)), reversed(self._variables)))
         return self._first
 
     def _symtab_find(self, path: str) -> tuple[tuple[Variable, str], dict[int, int]] | None:
@@ -428,7 +428,11 @@ def _variable_names(path: str) -> list[str]:
 
 def _unique_addresses(variables: list[tuple]) -> dict[str, int]:
     """name -> address of the names that designate one variable (every definition at one address)."""
-    addresses: dict[str, int] = {}
+    names, places = [variable[0] for variable in variables], [variable[1] for variable in variables]
+    addresses = dict(zip(names, places))
+    if len(addresses) == len(names) and None not in addresses.values():  # most ELFs: no name twice
+        return addresses
+    addresses = {}
     repeated: set[str] = set()
     for name, address, *_ in variables:
         known = addresses.get(name)

@@ -60,16 +60,24 @@ class DwarfIndex:
             if unit.type_signature is not None:
                 continue
             unit_name, scope, stack = self.unit_name(unit), (), []
+            direct, order = 1 + unit.address_size, self._byte_order  # DW_OP_addr a: most variables' location
             for event, offset, tag, attrs in self.reader.scan(unit, _NAMESPACES, _VARIABLES, dwarf.VARIABLE_ATTRS):
-                if event == "enter":
-                    stack.append(scope)
-                    scope = scope + (_scope_name(tag, attrs),)
-                elif event == "leave":
-                    scope = stack.pop()
-                else:
+                if event == "item":
+                    name, type_offset, external, location, _, specification, origin, _ = attrs
+                    if specification is None and origin is None and name.__class__ is str \
+                            and location.__class__ is bytes and len(location) == direct and location[0] == dwarf.OP_ADDR:
+                        found.append((name, int.from_bytes(location[1:], order),
+                                      type_offset if type_offset.__class__ is int else None, scope, unit_name,
+                                      bool(external), False))  # what _variable makes of it, without the call
+                        continue
                     variable = self._variable(attrs, unit, offset, scope, unit_name)
                     if variable is not None:
                         found.append(variable)
+                elif event == "enter":
+                    stack.append(scope)
+                    scope = scope + (_scope_name(tag, attrs),)
+                else:
+                    scope = stack.pop()
         report(progress, total, total, "reading DWARF")
         return found
 
