@@ -218,7 +218,8 @@ class DwarfReader:
         return self._skip_subtree(die.next_offset, die.unit)
 
     def scan(self, unit: Unit, descend: frozenset[int], collect: frozenset[int], wanted: frozenset[int],
-             within: frozenset[int] | None = None) -> Iterator[tuple[str, int, int, dict]]:
+             within: frozenset[int] | None = None, note: frozenset[int] = frozenset(), start: int | None = None
+             ) -> Iterator[tuple[str, int, int, dict]]:
         """Walk the DIE tree of ``unit`` in order, fast: yields ("enter", offset, tag, attrs) for a DIE of
         a tag in ``descend`` that has children (then its children, then ("leave", offset, tag, {})), and
         ("item", offset, tag, attrs) for a DIE of a tag in ``collect`` (with ``within``: only inside a DIE
@@ -226,15 +227,18 @@ class DwarfReader:
         :data:`~workbench.elf.die_readers.VARIABLE_FIELDS` order instead of a dict. Only the
         ``wanted`` attributes are decoded; every other DIE is stepped over with its subtree, through
         DW_AT_sibling or, where the producer left it out (clang), by stepping over each descendant's
-        attributes."""
+        attributes; before stepping over a DIE with children of a tag in ``note``, ("note", offset, tag,
+        None) is yielded. ``start``: walk only the DIE at that offset (and its subtree)."""
         root = self.die(unit.first_die, unit)
         if root is None or not root.has_children:
             return
         plans = self._plans(unit)
-        data, end, offset = self.info, unit.end, root.next_offset
+        data, end, offset = self.info, unit.end, root.next_offset if start is None else start
         open_scopes: list[tuple[int, int]] = []
         inside = 0 if within is not None else 1  # open DIEs of a ``within`` tag
         while offset < end:
+            if start is not None and offset != start and not open_scopes:
+                return  # the DIE at ``start`` is done
             code = data[offset]
             position = offset + 1
             if code >= 0x80:
@@ -273,6 +277,8 @@ class DwarfReader:
                 offset = position + skip if skip.__class__ is int else skip(data, position)
                 continue
             else:
+                if has_children and tag in note:
+                    yield "note", offset, tag, None
                 attrs, position = self._decode(plan, position, unit, _SIBLING)
                 sibling = attrs.get(AT_SIBLING)
             if not has_children:

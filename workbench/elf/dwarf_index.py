@@ -27,6 +27,7 @@ from workbench.progress import Progress, report
 _NAMESPACES = frozenset({dwarf.TAG_NAMESPACE})
 _VARIABLES = frozenset({dwarf.TAG_VARIABLE})
 _FUNCTIONS = frozenset({dwarf.TAG_SUBPROGRAM, dwarf.TAG_INLINED_SUBROUTINE})
+_SUBPROGRAMS = frozenset({dwarf.TAG_SUBPROGRAM})
 _INSIDE_FUNCTIONS = _NAMESPACES | _FUNCTIONS | {dwarf.TAG_LEXICAL_BLOCK}
 _RECORDS = frozenset({dwarf.TAG_STRUCT, dwarf.TAG_CLASS, dwarf.TAG_UNION})
 _SCOPES = _NAMESPACES | _RECORDS | {dwarf.TAG_SUBPROGRAM}
@@ -43,6 +44,8 @@ class DwarfIndex:
         self._layouts: dict[int, tuple[list[int], list[int]]] = {}  # unit -> starts and ends of its top DIEs
         self._functions: dict[int, tuple[str, ...]] = {}  # subprogram DIE -> its qualified name
         self._definitions: dict[tuple[int, tuple[str, ...]], int] | None = None
+        # unit -> the functions (DIE offset, the scope around it) met by global_variables
+        self._function_dies: dict[int, list[tuple[int, tuple[str, ...]]]] = {}
         self._byte_order = "little" if reader.order == "<" else "big"
 
     # -- variables ---------------------------------------------------------------------------
@@ -61,7 +64,9 @@ class DwarfIndex:
                 continue
             unit_name, scope, stack = self.unit_name(unit), (), []
             direct, order = 1 + unit.address_size, self._byte_order  # DW_OP_addr a: most variables' location
-            for event, offset, tag, attrs in self.reader.scan(unit, _NAMESPACES, _VARIABLES, dwarf.VARIABLE_ATTRS):
+            functions = self._function_dies[unit.offset] = []  # where function statics can be: their scopes
+            for event, offset, tag, attrs in self.reader.scan(unit, _NAMESPACES, _VARIABLES, dwarf.VARIABLE_ATTRS,
+                                                               note=_SUBPROGRAMS):
                 if event == "item":
                     name, type_offset, external, location, _, specification, origin, _ = attrs
                     if specification is None and origin is None and name.__class__ is str \
@@ -76,6 +81,8 @@ class DwarfIndex:
                 elif event == "enter":
                     stack.append(scope)
                     scope = scope + (_scope_name(tag, attrs),)
+                elif event == "note":
+                    functions.append((offset, scope))
                 else:
                     scope = stack.pop()
         report(progress, total, total, "reading DWARF")
@@ -89,23 +96,24 @@ class DwarfIndex:
             if unit.type_signature is not None:
                 continue
             unit_name = self.unit_name(unit)
-            frames: list[tuple[str, ...]] = []  # the scope around each open DIE
-            scope = ()
+            # the functions the pass over the globals met (with the scope around each), else the whole unit:
             # the variables at file scope and in namespaces are stepped over, not decoded
-            for event, offset, tag, attrs in self.reader.scan(unit, _INSIDE_FUNCTIONS, _VARIABLES,
-                                                               dwarf.VARIABLE_ATTRS, within=_FUNCTIONS):
-                if event == "enter":
-                    frames.append(scope)
-                    if tag in _FUNCTIONS:
-                        scope = self._function_name(attrs, scope)
-                    elif tag == dwarf.TAG_NAMESPACE:
-                        scope = scope + (_scope_name(tag, attrs),)
-                elif event == "leave":
-                    scope = frames.pop()
-                else:
-                    variable = self._variable(attrs, unit, offset, scope, unit_name, function=True)
-                    if variable is not None and variable[1] is not None:
-                        found.append(variable)
+            for start, scope in self._function_dies.get(unit.offset, [(None, ())]):
+                frames: list[tuple[str, ...]] = []  # the scope around each open DIE
+                for event, offset, tag, attrs in self.reader.scan(unit, _INSIDE_FUNCTIONS, _VARIABLES,
+                                                                   dwarf.VARIABLE_ATTRS, within=_FUNCTIONS, start=start):
+                    if event == "enter":
+                        frames.append(scope)
+                        if tag in _FUNCTIONS:
+                            scope = self._function_name(attrs, scope)
+                        elif tag == dwarf.TAG_NAMESPACE:
+                            scope = scope + (_scope_name(tag, attrs),)
+                    elif event == "leave":
+                        scope = frames.pop()
+                    else:
+                        variable = self._variable(attrs, unit, offset, scope, unit_name, function=True)
+                        if variable is not None and variable[1] is not None:
+                            found.append(variable)
         return found
 
     def _variable(self, fields: tuple, unit: dwarf.Unit, offset: int, scope: tuple[str, ...], unit_name: str,
