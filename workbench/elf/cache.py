@@ -18,7 +18,7 @@ from workbench.fileio import atomic_write_bytes
 
 log = logging.getLogger(__name__)
 
-FORMAT = 7  # bump when the cached structures or the way names resolve change
+FORMAT = 8  # bump when the cached structures or the way names resolve change
 
 
 def default_cache_dir() -> Path:

@@ -354,20 +354,11 @@ class DebugData:
     # -- DWARF ------------------------------------------------------------------------------
     def _dwarf(self) -> dwarf.DwarfReader:
         if self._reader is None:
-            from elftools.common.exceptions import ELFError  # here: a cached index never reads DWARF
-            from elftools.elf.elffile import ELFFile
-
             try:
-                with open(self.path, "rb") as handle:
-                    elf = ELFFile(handle)
-                    sections = {}
-                    for name in _DWARF_SECTIONS:
-                        section = elf.get_section_by_name(name)
-                        if section is not None:
-                            sections[name] = section.data()
+                sections = {name: data for name in _DWARF_SECTIONS if (data := self.elf.section_bytes(name)) is not None}
             except OSError as exc:
                 raise InputError(f"{self.path}: cannot read ({exc.strerror})") from None
-            except ELFError as exc:  # e.g. a compressed section that does not decompress
+            except (ValueError, struct.error) as exc:  # e.g. a compressed section that does not decompress
                 raise InputError(f"{self.path}: unreadable DWARF section ({exc})") from None
             try:
                 self._reader = dwarf.DwarfReader(sections, self.elf.little_endian)

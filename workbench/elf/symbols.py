@@ -1,10 +1,10 @@
 """Sections, load segments and the ``.symtab`` of an ELF file, read fast.
 
-pyelftools reads the headers (ELF, program and section headers); the symbol table is
-then read straight from the file into one numpy record array, without pyelftools'
+:mod:`workbench.elf.headers` reads the headers (ELF, program and section headers); the
+symbol table is then read straight from the file into one numpy record array, without an
 object per symbol, so a 50,000-symbol ELF loads in milliseconds. What the headers say
 (:meth:`ElfSymbols.facts`) is small and can be cached with an index: an
-:class:`ElfSymbols` made :meth:`~ElfSymbols.from_facts` never imports pyelftools (30 ms).
+:class:`ElfSymbols` made :meth:`~ElfSymbols.from_facts` reads nothing.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from workbench.elf.headers import PT_LOAD, SHF_ALLOC, SHT_NOBITS, ElfHeaders, read_headers, read_section
 from workbench.errors import InputError, UnknownSymbolError
 
 STT_OBJECT, STT_FUNC = 1, 2
@@ -55,27 +56,21 @@ class ElfSymbols:
     """Symbols and sections of one ELF file; raises :class:`InputError` for a non-ELF."""
 
     def __init__(self, path: str | Path):
-        from elftools.common.exceptions import ELFError  # here: see the module docstring
-        from elftools.elf.elffile import ELFFile
-
         self.path = Path(path)
         try:
-            with open(self.path, "rb") as handle:
-                elf = ELFFile(handle)
-                self.little_endian: bool = elf.little_endian
-                self.elfclass: int = elf.elfclass
-                self.machine: str = elf["e_machine"]
-                self.sections: dict[str, Section] = self._read_sections(elf, self.path.stat().st_size)
-                self.has_dwarf: bool = elf.has_dwarf_info()
-                self._section_names = [section.name for section in elf.iter_sections()]  # by section index
-                self._symtab = self._locate_symtab(elf)
+            self.headers = read_headers(self.path)
+            self._symtab = self._locate_symtab(self.headers)
         except FileNotFoundError as exc:
             raise InputError(f"{self.path}: no such file") from exc
         except IsADirectoryError as exc:
             raise InputError(f"{self.path}: is a folder, not an ELF file") from exc
-        except (ELFError, ValueError, KeyError, IndexError, struct.error, OSError) as exc:
-            # pyelftools raises all of these on a damaged header or section table
+        except (ValueError, struct.error, OSError) as exc:
             raise InputError(f"{self.path}: not a readable ELF file ({exc})") from exc
+        self.little_endian: bool = self.headers.little_endian
+        self.elfclass: int = self.headers.elfclass
+        self.sections: dict[str, Section] = self._read_sections(self.headers)
+        self.has_dwarf: bool = ".debug_info" in self.sections
+        self._section_names = [section.name for section in self.headers.sections]  # by section index
         self._symbols: dict[str, Symbol] | None = None
         self._symbol_list: list[Symbol] | None = None
         self._names_text: bytes | None = None
@@ -85,8 +80,8 @@ class ElfSymbols:
         """The ELF described by :meth:`facts` of an earlier read of the same file, without reading it."""
         elf = cls.__new__(cls)
         elf.path = Path(path)
-        elf.little_endian, elf.elfclass, elf.machine, elf.has_dwarf = (
-            facts["little_endian"], facts["elfclass"], facts["machine"], facts["has_dwarf"])
+        elf.headers = None  # read when a section's bytes are (see section_bytes)
+        elf.little_endian, elf.elfclass, elf.has_dwarf = facts["little_endian"], facts["elfclass"], facts["has_dwarf"]
         elf.sections = {section[0]: Section(*section) for section in facts["sections"]}
         elf._section_names = facts["section_names"]
         elf._symtab = facts["symtab"]
@@ -95,46 +90,36 @@ class ElfSymbols:
 
     def facts(self) -> dict:
         """What the headers say, as plain data for a cache."""
-        return {"little_endian": self.little_endian, "elfclass": self.elfclass, "machine": self.machine,
-                "has_dwarf": self.has_dwarf, "sections": [astuple(s) for s in self.sections.values()],
+        return {"little_endian": self.little_endian, "elfclass": self.elfclass, "has_dwarf": self.has_dwarf, "sections": [astuple(s) for s in self.sections.values()],
                 "section_names": self._section_names, "symtab": self._symtab}
 
     @staticmethod
-    def _read_sections(elf, file_size: int) -> dict[str, Section]:
-        """Raises ValueError for a section whose bytes lie outside the file (a damaged ELF)."""
-        segments = [seg for seg in elf.iter_segments() if seg["p_type"] == "PT_LOAD"]
+    def _read_sections(headers: ElfHeaders) -> dict[str, Section]:
+        segments = [segment for segment in headers.segments if segment.type == PT_LOAD]
         sections = {}
-        for sec in elf.iter_sections():
-            if not sec.name:
+        for section in headers.sections:
+            if not section.name:
                 continue
-            address, size = sec["sh_addr"], sec["sh_size"]
-            if sec["sh_type"] != "SHT_NOBITS" and sec["sh_offset"] + size > file_size:
-                raise ValueError(f"section {sec.name} ({size} bytes at offset {sec['sh_offset']}) "
-                                 f"lies outside the file of {file_size} bytes")
+            address, size = section.address, section.size
             load_address = address
-            for seg in segments:  # LMA = segment physical address + offset inside the segment
-                if seg["p_vaddr"] <= address < seg["p_vaddr"] + seg["p_memsz"] and seg["p_filesz"]:
-                    load_address = seg["p_paddr"] + (address - seg["p_vaddr"])
+            for segment in segments:  # LMA = segment physical address + offset inside the segment
+                if segment.vaddr <= address < segment.vaddr + segment.memsz and segment.filesz:
+                    load_address = segment.paddr + (address - segment.vaddr)
                     break
-            sections[sec.name] = Section(
-                name=sec.name,
-                address=address,
-                load_address=load_address,
-                size=size,
-                loaded=sec["sh_type"] != "SHT_NOBITS",
-                allocated=bool(sec["sh_flags"] & 0x2),
-                file_offset=sec["sh_offset"],
-            )
+            sections[section.name] = Section(section.name, address, load_address, size, section.type != SHT_NOBITS,
+                                             bool(section.flags & SHF_ALLOC), section.offset)
         return sections
 
     @staticmethod
-    def _locate_symtab(elf) -> tuple[int, int, int, int] | None:
+    def _locate_symtab(headers: ElfHeaders) -> tuple[int, int, int, int] | None:
         """(offset, size) of the symbol table and of its string table in the file; None without one."""
-        symtab = elf.get_section_by_name(".symtab")
+        symtab = next((section for section in headers.sections if section.name == ".symtab"), None)
         if symtab is None:
             return None
-        strtab = elf.get_section(symtab["sh_link"])
-        return symtab["sh_offset"], symtab["sh_size"], strtab["sh_offset"], strtab["sh_size"]
+        if symtab.link >= len(headers.sections):
+            raise ValueError("the symbol table's string table is not a section")
+        strtab = headers.sections[symtab.link]
+        return symtab.offset, symtab.size, strtab.offset, strtab.size
 
     def _read_symtab(self) -> list[Symbol]:
         """The defined symbols, decoded column by column; raises :class:`InputError` for a damaged table."""
@@ -162,6 +147,14 @@ class ElfSymbols:
                 for name, address, size, info, shndx in zip(
                     names.decode("utf-8", "replace").split("\0"), table["value"].tolist(), table["size"].tolist(),
                     table["info"].tolist(), table["shndx"].tolist())]
+
+    def section_bytes(self, name: str) -> bytes | None:
+        """The bytes of the section ``name`` (decompressed), None without one; raises ValueError when they
+        cannot be read."""
+        if self.headers is None:
+            self.headers = read_headers(self.path)
+        section = next((section for section in self.headers.sections if section.name == name), None)
+        return None if section is None else read_section(self.path, section, self.headers)
 
     def names_text(self) -> bytes:
         """The string table of ``.symtab`` (every symbol name, NUL-terminated; b"" without one): a name
