@@ -31,7 +31,8 @@ class ElidedLabel(QLabel):
 
     def _elide(self) -> None:
         room = max(self.contentsRect().width() - 2 * self.margin(), 0)
-        super().setText(self.fontMetrics().elidedText(self.full_text, self.mode, room))
+        shown = self.fontMetrics().elidedText(self.full_text, self.mode, room)
+        super().setText("" if shown == "…" else shown)  # a lone "…" tells nothing (the tooltip does)
 
     def resizeEvent(self, event) -> None:
         super().resizeEvent(event)

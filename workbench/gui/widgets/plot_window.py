@@ -2,14 +2,16 @@
 
 pyqtgraph draws; a QTimer (25 Hz) copies the visible time window out of each signal's ring
 buffer and hands it to the curve, which downsamples to the pixels it has (peak method, so
-spikes stay visible); a pause in the measurement is a break in the line. While *following*, the x range slides with the newest sample; panning or
-zooming with the mouse stops following, the Follow button resumes it. Two cursors show every
-signal's value at two instants and the time between them; one cursor shows every
-signal's value at one instant. Signals with the same unit share a y-axis; each axis is coloured
-like its first signal and autoscales unless the user zooms it. The axes take at most a third of the
-plot's width: those beyond it (in the order their units came, the selected signal's first) are not
-drawn, nor the axis of verbal signals (states such as ON/OFF: its numbers say nothing) unless it is the
-only one or selected; their curves keep their own scale and the legend their values and units.
+spikes stay visible); a pause in the measurement is a break in the line. While *following*, the
+x range slides with the newest sample; panning or zooming with the mouse stops following, the
+Follow button resumes it. Two cursors show every signal's value at two instants and the time
+between them; one cursor shows every signal's value at one instant. Signals with the same unit
+share a y-axis; each axis is coloured like its first signal and autoscales unless the user zooms
+it. The axes take at most two fifths of the plot's width: those beyond it (in the order their
+units came, the selected signal's first) are not drawn, nor the axis of verbal signals (states such
+as ON/OFF: its numbers say nothing) unless it is the only one or selected; their curves keep their
+own scale and the legend their values and units. The legend is as wide as its columns want, at
+most half the window, until the user drags its edge.
 """
 
 from __future__ import annotations
@@ -39,7 +41,7 @@ from workbench.gui.widgets.names import NameDelegate
 __all__ = ["PlotWindow"]
 
 REFRESH_HZ = 25
-LEGEND_SHARE = 0.42  # of the window's width for the legend at most, until the user drags its edge
+LEGEND_SHARE = 0.5  # of the window's width for the legend at most, until the user drags its edge
 LEGEND_NAME_PX = 170  # the names' column's share of the legend's width: longer names are cut
 AXES_SHARE = 0.4  # of the plot's width, at most, for its y-axes (one is always drawn)
 AXIS_WIDTH_PX = 50  # what an axis takes, counted alike for all (their widths follow their ticks: no flicker)
@@ -142,8 +144,9 @@ class PlotWindow(SignalDropTarget, QWidget):
         self.cursor.setZValue(100)
         self.cursor.sigPositionChanged.connect(self._show_cursor_values)
         backing = QColor(theme.PLOT_BACKGROUND)
-        backing.setAlpha(210)  # the times stay readable over the curves
+        backing.setAlpha(235)  # the times stay readable over the curves
         self.cursor_label = pg.TextItem(color=theme.WARN, anchor=(0, 0), fill=backing)  # inside the plot, at its top
+        self.cursor_label.setZValue(110)  # above the cursors' lines
         self.cursor2 = pg.InfiniteLine(angle=90, movable=True, pen=pg.mkPen(theme.ACCENT, width=1.5))
         self.cursor2.setZValue(100)
         self.cursor2.sigPositionChanged.connect(self._show_cursor_values)

@@ -45,6 +45,9 @@ class EcuStatusBar(QStatusBar):
         self.page = QLabel()
         self.bus = QLabel()
         self.daq = QLabel()
+        # the counts grow digit by digit: the room for long ones from the start (no cut "lost 0", no jumps)
+        longest = "DAQ 99 signals · 9,999,999 samples · lost 99"
+        self.daq.setMinimumWidth(self.daq.fontMetrics().horizontalAdvance(longest) + 16)
         self.recording = QLabel()
         self.recording.setStyleSheet(f"color: {theme.BAD}; font-weight: bold;")
         self.addWidget(self.link, 3)
