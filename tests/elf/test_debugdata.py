@@ -122,6 +122,19 @@ def test_unreadable_cache_is_a_miss(tmp_path):
         assert not debug.from_cache and debug.resolve("zsScalar")
 
 
+def test_an_entry_of_another_elf_under_the_same_name_is_a_miss(tmp_path, monkeypatch):
+    """The entry names its ELF: two ELFs whose entries had one file name never answer for each other."""
+    from workbench.elf.cache import IndexCache
+
+    monkeypatch.setattr(IndexCache, "path_for", lambda self, elf_path, identity: self.directory / "shared.pickle")
+    cache = tmp_path / "cache"
+    with DebugData(FIXTURES / "types_dwarf5.elf", cache_dir=cache):
+        pass
+    with DebugData(FIXTURES / "types_m32.elf", cache_dir=cache) as other:
+        assert not other.from_cache
+        assert other.resolve("outer.b.c").address == compiler_truth(FIXTURES / "types_m32.elf")["outer.b.c"][0]
+
+
 def test_not_an_elf(tmp_path):
     bad = tmp_path / "bad.elf"
     bad.write_bytes(b"ASAP2_VERSION 1 71\n")
