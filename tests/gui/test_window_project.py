@@ -27,7 +27,8 @@ def test_the_open_windows_and_signals_are_saved_and_restored(qtbot, tmp_path):
     project = load_project(tmp_path / "bench.toml")
     assert project.plots[-1] == PlotSpec("Mine", ["xsPidP", "FLCU_TO_PCM_002.RailPressure"], 30.0)
     assert project.tables[0][-1] == "xsTankPressDiff" and project.editors[-1] == "xsEMPTY_TANK_THR"
-    assert project.columns["fixes"][0] == 123 and len(project.columns["plot 3"]) == 4
+    assert project.columns["fixes"][0] == 123 and len(project.columns["fixes"]) == 5
+    assert "plot 3" not in project.columns  # widths nobody gave keep following the window
     again = MainWindow(project)
     qtbot.addWidget(again)
     again.show()

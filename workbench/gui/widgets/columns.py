@@ -151,7 +151,11 @@ def refit_columns(view: QAbstractItemView) -> None:
 
 
 def column_widths(view: QAbstractItemView) -> list[int]:
-    """The widths of ``view``'s columns (for the project file)."""
+    """The widths of ``view``'s columns the user gave them (for the project file); none while they are shared
+    (kept, they would stop following the window: a project saved on a small screen opens on a large one)."""
+    sharer = getattr(view, "_column_sharer", None)
+    if sharer is not None and not sharer.user_sized:
+        return []
     header = view.horizontalHeader()
     return [header.sectionSize(column) for column in range(header.count())]
 

@@ -339,7 +339,8 @@ class MainWindow(QMainWindow):
         project.plots = [PlotSpec(p.title, p.signals, p.span_s) for p in self.plots]
         project.tables = [self.numeric.signals] if self.numeric.signals else []
         project.editors = list(self.editors)
-        project.columns = {name: column_widths(view) for name, view in self.column_tables().items()}
+        widths = {name: column_widths(view) for name, view in self.column_tables().items()}
+        project.columns = {name: sizes for name, sizes in widths.items() if sizes}  # the user's, where given
         project.layout = base64.b64encode(bytes(self.saveState())).decode("ascii")
         return project
 
