@@ -11,6 +11,7 @@ from session_helpers import FAST
 
 from workbench import ConnectionLostError, EcuSilentError, Session, XcpTimeoutError
 from workbench.sim import EthernetEndpoint, serve_demo
+from workbench.xcp_protocol import Cmd
 
 SIGNALS = ["zsRailPressure", "xsDC"]  # Task4ms and Task100ms: DTOs are due within max(T1, 3 x 100 ms)
 
@@ -103,3 +104,30 @@ def _read_until_lost(live, wanted: int | None = None, timeout_s: float = 10.0) -
         if wanted is not None and samples >= wanted:
             return samples
     raise AssertionError(f"{samples} samples, and the ECU was not found lost within {timeout_s} s")
+
+
+@pytest.mark.parametrize("action", ["read scalar", "read map", "write scalar"])
+def test_a_dead_ecu_is_said_after_the_command_and_its_synch_whatever_the_access(sim, channel, action):
+    """Bound: T1 for the command, T1 for the SYNCH the standard sends before repeating it (ASAM XCP's pre-action
+    for a timeout); then nothing more waits: no repeat from SET_MTA, no further SYNCH (counted, not timed)."""
+    with Session.open(interface="virtual", channel=channel, timeouts=FAST) as session:
+        session.read("zvRailPConv")
+        sim.power_off()
+        waits = []  # (command, answered) of every wait for the ECU
+        exchange, receive = session.link.exchange, session.link.receive
+        session.link.exchange = lambda packet, *a, **k: _noted(waits, packet[0], exchange(packet, *a, **k))
+        session.link.receive = lambda *a, **k: _noted(waits, None, receive(*a, **k))
+        with pytest.raises(EcuSilentError, match="none to SYNCH either"):
+            if action == "read scalar":
+                session.read("xsSWITCH_TANK_THR")
+            elif action == "read map":
+                session.read("zvRailPConv")
+            else:
+                session.write("xsSWITCH_TANK_THR", 21.0)
+        first = {"read scalar": Cmd.SHORT_UPLOAD, "read map": Cmd.SET_MTA, "write scalar": Cmd.GET_SEED}[action]
+        assert waits == [(first, False), (Cmd.SYNCH, False)]  # each waited T1 once
+
+
+def _noted(waits: list, command: int | None, response):
+    waits.append((command, response is not None))
+    return response

@@ -17,7 +17,8 @@ from workbench.image import ChecksumType, checksum
 from workbench.sim.demo_ecu import build_demo_ecu
 from workbench.sim.profiles import SlaveProfile
 from workbench.xcp.link import Link
-from workbench.xcp.master import XcpMaster
+from workbench.sim.seedkey import compute_key
+from workbench.xcp.master import Timeouts, XcpMaster
 from workbench.xcp_protocol import Err, IdType, Resource
 
 CAL_RAM = 0x40000000
@@ -199,3 +200,74 @@ def test_an_unlock_answered_after_its_timeout_is_not_sent_again():
         assert not rig.master.protected & Resource.CAL_PAG
         assert rig.master.get_status().protected == Resource.DAQ | Resource.PGM
         assert rig.master.read(CAL_RAM, 20) == demo.ecu.read(CAL_RAM, 20)
+
+
+class _StaleNode:
+    """A node that answers every CONNECT on ``channel`` at once with ``packet``: the late answer of a command of an
+    earlier session (a killed master's SHORT_UPLOAD), which a positive response cannot be told apart from by its PID."""
+
+    def __init__(self, channel: str, packet: bytes):
+        import can
+
+        self.bus = can.Bus(interface="virtual", channel=channel)
+        self.packet = packet
+        self.notifier = can.Notifier(self.bus, [self._heard])
+
+    def _heard(self, message) -> None:
+        import can
+
+        if message.arbitration_id == 0x7F0 and message.data[:1] == b"\xff":
+            self.bus.send(can.Message(arbitration_id=0x7F1, is_extended_id=False, data=self.packet))
+
+    def close(self) -> None:
+        self.notifier.stop()
+        self.bus.shutdown()
+
+
+def test_a_stale_answer_before_the_connect_response_is_dropped(caplog):
+    from workbench.sim.server import Simulator
+
+    demo = build_demo_ecu()
+    demo.ecu.faults.delay_frame(1, 1.0, "tx")  # the ECU's answer to CONNECT comes a second after the stale one
+    stale = _StaleNode("xcp-test-stale", bytes.fromhex("ff 00 00 00 00 00 00 00"))
+    slow = Timeouts(t1=3.0, t2=3.0, t3=3.0, t4=3.0, t5=3.0, t6=3.0, t7=0.02)
+    try:
+        with Simulator(demo.ecu, {"interface": "virtual", "channel": "xcp-test-stale"}, time_scale=1.0), \
+                Link(can_settings("xcp-test-stale")) as link, caplog.at_level("INFO", "workbench.xcp.master"):
+            master = XcpMaster(link, timeouts=slow, key_function=compute_key)
+            info = master.connect()
+            assert (info.max_cto, info.max_dto, info.protocol_version) == (8, 8, 1)
+            assert master.read(CAL_RAM, 20) == demo.ecu.read(CAL_RAM, 20)
+    finally:
+        stale.close()
+    assert demo.ecu.faults.fired == ["delay tx frame 1"]
+    assert "XCP CONNECT: ff 00 00 00 00 00 00 00 dropped, no CONNECT response: MAX_CTO 0, below 8" in caplog.text
+
+
+def test_only_a_stale_answer_to_connect_says_what_was_wrong():
+    stale = _StaleNode("xcp-test-stale-only", bytes.fromhex("ff 00 00 00 00 00 00 00"))
+    try:
+        with Link(can_settings("xcp-test-stale-only")) as link:
+            with pytest.raises(WorkbenchError, match=r"^XCP CONNECT: the answer ff 00 00 00 00 00 00 00 is no CONNECT "
+                                                     r"response: MAX_CTO 0, below 8; another master on the bus, or a "
+                                                     r"packet of an earlier session\?$"):
+                XcpMaster(link, timeouts=FAST).connect()
+    finally:
+        stale.close()
+
+
+@pytest.mark.parametrize("packet, max_packet, problem", [
+    ("ff 1d 80 08 08 00 01 01", 8, None),  # the demo on CAN
+    ("ff 1d c0 ff 00 04 01 01", 0xFFFF, None),  # MAX_CTO 255, MAX_DTO 1024 on Ethernet
+    ("ff 1d 81 40 00 40 01 01", 64, None),  # Motorola, CAN FD 64 bytes
+    ("ff 1d 80 08 08 00 01", 8, "7 bytes, a CONNECT response has 8"),
+    ("ff 1d 80 08 00 04 01 01", 8, "MAX_DTO 1024, more than the 8 bytes the transport carries"),
+    ("ff 1d 80 40 08 00 01 01", 8, "MAX_CTO 64, more than the 8 bytes the transport carries"),
+    ("ff 1d 80 08 04 00 01 01", 8, "MAX_DTO 4, below 8"),
+    ("ff 1d 86 08 08 00 01 01", 8, "address granularity 3, which is reserved"),
+    ("ff 1d 80 08 08 00 00 00", 8, "XCP protocol layer version 0, not 1"),
+])
+def test_what_makes_a_packet_no_connect_response(packet, max_packet, problem):
+    from workbench.xcp.info import ConnectInfo
+
+    assert ConnectInfo.problem(bytes.fromhex(packet), max_packet) == problem

@@ -14,7 +14,7 @@ from workbench.errors import WorkbenchError
 from workbench.xcp_protocol import TIME_UNIT_S, Resource
 
 __all__ = [
-    "CommModeInfo", "ConnectInfo", "DaqEventInfo", "DaqListInfo", "DaqProcessorInfo", "DaqResolutionInfo",
+    "CONNECT_RESPONSE_SIZE", "CommModeInfo", "ConnectInfo", "DaqEventInfo", "DaqListInfo", "DaqProcessorInfo", "DaqResolutionInfo",
     "PagProcessorInfo",
     "PgmProcessorInfo", "ProgramStartInfo", "SectorInfo", "Status",
 ]
@@ -30,6 +30,9 @@ def _unpack(fmt: str, payload: bytes, what: str) -> tuple:
     if len(payload) < size:
         raise WorkbenchError(f"XCP {what}: the response has {len(payload) + 1} bytes, expected {size + 1}")
     return struct.unpack_from(fmt, payload)
+
+
+CONNECT_RESPONSE_SIZE = 8  # PID, RESOURCE, COMM_MODE_BASIC, MAX_CTO, MAX_DTO (WORD), protocol and transport versions
 
 
 @dataclass(frozen=True)
@@ -51,6 +54,29 @@ class ConnectInfo:
         max_dto, protocol, transport = _unpack(f"{order}3xHBB", payload, "CONNECT")
         return cls(Resource(resource & 0x1D), order, 1 << ((basic >> 1) & 0x03), bool(basic & 0x40),
                    bool(basic & 0x80), max_cto, max_dto, protocol, transport)
+
+    @staticmethod
+    def problem(packet: bytes, max_packet: int) -> str | None:
+        """What makes ``packet`` (PID 0xFF first) no answer to CONNECT on a transport that carries packets of up to
+        ``max_packet`` bytes (8 on CAN, a CAN FD frame's MAX_DLC, 0xFFFF on Ethernet); None: it is one.
+
+        A positive response carries no command tag: a late answer to an earlier session's command, or another
+        master's, looks the same until its fields are read.
+        """
+        if len(packet) < CONNECT_RESPONSE_SIZE:
+            return f"{len(packet)} bytes, a CONNECT response has {CONNECT_RESPONSE_SIZE}"
+        basic, max_cto = packet[2], packet[3]
+        max_dto = int.from_bytes(packet[4:6], "big" if basic & 0x01 else "little")
+        if (basic >> 1) & 0x03 == 0x03:
+            return "address granularity 3, which is reserved"
+        for name, size in (("MAX_CTO", max_cto), ("MAX_DTO", max_dto)):
+            if size < 8:
+                return f"{name} {size}, below 8"
+            if size > max_packet:
+                return f"{name} {size}, more than the {max_packet} bytes the transport carries"
+        if packet[6] == 0:
+            return "XCP protocol layer version 0, not 1"
+        return None
 
 
 @dataclass(frozen=True)

@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING, NoReturn
 from workbench.errors import ConnectionLostError, WorkbenchError
 from workbench.xcp.transport import LinkBroken, open_transport
 from workbench.bus_defaults import BusSpec
+from workbench.xcp_framing import MAX_PACKET
 from workbench.xcp_protocol import PID_ERR, PID_EV, PID_SERV, CanId, Cmd
 
 if TYPE_CHECKING:
@@ -101,6 +102,13 @@ class Link:
     @property
     def is_can(self) -> bool:
         return self.settings.transport == "CAN"
+
+    @property
+    def max_packet(self) -> int:
+        """The longest packet the transport carries: a CAN frame's 8 bytes (CAN FD: MAX_DLC), on Ethernet LEN's 0xFFFF."""
+        if self.is_can:
+            return self.settings.max_dlc if self.settings.fd else 8
+        return MAX_PACKET
 
     @property
     def counter_gaps(self) -> int:

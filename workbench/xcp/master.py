@@ -144,32 +144,45 @@ class XcpMaster:
 
     # --- one command --------------------------------------------------------------------------
 
-    def command(self, command: Cmd, payload: bytes = b"", *, timeout: str | None = None, repeat: bool = True) -> bytes:
+    def command(self, command: Cmd, payload: bytes = b"", *, timeout: str | None = None, repeat: bool = True,
+                check: Callable[[bytes], str | None] | None = None) -> bytes:
         """Send ``command`` with ``payload``; return the positive response's bytes after the PID.
 
         :param timeout: "t1".."t7" (default: the command's own, mostly T1).
         :param repeat: SYNCH and repeat on a timeout (not for commands that move the MTA: their
             callers repeat from SET_MTA).
+        :param check: what makes a positive response no answer to this command (None: it is one); such a
+            packet (a stale one: a late answer of an earlier session) is dropped and the next one awaited.
         :raises XcpCommandError: a negative response.
         :raises XcpTimeoutError: no response, and none to SYNCH either (or none after the repeats).
+        :raises WorkbenchError: only packets that ``check`` refused came (it says what was wrong).
         """
         self._unlock_for(command)
         try:
-            return self._command(command, payload, timeout, repeat)
+            return self._command(command, payload, timeout, repeat, check)
         except XcpCommandError as error:
             resource = resource_of(command)
             if error.code != Err.ACCESS_LOCKED or resource is None or self._unlocking:
                 raise
             self.protected |= resource  # the slave locked it (again): unlock and try once more
             self._unlock_for(command)
-            return self._command(command, payload, timeout, repeat)
+            return self._command(command, payload, timeout, repeat, check)
 
-    def _command(self, command: Cmd, payload: bytes, timeout: str | None, repeat: bool) -> bytes:
+    def _command(self, command: Cmd, payload: bytes, timeout: str | None, repeat: bool,
+                 check: Callable[[bytes], str | None] | None = None) -> bytes:
         timeout_s = getattr(self.timeouts, timeout or _TIMEOUT_OF.get(command, "t1"))
         packet = bytes((command,)) + payload
         attempts, busy = 0, 0
+        refused: tuple[str, bytes] | None = None  # the last packet ``check`` refused, and why
         while True:
             response = self._skip_late_synch(command, self.link.exchange(packet, timeout_s), timeout_s)
+            if check is not None:
+                response, refused = self._checked(command, response, timeout_s, check, refused)
+            if response is None and refused is not None and (attempts >= 2 or not repeat):
+                problem, stale = refused
+                raise WorkbenchError(f"XCP {command.name}: the answer {stale[:8].hex(' ')} is no {command.name} "
+                                     f"response: {problem}; another master on the bus, or a packet of an "
+                                     f"earlier session?")
             if response is not None:
                 self.silent = False
             else:
@@ -197,6 +210,21 @@ class XcpMaster:
                     return response[1:]
                 raise XcpCommandError(command.name, code)
             raise WorkbenchError(f"XCP {command.name}: unexpected packet {response.hex(' ')}")
+
+    def _checked(self, command: Cmd, response: bytes | None, timeout_s: float, check: Callable[[bytes], str | None],
+                 refused: tuple[str, bytes] | None) -> tuple[bytes | None, tuple[str, bytes] | None]:
+        """``response``, or the next packet within ``timeout_s`` when ``check`` refuses it (and the next ...);
+        with the last refused packet and why."""
+        deadline = time.monotonic() + timeout_s
+        while response is not None and response[0] == PID_RES:
+            problem = check(response)
+            if problem is None:
+                break
+            refused = (problem, response)
+            log.info("XCP %s: %s dropped, no %s response: %s", command.name, response[:8].hex(" "), command.name,
+                     problem)
+            response = self.link.receive(max(deadline - time.monotonic(), 0.0))
+        return response, refused
 
     def _skip_late_synch(self, command: Cmd, response: bytes | None, timeout_s: float) -> bytes | None:
         """ERR_CMD_SYNCH only ever answers SYNCH: arriving for another command, it is the answer to a SYNCH
@@ -232,12 +260,16 @@ class XcpMaster:
         """CONNECT (mode 0 normal, 1 user defined), then GET_STATUS and GET_COMM_MODE_INFO when offered."""
         self.memory_changes += 1
         self.xcp_pages.clear()
-        self.connect_info = ConnectInfo.parse(self.command(Cmd.CONNECT, bytes((mode,)), timeout=timeout))
+        self.connect_info = ConnectInfo.parse(self.command(Cmd.CONNECT, bytes((mode,)), timeout=timeout,
+                                                           check=self._connect_problem))
         self.comm_mode = None
         if self.connect_info.optional_comm_mode:
             self.comm_mode = CommModeInfo.parse(self.command(Cmd.GET_COMM_MODE_INFO))
         self.protected = self.get_status().protected
         return self.connect_info
+
+    def _connect_problem(self, response: bytes) -> str | None:
+        return ConnectInfo.problem(response, self.link.max_packet)
 
     def disconnect(self) -> None:
         try:
@@ -394,8 +426,8 @@ class XcpMaster:
         for attempt in range(3):
             try:
                 return action()
-            except XcpTimeoutError:
-                if attempt == 2:
+            except XcpTimeoutError as error:
+                if attempt == 2 or isinstance(error, EcuSilentError):  # SYNCH unanswered too: nothing to repeat to
                     raise
                 log.info("XCP memory transfer timed out; repeating from SET_MTA")
 
