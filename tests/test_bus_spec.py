@@ -30,3 +30,28 @@ def test_options_added_never_replace_those_given():
     spec = BusSpec("socketcan", "can0", options={"fd": False}).with_options(fd=True, data_bitrate=2_000_000)
     assert spec.options == {"fd": False, "data_bitrate": 2_000_000}
     assert spec.with_bitrate(250_000).bitrate == 250_000
+
+
+def test_a_bus_beside_another_keeps_its_interface_options_and_takes_those_given():
+    from workbench.bus_defaults import bus_beside
+
+    xcp = BusSpec.from_kwargs({"interface": "udp_multicast", "port": 43210, "bitrate": 500_000})
+    assert bus_beside(xcp) is None  # none named: the XCP bus itself
+    assert bus_beside(xcp, channel="239.74.163.9", options={"port": 43211}).kwargs() == {
+        "interface": "udp_multicast", "channel": "239.74.163.9", "port": 43211, "receive_own_messages": False,
+        "bitrate": 500_000}
+    assert bus_beside(xcp, options={"port": 43211}).channel == "239.74.163.2"  # the same group on a port of its own
+    other = bus_beside(xcp, "socketcan", "can1", {"bitrate": 250_000, "fd": True})  # another interface: only these
+    assert other.kwargs() == {"interface": "socketcan", "channel": "can1", "fd": True, "bitrate": 250_000}
+    assert bus_beside(None, channel="239.74.163.9", options={"port": 1}).describe() == "udp_multicast 239.74.163.9 port 1"
+
+
+def test_bus_kwargs_are_read_as_python_can_reads_them():
+    import pytest
+
+    from workbench.bus_defaults import parse_bus_kwargs
+
+    assert parse_bus_kwargs(["port=43200", "app_name=CANape", "fd=True", "bitrate=500000"]) == {
+        "port": 43200, "app_name": "CANape", "fd": True, "bitrate": 500_000}
+    with pytest.raises(ValueError, match="'port': expected KEY=VALUE"):
+        parse_bus_kwargs(["port"])

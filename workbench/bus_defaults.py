@@ -7,11 +7,12 @@ so both take the defaults from here.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-__all__ = ["DEFAULT_CHANNELS", "DEFAULT_INTERFACE", "SOFTWARE_INTERFACES", "BusSpec", "complete_bus_settings"]
+__all__ = ["DEFAULT_CHANNELS", "DEFAULT_INTERFACE", "SOFTWARE_INTERFACES", "BusSpec", "bus_beside",
+           "complete_bus_settings", "parse_bus_kwargs"]
 
 DEFAULT_INTERFACE = "udp_multicast"
 DEFAULT_CHANNELS = {"udp_multicast": "239.74.163.2", "virtual": "workbench"}
@@ -94,3 +95,40 @@ class BusSpec:
         """``udp_multicast 239.74.163.2 port 43200``: interface, channel, and a udp_multicast port when given."""
         port = self.options.get("port") if self.interface == "udp_multicast" else None
         return " ".join(str(part) for part in (self.interface, self.channel, f"port {port}" if port else None) if part)
+
+
+def bus_beside(base: BusSpec | None, interface: str | None = None, channel: str | int | None = None,
+               options: Mapping[str, Any] | None = None) -> BusSpec | None:
+    """The bus ``interface``, ``channel`` and ``options`` (``Bus`` keywords: a udp_multicast ``port``, ``bitrate``
+    ...) name beside ``base`` (CAN2 beside the XCP bus), or None when they name none (``base`` itself then).
+
+    On ``base``'s interface (or none named) the bus keeps ``base``'s channel, bit rate and options where none
+    is given; on another interface it is only what is given.
+    """
+    options = dict(options or {})
+    if interface is None and channel is None and not options:
+        return None
+    if base is not None and interface in (None, base.interface):
+        kwargs = base.kwargs()
+    else:
+        kwargs = {"interface": interface or (base.interface if base is not None else DEFAULT_INTERFACE)}
+    if channel is not None:
+        kwargs["channel"] = channel
+    return BusSpec.from_kwargs({**kwargs, **options})
+
+
+def parse_bus_kwargs(pairs: Iterable[str]) -> dict[str, Any]:
+    """``--bus-kwargs KEY=VALUE ...`` as python-can's command line tools read them (values cast by
+    ``can.util.cast_from_string``: numbers, booleans, text): ``["port=43200"]`` -> ``{"port": 43200}``.
+
+    :raises ValueError: a pair that is not KEY=VALUE (the message names it).
+    """
+    from can.util import cast_from_string
+
+    kwargs = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        if not sep or not key.isidentifier():
+            raise ValueError(f"{pair!r}: expected KEY=VALUE (e.g. port=43200)")
+        kwargs[key] = cast_from_string(value)
+    return kwargs

@@ -251,3 +251,22 @@ def test_convert_help_names_only_options_it_has(capsys):
     assert main(["cal", "convert", "--help"]) == 0
     text = " ".join(capsys.readouterr().out.split())
     assert "--a2l" not in text and "Exit 0: written" in text
+
+
+def test_a_can2_bus_on_a_udp_port_of_its_own_is_named_by_can2_bus_kwargs(free_udp_port, another_free_udp_port, capsys):
+    """``workbench sim`` puts CAN2 on a udp_multicast port of its own and ``measure`` finds it there, both by
+    --can2-bus-kwargs (the XCP bus's port alone would hear no CAN2 frame: python-can binds a port for every group)."""
+    from sim_process import start_sim_process
+
+    xcp = ["--interface", "udp_multicast", "--bus-kwargs", f"port={free_udp_port}"]
+    can2 = ["--can2-channel", "239.74.163.9", "--can2-bus-kwargs", f"port={another_free_udp_port}"]
+    simulator, banner = start_sim_process(*xcp, *can2, "--pcm", "--no-control")
+    try:
+        code, out, err = run(capsys, "measure", "RailPressure", "zsRailPressure", "--duration", "1", "--json",
+                             *xcp, *can2)
+    finally:
+        simulator.kill()
+        simulator.communicate(timeout=10)
+    rows = [json.loads(line)["values"] for line in out.splitlines()]
+    assert code == 0, err
+    assert [row for row in rows if row["FLCU_TO_PCM_002.RailPressure"] is not None], out

@@ -84,3 +84,24 @@ def test_the_suite_runs_against_workbench_sim_in_another_process(pytester, tmp_p
     assert run.ret == 0
     assert _outcomes(tmp_path / "out" / "junit.xml") == {  # passed, not skipped: the faults reached the other process
         "test_a_sensor_outside_its_span_is_diagnosed[rail]": ("passed", ["SW_REQ_ID_008.4"])}
+
+
+def test_a_can2_bus_of_its_own_reaches_the_tests_whole():
+    """``workbench test --can2-bus-kwargs`` goes to the plugin, which builds the CAN2 bus beside the XCP bus."""
+    from argparse import Namespace
+
+    from workbench.testbench.options import target_from_options
+
+    parsed = build_parser().parse_args(["test", "--interface", "udp_multicast", "--bus-kwargs", "port=43200",
+                                        "--can2-channel", "239.74.163.9", "--can2-bus-kwargs", "port=43201",
+                                        "bitrate=500000"])
+    argv = pytest_arguments(parsed)
+    assert argv[argv.index("--can2-bus-kwargs"):][:3] == ["--can2-bus-kwargs", "port=43201", "bitrate=500000"]
+    options = {name: None for name in ("a2l", "interface", "channel", "bitrate", "bus_kwargs", "host", "port",
+                                       "protocol", "key_function", "accept_epk_mismatch", "dbc", "can2_interface",
+                                       "can2_channel", "can2_bus_kwargs", "sim_s19", "sim_control")}
+    options.update(interface="udp_multicast", bus_kwargs=["port=43200"], can2_channel="239.74.163.9",
+                   can2_bus_kwargs=["port=43201", "bitrate=500000"])
+    target = target_from_options(Namespace(**options))
+    assert target.can2_bus == {"interface": "udp_multicast", "channel": "239.74.163.9", "port": 43201,
+                               "receive_own_messages": False, "bitrate": 500_000}

@@ -10,7 +10,7 @@ from typing import Any
 
 from workbench.bus_defaults import BusSpec
 from workbench.cli.ecu_options import add_ecu_arguments, open_session
-from workbench.cli.options import positive_float
+from workbench.cli.options import add_can2_bus_kwargs_argument, can2_bus_spec, positive_float
 from workbench.cli.render import decimals, jsonable, value_text
 
 EPILOG = """\
@@ -27,7 +27,8 @@ With --record the samples go to an MDF4 file instead (DAQ, ECU time, raw values 
 conversions): --can2 adds the CAN2 bus's frames decoded with a DBC, --raw-can every frame of that
 bus raw (ASAM MDF bus logging, which asammdf and CANape decode again with a DBC). The file is
 complete after every second of recording, also when the process is killed; Ctrl-C or --duration
-ends it. The CAN2 bus is the XCP bus unless --can2-interface/--can2-channel name another.
+ends it. The CAN2 bus is the XCP bus unless --can2-interface/--can2-channel/--can2-bus-kwargs
+name another (e.g. --can2-channel 239.74.163.3 --can2-bus-kwargs port=43201).
 
 examples:
   workbench measure zsRailPressure xsDC                       # polled 10 times a second
@@ -58,6 +59,7 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     recording.add_argument("--can2-interface", metavar="NAME", help="python-can interface of the CAN2 bus "
                                                                    "(default: the XCP bus's)")
     recording.add_argument("--can2-channel", metavar="CHANNEL", help="channel of the CAN2 bus (default: the XCP bus's)")
+    add_can2_bus_kwargs_argument(recording)
     recording.add_argument("--overwrite", action="store_true",
                            help="replace an existing OUT.mf4 when the recording ends (it stays until then)")
     add_ecu_arguments(parser)
@@ -136,7 +138,7 @@ def _can2_monitor(args: argparse.Namespace, session, can2: dict[str, Any], datab
         from workbench.errors import InputError
 
         raise InputError(f"the session runs {session.link.describe()}: name the CAN2 bus of "
-                         f"{', '.join(can2)} (--can2-interface/--can2-channel)")
+                         f"{', '.join(can2)} (--can2-interface/--can2-channel/--can2-bus-kwargs)")
     return _Can2Samples(session, bus, can2, databases, time.time())
 
 
@@ -213,13 +215,8 @@ def _record(args: argparse.Namespace, session) -> int:
 
 def _can2_bus(args: argparse.Namespace, session) -> BusSpec | None:
     """The CAN2 bus the options name; None: the XCP bus. Another channel of the XCP bus's interface keeps its
-    options (a udp_multicast ``port`` given with --bus-kwargs)."""
-    if args.can2_interface is None and args.can2_channel is None:
-        return None
-    xcp_bus = session.bus_spec
-    if xcp_bus is not None and args.can2_interface in (None, xcp_bus.interface):
-        return xcp_bus.with_channel(args.can2_channel) if args.can2_channel is not None else xcp_bus
-    return BusSpec(args.can2_interface or (xcp_bus.interface if xcp_bus else "udp_multicast"), args.can2_channel)
+    options (a udp_multicast ``port`` given with --bus-kwargs) unless --can2-bus-kwargs give others."""
+    return can2_bus_spec(args, session.bus_spec)
 
 
 def _raw(session, values: dict[str, Any]) -> dict[str, Any]:

@@ -138,6 +138,30 @@ def bus_settings(args: argparse.Namespace) -> dict[str, Any] | None:
     return settings or None
 
 
+def add_can2_bus_kwargs_argument(group) -> None:
+    """``--can2-bus-kwargs KEY=VALUE ...``: the CAN2 bus's python-can keyword arguments, as ``--bus-kwargs``."""
+    group.add_argument("--can2-bus-kwargs", nargs="+", type=_bus_kwarg, metavar="KEY=VALUE",
+                       help="python-can keyword arguments of the CAN2 bus, as --bus-kwargs (udp_multicast's port=N, "
+                            "bitrate=N ...; on the XCP bus's interface the rest of its options stay)")
+
+
+def _bus_kwarg(text: str) -> tuple[str, Any]:
+    from workbench.bus_defaults import parse_bus_kwargs
+
+    try:
+        return next(iter(parse_bus_kwargs([text]).items()))
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def can2_bus_spec(args: argparse.Namespace, xcp_bus: BusSpec | None) -> BusSpec | None:
+    """The CAN2 bus ``--can2-interface``, ``--can2-channel`` and ``--can2-bus-kwargs`` name beside the XCP bus
+    (:func:`~workbench.bus_defaults.bus_beside`); None: they name none."""
+    from workbench.bus_defaults import bus_beside
+
+    return bus_beside(xcp_bus, args.can2_interface, args.can2_channel, dict(args.can2_bus_kwargs or ()))
+
+
 def bus_spec(args: argparse.Namespace) -> BusSpec | None:
     """The bus the options name, whole (None: none given; the session takes the default bus then)."""
     settings = bus_settings(args) or {}

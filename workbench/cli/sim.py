@@ -8,11 +8,14 @@ import sys
 import threading
 from contextlib import ExitStack
 
+from workbench.bus_defaults import BusSpec
 from workbench.cli.options import (
     add_bus_arguments,
+    add_can2_bus_kwargs_argument,
     add_ethernet_arguments,
     add_output_arguments,
     bus_settings,
+    can2_bus_spec,
     positive_float,
     print_json,
 )
@@ -21,7 +24,7 @@ from workbench.errors import InputError
 EPILOG = """\
 XCP on CAN (ids, baud rate and EPK from the A2L) goes on the CAN bus the python-can options name
 (default: udp_multicast 239.74.163.2); the FLCU's CAN2 messages share that bus unless
---can2-channel puts them on another one. With --host the ECU serves XCP on Ethernet instead
+--can2-channel (or --can2-bus-kwargs, e.g. port=N) puts them on another one. With --host the ECU serves XCP on Ethernet instead
 (UDP unless --protocol tcp; port and packet sizes from the A2L's XCP_ON_UDP_IP/XCP_ON_TCP_IP,
 --port 0 takes any free port), and the CAN bus options, if given, carry only the CAN2 messages.
 With --bitrate on a software bus (virtual, udp_multicast) the simulator paces its frames as a
@@ -70,6 +73,7 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     can2 = parser.add_argument_group("CAN2 (FLCU messages)")
     can2.add_argument("--can2-interface", help="python-can interface of CAN2 (default: --interface)")
     can2.add_argument("--can2-channel", help="put CAN2 on its own bus with this channel (default: share CAN1)")
+    add_can2_bus_kwargs_argument(can2)
     sim = parser.add_argument_group("simulation")
     sim.add_argument("--pcm", action="store_true", help="simulate the PCM: EnableFLCU=1 and the target rail pressure every 100 ms")
     sim.add_argument("--pcm-target", type=float, default=25.0, metavar="BAR", help="the PCM's TargetRailPressure in bar (default 25)")
@@ -127,13 +131,13 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--port and --protocol are for XCP on Ethernet: give --host too (e.g. --host 127.0.0.1)")
     if args.can2_interface and not args.can2_channel:
         raise InputError("--can2-interface needs --can2-channel (without it CAN2 shares CAN1)")
-    if args.host and bus and args.can2_channel:
-        raise InputError("with --host the CAN bus options carry only CAN2: --can2-channel has nothing to move")
+    own_can2 = args.can2_channel or args.can2_bus_kwargs
+    if args.host and bus and own_can2:
+        raise InputError("with --host the CAN bus options carry only CAN2: --can2-channel/--can2-bus-kwargs have "
+                         "nothing to move")
     can2 = None
-    if args.can2_channel:
-        can2 = dict(bus or {}, channel=args.can2_channel)
-        if args.can2_interface:
-            can2["interface"] = args.can2_interface
+    if own_can2:
+        can2 = can2_bus_spec(args, BusSpec.from_kwargs(bus or {})).kwargs()
     ethernet = EthernetEndpoint(args.host, args.port, args.protocol or "udp") if args.host else None
     defaults = DemoFiles.defaults()
     files = DemoFiles(

@@ -7,7 +7,7 @@ import importlib.util
 from pathlib import Path
 
 from workbench.cli.ecu_options import add_ecu_arguments
-from workbench.cli.options import bus_settings, positive_int
+from workbench.cli.options import add_can2_bus_kwargs_argument, bus_settings, positive_int
 from workbench.errors import InputError, WorkbenchError
 
 EPILOG = """\
@@ -29,6 +29,7 @@ examples:
   workbench test -k tank_ctrl
   workbench test --interface udp_multicast --channel 239.74.163.2 --bus-kwargs port=43200
   workbench test my_tests/ --a2l project.a2l --interface socketcan --channel can0 --dbc vehicle.dbc
+  workbench test --interface udp_multicast --bus-kwargs port=43200 --can2-channel 239.74.163.3 --can2-bus-kwargs port=43201
 """
 
 _PYTEST_EXIT = {0: 0, 1: 1, 2: 130, 3: 1, 4: 2, 5: 2}
@@ -49,6 +50,7 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     parser.add_argument("--dbc", metavar="DBC", help="CAN2 database (default: the demo's)")
     parser.add_argument("--can2-interface", metavar="NAME", help="python-can interface of CAN2 (default: the XCP bus's)")
     parser.add_argument("--can2-channel", metavar="CHANNEL", help="CAN2 on its own bus (default: the XCP bus)")
+    add_can2_bus_kwargs_argument(parser)
     parser.add_argument("--sim-s19", metavar="S19", help="flash image of the simulated demo ECU (default: the demo's)")
     parser.add_argument("--sim-control", metavar="HOST:PORT",
                         help="a workbench sim's control channel (default: found by the bus options)")
@@ -84,6 +86,8 @@ def pytest_arguments(args: argparse.Namespace) -> list[str]:
             argv += [option, str(value)]
     if bus:
         argv += ["--bus-kwargs", *(f"{key}={value}" for key, value in bus.items())]
+    if args.can2_bus_kwargs:
+        argv += ["--can2-bus-kwargs", *(f"{key}={value}" for key, value in args.can2_bus_kwargs)]
     if args.accept_epk_mismatch:
         argv.append("--accept-epk-mismatch")
     requirements = args.requirements or (str(suite_path() / "requirements.csv") if not args.paths else None)

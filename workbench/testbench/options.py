@@ -14,9 +14,9 @@ __all__ = ["target_from_options"]
 
 def target_from_options(option: Namespace) -> EcuTarget:
     """:raises InputError: options that do not fit together or do not parse (named)."""
-    from workbench.bus_defaults import complete_bus_settings
+    from workbench.bus_defaults import BusSpec, bus_beside, complete_bus_settings
 
-    bus_kwargs = _bus_kwargs(option.bus_kwargs or [])
+    bus_kwargs = _bus_kwargs(option.bus_kwargs or [], "--bus-kwargs")
     can_given = option.interface or option.channel or option.bitrate or bus_kwargs
     ethernet_given = option.host or option.port or option.protocol
     if can_given and ethernet_given:
@@ -28,12 +28,11 @@ def target_from_options(option: Namespace) -> EcuTarget:
         given = {"interface": option.interface, "channel": option.channel, "bitrate": option.bitrate, **bus_kwargs}
         bus = complete_bus_settings({key: value for key, value in given.items() if value is not None})
     ethernet = {"host": option.host, "port": option.port, "protocol": option.protocol or "udp"} if option.host else None
-    can2_bus = None
-    if option.can2_interface or option.can2_channel:
-        if not option.can2_channel:
-            raise InputError("--can2-interface needs --can2-channel")
-        can2_bus = complete_bus_settings({"interface": option.can2_interface or (bus or {}).get("interface"),
-                                          "channel": option.can2_channel})
+    if option.can2_interface and not option.can2_channel:
+        raise InputError("--can2-interface needs --can2-channel")
+    can2 = bus_beside(BusSpec.from_kwargs(bus) if bus else None, option.can2_interface, option.can2_channel,
+                      _bus_kwargs(option.can2_bus_kwargs or [], "--can2-bus-kwargs"))
+    can2_bus = can2.kwargs() if can2 is not None else None
     if option.sim_s19 and (bus or ethernet):
         raise InputError("--sim-s19 is for the simulated ECU the tests start without bus options; "
                          "give workbench sim --s19 for one served elsewhere")
@@ -49,13 +48,10 @@ def _path(text: str | None) -> Path | None:
     return Path(text) if text else None
 
 
-def _bus_kwargs(pairs: list[str]) -> dict[str, Any]:
-    from can.util import cast_from_string
+def _bus_kwargs(pairs: list[str], option: str) -> dict[str, Any]:
+    from workbench.bus_defaults import parse_bus_kwargs
 
-    kwargs = {}
-    for pair in pairs:
-        key, sep, value = pair.partition("=")
-        if not sep or not key:
-            raise InputError(f"--bus-kwargs {pair!r}: expected KEY=VALUE (e.g. port=43200)")
-        kwargs[key] = cast_from_string(value)
-    return kwargs
+    try:
+        return parse_bus_kwargs(pairs)
+    except ValueError as exc:
+        raise InputError(f"{option} {exc}") from None

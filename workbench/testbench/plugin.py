@@ -45,6 +45,8 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     group.addoption("--dbc", metavar="DBC", help="CAN2 database (default: the demo's FLCU_CAN2.dbc)")
     group.addoption("--can2-interface", metavar="NAME", help="python-can interface of CAN2 (default: the XCP bus's)")
     group.addoption("--can2-channel", metavar="CHANNEL", help="channel of CAN2 (default: the XCP bus)")
+    group.addoption("--can2-bus-kwargs", nargs="+", metavar="KEY=VALUE",
+                    help="python-can bus keyword arguments of CAN2, as --bus-kwargs (port=N, bitrate=N ...)")
     group.addoption("--sim-s19", metavar="S19", help="flash image of the simulated demo ECU (default: the demo's)")
     group.addoption("--sim-control", metavar="HOST:PORT", help="a workbench sim's control channel (default: found by "
                                                                "the bus options)")
@@ -78,7 +80,7 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
 
 
 _ECU_OPTIONS = ("a2l", "interface", "channel", "bitrate", "bus_kwargs", "host", "port", "protocol", "key_function",
-                "dbc", "can2_interface", "can2_channel", "sim_s19", "sim_control")
+                "dbc", "can2_interface", "can2_channel", "can2_bus_kwargs", "sim_s19", "sim_control")
 
 
 def _target(config: pytest.Config):
