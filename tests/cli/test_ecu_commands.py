@@ -160,6 +160,27 @@ def test_cal_fix_override_release_list(bus, capsys):
     assert code == 2 and "either VALUE" in err
 
 
+def test_cal_fix_list_reads_a_can2_signal_a_third_party_a2l_has_no_measurement_for(bus, capsys, tmp_path):
+    """Without COMPARISON_QUANTITY nothing in the A2L shows FuelLevelLow: with --can2 DBC its value comes from the
+    bus as sent; without, the row shows '-' and a note on stderr says why."""
+    from pathlib import Path
+
+    from workbench import demo
+
+    a2l = tmp_path / "third_party.a2l"
+    a2l.write_text(re.sub(r"\n\s*COMPARISON_QUANTITY \w+", "", Path(demo.a2l()).read_text(encoding="utf-8")),
+                   encoding="utf-8")
+    code, out, err = run(capsys, "cal", "fix", "--list", "--a2l", str(a2l), *bus)
+    assert code == 0 and re.search(r"cfFUELLEVELLOW\s+off\s+override \S+\s+live -", out)
+    assert err == ("note: cfFUELLEVELLOW: no live value: no measurement of the A2L shows FUELLEVELLOW (no "
+                   "COMPARISON_QUANTITY links one, none has its name); name the CAN2 DBC to read it as sent (--can2 "
+                   "DBC, fixes(can2=...))\n")
+    code, out, err = run(capsys, "cal", "fix", "--list", "--a2l", str(a2l), "--can2", str(demo.dbc_can2()), *bus)
+    assert (code, err) == (0, "")
+    assert re.search(r"cfFUELLEVELLOW\s+off\s+override \S+\s+live (Normal|Low)\s+\(CAN signal: FUELLEVELLOW, "
+                     r"CAN2 FLCU_TO_PCM_001\.FuelLevelLow\)", out), out
+
+
 def test_cal_fix_takes_a_can_signal_by_the_name_the_window_shows(bus, capsys):
     code, out, _ = run(capsys, "cal", "fix", "FLCU_TO_PCM_002.RailPressure", "30", "--json", *bus)
     state = json.loads(out)[0]

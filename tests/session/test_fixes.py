@@ -44,3 +44,36 @@ def test_an_override_writes_value_then_enable_and_a_release_gives_the_signal_bac
 def test_a_name_two_fixes_share_is_refused(ecu):
     with pytest.raises(InputError, match="'RailPressure' has 2 fix calibrations: cfRAILPRESSURE .*zfRAILPRESSURE"):
         ecu.override("RailPressure", 10.0)
+
+
+def test_a_can_signal_no_measurement_shows_is_read_from_can2_by_the_dbc_or_says_why_not(sim, channel, tmp_path):
+    """A third-party A2L: the fix pairs without COMPARISON_QUANTITY, and FuelLevelLow (sent from xsLEDEn) has no
+    measurement of its name. The DBC finds it by the fix's name, as the window does; without one, or when its
+    message does not come, the state says why there is no live value."""
+    import re
+    from pathlib import Path
+
+    from session_helpers import FAST
+
+    from workbench import Session, demo
+    from workbench.bus_defaults import BusSpec
+
+    a2l = tmp_path / "third_party.a2l"
+    a2l.write_text(re.sub(r"\n\s*COMPARISON_QUANTITY \w+", "", Path(demo.a2l()).read_text(encoding="utf-8")),
+                   encoding="utf-8")
+    with Session.open(a2l, interface="virtual", channel=channel, timeouts=FAST) as ecu:
+        state = {state.pair.stem: state for state in ecu.fixes()}["cfFUELLEVELLOW"]
+        assert (state.live, state.live_from) == (None, None)
+        assert state.no_live == ("no measurement of the A2L shows FUELLEVELLOW (no COMPARISON_QUANTITY links one, "
+                                 "none has its name); name the CAN2 DBC to read it as sent (--can2 DBC, "
+                                 "fixes(can2=...))")
+        states = {state.pair.stem: state for state in ecu.fixes(demo.dbc_can2())}
+        state = states["cfFUELLEVELLOW"]
+        assert state.live in ("Normal", "Low") and state.live_from == "CAN2 FLCU_TO_PCM_001.FuelLevelLow"
+        assert state.no_live is None
+        assert states["zfRAILPRESSURE"].live_from == "zsRailPressure"  # the A2L's measurements stay first
+        silent = BusSpec("virtual", f"{channel}-nothing")
+        state = {state.pair.stem: state for state in ecu.fixes(demo.dbc_can2(), can2_bus=silent)}["cfFUELLEVELLOW"]
+        assert state.live is None and state.no_live.endswith(
+            f"; CAN2 FLCU_TO_PCM_001.FuelLevelLow: FLCU_TO_PCM_001 did not come on CAN2 (virtual {channel}-nothing) "
+            "within 200 ms")

@@ -34,7 +34,7 @@ from workbench.errors import InputError, UnknownSymbolError
 if TYPE_CHECKING:
     from workbench.a2l.model import A2lModel
 
-__all__ = ["FixPair", "find_fix_pairs", "fix_pairs_of", "resolve_fix"]
+__all__ = ["FixPair", "dbc_signal_of", "find_fix_pairs", "fix_pairs_of", "resolve_fix"]
 
 ENABLE, VALUE = "_EN", "_VALUE"
 KINDS = {"cf": "CAN signal", "zf": "sensor"}
@@ -182,6 +182,18 @@ def resolve_fix(pairs: list[FixPair], signal: str) -> FixPair:
     close = difflib.get_close_matches(key, sorted({n for pair in pairs for n in pair.names()}), n=3, cutoff=0.6)
     where = "the A2L's fix calibrations" + (f" (did you mean {', '.join(close)}?)" if close else "")
     raise UnknownSymbolError(signal, where)
+
+
+def dbc_signal_of(pair: FixPair, databases: Iterable) -> tuple | None:
+    """``(message, signal)`` (cantools) of ``databases`` that a CAN fix overrides, by the fix's name alone
+    (``cf<SIGNAL>``, or ``cf<MESSAGE>_<SIGNAL>``, case-blind), as the window finds a CAN2 value; None when the
+    pair is no CAN fix or no signal (or several) answers to its name."""
+    if pair.kind != KINDS["cf"]:
+        return None
+    stem = pair.stem.upper()
+    found = [(message, signal) for database in databases for message in database.messages for signal in message.signals
+             if stem in (fix_stem(signal.name, message.name).upper(), fix_stem(signal.name).upper())]
+    return found[0] if len(found) == 1 else None
 
 
 def _can_signal_fix(pairs: list[FixPair], key: str) -> list[FixPair]:

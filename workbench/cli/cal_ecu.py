@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import argparse
 import re
+import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from workbench.cli.cal_values import typed_value, value_from_file
-from workbench.cli.ecu_options import add_ecu_arguments, open_session
-from workbench.cli.options import print_json
+from workbench.cli.ecu_options import add_ecu_arguments, can2_dbc, open_session
+from workbench.cli.options import add_can2_bus_arguments, can2_bus_spec, print_json
 from workbench.cli.render import decimals, jsonable, value_block, value_text
 from workbench.errors import InputError
 
@@ -59,11 +60,16 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
         "fix", help="override a signal with its _EN/_VALUE fix calibration, release it, or list them",
         description="cal fix SIGNAL VALUE: write <fix>_VALUE, then <fix>_EN = 1. cal fix SIGNAL --release: "
                     "<fix>_EN = 0. cal fix --list: every fixable signal with its live value and override. SIGNAL is "
-                    "the fix's stem (cfRAILPRESSURE), its _EN/_VALUE name, or the signal's name.")
+                    "the fix's stem (cfRAILPRESSURE), its _EN/_VALUE name, or the signal's name. A CAN signal that "
+                    "no measurement of the A2L shows is listed with its value on CAN2, found in the DBC by the fix's "
+                    "name (--can2 DBC; the demo's with the demo's A2L), else with why it has none.")
     fix.add_argument("signal", nargs="?", metavar="SIGNAL")
     fix.add_argument("value", nargs="?", metavar="VALUE")
     fix.add_argument("--release", action="store_true", help="give the signal back to the ECU (_EN = 0)")
     fix.add_argument("--list", action="store_true", help="list every fixable signal")
+    can2 = fix.add_argument_group("CAN2 (--list: the live value of CAN signals no measurement shows)")
+    can2.add_argument("--can2", metavar="DBC", help="the CAN2 DBC (default: the demo's with the demo's A2L)")
+    add_can2_bus_arguments(can2)
     add_ecu_arguments(fix)
     fix.set_defaults(func=_fix)
 
@@ -221,22 +227,26 @@ def _fix(args: argparse.Namespace) -> int:
         checked_value(model, pair.value, typed_value(args.value), writable=writable)
     with open_session(args, doc) as session:
         if args.list:
-            states = session.fixes()
+            states = session.fixes(can2_dbc(args), can2_bus=can2_bus_spec(args, session.bus_spec))
         elif args.release:
             states = [session.release(args.signal)]
         else:
             states = [session.override(args.signal, typed_value(args.value))]
     if args.json:
         print_json([{"fix": s.pair.stem, "kind": s.pair.kind, "signal": s.signal, "enable": s.pair.enable,
-                     "value": s.pair.value, "live": jsonable(s.live), "override": jsonable(s.override),
-                     "active": s.active} for s in states])
+                     "value": s.pair.value, "live": jsonable(s.live), "live_from": s.live_from,
+                     "no_live": s.no_live, "override": jsonable(s.override), "active": s.active} for s in states])
         return 0
     width = max(len(s.pair.stem) for s in states)
     for state in states:
         live = "-" if state.live is None else value_text(state.live)
         flag = "ON " if state.active else "off"
+        via = f", {state.live_from}" if (state.live_from or "").startswith("CAN2") else ""
         print(f"{state.pair.stem:<{width}}  {flag}  override {value_text(state.override):<12} live {live:<14} "
-              f"({state.pair.kind}: {state.signal})")
+              f"({state.pair.kind}: {state.signal}{via})")
+    for state in states:
+        if state.no_live:
+            print(f"note: {state.pair.stem}: no live value: {state.no_live}", file=sys.stderr)
     return 0
 
 

@@ -31,6 +31,19 @@ def add_ecu_arguments(parser: argparse.ArgumentParser, *, json_output: bool = Tr
         add_output_arguments(parser)
 
 
+def can2_dbc(args: argparse.Namespace) -> str | None:
+    """The CAN2 DBC: ``--can2 DBC``, else the demo's with the demo's A2L (None: no DBC is known)."""
+    from pathlib import Path
+
+    from workbench import demo
+
+    if args.can2:
+        return args.can2
+    if args.a2l is None or Path(args.a2l).resolve() == Path(demo.a2l()).resolve():
+        return str(demo.dbc_can2())
+    return None
+
+
 def open_session(args: argparse.Namespace, a2l: A2lDocument | None = None) -> Session:
     """The session the ECU options describe (connected, EPK checked); ``a2l``: the A2L already loaded. The bus
     is built once from the options and handed over whole."""

@@ -9,8 +9,8 @@ import time
 from typing import Any
 
 from workbench.bus_defaults import BusSpec
-from workbench.cli.ecu_options import add_ecu_arguments, open_session
-from workbench.cli.options import add_can2_bus_kwargs_argument, can2_bus_spec, positive_float
+from workbench.cli.ecu_options import add_ecu_arguments, can2_dbc, open_session
+from workbench.cli.options import add_can2_bus_arguments, can2_bus_spec, positive_float
 from workbench.cli.render import decimals, jsonable, value_text
 
 EPILOG = """\
@@ -56,10 +56,7 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
                                                          "frames decoded in the file")
     recording.add_argument("--raw-can", action="store_true",
                            help="also log every frame of the CAN2 bus raw (ASAM MDF bus logging)")
-    recording.add_argument("--can2-interface", metavar="NAME", help="python-can interface of the CAN2 bus "
-                                                                   "(default: the XCP bus's)")
-    recording.add_argument("--can2-channel", metavar="CHANNEL", help="channel of the CAN2 bus (default: the XCP bus's)")
-    add_can2_bus_kwargs_argument(recording)
+    add_can2_bus_arguments(recording)
     recording.add_argument("--overwrite", action="store_true",
                            help="replace an existing OUT.mf4 when the recording ends (it stays until then)")
     add_ecu_arguments(parser)
@@ -117,17 +114,11 @@ def _split_names(args: argparse.Namespace, session) -> tuple[list[str], dict[str
 
 
 def _can2_databases(args: argparse.Namespace) -> list:
-    """The CAN2 DBC's database: --can2 DBC, else the demo's with the demo's A2L (none: an empty list)."""
-    from pathlib import Path
-
-    from workbench import demo
+    """The CAN2 DBC's database (none: an empty list)."""
     from workbench.can import load_dbc
 
-    if args.can2:
-        return [load_dbc(args.can2).database]
-    if args.a2l is None or Path(args.a2l).resolve() == Path(demo.a2l()).resolve():
-        return [load_dbc(demo.dbc_can2()).database]
-    return []
+    path = can2_dbc(args)
+    return [load_dbc(path).database] if path else []
 
 
 def _can2_monitor(args: argparse.Namespace, session, can2: dict[str, Any], databases: list):

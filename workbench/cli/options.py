@@ -138,6 +138,14 @@ def bus_settings(args: argparse.Namespace) -> dict[str, Any] | None:
     return settings or None
 
 
+def add_can2_bus_arguments(group) -> None:
+    """``--can2-interface``, ``--can2-channel`` and ``--can2-bus-kwargs``: the CAN2 bus, when it is not the XCP bus."""
+    group.add_argument("--can2-interface", metavar="NAME", help="python-can interface of the CAN2 bus "
+                                                               "(default: the XCP bus's)")
+    group.add_argument("--can2-channel", metavar="CHANNEL", help="channel of the CAN2 bus (default: the XCP bus's)")
+    add_can2_bus_kwargs_argument(group)
+
+
 def add_can2_bus_kwargs_argument(group) -> None:
     """``--can2-bus-kwargs KEY=VALUE ...``: the CAN2 bus's python-can keyword arguments, as ``--bus-kwargs``."""
     group.add_argument("--can2-bus-kwargs", nargs="+", type=_bus_kwarg, metavar="KEY=VALUE",
