@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from workbench.a2l import load_a2l, load_a2l_string
-from workbench.calib.fixes import find_fix_pairs, fix_pairs_of
+from workbench.calib.fixes import find_fix_pairs, fix_pairs_of, live_as_override
 
 ROOT = Path(__file__).resolve().parents[2]
 FUEL_LOW = ["cfFUELLEVELLOW_EN", "cfFUELLEVELLOW_VALUE"]
@@ -69,3 +69,14 @@ def test_an_a2l_without_links_is_read_by_the_names(demo_text):
     assert _pair(pairs, "cfRAILPSDIAGNOSTICSTATUS").live == "xsRailPSDiagStatus"  # its words abbreviated
     assert _pair(pairs, "cfENABLEFLCU").live == "csPCM_TO_FLCU_001_EnableFLCU"
     assert _pair(pairs, "cfFUELLEVEL").live == "xsFuelLevel"
+
+
+def test_the_live_value_reads_in_the_terms_of_the_override():
+    """FuelLevelLow is sent from xsLEDEn (OFF/ON): the override's table calls those raw values Normal/Low."""
+    model = load_a2l(ROOT / "assets" / "FLCU.a2l").model()
+    pairs = fix_pairs_of(model)
+    low = _pair(pairs, "cfFUELLEVELLOW")
+    assert [live_as_override(model, low, v) for v in ("ON", "OFF", 1, None)] == ["Low", "Normal", "Low", None]
+    assert live_as_override(model, low, 7) == 7 and live_as_override(model, low, "BROKEN") == "BROKEN"  # no such entry
+    assert live_as_override(model, _pair(pairs, "cfENABLEFLCU"), "ON") == "Enabled"
+    assert live_as_override(model, _pair(pairs, "zfRAILPRESSURE"), 25.06) == 25.06  # a number: the same quantity

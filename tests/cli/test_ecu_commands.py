@@ -146,14 +146,16 @@ def test_cal_list_and_page(bus, capsys):
 
 def test_cal_fix_override_release_list(bus, capsys):
     code, out, _ = run(capsys, "cal", "fix", "zfRAILPRESSURE", "12.5", *bus)
-    assert code == 0 and out.startswith("zfRAILPRESSURE  ON   override 12.5")
+    assert code == 0 and out.startswith("zfRAILPRESSURE  ON   override 12.50 bar")  # the _VALUE's format
     code, out, _ = run(capsys, "cal", "fix", "--list", "--json", *bus)
     states = {item["fix"]: item for item in json.loads(out)}
     assert states["zfRAILPRESSURE"]["active"] is True and len(states) == 17
-    assert states["cfFUELLEVELLOW"]["live"] in ("ON", "OFF")  # xsLEDEn, the A2L's COMPARISON_QUANTITY
+    low = states["cfFUELLEVELLOW"]  # xsLEDEn (the A2L's COMPARISON_QUANTITY) as the override's table reads it
+    assert (low["live_from"], low["measured"], low["live"]) in (("xsLEDEn", "ON", "Low"), ("xsLEDEn", "OFF", "Normal"))
     code, out, _ = run(capsys, "cal", "fix", "--list", *bus)
     assert code == 0 and "live -" not in out  # every fix of the demo has a live value
-    assert re.search(r"cfFUELLEVELLOW\s+off\s+override \S+\s+live (ON|OFF)\b", out)
+    assert re.search(r"cfFUELLEVELLOW\s+off\s+override Normal\s+live (Low|Normal)\s+\(CAN signal: FUELLEVELLOW; "
+                     r"xsLEDEn = (ON|OFF)\)", out)
     code, out, _ = run(capsys, "cal", "fix", "zfRAILPRESSURE", "--release", *bus)
     assert code == 0 and "off" in out
     code, _, err = run(capsys, "cal", "fix", "zfRAILPRESSURE", *bus)

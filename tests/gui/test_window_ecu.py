@@ -78,8 +78,10 @@ def test_a_fix_override_replaces_the_rail_pressure_until_released(window, qtbot)
                     timeout=WAIT_MS)
     low = model.index(next(r for r, f in enumerate(model.rows) if f.pair.stem == "cfFUELLEVELLOW"),
                       FIX_COLUMNS.index("live"))
-    qtbot.waitUntil(lambda: model.data(low) == "OFF", timeout=WAIT_MS)  # xsLEDEn: the A2L's COMPARISON_QUANTITY
-    assert "live: xsLEDEn" in model.data(low, Qt.ToolTipRole)
+    # xsLEDEn (the A2L's COMPARISON_QUANTITY) reads OFF: the override's table calls that Normal, as cal fix does
+    qtbot.waitUntil(lambda: model.data(low) == "Normal", timeout=WAIT_MS)
+    assert "live: xsLEDEn = OFF, which cfFUELLEVELLOW_VALUE calls Normal" in model.data(low, Qt.ToolTipRole)
+    assert model.data(model.index(_fix_row(panel, "zsRailPressure"), FIX_COLUMNS.index("override"))) == "12.50"
     index = model.index(_fix_row(panel, "zsRailPressure"), FIX_COLUMNS.index("on"))
     assert model.data(index, Qt.CheckStateRole) == Qt.Checked
     assert model.setData(index, Qt.Unchecked.value, Qt.CheckStateRole)

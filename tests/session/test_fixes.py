@@ -23,12 +23,15 @@ def test_every_fixable_signal_is_listed_with_its_values(ecu):
     assert len(states) == 17
     rail = states["zfRAILPRESSURE"]
     assert rail.signal == "zsRailPressure" and rail.active is False and rail.override == 0.0
-    assert wait_for(lambda: ecu.fix_state("cfENABLEFLCU").live == "ON")  # the PCM enables the FLCU
+    # the PCM enables the FLCU: live in the override's terms (its verbal table), the measurement's own beside
+    assert wait_for(lambda: ecu.fix_state("cfENABLEFLCU").live == "Enabled")
+    assert ecu.fix_state("cfENABLEFLCU").measured == "ON"
     # a sent signal computed under an abbreviated name: RailPSDiagnosticStatus from xsRailPSDiagStatus
     assert states["cfRAILPSDIAGNOSTICSTATUS"].pair.live == "xsRailPSDiagStatus"
     assert states["cfRAILPSDIAGNOSTICSTATUS"].live == "NO_ERROR"
     # FuelLevelLow is sent from xsLEDEn: no name tells, the A2L's COMPARISON_QUANTITY does
-    assert states["cfFUELLEVELLOW"].pair.live == "xsLEDEn" and states["cfFUELLEVELLOW"].live in ("ON", "OFF")
+    low = states["cfFUELLEVELLOW"]
+    assert low.pair.live == "xsLEDEn" and (low.measured, low.live) in (("ON", "Low"), ("OFF", "Normal"))
     assert all(state.pair.live is not None for state in states.values())
 
 

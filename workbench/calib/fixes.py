@@ -16,8 +16,8 @@ without the link (third-party files) is read by the names alone (case-blind): ``
 for a received signal, ``zs<Sensor>`` for a sensor, a measurement of the signal's name, else one whose
 words abbreviate the signal's (``xsRailPSDiagStatus`` for ``RailPSDiagnosticStatus``). Where none is
 found the window shows the value as sent on CAN2, when it knows the DBC. :func:`fix_pairs_of` reads an
-A2L model so, for the session, ``cal fix`` and the window alike. :func:`resolve_fix` finds the pair a
-user means by any of its names, and refuses to guess between two (``RailPressure`` has a CAN fix and a
+A2L model so, for the session, ``cal fix`` and the window alike; :func:`live_as_override` gives them the live
+value in the override's terms (its verbal table). :func:`resolve_fix` finds the pair a user means by any of its names, and refuses to guess between two (``RailPressure`` has a CAN fix and a
 sensor fix).
 """
 
@@ -26,15 +26,15 @@ from __future__ import annotations
 import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from workbench.can.naming import fix_stem
-from workbench.errors import InputError, UnknownSymbolError
+from workbench.errors import InputError, UnknownSymbolError, WorkbenchError
 
 if TYPE_CHECKING:
     from workbench.a2l.model import A2lModel
 
-__all__ = ["FixPair", "dbc_signal_of", "find_fix_pairs", "fix_pairs_of", "resolve_fix"]
+__all__ = ["FixPair", "dbc_signal_of", "find_fix_pairs", "fix_pairs_of", "live_as_override", "resolve_fix"]
 
 ENABLE, VALUE = "_EN", "_VALUE"
 KINDS = {"cf": "CAN signal", "zf": "sensor"}
@@ -124,6 +124,26 @@ def fix_pairs_of(model: "A2lModel", explicit: Mapping[str, tuple[str, str]] | No
             if link:
                 links[name] = link
     return find_fix_pairs(characteristics, model.names("MEASUREMENT"), explicit, links)
+
+
+def live_as_override(model: "A2lModel", pair: FixPair, measured: Any) -> Any:
+    """The live value ``measured`` (the physical value of ``pair.live``) in the terms of the pair's ``_VALUE``,
+    so that it reads as the override does: where the ``_VALUE`` is verbal, the measurement's number by the
+    ``_VALUE``'s table (xsLEDEn ``ON`` is 1, which cfFUELLEVELLOW_VALUE calls ``Low``); a number the table
+    does not list, a numeric ``_VALUE`` (the same quantity: the signal's factor and offset) or None as it is."""
+    if measured is None or pair.live is None:
+        return measured
+    target = model.conversion(model.object(pair.value))
+    if not target.verbal:
+        return measured
+    number = measured
+    if isinstance(measured, str):
+        try:
+            number = model.conversion(model.object(pair.live)).to_raw(measured)
+        except WorkbenchError:  # a text the measurement's table lacks
+            return measured
+    shown = target.to_physical(number)
+    return shown if isinstance(shown, str) and shown != target.default else measured
 
 
 def _overridden(stem: str, by_upper: dict[str, list[str]]) -> tuple[str | None, str | None]:

@@ -235,15 +235,22 @@ def _fix(args: argparse.Namespace) -> int:
     if args.json:
         print_json([{"fix": s.pair.stem, "kind": s.pair.kind, "signal": s.signal, "enable": s.pair.enable,
                      "value": s.pair.value, "live": jsonable(s.live), "live_from": s.live_from,
-                     "no_live": s.no_live, "override": jsonable(s.override), "active": s.active} for s in states])
+                     "measured": jsonable(s.measured), "no_live": s.no_live, "override": jsonable(s.override),
+                     "active": s.active} for s in states])
         return 0
+    model = session.model
     width = max(len(s.pair.stem) for s in states)
-    for state in states:
-        live = "-" if state.live is None else value_text(state.live)
+    for state in states:  # live and override in the _VALUE's terms: its table, format and unit
+        value = model.object(state.pair.value)
+        unit, places = model.unit_of(value), decimals(model.format_of(value))
+        live = "-" if state.live is None else value_text(state.live, unit, places)
         flag = "ON " if state.active else "off"
         via = f", {state.live_from}" if (state.live_from or "").startswith("CAN2") else ""
-        print(f"{state.pair.stem:<{width}}  {flag}  override {value_text(state.override):<12} live {live:<14} "
-              f"({state.pair.kind}: {state.signal}{via})")
+        if state.measured is not None and state.measured != state.live:  # xsLEDEn's OFF, which the _VALUE calls Normal
+            via = ("" if state.live_from == state.signal else f"; {state.live_from}") + \
+                f" = {value_text(state.measured)}"
+        print(f"{state.pair.stem:<{width}}  {flag}  override {value_text(state.override, unit, places):<14} "
+              f"live {live:<14} ({state.pair.kind}: {state.signal}{via})")
     for state in states:
         if state.no_live:
             print(f"note: {state.pair.stem}: no live value: {state.no_live}", file=sys.stderr)

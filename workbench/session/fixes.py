@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from workbench.a2l.xcp import read_daq_events
-from workbench.calib.fixes import FixPair, dbc_signal_of, fix_pairs_of, resolve_fix
+from workbench.calib.fixes import FixPair, dbc_signal_of, fix_pairs_of, live_as_override, resolve_fix
 from workbench.can.naming import dbc_signal_name
 from workbench.errors import WorkbenchError
 
@@ -40,11 +40,13 @@ _CAN2_WAIT_S = 0.5  # how long a CAN2 frame is awaited whose message has no cycl
 @dataclass(frozen=True)
 class FixState:
     pair: FixPair
-    live: Any  # the signal's value now (None: neither the A2L nor CAN2 showed it; ``no_live`` says why)
+    live: Any  # the signal's value now as the _VALUE reads it (FuelLevelLow's Low, not xsLEDEn's ON; None: neither
+    # the A2L nor CAN2 showed it, ``no_live`` says why)
     override: Any  # the _VALUE, physical
     active: bool  # _EN is 1
     live_from: str | None = None  # where ``live`` was read: a measurement, or "CAN2 Message.Signal"
     no_live: str | None = None  # why there is no live value
+    measured: Any = None  # the live measurement's own reading (xsLEDEn: ON; ``live`` is Low)
 
     @property
     def signal(self) -> str:
@@ -75,11 +77,7 @@ class FixAccess:
         pairs = self.fix_pairs()
         names = [n for pair in pairs for n in (pair.enable, pair.value, pair.live) if n is not None]
         values = self.read_many(names)
-        states = [FixState(pair, values.get(pair.live) if pair.live else None, values[pair.value],
-                           self._is_on(pair.enable, values[pair.enable]), pair.live,
-                           None if pair.live else f"no measurement of the A2L shows {pair.signal} (no "
-                                                  "COMPARISON_QUANTITY links one, none has its name)")
-                  for pair in pairs]
+        states = [self._state(pair, values) for pair in pairs]
         unseen = [state for state in states if state.live_from is None and state.pair.kind == "CAN signal"]
         if not unseen:
             return states
@@ -142,9 +140,18 @@ class FixAccess:
     def fix_state(self: Session, signal: str) -> FixState:
         pair = self.fix(signal)
         names = [n for n in (pair.enable, pair.value, pair.live) if n is not None]
-        values = self.read_many(names)
-        return FixState(pair, values.get(pair.live) if pair.live else None, values[pair.value],
-                        self._is_on(pair.enable, values[pair.enable]))
+        return self._state(pair, self.read_many(names))
+
+    def _state(self: Session, pair: FixPair, values: Mapping[str, Any]) -> FixState:
+        """A pair's state from the values read: the live measurement's in the _VALUE's terms."""
+        if pair.live is None:
+            return FixState(pair, None, values[pair.value], self._is_on(pair.enable, values[pair.enable]), None,
+                            f"no measurement of the A2L shows {pair.signal} (no COMPARISON_QUANTITY links one, "
+                            "none has its name)")
+        measured = values.get(pair.live)
+        live = live_as_override(self.model, pair, measured)
+        return FixState(pair, live, values[pair.value], self._is_on(pair.enable, values[pair.enable]), pair.live,
+                        measured=measured)
 
     def override(self: Session, signal: str, value: Any) -> FixState:
         """Replace ``signal`` by ``value`` (physical, in the _VALUE's units): _VALUE first, then _EN = 1.

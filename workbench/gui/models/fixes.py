@@ -3,7 +3,9 @@ signal's live value, the override value and whether the override is on (``sessio
 
 The live value is the measurement the A2L links to the pair (its COMPARISON_QUANTITY) or names so
 (:mod:`workbench.calib.fixes`); where there is none (a third-party A2L whose sent signal is computed under
-another name) it comes from ``bus_value(fix)``: the window's CAN2 monitor."""
+another name) it comes from ``bus_value(fix)``: the window's CAN2 monitor. Live and override read alike, as
+``cal fix --list`` prints them: the ``_VALUE``'s verbal table (``Low``; the measurement's own ``xsLEDEn = ON``
+in the tooltip) and display format (``value_format``)."""
 
 from __future__ import annotations
 
@@ -32,10 +34,10 @@ class FixModel(RowsModel):
     release_requested = Signal(object)
     value_requested = Signal(object, object)  # a new override value while the override is off
 
-    def __init__(self, parent=None, formatter=None, bus_value=None):
+    def __init__(self, parent=None, value_format=None, bus_value=None):
         super().__init__(parent)
-        # (measurement name or None, value) -> text: the live values in their A2L format
-        self.formatter = formatter or (lambda name, value: format_value(value))
+        # (_VALUE name, value) -> text: a live or override value in the _VALUE's A2L format
+        self.value_format = value_format or (lambda name, value: format_value(value))
         self.bus_value = bus_value or (lambda fix: None)  # FixState -> the signal's text as sent on the bus, or None
 
     def live_text(self, fix) -> str:
@@ -43,7 +45,16 @@ class FixModel(RowsModel):
             on_bus = self.bus_value(fix)
             if on_bus is not None:
                 return on_bus
-        return self.formatter(fix.pair.live, fix.live)
+        return self.value_format(fix.pair.value, fix.live)
+
+    def _live_source(self, fix) -> str:
+        if fix.pair.live is None:
+            return ("live: as sent on CAN2" if self.bus_value(fix) is not None else
+                    "live: the A2L has no measurement of it")
+        if fix.measured is not None and fix.measured != fix.live:
+            return (f"live: {fix.pair.live} = {format_value(fix.measured)}, which {fix.pair.value} calls "
+                    f"{format_value(fix.live)}")
+        return f"live: {fix.pair.live}"
 
     def set_fixes(self, fixes) -> None:
         """New states; the same pairs as before only repaint (an open cell editor stays open)."""
@@ -63,7 +74,7 @@ class FixModel(RowsModel):
         if role == Qt.DisplayRole:
             return {"signal": fix.pair.signal, "kind": KIND_SHORT.get(fix.pair.kind, fix.pair.kind),
                     "live": self.live_text(fix),
-                    "override": format_value(fix.override), "on": None}[column]
+                    "override": self.value_format(fix.pair.value, fix.override), "on": None}[column]
         if role == Qt.EditRole and column == "override":
             return fix.override
         if role == Qt.CheckStateRole and column == "on":
@@ -76,12 +87,9 @@ class FixModel(RowsModel):
         if role == Qt.TextAlignmentRole and column in ("live", "override"):
             return int(Qt.AlignRight | Qt.AlignVCenter)
         if role == Qt.ToolTipRole:
-            source = (f"\nlive: {fix.pair.live}" if fix.pair.live else
-                      "\nlive: as sent on CAN2" if self.bus_value(fix) is not None else
-                      "\nlive: the A2L has no measurement of it")
             return (f"{fix.pair.signal} ({fix.pair.kind})\n{fix.pair.enable} / {fix.pair.value}: while "
-                    f"{fix.pair.enable} = 1 the ECU uses {fix.pair.value} instead of {fix.pair.signal}{source}\n"
-                    "override: Enter writes, Esc restores")
+                    f"{fix.pair.enable} = 1 the ECU uses {fix.pair.value} instead of {fix.pair.signal}\n"
+                    f"{self._live_source(fix)}\noverride: Enter writes, Esc restores")
         return None
 
     def flags(self, index):

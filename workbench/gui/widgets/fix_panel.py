@@ -11,6 +11,7 @@ from PySide6.QtWidgets import QAbstractItemView, QLabel, QTableView, QVBoxLayout
 
 from workbench.errors import InputError
 from workbench.gui import theme
+from workbench.gui.a2l_info import value_decimals
 from workbench.gui.formatting import format_value
 from workbench.gui.models.fixes import COLUMNS, FixModel
 from workbench.gui.widgets.columns import share_columns
@@ -30,9 +31,7 @@ class FixPanel(QWidget):
         super().__init__(parent)
         self.controller = controller
         self.hub = hub
-        self.model = FixModel(self, formatter=(lambda name, value: hub.info(name).format(value) if name
-                                               else format_value(value)) if hub is not None else None,
-                              bus_value=self._bus_value if hub is not None else None)
+        self.model = FixModel(self, value_format=self._format, bus_value=self._bus_value if hub is not None else None)
         self.model.override_requested.connect(self.override)
         self.model.enable_requested.connect(lambda fix: controller.write(fix.pair.enable, 1, on_error=self._not_written))
         self.model.release_requested.connect(self.release)
@@ -87,6 +86,12 @@ class FixPanel(QWidget):
         model = session.model
         conversion = model.conversion(model.object(self.model.rows[index.row()].pair.value))
         return tuple(conversion.allowed) if getattr(conversion, "verbal", False) else ()
+
+    def _format(self, name: str, value) -> str:
+        """A live or override value in the format of ``_VALUE`` ``name`` (its A2L decimals)."""
+        session = self.controller.session
+        decimals = value_decimals(session.model, name) if session is not None else None
+        return format_value(value, decimals)
 
     def _bus_value(self, fix) -> str | None:
         """A CAN signal's newest value as the CAN2 monitor decoded it (``Message.Signal`` of the same name)."""
