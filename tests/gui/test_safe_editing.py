@@ -272,3 +272,19 @@ def test_extended_limits_are_written_only_when_the_user_chose_them(qtbot, tmp_pa
         session = controller.session
         qtbot.waitUntil(lambda: session.read("xsSWITCH_TANK_THR") == pytest.approx(900.0), timeout=WAIT_MS)
         controller.close()
+
+
+def test_breakpoints_read_with_their_axis_decimals_in_every_view_of_a_map_and_a_curve(window, qtbot):
+    """xvPRV_DC_FF's axes (CM_bar, %8.2) and zvRailPConv's (%6.3): headers, heat map ticks, the 3D view's labels
+    show the A2L's decimals, as the values do (the breakpoints read "10" and "200" before)."""
+    editor = editor_on(window, qtbot, "xvPRV_DC_FF")
+    field, model = editor.field, editor.field.model
+    x, y = model.x_points, model.y_points
+    assert [model.headerData(i, Qt.Horizontal) for i in range(len(x))] == [f"{p:.2f}" for p in x]
+    assert [model.headerData(i, Qt.Vertical) for i in range(len(y))] == [f"{p:.2f}" for p in y]
+    ticks = field.plot.getAxis("bottom")._tickLevels[0]
+    assert [text for _, text in ticks] == [f"{p:.2f}" for p in x]
+    assert field.surface.point_text(1, y[-1]) == f"{y[-1]:.2f}" and field.surface.value_text(20) == "20.00"
+    curve = editor_on(window, qtbot, "zvRailPConv")
+    points = curve.field.model.x_points
+    assert curve.field.model.headerData(0, Qt.Horizontal) == f"{points[0]:.3f}"

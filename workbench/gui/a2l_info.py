@@ -7,7 +7,8 @@ from dataclasses import dataclass
 from workbench.errors import WorkbenchError
 from workbench.gui.signal_hub import SignalInfo
 
-__all__ = ["CalibrationInfo", "calibration_info", "measurement_info", "value_decimals", "verbal_states"]
+__all__ = ["CalibrationInfo", "axis_decimals", "calibration_info", "measurement_info", "value_decimals",
+           "verbal_states"]
 
 _AXES = "xyz"
 
@@ -38,16 +39,30 @@ def measurement_info(model, name: str) -> SignalInfo | None:
 def value_decimals(model, name: str, where: str = "value") -> int | None:
     """The decimals the views show an element of calibration ``name`` with (its FORMAT, else its conversion's), as
     a :class:`~workbench.calib.dataset.DatasetDiff` names the element: ``value[2, 1]`` the values', ``x[4]`` or
-    ``y`` an axis' points. None: no such object in the A2L, or no format."""
+    ``y`` an axis' points (:func:`axis_decimals`). None: no such object in the A2L, or no format."""
     from workbench.a2l.objects import format_parts
 
     try:
         obj = model.object(name)
         axis = _AXES.find(where[:1]) if where[1:2] in ("", "[", ".") else -1
         axes = getattr(obj, "axes", ())
-        return format_parts(model.format_of(axes[axis] if 0 <= axis < len(axes) else obj))[1]
+        return axis_decimals(model, axes[axis]) if 0 <= axis < len(axes) else format_parts(model.format_of(obj))[1]
     except (WorkbenchError, KeyError):
         return None
+
+
+def axis_decimals(model, axis) -> int | None:
+    """The decimals of an axis' points (an AXIS_DESCR): its FORMAT, else its AXIS_PTS' (a COM_AXIS), else its
+    conversion's; the rule of every view that shows breakpoints (editor headers, heat map, 3D view, compare)."""
+    from workbench.a2l.objects import format_parts
+
+    shown = axis.format
+    if not shown and axis.axis_pts_ref:
+        try:
+            shown = model.axis_pts(axis.axis_pts_ref).format
+        except (WorkbenchError, KeyError):
+            shown = None
+    return format_parts(shown or model.format_of(axis))[1]
 
 
 @dataclass(frozen=True)
@@ -65,6 +80,7 @@ class CalibrationInfo:
     axis_labels: tuple[str, ...]  # "target [bar]" per axis, X first
     functions: tuple[str, ...]
     extended_limits: tuple[float, float] | None = None  # the A2L's EXTENDED_LIMITS
+    axis_decimals: tuple[int | None, ...] = ()  # the decimals of each axis' points, X first
 
 
 def calibration_info(model, name: str) -> CalibrationInfo:
@@ -83,4 +99,5 @@ def calibration_info(model, name: str) -> CalibrationInfo:
     states = tuple(conversion.allowed) if getattr(conversion, "verbal", False) else ()
     return CalibrationInfo(name, getattr(obj, "type", "AXIS_PTS"), obj.long_identifier, model.unit_of(obj),
                            (obj.lower_limit, obj.upper_limit), decimals, states,
-                           obj.writable, tuple(labels), obj.functions, getattr(obj, "extended_limits", None))
+                           obj.writable, tuple(labels), obj.functions, getattr(obj, "extended_limits", None),
+                           tuple(axis_decimals(model, axis) for axis in getattr(obj, "axes", ())))

@@ -47,15 +47,18 @@ class CalibrationTableModel(QAbstractTableModel):
         self.x_points: np.ndarray = np.zeros(0)
         self.y_points: np.ndarray | None = None
         self.decimals: int | None = None
+        self.axis_decimals: tuple[int | None, ...] = ()  # the A2L's decimals of the X (and Y) points
         self.writable = True
         self.axis_labels: tuple[str, str | None] | None = None  # "target [bar]" of X, of Y (set by the table)
 
-    def set_value(self, value: np.ndarray, x_points, y_points=None, *, decimals=None, writable=True) -> None:
+    def set_value(self, value: np.ndarray, x_points, y_points=None, *, decimals=None, axis_decimals=(),
+                  writable=True) -> None:
         self.beginResetModel()
         self.value = np.array(value, dtype=np.float64)
         self.x_points = np.asarray(x_points, dtype=np.float64)
         self.y_points = None if y_points is None else np.asarray(y_points, dtype=np.float64)
         self.decimals = decimals
+        self.axis_decimals = tuple(axis_decimals)
         self.writable = writable
         self.endResetModel()
 
@@ -118,10 +121,15 @@ class CalibrationTableModel(QAbstractTableModel):
         if role != Qt.DisplayRole:
             return None
         if orientation == Qt.Horizontal:
-            return format_value(float(self.x_points[section])) if section < len(self.x_points) else str(section)
+            return self.point_text(0, self.x_points[section]) if section < len(self.x_points) else str(section)
         if self.is_map and self.y_points is not None and section < len(self.y_points):
-            return format_value(float(self.y_points[section]))
+            return self.point_text(1, self.y_points[section])
         return "value"
+
+    def point_text(self, axis: int, point) -> str:
+        """A breakpoint of axis ``axis`` (0: X) with its A2L decimals, as the values have theirs."""
+        decimals = self.axis_decimals[axis] if axis < len(self.axis_decimals) else None
+        return format_value(float(point), decimals)
 
     def flags(self, index):
         flags = super().flags(index)

@@ -155,7 +155,7 @@ class CalibrationEditor(QWidget):
             x = axes[0] if axes else np.arange(np.shape(value.value)[0])
             y = axes[1] if len(axes) > 1 else None
             self.field.show_value(np.asarray(value.value, dtype=np.float64), x, y, decimals=self.info.decimals,
-                                  writable=writable)
+                                  axis_decimals=self.info.axis_decimals if axes else (), writable=writable)
             self.field.set_reference(self.reference)
         else:
             self.field.show_value(value.value)

@@ -25,16 +25,22 @@ class SurfaceView(QWidget):
         self.x_label, self.y_label, self.unit = x_label, y_label, unit
         self.values = np.zeros((0, 0))
         self.x_points = self.y_points = np.zeros(0)
+        self.point_text = lambda axis, point: format_value(float(point))
+        self.value_text = lambda value: format_value(float(value))
         self.azimuth, self.elevation = 35.0, 28.0  # the corner of the first breakpoints in front
         self._drag: QPointF | None = None
         self.setMinimumSize(160, 120)
         self.setSizePolicy(QSizePolicy.Expanding, QSizePolicy.Expanding)
         self.setToolTip("drag to turn the map")
 
-    def set_surface(self, values: np.ndarray, x_points, y_points) -> None:
+    def set_surface(self, values: np.ndarray, x_points, y_points, *, point_text=None, value_text=None) -> None:
+        """``point_text(axis, point)`` and ``value_text(value)``: the labels' texts (the A2L's decimals; default
+        six significant digits)."""
         self.values = np.asarray(values, dtype=np.float64)
         self.x_points = np.asarray(x_points, dtype=np.float64)
         self.y_points = np.asarray(y_points, dtype=np.float64)
+        self.point_text = point_text or (lambda axis, point: format_value(float(point)))
+        self.value_text = value_text or (lambda value: format_value(float(value)))
         self.update()
 
     # --- geometry -------------------------------------------------------------------------------
@@ -109,18 +115,18 @@ class SurfaceView(QWidget):
         centre = floor.reshape(-1, 2).mean(axis=0)
         painter.setPen(QColor(theme.MUTED))
         metrics = painter.fontMetrics()
-        for ends, points, title in ((((0, 0), (nx - 1, 0)), self.x_points, self.x_label),
-                                    (((0, 0), (0, ny - 1)), self.y_points, self.y_label)):
+        for axis, ends, points, title in ((0, ((0, 0), (nx - 1, 0)), self.x_points, self.x_label),
+                                          (1, ((0, 0), (0, ny - 1)), self.y_points, self.y_label)):
             start, end = floor[ends[0]], floor[ends[1]]
             outward = (start + end) / 2 - centre
             outward = outward / (np.hypot(*outward) or 1.0)
             for at, index in ((start, 0), (end, -1)):
-                text = format_value(float(points[index])) if len(points) else ""
+                text = self.point_text(axis, points[index]) if len(points) else ""
                 self._text(painter, at + outward * 14, text, metrics)
             self._text(painter, (start + end) / 2 + outward * 32, title, metrics)
         low, high = np.nanmin(self.values), np.nanmax(self.values)
         unit = f" {self.unit}" if self.unit else ""
-        painter.drawText(6, metrics.height(), f"{format_value(low)} … {format_value(high)}{unit}")
+        painter.drawText(6, metrics.height(), f"{self.value_text(low)} … {self.value_text(high)}{unit}")
 
     @staticmethod
     def _text(painter: QPainter, centre, text: str, metrics) -> None:

@@ -24,7 +24,7 @@ from PySide6.QtWidgets import (
 )
 
 from workbench.gui import theme
-from workbench.gui.formatting import parse_typed
+from workbench.gui.formatting import format_value, parse_typed
 from workbench.gui.models.block_ops import block_operation
 from workbench.gui.models.calibration_table import CalibrationTableModel, colour_map
 from workbench.gui.widgets.scalar_field import limits_text
@@ -189,6 +189,7 @@ class TableField(QWidget):
         self._image.setImage(value, autoLevels=True)
         # cells centred on the breakpoints' indices; the axes are labelled with the breakpoints
         self._image.setRect(-0.5, -0.5, value.shape[0], value.shape[1])
-        self.plot.getAxis("bottom").setTicks([[(i, f"{p:g}") for i, p in enumerate(x)]])
-        self.plot.getAxis("left").setTicks([[(i, f"{p:g}") for i, p in enumerate(y)]])
-        self.surface.set_surface(value, x, y)
+        self.plot.getAxis("bottom").setTicks([[(i, self.model.point_text(0, p)) for i, p in enumerate(x)]])
+        self.plot.getAxis("left").setTicks([[(i, self.model.point_text(1, p)) for i, p in enumerate(y)]])
+        self.surface.set_surface(value, x, y, point_text=self.model.point_text,
+                                 value_text=lambda v: format_value(v, self.model.decimals))
