@@ -39,14 +39,19 @@ def test_rail_pressure_dropped_on_a_new_plot_arrives_by_daq(window, qtbot):
     assert "zsRailPressure" in window.hub.acquisition.state.signals
     t, bar = window.hub.buffer("zsRailPressure").window(-np.inf, np.inf)
     assert np.all(np.diff(t) > 0) and 0.0 <= bar.min() and bar.max() < 60.0
-    assert np.median(np.diff(t)) == pytest.approx(0.004, rel=0.05)  # the 4 ms task's event, by the ECU's clock
+    # the 4 ms task's event, by the ECU's clock: most samples 4 ms apart to a few microseconds (host arrival times
+    # jitter by tens of them and come in bursts on a loaded machine); the others where the ECU's clock is mapped to
+    # the host's anew (a sample that travelled faster, xcp.daq.clock), in order all the same
+    spacing = np.diff(t)
+    assert np.mean(np.abs(spacing - 0.004) < 5e-6) > 0.5, np.round(spacing[:50] * 1e3, 4)
     state = window.hub.acquisition.state
     assert state.lost == 0 and state.overloads == 0
     window.statusBar().clearMessage()
     window.status.refresh()
-    qtbot.wait(50)  # the status bar lays its labels out again
-    for label in (window.status.daq, window.status.bus, window.status.epk, window.status.page):
-        assert label.text() and label.width() >= label.sizeHint().width(), label.text()  # not cut
+    labels = (window.status.daq, window.status.bus, window.status.epk, window.status.page)
+    # not cut, once the status bar has laid them out again (the DAQ counts change while it does)
+    qtbot.waitUntil(lambda: all(label.text() and label.width() >= label.sizeHint().width() for label in labels),
+                    timeout=WAIT_MS)
 
 
 def test_can2_signals_decoded_from_the_dbc_arrive_beside_xcp(window, qtbot):

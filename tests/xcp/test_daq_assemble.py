@@ -136,3 +136,17 @@ def test_without_timestamps_the_host_clock_is_used():
     clock = DaqClock(0, 1e-5)
     seconds, host = clock.times(0, None, np.array([2_000_000_000, 2_500_000_000]))
     assert seconds.tolist() == [0.0, 0.5] and host.tolist() == [2.0, 2.5]
+
+
+def test_a_faster_sample_moves_the_host_time_on_without_going_back():
+    """The first samples of a 4 ms list sat 6 ms in a loaded host's queue, the next batch's first travelled
+    fastest: its host time may not go back before the samples already shown, the correction is spread over the
+    samples after it (at most half their time), and then it holds."""
+    clock = DaqClock(4, 1e-5)
+    true_s = np.arange(0, 0.1, 0.004)
+    counts = np.rint(true_s / 1e-5).astype(np.int64)
+    travel_s = np.where(np.arange(len(true_s)) < 5, 0.0065, 0.0005)
+    host_ns = (2_000_000_000 + (true_s + travel_s) * 1e9).astype(np.int64)
+    host = np.concatenate([clock.times(0, counts[i:i + 5], host_ns[i:i + 5])[1] for i in range(0, len(counts), 5)])
+    assert np.all(np.diff(host) >= 0.002 - 1e-9)  # never back: at least half of the slave's 4 ms
+    assert np.allclose(host[-10:] - true_s[-10:], 2.0005, atol=1e-9)  # then the fastest travel's offset

@@ -10,7 +10,10 @@ stall of the host of up to 220 ms (a count of wraps rounded from arrival gaps er
 
 Host time = slave time + offset, where the offset is the smallest (arrival − slave time) seen:
 the sample that travelled fastest. It may rise slowly (``max_drift``) so that a slave clock
-running slower than the host's does not fall behind.
+running slower than the host's does not fall behind. When a sample travels faster than all before
+(the first ones sat in a queue of a loaded host), the offset falls to it not at once but at most half
+as fast as the slave's time runs on, so that a list's host times never go back (the batch before was
+mapped with the larger offset): a correction of 4 ms is spread over the next 8 ms of samples.
 """
 
 from __future__ import annotations
@@ -34,6 +37,7 @@ class DaqClock:
         self._origin_host_ns: int | None = None
         self._offset_s: float | None = None
         self._offset_at_s = 0.0
+        self._mapped: dict[int, tuple[float, float]] = {}  # list -> (its last sample's s, the offset it had)
 
     def times(self, daq_list: int, counts: np.ndarray | None, host_ns: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(seconds since the measurement's first sample, host time in seconds since the epoch) per sample.
@@ -50,7 +54,7 @@ class DaqClock:
         if self._origin_count is None and len(unwrapped):
             self._origin_count = int(unwrapped[0])
         seconds = (unwrapped - self._origin_count) * self.resolution_s
-        return seconds, self._host(seconds, host_ns)
+        return seconds, self._host(daq_list, seconds, host_ns)
 
     def _unwrap(self, daq_list: int, counts: np.ndarray, host_ns: np.ndarray) -> np.ndarray:
         if not len(counts):
@@ -71,7 +75,9 @@ class DaqClock:
         self._last[daq_list] = (int(counts[-1]), int(unwrapped[-1]), fastest)
         return unwrapped
 
-    def _host(self, seconds: np.ndarray, host_ns: np.ndarray) -> np.ndarray:
+    def _host(self, daq_list: int, seconds: np.ndarray, host_ns: np.ndarray) -> np.ndarray:
+        if not len(seconds):
+            return seconds + self._origin_host_ns * 1e-9
         host_s = (host_ns - self._origin_host_ns) * 1e-9
         batch_offset = float(np.min(host_s - seconds))
         if self._offset_s is None:
@@ -80,4 +86,10 @@ class DaqClock:
             allowed = self._offset_s + self.max_drift * max(float(seconds[-1]) - self._offset_at_s, 0.0)
             self._offset_s = min(allowed, batch_offset)
         self._offset_at_s = float(seconds[-1])
-        return self._origin_host_ns * 1e-9 + seconds + self._offset_s
+        offset = np.full(len(seconds), self._offset_s)
+        mapped = self._mapped.get(daq_list)
+        if mapped is not None:  # falling no faster than half the slave's time since this list's last sample
+            last_s, last_offset = mapped
+            offset = np.maximum(offset, last_offset - (seconds - last_s) / 2)
+        self._mapped[daq_list] = (float(seconds[-1]), float(offset[-1]))
+        return self._origin_host_ns * 1e-9 + seconds + offset
