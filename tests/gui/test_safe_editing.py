@@ -288,3 +288,44 @@ def test_breakpoints_read_with_their_axis_decimals_in_every_view_of_a_map_and_a_
     curve = editor_on(window, qtbot, "zvRailPConv")
     points = curve.field.model.x_points
     assert curve.field.model.headerData(0, Qt.Horizontal) == f"{points[0]:.3f}"
+
+
+def test_a_curves_breakpoints_and_values_are_never_cut_on_a_laptops_screen(window, qtbot):
+    """zvRailPConv's nine points with three decimals in the 1366 px window: each column as wide as its widest
+    text (0.500, 12.50 were '.50' and '12...'), the table scrolls sideways instead."""
+    from PySide6.QtGui import QFontMetrics
+
+    editor = editor_on(window, qtbot, "zvRailPConv")
+    table, model = editor.field.table, editor.field.model
+    qtbot.waitUntil(lambda: table.isVisible() and table.viewport().width() > 0, timeout=WAIT_MS)
+    header = table.horizontalHeader()
+    needed = QFontMetrics(header.font())
+    for column in range(model.columnCount()):
+        text = model.headerData(column, Qt.Horizontal)
+        assert header.sectionSize(column) >= needed.horizontalAdvance(text) + 12, text
+        cell = model.index(0, column).data()
+        assert header.sectionSize(column) >= QFontMetrics(table.font()).horizontalAdvance(cell) + 6, cell
+    assert header.length() > table.viewport().width()  # it did not fit: it scrolls
+
+
+def test_a_selected_range_stays_selected_after_a_block_operation_for_the_next_one(window, qtbot):
+    from PySide6.QtCore import QItemSelection, QItemSelectionModel
+
+    session = window.controller.session
+    editor = editor_on(window, qtbot, "xvPRV_DC_FF")
+    field, model = editor.field, editor.field.model
+    original = session.read("xvPRV_DC_FF")
+    window.controller.written.emit("xvPRV_DC_FF")  # another test wrote it by the session: shown again
+    qtbot.waitUntil(lambda: np.array_equal(model.value, original), timeout=WAIT_MS)
+    field.table.selectionModel().select(QItemSelection(model.index(2, 1), model.index(3, 2)),
+                                        QItemSelectionModel.ClearAndSelect)
+    chosen = field.selected_cells()
+    field.operand.setText("1")
+    field.apply_block("add")
+    qtbot.waitUntil(lambda: model.value[1, 2] == pytest.approx(original[1, 2] + 1), timeout=WAIT_MS)
+    assert field.selected_cells() == chosen  # the written value read back, the range still selected
+    field.apply_block("add")
+    qtbot.waitUntil(lambda: model.value[1, 2] == pytest.approx(original[1, 2] + 2), timeout=WAIT_MS)
+    written = session.read("xvPRV_DC_FF")
+    assert written[2, 3] == pytest.approx(original[2, 3] + 2) and written[0, 0] == original[0, 0]
+    session.write("xvPRV_DC_FF", original)

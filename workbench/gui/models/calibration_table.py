@@ -53,14 +53,29 @@ class CalibrationTableModel(QAbstractTableModel):
 
     def set_value(self, value: np.ndarray, x_points, y_points=None, *, decimals=None, axis_decimals=(),
                   writable=True) -> None:
-        self.beginResetModel()
-        self.value = np.array(value, dtype=np.float64)
+        """New values; of the same shape they repaint in place, so a selected range stays selected for the
+        next block operation (a reset would clear it after every write)."""
+        value = np.array(value, dtype=np.float64)
+        same_shape = value.shape == self.value.shape and value.size > 0
+        if not same_shape:
+            self.beginResetModel()
+        self.value = value
         self.x_points = np.asarray(x_points, dtype=np.float64)
         self.y_points = None if y_points is None else np.asarray(y_points, dtype=np.float64)
         self.decimals = decimals
         self.axis_decimals = tuple(axis_decimals)
         self.writable = writable
-        self.endResetModel()
+        if not same_shape:
+            self.endResetModel()
+            return
+        self.dataChanged.emit(self.index(0, 0), self.index(self.rowCount() - 1, self.columnCount() - 1))
+        self.headerDataChanged.emit(Qt.Horizontal, 0, self.columnCount() - 1)
+        self.headerDataChanged.emit(Qt.Vertical, 0, self.rowCount() - 1)
+
+    def texts(self) -> list[str]:
+        """Every text the table shows across: the breakpoints' and the values' (their widths size the columns)."""
+        points = [self.point_text(0, p) for p in self.x_points]
+        return points + [format_value(float(v), self.decimals) for v in self.value.ravel()]
 
     def set_reference(self, reference: np.ndarray | None) -> None:
         self.reference = None if reference is None else np.array(reference, dtype=np.float64)

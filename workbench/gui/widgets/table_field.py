@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import Qt, Signal
+from PySide6.QtGui import QFont, QFontMetrics
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QCheckBox,
@@ -66,8 +67,10 @@ class TableField(QWidget):
         self.delegate = ValueDelegate(self.table)
         self.delegate.refused.connect(self.refused)
         self.table.setItemDelegate(self.delegate)
+        # columns share the width, never narrower than their widest text (a curve of many points scrolls sideways)
         self.table.horizontalHeader().setSectionResizeMode(QHeaderView.Stretch)
         self.table.horizontalHeader().setMinimumSectionSize(36)
+        self.table.setHorizontalScrollMode(QAbstractItemView.ScrollPerPixel)
         self.table.verticalHeader().setDefaultSectionSize(24)
         self.table.setCornerButtonEnabled(False)
         self.table.setToolTip(f"X: {x_label}" + (f", Y: {y_label}" if y_label else "") + f"; values in {unit or '-'}"
@@ -135,14 +138,26 @@ class TableField(QWidget):
 
     def show_value(self, value: np.ndarray, x_points, y_points=None, **options) -> None:
         self.model.set_value(value, x_points, y_points, **options)
+        self._fit_columns()
         rows = self.model.rowCount()
+        scroll_bar = self.table.horizontalScrollBar().sizeHint().height() if rows == 1 else 0  # a long curve's
         self.table.setMinimumHeight(min(rows, 8) * self.table.verticalHeader().defaultSectionSize()
-                                    + self.table.horizontalHeader().height() + 4)
+                                    + self.table.horizontalHeader().sizeHint().height() + scroll_bar + 4)
         writable = options.get("writable", True)
         for button in self.block_buttons.values():
             button.setEnabled(writable)
         self.operand.setEnabled(writable)
         self._draw()
+
+    def _fit_columns(self) -> None:
+        """The columns' least width: the widest header or cell text (bold where it differs from the reference)
+        with the header's padding."""
+        header = self.table.horizontalHeader()
+        bold = QFont(self.table.font())
+        bold.setBold(True)
+        metrics = (QFontMetrics(header.font()), QFontMetrics(bold))
+        widest = max((m.horizontalAdvance(text) for text in self.model.texts() for m in metrics), default=0)
+        header.setMinimumSectionSize(max(36, widest + 16))
 
     def set_reference(self, reference) -> None:
         self.model.set_reference(reference)
