@@ -88,6 +88,7 @@ def test_a_maps_axis_titles_are_whole_above_its_heat_map(qtbot):
     assert not field.plot.getAxis("left").label.isVisible()  # no title up the 100 px axis
 
 
+
 @pytest.fixture
 def hub():
     hub = SignalHub()

@@ -282,8 +282,9 @@ def test_breakpoints_read_with_their_axis_decimals_in_every_view_of_a_map_and_a_
     x, y = model.x_points, model.y_points
     assert [model.headerData(i, Qt.Horizontal) for i in range(len(x))] == [f"{p:.2f}" for p in x]
     assert [model.headerData(i, Qt.Vertical) for i in range(len(y))] == [f"{p:.2f}" for p in y]
-    ticks = field.plot.getAxis("bottom")._tickLevels[0]
-    assert [text for _, text in ticks] == [f"{p:.2f}" for p in x]
+    ticks = field.plot.getAxis("bottom")._tickLevels  # the ends always, the others where there is room
+    assert sorted(tick for level in ticks for tick in level) == [(i, f"{p:.2f}") for i, p in enumerate(x)]
+    assert ticks[0] == [(0, f"{x[0]:.2f}"), (len(x) - 1, f"{x[-1]:.2f}")]
     assert field.surface.point_text(1, y[-1]) == f"{y[-1]:.2f}" and field.surface.value_text(20) == "20.00"
     curve = editor_on(window, qtbot, "zvRailPConv")
     points = curve.field.model.x_points
@@ -329,3 +330,28 @@ def test_a_selected_range_stays_selected_after_a_block_operation_for_the_next_on
     written = session.read("xvPRV_DC_FF")
     assert written[2, 3] == pytest.approx(original[2, 3] + 2) and written[0, 0] == original[0, 0]
     session.write("xvPRV_DC_FF", original)
+
+
+def test_a_refusal_below_the_map_leaves_every_row_of_its_table_in_view(window, qtbot):
+    """At 1366 x 768 a refusal takes two lines under xvPRV_DC_FF: the table keeps its five rows whole and
+    nothing is laid over another (the heat map's tabs covered its last row)."""
+    from PySide6.QtCore import QItemSelection, QItemSelectionModel
+
+    editor = editor_on(window, qtbot, "xvPRV_DC_FF")
+    field, model = editor.field, editor.field.model
+    window.resizeDocks([window.editor_dock], [426], Qt.Horizontal)  # as wide as beside the demo's plots
+    field.table.selectionModel().select(QItemSelection(model.index(0, 1), model.index(4, 5)),
+                                        QItemSelectionModel.ClearAndSelect)
+    field.operand.setText("1000")
+    with qtbot.waitSignal(editor.refused, timeout=WAIT_MS):
+        field.apply_block("multiply")
+    qtbot.wait(100)  # laid out again
+    assert editor.status.height() > editor.status.fontMetrics().height() * 1.5  # two lines at this width
+    table = field.table
+    rows = model.rowCount() * table.verticalHeader().defaultSectionSize()
+    assert table.viewport().height() >= rows, (table.viewport().height(), rows)
+    views = field.views.mapTo(editor, field.views.rect().topLeft()).y()
+    assert table.mapTo(editor, table.rect().bottomLeft()).y() < views
+    assert field.views.height() >= field.views.minimumSizeHint().height()
+    assert field.plot.height() >= field.plot.minimumHeight()  # the heat map with room for its X labels
+    assert editor.status.mapTo(editor, editor.status.rect().bottomLeft()).y() <= editor.height()

@@ -72,10 +72,14 @@ class CalibrationTableModel(QAbstractTableModel):
         self.headerDataChanged.emit(Qt.Horizontal, 0, self.columnCount() - 1)
         self.headerDataChanged.emit(Qt.Vertical, 0, self.rowCount() - 1)
 
-    def texts(self) -> list[str]:
-        """Every text the table shows across: the breakpoints' and the values' (their widths size the columns)."""
-        points = [self.point_text(0, p) for p in self.x_points]
-        return points + [format_value(float(v), self.decimals) for v in self.value.ravel()]
+    def point_texts(self) -> list[str]:
+        """The X breakpoints as the header shows them."""
+        return [self.point_text(0, p) for p in self.x_points]
+
+    def cell_texts(self):
+        """(cell, text) of every value (their widths, with the breakpoints', size the columns)."""
+        for cell in np.ndindex(*self.value.shape):
+            yield cell, format_value(float(self.value[cell]), self.decimals)
 
     def set_reference(self, reference: np.ndarray | None) -> None:
         self.reference = None if reference is None else np.array(reference, dtype=np.float64)

@@ -103,13 +103,17 @@ class CalibrationEditor(QWidget):
         head.addWidget(undo)
         head.addWidget(redo)
         layout.addLayout(head)
+        table = info.type in ("CURVE", "MAP", "VAL_BLK", "AXIS_PTS")
         if info.description:
-            description = QLabel(info.description)
+            if table:  # one line (all of it in the tooltip): a wrapped second line squeezed the table's rows
+                description = ElidedLabel(info.description, mode=Qt.ElideRight, minimum=0)
+            else:
+                description = QLabel(info.description)
+                description.setWordWrap(True)
             description.setMinimumWidth(0)
             description.setStyleSheet(f"color: {theme.MUTED};")
-            description.setWordWrap(True)
             layout.addWidget(description)
-        if info.type in ("CURVE", "MAP", "VAL_BLK", "AXIS_PTS"):
+        if table:
             self.field = TableField(unit=info.unit, x_label=info.axis_labels[0] if info.axis_labels else "index",
                                     y_label=info.axis_labels[1] if len(info.axis_labels) > 1 else None,
                                     extended_limits=info.extended_limits)
@@ -128,6 +132,10 @@ class CalibrationEditor(QWidget):
         self.status = QLabel()
         self.status.setWordWrap(True)
         self.status.setStyleSheet(f"color: {theme.MUTED};")
+        # two lines kept for it from the start: a refusal that wraps neither moves the table nor squeezes it (the
+        # window's layout does not grow a dock for a label's second line; the heat map's tabs covered a row)
+        self.status.setMinimumHeight(2 * self.status.fontMetrics().lineSpacing())
+        self.status.setAlignment(Qt.AlignLeft | Qt.AlignTop)
         layout.addWidget(self.status)
 
     # --- reading --------------------------------------------------------------------------------

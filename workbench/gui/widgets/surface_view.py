@@ -29,7 +29,7 @@ class SurfaceView(QWidget):
         self.value_text = lambda value: format_value(float(value))
         self.azimuth, self.elevation = 35.0, 28.0  # the corner of the first breakpoints in front
         self._drag: QPointF | None = None
-        self.setMinimumSize(160, 120)
+        self.setMinimumSize(160, 80)  # as the heat map beside it: the editor fits a laptop's screen
         self.setSizePolicy(QSizePolicy.Expanding, QSizePolicy.Expanding)
         self.setToolTip("drag to turn the map")
 

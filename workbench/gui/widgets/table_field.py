@@ -93,6 +93,10 @@ class TableField(QWidget):
         self.axis_titles = QLabel("    ".join(t.replace(" ", "\u00a0") for t in titles) if y_label else "")
         self.axis_titles.setWordWrap(True)
         self.axis_titles.setStyleSheet(f"color: {theme.MUTED};")
+        # the two lines they take on a laptop's screen kept from the start: the tab's least height counts no wrapped
+        # line, and the heat map's X labels were cut by the one it had not counted
+        self.axis_titles.setMinimumHeight(2 * self.axis_titles.fontMetrics().lineSpacing())
+        self.axis_titles.setAlignment(Qt.AlignLeft | Qt.AlignBottom)
         self.axis_titles.hide()
         column.addWidget(self.axis_titles)
         column.addWidget(self.plot, 1)
@@ -141,8 +145,10 @@ class TableField(QWidget):
         self._fit_columns()
         rows = self.model.rowCount()
         scroll_bar = self.table.horizontalScrollBar().sizeHint().height() if rows == 1 else 0  # a long curve's
+        header = self.table.horizontalHeader()
+        header.ensurePolished()  # its height with the style sheet's padding (unpolished it is 14 px less)
         self.table.setMinimumHeight(min(rows, 8) * self.table.verticalHeader().defaultSectionSize()
-                                    + self.table.horizontalHeader().sizeHint().height() + scroll_bar + 4)
+                                    + header.sizeHint().height() + scroll_bar + 2 * self.table.frameWidth())
         writable = options.get("writable", True)
         for button in self.block_buttons.values():
             button.setEnabled(writable)
@@ -150,17 +156,28 @@ class TableField(QWidget):
         self._draw()
 
     def _fit_columns(self) -> None:
-        """The columns' least width: the widest header or cell text (bold where it differs from the reference)
-        with the header's padding."""
+        """The columns' least width: the widest breakpoint (bold, with the header's padding of the style sheet)
+        or value (bold where it differs from the reference, with the cell's margins)."""
         header = self.table.horizontalHeader()
-        bold = QFont(self.table.font())
-        bold.setBold(True)
-        metrics = (QFontMetrics(header.font()), QFontMetrics(bold))
-        widest = max((m.horizontalAdvance(text) for text in self.model.texts() for m in metrics), default=0)
-        header.setMinimumSectionSize(max(36, widest + 16))
+        bold_header, bold_cell = QFont(header.font()), QFont(self.table.font())
+        bold_header.setBold(True)
+        bold_cell.setBold(True)
+        cell_metrics = {False: QFontMetrics(self.table.font()), True: QFontMetrics(bold_cell)}
+        points = QFontMetrics(bold_header)
+        widest = max((points.horizontalAdvance(text) + 14 for text in self.model.point_texts()), default=0)
+        for cell, text in self.model.cell_texts():
+            widest = max(widest, cell_metrics[self.model.modified(cell)].horizontalAdvance(text) + 8)
+        header.setMinimumSectionSize(max(36, widest))
+
+    def _ticks(self, axis: int, points) -> list[list[tuple[int, str]]]:
+        """A heat map axis' labels: the first and last breakpoint always, the others where there is room (pyqtgraph
+        draws a second tick level's texts only when they do not crowd the axis: they overlapped on a small map)."""
+        labels = [(i, self.model.point_text(axis, p)) for i, p in enumerate(points)]
+        return [labels[:1] + labels[-1:] if len(labels) > 1 else labels, labels[1:-1]]
 
     def set_reference(self, reference) -> None:
         self.model.set_reference(reference)
+        self._fit_columns()  # modified values are bold
 
     def selected_cells(self) -> list[tuple[int, ...]]:
         return sorted({self.model.cell(index) for index in self.table.selectionModel().selectedIndexes()})
@@ -196,7 +213,7 @@ class TableField(QWidget):
             self._image.setColorMap(colour_map())
             self.plot.addItem(self._image)
             self.plot.setLabel("bottom", None)  # both titles are above the map
-            self.plot.setMinimumHeight(80)
+            self.plot.setMinimumHeight(100)
             self.axis_titles.setVisible(bool(self.y_label))
             self.views.setTabText(0, "heat map")
             self.surface = SurfaceView(self._x_label, self.y_label or "Y", self.unit)
@@ -204,7 +221,7 @@ class TableField(QWidget):
         self._image.setImage(value, autoLevels=True)
         # cells centred on the breakpoints' indices; the axes are labelled with the breakpoints
         self._image.setRect(-0.5, -0.5, value.shape[0], value.shape[1])
-        self.plot.getAxis("bottom").setTicks([[(i, self.model.point_text(0, p)) for i, p in enumerate(x)]])
-        self.plot.getAxis("left").setTicks([[(i, self.model.point_text(1, p)) for i, p in enumerate(y)]])
+        self.plot.getAxis("bottom").setTicks(self._ticks(0, x))
+        self.plot.getAxis("left").setTicks(self._ticks(1, y))
         self.surface.set_surface(value, x, y, point_text=self.model.point_text,
                                  value_text=lambda v: format_value(v, self.model.decimals))
