@@ -66,3 +66,15 @@ def demo_ecu_on_a_channel_of_its_own(prefix: str):
     channel = f"{prefix}-{uuid.uuid4().hex[:10]}"
     with serve_demo({"interface": "virtual", "channel": channel}, pcm_target_bar=25.0) as simulator:
         yield channel, simulator
+
+
+def text_room(view, index) -> tuple[int, int]:
+    """(the width the view's style gives the text of cell ``index``, the width its text needs): a cell whose room
+    is smaller shows it cut ("APPLICATI…")."""
+    from PySide6.QtWidgets import QStyle, QStyleOptionViewItem
+
+    option = QStyleOptionViewItem()
+    view.itemDelegate().initStyleOption(option, index)
+    option.rect = view.visualRect(index)
+    room = view.style().subElementRect(QStyle.SE_ItemViewItemText, option, view).width()
+    return room, option.fontMetrics.horizontalAdvance(option.text)

@@ -4,7 +4,7 @@ flash with progress and verify, the working page into CAL ROM, cancel."""
 from __future__ import annotations
 
 import pytest
-from gui_helpers import WAIT_MS, open_window
+from gui_helpers import WAIT_MS, open_window, text_room
 from PySide6.QtCore import Qt
 
 from workbench import demo
@@ -31,6 +31,9 @@ def test_a_calib_flash_from_the_s19_programs_its_partial_ranges_and_verifies(win
     info = _planned(dialog, qtbot)
     assert info["CALIB"].startswith("Partial: FC0000h-") and "FDFFF0h-FDFFFFh" in info["CALIB"]
     assert info["APPLICATIVE"].startswith("Partial: 840000h-") and info["APPLICATIVE"].endswith("(not selected)")
+    for row in range(dialog.table.rowCount()):  # every region's name whole beside its check box
+        room, needed = text_room(dialog.table, dialog.table.model().index(row, 0))
+        assert room >= needed, dialog.table.item(row, 0).text()
     progress = []
     dialog.flash_started.connect(lambda task: task.progress.changed.connect(
         lambda done, total, label: progress.append((done, total, label)), Qt.DirectConnection))

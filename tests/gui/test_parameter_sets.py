@@ -44,6 +44,20 @@ def test_the_working_page_is_compared_with_the_reference_page(window, qtbot):
     session.write("xsSWITCH_TANK_THR", 20.0)
 
 
+def test_the_compare_views_filter_keeps_its_placeholder_at_the_least_width_beside_the_apply_button(qtbot):
+    from workbench.gui.widgets.compare_view import CompareView
+
+    view = CompareView()
+    qtbot.addWidget(view)
+    view.apply_button.setVisible(True)  # a parameter set compared with the ECU
+    view.summary.setText("1 of 58 objects differ")
+    view.show()
+    view.resize(view.minimumSizeHint().width(), 300)
+    qtbot.waitUntil(lambda: view.width() == view.minimumSizeHint().width(), timeout=WAIT_MS)
+    search = view.search
+    assert search.width() >= search.fontMetrics().horizontalAdvance(search.placeholderText()) + 24  # padding
+
+
 def test_a_parameter_set_saved_changed_and_applied_with_the_checks_of_cal_load(window, qtbot, tmp_path):
     session = window.controller.session
     sets = window.parameter_sets

@@ -19,6 +19,7 @@ from PySide6.QtWidgets import (
     QPlainTextEdit,
     QProgressBar,
     QPushButton,
+    QStyle,
     QTableWidget,
     QTableWidgetItem,
     QVBoxLayout,
@@ -141,6 +142,12 @@ class FlashDialog(QDialog):
                 item.setFont(theme.mono_font(9))
                 self.table.setItem(row, column, item)
         self.table.blockSignals(False)
+        # the names whole beside their check boxes (the contents' size left APPLICATIVE cut to "APPLICATI…")
+        indicator = self.table.style().pixelMetric(QStyle.PM_IndicatorWidth, None, self.table)
+        widest = max((self.table.fontMetrics().horizontalAdvance(region.name) for region in regions), default=0)
+        header = self.table.horizontalHeader()
+        header.setSectionResizeMode(0, QHeaderView.Fixed)
+        header.resizeSection(0, max(header.sectionSizeHint(0), widest + indicator + 28))
 
     def selected_regions(self) -> list[str]:
         return [self.table.item(row, 0).text() for row in range(self.table.rowCount())
