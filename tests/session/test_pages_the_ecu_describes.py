@@ -5,10 +5,11 @@ from __future__ import annotations
 
 import re
 
+import pytest
 from session_helpers import FAST, WRITE, refused_on_the_reference_page
 from xcp_commands import CommandLog
 
-from workbench import Session
+from workbench import PageError, Session
 from workbench.a2l import load_a2l_string, read_xcp_config
 from workbench.sim import serve_demo
 from workbench.xcp_protocol import Cmd, Err
@@ -55,3 +56,23 @@ def test_an_ecu_without_page_commands_is_asked_once_a_session(sim, channel):
         assert "GET_PAG_PROCESSOR_INFO" in log.take()
         assert ecu.write("xsSWITCH_TANK_THR", 23.0).value == 23.0
         assert log.take() == WRITE
+
+
+@pytest.mark.parametrize("profile", ["segments", "segments-one-by-one"])
+def test_a_reference_page_an_earlier_session_switched_to_is_found_before_anything_is_written(channel, profile):
+    """A new session (a second `workbench cal` process) cannot know the page: it asks the ECU's segments and the
+    page XCP is on (after unlocking CAL/PAG), and refuses before SET_MTA or DOWNLOAD, in either page mode."""
+    with serve_demo({"interface": "virtual", "channel": channel}, profile=profile) as sim:
+        a2l = _without_segments(sim)
+        with Session.open(a2l, interface="virtual", channel=channel, timeouts=FAST) as earlier:
+            earlier.set_page("reference")
+        with Session.open(a2l, interface="virtual", channel=channel, timeouts=FAST) as ecu, CommandLog(channel) as log:
+            with pytest.raises(PageError, match="reference page of segment 1 is active"):
+                ecu.write("xsSWITCH_TANK_THR", 21.0)
+            asked = log.take()
+            assert asked[:3] == ["GET_SEED", "UNLOCK", "GET_PAG_PROCESSOR_INFO"] and asked[-1] == "GET_CAL_PAGE"
+            assert set(asked[3:-1]) == {"GET_SEGMENT_INFO"}
+            with pytest.raises(PageError, match="xvPRV_DC_FF is not written: the reference page of segment 1"):
+                ecu.write_cells("xvPRV_DC_FF", {(0, 0): 1.0})
+            assert log.take() == []
+        assert sim.ecu.pages.xcp_pages == [1, 1]
