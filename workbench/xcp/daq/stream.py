@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import logging
 import threading
+import time
 from collections.abc import Hashable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -34,7 +35,7 @@ __all__ = ["DaqBatch", "DaqStats", "DaqStream"]
 
 _START_SELECTED, _STOP_ALL = 1, 0
 _SELECT = 2
-_LOST_CHECK_S = 0.1  # read(None) looks this often whether the ECU is lost
+_LOST_CHECK_S = 0.1  # a waiting read() looks this often whether the ECU is lost
 
 
 @dataclass(frozen=True)
@@ -196,20 +197,21 @@ class DaqStream:
         """The samples that arrived since the last read, one batch per list; waits up to ``timeout_s``
         for the first one (None: until one arrives).
 
-        :raises ConnectionLostError: none came and the ECU is lost (:meth:`silence_limit`, a broken link).
+        :raises ConnectionLostError: none came and the ECU is lost (:meth:`silence_limit`, a broken link): at
+            once when it is lost already, within :data:`_LOST_CHECK_S` when that happens during the wait.
         """
         if self.assembler is None:
             return []
         samples = self.assembler.take()
-        while not samples and timeout_s != 0:
-            self._arrived.wait(_LOST_CHECK_S if timeout_s is None else timeout_s)
+        deadline = None if timeout_s is None else time.monotonic() + timeout_s
+        while not samples:  # what came before a loss is returned first; then the loss is said at once
+            self._check_link()
+            left = _LOST_CHECK_S if deadline is None else min(_LOST_CHECK_S, deadline - time.monotonic())
+            if left <= 0:
+                break
+            self._arrived.wait(left)
             self._arrived.clear()
             samples = self.assembler.take()
-            if timeout_s is not None:
-                break
-            self._check_link()
-        if not samples:
-            self._check_link()
         by_list: dict[int, list] = {}
         for sample in samples:
             by_list.setdefault(sample.daq_list, []).append(sample)
