@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from PySide6.QtCore import Qt
 
 WAIT_MS = 15_000
 
@@ -68,13 +69,21 @@ def demo_ecu_on_a_channel_of_its_own(prefix: str):
         yield channel, simulator
 
 
-def text_room(view, index) -> tuple[int, int]:
-    """(the width the view's style gives the text of cell ``index``, the width its text needs): a cell whose room
-    is smaller shows it cut ("APPLICATI…")."""
+
+def text_rect(view, index):
+    """The rectangle the view's style gives the text of cell ``index`` (its margins and padding taken off)."""
     from PySide6.QtWidgets import QStyle, QStyleOptionViewItem
 
     option = QStyleOptionViewItem()
     view.itemDelegate().initStyleOption(option, index)
     option.rect = view.visualRect(index)
-    room = view.style().subElementRect(QStyle.SE_ItemViewItemText, option, view).width()
-    return room, option.fontMetrics.horizontalAdvance(option.text)
+    return view.style().subElementRect(QStyle.SE_ItemViewItemText, option, view)
+
+
+def text_room(view, index) -> tuple[int, int]:
+    """(the width the view's style gives the text of cell ``index``, the width its text needs): a cell whose room
+    is smaller shows it cut ("APPLICATI…")."""
+    from PySide6.QtGui import QFontMetrics
+
+    font = index.data(Qt.FontRole) or view.font()
+    return text_rect(view, index).width(), QFontMetrics(font).horizontalAdvance(str(index.data() or ""))

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from gui_helpers import WAIT_MS, demo_ecu_on_a_channel_of_its_own, open_window, shared_window
+from gui_helpers import WAIT_MS, demo_ecu_on_a_channel_of_its_own, open_window, shared_window, text_rect
 from PySide6.QtWidgets import QMessageBox
 from session_helpers import extended_limits_a2l
 
@@ -38,6 +38,9 @@ def test_the_working_page_is_compared_with_the_reference_page(window, qtbot):
     assert view.sides.text() == "A: reference page (CAL ROM)   ·   B: working page (CAL RAM)"
     row = [view.proxy.index(0, column).data() for column in range(5)]
     assert row == ["xsSWITCH_TANK_THR", "differs", "20.00 bar", "27.50 bar", "Δ 7.50"]  # CM_bar's %8.2
+    b, difference = (view.proxy.index(0, column) for column in (3, 4))  # B's value and the difference apart
+    gap = text_rect(view.table, difference).left() - text_rect(view.table, b).right()
+    assert gap >= 12, gap
     view.show_equal.setChecked(True)
     assert len(view.rows_shown()) > 50
     view.show_equal.setChecked(False)

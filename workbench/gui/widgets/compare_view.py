@@ -85,6 +85,8 @@ class CompareView(QWidget):
         self.table.setAlternatingRowColors(True)
         self.table.setShowGrid(False)
         self.table.setFont(theme.mono_font())
+        # room between cells: B's value right-aligned beside the difference read as one ("MAP 6 x 5 8 values")
+        self.table.setStyleSheet("QTableView::item { padding: 0px 6px; }")
         self.table.doubleClicked.connect(lambda index: self.open_requested.emit(index.data(Qt.UserRole).name))
         self.table.selectionModel().currentRowChanged.connect(self._show_elements)
         share_columns(self.table, (3, 1.3, 1.8, 1.8, 2.4))
