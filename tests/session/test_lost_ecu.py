@@ -131,3 +131,27 @@ def test_a_dead_ecu_is_said_after_the_command_and_its_synch_whatever_the_access(
 def _noted(waits: list, command: int | None, response):
     waits.append((command, response is not None))
     return response
+
+
+def test_a_new_session_is_not_misled_by_the_dtos_an_earlier_master_left_running(channel):
+    """The earlier master died with DAQ running (its link gone without a stop): the ECU still sends its DTOs on
+    the response id while the next session connects and reads; they are dropped, never taken for the CONNECT
+    response or a read's."""
+    import can
+
+    simulator, options = serve("CAN", channel, 0)
+    try:
+        earlier = Session.open(**options, timeouts=FAST)
+        live = earlier.measure(SIGNALS).start()
+        assert _read_until_lost(live, wanted=5) >= 5
+        earlier.link.close()  # killed: DAQ keeps running in the ECU (closing it later sends nothing)
+        with can.Bus(interface="virtual", channel=channel) as wire, Session.open(**options, timeouts=FAST) as session:
+            assert session.master.connect_info.max_cto == 8
+            assert [session.read("xsSWITCH_TANK_THR") for _ in range(20)] == [20.0] * 20
+            dtos = 0
+            while (frame := wire.recv(0)) is not None:
+                dtos += frame.arbitration_id == 0x7F1 and frame.data[0] < 0xFC
+            assert dtos > 0  # they came, between the responses
+        earlier.close()
+    finally:
+        simulator.close()
