@@ -7,6 +7,8 @@ prints as one line each (``file:line:column: severity: message``) or as ``--json
 from __future__ import annotations
 
 import argparse
+import functools
+import gc
 import sys
 
 from workbench.cli.options import add_output_arguments, print_json, print_report
@@ -44,7 +46,7 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     merge.add_argument("--keep-includes", action="store_true",
                        help="keep the master's /include lines instead of writing the included text inline")
     _output_options(merge)
-    merge.set_defaults(func=_merge)
+    merge.set_defaults(func=_without_cyclic_gc(_merge))
 
     update = commands.add_parser("update", help="set every address (and the EPK) from an ELF",
                                  description="Set MEASUREMENT ECU_ADDRESS, CHARACTERISTIC/AXIS_PTS/BLOB/INSTANCE "
@@ -78,7 +80,7 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
                         "then the .epk section)")
     _cache_options(update)
     _output_options(update)
-    update.set_defaults(func=_update)
+    update.set_defaults(func=_without_cyclic_gc(_update))
 
     check = commands.add_parser("check", help="syntax, references, names and memory placement",
                                 description="Report every problem with file:line:column: syntax, undefined "
@@ -90,7 +92,7 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     check.add_argument("--elf", metavar="ELF", help="also check every object's symbol and address against this ELF")
     _cache_options(check)
     _output_options(check, verbose=False)  # every finding of a check is a problem
-    check.set_defaults(func=_check)
+    check.set_defaults(func=_without_cyclic_gc(_check))
 
     diff = commands.add_parser("diff", help="object-level differences of two A2L files",
                                description="Objects added, removed and changed (with the fields that changed) "
@@ -98,7 +100,26 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     diff.add_argument("a", metavar="A.a2l")
     diff.add_argument("b", metavar="B.a2l")
     add_output_arguments(diff)
-    diff.set_defaults(func=_diff)
+    diff.set_defaults(func=_without_cyclic_gc(_diff))
+
+
+def _without_cyclic_gc(handler):
+    """The command with the cyclic garbage collector off while it runs (imports included): a command of
+    this group reads its files, writes its output and ends, and what it leaves is freed by reference
+    counting. The collector's passes over the objects numpy's import and the token tables hold cost 3 %
+    of an uncached update of 65,000 objects (83 of 2,970 M instructions) and 3-4 % of a small one."""
+
+    @functools.wraps(handler)
+    def run(args: argparse.Namespace) -> int:
+        enabled = gc.isenabled()
+        gc.disable()
+        try:
+            return handler(args)
+        finally:
+            if enabled:
+                gc.enable()
+
+    return run
 
 
 def _output_options(parser: argparse.ArgumentParser, verbose: bool = True) -> None:
