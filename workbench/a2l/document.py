@@ -76,7 +76,6 @@ class A2lDocument:
         self.block_begin: list[int] = blocks.begin.tolist()  # per block: its /begin token
         self.block_end: list[int] = blocks.end.tolist()  # per block: its /end token
         self._models: dict[int, "A2lModel"] = {}  # MODULE block -> its object model
-        self._text: str | None = None  # see _one_byte_text
 
     @classmethod
     def from_source(cls, source: SourceFile, *, validate: bool = True) -> "A2lDocument":
@@ -151,21 +150,10 @@ class A2lDocument:
         ``quoted``: string tokens, returned without their quotes and escapes."""
         if not len(tokens):
             return []
-        if len(tokens) >= 1000 and not quoted and self._one_byte_text() is not None:
-            # a character per byte: slices of the decoded file (no gather of each token's bytes)
-            text = self._one_byte_text()
-            return [text[start:end] for start, end in zip(self.tokens.starts[tokens].tolist(),
-                                                           self.tokens.ends[tokens].tolist())]
         joined = self.tokens.joined(tokens, 1 if quoted else 0)
         if quoted and (b"\\" in joined or b'""' in joined):  # escapes: resolve them one string at a time
             return [parse_string(raw, self.encoding) for raw in self.tokens.raw_many(tokens)]
         return joined.decode(self.encoding).split("\0")
-
-    def _one_byte_text(self) -> str | None:
-        """The buffer decoded, when every character is one byte (ASCII or latin-1), else None."""
-        if self._text is None:
-            self._text = self.data.decode(self.encoding) if self.encoding == "latin-1" or self.data.isascii() else ""
-        return self._text or None
 
     # -- blocks ----------------------------------------------------------------------
     def block_names(self, blocks: np.ndarray) -> list[str | None]:
