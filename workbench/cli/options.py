@@ -5,14 +5,12 @@ on Ethernet), ``--json``, and how reports and JSON are printed."""
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from workbench.bus_defaults import BusSpec
-
 if TYPE_CHECKING:
+    from workbench.bus_defaults import BusSpec
     from workbench.findings import Report
 
 # the Namespace keys ``can.cli.create_bus_from_namespace`` turns into ``can.Bus`` keyword arguments
@@ -172,6 +170,8 @@ def can2_bus_spec(args: argparse.Namespace, xcp_bus: BusSpec | None) -> BusSpec 
 
 def bus_spec(args: argparse.Namespace) -> BusSpec | None:
     """The bus the options name, whole (None: none given; the session takes the default bus then)."""
+    from workbench.bus_defaults import BusSpec  # here: most commands talk to no bus
+
     settings = bus_settings(args) or {}
     given = {key: value for key, value in settings.items() if value is not None and value is not False}  # --fd: False
     return BusSpec.from_kwargs(given) if given else None
@@ -194,6 +194,8 @@ def print_json(data: Any) -> None:
 
     ``json.dump`` would write each of its pieces: 355,000 writes for the table of a 1 MiB DBC.
     """
+    import json  # here: most runs print text
+
     sys.stdout.write(json.dumps(data, indent=2, default=str) + "\n")
 
 

@@ -15,20 +15,23 @@ import re
 import struct
 from itertools import repeat
 from pathlib import Path
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from workbench.elf import dwarf
 from workbench.elf.cache import IndexCache
-from workbench.elf.ctypes_model import CType, TypeResolver
-from workbench.elf.dwarf_index import DwarfIndex
 from workbench.elf.lookup import AmbiguousSymbolError, Variable, VariableTable, scope_splits, split_vector_spec
-from workbench.elf.paths import PathError, split_path, walk
 from workbench.elf.symbols import ElfSymbols
-from workbench.elf.symtab_names import symtab_variables
 from workbench.errors import InputError, UnknownSymbolError
 from workbench.progress import Progress, report
+
+# The DWARF decoder, the C type model and the .symtab names are imported where DWARF is read, a type
+# resolved or the symbol table searched: an update that its cached index answers needs none of them.
+if TYPE_CHECKING:
+    from workbench.elf import dwarf
+    from workbench.elf.ctypes_model import CType, TypeResolver
+    from workbench.elf.dwarf_index import DwarfIndex
+    from workbench.elf.paths import PathError
 
 __all__ = ["AmbiguousSymbolError", "DebugData", "ResolvedSymbol"]
 
@@ -36,8 +39,6 @@ _HEAD = re.compile(r"[A-Za-z_$][A-Za-z0-9_$]*")  # the variable name a member/el
 _HEAD_AND_SUFFIX = re.compile(r"^([A-Za-z_$][A-Za-z0-9_$]*|)(.*)$", re.M)  # one line: head, member suffix
 _DWARF_SECTIONS = (".debug_info", ".debug_types", ".debug_abbrev", ".debug_str", ".debug_line_str",
                    ".debug_str_offsets", ".debug_addr")
-# what decoding damaged DWARF raises: reads past a section's end, unknown codes, bad struct reads
-_DAMAGED_DWARF = (dwarf.DwarfError, IndexError, ValueError, KeyError, struct.error)
 
 
 class ResolvedSymbol(NamedTuple):
@@ -249,6 +250,8 @@ class DebugData:
         if not any(name.encode() in names_text for name in _variable_names(path)):
             return None  # no symbol's name has it: the symbol table need not be read
         if self._symtab is None:
+            from workbench.elf.symtab_names import symtab_variables
+
             variables, sizes = symtab_variables(self.elf.symbol_list)
             self._symtab = VariableTable(variables), sizes
         table, sizes = self._symtab
@@ -261,6 +264,8 @@ class DebugData:
         key = (type_offset, suffix)
         found = self._walks.get(key)
         if found is None:
+            from workbench.elf.paths import PathError, split_path, walk
+
             ctype = self._type(type_offset)
             try:
                 _, steps = split_path("x" + suffix)
@@ -268,7 +273,7 @@ class DebugData:
             except PathError as exc:
                 found = exc
             self._walks[key] = found
-        if isinstance(found, PathError):
+        if found.__class__ is not tuple:  # the PathError that says why
             raise UnknownSymbolError(path, str(found))
         return found
 
@@ -360,27 +365,31 @@ class DebugData:
                 raise InputError(f"{self.path}: cannot read ({exc.strerror})") from None
             except (ValueError, struct.error) as exc:  # e.g. a compressed section that does not decompress
                 raise InputError(f"{self.path}: unreadable DWARF section ({exc})") from None
+            from workbench.elf import dwarf
+
             try:
                 self._reader = dwarf.DwarfReader(sections, self.elf.little_endian)
-            except _DAMAGED_DWARF as exc:
+            except _damaged_dwarf() as exc:
                 raise InputError(f"{self.path}: unreadable DWARF ({exc})") from None
         return self._reader
 
     def _dwarf_index(self) -> DwarfIndex:
         if self._index is None:
+            from workbench.elf.dwarf_index import DwarfIndex
+
             self._index = DwarfIndex(self._dwarf())
         return self._index
 
     def _read_variables(self, progress: Progress | None) -> list[tuple]:
         try:
             return self._dwarf_index().global_variables(progress)
-        except _DAMAGED_DWARF as exc:
+        except _damaged_dwarf() as exc:
             raise InputError(f"{self.path}: unreadable DWARF ({exc})") from None
 
     def _read_function_statics(self) -> list[tuple]:
         try:
             return self._dwarf_index().function_statics()
-        except _DAMAGED_DWARF as exc:
+        except _damaged_dwarf() as exc:
             raise InputError(f"{self.path}: unreadable DWARF ({exc})") from None
 
     def _type(self, offset: int | None) -> CType:
@@ -388,11 +397,20 @@ class DebugData:
         if offset is not None and offset in self._types:
             return self._types[offset]
         if self._resolver is None:
+            from workbench.elf.ctypes_model import TypeResolver
+
             self._resolver = TypeResolver(self._dwarf(), self._types, self._dwarf_index().definition_of)
         try:
             return self._resolver.resolve(offset)
-        except _DAMAGED_DWARF as exc:
+        except _damaged_dwarf() as exc:
             raise InputError(f"{self.path}: unreadable DWARF type at 0x{offset or 0:x} ({exc})") from None
+
+
+def _damaged_dwarf() -> tuple[type[Exception], ...]:
+    """What decoding damaged DWARF raises: reads past a section's end, unknown codes, bad struct reads."""
+    from workbench.elf import dwarf
+
+    return dwarf.DwarfError, IndexError, ValueError, KeyError, struct.error
 
 
 def _failure(path: str, why: tuple) -> UnknownSymbolError:

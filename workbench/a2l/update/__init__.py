@@ -24,7 +24,6 @@ from workbench.a2l.grammar import MAX_ADDRESS
 from workbench.a2l.includes import includes_not_found_from
 from workbench.a2l.reports import IncludeMode, UpdateMode, findings_at
 from workbench.a2l.update.removal import removal_edits
-from workbench.a2l.update.typecheck import TypeChecker
 from workbench.a2l.values import format_ints_like, hex_digits_like, int_or_none, int_values
 from workbench.elf.debugdata import DebugData
 from workbench.errors import WorkbenchError
@@ -275,6 +274,8 @@ def _update_link_maps(objects: AddressedObjects, targets: np.ndarray, edits: Edi
 
 
 def _check_types(objects: AddressedObjects, symbols: list, edits: Edits, report: UpdateReport) -> None:
+    from workbench.a2l.update.typecheck import TypeChecker  # here: an address update needs none of it
+
     checker = TypeChecker(objects.doc)
     axes_first = np.argsort(objects.keyword_numbers != KEYWORDS.index("AXIS_PTS"), kind="stable")
     for row in axes_first.tolist():  # the point counts of AXIS_PTS, then the COM_AXIS that name them
