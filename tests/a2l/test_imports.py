@@ -8,10 +8,11 @@ from pathlib import Path
 FIXTURES = Path(__file__).parent / "fixtures"
 ELF = Path(__file__).parents[1] / "elf" / "fixtures" / "types_dwarf5.elf"
 NOT_NEEDED = ["elftools", "cantools", "pyxcp", "asammdf", "pya2l", "rich", "PySide6", "can", "platformdirs"]
-# what an address update from a cached index does not run: the type checker (--types), the DWARF index and
-# its readers, the .symtab names, the bus options
-NOT_RUN_WHEN_CACHED = ["workbench.a2l.update.typecheck", "workbench.elf.dwarf_index", "workbench.elf.die_readers",
-                       "workbench.elf.symtab_names", "workbench.elf.paths", "workbench.bus_defaults"]
+# what an address update from a cached index does not run: the type checker (--types), the DWARF decoder,
+# index and type reader, the .symtab names, the bus options
+NOT_RUN_WHEN_CACHED = ["workbench.a2l.update.typecheck", "workbench.elf.dwarf", "workbench.elf.dwarf_index",
+                       "workbench.elf.die_readers", "workbench.elf.type_resolver", "workbench.elf.symtab_names",
+                       "workbench.elf.paths", "workbench.bus_defaults"]
 
 SCRIPT = """
 import json, sys

@@ -1,9 +1,7 @@
 """C and C++ types as the A2L tool chain needs them: sizes, members, base classes, arrays, bitfields.
 
-:class:`TypeResolver` turns a DWARF type DIE into a :class:`CType`, looking through
-typedefs and const/volatile qualifiers (remembering the outermost typedef name), type
-units (DW_AT_signature) and declarations (to the definition another unit holds).
-Pointers are not followed, so self-referencing structs are finite.
+:class:`~workbench.elf.type_resolver.TypeResolver` makes them from DWARF; this module holds the model
+alone (a cached index's types unpickle without the DWARF decoder).
 
 :meth:`CType.find_member` looks a name up the way C and C++ do: a member of the type,
 of an anonymous struct or union in it (C11 ``reg.Value``), then of its base classes
@@ -13,13 +11,7 @@ ambiguous). A base class can also be named as a step (a2ltool's ``obj.Base.membe
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-
-from workbench.elf import dwarf
-
-_ENCODINGS = {0x01: "address", 0x02: "bool", 0x04: "float", 0x05: "signed", 0x06: "signed",
-              0x07: "unsigned", 0x08: "unsigned", 0x10: "unsigned"}  # 0x06/0x08: (un)signed char, 0x10: UTF
 
 
 class MemberError(ValueError):
@@ -99,141 +91,3 @@ def _through_base(base: CMember, member: CMember, name: str) -> CMember:
     if base.offset is None:
         raise MemberError(f"{name!r} lies in the virtual base {base.name}: its offset is known at run time only")
     return _moved(member, base.offset)
-
-
-class TypeResolver:
-    """Builds :class:`CType` objects from DWARF, memoised by DIE offset."""
-
-    def __init__(self, reader: dwarf.DwarfReader, cache: dict[int, CType] | None = None,
-                 definitions: Callable[[dwarf.Die], int | None] | None = None):
-        self.reader = reader
-        self.definitions = definitions  # declaration DIE -> offset of its definition (see DwarfIndex.definition_of)
-        self.cache: dict[int, CType] = cache if cache is not None else {}
-        self._building: set[int] = set()
-
-    def resolve(self, offset: int | None) -> CType:
-        """The type whose DIE is at ``offset``; raises :class:`dwarf.DwarfError` for a type that contains
-        itself (only damaged DWARF does: pointers, the one legal way back, are not followed)."""
-        if offset is None:
-            return VOID
-        found = self.cache.get(offset)
-        if found is None:
-            if offset in self._building:
-                raise dwarf.DwarfError(f"the type at .debug_info+0x{offset:x} contains itself")
-            self._building.add(offset)
-            try:
-                found = self._build(offset)
-            finally:
-                self._building.discard(offset)
-            self.cache[offset] = found
-        return found
-
-    def _build(self, offset: int) -> CType:
-        die = self.reader.die(offset)
-        if die is None:
-            return VOID
-        attrs, tag = die.attrs, die.tag
-        name = attrs.get(dwarf.AT_NAME)
-        name = name if isinstance(name, str) else None
-        if tag == dwarf.TAG_TYPEDEF:
-            target = self.resolve(attrs.get(dwarf.AT_TYPE))
-            return replace(target, typedef=name)
-        if tag in (dwarf.TAG_CONST, dwarf.TAG_VOLATILE, dwarf.TAG_RESTRICT, dwarf.TAG_ATOMIC):
-            return self.resolve(attrs.get(dwarf.AT_TYPE))
-        size = attrs.get(dwarf.AT_BYTE_SIZE)
-        size = size if isinstance(size, int) else 0
-        if tag == dwarf.TAG_BASE:
-            return CType("base", size, name, _ENCODINGS.get(attrs.get(dwarf.AT_ENCODING), "unsigned"))
-        if tag == dwarf.TAG_ENUM:
-            underlying = attrs.get(dwarf.AT_TYPE)
-            encoding = self.resolve(underlying).encoding if underlying is not None else "unsigned"
-            encoding = encoding or "unsigned"
-            return CType("enum", size, name, encoding, enumerators=self._enumerators(die, size, encoding == "signed"))
-        if tag in (dwarf.TAG_POINTER, dwarf.TAG_REFERENCE):
-            return CType("pointer", size or die.unit.address_size, name, "address")
-        if tag == dwarf.TAG_SUBROUTINE_TYPE:
-            return CType("function", 0, name)
-        if tag in (dwarf.TAG_STRUCT, dwarf.TAG_UNION, dwarf.TAG_CLASS):
-            return self._record(die, name, size)
-        if tag == dwarf.TAG_ARRAY:
-            return self._array(die)
-        return CType("void", size, name)
-
-    def _record(self, die: dwarf.Die, name: str | None, size: int) -> CType:
-        """A struct, class or union; a declaration is followed to its type unit or its definition."""
-        attrs = die.attrs
-        if attrs.get(dwarf.AT_DECLARATION):
-            signed = attrs.get(dwarf.AT_SIGNATURE)
-            definition = signed if isinstance(signed, int) else (
-                self.definitions(die) if self.definitions is not None else None)
-            if definition is not None and definition != die.offset:
-                return self.resolve(definition)
-            return CType("union" if die.tag == dwarf.TAG_UNION else "struct", size, name, declared_only=True)
-        members, bases = [], []
-        for child in self.reader.children(die):
-            if child.tag == dwarf.TAG_MEMBER and not child.attrs.get(dwarf.AT_DECLARATION):  # not a static member
-                members.append(self._member(child))
-            elif child.tag == dwarf.TAG_INHERITANCE:
-                bases.append(self._base(child))
-        kind = "union" if die.tag == dwarf.TAG_UNION else "struct"
-        return CType(kind, size, name, members=tuple(members), bases=tuple(bases))
-
-    def _enumerators(self, die: dwarf.Die, size: int, signed: bool) -> tuple[tuple[str, int], ...]:
-        """(name, value) of an enum's enumerators; of a signed enum, a value stored as unsigned data of
-        the enum's size with its high bit set is the negative one."""
-        found = []
-        for child in self.reader.children(die):
-            name, value = child.attrs.get(dwarf.AT_NAME), child.attrs.get(dwarf.AT_CONST_VALUE)
-            if child.tag == dwarf.TAG_ENUMERATOR and isinstance(name, str) and isinstance(value, int):
-                if signed and size and 1 << (8 * size - 1) <= value < 1 << (8 * size):
-                    value -= 1 << (8 * size)
-                found.append((name, value))
-        return tuple(found)
-
-    def _base(self, die: dwarf.Die) -> CMember:
-        base = self.resolve(die.attrs.get(dwarf.AT_TYPE))
-        location = die.attrs.get(dwarf.AT_MEMBER_LOCATION)
-        virtual = die.attrs.get(dwarf.AT_VIRTUALITY)
-        offset = None if virtual else (dwarf.member_offset(location) if location is not None else 0)
-        return CMember(base.display_name, offset, base)
-
-    def _array(self, die: dwarf.Die) -> CType:
-        element = self.resolve(die.attrs.get(dwarf.AT_TYPE))
-        dims = []
-        for child in self.reader.children(die):
-            if child.tag != dwarf.TAG_SUBRANGE:
-                continue
-            count = child.attrs.get(dwarf.AT_COUNT)
-            upper = child.attrs.get(dwarf.AT_UPPER_BOUND)
-            if isinstance(count, int):
-                dims.append(count)
-            elif isinstance(upper, int):
-                dims.append(upper + 1)
-            else:
-                dims.append(0)  # flexible array member
-        dims = dims or [0]
-        total = element.size
-        for dim in dims:
-            total *= dim
-        return CType("array", total, element=element, dims=tuple(dims))
-
-    def _member(self, die: dwarf.Die) -> CMember:
-        attrs = die.attrs
-        name = attrs.get(dwarf.AT_NAME)
-        member_type = self.resolve(attrs.get(dwarf.AT_TYPE))
-        offset = dwarf.member_offset(attrs.get(dwarf.AT_MEMBER_LOCATION))
-        bit_size = attrs.get(dwarf.AT_BIT_SIZE)
-        if not isinstance(bit_size, int):
-            return CMember(name if isinstance(name, str) else "", offset or 0, member_type)
-        storage = attrs.get(dwarf.AT_BYTE_SIZE) or member_type.size or 1
-        data_bit_offset = attrs.get(dwarf.AT_DATA_BIT_OFFSET)
-        if isinstance(data_bit_offset, int):  # DWARF 4+: bits from the start of the struct
-            start = (data_bit_offset // (8 * storage)) * storage
-            within = data_bit_offset - 8 * start
-            if self.reader.order == ">":  # counted from the most significant bit on big-endian targets
-                within = 8 * storage - within - bit_size
-            return CMember(name if isinstance(name, str) else "", start, member_type, bit_size, within)
-        # DWARF 2/3: DW_AT_bit_offset counts from the MSB of the storage unit at the member offset
-        bit_offset = attrs.get(dwarf.AT_BIT_OFFSET) or 0
-        return CMember(name if isinstance(name, str) else "", offset or 0, member_type, bit_size,
-                       8 * storage - bit_offset - bit_size)

@@ -29,9 +29,10 @@ from workbench.progress import Progress, report
 # resolved or the symbol table searched: an update that its cached index answers needs none of them.
 if TYPE_CHECKING:
     from workbench.elf import dwarf
-    from workbench.elf.ctypes_model import CType, TypeResolver
+    from workbench.elf.ctypes_model import CType
     from workbench.elf.dwarf_index import DwarfIndex
     from workbench.elf.paths import PathError
+    from workbench.elf.type_resolver import TypeResolver
 
 __all__ = ["AmbiguousSymbolError", "DebugData", "ResolvedSymbol"]
 
@@ -397,7 +398,7 @@ class DebugData:
         if offset is not None and offset in self._types:
             return self._types[offset]
         if self._resolver is None:
-            from workbench.elf.ctypes_model import TypeResolver
+            from workbench.elf.type_resolver import TypeResolver
 
             self._resolver = TypeResolver(self._dwarf(), self._types, self._dwarf_index().definition_of)
         try:
