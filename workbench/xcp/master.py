@@ -178,7 +178,7 @@ class XcpMaster:
             response = self._skip_late_synch(command, self.link.exchange(packet, timeout_s), timeout_s)
             if check is not None:
                 response, refused = self._checked(command, response, timeout_s, check, refused)
-            if response is None and refused is not None and (attempts >= 2 or not repeat):
+            if refused is not None and response is None and (attempts >= 2 or not repeat):
                 problem, stale = refused
                 raise WorkbenchError(f"XCP {command.name}: the answer {stale[:8].hex(' ')} is no {command.name} "
                                      f"response: {problem}; another master on the bus, or a packet of an "
