@@ -62,6 +62,21 @@ def test_the_cursor_stops_following_and_shows_each_value_at_its_time(plot):
     assert plot.following and not plot.cursor_button.isChecked()
 
 
+def test_the_cursors_time_is_clear_of_the_ticks_of_the_axis_beside_it(plot, qtbot):
+    plot.add_signals(["rail"])
+    plot.refresh()
+    plot.cursor_button.setChecked(True)
+    plot.cursor.setPos(7.0)
+    view = plot.plot.vb
+    # placed once the view has its range: at the view's top, within its width
+    qtbot.waitUntil(lambda: abs(plot.cursor_label.sceneBoundingRect().top() - view.sceneBoundingRect().top()) < 2
+                    and plot.cursor_label.sceneBoundingRect().left() < view.sceneBoundingRect().center().x(),
+                    timeout=2000)
+    label = plot.cursor_label.sceneBoundingRect()
+    ticks = max(abs(axis.item.style["tickLength"]) for axis in plot._axes)  # they point into the plot
+    assert label.left() >= view.sceneBoundingRect().left() + ticks + 1  # its first letter was under them
+
+
 def test_removing_the_last_signal_of_a_unit_drops_its_axis(plot, hub):
     plot.add_signals(["rail", "duty"])
     plot.remove_signals(["duty"])

@@ -47,6 +47,7 @@ AXES_SHARE = 0.4  # of the plot's width, at most, for its y-axes (one is always 
 AXIS_WIDTH_PX = 50  # what an axis takes, counted alike for all (their widths follow their ticks: no flicker)
 LEGEND_EVERY = 4  # refreshes per update of the legend's numbers (6 Hz: readable, and a frame saved)
 SPANS_S = (2.0, 5.0, 10.0, 30.0, 60.0, 300.0)
+_LABEL_INSET_PX = 8  # the cursors' times right of the y-axis' ticks (5 px into the plot)
 
 
 class _Axis:
@@ -434,9 +435,11 @@ class PlotWindow(SignalDropTarget, QWidget):
         self._update_legend_values(t)
 
     def _place_cursor_label(self, *_) -> None:
-        """The cursors' times at the plot's top left, wherever the cursors are and however it is zoomed."""
+        """The cursors' times at the plot's top left, wherever the cursors are and however it is zoomed, clear of
+        the ticks of the axis beside it (they point into the plot and covered the label's first letter)."""
         (x0, _), (_, y1) = self.plot.vb.viewRange()
-        self.cursor_label.setPos(x0, y1)
+        pixel = self.plot.vb.viewPixelSize()[0]
+        self.cursor_label.setPos(x0 + _LABEL_INSET_PX * pixel, y1)
 
     # --- refresh --------------------------------------------------------------------------------
 
