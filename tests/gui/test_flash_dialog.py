@@ -63,11 +63,16 @@ def test_the_working_page_flashed_into_cal_rom_becomes_the_reference_page(window
     session = window.controller.session
     session.write("xsSWITCH_TANK_THR", 27.5)
     assert session.read("xsSWITCH_TANK_THR", page="reference") == pytest.approx(20.0)
+    with qtbot.waitSignal(window.parameter_sets.compared, timeout=WAIT_MS):
+        window.parameter_sets.compare_pages()
+    assert window.compare.rows_shown() == ["xsSWITCH_TANK_THR"]
     dialog = window.open_flash_dialog()
     dialog._working_page()
     with qtbot.waitSignal(dialog.flashed, timeout=FLASH_MS):
         dialog.start()
     assert session.read("xsSWITCH_TANK_THR", page="reference") == pytest.approx(27.5)
+    # the comparison shown is of the pages before the flash: it says so (it read 20.00 beside 27.50 still)
+    qtbot.waitUntil(lambda: "outdated: the ECU was flashed since" in window.compare.summary.text(), timeout=WAIT_MS)
     dialog.close_button.click()
 
 

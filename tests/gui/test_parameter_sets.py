@@ -45,6 +45,11 @@ def test_the_working_page_is_compared_with_the_reference_page(window, qtbot):
     assert len(view.rows_shown()) > 50
     view.show_equal.setChecked(False)
     session.write("xsSWITCH_TANK_THR", 20.0)
+    window.controller.written.emit("xsSWITCH_TANK_THR")  # as an editor of the window says it
+    assert view.summary.text() == "1 of 58 objects differ · outdated: xsSWITCH_TANK_THR written since"
+    with qtbot.waitSignal(window.parameter_sets.compared, timeout=WAIT_MS):
+        view.refresh_button.click()
+    assert view.rows_shown() == [] and "outdated" not in view.summary.text()
 
 
 def test_the_compare_views_filter_keeps_its_placeholder_at_the_least_width_beside_the_apply_button(qtbot):

@@ -97,6 +97,7 @@ class ParameterSets(QObject):
         self.progress: QProgressDialog | None = None
         view.refresh_requested.connect(self.compare_again)
         view.apply_requested.connect(self.ask_apply)
+        window.controller.written.connect(lambda name: self.ecu_changed(f"{name} written since"))
 
     @property
     def session(self):
@@ -148,6 +149,11 @@ class ParameterSets(QObject):
         if self.session is None:
             return None
         return self._run(save_working_page, (self.session, path), "saving the working page", self.message.emit)
+
+    def ecu_changed(self, reason: str) -> None:
+        """The ECU's values changed (a write, a flash): a comparison that read them says it is outdated."""
+        if self.last is not None and self.last[0] in (compare_with_ecu, compare_pages):
+            self.view.mark_outdated(reason)
 
     def compare_again(self) -> None:
         if self.last is not None:

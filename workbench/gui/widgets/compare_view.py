@@ -120,11 +120,21 @@ class CompareView(QWidget):
         counts = diff.counts()
         differing = len(diff.objects) - counts["equal"]
         self.summary.setText(f"{differing} of {len(diff.objects)} objects differ")
+        self.summary.setStyleSheet(f"color: {theme.MUTED};")
+        self.summary.setToolTip("")
         self.apply_button.setVisible(can_apply)
         self.refresh_button.setEnabled(True)
         first = self.proxy.index(0, 0)
         if first.isValid():
             self.table.setCurrentIndex(first)
+
+    def mark_outdated(self, reason: str) -> None:
+        """The ECU changed since it was compared (``reason``): the rows shown are no longer what it holds."""
+        if self.diff is None or "outdated" in self.summary.text():
+            return
+        self.summary.setText(f"{self.summary.text()} · outdated: {reason}")
+        self.summary.setStyleSheet(f"color: {theme.WARN};")
+        self.summary.setToolTip("Compare again to see what the ECU holds now")
 
     def _show_elements(self, current, _previous=None) -> None:
         diff = current.data(Qt.UserRole) if current.isValid() else None
