@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from PySide6.QtCore import Qt
+from PySide6.QtCore import QRectF, Qt
 from PySide6.QtGui import QFont, QFontMetrics
 
 from workbench.gui.signal_hub import SignalHub, SignalInfo
@@ -129,3 +129,24 @@ def test_a_measurement_window_closes_and_its_signals_are_no_longer_measured_for_
     first.close_button.click()
     assert first not in window.plots and not names & window.hub.shown()
     assert first.title not in [spec.title for spec in window.current_project().plots]  # nor saved in the project
+
+
+def test_the_3d_views_labels_never_overlap_and_give_way_names_first(qtbot):
+    from workbench.gui.widgets.surface_view import SurfaceView
+
+    view = SurfaceView("xaPRV_FF_TARGET [bar]", "xaPRV_FF_MANIFOLD [bar]", "%")
+    qtbot.addWidget(view)
+    view.set_surface(np.arange(30.0).reshape(6, 5), np.arange(0, 60, 10.0), np.array([50, 100, 200, 400, 700.0]),
+                     point_text=lambda axis, p: f"{p:.2f}")
+    view.show()
+    for size, everything in (((520, 420), True), ((330, 130), False)):  # a roomy dock; a 1080 px screen's map tab
+        view.resize(*size)
+        qtbot.waitUntil(lambda: (view.width(), view.height()) == size, timeout=2000)
+        labels = view.labels()
+        rects = [rect for rect, _ in labels]
+        assert all(QRectF(view.rect()).contains(rect) for rect in rects)
+        assert not any(a.intersects(b) for i, a in enumerate(rects) for b in rects[i + 1:]), labels
+        texts = [text for _, text in labels]
+        assert texts[0] == "0 … 29 %"  # the value range always
+        every = ["0.00", "50.00", "50.00", "700.00", "xaPRV_FF_TARGET [bar]", "xaPRV_FF_MANIFOLD [bar]"]
+        assert (sorted(texts[1:]) == sorted(every)) == everything  # a small view leaves out what would collide

@@ -72,7 +72,7 @@ def test_the_working_page_flashed_into_cal_rom_becomes_the_reference_page(window
         dialog.start()
     assert session.read("xsSWITCH_TANK_THR", page="reference") == pytest.approx(27.5)
     # the comparison shown is of the pages before the flash: it says so (it read 20.00 beside 27.50 still)
-    qtbot.waitUntil(lambda: "outdated: the ECU was flashed since" in window.compare.summary.text(), timeout=WAIT_MS)
+    qtbot.waitUntil(lambda: "outdated: flashed since" in window.compare.summary.text(), timeout=WAIT_MS)
     dialog.close_button.click()
 
 

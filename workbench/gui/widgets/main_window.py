@@ -606,7 +606,7 @@ class MainWindow(QMainWindow):
 
     def _flash_over(self) -> None:
         """Read what the ECU is now (the application again, or the boot loader after a failed flash)."""
-        self.parameter_sets.ecu_changed("the ECU was flashed since")
+        self.parameter_sets.ecu_changed("flashed since")
         self.status.set_pause("reading the ECU after the flash")
         self.controller.call("info", on_done=self._ecu_after_flash)
 

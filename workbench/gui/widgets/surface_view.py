@@ -6,7 +6,7 @@ Drag to turn it. No OpenGL, so it renders the same on every platform, offscreen 
 from __future__ import annotations
 
 import numpy as np
-from PySide6.QtCore import QPointF, Qt
+from PySide6.QtCore import QPointF, QRectF, Qt
 from PySide6.QtGui import QColor, QPainter, QPen, QPolygonF
 from PySide6.QtWidgets import QSizePolicy, QWidget
 
@@ -29,7 +29,7 @@ class SurfaceView(QWidget):
         self.value_text = lambda value: format_value(float(value))
         self.azimuth, self.elevation = 35.0, 28.0  # the corner of the first breakpoints in front
         self._drag: QPointF | None = None
-        self.setMinimumSize(160, 80)  # as the heat map beside it: the editor fits a laptop's screen
+        self.setMinimumSize(160, 120)
         self.setSizePolicy(QSizePolicy.Expanding, QSizePolicy.Expanding)
         self.setToolTip("drag to turn the map")
 
@@ -109,29 +109,47 @@ class SurfaceView(QWidget):
             painter.drawLine(QPointF(*floor[a]), QPointF(*floor[b]))
 
     def _draw_labels(self, painter: QPainter, floor: np.ndarray) -> None:
-        """The first and last breakpoints and the name of each axis, outside the floor's edges (on top of the
-        surface); the value range in the corner."""
+        painter.setPen(QColor(theme.MUTED))
+        for rect, text in self.labels(floor, painter.fontMetrics()):
+            painter.drawText(rect, Qt.AlignCenter, text)
+
+    def labels(self, floor: np.ndarray | None = None, metrics=None) -> list[tuple[QRectF, str]]:
+        """Where the labels go: the value range in the corner, the first and last breakpoint of each axis and
+        its name outside the floor's edges (on top of the surface). One that would overlap another or leave the
+        view is left out, the names first (the heat map's titles and the tooltip have them): on a small view the
+        titles ran over the breakpoints."""
+        if floor is None:
+            floor = self._floor(self._unit_cube())
+        metrics = metrics or self.fontMetrics()
         nx, ny = self.values.shape
         centre = floor.reshape(-1, 2).mean(axis=0)
-        painter.setPen(QColor(theme.MUTED))
-        metrics = painter.fontMetrics()
+        low, high = np.nanmin(self.values), np.nanmax(self.values)
+        unit = f" {self.unit}" if self.unit else ""
+        corner = f"{self.value_text(low)} … {self.value_text(high)}{unit}"
+        wanted = [(QRectF(6, 2, metrics.horizontalAdvance(corner), metrics.height()), corner)]
+        titles = []
         for axis, ends, points, title in ((0, ((0, 0), (nx - 1, 0)), self.x_points, self.x_label),
                                           (1, ((0, 0), (0, ny - 1)), self.y_points, self.y_label)):
             start, end = floor[ends[0]], floor[ends[1]]
             outward = (start + end) / 2 - centre
             outward = outward / (np.hypot(*outward) or 1.0)
-            for at, index in ((start, 0), (end, -1)):
+            along = (end - start) / (np.hypot(*(end - start)) or 1.0)
+            for at, index, inward in ((start, 0, along), (end, -1, -along)):  # off the corner the axes share
                 text = self.point_text(axis, points[index]) if len(points) else ""
-                self._text(painter, at + outward * 14, text, metrics)
-            self._text(painter, (start + end) / 2 + outward * 32, title, metrics)
-        low, high = np.nanmin(self.values), np.nanmax(self.values)
-        unit = f" {self.unit}" if self.unit else ""
-        painter.drawText(6, metrics.height(), f"{self.value_text(low)} … {self.value_text(high)}{unit}")
+                shift = inward * (metrics.horizontalAdvance(text) / 2 * abs(inward[0]) + 4)
+                wanted.append((self._centred(at + outward * 14 + shift, text, metrics), text))
+            titles.append((self._centred((start + end) / 2 + outward * 32, title, metrics), title))
+        placed: list[tuple[QRectF, str]] = []
+        view = QRectF(self.rect())
+        for rect, text in wanted + titles:
+            if text and view.contains(rect) and not any(rect.intersects(other) for other, _ in placed):
+                placed.append((rect, text))
+        return placed
 
     @staticmethod
-    def _text(painter: QPainter, centre, text: str, metrics) -> None:
-        width = metrics.horizontalAdvance(text)
-        painter.drawText(QPointF(centre[0] - width / 2, centre[1] + metrics.ascent() / 2), text)
+    def _centred(centre, text: str, metrics) -> QRectF:
+        width, height = metrics.horizontalAdvance(text) + 2, metrics.height()
+        return QRectF(centre[0] - width / 2, centre[1] - height / 2, width, height)
 
     # --- turning --------------------------------------------------------------------------------
 
