@@ -26,11 +26,12 @@ def test_bus_options_that_do_not_parse_keep_the_dialog_open(qtbot, demo_workspac
     qtbot.addWidget(dialog)
     dialog.bus_kwargs.setText("port 43210")
     dialog._accept()
-    assert "write KEY=VALUE" in dialog.error.text() and dialog.result() == 0
+    assert "expected KEY=VALUE" in dialog.error.text() and dialog.result() == 0
 
 
 def test_bus_options_are_python_can_keywords():
-    assert parse_bus_kwargs("port=43210, app_name=CANape fd=x") == {"port": 43210, "app_name": "CANape", "fd": "x"}
+    assert parse_bus_kwargs("port=43210, app_name=CANape fd=True x=0.5") == {  # as the CLI's --bus-kwargs
+        "port": 43210, "app_name": "CANape", "fd": True, "x": 0.5}
     with pytest.raises(InputError, match="'port'"):
         parse_bus_kwargs("port")
 

@@ -17,6 +17,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
+from workbench import bus_defaults
 from workbench.errors import InputError
 from workbench.gui import theme
 from workbench.gui.project import Connection
@@ -27,17 +28,15 @@ INTERFACES = ("udp_multicast", "virtual", "socketcan", "vector", "pcan", "kvaser
 
 
 def parse_bus_kwargs(text: str) -> dict:
-    """``port=43200 app_name=CANape`` -> {"port": 43200, "app_name": "CANape"} (numbers become ints).
+    """``port=43200 app_name=CANape`` (spaces or commas between) -> {"port": 43200, "app_name": "CANape"}, the
+    values read as ``--bus-kwargs`` reads them (:func:`workbench.bus_defaults.parse_bus_kwargs`).
 
-    :raises InputError: an item without ``=``.
+    :raises InputError: an item that is not KEY=VALUE.
     """
-    result = {}
-    for item in text.replace(",", " ").split():
-        key, sep, value = item.partition("=")
-        if not sep or not key:
-            raise InputError(f"bus option {item!r}: write KEY=VALUE")
-        result[key] = int(value) if value.lstrip("-").isdigit() else value
-    return result
+    try:
+        return bus_defaults.parse_bus_kwargs(text.replace(",", " ").split())
+    except ValueError as exc:
+        raise InputError(f"bus option {exc}") from None
 
 
 class ConnectionDialog(QDialog):
