@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import ctypes.util
+import importlib.util
 import os
 import re
 import socket
@@ -88,7 +89,29 @@ def display_problem() -> str | None:
         return f"no X server answers on the display {display}: start one, or fix DISPLAY"
     if ctypes.util.find_library("xcb-cursor") is None:
         return "Qt's X11 platform needs libxcb-cursor0: install it (Debian/Ubuntu: sudo apt install libxcb-cursor0)"
+    return _x11_plugin_problem()
+
+
+def _x11_plugin_problem() -> str | None:
+    """Why Qt's X11 platform plugin cannot be loaded (a system library it links is missing: Qt would abort the
+    process), or None. Loading it is the one sure test; it loads the Qt libraries PySide6 loads anyway."""
+    plugin = _x11_plugin()
+    if plugin is None or not plugin.exists():
+        return None  # no PySide6: require_gui names the package
+    try:
+        ctypes.CDLL(str(plugin))
+    except OSError as exc:
+        return (f"Qt's X11 platform cannot load: {exc}; install Qt's X11 libraries (Debian/Ubuntu: sudo apt install "
+                "libxcb-cursor0 libxcb-icccm4 libxcb-keysyms1 libxcb-image0 libxcb-render-util0 libxkbcommon-x11-0)")
     return None
+
+
+def _x11_plugin() -> Path | None:
+    """PySide6's X11 platform plugin, found without importing Qt."""
+    spec = importlib.util.find_spec("PySide6")
+    if spec is None or not spec.submodule_search_locations:
+        return None
+    return Path(next(iter(spec.submodule_search_locations))) / "Qt" / "plugins" / "platforms" / "libqxcb.so"
 
 
 def _x_server_answers(display: str) -> bool:
