@@ -25,7 +25,7 @@ os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 def pytest_configure(config) -> None:
     """The README's test command runs on a machine without a screen too: Qt's offscreen platform is chosen when
     no display answers (Qt's xcb platform would abort the interpreter); an explicit QT_QPA_PLATFORM stays."""
-    from workbench.cli.gui import display_problem
+    from workbench.gui.display import display_problem
 
     if display_problem() is not None:
         os.environ["QT_QPA_PLATFORM"] = "offscreen"

@@ -82,17 +82,17 @@ def test_without_a_display_the_window_is_one_line_not_a_qt_abort(display, tmp_pa
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="X11 and Wayland displays are Linux's")
 def test_a_display_whose_qt_platform_cannot_load_is_one_line_not_a_qt_abort(monkeypatch, tmp_path):
     """A desktop without one of the xcb libraries Qt's X11 plugin links (libxcb-icccm4 ...): Qt would abort."""
-    from workbench.cli import gui
+    from workbench.gui import display
 
     broken = tmp_path / "libqxcb.so"
     broken.write_bytes(b"not a shared library")
     monkeypatch.delenv("QT_QPA_PLATFORM", raising=False)
     monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
     monkeypatch.setenv("DISPLAY", ":0")
-    monkeypatch.setattr(gui, "_x_server_answers", lambda display: True)
-    monkeypatch.setattr(gui.ctypes.util, "find_library", lambda name: f"lib{name}.so.0")
-    monkeypatch.setattr(gui, "_x11_plugin", lambda: broken)
-    problem = gui.display_problem()
+    monkeypatch.setattr(display, "_x_server_answers", lambda name: True)
+    monkeypatch.setattr(display.ctypes.util, "find_library", lambda name: f"lib{name}.so.0")
+    monkeypatch.setattr(display, "_x11_plugin", lambda: broken)
+    problem = display.display_problem()
     assert problem.startswith("Qt's X11 platform cannot load: ") and "libxcb-icccm4" in problem
-    monkeypatch.setattr(gui, "_x11_plugin", lambda: None)
-    assert gui.display_problem() is None  # no PySide6 to check: require_gui names the package
+    monkeypatch.setattr(display, "_x11_plugin", lambda: None)
+    assert display.display_problem() is None  # no PySide6 to check: require_gui names the package
