@@ -271,3 +271,13 @@ def test_what_makes_a_packet_no_connect_response(packet, max_packet, problem):
     from workbench.xcp.info import ConnectInfo
 
     assert ConnectInfo.problem(bytes.fromhex(packet), max_packet) == problem
+
+
+def test_options_the_interface_refuses_are_bad_input():
+    """``--bus-kwargs port=abc``: python-can's ValueError is the user's input, exit 2, not a failed operation."""
+    from workbench.bus_defaults import BusSpec
+    from workbench.errors import InputError
+    from workbench.xcp.link import LinkSettings
+
+    with pytest.raises(InputError, match=r"cannot open the CAN bus \(udp_multicast .*\): Port config must be a number"):
+        Link(LinkSettings("CAN", BusSpec("udp_multicast", "239.74.163.2", options={"port": "abc"})))

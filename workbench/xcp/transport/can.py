@@ -222,7 +222,8 @@ def _is_data(message: can.Message) -> bool:
 def open_bus(config: dict[str, Any]) -> can.BusABC:
     """A python-can bus from ``Bus(**config)`` keyword arguments, errors as one line.
 
-    :raises InputError: an unknown interface (naming the known ones).
+    :raises InputError: an unknown interface (naming the known ones), or options the interface refuses
+        (``--bus-kwargs port=abc``: python-can's ValueError or TypeError).
     :raises WorkbenchError: the bus cannot be opened (driver missing, device busy ...).
     """
     import can
@@ -235,7 +236,10 @@ def open_bus(config: dict[str, Any]) -> can.BusABC:
         return can.Bus(**config)
     except (can.CanError, OSError, ValueError, ImportError, TypeError) as exc:
         where = f"{interface} {config.get('channel', '')}".strip()
-        raise WorkbenchError(f"cannot open the CAN bus ({where}): {exc}") from None
+        # python-can's own errors (CanError) are no ValueError: a ValueError or TypeError is the interface
+        # refusing the options the user gave
+        error = InputError if isinstance(exc, (ValueError, TypeError)) else WorkbenchError
+        raise error(f"cannot open the CAN bus ({where}): {exc}") from None
 
 
 def widen_udp_receive_buffer(bus: can.BusABC) -> None:
