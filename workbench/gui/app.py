@@ -18,7 +18,7 @@ import time
 import uuid
 from pathlib import Path
 
-from PySide6.QtCore import QThreadPool, QTimer
+from PySide6.QtCore import QThreadPool, QtMsgType, QTimer, qInstallMessageHandler
 from PySide6.QtWidgets import QApplication
 
 from workbench.fileio import atomic_write_text
@@ -37,11 +37,20 @@ def application() -> QApplication:
     """The process's QApplication (made and themed on first use)."""
     app = QApplication.instance()
     if app is None:
+        qInstallMessageHandler(_log_qt_message)
         app = QApplication(sys.argv[:1])
         app.setApplicationName("workbench")
         app.setOrganizationName("workbench")
         theme.apply(app)
     return app
+
+
+def _log_qt_message(kind: QtMsgType, context, message: str) -> None:
+    """Qt's own messages into the log (``--debug`` shows them) rather than onto the user's stderr: the offscreen
+    platform of a screenshot says "This plugin does not support propagateSizeHints()" on every window shown.
+    Critical and fatal ones (Qt aborts after a fatal one) stay visible as errors."""
+    level = logging.ERROR if kind in (QtMsgType.QtCriticalMsg, QtMsgType.QtFatalMsg) else logging.DEBUG
+    log.log(level, "Qt: %s", message)
 
 
 def screenshot_screen(size: tuple[int, int] | None) -> None:
