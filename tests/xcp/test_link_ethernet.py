@@ -176,7 +176,8 @@ def test_tcp_a_closed_connection_is_a_lost_link_at_once_and_connect_tries_again(
         assert time.monotonic() - started < 2.5  # at once, not after the 5 s timeout
         assert link.lost.when <= time.time()
         slave.close()
-        with pytest.raises(WorkbenchError, match="cannot reach the ECU at 127.0.0.1"):  # CONNECT: a new connection
+        # CONNECT: a new connection
+        with pytest.raises(WorkbenchError, match=r"cannot reach the ECU: XCP on TCP \(127.0.0.1:\d+\): nothing listens at"):
             link.exchange(bytes([0xFF, 0]), 1.0)
     finally:
         link.close()
@@ -186,7 +187,8 @@ def test_tcp_nothing_at_the_address_is_one_line():
     with socket.socket() as probe:
         probe.bind(("127.0.0.1", 0))
         port = probe.getsockname()[1]
-    with pytest.raises(WorkbenchError, match=rf"cannot reach the ECU at 127.0.0.1:{port} \(TCP\): Connection refused"):
+    refused = rf"cannot reach the ECU: XCP on TCP \(127.0.0.1:{port}\): nothing listens at 127.0.0.1:{port} \(connection refused\)"
+    with pytest.raises(WorkbenchError, match=refused):  # as over UDP, where CONNECT finds it out
         Link(LinkSettings("TCP", host="127.0.0.1", port=port))
 
 

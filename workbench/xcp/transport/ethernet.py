@@ -62,12 +62,12 @@ class EthernetTransport(Transport):
 
     def _connect(self) -> socket.socket:
         kind = socket.SOCK_STREAM if self.kind == "TCP" else socket.SOCK_DGRAM
-        where = f"{self.host}:{self.port} ({self.kind})"
+        where = self.describe()  # as a CONNECT over UDP that nothing answers says it (Session.connect)
         try:
             family, _, _, _, address = socket.getaddrinfo(self.host, self.port, 0, kind)[0]
         except (socket.gaierror, UnicodeError) as exc:
             reason = getattr(exc, "strerror", None) or exc
-            raise WorkbenchError(f"cannot reach the ECU at {where}: unknown host ({reason})") from None
+            raise WorkbenchError(f"cannot reach the ECU: {where}: unknown host ({reason})") from None
         sock = socket.socket(family, kind)
         try:
             if kind == socket.SOCK_STREAM:
@@ -78,8 +78,8 @@ class EthernetTransport(Transport):
             sock.settimeout(SEND_TIMEOUT_S)
         except OSError as exc:
             sock.close()
-            reason = "no answer" if isinstance(exc, TimeoutError) else exc.strerror or str(exc)
-            raise WorkbenchError(f"cannot reach the ECU at {where}: {reason}") from None
+            reason = "no answer" if isinstance(exc, TimeoutError) else self._why(exc)
+            raise WorkbenchError(f"cannot reach the ECU: {where}: {reason}") from None
         return sock
 
     def reconnect(self) -> None:
