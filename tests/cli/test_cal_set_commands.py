@@ -51,6 +51,17 @@ def test_a_refused_value_sends_nothing_not_even_connect(bus, capsys, argv, messa
     assert log.take() == []
 
 
+@pytest.mark.parametrize("names, message", [
+    (["xsSWITCH_TANK_THR", "xsNOSUCH"], "unknown symbol 'xsNOSUCH'"),
+    (["xsNOSUCH_*"], "no object matches 'xsNOSUCH_*'"),
+])
+def test_cal_get_of_a_name_the_a2l_lacks_sends_nothing(bus, capsys, names, message):
+    options, log, _ = bus
+    code, out, err = run(capsys, "cal", "get", *names, *options)
+    assert (code, out) == (2, "") and err.startswith(f"error: {message}") and err.count("\n") == 1
+    assert log.take() == []
+
+
 def test_a_value_is_one_download_and_one_read_back(bus, capsys):
     options, log, sim = bus
     code, out, err = run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "20.1", *options)

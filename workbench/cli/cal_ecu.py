@@ -89,9 +89,10 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
 
 
 def _get(args: argparse.Namespace) -> int:
-    with open_session(args) as session:
-        model = session.model
-        names = model.expand(args.names)
+    doc = _document(args)
+    model = doc.model()
+    names = model.expand(args.names)  # a name the A2L lacks is said before connecting
+    with open_session(args, doc) as session:
         found = {}
         for name in names:
             kind = model.kind_of(name)
@@ -125,12 +126,18 @@ def _value_dict(value: Any) -> Any:
 def _offline(args: argparse.Namespace) -> tuple[A2lDocument, list | None]:
     """The A2L and the memory it lets calibrations be written to: what a write is checked against before
     connecting (a refusal then sends nothing; the bus is not even opened)."""
-    from workbench import demo
-    from workbench.a2l import load_a2l, read_xcp_config
+    from workbench.a2l import read_xcp_config
     from workbench.calib.writable import writable_spans
 
-    doc = load_a2l(args.a2l or demo.a2l())
+    doc = _document(args)
     return doc, writable_spans(doc.memory_segments(), read_xcp_config(doc).segments)
+
+
+def _document(args: argparse.Namespace) -> A2lDocument:
+    from workbench import demo
+    from workbench.a2l import load_a2l
+
+    return load_a2l(args.a2l or demo.a2l())
 
 
 def _set(args: argparse.Namespace) -> int:
