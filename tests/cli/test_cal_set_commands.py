@@ -51,13 +51,17 @@ def test_a_refused_value_sends_nothing_not_even_connect(bus, capsys, argv, messa
     assert log.take() == []
 
 
-@pytest.mark.parametrize("names, message", [
-    (["xsSWITCH_TANK_THR", "xsNOSUCH"], "unknown symbol 'xsNOSUCH'"),
-    (["xsNOSUCH_*"], "no object matches 'xsNOSUCH_*'"),
+@pytest.mark.parametrize("command, message", [
+    (["cal", "get", "xsSWITCH_TANK_THR", "xsNOSUCH"], "unknown symbol 'xsNOSUCH'"),
+    (["cal", "get", "xsNOSUCH_*"], "no object matches 'xsNOSUCH_*'"),
+    (["measure", "zsRailPressure", "zsNOSUCH", "--duration", "0.1"], "unknown symbol 'zsNOSUCH'"),
+    (["measure", "zsNOSUCH", "--record", "x.mf4", "--duration", "0.1"], "unknown symbol 'zsNOSUCH'"),
 ])
-def test_cal_get_of_a_name_the_a2l_lacks_sends_nothing(bus, capsys, names, message):
+def test_a_name_neither_a2l_nor_dbc_has_sends_nothing(bus, capsys, tmp_path, monkeypatch, command, message):
+    """With no ECU a typo would otherwise be 'no ECU answers' after T1."""
     options, log, _ = bus
-    code, out, err = run(capsys, "cal", "get", *names, *options)
+    monkeypatch.chdir(tmp_path)
+    code, out, err = run(capsys, *command, *options)
     assert (code, out) == (2, "") and err.startswith(f"error: {message}") and err.count("\n") == 1
     assert log.take() == []
 

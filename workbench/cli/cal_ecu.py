@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from workbench.cli.cal_values import typed_value, value_from_file
-from workbench.cli.ecu_options import add_ecu_arguments, can2_dbc, open_session
+from workbench.cli.ecu_options import a2l_document, add_ecu_arguments, can2_dbc, open_session
 from workbench.cli.options import add_can2_bus_arguments, can2_bus_spec, print_json
 from workbench.cli.render import decimals, jsonable, value_block, value_text
 from workbench.errors import InputError
@@ -89,7 +89,7 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
 
 
 def _get(args: argparse.Namespace) -> int:
-    doc = _document(args)
+    doc = a2l_document(args)
     model = doc.model()
     names = model.expand(args.names)  # a name the A2L lacks is said before connecting
     with open_session(args, doc) as session:
@@ -129,15 +129,8 @@ def _offline(args: argparse.Namespace) -> tuple[A2lDocument, list | None]:
     from workbench.a2l import read_xcp_config
     from workbench.calib.writable import writable_spans
 
-    doc = _document(args)
+    doc = a2l_document(args)
     return doc, writable_spans(doc.memory_segments(), read_xcp_config(doc).segments)
-
-
-def _document(args: argparse.Namespace) -> A2lDocument:
-    from workbench import demo
-    from workbench.a2l import load_a2l
-
-    return load_a2l(args.a2l or demo.a2l())
 
 
 def _set(args: argparse.Namespace) -> int:

@@ -31,6 +31,14 @@ def add_ecu_arguments(parser: argparse.ArgumentParser, *, json_output: bool = Tr
         add_output_arguments(parser)
 
 
+def a2l_document(args: argparse.Namespace) -> A2lDocument:
+    """The A2L of ``--a2l`` (default: the demo's), loaded before connecting so names can be checked first."""
+    from workbench import demo
+    from workbench.a2l import load_a2l
+
+    return load_a2l(args.a2l or demo.a2l())
+
+
 def can2_dbc(args: argparse.Namespace) -> str | None:
     """The CAN2 DBC: ``--can2 DBC``, else the demo's with the demo's A2L (None: no DBC is known)."""
     from pathlib import Path

@@ -9,7 +9,7 @@ import time
 from typing import Any
 
 from workbench.bus_defaults import BusSpec
-from workbench.cli.ecu_options import add_ecu_arguments, can2_dbc, open_session
+from workbench.cli.ecu_options import a2l_document, add_ecu_arguments, can2_dbc, open_session
 from workbench.cli.options import add_can2_bus_arguments, can2_bus_spec, positive_float
 from workbench.cli.render import decimals, jsonable, value_text
 
@@ -67,10 +67,11 @@ def run(args: argparse.Namespace) -> int:
     if args.event is not None and not args.daq:
         args.daq = True  # an event only means something to DAQ
     _check_recording_options(args)
-    with open_session(args) as session:
+    doc = a2l_document(args)
+    names, can2, databases = _split_names(args, doc.model())  # a name neither A2L nor DBC has: before connecting
+    with open_session(args, doc) as session:
         if args.record:
             return _record(args, session)
-        names, can2, databases = _split_names(args, session)
         view = _view(args, session, can2)
         monitor = _can2_monitor(args, session, can2, databases) if can2 else None
         try:
@@ -87,14 +88,13 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _split_names(args: argparse.Namespace, session) -> tuple[list[str], dict[str, Any], list]:
+def _split_names(args: argparse.Namespace, model) -> tuple[list[str], dict[str, Any], list]:
     """The A2L's names among NAME..., the CAN2 signals (``Message.Signal`` -> cantools signal) of the DBC (--can2,
     or the demo's with the demo's A2L) as the window names and plots them, and the DBC's databases."""
     from workbench.a2l.model import closest_names
     from workbench.can.naming import dbc_signal_name, find_dbc_signal
     from workbench.errors import UnknownSymbolError
 
-    model = session.model
     names, can2, databases = [], {}, None
     for name in args.names:
         if name in model:
