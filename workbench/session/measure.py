@@ -197,7 +197,9 @@ class EventAccess:
 
         :param event: one event (name or number) for every signal (default: each signal's A2L DAQ_EVENT).
         :param prescaler: a sample every ``prescaler`` events, when the slave offers PRESCALER_SUPPORTED.
+        :raises WorkbenchError: the ECU is in its boot loader (nothing to measure there).
         """
+        self.require_application()
         return DaqMeasurement(self, names, event, prescaler)
 
     def event_number(self: Session, event: str | int) -> int:

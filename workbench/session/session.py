@@ -213,9 +213,20 @@ class Session(ValueAccess, EventAccess, FixAccess):
     def read_only(self) -> bool:
         return self.epk.matches is False and not self.accept_epk_mismatch
 
+    def require_application(self) -> None:
+        """:raises WorkbenchError: the ECU answers in its boot loader, where no calibration or measurement
+        lives (a read there gives whatever the memory holds, the simulator's zeros; writes, pages and DAQ are
+        unknown commands); nothing is sent. Raw memory (:meth:`read_memory`) and flashing stay open."""
+        if self.in_boot:
+            raise WorkbenchError("the ECU is in its boot loader (programming only: no application runs, so there "
+                                 "are no calibrations or measurements to read); flash its application first: "
+                                 "`workbench flash FILE --region APPLICATIVE` (workbench.flash)")
+
     def require_writable(self) -> None:
         """:raises EpkMismatchError: the EPKs differ and the caller did not accept it (writes, page switches
-        and page copies are refused then, before anything is sent)."""
+        and page copies are refused then, before anything is sent).
+        :raises WorkbenchError: the ECU is in its boot loader (:meth:`require_application`)."""
+        self.require_application()
         if self.read_only:
             raise EpkMismatchError(self.epk.a2l or "", self.epk.ecu or "",
                                    "the session is read-only (no writes, no page switches); flash the matching "

@@ -115,6 +115,7 @@ class ValueAccess:
         obj = self.model.object(name)
         if not isinstance(obj, (Characteristic, AxisPts)):
             raise InputError(f"{name} is a {type(obj).__name__.upper()}, not a calibration object: use read()")
+        self.require_application()
         with self.lock, self.on_page(page, self.segments_of([name]) if page is not None else None):
             resolved = self._resolve([name])[name]
             return resolved.decode(self._fresh_bytes(resolved.spans()))
@@ -123,6 +124,7 @@ class ValueAccess:
         """Several objects at once, neighbouring addresses merged into few UPLOADs: ``{name: value}``."""
         names = list(dict.fromkeys(names))
         codecs = {name: self._codec(name) for name in names if isinstance(self.model.object(name), Measurement)}
+        self.require_application()
         with self.lock, self.on_page(page, self.segments_of(names) if page is not None else None):
             resolved = self._resolve([name for name in names if name not in codecs])
             spans = [codec.span for codec in codecs.values()] + [s for r in resolved.values() for s in r.spans()]
