@@ -105,6 +105,11 @@ def test_cal_set_takes_what_cal_get_shows(bus, capsys, tmp_path):
     before[1][2] = 55.0
     assert after == before
 
+    printed = "\n".join(lines[:7]).replace(" 70.00 ", " 71.00 ", 1)  # as printed (`cal get NAME > map.csv`)
+    (tmp_path / "printed.csv").write_text(printed + "\n")
+    code, out, err = run(capsys, "cal", "set", "xvPRV_DC_FF", "--from", str(tmp_path / "printed.csv"), *bus)
+    assert (code, err) == (0, "") and out.splitlines()[4].split()[:4] == ["200", "0", "71", "70"]
+
     grid = [[float(10 * y + x) for x in range(6)] for y in range(5)]  # the values alone, 5 Y rows x 6 X columns
     (tmp_path / "values.csv").write_text("\n".join(",".join(map(str, row)) for row in grid))
     assert run(capsys, "cal", "set", "xvPRV_DC_FF", "--from", str(tmp_path / "values.csv"), *bus)[0] == 0

@@ -3,7 +3,8 @@
 - Typed: a number, an enum's text, a list (``[1, 2, 3]`` or ``1,2,3``), a nested list indexed ``[x][y]``.
 - ``.json``: the same, or what ``cal get NAME --json`` printed (``{NAME: {"value": ..., "axes": [...]}}``,
   the value indexed ``[x][y]``): its axis points are written too where they differ.
-- ``.csv``: the grid as ``cal get`` prints it. A curve, a 1-D value block or an axis is one row; a map
+- ``.csv``: the grid as ``cal get`` prints it (cells apart by commas, or by spaces as printed, the legend line
+  included). A curve, a 1-D value block or an axis is one row; a map
   has X across and Y down (one row per Y point, as the window and CANape show it); a 2-D value block
   one row per first index. Curves and maps may carry their axis points as ``cal get`` labels them (a
   curve's rows ``x,...`` and ``value,...``; a map's first row ``y\\x,x0,x1,...`` and each Y point
@@ -64,7 +65,8 @@ def value_from_file(path: Path, model: A2lModel, name: str, *, cell: bool = Fals
             raise InputError(f"{path}:{exc.lineno}:{exc.colno}: {exc.msg}") from None
         return _json_value(path, model, name, value)
     if suffix == ".csv":
-        rows = _csv_rows(path, data)
+        text = getattr(model.object(name), "type", None) == "ASCII"  # its one cell may hold spaces
+        rows = _csv_rows(path, data, None if text else f"{name}:")
         if cell:
             if _size(rows) != (1, 1):
                 raise InputError(f"{path}: {_extent(_size(rows))}; one value of {name} is one number")
@@ -125,11 +127,19 @@ def _array(values: Any) -> np.ndarray:
 # --- CSV ------------------------------------------------------------------------------------------
 
 
-def _csv_rows(path: Path, data: str) -> list[list[Any]]:
+def _csv_rows(path: Path, data: str, legend: str | None = None) -> list[list[Any]]:
     """The cells, numbers converted, trailing empty cells and blank lines at the end left out (row N is
-    line N); an empty cell is refused but for the first (a map's corner)."""
+    line N); an empty cell is refused but for the first (a map's corner). With ``legend`` (``NAME:``) a
+    table as ``cal get`` prints it is taken too: cells apart by spaces (no comma after the legend line, which
+    is left out when the file starts with it)."""
+    lines = data.splitlines()
+    skip = 1 if legend is not None and lines and lines[0].startswith(legend) else 0
+    if legend is None or any("," in line for line in lines[skip:]):
+        parsed = enumerate(csv.reader(lines), start=1)
+    else:
+        parsed = ((number, line.split()) for number, line in enumerate(lines[skip:], start=1))
     rows = []
-    for line, row in enumerate(csv.reader(data.splitlines()), start=1):
+    for line, row in parsed:
         cells = [cell.strip() for cell in row]
         while cells and not cells[-1]:
             cells.pop()
