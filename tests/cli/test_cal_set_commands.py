@@ -54,6 +54,7 @@ def test_a_refused_value_sends_nothing_not_even_connect(bus, capsys, argv, messa
 @pytest.mark.parametrize("command, message", [
     (["cal", "get", "xsSWITCH_TANK_THR", "xsNOSUCH"], "unknown symbol 'xsNOSUCH'"),
     (["cal", "get", "xsNOSUCH_*"], "no object matches 'xsNOSUCH_*'"),
+    (["cal", "list", "xsNOSUCH_*"], "no calibration matches 'xsNOSUCH_*'"),
     (["measure", "zsRailPressure", "zsNOSUCH", "--duration", "0.1"], "unknown symbol 'zsNOSUCH'"),
     (["measure", "zsNOSUCH", "--record", "x.mf4", "--duration", "0.1"], "unknown symbol 'zsNOSUCH'"),
 ])

@@ -185,11 +185,12 @@ def _print_cell(args: argparse.Namespace, model, name: str, index: tuple[int, ..
 
 
 def _list(args: argparse.Namespace) -> int:
-    with open_session(args) as session:
-        model = session.model
-        names = [s.name for s in model.find(args.pattern, kind=("CHARACTERISTIC", "AXIS_PTS"))]
-        if not names:
-            raise InputError(f"no calibration matches {args.pattern!r}")
+    doc = a2l_document(args)
+    model = doc.model()
+    names = [s.name for s in model.find(args.pattern, kind=("CHARACTERISTIC", "AXIS_PTS"))]
+    if not names:  # said before connecting
+        raise InputError(f"no calibration matches {args.pattern!r}")
+    with open_session(args, doc) as session:
         values = session.read_many(names)
     rows = []
     for name in names:
