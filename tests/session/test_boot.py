@@ -50,3 +50,19 @@ def test_cal_get_is_one_line_and_exit_1(channel, capsys):
         code = main(["cal", "get", "xsSWITCH_TANK_THR", "--interface", "virtual", "--channel", channel])
     out, err = capsys.readouterr()
     assert (code, out) == (1, "") and err.startswith(f"error: {IN_BOOT}") and err.count("\n") == 1
+
+
+def test_a_name_read_before_the_ecu_went_to_boot_is_refused_too(channel):
+    """A polled read keeps how to read a name (one command); an ECU found in boot on connecting again (a
+    cancelled flash, a reset into the boot loader) refuses it like a name never read."""
+    with serve_demo({"interface": "virtual", "channel": channel}):
+        session = Session.open(interface="virtual", channel=channel, timeouts=FAST)
+        assert session.read("xsSWITCH_TANK_THR") == pytest.approx(20.0)
+    with session, serve_demo({"interface": "virtual", "channel": channel}, valid_key=False), \
+            CommandLog(channel) as log:
+        session.connect()
+        assert session.in_boot
+        log.take()
+        with pytest.raises(WorkbenchError, match=IN_BOOT):
+            session.read("xsSWITCH_TANK_THR")
+        assert log.take() == []

@@ -82,6 +82,7 @@ class ValueAccess:
         """
         reader = self._readers.get(name) if page is None else None
         if reader is not None:  # read before, static and in one span: one command and its decoding
+            self.require_application()  # the ECU may be in its boot loader since (reconnected after a reset)
             span, decode = reader
             with self.lock:
                 value = decode(self.master.read(span.address, span.size, span.extension))
