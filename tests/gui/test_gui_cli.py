@@ -97,3 +97,15 @@ def test_a_display_whose_qt_platform_cannot_load_is_one_line_not_a_qt_abort(monk
     assert problem.startswith("Qt's X11 platform cannot load: ") and "libxcb-icccm4" in problem
     monkeypatch.setattr(display, "_x11_plugin", lambda: None)
     assert display.display_problem() is None  # no PySide6 to check: require_gui names the package
+
+
+def test_a_screenshot_of_a_window_that_gets_no_live_sample_is_taken_at_its_deadline(tmp_path, free_udp_port):
+    """An ECU in its boot loader measures nothing: the screenshot waited for a live sample for ever."""
+    from workbench.sim import serve_demo
+
+    bus = ["--interface", "udp_multicast", "--channel", "239.74.163.9", "--bus-kwargs", f"port={free_udp_port}"]
+    with serve_demo({"interface": "udp_multicast", "channel": "239.74.163.9", "port": free_udp_port},
+                    valid_key=False):
+        result = run("gui", *bus, "--screenshot", "boot.png", "--live-timeout", "3", cwd=tmp_path)
+    assert result.returncode == 1 and "error: no live sample within 3 s" in result.stderr
+    assert png_size(tmp_path / "boot.png")[0] >= 1200

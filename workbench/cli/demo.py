@@ -38,5 +38,5 @@ def run(args: argparse.Namespace) -> int:
     require_gui(args.screenshot is not None)
     from workbench.gui.app import run_demo
 
-    return run_demo(screenshot=args.screenshot, settle_s=args.settle, time_scale=args.time_scale,
-                    pcm_target_bar=args.pcm_target, screen=args.size)
+    return run_demo(screenshot=args.screenshot, settle_s=args.settle, live_timeout_s=args.live_timeout,
+                    time_scale=args.time_scale, pcm_target_bar=args.pcm_target, screen=args.size)

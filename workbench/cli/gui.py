@@ -38,6 +38,9 @@ def add_screenshot_arguments(parser: argparse.ArgumentParser) -> None:
                        help="render the window to PNG once live samples are on screen, then exit (implies --connect)")
     group.add_argument("--settle", type=float, default=4.0, metavar="S",
                        help="seconds of live data before the screenshot (default 4)")
+    group.add_argument("--live-timeout", type=float, default=30.0, metavar="S",
+                       help="no live sample within S seconds (an ECU in its boot loader, nothing measured): the "
+                            "screenshot shows the window as it is, exit 1 (default 30)")
     group.add_argument("--size", type=screen_size, metavar="WxH",
                        help="render the screenshot offscreen on a screen of WxH pixels, e.g. 1366x768 (default: the "
                             "display's screen, or 1600x1000 without a display); the window fits it")
@@ -87,4 +90,4 @@ def run(args: argparse.Namespace) -> int:
             "bitrate", None)
         project.connection = Connection(interface, channel, bitrate, settings, args.host, args.port, args.protocol)
     return run_window(project, connect=args.connect or args.screenshot is not None, screenshot=args.screenshot,
-                      settle_s=args.settle, screen=args.size)
+                      settle_s=args.settle, live_timeout_s=args.live_timeout, screen=args.size)

@@ -73,9 +73,11 @@ def demo_channel() -> str:
 
 
 def run_window(project: Project, *, connect: bool, screenshot: Path | None = None, settle_s: float = 4.0,
-               started: float | None = None, screen: tuple[int, int] | None = None) -> int:
+               live_timeout_s: float = 30.0, started: float | None = None,
+               screen: tuple[int, int] | None = None) -> int:
     """Show the window on ``project`` until it is closed (or the screenshot is taken); returns the exit code.
 
+    :param live_timeout_s: no live sample that long: the screenshot is taken as the window is, exit code 1.
     :param screen: the screenshot's screen (width, height): rendered offscreen on one of that size.
     """
     if screenshot is not None:
@@ -87,7 +89,7 @@ def run_window(project: Project, *, connect: bool, screenshot: Path | None = Non
     if connect:
         window.loaded.connect(lambda: window.connect_ecu())
     if screenshot is not None:
-        _take_screenshot_when_live(window, screenshot, settle_s, started, outcome)
+        _take_screenshot_when_live(window, screenshot, settle_s, live_timeout_s, started, outcome)
         window.controller.failed.connect(lambda exc: _fail(app, outcome, exc))
     window.show()
     window.load()
@@ -96,9 +98,14 @@ def run_window(project: Project, *, connect: bool, screenshot: Path | None = Non
     return outcome["code"] or code
 
 
-def _take_screenshot_when_live(window: MainWindow, path: Path, settle_s: float, started: float, outcome: dict) -> None:
+def _take_screenshot_when_live(window: MainWindow, path: Path, settle_s: float, live_timeout_s: float,
+                               started: float, outcome: dict) -> None:
+    late = QTimer(window)
+    late.setSingleShot(True)
+
     def live() -> None:
         window.live.disconnect(live)
+        late.stop()
         first = time.perf_counter() - started
         outcome["first_sample_s"] = first
         print(f"first live sample on screen {first:.2f} s after start", flush=True)
@@ -113,7 +120,16 @@ def _take_screenshot_when_live(window: MainWindow, path: Path, settle_s: float, 
             print(f"screenshot: {path}", flush=True)
         window.close()
 
+    def no_live_sample() -> None:
+        window.live.disconnect(live)
+        print(f"error: no live sample within {live_timeout_s:g} s (see the window's status bar); the screenshot "
+              "shows the window as it is", file=sys.stderr)
+        outcome["code"] = 1
+        shoot()
+
     window.live.connect(live)
+    late.timeout.connect(no_live_sample)
+    late.start(int(live_timeout_s * 1000))
 
 
 def _fail(app: QApplication, outcome: dict, exc: BaseException) -> None:
@@ -128,8 +144,9 @@ DEMO_TARGETS_BAR = (25.0, 35.0, 20.0, 30.0)
 DEMO_STEP_S = 6.0
 
 
-def run_demo(*, screenshot: Path | None = None, settle_s: float = 4.0, time_scale: float = 1.0,
-             pcm_target_bar: float | None = None, screen: tuple[int, int] | None = None) -> int:
+def run_demo(*, screenshot: Path | None = None, settle_s: float = 4.0, live_timeout_s: float = 30.0,
+             time_scale: float = 1.0, pcm_target_bar: float | None = None,
+             screen: tuple[int, int] | None = None) -> int:
     """Serve the demo ECU in this process on a private virtual bus and open the window on it.
 
     :param pcm_target_bar: the PCM's TargetRailPressure, held; None: it steps through
@@ -158,5 +175,5 @@ def run_demo(*, screenshot: Path | None = None, settle_s: float = 4.0, time_scal
         steps.timeout.connect(next_target)
         if len(targets) > 1:
             steps.start()
-        return run_window(project, connect=True, screenshot=screenshot, settle_s=settle_s, started=started,
-                          screen=screen)
+        return run_window(project, connect=True, screenshot=screenshot, settle_s=settle_s,
+                          live_timeout_s=live_timeout_s, started=started, screen=screen)
