@@ -27,6 +27,8 @@ import time
 import can
 import numpy as np
 
+from session_bench import free_port
+
 from workbench.bus_defaults import BusSpec
 from workbench.sim.can_timing import frame_bits
 from workbench.sim.seedkey import compute_key
@@ -85,12 +87,6 @@ def decode_throughput(samples: int = 5_000) -> tuple[float, int, int]:
     return len(frames) / elapsed, len(daq.odts), len(codecs)
 
 
-def free_udp_port() -> int:
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:
-        probe.bind(("", 0))
-        return probe.getsockname()[1]
-
-
 def run_at_bus_limit(seconds: float, load: float = 0.9, *, between_processes: bool = False) -> dict:
     """One DAQ list on the 4 ms event sized to ``load`` of the bus, collected for ``seconds``.
 
@@ -101,7 +97,7 @@ def run_at_bus_limit(seconds: float, load: float = 0.9, *, between_processes: bo
     from workbench.sim import serve_demo
 
     if between_processes:
-        port = free_udp_port()
+        port = free_port(socket.SOCK_DGRAM)
         sim = subprocess.Popen([sys.executable, "-c", "from workbench.cli import entry_point; entry_point()", "sim",
                                 "--bitrate", str(BITRATE), "--bus-kwargs", f"port={port}", "--pcm"],
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)

@@ -31,6 +31,8 @@ from pathlib import Path
 
 import numpy as np
 
+from session_bench import free_port
+
 from workbench import demo
 
 CLI = [sys.executable, "-c", "from workbench.cli import entry_point; entry_point()"]
@@ -88,12 +90,6 @@ def throughput(seconds: int = 120) -> dict:
             "reference_seconds": theirs, "reference_bytes": reference_size}
 
 
-def free_udp_port() -> int:
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:
-        probe.bind(("", 0))
-        return probe.getsockname()[1]
-
-
 def usage(pid: int) -> tuple[int, int, float]:
     """(resident KiB, peak resident KiB, CPU seconds) of a running process."""
     fields = {}
@@ -110,7 +106,7 @@ def long_run(seconds: float, out: Path) -> dict:
     from workbench.a2l import load_a2l
 
     names = load_a2l(demo.a2l()).model().names("MEASUREMENT")
-    bus = ["--bus-kwargs", f"port={free_udp_port()}"]
+    bus = ["--bus-kwargs", f"port={free_port(socket.SOCK_DGRAM)}"]
     sim = subprocess.Popen([*CLI, "sim", "--pcm", *bus], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     for line in sim.stdout:
         if line.startswith("serving"):

@@ -18,10 +18,11 @@ from __future__ import annotations
 
 import argparse
 import itertools
+import socket
 import struct
 
 import can
-from session_bench import free_udp_port, pyxcp_master, rate, start_simulator
+from session_bench import free_port, pyxcp_master, rate, start_simulator
 
 from workbench import Session
 from workbench.sim.can_timing import frame_bits
@@ -35,7 +36,7 @@ def _values():
 
 def against_pyxcp(seconds: float, rounds: int) -> tuple[float, float, float]:
     """Best of ``rounds`` for a VALUE, a map cell and raw pyxcp, alternating, one master connected at a time."""
-    port = free_udp_port()
+    port = free_port(socket.SOCK_DGRAM)
     simulator = start_simulator(port)
     try:
         values, cells, raws = [], [], []
@@ -69,7 +70,7 @@ def against_pyxcp(seconds: float, rounds: int) -> tuple[float, float, float]:
 
 def at_the_bus_limit(seconds: float, bitrate: int = 1_000_000) -> tuple[float, float, float]:
     """(writes/s, reads/s by name in the same run, round trips/s the bus carries)."""
-    port = free_udp_port()
+    port = free_port(socket.SOCK_DGRAM)
     simulator = start_simulator(port, "--bitrate", str(bitrate))
     try:
         with Session.open(bus_kwargs={"port": port}) as ecu:
