@@ -37,7 +37,7 @@ def _values():
 def against_pyxcp(seconds: float, rounds: int) -> tuple[float, float, float]:
     """Best of ``rounds`` for a VALUE, a map cell and raw pyxcp, alternating, one master connected at a time."""
     port = free_port(socket.SOCK_DGRAM)
-    simulator = start_simulator(port)
+    simulator = start_simulator("--bus-kwargs", f"port={port}")
     try:
         values, cells, raws = [], [], []
         for _ in range(rounds):
@@ -71,7 +71,7 @@ def against_pyxcp(seconds: float, rounds: int) -> tuple[float, float, float]:
 def at_the_bus_limit(seconds: float, bitrate: int = 1_000_000) -> tuple[float, float, float]:
     """(writes/s, reads/s by name in the same run, round trips/s the bus carries)."""
     port = free_port(socket.SOCK_DGRAM)
-    simulator = start_simulator(port, "--bitrate", str(bitrate))
+    simulator = start_simulator("--bus-kwargs", f"port={port}", "--bitrate", str(bitrate))
     try:
         with Session.open(bus_kwargs={"port": port}) as ecu:
             numbers = _values()
