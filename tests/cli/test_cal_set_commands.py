@@ -57,6 +57,7 @@ def test_a_refused_value_sends_nothing_not_even_connect(bus, capsys, argv, messa
     (["cal", "list", "xsNOSUCH_*"], "no calibration matches 'xsNOSUCH_*'"),
     (["measure", "zsRailPressure", "zsNOSUCH", "--duration", "0.1"], "unknown symbol 'zsNOSUCH'"),
     (["measure", "zsNOSUCH", "--record", "x.mf4", "--duration", "0.1"], "unknown symbol 'zsNOSUCH'"),
+    (["measure", "zsRailPressure", "--event", "Task7ms", "--duration", "0.1"], "no DAQ event 'Task7ms' (the A2L has"),
 ])
 def test_a_name_neither_a2l_nor_dbc_has_sends_nothing(bus, capsys, tmp_path, monkeypatch, command, message):
     """With no ECU a typo would otherwise be 'no ECU answers' after T1."""

@@ -69,6 +69,11 @@ def run(args: argparse.Namespace) -> int:
     _check_recording_options(args)
     doc = a2l_document(args)
     names, can2, databases = _split_names(args, doc.model())  # a name neither A2L nor DBC has: before connecting
+    if args.event is not None:
+        from workbench.a2l.xcp import read_xcp_config
+        from workbench.session.measure import event_number
+
+        event_number(read_xcp_config(doc), args.event)  # an event the A2L lacks: before connecting too
     with open_session(args, doc) as session:
         if args.record:
             return _record(args, session)

@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from workbench.a2l.objects import Measurement
-from workbench.a2l.xcp import read_daq_events
+from workbench.a2l.xcp import XcpConfig, read_daq_events
 from workbench.calib.signals import MeasurementCodec, measurement_codec
 from workbench.errors import InputError, WorkbenchError, XcpCommandError
 from workbench.xcp.daq import DaqSignal, DaqStats, DaqStream, plan_daq
@@ -33,7 +33,7 @@ if TYPE_CHECKING:
 
 log = logging.getLogger(__name__)
 
-__all__ = ["DaqMeasurement", "SampleBatch"]
+__all__ = ["DaqMeasurement", "SampleBatch", "event_number"]
 
 
 @dataclass(frozen=True)
@@ -203,15 +203,8 @@ class EventAccess:
         return DaqMeasurement(self, names, event, prescaler)
 
     def event_number(self: Session, event: str | int) -> int:
-        """An event by number, name or short name (the A2L's, else the slave's GET_DAQ_EVENT_INFO)."""
-        if isinstance(event, int) or (isinstance(event, str) and event.isdigit()):
-            return int(event)
-        daq = self.config.daq
-        for known in daq.events if daq else ():
-            if event in (known.name, known.short_name):
-                return known.number
-        names = [known.name for known in daq.events] if daq else []
-        raise InputError(f"no DAQ event {event!r} (the A2L has {', '.join(names) or 'none'})")
+        """An event by number, or by the name or short name the A2L gives it (:func:`event_number`)."""
+        return event_number(self.config, event)
 
     def event_name(self: Session, number: int) -> str:
         daq = self.config.daq
@@ -247,3 +240,19 @@ class EventAccess:
     def release_daq(self: Session, measurement: DaqMeasurement) -> None:
         if self._daq is measurement:
             self._daq = None
+
+
+def event_number(config: XcpConfig, event: str | int) -> int:
+    """A DAQ event by number, or by the name or short name the A2L's IF_DATA XCP gives it (checked before
+    connecting: a name the A2L lacks needs no ECU to be refused).
+
+    :raises InputError: a name the A2L has no event of (its events are listed).
+    """
+    if isinstance(event, int) or (isinstance(event, str) and event.isdigit()):
+        return int(event)
+    daq = config.daq
+    for known in daq.events if daq else ():
+        if event in (known.name, known.short_name):
+            return known.number
+    names = [known.name for known in daq.events] if daq else []
+    raise InputError(f"no DAQ event {event!r} (the A2L has {', '.join(names) or 'none'})")
