@@ -506,7 +506,10 @@ class MainWindow(QMainWindow):
 
     def _start_measuring(self, check_cache: bool = True) -> None:
         session = self.controller.session
-        if session is None or self.controller.info.boot:
+        if session is None:
+            return
+        if self.controller.info.boot:  # no application: nothing to measure, no calibrations
+            self.status.set_pause("the ECU is in its boot loader (flash the application)")
             return
         if check_cache and self.project.s19 is not None:
             self.check_cache()
@@ -618,9 +621,6 @@ class MainWindow(QMainWindow):
         self.status.show_connected(session, info)
         for editor in self.editors.values():
             editor.reload()
-        if info.boot:
-            self.status.set_pause("the ECU stays in its boot loader (flash the application)")
-            return
         self._start_measuring(check_cache=False)
 
     def check_cache(self) -> Task:

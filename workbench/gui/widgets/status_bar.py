@@ -65,7 +65,7 @@ class EcuStatusBar(QStatusBar):
         self.link.setText(f"● {info.link}")
         self.link.setStyleSheet(f"color: {theme.GOOD};")
         ident = info.identification or info.a2l_name or "ECU"
-        self.ecu.setText(f"{ident}{'  (boot loader)' if info.boot else ''}")
+        self.ecu.setText(f"boot loader · {ident}" if info.boot else ident)  # first: a long ident is elided
         epk = session.epk
         if epk.matches is True:
             self._set_badge(self.epk, "EPK ✓", theme.GOOD, f"{epk_text(epk.ecu)}\n{epk.describe()}")
