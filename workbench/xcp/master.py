@@ -161,7 +161,7 @@ class XcpMaster:
         try:
             return self._command(command, payload, timeout, repeat, check)
         except XcpCommandError as error:
-            resource = resource_of(command)
+            resource = _RESOURCE_OF[command]
             if error.code != Err.ACCESS_LOCKED or resource is None or self._unlocking:
                 raise
             self.protected |= resource  # the slave locked it (again): unlock and try once more
