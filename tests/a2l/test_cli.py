@@ -1,6 +1,9 @@
 """workbench a2l: exit codes 0/1/2, one-line errors, JSON reports."""
 
 import json
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -94,3 +97,34 @@ def test_diff_exit_codes_and_json(capsys, tmp_path, types_a2l):
     assert code == 1 and {d["name"] for d in differences} >= {"zsScalar", "MOD_PAR"}
     scalar = next(d for d in differences if d["name"] == "zsScalar")
     assert scalar["changes"] == [{"field": "ECU_ADDRESS", "old": "0x00000000", "new": "0x00403000"}]
+
+
+def _console_script(*argv, **kwargs):
+    """The command as the installed ``workbench`` runs it, its output block-buffered into a pipe."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONUNBUFFERED"}
+    return subprocess.run([sys.executable, "-c", "from workbench.cli import entry_point; entry_point()", *argv],
+                          capture_output=True, text=True, timeout=60, env=env, **kwargs)
+
+
+def test_a_batch_process_that_ends_at_once_still_delivers_all_it_printed(tmp_path, types_a2l):
+    """A batch command's process ends without Python's teardown: what it buffered for stdout and stderr
+    still arrives whole, with its exit code, and its output file is complete."""
+    out = tmp_path / "out.a2l"
+    run = _console_script("a2l", "update", str(types_a2l), str(ELF), "-o", str(out), "--json", "-v", "--no-cache")
+    report = json.loads(run.stdout)  # the whole JSON document, or this fails
+    assert (run.returncode, run.stderr, report["output"]) == (0, "", str(out))
+    assert report["counts"]["address-updated"] == 10 and report["counts"]["symbol-not-found"] == 1
+    assert out.read_bytes() == _library_update(types_a2l)
+    run = _console_script("a2l", "update", str(types_a2l), str(ELF), "-o", str(tmp_path / "o.a2l"), "--strict",
+                          "--no-cache")
+    assert run.returncode == 1 and "missing_var" in run.stdout and "nothing written" in run.stderr
+
+
+def _library_update(a2l: Path) -> bytes:
+    from workbench.a2l import load_a2l
+    from workbench.a2l.update import update_document
+    from workbench.elf.debugdata import DebugData
+
+    with DebugData(ELF, use_cache=False) as debug:
+        return update_document(load_a2l(a2l), debug).data
+

@@ -69,8 +69,12 @@ def _unavailable(group: str, exc: ImportError):
     return handler
 
 
+_process_may_end_at_once = False  # set by main() when the command run is a batch (see entry_point)
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code (0 ok, 1 failed, 2 bad input)."""
+    global _process_may_end_at_once
     parser = build_parser(_group_named(sys.argv[1:] if argv is None else argv))
     try:
         args = parser.parse_args(argv)
@@ -82,6 +86,7 @@ def main(argv: list[str] | None = None) -> int:
     if func is None:
         parser.print_help(sys.stderr if args.group is None else sys.stdout)
         return 2
+    _process_may_end_at_once = getattr(func, "batch", False)
     try:
         return int(func(args) or 0)
     except WorkbenchError as exc:
@@ -105,4 +110,21 @@ def entry_point() -> None:
         # A background job of a non-interactive shell (`workbench sim &` in a script) starts with SIGINT
         # ignored, and Python then leaves it so: Ctrl-C and kill -INT would not stop what says they do.
         signal.signal(signal.SIGINT, signal.default_int_handler)
-    sys.exit(main())
+    code = main()
+    if _process_may_end_at_once:
+        _end_at_once(code)
+    sys.exit(code)
+
+
+def _end_at_once(code: int) -> None:
+    """End a batch command's process without tearing its heap down object by object: the system frees it
+    whole. The teardown of what a cached update of 65,000 objects holds took 55 of its 380 ms. A batch
+    leaves nothing that needs Python's exit (its outputs are written and closed), so only the streams and
+    logging are flushed."""
+    logging.shutdown()
+    try:
+        sys.stdout.flush()
+        sys.stderr.flush()
+    except BrokenPipeError:
+        code = 141
+    os._exit(code)

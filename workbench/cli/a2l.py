@@ -112,6 +112,7 @@ def _as_batch(handler):
       the token tables hold cost 2 % of an uncached update of 65,000 objects (67 of 2,972 M
       instructions) and 1 % of a cached one.
     - Memory it frees stays with the process (:func:`_keep_freed_memory`).
+    - Its process ends without tearing its heap down (``batch``: see :func:`workbench.cli.entry_point`).
     """
 
     @functools.wraps(handler)
@@ -125,6 +126,7 @@ def _as_batch(handler):
             if enabled:
                 gc.enable()
 
+    run.batch = True
     return run
 
 
@@ -136,7 +138,12 @@ def _keep_freed_memory() -> None:
     allocation instead of being returned to the system. numpy's temporaries over a 10 MiB file (masks,
     offsets, gathers) otherwise go back and come again as fresh pages, each first touch a page fault: a
     cached update of 65,000 objects 31,900 -> 21,600 page faults and 448 -> 416 ms, an uncached one
-    582 -> 560 ms. Elsewhere (macOS, Windows, musl: no mallopt) nothing changes."""
+    582 -> 560 ms. Elsewhere (macOS, Windows, musl: no mallopt) nothing changes.
+
+    Transparent huge pages for the heap (madvise) halve the page faults again, but on a virtual machine a
+    fresh 2 MiB page can cost more than the 512 faults it saves (touching 256 MiB: 40 to 560 ms against a
+    steady 115-170 ms with 4 KiB pages, here): an uncached update of 130,000 objects became slower in
+    the median, so the heap keeps the kernel's default."""
     try:
         mallopt = ctypes.CDLL(None).mallopt
     except (AttributeError, OSError, TypeError):
