@@ -144,9 +144,9 @@ def update_file(a2l: str | Path, elf: str | Path, output: str | Path, *, mode: U
     The ELF is read on a second thread while the A2L is (``progress`` hears of it from that thread):
     most of reading an A2L is numpy work that lets the other thread run. Meanwhile the interpreter
     hands over every 0.2 ms instead of 5, so the A2L's thread, back from numpy, waits that long at
-    most for its turn. Against reading them in turn: a cached update of 65,000 objects 414 -> 374 ms,
-    an uncached one of 130,000 objects 1,096 -> 932 ms (medians). A malformed A2L is reported before a
-    bad ELF, as when they were read in turn.
+    most for its turn (an uncached update of 130,000 objects: 1,042 ms with 5, 932 ms with 0.2,
+    medians; benchmarks/README.md has the rest). A malformed A2L is reported before a bad ELF, as
+    when they were read in turn.
     """
     interval = sys.getswitchinterval()
     sys.setswitchinterval(_SWITCH_INTERVAL)
