@@ -17,7 +17,7 @@ with Session.open(bus_kwargs=port) as ecu:
 
     ecu.override("zfRAILPRESSURE", 30.0)  # the rail pressure sensor now reads 30 bar
     time.sleep(0.05)
-    print("rail pressure with the fix:", ecu.read("zsRailPressure"), "bar")
+    print(f"rail pressure with the fix: {ecu.read('zsRailPressure'):.2f} bar")
     ecu.release("zfRAILPRESSURE")
     time.sleep(0.05)
-    print("rail pressure released:", ecu.read("zsRailPressure"), "bar")
+    print(f"rail pressure released: {ecu.read('zsRailPressure'):.2f} bar")  # %8.2, its A2L FORMAT

@@ -111,3 +111,19 @@ def test_a_dataset_is_edited_like_a_dict_and_keeps_its_metadata():
     assert "xsPRV_KI" not in ds and "xsPRV_KI" not in ds.info and len(ds) == 57
     with pytest.raises(InputError, match="xsPRV_KD: stored under the name 'other'"):
         ds["other"] = ds["xsPRV_KD"]
+
+
+def test_the_table_shows_float32_values_as_typed_and_keeps_what_the_short_text_would_hide():
+    """A FLOAT32 calibration typed as 25.123 holds 25.12299919128418: the table shows 25.123 and the
+    difference of what it shows (+20.123; 12.5 - 25.12 is -12.62, not -12.620000000000001); values
+    that differ below a float32's digits show every digit. JSON keeps the exact values."""
+    typed = float(np.float32(25.123))
+    a, b = Dataset(), Dataset()
+    for name, before, after in (("f32", 5.0, typed), ("word", 25.12, 12.5), ("close", typed, 25.123)):
+        a.add(CalValue(name, "VALUE", before))
+        b.add(CalValue(name, "VALUE", after))
+    result = diff_datasets(a, b)
+    rows = {line.split()[0]: line.split()[3:] for line in result.to_text().splitlines()[3:-1]}
+    assert rows == {"f32": ["5.0", "25.123", "+20.123"], "word": ["25.12", "12.5", "-12.62"],
+                    "close": ["25.12299919128418", "25.123", "+8.087158214209467e-07"]}
+    assert result.to_dict()["objects"][0]["differences"][0]["b"] == typed

@@ -73,13 +73,13 @@ def test_a_value_is_one_download_and_one_read_back(bus, capsys):
     code, out, err = run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "20.1", *options)
     assert (code, err) == (0, "")
     assert log.take() == CONNECTED + WRITE
-    assert out == "xsSWITCH_TANK_THR = 20.1 bar (written, read back)\n"  # the float32 the ECU holds, shortest
+    assert out == "xsSWITCH_TANK_THR = 20.10 bar (written, read back)\n"  # the A2L's %.2, as cal get shows it
 
 
 def test_a_map_cell_is_its_own_bytes_only(bus, capsys):
     options, log, sim = bus
     code, out, err = run(capsys, "cal", "set", "xvPRV_DC_FF[2,3]", "42", *options)
-    assert (code, out, err) == (0, "xvPRV_DC_FF[2, 3] = 42 % (written, read back)\n", "")
+    assert (code, out, err) == (0, "xvPRV_DC_FF[2, 3] = 42.00 % (written, read back)\n", "")
     assert log.take() == CONNECTED + WRITE
     download = next(frame for frame in log.frames if frame.data[0] == 0xF0)
     assert download.data[1] == 4  # one float32
@@ -101,7 +101,7 @@ def test_the_reference_page_is_refused_before_the_write_saying_how_to_switch(bus
     assert "DOWNLOAD" not in log.take()
     assert run(capsys, "cal", "page", "working", *options)[0] == 0
     assert run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "21", *options)[:2] == (
-        0, "xsSWITCH_TANK_THR = 21 bar (written, read back)\n")
+        0, "xsSWITCH_TANK_THR = 21.00 bar (written, read back)\n")
 
 
 def test_a_read_only_session_refuses_page_switches(bus, capsys, tmp_path):

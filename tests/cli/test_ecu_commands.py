@@ -80,7 +80,7 @@ def test_cal_get_takes_the_globs_cal_list_takes(bus, capsys):
 
 def test_cal_set_reads_back_and_refuses_bad_values(bus, capsys):
     code, out, _ = run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "12.5", *bus)
-    assert (code, out) == (0, "xsSWITCH_TANK_THR = 12.5 bar (written, read back)\n")
+    assert (code, out) == (0, "xsSWITCH_TANK_THR = 12.50 bar (written, read back)\n")
     code, out, err = run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "900", *bus)
     assert (code, out) == (2, "") and err == "error: xsSWITCH_TANK_THR: 900.00 is above the upper limit 800.00 bar\n"
     code, _, err = run(capsys, "cal", "set", "xsSWITCH_TANK_THRX", "5", *bus)
@@ -100,7 +100,7 @@ def test_cal_set_takes_what_cal_get_shows(bus, capsys, tmp_path):
     table[3][2] = "55"  # y = 200 (the third Y point), x = 10 (the second X point)
     (tmp_path / "map.csv").write_text("\n".join(",".join(row) for row in table) + "\n")
     code, out, err = run(capsys, "cal", "set", "xvPRV_DC_FF", "--from", str(tmp_path / "map.csv"), *bus)
-    assert (code, err) == (0, "") and out.splitlines()[4].split()[:3] == ["200", "0", "55"]
+    assert (code, err) == (0, "") and out.splitlines()[4].split()[:3] == ["200", "0.00", "55.00"]
     after = json.loads(run(capsys, "cal", "get", "xvPRV_DC_FF", "--json", *bus)[1])["xvPRV_DC_FF"]["value"]
     before[1][2] = 55.0
     assert after == before
@@ -108,7 +108,7 @@ def test_cal_set_takes_what_cal_get_shows(bus, capsys, tmp_path):
     printed = "\n".join(lines[:7]).replace(" 70.00 ", " 71.00 ", 1)  # as printed (`cal get NAME > map.csv`)
     (tmp_path / "printed.csv").write_text(printed + "\n")
     code, out, err = run(capsys, "cal", "set", "xvPRV_DC_FF", "--from", str(tmp_path / "printed.csv"), *bus)
-    assert (code, err) == (0, "") and out.splitlines()[4].split()[:4] == ["200", "0", "71", "70"]
+    assert (code, err) == (0, "") and out.splitlines()[4].split()[:4] == ["200", "0.00", "71.00", "70.00"]
 
     grid = [[float(10 * y + x) for x in range(6)] for y in range(5)]  # the values alone, 5 Y rows x 6 X columns
     (tmp_path / "values.csv").write_text("\n".join(",".join(map(str, row)) for row in grid))

@@ -45,7 +45,7 @@ def test_calibrate(port):
 
 def test_override(port):
     out = run("override.py", port)
-    assert "rail pressure with the fix: 30.0 bar" in out and "zfRAILPRESSURE" in out
+    assert "rail pressure with the fix: 30.00 bar" in out and "zfRAILPRESSURE" in out
 
 
 def test_daq_to_csv(port, tmp_path):

@@ -157,7 +157,8 @@ def _set(args: argparse.Namespace) -> int:
     if args.json:
         print_json({args.name: _value_dict(written)})
         return 0
-    print(value_block(args.name, written.value, written.axes, written.unit, note=" (written, read back)"))
+    places = decimals(model.format_of(model.object(name)))  # as cal get shows it
+    print(value_block(args.name, written.value, written.axes, written.unit, places, note=" (written, read back)"))
     return 0
 
 
@@ -177,7 +178,8 @@ def _print_cell(args: argparse.Namespace, model, name: str, index: tuple[int, ..
     if args.json:
         print_json({label: jsonable(value)})
         return 0
-    print(f"{label} = {value_text(value, model.unit_of(model.object(name)))} (written, read back)")
+    obj = model.object(name)
+    print(f"{label} = {value_text(value, model.unit_of(obj), decimals(model.format_of(obj)))} (written, read back)")
     return 0
 
 

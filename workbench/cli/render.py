@@ -8,6 +8,8 @@ from typing import Any
 
 import numpy as np
 
+from workbench.calib.dataset.numbers import shown_number
+
 _FORMAT = re.compile(r"%\s*(\d+)(?:\.(\d+))?")
 
 
@@ -32,9 +34,7 @@ def number(value: Any, places: int | None = None) -> str:
         return f"{value:.{places}f}"
     if value == int(value) and abs(value) < 1e16:
         return str(int(value))
-    single = np.float32(value)
-    # a float32 ECU value shown as float32 prints it (0.02, not 0.019999999552965164); JSON keeps it exact
-    return str(single) if float(single) == value else repr(value)
+    return shown_number(value)  # a float32 ECU value as float32 prints it (0.02); JSON keeps it exact
 
 
 def value_text(value: Any, unit: str = "", places: int | None = None) -> str:

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from workbench.calib.dataset.numbers import format_number
+from workbench.calib.dataset.numbers import format_number, shown_difference, shown_number
 from workbench.calib.values import CalValue
 
 __all__ = ["DatasetDiff", "ElementDiff", "ObjectDiff", "diff_datasets"]
@@ -97,7 +97,7 @@ class DatasetDiff:
                 continue
             for d in o.differences:
                 where = d.where + (f" ({', '.join(f'{l} {_show(p)}' for l, p in zip(_AXIS_LETTERS, d.at))})" if d.at else "")
-                rows.append((o.name, o.status, where, _show(d.a), _show(d.b), _signed(d.delta)))
+                rows.append((o.name, o.status, where, *_shown(d)))
         counts = self.counts()
         summary = (f"{len(self.objects)} objects: {counts[EQUAL]} equal, {counts[CHANGED]} changed, "
                    f"{counts[SHAPE_CHANGED]} shape changed, {counts[ONLY_IN_A]} only in A, {counts[ONLY_IN_B]} only in B")
@@ -206,14 +206,23 @@ def _show(value) -> str:
     if isinstance(value, tuple):
         return "(" + ", ".join(map(str, value)) + ")"
     if _is_number(value):
-        return format_number(value)
+        return shown_number(value)
     return str(value)
 
 
-def _signed(delta) -> str:
-    if delta is None:
-        return ""
-    text = format_number(delta)
+def _shown(difference: ElementDiff) -> tuple[str, str, str]:
+    """A, B and B - A as the table shows them: float32 values in their short text, unless that hides
+    the difference (then every digit)."""
+    a, b = _show(difference.a), _show(difference.b)
+    if difference.delta is None:
+        return a, b, ""
+    if a == b:
+        a, b = format_number(difference.a), format_number(difference.b)
+        return a, b, _signed(format_number(difference.delta))
+    return a, b, shown_difference(difference.a, difference.b)
+
+
+def _signed(text: str) -> str:
     return text if text.startswith("-") or text == "NaN" else f"+{text}"
 
 

@@ -21,7 +21,7 @@ import re
 
 import numpy as np
 
-__all__ = ["NumberError", "format_number", "parse_number", "to_array"]
+__all__ = ["NumberError", "format_number", "parse_number", "shown_difference", "shown_number", "to_array"]
 
 _INT = re.compile(r"[+-]?\d+\Z")
 _HEX = re.compile(r"[+-]?0[xX][0-9a-fA-F]+\Z")
@@ -75,6 +75,37 @@ def format_number(value, *, nan: str = "NaN", inf: str = "Inf") -> str:
     if math.isinf(value):
         return inf if value > 0 else f"-{inf}"
     return repr(value)
+
+
+def shown_number(value) -> str:
+    """``value`` as a person reads it (a table, a message; files use :func:`format_number`): a float that
+    is exactly a float32 in the float32's shortest text (25.123, not the 25.12299919128418 it holds:
+    typed as 25.123, it is what a FLOAT32 calibration stores), any other float in the shortest text
+    that reads back to it, integers as integers."""
+    if isinstance(value, (np.floating, float)) and math.isfinite(value):
+        single = np.float32(value)
+        if float(single) == float(value):
+            return str(single)
+    return format_number(value)
+
+
+def shown_difference(a, b) -> str:
+    """``b - a`` signed, as the difference of the numbers :func:`shown_number` shows for them (25.123 - 5.0
+    shows +20.123, and 12.5 - 25.12 shows -12.62, not -12.620000000000001)."""
+    from decimal import Decimal, InvalidOperation  # here: reading and writing files need none of it
+
+    if isinstance(a, (int, np.integer)) and isinstance(b, (int, np.integer)):
+        text = str(int(b) - int(a))
+    else:
+        try:
+            delta = Decimal(shown_number(b)) - Decimal(shown_number(a))
+        except InvalidOperation:  # NaN or an infinity on either side
+            delta = None
+        if delta is not None and delta.is_finite() and -7 < delta.adjusted() < 16:
+            text = f"{delta:f}"
+        else:
+            text = format_number(float(b) - float(a))
+    return text if text.startswith("-") or text == "NaN" else f"+{text}"
 
 
 def to_array(items: list, shape: tuple[int, ...] | None = None) -> np.ndarray:
