@@ -313,3 +313,15 @@ def test_pya2ldb_reads_the_same_objects(path):
         assert oracle["axis_pts"][name] == {"address": axis.address, "record_layout": axis.record_layout,
                                             "max": axis.max_axis_points, "conversion": axis.conversion,
                                             "limits": [axis.lower_limit, axis.upper_limit]}
+
+
+def test_a_name_with_brackets_is_that_object_not_a_glob():
+    """ASAP2 names may hold [ and ] (a2ltool names array elements ``arr[1]``): such a name selects its object;
+    a glob that is no object's name still matches (``arr[12]`` as a glob is arr1 or arr2)."""
+    objects = "\n".join(f'/begin MEASUREMENT {name} "" UBYTE NO_COMPU_METHOD 0 0 0 255 ECU_ADDRESS 0x{i:X} '
+                        "/end MEASUREMENT" for i, name in enumerate(["arr[1]", "arr1", "arr2"]))
+    model = load_a2l_string(f'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n/begin MODULE M ""\n{objects}\n'
+                            "/end MODULE\n/end PROJECT\n").model()
+    assert model.expand(["arr[1]"]) == ["arr[1]"]
+    assert model.expand(["arr[12]"]) == ["arr1", "arr2"]
+    assert model.expand(["arr*"]) == ["arr[1]", "arr1", "arr2"]

@@ -220,14 +220,15 @@ class A2lModel:
         """``names`` as the object names they stand for, in the order given, each once: a name stays (it must
         exist), a glob (:func:`is_glob`: ``xsPRV_*``, ``zf?ANK*``) becomes the names of ``kind`` it matches, in
         document order. The CLI's name arguments and datasets take names this way; the window's search uses the
-        same glob rule (:func:`name_pattern`).
+        same glob rule (:func:`name_pattern`). An object's own name is that object even when it reads as a
+        glob: ASAP2 names may hold ``[`` and ``]`` (``arr[3]``, an element as generators name it).
 
         :raises UnknownSymbolError: a name the module lacks (the closest suggested).
         :raises InputError: a glob that matches no object of ``kind`` (``what`` names them in the message).
         """
         found: list[str] = []
         for name in names:
-            if is_glob(name):
+            if is_glob(name) and name not in self:
                 matches = [obj.name for obj in self.find(name, kind)]
                 if not matches:
                     raise InputError(f"no {what} matches {name!r}")
