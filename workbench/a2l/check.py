@@ -22,7 +22,7 @@ from workbench.a2l.reports import finding_at
 from workbench.a2l.source import source_from_text
 from workbench.a2l.values import quote_string
 from workbench.a2l.validate import validate_document
-from workbench.elf.debugdata import DebugData
+from workbench.elf.debugdata import DebugData, read_beside
 from workbench.errors import A2lParseError
 from workbench.findings import Finding, Report, Severity
 from workbench.progress import Progress, report as report_progress
@@ -38,10 +38,10 @@ def check_file(a2l: str | Path, elf: str | Path | None = None, *, cache_dir: str
     A file without PROJECT, written for ``/include`` (a MODULE, or module-level blocks), is
     checked as if included where it belongs: in a PROJECT (and MODULE) around it.
     """
-    doc = _load_for_check(Path(a2l))
     if elf is None:
-        return check_document(doc, progress=progress)
-    with DebugData(elf, cache_dir=cache_dir, use_cache=use_cache) as debug:
+        return check_document(_load_for_check(Path(a2l)), progress=progress)
+    doc, debug_data = read_beside(lambda: _load_for_check(Path(a2l)), elf, cache_dir=cache_dir, use_cache=use_cache)
+    with debug_data as debug:
         return check_document(doc, debug, progress=progress)
 
 

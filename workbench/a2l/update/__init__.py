@@ -10,8 +10,6 @@ included files are returned per file (see :class:`IncludeMode`).
 
 from __future__ import annotations
 
-import sys
-import threading
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -27,7 +25,7 @@ from workbench.a2l.includes import includes_not_found_from
 from workbench.a2l.reports import IncludeMode, UpdateMode, findings_at
 from workbench.a2l.update.removal import removal_edits
 from workbench.a2l.values import format_ints_like, hex_digits_like, int_or_none, int_values
-from workbench.elf.debugdata import DebugData
+from workbench.elf.debugdata import DebugData, read_beside
 from workbench.errors import WorkbenchError
 from workbench.fileio import write_output
 from workbench.findings import Finding, Report, Severity, summarize
@@ -139,27 +137,12 @@ def update_file(a2l: str | Path, elf: str | Path, output: str | Path, *, mode: U
 
     The file's block structure and every token the update reads or writes are always
     checked; ``validate`` also checks the rest against the ASAP2 grammar (as ``check``
-    does), which costs about a third of the time of a large update.
-
-    The ELF is read on a second thread while the A2L is (``progress`` hears of it from that thread):
-    most of reading an A2L is numpy work that lets the other thread run. Meanwhile the interpreter
-    hands over every 0.2 ms instead of 5, so the A2L's thread, back from numpy, waits that long at
-    most for its turn (an uncached update of 130,000 objects: 1,042 ms with 5, 932 ms with 0.2,
-    medians; benchmarks/README.md has the rest). A malformed A2L is reported before a bad ELF, as
-    when they were read in turn.
+    does), which costs about a third of the time of a large update. The ELF is read while the A2L is
+    (:func:`~workbench.elf.debugdata.read_beside`).
     """
-    interval = sys.getswitchinterval()
-    sys.setswitchinterval(_SWITCH_INTERVAL)
-    try:
-        elf_read = _Background(DebugData, elf, cache_dir=cache_dir, use_cache=use_cache, progress=progress)
-        try:
-            doc = load_a2l(a2l, validate=validate)
-        except Exception:
-            elf_read.join()
-            raise
-    finally:
-        sys.setswitchinterval(interval)
-    with elf_read.result() as debug:
+    doc, debug_data = read_beside(lambda: load_a2l(a2l, validate=validate), elf, cache_dir=cache_dir,
+                                  use_cache=use_cache, progress=progress)
+    with debug_data as debug:
         result = update_document(doc, debug, mode=mode, types=types, epk=epk, epk_symbol=epk_symbol, includes=includes,
                         report_addresses=report_addresses, progress=progress)
     write_source(doc.source, result.data, output)
@@ -169,32 +152,6 @@ def update_file(a2l: str | Path, elf: str | Path, output: str | Path, *, mode: U
     if includes is not IncludeMode.MERGE:
         result.report.extend(includes_not_found_from(doc, Path(output)))
     return result.report
-
-
-_SWITCH_INTERVAL = 0.0002  # seconds: while the A2L and the ELF are read side by side
-
-
-class _Background(threading.Thread):
-    """``function(*args, **kwargs)`` on a thread of its own; :meth:`result` waits for its value or raises
-    what it raised."""
-
-    def __init__(self, function, *args, **kwargs):
-        super().__init__(name=f"workbench-{function.__name__}", daemon=True)
-        self._call = lambda: function(*args, **kwargs)
-        self._value = self._error = None
-        self.start()
-
-    def run(self) -> None:
-        try:
-            self._value = self._call()
-        except BaseException as exc:  # noqa: BLE001 - handed to the caller, raised there
-            self._error = exc
-
-    def result(self):
-        self.join()
-        if self._error is not None:
-            raise self._error
-        return self._value
 
 
 def _result(doc: A2lDocument, edits: Edits, report: UpdateReport, includes: IncludeMode) -> UpdateResult:
