@@ -79,3 +79,29 @@ def test_a_test_without_steps_and_a_bad_catalogue(tmp_path):
     bad.write_text("id,name\nX,Y\n,Z\n")
     with pytest.raises(InputError, match=r"bad.csv:3: a requirement without an id"):
         read_requirements(bad)
+
+
+def test_a_follows_expectation_shows_the_followed_signal_and_its_window(tmp_path):
+    """expect_follows draws the signal it compared with dashed over the one it judged (same scale), and
+    the window it judged: with a tolerance of 0 there is no band of values to draw, yet the plot shows
+    what was compared."""
+    mdf = MDF(version="4.10")
+    mdf.header.start_time = datetime.fromtimestamp(EPOCH, timezone.utc)
+    t = np.arange(0.0, 1.0, 0.05)
+    mdf.append([Signal(t * 100, t, name="xsDC", unit="%"), Signal(t * 100, t, name="xsPRVDutyCmd", unit="%")],
+               acq_name="Task4ms")
+    (tmp_path / "evidence").mkdir()
+    mdf.save(tmp_path / "evidence" / "f.mf4", overwrite=True)
+    mdf.close()
+    (tmp_path / "tests").mkdir()
+    step = {**_step("expect", "expect xsPRVDutyCmd = xsDC ± 0 % for 0.5 s", 0.2, 0.7, "xsPRVDutyCmd", passed=True),
+            "reference": "xsDC"}
+    record = {"nodeid": "test_f.py::test_f", "epoch": EPOCH, "evidence": [str(tmp_path / "evidence" / "f.mf4")],
+              "steps": [step]}
+    (tmp_path / "tests" / "f.json").write_text(json.dumps(record))
+    html = write_report(tmp_path, {"test_f.py::test_f": {"outcome": "passed", "duration": 1.0, "message": "",
+                                                        "requirements": []}}).read_text()
+    (plot,) = re.findall(r"<svg.*?</svg>", html)
+    assert "<title>xsDC (followed)</title>" in plot and 'stroke-dasharray="5 4"' in plot
+    assert re.search(r'<rect [^>]*fill="#2e7d32"[^>]*><title>expect xsPRVDutyCmd = xsDC', plot)  # the window judged
+    assert plot.count("<polyline") == 2

@@ -74,6 +74,7 @@ class Step:
     unit: str = ""
     band: tuple[float, float] | None = None  # the numeric band an expectation drew (inf: open)
     target: str | None = None  # a text value it expected ("TANK1_ON"), or "!= value"
+    reference: str | None = None  # the signal an expect_follows compared with
     passed: bool | None = None
     detail: str = ""
 
@@ -363,7 +364,7 @@ class Bench:
         start = self.now() if since is None else since
         end = start + for_s
         step = Step("expect", f"expect {name} = {reference} ± {tolerance:g}{_unit(signal.unit)} for {for_s:g} s",
-                    start, end, name, signal.unit)
+                    start, end, name, signal.unit, reference=reference)
         differences: list[np.ndarray] = []
 
         def judge(times, values):

@@ -182,7 +182,8 @@ def _plots(evidence: list[Path], steps: list[dict], epoch: float) -> list[str]:
     signals = list(dict.fromkeys(step["signal"] for step in steps if step.get("signal")))
     if not signals:
         return []
-    recorded = _read_evidence(evidence, signals, epoch)
+    references = [step["reference"] for step in steps if step.get("reference")]
+    recorded = _read_evidence(evidence, list(dict.fromkeys(signals + references)), epoch)
     stimuli = [step["t_start"] for step in steps if step["kind"] == "stimulus"]
     end = max([step["t_end"] for step in steps] + [0.0])
     plots = []
@@ -191,8 +192,11 @@ def _plots(evidence: list[Path], steps: list[dict], epoch: float) -> list[str]:
         bands = [band for step in steps if step.get("signal") == name
                  if (band := _band(step, labels)) is not None]
         unit = unit or next((step.get("unit", "") for step in steps if step.get("signal") == name), "")
+        followed = dict.fromkeys(step["reference"] for step in steps if step.get("signal") == name and step.get("reference"))
+        overlays = [(*recorded[other][:2], f"{other} (followed)") for other in followed if other in recorded]
         plots.append('<div class="plot">' + plot_svg(t, y, title=name, unit=unit, bands=bands, stimuli=stimuli,
-                                                    labels=labels, span=(0.0, max(end, float(t[-1]) if len(t) else 0.0)))
+                                                    labels=labels, span=(0.0, max(end, float(t[-1]) if len(t) else 0.0)),
+                                                    overlays=overlays)
                      + "</div>")
     return plots
 
@@ -202,6 +206,8 @@ def _band(step: dict, labels: dict[float, str] | None) -> Band | None:
     if step.get("band") is not None:
         low, high = step["band"]
         return Band(step["t_start"], step["t_end"], low, high, step["passed"], label)
+    if step.get("reference"):  # the window it judged; the followed signal is drawn as a line (an overlay)
+        return Band(step["t_start"], step["t_end"], None, None, step["passed"], label)
     target = step.get("target")
     if target and labels and not target.startswith("!= "):
         raw = next((value for value, text in labels.items() if text == target), None)

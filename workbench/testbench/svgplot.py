@@ -1,4 +1,5 @@
-"""Small inline SVG plots for the report: recorded samples (held between samples), expectation bands, stimuli.
+"""Small inline SVG plots for the report: recorded samples (held between samples), expectation bands, stimuli,
+and the signals an expectation compared with (dashed).
 
 Plain SVG, no script: the report opens in any browser and in a headless one for a screenshot. Long
 signals are reduced to the minimum and maximum per pixel column, so a spike is never lost.
@@ -16,7 +17,7 @@ __all__ = ["Band", "plot_svg"]
 WIDTH, HEIGHT = 760, 190
 LEFT, RIGHT, TOP, BOTTOM = 56, 12, 22, 28  # LEFT grows with the longest label of a verbal signal
 CHAR_PX = 6.5  # the width of a character at 11 px
-PASS, FAIL, LINE = "#2e7d32", "#c62828", "#1f4e9a"
+PASS, FAIL, LINE, OVERLAY = "#2e7d32", "#c62828", "#1f4e9a", "#8e24aa"
 
 
 @dataclass(frozen=True)
@@ -58,8 +59,9 @@ def _reduce(t: np.ndarray, y: np.ndarray, columns: int) -> tuple[np.ndarray, np.
 
 def plot_svg(t: np.ndarray, y: np.ndarray, *, title: str, unit: str = "", bands: list[Band] = (),
              stimuli: list[float] = (), labels: dict[float, str] | None = None,
-             span: tuple[float, float] | None = None) -> str:
-    """One signal over time (s) as an SVG element; ``labels`` names the values of a verbal signal."""
+             span: tuple[float, float] | None = None, overlays: list[tuple[np.ndarray, np.ndarray, str]] = ()) -> str:
+    """One signal over time (s) as an SVG element; ``labels`` names the values of a verbal signal;
+    ``overlays`` (times, values, label) are other signals drawn dashed over it on the same scale."""
     t = np.asarray(t, dtype=float)
     y = np.asarray(y, dtype=float)
     t0 = min([*(t[:1]), *(b.t0 for b in bands), *stimuli], default=0.0) if span is None else span[0]
@@ -67,6 +69,8 @@ def plot_svg(t: np.ndarray, y: np.ndarray, *, title: str, unit: str = "", bands:
     if t1 <= t0:
         t1 = t0 + 1.0
     finite = [v for b in bands for v in (b.low, b.high) if v is not None and np.isfinite(v)]
+    overlays = [(np.asarray(ot, dtype=float), np.asarray(oy, dtype=float), label) for ot, oy, label in overlays]
+    finite += [float(v) for _, oy, _ in overlays for v in oy[np.isfinite(oy)]]
     values = np.concatenate([y[np.isfinite(y)], finite, list(labels or ())]) if len(y) or finite else np.array([0.0, 1.0])
     y0, y1 = (float(np.min(values)), float(np.max(values))) if len(values) else (0.0, 1.0)
     pad = (y1 - y0) * 0.08 or max(abs(y0) * 0.1, 0.5)
@@ -112,17 +116,33 @@ def plot_svg(t: np.ndarray, y: np.ndarray, *, title: str, unit: str = "", bands:
     parts.append(f'<text x="{WIDTH - RIGHT}" y="{HEIGHT - 10}" text-anchor="end">s</text>')
     if unit and not labels:
         parts.append(f'<text x="{left + 4:.0f}" y="{TOP + 12}" fill="#666">{escape(unit)}</text>')
-    inside = (t >= t0) & (t <= t1)
-    tt, yy = _reduce(t[inside], y[inside], plot_w)
-    if len(tt):
-        xs, ys = x_of(tt), y_of(yy)
-        # hold each sample until the next one, as the ECU holds its value between two DAQ samples
-        points = [f"{xs[0]:.1f},{ys[0]:.1f}"]
-        for i in range(1, len(xs)):
-            points.append(f"{xs[i]:.1f},{ys[i - 1]:.1f} {xs[i]:.1f},{ys[i]:.1f}")
-        parts.append(f'<polyline points="{" ".join(points)}" fill="none" stroke="{LINE}" stroke-width="1.4"/>')
+    line = _held_line(t, y, t0, t1, plot_w, x_of, y_of)
+    if line:
+        parts.append(f'<polyline points="{line}" fill="none" stroke="{LINE}" stroke-width="1.4"/>')
     else:
         parts.append(f'<text x="{left + plot_w / 2:.0f}" y="{TOP + plot_h / 2}" text-anchor="middle" fill="#999">'
                      'no samples recorded</text>')
+    if overlays:  # a legend in the title line: which dashed line is which
+        legend = ", ".join(label for _, _, label in overlays)
+        parts.append(f'<text x="{WIDTH - RIGHT}" y="14" text-anchor="end" fill="{OVERLAY}">- - {escape(legend)}</text>')
+    for ot, oy, label in overlays:  # over the signal: where it follows exactly, the dashes still show
+        line = _held_line(ot, oy, t0, t1, plot_w, x_of, y_of)
+        if line:
+            parts.append(f'<polyline points="{line}" fill="none" stroke="{OVERLAY}" stroke-width="1.6" '
+                         f'stroke-dasharray="5 4"><title>{escape(label)}</title></polyline>')
     parts.append("</svg>")
     return "".join(parts)
+
+
+def _held_line(t: np.ndarray, y: np.ndarray, t0: float, t1: float, columns: int, x_of, y_of) -> str:
+    """The points of a polyline that holds each sample until the next one, as the ECU holds its value
+    between two DAQ samples ("" without samples in [t0, t1])."""
+    inside = (t >= t0) & (t <= t1)
+    tt, yy = _reduce(t[inside], y[inside], columns)
+    if not len(tt):
+        return ""
+    xs, ys = x_of(tt), y_of(yy)
+    points = [f"{xs[0]:.1f},{ys[0]:.1f}"]
+    for i in range(1, len(xs)):
+        points.append(f"{xs[i]:.1f},{ys[i - 1]:.1f} {xs[i]:.1f},{ys[i]:.1f}")
+    return " ".join(points)
