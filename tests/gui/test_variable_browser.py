@@ -55,3 +55,16 @@ def test_a_drag_carries_the_selected_names_and_a_double_click_asks_to_open(brows
         browser.table.doubleClicked.emit(index)
     assert opened.args[0].name == "zsRailPressure" and opened.args[0].plottable
     assert browser.proxy.flags(index) & Qt.ItemIsDragEnabled
+
+
+def test_a_name_with_brackets_finds_its_own_object(qtbot):
+    """ASAP2 names may hold [ ] (arr[1]): typed whole, the name shows its object (and what the glob matches)."""
+    from workbench.gui.models.variables import Variable
+
+    widget = VariableBrowser()
+    qtbot.addWidget(widget)
+    widget.set_variables([Variable(name, "MEASUREMENT", "UBYTE", "", (), "") for name in ("arr[1]", "arr1", "arr2")])
+    widget.search.setText("arr[1]")
+    assert shown(widget) == {"arr[1]", "arr1"}
+    widget.search.setText("arr[12]")
+    assert shown(widget) == {"arr1", "arr2"}

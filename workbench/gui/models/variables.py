@@ -153,7 +153,7 @@ class VariableFilter(QSortFilterProxyModel):
             return False
         if not self.search:
             return True
-        if self._pattern is not None:
-            return bool(self._pattern.fullmatch(row.name))
+        if self._pattern is not None:  # an object's own name stays that object, as on the command line (arr[1])
+            return bool(self._pattern.fullmatch(row.name)) or row.name.lower() == self.search.lower()
         text = f"{row.name} {row.description}".lower()
         return all(word in text for word in self.search.lower().split())
