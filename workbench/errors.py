@@ -97,11 +97,23 @@ class XcpCommandError(WorkbenchError):
     ``name`` defaults to the standard's name of ``code`` (``ERR_OUT_OF_RANGE`` for 0x22).
     """
 
-    def __init__(self, command: str, code: int, name: str = ""):
+    def __init__(self, command: str, code: int, name: str = "", context: str = ""):
         self.command = command
         self.code = code
         self.name = name or _error_name(code)
-        super().__init__(f"XCP {command} failed: {self.name} (0x{code:02X})")
+        self.context = context  # what the command was for, e.g. "reading xsPRV_KP (0x0..0x3)"
+        super().__init__((f"{context}: " if context else "") + f"XCP {command} failed: {self.name} (0x{code:02X})")
+
+    def about(self, context: str) -> "XcpCommandError":
+        """The same refusal, saying what the command was for."""
+        return XcpCommandError(self.command, self.code, self.name, context)
+
+
+def placeholder_hint(address: int) -> str:
+    """Why an ECU refuses an address 0, said after it: an A2L whose addresses were never updated."""
+    if address != 0:
+        return ""
+    return " (address 0: an A2L not yet updated from the build's ELF? workbench a2l update IN.a2l ELF -o OUT.a2l)"
 
 
 def _error_name(code: int) -> str:

@@ -298,3 +298,21 @@ def test_a_can2_bus_on_a_udp_port_of_its_own_is_named_by_can2_bus_kwargs(free_ud
     rows = [json.loads(line)["values"] for line in out.splitlines()]
     assert code == 0, err
     assert [row for row in rows if row["FLCU_TO_PCM_002.RailPressure"] is not None], out
+
+
+def test_an_a2l_never_updated_from_the_elf_is_named_as_the_cause(bus, capsys, tmp_path):
+    """The merged fragments before `a2l update` hold address 0 everywhere: the ECU refuses to read there,
+    and the message names the object, where, and the likely cause with the command that fixes it (it was
+    the bare 'XCP SHORT_UPLOAD failed: ERR_OUT_OF_RANGE')."""
+    from pathlib import Path
+
+    a2l = Path(__file__).parents[2] / "a2l"
+    merged = tmp_path / "merged.a2l"
+    assert run(capsys, "a2l", "merge", str(a2l / "FLCU_master.a2l"), *map(str, sorted((a2l / "modules").glob("*.a2l"))),
+               "-o", str(merged))[0] == 0
+    code, out, err = run(capsys, "cal", "get", "xsPRV_KP", "--a2l", str(merged), *bus)
+    assert (code, out) == (1, "")
+    assert err == ("error: reading xsPRV_KP (0x0..0x3) (address 0: an A2L not yet updated from the build's ELF? "
+                   "workbench a2l update IN.a2l ELF -o OUT.a2l): XCP SHORT_UPLOAD failed: ERR_OUT_OF_RANGE (0x22)\n")
+    code, _, err = run(capsys, "measure", "zsRailPressure", "--daq", "--duration", "0.2", "--a2l", str(merged), *bus)
+    assert code == 1 and "(address 0: an A2L not yet updated" in err and "WRITE_DAQ failed: ERR_OUT_OF_RANGE" in err

@@ -35,7 +35,8 @@ from workbench.calib.memory import ByteEdit, Span
 from workbench.calib.signals import MeasurementCodec, measurement_codec
 from workbench.calib.values import CalValue
 from workbench.calib.writable import check_inside, checked_cells, checked_value, writable_spans
-from workbench.errors import InputError, PageError, PartialWriteError, WorkbenchError, XcpCommandError
+from workbench.errors import (InputError, PageError, PartialWriteError, WorkbenchError, XcpCommandError,
+                              placeholder_hint)
 from workbench.session.memory import KnownMemory, read_merged
 from workbench.xcp_protocol import Err, Resource
 
@@ -85,7 +86,7 @@ class ValueAccess:
             self.require_application()  # the ECU may be in its boot loader since (reconnected after a reset)
             span, decode = reader
             with self.lock:
-                value = decode(self.master.read(span.address, span.size, span.extension))
+                value = decode(self._read_spans([span], {name: [span]})[span])
         else:
             value = self.read_many([name], page=page)[name]
             self._keep_reader(name)
@@ -119,7 +120,7 @@ class ValueAccess:
         self.require_application()
         with self.lock, self.on_page(page, self.segments_of([name]) if page is not None else None):
             resolved = self._resolve([name])[name]
-            return resolved.decode(self._fresh_bytes(resolved.spans()))
+            return resolved.decode(self._fresh_bytes(resolved.spans(), name))
 
     def read_many(self: Session, names: Iterable[str], *, page: str | int | None = None) -> dict[str, Any]:
         """Several objects at once, neighbouring addresses merged into few UPLOADs: ``{name: value}``."""
@@ -128,8 +129,9 @@ class ValueAccess:
         self.require_application()
         with self.lock, self.on_page(page, self.segments_of(names) if page is not None else None):
             resolved = self._resolve([name for name in names if name not in codecs])
-            spans = [codec.span for codec in codecs.values()] + [s for r in resolved.values() for s in r.spans()]
-            data = self._read_spans(spans)
+            owners = {name: [codec.span] for name, codec in codecs.items()}
+            owners.update({name: layout.spans() for name, layout in resolved.items()})
+            data = self._read_spans([span for spans in owners.values() for span in spans], owners)
         return {name: codecs[name].decode(data[codecs[name].span]) if name in codecs
                 else resolved[name].decode(data).value for name in names}
 
@@ -153,8 +155,17 @@ class ValueAccess:
                 self._resolved[name] = resolved
         return static
 
-    def _read_spans(self: Session, spans: Iterable[Span]) -> dict[Span, bytes]:
-        return read_merged(spans, lambda span: self.master.read(span.address, span.size, span.extension))
+    def _read_spans(self: Session, spans: Iterable[Span], owners: dict[str, list[Span]] | None = None
+                    ) -> dict[Span, bytes]:
+        """The bytes of ``spans``; a refused read names the objects of ``owners`` (name -> its spans) it
+        concerned and where."""
+        def read(block: Span) -> bytes:
+            try:
+                return self.master.read(block.address, block.size, block.extension)
+            except XcpCommandError as exc:
+                raise exc.about(_reading(block, owners or {})) from None
+
+        return read_merged(spans, read)
 
     # --- writing ------------------------------------------------------------------------------
 
@@ -260,8 +271,9 @@ class ValueAccess:
             known.store(self._read_spans(missing))
         return {span: known.get(span) for span in spans}
 
-    def _fresh_bytes(self: Session, spans: Iterable[Span]) -> dict[Span, bytes]:
-        data = self._read_spans(spans)
+    def _fresh_bytes(self: Session, spans: Iterable[Span], name: str | None = None) -> dict[Span, bytes]:
+        spans = list(spans)
+        data = self._read_spans(spans, {name: spans} if name else None)
         self._known().store(data)
         return data
 
@@ -355,3 +367,12 @@ class ValueAccess:
 
 def _field(edit: ByteEdit) -> str:
     return f"{edit.name}.{edit.field}" if edit.field else edit.name or str(edit.span)
+
+
+def _reading(block: Span, owners: dict[str, list[Span]]) -> str:
+    """What a refused read was for: the objects in ``block`` and where, and the likely cause of an
+    address 0 (an A2L whose addresses were never updated from the ELF)."""
+    names = [name for name, spans in owners.items()
+             if any(s.extension == block.extension and s.address < block.end and block.address < s.end for s in spans)]
+    shown = ", ".join(names[:3]) + (f" and {len(names) - 3} more" if len(names) > 3 else "")
+    return (f"reading {shown} ({block})" if names else f"reading {block}") + placeholder_hint(block.address)

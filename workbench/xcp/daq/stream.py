@@ -21,7 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from workbench.errors import ConnectionLostError, InputError, WorkbenchError, XcpCommandError, XcpTimeoutError
+from workbench.errors import (ConnectionLostError, InputError, WorkbenchError, XcpCommandError, XcpTimeoutError,
+                              placeholder_hint)
 from workbench.xcp.daq.assemble import DtoAssembler
 from workbench.xcp.daq.clock import DaqClock
 from workbench.xcp.daq.plan import DaqListPlan, DaqPlan
@@ -141,7 +142,11 @@ class DaqStream:
                 if odt.entries:
                     master.set_daq_ptr(daq.number, number, 0)
                 for entry in odt.entries:
-                    master.write_daq(entry.size, entry.address, entry.extension)
+                    try:
+                        master.write_daq(entry.size, entry.address, entry.extension)
+                    except XcpCommandError as exc:
+                        raise exc.about(f"sampling {entry.size} bytes at 0x{entry.address:X}"
+                                        + placeholder_hint(entry.address)) from None
             master.set_daq_list_mode(daq.number, daq.event, timestamp=daq.timestamps, prescaler=daq.prescaler,
                                      priority=daq.priority)
 
