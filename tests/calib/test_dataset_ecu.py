@@ -20,6 +20,7 @@ from workbench.calib.dataset.model import InstancePart, ObjectInfo
 from workbench.calib.values import Axis, CalValue
 from workbench.sim import serve_demo
 from workbench.sync import ApplyRefused, apply_dataset, read_dataset, sync_compare, sync_download
+from workbench.sync.values import as_typed_value
 
 _GRIDS = {"tqCUBE": ("CUBOID", (2, 3, 2), 0x40000040), "tqCUBE4": ("CUBE_4", (2, 2, 2, 2), 0x4000008C),
           "tqCUBE5": ("CUBE_5", (2, 2, 2, 2, 2), 0x400000EC)}
@@ -102,7 +103,7 @@ def test_cdf21_shapes_go_from_a_file_to_the_ecu_and_back_into_both_formats(ecu, 
     assert report.ok and report.dry_run is False
     back = read_dataset(ecu, ["tbBLOCK", "tqCUBE*", "tsCal.*"])
     assert list(back) == _NAMES
-    assert all(back[name].same_values(dataset[name]) for name in _NAMES)
+    assert all(back[name].same_values(as_typed_value(ecu.model, dataset[name])) for name in _NAMES)  # floats as typed
     assert _file(back, "cdfx").objects == back.objects
     dcm = _file(back, "dcm")  # what DCM cannot hold is left out, each named
     assert {f.name for f in dataset_losses(back, "dcm") if f.kind == "left-out"} == set(_GRIDS)

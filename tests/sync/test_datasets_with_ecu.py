@@ -14,6 +14,7 @@ from workbench.a2l import load_a2l
 from workbench.calib.dataset import Dataset, diff_datasets, load_dataset, load_dataset_string, save_dataset
 from workbench.image import load_image
 from workbench.sim import serve_demo
+from workbench.sync.values import as_typed_value
 from workbench.sync import ApplyFailed, ApplyRefused, apply_dataset, image_dataset, read_dataset, sync_compare
 from workbench.xcp_protocol import Cmd, Err
 
@@ -36,11 +37,12 @@ def _reference(dataset: Dataset):
 
 def test_the_working_page_as_a_dataset_holds_every_demo_calibration(ecu, tmp_path):
     dataset = read_dataset(ecu)
-    expected = demo_dataset()
+    expected = {name: as_typed_value(ecu.model, value) for name, value in demo_dataset().items()}  # 0.2, not 0.2F
     assert list(dataset) == [name for name in ecu.model.names("CHARACTERISTIC") + ecu.model.names("AXIS_PTS")]
     assert sorted(dataset) == sorted(expected)
     assert all(dataset[name].same_values(expected[name]) for name in expected), \
         [name for name in expected if not dataset[name].same_values(expected[name])]
+    assert dataset["zsEWMA_ALPHA"].value == 0.2  # a FLOAT32 as typed: the file says 0.2, as CANape writes it
     for suffix in ("dcm", "cdfx"):
         save_dataset(dataset, tmp_path / f"base.{suffix}")
         assert diff_datasets(load_dataset(tmp_path / f"base.{suffix}"), dataset).equal
@@ -50,7 +52,7 @@ def test_the_working_page_as_a_dataset_holds_every_demo_calibration(ecu, tmp_pat
 def test_the_s19_decodes_to_the_same_values_without_an_ecu():
     model = load_a2l(demo.a2l()).model()
     from_image = image_dataset(model, load_image(demo.s19()), source="FLCU.s19")
-    expected = demo_dataset()
+    expected = {name: as_typed_value(model, value) for name, value in demo_dataset().items()}
     assert sorted(from_image) == sorted(expected)
     assert all(from_image[name].same_values(expected[name]) for name in expected)
 

@@ -26,7 +26,7 @@ from workbench.progress import Progress
 from workbench.session import Session
 from workbench.sync.areas import ImageView, calibration_areas
 from workbench.sync.ecu import EcuReader, on_pages
-from workbench.sync.values import calibration_names, decode_values, object_layouts
+from workbench.sync.values import as_typed_value, calibration_names, decode_values, object_layouts
 
 __all__ = ["calibration_image", "image_dataset", "read_dataset"]
 
@@ -82,7 +82,7 @@ def _dataset(model: A2lModel, values: dict, problems: dict[str, str], origin: st
     dataset.comments.append(f"calibrations of {origin} through the A2L{a2l}, read by workbench on {stamp}")
     for name, value in values.items():
         functions = tuple(getattr(model.object(name), "functions", ()) or ())
-        dataset.add(value, ObjectInfo(functions=functions[:1]))
+        dataset.add(as_typed_value(model, value), ObjectInfo(functions=functions[:1]))
     dataset.notes.extend(Finding("not-read", name, f"{name}: not read ({why})", severity=Severity.WARNING)
                          for name, why in problems.items())
     return dataset

@@ -15,13 +15,14 @@ from typing import TypeVar
 from workbench.a2l.model import A2lModel
 from workbench.a2l.objects import AxisPts, Characteristic
 from workbench.calib.codec import value_edits
+from workbench.calib.dataset.numbers import as_typed
 from workbench.calib.layout import ObjectLayout, ResolvedLayout, object_layout
 from workbench.calib.memory import Span
 from workbench.calib.values import CalValue
 from workbench.errors import InputError, UnknownSymbolError, WorkbenchError
 from workbench.sync.store import ByteStore
 
-__all__ = ["Fetch", "as_stored", "calibration_names", "decode_values", "label_differences", "object_layouts", "relabel",
+__all__ = ["Fetch", "as_stored", "as_typed_value", "calibration_names", "decode_values", "label_differences", "object_layouts", "relabel",
            "resolve_all", "without_name"]
 
 Fetch = Callable[[list[Span]], Mapping[Span, bytes]]
@@ -94,6 +95,16 @@ def _each(items: Mapping[str, _T], action: Callable[[_T], _R], problems: dict[st
         except WorkbenchError as exc:
             problems[name] = without_name(name, str(exc))
     return done
+
+
+def as_typed_value(model: A2lModel, value: CalValue) -> CalValue:
+    """A value read from the ECU or an image as a dataset keeps it: its floats as typed (0.3, not the
+    0.30000001192092896 a FLOAT32 holds; :func:`~workbench.calib.dataset.numbers.as_typed`), which write
+    back the same float32. A FLOAT64_IEEE object keeps every digit it holds."""
+    if model.datatype_of(model.object(value.name)) == "FLOAT64_IEEE":
+        return value
+    axes = tuple(replace(axis, values=as_typed(axis.values)) for axis in value.axes)
+    return replace(value, value=as_typed(value.value), axes=axes)
 
 
 def as_stored(model: A2lModel, value: CalValue, current: ByteStore) -> CalValue:

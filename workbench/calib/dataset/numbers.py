@@ -21,7 +21,8 @@ import re
 
 import numpy as np
 
-__all__ = ["NumberError", "format_number", "parse_number", "shown_difference", "shown_number", "to_array"]
+__all__ = ["NumberError", "as_typed", "format_number", "parse_number", "shown_difference", "shown_number",
+           "to_array"]
 
 _INT = re.compile(r"[+-]?\d+\Z")
 _HEX = re.compile(r"[+-]?0[xX][0-9a-fA-F]+\Z")
@@ -87,6 +88,26 @@ def shown_number(value) -> str:
         if float(single) == float(value):
             return str(single)
     return format_number(value)
+
+
+def as_typed(value):
+    """``value`` (a number or an array) with every float that is exactly a float32 replaced by the float64
+    nearest that float32's shortest text: a FLOAT32 calibration typed as 0.3 holds 0.30000001192092896,
+    and becomes 0.3 again. Written to a file it reads 0.3, as CANape writes it, and written to the ECU it is
+    the same float32. Integers and the other floats stay as they are."""
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind != "f" or not value.size:
+            return value
+        single = value.astype(np.float32)
+        exact = (single.astype(np.float64) == value) & np.isfinite(value)
+        if not exact.any():
+            return value
+        typed = value.copy()
+        typed[exact] = single[exact].astype(str).astype(np.float64)
+        return typed
+    if isinstance(value, (float, np.floating)) and math.isfinite(value) and float(np.float32(value)) == value:
+        return float(str(np.float32(value)))
+    return value
 
 
 def shown_difference(a, b) -> str:
