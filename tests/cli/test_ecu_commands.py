@@ -316,3 +316,24 @@ def test_an_a2l_never_updated_from_the_elf_is_named_as_the_cause(bus, capsys, tm
                    "workbench a2l update IN.a2l ELF -o OUT.a2l): XCP SHORT_UPLOAD failed: ERR_OUT_OF_RANGE (0x22)\n")
     code, _, err = run(capsys, "measure", "zsRailPressure", "--daq", "--duration", "0.2", "--a2l", str(merged), *bus)
     assert code == 1 and "(address 0: an A2L not yet updated" in err and "WRITE_DAQ failed: ERR_OUT_OF_RANGE" in err
+
+
+def test_a_decimal_comma_is_named_as_such(bus, capsys):
+    """German-style input: '3,5' for a single value is a decimal comma (it was read as a list of two, refused
+    as 'the value has shape (2,)'); a curve's '1,2,3' stays a list."""
+    code, out, err = run(capsys, "cal", "set", "xsPRV_KP", "3,5", *bus)
+    assert (code, out, err) == (2, "", "error: '3,5' is not a number: write a decimal point (3.5)\n")
+    code, _, err = run(capsys, "cal", "set", "xvPRV_DC_FF[1,2]", "7,5", *bus)
+    assert (code, err) == (2, "error: '7,5' is not a number: write a decimal point (7.5)\n")
+    code, _, err = run(capsys, "cal", "fix", "zfRAILPRESSURE", "12,3", *bus)
+    assert (code, err) == (2, "error: '12,3' is not a number: write a decimal point (12.3)\n")
+
+
+def test_a_semicolon_csv_is_named_as_such(bus, capsys, tmp_path):
+    """A spreadsheet saves CSV as 1,5;2,5 where the decimal mark is a comma: it was read as 5 rows x 1 column."""
+    grid = tmp_path / "map.csv"
+    grid.write_text("\n".join(";".join(f"{x},5" for x in range(6)) for _ in range(5)) + "\n")
+    code, out, err = run(capsys, "cal", "set", "xvPRV_DC_FF", "--from", str(grid), *bus)
+    assert (code, out) == (2, "") and err == (f"error: {grid}:1: values apart by ';' (a spreadsheet's CSV with decimal "
+                                              "commas?): write them apart by ',' with decimal points, or as cal get "
+                                              "prints them\n")

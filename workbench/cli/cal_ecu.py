@@ -138,10 +138,11 @@ def _set(args: argparse.Namespace) -> int:
 
     if args.source is not None and args.value is not None:
         raise InputError("give VALUE or --from FILE, not both")
-    value = typed_value(args.value) if args.source is None else None
     doc, writable = _offline(args)
     model = doc.model()
     name, index = _cell(model, args.name)
+    single = index is not None or getattr(model.object(name), "type", "") == "VALUE"
+    value = typed_value(args.value, single=single) if args.source is None else None
     if args.source is not None:
         value = value_from_file(Path(args.source), model, name, cell=index is not None)
     extended = args.extended_limits
@@ -227,14 +228,14 @@ def _fix(args: argparse.Namespace) -> int:
         doc, writable = _offline(args)
         model = doc.model()
         pair = resolve_fix(fix_pairs_of(model), args.signal)
-        checked_value(model, pair.value, typed_value(args.value), writable=writable)
+        checked_value(model, pair.value, typed_value(args.value, single=True), writable=writable)
     with open_session(args, doc) as session:
         if args.list:
             states = session.fixes(can2_dbc(args), can2_bus=can2_bus_spec(args, session.bus_spec))
         elif args.release:
             states = [session.release(args.signal)]
         else:
-            states = [session.override(args.signal, typed_value(args.value))]
+            states = [session.override(args.signal, typed_value(args.value, single=True))]
     if args.json:
         print_json([{"fix": s.pair.stem, "kind": s.pair.kind, "signal": s.signal, "enable": s.pair.enable,
                      "value": s.pair.value, "live": jsonable(s.live), "live_from": s.live_from,

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import csv
 import json
+import re
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -28,15 +29,19 @@ if TYPE_CHECKING:
 
 __all__ = ["typed_value", "value_from_file"]
 
+_DECIMAL_COMMA = re.compile(r"[+-]?\d+,\d+")
 _MAP_CORNER = ("y\\x", "y \\ x", "")  # the corner cell of a map printed with its axes (cal get), or left empty
 _CURVE_LABELS = ("x", "value")
 
 
-def typed_value(text: str | None) -> Any:
-    """A value as typed on the command line: a number, a text, a list or a nested list (JSON)."""
+def typed_value(text: str | None, *, single: bool = False) -> Any:
+    """A value as typed on the command line: a number, a text, a list or a nested list (JSON).
+    ``single``: the object takes one number, so ``3,5`` is a decimal comma, refused as such."""
     if text is None:
         raise InputError("give the value to write (or --from FILE)")
     stripped = text.strip()
+    if single and _DECIMAL_COMMA.fullmatch(stripped):
+        raise InputError(f"{text!r} is not a number: write a decimal point ({stripped.replace(',', '.')})")
     if stripped.startswith("["):
         try:
             return json.loads(stripped)
@@ -134,6 +139,10 @@ def _csv_rows(path: Path, data: str, legend: str | None = None) -> list[list[Any
     is left out when the file starts with it)."""
     lines = data.splitlines()
     skip = 1 if legend is not None and lines and lines[0].startswith(legend) else 0
+    semicolons = next((number for number, line in enumerate(lines, start=1) if ";" in line), None)
+    if semicolons is not None:  # a spreadsheet's CSV in a decimal-comma locale: 1,5;2,5
+        raise InputError(f"{path}:{semicolons}: values apart by ';' (a spreadsheet's CSV with decimal commas?): "
+                         "write them apart by ',' with decimal points, or as cal get prints them")
     if legend is None or any("," in line for line in lines[skip:]):
         parsed = enumerate(csv.reader(lines), start=1)
     else:
