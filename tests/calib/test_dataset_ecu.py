@@ -123,7 +123,7 @@ def test_a_value_beyond_its_limit_is_refused_with_the_file_and_line_of_the_value
     cdfx = load_dataset_string(dump_dataset(dataset, "cdfx"), "cdfx", "limits.cdfx")
     line = next(n for n, text in enumerate(dump_dataset(dataset, "cdfx").decode().splitlines(), 1)
                 if "<V>5000</V>" in text)
-    with pytest.raises(ApplyRefused, match=rf"tsCal.gain: limits.cdfx:{line - 1}: "):  # its SW-VALUES-PHYS
+    with pytest.raises(ApplyRefused, match=rf"tsCal.gain: limits.cdfx:{line}: "):  # its first <V>, as DCM its WERT
         apply_dataset(ecu, cdfx)
     path = tmp_path / "limits.dcm"
     path.write_text(text, encoding="utf-8")

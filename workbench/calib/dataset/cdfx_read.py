@@ -226,8 +226,9 @@ class _Reader:
                 unit = content(child).strip()
             elif name == "SW-ARRAYSIZE":
                 size = [self.count(v) for _, v in children(child)]
-            elif name == "SW-VALUES-PHYS":
-                values, line = self.values(child), child.sourceline or 0
+            elif name == "SW-VALUES-PHYS":  # its line: that of its first value, where a refusal points
+                first = next((value for _, value in children(child)), child)
+                values, line = self.values(child), first.sourceline or child.sourceline or 0
             else:
                 raise self.unexpected(name, child, "SW-VALUE-CONT", "UNIT-DISPLAY-NAME, SW-ARRAYSIZE, SW-VALUES-PHYS")
         return unit, size, values, line
