@@ -337,3 +337,16 @@ def test_a_semicolon_csv_is_named_as_such(bus, capsys, tmp_path):
     assert (code, out) == (2, "") and err == (f"error: {grid}:1: values apart by ';' (a spreadsheet's CSV with decimal "
                                               "commas?): write them apart by ',' with decimal points, or as cal get "
                                               "prints them\n")
+
+
+def test_cal_get_takes_a_cell_as_cal_set_does(bus, capsys):
+    """NAME[x,y] reads one value of a map (indexed as cal set writes it), NAME[i] one of a curve."""
+    assert run(capsys, "cal", "set", "xvPRV_DC_FF[2,3]", "42", *bus)[0] == 0
+    code, out, err = run(capsys, "cal", "get", "xvPRV_DC_FF[2,3]", "zvRailPConv[3]", *bus)
+    assert (code, err) == (0, "")
+    assert out.splitlines()[0] == "xvPRV_DC_FF[2, 3] = 42.00 %"
+    assert re.fullmatch(r"zvRailPConv\[3\] = \d+\.\d\d bar", out.splitlines()[1])
+    code, out, _ = run(capsys, "cal", "get", "xvPRV_DC_FF[2][3]", "--json", *bus)
+    assert json.loads(out) == {"xvPRV_DC_FF[2, 3]": 42.0}
+    code, _, err = run(capsys, "cal", "get", "xvPRV_DC_FF[9,3]", *bus)
+    assert (code, err) == (2, "error: xvPRV_DC_FF has shape (6, 5): [9, 3] is not one of its values\n")

@@ -24,7 +24,8 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
                               description="Read objects by name (or glob) in physical units; curves and maps with their "
                                           "axes named, a map with X across and Y down as the window shows it "
                                           "(--json: the value indexed [x][y], as cal set takes it).")
-    get.add_argument("names", nargs="+", metavar="NAME", help="a name or a glob ('xsPRV_*', as cal list and save take)")
+    get.add_argument("names", nargs="+", metavar="NAME", help="a name or a glob ('xsPRV_*', as cal list and save take), "
+                     "or NAME[x,y]: one value of an array, as cal set writes it")
     get.add_argument("--page", choices=("working", "reference"), help="read this page (default: the one XCP is on)")
     get.add_argument("--raw", action="store_true", help="raw values, as the ECU holds them (no conversion)")
     add_ecu_arguments(get)
@@ -91,28 +92,45 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
 def _get(args: argparse.Namespace) -> int:
     doc = a2l_document(args)
     model = doc.model()
-    names = model.expand(args.names)  # a name the A2L lacks is said before connecting
+    wanted: dict[str, tuple[str, tuple[int, ...] | None]] = {}  # label -> (name, the cell's index or None)
+    for text in args.names:  # a name the A2L lacks is said before connecting
+        name, index = _cell(model, text)
+        if index is not None and name in model:
+            wanted[f"{name}[{', '.join(map(str, index))}]"] = (name, index)
+        else:
+            wanted.update((found, (found, None)) for found in model.expand([text]))
     with open_session(args, doc) as session:
         found = {}
-        for name in names:
+        for label, (name, index) in wanted.items():
             kind = model.kind_of(name)
             if args.raw:
-                found[name] = session.read(name, page=args.page, raw=True)
+                value = session.read(name, page=args.page, raw=True)
             elif kind in ("CHARACTERISTIC", "AXIS_PTS"):
-                found[name] = session.read_value(name, page=args.page)
+                value = session.read_value(name, page=args.page)
             else:
-                found[name] = session.read(name, page=args.page)
+                value = session.read(name, page=args.page)
+            found[label] = value if index is None else _cell_of(name, getattr(value, "value", value), index)
     if args.json:
-        print_json({name: _value_dict(value) for name, value in found.items()})
+        print_json({label: _value_dict(value) for label, value in found.items()})
         return 0
-    for name, value in found.items():
-        obj = model.object(name)
+    for label, value in found.items():
+        obj = model.object(wanted[label][0])
         places = None if args.raw else decimals(model.format_of(obj))
         if hasattr(value, "axes"):
-            print(value_block(name, value.value, value.axes, value.unit, places))
+            print(value_block(label, value.value, value.axes, value.unit, places))
         else:
-            print(value_block(name, value, unit="" if args.raw else model.unit_of(obj), places=places))
+            print(value_block(label, value, unit="" if args.raw else model.unit_of(obj), places=places))
     return 0
+
+
+def _cell_of(name: str, value: Any, index: tuple[int, ...]) -> Any:
+    """One value of an array, indexed as cal set takes it ([x, y] for a map)."""
+    import numpy as np
+
+    shape = np.shape(value)
+    if len(index) != len(shape) or any(not 0 <= i < n for i, n in zip(index, shape)):
+        raise InputError(f"{name} has shape {shape}: [{', '.join(map(str, index))}] is not one of its values")
+    return np.asarray(value)[index].item()
 
 
 def _value_dict(value: Any) -> Any:
