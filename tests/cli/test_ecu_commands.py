@@ -43,7 +43,7 @@ def test_cal_get_shows_units_and_tables(bus, capsys):
     lines = out.splitlines()
     assert lines[0] == "xsSWITCH_TANK_THR = 20.00 bar"
     assert lines[1] == "zvTankPConv: x [V], values [bar]"
-    assert lines[2].split() == ["x", "0.5", "1", "1.5", "2", "2.5", "3", "3.5", "4", "4.5"]
+    assert lines[2].split() == ["x", "0.500", "1.000", "1.500", "2.000", "2.500", "3.000", "3.500", "4.000", "4.500"]  # %6.3
     assert lines[3].split() == ["value", "0.00", "100.00", "200.00", "300.00", "400.00", "500.00", "600.00", "700.00",
                                 "800.00"]
     assert lines[4] == "xsTankCtrlState = TANK1_ON" or lines[4].startswith("xsTankCtrlState = ")
@@ -58,9 +58,9 @@ def test_a_map_is_shown_as_the_window_shows_it(bus, capsys):
     lines = out.splitlines()
     assert lines[0] == ("xvPRV_DC_FF: x = xaPRV_FF_TARGET [bar] across, y = xaPRV_FF_MANIFOLD [bar] down, "
                         "values [%]")
-    assert lines[1].split() == ["y\\x", "0", "10", "20", "30", "40", "50"]
-    assert [line.split()[0] for line in lines[2:]] == ["50", "100", "200", "400", "700"]
-    assert lines[4].split() == ["200", "0.00", "70.00", "70.00", "70.00", "70.00", "70.00"]
+    assert lines[1].split() == ["y\\x", "0.00", "10.00", "20.00", "30.00", "40.00", "50.00"]  # the axes' %8.2
+    assert [line.split()[0] for line in lines[2:]] == ["50.00", "100.00", "200.00", "400.00", "700.00"]
+    assert lines[4].split() == ["200.00", "0.00", "70.00", "70.00", "70.00", "70.00", "70.00"]
     as_json = json.loads(run(capsys, "cal", "get", "xvPRV_DC_FF", "--json", *bus)[1])["xvPRV_DC_FF"]
     table = [[float(cell) for cell in line.split()[1:]] for line in lines[2:]]
     assert [list(column) for column in zip(*table)] == as_json["value"]  # the grid is the [x][y] array turned
@@ -100,7 +100,7 @@ def test_cal_set_takes_what_cal_get_shows(bus, capsys, tmp_path):
     table[3][2] = "55"  # y = 200 (the third Y point), x = 10 (the second X point)
     (tmp_path / "map.csv").write_text("\n".join(",".join(row) for row in table) + "\n")
     code, out, err = run(capsys, "cal", "set", "xvPRV_DC_FF", "--from", str(tmp_path / "map.csv"), *bus)
-    assert (code, err) == (0, "") and out.splitlines()[4].split()[:3] == ["200", "0.00", "55.00"]
+    assert (code, err) == (0, "") and out.splitlines()[4].split()[:3] == ["200.00", "0.00", "55.00"]
     after = json.loads(run(capsys, "cal", "get", "xvPRV_DC_FF", "--json", *bus)[1])["xvPRV_DC_FF"]["value"]
     before[1][2] = 55.0
     assert after == before
@@ -108,7 +108,7 @@ def test_cal_set_takes_what_cal_get_shows(bus, capsys, tmp_path):
     printed = "\n".join(lines[:7]).replace(" 70.00 ", " 71.00 ", 1)  # as printed (`cal get NAME > map.csv`)
     (tmp_path / "printed.csv").write_text(printed + "\n")
     code, out, err = run(capsys, "cal", "set", "xvPRV_DC_FF", "--from", str(tmp_path / "printed.csv"), *bus)
-    assert (code, err) == (0, "") and out.splitlines()[4].split()[:4] == ["200", "0.00", "71.00", "70.00"]
+    assert (code, err) == (0, "") and out.splitlines()[4].split()[:4] == ["200.00", "0.00", "71.00", "70.00"]
 
     grid = [[float(10 * y + x) for x in range(6)] for y in range(5)]  # the values alone, 5 Y rows x 6 X columns
     (tmp_path / "values.csv").write_text("\n".join(",".join(map(str, row)) for row in grid))

@@ -30,16 +30,16 @@ import numpy as np
 
 from workbench.a2l.objects import (
     NO_COMPU_METHOD, AxisDescr, AxisPts, Blob, Characteristic, CompuMethod, CompuTab, CompuVtab, CompuVtabRange,
-    Function, Group, Location, Measurement, ModCommon, RecordLayout, Unit,
+    Function, Group, Location, Measurement, ModCommon, RecordLayout, Unit, format_parts,
 )
 from workbench.a2l.readers import READERS, read_mod_common
-from workbench.errors import A2lParseError, InputError, UnknownSymbolError
+from workbench.errors import A2lParseError, InputError, UnknownSymbolError, WorkbenchError
 
 if TYPE_CHECKING:
     from workbench.a2l.compu import Conversion
     from workbench.a2l.document import A2lDocument, Block
 
-__all__ = ["A2lModel", "OBJECT_KINDS", "ObjectSummary", "closest_names", "is_glob", "name_pattern"]
+__all__ = ["A2lModel", "OBJECT_KINDS", "ObjectSummary", "axis_decimals", "closest_names", "is_glob", "name_pattern"]
 
 OBJECT_KINDS = ("CHARACTERISTIC", "MEASUREMENT", "AXIS_PTS", "BLOB", "INSTANCE")  # the shared "objects" namespace
 _TABLE_KINDS = ("COMPU_TAB", "COMPU_VTAB", "COMPU_VTAB_RANGE")
@@ -460,6 +460,18 @@ class A2lModel:
 
     def _unknown(self, name: str, known, what: str) -> UnknownSymbolError:
         return UnknownSymbolError(name, f"{what} of {self.doc.name}", closest_names(name, known))
+
+
+def axis_decimals(model, axis) -> int | None:
+    """The decimals of an axis' points (an AXIS_DESCR): its FORMAT, else its AXIS_PTS' (a COM_AXIS), else its
+    conversion's; the rule of every view that shows breakpoints (editor headers, heat map, 3D view, compare)."""
+    shown = axis.format
+    if not shown and axis.axis_pts_ref:
+        try:
+            shown = model.axis_pts(axis.axis_pts_ref).format
+        except (WorkbenchError, KeyError):
+            shown = None
+    return format_parts(shown or model.format_of(axis))[1]
 
 
 def is_glob(text: str) -> bool:

@@ -117,10 +117,17 @@ def _get(args: argparse.Namespace) -> int:
         obj = model.object(wanted[label][0])
         places = None if args.raw else decimals(model.format_of(obj))
         if hasattr(value, "axes"):
-            print(value_block(label, value.value, value.axes, value.unit, places))
+            print(value_block(label, value.value, value.axes, value.unit, places, axis_places=_axis_places(model, obj)))
         else:
             print(value_block(label, value, unit="" if args.raw else model.unit_of(obj), places=places))
     return 0
+
+
+def _axis_places(model, obj) -> tuple[int | None, ...]:
+    """The decimals of each axis' points, X first, as the window shows them."""
+    from workbench.a2l.model import axis_decimals
+
+    return tuple(axis_decimals(model, axis) for axis in getattr(obj, "axes", ()))
 
 
 def _cell_of(name: str, value: Any, index: tuple[int, ...]) -> Any:
@@ -176,8 +183,9 @@ def _set(args: argparse.Namespace) -> int:
     if args.json:
         print_json({args.name: _value_dict(written)})
         return 0
-    places = decimals(model.format_of(model.object(name)))  # as cal get shows it
-    print(value_block(args.name, written.value, written.axes, written.unit, places, note=" (written, read back)"))
+    obj = model.object(name)  # shown as cal get shows it
+    print(value_block(args.name, written.value, written.axes, written.unit, decimals(model.format_of(obj)),
+                      note=" (written, read back)", axis_places=_axis_places(model, obj)))
     return 0
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from workbench.a2l.model import axis_decimals
 from workbench.errors import WorkbenchError
 from workbench.gui.signal_hub import SignalInfo
 
@@ -49,20 +50,6 @@ def value_decimals(model, name: str, where: str = "value") -> int | None:
         return axis_decimals(model, axes[axis]) if 0 <= axis < len(axes) else format_parts(model.format_of(obj))[1]
     except (WorkbenchError, KeyError):
         return None
-
-
-def axis_decimals(model, axis) -> int | None:
-    """The decimals of an axis' points (an AXIS_DESCR): its FORMAT, else its AXIS_PTS' (a COM_AXIS), else its
-    conversion's; the rule of every view that shows breakpoints (editor headers, heat map, 3D view, compare)."""
-    from workbench.a2l.objects import format_parts
-
-    shown = axis.format
-    if not shown and axis.axis_pts_ref:
-        try:
-            shown = model.axis_pts(axis.axis_pts_ref).format
-        except (WorkbenchError, KeyError):
-            shown = None
-    return format_parts(shown or model.format_of(axis))[1]
 
 
 @dataclass(frozen=True)
