@@ -99,7 +99,7 @@ class DatasetDiff:
                 where = d.where + (f" ({', '.join(f'{l} {_show(p)}' for l, p in zip(_AXIS_LETTERS, d.at))})" if d.at else "")
                 rows.append((o.name, o.status, where, *_shown(d)))
         counts = self.counts()
-        summary = (f"{len(self.objects)} objects: {counts[EQUAL]} equal, {counts[CHANGED]} changed, "
+        summary = (f"{len(self.objects)} object{'' if len(self.objects) == 1 else 's'}: {counts[EQUAL]} equal, {counts[CHANGED]} changed, "
                    f"{counts[SHAPE_CHANGED]} shape changed, {counts[ONLY_IN_A]} only in A, {counts[ONLY_IN_B]} only in B")
         header = f"A: {self.a_label}\nB: {self.b_label}"
         if len(rows) == 1:
