@@ -68,7 +68,8 @@ def test_conflict_is_an_error_by_default():
         run([fragment("A", OTHER_CM + measurement("a"))])
     assert info.value.exit_code == 1
     (conflict,) = info.value.report.of_kind("conflict")
-    assert "differs from the definition at master.a2l:9" in conflict.message
+    assert conflict.message.endswith('differs from the definition at master.a2l:9 (first difference at line 5: '
+                                     '"other" here, "shared" there)')
 
 
 def test_keep_first_keeps_the_masters_definition():

@@ -24,6 +24,7 @@ from workbench.a2l.edits import Edit, Edits, apply_edits, newline_bytes, remove_
 from workbench.a2l.includes import includes_not_found_from
 from workbench.a2l.reports import ConflictPolicy, finding_at
 from workbench.a2l.source import SourceFile, transcoded
+from workbench.a2l.tokens import shown
 from workbench.a2l.validate import validate_document
 from workbench.errors import InputError, WorkbenchError
 from workbench.findings import Finding, Report, Severity, summarize
@@ -251,14 +252,16 @@ class _Merger:
     def _duplicate(self, plan: _Plan, origin: int, block: Block, key: tuple[str, str], existing: _Definition) -> None:
         """A second definition of a name: identical ones merge, different ones follow the policy."""
         doc, report, keyword, (namespace, name) = plan.doc, self.report, block.keyword, key
-        if self._signature(block, plan) == self._signature(existing.block, self._plan_of(existing)):
+        mine, theirs = self._signature(block, plan), self._signature(existing.block, self._plan_of(existing))
+        if mine == theirs:
             plan.skipped.append(block)
             plan.identical[block.index] = existing
             return
         where = ":".join(map(str, existing.block.position[:2]))
         if self.policy is ConflictPolicy.ERROR:
             report.add(finding_at(doc, block.keyword_token, "conflict", name,
-                                  f"{keyword} {name} differs from the definition at {where}", keyword, Severity.ERROR))
+                                  f"{keyword} {name} differs from the definition at {where} "
+                                  f"({_first_difference(block, mine, theirs)})", keyword, Severity.ERROR))
         elif self.policy is ConflictPolicy.KEEP_FIRST:
             plan.skipped.append(block)
             report.add(finding_at(doc, block.keyword_token, "kept-first", name,
@@ -315,6 +318,19 @@ def _render(plan: _Plan, master: A2lDocument) -> bytes:
     newline = newline_bytes(master)
     header = f"    /* ---- merged from {_short(doc)} ---- */".encode("ascii")
     return newline + header + newline + _fit(doc, master, body)
+
+
+def _first_difference(block: Block, mine: list[bytes], theirs: list[bytes]) -> str:
+    """Where two definitions of a name part first: ``first difference at line 23: '99' here, '100' there``."""
+    index = next((i for i, (a, b) in enumerate(zip(mine, theirs)) if a != b), min(len(mine), len(theirs)))
+    line = block.doc.token_position(block.begin_token + min(index, len(mine) - 1))[1]
+
+    def token(tokens: list[bytes]) -> str:
+        if index >= len(tokens):
+            return "nothing more"
+        return shown(tokens[index]) if tokens[index][:1] == b'"' else f"'{shown(tokens[index])}'"
+
+    return f"first difference at line {line}: {token(mine)} here, {token(theirs)} there"
 
 
 def _fit(doc: A2lDocument, master: A2lDocument, data: bytes) -> bytes:
