@@ -233,6 +233,10 @@ def test_measure_takes_can2_signals_by_the_names_the_window_plots(bus, capsys):
                          *bus)
     events = [json.loads(line)["event"] for line in out.splitlines()]
     assert code == 0 and "CAN2" in events and "Task4ms" in events, err
+    code, out, _ = run(capsys, "measure", "RailPressure", "FuelLevelLow", "--duration", "0.6", *bus)
+    shown = [line for line in out.splitlines() if "RailPressure=-" not in line]
+    assert code == 0 and shown  # one raw step of the DBC's factor 0.01: 2 decimals, as an A2L FORMAT gives
+    assert re.search(r"RailPressure=\d+\.\d\d bar FLCU_TO_PCM_001.FuelLevelLow=(Normal|Low)$", shown[-1]), shown[-1]
     code, out, err = run(capsys, "measure", "Railpressure", *bus)
     assert (code, out) == (2, "") and "'RailPressure'" in err and "'zsRailPressure'" in err
 

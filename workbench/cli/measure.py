@@ -219,9 +219,20 @@ def _raw(session, values: dict[str, Any]) -> dict[str, Any]:
     return {name: session.to_raw(name, value) for name, value in values.items()}
 
 
+def _step_places(signal) -> int | None:
+    """The decimals of one raw step of a CAN2 signal's DBC factor (0.01 -> 2, 0.5 -> 1, 10 -> 0); None for a
+    signal with value texts or no factor."""
+    from decimal import Decimal
+
+    scale = getattr(signal, "scale", None)
+    if not scale or getattr(signal, "choices", None):
+        return None
+    return max(0, -Decimal(repr(float(scale))).normalize().as_tuple().exponent)
+
+
 def _view(args: argparse.Namespace, session, can2: dict[str, Any]):
     model = session.model
-    formats = {name: ("", None) if args.raw else (signal.unit or "", None) for name, signal in can2.items()}
+    formats = {name: ("", None) if args.raw else (signal.unit or "", _step_places(signal)) for name, signal in can2.items()}
     formats.update({name: ("", None) if args.raw else
                     (model.unit_of(model.object(name)), decimals(model.format_of(model.object(name))))
                     for name in args.names if name not in formats and name in model})
