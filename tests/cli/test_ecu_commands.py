@@ -354,3 +354,23 @@ def test_cal_get_takes_a_cell_as_cal_set_does(bus, capsys):
     assert json.loads(out) == {"xvPRV_DC_FF[2, 3]": 42.0}
     code, _, err = run(capsys, "cal", "get", "xvPRV_DC_FF[9,3]", *bus)
     assert (code, err) == (2, "error: xvPRV_DC_FF has shape (6, 5): [9, 3] is not one of its values\n")
+
+
+def test_measure_takes_globs_and_records_can2_signals_by_name(bus, capsys, tmp_path):
+    """measure 'zsRail*' as cal get takes globs (DAQ: its measurements only); --record takes the CAN2 names plain
+    measure takes (it refused them as unknown A2L symbols); a calibration for DAQ says how to read it."""
+    code, out, _ = run(capsys, "measure", "zsRail*", "--duration", "0.25", "--json", *bus)
+    assert code == 0 and list(json.loads(out.splitlines()[-1])["values"]) == ["zsRailVoltFilt", "zsRailPressureTmp",
+                                                                           "zsRailPressure"]
+    assert run(capsys, "measure", "xs*THR", "--daq", "--duration", "0.2", *bus)[2] == \
+        "error: no measurement matches 'xs*THR'\n"
+    code, out, err = run(capsys, "measure", "FuelLevel", "zsRailPressure", "--record", str(tmp_path / "r.mf4"),
+                         "--duration", "0.5", *bus)
+    assert code == 0 and "CAN2 frames decoded" in out, err
+    from asammdf import MDF
+
+    with MDF(tmp_path / "r.mf4") as mdf:
+        assert "FuelLevel" in mdf.channels_db and any(name.endswith("zsRailPressure") for name in mdf.channels_db)
+    code, _, err = run(capsys, "measure", "xvPRV_DC_FF", "--daq", "--duration", "0.2", *bus)
+    assert (code, err) == (2, "error: xvPRV_DC_FF is a CHARACTERISTIC: DAQ samples only MEASUREMENTs; read a "
+                              "calibration by polling (measure without --daq, or Session.read)\n")

@@ -68,7 +68,7 @@ def run(args: argparse.Namespace) -> int:
         args.daq = True  # an event only means something to DAQ
     _check_recording_options(args)
     doc = a2l_document(args)
-    names, can2, databases = _split_names(args, doc.model())  # a name neither A2L nor DBC has: before connecting
+    names, can2, databases, shown = _split_names(args, doc.model())  # a name neither has: before connecting
     if args.event is not None:
         from workbench.a2l.xcp import read_xcp_config
         from workbench.session.measure import event_number
@@ -76,8 +76,8 @@ def run(args: argparse.Namespace) -> int:
         event_number(read_xcp_config(doc), args.event)  # an event the A2L lacks: before connecting too
     with open_session(args, doc) as session:
         if args.record:
-            return _record(args, session)
-        view = _view(args, session, can2)
+            return _record(args, session, names, can2)
+        view = _view(args, session, shown, can2)
         monitor = _can2_monitor(args, session, can2, databases) if can2 else None
         try:
             if args.daq and names:
@@ -93,17 +93,24 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _split_names(args: argparse.Namespace, model) -> tuple[list[str], dict[str, Any], list]:
-    """The A2L's names among NAME..., the CAN2 signals (``Message.Signal`` -> cantools signal) of the DBC (--can2,
-    or the demo's with the demo's A2L) as the window names and plots them, and the DBC's databases."""
+def _split_names(args: argparse.Namespace, model) -> tuple[list[str], dict[str, Any], list, list[str]]:
+    """The A2L's names among NAME... (globs expanded), the CAN2 signals (``Message.Signal`` -> cantools signal) of
+    the DBC (--can2, or the demo's with the demo's A2L) as the window names and plots them, the DBC's databases,
+    and every name as shown, in the order given."""
     from workbench.a2l.model import closest_names
     from workbench.can.naming import dbc_signal_name, find_dbc_signal
     from workbench.errors import UnknownSymbolError
 
+    from workbench.a2l.model import is_glob
+
     names, can2, databases = [], {}, None
+    sampled = "MEASUREMENT" if args.daq or args.record else ("MEASUREMENT", "CHARACTERISTIC", "AXIS_PTS")
     for name in args.names:
         if name in model:
             names.append(name)
+            continue
+        if is_glob(name):  # as cal get and cal list take them: what DAQ samples, else every value that reads
+            names += model.expand([name], sampled, what="measurement" if args.daq or args.record else "object")
             continue
         if databases is None:
             databases = _can2_databases(args)
@@ -115,7 +122,18 @@ def _split_names(args: argparse.Namespace, model) -> tuple[list[str], dict[str, 
             alike = closest_names(name, known, 2) + list(in_dbc.suggestions[:2])
             raise UnknownSymbolError(name, where, alike) from None
         can2[dbc_signal_name(message.name, signal.name)] = signal
-    return names, can2, databases or []
+    shown = list(dict.fromkeys(name for given in args.names for name in _as_shown(given, names, can2)))
+    return names, can2, databases or [], shown
+
+
+def _as_shown(given: str, names: list[str], can2: dict[str, Any]) -> list[str]:
+    """The names a NAME argument stands for: itself, what its glob matched, or its CAN2 ``Message.Signal``."""
+    from workbench.a2l.model import name_pattern
+
+    if given in names or given in can2:
+        return [given]
+    qualified = [key for key in can2 if key.split(".", 1)[1] == given]
+    return qualified or [name for name in names if name_pattern(given).fullmatch(name)]
 
 
 def _can2_databases(args: argparse.Namespace) -> list:
@@ -187,11 +205,13 @@ def _check_recording_options(args: argparse.Namespace) -> None:
         raise InputError("--raw does not go with --record: the file holds the raw values with their conversions")
 
 
-def _record(args: argparse.Namespace, session) -> int:
+def _record(args: argparse.Namespace, session, names: list[str], can2: dict[str, Any]) -> int:
+    """Record the A2L's ``names`` by DAQ; the CAN2 bus is recorded whole, its signals decoded by the DBC (that of
+    --can2, or the demo's when ``can2`` signals were named by it)."""
     from workbench.cli.progressbar import ProgressBar
     from workbench.record import Recorder
 
-    recorder = Recorder(session, args.record, args.names, event=args.event, can2=args.can2,
+    recorder = Recorder(session, args.record, names, event=args.event, can2=args.can2 or (can2_dbc(args) if can2 else None),
                         can_bus=_can2_bus(args, session), raw_can=args.raw_can, overwrite=args.overwrite)
     with ProgressBar("recording") as progress, recorder:
         try:
@@ -230,23 +250,17 @@ def _step_places(signal) -> int | None:
     return max(0, -Decimal(repr(float(scale))).normalize().as_tuple().exponent)
 
 
-def _view(args: argparse.Namespace, session, can2: dict[str, Any]):
+def _view(args: argparse.Namespace, session, order: list[str], can2: dict[str, Any]):
     model = session.model
     formats = {name: ("", None) if args.raw else (signal.unit or "", _step_places(signal)) for name, signal in can2.items()}
     formats.update({name: ("", None) if args.raw else
                     (model.unit_of(model.object(name)), decimals(model.format_of(model.object(name))))
-                    for name in args.names if name not in formats and name in model})
-    order = list(dict.fromkeys(name if name in model else _can2_name(name, can2) for name in args.names))
+                    for name in order if name not in formats})
     if args.json:
         return _JsonLines(order)
     if sys.stdout.isatty():
         return _LiveTable(order, formats)
     return _TextLines(order, formats)
-
-
-def _can2_name(name: str, can2: dict[str, Any]) -> str:
-    """The ``Message.Signal`` a name given for a CAN2 signal stands for."""
-    return name if name in can2 else next(key for key in can2 if key.split(".", 1)[1] == name)
 
 
 class _Can2Samples:

@@ -63,8 +63,8 @@ class DaqMeasurement:
         for name in self.names:
             obj = model.object(name)
             if not isinstance(obj, Measurement):
-                raise InputError(f"{name} is a {type(obj).__name__.upper()}: DAQ samples MEASUREMENTs "
-                                 f"(read() polls calibrations)")
+                raise InputError(f"{name} is a {type(obj).__name__.upper()}: DAQ samples only MEASUREMENTs; "
+                                 "read a calibration by polling (measure without --daq, or Session.read)")
             self.codecs[name] = measurement_codec(model, obj)
         self.events = self._events(event)
         self.prescaler = prescaler
