@@ -44,7 +44,8 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
                                    description="Measure signals by name in physical units: polled (SHORT_UPLOAD/UPLOAD "
                                                "of neighbouring addresses together) or sampled by the ECU with DAQ "
                                                "(each signal on its A2L event, with the ECU's timestamps).")
-    parser.add_argument("names", nargs="+", metavar="NAME")
+    parser.add_argument("names", nargs="+", metavar="NAME", help="an A2L name, a glob ('zsRail*': with --daq or --record "
+                        "its measurements) or a CAN2 signal (Signal or Message.Signal)")
     parser.add_argument("--daq", action="store_true", help="sample by DAQ instead of polling")
     parser.add_argument("--event", help="DAQ event (name or number) for every signal (default: each signal's own)")
     parser.add_argument("--rate", type=positive_float, default=10.0, metavar="HZ", help="polling rate (default 10 Hz)")
