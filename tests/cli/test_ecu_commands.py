@@ -142,6 +142,8 @@ def test_cal_set_takes_what_cal_get_shows(bus, capsys, tmp_path):
 def test_cal_list_and_page(bus, capsys):
     code, out, _ = run(capsys, "cal", "list", "xsPRV_K*", *bus)
     assert code == 0 and [line.split()[0] for line in out.splitlines()] == ["xsPRV_KP", "xsPRV_KI", "xsPRV_KD"]
+    code, out, _ = run(capsys, "cal", "list", "xvPRV_DC_FF", *bus)  # a row per Y point, as cal get's table
+    assert out.split("[[")[1].startswith("0.00 100.00 100.00 100.00 100.00 100.00]; [0.00 100.00")
     run(capsys, "cal", "set", "xsPRV_KP", "6", *bus)
     code, out, _ = run(capsys, "cal", "page", "copy", *bus)
     assert code == 0 and "copied the reference page" in out

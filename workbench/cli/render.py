@@ -38,10 +38,12 @@ def number(value: Any, places: int | None = None) -> str:
 
 
 def value_text(value: Any, unit: str = "", places: int | None = None) -> str:
-    """A scalar with its unit, or an array on one line ([1 2 3])."""
+    """A scalar with its unit, or an array on one line ([1 2 3]); a map's values ``[x, y]`` a row per Y point, as
+    its table shows them (X across, Y down)."""
     if isinstance(value, np.ndarray):
         if value.ndim > 1:
-            return "[" + "; ".join(value_text(row, "", places) for row in value) + "]" + (f" {unit}" if unit else "")
+            rows = value.T if value.ndim == 2 else value
+            return "[" + "; ".join(value_text(row, "", places) for row in rows) + "]" + (f" {unit}" if unit else "")
         return "[" + " ".join(number(v, places) for v in value.tolist()) + "]" + (f" {unit}" if unit else "")
     return number(value, places) + (f" {unit}" if unit else "")
 
