@@ -25,6 +25,9 @@ CASES = [
     ('    /begin MEASUREMENT m "" UBYTE NO_COMPU_METHOD 1 0 0 255\n      /begin MEASUREMENT n "" UBYTE NO_COMPU_METHOD 1 0 0 255 /end MEASUREMENT\n    /end MEASUREMENT\n', "block /begin MEASUREMENT is not allowed in MEASUREMENT", 5, 14),
     ('    /begin MESUREMENT m "" /end MESUREMENT\n', "unknown block /begin MESUREMENT is not allowed in MODULE", 4, 12),
     ('    /end MEASUREMENT\n', "/end MEASUREMENT found while /begin MODULE", 4, 5),
+    ('    /begin CHARACTERISTIC c "" VALUE 0x10 RL 0 NO_COMPU_METHOD 0 1\n' + GOOD_MEASUREMENT,  # its /end forgotten
+     "/begin MEASUREMENT cannot stand inside /begin CHARACTERISTIC (line 4, column 5): is its /end CHARACTERISTIC "
+     "missing?", 5, 5),
     ('    /begin\n', "/begin must be followed by a block keyword", 4, 5),
     ('    /begn MEASUREMENT\n', "unexpected '/begn'", 4, 5),
     ('    /begin MEASUREMENT 42 "" UBYTE NO_COMPU_METHOD 1 0 0 255 /end MEASUREMENT\n', "a name expected, found '42'", 4, 24),

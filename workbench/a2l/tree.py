@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from workbench.a2l.grammar import BLOCKS, BlockSpec
 from workbench.a2l.source import SourceMap
 from workbench.a2l.tokens import Tokens, shown
 
@@ -171,6 +172,21 @@ def _check_keywords_follow(tokens: Tokens, directives: np.ndarray, name: str, so
         raise source_map.error(f"{name} must be followed by a block keyword", tokens.starts_list[where])
 
 
+_FREE = BlockSpec(free=True)  # a block the table does not know: anything may stand inside
+
+
+def _check_placed(keyword: str, offset: int, stack: list[tuple[str, int]], source_map: SourceMap) -> None:
+    """A known block that cannot stand inside the open one (a MEASUREMENT in a CHARACTERISTIC) is where a
+    missing /end shows: said there, not at the end of the MODULE (IF_DATA and A2ML hold anything)."""
+    if not stack or keyword not in BLOCKS or any(BLOCKS.get(open_, _FREE).free for open_, _ in stack):
+        return
+    parent, parent_offset = stack[-1]
+    if keyword not in BLOCKS[parent].blocks:
+        _, line, column = source_map.position(parent_offset)
+        raise source_map.error(f"/begin {keyword} cannot stand inside /begin {parent} (line {line}, column {column}): "
+                               f"is its /end {parent} missing?", offset)
+
+
 def _diagnose(tokens: Tokens, events: np.ndarray, signs: np.ndarray, source_map: SourceMap) -> None:
     """Walk the begin/end events with a stack and raise at the first problem in file order."""
     stack: list[tuple[str, int]] = []
@@ -178,6 +194,7 @@ def _diagnose(tokens: Tokens, events: np.ndarray, signs: np.ndarray, source_map:
         keyword = tokens.raw(token + 1).decode("latin-1")
         offset = tokens.starts_list[token]
         if sign > 0:
+            _check_placed(keyword, offset, stack, source_map)
             stack.append((keyword, offset))
             continue
         if not stack:
