@@ -182,7 +182,9 @@ def _check_placed(keyword: str, offset: int, stack: list[tuple[str, int]], sourc
         return
     parent, parent_offset = stack[-1]
     if keyword not in BLOCKS[parent].blocks:
-        _, line, column = source_map.position(parent_offset)
+        file, line, column = source_map.position(parent_offset)
+        if source_map.position(offset)[0] != file:  # an included file's block: the mistake is the includer's
+            return
         raise source_map.error(f"/begin {keyword} cannot stand inside /begin {parent} (line {line}, column {column}): "
                                f"is its /end {parent} missing?", offset)
 
