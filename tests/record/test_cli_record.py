@@ -102,7 +102,10 @@ def test_a_killed_recording_leaves_a_readable_file(free_udp_port, tmp_path, read
     assert len(master(read_mdf(path), "Task4ms")) == len(times)
 
 
-def test_ctrl_c_ends_the_recording_and_finalizes_it(free_udp_port, tmp_path, read_mdf):
+@pytest.mark.parametrize("signal_number", [signal.SIGINT, signal.SIGTERM], ids=["ctrl-c", "sigterm"])
+def test_ctrl_c_or_sigterm_ends_the_recording_and_finalizes_it(free_udp_port, tmp_path, read_mdf, signal_number):
+    """Ctrl-C, and SIGTERM as a service manager, `kill` or a CI timeout sends it, end a recording alike: the file
+    finalized and the summary printed (SIGTERM killed the process before)."""
     bus = ["--bus-kwargs", f"port={free_udp_port}"]
     sim, _ = start_sim_process(*bus)
     path = tmp_path / "interrupted.mf4"
@@ -110,7 +113,7 @@ def test_ctrl_c_ends_the_recording_and_finalizes_it(free_udp_port, tmp_path, rea
                                  stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         _wait_for_records(path, 20)
-        recording.send_signal(signal.SIGINT)
+        recording.send_signal(signal_number)
         out, err = recording.communicate(timeout=30)
     finally:
         recording.kill()

@@ -4,8 +4,11 @@ from __future__ import annotations
 
 import argparse
 import json
+import signal
 import sys
+import threading
 import time
+from contextlib import contextmanager
 from typing import Any
 
 from workbench.bus_defaults import BusSpec
@@ -75,7 +78,7 @@ def run(args: argparse.Namespace) -> int:
         from workbench.session.measure import event_number
 
         event_number(read_xcp_config(doc), args.event)  # an event the A2L lacks: before connecting too
-    with open_session(args, doc) as session:
+    with open_session(args, doc) as session, _terminate_as_interrupt():
         if args.record:
             return _record(args, session, names, can2)
         view = _view(args, session, shown, can2)
@@ -92,6 +95,24 @@ def run(args: argparse.Namespace) -> int:
                 monitor.close()
             view.close()
     return 0
+
+
+@contextmanager
+def _terminate_as_interrupt():
+    """SIGTERM (a service manager, ``kill``, a CI timeout) ends a measurement as Ctrl-C does: a recording is
+    finalized and summed up, the bus closed. Only the main thread can take signals."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, _interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _interrupt(number, frame) -> None:
+    raise KeyboardInterrupt
 
 
 def _split_names(args: argparse.Namespace, model) -> tuple[list[str], dict[str, Any], list, list[str]]:
