@@ -119,11 +119,9 @@ def _split_names(args: argparse.Namespace, model) -> tuple[list[str], dict[str, 
     """The A2L's names among NAME... (globs expanded), the CAN2 signals (``Message.Signal`` -> cantools signal) of
     the DBC (--can2, or the demo's with the demo's A2L) as the window names and plots them, the DBC's databases,
     and every name as shown, in the order given."""
-    from workbench.a2l.model import closest_names
+    from workbench.a2l.model import closest_names, is_glob
     from workbench.can.naming import dbc_signal_name, find_dbc_signal
     from workbench.errors import UnknownSymbolError
-
-    from workbench.a2l.model import is_glob
 
     names, can2, databases = [], {}, None
     sampled = "MEASUREMENT" if args.daq or args.record else ("MEASUREMENT", "CHARACTERISTIC", "AXIS_PTS")
@@ -233,8 +231,9 @@ def _record(args: argparse.Namespace, session, names: list[str], can2: dict[str,
     from workbench.cli.progressbar import ProgressBar
     from workbench.record import Recorder
 
-    recorder = Recorder(session, args.record, names, event=args.event, can2=args.can2 or (can2_dbc(args) if can2 else None),
-                        can_bus=_can2_bus(args, session), raw_can=args.raw_can, overwrite=args.overwrite)
+    dbc = args.can2 or (can2_dbc(args) if can2 else None)
+    recorder = Recorder(session, args.record, names, event=args.event, can2=dbc, can_bus=_can2_bus(args, session),
+                        raw_can=args.raw_can, overwrite=args.overwrite)
     with ProgressBar("recording") as progress, recorder:
         try:
             recorder.wait(args.duration, progress)

@@ -86,7 +86,11 @@ class ValueAccess:
             self.require_application()  # the ECU may be in its boot loader since (reconnected after a reset)
             span, decode = reader
             with self.lock:
-                value = decode(self._read_spans([span], {name: [span]})[span])
+                try:  # the hot path of polling: one command, no merging of spans
+                    data = self.master.read(span.address, span.size, span.extension)
+                except XcpCommandError as exc:
+                    raise exc.about(_reading(span, {name: [span]})) from None
+            value = decode(data)
         else:
             value = self.read_many([name], page=page)[name]
             self._keep_reader(name)
