@@ -123,14 +123,17 @@ def _split_names(args: argparse.Namespace, model) -> tuple[list[str], dict[str, 
     from workbench.can.naming import dbc_signal_name, find_dbc_signal
     from workbench.errors import UnknownSymbolError
 
-    names, can2, databases = [], {}, None
+    names, can2, databases, shown = [], {}, None, []
     sampled = "MEASUREMENT" if args.daq or args.record else ("MEASUREMENT", "CHARACTERISTIC", "AXIS_PTS")
     for name in args.names:
         if name in model:
             names.append(name)
+            shown.append(name)
             continue
         if is_glob(name):  # as cal get and cal list take them: what DAQ samples, else every value that reads
-            names += model.expand([name], sampled, what="measurement" if args.daq or args.record else "object")
+            matched = model.expand([name], sampled, what="measurement" if args.daq or args.record else "object")
+            names += matched
+            shown += matched
             continue
         if databases is None:
             databases = _can2_databases(args)
@@ -141,19 +144,10 @@ def _split_names(args: argparse.Namespace, model) -> tuple[list[str], dict[str, 
             where = "the A2L's objects" + (" or the CAN2 DBC's signals" if databases else " (CAN2 signals: --can2 DBC)")
             alike = closest_names(name, known, 2) + list(in_dbc.suggestions[:2])
             raise UnknownSymbolError(name, where, alike) from None
-        can2[dbc_signal_name(message.name, signal.name)] = signal
-    shown = list(dict.fromkeys(name for given in args.names for name in _as_shown(given, names, can2)))
-    return names, can2, databases or [], shown
-
-
-def _as_shown(given: str, names: list[str], can2: dict[str, Any]) -> list[str]:
-    """The names a NAME argument stands for: itself, what its glob matched, or its CAN2 ``Message.Signal``."""
-    from workbench.a2l.model import name_pattern
-
-    if given in names or given in can2:
-        return [given]
-    qualified = [key for key in can2 if key.split(".", 1)[1] == given]
-    return qualified or [name for name in names if name_pattern(given).fullmatch(name)]
+        qualified = dbc_signal_name(message.name, signal.name)
+        can2[qualified] = signal
+        shown.append(qualified)
+    return names, can2, databases or [], list(dict.fromkeys(shown))
 
 
 def _can2_databases(args: argparse.Namespace) -> list:

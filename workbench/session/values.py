@@ -85,11 +85,8 @@ class ValueAccess:
         if reader is not None:  # read before, static and in one span: one command and its decoding
             self.require_application()  # the ECU may be in its boot loader since (reconnected after a reset)
             span, decode = reader
-            with self.lock:
-                try:  # the hot path of polling: one command, no merging of spans
-                    data = self.master.read(span.address, span.size, span.extension)
-                except XcpCommandError as exc:
-                    raise exc.about(_reading(span, {name: [span]})) from None
+            with self.lock:  # the hot path of polling: one command, no merging of spans
+                data = self._read_block(span, {name: [span]})
             value = decode(data)
         else:
             value = self.read_many([name], page=page)[name]
@@ -163,13 +160,13 @@ class ValueAccess:
                     ) -> dict[Span, bytes]:
         """The bytes of ``spans``; a refused read names the objects of ``owners`` (name -> its spans) it
         concerned and where."""
-        def read(block: Span) -> bytes:
-            try:
-                return self.master.read(block.address, block.size, block.extension)
-            except XcpCommandError as exc:
-                raise exc.about(_reading(block, owners or {})) from None
+        return read_merged(spans, lambda block: self._read_block(block, owners))
 
-        return read_merged(spans, read)
+    def _read_block(self: Session, block: Span, owners: dict[str, list[Span]] | None) -> bytes:
+        try:
+            return self.master.read(block.address, block.size, block.extension)
+        except XcpCommandError as exc:
+            raise exc.about(_reading(block, owners or {})) from None
 
     # --- writing ------------------------------------------------------------------------------
 

@@ -22,8 +22,8 @@ from workbench.calib.values import CalValue
 from workbench.errors import InputError, UnknownSymbolError, WorkbenchError
 from workbench.sync.store import ByteStore
 
-__all__ = ["Fetch", "as_stored", "as_typed_value", "calibration_names", "decode_values", "label_differences", "object_layouts", "relabel",
-           "resolve_all", "without_name"]
+__all__ = ["Fetch", "as_stored", "as_typed_value", "calibration_names", "decode_values", "label_differences",
+           "object_layouts", "relabel", "resolve_all", "without_name"]
 
 Fetch = Callable[[list[Span]], Mapping[Span, bytes]]
 _T = TypeVar("_T")

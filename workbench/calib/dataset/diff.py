@@ -99,8 +99,9 @@ class DatasetDiff:
                 where = d.where + (f" ({', '.join(f'{l} {_show(p)}' for l, p in zip(_AXIS_LETTERS, d.at))})" if d.at else "")
                 rows.append((o.name, o.status, where, *_shown(d)))
         counts = self.counts()
-        summary = (f"{len(self.objects)} object{'' if len(self.objects) == 1 else 's'}: {counts[EQUAL]} equal, {counts[CHANGED]} changed, "
-                   f"{counts[SHAPE_CHANGED]} shape changed, {counts[ONLY_IN_A]} only in A, {counts[ONLY_IN_B]} only in B")
+        objects = f"{len(self.objects)} object{'' if len(self.objects) == 1 else 's'}"
+        summary = (f"{objects}: {counts[EQUAL]} equal, {counts[CHANGED]} changed, {counts[SHAPE_CHANGED]} shape changed, "
+                   f"{counts[ONLY_IN_A]} only in A, {counts[ONLY_IN_B]} only in B")
         header = f"A: {self.a_label}\nB: {self.b_label}"
         if len(rows) == 1:
             return f"{header}\n{summary}"
@@ -219,7 +220,7 @@ def _shown(difference: ElementDiff) -> tuple[str, str, str]:
     if a == b:
         a, b = format_number(difference.a), format_number(difference.b)
         return a, b, _signed(format_number(difference.delta))
-    return a, b, shown_difference(difference.a, difference.b)
+    return a, b, _signed(shown_difference(difference.a, difference.b))
 
 
 def _signed(text: str) -> str:

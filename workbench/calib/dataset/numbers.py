@@ -83,11 +83,7 @@ def shown_number(value) -> str:
     is exactly a float32 in the float32's shortest text (25.123, not the 25.12299919128418 it holds:
     typed as 25.123, it is what a FLOAT32 calibration stores), any other float in the shortest text
     that reads back to it, integers as integers."""
-    if isinstance(value, (np.floating, float)) and math.isfinite(value):
-        single = np.float32(value)
-        if float(single) == float(value):
-            return str(single)
-    return format_number(value)
+    return format_number(as_typed(value))
 
 
 def as_typed(value):
@@ -111,22 +107,19 @@ def as_typed(value):
 
 
 def shown_difference(a, b) -> str:
-    """``b - a`` signed, as the difference of the numbers :func:`shown_number` shows for them (25.123 - 5.0
-    shows +20.123, and 12.5 - 25.12 shows -12.62, not -12.620000000000001)."""
+    """``b - a`` as the difference of the numbers :func:`shown_number` shows for them (25.123 - 5.0 shows
+    20.123, and 12.5 - 25.12 shows -12.62, not -12.620000000000001)."""
     from decimal import Decimal, InvalidOperation  # here: reading and writing files need none of it
 
     if isinstance(a, (int, np.integer)) and isinstance(b, (int, np.integer)):
-        text = str(int(b) - int(a))
-    else:
-        try:
-            delta = Decimal(shown_number(b)) - Decimal(shown_number(a))
-        except InvalidOperation:  # NaN or an infinity on either side
-            delta = None
-        if delta is not None and delta.is_finite() and -7 < delta.adjusted() < 16:
-            text = f"{delta:f}"
-        else:
-            text = format_number(float(b) - float(a))
-    return text if text.startswith("-") or text == "NaN" else f"+{text}"
+        return str(int(b) - int(a))
+    try:
+        delta = Decimal(shown_number(b)) - Decimal(shown_number(a))
+    except InvalidOperation:  # NaN or an infinity on either side
+        delta = None
+    if delta is not None and delta.is_finite() and -7 < delta.adjusted() < 16:
+        return f"{delta:f}"
+    return format_number(float(b) - float(a))
 
 
 def to_array(items: list, shape: tuple[int, ...] | None = None) -> np.ndarray:
