@@ -52,15 +52,17 @@ def test_text_table_and_json():
     lines = text.splitlines()
     assert lines[:2] == ["A: base.dcm", "B: tuned.cdfx"]
     assert lines[2].split() == ["name", "status", "where", "A", "B", "B", "-", "A"]
-    assert any(line.split() == ["xvPRV_DC_FF", "changed", "value[1,", "2]", "(x", "10.0,", "y", "200.0)", "70.0", "72.5", "+2.5"]
-               for line in lines)
+    assert any(line.split() == ["xvPRV_DC_FF", "changed", "value[1,", "2]", "(x", "10.0", "bar,", "y", "200.0", "bar)",
+                                "70.0", "%", "72.5", "%", "+2.5", "%"] for line in lines)  # with units, as cal get
     assert any(line.split()[:2] == ["xsPRV_KD", "only-in-a"] for line in lines)
     assert lines[-1] == "59 objects: 53 equal, 3 changed, 1 shape changed, 1 only in A, 1 only in B"
     assert "zsEWMA_ALPHA" not in text and "zsEWMA_ALPHA" in result.to_text(show_equal=True)
     data = json.loads(json.dumps(result.to_dict()))
     kp = next(o for o in data["objects"] if o["name"] == "xsPRV_KP")
     assert kp == {"name": "xsPRV_KP", "status": "changed", "kind": {"a": "VALUE", "b": "VALUE"},
-                  "differences": [{"where": "value", "a": 5.0, "b": 5.5, "delta": 0.5, "at": []}]}
+                  "unit": {"a": "%/bar", "b": "%/bar"},
+                  "differences": [{"where": "value", "a": 5.0, "b": 5.5, "delta": 0.5, "at": [],
+                                   "unit": {"a": "%/bar", "b": "%/bar"}}]}
     assert data["counts"]["equal"] == 53 and data["equal"] is False
 
 
@@ -127,3 +129,14 @@ def test_the_table_shows_float32_values_as_typed_and_keeps_what_the_short_text_w
     assert rows == {"f32": ["5.0", "25.123", "+20.123"], "word": ["25.12", "12.5", "-12.62"],
                     "close": ["25.12299919128418", "25.123", "+8.087158214209467e-07"]}
     assert result.to_dict()["objects"][0]["differences"][0]["b"] == typed
+
+
+def test_texts_are_bare_unless_that_hides_the_difference():
+    a, b = Dataset(), Dataset()
+    for name, left, right in (("mode", "Low", "High"), ("empty", "", "x"), ("blank", "abc", "abc "), ("raw", 7, "7")):
+        a.add(CalValue(name, "ASCII" if name in ("empty", "blank") else "VALUE", left))
+        b.add(CalValue(name, "ASCII" if name in ("empty", "blank") else "VALUE", right))
+    rows = {line.split("changed")[0].strip(): line.split("value", 1)[1].split() for line in
+            diff_datasets(a, b).to_text().splitlines()[3:-1]}
+    assert rows == {"mode": ["Low", "High"], "empty": ["''", "x"], "blank": ["abc", "'abc", "'"],
+                    "raw": ["7", "'7'"]}

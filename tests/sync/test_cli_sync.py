@@ -45,8 +45,8 @@ def test_save_change_diff_load_and_diff_again(bus, capsys, tmp_path):
     code, out, _ = run(capsys, "cal", "diff", "base.dcm", "ecu", *bus)
     assert code == 1
     rows = [line.split() for line in out.splitlines()[3:-1]]
-    assert [(row[0], row[3], row[4], row[5]) for row in rows] == [("xsPRV_KP", "5.0", "6.0", "+1.0"),
-                                                                    ("xsSWITCH_TANK_THR", "20.0", "25.0", "+5.0")]
+    assert [(row[0], *row[3:]) for row in rows] == [("xsPRV_KP", "5.0", "%/bar", "6.0", "%/bar", "+1.0", "%/bar"),
+                                                     ("xsSWITCH_TANK_THR", "20.0", "bar", "25.0", "bar", "+5.0", "bar")]
     assert out.splitlines()[-1] == "58 objects: 56 equal, 2 changed, 0 shape changed, 0 only in A, 0 only in B"
     code, out, _ = run(capsys, "cal", "diff", "ecu", "base.dcm", "--json", *bus)
     data = json.loads(out)
@@ -123,7 +123,8 @@ def test_sync_report_upload_and_download(bus, capsys, tmp_path):
     assert lines[-2].endswith(" bytes read from the ECU") and "uploaded" not in out  # nothing went to a file
     assert lines[0] == f"file: {demo.s19()}" and lines[2].split() == ["name", "status", "where", "file", "ECU", "ECU",
                                                                       "-", "file"]
-    assert any(line.split()[:6] == ["xsEMPTY_TANK_THR", "changed", "value", "5.0", "7.5", "+2.5"] for line in lines)
+    assert any(line.split()[:9] == ["xsEMPTY_TANK_THR", "changed", "value", "5.0", "bar", "7.5", "bar",
+                                                   "+2.5", "bar"] for line in lines)
 
     shutil.copy(demo.s19(), tmp_path / "mine.s19")
     code, out, _ = run(capsys, "cal", "sync", "--reference", "mine.s19", "--upload", *bus)
@@ -155,8 +156,8 @@ def test_the_saved_image_is_what_flash_takes(bus, capsys, tmp_path):
     code, out, _ = run(capsys, "cal", "diff", "ecu", "tuned.hex", *bus)
     assert code == 0
     code, out, _ = run(capsys, "cal", "diff", "tuned.hex", str(demo.s19()))
-    assert code == 1 and out.splitlines()[3].split()[:6] == ["xsFULL_TANK_PRESS", "changed", "value", "650.0",
-                                                             "700.0", "+50.0"]
+    assert code == 1 and out.splitlines()[3].split() == ["xsFULL_TANK_PRESS", "changed", "value", "650.0", "bar",
+                                                         "700.0", "bar", "+50.0", "bar"]
 
 
 @pytest.mark.parametrize("argv, message", [
@@ -184,3 +185,30 @@ def test_another_a2l_needs_a_reference(bus, capsys, tmp_path):
     code, _, err = run(capsys, "cal", "sync", "--a2l", str(a2l), *bus)
     assert code == 2 and "give --reference FILE" in err
     assert run(capsys, "cal", "sync", "--a2l", str(a2l), "--reference", str(demo.s19()), *bus)[0] == 0
+
+
+def test_diff_and_dry_run_show_values_as_cal_get_does(bus, capsys):
+    """A physical value with its unit, an enum's text bare (as cal get shows them), in every form of cal diff and in
+    load --dry-run; --json keeps its numbers and texts and gives the units beside them."""
+    names = ("xsSWITCH_TANK_THR", "cfTANK1PSDIAGSTATUS_VALUE", "zvTankPConv")
+    run(capsys, "cal", "save", "base.dcm", *names, *bus)
+    run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "22.5", *bus)
+    run(capsys, "cal", "set", "cfTANK1PSDIAGSTATUS_VALUE", "OPEN_LOAD", *bus)
+    run(capsys, "cal", "set", "zvTankPConv[3]", "310", *bus)
+    assert run(capsys, "cal", "get", "cfTANK1PSDIAGSTATUS_VALUE", *bus)[1] == "cfTANK1PSDIAGSTATUS_VALUE = OPEN_LOAD\n"
+    expected = [["xsSWITCH_TANK_THR", "changed", "value", "20.0", "bar", "22.5", "bar", "+2.5", "bar"],
+                ["cfTANK1PSDIAGSTATUS_VALUE", "changed", "value", "NO_ERROR", "OPEN_LOAD"],
+                ["zvTankPConv", "changed", "value[3]", "(x", "2.0", "V)", "300.0", "bar", "310.0", "bar", "+10.0", "bar"]]
+    code, out, _ = run(capsys, "cal", "diff", "base.dcm", "ecu", *bus)
+    assert code == 1 and [line.split() for line in out.splitlines()[3:-1]] == expected
+    run(capsys, "cal", "save", "tuned.cdfx", *names, *bus)
+    code, out, _ = run(capsys, "cal", "diff", "base.dcm", "tuned.cdfx")  # two files, no ECU, no A2L
+    assert code == 1 and [line.split() for line in out.splitlines()[3:-1]] == expected and "'" not in out
+    code, out, _ = run(capsys, "cal", "load", "base.dcm", "--dry-run", *bus)
+    assert code == 0 and ["cfTANK1PSDIAGSTATUS_VALUE", "changed", "value", "OPEN_LOAD", "NO_ERROR"] in \
+        [line.split() for line in out.splitlines()]
+    data = json.loads(run(capsys, "cal", "diff", "base.dcm", "ecu", "--json", *bus)[1])
+    first, enum = data["objects"][:2]
+    assert first["unit"] == {"a": "bar", "b": "bar"} and first["differences"][0] == {
+        "where": "value", "a": 20.0, "b": 22.5, "delta": 2.5, "at": [], "unit": {"a": "bar", "b": "bar"}}
+    assert (enum["differences"][0]["a"], enum["differences"][0]["b"]) == ("NO_ERROR", "OPEN_LOAD")

@@ -5,6 +5,10 @@ elements are then not compared), *changed* when a value, an axis point, a unit o
 kind or name differs, else *equal*. Numbers compare by value (``1`` equals ``1.0``, NaN equals
 NaN); with a tolerance, two numbers are equal when ``|b - a| <= max(abs_tol, rel_tol * max(|a|, |b|))``.
 Long names, comments and history are not compared.
+
+The text (:meth:`DatasetDiff.to_text`) shows values as ``cal get`` does: a number with its unit (the
+COMPU_METHOD's, as the dataset or the ECU's A2L gives it), an enum's text bare; a text is quoted
+only where bare it could not be told apart (empty, blanks at its ends, or looking like the other side).
 """
 
 from __future__ import annotations
@@ -28,13 +32,15 @@ _AXIS_LETTERS = "xyz"
 class ElementDiff:
     """One difference inside an object: ``where`` is ``value``, ``value[3]``, ``value[2, 1]``, ``x[4]``,
     ``unit``, ``x.kind``, ``shape`` ...; ``at`` the axis points of a value element; ``delta`` is
-    ``b - a`` for two numbers."""
+    ``b - a`` for two numbers; ``units`` the units ``a`` and ``b`` are in (``""``: none, or not a physical
+    value), which are context, not part of the difference (not compared)."""
 
     where: str
     a: object
     b: object
     delta: int | float | None = None
     at: tuple = ()
+    units: tuple[str, str] = field(default=("", ""), compare=False)
 
 
 @dataclass(frozen=True)
@@ -67,7 +73,7 @@ class DatasetDiff:
         """The same comparison seen from the other side: B against A (B - A becomes A - B)."""
         swap = {ONLY_IN_A: ONLY_IN_B, ONLY_IN_B: ONLY_IN_A}
         objects = [ObjectDiff(o.name, swap.get(o.status, o.status), o.b, o.a,
-                              tuple(ElementDiff(d.where, d.b, d.a, None if d.delta is None else -d.delta, d.at)
+                              tuple(ElementDiff(d.where, d.b, d.a, None if d.delta is None else -d.delta, d.at, d.units[::-1])
                                     for d in o.differences)) for o in self.objects]
         return DatasetDiff(self.b_label, self.a_label, objects, self.abs_tol, self.rel_tol)
 
@@ -80,8 +86,10 @@ class DatasetDiff:
             "objects": [{
                 "name": o.name, "status": o.status,
                 "kind": {"a": o.a.kind if o.a else None, "b": o.b.kind if o.b else None},
+                "unit": {"a": o.a.unit if o.a else None, "b": o.b.unit if o.b else None},
                 "differences": [{"where": d.where, "a": _json(d.a), "b": _json(d.b), "delta": _json(d.delta),
-                                 "at": [_json(p) for p in d.at]} for d in o.differences],
+                                 "at": [_json(p) for p in d.at], "unit": {"a": d.units[0], "b": d.units[1]}}
+                                for d in o.differences],
             } for o in self.objects],
         }
 
@@ -96,7 +104,8 @@ class DatasetDiff:
                 rows.append((o.name, o.status, "", _describe(o.a), _describe(o.b), ""))
                 continue
             for d in o.differences:
-                where = d.where + (f" ({', '.join(f'{l} {_show(p)}' for l, p in zip(_AXIS_LETTERS, d.at))})" if d.at else "")
+                at = zip(_AXIS_LETTERS, d.at, (axis.unit for axis in o.a.axes))
+                where = d.where + (f" ({', '.join(f'{l} {_show(p, unit)}' for l, p, unit in at)})" if d.at else "")
                 rows.append((o.name, o.status, where, *_shown(d)))
         counts = self.counts()
         objects = f"{len(self.objects)} object{'' if len(self.objects) == 1 else 's'}"
@@ -134,18 +143,20 @@ def _compare(name: str, a: CalValue, b: CalValue, abs_tol: float, rel_tol: float
         for attribute in ("kind", "name", "unit"):
             if getattr(axis_a, attribute) != getattr(axis_b, attribute):
                 found.append(ElementDiff(f"{letter}.{attribute}", getattr(axis_a, attribute), getattr(axis_b, attribute)))
+        units = (axis_a.unit, axis_b.unit)
         for i, (pa, pb) in enumerate(zip(map(_plain, axis_a.values), map(_plain, axis_b.values))):
             if not _same(pa, pb, abs_tol, rel_tol):
-                found.append(ElementDiff(f"{letter}[{i}]", pa, pb, _delta(pa, pb)))
+                found.append(ElementDiff(f"{letter}[{i}]", pa, pb, _delta(pa, pb), units=units))
+    units = (a.unit, b.unit)
     if isinstance(a.value, np.ndarray):
         points = [axis.values for axis in a.axes]
         for index in np.ndindex(a.value.shape):
             va, vb = _plain(a.value[index]), _plain(b.value[index])
             if not _same(va, vb, abs_tol, rel_tol):
                 at = tuple(_plain(p[i]) for p, i in zip(points, index))
-                found.append(ElementDiff(f"value[{', '.join(map(str, index))}]", va, vb, _delta(va, vb), at))
+                found.append(ElementDiff(f"value[{', '.join(map(str, index))}]", va, vb, _delta(va, vb), at, units))
     elif not _same(a.value, b.value, abs_tol, rel_tol):
-        found.append(ElementDiff("value", a.value, b.value, _delta(a.value, b.value)))
+        found.append(ElementDiff("value", a.value, b.value, _delta(a.value, b.value), units=units))
     return ObjectDiff(name, CHANGED if found else EQUAL, a, b, tuple(found))
 
 
@@ -197,30 +208,34 @@ def _describe(value: CalValue | None) -> str:
     if value is None:
         return ""
     if value.kind in ("VALUE", "ASCII"):
-        return _show(value.value)
+        return _show(value.value, value.unit)
     return f"{value.kind} {' x '.join(map(str, value.shape))}"
 
 
-def _show(value) -> str:
+def _show(value, unit: str = "", *, exact: bool = False) -> str:
+    """A value as ``cal get`` shows it: a number with its unit, a text bare (quoted when bare it would be
+    empty or lose its blanks, or ``exact``); ``exact``: every digit of a number."""
     if isinstance(value, str):
-        return repr(value)
+        return value if value and value == value.strip() and not exact else repr(value)
     if isinstance(value, tuple):
         return "(" + ", ".join(map(str, value)) + ")"
     if _is_number(value):
-        return shown_number(value)
+        return (format_number(value) if exact else shown_number(value)) + (f" {unit}" if unit else "")
     return str(value)
 
 
 def _shown(difference: ElementDiff) -> tuple[str, str, str]:
-    """A, B and B - A as the table shows them: float32 values in their short text, unless that hides
-    the difference (then every digit)."""
-    a, b = _show(difference.a), _show(difference.b)
-    if difference.delta is None:
+    """A, B and B - A as the table shows them: float32 values in their short text and texts bare, unless
+    that hides the difference (then every digit, texts quoted); B - A in the unit both share."""
+    (unit_a, unit_b), delta = difference.units, difference.delta
+    a, b = _show(difference.a, unit_a), _show(difference.b, unit_b)
+    exact = a == b
+    if exact:
+        a, b = _show(difference.a, unit_a, exact=True), _show(difference.b, unit_b, exact=True)
+    if delta is None:
         return a, b, ""
-    if a == b:
-        a, b = format_number(difference.a), format_number(difference.b)
-        return a, b, _signed(format_number(difference.delta))
-    return a, b, _signed(shown_difference(difference.a, difference.b))
+    text = format_number(delta) if exact else shown_difference(difference.a, difference.b)
+    return a, b, _signed(text) + (f" {unit_a}" if unit_a and unit_a == unit_b else "")
 
 
 def _signed(text: str) -> str:
