@@ -109,7 +109,8 @@ def test_a_read_only_session_refuses_page_switches(bus, capsys, tmp_path):
     text = Path(demo.a2l()).read_text(encoding="utf-8")
     a2l = tmp_path / "other.a2l"
     a2l.write_text(text.replace('EPK "10300020250301"', 'EPK "99999920991231"'), encoding="utf-8")
-    for argv in (["page", "reference"], ["page", "copy"], ["set", "xsSWITCH_TANK_THR", "21"]):
+    for argv in (["page", "reference"], ["page", "copy"], ["page", "copy", "--dry-run"],
+                 ["set", "xsSWITCH_TANK_THR", "21"]):
         code, out, err = run(capsys, "cal", *argv, "--a2l", str(a2l), *options)
         assert (code, out) == (1, "") and "the session is read-only (no writes, no page switches)" in err
         assert log.take() == CONNECTED + ["DISCONNECT"]

@@ -3,6 +3,7 @@ on a udp_multicast port of the test's own, output and exit codes as a user meets
 
 from __future__ import annotations
 
+import io
 import json
 import re
 
@@ -149,6 +150,36 @@ def test_cal_list_and_page(bus, capsys):
     assert code == 0 and "copied the reference page" in out
     code, out, _ = run(capsys, "cal", "get", "xsPRV_KP", *bus)
     assert out.startswith("xsPRV_KP = 5")
+
+
+class _Terminal(io.StringIO):
+    """stdin as a terminal where the user types ``text``."""
+
+    def isatty(self) -> bool:
+        return True
+
+
+def test_cal_page_copy_says_what_it_overwrites_and_asks_in_a_terminal(bus, capsys, monkeypatch):
+    overwritten = ("the working page 0 of segment 0 (CALRAM, 0x40000000-0x4001FFFF, 131072 bytes, 58 calibrations) "
+                   "with the reference page 1")
+    run(capsys, "cal", "set", "xsPRV_KP", "6", *bus)
+    code, out, err = run(capsys, "cal", "page", "copy", "--dry-run", *bus)
+    assert (code, err) == (0, "") and out.splitlines()[:2] == [f"copy would overwrite {overwritten}",
+                                                              "dry run: nothing was copied"]
+    monkeypatch.setattr("sys.stdin", _Terminal("n\n"))
+    code, out, err = run(capsys, "cal", "page", "copy", *bus)
+    assert (code, out) == (1, f"copy overwrites {overwritten}\n")
+    assert err == ("copy the reference page onto the working page, losing every change since start-up? [y/N] "
+                   "not confirmed: nothing copied\n")
+    assert run(capsys, "cal", "get", "xsPRV_KP", *bus)[1] == "xsPRV_KP = 6.0000 %/bar\n"  # nothing was copied
+    monkeypatch.setattr("sys.stdin", _Terminal("y\n"))
+    code, out, err = run(capsys, "cal", "page", "copy", *bus)
+    assert code == 0 and "[y/N]" in err and "copied the reference page onto the working page" in out
+    assert run(capsys, "cal", "get", "xsPRV_KP", *bus)[1] == "xsPRV_KP = 5.0000 %/bar\n"
+    monkeypatch.setattr("sys.stdin", _Terminal(""))  # --yes: not asked
+    assert run(capsys, "cal", "page", "copy", "--yes", *bus)[::2] == (0, "")
+    code, out, err = run(capsys, "cal", "page", "working", "--yes", *bus)
+    assert (code, out, err) == (2, "", "error: --yes and --dry-run are for 'cal page copy'\n")
 
 
 def test_cal_fix_override_release_list(bus, capsys):

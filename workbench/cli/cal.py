@@ -20,6 +20,7 @@ In the ECU (the common ECU options: --a2l, the CAN bus or --host, --key-function
   list     the calibrations matching a pattern, with their values
   fix      override a signal with its _EN/_VALUE fix calibration, release it, list them all
   page     show or switch the calibration page (working/reference), copy reference to working
+           (says what it overwrites, asks in a terminal: --yes, --dry-run)
 Between the ECU and files:
   save     the calibrations as a dataset (DCM, CDFX), or the working page as an s19/hex (--region CALIB)
   load     apply a dataset: every object checked first, then only what changes written (--dry-run)

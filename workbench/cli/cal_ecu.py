@@ -77,11 +77,19 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
     page = commands.add_parser("page", help="show or switch the calibration page",
                                description="Without an argument: the pages the ECU and XCP use. working/reference: "
                                            "switch both to that page. copy: copy the reference page (CAL ROM) onto "
-                                           "the working page (CAL RAM), undoing every change since start-up. Every "
-                                           "calibration segment of the A2L at once, unless --segment names one; "
-                                           "--json gives a list, one object per segment.")
+                                           "the working page (CAL RAM), undoing every change since start-up: it "
+                                           "says first what it overwrites (each segment, its addresses and "
+                                           "calibrations) and, in a terminal, asks before it copies (--yes: "
+                                           "without asking; a script is not asked, as flash and cal load are not; "
+                                           "--dry-run: say it, copy nothing). Every calibration segment of the A2L "
+                                           "at once, unless --segment names one; --json gives a list, one object "
+                                           "per segment. Exit codes: 0 done (a dry run: the copy would be "
+                                           "allowed), 1 not confirmed, refused (a read-only session) or failed, "
+                                           "2 bad input.")
     page.add_argument("action", nargs="?", choices=("working", "reference", "copy"))
     page.add_argument("--segment", type=int, help="only this calibration segment (default: every one)")
+    page.add_argument("--yes", "-y", action="store_true", help="copy: do not ask (a terminal asks first)")
+    page.add_argument("--dry-run", action="store_true", help="copy: say what it would overwrite, copy nothing")
     add_ecu_arguments(page)
     page.set_defaults(func=_page)
 
@@ -291,19 +299,45 @@ def _fix(args: argparse.Namespace) -> int:
 
 
 def _page(args: argparse.Namespace) -> int:
+    if args.action != "copy" and (args.yes or args.dry_run):
+        raise InputError("--yes and --dry-run are for 'cal page copy'")
+    copies = []
     with open_session(args) as session:
         if args.action in ("working", "reference"):
             session.set_page(args.action, args.segment)
         elif args.action == "copy":
-            session.copy_reference_to_working(args.segment)
+            copies = session.page_copies(args.segment)
+            session.require_writable()  # a read-only session refuses before it asks, a dry run as the copy would
+            if not args.json:
+                verb = "would overwrite" if args.dry_run else "overwrites"
+                print("\n".join(f"copy {verb} {copy} with the reference page {copy.reference}" for copy in copies),
+                      flush=True)
+            if args.dry_run:
+                pass
+            elif not (args.yes or _confirmed("copy the reference page onto the working page, losing every change "
+                                             "since start-up?")):
+                print("not confirmed: nothing copied", file=sys.stderr)
+                return 1
+            else:
+                session.copy_reference_to_working(args.segment)
         states = session.pages() if args.segment is None else [session.page(args.segment)]
     if args.json:
-        print_json([{"segment": state.segment, "ecu": state.name(state.ecu_page), "xcp": state.name(state.xcp_page)}
-                    for state in states])
+        by_segment = {copy.segment: copy for copy in copies}
+        print_json([{"segment": state.segment, "ecu": state.name(state.ecu_page), "xcp": state.name(state.xcp_page),
+                     **({"copy": {**by_segment[state.segment].to_dict(), "done": not args.dry_run}}
+                        if state.segment in by_segment else {})} for state in states])
         return 0
     if args.action == "copy":
-        print("copied the reference page onto the working page")
+        print("dry run: nothing was copied" if args.dry_run else "copied the reference page onto the working page")
     for state in states:
         print(f"segment {state.segment}: ECU on the {state.name(state.ecu_page)} page, "
               f"XCP on the {state.name(state.xcp_page)} page")
     return 0
+
+
+def _confirmed(question: str) -> bool:
+    """Whether the user answers yes in a terminal (stdin one); a script (no terminal) is not asked."""
+    if not sys.stdin.isatty():
+        return True
+    print(f"{question} [y/N] ", end="", file=sys.stderr, flush=True)
+    return sys.stdin.readline().strip().lower() in ("y", "yes")

@@ -12,7 +12,7 @@ from workbench.xcp_protocol import IdType, Resource
 if TYPE_CHECKING:
     from workbench.session.session import Session
 
-__all__ = ["EcuInfo", "PageState", "read_ecu_info"]
+__all__ = ["EcuInfo", "PageCopy", "PageState", "read_ecu_info"]
 
 
 @dataclass(frozen=True)
@@ -25,6 +25,29 @@ class PageState:
 
     def name(self, page: int) -> str:
         return {self.working: "working", self.reference: "reference"}.get(page, str(page))
+
+
+@dataclass(frozen=True)
+class PageCopy:
+    """What copying the reference page onto the working page overwrites in one calibration segment."""
+
+    segment: int
+    memory_segment: str  # the A2L's MEMORY_SEGMENT ("": the ECU described the segment)
+    address: int
+    size: int  # bytes
+    working: int  # the page overwritten
+    reference: int  # the page copied
+    calibrations: int  # the A2L's calibrations in the segment, whose changes since start-up the copy undoes
+
+    def __str__(self) -> str:
+        """``the working page 0 of segment 0 (CALRAM, 0x40000000-0x4001FFFF, 131072 bytes, 58 calibrations)``"""
+        name = f"{self.memory_segment}, " if self.memory_segment else ""
+        return (f"the working page {self.working} of segment {self.segment} ({name}0x{self.address:X}-"
+                f"0x{self.address + self.size - 1:X}, {self.size} bytes, {self.calibrations} "
+                f"calibration{'s' * (self.calibrations != 1)})")
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
 
 
 @dataclass(frozen=True)

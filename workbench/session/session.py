@@ -37,7 +37,7 @@ from workbench.session.can_listeners import CanListeners, Listening
 from workbench.session.connection import Connection, link_settings, timeouts_of
 from workbench.session.epk import EpkCheck, check_epk
 from workbench.session.fixes import FixAccess
-from workbench.session.info import EcuInfo, PageState, read_ecu_info
+from workbench.session.info import EcuInfo, PageCopy, PageState, read_ecu_info
 from workbench.session.measure import DaqMeasurement, EventAccess
 from workbench.session.memory import KnownMemory
 from workbench.session.values import ValueAccess
@@ -340,9 +340,20 @@ class Session(ValueAccess, EventAccess, FixAccess):
             for number, page_number in chosen.items():
                 self.master.set_cal_page(number, page_number, _ECU_AND_XCP)
 
+    def page_copies(self, segment: int | None = None) -> list[PageCopy]:
+        """What :meth:`copy_reference_to_working` overwrites in ``segment`` (None: every calibration segment),
+        to show before it does (nothing is written)."""
+        addresses = [obj.address for obj in self.model.find("*", kind=("CHARACTERISTIC", "AXIS_PTS"))]
+        copies = []
+        for number in self.segment_numbers() if segment is None else [segment]:
+            found, (working, reference) = self.segment(number), self.page_numbers(number)
+            inside = sum(found.address <= address < found.address + found.size for address in addresses)
+            copies.append(PageCopy(number, found.memory_segment, found.address, found.size, working, reference, inside))
+        return copies
+
     def copy_reference_to_working(self, segment: int | None = None) -> None:
         """COPY_CAL_PAGE reference -> working in ``segment`` (None: every calibration segment): the working
-        page starts over from the flashed values."""
+        page starts over from the flashed values (:meth:`page_copies` says what that overwrites)."""
         with self.lock:
             self.require_writable()
             for number in self.segment_numbers() if segment is None else [segment]:
