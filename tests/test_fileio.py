@@ -17,6 +17,15 @@ def test_replaces_content_and_keeps_mode(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["out.a2l"]
 
 
+def test_a_new_file_gets_the_usual_mode_not_a_temporary_files(tmp_path):
+    umask = os.umask(0o027)
+    try:
+        atomic_write_bytes(tmp_path / "new.a2l", b"x")
+    finally:
+        os.umask(umask)
+    assert (tmp_path / "new.a2l").stat().st_mode & 0o777 == 0o640  # 0o666 minus the umask
+
+
 def test_failed_write_leaves_old_file(tmp_path, monkeypatch):
     target = tmp_path / "out.bin"
     target.write_bytes(b"old")

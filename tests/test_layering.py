@@ -3,7 +3,7 @@
 gui -> session (the ECU by name) -> (xcp, calib, can) -> (a2l, elf, image); record and flash
 stand on the session, sync (datasets and images with the ECU, cache sync) on the session and
 flash; sim uses image/a2l/can/elf but never xcp; only the CLI and the GUI sit on top. The ``workbench`` package itself exports Session lazily. A module may always use the shared
-foundation (errors, progress, fileio, demo, findings, lazy_exports) and what the simulated
+foundation (errors, progress, fileio, demo, findings, lazy_exports, logs) and what the simulated
 slave and the master share: xcp_protocol (the XCP names), xcp_framing (XCP on Ethernet's header) and
 bus_defaults (the default bus);
 they import nothing, so sim stays free of xcp.
@@ -17,7 +17,7 @@ import pytest
 import workbench
 
 PACKAGE = Path(workbench.__file__).parent
-FOUNDATION = {"errors", "progress", "fileio", "demo", "findings", "lazy_exports", "xcp_protocol", "xcp_framing",
+FOUNDATION = {"errors", "progress", "fileio", "demo", "findings", "lazy_exports", "logs", "xcp_protocol", "xcp_framing",
               "bus_defaults"}
 ALLOWED = {
     "elf": set(),

@@ -5,8 +5,6 @@ it is imported on first use, so ``import workbench`` stays light. The core libra
 Qt; the GUI lives in :mod:`workbench.gui` and is loaded only by the ``gui``/``demo`` commands.
 """
 
-import logging
-
 from workbench.errors import (
     A2lParseError,
     Cancelled,
@@ -26,8 +24,6 @@ from workbench.errors import (
 from workbench.lazy_exports import lazy_exports
 
 __version__ = "0.1.0"
-
-logging.getLogger(__name__).addHandler(logging.NullHandler())
 
 _ERRORS = ["A2lParseError", "Cancelled", "ConnectionLostError", "ConversionError", "EcuSilentError",
            "EpkMismatchError", "InputError", "LimitsError", "PageError", "PartialWriteError", "UnknownSymbolError",

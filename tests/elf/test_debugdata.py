@@ -112,6 +112,26 @@ def test_index_is_cached_and_a_rebuilt_elf_is_not_served_stale(tmp_path):
         assert third.resolve("outer.b.c").address == compiler_truth(FIXTURES / "types_m32.elf")["outer.b.c"][0]
 
 
+def test_symbols_resolved_in_earlier_runs_stay_cached_together(tmp_path):
+    """Each run adds what it resolved to the entry, keeping what earlier runs resolved and it did not ask for."""
+    from workbench.elf.debugdata import ResolvedSymbol
+
+    cache = tmp_path / "cache"
+    elf = FIXTURES / "types_dwarf5.elf"
+    with DebugData(elf, cache_dir=cache) as first:
+        scalar = first.resolve("zsScalar")
+    with DebugData(elf, cache_dir=cache) as second:
+        member = second.resolve("outer.arr[2].d[1]")  # new: the index is read from the cache
+    with DebugData(elf, cache_dir=cache) as third:
+        assert third.resolve("outer.arr[2].d[1]") == member and third.resolve("zsScalar") == scalar
+        assert type(third.resolve("zsScalar")) is ResolvedSymbol
+        assert third._variables is None  # both answered by the entry alone
+        with pytest.raises(UnknownSymbolError):
+            third.resolve("no_such_variable")
+    with DebugData(elf, cache_dir=cache) as fourth:
+        assert fourth.resolve_error("no_such_variable") and fourth._variables is None  # the failure is cached too
+
+
 def test_unreadable_cache_is_a_miss(tmp_path):
     cache = tmp_path / "cache"
     with DebugData(FIXTURES / "types_dwarf5.elf", cache_dir=cache):

@@ -47,8 +47,9 @@ from workbench.can.model import DbcContent
 from workbench.errors import InputError
 from workbench.fileio import read_input
 from workbench.findings import Finding, Severity
+from workbench.logs import logger
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["EXTENDED_ID_FLAG", "DbcFile", "load_dbc"]
 

@@ -9,16 +9,13 @@ ELF never meets a stale index. Entries live in the caller's cache folder, by def
 
 from __future__ import annotations
 
-import logging
 import pickle
 import zlib
 from pathlib import Path
 
 from workbench.fileio import atomic_write_bytes
 
-log = logging.getLogger(__name__)
-
-FORMAT = 8  # bump when the cached structures or the way names resolve change
+FORMAT = 9  # bump when the cached structures or the way names resolve change
 
 
 def default_cache_dir() -> Path:
@@ -55,7 +52,9 @@ class IndexCache:
         try:
             data = pickle.loads(raw)
         except Exception as exc:  # a truncated or foreign file is only a cache miss
-            log.debug("ignoring unreadable index cache for %s: %s", elf_path, exc)
+            from workbench.logs import logger  # here: a batch a2l command never imports logging
+
+            logger(__name__).debug("ignoring unreadable index cache for %s: %s", elf_path, exc)
             return None
         return data if isinstance(data, dict) and data.get("identity") == identity else None
 
@@ -66,4 +65,6 @@ class IndexCache:
             atomic_write_bytes(self.path_for(elf_path, identity),
                                pickle.dumps({**data, "identity": identity}, protocol=5))
         except OSError as exc:
-            log.warning("cannot write the ELF index cache in %s: %s", self.directory, exc)
+            from workbench.logs import logger
+
+            logger(__name__).warning("cannot write the ELF index cache in %s: %s", self.directory, exc)

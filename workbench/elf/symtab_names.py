@@ -16,14 +16,11 @@ first such name logs a warning.
 
 from __future__ import annotations
 
-import logging
 import re
 from collections.abc import Iterable
 
 from workbench.elf.lookup import Variable
 from workbench.elf.symbols import Symbol
-
-log = logging.getLogger(__name__)
 
 _GCC_LOCAL = re.compile(r"([A-Za-z_$][\w$]*)\.\d+")  # gcc: a function's static "name.N"
 _CLANG_LOCAL = re.compile(r"([A-Za-z_$][\w$]*)\.([A-Za-z_$][\w$]*)")  # clang: "function.name"
@@ -130,7 +127,9 @@ class _Demangler:
         try:
             return self._demangler.demangle(name)
         except cxxfilt.LibraryNotFound as exc:
-            log.warning("C++ names in .symtab stay mangled: %s", exc)
+            from workbench.logs import logger  # here: a batch a2l command never imports logging
+
+            logger(__name__).warning("C++ names in .symtab stay mangled: %s", exc)
             self._unavailable = True
         except cxxfilt.Error:
             pass

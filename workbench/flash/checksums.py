@@ -9,15 +9,15 @@ computes a checksum the workbench does not know (user-defined), the bytes are re
 
 from __future__ import annotations
 
-import logging
 from dataclasses import dataclass
 
 from workbench.errors import WorkbenchError, XcpCommandError
 from workbench.image import AddressRange, ChecksumType, checksum
+from workbench.logs import logger
 from workbench.xcp.master import XcpMaster
 from workbench.xcp_protocol import Err
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["ChecksumVerifier"]
 

@@ -18,7 +18,6 @@ answers: with the key cleared the ECU restarts in boot, and a new flash finishes
 
 from __future__ import annotations
 
-import logging
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
@@ -32,12 +31,13 @@ from workbench.flash.layout import Sector
 from workbench.flash.plan import FlashPlan, with_sectors
 from workbench.flash.writer import RangeWriter, WrongBytes
 from workbench.image import ERASED, AddressRange, MemoryImage
+from workbench.logs import logger
 from workbench.progress import Progress, report
 from workbench.session import Session
 from workbench.xcp.info import ProgramStartInfo
 from workbench.xcp_protocol import Err, Resource
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["FlashOptions", "FlashResult", "Verify", "check_flash", "flash_ecu"]
 

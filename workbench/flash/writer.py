@@ -19,18 +19,18 @@ whole sector that follows programming.
 
 from __future__ import annotations
 
-import logging
 from collections.abc import Callable
 from typing import TypeVar
 
 from workbench.errors import WorkbenchError, XcpCommandError, XcpTimeoutError
 from workbench.flash.layout import Sector
 from workbench.image import ERASED, MemoryImage
+from workbench.logs import logger
 from workbench.xcp.info import ProgramStartInfo
 from workbench.xcp.master import XcpMaster
 from workbench.xcp_protocol import Err
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 T = TypeVar("T")
 
 __all__ = ["RangeWriter", "TooManyErrors", "WrongBytes", "is_transient"]

@@ -15,7 +15,6 @@ is measured once the recording stops.
 
 from __future__ import annotations
 
-import logging
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -25,8 +24,9 @@ from typing import Any
 from PySide6.QtCore import QObject, Signal
 
 from workbench.errors import ConnectionLostError, WorkbenchError
+from workbench.logs import logger
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["DaqAcquisition", "DaqState", "RecordRequest"]
 

@@ -25,8 +25,9 @@ from workbench.fileio import atomic_write_text
 from workbench.gui import theme
 from workbench.gui.project import Connection, Project, demo_project
 from workbench.gui.widgets.main_window import MainWindow
+from workbench.logs import logger
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["application", "run_demo", "run_window", "screenshot_screen"]
 

@@ -10,7 +10,6 @@ blocks the GUI.
 from __future__ import annotations
 
 import collections
-import logging
 import threading
 import time
 from collections.abc import Callable, Iterable
@@ -18,8 +17,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from workbench.bus_defaults import BusSpec
+from workbench.logs import logger
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["CanMonitor", "DbcSignal", "TraceEntry", "dbc_signals"]
 

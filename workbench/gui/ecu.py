@@ -18,7 +18,6 @@ follows) or :meth:`EcuController.stop_reconnecting` is called.
 
 from __future__ import annotations
 
-import logging
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -28,8 +27,9 @@ from PySide6.QtCore import QObject, QTimer, Signal
 from workbench.errors import ConnectionLostError
 from workbench.gui.project import Connection
 from workbench.gui.worker import Task, run_task
+from workbench.logs import logger
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["Connected", "EcuController"]
 

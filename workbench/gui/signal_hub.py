@@ -9,7 +9,6 @@ hub's creation, so XCP and CAN2 samples line up on one time axis.
 
 from __future__ import annotations
 
-import logging
 import threading
 import time
 from dataclasses import dataclass
@@ -19,8 +18,9 @@ from PySide6.QtCore import QObject, Signal
 
 from workbench.gui.formatting import format_value
 from workbench.gui.ringbuffer import RingBuffer
+from workbench.logs import logger
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["SignalHub", "SignalInfo"]
 

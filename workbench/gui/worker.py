@@ -10,14 +10,15 @@ Qt delivers in the GUI thread: the window never waits for the ECU, and nothing p
 
 from __future__ import annotations
 
-import logging
 import threading
 from collections.abc import Callable
 from typing import Any
 
 from PySide6.QtCore import QObject, QRunnable, QThreadPool, Signal
 
-log = logging.getLogger(__name__)
+from workbench.logs import logger
+
+log = logger(__name__)
 
 __all__ = ["QtProgress", "Task", "run_task"]
 

@@ -28,7 +28,6 @@ assumed): the master channel ``time`` (float64 s) first, then each channel at it
 from __future__ import annotations
 
 import copy
-import logging
 import os
 import struct
 import tempfile
@@ -41,8 +40,9 @@ from xml.etree import ElementTree
 import numpy as np
 
 from workbench.errors import InputError, WorkbenchError
+from workbench.logs import logger
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["ChannelSpec", "GroupSpec", "HeaderSpec", "MdfStreamWriter", "SourceSpec", "finalize"]
 

@@ -50,6 +50,7 @@ from workbench import __version__
 from workbench.bus_defaults import BusSpec
 from workbench.can import DbcFile, load_dbc
 from workbench.errors import ConnectionLostError, InputError, WorkbenchError
+from workbench.logs import logger
 from workbench.progress import Progress
 from workbench.record.can_channels import CanMessageGroups, RawCanGroup
 from workbench.record.daq_channels import DaqGroup
@@ -63,7 +64,7 @@ if TYPE_CHECKING:
     from workbench.session import Session
     from workbench.session.can_listeners import Listening
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["CAN2_BUS_CHANNEL", "Recorder", "RecordingStats", "record"]
 

@@ -12,20 +12,20 @@ once for all its listeners, with one Notifier, and closed when the last one leav
 
 from __future__ import annotations
 
-import logging
 import threading
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from workbench.bus_defaults import BusSpec
 from workbench.errors import InputError, WorkbenchError
+from workbench.logs import logger
 
 if TYPE_CHECKING:
     import can
 
     from workbench.xcp.link import Link
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["CanListeners", "Listening"]
 

@@ -7,14 +7,14 @@ explicitly accepts the risk (thesis figure 37: flash the matching software, or w
 
 from __future__ import annotations
 
-import logging
 from dataclasses import dataclass
 
 from workbench.errors import XcpCommandError, epk_text
+from workbench.logs import logger
 from workbench.xcp.master import XcpMaster
 from workbench.xcp_protocol import IdType
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["EpkCheck", "check_epk"]
 

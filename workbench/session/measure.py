@@ -14,7 +14,6 @@ session stops it.
 
 from __future__ import annotations
 
-import logging
 import threading
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
@@ -26,12 +25,13 @@ from workbench.a2l.objects import Measurement
 from workbench.a2l.xcp import XcpConfig, read_daq_events
 from workbench.calib.signals import MeasurementCodec, measurement_codec
 from workbench.errors import InputError, WorkbenchError, XcpCommandError
+from workbench.logs import logger
 from workbench.xcp.daq import DaqSignal, DaqStats, DaqStream, plan_daq
 
 if TYPE_CHECKING:
     from workbench.session.session import Session
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["DaqMeasurement", "SampleBatch", "event_number"]
 

@@ -33,6 +33,7 @@ from workbench.errors import (
     XcpCommandError,
     XcpTimeoutError,
 )
+from workbench.logs import logger
 from workbench.session.can_listeners import CanListeners, Listening
 from workbench.session.connection import Connection, link_settings, timeouts_of
 from workbench.session.epk import EpkCheck, check_epk
@@ -49,7 +50,7 @@ from workbench.xcp_protocol import Err, Resource
 if TYPE_CHECKING:
     import can
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["Session"]
 

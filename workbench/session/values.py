@@ -20,7 +20,6 @@ fields reached the ECU.
 
 from __future__ import annotations
 
-import logging
 from collections.abc import Iterable, Mapping
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
@@ -37,6 +36,7 @@ from workbench.calib.values import CalValue
 from workbench.calib.writable import check_inside, checked_cells, checked_value, writable_spans
 from workbench.errors import (InputError, PageError, PartialWriteError, WorkbenchError, XcpCommandError,
                               placeholder_hint)
+from workbench.logs import logger
 from workbench.session.memory import KnownMemory, read_merged
 from workbench.xcp_protocol import Err, Resource
 
@@ -45,7 +45,7 @@ if TYPE_CHECKING:
     from workbench.a2l.xcp import XcpSegment
     from workbench.session.session import Session
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["ValueAccess"]
 

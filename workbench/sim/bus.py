@@ -15,9 +15,10 @@ from collections.abc import Callable
 
 import can
 
+from workbench.logs import logger
 from workbench.sim.can_timing import BusClock
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 TX_BUFFER_FRAMES = 256  # DTOs the slave can buffer for transmission
 _POLL_S = 0.05

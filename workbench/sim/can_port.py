@@ -16,12 +16,13 @@ from typing import Any
 import can
 
 from workbench.errors import InputError, WorkbenchError
+from workbench.logs import logger
 from workbench.sim.bus import ECHOING_INTERFACES, EchoFilter, Receiver, Transmitter
 from workbench.sim.can_timing import BusClock
 from workbench.sim.ecu import SimulatedEcu
 from workbench.sim.xcp_port import XcpPort
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 MAX_DLC = 8  # classic CAN
 MAX_FD_DLC = 64

@@ -17,7 +17,6 @@ from __future__ import annotations
 import getpass
 import hashlib
 import json
-import logging
 import os
 import socket
 import socketserver
@@ -28,10 +27,11 @@ from pathlib import Path
 from typing import Any
 
 from workbench.errors import InputError, WorkbenchError
+from workbench.logs import logger
 
 __all__ = ["CALLS", "ControlClient", "ControlServer", "endpoint_key", "endpoint_keys", "find_control"]
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 CALLS = frozenset({"sensor_voltage", "plant", "actuator_error", "channel_id_error", "pcm_message", "clear", "apply"})
 HELLO = "hello"

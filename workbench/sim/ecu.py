@@ -10,13 +10,13 @@ and a constructor ``(memory, symbols, hardware)``. Not thread-safe: callers seri
 
 from __future__ import annotations
 
-import logging
 import random
 from collections.abc import Callable, Mapping
 from enum import Enum
 from typing import Any
 
 from workbench.image import MemoryImage
+from workbench.logs import logger
 from workbench.sim.faults import FaultPlan
 from workbench.sim.layout import ApplicationLayout
 from workbench.sim.memory import EcuMemory
@@ -27,7 +27,7 @@ from workbench.sim.xcp.info_rom import InfoRom
 from workbench.sim.xcp.parameters import XcpParameters
 from workbench.sim.xcp.slave import XcpSlave
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 ApplicationFactory = Callable[[Any, Mapping[str, int], Any], Any]
 

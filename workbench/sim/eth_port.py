@@ -28,12 +28,13 @@ from dataclasses import dataclass
 from typing import Any
 
 from workbench.errors import InputError, WorkbenchError
+from workbench.logs import logger
 from workbench.sim.ecu import SimulatedEcu
 from workbench.xcp_framing import CTR_MODULO, FramingError, StreamDecoder, frame, split_datagram
 from workbench.sim.xcp_port import XcpPort
 from workbench.xcp_protocol import Cmd
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 PROTOCOLS = ("UDP", "TCP")
 DEFAULT_PORT = 5555  # XCP on Ethernet's customary port

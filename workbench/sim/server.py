@@ -14,13 +14,13 @@ passed as objects stay the caller's) and the Ethernet socket, ``close()`` is ide
 
 from __future__ import annotations
 
-import logging
 import threading
 import time
 from typing import TYPE_CHECKING, Any
 
 import can
 
+from workbench.logs import logger
 from workbench.sim.can_port import BusSpec, CanBuses, CanXcpPort
 from workbench.sim.ecu import EcuState, SimulatedEcu
 from workbench.sim.eth_port import EthernetEndpoint, EthernetXcpPort
@@ -33,7 +33,7 @@ if TYPE_CHECKING:
     from workbench.sim.can_timing import BusClock
     from workbench.sim.pcm import PcmNode
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 MAX_LAG_S = 0.5  # a clock further behind than this skips ahead instead of catching up
 _CLOCK_POLL_S = 0.05

@@ -28,7 +28,6 @@ faults and writes back every calibration it changed, as it was before.
 
 from __future__ import annotations
 
-import logging
 import tempfile
 import time
 from dataclasses import asdict, dataclass, field
@@ -40,6 +39,7 @@ import numpy as np
 from workbench.a2l.objects import Measurement
 from workbench.can.naming import dbc_signal_name, find_dbc_signal
 from workbench.errors import InputError, UnknownSymbolError, WorkbenchError
+from workbench.logs import logger
 from workbench.testbench.conditions import Condition, as_condition
 from workbench.testbench.evidence import Evidence
 from workbench.testbench.simulator import NoSimulator, SimSteps, SimulatorControl
@@ -53,7 +53,7 @@ if TYPE_CHECKING:
 
 __all__ = ["Bench", "ExpectationFailed", "Step"]
 
-log = logging.getLogger("workbench.testbench")
+log = logger("workbench.testbench")
 
 DATA_LATENCY_S = 2.0  # how long past a window the bench waits for its samples before it calls them missing
 

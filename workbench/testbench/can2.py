@@ -12,7 +12,6 @@ is not in phase with the ECU's would be most of the time.
 
 from __future__ import annotations
 
-import logging
 import threading
 import time
 from typing import TYPE_CHECKING, Any
@@ -20,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from workbench.errors import InputError, UnknownSymbolError
+from workbench.logs import logger
 
 if TYPE_CHECKING:
     import can
@@ -29,7 +29,7 @@ if TYPE_CHECKING:
 
 __all__ = ["Can2Port"]
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 PHASE_WAIT_S = 0.15  # how long a periodic start waits to hear the ECU's cycle
 

@@ -10,11 +10,11 @@ DAQ measurement runs per session, and its signals are fixed when it starts. Watc
 
 from __future__ import annotations
 
-import logging
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from workbench.errors import WorkbenchError
+from workbench.logs import logger
 
 if TYPE_CHECKING:
     from workbench.can.dbc_file import DbcFile
@@ -25,7 +25,7 @@ if TYPE_CHECKING:
 
 __all__ = ["Evidence"]
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 
 class Evidence:

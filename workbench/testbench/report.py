@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import csv
 import json
-import logging
 import time
 from dataclasses import dataclass
 from html import escape
@@ -21,11 +20,12 @@ import numpy as np
 
 from workbench.errors import InputError
 from workbench.fileio import atomic_write_text
+from workbench.logs import logger
 from workbench.testbench.svgplot import Band, plot_svg
 
 __all__ = ["Requirement", "read_requirements", "write_report"]
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 _ORDER = {"failed": 0, "error": 0, "passed": 1, "skipped": 2}
 

@@ -23,7 +23,6 @@ to say: :class:`~workbench.errors.EcuSilentError`; it may try again, as a flash'
 
 from __future__ import annotations
 
-import logging
 import threading
 import time
 from collections import deque
@@ -32,6 +31,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, NoReturn
 
 from workbench.errors import ConnectionLostError, WorkbenchError
+from workbench.logs import logger
 from workbench.xcp.transport import LinkBroken, open_transport
 from workbench.bus_defaults import BusSpec
 from workbench.xcp_framing import MAX_PACKET
@@ -40,7 +40,7 @@ from workbench.xcp_protocol import PID_ERR, PID_EV, PID_SERV, CanId, Cmd
 if TYPE_CHECKING:
     import can
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["DtoHandler", "Link", "LinkSettings"]
 

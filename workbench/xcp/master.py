@@ -20,13 +20,13 @@ reads the response, so it controls what pyxcp's request path does not:
 
 from __future__ import annotations
 
-import logging
 import struct
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
 from workbench.errors import EcuSilentError, WorkbenchError, XcpCommandError, XcpTimeoutError
+from workbench.logs import logger
 from workbench.xcp.info import (
     CommModeInfo,
     ConnectInfo,
@@ -43,7 +43,7 @@ from workbench.xcp.info import (
 from workbench.xcp.link import Link
 from workbench.xcp_protocol import PID_ERR, PID_RES, Cmd, Err, IdType, Resource
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["KeyFunction", "Timeouts", "XcpMaster"]
 

@@ -9,7 +9,6 @@ flow through the :class:`~workbench.gui.signal_hub.SignalHub`.
 from __future__ import annotations
 
 import base64
-import logging
 import time
 from pathlib import Path
 
@@ -55,8 +54,9 @@ from workbench.gui.widgets.sync_dialog import SyncChoice, SyncDialog, SyncDiffer
 from workbench.gui.widgets.variable_browser import VariableBrowser
 from workbench.gui.worker import Task, run_task
 from workbench.gui.workspace import Workspace, load_workspace
+from workbench.logs import logger
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["MainWindow"]
 

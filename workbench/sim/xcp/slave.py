@@ -22,7 +22,6 @@ response, as a slave reporting its own business does.
 
 from __future__ import annotations
 
-import logging
 import random
 import struct
 from collections.abc import Callable
@@ -30,6 +29,7 @@ from dataclasses import dataclass
 from typing import Protocol
 
 from workbench.image import ChecksumType, checksum
+from workbench.logs import logger
 from workbench.sim import seedkey
 from workbench.sim.faults import FaultPlan
 from workbench.sim.layout import ApplicationLayout
@@ -44,7 +44,7 @@ from workbench.sim.xcp.pgm import ProgrammingCommands
 from workbench.sim.xcp.responses import PowerLost, Writer, XcpNegative, memory_error, need
 from workbench.xcp_protocol import PID_RES, Cmd, Err, IdType, Resource
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 PROTOCOL_LAYER_VERSION = 1
 TRANSPORT_LAYER_VERSION = 1

@@ -25,17 +25,17 @@ which). A static ODT is never left empty: its empty first entry would end the li
 
 from __future__ import annotations
 
-import logging
 from collections.abc import Callable, Hashable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from workbench.errors import InputError
+from workbench.logs import logger
 from workbench.xcp.daq.assign import assign_static_lists
 from workbench.xcp.info import DaqListInfo, DaqProcessorInfo, DaqResolutionInfo
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["DaqListPlan", "DaqPlan", "DaqSignal", "Odt", "OdtEntry", "plan_daq"]
 

@@ -12,7 +12,6 @@ into values is a few numpy operations per signal, not a Python loop per sample.
 
 from __future__ import annotations
 
-import logging
 import threading
 import time
 from collections.abc import Hashable, Iterator
@@ -23,6 +22,7 @@ import numpy as np
 
 from workbench.errors import (ConnectionLostError, InputError, WorkbenchError, XcpCommandError, XcpTimeoutError,
                               placeholder_hint)
+from workbench.logs import logger
 from workbench.xcp.daq.assemble import DtoAssembler
 from workbench.xcp.daq.clock import DaqClock
 from workbench.xcp.daq.plan import DaqListPlan, DaqPlan
@@ -30,7 +30,7 @@ from workbench.xcp.info import DaqProcessorInfo, DaqResolutionInfo
 from workbench.xcp.master import XcpMaster
 from workbench.xcp_protocol import Err
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["DaqBatch", "DaqStats", "DaqStream"]
 

@@ -15,14 +15,14 @@ A transport that cannot go on (the peer closed the connection, the socket or the
 
 from __future__ import annotations
 
-import logging
 import threading
 import time
 from collections.abc import Callable
 
 from workbench.errors import WorkbenchError
+from workbench.logs import logger
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["RECEIVER_POLL_S", "Broken", "Deliver", "LinkBroken", "Transport"]
 

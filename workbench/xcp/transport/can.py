@@ -16,12 +16,12 @@ reads gets the listener added to that one instead (python-can allows one Notifie
 
 from __future__ import annotations
 
-import logging
 import socket
 import time
 from typing import TYPE_CHECKING, Any
 
 from workbench.errors import InputError, WorkbenchError
+from workbench.logs import logger
 from workbench.xcp.transport.base import RECEIVER_POLL_S, Broken, Deliver, LinkBroken, Transport
 
 if TYPE_CHECKING:
@@ -29,7 +29,7 @@ if TYPE_CHECKING:
 
     from workbench.xcp.link import LinkSettings
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["UDP_RECEIVE_BUFFER", "CanTransport", "frame_length", "open_bus", "widen_udp_receive_buffer"]
 

@@ -17,6 +17,7 @@ import select
 import socket
 
 from workbench.errors import WorkbenchError
+from workbench.logs import logger
 from workbench.xcp.transport.base import LinkBroken, Transport
 from workbench.xcp_framing import (
     CTR_MODULO,
@@ -29,7 +30,7 @@ from workbench.xcp_framing import (
     split_datagram,
 )
 
-log = logging.getLogger(__name__)
+log = logger(__name__)
 
 __all__ = ["CONNECT_TIMEOUT_S", "RECEIVE_BUFFER", "SEND_TIMEOUT_S", "EthernetTransport"]
 
