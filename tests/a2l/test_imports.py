@@ -8,7 +8,7 @@ from pathlib import Path
 FIXTURES = Path(__file__).parent / "fixtures"
 ELF = Path(__file__).parents[1] / "elf" / "fixtures" / "types_dwarf5.elf"
 NOT_NEEDED = ["elftools", "cantools", "pyxcp", "asammdf", "pya2l", "rich", "PySide6", "can", "platformdirs",
-              "logging", "tempfile"]  # these two: 10 ms of a small update's budget (workbench.logs, fileio)
+              "logging", "tempfile", "shutil"]  # these: 12 ms of a small update (workbench.logs, fileio, cli.options)
 # what an address update from a cached index does not run: the type checker (--types), the DWARF decoder,
 # index and type reader, the .symtab names, the bus options
 NOT_RUN_WHEN_CACHED = ["workbench.a2l.update.typecheck", "workbench.elf.dwarf", "workbench.elf.dwarf_index",

@@ -35,7 +35,7 @@ GROUPS: list[tuple[str, str]] = [
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     """The ``workbench`` parser; with ``only``, that group's commands alone (the other groups are
     listed by name): ``workbench a2l update`` need not import and build every group."""
-    parser = argparse.ArgumentParser(
+    parser = CommandParser(
         prog="workbench",
         description="XCP/A2L calibration and measurement workbench.",
     )
