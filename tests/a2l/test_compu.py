@@ -117,6 +117,16 @@ def test_tab_verb_both_ways(features):
         gear.to_raw("third")
 
 
+def test_a_text_that_differs_only_in_case_names_its_entry_when_alone():
+    state = method('TAB_VERB "%3.0" "" COMPU_TAB_REF V',
+                   '/begin COMPU_VTAB V "" TAB_VERB 4 0 "Low" 1 "High" 2 "OFF" 3 "off" /end COMPU_VTAB')
+    assert state.to_raw("low") == 0.0 and state.to_raw(" HIGH ") == 1.0 and state.text_of("hIgH") == "High"
+    assert state.to_raw("OFF") == 2.0 and state.to_raw("off") == 3.0  # exact texts first
+    with pytest.raises(ConversionError, match=r"'Off' matches 'OFF', 'off', which differ only in case: write one"):
+        state.to_raw("Off")
+    assert state.text_of("medium") is None
+
+
 def test_a_raw_value_without_text_stays_a_number():
     onoff = method('TAB_VERB "%3.0" "" COMPU_TAB_REF V', '/begin COMPU_VTAB V "" TAB_VERB 2 0 "OFF" 1 "ON" /end COMPU_VTAB')
     assert onoff.to_physical(5) == 5 and onoff.to_physical(np.array([1, 3])).tolist() == ["ON", 3]

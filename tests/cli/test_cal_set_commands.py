@@ -76,6 +76,14 @@ def test_a_value_is_one_download_and_one_read_back(bus, capsys):
     assert out == "xsSWITCH_TANK_THR = 20.10 bar (written, read back)\n"  # the A2L's %.2, as cal get shows it
 
 
+def test_an_enum_text_may_differ_in_case_and_reads_back_as_the_a2l_writes_it(bus, capsys):
+    options, log, sim = bus
+    code, out, err = run(capsys, "cal", "set", "cfENABLEFLCU_VALUE", "enabled", *options)
+    assert (code, out, err) == (0, "cfENABLEFLCU_VALUE = Enabled (written, read back)\n", "")
+    code, out, err = run(capsys, "cal", "set", "cfENABLEFLCU_VALUE", "DISABLED", *options)
+    assert (code, out, err) == (0, "cfENABLEFLCU_VALUE = Disabled (written, read back)\n", "")
+
+
 def test_a_map_cell_is_its_own_bytes_only(bus, capsys):
     options, log, sim = bus
     code, out, err = run(capsys, "cal", "set", "xvPRV_DC_FF[2,3]", "42", *options)

@@ -222,6 +222,9 @@ class _Verbal(Conversion):
         for lower, upper, text in triples:
             first = np.ceil(lower) if np.ceil(lower) <= upper else lower
             self.raw_of.setdefault(text, float(first))
+        self._by_folded: dict[str, list[str]] = {}  # casefolded text -> the table's texts
+        for text in self.raw_of:
+            self._by_folded.setdefault(text.strip().casefold(), []).append(text)
 
     @property
     def allowed(self) -> list[str]:
@@ -248,6 +251,21 @@ class _Verbal(Conversion):
                 out[i] = int(number) if float(number).is_integer() else float(number)
         return out[0] if scalar else out.reshape(values.shape)
 
+    def text_of(self, value: str) -> str | None:
+        """The table's text that ``value`` names: itself, itself without end blanks, or the one text that
+        differs from it only in case (``low`` for ``Low``); None when it names none.
+
+        :raises ConversionError: several texts differ from ``value`` only in case.
+        """
+        for text in (value, value.strip()):
+            if text in self.raw_of:
+                return text
+        texts = self._by_folded.get(value.strip().casefold(), [])
+        if len(texts) > 1:
+            raise ConversionError(f"{self.name}: {value!r} matches {', '.join(map(repr, texts))}, which differ only "
+                                  "in case: write one exactly")
+        return texts[0] if texts else None
+
     def to_raw(self, physical: Any, datatype: str | None = None) -> Any:
         scalar = np.ndim(physical) == 0
         values = np.asarray(physical, dtype=object)
@@ -255,13 +273,11 @@ class _Verbal(Conversion):
         out = np.empty(len(flat), dtype=np.float64)
         for i, value in enumerate(flat.tolist()):
             if isinstance(value, str):
-                raw = self.raw_of.get(value)
-                if raw is None:
-                    raw = self.raw_of.get(value.strip())
-                if raw is None:
+                text = self.text_of(value)
+                if text is None:
                     shown = ", ".join(self.allowed[:_SHOWN]) + (" ..." if len(self.allowed) > _SHOWN else "")
                     raise ConversionError(f"{self.name}: {value!r} is not one of its texts (allowed: {shown})")
-                out[i] = raw
+                out[i] = self.raw_of[text]
             else:
                 try:
                     out[i] = float(value)

@@ -33,6 +33,7 @@ import numpy as np
 
 from workbench.a2l.objects import AxisPts, Characteristic, format_parts
 from workbench.calib.values import CalValue
+from workbench.errors import ConversionError
 
 if TYPE_CHECKING:
     from workbench.a2l.model import A2lModel
@@ -142,11 +143,15 @@ def _texts(model: "A2lModel", name: str, label: str, values: np.ndarray, source)
         return []
     conversion = model.conversion(source)
     if conversion.verbal:
-        texts = [t for t in texts if t not in conversion.raw_of and t.strip() not in conversion.raw_of]
-        if not texts:
-            return []
-        allowed = ", ".join(conversion.allowed[:_SHOWN]) + (" ..." if len(conversion.allowed) > _SHOWN else "")
-        return [LimitViolation(name, "text", f"{name}{label}: {texts[0]!r} is not one of its values ({allowed})")]
+        for text in texts:
+            try:
+                known = conversion.text_of(text)  # a text that differs from one of the table only in case is that one
+            except ConversionError as exc:  # several do
+                return [LimitViolation(name, "text", f"{name}{label}: {str(exc).partition(': ')[2]}")]
+            if known is None:
+                allowed = ", ".join(conversion.allowed[:_SHOWN]) + (" ..." if len(conversion.allowed) > _SHOWN else "")
+                return [LimitViolation(name, "text", f"{name}{label}: {text!r} is not one of its values ({allowed})")]
+        return []
     unit = model.unit_of(source)
     decimals = _decimals(model, source)
     lower, upper = (_number(limit, decimals) for limit in (source.lower_limit, source.upper_limit))
