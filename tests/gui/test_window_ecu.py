@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from gui_helpers import WAIT_MS, open_window
 from PySide6.QtCore import Qt
+from PySide6.QtWidgets import QMessageBox
 
 from workbench.calib.fixes import find_fix_pairs
 from workbench.gui.models.fixes import COLUMNS as FIX_COLUMNS
@@ -114,3 +115,30 @@ def test_the_page_buttons_switch_the_ecu_to_the_reference_page_and_back(window, 
     window.working_action.trigger()
     qtbot.waitUntil(lambda: session.page().ecu_page == working, timeout=WAIT_MS)
 
+
+
+def test_copying_the_reference_page_says_what_it_overwrites_and_copies_only_on_yes(window, qtbot):
+    """As `cal page copy` asks in a terminal: No (the default) sends nothing, Yes undoes the change."""
+    session = window.controller.session
+    session.write("xsPRV_KP", 6.0)  # the reference page holds 5
+    editor = window.open_editor("xsPRV_KP")
+    qtbot.waitUntil(lambda: editor.value is not None and not editor.modified_badge.isHidden(), timeout=WAIT_MS)
+    window.copy_action.trigger()
+    qtbot.waitUntil(lambda: window.copy_confirm is not None and window.copy_confirm.isVisible(), timeout=WAIT_MS)
+    box = window.copy_confirm
+    assert box.text() == "Copy the reference page onto the working page, losing every change since start-up?"
+    assert box.informativeText() == ("Overwrites the working page 0 of segment 0 (CALRAM, 0x40000000-0x4001FFFF, "
+                                     "131072 bytes, 58 calibrations) with the reference page 1.")
+    assert box.defaultButton() is box.button(QMessageBox.No)
+    box.button(QMessageBox.No).click()
+    qtbot.waitUntil(lambda: window.statusBar().currentMessage() == "not confirmed: nothing copied", timeout=WAIT_MS)
+    assert session.read("xsPRV_KP") == pytest.approx(6.0)  # nothing was sent
+
+    window.copy_action.trigger()
+    qtbot.waitUntil(lambda: window.copy_confirm is not box and window.copy_confirm.isVisible(), timeout=WAIT_MS)
+    window.copy_confirm.button(QMessageBox.Yes).click()
+    qtbot.waitUntil(lambda: window.statusBar().currentMessage() == "copied the reference page onto the working page",
+                    timeout=WAIT_MS)
+    assert session.read("xsPRV_KP") == pytest.approx(5.0)
+    qtbot.waitUntil(lambda: editor.value.value == pytest.approx(5.0) and editor.modified_badge.isHidden(),
+                    timeout=WAIT_MS)  # the editor read again

@@ -20,6 +20,7 @@ from PySide6.QtWidgets import (
     QFileDialog,
     QLabel,
     QMainWindow,
+    QMessageBox,
     QSplitter,
     QTabWidget,
     QVBoxLayout,
@@ -77,6 +78,7 @@ class MainWindow(QMainWindow):
         self.epk_dialog: EpkDialog | None = None
         self.flash_dialog: FlashDialog | None = None
         self.sync_dialog: SyncDialog | None = None
+        self.copy_confirm: QMessageBox | None = None  # the page copy's question (tests answer it)
         self.sync_report = None  # the last cache sync's workbench.sync.SyncReport
         self.last_recording = None  # the last recording's workbench.record.RecordingStats
         self.errors: list = []  # the error dialogs shown (tests look at them)
@@ -243,7 +245,7 @@ class MainWindow(QMainWindow):
                        self.reference_action, self.flash_action, self.record_action, self.raw_can_action):
             ecu_menu.addAction(action)
         self.copy_action = self._action("Copy reference → working", self._copy_reference,
-                                        "start the working page over from the flashed values")
+                                        "start the working page over from the flashed values (says first what it overwrites, asks)")
         self.copy_action.setEnabled(False)
         ecu_menu.addAction(self.copy_action)
         self._calibration_menu(menu.addMenu("&Calibration"))
@@ -548,8 +550,38 @@ class MainWindow(QMainWindow):
         self.connect_action.setEnabled(True)
 
     def _copy_reference(self) -> None:
-        self.controller.call("copy_reference_to_working",
-                             on_done=lambda _: [e.reload() for e in self.editors.values()])
+        """Say first what the copy overwrites (read in the pool: the ECU may be asked), then ask."""
+        self.controller.call("page_copies", on_done=self._ask_copy)
+
+    def _ask_copy(self, copies) -> None:
+        """The question of ``cal page copy``, non-modal as the parameter sets' (No by default); only Yes copies."""
+        if self.copy_confirm is not None:
+            self.copy_confirm.close()
+        box = QMessageBox(self)
+        box.setWindowTitle("Copy reference → working")
+        box.setIcon(QMessageBox.Question)
+        box.setText("Copy the reference page onto the working page, losing every change since start-up?")
+        box.setInformativeText("\n".join(f"Overwrites {copy} with the reference page {copy.reference}."
+                                          for copy in copies))
+        box.setStandardButtons(QMessageBox.Yes | QMessageBox.No)
+        box.setDefaultButton(QMessageBox.No)
+        box.setModal(False)
+        box.finished.connect(lambda _: self._copy_answered(box.clickedButton() is box.button(QMessageBox.Yes)))
+        self.copy_confirm = box
+        box.show()
+
+    def _copy_answered(self, yes: bool) -> None:
+        if not yes:  # No, Escape or the window closed
+            self.statusBar().showMessage("not confirmed: nothing copied", 15000)
+            return
+
+        def copied(_) -> None:
+            self.statusBar().showMessage("copied the reference page onto the working page", 15000)
+            self.parameter_sets.ecu_changed("reference page copied since")
+            for editor in self.editors.values():
+                editor.reload()
+
+        self.controller.call("copy_reference_to_working", on_done=copied)
 
     # --- recording ------------------------------------------------------------------------------
 
