@@ -16,7 +16,9 @@ from workbench.errors import Cancelled, InputError
 EPILOG = """\
 The plan comes first: per region of the A2L the ranges the file fills ("Partial: FC0000h-FC01C3h
 FDFFF0h-FDFFFFh"), only those are programmed. Refused before anything is erased: an image whose
-EPK differs from the A2L's, data outside the flash regions, BOOT without --allow-boot. The
+EPK differs from the A2L's; a flash of part of the software (CALIB only, APPLICATIVE only) whose
+EPK differs from the ECU's, which the part that stays belongs to (--accept-epk-mismatch flashes
+it anyway); data outside the flash regions; BOOT without --allow-boot. The
 application-valid key is cleared first and set last, so a flash that breaks off leaves the ECU in
 its boot loader, where the same command finishes it. Ctrl-C stops at the next block the same way.
 Exit codes: 0 flashed (or --dry-run found nothing to refuse, or --verify-only no difference),

@@ -28,6 +28,7 @@ _EXPORTS = {
     "workbench.flash.sequence": ("FlashOptions", "FlashResult", "Verify", "check_flash", "flash_ecu"),
     "workbench.flash.compare": ("RangeCheck", "verify_ecu"),
     "workbench.flash.working_page": ("plan_working_page",),
+    "workbench.flash.software": ("EpkPairing", "epk_pairing"),
 }
 __all__, __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
@@ -37,4 +38,5 @@ if TYPE_CHECKING:
     from workbench.flash.layout import DEMO_APP_KEY, AppKey, FlashLayout, FlashRegion, Sector
     from workbench.flash.plan import FlashPlan, RegionPlan, plan_file, plan_flash
     from workbench.flash.sequence import FlashOptions, FlashResult, Verify, check_flash, flash_ecu
+    from workbench.flash.software import EpkPairing, epk_pairing
     from workbench.flash.working_page import plan_working_page

@@ -65,6 +65,7 @@ class FlashRegion:
     size: int
     description: str = ""
     selectable: bool = True
+    holds_code: bool = False  # PRG_TYPE CODE: the application's code (or the boot loader's)
 
     @property
     def end(self) -> int:
@@ -96,7 +97,8 @@ class FlashLayout:
     def from_a2l(cls, doc: A2lDocument, config: XcpConfig | None = None, module: str | None = None) -> FlashLayout:
         """Regions from the flash MEMORY_SEGMENTs, sectors from IF_DATA XCP PGM SECTORs (if ``config`` has them)."""
         regions = tuple(
-            FlashRegion(s.name, s.address, s.size, s.long_identifier, s.prg_type in FLASHABLE_PRG_TYPES)
+            FlashRegion(s.name, s.address, s.size, s.long_identifier, s.prg_type in FLASHABLE_PRG_TYPES,
+                        s.prg_type == "CODE")
             for s in doc.memory_segments(module) if s.memory_type in FLASH_MEMORY_TYPES
         )
         pgm = config.pgm if config is not None else None
@@ -139,6 +141,10 @@ class FlashLayout:
         """The parts of ``image`` no sector covers (the ECU cannot erase, so not program, them)."""
         units = [Region(s.name or str(s.number), s.range.start, s.range.size) for s in self.erase_units()]
         return split_by_region(image, units)[1]
+
+    def application_regions(self) -> tuple[FlashRegion, ...]:
+        """The regions holding the application's code (CODE, not the boot loader's)."""
+        return tuple(r for r in self.regions if r.holds_code and r.selectable and not r.is_boot)
 
     def sector_of(self, address: int) -> Sector | None:
         return next((s for s in self.erase_units() if s.range.start <= address < s.range.end), None)

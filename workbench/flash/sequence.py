@@ -29,6 +29,7 @@ from workbench.flash.checksums import ChecksumVerifier
 from workbench.flash.errors import FlashError, FlashRefused
 from workbench.flash.layout import Sector
 from workbench.flash.plan import FlashPlan, with_sectors
+from workbench.flash.software import EpkPairing, epk_pairing
 from workbench.flash.writer import RangeWriter, WrongBytes
 from workbench.image import ERASED, AddressRange, MemoryImage
 from workbench.logs import logger
@@ -123,8 +124,10 @@ def check_flash(session: Session, plan: FlashPlan, options: FlashOptions = Flash
         raise FlashRefused("the ECU offers no programming (CONNECT: no PGM resource); nothing was touched")
     if master.get_status().daq_running:
         raise FlashRefused("a DAQ measurement runs on the ECU: stop it before flashing; nothing was touched")
+    pairing = _pairing(session, plan)
+    notes = [f"{pairing.describe()}"] if pairing is not None and not pairing.matches else []
     if not options.ecu_sectors:
-        return plan, []
+        return plan, notes
     try:
         processor = master.get_pgm_processor_info()
         sectors = [master.get_sector_info(n) for n in range(processor.max_sectors)]
@@ -132,17 +135,27 @@ def check_flash(session: Session, plan: FlashPlan, options: FlashOptions = Flash
         if exc.code not in (Err.CMD_UNKNOWN, Err.OUT_OF_RANGE):
             raise
         log.info("the ECU gives no sector information (%s): the A2L's sectors apply", exc)
-        return plan, []
+        return plan, notes
     if not processor.absolute_mode:
         raise FlashRefused("the ECU programs in functional mode only; the workbench clears and programs by "
                            "address (absolute mode); nothing was touched")
     ecu = tuple(Sector("", s.number, AddressRange(s.address, s.address + s.length), s.clear_sequence,
                        s.program_sequence) for s in sectors)
     layout = plan.layout
-    notes = []
     if {s.range for s in ecu} != {s.range for s in layout.sectors}:
         notes.append(f"the ECU's sectors differ from the A2L's ({layout.sectors_from or 'none'}): used the ECU's")
     return with_sectors(plan, layout.with_sectors(ecu, "ECU")), notes
+
+
+def _pairing(session: Session, plan: FlashPlan) -> EpkPairing | None:
+    """The flash's EPK against the ECU's before it, when the flash leaves part of the software (flash.software).
+
+    :raises FlashRefused: they differ and the session does not accept an EPK mismatch.
+    """
+    pairing = epk_pairing(plan, session.epk.ecu, session.epk.source)
+    if pairing is not None and not pairing.matches and not session.accept_epk_mismatch:
+        raise FlashRefused(pairing.refusal(plan.source, "/".join(r.region.name for r in plan.regions)))
+    return pairing
 
 
 class _Meter:
@@ -188,6 +201,7 @@ class _Flash:
 
     def run(self) -> FlashResult:
         began = time.perf_counter()
+        pairing = epk_pairing(self.plan, self.session.epk.ecu, self.session.epk.source)  # the ECU's before
         try:
             self.plan, notes = check_flash(self.session, self.plan, self.options)  # writes nothing
             self.notes += notes
@@ -223,9 +237,10 @@ class _Flash:
         except WorkbenchError as exc:
             raise FlashError(f"the flash is complete and verified, but reconnecting after PROGRAM_RESET failed: "
                              f"{exc}") from exc
+        epk = self.session.epk.describe() + (f"; {pairing.describe()}" if pairing is not None else "")
+        notes = [n for n in self.notes if pairing is None or n != pairing.describe()]  # said in epk
         return FlashResult(self.plan, time.perf_counter() - began, self.meter.seconds, self.writer.bytes_sent,
-                           verified, self.writer.recoveries, self.rewrites, self.session.epk.describe(), running,
-                           tuple(self.notes))
+                           verified, self.writer.recoveries, self.rewrites, epk, running, tuple(notes))
 
     def _program_start(self) -> ProgramStartInfo:
         self.meter.phase("PROGRAM_START")

@@ -1,0 +1,77 @@
+"""``workbench flash`` of part of the software: what it writes must belong to what it leaves on the ECU (user
+trial: a CALIB-only image of another EPK flashed onto the running application and was called a match)."""
+
+from __future__ import annotations
+
+import pytest
+from flash_images import CALIB, application_image, calib_image_with
+
+from workbench import demo
+from workbench.cli import main
+
+OLD_EPK, NEW_EPK = b"10300020250301", b"10300020259999"
+APP_HEADER_EPK = 0x840008  # AppHeader.Epk: the EPK the application was built with (docs/demo-ecu.md)
+
+
+@pytest.fixture
+def new_a2l(tmp_path):
+    """The demo A2L of another build: EPK ...9999."""
+    path = tmp_path / "new.a2l"
+    path.write_bytes(demo.a2l().read_bytes().replace(OLD_EPK, NEW_EPK))
+    return str(path)
+
+
+def run_cli(bench, *args: str) -> int:
+    return main(["flash", *args, "--interface", "virtual", "--channel", bench.channel])
+
+
+def test_a_calib_only_flash_of_another_epk_is_refused_before_anything_is_erased(bench, tmp_path, new_a2l, capsys):
+    path = tmp_path / "wrongepk.s19"
+    image = calib_image_with("xsSWITCH_TANK_THR", 29.0)
+    image.add(CALIB.start, NEW_EPK, overwrite=True)
+    image.save(path)
+    before = bench.whole_flash()
+    for extra in (["--dry-run"], []):
+        assert run_cli(bench, str(path), "-r", "CALIB", "--a2l", new_a2l, *extra) == 1
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.startswith("error: wrongepk.s19: CALIB only, with EPK '10300020259999', "
+                                                       "but the ECU reports EPK '10300020250301' (GET_ID) for the "
+                                                       "application that stays on it")
+        assert "--accept-epk-mismatch" in err and "(nothing was erased)" in err
+        assert bench.whole_flash() == before
+
+    assert run_cli(bench, str(path), "-r", "CALIB", "--a2l", new_a2l, "--accept-epk-mismatch") == 0
+    out = capsys.readouterr().out
+    assert ("the application kept: EPK '10300020250301' before the flash (GET_ID), MISMATCH accepted "
+            "(--accept-epk-mismatch)") in out
+    assert bench.ecu.read(CALIB.start, 14) == NEW_EPK and bench.ecu.read(APP_HEADER_EPK, 14) == OLD_EPK
+
+
+def test_a_matching_calib_flash_says_which_application_it_kept(bench, tmp_path, capsys):
+    path = tmp_path / "cal.s19"
+    calib_image_with("xsSWITCH_TANK_THR", 29.0).save(path)
+    assert run_cli(bench, str(path), "-r", "CALIB") == 0
+    assert "the application kept: EPK '10300020250301' before the flash (GET_ID), the same" in capsys.readouterr().out
+
+
+def test_an_applicative_only_flash_of_another_epk_is_refused(bench, tmp_path, new_a2l, capsys):
+    path = tmp_path / "app.s19"
+    application_image(100).save(path)
+    before = bench.whole_flash()
+    assert run_cli(bench, str(path), "-r", "APPLICATIVE", "--a2l", new_a2l) == 1
+    err = capsys.readouterr().err
+    assert "for the calibration data that stays on it" in err and err.count("\n") == 1
+    assert bench.whole_flash() == before
+
+
+def test_the_whole_software_of_another_epk_flashes(bench, tmp_path, new_a2l, capsys):
+    path = tmp_path / "new.s19"
+    image = application_image(100)
+    image.add(APP_HEADER_EPK, NEW_EPK, overwrite=True)
+    calib = calib_image_with("xsSWITCH_TANK_THR", 29.0)
+    calib.add(CALIB.start, NEW_EPK, overwrite=True)
+    for address, data in calib.segments:
+        image.add(address, data)
+    image.save(path)
+    assert run_cli(bench, str(path), "-r", "CALIB", "-r", "APPLICATIVE", "--a2l", new_a2l) == 0
+    assert "EPK match: A2L '10300020259999', ECU '10300020259999'" in capsys.readouterr().out

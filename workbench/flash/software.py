@@ -1,0 +1,74 @@
+"""Whether a flash that replaces part of the software fits the part it leaves (thesis 5.3: CALIB is flashed
+"when the application software is the same but change only calibration parameters").
+
+The demo ECU, as the thesis's HDS9, keeps its EPK at ADDR_EPK in front of the calibrations in CALIB
+(FC0000h); the application's header repeats it (840008h). GET_ID type 5 reads ADDR_EPK, so after a
+CALIB flash it reports the EPK of the data just written, whatever code runs: comparing it with the A2L
+afterwards proves nothing. What is compared, before anything is erased, is the EPK of what the flash
+writes (the image's at ADDR_EPK, else the A2L's) with the ECU's as it reported it before the flash, the
+EPK of the part that stays. A flash of code and the EPK's region together replaces the whole software
+and is not compared.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from workbench.errors import epk_text
+from workbench.flash.plan import FlashPlan
+
+__all__ = ["EpkPairing", "epk_pairing"]
+
+
+@dataclass(frozen=True)
+class EpkPairing:
+    flashed: str  # the EPK of what the flash writes
+    kept: str | None  # the ECU's EPK before the flash (None: it could not be read)
+    source: str  # how the ECU's was read: "GET_ID" or "ADDR_EPK"
+    stays: str  # what the flash leaves on the ECU: "the application", "the calibration data"
+
+    @property
+    def kept_erased(self) -> bool:
+        return self.kept is not None and set(self.kept.rstrip("\0")) <= {"\xff"}
+
+    @property
+    def matches(self) -> bool:
+        return self.kept is not None and _clean(self.kept) == _clean(self.flashed)
+
+    def refusal(self, source: str, regions: str) -> str:
+        """One line: why the flash of ``regions`` from ``source`` is refused (the ECU untouched)."""
+        if self.kept is None or self.kept_erased:
+            why = "could not be read" if self.kept is None else "reads erased (a flash that did not finish?)"
+            return (f"{source}: the ECU's EPK {why}, so which software {self.stays} on it belongs to is unknown: "
+                    f"flash the whole software (code and calibration regions together), or pass "
+                    f"--accept-epk-mismatch if {self.stays} is the software of EPK {epk_text(self.flashed)} "
+                    f"(nothing was erased)")
+        return (f"{source}: {regions} only, with EPK {epk_text(self.flashed)}, but the ECU reports EPK "
+                f"{epk_text(self.kept)} ({self.source}) for {self.stays} that stays on it: they belong to different "
+                f"software; flash the whole software, or pass --accept-epk-mismatch to flash it anyway "
+                f"(nothing was erased)")
+
+    def describe(self) -> str:
+        kept = epk_text(self.kept) if self.kept is not None else "unknown"
+        verdict = "the same" if self.matches else "MISMATCH accepted (--accept-epk-mismatch)"
+        return f"{self.stays} kept: EPK {kept} before the flash ({self.source or 'not read'}), {verdict}"
+
+
+def epk_pairing(plan: FlashPlan, ecu_epk: str | None, source: str) -> EpkPairing | None:
+    """The comparison a flash of ``plan`` needs with the ECU's EPK read before it (``source``: how);
+    None when the A2L states no EPK or the flash replaces the whole software (its code and ADDR_EPK)."""
+    layout = plan.layout
+    if layout.epk is None:
+        return None
+    applications = layout.application_regions()
+    code_flashed = any(r.region in applications for r in plan.regions)
+    epk_flashed = plan.image_epk is not None
+    if code_flashed and epk_flashed:
+        return None
+    flashed = plan.image_epk if epk_flashed else layout.epk
+    stays = "the calibration data" if code_flashed else "the application"
+    return EpkPairing(flashed, ecu_epk, source, stays)
+
+
+def _clean(text: str) -> str:
+    return text.replace("\0", "").strip()
