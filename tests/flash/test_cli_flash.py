@@ -151,3 +151,20 @@ def test_a_dry_run_refuses_what_the_flash_refuses(bench, tmp_path, capsys):
     bench.session.connect()
     assert run_cli(bench, str(path), "--region", "CALIB", "--dry-run") == 0
     assert "dry run: nothing was flashed" in capsys.readouterr().out
+
+
+def test_verify_only_without_a_region_compares_every_region_the_file_fills(bench, capsys):
+    assert run_cli(bench, str(demo.s19()), "--verify-only") == 0
+    out = capsys.readouterr().out
+    assert "APPLICATIVE 840000h-84003Bh matches" in out and "CALIB FDFFF0h-FDFFFFh matches" in out
+
+
+def test_json_says_the_operation_and_ok_as_the_a2l_reports_do(bench, tmp_path, capsys):
+    path = tmp_path / "changed.s19"
+    calib_image_with(THRESHOLD, 28.0).save(path)
+    for extra, operation, code in ((["--dry-run"], "dry-run", 0), (["--verify-only"], "verify-only", 1), ([], "flash", 0),
+                                   (["--verify-only"], "verify-only", 0)):
+        assert run_cli(bench, str(path), "--region", "CALIB", "--json", *extra) == code
+        report = json.loads(capsys.readouterr().out)
+        assert report["operation"] == operation and report["ok"] is (code == 0)
+        assert "plan" in report or "ranges" in report  # the fields there were stay

@@ -27,7 +27,7 @@ Exit codes: 0 flashed (or --dry-run found nothing to refuse, or --verify-only no
 examples:
   workbench flash assets/FLCU.s19 --region CALIB --dry-run
   workbench flash new.hex --region APPLICATIVE --interface socketcan --channel can0
-  workbench flash assets/FLCU.s19 --region CALIB --verify-only
+  workbench flash assets/FLCU.s19 --verify-only            # every region the file fills
   workbench flash --from-working-page
 """
 
@@ -49,7 +49,8 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
                      help="connect, check what the flash checks first, print the plan and the time it takes, flash "
                           "nothing (exit codes as the flash's)")
     how.add_argument("--verify-only", action="store_true",
-                     help="compare the ECU's flash with the file by checksums, flash nothing (exit 1 on a difference)")
+                     help="compare the ECU's flash with the file by checksums, flash nothing (exit 1 on a difference); "
+                          "without --region every flash region the file fills")
     how.add_argument("--verify", choices=("checksum", "readback"), default="checksum",
                      help="checksum (BUILD_CHECKSUM of every erased sector, the default) or readback (and UPLOAD)")
     how.add_argument("--no-verify", action="store_true", help="skip the verification (not recommended)")
@@ -72,8 +73,9 @@ def run(args: argparse.Namespace) -> int:
     app_key = _app_key(args)
     plan = None
     if not args.from_working_page:  # refusals come before the bus is even opened
-        plan = plan_file(args.file, FlashLayout.from_a2l(doc, read_xcp_config(doc)), args.region,
-                         allow_boot=args.allow_boot, app_key=app_key)
+        layout = FlashLayout.from_a2l(doc, read_xcp_config(doc))
+        regions = args.region or filled_regions(args.file, layout)  # only --verify-only may leave it out
+        plan = plan_file(args.file, layout, regions, allow_boot=args.allow_boot or not args.region, app_key=app_key)
     args.a2l = doc
     with open_session(args) as session:
         if plan is None:
@@ -91,10 +93,24 @@ def _check_usage(args: argparse.Namespace) -> None:
             raise InputError("--from-working-page flashes the working page: give no FILE and no --region")
         if args.verify_only:
             raise InputError("--verify-only compares a file; the working page is compared by flashing it")
-    elif not args.file or not args.region:
+    elif not args.file or not (args.region or args.verify_only):
         raise InputError("give FILE and --region NAME (e.g. --region CALIB), or --from-working-page")
     if args.dry_run and args.verify_only:
         raise InputError("--dry-run and --verify-only exclude each other")
+
+
+def filled_regions(path: str, layout) -> list[str]:
+    """The flash regions the file fills (what --verify-only compares without --region).
+
+    :raises InputError: it fills none.
+    """
+    from workbench.image import load_image
+
+    image = load_image(path)
+    names = [r.name for r in layout.regions if r.selectable and image.crop(r.start, r.end).size]
+    if not names:
+        raise InputError(f"{path}: fills no flash region of the A2L ({', '.join(r.name for r in layout.regions)})")
+    return names
 
 
 def _app_key(args: argparse.Namespace):
@@ -131,7 +147,7 @@ def _dry_run(session, plan, args: argparse.Namespace) -> int:
     estimate = plan.bus_time_s(bitrate, block, per_frame) if bitrate and session.link.is_can else None
     state = "boot loader (programming only)" if session.in_boot else "application running"
     if args.json:
-        print_json({"plan": plan.to_dict(), "ecu": {"epk": session.epk.describe(), "state": state},
+        print_json({"operation": "dry-run", "ok": True, "plan": plan.to_dict(), "ecu": {"epk": session.epk.describe(), "state": state},
                     "bitrate": bitrate, "seconds": list(estimate) if estimate else None, "notes": notes})
         return 0
     print(plan.describe())
@@ -152,7 +168,7 @@ def _verify_only(session, plan, args: argparse.Namespace) -> int:
         checks = verify_ecu(session, plan, progress=progress)
     differing = [c for c in checks if not c.matches]
     if args.json:
-        print_json({"matches": not differing, "ranges": [
+        print_json({"operation": "verify-only", "ok": not differing, "matches": not differing, "ranges": [
             {"region": c.region, "start": c.range.start, "end": c.range.end,
              "differing": [[d.start, d.end] for d in c.differing]} for c in checks]})
     else:
@@ -175,7 +191,7 @@ def _flash(session, plan, args: argparse.Namespace) -> int:
             print(f"error: {exc}", file=sys.stderr)
             return 130
     if args.json:
-        print_json(result.to_dict())
+        print_json({"operation": "flash", "ok": True, **result.to_dict()})
     else:
         print(result.describe())
     return 0
