@@ -168,3 +168,22 @@ def test_json_says_the_operation_and_ok_as_the_a2l_reports_do(bench, tmp_path, c
         report = json.loads(capsys.readouterr().out)
         assert report["operation"] == operation and report["ok"] is (code == 0)
         assert "plan" in report or "ranges" in report  # the fields there were stay
+
+
+def test_a_file_that_gives_back_only_part_of_a_sector_is_refused_unless_told(bench, tmp_path, capsys):
+    """The CALT trailer at FDFFF0h is in the sector the file's FC0000h-FC01C3h needs erased, not in the file."""
+    path = tmp_path / "calib_noepk.s19"
+    calib_image_with(THRESHOLD, 29.0).crop(CALIB.start, 0xFDFF00).save(path)
+    before = bench.whole_flash()
+    for extra in (["--dry-run"], []):
+        assert run_cli(bench, str(path), "--region", "CALIB", *extra) == 1
+        assert capsys.readouterr().err == (
+            "error: calib_noepk.s19: erasing sector CALIB FC0000h-FDFFFFh would also erase FDFFF0h-FDFFFFh, which hold "
+            "data the file does not give back: put them in the file, or pass --erase-beyond-file to lose them "
+            "(nothing was erased)\n")
+        assert bench.whole_flash() == before
+    assert run_cli(bench, str(path), "--region", "CALIB", "--erase-beyond-file", "--dry-run") == 0
+    assert "note: erased and not written again (--erase-beyond-file): FDFFF0h-FDFFFFh" in capsys.readouterr().out
+    assert run_cli(bench, str(path), "--region", "CALIB", "--erase-beyond-file") == 0
+    assert "erased and not written again (--erase-beyond-file): FDFFF0h-FDFFFFh" in capsys.readouterr().out
+    assert bench.ecu.read(0xFDFFF0, 16) == b"\xff" * 16

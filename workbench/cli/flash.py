@@ -18,7 +18,9 @@ The plan comes first: per region of the A2L the ranges the file fills ("Partial:
 FDFFF0h-FDFFFFh"), only those are programmed. Refused before anything is erased: an image whose
 EPK differs from the A2L's; a flash of part of the software (CALIB only, APPLICATIVE only) whose
 EPK differs from the ECU's, which the part that stays belongs to (--accept-epk-mismatch flashes
-it anyway); data outside the flash regions; BOOT without --allow-boot. The
+it anyway); data outside the flash regions; BOOT without --allow-boot; a sector to erase that
+holds data outside the file's ranges, which the file would not give back (--erase-beyond-file
+loses it). The
 application-valid key is cleared first and set last, so a flash that breaks off leaves the ECU in
 its boot loader, where the same command finishes it. Ctrl-C stops at the next block the same way.
 Exit codes: 0 flashed (or --dry-run found nothing to refuse, or --verify-only no difference),
@@ -44,6 +46,9 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     what.add_argument("--from-working-page", action="store_true",
                       help="flash the working page (CAL RAM) into CAL ROM instead of a file")
     what.add_argument("--allow-boot", action="store_true", help="allow flashing the boot loader's region")
+    what.add_argument("--erase-beyond-file", action="store_true",
+                      help="erase a sector although it holds data outside the file's ranges (lost: the file does "
+                           "not give it back); refused otherwise")
     how = parser.add_argument_group("how")
     how.add_argument("--dry-run", action="store_true",
                      help="connect, check what the flash checks first, print the plan and the time it takes, flash "
@@ -137,7 +142,7 @@ def _working_page_plan(session, app_key, args: argparse.Namespace):
 def _dry_run(session, plan, args: argparse.Namespace) -> int:
     from workbench.flash import check_flash
 
-    plan, notes = check_flash(session, plan)  # refused as the flash would be: exit 1, nothing touched
+    plan, notes = check_flash(session, plan, _options(args))  # refused as the flash would be: exit 1, nothing touched
     pgm = session.config.pgm
     mode = pgm.communication_mode if pgm is not None and pgm.communication_mode else session.config.communication_mode
     per_frame = (pgm.max_cto_pgm if pgm is not None and pgm.max_cto_pgm else session.config.max_cto) - 2
@@ -179,9 +184,9 @@ def _verify_only(session, plan, args: argparse.Namespace) -> int:
 
 
 def _flash(session, plan, args: argparse.Namespace) -> int:
-    from workbench.flash import FlashOptions, Verify, flash_ecu
+    from workbench.flash import flash_ecu
 
-    options = FlashOptions(verify=Verify.NONE if args.no_verify else Verify(args.verify))
+    options = _options(args)
     if not args.json:
         print(plan.describe(), flush=True)
     with ProgressBar("flashing", enabled=None if not args.json else False) as progress, _cancel_on_interrupt(progress):
@@ -195,6 +200,13 @@ def _flash(session, plan, args: argparse.Namespace) -> int:
     else:
         print(result.describe())
     return 0
+
+
+def _options(args: argparse.Namespace):
+    from workbench.flash import FlashOptions, Verify
+
+    return FlashOptions(verify=Verify.NONE if args.no_verify else Verify(args.verify),
+                        erase_beyond_file=args.erase_beyond_file)
 
 
 @contextmanager

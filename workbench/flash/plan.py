@@ -73,6 +73,10 @@ class FlashPlan:
         unique = {s for r in self.regions for s in r.sectors}
         return sorted(unique, key=lambda s: (s.clear_sequence, s.range.start))
 
+    def sectors_holding(self, ranges: list[AddressRange]) -> list[Sector]:
+        """The sectors to erase that hold a byte of ``ranges``."""
+        return [s for s in self.sectors if any(s.range.start < r.end and r.start < s.range.end for r in ranges)]
+
     def sector_content(self, sector: Sector) -> bytes:
         """What ``sector`` holds after the flash: the image's bytes, erased flash elsewhere."""
         return self.image.read(sector.range.start, sector.range.size, ERASED)

@@ -30,6 +30,7 @@ from workbench.flash.errors import FlashError, FlashRefused
 from workbench.flash.layout import Sector
 from workbench.flash.plan import FlashPlan, with_sectors
 from workbench.flash.software import EpkPairing, epk_pairing
+from workbench.flash.unlisted import unlisted_data
 from workbench.flash.writer import RangeWriter, WrongBytes
 from workbench.image import ERASED, AddressRange, MemoryImage
 from workbench.logs import logger
@@ -59,6 +60,7 @@ class FlashOptions:
     max_recoveries: int = 8  # transmission errors repaired in one flash
     max_rewrites: int = 2  # times one sector is erased and written again after wrong bytes
     reconnect_s: float = 5.0  # how long to try CONNECT after PROGRAM_RESET
+    erase_beyond_file: bool = False  # erase sectors although they hold data beyond the file's ranges (lost)
 
 
 @dataclass(frozen=True)
@@ -126,8 +128,19 @@ def check_flash(session: Session, plan: FlashPlan, options: FlashOptions = Flash
         raise FlashRefused("a DAQ measurement runs on the ECU: stop it before flashing; nothing was touched")
     pairing = _pairing(session, plan)
     notes = [f"{pairing.describe()}"] if pairing is not None and not pairing.matches else []
-    if not options.ecu_sectors:
-        return plan, notes
+    plan, sector_notes = _with_ecu_sectors(master, plan) if options.ecu_sectors else (plan, [])
+    lost = unlisted_data(master, plan)
+    if lost and not options.erase_beyond_file:
+        raise FlashRefused(f"{plan.source}: erasing {', '.join(map(str, plan.sectors_holding(lost)))} would also erase "
+                           f"{' '.join(map(str, lost))}, which hold data the file does not give back: put them in the "
+                           f"file, or pass --erase-beyond-file to lose them (nothing was erased)")
+    if lost:
+        notes.append(f"erased and not written again (--erase-beyond-file): {' '.join(map(str, lost))}")
+    return plan, notes + sector_notes
+
+
+def _with_ecu_sectors(master, plan: FlashPlan) -> tuple[FlashPlan, list[str]]:
+    """``plan`` with the ECU's sectors (GET_SECTOR_INFO) when it gives them, and a note when they differ."""
     try:
         processor = master.get_pgm_processor_info()
         sectors = [master.get_sector_info(n) for n in range(processor.max_sectors)]
@@ -135,13 +148,14 @@ def check_flash(session: Session, plan: FlashPlan, options: FlashOptions = Flash
         if exc.code not in (Err.CMD_UNKNOWN, Err.OUT_OF_RANGE):
             raise
         log.info("the ECU gives no sector information (%s): the A2L's sectors apply", exc)
-        return plan, notes
+        return plan, []
     if not processor.absolute_mode:
         raise FlashRefused("the ECU programs in functional mode only; the workbench clears and programs by "
                            "address (absolute mode); nothing was touched")
     ecu = tuple(Sector("", s.number, AddressRange(s.address, s.address + s.length), s.clear_sequence,
                        s.program_sequence) for s in sectors)
     layout = plan.layout
+    notes = []
     if {s.range for s in ecu} != {s.range for s in layout.sectors}:
         notes.append(f"the ECU's sectors differ from the A2L's ({layout.sectors_from or 'none'}): used the ECU's")
     return with_sectors(plan, layout.with_sectors(ecu, "ECU")), notes
