@@ -9,9 +9,8 @@ writing it back unchanged gives the same bytes.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
@@ -45,8 +44,7 @@ def load_a2l_string(text: str, path: str | Path | None = None, *, validate: bool
     return A2lDocument.from_source(source_from_text(text, path), validate=validate)
 
 
-@dataclass(frozen=True)
-class MemorySegment:
+class MemorySegment(NamedTuple):
     """A MOD_PAR MEMORY_SEGMENT; ``address`` and ``size`` in bytes."""
 
     name: str

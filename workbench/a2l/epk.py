@@ -7,8 +7,7 @@ ECU keeps it, so that a master can compare the two before writing anything.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 from workbench.a2l.edits import Edit, indentation_of, newline_bytes, replace_token
 from workbench.a2l.reports import finding_at
@@ -26,8 +25,7 @@ DEFAULT_EPK_SYMBOLS = ("EPK", "epk")
 EPK_SECTIONS = (".epk", "epk")
 
 
-@dataclass(frozen=True)
-class ElfEpk:
+class ElfEpk(NamedTuple):
     text: str
     address: int
     source: str  # the symbol or section it was read from

@@ -13,13 +13,12 @@ an enumeration in :data:`ENUMS` (a word from a fixed list: ``datatype``, ``index
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from workbench.a2l.datatypes import DATATYPES
 
 
-@dataclass(frozen=True)
-class BlockSpec:
+class BlockSpec(NamedTuple):
     params: tuple[str, ...] = ()
     options: frozenset[str] = frozenset()
     blocks: frozenset[str] = frozenset()
@@ -28,8 +27,7 @@ class BlockSpec:
     free: bool = False  # content not validated (IF_DATA, A2ML)
 
 
-@dataclass(frozen=True)
-class Enumeration:
+class Enumeration(NamedTuple):
     """The words ASAP2 allows for one enumerated parameter; ``what`` names it in messages."""
 
     what: str

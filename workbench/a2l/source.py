@@ -14,6 +14,7 @@ import bisect
 import codecs
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -190,8 +191,7 @@ def transcoded(source: SourceFile, encoding: str) -> SourceFile:
     return SourceFile(source.path, data, encoding, source.bom, source.newline, source.file_encoding or source.encoding)
 
 
-@dataclass(frozen=True)
-class Segment:
+class Segment(NamedTuple):
     """A run of a document's buffer that was copied from one file (includes are spliced in)."""
 
     offset: int  # where the run starts in the document buffer

@@ -10,7 +10,6 @@ object per symbol, so a 50,000-symbol ELF loads in milliseconds. What the header
 from __future__ import annotations
 
 import struct
-from dataclasses import astuple, dataclass
 from pathlib import Path
 from typing import NamedTuple
 
@@ -29,8 +28,7 @@ _SYMBOL_FIELDS = {
 }
 
 
-@dataclass(frozen=True)
-class Section:
+class Section(NamedTuple):
     name: str
     address: int  # VMA: where the program sees it
     load_address: int  # LMA: where its initial bytes are stored (== address unless relocated by boot)
@@ -90,7 +88,7 @@ class ElfSymbols:
 
     def facts(self) -> dict:
         """What the headers say, as plain data for a cache."""
-        return {"little_endian": self.little_endian, "elfclass": self.elfclass, "has_dwarf": self.has_dwarf, "sections": [astuple(s) for s in self.sections.values()],
+        return {"little_endian": self.little_endian, "elfclass": self.elfclass, "has_dwarf": self.has_dwarf, "sections": [tuple(s) for s in self.sections.values()],
                 "section_names": self._section_names, "symtab": self._symtab}
 
     @staticmethod
