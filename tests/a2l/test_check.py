@@ -1,5 +1,6 @@
 """check: every finding kind with its position; a clean file has none."""
 
+import re
 from pathlib import Path
 
 from workbench import demo
@@ -127,3 +128,12 @@ def test_address_spaces_and_placeholders():
     text = TEXT.split("    /begin MEASUREMENT badcm")[0] + objects + "  /end MODULE\n/end PROJECT\n"
     report = check_document(load_a2l_string(text, "spaces.a2l"))
     assert [(f.kind, f.name) for f in report.findings] == [("overlap", "near")]  # within extension 2 only
+    # a file whose every object is at 0 (extensions too) forgot its update: one warning, since check fails on it
+    unplaced = (TEXT.split("    /begin MEASUREMENT ok")[0] + re.sub(r"ECU_ADDRESS 0x\w+", "ECU_ADDRESS 0", objects)
+                + "  /end MODULE\n/end PROJECT\n")
+    report = check_document(load_a2l_string(unplaced, "unplaced.a2l"))
+    assert [(f.kind, f.name, f.line, f.severity.name) for f in report.findings] == [
+        ("placeholder-address", "stack", 10, "WARNING")]
+    assert report.findings[0].message.startswith("5 object(s) still at address 0, the placeholder of an A2L not "
+                                                 "updated from its ELF (stack, far, near and 2 more): workbench a2l "
+                                                 "update")

@@ -11,9 +11,10 @@ from workbench.a2l import load_a2l, load_a2l_string
 from workbench.a2l.reports import UpdateMode
 from workbench.a2l.update import UpdateFailed, update_document, update_file
 from workbench.a2l.values import is_number
+from workbench.cli import main
 from workbench.elf.debugdata import DebugData
 from workbench.elf.symbols import ElfSymbols
-from workbench.errors import A2lParseError
+from workbench.errors import A2lParseError, InputError
 
 ELF_FIXTURES = Path(__file__).parents[1] / "elf" / "fixtures"
 ELF = ELF_FIXTURES / "types_dwarf5.elf"
@@ -232,14 +233,15 @@ def test_an_address_beyond_32_bits_is_left_unchanged_and_reported(debug):
         update_document(doc, debug, epk=False, mode=UpdateMode.STRICT)
 
 
-def test_an_elf_without_dwarf_and_symbols_says_so_once(tmp_path, source):
+def test_an_elf_without_dwarf_and_symbols_is_refused(tmp_path, source):
+    """A stripped ELF cannot give one address: an output with every address as it was must not pass a build."""
     data = ELF.read_bytes().replace(b".symtab\0", b".nosyms\0").replace(b".debug_info\0", b".debug_none\0")
     stripped = tmp_path / "stripped.elf"
     stripped.write_bytes(data)
-    result = update_document(load_a2l(source), DebugData(stripped, use_cache=False))
-    (finding,) = result.report.of_kind("elf-without-symbols")
-    assert finding.message.startswith("stripped.elf has neither DWARF nor a symbol table")
-    assert result.report.findings[0] == finding and len(result.report.of_kind("symbol-not-found")) == 11
+    with pytest.raises(InputError, match=r"stripped\.elf: has neither DWARF nor a symbol table \(stripped\?\)"):
+        update_document(load_a2l(source), DebugData(stripped, use_cache=False))
+    code = main(["a2l", "update", str(source), str(stripped), "-o", str(tmp_path / "out.a2l"), "--no-cache"])
+    assert code == 2 and not (tmp_path / "out.a2l").exists()
 
 
 def test_canape_link_map_follows_the_new_address(debug):

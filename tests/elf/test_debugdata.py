@@ -160,5 +160,8 @@ def test_not_an_elf(tmp_path):
     bad.write_bytes(b"ASAP2_VERSION 1 71\n")
     with pytest.raises(InputError, match="not a readable ELF"):
         DebugData(bad, use_cache=False)
-    with pytest.raises(InputError, match="no such file"):
-        DebugData(tmp_path / "missing.elf", use_cache=False)
+    for use_cache in (False, True):  # the cache's lookup is no different (it said FileNotFoundError)
+        with pytest.raises(InputError, match=r"missing\.elf: no such file$"):
+            DebugData(tmp_path / "missing.elf", cache_dir=tmp_path / "cache", use_cache=use_cache)
+        with pytest.raises(InputError, match=r": is a folder, not an ELF file$"):
+            DebugData(tmp_path, cache_dir=tmp_path / "cache", use_cache=use_cache)

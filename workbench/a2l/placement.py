@@ -6,7 +6,8 @@ overlap only when their masks share a bit. Each ECU_ADDRESS_EXTENSION is an addr
 of its own (XCPlite, for one, addresses stack and event-relative variables so); the
 MEMORY_SEGMENTs describe extension 0. An object at address 0 is not placed yet (the
 placeholder of a file before its update): it takes part in neither the overlap nor the
-segment check.
+segment check. Without the ELF, a file whose every object is at 0 gets one warning (a build that forgot
+its update; a file that places others has its reasons for one at 0).
 """
 
 from __future__ import annotations
@@ -46,7 +47,7 @@ def _placements(doc: A2lDocument, module: Block, objects: AddressedObjects, debu
     layouts = _record_layout_sizes(doc)
     masks = _option_values(doc, "BIT_MASK", _MASKED)
     extensions = _option_values(doc, "ECU_ADDRESS_EXTENSION", ADDRESSED_OBJECTS)
-    placed = []
+    placed, unplaced, addressed = [], [], 0
     parents = doc.blocks.parent
     for row in range(len(objects)):
         target = objects.target(row)
@@ -76,13 +77,22 @@ def _placements(doc: A2lDocument, module: Block, objects: AddressedObjects, debu
                     report.add(finding_at(doc, target.address_token, "address-mismatch", target.name,
                                           f"{keyword} {target.name}: the A2L says 0x{address:X}, "
                                           f"{debug.path.name} says 0x{expected:X}", keyword, Severity.ERROR))
-        if address == 0:
-            continue  # not placed yet: the placeholder before an update (no C object lies at address 0)
+        addressed += 1
+        if address == 0:  # not placed yet: the placeholder before an update (no C object lies at address 0)
+            unplaced.append(target)
+            continue
         if size is None:
             size = _a2l_size(doc, doc.block(target.block), layouts)
         if size:
             placed.append(_Placed(target.name, keyword, address, size, target.address_token, masks.get(target.block),
                                   extensions.get(target.block, 0)))
+    if unplaced and len(unplaced) == addressed and debug is None:  # with the ELF, each has its address mismatch
+        first = unplaced[0]
+        shown = ", ".join(t.name for t in unplaced[:3]) + (f" and {len(unplaced) - 3} more" if len(unplaced) > 3 else "")
+        report.add(finding_at(doc, first.address_token, "placeholder-address", first.name,
+                              f"{len(unplaced)} object(s) still at address 0, the placeholder of an A2L not updated "
+                              f"from its ELF ({shown}): workbench a2l update IN.a2l ELF -o OUT.a2l, or check --elf ELF",
+                              first.keyword, Severity.WARNING))
     return placed
 
 

@@ -44,10 +44,10 @@ class IndexCache:
 
     def load(self, elf_path: Path) -> dict | None:
         """The cached data for this exact ELF, or None (absent, unreadable, another format or file)."""
-        identity = self.identity(elf_path)
         try:
+            identity = self.identity(elf_path)
             raw = self.path_for(elf_path, identity).read_bytes()
-        except OSError:
+        except OSError:  # no entry; or no readable ELF, which reading it then reports
             return None
         try:
             data = pickle.loads(raw)

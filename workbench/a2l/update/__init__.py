@@ -26,7 +26,7 @@ from workbench.a2l.reports import IncludeMode, UpdateMode, findings_at
 from workbench.a2l.update.removal import removal_edits
 from workbench.a2l.values import format_ints_like, hex_digits_like, int_or_none, int_values
 from workbench.elf.debugdata import DebugData, read_beside
-from workbench.errors import WorkbenchError
+from workbench.errors import InputError, WorkbenchError
 from workbench.fileio import write_output
 from workbench.findings import Finding, Report, Severity, summarize
 from workbench.progress import Progress, report as report_progress
@@ -79,8 +79,12 @@ def update_document(doc: A2lDocument, debug: DebugData, *, mode: UpdateMode = Up
     them). Raises :class:`UpdateFailed` in strict mode when an object cannot be updated,
     :class:`A2lParseError` at an address that is not a number, :class:`InputError` for a
     change that would cross an ``/include`` boundary, :class:`Cancelled` when ``progress``
-    is cancelled.
+    is cancelled, and :class:`InputError` for an ELF without DWARF and symbol table (stripped: no address
+    can be found, and an output with every address as it was must not pass a build).
     """
+    if not debug.has_dwarf and not debug.elf.symbols:
+        raise InputError(f"{debug.path}: has neither DWARF nor a symbol table (stripped?): no address can be "
+                         "found; give the ELF the build linked, before stripping")
     report = UpdateReport("update")
     report_progress(progress, 0, 3, "finding the objects")
     objects = AddressedObjects(doc)
@@ -115,7 +119,7 @@ def update_document(doc: A2lDocument, debug: DebugData, *, mode: UpdateMode = Up
     if types:
         _check_types(objects, symbols, edits, report)
     report_progress(progress, 3, 3, "updating addresses")
-    report.findings[:0] = _no_symbols_at_all(debug) + findings_at(doc, pending)
+    report.findings[:0] = findings_at(doc, pending)
     if mode is UpdateMode.STRICT and report.errors:
         raise UpdateFailed(report)
     if removed:
@@ -178,13 +182,6 @@ def _result(doc: A2lDocument, edits: Edits, report: UpdateReport, includes: Incl
                                "the included files too, or write them inline", file, line, column, "",
                                Severity.WARNING))
     return UpdateResult(data, report, included)
-
-
-def _no_symbols_at_all(debug: DebugData) -> list[Finding]:
-    if debug.has_dwarf or debug.elf.symbols:
-        return []
-    return [Finding("elf-without-symbols", debug.path.name, f"{debug.path.name} has neither DWARF nor a symbol "
-                    "table (stripped?): no address can be found", severity=Severity.WARNING)]
 
 
 def _insert_address(objects: AddressedObjects, row: int, address: int, edits: Edits, report: UpdateReport,
