@@ -54,9 +54,9 @@ def test_update_keeps_include_lines_and_reports_changes_it_cannot_write(project)
     report = update_file(project / "main.a2l", ELF, out, use_cache=False, epk=False)
     assert out.read_text() == MAIN.replace("0x00000000", f"0x{SYMBOLS['zsScalar'].address:08X}")
     assert (project / "objects" / "signals.a2l").read_bytes() == SIGNALS.encode("latin-1")
-    (warning,) = report.of_kind("include-not-updated")
-    assert warning.file.endswith("signals.a2l") and (warning.line, warning.column) == (3, 15)
-    assert "2 change(s)" in warning.message and warning.severity.name == "WARNING"
+    (error,) = report.of_kind("include-not-updated")  # the output's includes keep stale addresses: a build fails
+    assert error.file.endswith("signals.a2l") and (error.line, error.column) == (3, 15)
+    assert "2 change(s)" in error.message and "--update-includes" in error.message and not report.ok
     assert {f.name for f in report.of_kind("address-updated")} == {"zsScalar", "csConstant", "state"}
 
 
@@ -91,7 +91,7 @@ def test_cli_update_includes_options(project, capsys):
     out = project / "out.a2l"
     code = main(["a2l", "update", str(project / "main.a2l"), str(ELF), "-o", str(out), "--no-cache", "--no-epk"])
     stdout = capsys.readouterr().out
-    assert code == 0 and "signals.a2l:3:15: warning: " in stdout and "change(s) in this included file" in stdout
+    assert code == 1 and "signals.a2l:3:15: error: " in stdout and "change(s) in this included file" in stdout
     code = main(["a2l", "update", str(project / "main.a2l"), str(ELF), "-o", str(out), "--no-cache", "--no-epk",
                  "--update-includes"])
     assert code == 0 and (project / "objects" / "signals.a2l").read_bytes() == updated_signals()

@@ -36,7 +36,8 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
                                 "Identical definitions of a name merge silently; different ones are an error "
                                 "unless --on-conflict says otherwise. The output is a new, self-contained file: the "
                                 "text of every /include is written inline (--keep-includes keeps the master's own "
-                                "/include lines; a fragment's included text is always inlined).")
+                                "/include lines; a fragment's included text is always inlined). Exit codes: 0 "
+                                "written, 1 a conflict or another error (nothing written), 2 bad input.")
     merge.add_argument("master", metavar="MASTER.a2l")
     merge.add_argument("fragments", nargs="+", metavar="FRAGMENT.a2l")
     merge.add_argument("-o", "--output", required=True, metavar="OUT.a2l", help="file to write (atomically)")
@@ -53,9 +54,12 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
                                  description="Set MEASUREMENT ECU_ADDRESS, CHARACTERISTIC/AXIS_PTS/BLOB/INSTANCE "
                                  "addresses and MOD_PAR EPK/ADDR_EPK from the ELF's DWARF (struct members a.b, "
                                  "array elements a[3] or a._3_, SYMBOL_LINK) or its .symtab. Objects whose "
-                                 "symbol is missing are reported and kept unless told otherwise. Only the changed "
-                                 "tokens differ; /include lines stay, and changes that fall into included files "
-                                 "are reported unless --update-includes or --merge-includes says what to do.")
+                                 "symbol is missing are warnings and kept (exit 0) unless --strict or "
+                                 "--remove-missing says otherwise. Only the changed tokens differ; /include lines "
+                                 "stay, and changes that fall into included files are an error (exit 1, the output "
+                                 "written) unless --update-includes or --merge-includes says what to do. Exit codes: "
+                                 "0 written (warnings allowed), 1 errors (see above; --strict: nothing written), "
+                                 "2 bad input (malformed A2L, not an ELF or a stripped one).")
     update.add_argument("a2l", metavar="IN.a2l")
     update.add_argument("elf", metavar="ELF")
     update.add_argument("-o", "--output", required=True, metavar="OUT.a2l",

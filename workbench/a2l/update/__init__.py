@@ -177,10 +177,11 @@ def _result(doc: A2lDocument, edits: Edits, report: UpdateReport, includes: Incl
             report.add(Finding("include-updated", source.name, f"{source.name}: {len(file_edits)} change(s) written "
                                "into the included file", file, line, column))
         else:
+            # an error: the output's includes keep stale addresses, which must not pass a build
             report.add(Finding("include-not-updated", source.name, f"{source.name}: {len(file_edits)} change(s) in "
-                               "this included file are not written (the output keeps its /include lines): update "
-                               "the included files too, or write them inline", file, line, column, "",
-                               Severity.WARNING))
+                               "this included file are not written (the output keeps its /include lines): "
+                               "--update-includes writes them into the included files, --merge-includes inline",
+                               file, line, column, "", Severity.ERROR))
     return UpdateResult(data, report, included)
 
 
