@@ -208,7 +208,7 @@ def _update(args: argparse.Namespace) -> int:
         parts.append(f"{keyword} " + ", ".join(f"{count} {outcome}" for outcome, count in sorted(tally.items())))
     summary = f"wrote {args.output}: " + ("; ".join(parts) if parts else "no objects")
     _print_report(report, args, summary=summary, output=args.output)
-    return 0
+    return 0 if report.ok else 1  # written, with errors (changes in included files it could not write)
 
 
 def _check(args: argparse.Namespace) -> int:
