@@ -137,3 +137,25 @@ def test_address_spaces_and_placeholders():
     assert report.findings[0].message.startswith("5 object(s) still at address 0, the placeholder of an A2L not "
                                                  "updated from its ELF (stack, far, near and 2 more): workbench a2l "
                                                  "update")
+
+
+def test_an_include_that_is_missing_is_one_finding_and_the_rest_is_checked(tmp_path, capsys):
+    """As xcplite's files ship without their XCP_104.aml: the check goes on, nested includes too."""
+    from workbench.cli import main
+
+    (tmp_path / "objects.a2l").write_text('/include "nested_missing.a2l"\n'
+                                          '/begin MEASUREMENT m "" UBYTE CM_MISSING 1 0 0 1 ECU_ADDRESS 0x2000 '
+                                          '/end MEASUREMENT\n')
+    main_text = TEXT.split("    /begin MEASUREMENT ok")[0] + '    /include "XCP_104.aml"\n    /include "objects.a2l"\n' \
+        + "  /end MODULE\n/end PROJECT\n"
+    (tmp_path / "main.a2l").write_text(main_text)
+    report = check_file(tmp_path / "main.a2l")
+    found = [(f.kind, f.name, Path(f.file).name, f.line) for f in report.findings]
+    assert found == [("include-not-found", "XCP_104.aml", "main.a2l", 10),
+                     ("include-not-found", "nested_missing.a2l", "objects.a2l", 1),
+                     ("undefined-reference", "CM_MISSING", "objects.a2l", 2)]
+    assert report.findings[0].message == f"cannot include {tmp_path / 'XCP_104.aml'}: no such file (the rest is " \
+                                         "checked without it)"
+    assert main(["a2l", "check", str(tmp_path / "main.a2l")]) == 1
+    with_update = main(["a2l", "update", str(tmp_path / "main.a2l"), str(ELF), "-o", str(tmp_path / "o.a2l")])
+    assert with_update == 2 and "cannot include" in capsys.readouterr().err  # other commands still need every file

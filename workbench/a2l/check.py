@@ -6,7 +6,8 @@ RECORD_LAYOUT, typedefs, INSTANCE components, FUNCTION, conversion tables, units
 measurements, axes, groups, memory segments); names defined twice; and
 (:mod:`workbench.a2l.placement`) objects that overlap, objects outside every MEMORY_SEGMENT,
 calibrations outside a RAM data segment (CAL RAM). With an ELF, every object's symbol must
-exist and its address must match.
+exist and its address must match. An ``/include`` whose file cannot be read is one finding; the
+rest is checked without it.
 """
 
 from __future__ import annotations
@@ -14,12 +15,12 @@ from __future__ import annotations
 from pathlib import Path
 
 from workbench.a2l.addressed import AddressedObjects
-from workbench.a2l.document import A2lDocument, Block, load_a2l
+from workbench.a2l.document import A2lDocument, Block
 from workbench.a2l.grammar import NAMESPACES
 from workbench.a2l.placement import check_placement
 from workbench.a2l.references import check_references
 from workbench.a2l.reports import finding_at
-from workbench.a2l.source import source_from_text
+from workbench.a2l.source import read_source, source_from_text
 from workbench.a2l.values import quote_string
 from workbench.a2l.validate import validate_document
 from workbench.elf.debugdata import DebugData, read_beside
@@ -48,6 +49,10 @@ def check_file(a2l: str | Path, elf: str | Path | None = None, *, cache_dir: str
 def check_document(doc: A2lDocument, debug: DebugData | None = None, *, progress: Progress | None = None) -> Report:
     """Every problem of ``doc`` as a finding; the report is ``ok`` (clean) only when there is none."""
     report = Report("check", fails_on=Severity.WARNING)
+    for include, holder, why in doc.missing_includes:  # left out: the rest is checked without it
+        line, column = holder.position(include.offset)
+        report.add(Finding("include-not-found", include.name, f"cannot include {include.path}: {why} (the rest is "
+                           "checked without it)", holder.name, line, column, "", Severity.ERROR))
     syntax: list[A2lParseError] = []
     validate_document(doc, syntax)
     for error in syntax:
@@ -73,7 +78,7 @@ def check_document(doc: A2lDocument, debug: DebugData | None = None, *, progress
 
 
 def _load_for_check(path: Path) -> A2lDocument:
-    doc = load_a2l(path, validate=False)
+    doc = A2lDocument.from_source(read_source(path), validate=False, missing_ok=True)
     within = doc.included_in()
     if within is None:
         return doc
@@ -81,7 +86,7 @@ def _load_for_check(path: Path) -> A2lDocument:
     body = include if within == "PROJECT" else f'/begin MODULE {_WRAPPER} "" {include} /end MODULE'
     wrapper = source_from_text(f'/begin PROJECT {_WRAPPER} "" {body} /end PROJECT\n', path.with_name(f"{path.name} "
                                "(included in a PROJECT)"))
-    return A2lDocument.from_source(wrapper, validate=False)
+    return A2lDocument.from_source(wrapper, validate=False, missing_ok=True)
 
 
 def _concerned(doc: A2lDocument, block: int | None) -> tuple[str, str]:

@@ -71,15 +71,21 @@ class A2lDocument:
         self.blocks = blocks
         self.includes = includes or []  # the main file's own /include directives
         self.include_count = include_count  # directives met, nested ones included
+        # (directive, the file that has it, why) of each file that could not be read, when loaded to be checked
+        self.missing_includes: list[tuple[Include, SourceFile, str]] = []
         self.block_begin: list[int] = blocks.begin.tolist()  # per block: its /begin token
         self.block_end: list[int] = blocks.end.tolist()  # per block: its /end token
         self._models: dict[int, "A2lModel"] = {}  # MODULE block -> its object model
 
     @classmethod
-    def from_source(cls, source: SourceFile, *, validate: bool = True) -> "A2lDocument":
-        spliced = splice_includes(source)
+    def from_source(cls, source: SourceFile, *, validate: bool = True, missing_ok: bool = False) -> "A2lDocument":
+        """``missing_ok``: an ``/include`` whose file cannot be read is left out and listed in
+        :attr:`missing_includes` instead of an error (``check`` reports it and checks the rest)."""
+        missing = [] if missing_ok else None
+        spliced = splice_includes(source, missing=missing)
         blocks = parse_blocks(spliced.tokens, spliced.begins, spliced.ends, spliced.source_map)
         document = cls(spliced.data, spliced.source_map, spliced.tokens, blocks, spliced.includes, spliced.count)
+        document.missing_includes = missing or []
         if validate:
             from workbench.a2l.validate import validate_document
 

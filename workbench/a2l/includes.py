@@ -42,13 +42,16 @@ class Spliced(NamedTuple):
     ends: np.ndarray
 
 
-def splice_includes(source: SourceFile, encoding: str | None = None, _chain: tuple[Path, ...] = ()) -> Spliced:
+def splice_includes(source: SourceFile, encoding: str | None = None, _chain: tuple[Path, ...] = (), *,
+                    missing: list[tuple[Include, SourceFile, str]] | None = None) -> Spliced:
     """The bytes of ``source`` with every ``/include`` replaced by the included file.
 
     ``encoding`` is the encoding of the buffer the result goes into (default: the
     source's own); included files in another encoding are converted to it.
     Raises :class:`A2lParseError` (located at the directive) when an included file is
-    missing, includes itself, or cannot be expressed in the including file's encoding.
+    missing, includes itself, or cannot be expressed in the including file's encoding;
+    with a ``missing`` list, a file that cannot be read is added to it (with the file whose directive
+    names it, and why) and its directive left out, so that the rest can be checked.
     """
     encoding = encoding or source.encoding
     if source.encoding != encoding:
@@ -76,8 +79,11 @@ def splice_includes(source: SourceFile, encoding: str | None = None, _chain: tup
         try:
             included = read_source(target)
         except InputError as exc:
-            raise source_map.error(f"cannot include {target}: {exc}", offset) from None
-        inner = splice_includes(included, encoding, chain)
+            if missing is None:
+                raise source_map.error(f"cannot include {target}: {exc}", offset) from None
+            missing.append((Include(name, target, offset), source, str(exc).removeprefix(f"{target}: ")))
+            included = SourceFile(target, b"", encoding)
+        inner = splice_includes(included, encoding, chain, missing=missing)
         includes.append(Include(name, target, offset))
         segments.append(Segment(length, offset - position, source, position))
         pieces.append(source.data[position:offset])
