@@ -116,8 +116,8 @@ def _build(workdir: Path) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("workdir", type=Path)
-    parser.add_argument("--units", type=int, default=50)
+    parser.add_argument("--workdir", type=Path, required=True, help="folder of the case (as a2l_bench.py names it)")
+    parser.add_argument("--units", type=int, default=50, help="C units (1,300 objects each)")
     args = parser.parse_args()
     generate(args.workdir, units=args.units)
 

@@ -62,6 +62,9 @@ def test_an_output_that_cannot_be_written_exits_2_with_one_line(capsys, tmp_path
     (tmp_path / "file").write_text("")
     code, _, stderr = run(capsys, "a2l", "merge", str(types_a2l), str(types_a2l), "-o", str(tmp_path / "file" / "o.a2l"))
     assert code == 2 and stderr.startswith(f"error: {tmp_path / 'file' / 'o.a2l'}: cannot write (") and stderr.count("\n") == 1
+    for command in (["update", str(types_a2l), str(ELF)], ["merge", str(types_a2l), str(types_a2l)]):
+        code, _, stderr = run(capsys, "a2l", *command, "-o", "-")  # not a file named '-' (stdout is the report's)
+        assert code == 2 and "'-' is not a file" in stderr and not (Path.cwd() / "-").exists()
 
 
 def test_merge_conflict_exits_1(capsys, tmp_path):

@@ -12,7 +12,7 @@ import functools
 import gc
 import sys
 
-from workbench.cli.options import add_output_arguments, print_json, print_report
+from workbench.cli.options import add_output_arguments, output_file, print_json, print_report
 
 _DESCRIPTION = """\
 The A2L tool chain of a build:
@@ -40,7 +40,8 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
                                 "written, 1 a conflict or another error (nothing written), 2 bad input.")
     merge.add_argument("master", metavar="MASTER.a2l")
     merge.add_argument("fragments", nargs="+", metavar="FRAGMENT.a2l")
-    merge.add_argument("-o", "--output", required=True, metavar="OUT.a2l", help="file to write (atomically)")
+    merge.add_argument("-o", "--output", required=True, type=output_file, metavar="OUT.a2l",
+                       help="file to write (atomically)")
     merge.add_argument("--on-conflict", choices=["error", "keep-first", "keep-last", "rename"], default="error",
                        help="two different definitions of one name: fail (default), keep the first, keep the "
                             "last, or rename the later one NAME_<MODULE> (every rename is reported)")
@@ -62,7 +63,7 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
                                  "2 bad input (malformed A2L, not an ELF or a stripped one).")
     update.add_argument("a2l", metavar="IN.a2l")
     update.add_argument("elf", metavar="ELF")
-    update.add_argument("-o", "--output", required=True, metavar="OUT.a2l",
+    update.add_argument("-o", "--output", required=True, type=output_file, metavar="OUT.a2l",
                         help="file to write (atomically; may be IN.a2l itself)")
     missing = update.add_mutually_exclusive_group()
     missing.add_argument("--remove-missing", action="store_true",

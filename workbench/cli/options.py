@@ -68,6 +68,14 @@ def _terminal_columns() -> int:
         return 80
 
 
+def output_file(text: str) -> str:
+    """argparse type: a file to write; ``-`` (stdout elsewhere) is refused, not written as a file named ``-``."""
+    if text == "-":
+        raise argparse.ArgumentTypeError("'-' is not a file: the output is written atomically to a file you name; "
+                                         "the report goes to the terminal")
+    return text
+
+
 def positive_int(text: str) -> int:
     """argparse type: an integer above 0 (anything else is a usage error, exit 2)."""
     try:
