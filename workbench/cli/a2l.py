@@ -21,6 +21,8 @@ The A2L tool chain of a build:
   check   syntax, references, duplicate names and memory placement, with file:line:column
   diff    object-level differences of two A2L files
 Outputs keep the input's text: only the changed tokens differ.
+Findings print one a line on stdout (file:line:column: severity: message; -v: every finding),
+the one-line summary on stderr; --json prints one JSON report on stdout instead.
 Exit codes: 0 success (check: clean, diff: no differences), 1 the operation failed or found
 problems, 2 bad input (malformed A2L, not an ELF, bad option)."""
 
