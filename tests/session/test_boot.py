@@ -34,7 +34,7 @@ def in_boot(channel):
 ], ids=["read", "read-measurement", "read_value", "read_many", "write", "set_page", "measure"])
 def test_what_needs_the_application_is_refused_before_sending(in_boot, call):
     ecu, log = in_boot
-    with pytest.raises(WorkbenchError, match=f"{IN_BOOT}.*workbench flash FILE --region APPLICATIVE"):
+    with pytest.raises(WorkbenchError, match=f"{IN_BOOT}.*workbench flash FILE -r APPLICATIVE -r CALIB"):
         call(ecu)
     assert log.take() == []
 

@@ -23,6 +23,8 @@ holds data outside the file's ranges, which the file would not give back (--eras
 loses it). The
 application-valid key is cleared first and set last, so a flash that breaks off leaves the ECU in
 its boot loader, where the same command finishes it. Ctrl-C stops at the next block the same way.
+A flash that finds the key cleared (one did not finish) compares the other regions the file fills
+with the ECU and is refused while one differs (flash it too); `workbench info` shows the key.
 Exit codes: 0 flashed (or --dry-run found nothing to refuse, or --verify-only no difference),
 1 refused, failed, cancelled or differing, 2 bad input; a dry run refuses what the flash would.
 
@@ -59,11 +61,7 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     how.add_argument("--verify", choices=("checksum", "readback"), default="checksum",
                      help="checksum (BUILD_CHECKSUM of every erased sector, the default) or readback (and UPLOAD)")
     how.add_argument("--no-verify", action="store_true", help="skip the verification (not recommended)")
-    key = how.add_mutually_exclusive_group()
-    key.add_argument("--app-key", metavar="ADDRESS=HEX",
-                     help="the boot's application-valid key as stored in flash (default: the demo ECU's "
-                          "0xFE0000=3CC3A55A, 0x5AA5C33C little-endian)")
-    key.add_argument("--no-app-key", action="store_true", help="the ECU's boot has no application-valid key")
+    add_app_key_arguments(how)
     add_ecu_arguments(parser)
     parser.set_defaults(func=run)
 
@@ -75,16 +73,16 @@ def run(args: argparse.Namespace) -> int:
 
     _check_usage(args)
     doc = load_a2l(args.a2l or demo.a2l())
-    app_key = _app_key(args)
+    key = app_key(args)
     plan = None
     if not args.from_working_page:  # refusals come before the bus is even opened
         layout = FlashLayout.from_a2l(doc, read_xcp_config(doc))
         regions = args.region or filled_regions(args.file, layout)  # only --verify-only may leave it out
-        plan = plan_file(args.file, layout, regions, allow_boot=args.allow_boot or not args.region, app_key=app_key)
+        plan = plan_file(args.file, layout, regions, allow_boot=args.allow_boot or not args.region, app_key=key)
     args.a2l = doc
     with open_session(args) as session:
         if plan is None:
-            plan = _working_page_plan(session, app_key, args)
+            plan = _working_page_plan(session, key, args)
         if args.dry_run:
             return _dry_run(session, plan, args)
         if args.verify_only:
@@ -118,7 +116,16 @@ def filled_regions(path: str, layout) -> list[str]:
     return names
 
 
-def _app_key(args: argparse.Namespace):
+def add_app_key_arguments(group) -> None:
+    key = group.add_mutually_exclusive_group()
+    key.add_argument("--app-key", metavar="ADDRESS=HEX",
+                     help="the boot's application-valid key as stored in flash (default: the demo ECU's "
+                          "0xFE0000=3CC3A55A, 0x5AA5C33C little-endian)")
+    key.add_argument("--no-app-key", action="store_true", help="the ECU's boot has no application-valid key")
+
+
+def app_key(args: argparse.Namespace):
+    """The application-valid key the options name (None: ``--no-app-key``)."""
     from workbench.flash import DEMO_APP_KEY, AppKey
 
     if args.no_app_key:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from workbench.cli.ecu_options import add_ecu_arguments, open_session
+from workbench.cli.flash import add_app_key_arguments, app_key
 from workbench.cli.options import print_json
 
 EPILOG = """\
@@ -20,18 +21,38 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
                                    description="Connect, show the ECU's identity, EPK check, protection, "
                                                "packet sizes, DAQ processor and calibration pages, disconnect.",
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_app_key_arguments(parser.add_argument_group("boot"))
     add_ecu_arguments(parser)
     parser.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
+    from workbench.flash import app_key_state
+
+    key = app_key(args)
     with open_session(args) as session:
         info = session.info()
+        key_state = app_key_state(session, key) if key is not None else None
     if args.json:
-        print_json(info.to_dict())
+        print_json({**info.to_dict(), "app_key": key_state.value if key_state else None,
+                    "state": _state(info, key_state, key)})
         return 0
-    print("\n".join(info_lines(info)))
+    lines = info_lines(info)
+    lines[4] = f"state         {_state(info, key_state, key)}"
+    print("\n".join(lines))
     return 0
+
+
+def _state(info, key_state, key) -> str:
+    """The state line: the boot loader or the application, and an unfinished flash the cleared key shows."""
+    from workbench.flash import KeyState
+
+    cleared = key_state is KeyState.CLEARED
+    if info.boot:
+        return "boot loader (programming only)" + (f"; {key_state.describe(key)}" if cleared else "")
+    if cleared:  # PROGRAM_START stopped the application; the boot will not start it again
+        return f"programming, the application stopped; {key_state.describe(key)}"
+    return "application running"
 
 
 def info_lines(info) -> list[str]:

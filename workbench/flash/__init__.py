@@ -29,12 +29,14 @@ _EXPORTS = {
     "workbench.flash.compare": ("RangeCheck", "verify_ecu"),
     "workbench.flash.working_page": ("plan_working_page",),
     "workbench.flash.software": ("EpkPairing", "epk_pairing"),
+    "workbench.flash.keystate": ("KeyState", "app_key_state", "unfinished_regions"),
 }
 __all__, __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 if TYPE_CHECKING:
     from workbench.flash.compare import RangeCheck, verify_ecu
     from workbench.flash.errors import FlashError, FlashRefused
+    from workbench.flash.keystate import KeyState, app_key_state, unfinished_regions
     from workbench.flash.layout import DEMO_APP_KEY, AppKey, FlashLayout, FlashRegion, Sector
     from workbench.flash.plan import FlashPlan, RegionPlan, plan_file, plan_flash
     from workbench.flash.sequence import FlashOptions, FlashResult, Verify, check_flash, flash_ecu

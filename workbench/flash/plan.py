@@ -52,6 +52,7 @@ class FlashPlan:
     app_key: AppKey | None
     key_sector: Sector | None
     image_epk: str | None  # the EPK the image holds at ADDR_EPK; None: the image does not cover it
+    unchosen: tuple[tuple[str, MemoryImage], ...] = ()  # (region, its data) of file data in regions not chosen
 
     @property
     def size(self) -> int:
@@ -151,7 +152,8 @@ def plan_flash(image: MemoryImage, layout: FlashLayout, regions: list[str] | tup
             raise FlashRefused(f"{source} holds nothing in {region.name} ({region.start:X}h-{region.end - 1:X}h)")
         plans.append(RegionPlan(region, piece, tuple(_sectors_for(layout, piece, region, chosen, source))))
     key_sector = _key_sector(layout, app_key, plans) if app_key is not None else None
-    return FlashPlan(source, layout, tuple(plans), tuple(skipped), app_key, key_sector, image_epk)
+    unchosen = tuple((name, image.crop(layout.region(name).start, layout.region(name).end)) for name, _ in skipped)
+    return FlashPlan(source, layout, tuple(plans), tuple(skipped), app_key, key_sector, image_epk, unchosen)
 
 
 def plan_file(path: str | Path, layout: FlashLayout, regions: list[str] | tuple[str, ...], *,

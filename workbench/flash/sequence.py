@@ -27,6 +27,7 @@ from typing import Any, TypeVar
 from workbench.errors import Cancelled, WorkbenchError, XcpCommandError, XcpTimeoutError
 from workbench.flash.checksums import ChecksumVerifier
 from workbench.flash.errors import FlashError, FlashRefused
+from workbench.flash.keystate import KeyState, app_key_state, unfinished_regions
 from workbench.flash.layout import Sector
 from workbench.flash.plan import FlashPlan, with_sectors
 from workbench.flash.software import EpkPairing, epk_pairing
@@ -128,6 +129,7 @@ def check_flash(session: Session, plan: FlashPlan, options: FlashOptions = Flash
         raise FlashRefused("a DAQ measurement runs on the ECU: stop it before flashing; nothing was touched")
     pairing = _pairing(session, plan)
     notes = [f"{pairing.describe()}"] if pairing is not None and not pairing.matches else []
+    notes += _unfinished_before(session, plan)
     plan, sector_notes = _with_ecu_sectors(master, plan) if options.ecu_sectors else (plan, [])
     lost = unlisted_data(master, plan)
     if lost and not options.erase_beyond_file:
@@ -137,6 +139,27 @@ def check_flash(session: Session, plan: FlashPlan, options: FlashOptions = Flash
     if lost:
         notes.append(f"erased and not written again (--erase-beyond-file): {' '.join(map(str, lost))}")
     return plan, notes + sector_notes
+
+
+def _unfinished_before(session: Session, plan: FlashPlan) -> list[str]:
+    """With the application key cleared before the flash (an earlier one did not finish; flash.keystate): refused
+    when a region the file fills but the plan leaves differs from the file, else a note.
+
+    :raises FlashRefused: the key would be set over a region that differs from the file.
+    """
+    if plan.app_key is None or app_key_state(session, plan.app_key) is not KeyState.CLEARED:
+        return []
+    chosen = [r.region.name for r in plan.regions]
+    unfinished = unfinished_regions(session, plan)
+    if unfinished:
+        regions = " ".join(f"-r {name}" for name in chosen + unfinished)
+        raise FlashRefused(f"{plan.source}: the application key is cleared (a flash did not finish) and "
+                           f"{'/'.join(unfinished)} on the ECU differs from the file: flash it too ({regions}), so "
+                           f"that the key is not set over an unfinished region (nothing was erased)")
+    if all(r.name in chosen for r in plan.layout.regions if r.selectable and not r.is_boot):
+        return ["the application key was cleared before this flash: an earlier flash did not finish"]
+    return [f"the application key was cleared before this flash: an earlier flash did not finish, and the ECU does "
+            f"not record which region; if it was not {'/'.join(chosen)}, flash that region again too"]
 
 
 def _with_ecu_sectors(master, plan: FlashPlan) -> tuple[FlashPlan, list[str]]:

@@ -33,7 +33,7 @@ def unlisted_data(master: XcpMaster, plan: FlashPlan) -> list[AddressRange]:
         for gap in _gaps(sector.range, held):
             for block in verifier.differing(gap.start, bytes([ERASED]) * gap.size):
                 found += _narrowed(master, verifier, block, budget)
-    return _joined(found)
+    return _joined(found)  # ranges less than a block apart are named as one
 
 
 def _gaps(whole: AddressRange, held: list[AddressRange]) -> list[AddressRange]:
@@ -71,7 +71,7 @@ def _narrowed(master: XcpMaster, verifier: ChecksumVerifier, block: AddressRange
 def _joined(ranges: list[AddressRange]) -> list[AddressRange]:
     joined: list[AddressRange] = []
     for r in sorted(ranges):
-        if joined and r.start <= joined[-1].end:
+        if joined and r.start <= joined[-1].end + _READ_BLOCK:  # erased bytes between are no loss: one range
             joined[-1] = AddressRange(joined[-1].start, max(joined[-1].end, r.end))
         else:
             joined.append(r)

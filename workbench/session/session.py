@@ -220,8 +220,9 @@ class Session(ValueAccess, EventAccess, FixAccess):
         unknown commands); nothing is sent. Raw memory (:meth:`read_memory`) and flashing stay open."""
         if self.in_boot:
             raise WorkbenchError("the ECU is in its boot loader (programming only: no application runs, so there "
-                                 "are no calibrations or measurements to read); flash its application first: "
-                                 "`workbench flash FILE --region APPLICATIVE` (workbench.flash)")
+                                 "are no calibrations or measurements to read); flash its software first: "
+                                 "`workbench flash FILE -r APPLICATIVE -r CALIB` (workbench.flash; every region a "
+                                 "flash that did not finish was writing)")
 
     def require_writable(self) -> None:
         """:raises EpkMismatchError: the EPKs differ and the caller did not accept it (writes, page switches
