@@ -5,6 +5,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+from workbench import demo
+
 FIXTURES = Path(__file__).parent / "fixtures"
 ELF = Path(__file__).parents[1] / "elf" / "fixtures" / "types_dwarf5.elf"
 NOT_NEEDED = ["elftools", "cantools", "pyxcp", "asammdf", "pya2l", "rich", "PySide6", "can", "platformdirs",
@@ -13,7 +15,7 @@ NOT_NEEDED = ["elftools", "cantools", "pyxcp", "asammdf", "pya2l", "rich", "PySi
 # index and type reader, the .symtab names, the bus options
 NOT_RUN_WHEN_CACHED = ["workbench.a2l.update.typecheck", "workbench.elf.dwarf", "workbench.elf.dwarf_index",
                        "workbench.elf.die_readers", "workbench.elf.type_resolver", "workbench.elf.symtab_names",
-                       "workbench.elf.paths", "workbench.bus_defaults"]
+                       "workbench.elf.paths", "workbench.bus_defaults", "workbench.elf.ctypes_model"]
 
 SCRIPT = """
 import json, sys
@@ -23,10 +25,9 @@ print(json.dumps([code, sorted(sys.modules)]))
 """
 
 
-def run_update(tmp_path: Path) -> tuple[int, list[str], list[str]]:
+def run_update(tmp_path: Path, a2l: Path = FIXTURES / "types.a2l", elf: Path = ELF) -> tuple[int, list[str], list[str]]:
     """The exit code, the heavy libraries and the modules of NOT_RUN_WHEN_CACHED that one update loads."""
-    argv = ["a2l", "update", str(FIXTURES / "types.a2l"), str(ELF), "-o", str(tmp_path / "out.a2l"),
-            "--cache-dir", str(tmp_path / "cache")]
+    argv = ["a2l", "update", str(a2l), str(elf), "-o", str(tmp_path / "out.a2l"), "--cache-dir", str(tmp_path / "cache")]
     run = subprocess.run([sys.executable, "-c", SCRIPT, *argv], capture_output=True, text=True, timeout=60, check=True)
     code, modules = json.loads(run.stdout.splitlines()[-1])
     return code, sorted({name.split(".")[0] for name in modules} & set(NOT_NEEDED)), \
@@ -41,6 +42,13 @@ def test_an_update_imports_no_heavy_library(tmp_path):
     assert "workbench.elf.dwarf_index" in ours  # so the check below can fail
     code, cached, ours = run_update(tmp_path)
     assert (code, cached, ours) == (0, [], [])
+
+
+def test_a_cached_update_reads_its_epk_without_loading_a_type(tmp_path):
+    """The demo's EPK variable is a cached symbol: its address and size come without its C type."""
+    run_update(tmp_path, demo.a2l(), demo.elf())
+    assert run_update(tmp_path, demo.a2l(), demo.elf()) == (0, [], [])
+    assert b"EPK" in (tmp_path / "out.a2l").read_bytes()
 
 
 def test_a_cached_update_reads_neither_the_variables_nor_writes_the_cache_again(tmp_path):

@@ -40,12 +40,12 @@ def read_elf_epk(debug: "DebugData", symbol: str | None = None) -> ElfEpk | None
     """
     candidates = [symbol] if symbol else list(DEFAULT_EPK_SYMBOLS)
     for name in candidates:
-        found = debug.find(name)
-        if found is None or not found.size:
+        found = debug.extent(name)
+        if found is None or not found[1]:
             continue
-        raw = debug.elf.read(found.address, found.size)
+        raw = debug.elf.read(*found)
         if raw is not None:
-            return ElfEpk(_text(raw, name, debug), found.address, name)
+            return ElfEpk(_text(raw, name, debug), found[0], name)
     if symbol:
         raise InputError(f"{debug.path}: no initialised EPK variable {symbol!r}")
     for name in EPK_SECTIONS:

@@ -74,9 +74,11 @@ class DebugData:
         self._index: DwarfIndex | None = None
         # symbol path -> what resolve() answered for it: a ResolvedSymbol, or why not (see _failure)
         self._found: dict[str, ResolvedSymbol | tuple] = {}  # path -> its symbol, or why the ELF lacks it
-        # the cache's resolved symbols as plain tuples, taken into _found when asked for: unpickled, 65,000 of
-        # them cost 14 ms so, 38 ms as ResolvedSymbols, which an address update never needs
-        self._cached_symbols: dict[str, tuple] = {}
+        # the cache's resolved symbols as plain tuples without their types, taken into _found when asked for
+        # (65,000 unpickle in 14 ms so, in 38 ms as ResolvedSymbols, which an address update never needs); their
+        # types wait pickled in _cached_types, so that reading the EPK loads none
+        self._cached_symbols: dict[str, tuple] = {}  # path -> (path, address, size, source, bit_size, bit_position)
+        self._cached_types: bytes | dict[str, CType] = {}
         self._stored_index: bytes | None = None  # the cache's variables and types, unpickled when needed
         cached = self._cache.load(self.path) if self._cache is not None else None
         self.from_cache = cached is not None and self._take_cached(cached)
@@ -104,6 +106,7 @@ class DebugData:
             self._addresses: dict[str, int] = cached["addresses"]
             self._found = cached["failures"]
             self._cached_symbols = cached["symbols"]
+            self._cached_types = cached["symbol_types"]
             self._has_variables = cached["has_variables"]
             # variables and types: most runs never need them (the paths they resolve are in _addresses)
             self._stored_index = cached["index"]
@@ -111,19 +114,29 @@ class DebugData:
             return False
         self._variables = self._statics = self._types = None
         return isinstance(self._addresses, dict) and isinstance(self._found, dict) \
-            and isinstance(self._cached_symbols, dict) and isinstance(self._stored_index, bytes)
+            and isinstance(self._cached_symbols, dict) and isinstance(self._cached_types, bytes) \
+            and isinstance(self._stored_index, bytes)
 
     def _load_index(self) -> None:
         """Unpickle the cached variables and types (a damaged entry is an InputError naming the cache)."""
         if self._variables is not None:
             return
+        self._variables, self._statics, self._types = self._unpickled(self._stored_index)
+        if self._stored is not None:  # what the cache holds: loading it adds nothing to store
+            self._stored = (*self._stored[:2], len(self._types), self._statics is not None)
+
+    def _unpickled(self, data: bytes):
         try:
-            self._variables, self._statics, self._types = pickle.loads(self._stored_index)
+            return pickle.loads(data)
         except Exception as exc:  # the entry's outer pickle was fine: this one is damaged or foreign
             raise InputError(f"{self.path}: the ELF index cache is damaged ({exc}); remove it or use --no-cache") \
                 from None
-        if self._stored is not None:  # what the cache holds: loading it adds nothing to store
-            self._stored = (*self._stored[:2], len(self._types), self._statics is not None)
+
+    def _symbol_types(self) -> dict[str, CType]:
+        """The types of the cache's resolved symbols, unpickled on first need."""
+        if self._cached_types.__class__ is bytes:
+            self._cached_types = self._unpickled(self._cached_types)
+        return self._cached_types
 
     def __enter__(self) -> "DebugData":
         return self
@@ -151,8 +164,19 @@ class DebugData:
         """What :meth:`resolve` answered for ``path`` in this run or a cached one, or None."""
         found = self._found.get(path)
         if found is None and (fields := self._cached_symbols.pop(path, None)) is not None:
-            found = self._found[path] = ResolvedSymbol(*fields)
+            name, address, size, source, bit_size, bit_position = fields
+            found = self._found[path] = ResolvedSymbol(name, address, size, self._symbol_types()[path], source,
+                                                       bit_size, bit_position)
         return found
+
+    def extent(self, path: str) -> tuple[int, int] | None:
+        """``(address, size)`` of ``path``, None when the ELF does not have it: :meth:`find` without the type
+        (a cached update reads its EPK so, loading no type)."""
+        fields = self._cached_symbols.get(path)
+        if fields is not None:
+            return fields[1], fields[2]
+        found = self.find(path)
+        return None if found is None else (found.address, found.size)
 
     def _lookup(self, path: str) -> ResolvedSymbol | tuple:
         """:meth:`resolve`'s answer, not remembered: the symbol, or why not (see :func:`_failure`). The
@@ -363,14 +387,19 @@ class DebugData:
         if self._variables is not None:
             statics = None if self._statics is None else list(map(tuple, self._statics))
             index = pickle.dumps((list(map(tuple, self._variables)), statics, self._types), protocol=5)
-        failures, symbols = {}, dict(self._cached_symbols)
+        failures, symbols, types = {}, dict(self._cached_symbols), {}
         for path, found in self._found.items():
             if found.__class__ is tuple:
                 failures[path] = found
             else:
-                symbols[path] = tuple(found)
+                symbols[path] = (found.path, found.address, found.size, found.source, found.bit_size, found.bit_position)
+                types[path] = found.type
+        symbol_types = self._cached_types
+        if types or symbol_types.__class__ is not bytes:
+            symbol_types = pickle.dumps({**self._symbol_types(), **types}, protocol=5)
         self._cache.store(self.path, {"elf": self.elf.facts(), "addresses": self._addresses, "failures": failures,
-                                      "symbols": symbols, "has_variables": self._has_variables, "index": index})
+                                      "symbols": symbols, "symbol_types": symbol_types,
+                                      "has_variables": self._has_variables, "index": index})
         self._stored = self._index_size()
 
     def _index_size(self) -> tuple[int, int, int, bool]:
