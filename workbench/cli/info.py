@@ -37,9 +37,7 @@ def run(args: argparse.Namespace) -> int:
         print_json({**info.to_dict(), "app_key": key_state.value if key_state else None,
                     "state": _state(info, key_state, key)})
         return 0
-    lines = info_lines(info)
-    lines[4] = f"state         {_state(info, key_state, key)}"
-    print("\n".join(lines))
+    print("\n".join(info_lines(info, _state(info, key_state, key))))
     return 0
 
 
@@ -55,14 +53,14 @@ def _state(info, key_state, key) -> str:
     return "application running"
 
 
-def info_lines(info) -> list[str]:
+def info_lines(info, state: str) -> list[str]:
     epk = ("match" if info.epk_match else "MISMATCH (read-only)" if info.epk_match is False else "not checked")
     lines = [
         f"ECU           {info.identification or '(no identification)'}",
         f"link          {info.link}",
         f"A2L name      {info.a2l_name or '-'}",
         f"EPK           ECU {_epk(info.epk_ecu)}, A2L {_epk(info.epk_a2l)}: {epk}",
-        f"state         {'boot loader (programming only)' if info.boot else 'application running'}",
+        f"state         {state}",
         f"resources     {', '.join(info.resources) or '-'}; locked: {', '.join(info.protected) or 'none'}",
         f"packets       MAX_CTO {info.max_cto}, MAX_DTO {info.max_dto}, {info.byte_order}, "
         f"address granularity {info.address_granularity} byte(s)",
