@@ -8,14 +8,14 @@ block; numbers compare by value, so ``0x10`` and ``16`` are equal.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 from workbench.a2l.document import A2lDocument, Block, load_a2l
 from workbench.a2l.grammar import NAMESPACES
 from workbench.a2l.values import is_number, parse_number
 
-__all__ = ["DiffEntry", "FieldChange", "diff", "diff_files"]
+__all__ = ["DiffEntry", "FieldChange", "diff_documents", "diff_files"]
 
 PARAM_NAMES = {
     "MEASUREMENT": "name long_identifier datatype conversion resolution accuracy lower_limit upper_limit",
@@ -55,68 +55,62 @@ class DiffEntry:
                 "changes": [{"field": c.field, "old": c.old, "new": c.new} for c in self.changes]}
 
 
-@dataclass
-class _Object:
-    block: Block
-    fields: dict[str, tuple] = field(default_factory=dict)  # field -> (values to compare, text to show)
-
-
 def diff_files(a: str | Path, b: str | Path) -> list[DiffEntry]:
     return diff_documents(load_a2l(a), load_a2l(b))
 
 
 def diff_documents(a: A2lDocument, b: A2lDocument) -> list[DiffEntry]:
-    """Object-level differences from ``a`` to ``b``, in the order of ``b`` (removals last)."""
+    """Object-level differences from ``a`` to ``b``, in the order of ``b`` (removals last).
+
+    An object whose text is the same in both is skipped unread; of the others, only the fields whose tokens
+    differ are compared by value (an update's diff of 65,000 objects: one changed address each).
+    """
     old, new = _objects(a), _objects(b)
-    entries = []
-    for key, item in new.items():
+    found: list[tuple[str, Block | None, Block | None, str, list[FieldChange]]] = []
+    for key, block in new.items():
         before = old.get(key)
         if before is None:
-            entries.append(DiffEntry("added", item.block.keyword, key[1], new_location=_where(item.block)))
-            continue
-        changes = _changes(_fields(before), _fields(item))
-        if changes:
-            entries.append(DiffEntry("changed", item.block.keyword, key[1], tuple(changes),
-                                     _where(before.block), _where(item.block)))
-    for key, item in old.items():
-        if key not in new:
-            entries.append(DiffEntry("removed", item.block.keyword, key[1], old_location=_where(item.block)))
-    return entries
+            found.append(("added", None, block, key[1], []))
+        elif before.doc.data[slice(*before.span)] != block.doc.data[slice(*block.span)]:
+            changes = _changes(before, block)
+            if changes:
+                found.append(("changed", before, block, key[1], changes))
+    found += [("removed", block, None, key[1], []) for key, block in old.items() if key not in new]
+    old_where = _locations(a, [before for _, before, _, _, _ in found if before is not None])
+    new_where = _locations(b, [after for _, _, after, _, _ in found if after is not None])
+    return [DiffEntry(status, (after or before).keyword, name, tuple(changes),
+                      old_where[before.index] if before is not None else "",
+                      new_where[after.index] if after is not None else "")
+            for status, before, after, name, changes in found]
 
 
-def _objects(doc: A2lDocument) -> dict[tuple[str, str], _Object]:
-    found: dict[tuple[str, str], _Object] = {}
+def _objects(doc: A2lDocument) -> dict[tuple[str, str], Block]:
+    found: dict[tuple[str, str], Block] = {}
     for module in doc.modules:
         for block in module.children:
             if block.keyword in NAMESPACES and block.name:
-                found.setdefault((NAMESPACES[block.keyword], block.name), _Object(block))
+                found.setdefault((NAMESPACES[block.keyword], block.name), block)
             elif block.keyword in _SINGLE_BLOCKS:
-                found.setdefault((block.keyword, block.keyword), _Object(block))
+                found.setdefault((block.keyword, block.keyword), block)
             elif block.keyword == "IF_DATA":
-                found.setdefault(("IF_DATA", f"IF_DATA {block.name}"), _Object(block))
+                found.setdefault(("IF_DATA", f"IF_DATA {block.name}"), block)
     return found
 
 
-def _fields(item: _Object) -> dict[str, tuple]:
-    if not item.fields:
-        item.fields = _block_fields(item.block, "")
-    return item.fields
-
-
-def _block_fields(block: Block, prefix: str) -> dict[str, tuple]:
-    doc = block.doc
+def _block_fields(block: Block, prefix: str = "") -> dict[str, list[int]]:
+    """Field name -> its tokens."""
     if block.keyword in ("IF_DATA", "A2ML"):  # free-form: compared as one token sequence
-        return {prefix + "content": _field(doc, range(block.keyword_token + 1, block.end_token))}
+        return {prefix + "content": list(range(block.keyword_token + 1, block.end_token))}
     args, options = block.layout()
     names = PARAM_NAMES.get(block.keyword, "").split()
     fields = {}
     for index, token in enumerate(args):
-        fields[prefix + (names[index] if index < len(names) else f"param{index + 1}")] = _field(doc, [token])
+        fields[prefix + (names[index] if index < len(names) else f"param{index + 1}")] = [token]
     seen: dict[str, int] = {}
     for keyword, params in options:
         count = seen[keyword] = seen.get(keyword, 0) + 1
         label = keyword if count == 1 else f"{keyword}[{count - 1}]"
-        fields[prefix + label] = _field(doc, params)
+        fields[prefix + label] = params
     seen.clear()
     for child in block.children:
         count = seen[child.keyword] = seen.get(child.keyword, 0) + 1
@@ -125,11 +119,26 @@ def _block_fields(block: Block, prefix: str) -> dict[str, tuple]:
     return fields
 
 
-def _field(doc: A2lDocument, tokens) -> tuple:
-    """(values compared: numbers by value, the rest as written; the text shown)."""
-    raws = [doc.raw(t) for t in tokens]
-    key = tuple(_comparable(raw) for raw in raws)
-    return key, b" ".join(raws).decode(doc.encoding)
+def _changes(old: Block, new: Block) -> list[FieldChange]:
+    a, b = old.doc, new.doc
+    old_raw, new_raw = a.tokens.raw, b.tokens.raw
+    old_fields, new_fields = _block_fields(old), _block_fields(new)
+    changes = []
+    for name, tokens in new_fields.items():
+        raws = list(map(new_raw, tokens))
+        if name not in old_fields:
+            changes.append(FieldChange(name, None, _shown(b, raws)))
+            continue
+        before = list(map(old_raw, old_fields[name]))
+        if before != raws and list(map(_comparable, before)) != list(map(_comparable, raws)):
+            changes.append(FieldChange(name, _shown(a, before), _shown(b, raws)))
+    changes += [FieldChange(name, _shown(a, list(map(old_raw, tokens))), None)
+                for name, tokens in old_fields.items() if name not in new_fields]
+    return changes
+
+
+def _shown(doc: A2lDocument, raws: list[bytes]) -> str:
+    return b" ".join(raws).decode(doc.encoding)
 
 
 def _comparable(raw: bytes):
@@ -140,13 +149,8 @@ def _comparable(raw: bytes):
     return value if value == value else b"NaN"
 
 
-def _changes(old: dict[str, tuple], new: dict[str, tuple]) -> list[FieldChange]:
-    changes = [FieldChange(name, old[name][1] if name in old else None, value[1])
-               for name, value in new.items() if name not in old or old[name][0] != value[0]]
-    changes += [FieldChange(name, value[1], None) for name, value in old.items() if name not in new]
-    return changes
-
-
-def _where(block: Block) -> str:
-    file, line, column = block.position
-    return f"{file}:{line}:{column}"
+def _locations(doc: A2lDocument, blocks: list[Block]) -> dict[int, str]:
+    """Block index -> ``file:line:column`` of its ``/begin``, found for all at once."""
+    offsets = [doc.tokens.span(block.begin_token)[0] for block in blocks]
+    return {block.index: f"{file}:{line}:{column}"
+            for block, (file, line, column) in zip(blocks, doc.source_map.positions(offsets))}
