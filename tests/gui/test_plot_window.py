@@ -119,3 +119,43 @@ def test_a_pause_in_the_measurement_is_a_gap_in_the_drawn_line(qtbot):
 
 def _near(a, b) -> bool:
     return abs(a.red() - b.red()) + abs(a.green() - b.green()) + abs(a.blue() - b.blue()) < 60
+
+
+def _tick_rows(axis) -> dict[float, float]:
+    """What ``axis`` (a drawn pyqtgraph AxisItem) writes beside the plot: each tick label's value -> its scene y."""
+    from PySide6.QtGui import QImage, QPainter
+
+    image = QImage(10, 10, QImage.Format_ARGB32)
+    painter = QPainter(image)
+    try:
+        _, _, texts = axis.generateDrawSpecs(painter)
+    finally:
+        painter.end()
+    return {float(text): axis.mapToScene(rect.center()).y() for rect, _, text in texts}
+
+
+def test_curves_of_one_unit_are_drawn_at_their_values_on_that_units_axis(qtbot):
+    hub = SignalHub()
+    hub.add_signals([SignalInfo("rail", "XCP", "bar", decimals=2), SignalInfo("target", "CAN2", "bar", decimals=2)])
+    t = np.linspace(0.0, 10.0, 101)
+    hub.sink("rail", t, np.full(101, 30.0))
+    hub.sink("target", t, np.full(101, 25.0))
+    plot = PlotWindow(hub, "Rail", span_s=10.0)
+    qtbot.addWidget(plot)
+    plot.resize(700, 320)
+    plot.show()
+    plot.add_signals(["rail", "target"])
+    assert plot.drawn_axes() == ["bar"] and len(plot._axes) == 1  # one unit, one axis, one scale
+    plot.refresh()
+    axis = plot._axes[0]
+    qtbot.waitUntil(lambda: {25.0, 30.0} <= set(_tick_rows(axis.item)), timeout=2000)
+    ticks = _tick_rows(axis.item)
+    image = plot.graphics.grab().toImage()
+    for index, (name, value) in enumerate((("rail", 30.0), ("target", 25.0))):
+        curve = plot._curves[name]
+        assert curve.getViewBox() is axis.view
+        drawn_at = curve.mapToScene(QPointF(5.5, value)).y()  # between the grid's lines
+        assert abs(drawn_at - ticks[value]) <= 1.0, (name, drawn_at, ticks)  # the line is where its tick says
+        x = int(curve.mapToScene(QPointF(5.5, value)).x())
+        rows = [y for y in range(image.height()) if _near(QColor(image.pixel(x, y)), QColor(theme.trace_colour(index)))]
+        assert rows and abs(sum(rows) / len(rows) - ticks[value]) <= 1.5, (name, rows, ticks[value])

@@ -6,8 +6,9 @@ spikes stay visible); a pause in the measurement is a break in the line. While *
 x range slides with the newest sample; panning or zooming with the mouse stops following, the
 Follow button resumes it. Two cursors show every signal's value at two instants and the time
 between them; one cursor shows every signal's value at one instant. Signals with the same unit
-share a y-axis; each axis is coloured like its first signal and autoscales unless the user zooms
-it. The axes take at most two fifths of the plot's width: those beyond it (in the order their
+share a y-axis (one view box, one scale); each axis stands in the view's row, as tall as the view, so
+a value is drawn at its tick; it is coloured like its first signal and autoscales unless the user
+zooms it. The axes take at most two fifths of the plot's width: those beyond it (in the order their
 units came, the selected signal's first) are not drawn, nor the axis of verbal signals (states such
 as ON/OFF: its numbers say nothing) unless it is the only one or selected; their curves keep their
 own scale and the legend their values and units. The legend is as wide as its columns want, at
@@ -21,6 +22,7 @@ from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtGui import QColor
 from PySide6.QtWidgets import (
     QAbstractItemView,
+    QGraphicsLinearLayout,
     QComboBox,
     QHBoxLayout,
     QLabel,
@@ -56,7 +58,6 @@ class _Axis:
     def __init__(self, unit: str, view: pg.ViewBox, item: pg.AxisItem):
         self.unit, self.view, self.item = unit, view, item
         self.traces: list[str] = []
-        self.column: int | None = None  # in the plot's layout, while drawn
 
 
 class PlotWindow(SignalDropTarget, QWidget):
@@ -134,8 +135,18 @@ class PlotWindow(SignalDropTarget, QWidget):
         self.plot.setLabel("bottom", "time", units="s")
         self.plot.setMenuEnabled(False)
         self.plot.hideButtons()
-        self.plot.getAxis("left").setWidth(0)
-        self.plot.getAxis("left").hide()
+        # the units' axes stand in a row where the plot's own left axis was: in the view's row of the plot's
+        # grid, so each is exactly as tall as the view and its ticks say where a value is drawn (an axis beside
+        # the whole plot is taller by the time axis and the title, and every value was drawn off its tick)
+        left = self.plot.getAxis("left")
+        self.plot.layout.removeItem(left)
+        left.hide()
+        self._axis_row = QGraphicsLinearLayout(Qt.Horizontal)
+        self._axis_row.setContentsMargins(0, 0, 0, 0)
+        self._axis_row.setSpacing(0)
+        self.plot.layout.addItem(self._axis_row, 2, 0)
+        self.plot.layout.setAlignment(self._axis_row, Qt.AlignRight)
+        self._drawn: list[_Axis] = []  # left to right
         self.graphics.addItem(self.plot, row=0, col=100)
         self.plot.vb.sigResized.connect(self._sync_views)
         self.plot.vb.sigResized.connect(self._fit_axes)
@@ -275,8 +286,8 @@ class PlotWindow(SignalDropTarget, QWidget):
         return axis
 
     def _drop_axis(self, axis: _Axis) -> None:
-        if axis.item.scene() is not None:
-            self.graphics.removeItem(axis.item)
+        if axis in self._drawn:
+            self._show_axes([a for a in self._drawn if a is not axis])
         if axis.view is not self.plot.vb:
             self.plot.scene().removeItem(axis.view)
         self._axes.remove(axis)
@@ -284,7 +295,7 @@ class PlotWindow(SignalDropTarget, QWidget):
 
     def drawn_axes(self) -> list[str]:
         """The units whose y-axes are drawn, left to right."""
-        return [axis.unit for axis in reversed(self._axes) if axis.item.scene() is not None]
+        return [axis.unit for axis in self._drawn]
 
     def _fit_axes(self, *_) -> None:
         """Draw the y-axes that fit :data:`AXES_SHARE` of the plot's width (see the module docstring)."""
@@ -297,14 +308,18 @@ class PlotWindow(SignalDropTarget, QWidget):
         ranked = sorted(self._axes, key=lambda axis: (not selected.intersection(axis.traces), verbal(axis)))
         drawn = [axis for axis in ranked[:max(1, int(self.graphics.width() * AXES_SHARE / AXIS_WIDTH_PX))]
                  if axis is ranked[0] or not verbal(axis) or selected.intersection(axis.traces)]
-        wanted = {id(axis): 99 - index for index, axis in enumerate(self._axes) if axis in drawn}  # right to left
-        for axis in self._axes:
-            if axis.item.scene() is not None and axis.column != wanted.get(id(axis)):
-                self.graphics.removeItem(axis.item)
-        for axis in self._axes:
-            if id(axis) in wanted and axis.item.scene() is None:
-                axis.column = wanted[id(axis)]
-                self.graphics.addItem(axis.item, row=0, col=axis.column)
+        self._show_axes([axis for axis in reversed(self._axes) if axis in drawn])  # the first unit's beside the plot
+
+    def _show_axes(self, axes: list[_Axis]) -> None:
+        """Draw ``axes``, left to right, in the axes' row (the others leave the scene)."""
+        if axes == self._drawn:
+            return
+        for axis in self._drawn:
+            self._axis_row.removeItem(axis.item)
+            self.plot.scene().removeItem(axis.item)
+        for axis in axes:
+            self._axis_row.addItem(axis.item)
+        self._drawn = axes
 
     def _sync_views(self) -> None:
         for axis in self._axes:
