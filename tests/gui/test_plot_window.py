@@ -159,3 +159,24 @@ def test_curves_of_one_unit_are_drawn_at_their_values_on_that_units_axis(qtbot):
         x = int(curve.mapToScene(QPointF(5.5, value)).x())
         rows = [y for y in range(image.height()) if _near(QColor(image.pixel(x, y)), QColor(theme.trace_colour(index)))]
         assert rows and abs(sum(rows) / len(rows) - ticks[value]) <= 1.5, (name, rows, ticks[value])
+
+
+def test_verbal_signals_step_in_lanes_of_their_own_labelled_with_their_states(plot, hub):
+    hub.add_signals([SignalInfo("valve", "XCP", "", states=((0.0, "OFF"), (1.0, "ON")))])
+    hub.sink("valve", np.linspace(0.0, 20.0, 201), (np.arange(201) % 40 >= 20).astype(float))
+    plot.add_signals(["rail", "state", "valve"])
+    plot.refresh()
+    assert plot.drawn_axes() == ["bar"] and [axis.unit for axis in plot._axes] == ["bar"]  # no scale for states
+    assert plot.lanes.names == ["state", "valve"]
+    level = plot.lanes.level
+    assert sorted(plot.lanes.axis._tickLevels[0]) == sorted([  # each state's text where the lane draws it
+        (level("state", 0.0), "OFF"), (level("state", 1.0), "TANK1_ON"), (level("valve", 0.0), "OFF"),
+        (level("valve", 1.0), "ON")])
+    curve = plot._curves["valve"]
+    assert curve.getViewBox() is plot.lanes.view
+    assert set(np.unique(curve.yData)) == {level("valve", 0.0), level("valve", 1.0)}
+    valve_lane = (min(curve.yData), max(curve.yData))
+    state_lane = (min(plot._curves["state"].yData), max(plot._curves["state"].yData))
+    assert valve_lane[1] < state_lane[0]  # one below the other, apart
+    plot.remove_signals(["state", "valve"])
+    assert plot.lanes.names == [] and plot.lanes.view.scene() is None

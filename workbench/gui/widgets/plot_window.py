@@ -9,9 +9,9 @@ between them; one cursor shows every signal's value at one instant. Signals with
 share a y-axis (one view box, one scale); each axis stands in the view's row, as tall as the view, so
 a value is drawn at its tick; it is coloured like its first signal and autoscales unless the user
 zooms it. The axes take at most two fifths of the plot's width: those beyond it (in the order their
-units came, the selected signal's first) are not drawn, nor the axis of verbal signals (states such
-as ON/OFF: its numbers say nothing) unless it is the only one or selected; their curves keep their
-own scale and the legend their values and units. The legend is as wide as its columns want, at
+units came, the selected signal's first) are not drawn; their curves keep their own scale and the
+legend their values and units. Verbal signals (states such as ON/OFF) have no unit's axis: they step
+in lanes of their own below the view, labelled with their states' texts (:mod:`.digital_lanes`). The legend is as wide as its columns want, at
 most half the window, until the user drags its edge.
 """
 
@@ -38,6 +38,7 @@ from workbench.gui import theme
 from workbench.gui.mime import SignalDropTarget
 from workbench.gui.signal_hub import SignalHub
 from workbench.gui.widgets.columns import refit_columns, share_columns, wanted_width
+from workbench.gui.widgets.digital_lanes import DigitalLanes
 from workbench.gui.widgets.names import NameDelegate
 
 __all__ = ["PlotWindow"]
@@ -147,6 +148,8 @@ class PlotWindow(SignalDropTarget, QWidget):
         self.plot.layout.addItem(self._axis_row, 2, 0)
         self.plot.layout.setAlignment(self._axis_row, Qt.AlignRight)
         self._drawn: list[_Axis] = []  # left to right
+        self.lanes = DigitalLanes(self.plot)  # verbal signals: below the view
+        self.lanes.view.sigRangeChangedManually.connect(self._user_moved)
         self.graphics.addItem(self.plot, row=0, col=100)
         self.plot.vb.sigResized.connect(self._sync_views)
         self.plot.vb.sigResized.connect(self._fit_axes)
@@ -235,6 +238,8 @@ class PlotWindow(SignalDropTarget, QWidget):
             if curve is None:
                 continue
             self._order.remove(name)
+            if self.lanes.remove(name):
+                continue
             for axis in list(self._axes):
                 if name in axis.traces:
                     axis.traces.remove(name)
@@ -253,12 +258,17 @@ class PlotWindow(SignalDropTarget, QWidget):
         colour = theme.trace_colour(len(self._order))
         # a 1-pixel (cosmetic) pen: wider ones make Qt stroke every segment, ~4x slower; downsampling to
         # about one min/max pair per pixel column keeps spikes and draws no line nobody can see
-        curve = pg.PlotDataItem(pen=pg.mkPen(colour, width=1), name=name, autoDownsampleFactor=1.0, connect="finite")
+        # a verbal signal steps from state to state in a lane of its own (its number on a unit's scale says nothing)
+        curve = pg.PlotDataItem(pen=pg.mkPen(colour, width=1), name=name, autoDownsampleFactor=1.0, connect="finite",
+                                stepMode="right" if info.states else None)
         curve.setDownsampling(auto=True, method="peak")
         curve.setClipToView(True)
-        axis = self._axis_for(info.unit, colour)
-        axis.traces.append(name)
-        axis.view.addItem(curve)
+        if info.states:
+            self.lanes.add(name, info.states, curve)
+        else:
+            axis = self._axis_for(info.unit, colour)
+            axis.traces.append(name)
+            axis.view.addItem(curve)
         self._curves[name] = curve
         self._order.append(name)
 
@@ -301,13 +311,8 @@ class PlotWindow(SignalDropTarget, QWidget):
         """Draw the y-axes that fit :data:`AXES_SHARE` of the plot's width (see the module docstring)."""
         selected = {self._order[index.row()] for index in self.legend.selectedIndexes()
                     if index.row() < len(self._order)}  # the legend is refilled after a removal
-
-        def verbal(axis: _Axis) -> bool:  # its signals are states (ON/OFF ...): their texts are in the legend
-            return all(self.hub.info(name).states for name in axis.traces)
-
-        ranked = sorted(self._axes, key=lambda axis: (not selected.intersection(axis.traces), verbal(axis)))
-        drawn = [axis for axis in ranked[:max(1, int(self.graphics.width() * AXES_SHARE / AXIS_WIDTH_PX))]
-                 if axis is ranked[0] or not verbal(axis) or selected.intersection(axis.traces)]
+        ranked = sorted(self._axes, key=lambda axis: not selected.intersection(axis.traces))
+        drawn = ranked[:max(1, int(self.graphics.width() * AXES_SHARE / AXIS_WIDTH_PX))]
         self._show_axes([axis for axis in reversed(self._axes) if axis in drawn])  # the first unit's beside the plot
 
     def _show_axes(self, axes: list[_Axis]) -> None:
@@ -416,11 +421,13 @@ class PlotWindow(SignalDropTarget, QWidget):
             self.cursor.setPos((x0 + x1) / 2)
             self.plot.addItem(self.cursor, ignoreBounds=True)
             self.plot.addItem(self.cursor_label, ignoreBounds=True)
+            self.lanes.show_cursor(self.cursor, True)
             self._show_cursor_values()
         else:
             self.cursor2_button.setChecked(False)
             self.plot.removeItem(self.cursor)
             self.plot.removeItem(self.cursor_label)
+            self.lanes.show_cursor(self.cursor, False)
 
     def set_second_cursor(self, on: bool) -> None:
         if on and not self.cursor_button.isChecked():
@@ -434,6 +441,7 @@ class PlotWindow(SignalDropTarget, QWidget):
             self.plot.addItem(self.cursor2, ignoreBounds=True)
         else:
             self.plot.removeItem(self.cursor2)
+        self.lanes.show_cursor(self.cursor2, on)
         self._show_cursor_values()
 
     def _show_cursor_values(self, *_) -> None:
@@ -467,9 +475,13 @@ class PlotWindow(SignalDropTarget, QWidget):
             self.plot.vb.setXRange(x0, x1, padding=0)
         else:
             (x0, x1), _ = self.plot.vb.viewRange()
+        lanes = set(self.lanes.names)
         for name, curve in self._curves.items():
             t, v = self.hub.buffer(name).window(x0, x1, gaps=True)  # a pause breaks the line (NaN)
-            curve.setData(t, v)
+            if name in lanes:
+                self.lanes.set_data(name, t, v)
+            else:
+                curve.setData(t, v)
         if not self.cursor_button.isChecked() and self.frames % LEGEND_EVERY == 0:
             self._update_legend_values(None)
         self.frames += 1
