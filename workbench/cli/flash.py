@@ -213,7 +213,7 @@ def _options(args: argparse.Namespace):
     from workbench.flash import FlashOptions, Verify
 
     return FlashOptions(verify=Verify.NONE if args.no_verify else Verify(args.verify),
-                        erase_beyond_file=args.erase_beyond_file)
+                        erase_beyond_file=args.erase_beyond_file, accept_epk_mismatch=args.accept_epk_mismatch)
 
 
 @contextmanager

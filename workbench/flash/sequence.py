@@ -62,6 +62,7 @@ class FlashOptions:
     max_rewrites: int = 2  # times one sector is erased and written again after wrong bytes
     reconnect_s: float = 5.0  # how long to try CONNECT after PROGRAM_RESET
     erase_beyond_file: bool = False  # erase sectors although they hold data beyond the file's ranges (lost)
+    accept_epk_mismatch: bool = False  # flash part of the software although the EPK of the part kept differs
 
 
 @dataclass(frozen=True)
@@ -127,7 +128,7 @@ def check_flash(session: Session, plan: FlashPlan, options: FlashOptions = Flash
         raise FlashRefused("the ECU offers no programming (CONNECT: no PGM resource); nothing was touched")
     if master.get_status().daq_running:
         raise FlashRefused("a DAQ measurement runs on the ECU: stop it before flashing; nothing was touched")
-    pairing = _pairing(session, plan)
+    pairing = _pairing(session, plan, options)
     notes = [f"{pairing.describe()}"] if pairing is not None and not pairing.matches else []
     notes += _unfinished_before(session, plan)
     plan, sector_notes = _with_ecu_sectors(master, plan) if options.ecu_sectors else (plan, [])
@@ -135,7 +136,8 @@ def check_flash(session: Session, plan: FlashPlan, options: FlashOptions = Flash
     if lost and not options.erase_beyond_file:
         raise FlashRefused(f"{plan.source}: erasing {', '.join(map(str, plan.sectors_holding(lost)))} would also erase "
                            f"{' '.join(map(str, lost))}, which hold data the file does not give back: put them in the "
-                           f"file, or pass --erase-beyond-file to lose them (nothing was erased)")
+                           f"file, or pass --erase-beyond-file to lose them (nothing was erased)",
+                           override="erase_beyond_file")
     if lost:
         notes.append(f"erased and not written again (--erase-beyond-file): {' '.join(map(str, lost))}")
     return plan, notes + sector_notes
@@ -155,7 +157,8 @@ def _unfinished_before(session: Session, plan: FlashPlan) -> list[str]:
         regions = " ".join(f"-r {name}" for name in chosen + unfinished)
         raise FlashRefused(f"{plan.source}: the application key is cleared (a flash did not finish) and "
                            f"{'/'.join(unfinished)} on the ECU differs from the file: flash it too ({regions}), so "
-                           f"that the key is not set over an unfinished region (nothing was erased)")
+                           f"that the key is not set over an unfinished region (nothing was erased)",
+                           regions=tuple(unfinished))
     if all(r.name in chosen for r in plan.layout.regions if r.selectable and not r.is_boot):
         return ["the application key was cleared before this flash: an earlier flash did not finish"]
     return [f"the application key was cleared before this flash: an earlier flash did not finish, and the ECU does "
@@ -184,14 +187,16 @@ def _with_ecu_sectors(master, plan: FlashPlan) -> tuple[FlashPlan, list[str]]:
     return with_sectors(plan, layout.with_sectors(ecu, "ECU")), notes
 
 
-def _pairing(session: Session, plan: FlashPlan) -> EpkPairing | None:
+def _pairing(session: Session, plan: FlashPlan, options: FlashOptions) -> EpkPairing | None:
     """The flash's EPK against the ECU's before it, when the flash leaves part of the software (flash.software).
 
-    :raises FlashRefused: they differ and the session does not accept an EPK mismatch.
+    :raises FlashRefused: they differ and neither the options nor the session accept an EPK mismatch.
     """
     pairing = epk_pairing(plan, session.epk.ecu, session.epk.source)
-    if pairing is not None and not pairing.matches and not session.accept_epk_mismatch:
-        raise FlashRefused(pairing.refusal(plan.source, "/".join(r.region.name for r in plan.regions)))
+    accepted = options.accept_epk_mismatch or session.accept_epk_mismatch
+    if pairing is not None and not pairing.matches and not accepted:
+        raise FlashRefused(pairing.refusal(plan.source, "/".join(r.region.name for r in plan.regions)),
+                           override="accept_epk_mismatch")
     return pairing
 
 
