@@ -9,6 +9,9 @@ from PySide6.QtCore import Qt
 
 from workbench import demo
 from workbench.errors import Cancelled
+from workbench.flash import FlashRefused
+from workbench.image import MemoryImage, load_image
+from workbench.sim.memory_map import HDS9
 
 FLASH_MS = 120_000
 
@@ -95,4 +98,116 @@ def test_a_cancelled_flash_says_what_state_the_ecu_is_in_and_a_second_flash_fini
     with qtbot.waitSignal(dialog.flashed, timeout=FLASH_MS) as flashed:
         dialog.start()
     assert flashed.args[0].application_running
+    dialog.close_button.click()
+
+
+# --- the refusals the CLI's options override: shown, and a choice the user makes explicitly ---------------------------
+
+CALIB_START, TRAILER = 0xFC0000, 0xFDFFF0  # the CALT trailer: in CALIB's one sector, beyond the file below
+OLD_EPK, NEW_EPK = b"10300020250301", b"10300020259999"
+
+
+def _calib_file(tmp_path, end: int, epk: bytes | None = None):
+    image = load_image(demo.s19()).crop(CALIB_START, end)
+    if epk is not None:
+        image.add(CALIB_START, epk, overwrite=True)  # ADDR_EPK
+    path = tmp_path / "calib.s19"
+    image.save(path)
+    return path
+
+
+def _refused(dialog, qtbot):
+    with qtbot.waitSignal(dialog.flash_failed, timeout=FLASH_MS) as failed:
+        dialog.start()
+    qtbot.waitUntil(lambda: dialog.flash_button.isEnabled(), timeout=WAIT_MS)
+    assert isinstance(failed.args[0], FlashRefused)
+    assert dialog.progress_label.text() == "refused, nothing was flashed: see below"
+    return dialog.result.toPlainText()
+
+
+def test_bytes_the_file_does_not_give_back_are_erased_only_after_the_user_ticks_the_override(window, qtbot,
+                                                                                            demo_ecu, tmp_path):
+    ecu = demo_ecu.ecu
+    trailer = ecu.read(TRAILER, 16)
+    assert trailer != b"\xff" * 16
+    dialog = window.open_flash_dialog()
+    dialog.path.setText(str(_calib_file(tmp_path, 0xFDFF00)))
+    dialog.replan()
+    _planned(dialog, qtbot)
+    erase = dialog.overrides["erase_beyond_file"]
+    assert erase.isHidden() and dialog.chosen_overrides() == frozenset()  # offered only when a refusal needs it
+    before = ecu.read(CALIB_START, 0x20000)
+    for _ in range(2):  # refused, and refused again while the box is not ticked ("no")
+        text = _refused(dialog, qtbot)
+        assert "would also erase FDFFF0h-FDFFFFh" in text and "(nothing was erased)" in text
+        assert erase.isVisible() and not erase.isChecked() and dialog.flash_button.text() == "Flash"
+        assert erase.width() >= erase.sizeHint().width()  # its text whole at the dialog's size
+        assert dialog.overrides["accept_epk_mismatch"].isHidden()
+        assert ecu.read(CALIB_START, 0x20000) == before
+    dialog.path.editingFinished.emit()  # the same file again: the refusal and its choice stay
+    assert erase.isVisible() and "FDFFF0h-FDFFFFh" in dialog.result.toPlainText()
+    erase.click()
+    assert dialog.flash_button.text() == "Flash anyway"
+    with qtbot.waitSignal(dialog.flashed, timeout=FLASH_MS) as flashed:
+        dialog.start()
+    assert "erased and not written again (--erase-beyond-file): FDFFF0h-FDFFFFh" in flashed.args[0].describe()
+    assert "erased and not written again (--erase-beyond-file): FDFFF0h-FDFFFFh" in dialog.result.toPlainText()
+    assert ecu.read(TRAILER, 16) == b"\xff" * 16
+    assert erase.isHidden() and dialog.flash_button.text() == "Flash"  # the next flash asks again
+    qtbot.waitUntil(lambda: dialog.flash_button.isEnabled(), timeout=WAIT_MS)
+    dialog.close_button.click()
+
+
+@pytest.fixture
+def new_software(qtbot, demo_ecu, project, tmp_path):
+    """The window on the A2L of another build (EPK ...9999) than the ECU runs (...0301)."""
+    text = demo.a2l().read_bytes()
+    assert text.count(OLD_EPK) >= 1
+    (tmp_path / "new.a2l").write_bytes(text.replace(OLD_EPK, NEW_EPK))
+    project.a2l = tmp_path / "new.a2l"
+    window = open_window(qtbot, project)
+    yield window
+    window.close()
+
+
+def test_a_calib_flash_of_another_epk_is_refused_then_flashed_when_the_user_accepts_the_mismatch(
+        new_software, qtbot, demo_ecu, tmp_path):
+    window, ecu = new_software, demo_ecu.ecu
+    window.epk_dialog.flash_button.click()  # "flash the software that matches the A2L" ... only its CALIB
+    dialog = window.flash_dialog
+    dialog.path.setText(str(_calib_file(tmp_path, 0xFE0000, NEW_EPK)))
+    dialog.select_regions(["CALIB"])
+    _planned(dialog, qtbot)
+    before = ecu.read(CALIB_START, 0x20000)
+    text = _refused(dialog, qtbot)
+    assert "CALIB only, with EPK '10300020259999', but the ECU reports EPK '10300020250301'" in text
+    accept = dialog.overrides["accept_epk_mismatch"]
+    assert accept.isVisible() and not accept.isChecked() and dialog.overrides["erase_beyond_file"].isHidden()
+    assert accept.width() >= accept.sizeHint().width()
+    assert ecu.read(CALIB_START, 0x20000) == before
+    accept.click()
+    with qtbot.waitSignal(dialog.flashed, timeout=FLASH_MS):
+        dialog.start()
+    assert "MISMATCH accepted" in dialog.result.toPlainText()
+    assert ecu.read(CALIB_START, 14) == NEW_EPK
+    qtbot.waitUntil(lambda: dialog.flash_button.isEnabled(), timeout=WAIT_MS)
+    dialog.close_button.click()
+
+
+def test_a_cleared_key_with_another_region_differing_offers_to_select_that_region(window, qtbot, demo_ecu):
+    """What a flash of CALIB killed half-way leaves: the key cleared, CALIB not the file's; APPLICATIVE alone is
+    refused (no override) and the dialog offers to select CALIB too."""
+    unfinished = MemoryImage()
+    unfinished.add(HDS9.app_key_address, b"\xff" * len(HDS9.app_key))
+    unfinished.add(0xFC0100, b"\xff" * 16)
+    demo_ecu.ecu.memory.load_flash(unfinished)
+    dialog = window.open_flash_dialog(regions=["APPLICATIVE"])
+    _planned(dialog, qtbot)
+    text = _refused(dialog, qtbot)
+    assert "the application key is cleared (a flash did not finish) and CALIB on the ECU differs" in text
+    assert all(box.isHidden() for box in dialog.overrides.values())  # nothing to tick: only flashing CALIB too helps
+    assert dialog.add_regions_button.isVisible() and dialog.add_regions_button.text() == "Select CALIB too"
+    dialog.add_regions_button.click()
+    assert dialog.selected_regions() == ["APPLICATIVE", "CALIB"] and dialog.add_regions_button.isHidden()
+    _planned(dialog, qtbot)
     dialog.close_button.click()

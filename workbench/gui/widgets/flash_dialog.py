@@ -1,7 +1,11 @@
 """The flash dialog (thesis figure 38): pick an s19/hex, see per region the partial ranges the file
 fills, choose CALIB and/or APPLICATIVE (or the working page into CAL ROM), flash with progress,
 rate and time left, cancel, and read the verify result. The flash runs in a worker
-(``workbench.flash.flash_ecu``); cancelling makes the library stop at its next block."""
+(``workbench.flash.flash_ecu``); cancelling makes the library stop at its next block.
+
+A refusal the CLI lets the user override (``--erase-beyond-file``, ``--accept-epk-mismatch``) shows its
+text and a check box, unticked, for that option: only ticking it and pressing Flash again flashes with it
+(until the file or the regions change). A refusal that wants more regions flashed offers to select them."""
 
 from __future__ import annotations
 
@@ -10,6 +14,7 @@ from pathlib import Path
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import (
     QAbstractItemView,
+    QCheckBox,
     QDialog,
     QFileDialog,
     QHBoxLayout,
@@ -25,7 +30,7 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
 )
 
-from workbench.errors import Cancelled
+from workbench.errors import Cancelled, WorkbenchError
 from workbench.gui import theme
 from workbench.gui.worker import Task
 
@@ -46,12 +51,13 @@ def _plan_file(session, path: str, regions: list[str]):
     return plan_file(path, _layout(session), regions)
 
 
-def _flash(session, source: str, regions: list[str], progress=None):
-    from workbench.flash import flash_ecu, plan_working_page
+def _flash(session, source: str, regions: list[str], overrides: frozenset[str] = frozenset(), progress=None):
+    """Flash as ``workbench flash`` does; ``overrides``: the FlashOptions the user ticked (``erase_beyond_file``...)."""
+    from workbench.flash import FlashOptions, flash_ecu, plan_working_page
 
     plan = (plan_working_page(session, progress=progress) if source == WORKING_PAGE
             else _plan_file(session, source, regions))
-    return flash_ecu(session, plan, progress=progress)
+    return flash_ecu(session, plan, progress=progress, options=FlashOptions(**dict.fromkeys(overrides, True)))
 
 
 class FlashDialog(QDialog):
@@ -104,6 +110,25 @@ class FlashDialog(QDialog):
         self.result.setFont(theme.mono_font(9))
         self.result.setMaximumHeight(110)
         layout.addWidget(self.result)
+        # the CLI's overrides of a refusal, shown when one refuses the flash; unticked: nothing is erased without them
+        self.overrides = {
+            "erase_beyond_file": QCheckBox("Erase the bytes listed above although the file does not give them back "
+                                           "(--erase-beyond-file)"),
+            "accept_epk_mismatch": QCheckBox("Flash although the EPK differs from the part that stays on the ECU "
+                                             "(--accept-epk-mismatch)"),
+        }
+        for box in self.overrides.values():
+            box.toggled.connect(self._override_toggled)
+            layout.addWidget(box)
+        self.add_regions_button = QPushButton()
+        self.add_regions_button.clicked.connect(self._add_regions)
+        self.regions_to_add: tuple[str, ...] = ()
+        self.offered_for: tuple | None = None  # (file, regions) of the refusal the overrides answer
+        self.flashing: tuple | None = None  # (file, regions) of the flash under way
+        row = QHBoxLayout()
+        row.addWidget(self.add_regions_button)
+        row.addStretch(1)
+        layout.addLayout(row)
         buttons = QHBoxLayout()
         buttons.addStretch(1)
         self.flash_button = QPushButton("Flash")
@@ -117,6 +142,7 @@ class FlashDialog(QDialog):
         for button in (self.flash_button, self.cancel_button, self.close_button):
             buttons.addWidget(button)
         layout.addLayout(buttons)
+        self._reset_overrides()
         self._fill_regions()
         if s19:
             self.replan()
@@ -181,6 +207,9 @@ class FlashDialog(QDialog):
     def replan(self) -> None:
         """Show what the chosen file holds per region (read in a worker: a big image takes a moment)."""
         source = self.path.text().strip()
+        if (source, tuple(self.selected_regions())) == self.offered_for:
+            return  # the file and regions refused: the refusal stays shown beside its choice
+        self._reset_overrides()  # a choice made for one file and its regions is not one for another
         for row in range(self.table.rowCount()):
             self.table.item(row, 4).setText("")
         self.plan = None
@@ -211,7 +240,8 @@ class FlashDialog(QDialog):
         if not source:
             self.result.setPlainText("choose a file first")
             return None
-        self.task = Task(_flash, self.session, source, self.selected_regions(), progress=True)
+        self.flashing = (source, tuple(self.selected_regions()))
+        self.task = Task(_flash, self.session, *self.flashing, self.chosen_overrides(), progress=True)
         self.task.progress.changed.connect(self._progressed)
         self.task.succeeded.connect(self._done)
         self.task.failed.connect(self._failed)
@@ -220,6 +250,35 @@ class FlashDialog(QDialog):
         self.result.setPlainText("flashing …")
         self.flash_started.emit(self.task)
         return self.task.start()
+
+    def chosen_overrides(self) -> frozenset[str]:
+        """The overrides ticked (shown after a refusal): the FlashOptions fields the flash sets True."""
+        return frozenset(name for name, box in self.overrides.items() if not box.isHidden() and box.isChecked())
+
+    def _reset_overrides(self) -> None:
+        for box in self.overrides.values():
+            box.setChecked(False)
+            box.hide()
+        self.regions_to_add = ()
+        self.add_regions_button.hide()
+        self.offered_for = None
+
+    def _override_toggled(self) -> None:
+        self.flash_button.setText("Flash anyway" if self.chosen_overrides() else "Flash")
+
+    def _offer(self, exc: WorkbenchError) -> None:
+        """What the user may do about a refusal: tick its override (unticked), or select the regions it names."""
+        self.offered_for = self.flashing
+        box = self.overrides.get(getattr(exc, "override", None))
+        if box is not None:
+            box.show()
+        self.regions_to_add = tuple(r for r in getattr(exc, "regions", ()) if r not in self.selected_regions())
+        if self.regions_to_add:
+            self.add_regions_button.setText(f"Select {' and '.join(self.regions_to_add)} too")
+            self.add_regions_button.show()
+
+    def _add_regions(self) -> None:
+        self.select_regions(self.selected_regions() + list(self.regions_to_add))
 
     def cancel(self) -> None:
         if self.task is not None:
@@ -234,14 +293,21 @@ class FlashDialog(QDialog):
 
     def _done(self, result) -> None:
         self.progress.setValue(self.progress.maximum())
+        self._reset_overrides()  # the next flash asks again
         self.result.setPlainText(result.describe())
         self._final("done: " + ("verified, the application runs" if result.application_running
                                 else "verified, the ECU is in its boot loader"), theme.GOOD)
         self.flashed.emit(result)
 
     def _failed(self, exc) -> None:
+        from workbench.flash import FlashRefused
+
         self.result.setPlainText(f"⚠ {exc}")
-        self._final("cancelled" if isinstance(exc, Cancelled) else "failed: see below", theme.BAD)
+        if isinstance(exc, FlashRefused):
+            self._offer(exc)
+            self._final("refused, nothing was flashed: see below", theme.BAD)
+        else:
+            self._final("cancelled" if isinstance(exc, Cancelled) else "failed: see below", theme.BAD)
         self.flash_failed.emit(exc)
 
     def _final(self, text: str, colour: str) -> None:
@@ -258,6 +324,8 @@ class FlashDialog(QDialog):
         self.cancel_button.setEnabled(busy)
         self.close_button.setEnabled(not busy)
         self.table.setEnabled(not busy)
+        for widget in (*self.overrides.values(), self.add_regions_button):
+            widget.setEnabled(not busy)
 
     def reject(self) -> None:
         if self.task is None:  # never close while the ECU is half flashed
