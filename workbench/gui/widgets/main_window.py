@@ -649,6 +649,8 @@ class MainWindow(QMainWindow):
         session = self.controller.session
         if session is None:
             return
+        if self.flash_dialog is not None and self.flash_dialog.task is not None:
+            return  # flashing again (a refusal's override): no DAQ under it; its own end reads the ECU
         self.controller.info = info
         self.status.show_connected(session, info)
         for editor in self.editors.values():
