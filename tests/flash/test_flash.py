@@ -4,6 +4,7 @@ refusals that leave the flash untouched, verification, the key sector's other by
 from __future__ import annotations
 
 import struct
+from dataclasses import replace
 
 import pytest
 from flash_images import APPLICATIVE, CALIB, FAST, application_image, calib_image_with, calibration_rom_address
@@ -17,6 +18,7 @@ from workbench.flash import (
     FlashOptions,
     FlashRefused,
     Verify,
+    check_flash,
     flash_ecu,
     plan_flash,
     plan_working_page,
@@ -148,6 +150,22 @@ def test_a_running_daq_measurement_is_refused(bench):
     with pytest.raises(FlashRefused, match="DAQ measurement runs"):
         flash_ecu(bench.session, plan_flash(application_image(100), bench.layout, ["APPLICATIVE"]))
     assert bench.whole_flash() == before
+
+
+def test_a_refusal_names_the_flash_option_that_overrides_it_and_a_script_passes_it(bench, monkeypatch):
+    """What the dialog offers and the CLI's --erase-beyond-file / --accept-epk-mismatch set: FlashOptions fields."""
+    image = calib_image_with("xsSWITCH_TANK_THR", 29.0).crop(CALIB.start, 0xFDFF00)  # not the CALT trailer
+    plan = plan_flash(image, bench.layout, ["CALIB"], source="part.s19")
+    with pytest.raises(FlashRefused, match="would also erase FDFFF0h-FDFFFFh") as refused:
+        check_flash(bench.session, plan)
+    assert refused.value.override == "erase_beyond_file" and refused.value.regions == ()
+    monkeypatch.setattr(bench.session, "epk", replace(bench.session.epk, ecu="10300020259999"))  # another build runs
+    with pytest.raises(FlashRefused, match="for the application that stays on it") as refused:
+        check_flash(bench.session, plan)
+    assert refused.value.override == "accept_epk_mismatch"
+    _, notes = check_flash(bench.session, plan, FlashOptions(erase_beyond_file=True, accept_epk_mismatch=True))
+    assert "erased and not written again (--erase-beyond-file): FDFFF0h-FDFFFFh" in notes
+    assert any("MISMATCH accepted" in note for note in notes)
 
 
 def test_the_working_page_goes_into_cal_rom_and_survives_a_power_cycle(bench):
