@@ -111,7 +111,8 @@ def test_900_typed_into_every_editor_kind_is_refused_with_the_limit_and_the_ecu_
     assert refused.args[0] == "xsSWITCH_TANK_THR: 900.00 is above the upper limit 800.00 bar"
     assert "above the upper limit 800" in scalar.status.text()
 
-    for name, cell, limit in (("zvRailPConv", "[1]", "50.00 bar"), ("xvPRV_DC_FF", "[1, 0]", "100.00 %")):
+    for name, cell, limit in (("zvRailPConv", "zsRailVoltFilt 1.000 V", "50.00 bar"),
+                              ("xvPRV_DC_FF", "xaPRV_FF_TARGET 10.00 bar / xaPRV_FF_MANIFOLD 50.00 bar", "100.00 %")):
         table = editor_on(window, qtbot, name)
         cell_typed(table.field.table, 0, 1, "900")
         with qtbot.waitSignal(table.refused, timeout=WAIT_MS) as refused:
@@ -347,6 +348,8 @@ def test_a_refusal_below_the_map_leaves_every_row_of_its_table_in_view(window, q
         field.apply_block("multiply")
     qtbot.wait(100)  # laid out again
     assert editor.status.height() > editor.status.fontMetrics().height() * 1.5  # two lines at this width
+    assert " bar / " in editor.status.text() and "[" not in editor.status.text()  # the cell by its breakpoints
+    assert "at xaPRV_FF_TARGET " in editor.status.toolTip()  # their names shortened to fit; whole in the tooltip
     table = field.table
     rows = model.rowCount() * table.verticalHeader().defaultSectionSize()
     assert table.viewport().height() >= rows, (table.viewport().height(), rows)

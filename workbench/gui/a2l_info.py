@@ -68,6 +68,7 @@ class CalibrationInfo:
     functions: tuple[str, ...]
     extended_limits: tuple[float, float] | None = None  # the A2L's EXTENDED_LIMITS
     axis_decimals: tuple[int | None, ...] = ()  # the decimals of each axis' points, X first
+    axis_quantities: tuple[tuple[str, str], ...] = ()  # (input quantity, unit) of each axis, X first
 
 
 def calibration_info(model, name: str) -> CalibrationInfo:
@@ -78,13 +79,11 @@ def calibration_info(model, name: str) -> CalibrationInfo:
     obj = model.characteristic(name) if kind == "CHARACTERISTIC" else model.axis_pts(name)
     conversion = model.conversion(obj)
     decimals = format_parts(obj.format)[1] if obj.format else conversion.decimals
-    labels = []
-    for axis in getattr(obj, "axes", ()):
-        quantity = axis.input_quantity or axis.axis_pts_ref or axis.axis
-        unit = model.unit_of(axis)
-        labels.append(f"{quantity} [{unit}]" if unit else quantity)
+    quantities = tuple((axis.input_quantity or axis.axis_pts_ref or axis.axis, model.unit_of(axis))
+                       for axis in getattr(obj, "axes", ()))
+    labels = [f"{quantity} [{unit}]" if unit else quantity for quantity, unit in quantities]
     states = tuple(conversion.allowed) if getattr(conversion, "verbal", False) else ()
     return CalibrationInfo(name, getattr(obj, "type", "AXIS_PTS"), obj.long_identifier, model.unit_of(obj),
                            (obj.lower_limit, obj.upper_limit), decimals, states,
                            obj.writable, tuple(labels), obj.functions, getattr(obj, "extended_limits", None),
-                           tuple(axis_decimals(model, axis) for axis in getattr(obj, "axes", ())))
+                           tuple(axis_decimals(model, axis) for axis in getattr(obj, "axes", ())), quantities)

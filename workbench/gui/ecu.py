@@ -14,6 +14,10 @@ A :class:`~workbench.errors.ConnectionLostError` from any call (or from the DAQ 
 :meth:`EcuController.connection_lost`) ends the session: ``lost`` says what and when, and the
 controller tries to open the session again every few seconds until the ECU answers (``connected``
 follows) or :meth:`EcuController.stop_reconnecting` is called.
+
+A change of the ECU's values (:meth:`EcuController.change`: a write, an override) is never lost silently:
+without a session it is refused at once (:class:`NotWrittenError` "not connected"), and one under way when
+the connection is lost or closed ends with a :class:`NotWrittenError` too, through the same ``on_error``.
 """
 
 from __future__ import annotations
@@ -24,14 +28,36 @@ from typing import Any
 
 from PySide6.QtCore import QObject, QTimer, Signal
 
-from workbench.errors import ConnectionLostError
+from workbench.errors import ConnectionLostError, InputError, PageError
 from workbench.gui.project import Connection
+from workbench.gui.widgets.status_bar import clock
 from workbench.gui.worker import Task, run_task
 from workbench.logs import logger
 
 log = logger(__name__)
 
-__all__ = ["Connected", "EcuController"]
+__all__ = ["READ_ONLY_PAGE", "Connected", "EcuController", "NotWrittenError", "refusal"]
+
+READ_ONLY_PAGE = ("the reference page is active and XCP may not write it; switch to the working page first "
+                  "(Working page, on the toolbar and in the ECU menu)")
+
+
+def refusal(exc: BaseException) -> str | None:
+    """Why a change was not made, as the editor it was typed in says it; None: the ECU failed (a dialog)."""
+    if isinstance(exc, PageError):  # the library's advice is a command line; the window has a button
+        return READ_ONLY_PAGE
+    if isinstance(exc, InputError):  # refused before anything was sent, or not sent at all
+        return str(exc)
+    return None
+
+
+class NotWrittenError(InputError):
+    """A change the window did not make: no session (``lost``: the connection was lost, under the
+    change or before it). An input error: the editors say it where the value was typed, not in a dialog."""
+
+    def __init__(self, message: str, lost: bool = False):
+        super().__init__(message)
+        self.lost = lost
 
 
 @dataclass(frozen=True)
@@ -72,6 +98,7 @@ class EcuController(QObject):
         self.session = None
         self.info = None
         self.lost_error: ConnectionLostError | None = None  # while the connection is lost
+        self.page = "working"  # the page the ECU and XCP use (as the status bar shows it)
         self._target = None  # (a2l, connection, accept_epk_mismatch) of the last open
         self._attempt = 0
         self._generation = 0  # counts opens and closes: a reconnect attempt of an earlier one is not taken
@@ -93,6 +120,7 @@ class EcuController(QObject):
     def _opened(self, result: Connected) -> None:
         self.stop_reconnecting()
         self.session, self.info = result.session, result.info
+        self.page = "working"
         self.connected.emit(result)
 
     def close(self) -> None:
@@ -104,10 +132,20 @@ class EcuController(QObject):
             session.close()
             self.disconnected.emit()
 
+    @property
+    def offline_reason(self) -> str:
+        """Why nothing can be written now ("" when connected)."""
+        if self.session is not None:
+            return ""
+        if self.lost_error is not None:
+            return f"the connection to the ECU was lost at {clock(self.lost_error.when)} (reconnecting)"
+        return "not connected"
+
     def call(self, method: str, *args, on_done: Callable[[Any], None] | None = None,
-             on_error: Callable[[BaseException], None] | None = None, **kwargs) -> Task | None:
+             on_error: Callable[[BaseException], None] | None = None,
+             on_lost: Callable[[BaseException], None] | None = None, **kwargs) -> Task | None:
         """Run ``session.<method>(*args, **kwargs)`` in the pool; errors go to ``on_error`` or ``failed``
-        (a lost connection to :meth:`connection_lost` instead; none when the session was closed meanwhile)."""
+        (a lost connection to :meth:`connection_lost` instead, and to ``on_lost`` as a session closed meanwhile)."""
         session = self.session
         if session is None:
             return None
@@ -116,8 +154,12 @@ class EcuController(QObject):
         def error(exc: BaseException) -> None:
             if self.session is not session:  # closed (or lost) under the call: its failure is no news
                 log.debug("%s on a session closed meanwhile: %s", method, exc)
+                if on_lost is not None:
+                    on_lost(exc)
             elif isinstance(exc, ConnectionLostError):
                 self.connection_lost(exc)
+                if on_lost is not None:
+                    on_lost(exc)
             else:
                 failed(exc)
 
@@ -167,21 +209,40 @@ class EcuController(QObject):
         self.lost_error = None
         self._attempt = 0
 
-    def write(self, name: str, value, *, allow_extended_limits: bool = False,
-              on_done: Callable[[Any], None] | None = None,
-              on_error: Callable[[BaseException], None] | None = None) -> Task | None:
-        """Write a calibration as the session checks it (limits, EXTENDED_LIMITS only when allowed; read
-        back); ``written`` follows."""
+    def change(self, method: str, name: str, *args, on_done: Callable[[Any], None] | None = None,
+               on_error: Callable[[BaseException], None], changes: tuple[str, ...] = (), **kwargs) -> Task | None:
+        """``session.<method>(name, ...)`` that changes the ECU's values; ``written`` follows for ``name`` (or each
+        of ``changes``). Without a session ``on_error`` gets a :class:`NotWrittenError` at once; lost under the
+        call, one saying so."""
+        if self.session is None:
+            on_error(NotWrittenError(self.offline_reason, lost=self.lost_error is not None))
+            return None
+
         def done(result) -> None:
-            self.written.emit(name)
+            for written in changes or (name,):
+                self.written.emit(written)
             if on_done is not None:
                 on_done(result)
 
-        return self.call("write", name, value, allow_extended_limits=allow_extended_limits, on_done=done,
-                         on_error=on_error)
+        def lost(exc: BaseException) -> None:
+            when = getattr(self.lost_error or exc, "when", None)
+            at = f" at {clock(when)}" if when else ""
+            on_error(NotWrittenError(f"the connection was lost{at} while {name} was being written" if self.lost_error
+                                     else f"disconnected while {name} was being written", lost=True))
+
+        return self.call(method, name, *args, on_done=done, on_error=on_error, on_lost=lost, **kwargs)
+
+    def write(self, name: str, value, *, allow_extended_limits: bool = False,
+              on_done: Callable[[Any], None] | None = None,
+              on_error: Callable[[BaseException], None]) -> Task | None:
+        """Write a calibration as the session checks it (limits, EXTENDED_LIMITS only when allowed; read
+        back): :meth:`change`."""
+        return self.change("write", name, value, allow_extended_limits=allow_extended_limits, on_done=on_done,
+                           on_error=on_error)
 
     def set_page(self, page: str) -> Task | None:
         def done(_) -> None:
+            self.page = page
             self.page_changed.emit(page)
 
         return self.call("set_page", page, on_done=done)

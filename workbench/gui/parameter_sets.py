@@ -98,6 +98,9 @@ class ParameterSets(QObject):
         view.refresh_requested.connect(self.compare_again)
         view.apply_requested.connect(self.ask_apply)
         window.controller.written.connect(lambda name: self.ecu_changed(f"{name} written since"))
+        window.controller.page_changed.connect(self._page_switched)
+        # a restarted or another ECU may hold other values
+        window.controller.connected.connect(lambda _: self.ecu_changed("ECU reconnected since"))
 
     @property
     def session(self):
@@ -151,14 +154,26 @@ class ParameterSets(QObject):
         return self._run(save_working_page, (self.session, path), "saving the working page", self.message.emit)
 
     def ecu_changed(self, reason: str) -> None:
-        """The ECU's values changed (a write, a flash): a comparison that read them says it is outdated."""
-        if self.last is not None and self.last[0] in (compare_with_ecu, compare_pages):
+        """The ECU's values changed (a write, a flash, a page switch, a reconnect): a comparison that read them
+        says it is outdated."""
+        if self.last is not None and self.last[0] in _READ_THE_ECU:
             self.view.mark_outdated(reason)
 
+    def _page_switched(self, page: str) -> None:
+        """The ECU against a file read the page XCP used (a pages' comparison reads both by name)."""
+        if self.last is not None and self.last[0] is compare_with_ecu:
+            self.view.mark_outdated(f"{page} page active since")
+
     def compare_again(self) -> None:
-        if self.last is not None:
-            function, args, can_apply = self.last
-            self._compare(function, args, can_apply=can_apply, progress=self.session is not None)
+        if self.last is None:
+            return
+        function, args, can_apply = self.last
+        if function in _READ_THE_ECU:  # with the session there is now (a reconnect opens a new one)
+            if self.session is None:
+                self.message.emit("not compared: not connected")
+                return
+            args = (self.session, *args[1:])
+        self._compare(function, args, can_apply=can_apply, progress=self.session is not None)
 
     # --- applying -------------------------------------------------------------------------------
 
@@ -235,6 +250,9 @@ class ParameterSets(QObject):
         if label is not None:
             self.progress = _progress_dialog(self.window, task, label)
         return task.start()
+
+
+_READ_THE_ECU = (compare_with_ecu, compare_pages)  # comparisons whose first argument is the session
 
 
 def _progress_dialog(parent, task: Task, label: str) -> QProgressDialog:

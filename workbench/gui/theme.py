@@ -56,6 +56,7 @@ QTableView, QTreeView, QListView {{ background: {PANEL}; alternate-background-co
 QLineEdit, QSpinBox, QDoubleSpinBox, QComboBox {{ background: {RAISED}; border: 1px solid {BORDER};
                                                   border-radius: 4px; padding: 3px 6px; }}
 QLineEdit:focus, QSpinBox:focus, QDoubleSpinBox:focus, QComboBox:focus {{ border-color: {ACCENT}; }}
+QLineEdit:disabled {{ background: {PANEL}; color: {MUTED}; }}
 QPushButton {{ background: {RAISED}; border: 1px solid {BORDER}; border-radius: 4px; padding: 5px 14px; }}
 QPushButton:hover {{ border-color: {ACCENT}; }}
 QPushButton:default {{ background: #24466b; border-color: {ACCENT}; }}

@@ -48,11 +48,10 @@ class CalibrationTableModel(QAbstractTableModel):
         self.y_points: np.ndarray | None = None
         self.decimals: int | None = None
         self.axis_decimals: tuple[int | None, ...] = ()  # the A2L's decimals of the X (and Y) points
-        self.writable = True
+        self.read_only = ""  # why nothing can be written now (greyed cells, the reason in their tooltips); "": writable
         self.axis_labels: tuple[str, str | None] | None = None  # "target [bar]" of X, of Y (set by the table)
 
-    def set_value(self, value: np.ndarray, x_points, y_points=None, *, decimals=None, axis_decimals=(),
-                  writable=True) -> None:
+    def set_value(self, value: np.ndarray, x_points, y_points=None, *, decimals=None, axis_decimals=()) -> None:
         """New values; of the same shape they repaint in place, so a selected range stays selected for the
         next block operation (a reset would clear it after every write)."""
         value = np.array(value, dtype=np.float64)
@@ -64,7 +63,6 @@ class CalibrationTableModel(QAbstractTableModel):
         self.y_points = None if y_points is None else np.asarray(y_points, dtype=np.float64)
         self.decimals = decimals
         self.axis_decimals = tuple(axis_decimals)
-        self.writable = writable
         if not same_shape:
             self.endResetModel()
             return
@@ -80,6 +78,11 @@ class CalibrationTableModel(QAbstractTableModel):
         """(cell, text) of every value (their widths, with the breakpoints', size the columns)."""
         for cell in np.ndindex(*self.value.shape):
             yield cell, format_value(float(self.value[cell]), self.decimals)
+
+    def set_read_only(self, why: str) -> None:
+        self.read_only = why
+        if self.rowCount() and self.columnCount():
+            self.dataChanged.emit(self.index(0, 0), self.index(self.rowCount() - 1, self.columnCount() - 1))
 
     def set_reference(self, reference: np.ndarray | None) -> None:
         self.reference = None if reference is None else np.array(reference, dtype=np.float64)
@@ -119,6 +122,8 @@ class CalibrationTableModel(QAbstractTableModel):
             low, high = np.nanmin(self.value), np.nanmax(self.value)
             return shade(0.5 if high == low else (value - low) / (high - low))
         if role == Qt.ForegroundRole:
+            if self.read_only:
+                return QColor(theme.MUTED)
             return QColor(theme.WARN) if self.modified(cell) else QColor("#f2f4f7")
         if role == Qt.FontRole and self.modified(cell):
             font = QFont()
@@ -130,7 +135,7 @@ class CalibrationTableModel(QAbstractTableModel):
             text = f"{format_value(value, self.decimals)}"
             if self.reference is not None and self.modified(cell):
                 text += f" (reference page: {format_value(float(self.reference[cell]), self.decimals)})"
-            return text
+            return f"{text}\nread-only: {self.read_only}" if self.read_only else text
         return None
 
     def headerData(self, section, orientation, role=Qt.DisplayRole):
@@ -152,7 +157,7 @@ class CalibrationTableModel(QAbstractTableModel):
 
     def flags(self, index):
         flags = super().flags(index)
-        return flags | Qt.ItemIsEditable if self.writable else flags
+        return flags if self.read_only else flags | Qt.ItemIsEditable
 
     def setData(self, index, value, role=Qt.EditRole) -> bool:
         """A cell's new value (a number, or its text): the whole array goes to ``edited``, the cell keeps showing

@@ -39,6 +39,13 @@ class FixModel(RowsModel):
         # (_VALUE name, value) -> text: a live or override value in the _VALUE's A2L format
         self.value_format = value_format or (lambda name, value: format_value(value))
         self.bus_value = bus_value or (lambda fix: None)  # FixState -> the signal's text as sent on the bus, or None
+        self.read_only = ""  # why nothing can be typed or switched now ("": it can)
+        self.stale = False  # the values are the last ones read, not current (greyed)
+
+    def set_read_only(self, why: str, stale: bool = False) -> None:
+        self.read_only, self.stale = why, stale
+        if self.rows:
+            self.dataChanged.emit(self.index(0, 0), self.index(len(self.rows) - 1, len(COLUMNS) - 1))
 
     def live_text(self, fix) -> str:
         if fix.live is None and fix.pair.live is None:
@@ -80,7 +87,7 @@ class FixModel(RowsModel):
         if role == Qt.CheckStateRole and column == "on":
             return Qt.Checked if fix.active else Qt.Unchecked
         if role == Qt.ForegroundRole:
-            if column == "kind":
+            if column == "kind" or (self.stale and column != "signal"):
                 return QColor(theme.MUTED)
             if column == "live" and fix.active:
                 return QColor(theme.WARN)
@@ -89,11 +96,15 @@ class FixModel(RowsModel):
         if role == Qt.ToolTipRole:
             return (f"{fix.pair.signal} ({fix.pair.kind})\n{fix.pair.enable} / {fix.pair.value}: while "
                     f"{fix.pair.enable} = 1 the ECU uses {fix.pair.value} instead of {fix.pair.signal}\n"
-                    f"{self._live_source(fix)}\noverride: Enter writes, Esc restores")
+                    f"{self._live_source(fix)}\noverride: Enter writes, Esc restores"
+                    + ("\nnot current" if self.stale else "")
+                    + (f"\nread-only: {self.read_only}" if self.read_only else ""))
         return None
 
     def flags(self, index):
         flags = super().flags(index)
+        if self.read_only:
+            return flags
         if index.column() == ON:
             return flags | Qt.ItemIsUserCheckable
         if index.column() == OVERRIDE:

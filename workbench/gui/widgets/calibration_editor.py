@@ -6,18 +6,27 @@ what the ECU holds. A value the session refuses (beyond the limits, not one of t
 said in the editor's status line, with the limit, and the ECU keeps its value. Values that differ
 from the reference page (the flashed CAL ROM) are marked. Each write is an undo step: undo writes
 the previous value back.
+
+While nothing can be written (not connected, the connection lost, the reference page active, a read-only
+session) the editor is read-only and greyed, its tooltip and status line say why; a write tried then is
+refused at once ("not written: not connected"). A write under way when the connection is lost ends with
+"not written" in the editor (badge and status line, kept after reconnecting until the next write) while the
+field shows what the ECU holds.
 """
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
-from PySide6.QtCore import Qt, Signal
+from PySide6.QtCore import QRect, Qt, Signal
 from PySide6.QtGui import QUndoCommand, QUndoStack
 from PySide6.QtWidgets import QHBoxLayout, QLabel, QSizePolicy, QToolButton, QVBoxLayout, QWidget
 
-from workbench.errors import InputError
+from workbench.errors import LimitsError
 from workbench.gui import theme
 from workbench.gui.a2l_info import CalibrationInfo
+from workbench.gui.ecu import READ_ONLY_PAGE, NotWrittenError, refusal
 from workbench.gui.formatting import format_value
 from workbench.gui.widgets.elided_label import ElidedLabel
 from workbench.gui.widgets.scalar_field import ScalarField
@@ -62,10 +71,15 @@ class CalibrationEditor(QWidget):
         self.value = None  # the CalValue shown
         self.reference = None  # the reference page's value (physical), None when unknown
         self.undo_stack = QUndoStack(self)
+        self.unwritten = ""  # a write the connection's loss cut off: what and why (until the next write)
+        self._message = ("", theme.MUTED)  # a refusal or failure (until the next write or page change)
+        self._writing = False
         self._build()
         controller.written.connect(self._written_elsewhere)
-        controller.page_changed.connect(lambda _: self.reload())
+        controller.page_changed.connect(self._page_changed)
         controller.connected.connect(self._connected)
+        controller.disconnected.connect(self._update_writable)
+        self._update_writable()
 
     def _build(self) -> None:
         info = self.info
@@ -81,10 +95,8 @@ class CalibrationEditor(QWidget):
         kind.setSizePolicy(QSizePolicy.Ignored, QSizePolicy.Preferred)  # gives way first: the name stays whole
         kind.setStyleSheet(f"color: {theme.MUTED};")
         head.addWidget(kind, 1)
-        self.modified_badge = QLabel("modified")
+        self.modified_badge = QLabel("modified")  # or "not written" (a write the connection's loss cut off)
         self.modified_badge.setObjectName("badge")
-        self.modified_badge.setStyleSheet(f"background: {theme.WARN}; color: #1b1b1b;")
-        self.modified_badge.setToolTip("differs from the reference page (the flashed calibration)")
         keep_place = self.modified_badge.sizePolicy()
         keep_place.setRetainSizeWhenHidden(True)  # appearing must not move the buttons beside it
         self.modified_badge.setSizePolicy(keep_place)
@@ -120,8 +132,7 @@ class CalibrationEditor(QWidget):
             layout.addWidget(self.field, 1)
         else:
             self.field = ScalarField(unit=info.unit, limits=info.limits, decimals=info.decimals,
-                                     states=list(info.states) or None, extended_limits=info.extended_limits,
-                                     writable=info.writable)
+                                     states=list(info.states) or None, extended_limits=info.extended_limits)
             layout.addWidget(self.field)
             self.reference_label = QLabel()
             self.reference_label.setStyleSheet(f"color: {theme.MUTED};")
@@ -147,8 +158,33 @@ class CalibrationEditor(QWidget):
                              on_error=lambda _: self._show_reference(None))
 
     def _connected(self, _) -> None:
-        self._say("")  # what was under way on the session before is over with it
+        self._writing = False  # what was under way on the session before is over with it
+        self._message = ("", theme.MUTED)
+        self._update_writable()
         self.reload()
+
+    def _page_changed(self, _page: str) -> None:
+        self._message = ("", theme.MUTED)  # a refusal on the other page is no longer the news
+        self._update_writable()
+        self.reload()
+
+    def read_only_reason(self) -> str:
+        """Why nothing can be written now ("" when it can)."""
+        session = self.controller.session
+        if not self.info.writable:
+            return "the A2L forbids calibrating it"
+        if session is None:
+            return self.controller.offline_reason
+        if session.read_only:
+            return "the ECU's EPK differs from the A2L's"
+        if self.controller.page == "reference":
+            return READ_ONLY_PAGE
+        return ""
+
+    def _update_writable(self) -> None:
+        """Greyed and read-only with the reason in the tooltip while nothing can be written; the status line."""
+        self.field.set_read_only(self.read_only_reason())
+        self._update_status()
 
     def _written_elsewhere(self, name: str) -> None:
         if name == self.info.name:
@@ -156,21 +192,16 @@ class CalibrationEditor(QWidget):
 
     def _show(self, value) -> None:
         self.value = value
-        session = self.controller.session
-        writable = self.info.writable and not (session is not None and session.read_only)
         if isinstance(self.field, TableField):
             axes = [a.values for a in value.axes]
             x = axes[0] if axes else np.arange(np.shape(value.value)[0])
             y = axes[1] if len(axes) > 1 else None
             self.field.show_value(np.asarray(value.value, dtype=np.float64), x, y, decimals=self.info.decimals,
-                                  axis_decimals=self.info.axis_decimals if axes else (), writable=writable)
+                                  axis_decimals=self.info.axis_decimals if axes else ())
             self.field.set_reference(self.reference)
         else:
             self.field.show_value(value.value)
-            self.field.input.setEnabled(writable)
-        if not writable:
-            self._say("read-only: " + ("the ECU's EPK differs from the A2L's" if self.info.writable
-                                       else "the A2L forbids calibrating it"))
+        self._update_writable()
         self._mark()
         self.loaded.emit(value)
 
@@ -185,52 +216,119 @@ class CalibrationEditor(QWidget):
         self._mark()
 
     def _mark(self) -> None:
-        if self.value is None or self.reference is None:
-            self.modified_badge.hide()
+        """The badge: "not written" while a write is cut off, else "modified" where the value differs from the
+        reference page."""
+        badge = self.modified_badge
+        if self.unwritten:
+            badge.setText("not written")
+            badge.setStyleSheet(f"background: {theme.BAD}; color: #1b1b1b;")
+            badge.setToolTip(self.unwritten)
+            badge.show()
             return
+        badge.setText("modified")
+        badge.setStyleSheet(f"background: {theme.WARN}; color: #1b1b1b;")
+        badge.setToolTip("differs from the reference page (the flashed calibration)")
+        badge.setVisible(self._modified())
+
+    def _modified(self) -> bool:
+        if self.value is None or self.reference is None:
+            return False
         current, reference = self.value.value, self.reference
         if isinstance(current, np.ndarray) or isinstance(reference, np.ndarray):
-            same = np.shape(current) == np.shape(reference) and np.array_equal(
-                np.asarray(current, dtype=np.float64), np.asarray(reference, dtype=np.float64), equal_nan=True)
-        else:
-            same = current == reference
-        self.modified_badge.setVisible(not same)
+            return not (np.shape(current) == np.shape(reference) and np.array_equal(
+                np.asarray(current, dtype=np.float64), np.asarray(reference, dtype=np.float64), equal_nan=True))
+        return current != reference
 
     def _say(self, text: str, colour: str = theme.MUTED) -> None:
+        self._message = (text, colour)
+        self._update_status()
+
+    def _update_status(self) -> None:
+        """One line, the most important first: writing, a write cut off, a refusal or failure, why read-only."""
+        reason = self.read_only_reason()
+        text, colour = self._message
+        if self._writing:
+            text, colour = "writing …", theme.MUTED
+        elif self.unwritten:
+            text, colour = f"⚠ {self.unwritten}; the field shows what the ECU holds", theme.BAD
+        elif not text and reason:
+            text, colour = f"read-only: {reason}", theme.MUTED
+        if text != self.status.text():
+            self.status.setToolTip("")
         self.status.setText(text)
         self.status.setStyleSheet(f"color: {colour};")
+        self._mark()
 
-    def _say_refused(self, reason: str) -> None:
-        """A value not written: why, in the status line (no dialog: the user is typing)."""
-        self._say(f"not written: {reason}", theme.BAD)
+    def _say_refused(self, reason: str, *shorter: str) -> None:
+        """A value not written: why, in the status line (no dialog: the user is typing; the editor's title names
+        it); the first of ``shorter`` that fits where ``reason`` would take more than the line's two rows (all of
+        it in the tooltip)."""
+        texts = [f"not written: {text.removeprefix(self.info.name + ': ')}" for text in (reason, *shorter)]
+        metrics, room = self.status.fontMetrics(), QRect(0, 0, max(self.status.width(), 1), 10_000)
+        two_rows = metrics.boundingRect(room, Qt.TextWordWrap, "x\nx").height()
+        fits = [t for t in texts if metrics.boundingRect(room, Qt.TextWordWrap, t).height() <= two_rows]
+        self._say((fits or texts[-1:])[0], theme.BAD)
+        self.status.setToolTip(reason)
         self.refused.emit(reason)
 
     def _failed(self, exc: BaseException) -> None:
         self._say(f"⚠ {exc}", theme.BAD)
         self.error.emit(exc)
 
+    def _located(self, exc: LimitsError) -> list[str]:
+        """A refusal's cell named by its breakpoints, as CANape does, not by the array's index: "at xaPRV_FF_TARGET
+        10.00 bar / xaPRV_FF_MANIFOLD 200.00 bar", then shorter ("at TARGET 10.00 bar / MANIFOLD 200.00 bar",
+        "at 10.00 bar / 200.00 bar") for a narrow editor."""
+        model = getattr(self.field, "model", None)
+        quantities = [quantity for quantity, _ in self.info.axis_quantities]
+        if model is None or not quantities:
+            return [str(exc)]
+        common = os.path.commonprefix(quantities) if len(quantities) > 1 else ""
+        names = [quantities, [q[len(common):] for q in quantities] if common else None, [""] * len(quantities)]
+        points = (model.x_points, model.y_points)
+        texts = []
+        for shown in (n for n in names if n is not None):
+            text = str(exc)
+            for violation in exc.violations[:3]:
+                index = violation.index
+                if index is None or len(index) != len(quantities):
+                    continue
+                where = " / ".join(f"{name} {model.point_text(axis, points[axis][i])} {unit}".strip()
+                                   for axis, (name, (_, unit), i) in
+                                   enumerate(zip(shown, self.info.axis_quantities, index)))
+                text = text.replace(f" at {list(index)}", f" at {where}", 1)
+            texts.append(text)
+        return texts
+
     # --- writing --------------------------------------------------------------------------------
 
     def edit(self, new) -> None:
         """The user's new value: written, and an undo step once the ECU took it."""
-        if self.value is None:
-            return
-        old = self.value.value
-        self.write(new, on_done=lambda _: self.undo_stack.push(_Write(self, old, new)))
+        old = None if self.value is None else self.value.value
+        self.write(new, on_done=None if old is None else lambda _: self.undo_stack.push(_Write(self, old, new)))
 
     def write(self, value, on_done=None) -> None:
         def done(result) -> None:
+            self._writing, self.unwritten = False, ""
             self._say("")
             if on_done is not None:
                 on_done(result)
 
-        self._say("writing …")
+        self._writing = True
+        self._message = ("", theme.MUTED)
+        self._update_status()
         self.controller.write(self.info.name, value, allow_extended_limits=self.field.allow_extended_limits,
-                              on_done=done, on_error=self._not_written)
+                              on_done=done, on_error=lambda exc: self._not_written(value, exc))
 
-    def _not_written(self, exc: BaseException) -> None:
-        if isinstance(exc, InputError):  # the session refused it before sending: the user's value, not the ECU
-            self._say_refused(str(exc))
+    def _not_written(self, value, exc: BaseException) -> None:
+        self._writing = False
+        reason = refusal(exc)
+        if isinstance(exc, NotWrittenError) and exc.lost:  # cut off: the ECU may hold the old value or the new
+            shown = _short(value) if np.ndim(value) else format_value(value, self.info.decimals)
+            self.unwritten = f"{shown} not written: {exc}"
+            self._update_status()
+        elif reason is not None:  # refused before anything was sent: the user's value, not the ECU
+            self._say_refused(*(self._located(exc) if isinstance(exc, LimitsError) else [reason]))
         else:
             self._failed(exc)
-        self.reload()  # show what the ECU really holds
+        self.reload()  # show what the ECU really holds (on reconnecting when there is no session now)

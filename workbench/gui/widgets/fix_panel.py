@@ -2,16 +2,18 @@
 value, the override value and a switch. Switching on writes ``_VALUE`` then ``_EN`` = 1 through the
 session; the table refreshes every second while it is visible. The override is typed as every value
 of the window is (Enter writes, Esc restores, leaving writes nothing; a verbal value by its text or
-from the drop-down); a value the session refuses is said below the table, the limit named."""
+from the drop-down); a value the session refuses is said below the table, the limit named. Values keep the
+A2L's format all the time; while the ECU is not connected (or lost) they are greyed as not current and
+nothing can be typed (on the reference page neither: XCP may not write it), the tooltip says why."""
 
 from __future__ import annotations
 
 from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtWidgets import QAbstractItemView, QLabel, QTableView, QVBoxLayout, QWidget
 
-from workbench.errors import InputError
 from workbench.gui import theme
 from workbench.gui.a2l_info import value_decimals
+from workbench.gui.ecu import READ_ONLY_PAGE, refusal
 from workbench.gui.formatting import format_value
 from workbench.gui.models.fixes import COLUMNS, FixModel
 from workbench.gui.widgets.columns import share_columns
@@ -31,12 +33,14 @@ class FixPanel(QWidget):
         super().__init__(parent)
         self.controller = controller
         self.hub = hub
+        self.a2l = None  # the A2L model of the last session: the values' formats stay when it is closed
         self.model = FixModel(self, value_format=self._format, bus_value=self._bus_value if hub is not None else None)
         self.model.override_requested.connect(self.override)
         self.model.enable_requested.connect(lambda fix: controller.write(fix.pair.enable, 1, on_error=self._not_written))
         self.model.release_requested.connect(self.release)
         self.model.value_requested.connect(lambda fix, value: controller.write(fix.pair.value, value,
                                                                                on_error=self._not_written))
+        controller.page_changed.connect(self._page_changed)
         layout = QVBoxLayout(self)
         layout.setContentsMargins(4, 4, 4, 4)
         hint = QLabel("Tick <b>on</b> to replace a signal by its override value (…_EN = 1); type the override and "
@@ -70,28 +74,37 @@ class FixPanel(QWidget):
         self.timer.setInterval(REFRESH_MS)
         self.timer.timeout.connect(self.refresh)
         controller.connected.connect(self._connected)
-        controller.disconnected.connect(self.timer.stop)
+        controller.disconnected.connect(self._disconnected)
         controller.written.connect(lambda _: (self.message.setText(""), self.refresh()))
+        self.model.set_read_only(controller.offline_reason, stale=True)
 
-    def _connected(self, _) -> None:
+    def _connected(self, result) -> None:
         self._busy = False  # a request on the session before (closed under it) is not waited for
+        self.a2l = result.session.model
+        self.message.setText("")
+        self.model.set_read_only("", stale=True)  # greyed until the first refresh
         self.refresh()
         self.timer.start()
 
+    def _disconnected(self) -> None:
+        self.timer.stop()
+        self.model.set_read_only(self.controller.offline_reason, stale=True)
+
+    def _page_changed(self, page: str) -> None:
+        self.message.setText("")
+        self.model.set_read_only(READ_ONLY_PAGE if page == "reference" else "", stale=self.model.stale)
+
     def _states(self, index) -> tuple[str, ...]:
         """The verbal values of a row's ``_VALUE`` (its drop-down), none for a number."""
-        session = self.controller.session
-        if session is None or not 0 <= index.row() < len(self.model.rows):
+        model = self.a2l
+        if model is None or not 0 <= index.row() < len(self.model.rows):
             return ()
-        model = session.model
         conversion = model.conversion(model.object(self.model.rows[index.row()].pair.value))
         return tuple(conversion.allowed) if getattr(conversion, "verbal", False) else ()
 
     def _format(self, name: str, value) -> str:
         """A live or override value in the format of ``_VALUE`` ``name`` (its A2L decimals)."""
-        session = self.controller.session
-        decimals = value_decimals(session.model, name) if session is not None else None
-        return format_value(value, decimals)
+        return format_value(value, value_decimals(self.a2l, name) if self.a2l is not None else None)
 
     def _bus_value(self, fix) -> str | None:
         """A CAN signal's newest value as the CAN2 monitor decoded it (``Message.Signal`` of the same name)."""
@@ -115,6 +128,7 @@ class FixPanel(QWidget):
     def _show(self, fixes) -> None:
         self._busy = False
         self.model.set_fixes(fixes)
+        self.model.set_read_only(self.model.read_only, stale=False)
         self.refreshed.emit()
 
     def _failed(self, exc) -> None:
@@ -127,19 +141,16 @@ class FixPanel(QWidget):
         self.refused.emit(reason)
 
     def _not_written(self, exc: BaseException) -> None:
-        if isinstance(exc, InputError):  # refused before anything was sent: the typed value, not the ECU
-            self._say_refused(str(exc))
+        reason = refusal(exc)
+        if reason is not None:  # refused before anything was sent (or not sent at all): said here, not in a dialog
+            self._say_refused(reason)
         else:
             self.error.emit(exc)
         self.refresh()
 
-    def _written(self, fix) -> None:
-        self.controller.written.emit(fix.pair.enable)
-
     def override(self, fix, value) -> None:
-        self.controller.call("override", fix.pair.stem, value, on_done=lambda _: self._written(fix),
-                             on_error=self._not_written)
+        self.controller.change("override", fix.pair.stem, value, on_error=self._not_written,
+                               changes=(fix.pair.enable, fix.pair.value))
 
     def release(self, fix) -> None:
-        self.controller.call("release", fix.pair.stem, on_done=lambda _: self._written(fix),
-                             on_error=self._not_written)
+        self.controller.change("release", fix.pair.stem, on_error=self._not_written, changes=(fix.pair.enable,))

@@ -10,7 +10,7 @@ from PySide6.QtWidgets import QCheckBox, QHBoxLayout, QLabel, QWidget
 
 from workbench.gui import theme
 from workbench.gui.formatting import format_value
-from workbench.gui.widgets.value_input import ValueEdit
+from workbench.gui.widgets.value_input import HINT, ValueEdit
 
 __all__ = ["ScalarField"]
 
@@ -25,7 +25,7 @@ class ScalarField(QWidget):
 
     def __init__(self, *, unit: str, limits: tuple[float, float], decimals: int | None,
                  states: list[str] | None = None, extended_limits: tuple[float, float] | None = None,
-                 writable: bool = True, parent: QWidget | None = None):
+                 parent: QWidget | None = None):
         super().__init__(parent)
         self.states = tuple(states or ())
         self.decimals = decimals
@@ -37,7 +37,6 @@ class ScalarField(QWidget):
         self.input.setMaximumWidth(240)
         self.input.committed.connect(self.committed)
         self.input.refused.connect(self.refused)
-        self.input.setEnabled(writable)
         layout.addWidget(self.input, 1)
         self.unit_label = QLabel(unit if not self.states else "")
         layout.addWidget(self.unit_label)
@@ -54,6 +53,13 @@ class ScalarField(QWidget):
     @property
     def allow_extended_limits(self) -> bool:
         return self.extended is not None and self.extended.isChecked()
+
+    def set_read_only(self, why: str) -> None:
+        """Greyed, nothing typed, ``why`` in the tooltip (a disabled field still shows it); "": writable."""
+        self.input.setEnabled(not why)
+        self.input.setToolTip(f"read-only: {why}" if why else HINT)
+        if self.extended is not None:
+            self.extended.setEnabled(not why)
 
     def show_value(self, value) -> None:
         """Show what the ECU holds (no ``committed`` follows); what is being typed stays until Enter/Esc."""

@@ -149,11 +149,14 @@ class TableField(QWidget):
         header.ensurePolished()  # its height with the style sheet's padding (unpolished it is 14 px less)
         self.table.setMinimumHeight(min(rows, 8) * self.table.verticalHeader().defaultSectionSize()
                                     + header.sizeHint().height() + scroll_bar + 2 * self.table.frameWidth())
-        writable = options.get("writable", True)
-        for button in self.block_buttons.values():
-            button.setEnabled(writable)
-        self.operand.setEnabled(writable)
         self._draw()
+
+    def set_read_only(self, why: str) -> None:
+        """Cells greyed and not editable, the block operations off, ``why`` in the tooltips; "": writable."""
+        self.model.set_read_only(why)
+        for widget in (*self.block_buttons.values(), self.operand) + ((self.extended,) if self.extended else ()):
+            widget.setEnabled(not why)
+        self.table.setToolTip(f"read-only: {why}" if why else "")
 
     def _fit_columns(self) -> None:
         """The columns' least width: the widest breakpoint (bold, with the header's padding of the style sheet)
