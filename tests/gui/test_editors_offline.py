@@ -122,6 +122,9 @@ def test_a_comparison_with_the_ecu_is_outdated_once_the_ecu_connects_again(windo
         sets.open(path)
     assert view.summary.text() == "0 of 58 objects differ"
     window.disconnect_action.trigger()
+    with qtbot.waitSignal(sets.message, timeout=WAIT_MS) as said:
+        view.apply_button.click()
+    assert said.args[0] == "base.dcm not applied: not connected"
     reconnect(window, qtbot)
     assert view.summary.text() == "0 of 58 objects differ · outdated: ECU reconnected since"
     with qtbot.waitSignal(sets.compared, timeout=WAIT_MS):

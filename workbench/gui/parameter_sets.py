@@ -179,7 +179,10 @@ class ParameterSets(QObject):
 
     def ask_apply(self) -> Task | None:
         """A dry run of the parameter set, then the question (what would change, what is refused)."""
-        if self.session is None or self.file is None:
+        if self.file is None:
+            return None
+        if self.session is None:  # said, not ignored: the button stays where the user pressed it
+            self.message.emit(f"{self.file.name} not applied: {self.window.controller.offline_reason}")
             return None
         return self._run(apply_file, (self.session, self.file, True, self.extended_limits), "checking",
                          self._confirm)
