@@ -158,10 +158,8 @@ class CalibrationEditor(QWidget):
                              on_error=lambda _: self._show_reference(None))
 
     def _connected(self, _) -> None:
-        self._writing = False  # what was under way on the session before is over with it
-        self._message = ("", theme.MUTED)
-        self._update_writable()
-        self.reload()
+        self._writing = False  # what was under way on the session before is over with it (a cut-off write is said)
+        self._page_changed("working")
 
     def _page_changed(self, _page: str) -> None:
         self._message = ("", theme.MUTED)  # a refusal on the other page is no longer the news
