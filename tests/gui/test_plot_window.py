@@ -121,17 +121,22 @@ def _near(a, b) -> bool:
     return abs(a.red() - b.red()) + abs(a.green() - b.green()) + abs(a.blue() - b.blue()) < 60
 
 
-def _tick_rows(axis) -> dict[float, float]:
-    """What ``axis`` (a drawn pyqtgraph AxisItem) writes beside the plot: each tick label's value -> its scene y."""
+def _tick_texts(axis) -> list:
+    """What ``axis`` (a drawn pyqtgraph AxisItem) writes: (its rectangle in the axis, text) of each tick label."""
     from PySide6.QtGui import QImage, QPainter
 
     image = QImage(10, 10, QImage.Format_ARGB32)
     painter = QPainter(image)
     try:
-        _, _, texts = axis.generateDrawSpecs(painter)
+        specs = axis.generateDrawSpecs(painter)
     finally:
         painter.end()
-    return {float(text): axis.mapToScene(rect.center()).y() for rect, _, text in texts}
+    return [(rect, text) for rect, _, text in specs[2]] if specs else []
+
+
+def _tick_rows(axis) -> dict[float, float]:
+    """Each tick label's value -> its scene y."""
+    return {float(text): axis.mapToScene(rect.center()).y() for rect, text in _tick_texts(axis)}
 
 
 def test_curves_of_one_unit_are_drawn_at_their_values_on_that_units_axis(qtbot):
@@ -154,9 +159,9 @@ def test_curves_of_one_unit_are_drawn_at_their_values_on_that_units_axis(qtbot):
     for index, (name, value) in enumerate((("rail", 30.0), ("target", 25.0))):
         curve = plot._curves[name]
         assert curve.getViewBox() is axis.view
-        drawn_at = curve.mapToScene(QPointF(5.5, value)).y()  # between the grid's lines
+        drawn_at = curve.mapToScene(QPointF(5.33, value)).y()  # between the grid's lines
         assert abs(drawn_at - ticks[value]) <= 1.0, (name, drawn_at, ticks)  # the line is where its tick says
-        x = int(curve.mapToScene(QPointF(5.5, value)).x())
+        x = int(curve.mapToScene(QPointF(5.33, value)).x())
         rows = [y for y in range(image.height()) if _near(QColor(image.pixel(x, y)), QColor(theme.trace_colour(index)))]
         assert rows and abs(sum(rows) / len(rows) - ticks[value]) <= 1.5, (name, rows, ticks[value])
 
@@ -180,3 +185,44 @@ def test_verbal_signals_step_in_lanes_of_their_own_labelled_with_their_states(pl
     assert valve_lane[1] < state_lane[0]  # one below the other, apart
     plot.remove_signals(["state", "valve"])
     assert plot.lanes.names == [] and plot.lanes.view.scene() is None
+
+
+def test_an_autoscaled_axis_spans_at_least_twenty_steps_of_the_signals_format(qtbot):
+    hub = SignalHub()
+    hub.add_signals([SignalInfo("rail", "XCP", "bar", decimals=2), SignalInfo("raw", "MDF", "V")])
+    t = np.linspace(0.0, 10.0, 1001)
+    noise = 25.0 + 0.0025 * (np.arange(1001) % 7) / 6  # below the format's last digit: 25.00 throughout
+    hub.sink("rail", t, noise)
+    hub.sink("raw", t, noise)
+    plot = PlotWindow(hub, "Rail", span_s=10.0)
+    qtbot.addWidget(plot)
+    plot.resize(700, 320)
+    plot.show()
+    plot.add_signals(["rail", "raw"])
+    plot.refresh()
+    bar, volt = plot._axes
+    qtbot.waitUntil(lambda: 24.0 < bar.view.viewRange()[1][0] and 24.0 < volt.view.viewRange()[1][0], timeout=2000)
+    (y0, y1) = bar.view.viewRange()[1]
+    assert y1 - y0 >= 0.2 * 0.999 and y0 < 25.0 < 25.0025 < y1  # 20 steps of 0.01 bar about the noise
+    assert all(round(value, 2) == value for value in _tick_rows(bar.item))  # no tick finer than the format
+    assert volt.view.viewRange()[1][1] - volt.view.viewRange()[1][0] < 0.01  # no format: as the values come
+
+
+@pytest.mark.parametrize("width", range(120, 271, 15))  # the plot's share of a crowded window
+def test_the_time_axis_labels_never_run_together(qtbot, width):
+    hub = SignalHub()
+    hub.add_signals([SignalInfo("rail", "XCP", "bar", decimals=2)])
+    t = np.linspace(139.0, 149.0, 101)
+    hub.sink("rail", t, np.full(101, 25.0))
+    plot = PlotWindow(hub, "Rail", span_s=10.0)
+    qtbot.addWidget(plot)
+    plot.resize(700, 250)
+    plot.show()
+    plot.add_signals(["rail"])
+    plot._legend_moved()  # the user dragged the legend's edge: the plot is narrow
+    plot.splitter.setSizes([width, 700 - width])
+    plot.refresh()
+    time_axis = plot.plot.getAxis("bottom")
+    qtbot.waitUntil(lambda: bool(_tick_texts(time_axis)), timeout=2000)
+    labels = sorted((rect.left(), rect.right(), text) for rect, text in _tick_texts(time_axis))
+    assert all(right + 4 <= next_left for (_, right, _), (next_left, _, _) in zip(labels, labels[1:])), labels

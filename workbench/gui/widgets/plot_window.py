@@ -8,7 +8,8 @@ Follow button resumes it. Two cursors show every signal's value at two instants 
 between them; one cursor shows every signal's value at one instant. Signals with the same unit
 share a y-axis (one view box, one scale); each axis stands in the view's row, as tall as the view, so
 a value is drawn at its tick; it is coloured like its first signal and autoscales unless the user
-zooms it. The axes take at most two fifths of the plot's width: those beyond it (in the order their
+zooms it, never to less than twenty steps of its signals' format (noise below the last digit
+shown looks flat, as in CANape). The axes take at most two fifths of the plot's width: those beyond it (in the order their
 units came, the selected signal's first) are not drawn; their curves keep their own scale and the
 legend their values and units. Verbal signals (states such as ON/OFF) have no unit's axis: they step
 in lanes of their own below the view, labelled with their states' texts (:mod:`.digital_lanes`). The legend is as wide as its columns want, at
@@ -39,6 +40,7 @@ from workbench.gui.mime import SignalDropTarget
 from workbench.gui.signal_hub import SignalHub
 from workbench.gui.widgets.columns import refit_columns, share_columns, wanted_width
 from workbench.gui.widgets.digital_lanes import DigitalLanes
+from workbench.gui.widgets.spaced_axis import SpacedAxis
 from workbench.gui.widgets.names import NameDelegate
 
 __all__ = ["PlotWindow"]
@@ -47,6 +49,7 @@ REFRESH_HZ = 25
 LEGEND_SHARE = 0.5  # of the window's width for the legend at most, until the user drags its edge
 LEGEND_NAME_PX = 170  # the names' column's share of the legend's width: longer names are cut
 AXES_SHARE = 0.4  # of the plot's width, at most, for its y-axes (one is always drawn)
+MIN_SPAN_STEPS = 20  # display steps (the format's last digit) an axis spans at least: noise below them looks flat
 AXIS_WIDTH_PX = 50  # what an axis takes, counted alike for all (their widths follow their ticks: no flicker)
 LEGEND_EVERY = 4  # refreshes per update of the legend's numbers (6 Hz: readable, and a frame saved)
 SPANS_S = (2.0, 5.0, 10.0, 30.0, 60.0, 300.0)
@@ -126,7 +129,7 @@ class PlotWindow(SignalDropTarget, QWidget):
         splitter = QSplitter(Qt.Horizontal)
         self.graphics = pg.GraphicsLayoutWidget()
         self.graphics.ci.setContentsMargins(2, 4, 8, 2)
-        self.plot = pg.PlotItem()
+        self.plot = pg.PlotItem(axisItems={"bottom": SpacedAxis("bottom")})  # labels that never run together
         self.plot.showGrid(x=True, y=True, alpha=1.0)
         for name in ("left", "bottom"):  # the grid is drawn by these axes, in their pen's colour
             axis = self.plot.getAxis(name)
@@ -246,6 +249,8 @@ class PlotWindow(SignalDropTarget, QWidget):
                     axis.view.removeItem(curve)
                     if not axis.traces:
                         self._drop_axis(axis)
+                    else:
+                        self._limit_span(axis)
         self._changed()
 
     def _changed(self) -> None:
@@ -269,6 +274,7 @@ class PlotWindow(SignalDropTarget, QWidget):
             axis = self._axis_for(info.unit, colour)
             axis.traces.append(name)
             axis.view.addItem(curve)
+            self._limit_span(axis)
         self._curves[name] = curve
         self._order.append(name)
 
@@ -282,7 +288,7 @@ class PlotWindow(SignalDropTarget, QWidget):
             view = pg.ViewBox()
             view.setXLink(self.plot.vb)
             self.plot.scene().addItem(view)
-        item = pg.AxisItem("left")
+        item = SpacedAxis("left")
         item.linkToView(view)
         item.setLabel(unit)  # no unit: no label
         pen = pg.mkPen(colour)
@@ -294,6 +300,12 @@ class PlotWindow(SignalDropTarget, QWidget):
         self._sync_views()
         self._fit_axes()
         return axis
+
+    def _limit_span(self, axis: _Axis) -> None:
+        """Autoscaled or zoomed, ``axis`` spans at least :data:`MIN_SPAN_STEPS` of its finest signal's display
+        step (25.00 bar: 0.2 bar), so it never reads 25.0000 ... 25.0025 around a value shown as 25.00."""
+        steps = [10.0 ** -info.decimals for info in map(self.hub.info, axis.traces) if info.decimals is not None]
+        axis.view.setLimits(minYRange=MIN_SPAN_STEPS * min(steps) if steps else None)
 
     def _drop_axis(self, axis: _Axis) -> None:
         if axis in self._drawn:
