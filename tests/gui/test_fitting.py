@@ -10,7 +10,7 @@ from PySide6.QtCore import QRectF, Qt
 from PySide6.QtGui import QFont, QFontMetrics
 
 from workbench.gui.signal_hub import SignalHub, SignalInfo
-from workbench.gui.widgets.names import elide_name
+from workbench.gui.widgets.names import distinct_positions, elide_name
 from workbench.gui.widgets.plot_window import PlotWindow
 from workbench.gui.widgets.table_field import TableField
 from workbench.gui.widgets.variable_browser import VariableBrowser
@@ -70,6 +70,25 @@ def test_similar_names_keep_what_tells_them_apart_and_the_tooltip_is_whole(brows
     assert elide_name("xsDC", metrics, 200) == "xsDC"
     row = next(r for r in range(browser.proxy.rowCount()) if browser.proxy.index(r, 0).data() == names[0])
     assert browser.proxy.index(row, 0).data(Qt.ToolTipRole).startswith(names[0])
+
+
+def test_names_alike_keep_the_part_that_tells_them_apart_among_the_others_of_their_column(browser, qtbot):
+    metrics = QFontMetrics(browser.table.font())
+    names = [variable.name for variable in browser.model.rows]
+    positions = distinct_positions(names)
+    for width in (110, 125):  # the variables dock's name column on a 1366 x 768 screen (the trial's)
+        shown = {name: elide_name(name, metrics, width, positions[name]) for name in names}
+        assert all(metrics.horizontalAdvance(text) <= width for text in shown.values())
+        for group in (["CANRX_PCM_TO_FLCU_001_Pdu.DlcError", "CANRX_PCM_TO_FLCU_002_Pdu.DlcError"],
+                      ["CANRX_PCM_TO_FLCU_001_Pdu.TimeOut", "CANRX_PCM_TO_FLCU_002_Pdu.TimeOut"],
+                      ["csPCM_TO_FLCU_001_BitStatus", "csPCM_TO_FLCU_002_BitStatus"]):
+            assert len({shown[name] for name in group}) == len(group), [shown[name] for name in group]
+        assert len(set(shown.values())) >= 0.95 * len(names)  # the first word and the end alone: 74 %
+    legend = ["zsTank1Pressure", "zsTank2Pressure", "zsManifoldPressure", "xsValve1State", "xsValve2State"]
+    positions = distinct_positions(legend)
+    for width in (60, 75, 90):  # a legend's name column beside a narrow plot (the trial's: 'zs…Pressure' thrice)
+        shown = [elide_name(name, metrics, width, positions[name]) for name in legend]
+        assert len(set(shown)) == len(legend) and all(metrics.horizontalAdvance(t) <= width for t in shown), shown
 
 
 def test_a_maps_axis_titles_are_whole_above_its_heat_map(qtbot):
