@@ -1,13 +1,14 @@
 """Long signal names cut so that the part that tells them apart stays: in a narrow column
-``zsTank1Pressure``, ``zsTank2Pressure`` and ``zsManifoldPressure`` read ``zsTank1Pr…``, ``zsTank2Pr…``,
-``zs…foldPressure``, not ``zs…Pressure`` three times; ``CANRX_PCM_TO_FLCU_001_Pdu.DlcError`` reads
-``CANRX_…1_Pdu.D…Error`` beside its ``002`` twin and its ``…Pdu.Dlc`` sibling.
+``zsTank1Pressure``, ``zsTank2Pressure`` and ``zsManifoldPressure`` read ``zsTank1P…``, ``zsTank2P…`` and
+``zsManifol…``, not ``zs…Pressure`` three times; ``CANRX_PCM_TO_FLCU_001_Pdu.DlcError`` reads
+``CANRX_…001…Error`` beside its ``002`` twin, not ``CANRX_….DlcError`` twice.
 
-A name is compared with the others of its column (the rows shown): the first character where it leaves
-the name sharing most of its beginning, and the last before the end it shares most with another, are
-kept first; then its first word (a storage class, a module, a message), then its end and the context of
-those characters, as much as fits; every gap is one "…". Without other names it keeps its first word and
-as much of its end as fits. The cell's tooltip (the model's) has the whole name.
+A name is compared with the others its view shows: the characters where it leaves its neighbours in the
+order of their beginnings and where its neighbours in the order of their ends join it are kept first, then
+its first word (a storage class, a module, a message), then the word of the first of them and its end, as
+much as fits; every gap is one "…". A name that still reads like another keeps other such characters.
+Alone it keeps its first word and as much of its end as fits. The cell's tooltip (the model's) has the
+whole name.
 """
 
 from __future__ import annotations
@@ -16,9 +17,9 @@ from collections.abc import Iterable, Sequence
 
 from PySide6.QtCore import QModelIndex
 from PySide6.QtGui import QFontMetrics
-from PySide6.QtWidgets import QStyle, QStyledItemDelegate, QStyleOptionViewItem
+from PySide6.QtWidgets import QAbstractItemView, QStyle, QStyledItemDelegate, QStyleOptionViewItem
 
-__all__ = ["NameDelegate", "distinct_positions", "elide_name"]
+__all__ = ["NameDelegate", "distinct_positions", "elide_name", "elide_names"]
 
 ELLIPSIS = "…"
 HEAD_MAX = 8  # characters: a first word up to here is kept (CANRX_, csPCM_, PRVCtrl_), else two (zs…)
@@ -27,20 +28,43 @@ _SAFETY = 3  # px: the style draws in a little less than its text rectangle (it 
 
 
 def distinct_positions(names: Iterable[str]) -> dict[str, tuple[int, ...]]:
-    """For each of ``names``: the positions of the characters that tell it from the others (where it leaves
-    the one that shares most of its beginning, and where the one that shares most of its end joins it)."""
+    """For each of ``names``: the positions of the characters that tell it from its neighbours, the most alike
+    first (where it leaves the names next to it in order of their beginnings, and where the names next to it
+    in order of their ends join it)."""
     unique = sorted(set(names))
-    if len(unique) < 2:
-        return {name: () for name in unique}
-    prefix = _neighbour_overlap(unique, lambda a, b: _common_prefix(a, b))
     backwards = sorted(unique, key=lambda name: name[::-1])
-    suffix = _neighbour_overlap(backwards, lambda a, b: _common_prefix(a[::-1], b[::-1]))
-    positions = {}
-    for name in unique:
-        first = min(prefix[name], len(name) - 1)
-        last = max(len(name) - suffix[name] - 1, 0)
-        positions[name] = tuple(sorted({first, last}))
-    return positions
+    found: dict[str, list[tuple[int, int]]] = {name: [] for name in unique}  # (overlap, position)
+    for ordered, overlap, position in (
+            (unique, _common_prefix, lambda name, n: min(n, len(name) - 1)),
+            (backwards, lambda a, b: _common_prefix(a[::-1], b[::-1]), lambda name, n: max(len(name) - n - 1, 0))):
+        for index, name in enumerate(ordered):
+            for other in ordered[max(index - 1, 0):index + 2]:
+                if other != name:
+                    shared = overlap(name, other)
+                    found[name].append((shared, position(name, shared)))
+    return {name: tuple(dict.fromkeys(p for _, p in sorted(pairs, reverse=True))) for name, pairs in found.items()}
+
+
+def elide_names(names: Sequence[str], metrics: QFontMetrics, width: int) -> dict[str, str]:
+    """Each of ``names`` cut to ``width`` pixels by :func:`elide_name` so that, as far as the room allows, no two
+    read alike: a name that reads like another keeps other characters that tell them apart."""
+    positions = distinct_positions(names)
+    shown = {name: elide_name(name, metrics, width, positions[name][:2]) for name in positions}
+    readers: dict[str, int] = {}
+    for text in shown.values():
+        readers[text] = readers.get(text, 0) + 1
+    for name, text in shown.items():
+        if readers[text] < 2:
+            continue
+        kept = positions[name]
+        for first in kept:
+            other = elide_name(name, metrics, width, (first, max(kept)))
+            if other not in readers:
+                readers[text] -= 1
+                readers[other] = 1
+                shown[name] = other
+                break
+    return shown
 
 
 def elide_name(name: str, metrics: QFontMetrics, width: int, distinct: Sequence[int] = ()) -> str:
@@ -132,12 +156,12 @@ def _neighbour_overlap(ordered: list[str], overlap) -> dict[str, int]:
 
 
 class NameDelegate(QStyledItemDelegate):
-    """Draws a column of names cut by :func:`elide_name`, each told from the others of its column."""
+    """Draws a column of names cut by :func:`elide_names`, each told from the others its view shows."""
 
     def __init__(self, parent=None):
         super().__init__(parent)
         self._model = None
-        self._positions: dict[int, dict[str, tuple[int, ...]]] = {}  # column -> name -> distinct positions
+        self._shown: dict[tuple, dict[str, str]] = {}  # (column, rows shown, width) -> name -> text
 
     def paint(self, painter, option, index) -> None:
         option = QStyleOptionViewItem(option)
@@ -150,23 +174,33 @@ class NameDelegate(QStyledItemDelegate):
         text_rect = style.subElementRect(QStyle.SE_ItemViewItemText, option, widget)
         margin = style.pixelMetric(QStyle.PM_FocusFrameHMargin, None, widget) + 1
         room = text_rect.width() - 2 * margin - _SAFETY
-        option.text = elide_name(option.text, option.fontMetrics, room, self._distinct(index).get(option.text, ()))
+        shown = self._texts(index, widget, option.fontMetrics, room)
+        option.text = shown.get(option.text) or elide_name(option.text, option.fontMetrics, room)
         style.drawControl(QStyle.CE_ItemViewItem, option, painter, widget)
 
-    def _distinct(self, index: QModelIndex) -> dict[str, tuple[int, ...]]:
-        """The distinct positions of the names in ``index``'s column, found again when its rows change."""
+    def _texts(self, index: QModelIndex, view, metrics: QFontMetrics, width: int) -> dict[str, str]:
+        """The names of ``index``'s column in the rows ``view`` shows, cut to ``width``: found once per scroll,
+        resize or change of the rows."""
         model = index.model()
         if model is not self._model:
             if self._model is not None:
                 self._connect(self._model, False)
             self._model = model
             self._connect(model, True)
-            self._positions = {}
-        column = index.column()
-        if column not in self._positions:
-            texts = (model.index(row, column).data() for row in range(model.rowCount()))
-            self._positions[column] = distinct_positions(str(text) for text in texts if text)
-        return self._positions[column]
+            self._shown = {}
+        top, bottom = 0, model.rowCount() - 1
+        if isinstance(view, QAbstractItemView):
+            viewport = view.viewport().rect()
+            top = max(view.indexAt(viewport.topLeft()).row(), 0)
+            last = view.indexAt(viewport.bottomLeft()).row()
+            bottom = last if last >= 0 else bottom
+        key = (index.column(), top, bottom, width)
+        if key not in self._shown:
+            if len(self._shown) > 64:
+                self._shown = {}
+            texts = (model.index(row, index.column()).data() for row in range(top, bottom + 1))
+            self._shown[key] = elide_names([str(text) for text in texts if text], metrics, width)
+        return self._shown[key]
 
     def _connect(self, model, on: bool) -> None:
         for signal, slot in ((model.modelReset, self._forget), (model.rowsInserted, self._forget),
@@ -175,9 +209,9 @@ class NameDelegate(QStyledItemDelegate):
             signal.connect(slot) if on else signal.disconnect(slot)
 
     def _forget(self, *_) -> None:
-        self._positions = {}
+        self._shown = {}
 
     def _data_changed(self, top_left: QModelIndex, bottom_right: QModelIndex, *_) -> None:
         """Values change often (a legend's, 6 times a second), names seldom: only a names' column is forgotten."""
-        for column in range(top_left.column(), bottom_right.column() + 1):
-            self._positions.pop(column, None)
+        columns = range(top_left.column(), bottom_right.column() + 1)
+        self._shown = {key: texts for key, texts in self._shown.items() if key[0] not in columns}
