@@ -82,7 +82,8 @@ class DigitalLanes:
         if not self._lanes:
             for item in (self.axis, self.view):
                 self.plot.layout.removeItem(item)
-                item.scene().removeItem(item) if item.scene() is not None else None
+                if item.scene() is not None:
+                    item.scene().removeItem(item)
         self._relayout()
         return True
 

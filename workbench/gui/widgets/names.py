@@ -145,16 +145,6 @@ def _common_prefix(a: str, b: str) -> int:
     return n
 
 
-def _neighbour_overlap(ordered: list[str], overlap) -> dict[str, int]:
-    """For each name of ``ordered`` (sorted so that the most alike are neighbours): its largest overlap."""
-    result = {}
-    for index, name in enumerate(ordered):
-        before = overlap(name, ordered[index - 1]) if index else 0
-        after = overlap(name, ordered[index + 1]) if index + 1 < len(ordered) else 0
-        result[name] = max(before, after)
-    return result
-
-
 class NameDelegate(QStyledItemDelegate):
     """Draws a column of names cut by :func:`elide_names`, each told from the others its view shows."""
 
