@@ -8,6 +8,7 @@ directories share lives in tests/ itself (pyproject's ``pythonpath``); tests/tes
 
 from __future__ import annotations
 
+import faulthandler
 import os
 import socket
 import sys
@@ -29,6 +30,15 @@ def pytest_configure(config) -> None:
 
     if display_problem() is not None:
         os.environ["QT_QPA_PLATFORM"] = "offscreen"
+
+
+@pytest.hookimpl(trylast=True)
+def pytest_unconfigure(config) -> None:
+    """A process (the run's or an xdist worker) that outlives its tests by two minutes prints where each thread
+    stands and ends with exit code 1: what keeps it (a thread, a Qt pool task that never returns) is a bug to see,
+    and CI must fail instead of waiting for its time limit. Twice a run's process stayed after its last test
+    without a word; pytest-timeout only watches the tests themselves."""
+    faulthandler.dump_traceback_later(120, exit=True)
 
 
 def free_port(kind: socket.SocketKind) -> int:
