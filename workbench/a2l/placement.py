@@ -88,7 +88,8 @@ def _placements(doc: A2lDocument, module: Block, objects: AddressedObjects, debu
                                   extensions.get(target.block, 0)))
     if unplaced and len(unplaced) == addressed and debug is None:  # with the ELF, each has its address mismatch
         first = unplaced[0]
-        shown = ", ".join(t.name for t in unplaced[:3]) + (f" and {len(unplaced) - 3} more" if len(unplaced) > 3 else "")
+        shown = ", ".join(target.name for target in unplaced[:3])
+        shown += f" and {len(unplaced) - 3} more" if len(unplaced) > 3 else ""
         report.add(finding_at(doc, first.address_token, "placeholder-address", first.name,
                               f"{len(unplaced)} object(s) still at address 0, the placeholder of an A2L not updated "
                               f"from its ELF ({shown}): workbench a2l update IN.a2l ELF -o OUT.a2l, or check --elf ELF",

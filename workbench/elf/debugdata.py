@@ -73,7 +73,7 @@ class DebugData:
         self._reader: dwarf.DwarfReader | None = None
         self._index: DwarfIndex | None = None
         # symbol path -> what resolve() answered for it: a ResolvedSymbol, or why not (see _failure)
-        self._found: dict[str, ResolvedSymbol | tuple] = {}  # path -> its symbol, or why the ELF lacks it
+        self._found: dict[str, ResolvedSymbol | tuple] = {}
         # the cache's resolved symbols as plain tuples without their types, taken into _found when asked for
         # (65,000 unpickle in 14 ms so, in 38 ms as ResolvedSymbols, which an address update never needs); their
         # types wait pickled in _cached_types, so that reading the EPK loads none
@@ -392,7 +392,8 @@ class DebugData:
             if found.__class__ is tuple:
                 failures[path] = found
             else:
-                symbols[path] = (found.path, found.address, found.size, found.source, found.bit_size, found.bit_position)
+                symbols[path] = (found.path, found.address, found.size, found.source, found.bit_size,
+                                 found.bit_position)
                 types[path] = found.type
         symbol_types = self._cached_types
         if types or symbol_types.__class__ is not bytes:
