@@ -31,6 +31,13 @@ def test_connecting_shows_who_the_ecu_is_and_that_its_epk_matches(window):
     assert "FLCU" in window.status.ecu.text() and window.status.link.text().startswith("●")
     assert window.flash_action.isEnabled() and not window.connect_action.isEnabled()
     assert window.browser.model.rowCount() > 100
+    # a message (the cache sync's after a connect, one here) stands beside the indicators, not over them
+    window.statusBar().showMessage("the data in the ECU equals \"FLCU.s19\" (58 objects)", 15000)
+    indicators = (window.status.link, window.status.ecu, window.status.epk, window.status.page)
+    assert all(label.isVisible() for label in indicators) and window.status.message.isVisible()
+    assert window.statusBar().currentMessage() == "the data in the ECU equals \"FLCU.s19\" (58 objects)"
+    window.statusBar().clearMessage()
+    assert window.statusBar().currentMessage() == ""
 
 
 def test_rail_pressure_dropped_on_a_new_plot_arrives_by_daq(window, qtbot):

@@ -2,7 +2,8 @@
 and - when the measurement stands still - why and since when (flashing, reconnecting, connection lost).
 
 Every text fits: the ECU's name and the link give way first (cut with "…", all of it in the tooltip),
-the measurement's state is short and complete."""
+the measurement's state is short and complete. A message (``showMessage``) stands beside the indicators,
+not over them."""
 
 from __future__ import annotations
 
@@ -50,16 +51,35 @@ class EcuStatusBar(QStatusBar):
         self.daq.setMinimumWidth(self.daq.fontMetrics().horizontalAdvance(longest) + 16)
         self.recording = QLabel()
         self.recording.setStyleSheet(f"color: {theme.BAD}; font-weight: bold;")
+        self.message = ElidedLabel(mode=Qt.ElideRight, minimum=60)
+        self._message_timer = QTimer(self, singleShot=True)
+        self._message_timer.timeout.connect(self.clearMessage)
         self.addWidget(self.link, 3)
         self.addWidget(self.ecu, 2)
         for widget in (self.epk, self.protection, self.page):
             self.addWidget(widget)
+        self.addWidget(self.message, 4)
         for widget in (self.recording, self.bus, self.daq):
             self.addPermanentWidget(widget)
         self.timer = QTimer(self)
         self.timer.setInterval(REFRESH_MS)
         self.timer.timeout.connect(self.refresh)
         self.timer.start()
+
+    def showMessage(self, text: str, timeout: int = 0) -> None:  # noqa: N802 - Qt's name
+        """``text`` beside the indicators for ``timeout`` ms (0: until the next). QStatusBar's own message hides
+        every widget but the permanent ones while it shows: after a connect, the link, the ECU, the EPK and the
+        page vanished for 15 s behind "the data in the ECU equals ..." (user trial)."""
+        self.message.setText(text)
+        self._message_timer.stop()
+        if timeout > 0:
+            self._message_timer.start(timeout)
+
+    def clearMessage(self) -> None:  # noqa: N802 - Qt's name
+        self.message.setText("")
+
+    def currentMessage(self) -> str:  # noqa: N802 - Qt's name
+        return self.message.text()
 
     def show_connected(self, session, info) -> None:
         self.link.setText(f"● {info.link}")
