@@ -1,11 +1,12 @@
 """Dialogs that need no ECU: connection settings from the A2L's IF_DATA, cache synchronisation."""
 
 import pytest
+from PySide6.QtWidgets import QLabel
 
 from workbench.errors import InputError
 from workbench.gui.project import Connection
 from workbench.gui.widgets.connection_dialog import ConnectionDialog, parse_bus_kwargs
-from workbench.gui.widgets.sync_dialog import SyncChoice, SyncDialog, SyncDifference
+from workbench.gui.widgets.sync_dialog import SHOWN_AT_ONCE, SyncChoice, SyncDialog, SyncDifference
 
 
 def test_the_connection_is_prefilled_from_the_a2l_and_the_project(qtbot, demo_workspace):
@@ -36,15 +37,26 @@ def test_bus_options_are_python_can_keywords():
         parse_bus_kwargs("port")
 
 
-def test_cache_sync_offers_download_and_upload_and_lists_the_differences(qtbot):
+def test_cache_sync_keeps_both_by_default_and_lists_few_differences_at_once(qtbot):
     differences = [SyncDifference("xsSWITCH_TANK_THR", "25.00 bar", "20.00 bar"),
-                   SyncDifference("xvPRV_DC_FF", "(6, 5) values, 1 differs", "(6, 5) values")]
+                   SyncDifference("xvPRV_DC_FF", "MAP 6 x 5 (1 value differs)", "MAP 6 x 5")]
     dialog = SyncDialog("FLCU demo ECU", "FLCU.s19", differences)
     qtbot.addWidget(dialog)
     dialog.show()
-    assert dialog.choice is SyncChoice.DOWNLOAD and not dialog.table.isVisible()
-    dialog.expert.click()
-    assert dialog.table.isVisible() and dialog.table.rowCount() == 2
+    assert dialog.choice is SyncChoice.KEEP and dialog.buttons.button(dialog.buttons.StandardButton.Ok).text() == "Keep"
+    assert dialog.table.isVisible() and not dialog.expert.isVisible() and dialog.table.rowCount() == 2
     assert dialog.table.item(0, 1).text() == "25.00 bar" and dialog.table.item(0, 2).text() == "20.00 bar"
+    assert "overwrites the ECU's values shown above" in dialog.download.text() and "write nothing" in dialog.keep.text()
     dialog.upload.click()
     assert dialog.choice is SyncChoice.UPLOAD
+
+
+def test_cache_sync_lists_many_differences_in_the_expert_view(qtbot):
+    differences = [SyncDifference(f"object{i}", f"{i}.00 bar", "0.00 bar") for i in range(SHOWN_AT_ONCE + 1)]
+    dialog = SyncDialog("FLCU demo ECU", "FLCU.s19", differences)
+    qtbot.addWidget(dialog)
+    dialog.show()
+    assert not dialog.table.isVisible() and "11 objects differ (listed in the expert view)" in dialog.findChild(
+        QLabel).text()
+    dialog.expert.click()
+    assert dialog.table.isVisible() and dialog.table.rowCount() == SHOWN_AT_ONCE + 1

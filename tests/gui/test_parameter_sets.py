@@ -37,7 +37,10 @@ def test_the_working_page_is_compared_with_the_reference_page(window, qtbot):
     assert view.rows_shown() == ["xsSWITCH_TANK_THR"]  # only what differs
     assert view.sides.text() == "A: reference page (CAL ROM)   ·   B: working page (CAL RAM)"
     row = [view.proxy.index(0, column).data() for column in range(5)]
-    assert row == ["xsSWITCH_TANK_THR", "differs", "20.00 bar", "27.50 bar", "Δ 7.50"]  # CM_bar's %8.2
+    # CM_bar's %8.2; B - A signed and in its unit, as the details and cal diff show it
+    assert row == ["xsSWITCH_TANK_THR", "differs", "20.00 bar", "27.50 bar", "Δ +7.50 bar"]
+    view.table.selectRow(0)
+    assert [view.elements.index(0, c).data() for c in range(4)] == ["value", "20.00", "27.50", "+7.50"]
     b, difference = (view.proxy.index(0, column) for column in (3, 4))  # B's value and the difference apart
     gap = text_rect(view.table, difference).left() - text_rect(view.table, b).right()
     assert gap >= 12, gap

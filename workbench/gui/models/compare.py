@@ -10,7 +10,7 @@ from PySide6.QtCore import QSortFilterProxyModel, Qt
 from PySide6.QtGui import QColor
 
 from workbench.gui import theme
-from workbench.gui.formatting import format_value
+from workbench.gui.formatting import format_value, with_unit
 from workbench.gui.models.rows import RowsModel
 
 __all__ = ["CompareFilter", "CompareModel", "ElementModel", "describe_value", "no_decimals"]
@@ -46,11 +46,21 @@ def _difference(diff, decimals) -> str:
     numeric = [d for d in diff.differences if d.delta is not None]
     if len(diff.differences) == 1:
         d = diff.differences[0]
-        return (f"Δ {format_value(d.delta, decimals(diff.name, d.where))}" if d.delta is not None
-                else f"{d.where}: {d.a} → {d.b}")
+        return f"Δ {_delta(d, decimals(diff.name, d.where))}" if d.delta is not None else f"{d.where}: {d.a} → {d.b}"
     largest = max(numeric, key=lambda d: abs(d.delta)) if numeric else None
     return f"{len(diff.differences)} values" + (
-        f", max Δ {format_value(largest.delta, decimals(diff.name, largest.where))}" if largest is not None else "")
+        f", max Δ {_delta(largest, decimals(diff.name, largest.where))}" if largest is not None else "")
+
+
+def _signed(delta, places: int | None) -> str:
+    """B - A with its sign, as the details' column shows it."""
+    return f"{delta:+.6g}" if places is None else f"{delta:+.{places}f}"
+
+
+def _delta(element, places: int | None) -> str:
+    """B - A with its sign and, when A and B are in the same unit, the unit (as ``cal diff`` shows it)."""
+    unit_a, unit_b = element.units
+    return with_unit(_signed(element.delta, places), unit_a if unit_a == unit_b else "")
 
 
 class CompareModel(RowsModel):
@@ -147,8 +157,7 @@ class ElementModel(RowsModel):
         places = self.decimals(self.name, element.where)
         points = (format_value(p, self.decimals(self.name, axis)) for p, axis in zip(element.at, "xyz"))
         where = element.where + (f" at ({', '.join(points)})" if element.at else "")
-        delta = "" if element.delta is None else (f"{element.delta:+.6g}" if places is None
-                                                  else f"{element.delta:+.{places}f}")
+        delta = "" if element.delta is None else _signed(element.delta, places)
         return (where, _plain(element.a, places), _plain(element.b, places), delta)[index.column()]
 
 

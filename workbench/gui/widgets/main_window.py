@@ -12,7 +12,6 @@ import base64
 import time
 from pathlib import Path
 
-import numpy as np
 from PySide6.QtCore import QByteArray, Qt, Signal
 from PySide6.QtGui import QAction, QActionGroup, QKeySequence
 from PySide6.QtWidgets import (
@@ -32,7 +31,6 @@ from workbench.gui import theme
 from workbench.gui.a2l_info import calibration_info, measurement_info
 from workbench.gui.acquisition import DaqAcquisition, RecordRequest
 from workbench.gui.ecu import Connected, EcuController
-from workbench.gui.formatting import format_value
 from workbench.gui.mime import names_from_mime
 from workbench.gui.parameter_sets import ParameterSets
 from workbench.gui.project import PlotSpec, Project, recent_projects, remember_project, save_project
@@ -51,7 +49,7 @@ from workbench.gui.widgets.lost_banner import LostBanner
 from workbench.gui.widgets.numeric_view import NumericView
 from workbench.gui.widgets.plot_window import PlotWindow
 from workbench.gui.widgets.status_bar import EcuStatusBar
-from workbench.gui.widgets.sync_dialog import SyncChoice, SyncDialog, SyncDifference
+from workbench.gui.widgets.sync_dialog import SyncChoice, SyncDialog, sync_differences
 from workbench.gui.widgets.variable_browser import VariableBrowser
 from workbench.gui.worker import Task, run_task
 from workbench.gui.workspace import Workspace, load_workspace
@@ -672,18 +670,19 @@ class MainWindow(QMainWindow):
         if report.equal:
             self.statusBar().showMessage(report.summary(), 8000)
             return
-        differences = [SyncDifference(name, _value_text(report.ecu_values.get(name)),
-                                      _value_text(report.reference_values.get(name))) for name in report.changed]
-        differences += [SyncDifference(f"{d.span.size} bytes at {d.span.start:06X}h", "(outside the objects)", "")
-                        for d in report.outside]
+        differences = sync_differences(report, self.workspace.model if self.workspace is not None else None)
         ecu = self.controller.info.identification if self.controller.info else "ECU"
         self.sync_dialog = SyncDialog(ecu, Path(report.reference.label).name, differences, self)
         self.sync_dialog.accepted.connect(lambda: self._synchronise(report, self.sync_dialog.choice))
+        self.sync_dialog.rejected.connect(lambda: self._synchronise(report, SyncChoice.KEEP))
         self.sync_dialog.open()
 
     def _synchronise(self, report, choice: SyncChoice) -> None:
         from workbench.sync import sync_download, sync_upload
 
+        if choice is SyncChoice.KEEP:
+            self.statusBar().showMessage(f"{report.summary()}: kept the ECU's values, nothing written", 15000)
+            return
         if choice is SyncChoice.DOWNLOAD:
             task = Task(sync_download, self.controller.session, report, progress=True)
             task.succeeded.connect(lambda _: [editor.reload() for editor in self.editors.values()])
@@ -734,11 +733,3 @@ class _EditorTabs(QTabWidget):
         browser = self.window_.browser
         return [n for n in names_from_mime(mime) if (v := browser.variable(n)) is not None and v.editable]
 
-
-def _value_text(value) -> str:
-    """A calibration's value for the cache sync's list: the number with its unit, or the shape of an array."""
-    if value is None:
-        return "—"
-    if isinstance(value.value, np.ndarray):
-        return f"{' x '.join(map(str, value.value.shape))} values"
-    return f"{format_value(value.value)}{' ' + value.unit if value.unit else ''}"
