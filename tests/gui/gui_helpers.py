@@ -58,6 +58,30 @@ def shared_window(request, channel: str, plots=None):
     return window
 
 
+def press(key, modifiers=Qt.NoModifier):
+    """A key (with ``modifiers``) to the widget that has the keyboard focus, as a keyboard sends it; that widget."""
+    from PySide6.QtTest import QTest
+    from PySide6.QtWidgets import QApplication
+
+    focused = QApplication.focusWidget()
+    assert focused is not None, "no widget has the keyboard focus"  # (Qt would abort on a key sent to none)
+    QTest.keyClick(focused, key, modifiers)
+    return focused
+
+
+def focus(widget) -> None:
+    """The keyboard's focus on ``widget``, its window made the active one first (another test's window may be)."""
+    from PySide6.QtTest import QTest
+
+    window = widget.window()
+    window.activateWindow()
+    for _ in range(WAIT_MS // 10):
+        if window.isActiveWindow():
+            break
+        QTest.qWait(10)
+    widget.setFocus()
+
+
 def demo_ecu_on_a_channel_of_its_own(prefix: str):
     """The demo ECU on a virtual bus of its own: ``(channel, simulator)`` (``yield from`` in a fixture)."""
     import uuid

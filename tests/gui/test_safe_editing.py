@@ -10,9 +10,8 @@ import uuid
 
 import numpy as np
 import pytest
-from gui_helpers import WAIT_MS, demo_ecu_on_a_channel_of_its_own, shared_window
+from gui_helpers import WAIT_MS, demo_ecu_on_a_channel_of_its_own, focus, press, shared_window
 from PySide6.QtCore import Qt
-from PySide6.QtTest import QTest
 from PySide6.QtWidgets import QApplication
 
 from workbench.gui.models.fixes import COLUMNS as FIX_COLUMNS
@@ -51,23 +50,6 @@ def keys(text: str) -> None:
     """Type ``text`` as a keyboard does: every key to the widget that has the focus."""
     for char in text:
         press(char)
-
-
-def press(key) -> None:
-    focused = QApplication.focusWidget()
-    assert focused is not None, "no widget has the keyboard focus"  # (Qt would abort on a key sent to none)
-    QTest.keyClick(focused, key)
-
-
-def focus(widget) -> None:
-    """The keyboard's focus on ``widget``, its window made the active one first (another test's window may be)."""
-    window = widget.window()
-    window.activateWindow()
-    for _ in range(WAIT_MS // 10):
-        if window.isActiveWindow():
-            break
-        QTest.qWait(10)
-    widget.setFocus()
 
 
 def editor_on(window, qtbot, name: str):

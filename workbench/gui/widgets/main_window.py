@@ -13,7 +13,7 @@ import time
 from pathlib import Path
 
 from PySide6.QtCore import QByteArray, Qt, Signal
-from PySide6.QtGui import QAction, QActionGroup, QKeySequence
+from PySide6.QtGui import QAction, QActionGroup, QKeySequence, QUndoGroup
 from PySide6.QtWidgets import (
     QDockWidget,
     QFileDialog,
@@ -57,7 +57,16 @@ from workbench.logs import logger
 
 log = logger(__name__)
 
-__all__ = ["MainWindow"]
+__all__ = ["KEYS", "MainWindow"]
+
+# The window's keys (README "Keys"): function keys for the ECU as in CANape and INCA, the F9 row for the link
+# (Ctrl with it for the flash, whose dialog still asks), Ctrl+Shift+letter for the pages and plots; none is
+# one of Qt's standard keys on Windows, X11, KDE, GNOME or macOS (Ctrl+K deletes to the end of a line on X11,
+# Ctrl+P prints, Ctrl+R refreshes on GNOME, Ctrl+Shift+F is full screen on KDE) and none repeats another.
+# Copying the reference page onto the working page has no key: it overwrites every change since start-up.
+KEYS = {"connect": "F9", "disconnect": "Shift+F9", "flash": "Ctrl+F9", "record": "F12",
+        "working page": "Ctrl+Shift+W", "reference page": "Ctrl+Shift+R", "new plot": "Ctrl+Shift+P",
+        "find variable": "Ctrl+F", "undo": "Ctrl+Z", "redo": ("Ctrl+Shift+Z", "Ctrl+Y"), "quit": "Ctrl+Q"}
 
 
 class MainWindow(QMainWindow):
@@ -116,6 +125,8 @@ class MainWindow(QMainWindow):
         self.editor_tabs.setTabsClosable(True)
         self.editor_tabs.tabCloseRequested.connect(self._close_editor)
         self.editor_tabs.setDocumentMode(True)
+        self.undo_group = QUndoGroup(self)  # Edit > Undo/Redo act on the editor shown (the one typed in)
+        self.editor_tabs.currentChanged.connect(self._editor_shown)
         placeholder = QLabel("Double-click a calibration in the variable browser to edit it.")
         placeholder.setAlignment(Qt.AlignCenter)
         placeholder.setStyleSheet(f"color: {theme.MUTED};")
@@ -181,37 +192,38 @@ class MainWindow(QMainWindow):
         return dock
 
     def _action(self, text: str, slot, tip: str = "", shortcut=None, checkable: bool = False) -> QAction:
+        """An action; ``shortcut``: a key of :data:`KEYS` (or a QKeySequence), shown in the menus and the tooltip."""
         action = QAction(text, self)
-        action.setToolTip(tip or text)
         action.setStatusTip(tip)
         action.setCheckable(checkable)
-        if shortcut is not None:
-            action.setShortcut(shortcut)
+        _set_keys(action, KEYS.get(shortcut, shortcut), tip or text)
         action.triggered.connect(slot)
         return action
 
     def _actions(self) -> None:
-        self.connect_action = self._action("Connect", lambda: self.connect_ecu(), "connect to the ECU", "Ctrl+K")
-        self.disconnect_action = self._action("Disconnect", lambda: self.controller.close(), "disconnect")
+        self.connect_action = self._action("Connect", lambda: self.connect_ecu(), "connect to the ECU", "connect")
+        self.disconnect_action = self._action("Disconnect", lambda: self.controller.close(), "disconnect",
+                                              "disconnect")
         self.disconnect_action.setEnabled(False)
         pages = QActionGroup(self)
         self.working_action = self._action("Working page", lambda: self.controller.set_page("working"),
-                                           "the ECU and XCP use the working page (CAL RAM, writable)", checkable=True)
+                                           "the ECU and XCP use the working page (CAL RAM, writable)",
+                                           "working page", checkable=True)
         self.reference_action = self._action("Reference page", lambda: self.controller.set_page("reference"),
                                              "the ECU and XCP use the reference page (CAL ROM, the flashed values)",
-                                             checkable=True)
+                                             "reference page", checkable=True)
         for action in (self.working_action, self.reference_action):
             pages.addAction(action)
             action.setEnabled(False)
         self.working_action.setChecked(True)
         self.plot_action = self._action("New plot", lambda: self.add_plot(PlotSpec("Measurement")),
-                                        "a new measurement window (drop signals on it)", "Ctrl+P")
+                                        "a new measurement window (drop signals on it)", "new plot")
         self.flash_action = self._action("Flash…", self.open_flash_dialog, "flash CALIB/APPLICATIVE from an s19, "
-                                         "or the working page into CAL ROM")
+                                         "or the working page into CAL ROM", "flash")
         self.flash_action.setEnabled(False)
         self.record_action = self._action("Record", self._record_toggled,
                                           "record the measured signals (and CAN2, decoded with the project's DBC) "
-                                          "to an MDF4 file; again to stop", "Ctrl+R", checkable=True)
+                                          "to an MDF4 file; again to stop", "record", checkable=True)
         self.record_action.setEnabled(False)
         self.raw_can_action = self._action("Log raw CAN frames in recordings", lambda: None,
                                            "recordings also hold every frame of the CAN bus (ASAM bus logging)",
@@ -237,7 +249,9 @@ class MainWindow(QMainWindow):
         self.recent_menu = file_menu.addMenu("Recent projects")
         self.recent_menu.aboutToShow.connect(self._fill_recent)
         file_menu.addSeparator()
-        file_menu.addAction(self._action("Quit", self.close, "", QKeySequence.Quit))
+        self.quit_action = self._action("Quit", self.close, "close the window (and the connection)", "quit")
+        file_menu.addAction(self.quit_action)
+        self._edit_menu(menu.addMenu("&Edit"))
         ecu_menu = menu.addMenu("&ECU")
         for action in (self.settings_action, self.connect_action, self.disconnect_action, self.working_action,
                        self.reference_action, self.flash_action, self.record_action, self.raw_can_action):
@@ -252,6 +266,29 @@ class MainWindow(QMainWindow):
         for dock in (self.browser_dock, self.editor_dock, self.fix_dock, self.numeric_dock, self.trace_dock,
                      self.compare_dock):
             view_menu.addAction(dock.toggleViewAction())
+
+    def _edit_menu(self, menu) -> None:
+        """Undo and Redo of the calibration editor shown, enabled as its own buttons are; the variables' search."""
+        self.undo_action = self.undo_group.createUndoAction(self, "Undo")
+        _set_keys(self.undo_action, KEYS["undo"], "write back the value before the editor's last write")
+        self.redo_action = self.undo_group.createRedoAction(self, "Redo")
+        _set_keys(self.redo_action, KEYS["redo"], "write the value undone again")
+        self.find_action = self._action("Find variable…", self.find_variable,
+                                        "search the variable browser (Down goes to the results, Enter opens one)",
+                                        "find variable")
+        for action in (self.undo_action, self.redo_action, None, self.find_action):
+            menu.addSeparator() if action is None else menu.addAction(action)
+
+    def find_variable(self) -> None:
+        """The variable browser shown and its search field focused, its text selected to be typed over."""
+        self.browser_dock.show()
+        self.browser_dock.raise_()
+        self.browser.search.setFocus(Qt.ShortcutFocusReason)
+        self.browser.search.selectAll()
+
+    def _editor_shown(self, _index: int) -> None:
+        editor = self.editor_tabs.currentWidget()
+        self.undo_group.setActiveStack(editor.undo_stack if isinstance(editor, CalibrationEditor) else None)
 
     def _calibration_menu(self, menu) -> None:
         sets = self.parameter_sets
@@ -417,6 +454,7 @@ class MainWindow(QMainWindow):
             return None
         editor = CalibrationEditor(self.controller, info)
         editor.error.connect(self.show_error)
+        self.undo_group.addStack(editor.undo_stack)
         self.editors[name] = editor
         if self.editor_tabs.indexOf(self.editor_placeholder) >= 0:
             self.editor_tabs.removeTab(self.editor_tabs.indexOf(self.editor_placeholder))
@@ -732,4 +770,15 @@ class _EditorTabs(QTabWidget):
     def _calibrations(self, mime) -> list[str]:
         browser = self.window_.browser
         return [n for n in names_from_mime(mime) if (v := browser.variable(n)) is not None and v.editable]
+
+
+def _set_keys(action: QAction, keys, tip: str) -> None:
+    """``keys`` (a text, a tuple of them, a QKeySequence.StandardKey or None) on ``action``, the first in its
+    tooltip."""
+    if isinstance(keys, (str, tuple)):
+        action.setShortcuts([QKeySequence(k) for k in ((keys,) if isinstance(keys, str) else keys)])
+    elif keys is not None:
+        action.setShortcuts(keys)
+    shown = action.shortcut().toString(QKeySequence.NativeText)
+    action.setToolTip(f"{tip} ({shown})" if shown else tip)
 

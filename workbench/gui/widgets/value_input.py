@@ -7,6 +7,7 @@
   restores it too: nothing is written without Enter (or a choice from the drop-down).
 - A verbal value (TAB_VERB) is typed by its text (``Low``, any case) or its number, or chosen
   from the drop-down the field offers (the arrow at its right, or Alt+Down).
+- Ctrl+Z while typing takes the typing back; with nothing typed it is the window's Undo (the last write).
 
 :class:`ValueEdit` is the field (a scalar editor uses it as it is); :class:`ValueDelegate` puts the
 same field into table cells (curves, maps, the fix panel) with the same keys.
@@ -17,7 +18,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 
 from PySide6.QtCore import QEvent, QModelIndex, QPersistentModelIndex, Qt, Signal
-from PySide6.QtGui import QAction, QKeyEvent
+from PySide6.QtGui import QAction, QKeyEvent, QKeySequence
 from PySide6.QtWidgets import QCompleter, QLineEdit, QMenu, QStyle, QStyledItemDelegate, QWidget
 
 from workbench.gui import theme
@@ -102,6 +103,14 @@ class ValueEdit(QLineEdit):
     def _mark(self, *_) -> None:
         self.setProperty("pending", self.pending)
         self.setStyleSheet(f"border: 1px solid {theme.WARN};" if self.pending else "")
+
+    def event(self, event: QEvent) -> bool:
+        """Ctrl+Z with nothing typed is not the field's: the window's Undo writes the value before the last write."""
+        if (event.type() == QEvent.ShortcutOverride and not self.typing
+                and (event.matches(QKeySequence.Undo) or event.matches(QKeySequence.Redo))):
+            event.ignore()
+            return False
+        return super().event(event)
 
     def keyPressEvent(self, event: QKeyEvent) -> None:
         if event.key() in _ENTER:

@@ -1,9 +1,10 @@
 """The variable browser: search and filter every A2L object and CAN2 signal, drag them to views,
-double-click to open the fitting view (a calibration editor, or a plot for a signal)."""
+double-click (or Enter) to open the fitting view (a calibration editor, or a plot for a signal).
+Down and Up in the search field go into the results, Up on the first result back to the search."""
 
 from __future__ import annotations
 
-from PySide6.QtCore import Qt, Signal
+from PySide6.QtCore import QEvent, QObject, Qt, Signal
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QComboBox,
@@ -38,6 +39,7 @@ class VariableBrowser(QWidget):
         self.search.setToolTip(self.search.placeholderText())
         self.search.setClearButtonEnabled(True)
         self.search.textChanged.connect(lambda text: self.proxy.set_filters(search=text))
+        self.search.installEventFilter(self)
         layout.addWidget(self.search)
         filters = QGridLayout()
         self.kind_box, self.function_box, self.unit_box = QComboBox(), QComboBox(), QComboBox()
@@ -70,7 +72,8 @@ class VariableBrowser(QWidget):
         # name, kind, type, unit, functions, description: the name as wide as it needs while there is room,
         # kind and unit as their texts, the description what is left (none when that is too little to read)
         share_columns(self.table, (3, 1, 1, 1, 1, 2), fit=(1, 3), capped=(0,), optional=(5,))
-        self.table.doubleClicked.connect(lambda index: self.open_requested.emit(index.data(Qt.UserRole)))
+        self.table.doubleClicked.connect(self._open)
+        self.table.installEventFilter(self)
         layout.addWidget(self.table, 1)
         self.count = QLabel()
         self.count.setStyleSheet(f"color: {theme.MUTED};")
@@ -108,6 +111,32 @@ class VariableBrowser(QWidget):
         self.proxy.set_filters(kind=ALL if box is self.kind_box else None,
                                function=ALL if box is self.function_box else None,
                                unit=ALL if box is self.unit_box else None)
+
+    def eventFilter(self, watched: QObject, event: QEvent) -> bool:
+        """The keys between the search and the results: Down/Up into the results, Up from the first row back,
+        Enter opens the current row as a double-click does (Qt's own Enter only emits ``activated``)."""
+        if event.type() != QEvent.KeyPress or event.modifiers() & ~Qt.KeypadModifier:
+            return super().eventFilter(watched, event)
+        key, rows = event.key(), self.proxy.rowCount()
+        if watched is self.search and key in (Qt.Key_Down, Qt.Key_Up) and rows:
+            self._go_to_row(0 if key == Qt.Key_Down else rows - 1)
+            return True
+        if watched is self.table and key == Qt.Key_Up and self.table.currentIndex().row() <= 0:
+            self.search.setFocus(Qt.OtherFocusReason)
+            return True
+        if watched is self.table and key in (Qt.Key_Return, Qt.Key_Enter) and self.table.currentIndex().isValid():
+            self._open(self.table.currentIndex())
+            return True
+        return super().eventFilter(watched, event)
+
+    def _go_to_row(self, row: int) -> None:
+        index = self.proxy.index(row, 0)
+        self.table.setFocus(Qt.OtherFocusReason)
+        self.table.setCurrentIndex(index)  # whole rows are selected: this one
+        self.table.scrollTo(index)
+
+    def _open(self, index) -> None:
+        self.open_requested.emit(index.data(Qt.UserRole))
 
     def variable(self, name: str) -> Variable | None:
         for row in self.model.rows:
