@@ -46,7 +46,7 @@ def test_ctrl_z_in_a_maps_table_undoes_its_write_and_ctrl_shift_z_and_ctrl_y_red
     assert not np.array_equal(after, before) and 42.0 in after
     assert window.undo_action.isEnabled() and editor.undo_button.isEnabled()
     assert not window.redo_action.isEnabled() and not editor.redo_button.isEnabled()
-    assert window.undo_action.text().startswith("Undo xvPRV_DC_FF")
+    assert window.undo_action.text() == "Undo xvPRV_DC_FF: 1 of 30 values"
 
     def holds(expected):
         qtbot.waitUntil(lambda: np.array_equal(np.asarray(session.read("xvPRV_DC_FF"), dtype=float), expected),

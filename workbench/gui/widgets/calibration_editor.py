@@ -39,7 +39,7 @@ class _Write(QUndoCommand):
     """A write the ECU took: undo writes the old value back, redo the new one again."""
 
     def __init__(self, editor: "CalibrationEditor", old, new):
-        super().__init__(f"{editor.info.name} = {_short(new)}")
+        super().__init__(_change_text(editor.info.name, old, new))
         self.editor, self.old, self.new = editor, old, new
         self.written = True  # pushed after the write: the stack's first redo() must not write again
 
@@ -55,6 +55,15 @@ class _Write(QUndoCommand):
 
 def _short(value) -> str:
     return format_value(value) if np.ndim(value) == 0 else f"{np.shape(value)} values"
+
+
+def _change_text(name: str, old, new) -> str:
+    """An undo step as Edit > Undo names it: a scalar's new value, or how many of an array's values changed."""
+    if np.ndim(new) == 0:
+        return f"{name} = {_short(new)}"
+    old, new = np.asarray(old, dtype=np.float64), np.asarray(new, dtype=np.float64)
+    changed = np.count_nonzero(old != new) if old.shape == new.shape else new.size
+    return f"{name}: {changed} of {new.size} values"
 
 
 class CalibrationEditor(QWidget):
