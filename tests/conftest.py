@@ -25,11 +25,15 @@ os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 
 def pytest_configure(config) -> None:
     """The README's test command runs on a machine without a screen too: Qt's offscreen platform is chosen when
-    no display answers (Qt's xcb platform would abort the interpreter); an explicit QT_QPA_PLATFORM stays."""
+    no display answers (Qt's xcb platform would abort the interpreter); an explicit QT_QPA_PLATFORM stays.
+
+    With a display, one process of the run uses it (the first xdist worker), the others render offscreen: two
+    processes' windows on one display take the keyboard's focus from each other, and a key test of one then
+    types into a window that is not active (its shortcuts, Ctrl+Z, never fire)."""
     from workbench.gui.display import display_problem
 
-    if display_problem() is not None:
-        os.environ["QT_QPA_PLATFORM"] = "offscreen"
+    if display_problem() is not None or os.environ.get("PYTEST_XDIST_WORKER", "gw0") != "gw0":
+        os.environ["QT_QPA_PLATFORM"] = os.environ.get("QT_QPA_PLATFORM") or "offscreen"
 
 
 @pytest.hookimpl(trylast=True)
