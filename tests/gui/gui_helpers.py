@@ -82,6 +82,25 @@ def focus(widget) -> None:
     widget.setFocus()
 
 
+def ecu_and_window_fixtures(prefix: str):
+    """A module's ``ecu`` (the demo ECU on a virtual bus of its own) and ``window`` (one window on it without plots,
+    shared by the module's tests) fixtures: ``ecu, window = ecu_and_window_fixtures("gui-keys")`` at module level."""
+    import pytest
+
+    @pytest.fixture(scope="module")
+    def ecu():
+        yield from demo_ecu_on_a_channel_of_its_own(prefix)
+
+    @pytest.fixture(scope="module")
+    def window(qapp, ecu, request):
+        window = shared_window(request, ecu[0], plots=[])
+        yield window
+        window.close()
+        window.deleteLater()
+
+    return ecu, window
+
+
 def demo_ecu_on_a_channel_of_its_own(prefix: str):
     """The demo ECU on a virtual bus of its own: ``(channel, simulator)`` (``yield from`` in a fixture)."""
     import uuid

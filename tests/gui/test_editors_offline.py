@@ -10,7 +10,7 @@ import re
 
 import numpy as np
 import pytest
-from gui_helpers import WAIT_MS, demo_ecu_on_a_channel_of_its_own, open_window, shared_window
+from gui_helpers import WAIT_MS, ecu_and_window_fixtures, open_window
 from PySide6.QtCore import Qt
 from PySide6.QtGui import QColor
 
@@ -19,17 +19,7 @@ from workbench.gui.ecu import READ_ONLY_PAGE
 from workbench.gui.models.fixes import COLUMNS as FIX_COLUMNS
 
 
-@pytest.fixture(scope="module")
-def ecu():
-    yield from demo_ecu_on_a_channel_of_its_own("gui-offline")
-
-
-@pytest.fixture(scope="module")
-def window(qapp, ecu, request):
-    window = shared_window(request, ecu[0], plots=[])
-    yield window
-    window.close()
-    window.deleteLater()
+ecu, window = ecu_and_window_fixtures("gui-offline")
 
 
 def editor_on(window, qtbot, name: str):

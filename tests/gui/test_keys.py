@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from gui_helpers import WAIT_MS, demo_ecu_on_a_channel_of_its_own, focus, offline_window, press, shared_window
+from gui_helpers import WAIT_MS, ecu_and_window_fixtures, focus, offline_window, press
 from PySide6.QtCore import Qt
 from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import QApplication, QFileDialog
@@ -16,17 +16,7 @@ from PySide6.QtWidgets import QApplication, QFileDialog
 CTRL, SHIFT = Qt.ControlModifier, Qt.ShiftModifier
 
 
-@pytest.fixture(scope="module")
-def ecu():
-    yield from demo_ecu_on_a_channel_of_its_own("gui-keys")
-
-
-@pytest.fixture(scope="module")
-def window(qapp, ecu, request):
-    window = shared_window(request, ecu[0], plots=[])
-    yield window
-    window.close()
-    window.deleteLater()
+ecu, window = ecu_and_window_fixtures("gui-keys")
 
 
 def test_ctrl_z_in_a_maps_table_undoes_its_write_and_ctrl_shift_z_and_ctrl_y_redo_it(window, qtbot):
@@ -171,8 +161,9 @@ def test_the_keys_are_in_the_menus_and_tooltips_and_none_is_twice_or_a_standard_
         "Ctrl+F": "Find variable…", "Ctrl+Z": window.undo_action.text(), "Ctrl+Shift+Z": window.redo_action.text(),
         "Ctrl+Y": window.redo_action.text(), "Ctrl+Q": "Quit"}
     assert window.copy_action.shortcut().isEmpty()  # overwrites every change since start-up: no key for it
+    # keys that mean here what Qt means by them (Ctrl+Q is Qt's Quit on X11, no key offscreen)
     standard_meaning = ("Open…", "Save", "Save as…", "Find variable…", "Quit", window.undo_action.text(),
-                        window.redo_action.text())  # Qt's own meaning of the key (Ctrl+Q is Quit on X11, none offscreen)
+                        window.redo_action.text())
     ours = {key for key, text in shortcuts.items() if text not in standard_meaning}
     for standard in QKeySequence.StandardKey:
         taken = ours & {key.toString() for key in QKeySequence.keyBindings(standard)}

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from gui_helpers import WAIT_MS, demo_ecu_on_a_channel_of_its_own, open_window, shared_window, text_rect
+from gui_helpers import WAIT_MS, demo_ecu_on_a_channel_of_its_own, ecu_and_window_fixtures, open_window, text_rect
 from PySide6.QtWidgets import QMessageBox
 from session_helpers import extended_limits_a2l
 
@@ -15,17 +15,7 @@ from workbench.calib.values import CalValue
 from workbench.gui.project import Connection, demo_project
 
 
-@pytest.fixture(scope="module")
-def ecu():
-    yield from demo_ecu_on_a_channel_of_its_own("gui-sets")
-
-
-@pytest.fixture(scope="module")
-def window(qapp, ecu, request):
-    window = shared_window(request, ecu[0], plots=[])
-    yield window
-    window.close()
-    window.deleteLater()
+ecu, window = ecu_and_window_fixtures("gui-sets")
 
 
 def test_the_working_page_is_compared_with_the_reference_page(window, qtbot):

@@ -10,24 +10,14 @@ import uuid
 
 import numpy as np
 import pytest
-from gui_helpers import WAIT_MS, demo_ecu_on_a_channel_of_its_own, focus, press, shared_window
+from gui_helpers import WAIT_MS, ecu_and_window_fixtures, focus, press
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QApplication
 
 from workbench.gui.models.fixes import COLUMNS as FIX_COLUMNS
 
 
-@pytest.fixture(scope="module")
-def ecu():
-    yield from demo_ecu_on_a_channel_of_its_own("gui-edit")
-
-
-@pytest.fixture(scope="module")
-def window(qapp, ecu, request):
-    window = shared_window(request, ecu[0], plots=[])  # no plots: the tests type, the plots are tested elsewhere
-    yield window
-    window.close()
-    window.deleteLater()
+ecu, window = ecu_and_window_fixtures("gui-edit")
 
 
 @pytest.fixture
