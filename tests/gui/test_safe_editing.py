@@ -312,7 +312,9 @@ def test_a_refusal_below_the_map_leaves_every_row_of_its_table_in_view(window, q
 
     editor = editor_on(window, qtbot, "xvPRV_DC_FF")
     field, model = editor.field, editor.field.model
+    window.resize(1366, 768)  # whatever screen this process has (Xvfb's, offscreen's 800 x 800): a laptop's
     window.resizeDocks([window.editor_dock], [426], Qt.Horizontal)  # as wide as beside the demo's plots
+    window.resizeDocks([window.editor_dock, window.fix_dock], [int(768 * 0.36), int(768 * 0.5)], Qt.Vertical)
     field.table.selectionModel().select(QItemSelection(model.index(0, 1), model.index(4, 5)),
                                         QItemSelectionModel.ClearAndSelect)
     field.operand.setText("1000")
