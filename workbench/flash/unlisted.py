@@ -30,23 +30,10 @@ def unlisted_data(master: XcpMaster, plan: FlashPlan) -> list[AddressRange]:
     for sector in plan.sectors:
         if sector == plan.key_sector:
             continue
-        for gap in _gaps(sector.range, held):
+        for gap in sector.range.outside(held):
             for block in verifier.differing(gap.start, bytes([ERASED]) * gap.size):
                 found += _narrowed(master, verifier, block, budget)
     return _joined(found)  # ranges less than a block apart are named as one
-
-
-def _gaps(whole: AddressRange, held: list[AddressRange]) -> list[AddressRange]:
-    gaps, cursor = [], whole.start
-    for r in sorted(held):
-        if r.end <= cursor or r.start >= whole.end:
-            continue
-        if r.start > cursor:
-            gaps.append(AddressRange(cursor, r.start))
-        cursor = max(cursor, r.end)
-    if cursor < whole.end:
-        gaps.append(AddressRange(cursor, whole.end))
-    return gaps
 
 
 def _narrowed(master: XcpMaster, verifier: ChecksumVerifier, block: AddressRange, budget: list[int]

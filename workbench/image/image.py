@@ -34,6 +34,19 @@ class AddressRange:
     def __str__(self) -> str:  # the flash tools' notation: inclusive end, hex with an "h"
         return f"{self.start:X}h-{self.end - 1:X}h"
 
+    def outside(self, covering) -> list[AddressRange]:
+        """The parts of this range that none of ``covering`` (anything with ``start`` and ``end``) holds, in order."""
+        parts, cursor = [], self.start
+        for other in sorted(covering, key=lambda r: r.start):
+            if other.end <= cursor or other.start >= self.end:
+                continue
+            if other.start > cursor:
+                parts.append(AddressRange(cursor, other.start))
+            cursor = max(cursor, other.end)
+        if cursor < self.end:
+            parts.append(AddressRange(cursor, self.end))
+        return parts
+
 
 class MemoryImage:
     """Bytes at addresses, as loaded from an S-record or Intel HEX file, or built in code."""

@@ -66,15 +66,5 @@ def split_by_region(image: MemoryImage, regions: list[Region]) -> tuple[dict[str
         piece = image.crop(region.start, region.end)
         if piece.size:
             pieces[region.name] = piece
-    outside: list[AddressRange] = []
-    for held in image.ranges:
-        cursor = held.start
-        for region in sorted(regions, key=lambda r: r.start):
-            if region.end <= cursor or region.start >= held.end:
-                continue
-            if region.start > cursor:
-                outside.append(AddressRange(cursor, region.start))
-            cursor = max(cursor, region.end)
-        if cursor < held.end:
-            outside.append(AddressRange(cursor, held.end))
+    outside = [part for held in image.ranges for part in held.outside(regions)]
     return pieces, outside
