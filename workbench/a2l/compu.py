@@ -231,6 +231,12 @@ class _Verbal(Conversion):
         """The texts, in table order."""
         return list(self.raw_of)
 
+    @property
+    def allowed_shown(self) -> str:
+        """The texts as a refusal lists them: the first few, "..." for the rest."""
+        allowed = self.allowed
+        return ", ".join(allowed[:_SHOWN]) + (" ..." if len(allowed) > _SHOWN else "")
+
     def to_physical(self, raw: Any) -> Any:
         scalar = np.ndim(raw) == 0
         values = self._numbers(raw, "raw").astype(np.float64)
@@ -275,8 +281,8 @@ class _Verbal(Conversion):
             if isinstance(value, str):
                 text = self.text_of(value)
                 if text is None:
-                    shown = ", ".join(self.allowed[:_SHOWN]) + (" ..." if len(self.allowed) > _SHOWN else "")
-                    raise ConversionError(f"{self.name}: {value!r} is not one of its texts (allowed: {shown})")
+                    raise ConversionError(f"{self.name}: {value!r} is not one of its texts (allowed: "
+                                          f"{self.allowed_shown})")
                 out[i] = self.raw_of[text]
             else:
                 try:

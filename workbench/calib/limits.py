@@ -43,7 +43,6 @@ __all__ = ["LimitViolation", "check_cells", "check_limits"]
 _AXES_OF = {"CURVE": 1, "MAP": 2, "CUBOID": 3, "CUBE_4": 4, "CUBE_5": 5}
 _ARRAYS = ("VAL_BLK", *_AXES_OF)
 _TOLERANCE = 1e-7
-_SHOWN = 12  # an enum's texts listed in a refusal
 _MORE_DECIMALS = 20  # the most decimals a refused value gets beyond its format's to differ from the limit
 _FIXED_BELOW = 1e15  # numbers this large are written %g, not with every digit before the point
 
@@ -149,8 +148,8 @@ def _texts(model: "A2lModel", name: str, label: str, values: np.ndarray, source)
             except ConversionError as exc:  # several do
                 return [LimitViolation(name, "text", f"{name}{label}: {str(exc).partition(': ')[2]}")]
             if known is None:
-                allowed = ", ".join(conversion.allowed[:_SHOWN]) + (" ..." if len(conversion.allowed) > _SHOWN else "")
-                return [LimitViolation(name, "text", f"{name}{label}: {text!r} is not one of its values ({allowed})")]
+                return [LimitViolation(name, "text", f"{name}{label}: {text!r} is not one of its values "
+                                       f"({conversion.allowed_shown})")]
         return []
     unit = model.unit_of(source)
     decimals = _decimals(model, source)
