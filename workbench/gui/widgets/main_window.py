@@ -3,7 +3,8 @@ numeric view and CAN trace around one ECU connection, as CANape's main window ar
 
 The window holds no protocol logic: files are read by :mod:`workbench.gui.workspace` in a
 worker, the ECU is reached through the :class:`~workbench.gui.ecu.EcuController`, live samples
-flow through the :class:`~workbench.gui.signal_hub.SignalHub`.
+flow through the :class:`~workbench.gui.signal_hub.SignalHub`. Its actions, toolbar and menus (and their keys)
+are built by :mod:`workbench.gui.widgets.menus`; the slots they call are here.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ import time
 from pathlib import Path
 
 from PySide6.QtCore import QByteArray, Qt, Signal
-from PySide6.QtGui import QAction, QActionGroup, QKeySequence, QUndoGroup
+from PySide6.QtGui import QUndoGroup
 from PySide6.QtWidgets import (
     QDockWidget,
     QFileDialog,
@@ -33,7 +34,7 @@ from workbench.gui.acquisition import DaqAcquisition, RecordRequest
 from workbench.gui.ecu import Connected, EcuController
 from workbench.gui.mime import names_from_mime
 from workbench.gui.parameter_sets import ParameterSets
-from workbench.gui.project import PlotSpec, Project, recent_projects, remember_project, save_project
+from workbench.gui.project import PlotSpec, Project, remember_project, save_project
 from workbench.gui.models.variables import variables_of_file
 from workbench.gui.signal_hub import SignalHub, SignalInfo
 from workbench.gui.widgets.calibration_editor import CalibrationEditor
@@ -46,6 +47,7 @@ from workbench.gui.widgets.errors import show_error
 from workbench.gui.widgets.fix_panel import FixPanel
 from workbench.gui.widgets.flash_dialog import FlashDialog
 from workbench.gui.widgets.lost_banner import LostBanner
+from workbench.gui.widgets.menus import build_menus, enable_ecu_actions
 from workbench.gui.widgets.numeric_view import NumericView
 from workbench.gui.widgets.plot_window import PlotWindow
 from workbench.gui.widgets.status_bar import EcuStatusBar
@@ -57,16 +59,7 @@ from workbench.logs import logger
 
 log = logger(__name__)
 
-__all__ = ["KEYS", "MainWindow"]
-
-# The window's keys (README "Keys"): function keys for the ECU as in CANape and INCA, the F9 row for the link
-# (Ctrl with it for the flash, whose dialog still asks), Ctrl+Shift+letter for the pages and plots; none is
-# one of Qt's standard keys on Windows, X11, KDE, GNOME or macOS (Ctrl+K deletes to the end of a line on X11,
-# Ctrl+P prints, Ctrl+R refreshes on GNOME, Ctrl+Shift+F is full screen on KDE) and none repeats another.
-# Copying the reference page onto the working page has no key: it overwrites every change since start-up.
-KEYS = {"connect": "F9", "disconnect": "Shift+F9", "flash": "Ctrl+F9", "record": "F12",
-        "working page": "Ctrl+Shift+W", "reference page": "Ctrl+Shift+R", "new plot": "Ctrl+Shift+P",
-        "find variable": "Ctrl+F", "undo": "Ctrl+Z", "redo": ("Ctrl+Shift+Z", "Ctrl+Y"), "quit": "Ctrl+Q"}
+__all__ = ["MainWindow"]
 
 
 class MainWindow(QMainWindow):
@@ -152,7 +145,7 @@ class MainWindow(QMainWindow):
         self.parameter_sets.applied.connect(lambda _: [editor.reload() for editor in self.editors.values()])
         self.status = EcuStatusBar(self.hub)
         self.setStatusBar(self.status)
-        self._actions()
+        build_menus(self)
 
     def fit_to_screen(self) -> None:
         """The screen the window opens on, all of it up to 1600 x 1000 and 92 % of a larger one, never more;
@@ -191,94 +184,6 @@ class MainWindow(QMainWindow):
         self.addDockWidget(area, dock)
         return dock
 
-    def _action(self, text: str, slot, tip: str = "", shortcut=None, checkable: bool = False) -> QAction:
-        """An action; ``shortcut``: a key of :data:`KEYS` (or a QKeySequence), shown in the menus and the tooltip."""
-        action = QAction(text, self)
-        action.setStatusTip(tip)
-        action.setCheckable(checkable)
-        _set_keys(action, KEYS.get(shortcut, shortcut), tip or text)
-        action.triggered.connect(slot)
-        return action
-
-    def _actions(self) -> None:
-        self.connect_action = self._action("Connect", lambda: self.connect_ecu(), "connect to the ECU", "connect")
-        self.disconnect_action = self._action("Disconnect", lambda: self.controller.close(), "disconnect",
-                                              "disconnect")
-        self.disconnect_action.setEnabled(False)
-        pages = QActionGroup(self)
-        self.working_action = self._action("Working page", lambda: self.controller.set_page("working"),
-                                           "the ECU and XCP use the working page (CAL RAM, writable)",
-                                           "working page", checkable=True)
-        self.reference_action = self._action("Reference page", lambda: self.controller.set_page("reference"),
-                                             "the ECU and XCP use the reference page (CAL ROM, the flashed values)",
-                                             "reference page", checkable=True)
-        for action in (self.working_action, self.reference_action):
-            pages.addAction(action)
-            action.setEnabled(False)
-        self.working_action.setChecked(True)
-        self.plot_action = self._action("New plot", lambda: self.add_plot(PlotSpec("Measurement")),
-                                        "a new measurement window (drop signals on it)", "new plot")
-        self.flash_action = self._action("Flash…", self.open_flash_dialog, "flash CALIB/APPLICATIVE from an s19, "
-                                         "or the working page into CAL ROM", "flash")
-        self.flash_action.setEnabled(False)
-        self.record_action = self._action("Record", self._record_toggled,
-                                          "record the measured signals (and CAN2, decoded with the project's DBC) "
-                                          "to an MDF4 file; again to stop", "record", checkable=True)
-        self.record_action.setEnabled(False)
-        self.raw_can_action = self._action("Log raw CAN frames in recordings", lambda: None,
-                                           "recordings also hold every frame of the CAN bus (ASAM bus logging)",
-                                           checkable=True)
-        self.open_action = self._action("Open…", self.open_project_dialog, "open a project file", QKeySequence.Open)
-        self.save_action = self._action("Save", self.save, "save the project", QKeySequence.Save)
-        self.save_as_action = self._action("Save as…", self.save_as, "save the project under a new name",
-                                           QKeySequence.SaveAs)
-        self.settings_action = self._action("Connection…", self.edit_connection, "connection settings")
-        self.open_mdf_action = self._action("Open measurement file…", self.open_measurement_dialog,
-                                            "an MDF file (ours, or any asammdf reads) in a plot with cursors, "
-                                            "no ECU needed")
-        toolbar = self.addToolBar("main")
-        toolbar.setObjectName("main_toolbar")
-        toolbar.setMovable(False)
-        for item in (self.connect_action, self.disconnect_action, None, self.working_action, self.reference_action,
-                     None, self.plot_action, None, self.flash_action, self.record_action):
-            toolbar.addSeparator() if item is None else toolbar.addAction(item)
-        menu = self.menuBar()
-        file_menu = menu.addMenu("&File")
-        for action in (self.open_action, self.save_action, self.save_as_action, self.open_mdf_action):
-            file_menu.addAction(action)
-        self.recent_menu = file_menu.addMenu("Recent projects")
-        self.recent_menu.aboutToShow.connect(self._fill_recent)
-        file_menu.addSeparator()
-        self.quit_action = self._action("Quit", self.close, "close the window (and the connection)", "quit")
-        file_menu.addAction(self.quit_action)
-        self._edit_menu(menu.addMenu("&Edit"))
-        ecu_menu = menu.addMenu("&ECU")
-        for action in (self.settings_action, self.connect_action, self.disconnect_action, self.working_action,
-                       self.reference_action, self.flash_action, self.record_action, self.raw_can_action):
-            ecu_menu.addAction(action)
-        self.copy_action = self._action("Copy reference → working", self._copy_reference,
-                                        "start the working page over from the flashed values (says first what it overwrites, asks)")
-        self.copy_action.setEnabled(False)
-        ecu_menu.addAction(self.copy_action)
-        self._calibration_menu(menu.addMenu("&Calibration"))
-        view_menu = menu.addMenu("&View")
-        view_menu.addAction(self.plot_action)
-        for dock in (self.browser_dock, self.editor_dock, self.fix_dock, self.numeric_dock, self.trace_dock,
-                     self.compare_dock):
-            view_menu.addAction(dock.toggleViewAction())
-
-    def _edit_menu(self, menu) -> None:
-        """Undo and Redo of the calibration editor shown, enabled as its own buttons are; the variables' search."""
-        self.undo_action = self.undo_group.createUndoAction(self, "Undo")
-        _set_keys(self.undo_action, KEYS["undo"], "write back the value before the editor's last write")
-        self.redo_action = self.undo_group.createRedoAction(self, "Redo")
-        _set_keys(self.redo_action, KEYS["redo"], "write the value undone again")
-        self.find_action = self._action("Find variable…", self.find_variable,
-                                        "search the variable browser (Down goes to the results, Enter opens one)",
-                                        "find variable")
-        for action in (self.undo_action, self.redo_action, None, self.find_action):
-            menu.addSeparator() if action is None else menu.addAction(action)
-
     def find_variable(self) -> None:
         """The variable browser shown and its search field focused, its text selected to be typed over."""
         self.browser_dock.show()
@@ -289,27 +194,6 @@ class MainWindow(QMainWindow):
     def _editor_shown(self, _index: int) -> None:
         editor = self.editor_tabs.currentWidget()
         self.undo_group.setActiveStack(editor.undo_stack if isinstance(editor, CalibrationEditor) else None)
-
-    def _calibration_menu(self, menu) -> None:
-        sets = self.parameter_sets
-        menu.addAction(self._action("Open parameter set…", sets.open_dialog,
-                                    "a DCM/CDFX compared with the ECU (offline: with the project's s19), to apply"))
-        self.save_set_action = self._action("Save the ECU's values as parameter set…", sets.save_dialog,
-                                            "every calibration of the working page into a DCM or CDFX file")
-        self.compare_pages_action = self._action("Compare working ↔ reference page", sets.compare_pages,
-                                                 "every calibration of the working page beside the flashed one")
-        for action in (self.save_set_action, self.compare_pages_action):
-            action.setEnabled(False)
-            menu.addAction(action)
-        menu.addAction(self._action("Compare two parameter sets…", sets.compare_files_dialog,
-                                    "two DCM/CDFX files (or s19 images) object by object"))
-
-    def _fill_recent(self) -> None:
-        self.recent_menu.clear()
-        for path in recent_projects():
-            self.recent_menu.addAction(str(path), lambda p=path: self.open_project_file(p))
-        if self.recent_menu.isEmpty():
-            self.recent_menu.addAction("(none)").setEnabled(False)
 
     def _update_title(self) -> None:
         ecu = self.controller.info.identification if self.controller.info else "offline"
@@ -517,13 +401,7 @@ class MainWindow(QMainWindow):
     def _connected(self, result: Connected) -> None:
         session, info = result.session, result.info
         self.status.show_connected(session, info)
-        self.disconnect_action.setEnabled(True)
-        self.flash_action.setEnabled(True)
-        writable = not info.boot and not session.read_only
-        for action in (self.working_action, self.reference_action, self.copy_action):
-            action.setEnabled(writable and bool(info.pages))  # a read-only session refuses page switches
-        self.save_set_action.setEnabled(not info.boot)
-        self.compare_pages_action.setEnabled(not info.boot and bool(info.pages))
+        enable_ecu_actions(self, session, info)
         self._update_title()
         if session.epk.matches is False and session.read_only:
             self.epk_dialog = EpkDialog(self.workspace.doc.name if self.workspace else "A2L",
@@ -572,11 +450,7 @@ class MainWindow(QMainWindow):
         self.hub.detach()
         self.status.show_disconnected()
         self.status.set_pause(None)
-        self.connect_action.setEnabled(True)
-        for action in (self.disconnect_action, self.flash_action, self.working_action, self.reference_action,
-                       self.copy_action, self.record_action, self.save_set_action, self.compare_pages_action):
-            action.setEnabled(False)
-        self.record_action.setChecked(False)
+        enable_ecu_actions(self)
         self._update_title()
 
     def _lost(self, exc) -> None:
@@ -585,7 +459,7 @@ class MainWindow(QMainWindow):
         self.status.set_pause("connection lost", exc.when)
         self.connect_action.setEnabled(True)
 
-    def _copy_reference(self) -> None:
+    def copy_reference(self) -> None:
         """Say first what the copy overwrites (read in the pool: the ECU may be asked), then ask."""
         self.controller.call("page_copies", on_done=self._ask_copy)
 
@@ -621,7 +495,7 @@ class MainWindow(QMainWindow):
 
     # --- recording ------------------------------------------------------------------------------
 
-    def _record_toggled(self, checked: bool) -> None:
+    def record_toggled(self, checked: bool) -> None:
         if not checked:
             self.stop_recording()
             return
@@ -770,15 +644,4 @@ class _EditorTabs(QTabWidget):
     def _calibrations(self, mime) -> list[str]:
         browser = self.window_.browser
         return [n for n in names_from_mime(mime) if (v := browser.variable(n)) is not None and v.editable]
-
-
-def _set_keys(action: QAction, keys, tip: str) -> None:
-    """``keys`` (a text, a tuple of them, a QKeySequence.StandardKey or None) on ``action``, the first in its
-    tooltip."""
-    if isinstance(keys, (str, tuple)):
-        action.setShortcuts([QKeySequence(k) for k in ((keys,) if isinstance(keys, str) else keys)])
-    elif keys is not None:
-        action.setShortcuts(keys)
-    shown = action.shortcut().toString(QKeySequence.NativeText)
-    action.setToolTip(f"{tip} ({shown})" if shown else tip)
 
