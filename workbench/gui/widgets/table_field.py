@@ -89,7 +89,8 @@ class TableField(QWidget):
         column.setSpacing(0)
         # a heat map's axis titles read across, in one line above it (two when narrow): up its Y-axis a title
         # is cut at the height a heat map gets, and one line costs less height than a title under the X-axis
-        titles = (f"↑ Y: {y_label}", f"→ X: {x_label}")  # a line breaks between them, not inside one
+        # Y grows downwards, as in the table: its first breakpoint is the top row of both (CANape's, INCA's way)
+        titles = (f"↓ Y: {y_label}", f"→ X: {x_label}")  # a line breaks between them, not inside one
         self.axis_titles = QLabel("    ".join(t.replace(" ", "\u00a0") for t in titles) if y_label else "")
         self.axis_titles.setWordWrap(True)
         self.axis_titles.setStyleSheet(f"color: {theme.MUTED};")
@@ -215,6 +216,7 @@ class TableField(QWidget):
             self._image = pg.ImageItem(axisOrder="col-major")
             self._image.setColorMap(colour_map())
             self.plot.addItem(self._image)
+            self.plot.getViewBox().invertY(True)  # the first Y breakpoint on top, as the table's first row
             self.plot.setLabel("bottom", None)  # both titles are above the map
             self.plot.setMinimumHeight(100)
             self.axis_titles.setVisible(bool(self.y_label))
