@@ -1,9 +1,12 @@
 """`workbench a2l update` loads only what it uses: no pyelftools, no other tool's library."""
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
+
+import pytest
 
 from workbench import demo
 
@@ -25,10 +28,16 @@ print(json.dumps([code, sorted(sys.modules)]))
 """
 
 
-def run_update(tmp_path: Path, a2l: Path = FIXTURES / "types.a2l", elf: Path = ELF) -> tuple[int, list[str], list[str]]:
-    """The exit code, the heavy libraries and the modules of NOT_RUN_WHEN_CACHED that one update loads."""
-    argv = ["a2l", "update", str(a2l), str(elf), "-o", str(tmp_path / "out.a2l"), "--cache-dir", str(tmp_path / "cache")]
-    run = subprocess.run([sys.executable, "-c", SCRIPT, *argv], capture_output=True, text=True, timeout=60, check=True)
+def run_update(tmp_path: Path, a2l: Path = FIXTURES / "types.a2l", elf: Path = ELF,
+               default_cache: bool = False) -> tuple[int, list[str], list[str]]:
+    """The exit code, the heavy libraries and the modules of NOT_RUN_WHEN_CACHED that one update loads;
+    ``default_cache``: into the user's cache folder (``$XDG_CACHE_HOME``: ``tmp_path/cache``), as users run it."""
+    argv = ["a2l", "update", str(a2l), str(elf), "-o", str(tmp_path / "out.a2l")]
+    env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "cache")}
+    if not default_cache:
+        argv += ["--cache-dir", str(tmp_path / "cache")]
+    run = subprocess.run([sys.executable, "-c", SCRIPT, *argv], capture_output=True, text=True, timeout=60, check=True,
+                         env=env)
     code, modules = json.loads(run.stdout.splitlines()[-1])
     return code, sorted({name.split(".")[0] for name in modules} & set(NOT_NEEDED)), \
         sorted(set(modules) & set(NOT_RUN_WHEN_CACHED))
@@ -42,6 +51,14 @@ def test_an_update_imports_no_heavy_library(tmp_path):
     assert "workbench.elf.dwarf_index" in ours  # so the check below can fail
     code, cached, ours = run_update(tmp_path)
     assert (code, cached, ours) == (0, [], [])
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="elsewhere platformdirs names the folder")
+def test_an_update_into_the_default_cache_folder_imports_no_heavy_library(tmp_path):
+    """Users give no --cache-dir: finding their cache folder must not import platformdirs (and its tempfile)."""
+    assert run_update(tmp_path, default_cache=True)[:2] == (0, [])
+    assert len(list((tmp_path / "cache" / "workbench" / "elf-index").iterdir())) == 1
+    assert run_update(tmp_path, default_cache=True) == (0, [], [])
 
 
 def test_a_cached_update_reads_its_epk_without_loading_a_type(tmp_path):

@@ -6,6 +6,7 @@ arrays; the compiler is the oracle, read back through .symtab and the file bytes
 
 import shutil
 import struct
+import sys
 from pathlib import Path
 
 import pytest
@@ -153,6 +154,26 @@ def test_an_entry_of_another_elf_under_the_same_name_is_a_miss(tmp_path, monkeyp
     with DebugData(FIXTURES / "types_m32.elf", cache_dir=cache) as other:
         assert not other.from_cache
         assert other.resolve("outer.b.c").address == compiler_truth(FIXTURES / "types_m32.elf")["outer.b.c"][0]
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the Linux rule; elsewhere platformdirs decides")
+@pytest.mark.parametrize("xdg, home", [(None, "/home/u"), ("/xdg/cache", "/home/u"), ("", "/home/u"),
+                                       ("relative/cache", "/home/u"), (None, None), (None, "relative")])
+def test_the_default_cache_folder_is_the_one_platformdirs_names(monkeypatch, xdg, home):
+    """The index cache's folder is found without importing platformdirs (5-10 ms of every cached update), by
+    its rule: $XDG_CACHE_HOME when absolute, else ~/.cache (the account's home when HOME is unset or relative)."""
+    import platformdirs
+
+    from workbench.elf.cache import default_cache_dir
+
+    for name, value in (("XDG_CACHE_HOME", xdg), ("HOME", home)):
+        if value is None:
+            monkeypatch.delenv(name, raising=False)
+        else:
+            monkeypatch.setenv(name, value)
+    monkeypatch.setattr(platformdirs.unix.Unix, "_optionally_create_directory", lambda *args, **kwargs: None,
+                        raising=False)
+    assert default_cache_dir() == Path(platformdirs.user_cache_dir("workbench")) / "elf-index"
 
 
 def test_not_an_elf(tmp_path):
