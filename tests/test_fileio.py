@@ -26,6 +26,24 @@ def test_a_new_file_gets_the_usual_mode_not_a_temporary_files(tmp_path):
     assert (tmp_path / "new.a2l").stat().st_mode & 0o777 == 0o640  # 0o666 minus the umask
 
 
+@pytest.mark.skipif(not hasattr(os, "symlink") or os.name == "nt", reason="symbolic links")
+def test_a_symbolic_link_is_written_through_and_stays_a_link(tmp_path):
+    """`a2l update app.a2l app.elf -o app.a2l` where app.a2l links into a shared folder: the shared file
+    changes, the link stays (a rename onto the link would have replaced it with a copy)."""
+    shared = tmp_path / "shared"
+    shared.mkdir()
+    (shared / "app.a2l").write_text("old")
+    os.chmod(shared / "app.a2l", 0o640)
+    link = tmp_path / "app.a2l"
+    link.symlink_to(shared / "app.a2l")
+    chained = tmp_path / "chained.a2l"
+    chained.symlink_to(link)
+    write_output(chained, b"new")
+    assert link.is_symlink() and chained.is_symlink()
+    assert (shared / "app.a2l").read_bytes() == b"new" and (shared / "app.a2l").stat().st_mode & 0o777 == 0o640
+    assert sorted(p.name for p in shared.iterdir()) == ["app.a2l"]  # no temporary file left beside it
+
+
 def test_failed_write_leaves_old_file(tmp_path, monkeypatch):
     target = tmp_path / "out.bin"
     target.write_bytes(b"old")

@@ -55,9 +55,12 @@ def atomic_write_bytes(path: str | Path, data: bytes) -> None:
 
     Either the old file or the complete new one exists at every moment; the file's
     permission bits are kept when it is replaced; a new file gets the usual 0o666 minus the umask
-    (not the 0o600 of a temporary file).
+    (not the 0o600 of a temporary file). A symbolic link is written through: its target gets the
+    new content (in the target's folder), the link stays, as an editor saving the file keeps it.
     """
     path = Path(path)
+    if path.is_symlink():  # the rename would replace the link itself with a file
+        path = Path(os.path.realpath(path))
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.{os.urandom(4).hex()}.tmp")
     # 0o666 here becomes a new file's usual mode minus the umask (tempfile would give 0o600)
