@@ -6,7 +6,7 @@ import pytest
 
 from workbench import demo
 from workbench.a2l import load_a2l_string
-from workbench.gui.a2l_info import calibration_info, value_decimals
+from workbench.gui.a2l_info import calibration_info, measurement_info, value_decimals
 
 AXIS_PTS = "      /* Name                   */ xaPRV_FF_TARGET\n"
 END_OF_AXIS_PTS = "      /* Upper Limit            */ 50\n    /end AXIS_PTS"
@@ -32,3 +32,35 @@ def test_an_axis_reads_its_own_format_then_its_axis_pts_format_then_its_conversi
     assert [value_decimals(model, "xvPRV_DC_FF", where) for where in ("x[2]", "y", "value[1, 2]")] == [1, 0, 2]
     assert calibration_info(model, "zvRailPConv").axis_decimals == (3,)  # a STD_AXIS: its conversion's "%6.3"
     assert calibration_info(model, "xsSWITCH_TANK_THR").axis_decimals == ()
+
+
+FLAGS = """
+    /begin MEASUREMENT tFlag "a flag without texts" UBYTE CM_Identity 0 0 0 1 ECU_ADDRESS 0x1000 /end MEASUREMENT
+    /begin MEASUREMENT tBit "bit 3 of a status byte" UBYTE CM_Identity 0 0 0 255 ECU_ADDRESS 0x1001
+      BIT_MASK 0x08 /end MEASUREMENT
+    /begin MEASUREMENT tSignedBit "a signed one-bit field" SBYTE CM_Identity 0 0 -1 0 ECU_ADDRESS 0x1002
+      BIT_MASK 0x01 /end MEASUREMENT
+    /begin MEASUREMENT tTwoBits "a two-bit field" UBYTE CM_Identity 0 0 0 3 ECU_ADDRESS 0x1003
+      BIT_MASK 0x06 /end MEASUREMENT
+    /begin MEASUREMENT tScaled "0 .. 1 in steps of 0.01" UBYTE CM_CAN_0p01_Percent 0 0 0 1 ECU_ADDRESS 0x1004
+      /end MEASUREMENT
+    /begin MEASUREMENT tRatio "a float 0 .. 1" FLOAT32_IEEE CM_Identity 0 0 0 1 ECU_ADDRESS 0x1008 /end MEASUREMENT
+    /begin MEASUREMENT tCount "a count" UWORD CM_Identity 0 0 0 1000 ECU_ADDRESS 0x100C /end MEASUREMENT
+    /begin MEASUREMENT tFlags "four flags" UBYTE CM_Identity 0 0 0 1 ECU_ADDRESS 0x1010
+      MATRIX_DIM 4 1 1 /end MEASUREMENT
+"""
+
+
+def test_two_state_signals_are_integer_flags_of_limits_0_1_and_one_bit_fields_nothing_else():
+    text = demo.a2l().read_text(encoding="utf-8")
+    at = text.index("/begin MEASUREMENT")
+    flags = load_a2l_string(text[:at] + FLAGS.strip() + "\n    " + text[at:], "flags.a2l").model()
+    zero_one = ((0.0, "0"), (1.0, "1"))
+    found = {name: measurement_info(flags, name).two_states for name in
+             ("tFlag", "tBit", "tSignedBit", "tTwoBits", "tScaled", "tRatio", "tCount", "tFlags")}
+    assert found == {"tFlag": zero_one, "tBit": zero_one, "tSignedBit": ((-1.0, "-1"), (0.0, "0")), "tTwoBits": (),
+                     "tScaled": (), "tRatio": (), "tCount": (), "tFlags": ()}
+    valve = measurement_info(flags, "xsValve1State")  # texts of its own: those label its lane
+    assert valve.two_states == () and valve.lane_states == valve.states == ((0.0, "OFF"), (1.0, "ON"))
+    assert measurement_info(flags, "CANRX_PCM_TO_FLCU_001_Pdu.TimeOut").lane_states == zero_one
+    assert measurement_info(flags, "zsRailPressure").lane_states == ()

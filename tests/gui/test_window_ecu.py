@@ -149,3 +149,21 @@ def test_copying_the_reference_page_says_what_it_overwrites_and_copies_only_on_y
     assert session.read("xsPRV_KP") == pytest.approx(5.0)
     qtbot.waitUntil(lambda: editor.value.value == pytest.approx(5.0) and editor.modified_badge.isHidden(),
                     timeout=WAIT_MS)  # the editor read again
+
+
+def test_a_plain_0_1_flag_without_state_texts_steps_in_a_lane_as_a_verbal_signal_does(window, qtbot):
+    """CANRX_PCM_TO_FLCU_001_Pdu.NewDataReceived (UBYTE, CM_Identity, limits 0 .. 1, no texts) in a lane labelled
+    0 and 1 below the curves, beside xsValve1State's ON/OFF; it was drawn on a unit's scale of its own."""
+    flag = "CANRX_PCM_TO_FLCU_001_Pdu.NewDataReceived"
+    plot = window.add_plot(PlotSpec("Flags", []))
+    plot.add_signals(["zsRailPressure", flag, "xsValve1State"])
+    curve = plot._curves[flag]
+    qtbot.waitUntil(lambda: curve.yData is not None and len(curve.yData) > 20, timeout=WAIT_MS)
+    assert plot.lanes.names == [flag, "xsValve1State"] and plot.drawn_axes() == ["bar"]
+    assert curve.getViewBox() is plot.lanes.view
+    level = plot.lanes.level
+    assert {(level(flag, 0.0), "0"), (level(flag, 1.0), "1")} <= set(plot.lanes.axis._tickLevels[0])
+    _, values = window.hub.buffer(flag).window(-np.inf, np.inf)
+    assert set(np.unique(values)) <= {0.0, 1.0}
+    drawn = set(np.unique(curve.yData[np.isfinite(curve.yData)]))
+    assert drawn and drawn <= {level(flag, 0.0), level(flag, 1.0)}

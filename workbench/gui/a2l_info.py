@@ -4,12 +4,18 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
+from workbench.a2l.datatypes import DATATYPES
 from workbench.a2l.model import axis_decimals
+from workbench.a2l.objects import format_parts
+from workbench.calib.rawtypes import extract_bits
 from workbench.errors import WorkbenchError
+from workbench.gui.formatting import format_value
 from workbench.gui.signal_hub import SignalInfo
 
-__all__ = ["CalibrationInfo", "axis_decimals", "calibration_info", "measurement_info", "value_decimals",
-           "verbal_states"]
+__all__ = ["CalibrationInfo", "axis_decimals", "calibration_info", "measurement_info", "two_states",
+           "value_decimals", "verbal_states"]
 
 _AXES = "xyz"
 
@@ -22,6 +28,28 @@ def verbal_states(model, obj) -> tuple[tuple[float, str], ...]:
     return tuple((raw, text) for text, raw in conversion.raw_of.items())
 
 
+def two_states(model, measurement) -> tuple[tuple[float, str], ...]:
+    """The two values of a two-state MEASUREMENT without texts, labelled as the numbers they are: an integer one
+    whose limits are 0 .. 1 under an identical conversion (a flag), or one whose BIT_MASK is a single bit (its two
+    values as the session decodes them: BIT_OPERATION, then the conversion, IDENTICAL or LINEAR). () for any
+    other: a verbal one has its texts (:func:`verbal_states`), an array or a float is no flag."""
+    conversion = model.conversion(measurement)
+    if measurement.shape or conversion.conversion_type not in ("IDENTICAL", "LINEAR"):
+        return ()
+    mask = measurement.bit_mask
+    if mask is not None and mask > 0 and mask & (mask - 1) == 0:
+        raw = extract_bits(np.array([0, mask]), mask, measurement.datatype, measurement.bit_operation)
+    elif (mask is None and measurement.bit_operation is None and DATATYPES.get(measurement.datatype, ("", ""))[1]
+          in ("signed", "unsigned") and (measurement.lower_limit, measurement.upper_limit) == (0, 1)):
+        raw = np.array([0, 1])
+    else:
+        return ()
+    values = np.asarray(conversion.to_physical(raw.astype(np.float64)), dtype=np.float64)
+    if (mask is None and not np.array_equal(values, [0.0, 1.0])) or values[0] == values[1]:
+        return ()  # limits 0 .. 1 of a scaled value: more than two values; a bit scaled by 0: one
+    return tuple((float(v), format_value(float(v))) for v in sorted(values))  # "0" and "1", not "0.000"
+
+
 def measurement_info(model, name: str) -> SignalInfo | None:
     """The :class:`SignalInfo` of MEASUREMENT ``name``, None when the A2L has no such measurement."""
     try:
@@ -30,19 +58,17 @@ def measurement_info(model, name: str) -> SignalInfo | None:
         unit = model.unit_of(measurement)
     except (WorkbenchError, KeyError):
         return None
-    from workbench.a2l.objects import format_parts
-
     decimals = format_parts(measurement.format)[1] if measurement.format else conversion.decimals
+    states = verbal_states(model, measurement)
     return SignalInfo(name, "XCP", unit, measurement.long_identifier, measurement.lower_limit,
-                      measurement.upper_limit, verbal_states(model, measurement), decimals)
+                      measurement.upper_limit, states, decimals,
+                      two_states=() if states else two_states(model, measurement))
 
 
 def value_decimals(model, name: str, where: str = "value") -> int | None:
     """The decimals the views show an element of calibration ``name`` with (its FORMAT, else its conversion's), as
     a :class:`~workbench.calib.dataset.DatasetDiff` names the element: ``value[2, 1]`` the values', ``x[4]`` or
     ``y`` an axis' points (:func:`axis_decimals`). None: no such object in the A2L, or no format."""
-    from workbench.a2l.objects import format_parts
-
     try:
         obj = model.object(name)
         axis = _AXES.find(where[:1]) if where[1:2] in ("", "[", ".") else -1
@@ -73,8 +99,6 @@ class CalibrationInfo:
 
 def calibration_info(model, name: str) -> CalibrationInfo:
     """:raises UnknownSymbolError: no such CHARACTERISTIC/AXIS_PTS; :raises A2lParseError: a broken reference."""
-    from workbench.a2l.objects import format_parts
-
     kind = model.kind_of(name)
     obj = model.characteristic(name) if kind == "CHARACTERISTIC" else model.axis_pts(name)
     conversion = model.conversion(obj)

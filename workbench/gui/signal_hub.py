@@ -38,6 +38,13 @@ class SignalInfo:
     states: tuple[tuple[float, str], ...] = ()  # verbal values (TAB_VERB): value -> text
     decimals: int | None = None  # the A2L's FORMAT; None: as many as the value needs
     label: str = ""  # how a legend names it when not by its name (a file's channel: without the file)
+    two_states: tuple[tuple[float, str], ...] = ()  # a two-state signal without texts (0/1): its values, labelled
+
+    @property
+    def lane_states(self) -> tuple[tuple[float, str], ...]:
+        """The states a plot's digital lane labels: the verbal ones, or a two-state signal's values; ():
+        the signal is drawn on its unit's scale."""
+        return self.states or self.two_states
 
     def format(self, value: float | None) -> str:
         """``value`` as the A2L shows it: its verbal name, or its FORMAT's decimals."""

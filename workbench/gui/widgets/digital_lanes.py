@@ -1,6 +1,6 @@
-"""Verbal signals (states such as ON/OFF, OFF/TANK1_ON/TANK2_ON) as step traces in lanes of their own below a
-plot's view, as CANape draws digital signals: each lane is labelled with its states' texts and none is ever
-drawn on a physical unit's scale.
+"""Verbal signals (states such as ON/OFF, OFF/TANK1_ON/TANK2_ON) and plain 0/1 flags as step traces in lanes of
+their own below a plot's view, as CANape draws digital signals: each lane is labelled with its states' texts (a
+flag's: 0 and 1) and none is ever drawn on a physical unit's scale.
 
 The lanes share one view box under the plot's view (in the plot's grid, between the view and the time
 axis), linked to its time axis; its y coordinates are pixels: a lane is as tall as its states' texts need.

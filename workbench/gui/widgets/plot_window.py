@@ -11,8 +11,8 @@ a value is drawn at its tick; it is coloured like its first signal and autoscale
 zooms it, never to less than twenty steps of its signals' format (noise below the last digit
 shown looks flat, as in CANape). The axes take at most two fifths of the plot's width: those beyond it (in the order their
 units came, the selected signal's first) are not drawn; their curves keep their own scale and the
-legend their values and units. Verbal signals (states such as ON/OFF) have no unit's axis: they step
-in lanes of their own below the view, labelled with their states' texts (:mod:`.digital_lanes`). The legend is as wide as its columns want, at
+legend their values and units. Verbal signals (states such as ON/OFF) and plain 0/1 flags have no unit's axis:
+they step in lanes of their own below the view, labelled with their states' texts (:mod:`.digital_lanes`). The legend is as wide as its columns want, at
 most half the window, until the user drags its edge.
 """
 
@@ -263,13 +263,13 @@ class PlotWindow(SignalDropTarget, QWidget):
         colour = theme.trace_colour(len(self._order))
         # a 1-pixel (cosmetic) pen: wider ones make Qt stroke every segment, ~4x slower; downsampling to
         # about one min/max pair per pixel column keeps spikes and draws no line nobody can see
-        # a verbal signal steps from state to state in a lane of its own (its number on a unit's scale says nothing)
+        # a verbal signal or a flag steps between its states in a lane of its own (a unit's scale says nothing of it)
         curve = pg.PlotDataItem(pen=pg.mkPen(colour, width=1), name=name, autoDownsampleFactor=1.0, connect="finite",
-                                stepMode="right" if info.states else None)
+                                stepMode="right" if info.lane_states else None)
         curve.setDownsampling(auto=True, method="peak")
         curve.setClipToView(True)
-        if info.states:
-            self.lanes.add(name, info.states, curve)
+        if info.lane_states:
+            self.lanes.add(name, info.lane_states, curve)
         else:
             axis = self._axis_for(info.unit, colour)
             axis.traces.append(name)
