@@ -51,3 +51,24 @@ def test_json_ok_is_the_exit_code(tmp_path, capsys, monkeypatch, argv, code):
     assert main([*argv, "--json"]) == code
     report = json.loads(capsys.readouterr().out)
     assert report["ok"] is (code == 0)
+
+
+FAILURES = [
+    ("a2l update without its ELF", ["a2l", "update", "clean.a2l", "gone.elf", "-o", "out.a2l"], 2, "gone.elf: no such file"),
+    ("a2l check of a malformed file", ["a2l", "check", "broken.a2l"], 2, "broken.a2l:"),
+    ("flash of a missing image", ["flash", "gone.s19", "--region", "CALIB"], 2, "gone.s19"),
+    ("dbc check of a missing file", ["dbc", "check", "gone.dbc"], 2, "gone.dbc"),
+]
+
+
+@pytest.mark.parametrize("argv, code, message", [case[1:] for case in FAILURES], ids=[case[0] for case in FAILURES])
+def test_a_command_that_fails_still_prints_its_json(tmp_path, capsys, monkeypatch, argv, code, message):
+    """A script reading the JSON finds ok false and the reason (the one line on stderr too), not an empty stdout."""
+    _files(tmp_path)
+    (tmp_path / "broken.a2l").write_text(MODULE.format("  /begin MEASUREMENT m"))
+    monkeypatch.chdir(tmp_path)
+    assert main([*argv, "--json"]) == code
+    captured = capsys.readouterr()
+    report = json.loads(captured.out)
+    assert report["ok"] is False and report["exit_code"] == code and message in report["error"]
+    assert captured.err.strip().splitlines()[-1] == f"error: {report['error']}"

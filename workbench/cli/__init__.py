@@ -14,7 +14,7 @@ import signal
 import sys
 
 from workbench import __version__
-from workbench.cli.options import CommandParser
+from workbench.cli.options import CommandParser, print_json
 from workbench.errors import WorkbenchError
 
 # (group, one-line help); the group's commands live in ``workbench.cli.<group>``.
@@ -93,14 +93,21 @@ def main(argv: list[str] | None = None) -> int:
     except WorkbenchError as exc:
         if args.debug:
             raise
-        print(f"error: {exc}", file=sys.stderr)
-        return exc.exit_code
+        return _failed(args, str(exc), exc.exit_code)
     except KeyboardInterrupt:
-        print("error: interrupted", file=sys.stderr)
-        return 130
+        return _failed(args, "interrupted", 130)
     except BrokenPipeError:  # `workbench ... | head`: the reader left; stop quietly, as git does
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
+
+
+def _failed(args: argparse.Namespace, message: str, code: int) -> int:
+    """The one line on stderr; under ``--json`` also a report on stdout, so that a script reading it
+    finds ``ok`` false and why (a refused flash, an ECU that does not answer) instead of nothing."""
+    print(f"error: {message}", file=sys.stderr)
+    if getattr(args, "json", False):
+        print_json({"ok": False, "error": message, "exit_code": code})
+    return code
 
 
 def entry_point() -> None:
