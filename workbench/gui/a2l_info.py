@@ -14,7 +14,7 @@ from workbench.errors import WorkbenchError
 from workbench.gui.formatting import format_value
 from workbench.gui.signal_hub import SignalInfo
 
-__all__ = ["CalibrationInfo", "axis_decimals", "calibration_info", "measurement_info", "two_states",
+__all__ = ["CalibrationInfo", "axis_decimals", "axis_inputs", "calibration_info", "measurement_info", "two_states",
            "value_decimals", "verbal_states"]
 
 _AXES = "xyz"
@@ -95,6 +95,22 @@ class CalibrationInfo:
     extended_limits: tuple[float, float] | None = None  # the A2L's EXTENDED_LIMITS
     axis_decimals: tuple[int | None, ...] = ()  # the decimals of each axis' points, X first
     axis_quantities: tuple[tuple[str, str], ...] = ()  # (input quantity, unit) of each axis, X first
+    axis_inputs: tuple[str | None, ...] = ()  # the MEASUREMENT each axis' input is (its operating point), X first
+
+
+def axis_inputs(model, obj) -> tuple[str | None, ...]:
+    """The MEASUREMENT that is each axis' input, X first: the AXIS_DESCR's INPUT_QUANTITY, else (a COM_AXIS) its
+    AXIS_PTS'; None where there is none or it names no MEASUREMENT of the A2L."""
+    inputs = []
+    for axis in getattr(obj, "axes", ()):
+        name = axis.input_quantity
+        try:
+            if name is None and axis.axis_pts_ref:
+                name = model.axis_pts(axis.axis_pts_ref).input_quantity
+            inputs.append(name if name is not None and model.kind_of(name) == "MEASUREMENT" else None)
+        except (WorkbenchError, KeyError):
+            inputs.append(None)
+    return tuple(inputs)
 
 
 def calibration_info(model, name: str) -> CalibrationInfo:
@@ -110,4 +126,5 @@ def calibration_info(model, name: str) -> CalibrationInfo:
     return CalibrationInfo(name, getattr(obj, "type", "AXIS_PTS"), obj.long_identifier, model.unit_of(obj),
                            (obj.lower_limit, obj.upper_limit), decimals, states,
                            obj.writable, tuple(labels), obj.functions, getattr(obj, "extended_limits", None),
-                           tuple(axis_decimals(model, axis) for axis in getattr(obj, "axes", ())), quantities)
+                           tuple(axis_decimals(model, axis) for axis in getattr(obj, "axes", ())), quantities,
+                           axis_inputs(model, obj))

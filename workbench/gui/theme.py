@@ -25,6 +25,7 @@ BAD = "#ef5350"
 PLOT_BACKGROUND = "#0f1216"
 GRID = "#232a33"  # opaque grid lines: blending translucent ones over the plot costs a quarter of a frame
 GRID_ALPHA = 0.18
+OPERATING_POINT = "#ffffff"  # a map's operating point: clear on every shade of its cells, blue to red
 
 # traces: distinct on a dark background, the first ones the most distinct (Tableau 10, brightened)
 TRACE_COLOURS = ("#4ea8ff", "#ffa53d", "#52d273", "#ff5c6c", "#b48cff", "#ffd84d", "#3fd6d6", "#ff7fc8",

@@ -4,6 +4,9 @@ their limits when it writes them: one rule for every editor)."""
 
 from __future__ import annotations
 
+import itertools
+import math
+
 import numpy as np
 from PySide6.QtCore import QAbstractTableModel, QModelIndex, Qt, Signal
 from PySide6.QtGui import QColor, QFont
@@ -11,7 +14,9 @@ from PySide6.QtGui import QColor, QFont
 from workbench.gui import theme
 from workbench.gui.formatting import format_value
 
-__all__ = ["CalibrationTableModel", "colour_map", "shade"]
+__all__ = ["OPERATING_POINT_ROLE", "CalibrationTableModel", "colour_map", "shade"]
+
+OPERATING_POINT_ROLE = Qt.UserRole + 1  # True for the cells around the operating point (framed by the table)
 
 # dark blue -> teal -> amber -> red: readable light text on every step
 _STOPS = ((0.0, (38, 70, 140)), (0.35, (26, 120, 130)), (0.7, (160, 120, 30)), (1.0, (170, 50, 50)))
@@ -50,6 +55,7 @@ class CalibrationTableModel(QAbstractTableModel):
         self.axis_decimals: tuple[int | None, ...] = ()  # the A2L's decimals of the X (and Y) points
         self.read_only = ""  # why nothing can be written now (greyed cells, the reason in their tooltips); "": writable
         self.axis_labels: tuple[str, str | None] | None = None  # "target [bar]" of X, of Y (set by the table)
+        self.operating_cells: frozenset[tuple[int, ...]] = frozenset()  # the cells around the operating point
 
     def set_value(self, value: np.ndarray, x_points, y_points=None, *, decimals=None, axis_decimals=()) -> None:
         """New values; of the same shape they repaint in place, so a selected range stays selected for the
@@ -58,6 +64,7 @@ class CalibrationTableModel(QAbstractTableModel):
         same_shape = value.shape == self.value.shape and value.size > 0
         if not same_shape:
             self.beginResetModel()
+            self.operating_cells = frozenset()
         self.value = value
         self.x_points = np.asarray(x_points, dtype=np.float64)
         self.y_points = None if y_points is None else np.asarray(y_points, dtype=np.float64)
@@ -89,6 +96,18 @@ class CalibrationTableModel(QAbstractTableModel):
         if self.rowCount() and self.columnCount():
             self.dataChanged.emit(self.index(0, 0), self.index(self.rowCount() - 1, self.columnCount() - 1))
 
+    def set_operating_point(self, position: tuple[float, ...] | None) -> None:
+        """The cells around ``position`` (a fractional index per axis, X first; None: none) are marked: the
+        breakpoints either side of it on each axis, the one it is on when it is on one."""
+        cells = frozenset() if position is None else frozenset(
+            itertools.product(*(sorted({math.floor(p), math.ceil(p)}) for p in position)))
+        if cells == self.operating_cells:
+            return
+        changed, self.operating_cells = self.operating_cells | cells, cells
+        for cell in changed:
+            index = self.table_index(cell)
+            self.dataChanged.emit(index, index, [OPERATING_POINT_ROLE])
+
     @property
     def is_map(self) -> bool:
         return self.value.ndim == 2
@@ -104,6 +123,10 @@ class CalibrationTableModel(QAbstractTableModel):
     def cell(self, index) -> tuple[int, ...]:
         """The array index ([x] or [x, y]) of a table index."""
         return (index.column(), index.row()) if self.is_map else (index.column(),)
+
+    def table_index(self, cell: tuple[int, ...]):
+        """The table index of an array index ([x] or [x, y])."""
+        return self.index(cell[1], cell[0]) if self.is_map else self.index(0, cell[0])
 
     def modified(self, cell: tuple[int, ...]) -> bool:
         if self.reference is None or self.reference.shape != self.value.shape:
@@ -129,6 +152,8 @@ class CalibrationTableModel(QAbstractTableModel):
             font = QFont()
             font.setBold(True)
             return font
+        if role == OPERATING_POINT_ROLE:
+            return cell in self.operating_cells
         if role == Qt.TextAlignmentRole:
             return int(Qt.AlignRight | Qt.AlignVCenter)
         if role == Qt.ToolTipRole:

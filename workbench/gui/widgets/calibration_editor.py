@@ -29,6 +29,7 @@ from workbench.gui.a2l_info import CalibrationInfo
 from workbench.gui.ecu import READ_ONLY_PAGE, NotWrittenError, refusal
 from workbench.gui.formatting import format_value
 from workbench.gui.widgets.elided_label import ElidedLabel
+from workbench.gui.widgets.operating_point import OperatingPoint
 from workbench.gui.widgets.scalar_field import ScalarField
 from workbench.gui.widgets.table_field import TableField
 
@@ -67,13 +68,15 @@ def _change_text(name: str, old, new) -> str:
 
 
 class CalibrationEditor(QWidget):
-    """Edits ``info.name`` through ``controller`` (an :class:`~workbench.gui.ecu.EcuController`)."""
+    """Edits ``info.name`` through ``controller`` (an :class:`~workbench.gui.ecu.EcuController`). With a ``hub``
+    (:class:`~workbench.gui.signal_hub.SignalHub`), a curve or map whose every axis has an input measurement
+    shows its operating point (:mod:`.operating_point`) until :meth:`release`."""
 
     loaded = Signal(object)  # the value read (after every read-back)
     error = Signal(object)  # a failed read or write the ECU is to blame for (the window shows a dialog)
     refused = Signal(str)  # a value not written: why (also in the status line)
 
-    def __init__(self, controller, info: CalibrationInfo, parent: QWidget | None = None):
+    def __init__(self, controller, info: CalibrationInfo, parent: QWidget | None = None, hub=None):
         super().__init__(parent)
         self.controller = controller
         self.info = info
@@ -84,6 +87,10 @@ class CalibrationEditor(QWidget):
         self._message = ("", theme.MUTED)  # a refusal or failure (until the next write or page change)
         self._writing = False
         self._build()
+        self.operating_point: OperatingPoint | None = None
+        if hub is not None and isinstance(self.field, TableField) and info.axis_inputs and all(info.axis_inputs):
+            self.operating_point = OperatingPoint(hub, info.axis_inputs, self.field, self)
+            self.operating_point.start()
         controller.written.connect(self._written_elsewhere)
         controller.page_changed.connect(self._page_changed)
         controller.connected.connect(self._connected)
@@ -159,6 +166,11 @@ class CalibrationEditor(QWidget):
         self.status.setMinimumHeight(2 * self.status.fontMetrics().lineSpacing())
         self.status.setAlignment(Qt.AlignLeft | Qt.AlignTop)
         layout.addWidget(self.status)
+
+    def release(self) -> None:
+        """The editor is closed: its operating point's inputs are no longer measured for it."""
+        if self.operating_point is not None:
+            self.operating_point.stop()
 
     # --- reading --------------------------------------------------------------------------------
 

@@ -336,7 +336,7 @@ class MainWindow(QMainWindow):
         except Exception as exc:  # noqa: BLE001
             self.show_error(exc)
             return None
-        editor = CalibrationEditor(self.controller, info)
+        editor = CalibrationEditor(self.controller, info, hub=self.hub)
         editor.error.connect(self.show_error)
         self.undo_group.addStack(editor.undo_stack)
         self.editors[name] = editor
@@ -351,6 +351,7 @@ class MainWindow(QMainWindow):
     def _close_editor(self, index: int) -> None:
         widget = self.editor_tabs.widget(index)
         if isinstance(widget, CalibrationEditor):
+            widget.release()
             self.editors.pop(widget.info.name, None)
             self.editor_tabs.removeTab(index)
             widget.deleteLater()

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import Qt, Signal
-from PySide6.QtGui import QFont, QFontMetrics
+from PySide6.QtGui import QColor, QFont, QFontMetrics, QPen
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QCheckBox,
@@ -27,7 +27,7 @@ from PySide6.QtWidgets import (
 from workbench.gui import theme
 from workbench.gui.formatting import format_value, parse_typed
 from workbench.gui.models.block_ops import block_operation
-from workbench.gui.models.calibration_table import CalibrationTableModel, colour_map
+from workbench.gui.models.calibration_table import OPERATING_POINT_ROLE, CalibrationTableModel, colour_map
 from workbench.gui.widgets.scalar_field import limits_text
 from workbench.gui.widgets.surface_view import SurfaceView
 from workbench.gui.widgets.value_input import ValueDelegate
@@ -64,7 +64,7 @@ class TableField(QWidget):
         self.table.setSelectionMode(QAbstractItemView.ExtendedSelection)
         self.table.setEditTriggers(QAbstractItemView.DoubleClicked | QAbstractItemView.AnyKeyPressed
                                    | QAbstractItemView.EditKeyPressed)
-        self.delegate = ValueDelegate(self.table)
+        self.delegate = _CellDelegate(self.table)
         self.delegate.refused.connect(self.refused)
         self.table.setItemDelegate(self.delegate)
         # columns share the width, never narrower than their widest text (a curve of many points scrolls sideways)
@@ -109,6 +109,11 @@ class TableField(QWidget):
         splitter.setStretchFactor(1, 1)
         layout.addWidget(splitter, 1)
         self._curve = self._image = None
+        self.operating_point: tuple[float, ...] | None = None  # fractional indices of the breakpoints, X first
+        self.marker = pg.ScatterPlotItem(size=15, symbol="crosshair", pen=pg.mkPen(theme.OPERATING_POINT, width=2),
+                                         brush=None)
+        self.marker.setZValue(10)  # over the heat map's cells and the curve
+        self.plot.addItem(self.marker)
 
     def _block_bar(self, unit: str, extended_limits) -> QHBoxLayout:
         bar = QHBoxLayout()
@@ -200,6 +205,23 @@ class TableField(QWidget):
         if not np.array_equal(new, self.model.value, equal_nan=True):
             self.committed.emit(new)
 
+    def show_operating_point(self, position: tuple[float, ...] | None) -> None:
+        """Marks where the axes' inputs are (:mod:`.operating_point`): ``position`` a fractional index of the
+        breakpoints per axis, X first, None for no mark. The cells around it are framed; the heat map has a cross
+        there, a curve's plot a cross on the curve."""
+        if position == self.operating_point:
+            return
+        self.operating_point = position
+        self.model.set_operating_point(position)
+        if position is None:
+            self.marker.setData([], [])
+        elif self.model.is_map:
+            self.marker.setData([position[0]], [position[1]])
+        else:
+            index = np.arange(len(self.model.x_points), dtype=np.float64)
+            self.marker.setData([np.interp(position[0], index, self.model.x_points)],
+                                [np.interp(position[0], index, self.model.value)])
+
     # --- drawing --------------------------------------------------------------------------------
 
     def _draw(self) -> None:
@@ -230,3 +252,15 @@ class TableField(QWidget):
         self.plot.getAxis("left").setTicks(self._ticks(1, y))
         self.surface.set_surface(value, x, y, point_text=self.model.point_text,
                                  value_text=lambda v: format_value(v, self.model.decimals))
+
+
+class _CellDelegate(ValueDelegate):
+    """A value's cell, framed when it is one of the cells around the operating point."""
+
+    def paint(self, painter, option, index) -> None:
+        super().paint(painter, option, index)
+        if index.data(OPERATING_POINT_ROLE):
+            painter.save()
+            painter.setPen(QPen(QColor(theme.OPERATING_POINT), 2))
+            painter.drawRect(option.rect.adjusted(1, 1, -1, -1))
+            painter.restore()
