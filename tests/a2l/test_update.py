@@ -202,7 +202,15 @@ WRAP = 'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n{}  /end 
     ('    /begin MEASUREMENT zsScalar "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1\n      ECU_ADDRESS 0x12G4\n'
      '    /end MEASUREMENT\n', "the address must be an integer, found '0x12G4'", 5, 19),
     ('    /begin CHARACTERISTIC zsScalar "" VALUE addr RL 0 NO_COMPU_METHOD 0 1 /end CHARACTERISTIC\n',
-     "the address must be an integer, found 'addr'", 4, 45),
+     "CHARACTERISTIC zsScalar: an integer expected, found 'addr'", 4, 45),
+    # a parameter missing moves the next keyword into the parameters: the update would have read ECU_ADDRESS as
+    # the upper limit and inserted a second ECU_ADDRESS after it
+    ('    /begin MEASUREMENT zsScalar "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0\n      ECU_ADDRESS 0x1234\n'
+     '    /end MEASUREMENT\n', "MEASUREMENT zsScalar: a number expected, found 'ECU_ADDRESS'", 5, 7),
+    ('    /begin MEASUREMENT zsScalar FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1 ECU_ADDRESS 0x1234 /end MEASUREMENT\n',
+     "MEASUREMENT zsScalar: a string expected, found 'FLOAT32_IEEE'", 4, 33),
+    ('    /begin MEASUREMENT zsScalar "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1 2 ECU_ADDRESS 0x1234 /end MEASUREMENT\n',
+     "MEASUREMENT zsScalar: unexpected '2' after its 8 parameters (a keyword expected)", 4, 73),
     ('    /begin MEASUREMENT m "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1\n      SYMBOL_LINK zsScalar 0\n'
      '    /end MEASUREMENT\n', "SYMBOL_LINK needs a string and an integer offset", 5, 7),
 ])
@@ -210,6 +218,13 @@ def test_update_checks_the_tokens_it_reads(debug, body, message, line, column):
     with pytest.raises(A2lParseError) as info:
         update_document(load_a2l_string(WRAP.format(body), "u.a2l", validate=False), debug)
     assert message in info.value.reason and (info.value.line, info.value.column) == (line, column)
+
+
+def test_numbers_spelled_as_words_are_numbers(debug):
+    """NaN and INF start with a letter: the check of the parameters' first bytes matches them exactly."""
+    body = '    /begin MEASUREMENT zsScalar "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 NaN INF ECU_ADDRESS 0x0 /end MEASUREMENT\n'
+    result = update_document(load_a2l_string(WRAP.format(body), "u.a2l", validate=False), debug)
+    assert b"NaN INF ECU_ADDRESS 0x0 " not in result.data and b"NaN INF ECU_ADDRESS 0x" in result.data
 
 
 def test_validate_checks_the_whole_grammar_first(tmp_path, source):

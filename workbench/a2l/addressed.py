@@ -14,7 +14,8 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 
 from workbench.a2l import grammar
-from workbench.a2l.values import INT_RE, parse_int
+from workbench.a2l.tokens import shown
+from workbench.a2l.values import FLOAT_RE, INT_RE, parse_int
 
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
@@ -58,6 +59,7 @@ class AddressedObjects:
             row = int(short[0])
             raise doc.error(f"{KEYWORDS[numbers[row]]} {doc.raw(int(name_tokens[row])).decode(doc.encoding)}: "
                             f"missing parameter(s), {_POSITIONAL[numbers[row]]} expected", int(name_tokens[row]) - 1)
+        _check_parameters(doc, blocks, numbers, name_tokens, limits)
         self.blocks = blocks
         self.keyword_numbers = numbers  # index into KEYWORDS
         self.name_tokens = name_tokens
@@ -100,6 +102,47 @@ class AddressedObjects:
         for row, name, raw in zip(rows.tolist(), names, offset_raws):
             self.symbols[row] = name
             self.symbol_offsets[row] = offsets[raw]
+
+
+def _check_parameters(doc: "A2lDocument", blocks: np.ndarray, numbers: np.ndarray, name_tokens: np.ndarray,
+                      limits: np.ndarray) -> None:
+    """Raise :class:`A2lParseError` at the first object whose numbers and strings are not where its
+    positional parameters have them, or that has a parameter too many: a parameter missing shifts the next
+    keyword into the parameters (an upper limit ``ECU_ADDRESS``), where an update would read and write the
+    wrong tokens. Checked by each token's first byte, column by column (a few ms for 65,000 objects); a
+    token that looks wrong (``NaN`` for a number) is then matched exactly."""
+    first = doc.tokens.first_bytes()
+    suspects: list[tuple[int, int, str]] = []  # (token, row, what was expected there)
+    for number, keyword in enumerate(KEYWORDS):
+        rows = np.flatnonzero(numbers == number)
+        if not len(rows):
+            continue
+        params = grammar.BLOCKS[keyword].params
+        for index, kind in enumerate(params):
+            if kind in ("str", "int", "float"):
+                tokens = name_tokens[rows] + index
+                wrong = first[tokens] != _QUOTE if kind == "str" else ~_NUMBER_START[first[tokens]]
+                suspects += [(token, row, kind) for token, row in zip(tokens[wrong].tolist(), rows[wrong].tolist())]
+        after = name_tokens[rows] + len(params)  # an option keyword, unless a child block or /end comes first
+        extra = (after < limits[blocks[rows]]) & (_NUMBER_START[first[after]] | (first[after] == _QUOTE))
+        suspects += [(token, row, "") for token, row in zip(after[extra].tolist(), rows[extra].tolist())]
+    for token, row, kind in sorted(suspects):
+        raw = doc.raw(token)
+        if kind == "str" or (kind and not (INT_RE if kind == "int" else FLOAT_RE).fullmatch(raw)):
+            expected = {"str": "a string", "int": "an integer", "float": "a number"}[kind]
+            what = f"{expected} expected, found '{shown(raw)}'"
+        elif not kind:
+            what = f"unexpected '{shown(raw)}' after its {len(grammar.BLOCKS[KEYWORDS[numbers[row]]].params)} " \
+                   "parameters (a keyword expected)"
+        else:
+            continue
+        keyword, name = KEYWORDS[numbers[row]], doc.raw(int(name_tokens[row])).decode(doc.encoding)
+        raise doc.error(f"{keyword} {name}: {what}", token)
+
+
+_QUOTE = ord('"')
+_NUMBER_START = np.zeros(256, dtype=bool)  # by first byte: may start a number (NaN and INF are matched exactly)
+_NUMBER_START[list(b"0123456789+-.")] = True
 
 
 def _keyword_rows(doc: "A2lDocument", number: int, keyword: str) -> tuple[np.ndarray, ...]:
