@@ -209,6 +209,8 @@ WRAP = 'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n{}  /end 
      '    /end MEASUREMENT\n', "MEASUREMENT zsScalar: a number expected, found 'ECU_ADDRESS'", 5, 7),
     ('    /begin MEASUREMENT zsScalar FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1 ECU_ADDRESS 0x1234 /end MEASUREMENT\n',
      "MEASUREMENT zsScalar: a string expected, found 'FLOAT32_IEEE'", 4, 33),
+    ('    /begin MEASUREMENT zsScalar "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1 ECU_ADDRESS 0x10 ECU_ADDRESS 0x20\n'
+     '    /end MEASUREMENT\n', "MEASUREMENT zsScalar: ECU_ADDRESS is given twice (at most once)", 4, 90),
     ('    /begin MEASUREMENT zsScalar "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1 2 ECU_ADDRESS 0x1234 /end MEASUREMENT\n',
      "MEASUREMENT zsScalar: unexpected '2' after its 8 parameters (a keyword expected)", 4, 73),
     ('    /begin MEASUREMENT m "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1\n      SYMBOL_LINK zsScalar 0\n'

@@ -151,12 +151,24 @@ def _keyword_rows(doc: "A2lDocument", number: int, keyword: str) -> tuple[np.nda
     blocks = blocks[np.isin(doc.blocks.parent[blocks], doc.blocks.having_keyword("MODULE"))]
     address_index = grammar.ADDRESSED_OBJECTS[keyword]
     if address_index is None:
-        address_tokens = _aligned(blocks, *doc.option_tokens(keyword, "ECU_ADDRESS"))
+        address_tokens = _aligned(blocks, *_once(doc, keyword, "ECU_ADDRESS"))
         address_tokens[address_tokens >= 0] += 1
     else:
         address_tokens = doc.blocks.begin[blocks] + 2 + address_index
-    link_tokens = _aligned(blocks, *doc.option_tokens(keyword, "SYMBOL_LINK"))
+    link_tokens = _aligned(blocks, *_once(doc, keyword, "SYMBOL_LINK"))
     return blocks, np.full(len(blocks), number, dtype=np.int64), address_tokens, link_tokens
+
+
+def _once(doc: "A2lDocument", keyword: str, option: str) -> tuple[np.ndarray, np.ndarray]:
+    """:meth:`~workbench.a2l.document.A2lDocument.option_tokens`; raises :class:`A2lParseError` at an
+    object that has ``option`` twice (which one the update should write cannot be told)."""
+    owners, tokens = doc.option_occurrences(keyword, option)
+    twice = np.flatnonzero(owners[1:] == owners[:-1])
+    if len(twice):
+        block = int(owners[twice[0]])
+        name = doc.raw(doc.block_begin[block] + 2).decode(doc.encoding)
+        raise doc.error(f"{keyword} {name}: {option} is given twice (at most once)", int(tokens[twice[0] + 1]))
+    return owners, tokens
 
 
 def _aligned(blocks: np.ndarray, found_blocks: np.ndarray, found_tokens: np.ndarray) -> np.ndarray:

@@ -319,6 +319,13 @@ class A2lDocument:
     def option_tokens(self, block_keyword: str, option: str) -> tuple[np.ndarray, np.ndarray]:
         """(blocks, tokens): every ``block_keyword`` block that has the keyword ``option`` at its own
         level, and the token of its first one, in document order. Found with vectorized searches."""
+        owners, tokens = self.option_occurrences(block_keyword, option)
+        first = first_of_each(owners)
+        return owners[first], tokens[first]
+
+    def option_occurrences(self, block_keyword: str, option: str) -> tuple[np.ndarray, np.ndarray]:
+        """(blocks, tokens) of every ``option`` keyword at the own level of a ``block_keyword`` block, in
+        document order (a block that has it twice is there twice)."""
         tokens = self.tokens.matching(option.encode("ascii"))
         blocks = self.blocks.having_keyword(block_keyword)
         if not len(tokens) or not len(blocks):
@@ -328,8 +335,7 @@ class A2lDocument:
         skip = len(grammar.BLOCKS[block_keyword].params) if block_keyword in grammar.BLOCKS else 0
         # a token among the positional parameters is a name that happens to spell the keyword
         keep = (blocks[slot] == owners) & (tokens >= self.blocks.begin[np.maximum(owners, 0)] + 2 + skip)
-        first = first_of_each(owners[keep])
-        return owners[keep][first], tokens[keep][first]
+        return owners[keep], tokens[keep]
 
     def _innermost_blocks(self, tokens: np.ndarray) -> np.ndarray:
         """The innermost block containing each token (-1: top level)."""
