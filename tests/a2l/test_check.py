@@ -68,9 +68,29 @@ def test_against_the_elf_addresses_and_symbols():
             '  /end MODULE\n/end PROJECT\n')
     report = check_document(load_a2l_string(text, "x.a2l"), DebugData(ELF, use_cache=False))
     assert {(f.kind, f.name, f.line) for f in report.findings} == {
-        ("address-mismatch", "zsScalar", 4), ("symbol-not-found", "gone", 5)}
+        ("address-mismatch", "zsScalar", 4), ("symbol-not-found", "gone", 5), ("byte-order-mismatch", "MOD_COMMON", 3)}
     mismatch = report.of_kind("address-mismatch")[0]
     assert "the A2L says 0x403004, types_dwarf5.elf says 0x403000" in mismatch.message
+
+
+def test_a_byte_order_other_than_the_elfs_is_reported():
+    head = 'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n'
+    tail = '    /begin MEASUREMENT zsScalar "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1 ECU_ADDRESS 0x403000 /end MEASUREMENT\n' \
+           '  /end MODULE\n/end PROJECT\n'
+    found = {}
+    for order in ("MSB_FIRST", "BIG_ENDIAN", "MSB_LAST", "LITTLE_ENDIAN", None):  # the ELF is little-endian x86
+        common = f'    /begin MOD_COMMON "" BYTE_ORDER {order} /end MOD_COMMON\n' if order else ""
+        report = check_document(load_a2l_string(head + common + tail, "x.a2l"), DebugData(ELF, use_cache=False))
+        found[order] = [(f.severity.name.lower(), f.line, f.column, f.message) for f in report.findings]
+    assert found["MSB_LAST"] == found["LITTLE_ENDIAN"] == []
+    assert found["MSB_FIRST"] == [("error", 4, 37, "MODULE M: MOD_COMMON says BYTE_ORDER MSB_FIRST, types_dwarf5.elf is "
+                                   "MSB_LAST (little-endian): every value would be read with its bytes swapped")]
+    assert found["BIG_ENDIAN"][0][0] == "error"
+    assert found[None] == [("warning", 3, 10, "MODULE M: MOD_COMMON says no BYTE_ORDER (ASAP2's default MSB_FIRST), "
+                            "types_dwarf5.elf is MSB_LAST (little-endian): every value would be read with its bytes "
+                            "swapped")]
+    # without the ELF nothing is known of the ECU's byte order
+    assert check_document(load_a2l_string(head + tail, "x.a2l")).findings == []
 
 
 def test_the_demo_a2l_is_clean_against_its_elf():

@@ -87,6 +87,11 @@ def test_check_exit_codes(capsys, tmp_path, types_a2l):
     out = tmp_path / "out.a2l"
     run(capsys, "a2l", "update", str(types_a2l), str(ELF), "-o", str(out), "--remove-missing", "--no-cache")
     code, stdout, stderr = run(capsys, "a2l", "check", str(out), "--elf", str(ELF), "--no-cache")
+    # types.a2l has no MOD_COMMON: ASAP2's default byte order MSB_FIRST is not the x86 ELF's
+    assert code == 1 and stdout.count("\n") == 1 and "MOD_COMMON says no BYTE_ORDER" in stdout
+    out.write_text(out.read_text().replace('/begin MODULE Types ""', '/begin MODULE Types ""\n'
+                                           '    /begin MOD_COMMON "" BYTE_ORDER MSB_LAST /end MOD_COMMON'))
+    code, stdout, stderr = run(capsys, "a2l", "check", str(out), "--elf", str(ELF), "--no-cache")
     assert (code, stdout, stderr) == (0, "", f"{out}: clean\n")
 
 

@@ -3,16 +3,18 @@
 Runs inside gdb (``gdb -batch -nx -x gdb_oracle.py``), nothing of the workbench imported:
 reads the request named by $WB_GDB_REQUEST, ``[{"elf": path, "language": "c"|"c++",
 "expressions": [...]}]``, and writes to $WB_GDB_RESULT, per ELF, per expression,
-``[bit address, bit size or null, byte size]`` (the address in bits: byte address * 8,
-plus the bit position for a bitfield, as gdb's own type description counts it), or the
-error gdb gave. :func:`locate` is the only logic: gdb parses and places everything.
+``[bit address, bit size or null, byte size, element]`` (the address in bits: byte address * 8,
+plus the bit position for a bitfield, as gdb's own type description counts it: from the most
+significant bit of the first byte on big-endian targets; the element: the scalar an array is
+made of as "float"/"signed"/"unsigned"/"pointer" and its size, "unsigned4"), or the error
+gdb gave. :func:`locate` is the only logic: gdb parses and places everything.
 """
 
 import json
 import os
 import re
 
-import gdb  # noqa: F401  (only inside gdb)
+import gdb  # only inside gdb
 
 _MEMBER = re.compile(r"^(.*)\.([A-Za-z_]\w*)$")
 
@@ -31,6 +33,22 @@ def _field_bits(gdb_type, name):
     return None
 
 
+def _element(gdb_type):
+    """The scalar of a type (an array's element) as kind and size: "signed2", "float8", "pointer4"."""
+    scalar = gdb_type.strip_typedefs()
+    while scalar.code == gdb.TYPE_CODE_ARRAY:
+        scalar = scalar.target().strip_typedefs()
+    if scalar.code == gdb.TYPE_CODE_FLT:
+        kind = "float"
+    elif scalar.code == gdb.TYPE_CODE_PTR:
+        kind = "pointer"
+    elif scalar.code in (gdb.TYPE_CODE_INT, gdb.TYPE_CODE_ENUM, gdb.TYPE_CODE_BOOL, gdb.TYPE_CODE_CHAR):
+        kind = "signed" if scalar.is_signed else "unsigned"
+    else:
+        kind = "other"
+    return f"{kind}{scalar.sizeof}"
+
+
 def locate(expression):
     value = gdb.parse_and_eval(expression)
     member = _MEMBER.match(expression)
@@ -38,8 +56,8 @@ def locate(expression):
         parent = gdb.parse_and_eval(member.group(1))
         bits = _field_bits(parent.type, member.group(2))
         if bits is not None and bits[1]:
-            return [int(parent.address) * 8 + bits[0], bits[1], value.type.sizeof]
-    return [int(value.address) * 8, None, value.type.sizeof]
+            return [int(parent.address) * 8 + bits[0], bits[1], value.type.sizeof, _element(value.type)]
+    return [int(value.address) * 8, None, value.type.sizeof, _element(value.type)]
 
 
 def main():

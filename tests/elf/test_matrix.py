@@ -8,6 +8,12 @@ objects the ways A2L generators do. Each ELF goes through the CLI as a user runs
 (`a2l update --types`, then `a2l check --elf`, in a temporary folder), and every address
 and BIT_MASK is compared with what gdb reads from the same ELF (gdb_oracle.py, run in gdb
 once for the whole matrix), the .symtab fallback too on stripped copies.
+
+tests/elf/matrix/cross holds the same sources cross-compiled for ECU targets (build_cross.sh:
+big-endian 32-bit PowerPC and m68k, bare-metal Cortex-M, DWARF 2 to 5, linked into flash and
+RAM like an ECU) with ecu.c's bitfields, doubles, 64-bit integers, enum, pointer and EPK:
+addresses, BIT_MASKs (in the target's byte order) and data types against gdb-multiarch, as
+recorded in cross/gdb.json (CI has no gdb-multiarch; a test compares the record with it).
 """
 
 from __future__ import annotations
@@ -31,6 +37,11 @@ ELFS = sorted(path.name for path in MATRIX.glob("*.elf"))
 COMBINATIONS = [f"{language}-{compiler}-dwarf{dwarf}-m{bits}-{opt}.elf" for language in ("c", "cpp")
                 for compiler in ("gcc", "clang") for dwarf in (4, 5) for bits in (32, 64) for opt in ("O0", "O2")]
 TYPE_UNITS = [f"cpp-{compiler}-dwarf{dwarf}-types.elf" for compiler in ("gcc", "clang") for dwarf in (4, 5)]
+CROSS = MATRIX / "cross"
+CROSS_ELFS = sorted(path.name for path in CROSS.glob("*.elf"))
+CROSS_RECORD = CROSS / "gdb.json"
+# target in the name -> (ELF machine, little-endian)
+CROSS_TARGETS = {"ppc": ("EM_PPC", False), "arm": ("EM_ARM", True), "m68k": ("EM_68K", False)}
 
 # A2L object -> the same object as a gdb expression
 C_OBJECTS = {
@@ -61,6 +72,17 @@ CPP_OBJECTS = {
     "sensor.raw": "app::sensor.raw", "sensor.scale": "app::sensor.scale",
     "app.Controller.limits": "app::Controller::limits", "Limit2": "app::Controller::limits[2]",
 }
+# ecu.c's objects (ecu_c.a2l, cross-compiled ELFs only): their names are gdb's
+ECU_OBJECTS = {name: name for name in (
+    "status.ready", "status.level", "status.phase", "status.sector", "status.offset", "status.window", "frame.id",
+    "frame.kind", "frame.value", "frame.crc", "torque", "energy", "odometer", "gear", "bufferPointer", "calibDouble",
+    "calibTable")}
+ECU_EPK = ("ECU-MATRIX 1.0", "epkText")
+# gdb's element of an object (gdb_oracle.py) -> its ASAP2 data type
+A2L_DATATYPES = {"float4": "FLOAT32_IEEE", "float8": "FLOAT64_IEEE", "pointer4": "ULONG",
+                 **{f"{kind}{size}": name for size, names in ((1, "SBYTE UBYTE"), (2, "SWORD UWORD"),
+                                                            (4, "SLONG ULONG"), (8, "A_INT64 A_UINT64"))
+                    for kind, name in zip(("signed", "unsigned"), names.split())}}
 # what a stripped ELF's .symtab still names (no members without DWARF types), per compiler
 SYMTAB_C = {"gcc": ["sharedCounter", "bigCounter", "signedMatrix", "tickCount", "otherOnly", "gain", "curveValues",
                     "valueBlock", "curveAxis", "sharedAxis"]}
@@ -75,48 +97,86 @@ def objects_of(elf_name: str) -> tuple[Path, dict[str, str], str]:
     return MATRIX / "wild_c.a2l", C_OBJECTS, "c"
 
 
-@pytest.fixture(scope="module")
-def gdb_truth(tmp_path_factory) -> dict[str, dict[str, list]]:
-    """ELF name -> gdb expression -> [bit address, bit size or None, byte size], gdb run once."""
-    if shutil.which("gdb") is None:
-        pytest.skip("gdb is needed as the independent reader of the ELF matrix")
-    work = tmp_path_factory.mktemp("gdb")
+def sources_of(elf_name: str) -> list[tuple[Path, dict[str, str]]]:
+    """The A2L files an ELF is updated from and their objects: a cross-compiled C ELF has ecu.c's too."""
+    source, objects, _ = objects_of(elf_name)
+    ecu = [(MATRIX / "ecu_c.a2l", ECU_OBJECTS)] if elf_name in CROSS_ELFS and source.name == "wild_c.a2l" else []
+    return [(source, objects)] + ecu
+
+
+def run_gdb(gdb: str, folder: Path, names: list[str], work: Path) -> dict[str, dict[str, list]]:
+    """ELF name -> gdb expression -> [bit address, bit size or None, byte size, element] (gdb_oracle.py),
+    one gdb run for all ``names`` in ``folder``."""
     request = []
-    for name in ELFS:
-        _, objects, language = objects_of(name)
-        request.append({"elf": str(MATRIX / name), "language": language, "expressions": sorted(set(objects.values()))})
+    for name in names:
+        expressions = {expression for _, objects in sources_of(name) for expression in objects.values()}
+        if name in CROSS_ELFS and name.startswith("c-"):
+            expressions.add(ECU_EPK[1])
+        request.append({"elf": str(folder / name), "language": objects_of(name)[2],
+                        "expressions": sorted(expressions)})
     (work / "request.json").write_text(json.dumps(request))
     env = {**os.environ, "WB_GDB_REQUEST": str(work / "request.json"), "WB_GDB_RESULT": str(work / "result.json")}
-    subprocess.run(["gdb", "-batch", "-nx", "-x", str(HERE / "gdb_oracle.py")], env=env, check=True,
+    subprocess.run([gdb, "-batch", "-nx", "-x", str(HERE / "gdb_oracle.py")], env=env, check=True,
                    capture_output=True, timeout=300)
-    results = json.loads((work / "result.json").read_text())
-    return dict(zip(ELFS, results))
+    return dict(zip(names, json.loads((work / "result.json").read_text())))
 
 
-def placements(a2l: Path) -> dict[str, tuple[int, int | None]]:
-    """A2L object -> (address, BIT_MASK or None) as the file states them."""
+@pytest.fixture(scope="module")
+def gdb_truth(tmp_path_factory) -> dict[str, dict[str, list]]:
+    """ELF name -> gdb expression -> [bit address, bit size or None, byte size, element], gdb run once."""
+    if shutil.which("gdb") is None:
+        pytest.skip("gdb is needed as the independent reader of the ELF matrix")
+    return run_gdb("gdb", MATRIX, ELFS, tmp_path_factory.mktemp("gdb"))
+
+
+@pytest.fixture(scope="module")
+def cross_truth() -> dict[str, dict[str, list]]:
+    """gdb-multiarch's places of the objects of the cross-compiled ELFs, as recorded."""
+    return json.loads(CROSS_RECORD.read_text())
+
+
+def placements(a2l: Path) -> dict[str, tuple[int, int | None, str | None]]:
+    """A2L object -> (address, BIT_MASK or None, a MEASUREMENT's data type) as the file states them."""
     doc = load_a2l(a2l)
     found = {}
     for block in doc.objects("MEASUREMENT"):
         mask = block.option("BIT_MASK")
         found[block.name] = (doc.int_value(block.option("ECU_ADDRESS")[0]),
-                             doc.int_value(mask[0]) if mask else None)
+                             doc.int_value(mask[0]) if mask else None, doc.text(block.args[2]))
     for keyword, index in (("CHARACTERISTIC", 3), ("AXIS_PTS", 2)):
         for block in doc.objects(keyword):
-            found[block.name] = (doc.int_value(block.args[index]), None)
+            found[block.name] = (doc.int_value(block.args[index]), None, None)
     return found
 
 
-def assert_where_gdb_says(elf_name: str, placed: dict, truth: dict, names) -> None:
-    _, objects, _ = objects_of(elf_name)
+def assert_where_gdb_says(objects: dict[str, str], placed: dict, truth: dict, names, little_endian=True) -> None:
     for name in names:
-        bit_address, bit_size, _ = truth[objects[name]]
-        address, mask = placed[name]
+        bit_address, bit_size, size, _ = truth[objects[name]]
+        address, mask, _ = placed[name]
         if bit_size is None:
             assert (address, mask) == (bit_address // 8, None), name
-        else:  # little-endian targets: bit n of the storage unit is bit 8 * address + n of memory
-            lowest = (mask & -mask).bit_length() - 1
-            assert (8 * address + lowest, bin(mask).count("1")) == (bit_address, bit_size), name
+            continue
+        lowest, count = (mask & -mask).bit_length() - 1, bin(mask).count("1")
+        assert mask >> lowest == (1 << count) - 1 and mask < 1 << 8 * size, (name, hex(mask))
+        # the mask is in the value of the storage unit as the ECU reads it; gdb counts memory's bits
+        # from the least significant bit of the first byte on little-endian targets, from the most
+        # significant one on big-endian targets
+        first = lowest if little_endian else 8 * size - lowest - count
+        assert (8 * address + first, count) == (bit_address, bit_size), name
+
+
+def update_and_check(elf: Path, source: Path, tmp_path: Path, capsys) -> tuple[dict, dict, dict]:
+    """`a2l update --types` of ``source`` from ``elf``, then `a2l check --elf` of the result, as a user
+    runs them: (the objects' placements, update's report, check's report)."""
+    a2l = tmp_path / source.name
+    shutil.copy(source, a2l)
+    out = tmp_path / f"updated-{source.name}"
+    assert main(["a2l", "update", str(a2l), str(elf), "-o", str(out), "--types", "--no-cache", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    cache = ["--cache-dir", str(tmp_path / "cache")]  # its own: a stale index of the user's never meets the test
+    assert main(["a2l", "check", str(out), "--elf", str(elf), "--json", *cache]) in (0, 1)
+    checked = json.loads(capsys.readouterr().out)
+    return placements(out), report, checked
 
 
 def test_the_matrix_is_what_its_names_say():
@@ -140,30 +200,93 @@ def test_the_matrix_is_what_its_names_say():
 @pytest.mark.parametrize("elf_name", ELFS)
 def test_update_writes_where_gdb_reads(elf_name, gdb_truth, tmp_path, capsys):
     source, objects, _ = objects_of(elf_name)
-    a2l = tmp_path / source.name
-    shutil.copy(source, a2l)
-    out = tmp_path / "updated.a2l"
-    assert main(["a2l", "update", str(a2l), str(MATRIX / elf_name), "-o", str(out), "--types", "--no-cache",
-                 "--json"]) == 0
-    report = json.loads(capsys.readouterr().out)
     truth = gdb_truth[elf_name]
     unknown = {expression: truth[expression] for expression in objects.values() if isinstance(truth[expression], str)}
     assert not unknown, f"gdb cannot read: {unknown}"
-    placed = placements(out)
-    assert_where_gdb_says(elf_name, placed, truth, objects)
-    # --types found every data type and shape right: it changed nothing but bit masks
-    changes = {f["kind"] for f in report["findings"]} - {"address-updated", "bit-mask-updated", "epk-not-found"}
+    placed, report, checked = update_and_check(MATRIX / elf_name, source, tmp_path, capsys)
+    assert_where_gdb_says(objects, placed, truth, objects)
+    assert_wild_types_kept(source, placed, report)
+    errors = [(f["kind"], f["name"]) for f in checked["findings"] if f["severity"] == "error"]
+    assert errors == ([("symbol-not-found", "ambiguous")] if source.name == "wild_c.a2l" else [])
+
+
+def assert_wild_types_kept(source: Path, placed: dict, report: dict) -> None:
+    """wild_c.a2l and wild_cpp.a2l state every data type and shape right: --types changes nothing but bit masks."""
+    changes = {f["kind"] for f in report["findings"]} - {"address-updated", "bit-mask-updated", "epk-not-found",
+                                                         "epk-not-set"}  # no MOD_PAR for ecu.c's EPK
     if source.name == "wild_c.a2l":  # a static of two functions: reported, its address left alone
         assert changes == {"symbol-ambiguous"}
         [ambiguous] = [f for f in report["findings"] if f["kind"] == "symbol-ambiguous"]
         assert "wild_other_step.ambiguous" in ambiguous["message"] and "wild_tick.ambiguous" in ambiguous["message"]
-        assert placed["ambiguous"] == (0x4321, None)
+        assert placed["ambiguous"][:2] == (0x4321, None)
     else:
         assert changes == set()
-    assert main(["a2l", "check", str(out), "--elf", str(MATRIX / elf_name), "--json"]) in (0, 1)
-    checked = json.loads(capsys.readouterr().out)
-    errors = [(f["kind"], f["name"]) for f in checked["findings"] if f["severity"] == "error"]
-    assert errors == ([("symbol-not-found", "ambiguous")] if source.name == "wild_c.a2l" else [])
+
+
+def test_the_cross_compiled_elfs_are_what_their_names_say():
+    assert len(CROSS_ELFS) == 14
+    versions = {}
+    for name in CROSS_ELFS:
+        language, target, dwarf, _ = name.removesuffix(".elf").split("-")
+        with open(CROSS / name, "rb") as handle:
+            elf = ELFFile(handle)
+            assert (elf["e_machine"], elf.little_endian, elf.elfclass) == (*CROSS_TARGETS[target], 32), name
+            units = [unit.get_top_DIE() for unit in elf.get_dwarf_info().iter_CUs()]
+            sources = {die.attributes["DW_AT_name"].value.decode() for die in units}  # and libgcc's (arm)
+            assert {"wild.c", "wild_other.c", "ecu.c"} <= sources if language == "c" else \
+                {"wild.cpp", "wild_other.cpp"} <= sources, name
+            assert {die.cu.header.version for die in units if die.attributes["DW_AT_name"].value.decode()
+                    in ("wild.c", "wild_other.c", "ecu.c", "wild.cpp", "wild_other.cpp")} == {int(dwarf[5:])}, name
+            versions.setdefault(target, set()).add(dwarf)
+            ram, flash = (elf.get_section_by_name(section)["sh_addr"] for section in (".data", ".text"))
+            assert ram == {"ppc": 0x4000_0000, "arm": 0x2000_0000, "m68k": 0x80_0000}[target] < ram + 0x1000, name
+            assert flash == {"ppc": 0x80_0000, "arm": 0x800_0000, "m68k": 0x1_0000}[target], name
+    assert versions["ppc"] == versions["arm"] == {"dwarf2", "dwarf3", "dwarf4", "dwarf5"}
+
+
+@pytest.mark.parametrize("elf_name", CROSS_ELFS)
+def test_cross_compiled_update_writes_where_gdb_reads(elf_name, cross_truth, tmp_path, capsys):
+    """Big-endian and bare-metal ELFs: every address, BIT_MASK and data type as gdb-multiarch reads it, the EPK,
+    and `a2l check --elf` names an A2L whose byte order is not the ELF's."""
+    little_endian = CROSS_TARGETS[elf_name.split("-")[1]][1]
+    truth = cross_truth[elf_name]
+    for source, objects in sources_of(elf_name):
+        placed, report, checked = update_and_check(CROSS / elf_name, source, tmp_path, capsys)
+        assert_where_gdb_says(objects, placed, truth, objects, little_endian)
+        if source.name == "ecu_c.a2l":  # every data type a placeholder UBYTE before
+            datatypes = {name: placed[name][2] for name in objects if placed[name][2] is not None}
+            assert datatypes == {name: A2L_DATATYPES[truth[name][3]] for name in datatypes}
+            unrepresentable = {f["name"] for f in report["findings"] if f["kind"] == "bit-mask-unrepresentable"}
+            assert unrepresentable == {"wide.wide"} and placed["wide.wide"][1] == 0x1  # reported, left alone
+            epk = {f["name"]: f["message"] for f in report["findings"] if f["kind"] == "epk-updated"}
+            epk_address = truth[ECU_EPK[1]][0] // 8
+            assert epk == {"EPK": f"EPK '' -> {ECU_EPK[0]!r} (from .epk)",
+                           "ADDR_EPK": f"ADDR_EPK 0x0 -> 0x{epk_address:X}"}
+        else:
+            assert_wild_types_kept(source, placed, report)
+        # wild_*.a2l say MSB_LAST (an error on a big-endian ELF), ecu_c.a2l nothing (ASAP2's MSB_FIRST: a warning)
+        states_little_endian = source.name != "ecu_c.a2l"
+        problems = {(f["kind"], f["name"], f["severity"]) for f in checked["findings"]
+                    if f["severity"] == "error" or f["kind"] == "byte-order-mismatch"}
+        expected = {("symbol-not-found", "ambiguous", "error")} if source.name == "wild_c.a2l" else set()
+        if states_little_endian != little_endian:
+            expected.add(("byte-order-mismatch", "MOD_COMMON", "error" if states_little_endian else "warning"))
+        assert problems == expected, source.name
+
+
+@pytest.mark.skipif(shutil.which("gdb-multiarch") is None, reason="gdb-multiarch reads the cross-compiled ELFs")
+def test_cross_record_is_what_gdb_multiarch_reads(cross_truth, tmp_path):
+    live = run_gdb("gdb-multiarch", CROSS, CROSS_ELFS, tmp_path)
+    unknown = {(name, expression): found for name, places in live.items() for expression, found in places.items()
+               if isinstance(found, str)}
+    assert not unknown, f"gdb-multiarch cannot read: {unknown}"
+    if os.environ.get("WB_RECORD_CROSS_GDB"):  # build_cross.sh: after a rebuild, record the new truth
+        CROSS_RECORD.write_text("{\n" + ",\n".join(
+            f" {json.dumps(name)}: {{\n" + ",\n".join(f"  {json.dumps(expression)}: {json.dumps(found)}"
+                                                       for expression, found in sorted(places.items())) + "}"
+            for name, places in sorted(live.items())) + "\n}\n")
+        return
+    assert live == cross_truth
 
 
 @pytest.mark.parametrize("elf_name", [name for name in COMBINATIONS if name.endswith("-m64-O2.elf")])
@@ -177,7 +300,7 @@ def test_symtab_fallback_demangles_and_knows_function_statics(elf_name, gdb_trut
     main(["a2l", "update", str(source), str(stripped), "-o", str(out), "--no-cache"])
     capsys.readouterr()
     named = SYMTAB_CPP if source.name == "wild_cpp.a2l" else SYMTAB_C[elf_name.split("-")[1]]
-    assert_where_gdb_says(elf_name, placements(out), gdb_truth[elf_name], named)
+    assert_where_gdb_says(objects, placements(out), gdb_truth[elf_name], named)
 
 
 @pytest.mark.compilers
@@ -192,6 +315,22 @@ def test_build_script_rebuilds_the_committed_matrix(tmp_path):
             pytest.skip(f"this {compiler} is not the one that built the committed ELFs: "
                         f"{_producer(tmp_path / sample)!r} vs {_producer(MATRIX / sample)!r}")
     different = [name for name in ELFS if (tmp_path / name).read_bytes() != (MATRIX / name).read_bytes()]
+    assert different == []
+
+
+@pytest.mark.compilers
+def test_build_cross_rebuilds_the_committed_cross_compiled_elfs(tmp_path):
+    compilers = ("powerpc-linux-gnu-gcc", "powerpc-linux-gnu-g++", "arm-none-eabi-gcc", "arm-none-eabi-g++",
+                 "m68k-linux-gnu-gcc")
+    missing = [tool for tool in compilers if shutil.which(tool) is None]
+    if missing:
+        pytest.skip(f"{', '.join(missing)} needed to rebuild the cross-compiled ELFs")
+    subprocess.run(["sh", str(MATRIX / "build_cross.sh"), str(tmp_path)], check=True, capture_output=True)
+    assert sorted(p.name for p in tmp_path.glob("*.elf")) == CROSS_ELFS
+    for sample in ("c-ppc-dwarf2-O0.elf", "c-arm-dwarf3-O0.elf", "c-m68k-dwarf2-O0.elf"):
+        if _producer(tmp_path / sample) != _producer(CROSS / sample):
+            pytest.skip(f"not the compiler that built the committed {sample}: {_producer(tmp_path / sample)!r}")
+    different = [name for name in CROSS_ELFS if (tmp_path / name).read_bytes() != (CROSS / name).read_bytes()]
     assert different == []
 
 

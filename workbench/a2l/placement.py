@@ -18,6 +18,7 @@ from workbench.a2l.addressed import AddressedObjects
 from workbench.a2l.datatypes import DATATYPES
 from workbench.a2l.document import A2lDocument, Block
 from workbench.a2l.grammar import ADDRESSED_OBJECTS, MAX_ADDRESS
+from workbench.a2l.readers import read_mod_common
 from workbench.a2l.reports import finding_at
 from workbench.a2l.values import int_or_none
 from workbench.elf.debugdata import DebugData
@@ -142,11 +143,12 @@ def _option_values(doc: A2lDocument, option: str, keywords) -> dict[int, int]:
     return values
 
 
-def _overlaps(doc: A2lDocument, placed: list[_Placed], report: Report) -> None:
+def _overlaps(doc: A2lDocument, placed: list[_Placed], big_endian: bool, report: Report) -> None:
     """Partial overlaps are errors; an object that only repeats another's bytes is a warning.
     An object inside a larger one (a struct member, an array element) is a deliberate view, and
     so is a bitfield of a whole object's bytes; bitfields of the same bytes with disjoint masks
-    do not overlap."""
+    do not overlap, nor do bitfields of partly shared bytes (a packed struct's) whose masks, in
+    the module's byte order, cover different bits of memory."""
     ordered = sorted(placed, key=lambda p: (p.extension, p.address, -p.size))
     reach: _Placed | None = None  # the object reaching furthest so far (in the item's address space)
     group = _SameBytes(None)  # the objects on exactly reach's bytes
@@ -160,7 +162,7 @@ def _overlaps(doc: A2lDocument, placed: list[_Placed], report: Report) -> None:
                                           f"{item.keyword} {item.name}{_bits(item)} occupies the same {item.size} "
                                           f"byte(s) at 0x{item.address:X} as {clash.keyword} {clash.name}"
                                           f"{_bits(clash)}", item.keyword, Severity.WARNING))
-            elif end > reach_end:
+            elif end > reach_end and _share_bits(item, reach, big_endian):
                 report.add(finding_at(doc, item.token, "overlap", item.name,
                                       f"{item.keyword} {item.name} (0x{item.address:X}, {item.size} bytes) overlaps "
                                       f"{reach.keyword} {reach.name} (0x{reach.address:X}, {reach.size} bytes)",
@@ -169,6 +171,19 @@ def _overlaps(doc: A2lDocument, placed: list[_Placed], report: Report) -> None:
                 continue
         reach = item
         group = _SameBytes(item)
+
+
+def _share_bits(item: _Placed, other: _Placed, big_endian: bool) -> bool:
+    """Whether two objects on partly shared bytes cover a common bit of memory (whole objects always do)."""
+    base = min(item.address, other.address)
+    covered = []
+    for placed in (item, other):
+        mask = placed.bit_mask
+        if mask is None or mask >= 1 << 8 * placed.size:
+            return True
+        in_memory = int.from_bytes(mask.to_bytes(placed.size, "big" if big_endian else "little"), "little")
+        covered.append(in_memory << 8 * (placed.address - base))
+    return bool(covered[0] & covered[1])
 
 
 class _SameBytes:
@@ -222,5 +237,8 @@ def check_placement(doc: A2lDocument, module: Block, objects: AddressedObjects, 
     """Report the module's objects that overlap or lie outside memory (and, with ``debug``, whose
     symbol is missing or whose address differs from the ELF's)."""
     placed = _placements(doc, module, objects, debug, report)
-    _overlaps(doc, placed, report)
+    # which bits of memory a BIT_MASK covers: by the ELF's byte order (check reports a MOD_COMMON that differs)
+    big_endian = (not debug.elf.little_endian if debug is not None else
+                  read_mod_common(doc, module.first("MOD_COMMON")).byte_order.startswith("MSB_FIRST"))
+    _overlaps(doc, placed, big_endian, report)
     _segments(doc, module, placed, report)

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from workbench.fileio import atomic_write_bytes
 
-FORMAT = 10  # bump when the cached structures or the way names resolve change
+FORMAT = 11  # bump when the cached structures or the way names resolve change
 
 
 def default_cache_dir() -> Path:

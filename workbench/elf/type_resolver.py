@@ -89,7 +89,7 @@ class TypeResolver:
         members, bases = [], []
         for child in self.reader.children(die):
             if child.tag == dwarf.TAG_MEMBER and not child.attrs.get(dwarf.AT_DECLARATION):  # not a static member
-                members.append(self._member(child))
+                members.append(self._member(child, size))
             elif child.tag == dwarf.TAG_INHERITANCE:
                 bases.append(self._base(child))
         kind = "union" if die.tag == dwarf.TAG_UNION else "struct"
@@ -134,7 +134,7 @@ class TypeResolver:
             total *= dim
         return CType("array", total, element=element, dims=tuple(dims))
 
-    def _member(self, die: dwarf.Die) -> CMember:
+    def _member(self, die: dwarf.Die, record_size: int) -> CMember:
         attrs = die.attrs
         name = attrs.get(dwarf.AT_NAME)
         member_type = self.resolve(attrs.get(dwarf.AT_TYPE))
@@ -143,14 +143,31 @@ class TypeResolver:
         if not isinstance(bit_size, int):
             return CMember(name if isinstance(name, str) else "", offset or 0, member_type)
         storage = attrs.get(dwarf.AT_BYTE_SIZE) or member_type.size or 1
+        big_endian = self.reader.order == ">"
         data_bit_offset = attrs.get(dwarf.AT_DATA_BIT_OFFSET)
-        if isinstance(data_bit_offset, int):  # DWARF 4+: bits from the start of the struct
-            start = (data_bit_offset // (8 * storage)) * storage
-            within = data_bit_offset - 8 * start
-            if self.reader.order == ">":  # counted from the most significant bit on big-endian targets
-                within = 8 * storage - within - bit_size
-            return CMember(name if isinstance(name, str) else "", start, member_type, bit_size, within)
-        # DWARF 2/3: DW_AT_bit_offset counts from the MSB of the storage unit at the member offset
-        bit_offset = attrs.get(dwarf.AT_BIT_OFFSET) or 0
-        return CMember(name if isinstance(name, str) else "", offset or 0, member_type, bit_size,
-                       8 * storage - bit_offset - bit_size)
+        if isinstance(data_bit_offset, int):  # DWARF 4+: bits from the start of the struct, in memory order
+            first, unit = data_bit_offset, None
+        else:  # DWARF 2/3: DW_AT_bit_offset counts from the MSB of the storage unit at the member offset
+            unit = offset or 0
+            bit_offset = attrs.get(dwarf.AT_BIT_OFFSET) or 0
+            first = 8 * unit + (bit_offset if big_endian else 8 * storage - bit_offset - bit_size)
+        start, position = _storage_unit(first, bit_size, storage, unit, record_size, big_endian)
+        return CMember(name if isinstance(name, str) else "", start, member_type, bit_size, position)
+
+
+def _storage_unit(first: int, bit_size: int, storage: int, unit: int | None, record_size: int,
+                  big_endian: bool) -> tuple[int, int]:
+    """(byte offset, lowest bit in the value) of the ``storage``-byte unit a bitfield is read through, whose
+    first bit in memory order (from the LSB of byte 0 on little-endian targets, from the MSB on big-endian
+    ones) is ``first``: the aligned unit when the field lies inside it, else the producer's (``unit``, DWARF
+    2/3; m68k's gcc aligns 32-bit units to 2 bytes), else the one starting at the field's first byte or
+    ending at its last (a packed struct's field across an aligned boundary), preferring one inside the
+    struct of ``record_size`` bytes. A field that no unit of ``storage`` bytes holds gets a position
+    outside the unit (``update --types`` reports it)."""
+    candidates = [first // (8 * storage) * storage, unit, first // 8, (first + bit_size - 1) // 8 + 1 - storage]
+    holding = [start for start in candidates
+               if start is not None and 0 <= first - 8 * start <= 8 * storage - bit_size] or [first // 8]
+    inside = [start for start in holding if 0 <= start and start + storage <= record_size]
+    start = (inside or holding)[0]
+    within = first - 8 * start
+    return start, 8 * storage - within - bit_size if big_endian else within

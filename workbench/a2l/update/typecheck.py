@@ -43,7 +43,7 @@ from workbench.findings import Finding, Severity
 
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
-    from workbench.elf.ctypes_model import CType
+    from workbench.elf.ctypes_model import CMember, CType
     from workbench.elf.debugdata import ResolvedSymbol
 
 
@@ -85,7 +85,7 @@ class TypeChecker:
         self._enum(target, target.name_token + 3, symbol.type, edits, findings)
         self._dims(target, block, array_dims(symbol.type), edits, findings)
         if symbol.bit_size is not None:
-            self._bit_mask(target, block, ((1 << symbol.bit_size) - 1) << (symbol.bit_position or 0), edits, findings)
+            self._bit_mask(target, block, symbol, edits, findings)
         self._limits(target, target.name_token + 6, target.name_token + 7, datatype, edits, findings)
         return edits, findings
 
@@ -110,7 +110,7 @@ class TypeChecker:
             mode = self.layouts.layouts[doc.text(target.name_token + 4)].index_modes.get("FNC_VALUES", "")
             self._axes(target, block, kind, dims, mode, edits, findings)
         if symbol.bit_size is not None:
-            self._bit_mask(target, block, ((1 << symbol.bit_size) - 1) << (symbol.bit_position or 0), edits, findings)
+            self._bit_mask(target, block, symbol, edits, findings)
         self._limits(target, target.name_token + 7, target.name_token + 8, needed, edits, findings)
         return edits, findings
 
@@ -158,8 +158,7 @@ class TypeChecker:
         self._enum(target, target.name_token + 6, values.type, edits, findings)
         self._limits(target, target.name_token + 7, target.name_token + 8, datatype_for(values.type), edits, findings)
         if values.bit_size is not None:
-            self._bit_mask(target, doc.block(target.block), ((1 << values.bit_size) - 1) << (values.bit_position or 0),
-                           edits, findings)
+            self._bit_mask(target, doc.block(target.block), values, edits, findings)
         for axis, descr in zip(AXES, doc.block(target.block).children_named("AXIS_DESCR")):
             if len(descr.args) < 4:
                 continue
@@ -375,8 +374,17 @@ class TypeChecker:
             findings.append(self._finding(target, target.name_token, "size-updated",
                                           f"{target.name}: MATRIX_DIM {_dims_text(dims)} added"))
 
-    def _bit_mask(self, target: Target, block, mask: int, edits: list, findings: list) -> None:
+    def _bit_mask(self, target: Target, block, field: "ResolvedSymbol | CMember", edits: list, findings: list) -> None:
+        """BIT_MASK of a bitfield in the value of its storage unit (the element type) as the ECU reads it."""
         doc = self.doc
+        position, bits = field.bit_position or 0, 8 * element_type(field.type).size
+        if not 0 <= position <= bits - field.bit_size:
+            findings.append(self._finding(target, target.name_token, "bit-mask-unrepresentable",
+                                          f"{target.name}: the bitfield of {field.bit_size} bits lies across more "
+                                          f"than the {bits} bits of its type (a packed struct): no BIT_MASK "
+                                          "describes it", Severity.WARNING))
+            return
+        mask = ((1 << field.bit_size) - 1) << position
         tokens = block.option("BIT_MASK")
         if tokens:
             old = doc.int_value(tokens[0])
