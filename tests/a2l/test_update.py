@@ -89,6 +89,21 @@ def test_epk_string_and_address_from_the_elf(source, debug):
     assert {f.name for f in result.report.of_kind("epk-updated")} == {"EPK", "ADDR_EPK"}
 
 
+@pytest.mark.parametrize("mod_par, message", [
+    ("EPK", "MOD_PAR: EPK needs a string in quotes, found '/end'"),
+    ("EPK 0x10", "MOD_PAR: EPK needs a string in quotes, found '0x10'"),
+    ('ADDR_EPK EPK "x"', "MOD_PAR: ADDR_EPK needs an integer address, found 'EPK'"),
+])
+def test_an_epk_without_its_value_is_refused_not_inserted_again(debug, mod_par, message):
+    """The update used to insert a second EPK / ADDR_EPK beside the one it could not read."""
+    text = f'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n    /begin MOD_PAR "x" {mod_par}\n' \
+           '    /end MOD_PAR\n  /end MODULE\n/end PROJECT\n'
+    with pytest.raises(A2lParseError) as info:
+        update_document(load_a2l_string(text, "u.a2l", validate=False), debug)
+    assert (info.value.reason, info.value.line, info.value.column) == (message, 4, 24)
+    assert update_document(load_a2l_string(text, validate=False), debug, epk=False).report.ok  # --no-epk: left alone
+
+
 def test_epk_is_inserted_when_mod_par_lacks_it(debug):
     text = ('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n    /begin MOD_PAR "x"\n'
             '    /end MOD_PAR\n  /end MODULE\n/end PROJECT\n')

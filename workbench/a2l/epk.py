@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 from workbench.a2l.edits import Edit, indentation_of, newline_bytes, replace_token
 from workbench.a2l.reports import finding_at
-from workbench.a2l.values import format_int_like, quote_string
+from workbench.a2l.values import format_int_like, is_int, quote_string
 from workbench.errors import InputError
 from workbench.findings import Finding, Severity
 
@@ -74,6 +74,8 @@ def epk_edits(doc: "A2lDocument", epk: ElfEpk, module: "Block") -> tuple[list[Ed
     edits: list[Edit] = []
     findings: list[Finding] = []
     inserts: list[bytes] = []
+    _check_option(doc, mod_par, "EPK", "a string in quotes", lambda raw: raw[:1] == b'"')
+    _check_option(doc, mod_par, "ADDR_EPK", "an integer address", is_int)
     current_text = mod_par.option("EPK")
     if current_text:
         token = current_text[0]
@@ -104,3 +106,15 @@ def epk_edits(doc: "A2lDocument", epk: ElfEpk, module: "Block") -> tuple[list[Ed
         newline = newline_bytes(doc)
         edits.append(Edit(anchor, anchor, b"".join(newline + indent + line for line in inserts)))
     return edits, findings
+
+
+def _check_option(doc: "A2lDocument", mod_par: "Block", option: str, expected: str, fits) -> None:
+    """Raise :class:`A2lParseError` at an ``option`` of MOD_PAR without its value: the update would insert
+    another one beside it."""
+    owners, keywords = doc.option_occurrences("MOD_PAR", option)
+    for keyword in keywords[owners == mod_par.index].tolist():
+        value = keyword + 1
+        if value >= doc.block_end[mod_par.index] or not fits(doc.raw(value)):
+            found = doc.raw(min(value, doc.block_end[mod_par.index])).decode(doc.encoding)
+            raise doc.error(f"MOD_PAR: {option} needs {expected}, found '{found}'", keyword)
+
