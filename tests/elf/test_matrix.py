@@ -78,6 +78,12 @@ ECU_OBJECTS = {name: name for name in (
     "frame.kind", "frame.value", "frame.crc", "torque", "energy", "odometer", "gear", "bufferPointer", "calibDouble",
     "calibTable")}
 ECU_EPK = ("ECU-MATRIX 1.0", "epkText")
+ECU_GEARS = ["-1", "GEAR_FAULT", "0", "GEAR_PARK", "1", "GEAR_REVERSE", "2", "GEAR_NEUTRAL", "3", "GEAR_DRIVE",
+             "4660", "GEAR_SERVICE"]  # ecu.c's enum tGear, GEAR_SERVICE = 0x1234
+# what the stripped ELFs of cross/stripped still name: ecu.c's and wild.c's globals
+SYMTAB_CROSS = ["sharedCounter", "bigCounter", "signedMatrix", "tickCount", "otherOnly", "gain", "curveValues",
+                "valueBlock", "curveAxis", "sharedAxis", "torque", "energy", "odometer", "gear", "bufferPointer",
+                "calibDouble", "calibTable"]
 # gdb's element of an object (gdb_oracle.py) -> its ASAP2 data type
 A2L_DATATYPES = {"float4": "FLOAT32_IEEE", "float8": "FLOAT64_IEEE", "pointer4": "ULONG",
                  **{f"{kind}{size}": name for size, names in ((1, "SBYTE UBYTE"), (2, "SWORD UWORD"),
@@ -166,8 +172,8 @@ def assert_where_gdb_says(objects: dict[str, str], placed: dict, truth: dict, na
 
 
 def update_and_check(elf: Path, source: Path, tmp_path: Path, capsys) -> tuple[dict, dict, dict]:
-    """`a2l update --types` of ``source`` from ``elf``, then `a2l check --elf` of the result, as a user
-    runs them: (the objects' placements, update's report, check's report)."""
+    """`a2l update --types` of ``source`` from ``elf`` into ``updated-<source>``, then `a2l check --elf` of
+    the result, as a user runs them: (the objects' placements, update's report, check's report)."""
     a2l = tmp_path / source.name
     shutil.copy(source, a2l)
     out = tmp_path / f"updated-{source.name}"
@@ -256,6 +262,8 @@ def test_cross_compiled_update_writes_where_gdb_reads(elf_name, cross_truth, tmp
         if source.name == "ecu_c.a2l":  # every data type a placeholder UBYTE before
             datatypes = {name: placed[name][2] for name in objects if placed[name][2] is not None}
             assert datatypes == {name: A2L_DATATYPES[truth[name][3]] for name in datatypes}
+            [vtab] = load_a2l(tmp_path / "updated-ecu_c.a2l").objects("COMPU_VTAB")  # the enum's, new
+            assert [vtab.doc.text(token) for token in vtab.args[2:]] == ["TAB_VERB", "6", *ECU_GEARS]
             unrepresentable = {f["name"] for f in report["findings"] if f["kind"] == "bit-mask-unrepresentable"}
             assert unrepresentable == {"wide.wide"} and placed["wide.wide"][1] == 0x1  # reported, left alone
             epk = {f["name"]: f["message"] for f in report["findings"] if f["kind"] == "epk-updated"}
@@ -272,6 +280,18 @@ def test_cross_compiled_update_writes_where_gdb_reads(elf_name, cross_truth, tmp
         if states_little_endian != little_endian:
             expected.add(("byte-order-mismatch", "MOD_COMMON", "error" if states_little_endian else "warning"))
         assert problems == expected, source.name
+
+
+@pytest.mark.parametrize("elf_name", ["c-ppc-dwarf4-O0.elf", "c-arm-dwarf4-O2.elf"])
+def test_cross_compiled_symtab_fallback(elf_name, cross_truth, tmp_path, capsys):
+    """Without DWARF (objcopy --strip-debug): a big-endian .symtab, and a Thumb one with its mapping symbols."""
+    for source, objects in sources_of(elf_name):
+        out = tmp_path / f"updated-{source.name}"
+        main(["a2l", "update", str(source), str(CROSS / "stripped" / elf_name), "-o", str(out), "--no-cache"])
+        capsys.readouterr()
+        named = [name for name in objects if name in SYMTAB_CROSS]
+        assert_where_gdb_says(objects, placements(out), cross_truth[elf_name], named)
+        assert len(named) == (10 if source.name == "wild_c.a2l" else 7)
 
 
 @pytest.mark.skipif(shutil.which("gdb-multiarch") is None, reason="gdb-multiarch reads the cross-compiled ELFs")
@@ -330,7 +350,8 @@ def test_build_cross_rebuilds_the_committed_cross_compiled_elfs(tmp_path):
     for sample in ("c-ppc-dwarf2-O0.elf", "c-arm-dwarf3-O0.elf", "c-m68k-dwarf2-O0.elf"):
         if _producer(tmp_path / sample) != _producer(CROSS / sample):
             pytest.skip(f"not the compiler that built the committed {sample}: {_producer(tmp_path / sample)!r}")
-    different = [name for name in CROSS_ELFS if (tmp_path / name).read_bytes() != (CROSS / name).read_bytes()]
+    built = CROSS_ELFS + [f"stripped/{path.name}" for path in (CROSS / "stripped").glob("*.elf")]
+    different = [name for name in built if (tmp_path / name).read_bytes() != (CROSS / name).read_bytes()]
     assert different == []
 
 

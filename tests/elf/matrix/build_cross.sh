@@ -13,7 +13,7 @@
 #   C++ wild.cpp + wild_other.cpp; a selection where every DWARF version meets every target
 #   (DWARF 2/3 write DW_AT_bit_offset, 4/5 DW_AT_data_bit_offset (gcc 12: 5 only)).
 #   Linked with ecu.ld like an ECU: code, constants, .cal and .epk in flash at FLASH, variables
-#   in RAM at RAM (their initial values in flash).
+#   in RAM at RAM (their initial values in flash). stripped/: two of them without DWARF (.symtab only).
 #
 # Then `WB_RECORD_CROSS_GDB=1 pytest tests/elf/test_matrix.py -k cross_record -n 0` records in
 # cross/gdb.json where gdb-multiarch finds every object (the truth the tests compare with).
@@ -43,3 +43,7 @@ build cpp ppc 3 O0; build cpp ppc 5 O2
 build c arm 2 O2; build c arm 3 O0; build c arm 4 O2; build c arm 5 O0
 build cpp arm 2 O0; build cpp arm 4 O2
 build c m68k 2 O0; build c m68k 5 O2
+# stripped of their DWARF: the .symtab of a big-endian and of a Thumb ELF
+mkdir -p "$out/stripped"
+powerpc-linux-gnu-objcopy --strip-debug "$out/c-ppc-dwarf4-O0.elf" "$out/stripped/c-ppc-dwarf4-O0.elf"
+arm-none-eabi-objcopy --strip-debug "$out/c-arm-dwarf4-O2.elf" "$out/stripped/c-arm-dwarf4-O2.elf"

@@ -5,7 +5,8 @@
    short enums), a pointer (4 bytes), a calibration in flash and the EPK in a section of its own. */
 #include <stdint.h>
 
-typedef enum { GEAR_PARK, GEAR_REVERSE, GEAR_NEUTRAL, GEAR_DRIVE } tGear;
+/* signed, a value of two bytes: enumerators in 1-, 2- and sdata forms, read in the target's byte order */
+typedef enum { GEAR_FAULT = -1, GEAR_PARK, GEAR_REVERSE, GEAR_NEUTRAL, GEAR_DRIVE, GEAR_SERVICE = 0x1234 } tGear;
 
 typedef struct {
     uint8_t ready : 1;
