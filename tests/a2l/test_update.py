@@ -237,6 +237,19 @@ def test_update_checks_the_tokens_it_reads(debug, body, message, line, column):
     assert message in info.value.reason and (info.value.line, info.value.column) == (line, column)
 
 
+@pytest.mark.parametrize("body, message, column", [
+    ('    /begin MEASUREMENT vector "" UWORD NO_COMPU_METHOD 1 0 0 1 ECU_ADDRESS 0 MATRIX_DIM /end MEASUREMENT\n',
+     "MEASUREMENT vector: MATRIX_DIM without its value", 78),
+    ('    /begin MEASUREMENT bits.mid "" ULONG NO_COMPU_METHOD 1 0 0 1 ECU_ADDRESS 0 BIT_MASK /end MEASUREMENT\n',
+     "MEASUREMENT bits.mid: BIT_MASK without its value", 80),
+])
+def test_types_refuse_an_option_without_its_value(debug, body, message, column):
+    """--types read it as missing: MATRIX_DIM or BIT_MASK was inserted a second time (or the update broke off)."""
+    with pytest.raises(A2lParseError) as info:
+        update_document(load_a2l_string(WRAP.format(body), "u.a2l", validate=False), debug, types=True)
+    assert (info.value.reason, info.value.line, info.value.column) == (message, 4, column)
+
+
 def test_numbers_spelled_as_words_are_numbers(debug):
     """NaN and INF start with a letter: the check of the parameters' first bytes matches them exactly."""
     body = '    /begin MEASUREMENT zsScalar "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 NaN INF ECU_ADDRESS 0x0 /end MEASUREMENT\n'

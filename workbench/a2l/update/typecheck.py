@@ -42,7 +42,7 @@ from workbench.a2l.values import format_int_like, int_or_none, is_number, parse_
 from workbench.findings import Finding, Severity
 
 if TYPE_CHECKING:
-    from workbench.a2l.document import A2lDocument
+    from workbench.a2l.document import A2lDocument, Block
     from workbench.elf.ctypes_model import CMember, CType
     from workbench.elf.debugdata import ResolvedSymbol
 
@@ -162,7 +162,7 @@ class TypeChecker:
         for axis, descr in zip(AXES, doc.block(target.block).children_named("AXIS_DESCR")):
             if len(descr.args) < 4:
                 continue
-            reference = descr.option("AXIS_PTS_REF")
+            reference = _option(doc, descr, "AXIS_PTS_REF")
             if reference:
                 points = self.axis_points.get(doc.text(reference[0]))
             else:
@@ -246,7 +246,7 @@ class TypeChecker:
         """An INSTANCE reached through a pointer says so, with the pointer's size (ADDRESS_TYPE); one that
         is not, does not."""
         doc, ctype = self.doc, symbol.type
-        tokens = doc.block(target.block).option("ADDRESS_TYPE")
+        tokens = _option(doc, doc.block(target.block), "ADDRESS_TYPE")
         if ctype.kind == "pointer":
             wanted = _ADDRESS_TYPES.get(ctype.size, "DIRECT")
             if not tokens:
@@ -352,7 +352,7 @@ class TypeChecker:
     def _dims(self, target: Target, block, dims: tuple[int, ...], edits: list, findings: list) -> None:
         doc = self.doc
         for keyword in ("MATRIX_DIM", "ARRAY_SIZE", "NUMBER"):
-            tokens = block.option(keyword)
+            tokens = _option(doc, block, keyword)
             if tokens is None:
                 continue
             stated = tuple(doc.int_value(t) for t in tokens)
@@ -385,7 +385,7 @@ class TypeChecker:
                                           "describes it", Severity.WARNING))
             return
         mask = ((1 << field.bit_size) - 1) << position
-        tokens = block.option("BIT_MASK")
+        tokens = _option(doc, block, "BIT_MASK")
         if tokens:
             old = doc.int_value(tokens[0])
             if old != mask:
@@ -442,3 +442,15 @@ def _without_ones(dims: tuple[int, ...]) -> tuple[int, ...]:
 
 def _dims_text(dims: tuple[int, ...]) -> str:
     return " ".join(str(d) for d in dims)
+
+
+def _option(doc: "A2lDocument", block: "Block", keyword: str) -> list[int] | None:
+    """:meth:`Block.option`; raises :class:`A2lParseError` at an option written without its value (at the end of
+    its block), which the update would otherwise take as missing and insert again."""
+    tokens = block.option(keyword)
+    if tokens == []:
+        own = block.own_tokens
+        at = next(token for token in reversed(own) if doc.raw(token) == keyword.encode("ascii"))
+        raise doc.error(f"{block.keyword} {block.name or ''}: {keyword} without its value".replace(" :", ":"), at)
+    return tokens
+
