@@ -5,9 +5,11 @@ import difflib
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from pya2l_oracle import pya2l_import
 
-from workbench.a2l import load_a2l, load_a2l_string
+from workbench.a2l import grammar, load_a2l, load_a2l_string
 from workbench.a2l.reports import UpdateMode
 from workbench.a2l.update import UpdateFailed, update_document, update_file
 from workbench.a2l.values import is_number
@@ -316,3 +318,39 @@ def test_a_link_map_without_its_address_names_the_place(debug):
     with pytest.raises(A2lParseError, match="zsScalar: LINK_MAP needs a symbol name and an address") as caught:
         update_document(load_a2l_string(WRAP.format(body), "short.a2l"), debug, epk=False)
     assert "short.a2l:6:" in str(caught.value)
+
+
+_TYPES_A2L = load_a2l(Path(__file__).parent / "fixtures" / "types.a2l", validate=False)
+# the tokens around what an update reads: the last positional parameters, ECU_ADDRESS, EPK, MATRIX_DIM, BIT_MASK
+_READ_BY_THE_UPDATE = [token for token in range(len(_TYPES_A2L.tokens)) for word in
+                       (b"ECU_ADDRESS", b"EPK", b"ADDR_EPK", b"MATRIX_DIM", b"BIT_MASK", b"SYMBOL_LINK")
+                       if _TYPES_A2L.tokens.raw(token) == word for token in (token - 1, token, token + 1)]
+
+
+@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(token=st.sampled_from(_READ_BY_THE_UPDATE) | st.integers(0, len(_TYPES_A2L.tokens) - 1),
+       duplicate=st.booleans())
+def test_a_damaged_file_is_refused_or_updated_without_new_damage(debug, token, duplicate):
+    """One token of a valid file deleted or written twice (a parameter missing, one too many): `update --types`
+    refuses the file at a place, or writes one in which no object has an option twice that had it once. It
+    used to read a keyword as a value and insert a second ECU_ADDRESS, EPK or MATRIX_DIM beside it."""
+    data, (start, end) = _TYPES_A2L.data, _TYPES_A2L.tokens.span(token)
+    damaged = data[:start] + data[end:] if not duplicate else data[:end] + b" " + data[start:end] + data[end:]
+    try:
+        doc = load_a2l_string(damaged.decode(), "damaged.a2l", validate=False)
+        result = update_document(doc, debug, types=True)
+    except (A2lParseError, InputError):
+        return
+    updated = load_a2l_string(result.data.decode(), "updated.a2l", validate=False)
+    assert _options_twice(updated) <= _options_twice(doc)
+
+
+def _options_twice(doc) -> set[tuple[str, str, str]]:
+    """(block keyword, block name, option) of every option keyword that a block has twice at its own level."""
+    found = set()
+    for index in range(len(doc.block_begin)):
+        block = doc.block(index)
+        words = [doc.raw(token).decode("latin-1") for token in block.own_tokens]
+        found |= {(block.keyword, block.name or "", word) for word in set(words)
+                  if word in grammar.OPTIONS and words.count(word) > 1}
+    return found

@@ -65,14 +65,16 @@ def check_document(doc: A2lDocument, debug: DebugData | None = None, *, progress
         objects = AddressedObjects(doc)
     except A2lParseError as error:  # an object without its parameters: nothing can be placed
         objects = None
-        if not any((f.file, f.line, f.column) == (error.path, error.line, error.column) for f in report.findings):
-            report.add(Finding("syntax", "", error.reason, error.path, error.line, error.column, "", Severity.ERROR))
+        _add_syntax(report, error)
     for module in doc.modules:
         names = _namespaces(doc, module, report)
         check_references(doc, module, names, report)
         report_progress(progress, 2, 4, "checking memory")
         if objects is not None:
-            check_placement(doc, module, objects, debug, report)
+            try:
+                check_placement(doc, module, objects, debug, report)
+            except A2lParseError as error:  # a MEMORY_SEGMENT without its parameters: the memory is not known
+                _add_syntax(report, error)
         if debug is not None:
             _byte_order(doc, module, debug, report)
     report_progress(progress, 4, 4, "checked")
@@ -95,6 +97,12 @@ def _byte_order(doc: A2lDocument, module: Block, debug: DebugData, report: Repor
                           f"MODULE {module.name}: MOD_COMMON says {said}, {debug.path.name} is {wanted}: "
                           "every value would be read with its bytes swapped", holder.keyword,
                           Severity.ERROR if option else Severity.WARNING))
+
+
+def _add_syntax(report: Report, error: A2lParseError) -> None:
+    """``error`` as a finding, unless the grammar check has one at its place already."""
+    if not any((f.file, f.line, f.column) == (error.path, error.line, error.column) for f in report.findings):
+        report.add(Finding("syntax", "", error.reason, error.path, error.line, error.column, "", Severity.ERROR))
 
 
 def _load_for_check(path: Path) -> A2lDocument:

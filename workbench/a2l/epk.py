@@ -74,6 +74,9 @@ def epk_edits(doc: "A2lDocument", epk: ElfEpk, module: "Block") -> tuple[list[Ed
     edits: list[Edit] = []
     findings: list[Finding] = []
     inserts: list[bytes] = []
+    comment = mod_par.keyword_token + 1
+    if doc.raw(comment)[:1] != b'"':  # without its comment, EPK would be read as the comment and inserted again
+        raise doc.error(f"MOD_PAR: its comment (a string) expected first, found '{doc.text(comment)}'", comment)
     _check_option(doc, mod_par, "EPK", "a string in quotes", lambda raw: raw[:1] == b'"')
     _check_option(doc, mod_par, "ADDR_EPK", "an integer address", is_int)
     current_text = mod_par.option("EPK")
