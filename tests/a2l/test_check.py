@@ -182,9 +182,10 @@ def test_an_include_that_is_missing_is_one_finding_and_the_rest_is_checked(tmp_p
 
 
 def test_a_memory_segment_without_its_parameters_is_a_finding_not_the_end_of_the_check():
-    """The grammar's finding is listed and the rest checked; the memory placement used to raise at it."""
+    """A parameter written twice moves INTERN into the address: the grammar's finding is listed and the rest checked
+    (the memory placement used to raise at it)."""
     text = ('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n /begin MODULE M ""\n  /begin MOD_PAR ""\n'
-            '   /begin MEMORY_SEGMENT Data "" DATA RAM INTERN 0x1000 -1 -1 -1 -1 -1 /end MEMORY_SEGMENT\n'
+            '   /begin MEMORY_SEGMENT Data "" DATA DATA RAM INTERN 0x1000 0x100 -1 -1 -1 -1 /end MEMORY_SEGMENT\n'
             '  /end MOD_PAR\n  /begin MEASUREMENT m "" UBYTE CM_GONE 1 0 0 255 ECU_ADDRESS 0x1000 /end MEASUREMENT\n'
             ' /end MODULE\n/end PROJECT\n')
     report = check_document(load_a2l_string(text, "m.a2l", validate=False))
