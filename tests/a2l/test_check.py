@@ -181,7 +181,7 @@ def test_an_include_that_is_missing_is_one_finding_and_the_rest_is_checked(tmp_p
     assert with_update == 2 and "cannot include" in capsys.readouterr().err  # other commands still need every file
 
 
-def test_a_memory_segment_without_its_parameters_is_a_finding_not_the_end_of_the_check():
+def test_a_malformed_memory_segment_is_a_finding_not_the_end_of_the_check():
     """A parameter written twice moves INTERN into the address: the grammar's finding is listed and the rest checked
     (the memory placement used to raise at it)."""
     text = ('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n /begin MODULE M ""\n  /begin MOD_PAR ""\n'
