@@ -11,8 +11,10 @@ from pathlib import Path
 
 import pytest
 
+from workbench.elf import dwarf
 from workbench.elf.debugdata import DebugData
 from workbench.elf.symbols import ElfSymbols
+from workbench.elf.type_resolver import TypeResolver
 from workbench.errors import InputError, UnknownSymbolError
 
 FIXTURES = Path(__file__).parent / "fixtures"
@@ -65,6 +67,35 @@ def test_bitfields_give_storage_unit_and_bit_position(elf_name):
     found = [(debug.resolve(f"bits.{name}").address - base, debug.resolve(f"bits.{name}").bit_size,
               debug.resolve(f"bits.{name}").bit_position) for name in ("low", "mid", "high")]
     assert found == [(0, 3, 0), (0, 5, 3), (0, 12, 8)]
+
+
+class _OneStruct:
+    """The DIEs of ``struct { uint32_t field : 3; }`` as a DWARF 2 producer may write them: the field counted in
+    a unit of one byte (DW_AT_byte_size 1) at offset 3, 2 bits below its most significant bit."""
+
+    def __init__(self, big_endian: bool):
+        self.order = ">" if big_endian else "<"
+        self.dies = {
+            1: dwarf.Die(1, dwarf.TAG_STRUCT, {dwarf.AT_BYTE_SIZE: 4}, True, 2, None),
+            2: dwarf.Die(2, dwarf.TAG_MEMBER, {dwarf.AT_NAME: "field", dwarf.AT_TYPE: 3, dwarf.AT_MEMBER_LOCATION: 3,
+                                               dwarf.AT_BYTE_SIZE: 1, dwarf.AT_BIT_OFFSET: 2, dwarf.AT_BIT_SIZE: 3},
+                         False, 3, None),
+            3: dwarf.Die(3, dwarf.TAG_BASE, {dwarf.AT_NAME: "uint32_t", dwarf.AT_BYTE_SIZE: 4, dwarf.AT_ENCODING: 7},
+                         False, 4, None),
+        }
+
+    def die(self, offset):
+        return self.dies[offset]
+
+    def children(self, die):
+        return [self.dies[2]] if die.offset == 1 else []
+
+
+@pytest.mark.parametrize("big_endian, position", [(True, 3), (False, 27)])
+def test_a_dwarf2_bitfield_is_read_through_a_unit_of_its_type(big_endian, position):
+    # memory bits 3..5 of byte 3: the value bits 3..5 of a big-endian uint32 at offset 0, 27..29 of a little-endian
+    [field] = TypeResolver(_OneStruct(big_endian)).resolve(1).members
+    assert (field.offset, field.type.size, field.bit_size, field.bit_position) == (0, 4, 3, position)
 
 
 def test_bad_paths_say_why():

@@ -24,7 +24,8 @@ class CMember:
     offset: int | None  # bytes from the start of the struct (the storage unit of a bitfield); None: a virtual base
     type: "CType"
     bit_size: int | None = None  # bitfields only
-    bit_position: int | None = None  # bitfields: lowest bit inside the storage unit (0 = LSB)
+    bit_position: int | None = None  # bitfields: lowest bit inside the storage unit (0 = LSB), outside it
+    # (negative, or beyond its bits) for a field no unit of its type's size holds (a packed struct's)
 
 
 @dataclass(frozen=True)

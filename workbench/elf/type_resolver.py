@@ -142,15 +142,17 @@ class TypeResolver:
         bit_size = attrs.get(dwarf.AT_BIT_SIZE)
         if not isinstance(bit_size, int):
             return CMember(name if isinstance(name, str) else "", offset or 0, member_type)
-        storage = attrs.get(dwarf.AT_BYTE_SIZE) or member_type.size or 1
+        declared = attrs.get(dwarf.AT_BYTE_SIZE)
+        storage = member_type.size or declared or 1  # the unit read is of the member's type (the A2L's data type)
         big_endian = self.reader.order == ">"
         data_bit_offset = attrs.get(dwarf.AT_DATA_BIT_OFFSET)
         if isinstance(data_bit_offset, int):  # DWARF 4+: bits from the start of the struct, in memory order
             first, unit = data_bit_offset, None
-        else:  # DWARF 2/3: DW_AT_bit_offset counts from the MSB of the storage unit at the member offset
-            unit = offset or 0
+        else:  # DWARF 2/3: DW_AT_bit_offset counts from the MSB of the DW_AT_byte_size unit at the member offset
+            unit, counted_in = offset or 0, declared or storage
             bit_offset = attrs.get(dwarf.AT_BIT_OFFSET) or 0
-            first = 8 * unit + (bit_offset if big_endian else 8 * storage - bit_offset - bit_size)
+            first = 8 * unit + (bit_offset if big_endian else 8 * counted_in - bit_offset - bit_size)
+            unit = unit if counted_in == storage else None
         start, position = _storage_unit(first, bit_size, storage, unit, record_size, big_endian)
         return CMember(name if isinstance(name, str) else "", start, member_type, bit_size, position)
 
