@@ -32,6 +32,7 @@ from elftools.elf.elffile import ELFFile
 from workbench.a2l import load_a2l
 from workbench.cli import main
 from workbench.elf.debugdata import DebugData
+from workbench.elf.symbols import ElfSymbols
 
 HERE = Path(__file__).parent
 MATRIX = HERE / "matrix"
@@ -252,6 +253,9 @@ def test_the_cross_compiled_elfs_are_what_their_names_say():
             ram, flash = (elf.get_section_by_name(section)["sh_addr"] for section in (".data", ".text"))
             assert ram == {"ppc": 0x4000_0000, "arm": 0x2000_0000, "m68k": 0x80_0000}[target] < ram + 0x1000, name
             assert flash == {"ppc": 0x80_0000, "arm": 0x800_0000, "m68k": 0x1_0000}[target], name
+            # .data's initial values lie in flash behind the constants (its LMA, by the program headers)
+            [segment] = [s for s in elf.iter_segments() if s["p_type"] == "PT_LOAD" and s["p_vaddr"] == ram]
+            assert ElfSymbols(CROSS / name).sections[".data"].load_address == segment["p_paddr"] < ram, name
     assert versions["gcc-ppc"] == versions["gcc-arm"] == {"dwarf2", "dwarf3", "dwarf4", "dwarf5"}
 
 
