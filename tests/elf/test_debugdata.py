@@ -207,6 +207,36 @@ def test_the_default_cache_folder_is_the_one_platformdirs_names(monkeypatch, xdg
     assert default_cache_dir() == Path(platformdirs.user_cache_dir("workbench")) / "elf-index"
 
 
+def test_a_rebuilt_elf_replaces_its_entry_and_the_folder_keeps_the_most_recently_used(tmp_path, monkeypatch):
+    """Every build's ELF added an entry for good (a few MiB for 50,000 variables): an entry of an earlier build of
+    the same file goes when the new one is stored, and beyond ENTRIES the least recently used go."""
+    import os
+
+    from workbench.elf import cache
+
+    cache_dir, elves = tmp_path / "cache", []
+    for number in range(5):
+        elves.append(tmp_path / f"app{number}.elf")
+        shutil.copy(FIXTURES / "types_dwarf5.elf", elves[-1])
+    with DebugData(elves[0], cache_dir=cache_dir):
+        pass
+    os.utime(elves[0], ns=(0, 10**18))  # rebuilt: another modification time, another entry
+    with DebugData(elves[0], cache_dir=cache_dir) as debug:
+        assert not debug.from_cache
+    assert [entry.name.split(".")[0] for entry in cache_dir.iterdir()] == ["app0"]
+
+    monkeypatch.setattr(cache, "ENTRIES", 3)
+    for elf in elves[1:3]:
+        with DebugData(elf, cache_dir=cache_dir):
+            pass
+    with DebugData(elves[0], cache_dir=cache_dir) as debug:  # used again: the last to go
+        assert debug.from_cache
+    for elf in elves[3:]:
+        with DebugData(elf, cache_dir=cache_dir):
+            pass
+    assert sorted(entry.name.split(".")[0] for entry in cache_dir.iterdir()) == ["app0", "app3", "app4"]
+
+
 def test_not_an_elf(tmp_path):
     bad = tmp_path / "bad.elf"
     bad.write_bytes(b"ASAP2_VERSION 1 71\n")

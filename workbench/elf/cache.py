@@ -12,12 +12,14 @@ from __future__ import annotations
 import os
 import pickle
 import sys
+import time
 import zlib
 from pathlib import Path
 
 from workbench.fileio import atomic_write_bytes
 
 FORMAT = 11  # bump when the cached structures or the way names resolve change
+ENTRIES = 32  # the most entries a cache folder keeps (the ELFs used most recently)
 
 
 def default_cache_dir() -> Path:
@@ -53,7 +55,7 @@ class IndexCache:
 
     def path_for(self, elf_path: Path, identity: str) -> Path:
         data = identity.encode("utf-8", "surrogateescape")
-        return self.directory / f"{elf_path.name}.{zlib.crc32(data):08x}{zlib.adler32(data):08x}.pickle"
+        return self.directory / f"{_stem(elf_path, identity)}{zlib.crc32(data):08x}{zlib.adler32(data):08x}.pickle"
 
     def load(self, elf_path: Path) -> dict | None:
         """The cached data for this exact ELF, or None (absent, unreadable, another format or file)."""
@@ -69,15 +71,45 @@ class IndexCache:
 
             logger(__name__).debug("ignoring unreadable index cache for %s: %s", elf_path, exc)
             return None
-        return data if isinstance(data, dict) and data.get("identity") == identity else None
+        if not isinstance(data, dict) or data.get("identity") != identity:
+            return None
+        try:  # its access time says it was used (the last to go when the folder is pruned); it stays unwritten
+            entry = self.path_for(elf_path, identity)
+            os.utime(entry, ns=(time.time_ns(), entry.stat().st_mtime_ns))
+        except OSError:
+            pass
+        return data
 
     def store(self, elf_path: Path, data: dict) -> None:
         """Write the data for this ELF; a cache folder that cannot be written is only logged."""
         identity = self.identity(elf_path)
+        entry = self.path_for(elf_path, identity)
         try:
-            atomic_write_bytes(self.path_for(elf_path, identity),
-                               pickle.dumps({**data, "identity": identity}, protocol=5))
+            atomic_write_bytes(entry, pickle.dumps({**data, "identity": identity}, protocol=5))
         except OSError as exc:
             from workbench.logs import logger
 
             logger(__name__).warning("cannot write the ELF index cache in %s: %s", self.directory, exc)
+            return
+        self._prune(entry, _stem(elf_path, identity))
+
+    def _prune(self, kept: Path, stem: str) -> None:
+        """Remove the entries of earlier builds of the same ELF (its path: they cannot match again), then the
+        least recently used beyond :data:`ENTRIES`: a build's every ELF would otherwise add one for good (a few
+        MiB each for 50,000 variables)."""
+        try:
+            entries = [entry for entry in self.directory.glob("*.pickle") if entry != kept]
+            for entry in [entry for entry in entries if entry.name.startswith(stem)]:
+                entry.unlink(missing_ok=True)
+                entries.remove(entry)
+            entries.sort(key=lambda entry: entry.stat().st_atime_ns)
+            for entry in entries[: max(len(entries) + 1 - ENTRIES, 0)]:
+                entry.unlink(missing_ok=True)
+        except OSError:  # another process pruning at the same time, or a folder we may not change
+            pass
+
+
+def _stem(elf_path: Path, identity: str) -> str:
+    """The start of the entry names of every build of one ELF path (and cache format)."""
+    where = identity.rsplit("|", 3)[0].encode("utf-8", "surrogateescape")
+    return f"{elf_path.name}.{zlib.crc32(where):08x}."
