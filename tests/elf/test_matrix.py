@@ -275,6 +275,10 @@ def test_cross_compiled_update_writes_where_gdb_reads(elf_name, cross_truth, tmp
                 assert {name: debug.find(name).size for name in objects} == {name: truth[name][2] for name in objects}
             [vtab] = load_a2l(tmp_path / "updated-ecu_c.a2l").objects("COMPU_VTAB")  # the enum's, new
             assert [vtab.doc.text(token) for token in vtab.args[2:]] == ["TAB_VERB", "6", *ECU_GEARS]
+            # the calibrations' RECORD_LAYOUTs and every limit were right: nothing else changed
+            assert {f["kind"] for f in report["findings"]} == {
+                "address-updated", "bit-mask-updated", "bit-mask-unrepresentable", "datatype-updated",
+                "conversion-added", "conversion-updated", "epk-updated"}
             unrepresentable = {f["name"] for f in report["findings"] if f["kind"] == "bit-mask-unrepresentable"}
             assert unrepresentable == {"wide.wide"} and placed["wide.wide"][1] == 0x1  # reported, left alone
             epk = {f["name"]: f["message"] for f in report["findings"] if f["kind"] == "epk-updated"}
