@@ -207,7 +207,7 @@ def test_update_against_the_elf_of_its_source(capsys, corpus, elves, tmp_path, n
         address = block.option("ECU_ADDRESS")
         if block.name in symbols and block.option("SYMBOL_LINK") is None:
             assert doc.int_value(address[0]) == symbols[block.name], block.name
-    if A2LTOOL is not None:  # a2ltool's addresses are ours (it also rewrites CANape's LINK_MAP copies, we do not)
+    if A2LTOOL is not None:  # a2ltool's addresses are ours (it also resets the type fields of CANape's LINK_MAP)
         theirs = tmp_path / "a2ltool.a2l"
         subprocess.run([A2LTOOL, corpus / name, "--elffile", elves[source], "--update", "ADDRESSES", "--output",
                         theirs], check=True, capture_output=True, timeout=120)

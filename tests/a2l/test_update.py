@@ -312,6 +312,22 @@ def test_canape_link_map_follows_the_new_address(debug):
     assert update_document(updated, debug, epk=False).data == result.data  # a second update changes nothing
 
 
+def test_a_ccp_dp_blob_follows_the_new_address(debug):
+    """IF_DATA ASAP1B_CCP DP_BLOB (extension, base address, size) is where a CCP master reads the address."""
+    body = ('    /begin MEASUREMENT zsScalar "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1\n      ECU_ADDRESS 0x0\n'
+            '      /begin IF_DATA ASAP1B_CCP DP_BLOB 0x0 0x0 4 /end IF_DATA\n    /end MEASUREMENT\n'
+            '    /begin MEASUREMENT short "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1 SYMBOL_LINK "zsScalar" 0\n'
+            '      /begin IF_DATA ASAP1B_CCP DP_BLOB 0 /end IF_DATA\n    /end MEASUREMENT\n')
+    with pytest.raises(A2lParseError, match="short: DP_BLOB needs an address extension and a base address"):
+        update_document(load_a2l_string(WRAP.format(body), "ccp.a2l"), debug, epk=False)
+    body = body.replace("DP_BLOB 0 /end", "DP_BLOB 0 0x10 4 /end")
+    result = update_document(load_a2l_string(WRAP.format(body), "ccp.a2l"), debug, epk=False)
+    scalar = ElfSymbols(ELF).symbols["zsScalar"].address
+    assert result.data.decode().count(f"ASAP1B_CCP DP_BLOB 0x0 0x{scalar:X} 4 /end") == 1
+    assert f"ASAP1B_CCP DP_BLOB 0 0x{scalar:X} 4 /end" in result.data.decode()
+    assert result.report.tally["IF_DATA ASAP1B_CCP DP_BLOB"] == {"updated": 2}
+
+
 def test_a_link_map_without_its_address_names_the_place(debug):
     body = ('    /begin MEASUREMENT zsScalar "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1\n      ECU_ADDRESS 0x0\n'
             '      /begin IF_DATA CANAPE_EXT 100 LINK_MAP "zsScalar" /end IF_DATA\n    /end MEASUREMENT\n')

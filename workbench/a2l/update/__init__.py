@@ -115,7 +115,7 @@ def update_document(doc: A2lDocument, debug: DebugData, *, mode: UpdateMode = Up
             _insert_address(objects, row, int(targets[row]), edits, report, pending)
     located = np.flatnonzero(usable & has_token)
     _replace_addresses(objects, located, targets, edits, report, pending if report_addresses else None)
-    _update_link_maps(objects, targets, edits, report)
+    _update_address_copies(objects, targets, edits, report)
     if types:
         _check_types(objects, symbols, edits, report)
     report_progress(progress, 3, 3, "updating addresses")
@@ -242,35 +242,42 @@ def _replace_addresses(objects: AddressedObjects, rows: np.ndarray, targets: np.
                             "%s: 0x%X -> 0x%X" % (name, old_values[i], news[i]), objects.keyword(row), Severity.INFO))
 
 
-def _update_link_maps(objects: AddressedObjects, targets: np.ndarray, edits: Edits,
-                      report: UpdateReport) -> None:
-    """CANape's ``IF_DATA CANAPE_EXT ... LINK_MAP "symbol" address ...`` repeats an object's address (CANape's
-    own address update reads it): it follows the new ECU_ADDRESS, as CANape and a2ltool keep it."""
+# IF_DATA that repeat an object's address, read by the tools that wrote them: (IF_DATA name, keyword, the address's
+# place after the keyword, what the keyword needs up to it)
+_ADDRESS_COPIES = (("CANAPE_EXT", "LINK_MAP", 2, "a symbol name and an address"),  # CANape's own address update
+                   ("ASAP1B_CCP", "DP_BLOB", 2, "an address extension and a base address"))  # a CCP master's address
+
+
+def _update_address_copies(objects: AddressedObjects, targets: np.ndarray, edits: Edits,
+                           report: UpdateReport) -> None:
+    """CANape's ``IF_DATA CANAPE_EXT ... LINK_MAP "symbol" address ...`` and CCP's ``IF_DATA ASAP1B_CCP DP_BLOB
+    extension address size`` repeat an object's address: they follow the new one, as a2ltool keeps them."""
     doc = objects.doc
-    if_data, link_maps = doc.option_tokens("IF_DATA", "LINK_MAP")
-    if not len(if_data):
-        return
-    row_of_block = {block: row for row, block in enumerate(objects.blocks.tolist())}
-    updated = 0
-    for block, token in zip(if_data.tolist(), link_maps.tolist()):
-        row = row_of_block.get(int(doc.blocks.parent[block]))
-        target = int(targets[row]) if row is not None else -1
-        if not 0 <= target <= MAX_ADDRESS or doc.raw(doc.block_begin[block] + 2) != b"CANAPE_EXT":
+    row_of_block = None
+    for name, keyword, place, needs in _ADDRESS_COPIES:
+        if_data, found = doc.option_tokens("IF_DATA", keyword)
+        if not len(if_data):
             continue
-        address_token = token + 2
-        if address_token >= doc.block_end[block]:
-            raise doc.error(f"{objects.keyword(row)} {objects.names[row]}: LINK_MAP needs a symbol name and an "
-                            "address", token)
-        raw = doc.raw(address_token)
-        if int_or_none(raw) is None:
-            raise doc.error(f"{objects.keyword(row)} {objects.names[row]}: the LINK_MAP address must be an integer, "
-                            f"found '{raw.decode(doc.encoding)}'", address_token)
-        if int_or_none(raw) != target:
-            start, end = doc.tokens.span(address_token)
-            edits.append(Edit(start, end, format_ints_like([raw], [target])[0]))
-            updated += 1
-    if updated:
-        report.count("IF_DATA CANAPE_EXT LINK_MAP", "updated", updated)
+        row_of_block = row_of_block or {block: row for row, block in enumerate(objects.blocks.tolist())}
+        updated = 0
+        for block, token in zip(if_data.tolist(), found.tolist()):
+            row = row_of_block.get(int(doc.blocks.parent[block]))
+            target = int(targets[row]) if row is not None else -1
+            if not 0 <= target <= MAX_ADDRESS or doc.raw(doc.block_begin[block] + 2) != name.encode("ascii"):
+                continue
+            address_token = token + place
+            if address_token >= doc.block_end[block]:
+                raise doc.error(f"{objects.keyword(row)} {objects.names[row]}: {keyword} needs {needs}", token)
+            raw = doc.raw(address_token)
+            if int_or_none(raw) is None:
+                raise doc.error(f"{objects.keyword(row)} {objects.names[row]}: the {keyword} address must be an "
+                                f"integer, found '{raw.decode(doc.encoding)}'", address_token)
+            if int_or_none(raw) != target:
+                start, end = doc.tokens.span(address_token)
+                edits.append(Edit(start, end, format_ints_like([raw], [target])[0]))
+                updated += 1
+        if updated:
+            report.count(f"IF_DATA {name} {keyword}", "updated", updated)
 
 
 def _check_types(objects: AddressedObjects, symbols: list, edits: Edits, report: UpdateReport) -> None:
