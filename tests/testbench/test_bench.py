@@ -8,8 +8,8 @@ import re
 import pytest
 from asammdf import MDF
 
-from workbench.errors import InputError
-from workbench.testbench import Bench, ExpectationFailed, SimulatorUnavailable, at_least, equals, within
+from workbench.errors import InputError, UnknownSymbolError
+from workbench.testbench import Bench, ExpectationFailed, SimulatorUnavailable, at_least, equals, other_than, within
 from workbench.testbench.target import EcuTarget
 
 TIME = r"t=\d+\.\d{3} s"
@@ -90,3 +90,26 @@ def test_a_real_ecu_has_no_simulator_controls(target, tmp_path):
         with pytest.raises(InputError, match="no CAN2 bus"):
             real.send("PCM_TO_FLCU_001", EnableFLCU=1)
         real.close()
+
+
+def test_a_state_or_name_the_ecu_does_not_have_is_refused_not_judged(target, tmp_path):
+    """A misspelt state would fail every expect (as if the ECU were wrong) and pass every other_than (a test that
+    cannot fail): the step refuses it, as a misspelt name, naming what there is (user trial 6)."""
+    with target.bench(tmp_path / "typos.mf4") as ecu:
+        ecu.watch("xsTankCtrlState", "zsRailPressure")
+        with pytest.raises(InputError, match=r"^xsTankCtrlState has no text 'TANK3_ON' \(its texts: OFF, TANK1_ON"):
+            ecu.expect("xsTankCtrlState", "TANK3_ON", for_s=0.1)
+        with pytest.raises(InputError, match="has no text 'TANK1_0N'"):
+            ecu.wait_until("xsTankCtrlState", other_than("TANK1_0N"), timeout=0.5)
+        with pytest.raises(InputError, match=r"xsTankCtrlState is verbal \(OFF, TANK1_ON.*not within \[0, 1\]$"):
+            ecu.expect("xsTankCtrlState", within(0, 1), for_s=0.1)
+        with pytest.raises(InputError, match="zsRailPressure is a number bar, not a text: 'HIGH'"):
+            ecu.expect("zsRailPressure", other_than("HIGH"), for_s=0.1)
+        with pytest.raises(InputError, match="FLCU_TO_PCM_001.FuelLevelLow has no value 'Lo' "):
+            ecu.expect("FLCU_TO_PCM_001.FuelLevelLow", "Lo", for_s=0.1)
+        with pytest.raises(UnknownSymbolError, match=r"^unknown symbol 'zsRailPresure' in the A2L's objects nor the "
+                                                     r"CAN2 signals of FLCU_CAN2.dbc; did you mean 'zsRailPressure'"):
+            ecu.watch("zsRailPresure")
+        ecu.expect("xsTankCtrlState", "off", for_s=0.1)  # a text in another case names the table's, as writes take it
+        ecu.expect("xsTankCtrlState", other_than(1), for_s=0.1)  # a number: the state it stands for (TANK1_ON)
+        assert [step.passed for step in ecu.steps if step.kind == "expect"] == [True, True]

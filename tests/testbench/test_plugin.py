@@ -80,6 +80,22 @@ def test_an_ecu_without_simulator_control_skips_what_needs_it(pytester):
     result.stdout.fnmatch_lines(["*needs the simulated ECU: no simulator registered a control channel for XCP on CAN*"])
 
 
+def test_a_misspelt_name_fails_its_test_in_one_line_at_the_test_line(pytester):
+    """A step's WorkbenchError is shown at the test's line with its message, not as two chained library
+    tracebacks ending in the DBC's signals (user trial 6)."""
+    pytester.makepyfile(test_typo="""
+def test_typo(ecu):
+    ecu.watch("zsRailPresure")
+""")
+    result = pytester.runpytest_inprocess(*PLUGIN)
+    result.assert_outcomes(failed=1)
+    result.stdout.fnmatch_lines(['>*ecu.watch("zsRailPresure")',
+                                 "E*UnknownSymbolError: unknown symbol 'zsRailPresure' in the A2L's objects nor the "
+                                 "CAN2 signals of FLCU_CAN2.dbc; did you mean 'zsRailPressure'*"])
+    output = result.stdout.str()
+    assert "During handling" not in output and "a2l/model.py" not in output and "testbench/bench.py" not in output
+
+
 def test_a_test_run_that_does_not_use_it_loads_nothing_heavy():
     code = ("import sys, json, workbench.testbench.plugin, workbench.testbench; "
             "print(json.dumps(sorted({m.split('.')[0] for m in sys.modules} & "

@@ -28,9 +28,10 @@ faults and writes back every calibration it changed, as it was before.
 
 from __future__ import annotations
 
+import functools
 import tempfile
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -60,6 +61,22 @@ DATA_LATENCY_S = 2.0  # how long past a window the bench waits for its samples b
 
 class ExpectationFailed(AssertionError):
     """An expectation or a wait that did not hold: one line naming the signal, what was expected, the value and the time."""
+
+
+def _one_line_errors(step):
+    """A step whose input is wrong (a name misspelt, a value beyond its limits, a text the signal does not
+    have) raises its WorkbenchError from the test's line: pytest shows that line and the message, not the
+    library's frames below it (a bug's exception keeps its traceback)."""
+
+    @functools.wraps(step)
+    def run(*args, **kwargs):
+        __tracebackhide__ = True
+        try:
+            return step(*args, **kwargs)
+        except WorkbenchError as exc:
+            raise exc.with_traceback(None) from None
+
+    return run
 
 
 @dataclass
@@ -167,8 +184,8 @@ class Bench:
         model = self.session.model
         try:
             obj = model.object(name)
-        except UnknownSymbolError:
-            found = self._can_signal(name)  # or a CAN2 signal: Message.Signal, or a name one message alone has
+        except UnknownSymbolError as unknown:
+            found = self._can_signal(name, unknown)  # or a CAN2 signal: Message.Signal, or a name one message alone has
             if found is None:
                 raise
             self._signals[name] = found
@@ -179,13 +196,20 @@ class Bench:
         self._signals[name] = _Signal(name, "daq", model.unit_of(obj))
         return self._signals[name]
 
-    def _can_signal(self, name: str) -> _Signal | None:
+    def _can_signal(self, name: str, unknown: UnknownSymbolError) -> _Signal | None:
+        """The CAN2 signal ``name`` names; None without CAN2. :raises UnknownSymbolError: neither in the A2L
+        (``unknown``) nor in the DBC, the closest names of both suggested."""
         if self.can2 is None:
             return None
-        message, signal = find_dbc_signal([self.can2.database], name)
+        try:
+            message, signal = find_dbc_signal([self.can2.database], name)
+        except UnknownSymbolError as not_can:
+            raise UnknownSymbolError(name, f"the A2L's objects nor the CAN2 signals of {self.can2.dbc.path.name}",
+                                     (unknown.suggestions + not_can.suggestions)[:4]) from None
         choices = {str(text): float(raw) * signal.scale + signal.offset for raw, text in (signal.choices or {}).items()}
         return _Signal(dbc_signal_name(message.name, signal.name), "can", signal.unit or "", choices)
 
+    @_one_line_errors
     def watch(self, *names: str) -> None:
         """Sample and record these MEASUREMENTs (and check these CAN2 signals exist) from now on.
         Watch before the first step, and a test's evidence is one file."""
@@ -213,23 +237,39 @@ class Bench:
                                  "the recording")
 
     def _condition(self, signal: _Signal, wanted: Any) -> Condition:
+        """``wanted`` as the signal's samples are compared: a text of its table (refused when it has none such:
+        a misspelt state would fail every expectation, or pass every ``other_than``), a number turned into its
+        text. :raises InputError: a text the signal does not have, a band on a verbal signal, a text on a number."""
         condition = as_condition(wanted)
-        if not condition.is_value:
+        if signal.source == "can":
+            if condition.is_text:
+                value = condition.value
+                if value not in signal.choices:
+                    raise InputError(f"{signal.name} has no value {value!r} (its DBC values: "
+                                     f"{', '.join(signal.choices) or 'none'})")
+                return replace(condition, value=signal.choices[value])
             return condition
+        model = self.session.model
+        conversion = model.conversion(model.object(signal.name))
+        if not conversion.verbal:
+            if condition.is_text:
+                raise InputError(f"{signal.name} is a number{_unit(signal.unit)}, not a text: {condition.value!r} "
+                                 "is none of its values")
+            return condition
+        if not condition.is_value:
+            raise InputError(f"{signal.name} is verbal ({conversion.allowed_shown}): compare it with one of its texts "
+                             f"(equals, other_than), not {condition.describe()}")
         value = condition.value
-        if signal.source == "can" and isinstance(value, str):
-            if value not in signal.choices:
-                raise InputError(f"{signal.name} has no value {value!r} (its DBC values: {', '.join(signal.choices) or 'none'})")
-            return Condition(value=signal.choices[value], tolerance=condition.tolerance, negate=condition.negate)
-        if signal.source == "daq" and not isinstance(value, str):
-            model = self.session.model
-            text = model.conversion(model.object(signal.name)).to_physical(value)
-            if isinstance(text, str):  # a verbal conversion: its samples are texts
-                return Condition(value=text, negate=condition.negate)
-        return condition
+        if not isinstance(value, str):
+            return replace(condition, value=conversion.to_physical(value))  # a number: the text it stands for
+        text = conversion.text_of(value)
+        if text is None and value != conversion.default:
+            raise InputError(f"{signal.name} has no text {value!r} (its texts: {conversion.allowed_shown})")
+        return replace(condition, value=text or value)
 
     # --- stimulate ------------------------------------------------------------------------------
 
+    @_one_line_errors
     def write(self, name: str, value: Any) -> None:
         """Write a calibration in physical units (restored when the bench closes)."""
         self._begin()
@@ -238,6 +278,7 @@ class Bench:
         written = self.session.write(name, value)
         self._stimulated(f"write {name} = {_text(written.value)}{_unit(written.unit)}", start)
 
+    @_one_line_errors
     def override(self, signal: str, value: Any) -> None:
         """Replace a signal by its fix calibration's value (``_VALUE``, then ``_EN`` = 1). Its live
         MEASUREMENT, if the A2L has one, is watched from the start of the recording when the recording has
@@ -253,6 +294,7 @@ class Bench:
         state = self.session.override(signal, value)
         self._stimulated(f"override {pair.stem} = {_text(state.override)}{_unit(self._unit_of(pair.value))}", start)
 
+    @_one_line_errors
     def release(self, signal: str) -> None:
         """Give a signal back to the ECU (``_EN`` = 0)."""
         pair = self.session.fix(signal)
@@ -270,6 +312,7 @@ class Bench:
         if name not in self._journal:
             self._journal[name] = self.session.read_value(name)
 
+    @_one_line_errors
     def send(self, message: str, period: float | None = None, *, dlc: int | None = None, **signals: float) -> None:
         """Send a CAN2 frame of ``message`` with ``signals`` (physical; the others keep their values), once or
         every ``period`` s; a message sent periodically gets new values from its next frame on. ``dlc``
@@ -282,6 +325,7 @@ class Bench:
         self._stimulated(f"send {message} {values}".rstrip() + (f" DLC {dlc}" if dlc is not None else "") + f" {done}",
                          start + delay)
 
+    @_one_line_errors
     def stop(self, message: str) -> None:
         """Stop sending ``message`` periodically (the ECU sees its RX timeout)."""
         port = self._port()
@@ -295,6 +339,7 @@ class Bench:
             raise InputError("the bench has no CAN2 bus: give a DBC and the CAN2 bus (--dbc, --can2-interface/--can2-channel)")
         return self.can2
 
+    @_one_line_errors
     def read(self, name: str) -> Any:
         """Poll a value (a MEASUREMENT or a calibration) once, in physical units."""
         value = self.session.read(name)
@@ -303,12 +348,14 @@ class Bench:
 
     # --- wait -----------------------------------------------------------------------------------
 
+    @_one_line_errors
     def wait(self, seconds: float) -> None:
         self._begin()
         start = self.now()
         time.sleep(seconds)
         self._add(Step("wait", f"wait {seconds:g} s", start, self.now()))
 
+    @_one_line_errors
     def wait_until(self, name: str, condition: Any, timeout: float) -> float:
         """Wait until ``name`` meets ``condition``; returns the time (bench s) of the first sample that did.
         :raises ExpectationFailed: not within ``timeout`` s."""
@@ -328,6 +375,7 @@ class Bench:
 
     # --- expect ---------------------------------------------------------------------------------
 
+    @_one_line_errors
     def expect(self, name: str, condition: Any, for_s: float, *, since: float | None = None) -> tuple[float, float] | None:
         """``name`` meets ``condition`` in every sample of the ``for_s`` seconds from ``since`` (bench s;
         default: now), at least one. Returns the (min, max) it took (None for texts).
@@ -351,6 +399,7 @@ class Bench:
         self._add(step)
         return span
 
+    @_one_line_errors
     def expect_follows(self, name: str, reference: str, tolerance: float, for_s: float, *,
                        since: float | None = None) -> float:
         """Every sample of ``name`` in the ``for_s`` seconds from ``since`` (default: now) equals the latest
@@ -418,6 +467,7 @@ class Bench:
                 return
             seen = self.timeline.horizon(name) or seen
 
+    @_one_line_errors
     def expect_edge(self, name: str, condition: Any, within: float, *, after: float | None = None) -> float:
         """``name`` comes to meet ``condition`` within ``within`` s of the last stimulus (or of ``after``),
         having not met it when the stimulus began. The deadline counts from the end of the stimulus (a
@@ -446,6 +496,7 @@ class Bench:
         self._add(step)
         return max(hit - done, 0.0)
 
+    @_one_line_errors
     def expect_period(self, message: str, period_s: float, tolerance_s: float, *, for_s: float = 1.0,
                       jitter_s: float | None = None) -> float:
         """Frames of ``message`` heard over the next ``for_s`` s come every ``period_s`` ± ``tolerance_s``, and
