@@ -120,6 +120,22 @@ def test_closing_the_session_finalizes_the_recording(demo_ecu, tmp_path, read_md
     assert recorder.stop().samples == recorder.stats.samples  # stopping again changes nothing
 
 
+def test_a_duration_counts_from_when_daq_runs(session, tmp_path):
+    """Configuring DAQ on a real ECU (many ODT entries over CAN, a slow slave) takes its time; a recording of
+    0.5 s holds 0.5 s of samples, however long that took (it counted from before: 1.0 s of setup left none;
+    user trial 6: --duration 1 recorded 0.7 s of the slow profile)."""
+    recorder = Recorder(session, tmp_path / "slow.mf4", ["zsRailPressure"])
+    configure = recorder.measurement.start
+
+    def slow_configuration():
+        time.sleep(1.0)
+        return configure()
+
+    recorder.measurement.start = slow_configuration
+    with recorder:
+        recorder.wait(0.5)
+    assert recorder.stats.seconds >= 0.25 and recorder.stats.samples > 50  # 0.5 s of a 4 ms event on the ECU clock
+
 def test_an_existing_file_is_replaced_only_when_asked_and_only_at_the_end(session, tmp_path, read_mdf):
     path = tmp_path / "run.mf4"
     path.write_bytes(b"an older recording")

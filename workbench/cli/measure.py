@@ -191,8 +191,8 @@ def _poll(args: argparse.Namespace, session, names: list[str], view, monitor) ->
 
 def _sample(args: argparse.Namespace, session, names: list[str], view, monitor) -> None:
     """DAQ samples as the ECU sends them; each CAN2 frame's signals as a row of their own (event CAN2)."""
-    deadline = _deadline(args)
     with session.measure(names, event=args.event) as live:
+        deadline = _deadline(args)  # from when DAQ runs: connecting and configuring it count for nothing
         try:
             while time.monotonic() < deadline:
                 for batch in live.read(0.05):

@@ -165,6 +165,7 @@ class Recorder:
         self._error: BaseException | None = None
         self._stopped = False
         self._started_at = 0.0
+        self._measuring_since = 0.0  # time.monotonic() when DAQ ran: what a duration counts from
         self._counts = {"samples": 0, "values": 0, "can_frames": 0, "raw_frames": 0, "undecoded": 0}
         self._last_time = 0.0
         self._last_frame_time: dict[int, float] = {}
@@ -200,6 +201,7 @@ class Recorder:
             self._writer.close()
             self._writing_path.unlink(missing_ok=True)
             raise
+        self._measuring_since = time.monotonic()  # connecting and configuring DAQ are no part of a duration
         stop = weakref.WeakMethod(self.stop)  # a session that records many times keeps no finished recorder alive
 
         def stop_with_the_session() -> None:
@@ -389,14 +391,15 @@ class Recorder:
         return self._thread is not None and self._thread.is_alive() and not self._stopping.is_set()
 
     def wait(self, duration_s: float | None = None, progress: Progress | None = None) -> None:
-        """Block until ``duration_s`` seconds of recording (None: until the recording stops), ``progress``
-        is cancelled (the recording goes on until :meth:`stop`), or the recording stops or fails.
+        """Block until ``duration_s`` seconds of recording, counted from when DAQ ran (None: until the
+        recording stops), ``progress`` is cancelled (the recording goes on until :meth:`stop`), or the
+        recording stops or fails.
         ``progress`` sees milliseconds recorded of ``duration_s`` (total 0 when open-ended) and a summary.
 
         :raises WorkbenchError: the recording failed (the file holds what was flushed before).
         """
         while self.running:
-            elapsed = time.time() - self._started_at
+            elapsed = time.monotonic() - self._measuring_since
             if progress is not None:
                 progress.update(int(elapsed * 1000), int(duration_s * 1000) if duration_s else 0, self._label())
                 if progress.cancelled:
