@@ -304,6 +304,27 @@ def test_an_erased_epk_reads_as_erased(sim, bus, capsys):
     assert code == 1 and "ECU has erased (14 bytes FF)" in err and "\xff" not in err
 
 
+def test_reading_by_name_with_another_software_s_a2l_warns_once(sim, bus, capsys, tmp_path):
+    """An A2L of other software reads values at addresses that may hold other things: measure and cal get say
+    so on stderr (they said nothing: CANape asks), a write refuses in its one error line, info shows it."""
+    from workbench import demo
+
+    other = tmp_path / "other.a2l"
+    other.write_bytes(demo.a2l().read_bytes().replace(b"10300020250301", b"10300020250999"))
+    a2l = ["--a2l", str(other)]
+    for command in (["cal", "get", "xsSWITCH_TANK_THR"], ["measure", "xsDC", "--duration", "0.1"],
+                    ["cal", "fix", "--list"]):
+        code, out, err = run(capsys, *command, *a2l, *bus)
+        assert code == 0 and out, command
+        assert err.splitlines()[0] == ("warning: EPK MISMATCH: A2L '10300020250999', ECU '10300020250301' (GET_ID): "
+                                       "the values are read at this A2L's addresses, which may not hold them in the "
+                                       "ECU's software"), command
+    code, _, err = run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "12", *a2l, *bus)
+    assert code == 1 and len(err.splitlines()) == 1 and err.startswith("error: EPK mismatch")
+    code, out, err = run(capsys, "info", *a2l, *bus)
+    assert code == 0 and err == "" and "MISMATCH (read-only)" in out
+
+
 def test_epk_text():
     from workbench.errors import epk_text
 

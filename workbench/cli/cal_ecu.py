@@ -107,7 +107,7 @@ def _get(args: argparse.Namespace) -> int:
             wanted[f"{name}[{', '.join(map(str, index))}]"] = (name, index)
         else:
             wanted.update((found, (found, None)) for found in model.expand([text]))
-    with open_session(args, doc) as session:
+    with open_session(args, doc, reading=True) as session:
         found = {}
         for label, (name, index) in wanted.items():
             kind = model.kind_of(name)
@@ -227,7 +227,7 @@ def _list(args: argparse.Namespace) -> int:
     names = [s.name for s in model.find(args.pattern, kind=("CHARACTERISTIC", "AXIS_PTS"))]
     if not names:  # said before connecting
         raise InputError(f"no calibration matches {args.pattern!r}")
-    with open_session(args, doc) as session:
+    with open_session(args, doc, reading=True) as session:
         values = session.read_many(names)
     rows = []
     for name in names:
@@ -263,7 +263,7 @@ def _fix(args: argparse.Namespace) -> int:
         model = doc.model()
         pair = resolve_fix(fix_pairs_of(model), args.signal)
         checked_value(model, pair.value, typed_value(args.value, single=True), writable=writable)
-    with open_session(args, doc) as session:
+    with open_session(args, doc, reading=args.list) as session:
         if args.list:
             states = session.fixes(can2_dbc(args), can2_bus=can2_bus_spec(args, session.bus_spec))
         elif args.release:

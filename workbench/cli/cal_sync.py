@@ -89,7 +89,7 @@ def _save(args: argparse.Namespace) -> int:
     from workbench.sync import read_dataset
 
     format_of(args.output)  # an unknown extension is refused before the bus is opened
-    with open_session(args) as session, _progress(args, f"reading the {args.page} page") as progress:
+    with open_session(args, reading=True) as session, _progress(args, f"reading the {args.page} page") as progress:
         dataset = read_dataset(session, args.names or None, page=args.page, progress=progress)
     warnings = dataset.notes + save_dataset(dataset, args.output)
     if args.json:
@@ -111,7 +111,7 @@ def _save_image(args: argparse.Namespace) -> int:
         raise InputError("an image holds the whole region: give no NAME (save a dataset for some objects)")
     if args.page != "working":
         raise InputError("an image is saved from the working page (the reference page is what CAL ROM holds already)")
-    with open_session(args) as session, _progress(args, "reading the working page") as progress:
+    with open_session(args, reading=True) as session, _progress(args, "reading the working page") as progress:
         image = calibration_image(session, args.region, progress=progress)
         epk = session.epk.ecu
     image.save(args.output)
@@ -260,7 +260,8 @@ def _diff_with_ecu(args: argparse.Namespace):
 
     ecu_first = args.a.lower() == ECU
     reference = load_reference(args.b if ecu_first else args.a)
-    with open_session(args) as session, ProgressBar("comparing", enabled=False if args.json else None) as progress:
+    progress = ProgressBar("comparing", enabled=False if args.json else None)
+    with open_session(args, reading=True) as session, progress:
         report = sync_compare(session, reference, progress=progress)
     diff = report.with_tolerance(args.tolerance, args.rel_tolerance)
     notes = [f"outside the objects: {d}" for d in report.outside] + report.notes

@@ -78,7 +78,7 @@ def run(args: argparse.Namespace) -> int:
         from workbench.session.measure import event_number
 
         event_number(read_xcp_config(doc), args.event)  # an event the A2L lacks: before connecting too
-    with open_session(args, doc) as session, _terminate_as_interrupt():
+    with open_session(args, doc, reading=True) as session, _terminate_as_interrupt():
         if args.record:
             return _record(args, session, names, can2)
         view = _view(args, session, shown, can2)
