@@ -15,10 +15,10 @@ from __future__ import annotations
 from pathlib import Path
 
 from workbench.a2l.addressed import AddressedObjects
+from workbench.a2l.byte_order import byte_order_finding
 from workbench.a2l.document import A2lDocument, Block
 from workbench.a2l.grammar import NAMESPACES
 from workbench.a2l.placement import check_placement
-from workbench.a2l.readers import read_mod_common
 from workbench.a2l.references import check_references
 from workbench.a2l.reports import finding_at
 from workbench.a2l.source import read_source, source_from_text
@@ -76,27 +76,12 @@ def check_document(doc: A2lDocument, debug: DebugData | None = None, *, progress
             except A2lParseError as error:  # a MEMORY_SEGMENT without its parameters: the memory is not known
                 _add_syntax(report, error)
         if debug is not None:
-            _byte_order(doc, module, debug, report)
+            mismatch = byte_order_finding(doc, module, debug.elf.little_endian, debug.path.name)
+            if mismatch is not None:
+                report.add(mismatch)
     report_progress(progress, 4, 4, "checked")
     report.findings.sort(key=lambda f: (f.file, f.line, f.column))
     return report
-
-
-def _byte_order(doc: A2lDocument, module: Block, debug: DebugData, report: Report) -> None:
-    """MOD_COMMON's BYTE_ORDER (ASAP2's default MSB_FIRST when it says none) against the ELF's: a master
-    reads every value of a big-endian ECU wrong through an A2L that says little-endian, and the reverse."""
-    block = module.first("MOD_COMMON")
-    stated = read_mod_common(doc, block).byte_order
-    if stated.startswith("MSB_FIRST") == (not debug.elf.little_endian):
-        return
-    wanted = "MSB_LAST (little-endian)" if debug.elf.little_endian else "MSB_FIRST (big-endian)"
-    option = block.option("BYTE_ORDER") if block is not None else None
-    said = f"BYTE_ORDER {stated}" if option else f"no BYTE_ORDER (ASAP2's default {stated})"
-    holder = block if block is not None else module
-    report.add(finding_at(doc, option[0] if option else holder.keyword_token, "byte-order-mismatch", "MOD_COMMON",
-                          f"MODULE {module.name}: MOD_COMMON says {said}, {debug.path.name} is {wanted}: "
-                          "every value would be read with its bytes swapped", holder.keyword,
-                          Severity.ERROR if option else Severity.WARNING))
 
 
 def _add_syntax(report: Report, error: A2lParseError) -> None:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Callable
 
+from workbench.a2l.byte_order import BYTE_ORDERS
 from workbench.a2l.objects import (
     AXIS_NAMES, Alignments, AxisDescr, AxisPts, Blob, Characteristic, CompuMethod, CompuTab, CompuVtab,
     CompuVtabRange, Function, Group, LayoutEntry, Location, Measurement, ModCommon, RecordLayout, Unit,
@@ -20,13 +21,8 @@ from workbench.a2l.values import is_int, is_number, parse_int, parse_number
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument, Block
 
-__all__ = ["BYTE_ORDERS", "READERS", "read_mod_common"]
+__all__ = ["READERS", "read_mod_common"]
 
-# ASAP2's byte order words -> the two spellings the model uses (and the word-swapped variants of 1.7)
-BYTE_ORDERS = {
-    "MSB_FIRST": "MSB_FIRST", "BIG_ENDIAN": "MSB_FIRST", "MSB_LAST": "MSB_LAST", "LITTLE_ENDIAN": "MSB_LAST",
-    "MSB_FIRST_MSW_LAST": "MSB_FIRST_MSW_LAST", "MSB_LAST_MSW_FIRST": "MSB_LAST_MSW_FIRST",
-}
 _NONE_WORDS = ("NO_INPUT_QUANTITY", "NO_AXIS_PTS", "NO_COMPU_VTAB")
 Members = Callable[[str], tuple[tuple[str, ...], tuple[str, ...]]]  # object name -> (functions, groups)
 

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from workbench.a2l.addressed import KEYWORDS, AddressedObjects
+from workbench.a2l.byte_order import byte_order_finding
 from workbench.a2l.document import A2lDocument, load_a2l
 from workbench.a2l.edits import Edit, Edits, indentation_of, newline_bytes, write_source
 from workbench.a2l.epk import epk_edits, read_elf_epk
@@ -128,6 +129,10 @@ def update_document(doc: A2lDocument, debug: DebugData, *, mode: UpdateMode = Up
         report.extend(findings)
     if epk:
         _epk(doc, debug, epk_symbol, edits, report)
+    for module in doc.modules:  # reported, not changed: which one is right is the project's to say
+        mismatch = byte_order_finding(doc, module, debug.elf.little_endian, debug.path.name, Severity.WARNING)
+        if mismatch is not None:
+            report.add(mismatch)
     return _result(doc, edits, report, includes)
 
 
