@@ -325,6 +325,19 @@ def test_reading_by_name_with_another_software_s_a2l_warns_once(sim, bus, capsys
     assert code == 0 and err == "" and "MISMATCH (read-only)" in out
 
 
+def test_names_may_follow_the_bus_kwargs(bus, capsys):
+    """python-can's --bus-kwargs takes every word after it: `measure --bus-kwargs port=N zsRailPressure` was
+    'Unable to parse bus keyword argument' (user trial 6); a word without '=' is the command's own."""
+    code, out, _ = run(capsys, "cal", "set", *bus, "xsSWITCH_TANK_THR", "21.5")
+    assert code == 0 and out == "xsSWITCH_TANK_THR = 21.50 bar (written, read back)\n"
+    code, _, err = run(capsys, "cal", "set", *bus, "xsSWITCH_TANK_THR", "-5")  # a negative number is a value too
+    assert code == 2 and err == "error: xsSWITCH_TANK_THR: -5.00 is below the lower limit 0.00 bar\n"
+    code, out, _ = run(capsys, "measure", *bus, "xsSWITCH_TANK_THR", "xsDC", "--duration", "0.1", "--json")
+    assert code == 0 and set(json.loads(out.splitlines()[0])["values"]) == {"xsSWITCH_TANK_THR", "xsDC"}
+    code, out, _ = run(capsys, "cal", "get", "--bus-kwargs", bus[1], "bitrate=500000", "xsSWITCH_TANK_THR")
+    assert code == 0 and out == "xsSWITCH_TANK_THR = 21.50 bar\n"
+
+
 def test_epk_text():
     from workbench.errors import epk_text
 

@@ -40,6 +40,8 @@ class CommandParser(argparse.ArgumentParser):
 
     def parse_known_args(self, args=None, namespace=None):
         self._add_deferred()
+        if args is not None and any(option in self._option_string_actions for option in KEY_VALUE_LISTS):
+            args = words_before_key_values(args)  # a command's own parser (a group's passes its words on whole)
         return super().parse_known_args(args, namespace)
 
     def format_usage(self) -> str:
@@ -54,6 +56,32 @@ class CommandParser(argparse.ArgumentParser):
         # argparse asks shutil for the width, an import (2-4 ms with its own) a batch command needs nowhere else
         return self.formatter_class(prog=self.prog, width=_terminal_columns() - 2)
 
+
+KEY_VALUE_LISTS = ("--bus-kwargs", "--can2-bus-kwargs", "--timing")  # python-can's: nargs="+" of KEY=VALUE
+
+
+def words_before_key_values(args: list[str]) -> list[str]:
+    """``measure --bus-kwargs port=43200 zsRailPressure``: a KEY=VALUE list takes every word after it, and
+    python-can's action then refuses the name ('Unable to parse bus keyword argument'). A word without
+    ``=`` after such a list is none of its items: it is the command's own (a NAME, a VALUE) and moves in
+    front of the options, where argparse takes it. Nothing else moves (``--`` ends the search)."""
+    import re
+
+    words, moved, in_list = [], [], False
+    for at, word in enumerate(args):
+        option = word.startswith("-") and not re.fullmatch(r"-\d+|-\d*\.\d+", word)  # -5: a value, as argparse reads it
+        if word == "--":
+            words += args[at:]
+            break
+        if word in KEY_VALUE_LISTS:
+            in_list = True
+        elif in_list and not option and "=" not in word:
+            moved.append(word)
+            continue
+        elif option:
+            in_list = False
+        words.append(word)
+    return moved + words if moved else list(args)
 
 def _terminal_columns() -> int:
     """The terminal's width as :func:`shutil.get_terminal_size` gives it: $COLUMNS, the terminal, else 80."""
