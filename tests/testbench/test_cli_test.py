@@ -105,3 +105,8 @@ def test_a_can2_bus_of_its_own_reaches_the_tests_whole():
     target = target_from_options(Namespace(**options))
     assert target.can2_bus == {"interface": "udp_multicast", "channel": "239.74.163.9", "port": 43201,
                                "receive_own_messages": False, "bitrate": 500_000}
+    options.update(interface=None, bus_kwargs=None, host="127.0.0.1", port=43220, can2_channel=None,  # as measure
+                   can2_interface="udp_multicast", can2_bus_kwargs=["port=43221"])  # takes it (was refused: trial 6)
+    target = target_from_options(Namespace(**options))
+    assert target.can2_bus == {"interface": "udp_multicast", "channel": "239.74.163.2", "port": 43221,
+                               "receive_own_messages": False}

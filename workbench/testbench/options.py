@@ -28,8 +28,6 @@ def target_from_options(option: Namespace) -> EcuTarget:
         given = {"interface": option.interface, "channel": option.channel, "bitrate": option.bitrate, **bus_kwargs}
         bus = complete_bus_settings({key: value for key, value in given.items() if value is not None})
     ethernet = {"host": option.host, "port": option.port, "protocol": option.protocol or "udp"} if option.host else None
-    if option.can2_interface and not option.can2_channel:
-        raise InputError("--can2-interface needs --can2-channel")
     can2 = bus_beside(BusSpec.from_kwargs(bus) if bus else None, option.can2_interface, option.can2_channel,
                       _bus_kwargs(option.can2_bus_kwargs or [], "--can2-bus-kwargs"))
     can2_bus = can2.kwargs() if can2 is not None else None
