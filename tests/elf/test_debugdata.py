@@ -18,7 +18,8 @@ from workbench.elf.type_resolver import TypeResolver
 from workbench.errors import InputError, UnknownSymbolError
 
 FIXTURES = Path(__file__).parent / "fixtures"
-DWARF_ELFS = ["types_dwarf5.elf", "types_dwarf4.elf", "types_dwarf2.elf", "types_m32.elf"]
+DWARF_ELFS = ["types_dwarf5.elf", "types_dwarf4.elf", "types_dwarf2.elf", "types_m32.elf",
+              "types_zdebug.elf", "types_zstd.elf"]  # the last two: DWARF 5 compressed (GNU .zdebug_*, zstd)
 # A2L spellings of the paths in types.c's expected_address[], in order
 EXPECTED = ["zsScalar", "zvLut", "zvLut.Table[3]", "outer.b.c", "outer.arr[2].d[1]", "outer.arr._3_",
             "matrix[2][3]", "matrix._4_", "vector._7_", "bits.after", "u.bytes[2]", "state", "node.value",

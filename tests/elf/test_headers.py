@@ -11,7 +11,9 @@ from workbench.elf.debugdata import DebugData
 from workbench.elf.headers import read_headers, read_section
 
 FIXTURES = Path(__file__).parent / "fixtures"
-ELFS = sorted(FIXTURES.glob("*.elf")) + sorted((Path(__file__).parent / "matrix").glob("*-O2.elf"))
+# types_zdebug.elf and types_zstd.elf: types_dwarf5.elf compressed in the ways pyelftools does not read (test below)
+ELFS = sorted(set(FIXTURES.glob("*.elf")) - set(FIXTURES.glob("types_z*.elf"))) + \
+    sorted((Path(__file__).parent / "matrix").glob("*-O2.elf"))
 
 
 @pytest.mark.parametrize("path", ELFS, ids=lambda path: path.name)
@@ -49,3 +51,18 @@ def test_compressed_debug_sections_are_read(tmp_path):
     again = DebugData(compressed, use_cache=False)
     assert again._variables == plain._variables
     assert again.resolve("outer.arr[2].d[1]") == plain.resolve("outer.arr[2].d[1]")
+
+
+@pytest.mark.parametrize("name, compressed", [("types_zdebug.elf", ".zdebug_info"), ("types_zstd.elf", ".debug_info")])
+def test_debug_sections_compressed_the_gnu_way_or_with_zstd_are_read(name, compressed):
+    """objcopy --compress-debug-sections=zlib-gnu (.zdebug_*, older toolchains) and =zstd (gcc -gz=zstd): the
+    sections read as types_dwarf5.elf's, which they were made from (pyelftools reads neither)."""
+    plain = read_headers(FIXTURES / "types_dwarf5.elf")
+    headers = read_headers(FIXTURES / name)
+    [section] = [section for section in headers.sections if section.name == compressed]
+    assert compressed.startswith(".zdebug") or section.flags & 0x800  # compressed, as the test means
+    for section in headers.sections:
+        if section.name.startswith((".debug", ".zdebug")):
+            [twin] = [twin for twin in plain.sections if twin.name == section.name.replace(".zdebug", ".debug")]
+            assert read_section(FIXTURES / name, section, headers) == \
+                read_section(FIXTURES / "types_dwarf5.elf", twin, plain), section.name

@@ -18,7 +18,7 @@ from pathlib import Path
 
 from workbench.fileio import atomic_write_bytes
 
-FORMAT = 11  # bump when the cached structures or the way names resolve change
+FORMAT = 12  # bump when the cached structures or the way names resolve change
 ENTRIES = 32  # the most entries a cache folder keeps (the ELFs used most recently)
 
 

@@ -2,7 +2,8 @@
 
 Read with ``struct`` from a few kilobytes at the start and end of the file: pyelftools
 takes about 45 ms to import and walk the headers of a large ELF, these few reads under one.
-A section compressed the ELF way (SHF_COMPRESSED, zlib) is decompressed when read.
+A compressed section is decompressed when read: the ELF way (SHF_COMPRESSED, zlib or zstd, as
+``objcopy --compress-debug-sections`` and ``gcc -gz`` write them) and the older GNU way (``.zdebug_*``).
 Every damage (a short read, a field pointing outside the file) is a ``ValueError`` the
 caller turns into an error naming the file.
 """
@@ -19,7 +20,7 @@ __all__ = ["ElfHeaders", "SectionHeader", "read_headers", "read_section"]
 SHT_NOBITS, SHF_ALLOC, SHF_COMPRESSED = 8, 0x2, 0x800
 PT_LOAD = 1
 _SHN_LORESERVE, _SHN_XINDEX = 0xFF00, 0xFFFF
-_ELFCOMPRESS_ZLIB = 1
+_ELFCOMPRESS_ZLIB, _ELFCOMPRESS_ZSTD = 1, 2
 # ELF header after e_ident, section header, program header, compression header: by class
 _HEADER = {32: "HHIIIIIHHHHHH", 64: "HHIQQQIHHHHHH"}
 _SECTION = {32: "IIIIIIIIII", 64: "IIQQQQIIQQ"}
@@ -94,20 +95,37 @@ def read_section(path: Path, section: SectionHeader, headers: ElfHeaders) -> byt
         data = handle.read(section.size)
     if len(data) != section.size:
         raise ValueError(f"section {section.name} lies outside the file")
-    if not section.flags & SHF_COMPRESSED:
+    if section.name.startswith(".zdebug") and data[:4] == b"ZLIB":  # GNU's: "ZLIB", the size (8 bytes, big-endian)
+        kind, expected, data = _ELFCOMPRESS_ZLIB, int.from_bytes(data[4:12], "big"), data[12:]
+    elif section.flags & SHF_COMPRESSED:
+        layout = ("<" if headers.little_endian else ">") + _CHDR[headers.elfclass]
+        header = _unpack(layout, data[: struct.calcsize(layout)])
+        kind, expected = header[0], header[1] if headers.elfclass == 32 else header[2]
+        data = data[struct.calcsize(layout):]
+    else:
         return data
-    layout = ("<" if headers.little_endian else ">") + _CHDR[headers.elfclass]
-    header = _unpack(layout, data[: struct.calcsize(layout)])
-    kind, expected = header[0], header[1] if headers.elfclass == 32 else header[2]
-    if kind != _ELFCOMPRESS_ZLIB:
-        raise ValueError(f"section {section.name} is compressed in a way this reader does not know (type {kind})")
     try:
-        data = zlib.decompress(data[struct.calcsize(layout):])
-    except zlib.error as exc:
+        data = _decompress(kind, data, section.name)
+    except (zlib.error, ValueError) as exc:
         raise ValueError(f"section {section.name} does not decompress ({exc})") from None
     if len(data) != expected:
         raise ValueError(f"section {section.name} decompresses to {len(data)} bytes, not {expected}")
     return data
+
+
+def _decompress(kind: int, data: bytes, name: str) -> bytes:
+    if kind == _ELFCOMPRESS_ZLIB:
+        return zlib.decompress(data)
+    if kind != _ELFCOMPRESS_ZSTD:
+        raise ValueError(f"compression type {kind} is unknown to this reader")
+    try:
+        from compression import zstd  # Python 3.14
+
+        return zstd.decompress(data)
+    except ImportError:
+        import zstandard  # a dependency below 3.14
+
+        return zstandard.ZstdDecompressor().decompressobj().decompress(data)
 
 
 def _table(handle, layout: str, offset: int, entry_size: int, count: int, file_size: int, what: str) -> list[tuple]:

@@ -67,7 +67,7 @@ class ElfSymbols:
         self.little_endian: bool = self.headers.little_endian
         self.elfclass: int = self.headers.elfclass
         self.sections: dict[str, Section] = self._read_sections(self.headers)
-        self.has_dwarf: bool = ".debug_info" in self.sections
+        self.has_dwarf: bool = ".debug_info" in self.sections or ".zdebug_info" in self.sections
         self._section_names = [section.name for section in self.headers.sections]  # by section index
         self._symbols: dict[str, Symbol] | None = None
         self._symbol_list: list[Symbol] | None = None
@@ -151,7 +151,9 @@ class ElfSymbols:
         cannot be read."""
         if self.headers is None:
             self.headers = read_headers(self.path)
-        section = next((section for section in self.headers.sections if section.name == name), None)
+        # a .debug_* section may be GNU-compressed under the name .zdebug_*
+        names = (name, ".zdebug_" + name[len(".debug_"):]) if name.startswith(".debug_") else (name,)
+        section = next((section for section in self.headers.sections if section.name in names), None)
         return None if section is None else read_section(self.path, section, self.headers)
 
     def names_text(self) -> bytes:
