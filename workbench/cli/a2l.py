@@ -206,11 +206,7 @@ def _update(args: argparse.Namespace) -> int:
     except UpdateFailed as exc:
         _print_report(exc.report, args, summary=f"{exc}; nothing written")
         return 1
-    parts = []
-    for keyword, tally in report.tally.items():
-        parts.append(f"{keyword} " + ", ".join(f"{count} {outcome}" for outcome, count in sorted(tally.items())))
-    summary = f"wrote {args.output}: " + ("; ".join(parts) if parts else "no objects")
-    _print_report(report, args, summary=summary, output=args.output)
+    _print_report(report, args, summary=report.summary(args.output), output=args.output)
     return 0 if report.ok else 1  # written, with errors (changes in included files it could not write)
 
 

@@ -46,6 +46,13 @@ class UpdateReport(Report):
     def to_dict(self) -> dict:
         return {**super().to_dict(), "tally": {k: dict(v) for k, v in self.tally.items()}}
 
+    def summary(self, output: str | Path) -> str:
+        """The one line after ``output`` is written, per block type (``wrote OUT: MEASUREMENT 1 not-found, 6
+        updated``), as the CLI and the GUI say it."""
+        parts = [f"{keyword} " + ", ".join(f"{count} {outcome}" for outcome, count in sorted(tally.items()))
+                 for keyword, tally in self.tally.items()]
+        return f"wrote {output}: " + ("; ".join(parts) if parts else "no objects")
+
 
 @dataclass
 class UpdateResult:
