@@ -37,6 +37,7 @@ from workbench.gui.parameter_sets import ParameterSets
 from workbench.gui.project import PlotSpec, Project, remember_project, save_project
 from workbench.gui.models.variables import variables_of_file
 from workbench.gui.signal_hub import SignalHub, SignalInfo
+from workbench.gui.widgets.a2l_tools_dialog import A2lToolsDialog
 from workbench.gui.widgets.calibration_editor import CalibrationEditor
 from workbench.gui.widgets.columns import column_widths, set_column_widths
 from workbench.gui.widgets.compare_view import CompareView
@@ -78,6 +79,7 @@ class MainWindow(QMainWindow):
         self.epk_dialog: EpkDialog | None = None
         self.flash_dialog: FlashDialog | None = None
         self.sync_dialog: SyncDialog | None = None
+        self.a2l_tools: A2lToolsDialog | None = None
         self.copy_confirm: QMessageBox | None = None  # the page copy's question (tests answer it)
         self.sync_report = None  # the last cache sync's workbench.sync.SyncReport
         self.last_recording = None  # the last recording's workbench.record.RecordingStats
@@ -610,6 +612,42 @@ class MainWindow(QMainWindow):
                 self.project.s19 = sync_upload(report, path)
             except Exception as exc:  # noqa: BLE001
                 self.show_error(exc)
+
+    # --- the A2L tools ---------------------------------------------------------------------------
+
+    def project_a2l(self) -> Path:
+        """The A2L the window reads (the demo's when the project names none)."""
+        from workbench import demo
+
+        return self.project.a2l or demo.a2l()
+
+    def open_a2l_tools(self, operation: str) -> A2lToolsDialog:
+        """The A2L tools (Tools menu), non-modal, on the tab of ``operation``; a new dialog starts with the project's
+        A2L and ELF, an open one keeps what the user chose."""
+        if self.a2l_tools is not None and self.a2l_tools.isVisible():
+            if self.a2l_tools.task is None:
+                self.a2l_tools.set_operation(operation)
+        else:
+            if self.a2l_tools is not None:
+                self.a2l_tools.deleteLater()
+            self.a2l_tools = A2lToolsDialog(operation, self.project_a2l(), self.project.elf, self.project_a2l(), self)
+            self.a2l_tools.reload_requested.connect(self.reload_a2l)
+        self.a2l_tools.show()
+        self.a2l_tools.raise_()
+        return self.a2l_tools
+
+    def reload_a2l(self) -> Task:
+        """Read the project's files again (its A2L was rewritten), the windows kept; the editors are opened again
+        (theirs was the A2L as it was), and a connection, which holds it too, is closed and made again."""
+        reconnect = self.controller.session is not None
+        project = self.current_project()
+        self.controller.close()
+        for index in reversed(range(self.editor_tabs.count())):
+            self._close_editor(index)
+        task = self.load(project)
+        if reconnect:
+            task.succeeded.connect(lambda _: self.connect_ecu())
+        return task
 
     # --- errors and closing ---------------------------------------------------------------------
 

@@ -1,4 +1,4 @@
-"""The main window's actions, toolbar and menus (File, Edit, ECU, Calibration, View) and their keys.
+"""The main window's actions, toolbar and menus (File, Edit, ECU, Calibration, View, Tools) and their keys.
 
 :func:`build_menus` makes every action an attribute of the window (``window.connect_action`` ...), one
 function per menu in the menu bar's order; the slots they call are the window's. :func:`enable_ecu_actions`
@@ -10,6 +10,7 @@ from __future__ import annotations
 from PySide6.QtGui import QAction, QActionGroup, QKeySequence
 
 from workbench.gui.project import PlotSpec, recent_projects
+from workbench.gui.widgets.a2l_tools_dialog import CHECK, MERGE, UPDATE
 
 __all__ = ["KEYS", "build_menus", "enable_ecu_actions"]
 
@@ -33,6 +34,7 @@ def build_menus(window) -> None:
     _ecu_menu(window, bar.addMenu("&ECU"))
     _calibration_menu(window, bar.addMenu("&Calibration"))
     _view_menu(window, bar.addMenu("&View"))
+    _tools_menu(window, bar.addMenu("&Tools"))
     enable_ecu_actions(window)
 
 
@@ -167,6 +169,18 @@ def _view_menu(window, menu) -> None:
     for dock in (window.browser_dock, window.editor_dock, window.fix_dock, window.numeric_dock, window.trace_dock,
                  window.compare_dock):
         menu.addAction(dock.toggleViewAction())
+
+
+def _tools_menu(window, menu) -> None:
+    """The A2L tool chain of a build (``workbench a2l update|check|merge``), one dialog for the three."""
+    window.a2l_update_action = _action(window, "Update A2L from ELF…", lambda: window.open_a2l_tools(UPDATE),
+                                      "set every address (and the EPK) of an A2L from the ELF of a build")
+    window.a2l_check_action = _action(window, "Check A2L…", lambda: window.open_a2l_tools(CHECK),
+                                     "syntax, references, names and memory placement, with file:line:column")
+    window.a2l_merge_action = _action(window, "Merge A2L fragments…", lambda: window.open_a2l_tools(MERGE),
+                                     "module fragments into a master A2L")
+    for item in (window.a2l_update_action, window.a2l_check_action, window.a2l_merge_action):
+        menu.addAction(item)
 
 
 def _set_keys(item: QAction, keys, tip: str) -> None:

@@ -1,0 +1,471 @@
+"""The A2L tool chain in the window (Tools menu), as CANape users update the A2L after every build: update an
+A2L from an ELF, check it, merge module fragments into a master — what ``workbench a2l update|check|merge``
+do, with the CLI's options, its summary line and its exit codes' meaning (an update with errors, a check with
+warnings: failed).
+
+The job runs in a worker with a progress bar and Cancel (the library stops at its next check point and writes
+nothing); a refusal (a malformed A2L, a missing ELF: one line with file:line:column) is said in the dialog,
+never as a traceback; the findings are listed problems first, the infos (every address updated ...) on
+"show all". An update written over the A2L the window holds says so and offers to read it again."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtGui import QColor
+from PySide6.QtWidgets import (
+    QAbstractItemView,
+    QCheckBox,
+    QComboBox,
+    QDialog,
+    QFileDialog,
+    QFormLayout,
+    QHBoxLayout,
+    QHeaderView,
+    QLabel,
+    QLineEdit,
+    QListWidget,
+    QProgressBar,
+    QPushButton,
+    QStyledItemDelegate,
+    QTabBar,
+    QTableView,
+    QVBoxLayout,
+    QWidget,
+)
+
+from workbench.errors import Cancelled, WorkbenchError
+from workbench.findings import Report, Severity
+from workbench.gui import theme
+from workbench.gui.models.rows import RowsModel
+from workbench.gui.widgets.errors import show_error
+from workbench.gui.widgets.names import NameDelegate
+from workbench.gui.worker import Task
+
+__all__ = ["A2lOutcome", "A2lToolsDialog", "CHECK", "FindingsModel", "MERGE", "UPDATE", "check_a2l", "merge_a2l",
+           "update_a2l"]
+
+UPDATE, CHECK, MERGE = "update", "check", "merge"
+_TITLES = {UPDATE: "Update from ELF", CHECK: "Check", MERGE: "Merge fragments"}
+_A2L_FILES = "A2L files (*.a2l *.A2L);;All files (*)"
+_ELF_FILES = "ELF files (*.elf *.out *.axf);;All files (*)"
+_SEVERITY_COLOUR = {Severity.ERROR: theme.BAD, Severity.WARNING: theme.WARN, Severity.INFO: theme.MUTED}
+
+
+# --- the jobs (plain Python, run in a worker) -------------------------------------------------------------
+
+@dataclass(frozen=True)
+class A2lOutcome:
+    """One run: its report, the summary line the CLI prints, whether it succeeded (the CLI's exit code 0) and
+    the file it wrote (None: nothing written)."""
+
+    report: Report
+    summary: str
+    ok: bool
+    written: Path | None = None
+
+
+def update_a2l(a2l: str, elf: str, output: str, *, mode, types: bool, epk: bool, includes,
+               progress=None) -> A2lOutcome:
+    """``workbench a2l update`` (every address listed: the dialog's "show all"); strict refusals are outcomes."""
+    from workbench.a2l.update import UpdateFailed, update_file
+
+    try:
+        report = update_file(a2l, elf, output, mode=mode, types=types, epk=epk, includes=includes, progress=progress)
+    except UpdateFailed as exc:
+        return A2lOutcome(exc.report, f"{exc}; nothing written", False)
+    return A2lOutcome(report, report.summary(output), report.ok, Path(output))  # written, errors or not
+
+
+def check_a2l(a2l: str, elf: str | None, progress=None) -> A2lOutcome:
+    """``workbench a2l check [--elf]``: fails on any problem, a warning included."""
+    from workbench.a2l.check import check_file
+
+    report = check_file(a2l, elf or None, progress=progress)
+    return A2lOutcome(report, f"{a2l}: " + ("clean" if report.ok else f"{len(report.problems)} problem(s)"), report.ok)
+
+
+def merge_a2l(master: str, fragments: list[str], output: str, *, policy, progress=None) -> A2lOutcome:
+    """``workbench a2l merge``; conflicts under the policy "error" are an outcome (nothing written)."""
+    from workbench.a2l.merge import MergeFailed, merge_files
+
+    try:
+        report = merge_files(master, fragments, output, policy=policy, progress=progress)
+    except MergeFailed as exc:
+        return A2lOutcome(exc.report, str(exc), False)
+    merged = len(report.of_kind("merged"))
+    return A2lOutcome(report, f"merged {merged} fragment(s) into {output}", report.ok, Path(output))
+
+
+# --- the findings table -----------------------------------------------------------------------------------
+
+class FindingsModel(RowsModel):
+    """A report's findings, problems first (errors, then warnings, each in the report's order); the infos
+    only when ``show_all``."""
+
+    COLUMNS = ("severity", "file:line:column", "object", "message")
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.findings: list = []
+        self.show_all = False
+
+    def set_findings(self, findings, show_all: bool | None = None) -> None:
+        self.findings = sorted(findings, key=lambda f: -f.severity)  # stable: the report's order within each
+        if show_all is not None:
+            self.show_all = show_all
+        self.set_rows(f for f in self.findings if self.show_all or f.severity > Severity.INFO)
+
+    def data(self, index, role=Qt.DisplayRole):
+        if not index.isValid():
+            return None
+        finding = self.rows[index.row()]
+        if role == Qt.DisplayRole:
+            return (finding.severity.name.lower(), finding.location, finding.name, finding.message)[index.column()]
+        if role == Qt.ToolTipRole:
+            return (finding.kind, finding.location, f"{finding.block} {finding.name}".strip(),
+                    finding.message)[index.column()]
+        if role == Qt.ForegroundRole and index.column() == 0:
+            return QColor(_SEVERITY_COLOUR[finding.severity])
+        return None
+
+
+class _KeepEnd(QStyledItemDelegate):
+    """A long ``file:line:column`` cut at its start: the file's name and the line stay."""
+
+    def initStyleOption(self, option, index) -> None:
+        super().initStyleOption(option, index)
+        option.textElideMode = Qt.ElideLeft
+
+
+# --- the dialog -------------------------------------------------------------------------------------------
+
+class _PathField(QWidget):
+    """A file name to type, or to pick with Browse…"""
+
+    def __init__(self, title: str, filters: str, save: bool = False, placeholder: str = ""):
+        super().__init__()
+        self.title, self.filters, self.save = title, filters, save
+        row = QHBoxLayout(self)
+        row.setContentsMargins(0, 0, 0, 0)
+        self.edit = QLineEdit()
+        self.edit.setPlaceholderText(placeholder)
+        row.addWidget(self.edit, 1)
+        browse = QPushButton("Browse…")
+        browse.clicked.connect(self._browse)
+        row.addWidget(browse)
+
+    def text(self) -> str:
+        return self.edit.text().strip()
+
+    def setText(self, text) -> None:
+        self.edit.setText(str(text) if text else "")
+
+    def _browse(self) -> None:
+        pick = QFileDialog.getSaveFileName if self.save else QFileDialog.getOpenFileName
+        path, _ = pick(self, self.title, self.text(), self.filters)
+        if path:
+            self.setText(path)
+
+
+def _choice(items: list[tuple[str, object]], tip: str) -> QComboBox:
+    box = QComboBox()
+    for text, value in items:
+        box.addItem(text, value)
+    box.setToolTip(tip)
+    return box
+
+
+class A2lToolsDialog(QDialog):
+    """Update, check or merge A2L files; ``operation`` (UPDATE, CHECK, MERGE) is the tab shown first.
+
+    ``a2l``/``elf``: the files the fields start with (the project's); ``in_use``: the A2L the window holds,
+    whose rewriting the dialog offers to read again (``reload_requested``)."""
+
+    started = Signal(object)  # the Task, before it runs (to follow its progress)
+    done = Signal(object)  # A2lOutcome
+    refused = Signal(object)  # the exception: a refusal, a cancel, or a failure
+    reload_requested = Signal()
+
+    def __init__(self, operation: str = UPDATE, a2l: Path | None = None, elf: Path | None = None,
+                 in_use: Path | None = None, parent: QWidget | None = None):
+        from workbench.a2l.reports import ConflictPolicy, IncludeMode, UpdateMode
+
+        super().__init__(parent)
+        self.in_use = Path(in_use).resolve() if in_use else None
+        self.task: Task | None = None
+        self.outcome: A2lOutcome | None = None
+        self.setWindowTitle("A2L tools")
+        self.resize(1080, 620)  # within a 1366 x 768 screen, beside the window's edge
+        layout = QVBoxLayout(self)
+        self.tabs = QTabBar()
+        for operation_ in (UPDATE, CHECK, MERGE):
+            self.tabs.addTab(_TITLES[operation_])
+        self.tabs.currentChanged.connect(self._show_fields)
+        layout.addWidget(self.tabs)
+        self.form = QFormLayout()
+        self.a2l = _PathField("A2L", _A2L_FILES)
+        self.a2l.setText(a2l)
+        self.elf = _PathField("ELF", _ELF_FILES)
+        self.elf.setText(elf)
+        self.output = _PathField("Write the A2L to", _A2L_FILES, save=True,
+                                 placeholder="the A2L itself (replaced atomically)")
+        self.master = _PathField("Master A2L", _A2L_FILES)
+        self.fragments = QListWidget()
+        self.fragments.setSelectionMode(QAbstractItemView.ExtendedSelection)
+        self.fragments.setMaximumHeight(90)
+        fragment_buttons = QVBoxLayout()
+        add, remove = QPushButton("Add…"), QPushButton("Remove")
+        add.clicked.connect(self._add_fragments)
+        remove.clicked.connect(lambda: [self.fragments.takeItem(self.fragments.row(item))
+                                        for item in self.fragments.selectedItems()])
+        for button in (add, remove):
+            fragment_buttons.addWidget(button)
+        fragment_buttons.addStretch(1)
+        fragments = QWidget()
+        fragment_row = QHBoxLayout(fragments)
+        fragment_row.setContentsMargins(0, 0, 0, 0)
+        fragment_row.addWidget(self.fragments, 1)
+        fragment_row.addLayout(fragment_buttons)
+        self.types = QCheckBox("data types, sizes and limits (--types)")
+        self.epk = QCheckBox("EPK (MOD_PAR EPK and ADDR_EPK)")
+        self.epk.setChecked(True)
+        options = QWidget()
+        option_row = QHBoxLayout(options)
+        option_row.setContentsMargins(0, 0, 0, 0)
+        self.missing = _choice([("keep (a warning)", UpdateMode.DEFAULT), ("remove (--remove-missing)",
+                                UpdateMode.REMOVE_MISSING), ("refuse: write nothing (--strict)", UpdateMode.STRICT)],
+                               "objects whose symbol is not in the ELF")
+        self.includes = _choice([("keep /include, changes in them are errors", IncludeMode.KEEP),
+                                 ("update the included files (--update-includes)", IncludeMode.UPDATE),
+                                 ("write them inline (--merge-includes)", IncludeMode.MERGE)],
+                                "what happens to the text of /include'd files")
+        for widget in (self.types, self.epk):
+            option_row.addWidget(widget)
+        option_row.addStretch(1)
+        self.conflict = _choice([("fail, write nothing", ConflictPolicy.ERROR), ("keep the first (keep-first)",
+                                 ConflictPolicy.KEEP_FIRST), ("keep the last (keep-last)", ConflictPolicy.KEEP_LAST),
+                                 ("rename the later one NAME_<MODULE> (rename)", ConflictPolicy.RENAME)],
+                                "two different definitions of one name (--on-conflict)")
+        self.rows = {  # the operations each row serves
+            "A2L": (self.a2l, (UPDATE, CHECK)), "ELF": (self.elf, (UPDATE, CHECK)),
+            "master A2L": (self.master, (MERGE,)), "fragments": (fragments, (MERGE,)),
+            "output": (self.output, (UPDATE, MERGE)), "update": (options, (UPDATE,)),
+            "objects missing in the ELF": (self.missing, (UPDATE,)), "includes": (self.includes, (UPDATE,)),
+            "on conflict": (self.conflict, (MERGE,)),
+        }
+        for label, (widget, _) in self.rows.items():
+            self.form.addRow(label, widget)
+        layout.addLayout(self.form)
+        self.progress = QProgressBar()
+        self.progress.setFormat("%p %")
+        layout.addWidget(self.progress)
+        self.status = QLabel()  # the summary, a refusal, or what runs now
+        self.status.setWordWrap(True)
+        self.status.setTextInteractionFlags(Qt.TextSelectableByMouse)
+        layout.addWidget(self.status)
+        reload_row = QHBoxLayout()
+        self.reload_note = QLabel()
+        self.reload_note.setWordWrap(True)
+        self.reload_button = QPushButton("Reload the project's A2L")
+        self.reload_button.clicked.connect(self._reload)
+        reload_row.addWidget(self.reload_note, 1)
+        reload_row.addWidget(self.reload_button)
+        layout.addLayout(reload_row)
+        self.show_all = QCheckBox("show all (the infos too)")
+        self.show_all.toggled.connect(lambda on: self.model.set_findings(self.model.findings, on))
+        layout.addWidget(self.show_all)
+        self.model = FindingsModel(self)
+        self.table = QTableView()
+        self.table.setModel(self.model)
+        self.table.verticalHeader().hide()
+        self.table.setEditTriggers(QAbstractItemView.NoEditTriggers)
+        self.table.setSelectionBehavior(QAbstractItemView.SelectRows)
+        self.table.setWordWrap(False)
+        self.table.setItemDelegateForColumn(1, _KeepEnd(self.table))
+        self.table.setItemDelegateForColumn(2, NameDelegate(self.table))  # names keep their distinct ends
+        header = self.table.horizontalHeader()
+        header.setSectionResizeMode(QHeaderView.Interactive)
+        header.setStretchLastSection(True)
+        for column, width in enumerate((70, 300, 200)):
+            header.resizeSection(column, width)
+        layout.addWidget(self.table, 1)
+        self.detail = QLabel()  # the current finding whole, as the CLI prints it (the table cuts long messages)
+        self.detail.setWordWrap(True)
+        self.detail.setTextInteractionFlags(Qt.TextSelectableByMouse)
+        self.detail.setFont(theme.mono_font(9))
+        self.table.selectionModel().currentRowChanged.connect(self._show_detail)
+        self.model.modelReset.connect(self._fit_columns)
+        layout.addWidget(self.detail)
+        buttons = QHBoxLayout()
+        buttons.addStretch(1)
+        self.run_button = QPushButton("Run")
+        self.run_button.setDefault(True)
+        self.run_button.clicked.connect(self.run)
+        self.cancel_button = QPushButton("Cancel")
+        self.cancel_button.setEnabled(False)
+        self.cancel_button.clicked.connect(self.cancel)
+        self.close_button = QPushButton("Close")
+        self.close_button.clicked.connect(self.reject)
+        for button in (self.run_button, self.cancel_button, self.close_button):
+            buttons.addWidget(button)
+        layout.addLayout(buttons)
+        self.set_operation(operation)
+        self._show_result(None)
+
+    # --- the fields -----------------------------------------------------------------------------
+
+    @property
+    def operation(self) -> str:
+        return (UPDATE, CHECK, MERGE)[self.tabs.currentIndex()]
+
+    def set_operation(self, operation: str) -> None:
+        self.tabs.setCurrentIndex((UPDATE, CHECK, MERGE).index(operation))
+        self._show_fields()
+
+    def _show_fields(self, *_) -> None:
+        for label, (widget, operations) in self.rows.items():
+            self.form.setRowVisible(widget, self.operation in operations)
+        self.elf.edit.setPlaceholderText("optional: symbols and addresses against it" if self.operation == CHECK
+                                         else "the ELF the build linked")
+        self.output.edit.setPlaceholderText("the A2L itself (replaced atomically)" if self.operation == UPDATE
+                                            else "the merged A2L to write")
+        self.run_button.setText(f"{_TITLES[self.operation].split()[0]}")
+
+    def fragment_paths(self) -> list[str]:
+        return [self.fragments.item(row).text() for row in range(self.fragments.count())]
+
+    def set_fragments(self, paths) -> None:
+        self.fragments.clear()
+        self.fragments.addItems([str(p) for p in paths])
+
+    def _add_fragments(self) -> None:
+        paths, _ = QFileDialog.getOpenFileNames(self, "A2L fragments", self.master.text(), _A2L_FILES)
+        self.fragments.addItems([p for p in paths if p not in self.fragment_paths()])
+
+    def _job(self) -> tuple | str:
+        """The job the fields ask for, as (function, args, kwargs); a text: what is missing."""
+        operation = self.operation
+        if operation == MERGE:
+            if not self.master.text() or not self.fragment_paths() or not self.output.text():
+                return "choose the master A2L, at least one fragment and the output"
+            return merge_a2l, (self.master.text(), self.fragment_paths(), self.output.text()), {
+                "policy": self.conflict.currentData()}
+        if not self.a2l.text():
+            return "choose the A2L"
+        if operation == CHECK:
+            return check_a2l, (self.a2l.text(), self.elf.text() or None), {}
+        if not self.elf.text():
+            return "choose the ELF the build linked"
+        return update_a2l, (self.a2l.text(), self.elf.text(), self.output.text() or self.a2l.text()), {
+            "mode": self.missing.currentData(), "types": self.types.isChecked(), "epk": self.epk.isChecked(),
+            "includes": self.includes.currentData()}
+
+    # --- running --------------------------------------------------------------------------------
+
+    def run(self) -> Task | None:
+        """Start the job the fields describe (in a worker); None when a field is missing (the dialog says which)."""
+        if self.task is not None:
+            return None
+        job = self._job()
+        self._show_result(None)
+        if isinstance(job, str):
+            self._say(job, theme.BAD)
+            return None
+        function, args, kwargs = job
+        self.task = Task(function, *args, progress=True, **kwargs)
+        self.task.progress.changed.connect(self._progressed)
+        self.task.succeeded.connect(self._done)
+        self.task.failed.connect(self._failed)
+        self.task.finished.connect(self._finished)
+        self._busy(True)
+        self._say(f"{_TITLES[self.operation].lower()} …", theme.MUTED)
+        self.started.emit(self.task)
+        return self.task.start()
+
+    def cancel(self) -> None:
+        if self.task is not None:
+            self.task.cancel()
+            self._say("cancelling at the next check point …", theme.MUTED)
+
+    def _progressed(self, done: int, total: int, label: str) -> None:
+        self.progress.setMaximum(max(total, 1))
+        self.progress.setValue(done)
+        if label:
+            self._say(label, theme.MUTED)
+
+    def _done(self, outcome: A2lOutcome) -> None:
+        self.progress.setValue(self.progress.maximum())
+        self._show_result(outcome)
+        self.done.emit(outcome)
+
+    def _failed(self, exc: BaseException) -> None:
+        self.progress.setValue(0)
+        if isinstance(exc, Cancelled):
+            self._say("cancelled: nothing written", theme.BAD)
+        elif isinstance(exc, WorkbenchError):  # a refusal: a malformed A2L, a missing ELF, an unwritable output
+            self._say(f"⚠ {exc}", theme.BAD)
+        else:  # not ours: a bug, shown as the window shows one (its traceback in the details)
+            self._say(f"failed: unexpected {type(exc).__name__}: {exc}", theme.BAD)
+            show_error(self, exc, "A2L tools")
+        self.refused.emit(exc)
+
+    def _finished(self) -> None:
+        self._busy(False)
+        self.task = None
+
+    def _busy(self, busy: bool) -> None:
+        self.run_button.setEnabled(not busy)
+        self.cancel_button.setEnabled(busy)
+        self.close_button.setEnabled(not busy)
+        self.tabs.setEnabled(not busy)
+        for widget, _ in self.rows.values():
+            widget.setEnabled(not busy)
+
+    # --- the result -----------------------------------------------------------------------------
+
+    def _say(self, text: str, colour: str) -> None:
+        self.status.setText(text)
+        self.status.setStyleSheet(f"color: {colour};")
+
+    def _show_result(self, outcome: A2lOutcome | None) -> None:
+        self.outcome = outcome
+        findings = outcome.report.findings if outcome is not None else []
+        self.model.set_findings(findings)
+        infos = sum(1 for f in findings if f.severity == Severity.INFO)
+        self.show_all.setText(f"show all (the {infos} infos too)" if infos else "show all (the infos too)")
+        self.show_all.setEnabled(bool(infos))
+        if outcome is not None:
+            self._say(("done: " if outcome.ok else "failed: ") + outcome.summary, theme.GOOD if outcome.ok
+                      else theme.BAD)
+        rewritten = (outcome is not None and outcome.written is not None and self.in_use is not None
+                     and outcome.written.resolve() == self.in_use)
+        if rewritten:
+            self.reload_note.setText(f"The open project uses {self.in_use.name}: the window (and a connection) "
+                                     "still hold it as it was read before.")
+        self.reload_note.setVisible(rewritten)
+        self.reload_button.setVisible(rewritten)
+
+    def _fit_columns(self) -> None:
+        """Place and name as wide as they are (up to a third and a quarter of the table); the message takes the rest."""
+        for column in (1, 2):
+            self.table.resizeColumnToContents(column)
+            self.table.setColumnWidth(column, min(self.table.columnWidth(column), self.table.width() // (column + 2)))
+        if self.model.rowCount():
+            self.table.setCurrentIndex(self.model.index(0, 0))
+        else:
+            self.detail.clear()
+
+    def _show_detail(self, current, _previous=None) -> None:
+        self.detail.setText(str(self.model.rows[current.row()]) if current.isValid() else "")
+
+    def _reload(self) -> None:
+        self.reload_requested.emit()
+        self.reload_note.setText("reloading the project's A2L (a connection is made again) …")
+        self.reload_button.hide()
+
+    def reject(self) -> None:
+        if self.task is None:  # a running job is cancelled first (Cancel), never left writing behind a closed dialog
+            super().reject()
