@@ -209,3 +209,22 @@ def test_the_tools_menu_opens_the_dialog_on_the_project_and_offers_to_reload_its
         assert window.a2l_tools is dialog and dialog.operation == CHECK
     finally:
         window.close()
+
+
+def test_reloading_the_a2l_while_connected_connects_again_with_it(qtbot, tmp_path, demo_ecu, project):
+    from gui_helpers import open_window
+
+    project.a2l = tmp_path / "FLCU.a2l"
+    shutil.copy(demo.a2l(), project.a2l)
+    window = open_window(qtbot, project)
+    try:
+        dialog = window.open_a2l_tools(UPDATE)
+        _run(dialog, qtbot)  # the same addresses: written again all the same
+        assert dialog.reload_button.isVisibleTo(dialog)
+        before = window.workspace
+        with qtbot.waitSignals([window.controller.disconnected, window.loaded, window.controller.connected],
+                               order="strict", timeout=WAIT_MS):
+            dialog.reload_button.click()
+        assert window.workspace is not before and window.controller.session.doc is window.workspace.doc
+    finally:
+        window.close()

@@ -191,8 +191,6 @@ class A2lToolsDialog(QDialog):
 
     def __init__(self, operation: str = UPDATE, a2l: Path | None = None, elf: Path | None = None,
                  in_use: Path | None = None, parent: QWidget | None = None):
-        from workbench.a2l.reports import ConflictPolicy, IncludeMode, UpdateMode
-
         super().__init__(parent)
         self.in_use = Path(in_use).resolve() if in_use else None
         self.task: Task | None = None
@@ -205,6 +203,28 @@ class A2lToolsDialog(QDialog):
             self.tabs.addTab(_TITLES[operation_])
         self.tabs.currentChanged.connect(self._show_fields)
         layout.addWidget(self.tabs)
+        layout.addLayout(self._fields(a2l, elf))
+        self._result_area(layout)
+        buttons = QHBoxLayout()
+        buttons.addStretch(1)
+        self.run_button = QPushButton("Run")
+        self.run_button.setDefault(True)
+        self.run_button.clicked.connect(self.run)
+        self.cancel_button = QPushButton("Cancel")
+        self.cancel_button.setEnabled(False)
+        self.cancel_button.clicked.connect(self.cancel)
+        self.close_button = QPushButton("Close")
+        self.close_button.clicked.connect(self.reject)
+        for button in (self.run_button, self.cancel_button, self.close_button):
+            buttons.addWidget(button)
+        layout.addLayout(buttons)
+        self.set_operation(operation)
+        self._show_result(None)
+
+    def _fields(self, a2l: Path | None, elf: Path | None) -> QFormLayout:
+        """The files and options, each row shown for the operations it serves."""
+        from workbench.a2l.reports import ConflictPolicy, IncludeMode, UpdateMode
+
         self.form = QFormLayout()
         self.a2l = _PathField("A2L", _A2L_FILES)
         self.a2l.setText(a2l)
@@ -258,7 +278,10 @@ class A2lToolsDialog(QDialog):
         }
         for label, (widget, _) in self.rows.items():
             self.form.addRow(label, widget)
-        layout.addLayout(self.form)
+        return self.form
+
+    def _result_area(self, layout: QVBoxLayout) -> None:
+        """Progress, the summary (or refusal), the reload offer, the findings and the current one whole."""
         self.progress = QProgressBar()
         self.progress.setFormat("%p %")
         layout.addWidget(self.progress)
@@ -299,21 +322,6 @@ class A2lToolsDialog(QDialog):
         self.table.selectionModel().currentRowChanged.connect(self._show_detail)
         self.model.modelReset.connect(self._fit_columns)
         layout.addWidget(self.detail)
-        buttons = QHBoxLayout()
-        buttons.addStretch(1)
-        self.run_button = QPushButton("Run")
-        self.run_button.setDefault(True)
-        self.run_button.clicked.connect(self.run)
-        self.cancel_button = QPushButton("Cancel")
-        self.cancel_button.setEnabled(False)
-        self.cancel_button.clicked.connect(self.cancel)
-        self.close_button = QPushButton("Close")
-        self.close_button.clicked.connect(self.reject)
-        for button in (self.run_button, self.cancel_button, self.close_button):
-            buttons.addWidget(button)
-        layout.addLayout(buttons)
-        self.set_operation(operation)
-        self._show_result(None)
 
     # --- the fields -----------------------------------------------------------------------------
 
