@@ -113,3 +113,23 @@ def test_a_state_or_name_the_ecu_does_not_have_is_refused_not_judged(target, tmp
         ecu.expect("xsTankCtrlState", "off", for_s=0.1)  # a text in another case names the table's, as writes take it
         ecu.expect("xsTankCtrlState", other_than(1), for_s=0.1)  # a number: the state it stands for (TANK1_ON)
         assert [step.passed for step in ecu.steps if step.kind == "expect"] == [True, True]
+
+
+def test_an_ecu_lost_during_an_expectation_is_named_as_the_reason(tmp_path):
+    """The ECU goes silent during a test: the expectation says the connection was lost and when (it said 'no
+    samples after t=... (is DAQ running?)', the reason only in the teardown's error; user trial 6)."""
+    from workbench import Session
+    from workbench.errors import WorkbenchError
+    from workbench.sim import serve_demo
+
+    with serve_demo({"interface": "virtual", "channel": "bench-lost-ecu"}) as sim:
+        with Session.open(interface="virtual", channel="bench-lost-ecu") as session:
+            ecu = Bench(session, evidence=tmp_path / "lost.mf4")
+            ecu.watch("zsRailPressure")
+            ecu.expect("zsRailPressure", at_least(0.0), for_s=0.1)
+            sim.power_off()
+            with pytest.raises(ExpectationFailed, match=r"expect zsRailPressure >= 0 bar for 0.5 s: no samples after "
+                                                        rf"{TIME} \(connection to the ECU lost at .*nothing from the ECU"):
+                ecu.expect("zsRailPressure", at_least(0.0), for_s=0.5)
+            with pytest.raises(WorkbenchError, match="the evidence lost.mf4 is incomplete: connection to the ECU lost"):
+                ecu.close()

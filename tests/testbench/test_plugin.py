@@ -96,6 +96,18 @@ def test_typo(ecu):
     assert "During handling" not in output and "a2l/model.py" not in output and "testbench/bench.py" not in output
 
 
+def test_no_ecu_is_one_line_per_test(pytester, free_tcp_port):
+    """No ECU there (not powered, or lost in an earlier test): each test's setup error is the one line of the
+    library, not its traceback (user trial 6)."""
+    pytester.makepyfile(test_flcu=TESTS)
+    result = pytester.runpytest_inprocess("--host", "127.0.0.1", "--port", str(free_tcp_port), "--protocol", "tcp",
+                                          "-k", "on_the_ecu", *PLUGIN)
+    result.assert_outcomes(errors=1)
+    result.stdout.fnmatch_lines(["*ERROR at setup of test_on_the_ecu*",
+                                 f"cannot reach the ECU: XCP on TCP (127.0.0.1:{free_tcp_port}): nothing listens at*"])
+    assert "session.py" not in result.stdout.str()
+
+
 def test_a_test_run_that_does_not_use_it_loads_nothing_heavy():
     code = ("import sys, json, workbench.testbench.plugin, workbench.testbench; "
             "print(json.dumps(sorted({m.split('.')[0] for m in sys.modules} & "

@@ -390,6 +390,12 @@ class Recorder:
     def running(self) -> bool:
         return self._thread is not None and self._thread.is_alive() and not self._stopping.is_set()
 
+    @property
+    def failure(self) -> BaseException | None:
+        """What ended the recording before it was stopped (a :class:`ConnectionLostError`: the ECU was lost),
+        until :meth:`stop` raises it; None while it runs."""
+        return self._error
+
     def wait(self, duration_s: float | None = None, progress: Progress | None = None) -> None:
         """Block until ``duration_s`` seconds of recording, counted from when DAQ ran (None: until the
         recording stops), ``progress`` is cancelled (the recording goes on until :meth:`stop`), or the

@@ -368,7 +368,7 @@ class Bench:
                           start, signal, wanted)
         hit, last = self._first(name, wanted, start, start + timeout)
         if hit is None:
-            self._fail(step, f"not within {timeout:g} s; {_last_seen(last, signal.unit)}")
+            self._fail(step, f"not within {timeout:g} s; {_last_seen(last, signal.unit)}{self._lost()}")
         step.passed, step.t_end, step.detail = True, hit, f"at t={hit:.3f} s"
         self._add(step)
         return hit
@@ -449,7 +449,9 @@ class Bench:
                 self._fail(step, f"{_text(values[first])}{_unit(unit)}{against} at t={times[first]:.3f} s")
         horizon = self.timeline.horizon(name)
         if horizon is None or horizon < end:
-            self._fail(step, f"no samples after t={max(start, horizon or start):.3f} s (is DAQ running?)")
+            lost = self.evidence.failure
+            self._fail(step, f"no samples after t={max(start, horizon or start):.3f} s "
+                       + (f"({lost})" if lost is not None else "(is DAQ running?)"))
         if not len(values):
             self._fail(step, f"no samples between t={start:.3f} s and t={end:.3f} s")
         return values
@@ -491,7 +493,7 @@ class Bench:
             self._fail(step, f"no edge: it was already {_text(before[1])}{_unit(signal.unit)} at t={before[0]:.3f} s")
         hit, last = self._first(name, wanted, reference, done + within)
         if hit is None:
-            self._fail(step, f"not within {within * 1000:g} ms; {_last_seen(last, signal.unit)}")
+            self._fail(step, f"not within {within * 1000:g} ms; {_last_seen(last, signal.unit)}{self._lost()}")
         step.passed, step.detail = True, f"after {max(hit - done, 0.0) * 1000:.0f} ms, at t={hit:.3f} s"
         self._add(step)
         return max(hit - done, 0.0)
@@ -538,6 +540,11 @@ class Bench:
             target = f"{'!= ' if wanted.negate else ''}{wanted.value}"
         band = None if wanted.negate else wanted.band()
         return Step(kind, text, start, start, signal.name, signal.unit, band, target)
+
+    def _lost(self) -> str:
+        """``; connection to the ECU lost at ...`` when the recording ended so (the reason samples stopped)."""
+        lost = self.evidence.failure
+        return f"; {lost}" if lost is not None else ""
 
     def _first(self, name: str, wanted: Condition, start: float, end: float) -> tuple[float | None, tuple | None]:
         """The first sample time in [start, end] meeting ``wanted`` (None: none), and the last sample seen."""

@@ -47,6 +47,11 @@ class Evidence:
     def recording(self) -> bool:
         return self._recorder is not None
 
+    @property
+    def failure(self) -> BaseException | None:
+        """What ended the recording under way early (the ECU lost), None while it runs."""
+        return self._recorder.failure if self._recorder is not None else None
+
     def ensure(self, names: list[str]) -> bool:
         """Record ``names`` too; starts the recording, or restarts it (a new part) when a name is new.
         Returns True when it (re)started."""

@@ -16,6 +16,7 @@ from __future__ import annotations
 import json
 import logging
 import re
+from contextlib import ExitStack
 from pathlib import Path
 
 import pytest
@@ -118,13 +119,25 @@ def ecu(request: pytest.FixtureRequest):
     target = _target(config)
     directory = _evidence_dir(config)
     name = safe_name(request.node.nodeid)
-    with target.bench(directory / "evidence" / f"{name}.mf4") as bench:
+    from workbench.errors import WorkbenchError
+
+    stack = ExitStack()
+    try:  # no ECU (not powered, lost in an earlier test), a restore that failed: one line, no library traceback
+        bench = stack.enter_context(target.bench(directory / "evidence" / f"{name}.mf4"))
+    except WorkbenchError as exc:
+        pytest.fail(str(exc), pytrace=False)
+    try:
         if request.node.get_closest_marker(SIMULATOR_MARK) and not bench.sim.available:
             pytest.skip(f"needs the simulated ECU: {bench.sim.control.where}")
         try:
             yield bench
         finally:
             _write_record(directory, name, request.node, bench)
+    finally:
+        try:
+            stack.close()
+        except WorkbenchError as exc:
+            pytest.fail(str(exc), pytrace=False)
 
 
 def _write_record(directory: Path, name: str, node: pytest.Item, bench) -> None:
