@@ -155,3 +155,17 @@ def test_a_new_session_is_not_misled_by_the_dtos_an_earlier_master_left_running(
         earlier.close()
     finally:
         simulator.close()
+
+
+def test_a_second_master_that_stops_the_daq_is_named_as_the_likely_cause(sim, channel):
+    """A second master on the same ids (another terminal's `cal set` while `measure` records) connects and
+    disconnects: the ECU stops the first master's DAQ. The first master hears the answers to commands it never
+    sent, and its 'connection lost' says so instead of only 'nothing from the ECU' (user trial 6)."""
+    with Session.open(interface="virtual", channel=channel, timeouts=FAST) as first:
+        live = first.measure(SIGNALS).start()
+        assert _read_until_lost(live, wanted=5) >= 5
+        with Session.open(interface="virtual", channel=channel, timeouts=FAST) as second:
+            assert second.read("xsSWITCH_TANK_THR") == 20.0
+        with pytest.raises(ConnectionLostError, match=r"nothing from the ECU for .*; \d+ response\(s\) came that this "
+                                                      "master did not ask for: another master on these ids"):
+            _read_until_lost(live)

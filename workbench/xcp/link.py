@@ -183,9 +183,13 @@ class Link:
             quiet = time.monotonic() - self._last_seen
             if quiet > silence and not self._heard_within(min(silence, _GRACE_S)):
                 quiet = time.monotonic() - self._last_seen
-                self._lose(ConnectionLostError(self.describe(), f"nothing from the ECU for {_duration(quiet)} while "
-                                               f"DAQ runs (a DTO was due within {_duration(silence)})",
-                                               time.time() - quiet + silence))
+                reason = (f"nothing from the ECU for {_duration(quiet)} while DAQ runs (a DTO was due within "
+                          f"{_duration(silence)})")
+                if self._responses:  # answers to commands this master did not send (none awaits them)
+                    reason += (f"; {len(self._responses)} response(s) came that this master did not ask for: another "
+                               "master on these ids (a second workbench, CANape) may have disconnected the ECU or "
+                               "stopped its DAQ (XCP takes one master at a time)")
+                self._lose(ConnectionLostError(self.describe(), reason, time.time() - quiet + silence))
         if self.lost is not None:
             raise ConnectionLostError(self.lost.what, self.lost.reason, self.lost.when)
 
