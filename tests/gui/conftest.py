@@ -16,8 +16,14 @@ from workbench.gui.project import Connection, demo_project
 from workbench.gui.workspace import load_workspace
 
 SCREEN = (1366, 768)
-if os.environ.get("QT_QPA_PLATFORM") == "offscreen":
-    screenshot_screen(SCREEN)
+
+
+@pytest.hookimpl(trylast=True)
+def pytest_configure(config) -> None:
+    """After tests/conftest.py chose the platform: ``pytest tests/gui`` reads this file before that choice, and an
+    xdist worker beside a display's then rendered on offscreen's own 800 x 800 screen (the window did not fit)."""
+    if os.environ.get("QT_QPA_PLATFORM") == "offscreen":
+        screenshot_screen(SCREEN)
 
 
 @pytest.fixture(scope="session")
