@@ -84,16 +84,30 @@ def test_a_misspelt_name_fails_its_test_in_one_line_at_the_test_line(pytester):
     """A step's WorkbenchError is shown at the test's line with its message, not as two chained library
     tracebacks ending in the DBC's signals (user trial 6)."""
     pytester.makepyfile(test_typo="""
+from workbench.testbench import requirement
+
+@requirement("R9")
 def test_typo(ecu):
     ecu.watch("zsRailPresure")
+
+@requirement("R9", "R10")
+def test_judged(ecu):
+    assert ecu.read("xsSWITCH_TANK_THR") == 20.0
 """)
-    result = pytester.runpytest_inprocess(*PLUGIN)
-    result.assert_outcomes(failed=1)
+    result = pytester.runpytest_inprocess("--report", "out", *PLUGIN)
+    result.assert_outcomes(failed=1, passed=1)
     result.stdout.fnmatch_lines(['>*ecu.watch("zsRailPresure")',
                                  "E*UnknownSymbolError: unknown symbol 'zsRailPresure' in the A2L's objects nor the "
-                                 "CAN2 signals of FLCU_CAN2.dbc; did you mean 'zsRailPressure'*"])
+                                 "CAN2 signals of FLCU_CAN2.dbc; did you mean 'zsRailPressure'*",
+                                 "1 verified, 0 failed, 1 not judged (a test broke)",
+                                 "NOT JUDGED R9: test_typo.py::test_typo"])  # judged nothing: no requirement FAILED
     output = result.stdout.str()
     assert "During handling" not in output and "a2l/model.py" not in output and "testbench/bench.py" not in output
+    html = (pytester.path / "out" / "report.html").read_text()
+    assert ('test_typo.py::test_typo</a> <span class="badge error">ERROR</span></td><td><span class="badge error">'
+            'NOT JUDGED</span></td></tr>') in html  # R9: one test passed, one judged nothing
+    assert 'test_typo.py::test_judged</a> <span class="badge passed">PASSED</span></td><td><span class="badge passed">' \
+           in html  # R10
 
 
 def test_no_ecu_is_one_line_per_test(pytester, free_tcp_port):

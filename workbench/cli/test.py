@@ -20,8 +20,8 @@ find by the same bus options (against a real ECU the tests that need it are skip
 --report DIR writes DIR/junit.xml (a testcase property 'requirement' per requirement id),
 DIR/report.html (traceability, each test's steps, plots of its signals with the expectation bands)
 and each test's MDF4 evidence under DIR/evidence. -n N spreads the tests over N processes
-(pytest-xdist), each test with its own simulated ECU. Exit 0: every test passed; 1: a test failed;
-2: bad input (options, a path, no tests found).
+(pytest-xdist), each test with its own simulated ECU. Exit 0: every test passed; 1: a test failed,
+or broke before it judged (its requirements NOT JUDGED); 2: bad input (options, a path, no tests found).
 
 examples:
   workbench test --report out/

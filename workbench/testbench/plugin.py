@@ -80,6 +80,21 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
                 item.user_properties.append(("requirement", str(requirement_id)))
 
 
+VERDICT_ERROR = ("verdict", "error")  # a user property of a call that broke before it judged (JUnit shows it too)
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo):
+    """A test that fails on an exception other than an expectation's or an assert's (a misspelt name, a value
+    beyond its limits, a lost ECU, a bug in the test) judged nothing: its requirements are not judged rather
+    than failed, as pytest tells a failure from an error."""
+    outcome = yield
+    report = outcome.get_result()
+    if (call.when == "call" and report.failed and call.excinfo is not None
+            and not call.excinfo.errisinstance((AssertionError, pytest.fail.Exception))):
+        report.user_properties.append(VERDICT_ERROR)
+
+
 _ECU_OPTIONS = ("a2l", "interface", "channel", "bitrate", "bus_kwargs", "host", "port", "protocol", "key_function",
                 "dbc", "can2_interface", "can2_channel", "can2_bus_kwargs", "sim_s19", "sim_control")
 
@@ -180,7 +195,8 @@ class _Outcomes:
                                                         "requirements": requirements})
         entry["duration"] += report.duration
         if report.when == "call":
-            entry["outcome"], entry["message"] = report.outcome, _one_line(report)
+            broke = report.failed and VERDICT_ERROR in [tuple(p) for p in report.user_properties]
+            entry["outcome"], entry["message"] = "error" if broke else report.outcome, _one_line(report)
         elif report.failed and entry["outcome"] != "failed":  # an error in setup or teardown
             entry["outcome"], entry["message"] = "error", _one_line(report)
         elif report.skipped:
@@ -202,18 +218,23 @@ class _Outcomes:
         if not traced or hasattr(self.config, "workerinput"):
             return
         failed: dict[str, list[str]] = {}
+        broke: dict[str, list[str]] = {}
         verified: set[str] = set()
         for nodeid, entry in traced.items():
             for requirement_id in entry["requirements"]:
                 if entry["outcome"] in ("failed", "error"):
-                    failed.setdefault(requirement_id, []).append(nodeid)
+                    (failed if entry["outcome"] == "failed" else broke).setdefault(requirement_id, []).append(nodeid)
                 elif entry["outcome"] == "passed":
                     verified.add(requirement_id)
-        verified -= set(failed)
+        verified -= set(failed) | set(broke)
+        unjudged = {key: nodeids for key, nodeids in broke.items() if key not in failed}
         terminalreporter.section("requirements")
-        terminalreporter.write_line(f"{len(verified)} verified, {len(failed)} failed")
+        terminalreporter.write_line(f"{len(verified)} verified, {len(failed)} failed"
+                                    + (f", {len(unjudged)} not judged (a test broke)" if unjudged else ""))
         for requirement_id, nodeids in sorted(failed.items()):
             terminalreporter.write_line(f"FAILED {requirement_id}: {', '.join(nodeids)}", red=True)
+        for requirement_id, nodeids in sorted(unjudged.items()):
+            terminalreporter.write_line(f"NOT JUDGED {requirement_id}: {', '.join(nodeids)}", red=True)
         directory = self.config.stash.get(_REPORT_DIR, None)
         if directory is not None:
             terminalreporter.write_line(f"report: {directory / 'report.html'}")

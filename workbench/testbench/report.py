@@ -119,8 +119,10 @@ def _traceability(tests: list, catalogue: list[Requirement]) -> str:
         outcomes = {outcome["outcome"] for _, outcome in covering}
         if not covering:
             result = '<span class="badge untested">NOT TESTED</span>'
-        elif outcomes & {"failed", "error"}:
+        elif "failed" in outcomes:
             result = _badge("failed")
+        elif "error" in outcomes:  # a test broke before it judged: neither verified nor failed
+            result = '<span class="badge error">NOT JUDGED</span>'
         elif "passed" in outcomes:
             result = _badge("passed")
         else:
