@@ -441,3 +441,10 @@ def test_measure_takes_globs_and_records_can2_signals_by_name(bus, capsys, tmp_p
     code, _, err = run(capsys, "measure", "xvPRV_DC_FF", "--daq", "--duration", "0.2", *bus)
     assert (code, err) == (2, "error: xvPRV_DC_FF is a CHARACTERISTIC: DAQ samples only MEASUREMENTs; read a "
                               "calibration by polling (measure without --daq, or Session.read)\n")
+
+
+def test_a_udp_multicast_port_given_as_port_is_named(capsys):
+    """--port is XCP on Ethernet's; `--interface udp_multicast --port N` meant the bus's own port (user trial 6)."""
+    code, _, err = run(capsys, "info", "--interface", "udp_multicast", "--port", "43210")
+    assert code == 2 and err == ("error: port=43210 (--port) is XCP on Ethernet's, beside host= (--host); the port of a "
+                                 "udp_multicast CAN bus goes in bus_kwargs={'port': 43210} (--bus-kwargs port=43210)\n")

@@ -42,6 +42,10 @@ def link_settings(config: XcpConfig, connection: Connection) -> tuple[LinkSettin
     :raises InputError: the A2L describes no transport that fits the request.
     """
     if (connection.bus is not None or connection.open_bus) and connection.wants_ethernet:
+        if connection.port is not None and not connection.host:  # udp_multicast's own port, meant
+            raise InputError(f"port={connection.port} (--port) is XCP on Ethernet's, beside host= (--host); the port "
+                             f"of a udp_multicast CAN bus goes in bus_kwargs={{'port': {connection.port}}} "
+                             f"(--bus-kwargs port={connection.port})")
         raise InputError("give either CAN options (--interface/--channel) or Ethernet ones (--host/--port/--protocol)")
     ethernet = connection.wants_ethernet or (config.can is None and (config.udp or config.tcp) is not None
                                              and connection.bus is None and not connection.open_bus)
