@@ -17,6 +17,7 @@ from workbench.a2l import load_a2l_string
 from workbench.gui import theme
 from workbench.gui.a2l_info import calibration_info
 from workbench.gui.widgets.operating_point import axis_position
+from workbench.gui.widgets.surface_view import SurfaceView
 
 ecu, window = ecu_and_window_fixtures("gui-map")
 
@@ -150,10 +151,19 @@ def test_a_maps_operating_point_frames_the_four_cells_around_it_and_crosses_the_
     crossed = [heat_map.pixelColor(at.x() + dx, at.y() + dy).name() for dx in range(-7, 8) for dy in (-1, 0, 1)]
     assert theme.OPERATING_POINT in crossed
 
+    field.views.setCurrentWidget(field.surface)  # the 3D view: the cross on the surface
+    qtbot.waitUntil(lambda: field.surface.isVisible(), timeout=WAIT_MS)
+    surface = field.surface.grab().toImage()
+    at = field.surface.operating_point_on_screen()
+    assert field.surface.rect().contains(at.toPoint())
+    crossed = [surface.pixelColor(int(at.x()) + dx, int(at.y()) + dy).name() for dx in range(-8, 9) for dy in (-1, 0)]
+    assert theme.OPERATING_POINT in crossed
+
     with qtbot.waitSignal(window.controller.disconnected, timeout=WAIT_MS):
         window.disconnect_action.trigger()
     qtbot.waitUntil(lambda: field.operating_point is None, timeout=WAIT_MS)
     assert not model.operating_cells and len(field.marker.getData()[0]) == 0
+    assert field.surface.operating_point_on_screen() is None
     window.close()
 
 
@@ -168,3 +178,19 @@ def test_an_axis_input_is_its_input_quantity_or_its_com_axis_ones_when_that_name
                                "/* Input Quantity         */ xsSWITCH_TANK_THR", 1)
     info = calibration_info(load_a2l_string(calibration, "calibration.a2l").model(), "xvPRV_DC_FF")
     assert info.axis_inputs == ("csPCM_TO_FLCU_002_TargetRailPressure", None)  # a CHARACTERISTIC is no input
+
+
+def test_the_3d_views_operating_point_lies_on_the_surface_between_the_grid_points_around_it(qtbot):
+    view = SurfaceView("x", "y")
+    qtbot.addWidget(view)
+    view.resize(300, 200)
+    view.set_surface(np.arange(12.0).reshape(4, 3) ** 2, [0, 1, 2, 3], [0, 10, 20])
+    screen, _ = view._project(view._unit_cube())  # the grid's points as drawn
+    view.set_operating_point((1.0, 2.0))
+    assert view.operating_point_on_screen() == QPointF(*screen[1, 2])
+    view.set_operating_point((1.5, 0.5))  # halfway in a quad: its corners' mean (the projection is linear)
+    middle = screen[1:3, 0:2].reshape(-1, 2).mean(axis=0)
+    shown = view.operating_point_on_screen()
+    assert (shown.x(), shown.y()) == (pytest.approx(middle[0]), pytest.approx(middle[1]))
+    view.set_operating_point(None)
+    assert view.operating_point_on_screen() is None

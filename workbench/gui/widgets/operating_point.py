@@ -1,7 +1,7 @@
 """A curve's or map's operating point, as CANape marks it: where the live values of its axes' inputs (the A2L's
 INPUT_QUANTITY, measured while its editor is open) fall between the breakpoints, shown by the editor's
-:class:`~workbench.gui.widgets.table_field.TableField` (the cells around it framed, a cross on the heat map or
-a dot on the curve).
+:class:`~workbench.gui.widgets.table_field.TableField` (the cells around it framed, a cross on the heat map, the
+3D view or the curve).
 """
 
 from __future__ import annotations

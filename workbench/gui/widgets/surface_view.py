@@ -28,6 +28,7 @@ class SurfaceView(QWidget):
         self.point_text = lambda axis, point: format_value(float(point))
         self.value_text = lambda value: format_value(float(value))
         self.azimuth, self.elevation = 35.0, 28.0  # the corner of the first breakpoints in front
+        self.operating_point: tuple[float, float] | None = None  # fractional indices (x, y) of the breakpoints
         self._drag: QPointF | None = None
         self.setMinimumSize(160, 120)
         self.setSizePolicy(QSizePolicy.Expanding, QSizePolicy.Expanding)
@@ -41,6 +42,11 @@ class SurfaceView(QWidget):
         self.y_points = np.asarray(y_points, dtype=np.float64)
         self.point_text = point_text or (lambda axis, point: format_value(float(point)))
         self.value_text = value_text or (lambda value: format_value(float(value)))
+        self.update()
+
+    def set_operating_point(self, position: tuple[float, float] | None) -> None:
+        """A cross on the surface at ``position`` (fractional indices of the X and Y breakpoints; None: none)."""
+        self.operating_point = position
         self.update()
 
     # --- geometry -------------------------------------------------------------------------------
@@ -94,6 +100,27 @@ class SurfaceView(QWidget):
             painter.setPen(edge)
             painter.drawPolygon(QPolygonF([QPointF(*screen[c]) for c in corners]))
         self._draw_labels(painter, floor)
+        at = self.operating_point_on_screen()
+        if at is not None:  # over the surface, never hidden behind a hill: the user looks for it
+            painter.setPen(QPen(QColor(theme.OPERATING_POINT), 2))
+            painter.setBrush(Qt.NoBrush)
+            painter.drawEllipse(at, 6, 6)
+            painter.drawLine(at - QPointF(9, 0), at + QPointF(9, 0))
+            painter.drawLine(at - QPointF(0, 9), at + QPointF(0, 9))
+
+    def operating_point_on_screen(self) -> QPointF | None:
+        """Where the operating point is drawn: on the surface, between the grid's points around it."""
+        if self.operating_point is None or self.values.ndim != 2 or min(self.values.shape) < 2:
+            return None
+        grid = self._unit_cube()
+        nx, ny = self.values.shape
+        fx, fy = self.operating_point
+        i, j = min(int(fx), nx - 2), min(int(fy), ny - 2)
+        tx, ty = fx - i, fy - j
+        point = ((1 - tx) * (1 - ty) * grid[i, j] + tx * (1 - ty) * grid[i + 1, j]
+                 + (1 - tx) * ty * grid[i, j + 1] + tx * ty * grid[i + 1, j + 1])
+        screen, _ = self._project(point[None])
+        return QPointF(*screen[0])
 
     def _floor(self, grid: np.ndarray) -> np.ndarray:
         """The grid's points on the floor below the surface, on screen."""

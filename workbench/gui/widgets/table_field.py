@@ -207,12 +207,14 @@ class TableField(QWidget):
 
     def show_operating_point(self, position: tuple[float, ...] | None) -> None:
         """Marks where the axes' inputs are (:mod:`.operating_point`): ``position`` a fractional index of the
-        breakpoints per axis, X first, None for no mark. The cells around it are framed; the heat map has a cross
-        there, a curve's plot a cross on the curve."""
+        breakpoints per axis, X first, None for no mark. The cells around it are framed; the heat map and the 3D
+        view have a cross there, a curve's plot a cross on the curve."""
         if position == self.operating_point:
             return
         self.operating_point = position
         self.model.set_operating_point(position)
+        if self.surface is not None:
+            self.surface.set_operating_point(position)
         if position is None:
             self.marker.setData([], [])
         elif self.model.is_map:
