@@ -14,6 +14,7 @@ import signal
 import sys
 
 from workbench import __version__
+from workbench.cli import options
 from workbench.cli.options import CommandParser, print_json
 from workbench.errors import WorkbenchError
 
@@ -88,6 +89,7 @@ def main(argv: list[str] | None = None) -> int:
         parser.print_help(sys.stderr if args.group is None else sys.stdout)
         return 2
     _process_may_end_at_once = getattr(func, "batch", False)
+    options.json_printed = False
     try:
         return int(func(args) or 0)
     except WorkbenchError as exc:
@@ -105,7 +107,7 @@ def _failed(args: argparse.Namespace, message: str, code: int) -> int:
     """The one line on stderr; under ``--json`` also a report on stdout, so that a script reading it
     finds ``ok`` false and why (a refused flash, an ECU that does not answer) instead of nothing."""
     print(f"error: {message}", file=sys.stderr)
-    if getattr(args, "json", False):
+    if getattr(args, "json", False) and not options.json_printed:  # a command's report that says why is enough
         print_json({"ok": False, "error": message, "exit_code": code})
     return code
 

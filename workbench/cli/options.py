@@ -243,6 +243,9 @@ def add_output_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true", help="print machine-readable JSON instead of text")
 
 
+json_printed = False  # a report went out as JSON (see :func:`workbench.cli.main`: a failure after it adds none)
+
+
 def print_json(data: Any) -> None:
     """``data`` as indented JSON on stdout (anything JSON has no type for as its ``str``), in one write.
 
@@ -250,7 +253,9 @@ def print_json(data: Any) -> None:
     """
     import json  # here: most runs print text
 
+    global json_printed
     sys.stdout.write(json.dumps(data, indent=2, default=str) + "\n")
+    json_printed = True
 
 
 def print_report(report: "Report", *, as_json: bool, verbose: bool, summary: str, output: str | None = None) -> None:
