@@ -91,3 +91,12 @@ def reachable_blocks() -> list[str]:
             continue
         found.append(keyword)
     return found
+
+
+def in_block(keyword: str, message: str) -> str:
+    """``message`` as the grammar check gives it for a ``keyword`` block of :func:`block_text`: a block with a
+    name says which object it is (``MEASUREMENT a_name: ...``, its keyword's own ``MEASUREMENT: `` dropped)."""
+    if grammar.BLOCKS[keyword].params[:1] != ("ident",):
+        return message
+    return f"{keyword} {sample('ident')}: {message.removeprefix(keyword + ': ')}"
+

@@ -57,7 +57,7 @@ def test_syntax_problems_are_all_reported():
     text = TEXT.replace("ECU_ADDRESS 0x2010", "ECU_ADDRESS 0x20Z0").replace("FNC_VALUES 1 ULONG", "FNC_VALUE 1 ULONG")
     syntax = [f for f in check_document(load_a2l_string(text, validate=False)).findings if f.kind == "syntax"]
     assert [(f.line, f.column) for f in syntax] == [(9, 29), (11, 70)]
-    assert syntax[0].message == "unknown keyword FNC_VALUE is not allowed in RECORD_LAYOUT"
+    assert syntax[0].message == "RECORD_LAYOUT RL: unknown keyword FNC_VALUE is not allowed in RECORD_LAYOUT"
     assert "bad number '0x20Z0'" in syntax[1].message
 
 

@@ -5,7 +5,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from grammar_samples import block_text, child_of, document, option_text, reachable_blocks
+from grammar_samples import block_text, child_of, document, in_block, option_text, reachable_blocks
 from workbench.a2l import grammar, load_a2l_string
 from workbench.errors import A2lParseError
 
@@ -68,8 +68,8 @@ def test_an_enumerated_parameter_allows_its_words_only(keyword, index, kind):
     text = document(keyword, block_text(keyword, replace={index: "NOT_A_WORD"}))
     with pytest.raises(A2lParseError) as info:
         load_a2l_string(text, "enum.a2l")
-    _assert_located(info.value, text, "NOT_A_WORD", f"{keyword}: 'NOT_A_WORD' is not {grammar.ENUMS[kind].what} "
-                    f"(allowed: {', '.join(words)})")
+    _assert_located(info.value, text, "NOT_A_WORD", in_block(keyword, f"{keyword}: 'NOT_A_WORD' is not "
+                    f"{grammar.ENUMS[kind].what} (allowed: {', '.join(words)})"))
 
 
 @pytest.mark.parametrize("option, index, kind", ENUM_OPTIONS, ids=lambda value: str(value))
@@ -81,13 +81,13 @@ def test_an_enumerated_option_parameter_allows_its_words_only(option, index, kin
     text = document(keyword, block_text(keyword, [option_text(option, {index: "NOT_A_WORD"})]))
     with pytest.raises(A2lParseError) as info:
         load_a2l_string(text, "enum.a2l")
-    _assert_located(info.value, text, "NOT_A_WORD", f"{option}: 'NOT_A_WORD' is not {grammar.ENUMS[kind].what} "
-                    f"(allowed: {', '.join(words)})")
+    _assert_located(info.value, text, "NOT_A_WORD", in_block(keyword, f"{option}: 'NOT_A_WORD' is not "
+                    f"{grammar.ENUMS[kind].what} (allowed: {', '.join(words)})"))
 
 
 def test_a_string_where_a_word_belongs_names_the_allowed_words():
     text = document("MEASUREMENT", block_text("MEASUREMENT", replace={2: '"UBYTE"'}))
-    with pytest.raises(A2lParseError, match=r"MEASUREMENT: a data type expected, found a string \(allowed: UBYTE, "):
+    with pytest.raises(A2lParseError, match=r"MEASUREMENT a_name: a data type expected, found a string \(allowed: "):
         load_a2l_string(text)
 
 

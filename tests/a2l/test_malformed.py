@@ -21,7 +21,7 @@ CASES = [
     ('    /begin MEASUREMENT m "" UBYTE NO_COMPU_METHOD 1 0 0 2.5.5\n    /end MEASUREMENT\n', "bad number '2.5.5'", 4, 57),
     ('    /begin MEASUREMENT m "" UBYTE NO_COMPU_METHOD 1 0 0 255\n      ECU_ADRESS 0x10\n    /end MEASUREMENT\n', "unknown keyword ECU_ADRESS is not allowed in MEASUREMENT", 5, 7),
     ('    /begin CHARACTERISTIC c "" VALUE 0x10 RL 0 NO_COMPU_METHOD 0 1\n      ECU_ADDRESS 0x10\n    /end CHARACTERISTIC\n', "keyword ECU_ADDRESS is not allowed in CHARACTERISTIC", 5, 7),
-    ('    /begin MEASUREMENT m "" UBYTE NO_COMPU_METHOD 1 0 0\n    /end MEASUREMENT\n', "MEASUREMENT: missing parameter", 5, 5),
+    ('    /begin MEASUREMENT m "" UBYTE NO_COMPU_METHOD 1 0 0\n    /end MEASUREMENT\n', "MEASUREMENT m: missing parameter", 5, 5),
     ('    /begin MEASUREMENT m "" UBYTE NO_COMPU_METHOD 1 0 0 255\n      /begin MEASUREMENT n "" UBYTE NO_COMPU_METHOD 1 0 0 255 /end MEASUREMENT\n    /end MEASUREMENT\n', "block /begin MEASUREMENT is not allowed in MEASUREMENT", 5, 14),
     ('    /begin MESUREMENT m "" /end MESUREMENT\n', "unknown block /begin MESUREMENT is not allowed in MODULE", 4, 12),
     ('    /end MEASUREMENT\n', "/end MEASUREMENT found while /begin MODULE", 4, 5),
@@ -33,8 +33,8 @@ CASES = [
     ('    /begin MEASUREMENT 42 "" UBYTE NO_COMPU_METHOD 1 0 0 255 /end MEASUREMENT\n', "a name expected, found '42'", 4, 24),
     ('    /begin MEASUREMENT m 42 UBYTE NO_COMPU_METHOD 1 0 0 255 /end MEASUREMENT\n', "a string expected, found '42'", 4, 26),
     ('    /begin MEASUREMENT m "" UBYTE NO_COMPU_METHOD 1 0 0 255 ECU_ADDRESS "x" /end MEASUREMENT\n', "an integer expected, found a string", 4, 73),
-    ('    /begin COMPU_VTAB V "" TAB_VERB 2 0 "a" 1 /end COMPU_VTAB\n', "COMPU_VTAB: missing parameter (a string expected)", 4, 47),
-    ('    /begin COMPU_VTAB V "" TAB_VERB 999999999999 0 "a" 1 "b" /end COMPU_VTAB\n', "COMPU_VTAB: missing parameter (a number expected)", 4, 62),
+    ('    /begin COMPU_VTAB V "" TAB_VERB 2 0 "a" 1 /end COMPU_VTAB\n', "COMPU_VTAB V: missing parameter (a string expected)", 4, 47),
+    ('    /begin COMPU_VTAB V "" TAB_VERB 999999999999 0 "a" 1 "b" /end COMPU_VTAB\n', "COMPU_VTAB V: missing parameter (a number expected)", 4, 62),
 ]
 
 

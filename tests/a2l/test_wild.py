@@ -82,16 +82,16 @@ def test_words_asap2_does_not_allow_are_findings_with_the_allowed_ones(capsys, t
     code, out, _ = run(capsys, "a2l", "check", path)
     assert code == 1
     assert out.splitlines() == [
-        f"{path}:{at(path, 'NOT_A_TYPE')}: error: FNC_VALUES: 'NOT_A_TYPE' is not a data type (allowed: UBYTE, SBYTE, UWORD, SWORD, "
+        f"{path}:{at(path, 'NOT_A_TYPE')}: error: RECORD_LAYOUT RL: FNC_VALUES: 'NOT_A_TYPE' is not a data type (allowed: UBYTE, SBYTE, UWORD, SWORD, "
         "ULONG, SLONG, A_UINT64, A_INT64, FLOAT16_IEEE, FLOAT32_IEEE, FLOAT64_IEEE)",
-        f"{path}:{at(path, 'COLUMN_DIR')}: error: AXIS_PTS_X: 'COLUMN_DIR' is not an index order (allowed: INDEX_INCR, INDEX_DECR)",
-        f"{path}:{at(path, 'NOT_A_TYPE', 'MEASUREMENT')}: error: MEASUREMENT: 'NOT_A_TYPE' is not a data type (allowed: UBYTE, SBYTE, UWORD, SWORD, "
+        f"{path}:{at(path, 'COLUMN_DIR')}: error: RECORD_LAYOUT RA: AXIS_PTS_X: 'COLUMN_DIR' is not an index order (allowed: INDEX_INCR, INDEX_DECR)",
+        f"{path}:{at(path, 'NOT_A_TYPE', 'MEASUREMENT')}: error: MEASUREMENT m: 'NOT_A_TYPE' is not a data type (allowed: UBYTE, SBYTE, UWORD, SWORD, "
         "ULONG, SLONG, A_UINT64, A_INT64, FLOAT16_IEEE, FLOAT32_IEEE, FLOAT64_IEEE)",
-        f"{path}:{at(path, 'MOTOROLA')}: error: BYTE_ORDER: 'MOTOROLA' is not a byte order (allowed: MSB_LAST, MSB_FIRST, "
+        f"{path}:{at(path, 'MOTOROLA')}: error: CHARACTERISTIC c: BYTE_ORDER: 'MOTOROLA' is not a byte order (allowed: MSB_LAST, MSB_FIRST, "
         "MSB_FIRST_MSW_LAST, MSB_LAST_MSW_FIRST, LITTLE_ENDIAN, BIG_ENDIAN)",
     ]
     code, _, err = run(capsys, "a2l", "merge", path, path, "-o", tmp_path / "merged.a2l")
-    assert code == 2 and err.startswith(f"error: {path}:{at(path, 'NOT_A_TYPE')}: FNC_VALUES: 'NOT_A_TYPE' is not a data type")
+    assert code == 2 and err.startswith(f"error: {path}:{at(path, 'NOT_A_TYPE')}: RECORD_LAYOUT RL: FNC_VALUES: 'NOT_A_TYPE' is not a data type")
     assert err.endswith("FLOAT64_IEEE) (and 3 more problem(s): `workbench a2l check` lists them all)\n")
 
 
@@ -146,12 +146,12 @@ def test_a_file_written_for_include_is_checked_where_it_belongs(capsys, tmp_path
     code, out, _ = run(capsys, "a2l", "check", bare)
     assert code == 1 and out.splitlines() == [
         f"{bare}:{at(bare, 'CM_GONE')}: error: MEASUREMENT m: COMPU_METHOD CM_GONE is not defined",
-        f"{bare}:{at(bare, 'NOT_A_TYPE')}: error: MEASUREMENT: 'NOT_A_TYPE' is not a data type (allowed: UBYTE, SBYTE, UWORD, SWORD, "
+        f"{bare}:{at(bare, 'NOT_A_TYPE')}: error: MEASUREMENT n: 'NOT_A_TYPE' is not a data type (allowed: UBYTE, SBYTE, UWORD, SWORD, "
         "ULONG, SLONG, A_UINT64, A_INT64, FLOAT16_IEEE, FLOAT32_IEEE, FLOAT64_IEEE)"]
     module = tmp_path / "module.a2l"
     module.write_text('/begin MODULE ECU ""\n  /begin COMPU_METHOD CM_GONE "" IDENTICAL "%6.2" "" /end COMPU_METHOD\n'
                       '  /include "signals.a2l"\n/end MODULE\n')
     code, out, _ = run(capsys, "a2l", "check", module)
-    assert code == 1 and out.splitlines() == [f"{bare}:{at(bare, 'NOT_A_TYPE')}: error: MEASUREMENT: 'NOT_A_TYPE' is not a data type "
+    assert code == 1 and out.splitlines() == [f"{bare}:{at(bare, 'NOT_A_TYPE')}: error: MEASUREMENT n: 'NOT_A_TYPE' is not a data type "
                                               "(allowed: UBYTE, SBYTE, UWORD, SWORD, ULONG, SLONG, A_UINT64, "
                                               "A_INT64, FLOAT16_IEEE, FLOAT32_IEEE, FLOAT64_IEEE)"]

@@ -88,12 +88,27 @@ class _Validator:
             try:
                 self._check_block(block, own, skip_params)
             except A2lParseError as exc:
+                exc = self._named(exc, block)
                 exc.block = block
                 self.errors.append(exc)
         try:
             self._check_top_level(self._own_tokens(0, len(doc.tokens), child_order[child_offsets[0] : child_offsets[1]]))
         except A2lParseError as exc:
             self.errors.append(exc)
+
+    def _named(self, error: A2lParseError, block: int) -> A2lParseError:
+        """``error`` of a named block (MEASUREMENT m, COMPU_METHOD cm ...) saying which object it is: in a large
+        file's log the line alone does not."""
+        keyword, name_token = self.doc.blocks.keyword[block], self.doc.block_begin[block] + 2
+        if name_token >= self.doc.block_end[block] or not grammar.BLOCKS[keyword].params[:1] == ("ident",):
+            return error
+        name = self.raw(name_token)
+        if not IDENT_RE.fullmatch(name):  # the name itself is what is wrong
+            return error
+        reason = error.reason.removeprefix(f"{keyword}: ")
+        named = A2lParseError(f"{keyword} {name.decode('latin-1')}: {reason}", error.path, error.line, error.column)
+        named.offset = getattr(error, "offset", 0)
+        return named
 
     def _own_tokens(self, start: int, stop: int, children: list[int]) -> list[int]:
         """The tokens from ``start`` to ``stop`` that do not belong to one of the ``children`` blocks."""
