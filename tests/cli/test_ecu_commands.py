@@ -448,3 +448,17 @@ def test_a_udp_multicast_port_given_as_port_is_named(capsys):
     code, _, err = run(capsys, "info", "--interface", "udp_multicast", "--port", "43210")
     assert code == 2 and err == ("error: port=43210 (--port) is XCP on Ethernet's, beside host= (--host); the port of a "
                                  "udp_multicast CAN bus goes in bus_kwargs={'port': 43210} (--bus-kwargs port=43210)\n")
+
+
+def test_measure_takes_one_element_of_an_array(bus, capsys):
+    """NAME[i] as CANape lists an array's elements: the array is read (polled or by DAQ), the element shown (it
+    was 'no object matches': the brackets read as a glob; user trial 6)."""
+    for daq in ([], ["--daq"]):
+        code, out, _ = run(capsys, "measure", "zsSensVolt[3]", "zsSensVolt", "--duration", "0.1", "--json", *daq, *bus)
+        lines = [json.loads(line)["values"] for line in out.splitlines()]
+        assert code == 0 and lines and all(set(v) == {"zsSensVolt[3]", "zsSensVolt"} for v in lines), daq
+        assert all(v["zsSensVolt[3]"] == v["zsSensVolt"][3] for v in lines)
+    code, out, _ = run(capsys, "measure", "xvPRV_DC_FF[1,2]", "--duration", "0.05", *bus)
+    assert code == 0 and re.fullmatch(r"\d+\.\d{4} xvPRV_DC_FF\[1, 2\]=70\.00 %", out.splitlines()[0])
+    code, _, err = run(capsys, "measure", "zsSensVolt[4]", *bus)
+    assert code == 2 and err == "error: zsSensVolt[4]: zsSensVolt has shape (4,): [4] is not one of its elements\n"

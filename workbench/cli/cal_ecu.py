@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import re
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from workbench.cli.cal_values import typed_value, value_from_file
+from workbench.cli.cal_values import split_cell, typed_value, value_from_file
 from workbench.cli.ecu_options import a2l_document, add_ecu_arguments, can2_dbc, open_session
 from workbench.cli.options import add_can2_bus_arguments, can2_bus_spec, print_json
 from workbench.cli.render import decimals, jsonable, value_block, value_text
@@ -102,7 +101,7 @@ def _get(args: argparse.Namespace) -> int:
     model = doc.model()
     wanted: dict[str, tuple[str, tuple[int, ...] | None]] = {}  # label -> (name, the cell's index or None)
     for text in args.names:  # a name the A2L lacks is said before connecting
-        name, index = _cell(model, text)
+        name, index = split_cell(model, text)
         if index is not None and name in model:
             wanted[f"{name}[{', '.join(map(str, index))}]"] = (name, index)
         else:
@@ -173,7 +172,7 @@ def _set(args: argparse.Namespace) -> int:
         raise InputError("give VALUE or --from FILE, not both")
     doc, writable = _offline(args)
     model = doc.model()
-    name, index = _cell(model, args.name)
+    name, index = split_cell(model, args.name)
     single = index is not None or getattr(model.object(name), "type", "") == "VALUE"
     value = typed_value(args.value, single=single) if args.source is None else None
     if args.source is not None:
@@ -195,17 +194,6 @@ def _set(args: argparse.Namespace) -> int:
     print(value_block(args.name, written.value, written.axes, written.unit, decimals(model.format_of(obj)),
                       note=" (written, read back)", axis_places=_axis_places(model, obj)))
     return 0
-
-
-def _cell(model, text: str) -> tuple[str, tuple[int, ...] | None]:
-    """NAME, or NAME[x,y] / NAME[x][y]: one value of an array (unless the A2L has an object of that very name)."""
-    match = _CELL.fullmatch(text.strip())
-    if match is None or text in model:
-        return text, None
-    return match["name"], tuple(int(number) for number in re.findall(r"\d+", match["index"]))
-
-
-_CELL = re.compile(r"(?P<name>[^\[\]\s]+)(?P<index>(\[\s*\d+\s*(,\s*\d+\s*)*\])+)")
 
 
 def _print_cell(args: argparse.Namespace, model, name: str, index: tuple[int, ...], value: Any) -> int:

@@ -27,11 +27,20 @@ from workbench.errors import InputError
 if TYPE_CHECKING:
     from workbench.a2l.model import A2lModel
 
-__all__ = ["typed_value", "value_from_file"]
+__all__ = ["split_cell", "typed_value", "value_from_file"]
 
 _DECIMAL_COMMA = re.compile(r"[+-]?\d+,\d+")
 _MAP_CORNER = ("y\\x", "y \\ x", "")  # the corner cell of a map printed with its axes (cal get), or left empty
 _CURVE_LABELS = ("x", "value")
+_CELL = re.compile(r"(?P<name>[^\[\]\s]+)(?P<index>(\[\s*\d+\s*(,\s*\d+\s*)*\])+)")
+
+
+def split_cell(model: A2lModel, text: str) -> tuple[str, tuple[int, ...] | None]:
+    """NAME, or NAME[x,y] / NAME[x][y]: one value of an array (unless the A2L has an object of that very name)."""
+    match = _CELL.fullmatch(text.strip())
+    if match is None or text in model:
+        return text, None
+    return match["name"], tuple(int(number) for number in re.findall(r"\d+", match["index"]))
 
 
 def typed_value(text: str | None, *, single: bool = False) -> Any:

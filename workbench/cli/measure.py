@@ -47,8 +47,9 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
                                    description="Measure signals by name in physical units: polled (SHORT_UPLOAD/UPLOAD "
                                                "of neighbouring addresses together) or sampled by the ECU with DAQ "
                                                "(each signal on its A2L event, with the ECU's timestamps).")
-    parser.add_argument("names", nargs="+", metavar="NAME", help="an A2L name, a glob ('zsRail*': with --daq or --record "
-                        "its measurements) or a CAN2 signal (Signal or Message.Signal)")
+    parser.add_argument("names", nargs="+", metavar="NAME", help="an A2L name, one element of an array ('zsSensVolt[2]'), "
+                        "a glob ('zsRail*': with --daq or --record its measurements) or a CAN2 signal (Signal or "
+                        "Message.Signal)")
     parser.add_argument("--daq", action="store_true", help="sample by DAQ instead of polling")
     parser.add_argument("--event", help="DAQ event (name or number) for every signal (default: each signal's own)")
     parser.add_argument("--rate", type=positive_float, default=10.0, metavar="HZ", help="polling rate (default 10 Hz)")
@@ -72,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
         args.daq = True  # an event only means something to DAQ
     _check_recording_options(args)
     doc = a2l_document(args)
-    names, can2, databases, shown = _split_names(args, doc.model())  # a name neither has: before connecting
+    names, can2, databases, shown, elements = _split_names(args, doc.model())  # unknown names: before connecting
     if args.event is not None:
         from workbench.a2l.xcp import read_xcp_config
         from workbench.session.measure import event_number
@@ -81,13 +82,13 @@ def run(args: argparse.Namespace) -> int:
     with open_session(args, doc, reading=True) as session, _terminate_as_interrupt():
         if args.record:
             return _record(args, session, names, can2)
-        view = _view(args, session, shown, can2)
+        view = _view(args, session, shown, can2, elements)
         monitor = _can2_monitor(args, session, can2, databases) if can2 else None
         try:
             if args.daq and names:
-                _sample(args, session, names, view, monitor)
+                _sample(args, session, names, view, monitor, elements)
             else:
-                _poll(args, session, names, view, monitor)
+                _poll(args, session, names, view, monitor, elements)
         except KeyboardInterrupt:
             pass  # Ctrl-C is how a measurement ends
         finally:
@@ -115,17 +116,26 @@ def _interrupt(number, frame) -> None:
     raise KeyboardInterrupt
 
 
-def _split_names(args: argparse.Namespace, model) -> tuple[list[str], dict[str, Any], list, list[str]]:
-    """The A2L's names among NAME... (globs expanded), the CAN2 signals (``Message.Signal`` -> cantools signal) of
-    the DBC (--can2, or the demo's with the demo's A2L) as the window names and plots them, the DBC's databases,
-    and every name as shown, in the order given."""
+def _split_names(args: argparse.Namespace, model) -> tuple[list[str], dict[str, Any], list, list[str], dict]:
+    """The A2L's names among NAME... (globs expanded; an array's for NAME[i]), the CAN2 signals (``Message.Signal``
+    -> cantools signal) of the DBC (--can2, or the demo's with the demo's A2L) as the window names and plots them,
+    the DBC's databases, every name as shown, in the order given, and the elements shown (``NAME[i]`` -> the
+    array's name and the index)."""
     from workbench.a2l.model import closest_names, is_glob
     from workbench.can.naming import dbc_signal_name, find_dbc_signal
+    from workbench.cli.cal_values import split_cell
     from workbench.errors import UnknownSymbolError
 
-    names, can2, databases, shown = [], {}, None, []
+    names, can2, databases, shown, elements = [], {}, None, [], {}
     sampled = "MEASUREMENT" if args.daq or args.record else ("MEASUREMENT", "CHARACTERISTIC", "AXIS_PTS")
     for name in args.names:
+        array, index = split_cell(model, name)
+        if index is not None and array in model:  # one element of an array, as CANape lists them: the array is read
+            label = _element(model, array, index)
+            names.append(array)
+            shown.append(label)
+            elements[label] = (array, index)
+            continue
         if name in model:
             names.append(name)
             shown.append(name)
@@ -147,7 +157,29 @@ def _split_names(args: argparse.Namespace, model) -> tuple[list[str], dict[str, 
         qualified = dbc_signal_name(message.name, signal.name)
         can2[qualified] = signal
         shown.append(qualified)
-    return names, can2, databases or [], list(dict.fromkeys(shown))
+    return list(dict.fromkeys(names)), can2, databases or [], list(dict.fromkeys(shown)), elements
+
+
+def _element(model, array: str, index: tuple[int, ...]) -> str:
+    """``NAME[i, j]`` as shown. :raises InputError: ``array`` has no element there."""
+    from workbench.errors import InputError
+
+    shape = getattr(model.object(array), "shape", ())
+    label = f"{array}[{', '.join(map(str, index))}]"
+    if len(index) != len(shape) or any(not 0 <= i < n for i, n in zip(index, shape)):
+        raise InputError(f"{label}: {array} has shape {shape or '() (no array)'}: [{', '.join(map(str, index))}] is "
+                         "not one of its elements")
+    return label
+
+
+def _picked(values: dict[str, Any], elements: dict[str, tuple[str, tuple[int, ...]]], order: list[str]) -> dict:
+    """The values shown: those of ``order``, each ``NAME[i]`` taken from its array's value (one value or a row
+    of samples)."""
+    picked = {name: value for name, value in values.items() if name in order}
+    for label, (array, index) in elements.items():
+        if array in values:
+            picked[label] = values[array][index]
+    return picked
 
 
 def _can2_databases(args: argparse.Namespace) -> list:
@@ -174,7 +206,7 @@ def _deadline(args: argparse.Namespace) -> float:
     return time.monotonic() + args.duration if args.duration else float("inf")
 
 
-def _poll(args: argparse.Namespace, session, names: list[str], view, monitor) -> None:
+def _poll(args: argparse.Namespace, session, names: list[str], view, monitor, elements: dict) -> None:
     """Every 1/rate s: the A2L's names read, the CAN2 signals' newest values beside them."""
     started, deadline, period = time.monotonic(), _deadline(args), 1.0 / args.rate
     next_at = started
@@ -184,12 +216,13 @@ def _poll(args: argparse.Namespace, session, names: list[str], view, monitor) ->
             values = _raw(session, values)
         if monitor is not None:
             values.update(monitor.latest(raw=args.raw))
+        values = _picked(values, elements, view.order)
         view.show(time.monotonic() - started, "poll", {name: values[name] for name in view.order})
         next_at += period
         time.sleep(max(0.0, min(next_at, deadline) - time.monotonic()))
 
 
-def _sample(args: argparse.Namespace, session, names: list[str], view, monitor) -> None:
+def _sample(args: argparse.Namespace, session, names: list[str], view, monitor, elements: dict) -> None:
     """DAQ samples as the ECU sends them; each CAN2 frame's signals as a row of their own (event CAN2)."""
     with session.measure(names, event=args.event) as live:
         deadline = _deadline(args)  # from when DAQ runs: connecting and configuring it count for nothing
@@ -199,7 +232,7 @@ def _sample(args: argparse.Namespace, session, names: list[str], view, monitor) 
                     values = _raw(session, batch.values) if args.raw else batch.values
                     for row in range(len(batch)):
                         view.show(float(batch.time[row]), batch.event_name,
-                                  {name: column[row] for name, column in values.items()})
+                                  _picked({name: column[row] for name, column in values.items()}, elements, view.order))
                 for when, values in monitor.drain(raw=args.raw) if monitor is not None else ():
                     view.show(when, "CAN2", values)
         finally:
@@ -265,12 +298,13 @@ def _step_places(signal) -> int | None:
     return max(0, -Decimal(repr(float(scale))).normalize().as_tuple().exponent)
 
 
-def _view(args: argparse.Namespace, session, order: list[str], can2: dict[str, Any]):
+def _view(args: argparse.Namespace, session, order: list[str], can2: dict[str, Any], elements: dict):
     model = session.model
     formats = {name: ("", None) if args.raw else (signal.unit or "", _step_places(signal)) for name, signal in can2.items()}
-    formats.update({name: ("", None) if args.raw else
-                    (model.unit_of(model.object(name)), decimals(model.format_of(model.object(name))))
-                    for name in order if name not in formats})
+    objects = {name: model.object(elements[name][0] if name in elements else name) for name in order
+               if name not in formats}
+    formats.update({name: ("", None) if args.raw else (model.unit_of(obj), decimals(model.format_of(obj)))
+                    for name, obj in objects.items()})
     if args.json:
         return _JsonLines(order)
     if sys.stdout.isatty():
