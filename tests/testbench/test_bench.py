@@ -4,6 +4,7 @@ one line, the evidence it records, what it restores, and what only a simulator c
 from __future__ import annotations
 
 import re
+import time
 
 import pytest
 from asammdf import MDF
@@ -133,3 +134,22 @@ def test_an_ecu_lost_during_an_expectation_is_named_as_the_reason(tmp_path):
                 ecu.expect("zsRailPressure", at_least(0.0), for_s=0.5)
             with pytest.raises(WorkbenchError, match="the evidence lost.mf4 is incomplete: connection to the ECU lost"):
                 ecu.close()
+
+
+def test_a_message_another_node_sends_too_is_named_with_a_failure(tmp_path):
+    """The bench plays the PCM while the simulator's own PCM (workbench sim --pcm) sends the same messages: the
+    ECU hears both, and a failed expectation names the second sender (it only said '40 bar'; user trial 6)."""
+    from workbench import Session, demo
+    from workbench.sim import serve_demo
+
+    with serve_demo({"interface": "virtual", "channel": "bench-two-pcms"}, pcm_target_bar=40.0):
+        with Session.open(interface="virtual", channel="bench-two-pcms") as session:
+            with Bench(session, dbc=demo.dbc_can2(), evidence=tmp_path / "two.mf4") as ecu:
+                ecu.watch("xsDC")
+                ecu.send("PCM_TO_FLCU_002", period=0.1, TargetRailPressure=25.0)
+                deadline = time.monotonic() + 10.0
+                while not ecu.can2.competing() and time.monotonic() < deadline:
+                    time.sleep(0.05)
+                with pytest.raises(ExpectationFailed, match=r"; another node sends PCM_TO_FLCU_002 too \(\d+ frames "
+                                                            r"not the bench's\) \(workbench sim --pcm\?\)$"):
+                    ecu.expect("xsDC", within(1000, 2000), for_s=0.1)

@@ -170,6 +170,10 @@ class Bench:
 
     def _fail(self, step: Step, detail: str) -> None:
         __tracebackhide__ = True  # pytest shows the test's line and this one-line failure, not the bench's
+        others = self.can2.competing() if self.can2 is not None else {}
+        if others:  # the likely cause of a stimulus without effect: the ECU hears two senders
+            detail += "; " + ", ".join(f"another node sends {name} too ({count} frames not the bench's)"
+                                       for name, count in sorted(others.items())) + " (workbench sim --pcm?)"
         step.passed, step.detail, step.t_end = False, detail, max(step.t_end, step.t_start)
         self._add(step)
         raise ExpectationFailed(f"{step.text}: {detail}")

@@ -55,6 +55,7 @@ class Can2Port:
         self._last_heard: float | None = None  # bench time of the latest frame another node sent
         self._tasks: dict[str, Any] = {}  # message -> python-can periodic task
         self._signals: dict[str, dict[str, float]] = {}  # message -> the signal values it is sent with
+        self._others: dict[str, int] = {}  # message the bench sends periodically -> frames of it another node sent
         port = self
 
         class _Listener(can.Listener):
@@ -81,6 +82,8 @@ class Can2Port:
         with self._lock:
             self._frames.setdefault(message.name, []).append(moment)
             self._last_heard = moment
+            if message.name in self._tasks and getattr(frame, "is_rx", True):  # not the bench's own echo
+                self._others[message.name] = self._others.get(message.name, 0) + 1
         self._heard.set()
         try:
             decoded = message.decode(bytes(frame.data), decode_choices=False)
@@ -95,6 +98,12 @@ class Can2Port:
         with self._lock:
             times = np.array(self._frames.get(message, ()), dtype=float)
         return times[(times >= start) & (times <= end)]
+
+    def competing(self) -> dict[str, int]:
+        """The messages the bench sends periodically that another node sends too (-> its frames heard since):
+        two senders of one message make its values alternate (a PCM simulated elsewhere as well)."""
+        with self._lock:
+            return dict(self._others)
 
     # --- sending --------------------------------------------------------------------------------
 
