@@ -159,6 +159,9 @@ def test_cancel_stops_a_running_update_and_nothing_is_written(dialog, qtbot, tmp
         dialog.run()
         qtbot.waitUntil(reached.is_set, timeout=WAIT_MS)
         assert dialog.cancel_button.isEnabled() and not dialog.run_button.isEnabled()
+        dialog.close_button.click()  # not while it runs (disabled), nor Escape: said, the dialog stays
+        dialog.reject()
+        assert dialog.isVisible() and dialog.status.text().startswith("still running: Cancel stops it")
         dialog.cancel_button.click()
         go_on.set()
     assert isinstance(refused.args[0], Cancelled)

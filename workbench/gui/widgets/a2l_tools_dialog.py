@@ -119,17 +119,18 @@ class FindingsModel(RowsModel):
         self.set_rows(f for f in self.findings if self.show_all or f.severity > Severity.INFO)
 
     def data(self, index, role=Qt.DisplayRole):
-        if not index.isValid():
+        if role not in (Qt.DisplayRole, Qt.ToolTipRole, Qt.ForegroundRole) or not index.isValid():
             return None
-        finding = self.rows[index.row()]
-        if role == Qt.DisplayRole:
-            return (finding.severity.name.lower(), finding.location, finding.name, finding.message)[index.column()]
-        if role == Qt.ToolTipRole:
-            return (finding.kind, finding.location, f"{finding.block} {finding.name}".strip(),
-                    finding.message)[index.column()]
-        if role == Qt.ForegroundRole and index.column() == 0:
-            return QColor(_SEVERITY_COLOUR[finding.severity])
-        return None
+        finding, column = self.rows[index.row()], index.column()
+        if role == Qt.ForegroundRole:
+            return QColor(_SEVERITY_COLOUR[finding.severity]) if column == 0 else None
+        if column == 0:
+            return finding.severity.name.lower() if role == Qt.DisplayRole else finding.kind
+        if column == 1:
+            return finding.location
+        if column == 2:
+            return finding.name if role == Qt.DisplayRole else f"{finding.block} {finding.name}".strip()
+        return finding.message
 
 
 class _KeepEnd(QStyledItemDelegate):
@@ -320,7 +321,6 @@ class A2lToolsDialog(QDialog):
         self.detail.setTextInteractionFlags(Qt.TextSelectableByMouse)
         self.detail.setFont(theme.mono_font(9))
         self.table.selectionModel().currentRowChanged.connect(self._show_detail)
-        self.model.modelReset.connect(self._fit_columns)
         layout.addWidget(self.detail)
 
     # --- the fields -----------------------------------------------------------------------------
@@ -442,6 +442,7 @@ class A2lToolsDialog(QDialog):
         self.outcome = outcome
         findings = outcome.report.findings if outcome is not None else []
         self.model.set_findings(findings)
+        self._fit_columns()  # to the problems shown first, not again for "show all" (they are the widest)
         infos = sum(1 for f in findings if f.severity == Severity.INFO)
         self.show_all.setText(f"show all (the {infos} infos too)" if infos else "show all (the infos too)")
         self.show_all.setEnabled(bool(infos))
@@ -457,14 +458,15 @@ class A2lToolsDialog(QDialog):
         self.reload_button.setVisible(rewritten)
 
     def _fit_columns(self) -> None:
-        """Place and name as wide as they are (up to a third and a quarter of the table); the message takes the rest."""
+        """Place and name as wide as they are (up to a third and a quarter of the table); the message takes the rest.
+        The first finding is the current one (shown whole below)."""
+        if not self.model.rowCount():
+            self.detail.clear()
+            return
         for column in (1, 2):
             self.table.resizeColumnToContents(column)
             self.table.setColumnWidth(column, min(self.table.columnWidth(column), self.table.width() // (column + 2)))
-        if self.model.rowCount():
-            self.table.setCurrentIndex(self.model.index(0, 0))
-        else:
-            self.detail.clear()
+        self.table.setCurrentIndex(self.model.index(0, 0))
 
     def _show_detail(self, current, _previous=None) -> None:
         self.detail.setText(str(self.model.rows[current.row()]) if current.isValid() else "")
@@ -475,5 +477,8 @@ class A2lToolsDialog(QDialog):
         self.reload_button.hide()
 
     def reject(self) -> None:
-        if self.task is None:  # a running job is cancelled first (Cancel), never left writing behind a closed dialog
+        """Close, unless a job runs: it is cancelled first (Cancel), never left writing behind a closed dialog."""
+        if self.task is None:
             super().reject()
+        else:
+            self._say("still running: Cancel stops it (nothing is written), then Close", theme.WARN)
