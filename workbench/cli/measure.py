@@ -236,9 +236,9 @@ def _sample(args: argparse.Namespace, session, names: list[str], view, monitor, 
                 for when, values in monitor.drain(raw=args.raw) if monitor is not None else ():
                     view.show(when, "CAN2", values)
         finally:
-            stats = live.stats
-            print(f"measure: {stats.samples} samples, {stats.lost} lost, {stats.overloads} overload indications",
-                  file=sys.stderr)
+            stats, cause = live.stats, live.loss_cause()
+            print(f"measure: {stats.samples} samples, {stats.lost} lost, {stats.overloads} overload indications"
+                  + (f" ({cause})" if cause else ""), file=sys.stderr)
 
 
 def _check_recording_options(args: argparse.Namespace) -> None:
@@ -273,7 +273,8 @@ def _record(args: argparse.Namespace, session, names: list[str], can2: dict[str,
                           "can_frames": stats.can_frames, "raw_frames": stats.raw_frames,
                           "undecoded": stats.undecoded, "file_bytes": stats.file_bytes}))
     else:
-        print(f"recorded {stats.describe()}")
+        cause = recorder.measurement.loss_cause() if recorder.measurement is not None else ""
+        print(f"recorded {stats.describe()}" + (f" ({cause})" if cause else ""))
     return 0
 
 

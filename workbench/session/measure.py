@@ -35,6 +35,9 @@ log = logger(__name__)
 
 __all__ = ["DaqMeasurement", "SampleBatch", "event_number"]
 
+CAN_FRAME_BITS = 125  # an 8-byte classic frame: 111 bits and its stuff bits (at most 135)
+BUSY_SHARE = 0.8  # DTOs above this share of the frames a bus carries leave no room for others' frames and jitter
+
 
 @dataclass(frozen=True)
 class SampleBatch:
@@ -184,6 +187,22 @@ class DaqMeasurement:
     @property
     def running(self) -> bool:
         return self.stream is not None and self.stream.running
+
+    def loss_cause(self) -> str:
+        """Why samples were lost when the CAN bus is the likely cause: the DTOs per second the lists send beside
+        what a classic CAN bus of the session's bit rate carries; "" when nothing was lost, the bit rate is not
+        known (a software bus given none) or the plan fits the bus."""
+        link, bus = self.session.link, self.session.bus_spec
+        rate = self.stream.dtos_per_second if self.stream is not None else None
+        if (not self.stats.lost or rate is None or not link.is_can or link.settings.fd or bus is None
+                or not bus.bitrate):
+            return ""
+        carried = bus.bitrate / CAN_FRAME_BITS
+        if rate < BUSY_SHARE * carried:
+            return ""
+        return (f"the DAQ lists send {rate:,.0f} DTOs/s, {rate / carried:.0%} of the about {carried:,.0f} frames/s "
+                f"CAN carries at {bus.bitrate / 1000:g} kbit/s: measure fewer signals on the fast events, or on a "
+                "slower event")
 
 
 class EventAccess:

@@ -256,6 +256,18 @@ class DaqStream:
         lost = sum(self._gaps.get(number, broken) for number, broken in assembler.lost_by_list.items())
         return DaqStats(assembler.dtos, assembler.samples, lost, assembler.overloads, assembler.unknown)
 
+    @property
+    def dtos_per_second(self) -> float | None:
+        """The DTOs the plan's lists send per second (each list's ODTs once per its event's period, prescaler
+        included); None when an event's period is not known."""
+        total = 0.0
+        for daq in self.plan.lists:
+            period = self.event_periods.get(daq.event)
+            if not period:
+                return None
+            total += len(daq.odts) / period
+        return total
+
     def close(self) -> None:
         """Stop (if running) and free the slave's DAQ lists (static ones: clear the plan's); errors are logged, not
         raised (this runs on the way out)."""
