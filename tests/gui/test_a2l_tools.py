@@ -13,6 +13,7 @@ from gui_helpers import WAIT_MS, offline_window
 from PySide6.QtCore import Qt
 
 from workbench import demo
+from workbench.a2l.reports import IncludeMode
 from workbench.cli import main
 from workbench.errors import Cancelled, InputError
 from workbench.gui.widgets.a2l_tools_dialog import CHECK, MERGE, UPDATE, A2lToolsDialog
@@ -74,7 +75,8 @@ def test_an_update_writes_the_bytes_the_cli_writes_and_says_its_summary(dialog, 
     assert dialog.status.text() == f"done: {outcome.summary}"
     assert dialog.progress.value() == dialog.progress.maximum()
     # the infos (every address updated) only on "show all"; the problems (none here) first
-    assert dialog.model.rowCount() == len(outcome.report.problems)
+    assert dialog.model.rowCount() == len(outcome.report.problems) == 0
+    assert dialog.detail.text() == "no warnings, no errors"
     dialog.show_all.setChecked(True)
     rows = _rows(dialog)
     assert len(rows) == len(outcome.report.findings) > 80
@@ -99,6 +101,28 @@ def test_an_update_in_place_with_the_cli_options(dialog, qtbot, tmp_path, placeh
     assert b'EPK "00000000000000"' in copy.read_bytes()  # the EPK left alone
 
 
+def test_an_update_with_errors_is_a_failure_as_in_the_cli(dialog, qtbot, tmp_path, placeholder_a2l, capsys):
+    """A change in an included file that the update may not write (includes kept): an error, the output written."""
+    text = placeholder_a2l.read_text(encoding="utf-8")
+    start = text.index("    /begin MEASUREMENT\n      /* Name                   */ xsOTV1Cmd")
+    end = text.index("/end MEASUREMENT", start) + len("/end MEASUREMENT")
+    (placeholder_a2l.parent / "part.a2l").write_text(text[start:end] + "\n", encoding="utf-8")
+    placeholder_a2l.write_text(text[:start] + '    /include "part.a2l"' + text[end:], encoding="utf-8")
+    assert main(["a2l", "update", str(placeholder_a2l), str(demo.elf()), "-o", str(tmp_path / "cli.a2l")]) == 1
+    capsys.readouterr()
+    dialog.a2l.setText(placeholder_a2l)
+    dialog.elf.setText(demo.elf())
+    dialog.output.setText(tmp_path / "gui.a2l")
+    outcome = _run(dialog, qtbot)
+    assert not outcome.ok and outcome.written == tmp_path / "gui.a2l"
+    assert (tmp_path / "gui.a2l").read_bytes() == (tmp_path / "cli.a2l").read_bytes()
+    assert dialog.status.text() == f"failed: {outcome.summary}"
+    rows = _rows(dialog)
+    assert rows[0][0] == "error" and rows[0][1].startswith(str(placeholder_a2l.parent / "part.a2l"))
+    dialog.includes.setCurrentIndex(dialog.includes.findData(IncludeMode.UPDATE))  # --update-includes
+    assert _run(dialog, qtbot).ok and "ECU_ADDRESS 0x40020090" in (placeholder_a2l.parent / "part.a2l").read_text()
+
+
 def test_a_check_of_a_malformed_file_lists_its_finding_at_file_line_column(dialog, qtbot, tmp_path):
     bad = tmp_path / "bad.a2l"
     bad.write_text('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n /begin MODULE M ""\n'
@@ -116,6 +140,7 @@ def test_a_check_of_a_malformed_file_lists_its_finding_at_file_line_column(dialo
     assert any(re.fullmatch(re.escape(str(bad)) + r":\d+:\d+", row[1]) for row in rows), rows
     problem = outcome.report.problems[0]
     assert rows[0][1] == f"{bad}:{problem.line}:{problem.column}" and rows[0][3] == problem.message
+    assert dialog.detail.text() == str(problem)  # the first problem whole, as the CLI prints it
 
 
 def test_a_refused_update_says_one_line_and_writes_nothing(dialog, qtbot, tmp_path, placeholder_a2l):

@@ -461,7 +461,7 @@ class A2lToolsDialog(QDialog):
         """Place and name as wide as they are (up to a third and a quarter of the table); the message takes the rest.
         The first finding is the current one (shown whole below)."""
         if not self.model.rowCount():
-            self.detail.clear()
+            self.detail.setText("no warnings, no errors" if self.outcome is not None else "")
             return
         for column in (1, 2):
             self.table.resizeColumnToContents(column)
