@@ -334,13 +334,13 @@ class A2lToolsDialog(QDialog):
         self._show_fields()
 
     def _show_fields(self, *_) -> None:
-        for label, (widget, operations) in self.rows.items():
+        for widget, operations in self.rows.values():
             self.form.setRowVisible(widget, self.operation in operations)
         self.elf.edit.setPlaceholderText("optional: symbols and addresses against it" if self.operation == CHECK
                                          else "the ELF the build linked")
         self.output.edit.setPlaceholderText("the A2L itself (replaced atomically)" if self.operation == UPDATE
                                             else "the merged A2L to write")
-        self.run_button.setText(f"{_TITLES[self.operation].split()[0]}")
+        self.run_button.setText(_TITLES[self.operation].split()[0])  # Update, Check, Merge
 
     def fragment_paths(self) -> list[str]:
         return [self.fragments.item(row).text() for row in range(self.fragments.count())]
@@ -401,7 +401,7 @@ class A2lToolsDialog(QDialog):
     def _progressed(self, done: int, total: int, label: str) -> None:
         self.progress.setMaximum(max(total, 1))
         self.progress.setValue(done)
-        if label:
+        if label and not (self.task is not None and self.task.progress.cancelled):  # "cancelling …" stays
             self._say(label, theme.MUTED)
 
     def _done(self, outcome: A2lOutcome) -> None:
