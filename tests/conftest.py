@@ -15,6 +15,12 @@ import sys
 import zlib
 
 import pytest
+from hypothesis import settings
+
+# Hypothesis' deadline (200 ms an example) is a wall-clock assertion: on a loaded machine (CI, xdist workers, a
+# first example that imports a library) it failed tests whose code was right; tests never assert times.
+settings.register_profile("workbench", deadline=None)
+settings.load_profile("workbench")
 
 # The suite starts many Python processes (xdist workers, `workbench` commands, examples): each reads the
 # bytecode this one leaves (asserts rewritten, site-packages compiled), which PYTHONDONTWRITEBYTECODE would
