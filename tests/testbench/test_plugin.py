@@ -122,6 +122,25 @@ def test_no_ecu_is_one_line_per_test(pytester, free_tcp_port):
     assert "session.py" not in result.stdout.str()
 
 
+def test_a_run_stopped_within_a_test_verifies_nothing(pytester):
+    """Ctrl-C while a test runs: it has no call report, and its requirement counted as verified ('1 verified,
+    0 failed' of a run that stopped; user trial 6). It is INTERRUPTED now."""
+    pytester.makepyfile(test_stop="""
+import pytest
+from workbench.testbench import requirement
+
+@requirement("R1")
+def test_stopped():
+    pytest.exit("stopped in the middle of it", returncode=2)  # as Ctrl-C: the test ends without a call report
+""")
+    result = pytester.runpytest_inprocess("--report", "out", *PLUGIN)
+    assert result.ret == 2
+    result.stdout.fnmatch_lines(["0 verified, 0 failed"])
+    html = (pytester.path / "out" / "report.html").read_text()
+    assert ('test_stop.py::test_stopped</a> <span class="badge interrupted">INTERRUPTED</span></td><td><span '
+            'class="badge interrupted">INTERRUPTED</span></td></tr>') in html
+
+
 def test_a_test_run_that_does_not_use_it_loads_nothing_heavy():
     code = ("import sys, json, workbench.testbench.plugin, workbench.testbench; "
             "print(json.dumps(sorted({m.split('.')[0] for m in sys.modules} & "

@@ -191,7 +191,8 @@ class _Outcomes:
         requirements = [str(value) for key, value in report.user_properties if key == "requirement"]
         if not requirements and not self.keep_all:
             return
-        entry = self.results.setdefault(report.nodeid, {"outcome": "passed", "duration": 0.0, "message": "",
+        entry = self.results.setdefault(report.nodeid, {"outcome": "interrupted", "duration": 0.0,  # until its call
+                                                        "message": "the run stopped before this test's end (Ctrl-C)",
                                                         "requirements": requirements})
         entry["duration"] += report.duration
         if report.when == "call":

@@ -27,7 +27,7 @@ __all__ = ["Requirement", "read_requirements", "write_report"]
 
 log = logger(__name__)
 
-_ORDER = {"failed": 0, "error": 0, "passed": 1, "skipped": 2}
+_ORDER = {"failed": 0, "error": 0, "interrupted": 0, "passed": 1, "skipped": 2}
 
 
 @dataclass(frozen=True)
@@ -123,6 +123,8 @@ def _traceability(tests: list, catalogue: list[Requirement]) -> str:
             result = _badge("failed")
         elif "error" in outcomes:  # a test broke before it judged: neither verified nor failed
             result = '<span class="badge error">NOT JUDGED</span>'
+        elif "interrupted" in outcomes:  # the run stopped (Ctrl-C) within a test: it verified nothing
+            result = _badge("interrupted")
         elif "passed" in outcomes:
             result = _badge("passed")
         else:
@@ -280,7 +282,7 @@ th { background: #f0f0f0; }
 tr.failed td { background: #fdecea; } tr.ok td:last-child { color: #2e7d32; }
 .badge { font-size: 11px; font-weight: bold; padding: 1px 6px; border-radius: 3px; color: #fff; }
 .badge.passed { background: #2e7d32; } .badge.failed, .badge.error { background: #c62828; }
-.badge.skipped { background: #888; } .badge.untested { background: #e08a00; }
+.badge.skipped { background: #888; } .badge.untested, .badge.interrupted { background: #e08a00; }
 .message { color: #c62828; font-family: monospace; }
 section { border-top: 1px solid #ddd; margin-top: 1.2em; }
 .plot { margin: 4px 0; }
