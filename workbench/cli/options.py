@@ -40,8 +40,11 @@ class CommandParser(argparse.ArgumentParser):
 
     def parse_known_args(self, args=None, namespace=None):
         self._add_deferred()
-        if args is not None and any(option in self._option_string_actions for option in KEY_VALUE_LISTS):
-            args = words_before_key_values(args)  # a command's own parser (a group's passes its words on whole)
+        if args is not None and any(option in self._option_string_actions for option in KEY_VALUE_LISTS) and \
+                any(not action.option_strings for action in self._actions):
+            # a command's own parser with NAMEs or a VALUE (a group's passes its words on whole; a command without
+            # any keeps 'port' in the list, where python-can names it: 'Unable to parse bus keyword argument')
+            args = words_before_key_values(args)
         return super().parse_known_args(args, namespace)
 
     def format_usage(self) -> str:
