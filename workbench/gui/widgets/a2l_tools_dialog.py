@@ -41,6 +41,7 @@ from workbench.findings import Report, Severity
 from workbench.gui import theme
 from workbench.gui.models.rows import RowsModel
 from workbench.gui.widgets.errors import show_error
+from workbench.gui.widgets.job_buttons import JobButtons
 from workbench.gui.widgets.names import NameDelegate
 from workbench.gui.worker import Task
 
@@ -206,19 +207,11 @@ class A2lToolsDialog(QDialog):
         layout.addWidget(self.tabs)
         layout.addLayout(self._fields(a2l, elf))
         self._result_area(layout)
-        buttons = QHBoxLayout()
-        buttons.addStretch(1)
-        self.run_button = QPushButton("Run")
-        self.run_button.setDefault(True)
-        self.run_button.clicked.connect(self.run)
-        self.cancel_button = QPushButton("Cancel")
-        self.cancel_button.setEnabled(False)
-        self.cancel_button.clicked.connect(self.cancel)
-        self.close_button = QPushButton("Close")
-        self.close_button.clicked.connect(self.reject)
-        for button in (self.run_button, self.cancel_button, self.close_button):
-            buttons.addWidget(button)
-        layout.addLayout(buttons)
+        self.buttons = JobButtons(self, "Run", "Cancel", self.run, self.cancel,
+                                  guarded=(self.tabs, *(widget for widget, _ in self.rows.values())))
+        self.run_button, self.cancel_button, self.close_button = (self.buttons.run_button, self.buttons.cancel_button,
+                                                                  self.buttons.close_button)
+        layout.addLayout(self.buttons)
         self.set_operation(operation)
         self._show_result(None)
 
@@ -384,11 +377,7 @@ class A2lToolsDialog(QDialog):
             return None
         function, args, kwargs = job
         self.task = Task(function, *args, progress=True, **kwargs)
-        self.task.progress.changed.connect(self._progressed)
-        self.task.succeeded.connect(self._done)
-        self.task.failed.connect(self._failed)
-        self.task.finished.connect(self._finished)
-        self._busy(True)
+        self.buttons.follow(self.task, self._progressed, self._done, self._failed, self._finished)
         self._say(f"{_TITLES[self.operation].lower()} …", theme.MUTED)
         self.started.emit(self.task)
         return self.task.start()
@@ -421,16 +410,7 @@ class A2lToolsDialog(QDialog):
         self.refused.emit(exc)
 
     def _finished(self) -> None:
-        self._busy(False)
         self.task = None
-
-    def _busy(self, busy: bool) -> None:
-        self.run_button.setEnabled(not busy)
-        self.cancel_button.setEnabled(busy)
-        self.close_button.setEnabled(not busy)
-        self.tabs.setEnabled(not busy)
-        for widget, _ in self.rows.values():
-            widget.setEnabled(not busy)
 
     # --- the result -----------------------------------------------------------------------------
 
