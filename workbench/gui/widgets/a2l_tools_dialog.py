@@ -59,13 +59,17 @@ _SEVERITY_COLOUR = {Severity.ERROR: theme.BAD, Severity.WARNING: theme.WARN, Sev
 
 @dataclass(frozen=True)
 class A2lOutcome:
-    """One run: its report, the summary line the CLI prints, whether it succeeded (the CLI's exit code 0) and
-    the file it wrote (None: nothing written)."""
+    """One run: its report, the summary line the CLI prints, whether it succeeded (the CLI's exit code 0), the
+    file it wrote (None: nothing written) and the included files it rewrote (an update with --update-includes)."""
 
     report: Report
     summary: str
     ok: bool
     written: Path | None = None
+    includes_written: tuple[Path, ...] = ()
+
+    def files_written(self) -> list[Path]:
+        return ([self.written] if self.written is not None else []) + list(self.includes_written)
 
 
 def update_a2l(a2l: str, elf: str, output: str, *, mode, types: bool, epk: bool, includes,
@@ -77,7 +81,8 @@ def update_a2l(a2l: str, elf: str, output: str, *, mode, types: bool, epk: bool,
         report = update_file(a2l, elf, output, mode=mode, types=types, epk=epk, includes=includes, progress=progress)
     except UpdateFailed as exc:
         return A2lOutcome(exc.report, f"{exc}; nothing written", False)
-    return A2lOutcome(report, report.summary(output), report.ok, Path(output))  # written, errors or not
+    includes_written = tuple(Path(f.file) for f in report.of_kind("include-updated"))
+    return A2lOutcome(report, report.summary(output), report.ok, Path(output), includes_written)  # errors or not
 
 
 def check_a2l(a2l: str, elf: str | None, progress=None) -> A2lOutcome:
@@ -183,8 +188,9 @@ def _choice(items: list[tuple[str, object]], tip: str) -> QComboBox:
 class A2lToolsDialog(QDialog):
     """Update, check or merge A2L files; ``operation`` (UPDATE, CHECK, MERGE) is the tab shown first.
 
-    ``a2l``/``elf``: the files the fields start with (the project's); ``in_use``: the A2L the window holds,
-    whose rewriting the dialog offers to read again (``reload_requested``)."""
+    ``a2l``/``elf``: the files the fields start with (the project's); ``in_use``: the files of the A2L the window
+    holds (its main file first, then those it includes), whose rewriting the dialog offers to read again
+    (``reload_requested``)."""
 
     started = Signal(object)  # the Task, before it runs (to follow its progress)
     done = Signal(object)  # A2lOutcome
@@ -192,9 +198,10 @@ class A2lToolsDialog(QDialog):
     reload_requested = Signal()
 
     def __init__(self, operation: str = UPDATE, a2l: Path | None = None, elf: Path | None = None,
-                 in_use: Path | None = None, parent: QWidget | None = None):
+                 in_use=(), parent: QWidget | None = None):
         super().__init__(parent)
-        self.in_use = Path(in_use).resolve() if in_use else None
+        self.in_use: list[Path] = []
+        self.set_in_use(in_use)
         self.task: Task | None = None
         self.outcome: A2lOutcome | None = None
         self.setWindowTitle("A2L tools")
@@ -318,6 +325,10 @@ class A2lToolsDialog(QDialog):
 
     # --- the fields -----------------------------------------------------------------------------
 
+    def set_in_use(self, paths) -> None:
+        """The files of the A2L the window holds now (another project opened): a rewriting of those is offered."""
+        self.in_use = list(dict.fromkeys(Path(path).resolve() for path in paths))
+
     @property
     def operation(self) -> str:
         return (UPDATE, CHECK, MERGE)[self.tabs.currentIndex()]
@@ -429,13 +440,15 @@ class A2lToolsDialog(QDialog):
         if outcome is not None:
             self._say(("done: " if outcome.ok else "failed: ") + outcome.summary, theme.GOOD if outcome.ok
                       else theme.BAD)
-        rewritten = (outcome is not None and outcome.written is not None and self.in_use is not None
-                     and outcome.written.resolve() == self.in_use)
+        written = {path.resolve() for path in outcome.files_written()} if outcome is not None else set()
+        rewritten = [path for path in self.in_use if path in written]
         if rewritten:
-            self.reload_note.setText(f"The open project uses {self.in_use.name}: the window (and a connection) "
-                                     "still hold it as it was read before.")
-        self.reload_note.setVisible(rewritten)
-        self.reload_button.setVisible(rewritten)
+            uses = (f"uses {self.in_use[0].name}" if rewritten[0] == self.in_use[0] else
+                    f"uses {self.in_use[0].name}, which includes {', '.join(path.name for path in rewritten)}")
+            self.reload_note.setText(f"The open project {uses}: the window (and a connection) still hold it as it "
+                                     "was read before.")
+        self.reload_note.setVisible(bool(rewritten))
+        self.reload_button.setVisible(bool(rewritten))
 
     def _fit_columns(self) -> None:
         """Place and name as wide as they are (up to a third and a quarter of the table); the message takes the rest.

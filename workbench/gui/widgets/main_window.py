@@ -216,6 +216,8 @@ class MainWindow(QMainWindow):
         self.hub.add_signals(workspace.can2_infos())
         self.browser.set_variables(workspace.variables)
         self.compare.set_a2l(model)
+        if self.a2l_tools is not None:  # its reload offer is for the files read now (another project's, its includes)
+            self.a2l_tools.set_in_use(self.a2l_in_use())
         self._open_windows()
         self._update_title()
         self.loaded.emit()
@@ -621,6 +623,12 @@ class MainWindow(QMainWindow):
 
         return self.project.a2l or demo.a2l()
 
+    def a2l_in_use(self) -> list[Path]:
+        """The files of the A2L the window holds: the project's, then those it includes (as they were read)."""
+        doc = self.workspace.doc if self.workspace is not None else None
+        included = [s.source.path for s in doc.source_map.segments if s.source.path is not None] if doc else []
+        return [self.project_a2l(), *included]
+
     def open_a2l_tools(self, operation: str) -> A2lToolsDialog:
         """The A2L tools (Tools menu), non-modal, on the tab of ``operation``; a new dialog starts with the project's
         A2L and ELF, an open one keeps what the user chose."""
@@ -630,7 +638,7 @@ class MainWindow(QMainWindow):
         else:
             if self.a2l_tools is not None:
                 self.a2l_tools.deleteLater()
-            self.a2l_tools = A2lToolsDialog(operation, self.project_a2l(), self.project.elf, self.project_a2l(), self)
+            self.a2l_tools = A2lToolsDialog(operation, self.project_a2l(), self.project.elf, self.a2l_in_use(), self)
             self.a2l_tools.reload_requested.connect(self.reload_a2l)
         self.a2l_tools.show()
         self.a2l_tools.raise_()
