@@ -64,6 +64,13 @@ def test_unknown_interface_is_bad_input_in_one_line(capsys):
     assert "virtual" in err and err.count("\n") == 1
 
 
+def test_options_the_interface_refuses_are_bad_input_in_one_line(capsys):
+    """``--bus-kwargs port=abc``: python-can's ValueError is the user's input (exit 2), as the master says it."""
+    assert main(["sim", "--interface", "udp_multicast", "--bus-kwargs", "port=abc", "--duration", "0.1"]) == 2
+    assert capsys.readouterr().err == ("error: cannot open CAN1 bus (udp_multicast 239.74.163.2): "
+                                       "Port config must be a number!\n")
+
+
 def test_help_names_the_options(capsys):
     assert main(["sim", "--help"]) == 0
     out = capsys.readouterr().out

@@ -54,7 +54,8 @@ def can2_dbc(args: argparse.Namespace) -> str | None:
 
 def open_session(args: argparse.Namespace, a2l: A2lDocument | None = None, *, reading: bool = False) -> Session:
     """The session the ECU options describe (connected, EPK checked); ``a2l``: the A2L already loaded. The bus
-    is built once from the options and handed over whole. ``reading``: the command only reads values by
+    is built once from the options and handed over whole. Another master's traffic heard before CONNECT is a
+    warning on stderr (:attr:`Session.other_master`). ``reading``: the command only reads values by
     name, so an EPK mismatch is said as a warning on stderr (a write refuses with its own error; ``info``
     shows it): the values come from the A2L's addresses, which may hold other things in the ECU's software."""
     import sys
@@ -64,6 +65,8 @@ def open_session(args: argparse.Namespace, a2l: A2lDocument | None = None, *, re
     session = Session.open(a2l or args.a2l, bus=bus_spec(args), host=args.host, port=args.port,
                            protocol=args.protocol, key_function=args.key_function,
                            accept_epk_mismatch=args.accept_epk_mismatch)
+    if session.other_master:
+        print(f"warning: {session.other_master}", file=sys.stderr)
     if reading and session.epk.matches is False:
         print(f"warning: {session.epk.describe()}: the values are read at this A2L's addresses, which may not "
               "hold them in the ECU's software", file=sys.stderr)

@@ -24,10 +24,10 @@ A2L): its newest value beside the polled ones, or with --daq a row of its own pe
 In a terminal the values refresh in place; piped (or with --json) every sample is a line: with
 --json a JSON object {"time": s, "event": ..., "values": {name: value}}, else "time name=value ...".
 Ctrl-C or --duration ends the measurement (exit 0); with --daq the samples and losses are
-summed up on stderr.
+summed up on stderr, and DTOs of no list of ours (another master's DAQ) when any came.
 
-With --record the samples go to an MDF4 file instead (DAQ, ECU time, raw values with the A2L's
-conversions): --can2 adds the CAN2 bus's frames decoded with a DBC, --raw-can every frame of that
+With --record the samples go to an MDF4 file instead (DAQ, ECU time, or the receive time when the
+ECU sends no timestamps, as the file says; raw values with the A2L's conversions): --can2 adds the CAN2 bus's frames decoded with a DBC, --raw-can every frame of that
 bus raw (ASAM MDF bus logging, which asammdf and CANape decode again with a DBC). The file is
 complete after every second of recording, also when the process is killed; Ctrl-C or --duration
 ends it. The CAN2 bus is the XCP bus unless --can2-interface/--can2-channel/--can2-bus-kwargs
@@ -236,9 +236,9 @@ def _sample(args: argparse.Namespace, session, names: list[str], view, monitor, 
                 for when, values in monitor.drain(raw=args.raw) if monitor is not None else ():
                     view.show(when, "CAN2", values)
         finally:
-            stats, cause = live.stats, live.loss_cause()
+            stats, cause, stray = live.stats, live.loss_cause(), live.stray_dtos()
             print(f"measure: {stats.samples} samples, {stats.lost} lost, {stats.overloads} overload indications"
-                  + (f" ({cause})" if cause else ""), file=sys.stderr)
+                  + (f" ({cause})" if cause else "") + (f"; {stray}" if stray else ""), file=sys.stderr)
 
 
 def _check_recording_options(args: argparse.Namespace) -> None:
@@ -273,8 +273,9 @@ def _record(args: argparse.Namespace, session, names: list[str], can2: dict[str,
                           "can_frames": stats.can_frames, "raw_frames": stats.raw_frames,
                           "undecoded": stats.undecoded, "file_bytes": stats.file_bytes}))
     else:
-        cause = recorder.measurement.loss_cause() if recorder.measurement is not None else ""
-        print(f"recorded {stats.describe()}" + (f" ({cause})" if cause else ""))
+        measurement = recorder.measurement
+        cause, stray = (measurement.loss_cause(), measurement.stray_dtos()) if measurement is not None else ("", "")
+        print(f"recorded {stats.describe()}" + (f" ({cause})" if cause else "") + (f"; {stray}" if stray else ""))
     return 0
 
 

@@ -1,6 +1,7 @@
 """DAQ samples as MDF channels: one channel group per DAQ event, one channel per signal (and array element).
 
-A group's master ``time`` is the ECU's DAQ timestamp (s, see :mod:`workbench.record.timebase`);
+A group's master ``time`` is the ECU's DAQ timestamp (s, see :mod:`workbench.record.timebase`), or the
+master's receive time when the ECU sends no timestamps (the group's comment says which);
 ``HostTime_<event>`` keeps the host clock of each sample (s since the epoch: the ECU time mapped
 onto the host's), so the recording can be aligned with anything else the host recorded.
 
@@ -47,19 +48,22 @@ class DaqGroup:
     """The channel group of one DAQ event: its :attr:`spec` and the columns of a :class:`DaqBatch`."""
 
     def __init__(self, event: int, event_name: str, period_s: float | None, codecs: Sequence[MeasurementCodec],
-                 source: SourceSpec | None = None, encodings: dict | None = None):
+                 source: SourceSpec | None = None, encodings: dict | None = None, *, ecu_timestamps: bool = True):
         self.event, self.event_name, self.period_s = event, event_name, period_s
         self.signals = [_stored(codec, encodings if encodings is not None else {}) for codec in codecs]
         self.host_time_name = f"HostTime_{event_name}"
+        host_time = ("the ECU's timestamp mapped onto the host's clock" if ecu_timestamps
+                     else "its receive time (the ECU sends no DAQ timestamps)")
         channels = [ChannelSpec(self.host_time_name, _FLOAT64, "s",
-                                "host clock of each sample, s since 1970-01-01 UTC: the ECU's timestamp mapped "
-                                "onto the host's clock")]
+                                f"host clock of each sample, s since 1970-01-01 UTC: {host_time}")]
         for signal in self.signals:
             channels += [ChannelSpec(name, signal.dtype, _unit(signal), _comment(signal), signal.encoding.conversion,
                                      _decimals(signal)) for name in signal.element_names]
         cycle = f", every {period_s * 1e3:g} ms" if period_s else ""
+        clock = "the ECU's DAQ timestamps" if ecu_timestamps else "the master's receive time (no DAQ timestamps)"
         self.spec = GroupSpec(event_name, tuple(channels),
-                              f"XCP DAQ event {event} {event_name}{cycle}: {len(self.signals)} signals", source)
+                              f"XCP DAQ event {event} {event_name}{cycle}: {len(self.signals)} signals, timed by {clock}",
+                              source)
 
     @property
     def names(self) -> list[str]:

@@ -72,8 +72,7 @@ CAN2_BUS_CHANNEL = 2  # the CAN2 bus's number in the bus log (CAN_DataFrame.BusC
 POLL_S = 0.05  # how often the recording thread takes what arrived
 ORIGIN_WAIT_S = 1.0  # CAN frames wait this long for the first DAQ sample to fix the time axis
 MAX_PENDING_BYTES = 16 << 20  # flush early when this much is waiting (a burst, a long flush period)
-TIME_AXIS = ("time channels: s since the start time. DAQ groups: the ECU's DAQ clock, 0 = the first DAQ sample; "
-             "CAN groups: the host's receive time mapped onto the ECU's clock with the DAQ clock's offset")
+TIME_AXIS = "time channels: s since the start time."  # the header's time_axis starts so; the clocks follow
 
 
 @dataclass(frozen=True)
@@ -173,34 +172,34 @@ class Recorder:
     # --- starting -----------------------------------------------------------------------------
 
     def start(self) -> Recorder:
-        """Create the file, open the CAN bus, start DAQ and the recording thread.
+        """Open the CAN bus, start DAQ, create the file and start the recording thread.
 
-        :raises InputError: the CAN2 bus is not known (see ``can_bus``), or the file cannot be created.
-        :raises XcpCommandError: the ECU refused the DAQ configuration (the file is removed again).
+        DAQ starts before the file is created: its plan tells whether the ECU stamps the samples, and the file
+        says which clock its times come from (the samples that come meanwhile wait in the measurement).
+
+        :raises InputError: the CAN2 bus is not known (see ``can_bus``), or the file cannot be created (DAQ is
+            stopped again).
+        :raises XcpCommandError: the ECU refused the DAQ configuration (no file is created).
         """
         if self._thread is not None:
             return self
         session = self.session
-        groups = self._daq_groups()
         self._messages = CanMessageGroups(self.dbc.database, self.dbc.path) if self.dbc is not None else None
         if self.dbc is not None or self.raw_can:
             self._listen()
         try:
+            if self.measurement is not None:
+                self.measurement.start()
+            groups = self._daq_groups()
             self._writer = self._create_file(groups)
         except BaseException:
             self._close_bus()
+            if self.measurement is not None:
+                self.measurement.stop()
             raise
         self._daq_index = {group.event: (index, group) for index, group in enumerate(groups)}
-        try:
-            if self.measurement is not None:
-                self.measurement.start()
-            else:
-                self._clock.fix(self._started_at)
-        except BaseException:
-            self._close_bus()
-            self._writer.close()
-            self._writing_path.unlink(missing_ok=True)
-            raise
+        if self.measurement is None:
+            self._clock.fix(self._started_at)
         self._measuring_since = time.monotonic()  # connecting and configuring DAQ are no part of a duration
         stop = weakref.WeakMethod(self.stop)  # a session that records many times keeps no finished recorder alive
 
@@ -249,7 +248,8 @@ class Recorder:
         groups = []
         for event in sorted(set(measurement.events.values())):
             codecs = [measurement.codecs[name] for name in measurement.names if measurement.events[name] == event]
-            groups.append(DaqGroup(event, session.event_name(event), self._period(event), codecs, source, encodings))
+            groups.append(DaqGroup(event, session.event_name(event), self._period(event), codecs, source, encodings,
+                                   ecu_timestamps=measurement.ecu_timestamps))
         return groups
 
     def _period(self, event: int) -> float | None:
@@ -285,7 +285,9 @@ class Recorder:
         if self.raw_can:
             parts.append("the CAN2 bus logged raw")
         properties = {"a2l": str(session.doc.path or session.doc.name), "epk_a2l": session.epk.a2l or "",
-                      "epk_ecu": session.epk.ecu or "", "time_axis": TIME_AXIS, "recorded_with": f"workbench {__version__}"}
+                      "epk_ecu": session.epk.ecu or "", "time_axis": self._time_axis(),
+                      "daq_time_source": self.measurement.time_source if self.measurement is not None else "",
+                      "recorded_with": f"workbench {__version__}"}
         if self.dbc is not None:
             properties["can2_dbc"] = str(self.dbc.path)
         try:
@@ -295,6 +297,17 @@ class Recorder:
         return HeaderSpec("workbench recording: " + "; ".join(parts), author=author,
                           project=session.doc.project.name or "", subject=session.doc.module(session.module).name or "",
                           properties={key: value for key, value in properties.items() if value})
+
+    def _time_axis(self) -> str:
+        """The header's word on the time channels: which clock each kind of group's times come from."""
+        measurement = self.measurement
+        if measurement is None:
+            return f"{TIME_AXIS} CAN groups: the host's receive time, 0 = the start of the recording"
+        if not measurement.ecu_timestamps:
+            return (f"{TIME_AXIS} DAQ groups: the master's receive time of each sample (the ECU sends no DAQ "
+                    "timestamps), 0 = the first DAQ sample; CAN groups: the host's receive time on the same axis")
+        return (f"{TIME_AXIS} DAQ groups: the ECU's DAQ clock (its timestamps), 0 = the first DAQ sample; CAN groups: "
+                "the host's receive time mapped onto the ECU's clock with the DAQ clock's offset")
 
     # --- the recording thread -----------------------------------------------------------------
 

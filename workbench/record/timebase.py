@@ -7,6 +7,9 @@
   mapped onto the ECU clock with the DAQ clock's current offset between the two (host time −
   ECU time of the latest DAQ samples, which follows the drift of the ECU's crystal), so frames and
   samples line up within the bus latency, also after an hour.
+* An ECU that sends no DAQ timestamps (or a plan that left them no room on classic CAN): the DAQ "ECU
+  time" is the master's receive time, so the whole axis is the host's; the file's header says so
+  (``time_axis``, ``daq_time_source``).
 * Without DAQ samples (CAN only, or none yet after ``wait_s``), the start time is the host time
   at which the recording started and CAN times are host times from there; DAQ samples that come
   later keep the ECU clock's steps, shifted by a constant onto that axis.

@@ -188,6 +188,33 @@ class DaqMeasurement:
     def running(self) -> bool:
         return self.stream is not None and self.stream.running
 
+    @property
+    def time_source(self) -> str:
+        """Which clock the samples' ``time`` comes from, for people: the ECU's DAQ timestamps (their size and
+        tick), or the master's receive time when the ECU sends none or the plan left them no room (classic CAN);
+        "" before :meth:`start`."""
+        stream = self.stream
+        if stream is None:
+            return ""
+        if stream.plan.timestamp_size:
+            tick = stream.resolution.timestamp_resolution_s
+            return f"the ECU's DAQ timestamps ({stream.plan.timestamp_size}-byte counter of {tick * 1e6:g} us ticks)"
+        return "the master's receive time (the ECU sends no DAQ timestamps with these lists)"
+
+    @property
+    def ecu_timestamps(self) -> bool:
+        """Whether the samples are timed by the ECU's DAQ timestamps (False before :meth:`start`)."""
+        return self.stream is not None and bool(self.stream.plan.timestamp_size)
+
+    def stray_dtos(self) -> str:
+        """The DTOs that came on the ECU's DAQ ids but belong to no list of this measurement, and what they probably
+        are; "" for none."""
+        unknown = self.stats.unknown
+        if not unknown:
+            return ""
+        return (f"{unknown} DTO(s) of no DAQ list of this measurement: another master's DAQ on this ECU (CANape, a "
+                "second workbench), or lists an earlier session left running")
+
     def loss_cause(self) -> str:
         """Why samples were lost when the CAN bus is the likely cause: the DTOs per second the lists send beside
         what a classic CAN bus of the session's bit rate carries; "" when nothing was lost, the bit rate is not

@@ -45,15 +45,18 @@ from workbench.session.values import ValueAccess
 from workbench.xcp.link import Link
 from workbench.xcp.master import KeyFunction, Timeouts, XcpMaster
 from workbench.xcp.seedkey import load_key_function
-from workbench.xcp_protocol import Err, Resource
+from workbench.xcp_protocol import PID_ERR, CanId, Err, Resource
 
 if TYPE_CHECKING:
     import can
 
 log = logger(__name__)
 
-__all__ = ["Session"]
+__all__ = ["LISTEN_BEFORE_CONNECT_S", "Session", "other_master"]
 
+# Before CONNECT on CAN the master listens this long on the ECU's ids: a DAQ another master (CANape beside us)
+# runs on a 10 ms event or faster shows, and a connect costs no time a person notices (a session opens in ~7 ms).
+LISTEN_BEFORE_CONNECT_S = 0.01
 _XCP_ONLY, _ECU_AND_XCP, _ALL_SEGMENTS = 0x02, 0x03, 0x80
 # what a slave without SET_CAL_PAGE's "all segments" mode answers it
 _NO_ALL_SEGMENTS = {Err.MODE_NOT_VALID, Err.CMD_SYNTAX, Err.OUT_OF_RANGE, Err.SEGMENT_NOT_VALID, Err.PAGE_NOT_VALID}
@@ -77,6 +80,7 @@ class Session(ValueAccess, EventAccess, FixAccess):
         self.accept_epk_mismatch = accept_epk_mismatch
         self.lock = threading.RLock()
         self.epk: EpkCheck = EpkCheck(None, None, "")
+        self.other_master = ""  # what was heard on the ECU's CAN ids before CONNECT: another master's traffic
         self.closed = False
         self._closers: list = []  # things to stop on close (a recorder ...)
         self._can_listeners = CanListeners(link)
@@ -131,20 +135,32 @@ class Session(ValueAccess, EventAccess, FixAccess):
         return session
 
     def connect(self) -> None:
-        """CONNECT and check the EPK (again, e.g. after the ECU was reset or flashed)."""
+        """CONNECT and check the EPK (again, e.g. after the ECU was reset or flashed). On CAN, listens
+        :data:`LISTEN_BEFORE_CONNECT_S` first: what it hears on the ECU's ids is :attr:`other_master`."""
         with self.lock:
+            self.other_master = other_master(self.link.heard(LISTEN_BEFORE_CONNECT_S), LISTEN_BEFORE_CONNECT_S)
+            if self.other_master:
+                log.warning("%s", self.other_master)
             try:
                 self.master.connect()
             except XcpTimeoutError as exc:
                 raise XcpTimeoutError("CONNECT", exc.timeout_s,
-                                      f"no ECU answers on {self.link.settings.describe()}: is it powered, on this "
-                                      "bus/address, with these ids?") from None
+                                      f"no ECU answers on {self.link.settings.describe()}: {self._unanswered()}") from None
             except ConnectionLostError as exc:  # e.g. nothing listens at the address: it was never there
                 raise WorkbenchError(f"cannot reach the ECU: {exc.what}: {exc.reason}") from None
             self.epk = check_epk(self.master, self.doc.epk(self.module), self.doc.addr_epk(self.module))
             if self.epk.matches is False:
                 log.warning("%s%s", self.epk.describe(),
                             "" if self.accept_epk_mismatch else "; the session is read-only")
+
+    def _unanswered(self) -> str:
+        """What to check when CONNECT goes unanswered, in the transport's terms."""
+        settings = self.link.settings
+        if self.link.is_can:
+            return "is it powered, on this bus, with these ids?"
+        other = "TCP" if settings.transport == "UDP" else "UDP"
+        return (f"is it powered, at {settings.host}:{settings.port}, serving XCP on {settings.transport} "
+                f"(--protocol {other.lower()} for {other})?")
 
     def close(self) -> None:
         """Stop running measurements, DISCONNECT, close the link; safe to call twice, also after errors."""
@@ -436,3 +452,20 @@ def _key_function(given: KeyFunction | str | None, config: XcpConfig, doc: A2lDo
             raise
         log.warning("%s (from the A2L); connecting without seed & key", exc)  # a DLL the A2L names must not stop reads
         return None, name
+
+
+def other_master(heard: list[tuple[CanId, bytes]], seconds: float) -> str:
+    """One line on the packets heard on the ECU's ids before this master's CONNECT ("" for none): another master
+    talks to the ECU, or a DAQ that a master started (and was killed before stopping) still runs. A warning, not a
+    refusal: the two cannot be told apart by listening, and the CONNECT that follows is how a stale DAQ is
+    cleaned up; but two masters on one ECU break each other's DAQ, which is said before it happens."""
+    if not heard:
+        return ""
+    ids = ", ".join(dict.fromkeys(str(can_id) for can_id, _ in heard))
+    responses = sum(packet[0] >= PID_ERR for _, packet in heard)
+    kinds = ", ".join(part for part in (f"{len(heard) - responses} DTO(s)" if len(heard) > responses else "",
+                                        f"{responses} response(s)" if responses else "") if part)
+    return (f"before CONNECT, the ECU's id {ids} carried {kinds} within {seconds * 1000:g} ms: another master "
+            "(CANape, a second workbench) is talking to this ECU, or a DAQ nobody stopped still runs; two masters "
+            "break each other's DAQ (XCP serves one at a time)")
+

@@ -45,7 +45,8 @@ class CanBuses:
     def open(self, on_frame: Callable[[str, can.Message], None]) -> None:
         """Open the buses given as settings and start their threads.
 
-        :raises InputError: an interface python-can does not know (the message names the known ones).
+        :raises InputError: an interface python-can does not know (the message names the known ones), or options
+            it refuses (a ValueError or TypeError of python-can's).
         :raises WorkbenchError: a bus cannot be opened (the message names the role and the interface).
         """
         for name, spec in self._specs.items():
@@ -68,7 +69,9 @@ class CanBuses:
             bus = can.Bus(**dict(spec))
         except (can.CanError, OSError, ValueError, ImportError, TypeError) as exc:
             where = f"{interface} {spec.get('channel', '')}".strip()
-            raise WorkbenchError(f"cannot open {name} bus ({where}): {exc}") from exc
+            # a ValueError or TypeError is the interface refusing the options given (--bus-kwargs port=abc): bad input
+            error = InputError if isinstance(exc, (ValueError, TypeError)) else WorkbenchError
+            raise error(f"cannot open {name} bus ({where}): {exc}") from exc
         self._owned.append(bus)
         return bus
 

@@ -203,6 +203,18 @@ class Link:
                 return True
         return False
 
+    def heard(self, seconds: float) -> list[tuple[CanId, bytes]]:
+        """XCP on CAN: the packets that come on the slave's ids within ``seconds`` (with their id), while this
+        master asks nothing; [] on Ethernet (a slave answers each master at its own address) and while a
+        receiver runs. :raises ConnectionLostError: the bus failed."""
+        with self._lock:
+            if not self.is_can or self._receiving or self.closed or self.lost is not None:
+                return []
+            try:
+                return self._transport.heard(seconds)
+            except LinkBroken as exc:
+                self._fail(exc.reason)
+
     # --- packets ------------------------------------------------------------------------------
 
     def exchange(self, packet: bytes, timeout_s: float, *, drop_queued: bool = True) -> bytes | None:

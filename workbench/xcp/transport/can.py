@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 from workbench.errors import InputError, WorkbenchError
 from workbench.logs import logger
+from workbench.xcp_protocol import CanId
 from workbench.xcp.transport.base import RECEIVER_POLL_S, Broken, Deliver, LinkBroken, Transport
 
 if TYPE_CHECKING:
@@ -123,15 +124,32 @@ class CanTransport(Transport):
                 listener(message)
 
     def receive(self, timeout_s: float) -> list[bytes] | None:
-        try:
-            message = self.bus.recv(timeout_s)
-        except (self._can.CanError, OSError, ValueError) as exc:
-            raise LinkBroken(f"the CAN bus failed: {exc}") from None
+        message = self._recv(timeout_s)
         if message is None:
             return None
         if (message.arbitration_id, message.is_extended_id) in self._incoming and _is_data(message):
             return [bytes(message.data)]
         return []
+
+    def heard(self, seconds: float) -> list[tuple[CanId, bytes]]:
+        """The packets that come on the slave's ids (responses, DTOs) within ``seconds``, read from the bus while
+        no receiver runs: before this master's CONNECT they are another master's (or a DAQ nobody stopped)."""
+        heard = []
+        deadline = time.monotonic() + seconds
+        while (left := deadline - time.monotonic()) > 0:
+            message = self._recv(left)
+            if message is None:
+                break
+            key = (message.arbitration_id, message.is_extended_id)
+            if key in self._incoming and _is_data(message):
+                heard.append((CanId(*key), bytes(message.data)))
+        return heard
+
+    def _recv(self, timeout_s: float) -> can.Message | None:
+        try:
+            return self.bus.recv(timeout_s)
+        except (self._can.CanError, OSError, ValueError) as exc:
+            raise LinkBroken(f"the CAN bus failed: {exc}") from None
 
     # --- the receiver: python-can's Notifier --------------------------------------------------
 

@@ -1,0 +1,72 @@
+"""What a session checks around CONNECT: another master's traffic on the ECU's ids is said before connecting
+(CANape beside us), and an unanswered CONNECT says what to check in the transport's own terms."""
+
+from __future__ import annotations
+
+import re
+import socket
+
+import pytest
+from session_helpers import FAST
+
+from workbench import Session
+from workbench.cli import main
+from workbench.errors import XcpTimeoutError
+from workbench.session import session as session_module
+from workbench.session.session import other_master
+from workbench.sim import serve_demo
+from workbench.xcp_protocol import CanId
+
+
+def test_a_quiet_bus_gives_no_warning(ecu):
+    assert ecu.other_master == ""
+
+
+@pytest.fixture
+def listening_long(monkeypatch):
+    """A window a loaded machine cannot miss the other master's 4 ms DTOs in (the product listens 10 ms)."""
+    monkeypatch.setattr(session_module, "LISTEN_BEFORE_CONNECT_S", 0.2)
+
+
+def test_another_masters_daq_is_said_before_connect(ecu, channel, listening_long):
+    with ecu.measure(["zsRailPressure"]) as live:  # the other master: its DAQ runs on the 4 ms event
+        live.read(1.0)
+        with Session.open(interface="virtual", channel=channel, timeouts=FAST) as second:
+            said = second.other_master
+    assert re.fullmatch(r"before CONNECT, the ECU's id 0x[0-9A-F]+ carried \d+ DTO\(s\) within 200 ms: another "
+                        r"master \(CANape, a second workbench\) is talking to this ECU, .*", said), said
+    assert f"id {ecu.link.settings.can_id_slave} carried" in said
+
+
+def test_another_masters_daq_is_said_in_the_cli_in_one_line(free_udp_port, capsys, listening_long):
+    """A session measuring by DAQ beside the command (on udp_multicast, between buses): the command warns and goes on."""
+    options = {"interface": "udp_multicast", "bus_kwargs": {"port": free_udp_port}}
+    with serve_demo({"interface": "udp_multicast", "port": free_udp_port}):
+        with Session.open(**options, timeouts=FAST) as first, first.measure(["zsRailPressure"]) as live:
+            live.read(1.0)
+            code = main(["cal", "get", "xsSWITCH_TANK_THR", "--bus-kwargs", f"port={free_udp_port}"])
+    out, err = capsys.readouterr()
+    assert code == 0 and out.startswith("xsSWITCH_TANK_THR = "), err
+    assert err.startswith("warning: before CONNECT, the ECU's id 0x") and err.count("\n") == 1, err
+
+
+def test_responses_and_dtos_are_told_apart():
+    heard = [(CanId(0x7F1), bytes((0xFF, 0))), (CanId(0x7F1), bytes((0x00, 1, 2))), (CanId(0x123, True), bytes(2))]
+    assert other_master(heard, 0.01).startswith("before CONNECT, the ECU's id 0x7F1, 0x123 (extended) carried "
+                                                "2 DTO(s), 1 response(s) within 10 ms: another master")
+    assert other_master([], 0.01) == ""
+
+
+def test_an_unanswered_connect_on_can_asks_for_the_bus_and_ids():
+    with pytest.raises(XcpTimeoutError, match=r"no ECU answers on XCP on CAN \(virtual nobody-here, ids "
+                                              r"0x[0-9A-F]+/0x[0-9A-F]+\): is it powered, on this bus, with these ids\?"):
+        Session.open(interface="virtual", channel="nobody-here", timeouts=FAST)
+
+
+def test_an_unanswered_connect_on_udp_asks_for_the_address_and_protocol(free_udp_port):
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as silent:  # something takes the datagrams, answers none
+        silent.bind(("127.0.0.1", free_udp_port))
+        with pytest.raises(XcpTimeoutError) as raised:
+            Session.open(host="127.0.0.1", port=free_udp_port, protocol="udp", timeouts=FAST)
+    assert str(raised.value).endswith(f"no ECU answers on XCP on UDP (127.0.0.1:{free_udp_port}): is it powered, at "
+                                      f"127.0.0.1:{free_udp_port}, serving XCP on UDP (--protocol tcp for TCP)?")
