@@ -39,6 +39,17 @@ def placeholder_a2l(tmp_path):
 
 
 @pytest.fixture
+def including_a2l(placeholder_a2l):
+    """The placeholder A2L with one MEASUREMENT (xsOTV1Cmd) in a file it includes, part.a2l."""
+    text = placeholder_a2l.read_text(encoding="utf-8")
+    start = text.index("    /begin MEASUREMENT\n      /* Name                   */ xsOTV1Cmd")
+    end = text.index("/end MEASUREMENT", start) + len("/end MEASUREMENT")
+    (placeholder_a2l.parent / "part.a2l").write_text(text[start:end] + "\n", encoding="utf-8")
+    placeholder_a2l.write_text(text[:start] + '    /include "part.a2l"' + text[end:], encoding="utf-8")
+    return placeholder_a2l
+
+
+@pytest.fixture
 def dialog(qtbot):
     dialog = A2lToolsDialog(UPDATE)
     qtbot.addWidget(dialog)
@@ -101,13 +112,9 @@ def test_an_update_in_place_with_the_cli_options(dialog, qtbot, tmp_path, placeh
     assert b'EPK "00000000000000"' in copy.read_bytes()  # the EPK left alone
 
 
-def test_an_update_with_errors_is_a_failure_as_in_the_cli(dialog, qtbot, tmp_path, placeholder_a2l, capsys):
+def test_an_update_with_errors_is_a_failure_as_in_the_cli(dialog, qtbot, tmp_path, including_a2l, capsys):
     """A change in an included file that the update may not write (includes kept): an error, the output written."""
-    text = placeholder_a2l.read_text(encoding="utf-8")
-    start = text.index("    /begin MEASUREMENT\n      /* Name                   */ xsOTV1Cmd")
-    end = text.index("/end MEASUREMENT", start) + len("/end MEASUREMENT")
-    (placeholder_a2l.parent / "part.a2l").write_text(text[start:end] + "\n", encoding="utf-8")
-    placeholder_a2l.write_text(text[:start] + '    /include "part.a2l"' + text[end:], encoding="utf-8")
+    placeholder_a2l = including_a2l
     assert main(["a2l", "update", str(placeholder_a2l), str(demo.elf()), "-o", str(tmp_path / "cli.a2l")]) == 1
     capsys.readouterr()
     dialog.a2l.setText(placeholder_a2l)
@@ -120,7 +127,32 @@ def test_an_update_with_errors_is_a_failure_as_in_the_cli(dialog, qtbot, tmp_pat
     rows = _rows(dialog)
     assert rows[0][0] == "error" and rows[0][1].startswith(str(placeholder_a2l.parent / "part.a2l"))
     dialog.includes.setCurrentIndex(dialog.includes.findData(IncludeMode.UPDATE))  # --update-includes
-    assert _run(dialog, qtbot).ok and "ECU_ADDRESS 0x40020090" in (placeholder_a2l.parent / "part.a2l").read_text()
+    outcome = _run(dialog, qtbot)
+    assert outcome.ok and "ECU_ADDRESS 0x40020090" in (placeholder_a2l.parent / "part.a2l").read_text()
+    assert outcome.includes_written == (placeholder_a2l.parent / "part.a2l",)
+
+
+def test_a_strict_update_refuses_an_object_missing_in_the_elf_and_writes_nothing(dialog, qtbot, tmp_path,
+                                                                                 placeholder_a2l, capsys):
+    text = placeholder_a2l.read_text(encoding="utf-8")
+    start = text.index("    /begin MEASUREMENT\n      /* Name                   */ xsOTV1Cmd")
+    end = text.index("/end MEASUREMENT", start) + len("/end MEASUREMENT")
+    placeholder_a2l.write_text(text[:end] + "\n" + text[start:end].replace("xsOTV1Cmd", "xsNotInTheElf") + text[end:],
+                               encoding="utf-8")
+    before = placeholder_a2l.read_bytes()
+    assert main(["a2l", "update", str(placeholder_a2l), str(demo.elf()), "-o", str(placeholder_a2l), "--strict"]) == 1
+    cli_summary = capsys.readouterr().err.strip().splitlines()[-1]
+    dialog.a2l.setText(placeholder_a2l)  # in place: the A2L itself would be replaced
+    dialog.elf.setText(demo.elf())
+    dialog.missing.setCurrentIndex(dialog.missing.findText("refuse: write nothing (--strict)"))
+    outcome = _run(dialog, qtbot)
+    assert not outcome.ok and outcome.written is None and outcome.files_written() == []
+    assert outcome.summary == cli_summary and cli_summary.endswith("; nothing written")
+    assert "xsNotInTheElf" in outcome.summary and placeholder_a2l.read_bytes() == before
+    assert dialog.status.text() == f"failed: {outcome.summary}"
+    rows = _rows(dialog)
+    assert rows[0][0] == "error" and rows[0][1].startswith(f"{placeholder_a2l}:") and rows[0][2] == "xsNotInTheElf"
+    assert not dialog.reload_button.isVisibleTo(dialog)
 
 
 def test_a_check_of_a_malformed_file_lists_its_finding_at_file_line_column(dialog, qtbot, tmp_path):
@@ -254,5 +286,29 @@ def test_reloading_the_a2l_while_connected_connects_again_with_it(qtbot, tmp_pat
                                order="strict", timeout=WAIT_MS):
             dialog.reload_button.click()
         assert window.workspace is not before and window.controller.session.doc is window.workspace.doc
+    finally:
+        window.close()
+
+
+def test_an_update_that_rewrites_a_file_the_projects_a2l_includes_offers_to_reload_it(qtbot, tmp_path,
+                                                                                      including_a2l):
+    from workbench.gui.project import demo_project
+
+    project = demo_project()
+    project.a2l = including_a2l
+    window = offline_window(qtbot, project)
+    try:
+        dialog = window.open_a2l_tools(UPDATE)
+        dialog.output.setText(tmp_path / "elsewhere.a2l")  # not the project's A2L: the file it includes is rewritten
+        dialog.includes.setCurrentIndex(dialog.includes.findData(IncludeMode.UPDATE))
+        assert _run(dialog, qtbot).ok
+        assert dialog.reload_button.isVisibleTo(dialog)
+        assert dialog.reload_note.text().startswith(f"The open project uses {including_a2l.name}, which includes "
+                                                    "part.a2l:")
+        with qtbot.waitSignal(window.loaded, timeout=WAIT_MS):
+            dialog.reload_button.click()
+        assert window.workspace.model.measurement("xsOTV1Cmd").address == 0x40020090  # read from part.a2l again
+        dialog.includes.setCurrentIndex(dialog.includes.findData(IncludeMode.MERGE))  # only elsewhere.a2l written
+        assert _run(dialog, qtbot).ok and not dialog.reload_button.isVisibleTo(dialog)
     finally:
         window.close()

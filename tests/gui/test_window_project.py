@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import struct
+
 from gui_helpers import offline_window
 from PySide6.QtCore import QPointF, Qt
 from PySide6.QtGui import QDropEvent
@@ -60,3 +62,76 @@ def test_the_window_fits_the_screen_and_stays_within_it_after_edits_and_new_wind
     qtbot.wait(50)
     assert window.width() <= screen.width() and window.frameGeometry().right() <= screen.right() + 1
     assert window.status.link.toolTip().startswith("● XCP on CAN (virtual a-very-long")
+
+
+def _project_b(tmp_path, connection):
+    """Another project on the same (simulated) ECU: its A2L the demo's with xsSWITCH_TANK_THR limited to 50 bar
+    (800 in the demo's), one editor and one plot of its own."""
+    from workbench import demo
+    from workbench.gui.project import demo_project, save_project
+
+    text = demo.a2l().read_text(encoding="utf-8")
+    start = text.index("/* Name                   */ xsSWITCH_TANK_THR")
+    limit = text.index("/* Upper Limit            */ 800", start)
+    a2l = tmp_path / "b" / "FLCU_B.a2l"
+    a2l.parent.mkdir()
+    a2l.write_text(text[:limit] + "/* Upper Limit            */ 50" + text[limit + 33:], encoding="utf-8")
+    project = demo_project()
+    project.a2l, project.connection = a2l, connection
+    project.editors, project.plots, project.tables = ["xsSWITCH_TANK_THR"], [PlotSpec("B", ["xsPidP"])], []
+    save_project(project, tmp_path / "b" / "b.toml")
+    return tmp_path / "b" / "b.toml"
+
+
+def test_opening_another_project_leaves_nothing_bound_to_the_a2l_before(qtbot, tmp_path, demo_ecu, project):
+    """Its editors, plots, fixes and comparison go with the project before; the new one's open on its own A2L and
+    write into the ECU through it once connected."""
+    from shiboken6 import isValid
+
+    from gui_helpers import WAIT_MS, open_window
+    from workbench.gui.a2l_info import calibration_info
+
+    window = open_window(qtbot, project)
+    try:
+        old_editors, old_plots = list(window.editors.values()), list(window.plots)
+        assert window.editors["xsSWITCH_TANK_THR"].info.limits == (0, 800)
+        with qtbot.waitSignal(window.parameter_sets.compared, timeout=WAIT_MS):
+            window.parameter_sets.compare_pages()
+        qtbot.waitUntil(lambda: window.fix_panel.model.rowCount() > 0, timeout=WAIT_MS)
+        with qtbot.waitSignal(window.loaded, timeout=WAIT_MS):
+            window.open_project_file(_project_b(tmp_path, project.connection))
+        assert window.controller.session is None and window.windowTitle().startswith("b — offline")
+        editor = window.editors["xsSWITCH_TANK_THR"]
+        assert list(window.editors) == ["xsSWITCH_TANK_THR"] and editor not in old_editors
+        assert editor.info == calibration_info(window.workspace.model, "xsSWITCH_TANK_THR")
+        assert editor.info.limits == (0, 50)
+        assert [p.title for p in window.plots] == ["B"] and not set(window.plots) & set(old_plots)
+        assert window.numeric.signals == [] and window.fix_panel.model.rowCount() == 0
+        assert window.compare.diff is None and window.compare.model.rowCount() == 0
+        assert window.parameter_sets.last is None and not window.compare.refresh_button.isEnabled()
+        qtbot.waitUntil(lambda: not any(isValid(w) for w in (*old_editors, *old_plots)), timeout=WAIT_MS)
+
+        with qtbot.waitSignal(window.controller.connected, timeout=WAIT_MS):
+            window.connect_ecu()
+        assert window.controller.session.doc is window.workspace.doc
+        qtbot.waitUntil(lambda: window.fix_panel.model.rowCount() > 0, timeout=WAIT_MS)  # the new session's fixes
+        with qtbot.waitSignal(editor.refused, timeout=WAIT_MS):
+            editor.write(100.0)  # within the A2L before, beyond this one's
+        with qtbot.waitSignal(window.controller.written, timeout=WAIT_MS):
+            editor.write(30.0)
+        assert struct.unpack("<f", demo_ecu.ecu.read(0x400000E0, 4)) == (30.0,)  # the ECU's RAM, at the A2L's address
+    finally:
+        window.close()
+
+
+def test_a_connection_under_way_when_another_project_opens_is_not_taken(qtbot, tmp_path, demo_ecu, project):
+    window = offline_window(qtbot, project)
+    try:
+        over = []
+        window.connect_ecu().finished.connect(lambda: over.append(True))  # after its result was taken or not
+        with qtbot.waitSignal(window.loaded, timeout=15_000):
+            window.open_project_file(_project_b(tmp_path, project.connection))
+        qtbot.waitUntil(lambda: bool(over), timeout=15_000)
+        assert window.controller.session is None  # it held the A2L before: closed, not connected
+    finally:
+        window.close()

@@ -115,7 +115,20 @@ class EcuController(QObject):
         ``connected`` or ``failed`` follows."""
         self.close()
         self._target = (a2l, connection, accept_epk_mismatch)
-        return run_task(_open, a2l, connection, accept_epk_mismatch, on_done=self._opened, on_error=self.failed.emit)
+        return run_task(_open, a2l, connection, accept_epk_mismatch, on_done=self._taker(), on_error=self.failed.emit)
+
+    def _taker(self) -> Callable[[Connected], None]:
+        """What takes the session being opened now: it is closed instead when the controller was closed (or opened
+        anew) meanwhile (another project opened while connecting: the session holds the A2L before)."""
+        generation = self._generation
+
+        def take(result: Connected) -> None:
+            if generation != self._generation:
+                run_task(result.session.close)
+                return
+            self._opened(result)
+
+        return take
 
     def _opened(self, result: Connected) -> None:
         self.stop_reconnecting()
@@ -128,6 +141,7 @@ class EcuController(QObject):
         self._generation += 1
         self.stop_reconnecting()
         session, self.session = self.session, None
+        self.info = None  # who the ECU was: the window's title says offline (a lost connection keeps it)
         if session is not None:
             session.close()
             self.disconnected.emit()
@@ -188,20 +202,12 @@ class EcuController(QObject):
         self._attempt += 1
         self.reconnecting.emit(self._attempt)
 
-        generation = self._generation
-
-        def done(result: Connected) -> None:
-            if generation != self._generation:  # closed (or opened anew) meanwhile: not this session
-                run_task(result.session.close)
-                return
-            self._opened(result)
-
         def failed(error: BaseException) -> None:
             log.debug("reconnect attempt %d: %s", self._attempt, error)
             if self.lost_error is not None:
                 self._retry.start(self.RECONNECT_MS)
 
-        run_task(_open, *self._target, on_done=done, on_error=failed)
+        run_task(_open, *self._target, on_done=self._taker(), on_error=failed)
 
     def stop_reconnecting(self) -> None:
         """No further attempts (one under way still connects if the ECU answers)."""

@@ -159,6 +159,15 @@ class ParameterSets(QObject):
         if self.last is not None and self.last[0] in _READ_THE_ECU:
             self.view.mark_outdated(reason)
 
+    def forget(self) -> None:
+        """Another project opens: what was compared (and the question of applying it) goes with the one before;
+        a comparison still running is not shown."""
+        self.file, self.last, self.extended_limits = None, None, False
+        if self.confirm is not None:
+            self.confirm.close()
+            self.confirm = None
+        self.view.clear()
+
     def _page_switched(self, page: str) -> None:
         """The ECU against a file read the page XCP used (a pages' comparison reads both by name)."""
         if self.last is not None and self.last[0] is compare_with_ecu:
@@ -238,9 +247,11 @@ class ParameterSets(QObject):
     # --- workers --------------------------------------------------------------------------------
 
     def _compare(self, function, args, *, can_apply: bool = False, progress: bool = False) -> Task:
-        self.last = (function, args, can_apply)
+        last = self.last = (function, args, can_apply)
 
         def show(diff) -> None:
+            if self.last is not last:  # forgotten, or compared again meanwhile
+                return
             self.view.show_diff(diff, can_apply=can_apply)
             self.compared.emit(diff)
 

@@ -83,6 +83,16 @@ class SignalHub(QObject):
         self._catalog = {name: info for name, info in self._catalog.items() if info.source != "XCP"}
         self.catalog_changed.emit()
 
+    def clear(self) -> None:
+        """No signals, no samples, nothing measured (another project opens; its views were closed first)."""
+        self.detach()
+        with self._lock:
+            self._buffers = {}
+        self._catalog = {}
+        self._resolver = None
+        self._shown = {}
+        self.catalog_changed.emit()
+
     def _lookup(self, name: str) -> SignalInfo | None:
         info = self._catalog.get(name)
         if info is None and self._resolver is not None:

@@ -41,6 +41,7 @@ from workbench.findings import Report, Severity
 from workbench.gui import theme
 from workbench.gui.models.rows import RowsModel
 from workbench.gui.widgets.errors import show_error
+from workbench.gui.widgets.job_buttons import JobButtons
 from workbench.gui.widgets.names import NameDelegate
 from workbench.gui.worker import Task
 
@@ -58,13 +59,17 @@ _SEVERITY_COLOUR = {Severity.ERROR: theme.BAD, Severity.WARNING: theme.WARN, Sev
 
 @dataclass(frozen=True)
 class A2lOutcome:
-    """One run: its report, the summary line the CLI prints, whether it succeeded (the CLI's exit code 0) and
-    the file it wrote (None: nothing written)."""
+    """One run: its report, the summary line the CLI prints, whether it succeeded (the CLI's exit code 0), the
+    file it wrote (None: nothing written) and the included files it rewrote (an update with --update-includes)."""
 
     report: Report
     summary: str
     ok: bool
     written: Path | None = None
+    includes_written: tuple[Path, ...] = ()
+
+    def files_written(self) -> list[Path]:
+        return ([self.written] if self.written is not None else []) + list(self.includes_written)
 
 
 def update_a2l(a2l: str, elf: str, output: str, *, mode, types: bool, epk: bool, includes,
@@ -76,7 +81,8 @@ def update_a2l(a2l: str, elf: str, output: str, *, mode, types: bool, epk: bool,
         report = update_file(a2l, elf, output, mode=mode, types=types, epk=epk, includes=includes, progress=progress)
     except UpdateFailed as exc:
         return A2lOutcome(exc.report, f"{exc}; nothing written", False)
-    return A2lOutcome(report, report.summary(output), report.ok, Path(output))  # written, errors or not
+    includes_written = tuple(Path(f.file) for f in report.of_kind("include-updated"))
+    return A2lOutcome(report, report.summary(output), report.ok, Path(output), includes_written)  # errors or not
 
 
 def check_a2l(a2l: str, elf: str | None, progress=None) -> A2lOutcome:
@@ -182,8 +188,9 @@ def _choice(items: list[tuple[str, object]], tip: str) -> QComboBox:
 class A2lToolsDialog(QDialog):
     """Update, check or merge A2L files; ``operation`` (UPDATE, CHECK, MERGE) is the tab shown first.
 
-    ``a2l``/``elf``: the files the fields start with (the project's); ``in_use``: the A2L the window holds,
-    whose rewriting the dialog offers to read again (``reload_requested``)."""
+    ``a2l``/``elf``: the files the fields start with (the project's); ``in_use``: the files of the A2L the window
+    holds (its main file first, then those it includes), whose rewriting the dialog offers to read again
+    (``reload_requested``)."""
 
     started = Signal(object)  # the Task, before it runs (to follow its progress)
     done = Signal(object)  # A2lOutcome
@@ -191,9 +198,10 @@ class A2lToolsDialog(QDialog):
     reload_requested = Signal()
 
     def __init__(self, operation: str = UPDATE, a2l: Path | None = None, elf: Path | None = None,
-                 in_use: Path | None = None, parent: QWidget | None = None):
+                 in_use=(), parent: QWidget | None = None):
         super().__init__(parent)
-        self.in_use = Path(in_use).resolve() if in_use else None
+        self.in_use: list[Path] = []
+        self.set_in_use(in_use)
         self.task: Task | None = None
         self.outcome: A2lOutcome | None = None
         self.setWindowTitle("A2L tools")
@@ -206,19 +214,11 @@ class A2lToolsDialog(QDialog):
         layout.addWidget(self.tabs)
         layout.addLayout(self._fields(a2l, elf))
         self._result_area(layout)
-        buttons = QHBoxLayout()
-        buttons.addStretch(1)
-        self.run_button = QPushButton("Run")
-        self.run_button.setDefault(True)
-        self.run_button.clicked.connect(self.run)
-        self.cancel_button = QPushButton("Cancel")
-        self.cancel_button.setEnabled(False)
-        self.cancel_button.clicked.connect(self.cancel)
-        self.close_button = QPushButton("Close")
-        self.close_button.clicked.connect(self.reject)
-        for button in (self.run_button, self.cancel_button, self.close_button):
-            buttons.addWidget(button)
-        layout.addLayout(buttons)
+        self.buttons = JobButtons(self, "Run", "Cancel", self.run, self.cancel,
+                                  guarded=(self.tabs, *(widget for widget, _ in self.rows.values())))
+        self.run_button, self.cancel_button, self.close_button = (self.buttons.run_button, self.buttons.cancel_button,
+                                                                  self.buttons.close_button)
+        layout.addLayout(self.buttons)
         self.set_operation(operation)
         self._show_result(None)
 
@@ -325,6 +325,10 @@ class A2lToolsDialog(QDialog):
 
     # --- the fields -----------------------------------------------------------------------------
 
+    def set_in_use(self, paths) -> None:
+        """The files of the A2L the window holds now (another project opened): a rewriting of those is offered."""
+        self.in_use = list(dict.fromkeys(Path(path).resolve() for path in paths))
+
     @property
     def operation(self) -> str:
         return (UPDATE, CHECK, MERGE)[self.tabs.currentIndex()]
@@ -384,11 +388,7 @@ class A2lToolsDialog(QDialog):
             return None
         function, args, kwargs = job
         self.task = Task(function, *args, progress=True, **kwargs)
-        self.task.progress.changed.connect(self._progressed)
-        self.task.succeeded.connect(self._done)
-        self.task.failed.connect(self._failed)
-        self.task.finished.connect(self._finished)
-        self._busy(True)
+        self.buttons.follow(self.task, self._progressed, self._done, self._failed, self._finished)
         self._say(f"{_TITLES[self.operation].lower()} …", theme.MUTED)
         self.started.emit(self.task)
         return self.task.start()
@@ -421,16 +421,7 @@ class A2lToolsDialog(QDialog):
         self.refused.emit(exc)
 
     def _finished(self) -> None:
-        self._busy(False)
         self.task = None
-
-    def _busy(self, busy: bool) -> None:
-        self.run_button.setEnabled(not busy)
-        self.cancel_button.setEnabled(busy)
-        self.close_button.setEnabled(not busy)
-        self.tabs.setEnabled(not busy)
-        for widget, _ in self.rows.values():
-            widget.setEnabled(not busy)
 
     # --- the result -----------------------------------------------------------------------------
 
@@ -449,13 +440,15 @@ class A2lToolsDialog(QDialog):
         if outcome is not None:
             self._say(("done: " if outcome.ok else "failed: ") + outcome.summary, theme.GOOD if outcome.ok
                       else theme.BAD)
-        rewritten = (outcome is not None and outcome.written is not None and self.in_use is not None
-                     and outcome.written.resolve() == self.in_use)
+        written = {path.resolve() for path in outcome.files_written()} if outcome is not None else set()
+        rewritten = [path for path in self.in_use if path in written]
         if rewritten:
-            self.reload_note.setText(f"The open project uses {self.in_use.name}: the window (and a connection) "
-                                     "still hold it as it was read before.")
-        self.reload_note.setVisible(rewritten)
-        self.reload_button.setVisible(rewritten)
+            uses = (f"uses {self.in_use[0].name}" if rewritten[0] == self.in_use[0] else
+                    f"uses {self.in_use[0].name}, which includes {', '.join(path.name for path in rewritten)}")
+            self.reload_note.setText(f"The open project {uses}: the window (and a connection) still hold it as it "
+                                     "was read before.")
+        self.reload_note.setVisible(bool(rewritten))
+        self.reload_button.setVisible(bool(rewritten))
 
     def _fit_columns(self) -> None:
         """Place and name as wide as they are (up to a third and a quarter of the table); the message takes the rest.

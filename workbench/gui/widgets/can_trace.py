@@ -47,6 +47,11 @@ class CanTrace(QWidget):
         self.timer.timeout.connect(self.refresh)
         self.timer.start()
 
+    def clear(self) -> None:
+        """No frames (another project opens: they were decoded with its DBCs)."""
+        self.model.set_rows([])
+        self.summary.setText("")
+
     def refresh(self) -> None:
         monitor = self.hub.can_monitor
         if monitor is None or self.pause.isChecked() or not self.isVisible():

@@ -28,6 +28,8 @@ from workbench.gui.widgets.elided_label import ElidedLabel
 
 __all__ = ["CompareView"]
 
+NOTHING_COMPARED = "nothing compared yet: Calibration ▸ Compare …"
+
 
 class CompareView(QWidget):
     open_requested = Signal(str)  # an object's name (double-click)
@@ -43,7 +45,7 @@ class CompareView(QWidget):
         layout = QVBoxLayout(self)
         layout.setContentsMargins(4, 4, 4, 4)
         head = QHBoxLayout()  # what is compared and how many differ; the filter and commands below it
-        self.sides = ElidedLabel("nothing compared yet: Calibration ▸ Compare …", mode=Qt.ElideMiddle)
+        self.sides = ElidedLabel(NOTHING_COMPARED, mode=Qt.ElideMiddle)
         self.sides.setStyleSheet(f"color: {theme.MUTED};")
         head.addWidget(self.sides, 1)
         self.summary = QLabel()
@@ -127,6 +129,17 @@ class CompareView(QWidget):
         first = self.proxy.index(0, 0)
         if first.isValid():
             self.table.setCurrentIndex(first)
+
+    def clear(self) -> None:
+        """Nothing compared (another project opens: the rows were the objects of the A2L before)."""
+        self.diff = None
+        self.model.set_rows([])
+        self.elements.show("", [])
+        self.sides.setText(NOTHING_COMPARED)
+        self.summary.setText("")
+        self.summary.setToolTip("")
+        self.apply_button.setVisible(False)
+        self.refresh_button.setEnabled(False)
 
     def mark_outdated(self, reason: str) -> None:
         """The ECU changed since it was compared (``reason``): the rows shown are no longer what it holds."""

@@ -90,6 +90,14 @@ class FixPanel(QWidget):
         self.timer.stop()
         self.model.set_read_only(self.controller.offline_reason, stale=True)
 
+    def clear(self) -> None:
+        """No rows (another project opens: they were the pairs of the A2L before; a session lists the new ones)."""
+        self.timer.stop()
+        self._busy = False
+        self.a2l = None
+        self.message.setText("")
+        self.model.set_fixes([])
+
     def _page_changed(self, page: str) -> None:
         self.message.setText("")
         self.model.set_read_only(READ_ONLY_PAGE if page == "reference" else "", stale=self.model.stale)

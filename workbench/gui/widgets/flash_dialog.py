@@ -32,6 +32,7 @@ from PySide6.QtWidgets import (
 
 from workbench.errors import Cancelled, WorkbenchError
 from workbench.gui import theme
+from workbench.gui.widgets.job_buttons import JobButtons
 from workbench.gui.worker import Task
 
 __all__ = ["FlashDialog"]
@@ -129,19 +130,11 @@ class FlashDialog(QDialog):
         row.addWidget(self.add_regions_button)
         row.addStretch(1)
         layout.addLayout(row)
-        buttons = QHBoxLayout()
-        buttons.addStretch(1)
-        self.flash_button = QPushButton("Flash")
-        self.flash_button.setDefault(True)
-        self.flash_button.clicked.connect(self.start)
-        self.cancel_button = QPushButton("Cancel flash")
-        self.cancel_button.setEnabled(False)
-        self.cancel_button.clicked.connect(self.cancel)
-        self.close_button = QPushButton("Close")
-        self.close_button.clicked.connect(self.reject)
-        for button in (self.flash_button, self.cancel_button, self.close_button):
-            buttons.addWidget(button)
-        layout.addLayout(buttons)
+        self.buttons = JobButtons(self, "Flash", "Cancel flash", self.start, self.cancel,
+                                  guarded=(self.table, *self.overrides.values(), self.add_regions_button))
+        self.flash_button, self.cancel_button, self.close_button = (self.buttons.run_button, self.buttons.cancel_button,
+                                                                    self.buttons.close_button)
+        layout.addLayout(self.buttons)
         self._reset_overrides()
         self._fill_regions()
         if s19:
@@ -242,11 +235,7 @@ class FlashDialog(QDialog):
             return None
         self.flashing = (source, tuple(self.selected_regions()))
         self.task = Task(_flash, self.session, *self.flashing, self.chosen_overrides(), progress=True)
-        self.task.progress.changed.connect(self._progressed)
-        self.task.succeeded.connect(self._done)
-        self.task.failed.connect(self._failed)
-        self.task.finished.connect(self._finished)
-        self._busy(True)
+        self.buttons.follow(self.task, self._progressed, self._done, self._failed, self._finished)
         self.result.setPlainText("flashing …")
         self.flash_started.emit(self.task)
         return self.task.start()
@@ -316,16 +305,7 @@ class FlashDialog(QDialog):
         self.progress_label.setStyleSheet(f"color: {colour};")
 
     def _finished(self) -> None:
-        self._busy(False)
         self.task = None
-
-    def _busy(self, busy: bool) -> None:
-        self.flash_button.setEnabled(not busy)
-        self.cancel_button.setEnabled(busy)
-        self.close_button.setEnabled(not busy)
-        self.table.setEnabled(not busy)
-        for widget in (*self.overrides.values(), self.add_regions_button):
-            widget.setEnabled(not busy)
 
     def reject(self) -> None:
         if self.task is None:  # never close while the ECU is half flashed

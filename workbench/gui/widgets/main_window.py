@@ -216,6 +216,8 @@ class MainWindow(QMainWindow):
         self.hub.add_signals(workspace.can2_infos())
         self.browser.set_variables(workspace.variables)
         self.compare.set_a2l(model)
+        if self.a2l_tools is not None:  # its reload offer is for the files read now (another project's, its includes)
+            self.a2l_tools.set_in_use(self.a2l_in_use())
         self._open_windows()
         self._update_title()
         self.loaded.emit()
@@ -253,8 +255,38 @@ class MainWindow(QMainWindow):
             self.show_error(exc)
             return
         remember_project(path)
-        self.controller.close()
+        self._close_project()
         self.load(project)
+        self._update_title()
+
+    def _close_project(self) -> None:
+        """Another project opens, as CANape opens another configuration: nothing stays bound to the A2L (or the ECU)
+        of the one before. The connection closes; its editors, plots, numeric view, CAN trace, fixes and comparison go,
+        and a question about them; the new project's windows open once its files are read. The A2L tools stay (they
+        work on files): their reload offer follows the new project's A2L."""
+        self.controller.close()
+        self.workspace = None  # connecting before the new files are read reads the new project's A2L
+        for index in reversed(range(self.editor_tabs.count())):
+            self._close_editor(index)
+        for plot in list(self.plots):
+            self._remove_plot(plot)
+        self.numeric.remove_signals(self.numeric.signals)
+        self.fix_panel.clear()
+        self.parameter_sets.forget()
+        self.trace.clear()
+        self.browser.set_variables([])
+        self.hub.clear()
+        self.sync_report = None
+        for dialog in (self.epk_dialog, self.sync_dialog, self.copy_confirm):
+            if dialog is not None:
+                dialog.blockSignals(True)  # not answered: its question was about the project before
+                dialog.close()
+                dialog.deleteLater()
+        self.epk_dialog = self.sync_dialog = self.copy_confirm = None
+        if self.flash_dialog is not None and self.flash_dialog.task is None:  # (modal: no project opens while flashing)
+            self.flash_dialog.close()
+            self.flash_dialog.deleteLater()
+            self.flash_dialog = None
 
     def current_project(self) -> Project:
         """The project as the window shows it now (windows, signals, layout)."""
@@ -357,6 +389,8 @@ class MainWindow(QMainWindow):
             self.editors.pop(widget.info.name, None)
             self.editor_tabs.removeTab(index)
             widget.deleteLater()
+        if not self.editors and self.editor_tabs.indexOf(self.editor_placeholder) < 0:
+            self.editor_tabs.addTab(self.editor_placeholder, "Calibration")  # what to do, not an empty dock
 
     def open_measurement_dialog(self) -> None:
         path, _ = QFileDialog.getOpenFileName(self, "Open measurement file", "",
@@ -621,6 +655,12 @@ class MainWindow(QMainWindow):
 
         return self.project.a2l or demo.a2l()
 
+    def a2l_in_use(self) -> list[Path]:
+        """The files of the A2L the window holds: the project's, then those it includes (as they were read)."""
+        doc = self.workspace.doc if self.workspace is not None else None
+        included = [s.source.path for s in doc.source_map.segments if s.source.path is not None] if doc else []
+        return [self.project_a2l(), *included]
+
     def open_a2l_tools(self, operation: str) -> A2lToolsDialog:
         """The A2L tools (Tools menu), non-modal, on the tab of ``operation``; a new dialog starts with the project's
         A2L and ELF, an open one keeps what the user chose."""
@@ -630,7 +670,7 @@ class MainWindow(QMainWindow):
         else:
             if self.a2l_tools is not None:
                 self.a2l_tools.deleteLater()
-            self.a2l_tools = A2lToolsDialog(operation, self.project_a2l(), self.project.elf, self.project_a2l(), self)
+            self.a2l_tools = A2lToolsDialog(operation, self.project_a2l(), self.project.elf, self.a2l_in_use(), self)
             self.a2l_tools.reload_requested.connect(self.reload_a2l)
         self.a2l_tools.show()
         self.a2l_tools.raise_()
