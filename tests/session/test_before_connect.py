@@ -51,9 +51,10 @@ def test_another_masters_daq_is_said_in_the_cli_in_one_line(free_udp_port, capsy
 
 
 def test_responses_and_dtos_are_told_apart():
-    heard = [(CanId(0x7F1), bytes((0xFF, 0))), (CanId(0x7F1), bytes((0x00, 1, 2))), (CanId(0x123, True), bytes(2))]
-    assert other_master(heard, 0.01).startswith("before CONNECT, the ECU's id 0x7F1, 0x123 (extended) carried "
-                                                "2 DTO(s), 1 response(s) within 10 ms: another master")
+    heard = [(CanId(0x7F1), bytes((0xFF, 0))), (CanId(0x7F1), bytes((0x00, 1, 2))), (CanId(0x123, True), bytes(2)),
+             (CanId(0x7F1), bytes((0xFD, 0x0A)))]  # a response, two DTOs, an event (to a master as much as a response)
+    assert other_master(heard, 0.01).startswith("before CONNECT, the ECU's ids 0x7F1, 0x123 (extended) carried "
+                                                "2 DTO(s), 2 response(s) within 10 ms: another master")
     assert other_master([], 0.01) == ""
 
 

@@ -45,7 +45,7 @@ from workbench.session.values import ValueAccess
 from workbench.xcp.link import Link
 from workbench.xcp.master import KeyFunction, Timeouts, XcpMaster
 from workbench.xcp.seedkey import load_key_function
-from workbench.xcp_protocol import PID_ERR, CanId, Err, Resource
+from workbench.xcp_protocol import PID_SERV, CanId, Err, Resource
 
 if TYPE_CHECKING:
     import can
@@ -461,11 +461,11 @@ def other_master(heard: list[tuple[CanId, bytes]], seconds: float) -> str:
     cleaned up; but two masters on one ECU break each other's DAQ, which is said before it happens."""
     if not heard:
         return ""
-    ids = ", ".join(dict.fromkeys(str(can_id) for can_id, _ in heard))
-    responses = sum(packet[0] >= PID_ERR for _, packet in heard)
+    ids = list(dict.fromkeys(str(can_id) for can_id, _ in heard))
+    responses = sum(packet[0] >= PID_SERV for _, packet in heard)  # answers, events, service requests: to a master
     kinds = ", ".join(part for part in (f"{len(heard) - responses} DTO(s)" if len(heard) > responses else "",
                                         f"{responses} response(s)" if responses else "") if part)
-    return (f"before CONNECT, the ECU's id {ids} carried {kinds} within {seconds * 1000:g} ms: another master "
+    return (f"before CONNECT, the ECU's id{'s' if len(ids) > 1 else ''} {', '.join(ids)} carried {kinds} within {seconds * 1000:g} ms: another master "
             "(CANape, a second workbench) is talking to this ECU, or a DAQ nobody stopped still runs; two masters "
             "break each other's DAQ (XCP serves one at a time)")
 
