@@ -1,7 +1,8 @@
 """A recording says which clock its times come from (user trial 6): the ECU's DAQ timestamps, or the master's
 receive time when the ECU sends none (the no-timestamp profile) or the plan leaves them no room on classic CAN
 (DWORD granularity: a 4-byte timestamp after the PID leaves the first ODT 3 bytes, less than one element). Recorded
-through ``workbench measure --record`` on udp_multicast against the simulator's profiles, read with asammdf."""
+through ``workbench measure --record`` on udp_multicast against the simulator's profiles, read with asammdf; a
+recording of CAN frames alone says the host's clock."""
 
 from __future__ import annotations
 
@@ -11,7 +12,9 @@ import numpy as np
 import pytest
 from mdf_reading import channel, group_index, master
 
+from workbench import demo
 from workbench.cli import main
+from workbench.record import record
 from workbench.sim import serve_demo
 
 
@@ -50,3 +53,12 @@ def test_the_file_says_which_clock_its_times_come_from(profile, stamped, free_ud
         assert host.comment.endswith("its receive time (the ECU sends no DAQ timestamps)")
         # the receive times themselves: the file's time is the host time less the start time
         assert np.allclose(host.samples - times, mdf.header.start_time.timestamp(), atol=1e-5)
+
+
+def test_a_can_only_recording_claims_no_ecu_clock(session, tmp_path, read_mdf):
+    path = tmp_path / "can2.mf4"
+    record(session, path, can2=demo.dbc_can2(), duration=0.3)
+    properties = header_properties(read_mdf(path))
+    assert properties["time_axis"] == ("time channels: s since the start time. CAN groups: the host's receive time, "
+                                       "0 = the start of the recording")
+    assert "daq_time_source" not in properties  # nothing was sampled by DAQ
