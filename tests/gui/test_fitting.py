@@ -166,3 +166,33 @@ def test_the_3d_views_labels_never_overlap_and_give_way_names_first(qtbot):
         assert texts[0] == "0 … 29 %"  # the value range always
         every = ["0.00", "50.00", "50.00", "700.00", "xaPRV_FF_TARGET [bar]", "xaPRV_FF_MANIFOLD [bar]"]
         assert (sorted(texts[1:]) == sorted(every)) == everything  # a small view leaves out what would collide
+
+
+def test_a_names_column_fitted_to_its_contents_shows_every_name_whole(qtbot):
+    """As the A2L tools fit their object column: 'part.a2l' was drawn 'part…l' in a column sized to it."""
+    from PySide6.QtGui import QStandardItem, QStandardItemModel
+    from PySide6.QtWidgets import QProxyStyle, QStyle, QTableView
+
+    from workbench.gui.widgets.names import NameDelegate
+
+    drawn = []
+
+    class Recording(QProxyStyle):
+        def drawControl(self, element, option, painter, widget=None):
+            if element == QStyle.CE_ItemViewItem:
+                drawn.append(option.text)
+            super().drawControl(element, option, painter, widget)
+
+    names = ["part.a2l", "xsNotInTheElf", "zsRailPressure"]
+    model = QStandardItemModel()
+    for name in names:
+        model.appendRow([QStandardItem(name)])
+    view = QTableView()
+    qtbot.addWidget(view)
+    view.setStyle(Recording())
+    view.setModel(model)
+    view.setItemDelegateForColumn(0, NameDelegate(view))
+    view.show()
+    view.resizeColumnToContents(0)
+    view.grab()
+    assert sorted(drawn) == names

@@ -86,6 +86,7 @@ class SignalHub(QObject):
     def clear(self) -> None:
         """No signals, no samples, nothing measured (another project opens; its views were closed first)."""
         self.detach()
+        self.origin = time.time()  # its measurements' time starts anew
         with self._lock:
             self._buffers = {}
         self._catalog = {}

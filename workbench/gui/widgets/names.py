@@ -168,6 +168,12 @@ class NameDelegate(QStyledItemDelegate):
         option.text = shown.get(option.text) or elide_name(option.text, option.fontMetrics, room)
         style.drawControl(QStyle.CE_ItemViewItem, option, painter, widget)
 
+    def sizeHint(self, option, index):
+        """The style's size and the room paint keeps spare: a column fitted to its contents cuts no name."""
+        size = super().sizeHint(option, index)
+        size.setWidth(size.width() + _SAFETY)
+        return size
+
     def _texts(self, index: QModelIndex, view, metrics: QFontMetrics, width: int) -> dict[str, str]:
         """The names of ``index``'s column in the rows ``view`` shows, cut to ``width``: found once per scroll,
         resize or change of the rows."""
