@@ -38,12 +38,26 @@ def placeholder_a2l(tmp_path):
     return path
 
 
+def _measurement(text: str, name: str) -> tuple[int, int]:
+    """Where the demo A2L's MEASUREMENT ``name`` starts and ends in ``text``."""
+    start = text.index(f"    /begin MEASUREMENT\n      /* Name                   */ {name}")
+    return start, text.index("/end MEASUREMENT", start) + len("/end MEASUREMENT")
+
+
+def _window_on(qtbot, a2l):
+    """The window offline on the demo project with ``a2l`` as its A2L."""
+    from workbench.gui.project import demo_project
+
+    project = demo_project()
+    project.a2l = a2l
+    return offline_window(qtbot, project)
+
+
 @pytest.fixture
 def including_a2l(placeholder_a2l):
     """The placeholder A2L with one MEASUREMENT (xsOTV1Cmd) in a file it includes, part.a2l."""
     text = placeholder_a2l.read_text(encoding="utf-8")
-    start = text.index("    /begin MEASUREMENT\n      /* Name                   */ xsOTV1Cmd")
-    end = text.index("/end MEASUREMENT", start) + len("/end MEASUREMENT")
+    start, end = _measurement(text, "xsOTV1Cmd")
     (placeholder_a2l.parent / "part.a2l").write_text(text[start:end] + "\n", encoding="utf-8")
     placeholder_a2l.write_text(text[:start] + '    /include "part.a2l"' + text[end:], encoding="utf-8")
     return placeholder_a2l
@@ -135,8 +149,7 @@ def test_an_update_with_errors_is_a_failure_as_in_the_cli(dialog, qtbot, tmp_pat
 def test_a_strict_update_refuses_an_object_missing_in_the_elf_and_writes_nothing(dialog, qtbot, tmp_path,
                                                                                  placeholder_a2l, capsys):
     text = placeholder_a2l.read_text(encoding="utf-8")
-    start = text.index("    /begin MEASUREMENT\n      /* Name                   */ xsOTV1Cmd")
-    end = text.index("/end MEASUREMENT", start) + len("/end MEASUREMENT")
+    start, end = _measurement(text, "xsOTV1Cmd")
     placeholder_a2l.write_text(text[:end] + "\n" + text[start:end].replace("xsOTV1Cmd", "xsNotInTheElf") + text[end:],
                                encoding="utf-8")
     before = placeholder_a2l.read_bytes()
@@ -243,11 +256,7 @@ def test_a_merge_of_the_demo_fragments_writes_what_the_cli_writes(dialog, qtbot,
 
 def test_the_tools_menu_opens_the_dialog_on_the_project_and_offers_to_reload_its_a2l(qtbot, tmp_path,
                                                                                     placeholder_a2l):
-    from workbench.gui.project import demo_project
-
-    project = demo_project()
-    project.a2l = placeholder_a2l
-    window = offline_window(qtbot, project)
+    window = _window_on(qtbot, placeholder_a2l)
     try:
         menus = {action.text().replace("&", ""): action.menu() for action in window.menuBar().actions()}
         assert [a.text() for a in menus["Tools"].actions()] == ["Update A2L from ELF…", "Check A2L…",
@@ -292,11 +301,7 @@ def test_reloading_the_a2l_while_connected_connects_again_with_it(qtbot, tmp_pat
 
 def test_an_update_that_rewrites_a_file_the_projects_a2l_includes_offers_to_reload_it(qtbot, tmp_path,
                                                                                       including_a2l):
-    from workbench.gui.project import demo_project
-
-    project = demo_project()
-    project.a2l = including_a2l
-    window = offline_window(qtbot, project)
+    window = _window_on(qtbot, including_a2l)
     try:
         dialog = window.open_a2l_tools(UPDATE)
         dialog.output.setText(tmp_path / "elsewhere.a2l")  # not the project's A2L: the file it includes is rewritten
