@@ -5,8 +5,8 @@ stand on the session, sync (datasets and images with the ECU, cache sync) on the
 flash; sim uses image/a2l/can/elf but never xcp; only the CLI and the GUI sit on top. The ``workbench`` package itself exports Session lazily. A module may always use the shared
 foundation (errors, progress, fileio, demo, findings, lazy_exports, logs) and what the simulated
 slave and the master share: xcp_protocol (the XCP names), xcp_framing (XCP on Ethernet's header) and
-bus_defaults (the default bus);
-they import nothing, so sim stays free of xcp.
+bus_defaults (the default bus, opening a bus);
+they import nothing of the workbench but the errors, so sim stays free of xcp.
 """
 
 import ast
@@ -67,4 +67,4 @@ def test_no_core_module_imports_qt():
 
 @pytest.mark.parametrize("module", ["xcp_protocol.py", "xcp_framing.py", "bus_defaults.py"])
 def test_the_neutral_ground_of_master_and_simulator_stands_on_nothing(module):
-    assert _imported_subpackages(PACKAGE / module) == set()
+    assert _imported_subpackages(PACKAGE / module) <= {"errors"}

@@ -1,18 +1,23 @@
-"""The CAN bus as one value (:class:`BusSpec`), and the bus a workbench command or script uses when it is told
-none, shared by the master and the simulator.
+"""The CAN bus as one value (:class:`BusSpec`), the bus a workbench command or script uses when it is told
+none, and opening one (:func:`open_bus`), shared by the master and the simulator.
 
-Neutral ground (it imports nothing): the simulator serves where the master looks by default,
-so both take the defaults from here.
+Neutral ground (it imports no workbench package but errors, python-can only when a bus is opened): the
+simulator serves where the master looks by default, so both take the defaults from here.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+from workbench.errors import InputError, WorkbenchError
+
+if TYPE_CHECKING:
+    import can
 
 __all__ = ["DEFAULT_CHANNELS", "DEFAULT_INTERFACE", "SOFTWARE_INTERFACES", "BusSpec", "bus_beside",
-           "complete_bus_settings", "parse_bus_kwargs"]
+           "complete_bus_settings", "open_bus", "parse_bus_kwargs"]
 
 DEFAULT_INTERFACE = "udp_multicast"
 DEFAULT_CHANNELS = {"udp_multicast": "239.74.163.2", "virtual": "workbench"}
@@ -132,3 +137,27 @@ def parse_bus_kwargs(pairs: Iterable[str]) -> dict[str, Any]:
             raise ValueError(f"{pair!r}: expected KEY=VALUE (e.g. port=43200)")
         kwargs[key] = cast_from_string(value)
     return kwargs
+
+
+def open_bus(config: Mapping[str, Any], role: str | None = None) -> can.BusABC:
+    """A python-can bus from ``Bus(**config)`` keyword arguments, errors as one line naming ``role``
+    (the simulator's ``CAN1``; the master's bus is "the CAN bus").
+
+    :raises InputError: an unknown interface (naming the known ones), or options the interface refuses
+        (``--bus-kwargs port=abc``: python-can's ValueError or TypeError).
+    :raises WorkbenchError: the bus cannot be opened (driver missing, device busy ...).
+    """
+    import can
+
+    interface = config.get("interface")
+    if interface not in can.interfaces.VALID_INTERFACES:
+        raise InputError(f"{role + ': ' if role else ''}unknown python-can interface {interface!r} "
+                         f"(known: {', '.join(sorted(can.interfaces.VALID_INTERFACES))})")
+    try:
+        return can.Bus(**dict(config))
+    except (can.CanError, OSError, ValueError, ImportError, TypeError) as exc:
+        where = f"{interface} {config.get('channel', '')}".strip()
+        # python-can's own errors (CanError) are no ValueError: a ValueError or TypeError is the interface
+        # refusing the options the user gave
+        error = InputError if isinstance(exc, (ValueError, TypeError)) else WorkbenchError
+        raise error(f"cannot open {role or 'the CAN'} bus ({where}): {exc}") from exc

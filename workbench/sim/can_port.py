@@ -15,7 +15,7 @@ from typing import Any
 
 import can
 
-from workbench.errors import InputError, WorkbenchError
+from workbench.bus_defaults import open_bus
 from workbench.logs import logger
 from workbench.sim.bus import ECHOING_INTERFACES, EchoFilter, Receiver, Transmitter
 from workbench.sim.can_timing import BusClock
@@ -61,17 +61,7 @@ class CanBuses:
                 self._transmitters[name] = next(self._transmitters[other] for other, b in self._distinct() if b is bus)
 
     def _open(self, name: str, spec: Mapping[str, Any]) -> can.BusABC:
-        interface = spec.get("interface")
-        if interface not in can.interfaces.VALID_INTERFACES:
-            raise InputError(f"{name}: unknown python-can interface {interface!r} "
-                             f"(known: {', '.join(sorted(can.interfaces.VALID_INTERFACES))})")
-        try:
-            bus = can.Bus(**dict(spec))
-        except (can.CanError, OSError, ValueError, ImportError, TypeError) as exc:
-            where = f"{interface} {spec.get('channel', '')}".strip()
-            # a ValueError or TypeError is the interface refusing the options given (--bus-kwargs port=abc): bad input
-            error = InputError if isinstance(exc, (ValueError, TypeError)) else WorkbenchError
-            raise error(f"cannot open {name} bus ({where}): {exc}") from exc
+        bus = open_bus(spec, name)
         self._owned.append(bus)
         return bus
 

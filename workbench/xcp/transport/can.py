@@ -20,6 +20,7 @@ import socket
 import time
 from typing import TYPE_CHECKING, Any
 
+from workbench.bus_defaults import open_bus
 from workbench.errors import InputError, WorkbenchError
 from workbench.logs import logger
 from workbench.xcp_protocol import CanId
@@ -235,29 +236,6 @@ class _XcpListener:
 
 def _is_data(message: can.Message) -> bool:
     return not (message.is_error_frame or message.is_remote_frame) and bool(message.data)
-
-
-def open_bus(config: dict[str, Any]) -> can.BusABC:
-    """A python-can bus from ``Bus(**config)`` keyword arguments, errors as one line.
-
-    :raises InputError: an unknown interface (naming the known ones), or options the interface refuses
-        (``--bus-kwargs port=abc``: python-can's ValueError or TypeError).
-    :raises WorkbenchError: the bus cannot be opened (driver missing, device busy ...).
-    """
-    import can
-
-    interface = config.get("interface")
-    if interface not in can.interfaces.VALID_INTERFACES:
-        raise InputError(f"unknown python-can interface {interface!r} "
-                         f"(known: {', '.join(sorted(can.interfaces.VALID_INTERFACES))})")
-    try:
-        return can.Bus(**config)
-    except (can.CanError, OSError, ValueError, ImportError, TypeError) as exc:
-        where = f"{interface} {config.get('channel', '')}".strip()
-        # python-can's own errors (CanError) are no ValueError: a ValueError or TypeError is the interface
-        # refusing the options the user gave
-        error = InputError if isinstance(exc, (ValueError, TypeError)) else WorkbenchError
-        raise error(f"cannot open the CAN bus ({where}): {exc}") from None
 
 
 def widen_udp_receive_buffer(bus: can.BusABC) -> None:
