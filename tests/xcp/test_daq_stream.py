@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -86,10 +87,18 @@ def test_a_slave_whose_max_daq_counts_allocated_lists_takes_what_fits_and_says_w
 
 def test_a_write_daq_answered_after_its_timeout_starts_the_configuration_over(rig):
     """WRITE_DAQ moves the DAQ pointer: repeated after a timeout it would write the next entry (or run past the
-    ODT's last). A late answer makes the stream configure the lists again from FREE_DAQ instead."""
-    rig.demo.ecu.faults.delay_answer(Cmd.WRITE_DAQ, 1.5 * FAST.t1, n=2)
+    ODT's last). A late answer makes the stream configure the lists again from FREE_DAQ instead.
+
+    The answer leaves after T1 but within T1 of the SYNCH that follows the timeout (the slave answers SYNCH only
+    after it): FAST's T1 of 0.2 s left 0.1 s either side, too little for a timer on a loaded machine."""
+    t1 = 0.6
+    rig.master.timeouts = replace(FAST, t1=t1)
+    faults = rig.demo.ecu.faults
+    faults.delay_answer(Cmd.WRITE_DAQ, 1.5 * t1, n=2)
+    configured = faults.commands_seen(Cmd.FREE_DAQ)
     with start_stream(rig, {0: ["zsRailPressure", "zsSensVolt"]}) as stream:
+        assert faults.commands_seen(Cmd.FREE_DAQ) == configured + 2  # configured twice: the late answer came after T1
         batches = collect(stream, 0.3)
-    assert rig.demo.ecu.faults.fired == [f"answer command 0x{Cmd.WRITE_DAQ:02X} {1.5 * FAST.t1} s late"]
+    assert faults.fired == [f"answer command 0x{Cmd.WRITE_DAQ:02X} {1.5 * t1} s late"]
     volts = np.concatenate([b.column("zsSensVolt") for b in batches]).view("<f4")
     assert len(volts) > 20 and np.all((volts >= 0) & (volts <= 5)) and stream.stats.lost == 0
