@@ -97,6 +97,33 @@ def test_a_map_cell_is_its_own_bytes_only(bus, capsys):
     assert (code, json.loads(out)) == (0, {"xvPRV_DC_FF[0, 4]": 5.0})
 
 
+def test_one_axis_point_is_written_alone_its_order_checked_against_the_ecus_points(bus, capsys):
+    """A shared axis edited point by point, as in CANape's map editor: NAME[i] of an AXIS_PTS."""
+    options, log, sim = bus
+    code, out, err = run(capsys, "cal", "set", "xaPRV_FF_TARGET[2]", "21", *options)
+    assert (code, out, err) == (0, "xaPRV_FF_TARGET[2] = 21.00 bar (written, read back)\n", "")
+    assert log.take().count("DOWNLOAD") == 1
+    download = next(frame for frame in log.frames if frame.data[0] == 0xF0)
+    assert download.data[1] == 4  # the one float32 point, not the axis
+    code, out, _ = run(capsys, "cal", "get", "xvPRV_DC_FF", "--json", *options)
+    assert json.loads(out)["xvPRV_DC_FF"]["axes"][0]["points"] == [0.0, 10.0, 21.0, 30.0, 40.0, 50.0]
+    log.take()
+    code, out, err = run(capsys, "cal", "set", "xaPRV_FF_TARGET[2]", "35", *options)
+    assert (code, out, err) == (2, "", "error: xaPRV_FF_TARGET: points 2 and 3 (35, 30) break MON_INCREASE\n")
+    assert "DOWNLOAD" not in log.take()
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["xaPRV_FF_TARGET[2]", "60"], "xaPRV_FF_TARGET[2]: 60.00 is above the upper limit 50.00 bar"),
+    (["xaPRV_FF_TARGET[6]", "60"], "xaPRV_FF_TARGET has at most 6 points: there is no point [6]"),
+    (["xaPRV_FF_TARGET[1,1]", "5"], "xaPRV_FF_TARGET has at most 6 points: there is no point [1, 1]"),
+])
+def test_an_axis_point_beyond_its_limits_or_index_sends_nothing(bus, capsys, argv, message):
+    options, log, _ = bus
+    assert run(capsys, "cal", "set", *argv, *options) == (2, "", f"error: {message}\n")
+    assert log.take() == []
+
+
 def test_the_reference_page_is_refused_before_the_write_saying_how_to_switch(bus, capsys):
     options, log, sim = bus
     assert run(capsys, "cal", "page", "reference", *options)[0] == 0

@@ -38,7 +38,7 @@ from workbench.errors import ConversionError
 if TYPE_CHECKING:
     from workbench.a2l.model import A2lModel
 
-__all__ = ["LimitViolation", "check_cells", "check_limits"]
+__all__ = ["LimitViolation", "check_axis_point", "check_cells", "check_limits"]
 
 _AXES_OF = {"CURVE": 1, "MAP": 2, "CUBOID": 3, "CUBE_4": 4, "CUBE_5": 5}
 _ARRAYS = ("VAL_BLK", *_AXES_OF)
@@ -110,7 +110,8 @@ def check_cells(model: "A2lModel", name: str, cells: Mapping[tuple[int, ...], An
     if not isinstance(obj, Characteristic) or obj.type not in _ARRAYS:
         kind = obj.type if isinstance(obj, Characteristic) else obj.kind
         return [LimitViolation(name, "kind", f"{name} ({kind}): values are written by cell only into a VAL_BLK, "
-                                             "CURVE, MAP or CUBOID (axis points whole, their order is checked)")]
+                                             "CURVE, MAP or CUBOID; an AXIS_PTS is written whole (its order is "
+                                             "checked against all its points)")]
     found = _write_access(obj)
     shape = shape or (obj.shape if obj.type == "VAL_BLK" else _static_shape(model, obj))
     for index, value in cells.items():
@@ -125,6 +126,27 @@ def check_cells(model: "A2lModel", name: str, cells: Mapping[tuple[int, ...], An
             continue
         found += _texts(model, name, label, values, obj) or _range(model, name, label, values, obj, extended)
     return found
+
+
+def check_axis_point(model: "A2lModel", name: str, index: tuple[int, ...], value: Any, *,
+                     extended: bool = False) -> list[LimitViolation]:
+    """What one point of the AXIS_PTS ``name`` breaks on its own (write access, index, limits); its order
+    against the other points needs them all: :func:`check_limits` of the axis with the point in place.
+
+    :raises UnknownSymbolError: the object does not exist.
+    """
+    obj = model.object(name)
+    if not isinstance(obj, AxisPts):
+        return [LimitViolation(name, "kind", f"{name} is no AXIS_PTS")]
+    label = f"[{', '.join(str(i) for i in index)}]"
+    if len(index) != 1 or (obj.max_axis_points and not 0 <= index[0] < obj.max_axis_points):
+        return [LimitViolation(name, "shape", f"{name} has at most {obj.max_axis_points} points: there is no "
+                                              f"point {label}", index)]
+    values = np.asarray(value, dtype=object)
+    if values.shape != ():
+        return [LimitViolation(name, "shape", f"{name}{label}: one value, not {values.shape}", index)]
+    return _write_access(obj) + (_texts(model, name, label, values, obj)
+                                 or _range(model, name, label, values, obj, extended))
 
 
 def _write_access(obj: Characteristic | AxisPts) -> list[LimitViolation]:
