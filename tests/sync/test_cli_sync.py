@@ -129,7 +129,7 @@ def test_sync_report_upload_and_download(bus, capsys, tmp_path):
     shutil.copy(demo.s19(), tmp_path / "mine.s19")
     code, out, _ = run(capsys, "cal", "sync", "--reference", "mine.s19", "--upload", *bus)
     assert code == 0 and out.splitlines()[-1] == "upload: wrote mine.s19 with the ECU's data"
-    code, out, _ = run(capsys, "cal", "sync", "--reference", "mine.s19", "--json", *bus)
+    code, out, _ = run(capsys, "cal", "sync", "mine.s19", "--json", *bus)
     assert code == 0 and json.loads(out)["report"]["equal"] is True
 
     code, out, _ = run(capsys, "cal", "sync", "--download", *bus)  # the demo's s19 back into the ECU
@@ -173,6 +173,8 @@ def test_the_saved_image_is_what_flash_takes(bus, capsys, tmp_path):
     (["cal", "sync", "--output", "x.s19"], "--output names the file --upload writes"),
     (["cal", "sync", "--reference", "missing.s19"], "missing.s19: no such file"),
     (["cal", "sync", "--reference", "notes.txt"], "notes.txt: neither an image"),
+    (["cal", "sync", "missing.dcm"], "missing.dcm: no such file"),
+    (["cal", "sync", "a.s19", "--reference", "b.s19"], "give the reference FILE or --reference FILE, not both"),
     (["cal", "diff", "ecu", "ECU"], "give 'ecu' as one side only"),
 ])
 def test_bad_input_exits_2_with_one_line(bus, capsys, argv, message):
@@ -183,8 +185,9 @@ def test_bad_input_exits_2_with_one_line(bus, capsys, argv, message):
 def test_another_a2l_needs_a_reference(bus, capsys, tmp_path):
     a2l = edited_a2l(tmp_path, "/* T2 [ms]: BUILD_CHECKSUM, COPY_CAL_PAGE */", "/* T2 */")
     code, _, err = run(capsys, "cal", "sync", "--a2l", str(a2l), *bus)
-    assert code == 2 and "give --reference FILE" in err
+    assert code == 2 and "give the reference FILE" in err
     assert run(capsys, "cal", "sync", "--a2l", str(a2l), "--reference", str(demo.s19()), *bus)[0] == 0
+    assert run(capsys, "cal", "sync", str(demo.s19()), "--a2l", str(a2l), *bus)[0] == 0  # as cal load FILE
 
 
 def test_diff_and_dry_run_show_values_as_cal_get_does(bus, capsys):

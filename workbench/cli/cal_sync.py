@@ -61,8 +61,10 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
                     "--download writes the file's data into the ECU and verifies it (a dataset checked as cal load checks "
                     "it: one object refused and nothing is written, exit 2). Exit codes: 0 equal (or "
                     "uploaded/downloaded), 1 they differ (no direction given) or the operation failed, 2 bad input.")
-    sync.add_argument("--reference", metavar="FILE",
-                      help=f"image ({_IMAGES}) or dataset ({_DATASETS}); default: the demo's s19 with the demo's A2L")
+    sync.add_argument("file", nargs="?", metavar="FILE",
+                      help=f"the reference: an image ({_IMAGES}) or a dataset ({_DATASETS}); default: the demo's s19 "
+                           "with the demo's A2L")
+    sync.add_argument("--reference", metavar="FILE", help="the reference, as FILE")
     direction = sync.add_mutually_exclusive_group()
     direction.add_argument("--upload", action="store_true", help="ECU -> file: write the reference with the ECU's data")
     direction.add_argument("--download", action="store_true", help="file -> ECU: write the reference's data into the ECU")
@@ -202,13 +204,15 @@ def _reference(args: argparse.Namespace) -> Reference:
     from workbench import demo
     from workbench.sync import load_reference
 
-    if args.reference:
-        return load_reference(args.reference)
+    if args.file and args.reference:
+        raise InputError("give the reference FILE or --reference FILE, not both")
+    if args.reference or args.file:
+        return load_reference(args.reference or args.file)
     if not _is_demo_a2l(args.a2l):
-        raise InputError("give --reference FILE (an s19/hex or a dataset): the default is the demo's s19, for the "
+        raise InputError("give the reference FILE (an s19/hex or a dataset): the default is the demo's s19, for the "
                          "demo's A2L only")
     if args.upload and not args.output:
-        raise InputError("--upload would overwrite the built-in demo's s19: give --reference FILE or --output FILE")
+        raise InputError("--upload would overwrite the built-in demo's s19: give the reference FILE or --output FILE")
     return load_reference(demo.s19())
 
 
