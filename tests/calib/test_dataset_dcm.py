@@ -172,6 +172,7 @@ def test_encodings_and_line_ends(data, text):
     ("FESTWERT a\n  WERT \"1\"\nEND\n", ":2:8:", "the text '1' belongs on a TEXT line"),
     ("FESTWERT a\n  WERT 1,5\nEND\n", ":2:8:", "decimal comma"),
     ("FESTWERT a\n  WERT 1x\nEND\n", ":2:8:", "'1x' is not a number"),
+    ("FESTWERT a\n  WERT 2.5  * tuned\nEND\n", ":2:13:", "'*' is not a number (a comment takes a line of its own"),
     ("FESTWERT a\n  LANGNAME \"open\nEND\n", ":2:12:", "text without its closing quote"),
     ("FESTWERT a\n WERT 1\nEND\nFESTWERT a\n WERT 2\nEND\n", ":4:10:", "a is defined twice (first at line 1)"),
     ("FESTWERT a\n  WERT 1 2\nEND\n", ":1:", "expects one WERT or TEXT, found 2"),

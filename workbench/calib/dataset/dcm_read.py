@@ -64,6 +64,7 @@ OBJECT_KEYWORDS: dict[str, _Kind] = {
 _FILE_KEYWORDS = ("KONSERVIERUNG_FORMAT", "FUNKTIONEN", "VARIANTENKODIERUNG", "MODULKOPF")
 _ALL_BLOCK_KEYWORDS = set(_MAP_KEYS) | {"END"}
 _SINGLE = ("LANGNAME", "DISPLAYNAME", "FUNKTION", "VAR", "EINHEIT_W", "EINHEIT_X", "EINHEIT_Y")
+_INLINE_COMMENT = " (a comment takes a line of its own, starting with *, ! or .)"
 _SST = re.compile(r"SST([XY])\s+(\S+)\Z")
 _NAME = re.compile(r"[A-Za-z_][\w.\[\]]*\Z")
 _COUNT = re.compile(r"\d+\Z")
@@ -310,7 +311,8 @@ class _Reader:
                     try:
                         items.append(parse_number(token.text))
                     except NumberError as exc:
-                        raise self.error(f"{line.keyword}: {exc}", line, token.column) from None
+                        hint = _INLINE_COMMENT if token.text.startswith(("*", "!")) else ""
+                        raise self.error(f"{line.keyword}: {exc}{hint}", line, token.column) from None
         return items
 
     def boolean(self, line: Line, token: Token) -> int:
