@@ -184,7 +184,8 @@ class _Builder:
         items = instance.values
         flat = _flat(items)
         if len(flat) != int(np.prod(shape)):
-            raise self.fail(instance, f"{len(flat)} values for the shape {' x '.join(map(str, shape))}")
+            raise self.fail(instance, f"{len(flat)} values for the shape {' x '.join(map(str, shape))}"
+                                      f"{_odd_group(items)}")
         if any(isinstance(i, list) for i in items) and _squeezed(_nested_shape(items)) != _squeezed(shape):
             rows = "one VG per Y point holding the values along X" if len(shape) == 2 else "innermost VGs along x"
             raise self.fail(instance, f"its VG groups do not make {' x '.join(map(str, shape))} values ({rows})")
@@ -229,6 +230,16 @@ class _Builder:
 
 def _item(item):
     return item if isinstance(item, str) else scalar(item)
+
+
+def _odd_group(items: list) -> str:
+    """Which VG group of a hand-edited grid lost or gained a value: the first whose length differs from most."""
+    lengths = [len(_flat(item)) for item in items if isinstance(item, list)]
+    if len(lengths) < 3 or len(lengths) != len(items):
+        return ""
+    usual = max(set(lengths), key=lengths.count)
+    odd = next(n for n, length in enumerate(lengths) if length != usual)
+    return f" (VG {odd + 1} of {len(lengths)} holds {lengths[odd]} values, the others {usual})"
 
 
 def _flat(items: list) -> list:
