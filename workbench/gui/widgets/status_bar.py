@@ -1,5 +1,6 @@
-"""The status bar: who the ECU is, whether its EPK matches, what is locked, which page, bus load, DAQ,
-and - when the measurement stands still - why and since when (flashing, reconnecting, connection lost).
+"""The status bar: who the ECU is, whether its EPK matches, whether another master talked to it before CONNECT,
+what is locked, which page, bus load, DAQ, and - when the measurement stands still - why and since when
+(flashing, reconnecting, connection lost).
 
 Every text fits: the ECU's name and the link give way first (cut with "…", all of it in the tooltip),
 the measurement's state is short and complete. A message (``showMessage``) stands beside the indicators,
@@ -42,6 +43,8 @@ class EcuStatusBar(QStatusBar):
         self.link = ElidedLabel("not connected", mode=Qt.ElideRight, minimum=80)
         self.ecu = ElidedLabel(mode=Qt.ElideRight, minimum=60)
         self.epk = _badge("EPK —", theme.MUTED)
+        self.other_master = _badge("⚠ other master?", theme.WARN)  # shown when the session heard one before CONNECT
+        self.other_master.hide()
         self.protection = QLabel()
         self.page = QLabel()
         self.bus = QLabel()
@@ -56,7 +59,7 @@ class EcuStatusBar(QStatusBar):
         self._message_timer.timeout.connect(self.clearMessage)
         self.addWidget(self.link, 3)
         self.addWidget(self.ecu, 2)
-        for widget in (self.epk, self.protection, self.page):
+        for widget in (self.epk, self.other_master, self.protection, self.page):
             self.addWidget(widget)
         self.addWidget(self.message, 4)
         for widget in (self.recording, self.bus, self.daq):
@@ -94,11 +97,19 @@ class EcuStatusBar(QStatusBar):
                             theme.BAD, epk.describe())
         else:
             self._set_badge(self.epk, "EPK not checked", theme.MUTED, epk.describe())
+        self.show_other_master(session.other_master)
         locked = ", ".join(info.protected)
         self.protection.setText("seed & key" if locked else "no seed & key")
         self.protection.setToolTip("resources protected by seed & key at connect (unlocked on use): "
                                    + (locked or "none"))
         self.show_page("working")
+
+    def show_other_master(self, heard: str) -> None:
+        """What the session heard on the ECU's ids before CONNECT (another master, a DAQ nobody stopped; "" for
+        nothing): a badge that stays while connected, the whole line in its tooltip. Not a message: the cache
+        check's summary after a connect replaces one at once."""
+        self.other_master.setToolTip(heard)
+        self.other_master.setVisible(bool(heard))
 
     def show_page(self, page: str) -> None:
         colour = theme.ACCENT if page == "working" else theme.WARN
@@ -110,6 +121,7 @@ class EcuStatusBar(QStatusBar):
         self.link.setStyleSheet(f"color: {theme.MUTED};")
         self.ecu.setText("")
         self._set_badge(self.epk, "EPK —", theme.MUTED, "")
+        self.other_master.hide()
         self.protection.setText("")
         self.page.setText("")
 
