@@ -79,7 +79,22 @@ def test_a_bad_object_is_listed_and_nothing_is_written(bus, capsys, tmp_path):
                                 "xsPRV_KX  refused  not in the A2L; did you mean xsPRV_KP, xsPRV_KI, xsPRV_KD?",
                                 "tuned.dcm: not applied: 56 unchanged, 1 refused, 1 not written"]
     assert err.startswith("error: 1 of 58 objects refused, nothing written: xsPRV_KX: not in the A2L")
+    assert err.endswith("; --skip-unknown leaves out the objects the A2L lacks\n")
     assert run(capsys, "cal", "get", "xsPRV_KP", *bus)[1] == "xsPRV_KP = 5.0000 %/bar\n"
+
+    # a dataset of another software version, as CANape loads it: the names the A2L lacks left out, listed
+    code, out, err = run(capsys, "cal", "load", "tuned.dcm", "--skip-unknown", "--dry-run", *bus)
+    assert (code, err, out.splitlines()[-1]) == (0, "", "tuned.dcm: dry run: 56 unchanged, 1 would change, 1 skipped")
+    code, out, err = run(capsys, "cal", "load", "tuned.dcm", "--skip-unknown", *bus)
+    assert (code, err) == (0, "")
+    assert out.splitlines() == ["xsPRV_KP  applied",
+                                "xsPRV_KX  skipped  not in the A2L; did you mean xsPRV_KP, xsPRV_KI, xsPRV_KD?",
+                                "tuned.dcm: applied: 1 applied, 56 unchanged, 1 skipped"]
+    assert run(capsys, "cal", "get", "xsPRV_KP", *bus)[1] == "xsPRV_KP = 7.0000 %/bar\n"
+    (tmp_path / "beyond.dcm").write_text(tuned.replace("WERT 7.0", "WERT 700.0"))  # other refusals still refuse
+    code, out, err = run(capsys, "cal", "load", "beyond.dcm", "--skip-unknown", *bus)
+    assert code == 2 and err.startswith("error: 1 of 58 objects refused, nothing written: xsPRV_KP: ")
+    assert "--skip-unknown" not in err
 
 
 def test_a_dry_run_exits_as_the_load_would(bus, capsys, tmp_path):
@@ -104,7 +119,7 @@ def test_sync_download_refuses_what_load_refuses(bus, capsys, tmp_path):
     (tmp_path / "tuned.dcm").write_text(text.replace("WERT 5.0", "WERT 7.0").replace("xsPRV_KI", "xsPRV_KX"))
     load = run(capsys, "cal", "load", "tuned.dcm", *bus)
     code, out, err = run(capsys, "cal", "sync", "--reference", "tuned.dcm", "--download", *bus)
-    assert load[0] == code == 2 and err == load[2]
+    assert load[0] == code == 2 and err == load[2].replace("; --skip-unknown leaves out the objects the A2L lacks", "")
     assert out.splitlines()[-3:] == load[1].splitlines()
     assert run(capsys, "cal", "get", "xsPRV_KP", *bus)[1] == "xsPRV_KP = 5.0000 %/bar\n"  # nothing written
     code, out, _ = run(capsys, "cal", "sync", "--reference", "tuned.dcm", "--download", "--json", *bus)

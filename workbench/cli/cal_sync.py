@@ -42,13 +42,17 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
         "load", help="apply a dataset to the ECU (every object checked first)",
         description=f"Write the objects of IN ({_DATASETS}) into the working page. Every object is checked before "
                     "anything is written (in the A2L, writable, within its limits, of its shape, in writable memory); "
-                    "one refusal and nothing is written (exit 2). Then only the objects whose bytes change are "
+                    "one refusal and nothing is written (exit 2), unless --skip-unknown leaves out the names the A2L "
+                    "lacks (a dataset of another software version). Then only the objects whose bytes change are "
                     "written and read back; a failure halfway names the objects that reached the ECU (exit 1).")
     load.add_argument("input", metavar="IN", help="the dataset to apply")
     load.add_argument("--dry-run", action="store_true",
                       help="check and show what would change, write nothing; the exit codes are those of the load "
                            "(2: an object is refused)")
     load.add_argument("--extended-limits", action="store_true", help="allow values up to the EXTENDED_LIMITS")
+    load.add_argument("--skip-unknown", action="store_true",
+                      help="leave out (and list as skipped) the objects the A2L does not know, instead of refusing "
+                           "the whole dataset")
     add_ecu_arguments(load)
     load.set_defaults(func=_load)
 
@@ -140,13 +144,18 @@ def _load(args: argparse.Namespace) -> int:
     with open_session(args) as session, _progress(args, "applying") as progress:
         try:
             result = apply_dataset(session, dataset, dry_run=args.dry_run, allow_extended_limits=args.extended_limits,
-                                   progress=progress, source=args.input)
-        except (ApplyRefused, ApplyFailed) as exc:
+                                   skip_unknown=args.skip_unknown, progress=progress, source=args.input)
+            if not result.ok:  # a dry run that lists a refusal fails as the load itself would: exit 2
+                raise ApplyRefused(result)
+        except ApplyRefused as exc:
+            _show(exc.report, args)
+            if any(name not in session.model for name in exc.report.named("refused")):
+                raise InputError(f"{exc}; --skip-unknown leaves out the objects the A2L lacks") from None
+            raise
+        except ApplyFailed as exc:
             _show(exc.report, args)
             raise
     _show(result, args)
-    if not result.ok:  # a dry run that lists a refusal fails as the load itself would: exit 2
-        raise ApplyRefused(result)
     return 0
 
 

@@ -37,12 +37,12 @@ from workbench.sync.store import ByteStore
 from workbench.sync.values import (as_stored, decode_values, label_differences, object_layouts, resolve_all,
                                    without_name)
 
-__all__ = ["APPLIED", "FAILED", "NOT_WRITTEN", "REFUSED", "UNCHANGED", "WOULD_CHANGE", "ApplyFailed", "ApplyRefused",
+__all__ = ["APPLIED", "FAILED", "NOT_WRITTEN", "REFUSED", "SKIPPED", "UNCHANGED", "WOULD_CHANGE", "ApplyFailed", "ApplyRefused",
            "ApplyReport", "ObjectOutcome", "apply_dataset"]
 
 APPLIED, UNCHANGED, WOULD_CHANGE = "applied", "unchanged", "would change"
-REFUSED, FAILED, NOT_WRITTEN = "refused", "failed", "not written"
-STATUSES = (APPLIED, UNCHANGED, WOULD_CHANGE, REFUSED, FAILED, NOT_WRITTEN)
+REFUSED, FAILED, NOT_WRITTEN, SKIPPED = "refused", "failed", "not written", "skipped"
+STATUSES = (APPLIED, UNCHANGED, WOULD_CHANGE, SKIPPED, REFUSED, FAILED, NOT_WRITTEN)
 
 
 @dataclass(frozen=True)
@@ -141,13 +141,15 @@ class _Planned:
 
 
 def apply_dataset(session: Session, dataset: Mapping[str, CalValue], *, dry_run: bool = False,
-                  allow_extended_limits: bool = False, progress: Progress | None = None,
+                  allow_extended_limits: bool = False, skip_unknown: bool = False, progress: Progress | None = None,
                   source: str | None = None) -> ApplyReport:
     """Check every object of ``dataset`` against the A2L and the ECU, then write those that change.
 
     :param dry_run: check and say what would change; write nothing (also on a read-only session).
     :param allow_extended_limits: values up to the EXTENDED_LIMITS pass (the report's ``extended_limits`` names
         the objects this decides, either way).
+    :param skip_unknown: objects the A2L does not know (a dataset of another software version) are left out,
+        reported as skipped, instead of refusing the whole dataset; every other refusal still refuses it.
     :returns: the report (every object applied or unchanged; on a dry run, what would change).
     :raises ApplyRefused: an object failed a check; nothing was written (the report lists every one).
     :raises ApplyFailed: a write failed halfway (the report names what reached the ECU).
@@ -158,11 +160,13 @@ def apply_dataset(session: Session, dataset: Mapping[str, CalValue], *, dry_run:
         if not dry_run:
             session.require_writable()
         planned, refused, current = _check(session, dataset, allow_extended_limits, progress, result)
+        skipped = {name: refused.pop(name) for name in list(refused) if skip_unknown and name not in session.model}
         changing = [name for name, plan in planned.items() if plan.edits]
         result.diff = _changes(session, dataset, planned, changing, current, result)
         pending = WOULD_CHANGE if dry_run else NOT_WRITTEN
         why = "other objects were refused" if refused and not dry_run else ""
         result.outcomes = [ObjectOutcome(name, REFUSED, refused[name]) if name in refused
+                           else ObjectOutcome(name, SKIPPED, skipped[name]) if name in skipped
                            else ObjectOutcome(name, pending, why) if name in changing
                            else ObjectOutcome(name, UNCHANGED) for name in dataset]
         if refused and not dry_run:
