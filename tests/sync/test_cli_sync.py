@@ -112,6 +112,23 @@ def test_a_dry_run_exits_as_the_load_would(bus, capsys, tmp_path):
     assert run(capsys, "cal", "get", "xsSWITCH_TANK_THR", *bus)[1] == "xsSWITCH_TANK_THR = 20.00 bar\n"
 
 
+def test_a_dataset_loads_into_the_working_page_while_the_ecu_runs_the_reference(bus, capsys, tmp_path):
+    """As cal save reads and cal sync --download writes: the working page, whichever page XCP was on (before, the
+    dry run said 'would change' and the load then failed on the reference page, exit 1)."""
+    run(capsys, "cal", "save", "base.dcm", "xsSWITCH_TANK_THR", *bus)
+    (tmp_path / "tuned.dcm").write_text((tmp_path / "base.dcm").read_text().replace("WERT 20.0", "WERT 25.5"))
+    run(capsys, "cal", "page", "reference", *bus)
+    warning = ("warning: the ECU runs the reference page of segment 0: the working page's values take effect after "
+               "`workbench cal page working` (Session.set_page('working'))")
+    code, out, err = run(capsys, "cal", "load", "tuned.dcm", *bus)
+    assert (code, err, out.splitlines()[-2:]) == (0, "", [warning, "tuned.dcm: applied: 1 applied"])
+    assert run(capsys, "cal", "get", "xsSWITCH_TANK_THR", *bus)[1] == "xsSWITCH_TANK_THR = 20.00 bar\n"  # CAL ROM
+    assert run(capsys, "cal", "page", *bus)[1] == "segment 0: ECU on the reference page, XCP on the reference page\n"
+    run(capsys, "cal", "page", "working", *bus)
+    assert run(capsys, "cal", "get", "xsSWITCH_TANK_THR", *bus)[1] == "xsSWITCH_TANK_THR = 25.50 bar\n"
+    assert run(capsys, "cal", "load", "tuned.dcm", *bus)[1] == "tuned.dcm: applied: 1 unchanged\n"
+
+
 def test_sync_download_refuses_what_load_refuses(bus, capsys, tmp_path):
     """One rule: a dataset that cal load refuses (a name the A2L lacks) is refused by cal sync --download too."""
     run(capsys, "cal", "save", "some.dcm", "xsPRV_K*", *bus)

@@ -220,10 +220,12 @@ def test_each_object_is_read_once_and_only_what_changes_is_written(sim, channel,
         assert apply_dataset(ecu, dataset).named("applied") == ["xvPRV_DC_FF", "xsSWITCH_TANK_THR"]
         commands = log.take()
         mta = [int.from_bytes(bytes(f.data[4:8]), "little") for f in log.frames if f.data[0] == Cmd.SET_MTA]
-    reads = commands.index("GET_SEED")  # the first write unlocks CAL/PAG and asks the page XCP is on
-    assert commands[:reads] == ["SET_MTA", "UPLOAD"] * (reads // 2) and len(set(mta[:reads // 2])) == reads // 2
+    # first XCP onto the working page (asked: it is on it), last which page the ECU runs (it runs the working page)
+    assert commands[:3] == ["GET_SEED", "UNLOCK", "GET_CAL_PAGE"] and commands[-2:] == ["GET_CAL_PAGE"] * 2
     write = ["SET_MTA", "DOWNLOAD", "SHORT_UPLOAD"]
-    assert commands[reads:] == ["GET_SEED", "UNLOCK", "GET_CAL_PAGE"] + write + write
+    reads = len(commands) - 3 - 2 * len(write) - 2
+    assert commands[3:3 + reads] == ["SET_MTA", "UPLOAD"] * (reads // 2) and len(set(mta[:reads // 2])) == reads // 2
+    assert commands[3 + reads:-2] == write + write
     assert mta[reads // 2] == model.characteristic("xvPRV_DC_FF").address + 4 * (3 * 6 + 2)  # the one cell
 
     moved = edited_a2l(tmp_path, "0x400000E4 /* @ECU_Address@xsPRV_KP@ */", "0xFC00E4")  # into CAL ROM (flash)

@@ -40,7 +40,8 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
 
     load = commands.add_parser(
         "load", help="apply a dataset to the ECU (every object checked first)",
-        description=f"Write the objects of IN ({_DATASETS}) into the working page. Every object is checked before "
+        description=f"Write the objects of IN ({_DATASETS}) into the working page (whichever page the ECU "
+                    "runs: a warning says when it runs another). Every object is checked before "
                     "anything is written (in the A2L, writable, within its limits, of its shape, in writable memory); "
                     "one refusal and nothing is written (exit 2), unless --skip-unknown leaves out the names the A2L "
                     "lacks (a dataset of another software version). Then only the objects whose bytes change are "

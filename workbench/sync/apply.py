@@ -32,7 +32,7 @@ from workbench.calib.writable import check_inside
 from workbench.errors import InputError, PartialWriteError, WorkbenchError
 from workbench.progress import Progress, report
 from workbench.session import Session
-from workbench.sync.ecu import EcuReader
+from workbench.sync.ecu import EcuReader, on_pages
 from workbench.sync.store import ByteStore
 from workbench.sync.values import (as_stored, decode_values, label_differences, object_layouts, resolve_all,
                                    without_name)
@@ -143,7 +143,8 @@ class _Planned:
 def apply_dataset(session: Session, dataset: Mapping[str, CalValue], *, dry_run: bool = False,
                   allow_extended_limits: bool = False, skip_unknown: bool = False, progress: Progress | None = None,
                   source: str | None = None) -> ApplyReport:
-    """Check every object of ``dataset`` against the A2L and the ECU, then write those that change.
+    """Check every object of ``dataset`` against the A2L and the ECU's working page, then write those that change
+    into the working page (XCP on it meanwhile, whichever page the ECU runs, as :func:`sync_download` writes).
 
     :param dry_run: check and say what would change; write nothing (also on a read-only session).
     :param allow_extended_limits: values up to the EXTENDED_LIMITS pass (the report's ``extended_limits`` names
@@ -156,7 +157,7 @@ def apply_dataset(session: Session, dataset: Mapping[str, CalValue], *, dry_run:
     :raises EpkMismatchError: the session is read-only (not on a dry run).
     """
     result = ApplyReport(source or getattr(dataset, "source", None) or "dataset", dry_run)
-    with session.lock:
+    with session.lock, on_pages(session, "working"):  # a dataset is the working page's, as cal save reads it
         if not dry_run:
             session.require_writable()
         planned, refused, current = _check(session, dataset, allow_extended_limits, progress, result)
@@ -173,7 +174,17 @@ def apply_dataset(session: Session, dataset: Mapping[str, CalValue], *, dry_run:
             raise ApplyRefused(result)
         if not dry_run:
             _write(session, planned, changing, allow_extended_limits, progress, result)
+        if changing:
+            result.warnings += _not_run(session)
     return result
+
+
+def _not_run(session: Session) -> list[str]:
+    """Segments whose working page the ECU does not run: the values written there take effect on switching."""
+    numbers = list(dict.fromkeys(segment.number for segment in session.config.segments))
+    return [f"the ECU runs the {state.name(state.ecu_page)} page of segment {state.segment}: the working page's "
+            f"values take effect after `workbench cal page working` (Session.set_page('working'))"
+            for state in map(session.page, numbers) if state.ecu_page != state.working]
 
 
 def _check(session: Session, dataset: Mapping[str, CalValue], extended: bool, progress: Progress | None,
