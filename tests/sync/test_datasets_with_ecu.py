@@ -166,7 +166,8 @@ def test_a_shared_axis_given_twice_with_other_points_is_refused(ecu):
     (bad,) = [o for o in refused.value.report.outcomes if o.status == "refused"]
     address = ecu.model.object("xaPRV_FF_TARGET").address + 4 * 4  # its fifth point (float32) is the one both give
     assert (bad.name, bad.reason) == ("xaPRV_FF_TARGET", f"xvPRV_DC_FF writes other bytes at 0x{address:X}.."
-                                      f"0x{address + 3:X} (the dataset gives both other values there)")
+                                      f"0x{address + 3:X} (the dataset gives both other values there, as a shared "
+                                      "axis edited in one place only): make them agree or leave one out")
     dataset["xaPRV_FF_TARGET"] = replace(dataset["xaPRV_FF_TARGET"], value=np.array([0, 10, 20, 30, 45, 50.0]))
     assert apply_dataset(ecu, dataset).named("applied") == ["xvPRV_DC_FF", "xaPRV_FF_TARGET"]
     assert ecu.read("xaPRV_FF_TARGET")[4] == 45.0

@@ -221,7 +221,8 @@ def _check(session: Session, dataset: Mapping[str, CalValue], extended: bool, pr
             continue
         planned[name] = _Planned(value, edits)
     for name, other, where in _conflicts(model, planned, current):
-        refused[name] = f"{other} writes other bytes at {where} (the dataset gives both other values there)"
+        refused[name] = (f"{other} writes other bytes at {where} (the dataset gives both other values there, as a "
+                         "shared axis edited in one place only): make them agree or leave one out")
     for name in refused:
         planned.pop(name, None)
     return planned, refused, current
