@@ -74,6 +74,9 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
     direction.add_argument("--upload", action="store_true", help="ECU -> file: write the reference with the ECU's data")
     direction.add_argument("--download", action="store_true", help="file -> ECU: write the reference's data into the ECU")
     sync.add_argument("--output", metavar="FILE", help="with --upload: write this file instead of the reference")
+    sync.add_argument("--skip-unknown", action="store_true",
+                      help="with --download of a dataset: leave out the objects the A2L does not know (as the "
+                           "compare does), as cal load --skip-unknown")
     add_ecu_arguments(sync)
     sync.set_defaults(func=_sync)
 
@@ -148,16 +151,20 @@ def _load(args: argparse.Namespace) -> int:
                                    skip_unknown=args.skip_unknown, progress=progress, source=args.input)
             if not result.ok:  # a dry run that lists a refusal fails as the load itself would: exit 2
                 raise ApplyRefused(result)
-        except ApplyRefused as exc:
+        except (ApplyRefused, ApplyFailed) as exc:
             _show(exc.report, args)
-            if any(name not in session.model for name in exc.report.named("refused")):
-                raise InputError(f"{exc}; --skip-unknown leaves out the objects the A2L lacks") from None
-            raise
-        except ApplyFailed as exc:
-            _show(exc.report, args)
+            _say_skip_unknown(exc, session)
             raise
     _show(result, args)
     return 0
+
+
+def _say_skip_unknown(exc: Exception, session) -> None:
+    """:raises InputError: ``exc`` refused names the A2L lacks: its message and the option that leaves them out."""
+    from workbench.sync import ApplyRefused
+
+    if isinstance(exc, ApplyRefused) and any(name not in session.model for name in exc.report.named("refused")):
+        raise InputError(f"{exc}; --skip-unknown leaves out the objects the A2L lacks") from None
 
 
 def _show(result, args: argparse.Namespace) -> None:
@@ -191,12 +198,13 @@ def _sync(args: argparse.Namespace) -> int:
         elif args.download:
             with _progress(args, "downloading") as progress:
                 try:
-                    done = sync_download(session, report, progress=progress)
+                    done = sync_download(session, report, skip_unknown=args.skip_unknown, progress=progress)
                 except (ApplyRefused, ApplyFailed) as exc:  # a dataset: checked as cal load checks it
                     if args.json:
                         print_json({**result, "download": exc.report.to_dict()})
                     else:
                         print(exc.report.to_text())
+                    _say_skip_unknown(exc, session)
                     raise
             result["download"] = {"objects": done.objects, "bytes": done.bytes, "verified": done.verified}
             message, code = done.describe(), 0

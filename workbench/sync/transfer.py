@@ -113,8 +113,12 @@ class DownloadResult:
         return f"downloaded {len(self.objects)} object{'s' if len(self.objects) != 1 else ''}{size}; {self.verified}"
 
 
-def sync_download(session: Session, report: SyncReport, *, progress: Progress | None = None) -> DownloadResult:
+def sync_download(session: Session, report: SyncReport, *, skip_unknown: bool = False,
+                  progress: Progress | None = None) -> DownloadResult:
     """Write what differs from the reference into the ECU's working page, then verify.
+
+    :param skip_unknown: a dataset's objects the A2L does not know (the compare left them out too) are left out
+        instead of refusing the download (as :func:`~workbench.sync.apply.apply_dataset` takes it).
 
     :raises EpkMismatchError: the session is read-only.
     :raises InputError: differing bytes outside the A2L's writable memory (nothing written), or a dataset
@@ -124,7 +128,7 @@ def sync_download(session: Session, report: SyncReport, *, progress: Progress | 
     """
     session.require_writable()
     if isinstance(report.reference, DatasetReference):
-        return _download_dataset(session, report, progress)
+        return _download_dataset(session, report, skip_unknown, progress)
     return _download_image(session, report, progress)
 
 
@@ -186,12 +190,14 @@ def _differing_runs(leaf: Span, wanted: bytes, held: bytes) -> list[tuple[Span, 
     return [(Span(leaf.address + start, end - start, leaf.extension), wanted[start:end]) for start, end in runs]
 
 
-def _download_dataset(session: Session, report: SyncReport, progress: Progress | None) -> DownloadResult:
+def _download_dataset(session: Session, report: SyncReport, skip_unknown: bool,
+                      progress: Progress | None) -> DownloadResult:
     """The whole dataset through apply_dataset, the rule ``cal load`` follows: every object checked first (one
     refused, nothing written), then only the objects whose bytes change written; those read again after."""
     reference = report.reference
     assert isinstance(reference, DatasetReference)
-    applied = apply_dataset(session, reference.dataset, progress=progress, source=reference.label)
+    applied = apply_dataset(session, reference.dataset, skip_unknown=skip_unknown, progress=progress,
+                            source=reference.label)
     written = Dataset(source=reference.dataset.source or reference.label)
     for name in applied.named(APPLIED):
         written.add(reference.dataset[name], reference.dataset.info_of(name))
