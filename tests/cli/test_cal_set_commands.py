@@ -84,6 +84,18 @@ def test_an_enum_text_may_differ_in_case_and_reads_back_as_the_a2l_writes_it(bus
     assert (code, out, err) == (0, "cfENABLEFLCU_VALUE = Disabled (written, read back)\n", "")
 
 
+def test_a_value_may_carry_its_unit_as_cal_get_prints_it(bus, capsys):
+    options, log, sim = bus
+    assert run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "25.5 bar", *options) == \
+        (0, "xsSWITCH_TANK_THR = 25.50 bar (written, read back)\n", "")
+    assert run(capsys, "cal", "set", "xvPRV_DC_FF[1,2]", "60 %", *options)[1] == \
+        "xvPRV_DC_FF[1, 2] = 60.00 % (written, read back)\n"
+    log.take()
+    assert run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "25.5 V", *options) == \
+        (2, "", "error: xsSWITCH_TANK_THR: '25.5 V' is not a number (a value from 0.00 to 800.00 bar)\n")
+    assert log.take() == []
+
+
 def test_a_map_cell_is_its_own_bytes_only(bus, capsys):
     options, log, sim = bus
     code, out, err = run(capsys, "cal", "set", "xvPRV_DC_FF[2,3]", "42", *options)

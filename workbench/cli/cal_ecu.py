@@ -32,7 +32,8 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
 
     put = commands.add_parser(
         "set", help="write a calibration by name (checked before connecting, read back)",
-        description="Write NAME in physical units: a number, an enum's text, a list for a curve or value block "
+        description="Write NAME in physical units: a number (or a number and the object's unit, '25.5 bar', as "
+                    "cal get prints it), an enum's text, a list for a curve or value block "
                     "('[1, 2, 3]' or '1,2,3'), a nested list for a map (indexed [x][y], as cal get --json gives "
                     "it), or --from a .json file (that, or what cal get NAME --json printed) or a .csv file laid "
                     "out as cal get prints it: a curve one row, a map X across and Y down (one row per Y point), "
@@ -176,7 +177,8 @@ def _set(args: argparse.Namespace) -> int:
     model = doc.model()
     name, index = split_cell(model, args.name)
     single = index is not None or getattr(model.object(name), "type", "") == "VALUE"
-    value = typed_value(args.value, single=single) if args.source is None else None
+    unit = model.unit_of(model.object(name)) if single else ""
+    value = typed_value(args.value, single=single, unit=unit) if args.source is None else None
     if args.source is not None:
         value = value_from_file(Path(args.source), model, name, cell=index is not None)
     extended = args.extended_limits

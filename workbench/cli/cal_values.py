@@ -43,12 +43,16 @@ def split_cell(model: A2lModel, text: str) -> tuple[str, tuple[int, ...] | None]
     return match["name"], tuple(int(number) for number in re.findall(r"\d+", match["index"]))
 
 
-def typed_value(text: str | None, *, single: bool = False) -> Any:
+def typed_value(text: str | None, *, single: bool = False, unit: str = "") -> Any:
     """A value as typed on the command line: a number, a text, a list or a nested list (JSON).
-    ``single``: the object takes one number, so ``3,5`` is a decimal comma, refused as such."""
+    ``single``: the object takes one number, so ``3,5`` is a decimal comma, refused as such; a number followed
+    by the object's ``unit`` (``25.5 bar``, as cal get prints it) is that number."""
     if text is None:
         raise InputError("give the value to write (or --from FILE)")
     stripped = text.strip()
+    number, space, typed_unit = stripped.rpartition(" ")
+    if single and unit and space and typed_unit == unit:
+        stripped = number.rstrip()
     if single and _DECIMAL_COMMA.fullmatch(stripped):
         raise InputError(f"{text!r} is not a number: write a decimal point ({stripped.replace(',', '.')})")
     if stripped.startswith("["):
