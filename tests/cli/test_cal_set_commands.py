@@ -94,6 +94,8 @@ def test_a_value_may_carry_its_unit_as_cal_get_prints_it(bus, capsys):
     assert run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "25.5 V", *options) == \
         (2, "", "error: xsSWITCH_TANK_THR: '25.5 V' is not a number (a value from 0.00 to 800.00 bar)\n")
     assert log.take() == []
+    code, out, err = run(capsys, "cal", "fix", "zfRAILPRESSURE", "30 bar", *options)  # a fix's _VALUE alike
+    assert (code, err) == (0, "") and out.startswith("zfRAILPRESSURE  ON   override 30.00 bar")
 
 
 def test_a_map_cell_is_its_own_bytes_only(bus, capsys):

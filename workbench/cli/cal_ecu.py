@@ -265,7 +265,7 @@ def _fix(args: argparse.Namespace) -> int:
         raise InputError("give SIGNAL (with VALUE or --release) or --list")
     if args.signal and args.release == (args.value is not None):
         raise InputError("give either VALUE (override) or --release, not both or neither")
-    doc = None
+    doc, value = None, None
     if args.value is not None:  # the override value checked before connecting
         from workbench.calib.fixes import fix_pairs_of, resolve_fix
         from workbench.calib.writable import checked_value
@@ -273,14 +273,15 @@ def _fix(args: argparse.Namespace) -> int:
         doc, writable = _offline(args)
         model = doc.model()
         pair = resolve_fix(fix_pairs_of(model), args.signal)
-        checked_value(model, pair.value, typed_value(args.value, single=True), writable=writable)
+        value = typed_value(args.value, single=True, unit=model.unit_of(model.object(pair.value)))
+        checked_value(model, pair.value, value, writable=writable)
     with open_session(args, doc, reading=args.list) as session:
         if args.list:
             states = session.fixes(can2_dbc(args), can2_bus=can2_bus_spec(args, session.bus_spec))
         elif args.release:
             states = [session.release(args.signal)]
         else:
-            states = [session.override(args.signal, typed_value(args.value, single=True))]
+            states = [session.override(args.signal, value)]
     if args.json:
         print_json([{"fix": s.pair.stem, "kind": s.pair.kind, "signal": s.signal, "enable": s.pair.enable,
                      "value": s.pair.value, "live": jsonable(s.live), "live_from": s.live_from,
