@@ -6,6 +6,7 @@ from __future__ import annotations
 import re
 import socket
 
+import can
 import pytest
 from session_helpers import FAST
 
@@ -36,6 +37,19 @@ def test_another_masters_daq_is_said_before_connect(ecu, channel, listening_long
     assert re.fullmatch(r"before CONNECT, the ECU's id 0x[0-9A-F]+ carried \d+ DTO\(s\) within 200 ms: another "
                         r"master \(CANape, a second workbench\) is talking to this ECU, .*", said), said
     assert f"id {ecu.link.settings.can_id_slave} carried" in said
+
+
+def test_packets_queued_before_a_reconnect_are_not_another_master(ecu, channel, listening_long):
+    """What came on the ECU's ids before the listening starts is not news: this bus's earlier session (its own late
+    DTOs before a reconnect after a flash, a window's Disconnect/Connect) or a burst that is over. A reconnect on
+    a quiet bus says nothing; it used to call them another master."""
+    slave = ecu.link.settings.can_id_slave
+    with can.Bus(interface="virtual", channel=channel) as other:
+        for counter in range(20):
+            other.send(can.Message(arbitration_id=slave.id, is_extended_id=slave.extended,
+                                   data=bytes((0xF0, counter, 0, 0, 0, 0, 0, 0))))
+    ecu.connect()
+    assert ecu.other_master == ""
 
 
 def test_another_masters_daq_is_said_in_the_cli_in_one_line(free_udp_port, capsys, listening_long):

@@ -136,6 +136,9 @@ class CanTransport(Transport):
         """The packets that come on the slave's ids (responses, DTOs) within ``seconds``, read from the bus while
         no receiver runs: before this master's CONNECT they are another master's (or a DAQ nobody stopped)."""
         heard = []
+        drained = time.monotonic() + 0.05
+        while time.monotonic() < drained and self._recv(0) is not None:
+            pass  # queued before now: this bus's earlier session (our own late DTOs before a reconnect), not news
         deadline = time.monotonic() + seconds
         while (left := deadline - time.monotonic()) > 0:
             message = self._recv(left)
