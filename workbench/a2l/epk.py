@@ -120,4 +120,3 @@ def _check_option(doc: "A2lDocument", mod_par: "Block", option: str, expected: s
         if value >= doc.block_end[mod_par.index] or not fits(doc.raw(value)):
             found = doc.raw(min(value, doc.block_end[mod_par.index])).decode(doc.encoding)
             raise doc.error(f"MOD_PAR: {option} needs {expected}, found '{found}'", keyword)
-

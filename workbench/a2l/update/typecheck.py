@@ -115,7 +115,7 @@ class TypeChecker:
         return edits, findings
 
     def _axis_pts(self, target: Target, symbol: "ResolvedSymbol"):
-        doc, edits, findings = self.doc, [], []
+        edits, findings = [], []
         if symbol.type.kind == "struct":
             return self._struct_axis_pts(target, symbol)
         needed = datatype_for(symbol.type)
@@ -208,7 +208,6 @@ class TypeChecker:
     def _struct_layout(self, target: Target, deposit_token: int, layout: Layout, ctype: "CType", edits: list,
                        findings: list) -> None:
         """The layout's typed items and FIX_NO_AXIS_PTS counts as the struct's members say (see :mod:`.layouts`)."""
-        doc = self.doc
         datatypes, counts = {}, {}
         for item, (position, _) in layout.typed.items():
             member = member_at(ctype, position)

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import socket
 import time
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from workbench.bus_defaults import open_bus
 from workbench.errors import InputError, WorkbenchError
