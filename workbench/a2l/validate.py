@@ -100,7 +100,7 @@ class _Validator:
         """``error`` of a named block (MEASUREMENT m, COMPU_METHOD cm ...) saying which object it is: in a large
         file's log the line alone does not."""
         keyword, name_token = self.doc.blocks.keyword[block], self.doc.block_begin[block] + 2
-        if name_token >= self.doc.block_end[block] or not grammar.BLOCKS[keyword].params[:1] == ("ident",):
+        if name_token >= self.doc.block_end[block] or grammar.BLOCKS[keyword].params[:1] != ("ident",):
             return error
         name = self.raw(name_token)
         if not IDENT_RE.fullmatch(name):  # the name itself is what is wrong

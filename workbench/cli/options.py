@@ -86,6 +86,7 @@ def words_before_key_values(args: list[str]) -> list[str]:
         words.append(word)
     return moved + words if moved else list(args)
 
+
 def _terminal_columns() -> int:
     """The terminal's width as :func:`shutil.get_terminal_size` gives it: $COLUMNS, the terminal, else 80."""
     try:

@@ -105,7 +105,7 @@ def read_section(path: Path, section: SectionHeader, headers: ElfHeaders) -> byt
     else:
         return data
     try:
-        data = _decompress(kind, data, section.name)
+        data = _decompress(kind, data)
     except (zlib.error, ValueError) as exc:
         raise ValueError(f"section {section.name} does not decompress ({exc})") from None
     if len(data) != expected:
@@ -113,7 +113,7 @@ def read_section(path: Path, section: SectionHeader, headers: ElfHeaders) -> byt
     return data
 
 
-def _decompress(kind: int, data: bytes, name: str) -> bytes:
+def _decompress(kind: int, data: bytes) -> bytes:
     if kind == _ELFCOMPRESS_ZLIB:
         return zlib.decompress(data)
     if kind != _ELFCOMPRESS_ZSTD:

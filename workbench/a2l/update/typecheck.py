@@ -450,6 +450,7 @@ def _option(doc: "A2lDocument", block: "Block", keyword: str) -> list[int] | Non
     if tokens == []:
         own = block.own_tokens
         at = next(token for token in reversed(own) if doc.raw(token) == keyword.encode("ascii"))
-        raise doc.error(f"{block.keyword} {block.name or ''}: {keyword} without its value".replace(" :", ":"), at)
+        what = f"{block.keyword} {block.name}" if block.name else block.keyword
+        raise doc.error(f"{what}: {keyword} without its value", at)
     return tokens
 
