@@ -55,7 +55,8 @@ log = logger(__name__)
 __all__ = ["LISTEN_BEFORE_CONNECT_S", "Session", "other_master"]
 
 # Before CONNECT on CAN the master listens this long on the ECU's ids: a DAQ another master (CANape beside us)
-# runs on a 10 ms event or faster shows, and a connect costs no time a person notices (a session opens in ~7 ms).
+# runs on a 10 ms event or faster shows, and a connect costs no time a person notices (a session opens in ~17 ms
+# instead of ~7).
 LISTEN_BEFORE_CONNECT_S = 0.01
 _XCP_ONLY, _ECU_AND_XCP, _ALL_SEGMENTS = 0x02, 0x03, 0x80
 # what a slave without SET_CAL_PAGE's "all segments" mode answers it
@@ -465,7 +466,8 @@ def other_master(heard: list[tuple[CanId, bytes]], seconds: float) -> str:
     responses = sum(packet[0] >= PID_SERV for _, packet in heard)  # answers, events, service requests: to a master
     kinds = ", ".join(part for part in (f"{len(heard) - responses} DTO(s)" if len(heard) > responses else "",
                                         f"{responses} response(s)" if responses else "") if part)
-    return (f"before CONNECT, the ECU's id{'s' if len(ids) > 1 else ''} {', '.join(ids)} carried {kinds} within {seconds * 1000:g} ms: another master "
+    return (f"before CONNECT, the ECU's id{'s' if len(ids) > 1 else ''} {', '.join(ids)} carried {kinds} within "
+            f"{seconds * 1000:g} ms: another master "
             "(CANape, a second workbench) is talking to this ECU, or a DAQ nobody stopped still runs; two masters "
             "break each other's DAQ (XCP serves one at a time)")
 
