@@ -36,6 +36,21 @@ def test_import_workbench_loads_no_qt():
     assert subprocess.run([sys.executable, "-c", code]).returncode == 0
 
 
+def test_python_dash_m_workbench_is_the_command(tmp_path):
+    """``python -m workbench`` (a PATH without the console script's folder) answers as ``workbench`` does."""
+    def run(*args):
+        return subprocess.run([sys.executable, "-m", "workbench", *args], capture_output=True, text=True, cwd=tmp_path)
+
+    version = run("--version")
+    assert (version.returncode, version.stdout) == (0, "workbench 0.1.0\n")
+    missing = run("a2l", "check", "missing.a2l")
+    assert missing.returncode == 2 and missing.stderr.splitlines() == ["error: missing.a2l: no such file"]
+    (tmp_path / "bad.a2l").write_text('/begin PROJECT p ""\n /begin MODULE m ""\n  /begin MEASUREMENT x "" UBYTE cm 0 0 0 1\n'
+                                      '   ECU_ADDRESS 0x1000\n  /end MEASUREMENT\n /end MODULE\n/end PROJECT\n')
+    failed = run("a2l", "check", "bad.a2l")  # COMPU_METHOD cm is not defined
+    assert failed.returncode == 1 and "bad.a2l:3:" in failed.stdout
+
+
 def test_a_closed_pipe_ends_quietly(tmp_path):
     script = tmp_path / "flood.py"
     script.write_text(
