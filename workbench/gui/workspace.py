@@ -18,7 +18,9 @@ class Workspace:
     project: Project
     doc: Any = None  # A2lDocument
     model: Any = None  # A2lModel
-    config: Any = None  # XcpConfig
+    config: Any = None  # XcpConfig; None: the A2L has none (an A2L for offline work), ``no_xcp`` says why
+    no_xcp: str | None = None
+    left_out: list[str] = field(default_factory=list)  # the A2L's /includes not found, each where and why
     dbcs: list = field(default_factory=list)  # DbcFile
     variables: list[Variable] = field(default_factory=list)
 
@@ -45,18 +47,29 @@ class Workspace:
 
 
 def load_workspace(project: Project) -> Workspace:
-    """Read the project's A2L and DBCs.
+    """Read the project's A2L and DBCs. An A2L without IF_DATA XCP (a supplier's, one written by a2ltool from
+    C sources) still opens: its objects are browsed, edited against datasets and compared offline. So does one whose
+    ``/include`` names a file that is not there (XCPlite's ``XCP_104.aml`` beside an A2L sent on its own): the rest
+    is read, :attr:`Workspace.left_out` says which.
 
     :raises InputError: a file that is missing or cannot be read (the message names it and where).
     """
     from workbench import demo
-    from workbench.a2l import load_a2l, read_xcp_config
+    from workbench.a2l import A2lDocument, read_xcp_config
+    from workbench.a2l.source import read_source
     from workbench.can import load_dbc
+    from workbench.errors import A2lParseError
 
     workspace = Workspace(project)
-    workspace.doc = load_a2l(project.a2l or demo.a2l())
+    workspace.doc = A2lDocument.from_source(read_source(project.a2l or demo.a2l()), missing_ok=True)
+    for include, holder, why in workspace.doc.missing_includes:
+        line, column = holder.position(include.offset)
+        workspace.left_out.append(f'{holder.name}:{line}:{column}: /include "{include.name}" left out: {why}')
     workspace.model = workspace.doc.model()
-    workspace.config = read_xcp_config(workspace.doc)
+    try:
+        workspace.config = read_xcp_config(workspace.doc)
+    except A2lParseError as exc:  # only a connection needs it: said when one is asked for
+        workspace.no_xcp = str(exc)
     workspace.dbcs = [load_dbc(path) for path in project.dbcs]
     workspace.variables = variables_of_a2l(workspace.model) + variables_of_dbc(workspace.dbc_signals())
     return workspace

@@ -27,7 +27,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from workbench.errors import ConnectionLostError
+from workbench.errors import ConnectionLostError, InputError
 from workbench.gui import theme
 from workbench.gui.a2l_info import calibration_info, measurement_info
 from workbench.gui.acquisition import DaqAcquisition, RecordRequest
@@ -216,6 +216,10 @@ class MainWindow(QMainWindow):
         self.hub.add_signals(workspace.can2_infos())
         self.browser.set_variables(workspace.variables)
         self.compare.set_a2l(model)
+        self.status.show_offline_only(workspace.no_xcp)
+        if workspace.left_out:  # said, not refused: an A2ML include sent without its file holds no object
+            self.show_error(InputError("\n".join(workspace.left_out) + "\nthe rest of the A2L is open; what the "
+                                       "missing files hold is not (put them beside the A2L and open it again)"))
         if self.a2l_tools is not None:  # its reload offer is for the files read now (another project's, its includes)
             self.a2l_tools.set_in_use(self.a2l_in_use())
         self._open_windows()
@@ -428,6 +432,11 @@ class MainWindow(QMainWindow):
             self.project.connection = dialog.connection()
 
     def connect_ecu(self, accept_epk_mismatch: bool = False):
+        if self.workspace is not None and self.workspace.no_xcp:
+            self.show_error(InputError(f"cannot connect: {self.workspace.no_xcp}; the A2L describes no XCP "
+                                       "connection (add the ECU's IF_DATA XCP, e.g. Tools > Merge A2L fragments, "
+                                       "or open the A2L the ECU's supplier delivers for XCP)"))
+            return None
         self.connect_action.setEnabled(False)
         self.status.link.setText("connecting …")
         a2l = self.workspace.doc if self.workspace is not None else self.project.a2l  # read once, not again

@@ -125,6 +125,16 @@ class EcuStatusBar(QStatusBar):
         self.protection.setText("")
         self.page.setText("")
 
+    def show_offline_only(self, why: str | None) -> None:
+        """The A2L describes no XCP connection (``why``, its reader's words) - or does again (None)."""
+        if why is None:
+            if self.link.text().startswith("○ offline"):  # another A2L, one with XCP: a connected link stays
+                self.show_disconnected()
+            return
+        self.link.setText("○ offline: the A2L has no IF_DATA XCP", tip=f"{why}: offline work only (browse, "
+                          "parameter sets, compare); connecting needs the ECU's IF_DATA XCP in the A2L")
+        self.link.setStyleSheet(f"color: {theme.WARN};")
+
     def show_lost(self, exc) -> None:
         """The connection is lost: what and when, in red (the link keeps its place)."""
         self.link.setText(f"✕ connection lost at {clock(exc.when)}: {exc.reason}", tip=str(exc))

@@ -1,0 +1,55 @@
+"""The window on A2L files other tools wrote (tests/corpus/a2l), no ECU: a file without IF_DATA XCP (a parser's test
+file, one a2ltool wrote from C sources) and one whose /include names a file sent without it (XCPlite's A2ML) open
+for offline work, and the window says what it cannot do with them."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from gui_helpers import WAIT_MS
+
+from workbench.gui.project import Project
+
+CORPUS = Path(__file__).parents[1] / "corpus" / "a2l"
+
+
+def window_on(qtbot, a2l: Path):
+    """A window on ``a2l`` alone, shown; its files read (``loaded``) or refused (an error dialog)."""
+    from workbench.gui.widgets.main_window import MainWindow
+
+    window = MainWindow(Project(a2l=a2l))
+    qtbot.addWidget(window)
+    window.show()
+    loaded = []
+    window.loaded.connect(lambda: loaded.append(True))
+    window.load()
+    qtbot.waitUntil(lambda: bool(loaded or window.errors), timeout=WAIT_MS)
+    return window, bool(loaded)
+
+
+def test_an_a2l_without_if_data_xcp_opens_offline_and_connect_says_why_not(qtbot):
+    window, loaded = window_on(qtbot, CORPUS / "domohuhn-a2l" / "example-ecu.a2l")
+    assert loaded, [box.text() for box in window.errors]
+    assert not window.errors
+    names = {row.name for row in window.browser.model.rows}
+    assert {"MeasureKMH", "DataMap", "DataCurve", "Bitfield16"} <= names
+    assert window.status.link.text() == "○ offline: the A2L has no IF_DATA XCP"
+    assert "example-ecu.a2l:17:3" in window.status.link.toolTip()
+    assert window.open_editor("DataMap") is not None and not window.errors
+
+    assert window.connect_ecu() is None  # nothing tried: no bus opened, no worker
+    (box,) = window.errors
+    assert box.text().startswith("cannot connect: ") and "example-ecu.a2l:17:3: the MODULE has no IF_DATA XCP" in box.text()
+    assert "Tools > Merge A2L fragments" in box.text()
+    assert window.connect_action.isEnabled()
+
+
+def test_an_a2l_whose_include_is_missing_opens_without_it_and_says_which(qtbot):
+    window, loaded = window_on(qtbot, CORPUS / "xcplite" / "c_demo.a2l")  # /include "XCP_104.aml", not in the corpus
+    assert loaded
+    (box,) = window.errors
+    assert box.text().startswith(f'{CORPUS / "xcplite" / "c_demo.a2l"}:8:1: /include "XCP_104.aml" left out: no such file\n')
+    assert "the rest of the A2L is open" in box.text()
+    assert {"counter", "map_f32", "curve_f32"} & {row.name for row in window.browser.model.rows}
+    assert window.workspace.config is not None  # its IF_DATA XCP is read without the A2ML
+    assert "offline" not in window.status.link.text()
