@@ -192,8 +192,10 @@ def _check(session: Session, dataset: Mapping[str, CalValue], extended: bool, pr
     """Every object checked: ``({name: planned edits}, {name: why refused}, the ECU's bytes read)``; the objects
     the EXTENDED_LIMITS decide go to ``result.extended_limits``."""
     model = session.model
+    where = getattr(dataset, "where", lambda name, start=False: "")  # a dataset read from a file: file:line
     layouts, refused = object_layouts(model, dataset)
-    where = getattr(dataset, "where", lambda name: "")  # a dataset read from a file: file:line of the values
+    # an object the A2L lacks (or has as no calibration) at the line that names it, as a parse error is located
+    refused = {name: _located(where(name, start=True), why) for name, why in refused.items()}
     for name in list(layouts):
         violations = check_limits(model, dataset[name], extended=extended)
         if _extended_decides(model, dataset[name], extended, violations):

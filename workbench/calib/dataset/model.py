@@ -169,10 +169,11 @@ class Dataset(MutableMapping):
         """The :class:`ObjectInfo` of ``name`` (an empty one for an object added without)."""
         return self.info.get(name, ObjectInfo())
 
-    def where(self, name: str) -> str:
-        """``file:line`` of the values of ``name`` as read (``file`` alone, or ``""``, where not known)."""
+    def where(self, name: str, *, start: bool = False) -> str:
+        """``file:line`` of the values of ``name`` as read, with ``start`` of the object's first line (its name)
+        (``file`` alone, or ``""``, where not known)."""
         info = self.info_of(name)
-        line = info.value_line or info.line
+        line = info.line if start else info.value_line or info.line
         if not self.source:
             return ""
         return f"{self.source}:{line}" if line else self.source
