@@ -77,6 +77,23 @@ def test_one_axis_point_sends_that_point_only(ecu, log):
     assert ecu.read_value("xvPRV_DC_FF").axes[0].values.tolist() == points.tolist()  # the map's axis
 
 
+def test_one_axis_point_by_index_is_checked_among_the_others_and_sent_alone(ecu, sim, log):
+    points = ecu.read_value("xaPRV_FF_TARGET").value  # known to the session: nothing is read again
+    ecu.write("xsSWITCH_TANK_THR", 21.0)
+    log.take()
+    assert ecu.write_cells("xaPRV_FF_TARGET", {2: 21.0}) == {(2,): 21.0}
+    assert log.take() == WRITE
+    address = ecu.model.axis_pts("xaPRV_FF_TARGET").address
+    assert _downloaded(log) == (address + 4 * 2, struct.pack("<f", 21.0))
+    with pytest.raises(LimitsError, match=r"xaPRV_FF_TARGET: points 2 and 3 \(35, 30\) break MON_INCREASE"):
+        ecu.write_cells("xaPRV_FF_TARGET", {2: 35.0})  # its order against the points the ECU holds
+    with pytest.raises(LimitsError, match=r"xaPRV_FF_TARGET\[2\]: 60.00 is above the upper limit 50.00 bar"):
+        ecu.write_cells("xaPRV_FF_TARGET", {2: 60.0})
+    with pytest.raises(LimitsError, match=r"has at most 6 points: there is no point \[6\]"):
+        ecu.write_cells("xaPRV_FF_TARGET", {6: 60.0})
+    assert log.take() == [] and ecu.read("xaPRV_FF_TARGET")[2] == 21.0 != points[2]
+
+
 def test_a_map_cell_by_index_needs_nothing_read(ecu, sim, log):
     log.take()
     assert ecu.write_cells("xvPRV_DC_FF", {(2, 3): 42.0}) == {(2, 3): 42.0}

@@ -101,17 +101,21 @@ def check_limits(model: "A2lModel", value: CalValue, *, extended: bool = False) 
 
 def check_cells(model: "A2lModel", name: str, cells: Mapping[tuple[int, ...], Any], *, extended: bool = False,
                 shape: tuple[int, ...] | None = None) -> list[LimitViolation]:
-    """Every violation of single values written into an array object (VAL_BLK, CURVE, MAP, ...): write access,
-    each index against the shape (``shape``, else where the A2L fixes it), texts and limits of each value.
+    """Every violation of single values written into an array object (VAL_BLK, CURVE, MAP, ..., the points of an
+    AXIS_PTS): write access, each index against the shape (``shape``, else where the A2L fixes it), texts and
+    limits of each value. A point's order against the other points needs them all: :func:`check_limits` of the
+    axis with the points in place.
 
     :raises UnknownSymbolError: the object does not exist.
     """
     obj = model.object(name)
+    if isinstance(obj, AxisPts):
+        return _write_access(obj) or [violation for index, value in cells.items()
+                                      for violation in check_axis_point(model, name, index, value, extended=extended)]
     if not isinstance(obj, Characteristic) or obj.type not in _ARRAYS:
         kind = obj.type if isinstance(obj, Characteristic) else obj.kind
         return [LimitViolation(name, "kind", f"{name} ({kind}): values are written by cell only into a VAL_BLK, "
-                                             "CURVE, MAP or CUBOID; an AXIS_PTS is written whole (its order is "
-                                             "checked against all its points)")]
+                                             "CURVE, MAP, CUBOID or the points of an AXIS_PTS")]
     found = _write_access(obj)
     shape = shape or (obj.shape if obj.type == "VAL_BLK" else _static_shape(model, obj))
     for index, value in cells.items():

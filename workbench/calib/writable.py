@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from workbench.a2l.objects import Measurement
+from workbench.a2l.objects import AxisPts, Measurement
 from workbench.calib.cells import cell_edits, cell_span
 from workbench.calib.layout import object_layout
 from workbench.calib.limits import check_cells, check_limits
@@ -102,7 +102,7 @@ def checked_cells(model: A2lModel, name: str, cells: Mapping[Any, Any], *, exten
                   writable: list[Span] | None = None, resolved: ResolvedLayout | None = None
                   ) -> dict[tuple[int, ...], Any]:
     """``cells`` (index -> physical value; an index is ``(x, y, ...)``, or an int for one axis) checked
-    for writing into the array object ``name``: ``{(x, y, ...): value}``.
+    for writing into the array object ``name`` (or as points of the AXIS_PTS ``name``): ``{(x, y, ...): value}``.
 
     :raises UnknownSymbolError, LimitsError, ConversionError, InputError: as :func:`checked_value`.
     """
@@ -113,6 +113,8 @@ def checked_cells(model: A2lModel, name: str, cells: Mapping[Any, Any], *, exten
     violations = check_cells(model, name, indexed, extended=extended, shape=resolved.shape if resolved else None)
     if violations:
         raise LimitsError(violations)
+    if isinstance(model.object(name), AxisPts):  # placed and checked with the axis they go into (Session.write_cells)
+        return indexed
     trial = resolved is None
     resolved = resolved or _static(model, name)
     if resolved is not None:

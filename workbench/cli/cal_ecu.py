@@ -11,7 +11,7 @@ from workbench.cli.cal_values import split_cell, typed_value, value_from_file
 from workbench.cli.ecu_options import a2l_document, add_ecu_arguments, can2_dbc, open_session
 from workbench.cli.options import add_can2_bus_arguments, can2_bus_spec, print_json
 from workbench.cli.render import decimals, jsonable, value_block, value_text
-from workbench.errors import InputError, LimitsError
+from workbench.errors import InputError
 
 if TYPE_CHECKING:
     from workbench.a2l import A2lDocument
@@ -168,7 +168,6 @@ def _offline(args: argparse.Namespace) -> tuple[A2lDocument, list | None]:
 
 
 def _set(args: argparse.Namespace) -> int:
-    from workbench.calib.limits import check_axis_point
     from workbench.calib.writable import checked_cells, checked_value
 
     if args.source is not None and args.value is not None:
@@ -182,18 +181,11 @@ def _set(args: argparse.Namespace) -> int:
     if args.source is not None:
         value = value_from_file(Path(args.source), model, name, cell=index is not None)
     extended = args.extended_limits
-    axis_point = index is not None and model.kind_of(name) == "AXIS_PTS"
     if index is None:
         checked_value(model, name, value, extended=extended, writable=writable)
-    elif axis_point:
-        violations = check_axis_point(model, name, index, value, extended=extended)
-        if violations:
-            raise LimitsError(violations)
-    else:
+    else:  # an AXIS_PTS' point: its order against the others is checked by the session, with the points it reads
         checked_cells(model, name, {index: value}, extended=extended, writable=writable)
     with open_session(args, doc) as session:
-        if axis_point:
-            return _print_cell(args, model, name, index, _write_axis_point(session, name, index[0], value, extended))
         if index is not None:
             read_back = session.write_cells(name, {index: value}, allow_extended_limits=extended)[index]
             return _print_cell(args, model, name, index, read_back)
@@ -205,18 +197,6 @@ def _set(args: argparse.Namespace) -> int:
     print(value_block(args.name, written.value, written.axes, written.unit, decimals(model.format_of(obj)),
                       note=" (written, read back)", axis_places=_axis_places(model, obj)))
     return 0
-
-
-def _write_axis_point(session, name: str, index: int, value: Any, extended: bool) -> Any:
-    """One point of an AXIS_PTS: the axis as the ECU holds it with that point replaced, so its order is checked
-    against the others before anything is sent; only the changed point is written. Returns the point read back."""
-    import numpy as np
-
-    points = np.array(session.read(name), dtype=object)
-    if index >= len(points):
-        raise InputError(f"{name} has {len(points)} points: there is no point [{index}]")
-    points[index] = value
-    return session.write(name, points, allow_extended_limits=extended).value[index]
 
 
 def _print_cell(args: argparse.Namespace, model, name: str, index: tuple[int, ...], value: Any) -> int:

@@ -203,9 +203,10 @@ class ValueAccess:
 
     def write_cells(self: Session, name: str, cells: Mapping[Any, Any], *, allow_extended_limits: bool = False
                     ) -> dict[tuple[int, ...], Any]:
-        """Write single values of a VAL_BLK, CURVE, MAP or CUBOID: ``cells`` maps an index ``(x, y, ...)``
-        (an int for one axis) to a physical value. Only those values are sent and read back; returns
-        ``{(x, y, ...): value the ECU holds}``.
+        """Write single values of a VAL_BLK, CURVE, MAP or CUBOID, or points of an AXIS_PTS: ``cells`` maps an
+        index ``(x, y, ...)`` (an int for one axis) to a physical value. Only those values are sent and read
+        back; returns ``{(x, y, ...): value the ECU holds}``. An AXIS_PTS' points are checked in place among
+        the points the ECU holds (monotony), which the session reads unless it knows them.
 
         :raises: as :meth:`write` (an index outside the object is a LimitsError).
         """
@@ -214,6 +215,8 @@ class ValueAccess:
             static = self._static_layout(name)
             indexed = checked_cells(self.model, name, cells, extended=allow_extended_limits,
                                     writable=self.writable_spans(), resolved=static)
+            if isinstance(self.model.object(name), AxisPts):
+                return self._write_axis_points(name, indexed, static, allow_extended_limits)
             layout = static or self._write_layout(name)
             spans = [cell_span(layout, index) for index in indexed]
             bits = layout.obj.bit_mask is not None
@@ -223,6 +226,20 @@ class ValueAccess:
                 edits = cell_edits(layout, indexed, self._known_bytes(spans))
             self._apply(name, edits)
             return cell_values(layout, self._known_bytes(spans), indexed)
+
+    def _write_axis_points(self: Session, name: str, points: dict[tuple[int, ...], Any], static: ResolvedLayout | None,
+                           extended: bool) -> dict[tuple[int, ...], Any]:
+        """The axis as the session knows it with ``points`` in place, written as :meth:`write` writes it (its order
+        and memory checked, only the points that change sent)."""
+        layout = static or self._write_layout(name)
+        axis = np.array(layout.decode(self._known_bytes(layout.spans())).value, dtype=object)
+        beyond = [index for index in points if index[0] >= len(axis)]
+        if beyond:
+            raise InputError(f"{name} has {len(axis)} points: there is no point {list(beyond[0])}")
+        for (index,), value in points.items():
+            axis[index] = value
+        written = self.write(name, axis, allow_extended_limits=extended).value
+        return {index: written[index[0]] for index in points}
 
     def writable_spans(self: Session) -> list[Span] | None:
         """Where the A2L lets calibrations be written (None: the A2L has no MEMORY_SEGMENTs to tell)."""
