@@ -10,8 +10,10 @@ from __future__ import annotations
 
 import faulthandler
 import os
+import shutil
 import socket
 import sys
+import tempfile
 import zlib
 
 import pytest
@@ -29,14 +31,25 @@ sys.dont_write_bytecode = False
 os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 
 
+_OWN_CACHE: list[str] = []  # the ELF index cache folder this process made for the run (removed at its end)
+
+
 def pytest_configure(config) -> None:
-    """The README's test command runs on a machine without a screen too: Qt's offscreen platform is chosen when
+    """The run keeps the ELF index cache in a folder of its own (WORKBENCH_CACHE_DIR, which xdist's workers
+    inherit), not in the user's cache folder: tests copy ELFs into temporary folders, and each copy's path was an
+    entry there.
+
+    The README's test command runs on a machine without a screen too: Qt's offscreen platform is chosen when
     no display answers (Qt's xcb platform would abort the interpreter); an explicit QT_QPA_PLATFORM stays.
 
     With a display, one process of the run uses it (the first xdist worker), the others render offscreen: two
     processes' windows on one display take the keyboard's focus from each other, and a key test of one then
     types into a window that is not active (its shortcuts, Ctrl+Z, never fire)."""
     from workbench.gui.display import display_problem
+
+    if not os.environ.get("WORKBENCH_CACHE_DIR"):
+        _OWN_CACHE.append(tempfile.mkdtemp(prefix="workbench-test-cache-"))
+        os.environ["WORKBENCH_CACHE_DIR"] = _OWN_CACHE[0]
 
     if display_problem() is not None or os.environ.get("PYTEST_XDIST_WORKER", "gw0") != "gw0":
         os.environ["QT_QPA_PLATFORM"] = os.environ.get("QT_QPA_PLATFORM") or "offscreen"
@@ -49,6 +62,8 @@ def pytest_unconfigure(config) -> None:
     and CI must fail instead of waiting for its time limit. Twice a run's process stayed after its last test
     without a word; pytest-timeout only watches the tests themselves."""
     faulthandler.dump_traceback_later(120, exit=True)
+    for folder in _OWN_CACHE:
+        shutil.rmtree(folder, ignore_errors=True)
 
 
 def free_port(kind: socket.SocketKind) -> int:

@@ -33,7 +33,8 @@ def run_update(tmp_path: Path, a2l: Path = FIXTURES / "types.a2l", elf: Path = E
     """The exit code, the heavy libraries and the modules of NOT_RUN_WHEN_CACHED that one update loads;
     ``default_cache``: into the user's cache folder (``$XDG_CACHE_HOME``: ``tmp_path/cache``), as users run it."""
     argv = ["a2l", "update", str(a2l), str(elf), "-o", str(tmp_path / "out.a2l")]
-    env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "cache")}
+    env = {key: value for key, value in os.environ.items() if key != "WORKBENCH_CACHE_DIR"}
+    env["XDG_CACHE_HOME"] = str(tmp_path / "cache")
     if not default_cache:
         argv += ["--cache-dir", str(tmp_path / "cache")]
     run = subprocess.run([sys.executable, "-c", SCRIPT, *argv], capture_output=True, text=True, timeout=60, check=True,

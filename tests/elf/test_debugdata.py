@@ -198,6 +198,7 @@ def test_the_default_cache_folder_is_the_one_platformdirs_names(monkeypatch, xdg
 
     from workbench.elf.cache import default_cache_dir
 
+    monkeypatch.delenv("WORKBENCH_CACHE_DIR", raising=False)
     for name, value in (("XDG_CACHE_HOME", xdg), ("HOME", home)):
         if value is None:
             monkeypatch.delenv(name, raising=False)
@@ -206,6 +207,18 @@ def test_the_default_cache_folder_is_the_one_platformdirs_names(monkeypatch, xdg
     monkeypatch.setattr(platformdirs.unix.Unix, "_optionally_create_directory", lambda *args, **kwargs: None,
                         raising=False)
     assert default_cache_dir() == Path(platformdirs.user_cache_dir("workbench")) / "elf-index"
+
+
+def test_workbench_cache_dir_names_the_cache_folder(tmp_path, monkeypatch):
+    """A CI job keeps the index on a volume of its own without moving every other program's cache (XDG)."""
+    from workbench.elf.cache import default_cache_dir
+
+    monkeypatch.setenv("WORKBENCH_CACHE_DIR", str(tmp_path / "ci"))
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert default_cache_dir() == tmp_path / "ci" / "elf-index"
+    DebugData(FIXTURES / "types_dwarf5.elf").save()
+    assert [entry.suffix for entry in (tmp_path / "ci" / "elf-index").iterdir()] == [".pickle"]
+    assert not (tmp_path / "xdg").exists()
 
 
 def test_a_rebuilt_elf_replaces_its_entry_and_the_folder_keeps_the_most_recently_used(tmp_path, monkeypatch):

@@ -22,7 +22,7 @@ from workbench.gui.widgets.a2l_tools_dialog import CHECK, MERGE, UPDATE, A2lTool
 @pytest.fixture(autouse=True)
 def own_elf_cache(tmp_path, monkeypatch):
     """The ELF index cache of the test's own (the dialog uses the user's, as the CLI does by default)."""
-    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    monkeypatch.setenv("WORKBENCH_CACHE_DIR", str(tmp_path / "cache"))
 
 
 @pytest.fixture

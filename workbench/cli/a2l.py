@@ -166,8 +166,9 @@ def _output_options(parser: argparse.ArgumentParser, verbose: bool = True) -> No
 
 
 def _cache_options(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--cache-dir", metavar="DIR", help="folder of the ELF index cache (default: the user's "
-                        "cache folder, e.g. ~/.cache/workbench/elf-index)")
+    parser.add_argument("--cache-dir", metavar="DIR", help="folder of the ELF index cache (default: "
+                        "$WORKBENCH_CACHE_DIR/elf-index when that is set, else the user's cache folder, e.g. "
+                        "~/.cache/workbench/elf-index)")
     parser.add_argument("--no-cache", action="store_true", help="neither read nor write the ELF index cache")
 
 

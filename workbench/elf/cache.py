@@ -4,7 +4,8 @@ types and symbol paths resolved so far.
 An entry is keyed by the ELF's resolved path, size, modification time and a checksum
 of its first 4 KiB (ELF and program headers), and holds that identity, so a rebuilt
 ELF never meets a stale index. Entries live in the caller's cache folder, by default the user's cache folder
-(``~/.cache/workbench/elf-index`` on Linux), never beside the user's files.
+(``~/.cache/workbench/elf-index`` on Linux; ``$WORKBENCH_CACHE_DIR/elf-index`` when that is set), never beside
+the user's files.
 """
 
 from __future__ import annotations
@@ -23,8 +24,12 @@ ENTRIES = 32  # the most entries a cache folder keeps (the ELFs used most recent
 
 
 def default_cache_dir() -> Path:
-    """``~/.cache/workbench/elf-index`` on Linux (``$XDG_CACHE_HOME`` when it is absolute), the user's cache folder
-    that ``platformdirs`` names elsewhere."""
+    """``$WORKBENCH_CACHE_DIR/elf-index`` when that is set (a CI job's persistent volume, a test run's own folder),
+    else ``~/.cache/workbench/elf-index`` on Linux (``$XDG_CACHE_HOME`` when it is absolute), the user's cache
+    folder that ``platformdirs`` names elsewhere."""
+    chosen = os.environ.get("WORKBENCH_CACHE_DIR")
+    if chosen:
+        return Path(chosen) / "elf-index"
     if sys.platform.startswith("linux"):  # platformdirs' rule, without its imports (tempfile, shutil: 5-10 ms)
         base, home = os.environ.get("XDG_CACHE_HOME", ""), os.environ.get("HOME", "")
         if not os.path.isabs(base):
