@@ -110,6 +110,7 @@ def workbench_checkout(name: str, root: Path, scratch: Path) -> Implementation:
     env = {**os.environ, "PYTHONPATH": str(root), "PYTHONPYCACHEPREFIX": str(scratch / f"pycache-{name}"),
            "XDG_CACHE_HOME": str(scratch / f"cache-{name}")}
     env.pop("PYTHONDONTWRITEBYTECODE", None)
+    env.pop("WORKBENCH_CACHE_DIR", None)  # it would take precedence over XDG_CACHE_HOME
     return Implementation(name, [sys.executable, "-P", "-c", _LAUNCH], env, scratch / f"cache-{name}" / "library")
 
 
