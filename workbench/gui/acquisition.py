@@ -6,6 +6,11 @@ their own timer. When the set of signals changes, the running measurement is sto
 one started with the new set (the ECU's DAQ lists are configured for what is displayed, as CANape
 does). Times are the ECU's DAQ timestamps mapped to host time, minus the hub's origin.
 
+A signal the ECU refuses to sample (WRITE_DAQ refused: an address outside what its DAQ may read) does not
+stop the others, as in CANape: the measurement is tried on halves of the signals until the refused ones are
+found, then runs without them; ``refused`` names them with the ECU's answer (the state keeps them, and they are
+not asked for again on this session).
+
 Recording (:meth:`DaqAcquisition.record`) swaps the plain measurement for a
 :class:`~workbench.record.Recorder` of the same signals, whose ``on_samples`` feeds the buffers:
 one set of DAQ lists on the ECU serves both the plots and the file. While a recording runs, the
@@ -23,7 +28,7 @@ from typing import Any
 
 from PySide6.QtCore import QObject, Signal
 
-from workbench.errors import ConnectionLostError, WorkbenchError
+from workbench.errors import ConnectionLostError, WorkbenchError, XcpCommandError
 from workbench.logs import logger
 
 log = logger(__name__)
@@ -42,6 +47,9 @@ class DaqState:
         self.lost = 0
         self.overloads = 0
         self.running = False
+        self.clock = ""  # which clock times the samples, for people (Measurement.time_source)
+        self.ecu_clock = True  # the ECU's DAQ timestamps; False: the master's receive time (a slave without them)
+        self.refused: dict[str, str] = {}  # signal -> why the ECU does not sample it (not measured on this session)
         self.recording: Path | None = None  # the MDF4 file being written
         self.recorded_s = 0.0
         self.file_bytes = 0
@@ -65,6 +73,7 @@ class DaqAcquisition(QObject):
     """
 
     failed = Signal(object)  # the exception that stopped the measurement
+    refused = Signal(object)  # {name: why} of signals the ECU refused to sample (the others are measured)
     started = Signal(object)  # the names being measured
     recording_started = Signal(object)  # the RecordRequest
     recording_stopped = Signal(object)  # workbench.record.RecordingStats, or None when it could not start
@@ -148,8 +157,19 @@ class DaqAcquisition(QObject):
 
     def _measure(self, names: tuple[str, ...]) -> None:
         state = self.state
+        names = tuple(name for name in names if name not in state.refused)
+        if not names:
+            return
         try:
-            with self.session.measure(list(names)) as measurement:
+            try:
+                measurement = self.session.measure(list(names)).start()
+            except XcpCommandError as exc:
+                measurement = self._without_refused(names, exc)
+                if measurement is None:
+                    return
+                names = tuple(measurement.names)
+            with measurement:
+                state.clock, state.ecu_clock = measurement.time_source, measurement.ecu_timestamps
                 state.signals, state.running = names, True
                 self.started.emit(names)
                 while not self._stop.is_set() and not self._changed.is_set():
@@ -163,6 +183,40 @@ class DaqAcquisition(QObject):
             state.running = False
             self.gap(names)
 
+    def _without_refused(self, names: tuple[str, ...], exc: XcpCommandError):
+        """After the ECU refused the measurement of ``names`` (``exc``): the refused signals found by halves (those the
+        ECU refuses alone), said in ``refused``, and the measurement of the rest started (None: nothing left).
+
+        :raises XcpCommandError: ``exc``, when it is no signal's (a list the ECU has no room for) or none alone fails.
+        """
+        if exc.command != "WRITE_DAQ":
+            raise exc
+        refused: dict[str, str] = {}
+
+        def find(group: tuple[str, ...], error: XcpCommandError | None) -> None:
+            if error is None:
+                try:
+                    self.session.measure(list(group)).start().stop()
+                    return
+                except XcpCommandError as failed:
+                    if failed.command != "WRITE_DAQ":
+                        raise
+                    error = failed
+            if len(group) == 1:
+                refused[group[0]] = str(error)
+                return
+            half = len(group) // 2
+            find(group[:half], None)
+            find(group[half:], None)
+
+        find(names, exc)
+        if not refused:
+            raise exc
+        self.state.refused.update(refused)
+        self.refused.emit(dict(refused))
+        rest = [name for name in names if name not in refused]
+        return self.session.measure(rest).start() if rest else None
+
     def _record(self, names: tuple[str, ...], request: RecordRequest) -> None:
         from workbench.record import Recorder
 
@@ -172,10 +226,13 @@ class DaqAcquisition(QObject):
                 self.sink(name, times, values)
 
         state = self.state
+        names = tuple(name for name in names if name not in state.refused)
         recorder = Recorder(self.session, request.path, names, can2=request.can2, raw_can=request.raw_can,
                             overwrite=True, on_samples=deliver)
         try:
             with recorder:
+                if recorder.measurement is not None:
+                    state.clock, state.ecu_clock = recorder.measurement.time_source, recorder.measurement.ecu_timestamps
                 state.signals, state.running, state.recording = names, True, request.path
                 self.started.emit(names)
                 self.recording_started.emit(request)

@@ -488,9 +488,16 @@ class MainWindow(QMainWindow):
                 self.show_error(exc)
         acquisition = DaqAcquisition(session, self.hub.sink, self.hub.origin, self, gap=self.hub.mark_gap)
         acquisition.recording_stopped.connect(self._recording_stopped)
+        acquisition.refused.connect(self._not_measurable)
         self.hub.attach(acquisition, monitor)
         self.status.set_pause(None)
         self.record_action.setEnabled(True)
+
+    def _not_measurable(self, refused: dict) -> None:
+        """Signals the ECU refused to sample: said once, the others are measured (the status bar keeps the count)."""
+        lines = [f"{name}: {why}" for name, why in refused.items()]
+        self.show_error(InputError("not measured by DAQ (the ECU refuses to sample it; the other signals are "
+                                   "measured):\n" + "\n".join(lines)))
 
     def _disconnected(self) -> None:
         self.hub.detach()

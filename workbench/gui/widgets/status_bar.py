@@ -179,8 +179,13 @@ class EcuStatusBar(QStatusBar):
             return
         trouble = state.lost or state.overloads
         self.daq.setText(f"DAQ {len(state.signals)} signals · {state.samples:,} samples · lost {state.lost}"
-                         + (f" · overloads {state.overloads}" if state.overloads else ""))
+                         + (f" · overloads {state.overloads}" if state.overloads else "")
+                         + ("" if state.ecu_clock else " · receive time")
+                         + (f" · {len(state.refused)} not measurable" if state.refused else ""))
         self.daq.setToolTip("samples received by DAQ since the measurement (re)started; lost: DTOs the ECU "
                             "sent that never arrived (by their counters); overloads: the ECU's DAQ overload "
-                            f"indications ({state.overloads})")
-        self.daq.setStyleSheet(f"color: {theme.WARN if trouble else theme.GOOD};")
+                            f"indications ({state.overloads})" + (f"\ntimed by {state.clock}" if state.clock else "")
+                            + ("" if state.ecu_clock else ": the plots show when the samples arrived (in bursts, "
+                               "as the bus delivers them), not when the ECU took them")
+                            + "".join(f"\nnot measured: {name}: {why}" for name, why in state.refused.items()))
+        self.daq.setStyleSheet(f"color: {theme.WARN if trouble or state.refused else theme.GOOD};")
