@@ -155,6 +155,8 @@ def test_flash_calib_in_packets_the_slave_allows(ecu, served):
     try:
         result = flash_ecu(ecu, plan_flash(changed, layout, ["CALIB"], source="cal.s19"))
         assert result.application_running and result.verified
+        own = {s.range for s in served.simulator.ecu.memory_map.sectors}  # erased in the slave's sectors only
+        assert result.plan.sectors and {s.range for s in result.plan.sectors} <= own
         assert served.memory(rom, 4) == struct.pack("<f", 27.5)
         assert ecu.read(THRESHOLD) == 27.5 and ecu.epk.matches is True
     finally:

@@ -4,7 +4,8 @@ The ECU names its checksum type in every response; the largest block it accepts 
 from ERR_OUT_OF_RANGE (halving). A response that names no checksum type is a stale one (a
 late answer to an earlier command): SYNCH, then ask again. A mismatch is asked once more
 before it counts, so a stale answer can fail a block only when it repeats. When the ECU
-computes a checksum the workbench does not know (user-defined), the bytes are read back.
+computes a checksum the workbench does not know (user-defined), or has no BUILD_CHECKSUM at all
+(ERR_CMD_UNKNOWN: BUILD_CHECKSUM is optional, small boot loaders leave it out), the bytes are read back.
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ class ChecksumVerifier:
     kind: ChecksumType | None = None  # the ECU's, once it answered; None before (or user-defined)
     commands: int = 0
     confirm_mismatch: bool = True  # ask a mismatch again (a search that narrows mismatches down confirms by itself)
+    unsupported: bool = False  # the ECU has no BUILD_CHECKSUM (ERR_CMD_UNKNOWN): every block is read back
 
     def differing(self, address: int, expected: bytes) -> list[AddressRange]:
         """The blocks of ``[address, address + len(expected))`` whose content differs from ``expected``.
@@ -77,9 +79,18 @@ class ChecksumVerifier:
         return self._checksum(address, len(expected)) == checksum(expected, self.kind, self.master.order == "<")
 
     def _checksum(self, address: int, size: int) -> int | None:
-        """The ECU's checksum of the block; None when its type is one this side cannot compute."""
+        """The ECU's checksum of the block; None when its type is one this side cannot compute, or it has none."""
         for attempt in range(2):
-            code, value = self.master.build_checksum(address, size)
+            if self.unsupported:
+                return None
+            try:
+                code, value = self.master.build_checksum(address, size)
+            except XcpCommandError as exc:
+                if exc.code != Err.CMD_UNKNOWN:
+                    raise
+                log.info("the ECU has no BUILD_CHECKSUM: comparing by reading back")
+                self.unsupported = True
+                return None
             self.commands += 1
             kind = _checksum_type(code)
             if kind is not None:

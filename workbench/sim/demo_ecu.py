@@ -159,11 +159,12 @@ def build_demo_ecu(
     doc = load_a2l(files.a2l)
     config = read_xcp_config(doc)
     params = chosen.parameters(xcp_parameters(doc, config, transport), transport)
+    memory_map = chosen.memory_map(HDS9)
     if chosen.changes_a2l:
         described = {name: chosen.parameters(xcp_parameters(doc, config, name), name)
                      for name in ("CAN", "UDP", "TCP") if getattr(config, name.lower()) is not None}
-        doc = profile_document(doc, described, HDS9, chosen.name,
-                               chosen.t1_ms / 1000 if chosen.t1_ms is not None else None)
+        doc = profile_document(doc, described, memory_map, chosen.name,
+                               {name: ms / 1000 for name, ms in chosen.timeouts_ms.items()})
     if unlocked:
         params = replace(params, protected=Resource(0))
     if static_daq:
@@ -183,11 +184,11 @@ def build_demo_ecu(
     scheduler.add(PLANT_STEP_S, lambda: plant.step(PLANT_STEP_S), "plant", order=-2)
     ecu = SimulatedEcu(
         flash,
-        ApplicationLayout.from_elf(elf, HDS9),
+        ApplicationLayout.from_elf(elf, memory_map),
         FlcuApplication,
         hardware=Bsw(plant, can2),
         params=params,
-        memory_map=HDS9,
+        memory_map=memory_map,
         scheduler=scheduler,
         faults=faults,
         rng=rng,

@@ -7,7 +7,7 @@ the boot ROM that holds the XCP driver's strings, and which flash XCP may progra
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 
 from workbench.image import AddressRange, Region
@@ -37,6 +37,22 @@ class MemoryMap:
 
     def region(self, name: str) -> Region:
         return next(r for r in self.flash if r.name == name)
+
+    def with_sector_sizes(self, sizes: dict[str, int]) -> MemoryMap:
+        """This chip with the flash of the regions named in ``sizes`` erased in sectors of that many bytes: the
+        XCP sector of such a region becomes as many sectors (named after it with a number, in the same clear and
+        program order)."""
+        flash = tuple(replace(r, sector_size=sizes.get(r.name, r.sector_size)) for r in self.flash)
+        sectors = []
+        for sector in self.sectors:
+            size = sizes.get(self.region_at(sector.range.start).name, sector.range.size)
+            sectors += [FlashSector(f"{sector.name[:3]}{n}", AddressRange(start, start + size), sector.clear_sequence,
+                                    sector.program_sequence, sector.functional_bit)
+                        for n, start in enumerate(range(sector.range.start, sector.range.end, size))]
+        return replace(self, flash=flash, sectors=tuple(sectors))
+
+    def region_at(self, address: int) -> Region:
+        return next(r for r in self.flash if r.contains(address))
 
     def rom_address(self, cal_ram_address: int) -> int:
         """The CAL ROM address that mirrors a CAL RAM address."""

@@ -21,6 +21,7 @@ from workbench.a2l.xcp import (
     XcpDaq,
     XcpEvent,
     XcpProtocolLayer,
+    XcpSector,
     XcpSegment,
     XcpTimestamp,
 )
@@ -38,14 +39,14 @@ CAN_FD_DATA_BAUDRATE = 2_000_000
 
 
 def profile_document(doc: A2lDocument, params: Mapping[str, XcpParameters], memory_map: MemoryMap,
-                     name: str, t1_s: float | None = None) -> A2lDocument:
+                     name: str, timeouts_s: Mapping[str, float] | None = None) -> A2lDocument:
     """``doc`` with its XCP description replaced by that of the slave whose parameters per transport
     ("CAN", "UDP", "TCP": those ``doc`` describes) are ``params``; named ``<doc stem>-<name>.a2l``.
 
     :raises InputError: ``doc`` has no calibration segment (MEMORY_SEGMENT with an XCP SEGMENT) to redraw.
     """
     config = read_xcp_config(doc)
-    described = _describe(config, params, memory_map, t1_s)
+    described = _describe(config, params, memory_map, timeouts_s or {})
     memory = [m for m in doc.memory_segments() if any(s.memory_segment == m.name for s in config.segments)]
     if not memory:
         raise InputError(f"{doc.path or 'the A2L'}: no MEMORY_SEGMENT with an IF_DATA XCP SEGMENT to describe the "
@@ -79,13 +80,13 @@ def _memory_segments(base, segments: tuple[XcpSegment, ...]) -> str:
 
 
 def _describe(config: XcpConfig, params: Mapping[str, XcpParameters], memory_map: MemoryMap,
-              t1_s: float | None) -> XcpConfig:
+              timeouts_s: Mapping[str, float]) -> XcpConfig:
     common_transport = "CAN" if "CAN" in params else next(iter(params))
     common = params[common_transport]
-    layer = _protocol_layer(config, common, t1_s)
+    layer = _protocol_layer(config, common, timeouts_s)
     described = replace(config, **vars(layer), daq=_daq(config, common),
                         max_segments=len(_segments(common, memory_map)),
-                        segments=_xcp_segments(config, common, memory_map), pgm=_pgm(config, common))
+                        segments=_xcp_segments(config, common, memory_map), pgm=_pgm(config, common, memory_map))
     if config.can is not None and "CAN" in params:
         can = params["CAN"]
         described = replace(described, can=replace(
@@ -97,16 +98,16 @@ def _describe(config: XcpConfig, params: Mapping[str, XcpParameters], memory_map
             continue
         own = params[transport]
         block = replace(block, protocol_layer=replace(layer, max_cto=own.max_cto, max_dto=own.max_dto), daq=None,
-                        pgm=_pgm(config, own))
+                        pgm=_pgm(config, own, memory_map))
         described = replace(described, **{transport.lower(): block})
     return described
 
 
-def _protocol_layer(config: XcpConfig, params: XcpParameters, t1_s: float | None) -> XcpProtocolLayer:
+def _protocol_layer(config: XcpConfig, params: XcpParameters, timeouts_s: Mapping[str, float]) -> XcpProtocolLayer:
     commands = XcpSlave(None, params, None).commands - _MANDATORY  # a slave without an ECU: it only lists commands
     return XcpProtocolLayer(
         protocol_version=config.protocol_version,
-        timeouts=replace(config.timeouts, t1=t1_s) if t1_s is not None else config.timeouts,
+        timeouts=replace(config.timeouts, **timeouts_s),
         max_cto=params.max_cto, max_dto=params.max_dto,
         byte_order="MSB_FIRST" if params.byte_order == ">" else "MSB_LAST",
         address_granularity=params.address_granularity,
@@ -154,9 +155,13 @@ def _xcp_segments(config: XcpConfig, params: XcpParameters, memory_map: MemoryMa
                  for n, r in enumerate(ranges))
 
 
-def _pgm(config: XcpConfig, params: XcpParameters):
+def _pgm(config: XcpConfig, params: XcpParameters, memory_map: MemoryMap):
     if config.pgm is None:
         return None
-    mode = (XcpCommunicationMode(master_block_mode=True, max_bs=params.max_bs, min_st_s=params.min_st_100us * 100e-6)
-            if params.master_block_mode else None)
-    return replace(config.pgm, max_cto_pgm=params.max_cto, communication_mode=mode)
+    pgm = params.programming
+    mode = (XcpCommunicationMode(master_block_mode=True, max_bs=pgm.max_bs, min_st_s=pgm.min_st_100us * 100e-6)
+            if pgm.master_block_mode else None)
+    sectors = tuple(XcpSector(s.name, n, s.range.start, s.range.size, s.clear_sequence, s.program_sequence, 0)
+                    for n, s in enumerate(memory_map.sectors))
+    return replace(config.pgm, max_sectors=len(sectors), max_cto_pgm=pgm.max_cto, sectors=sectors,
+                   communication_mode=mode)

@@ -1,10 +1,11 @@
 """Slave profiles: the demo ECU served through other, equally conforming implementations of ASAM XCP's options.
 
 A real ECU implements the optional parts of XCP its own way: its DAQ lists numbered after predefined
-ones, its calibrations in segment 1, Motorola byte order, a seed longer than a frame. A
-:class:`SlaveProfile` is one such way, stated as a small difference from the demo's
-:class:`~workbench.sim.xcp.parameters.XcpParameters`: fields replaced for every transport, for XCP on CAN
-or on Ethernet only, in the DAQ processor, and (for a slow slave) the A2L's T1. Where the difference is
+ones, its calibrations in segment 1, Motorola byte order, a seed longer than a frame, a boot loader with
+few programming commands. A :class:`SlaveProfile` is one such way, stated as a small difference from the
+demo's :class:`~workbench.sim.xcp.parameters.XcpParameters`: fields replaced for every transport, for XCP
+on CAN or on Ethernet only, in the DAQ processor, in programming (PgmParameters), the flash's sector
+sizes, and (for a slow slave or flash) the A2L's timeouts. Where the difference is
 something the A2L states (byte order, granularity, segments, DAQ, packet sizes, commands), the profile's
 A2L says so too (:mod:`workbench.sim.profile_a2l`): a master reads the truth from it, as from a real ECU's.
 
@@ -20,8 +21,9 @@ from typing import Any
 
 from workbench.errors import InputError
 from workbench.image import AddressRange
+from workbench.sim.memory_map import MemoryMap
 from workbench.sim.xcp.parameters import DEMO_STATIC_LISTS, PredefinedDaqList, XcpParameters
-from workbench.xcp_protocol import Resource
+from workbench.xcp_protocol import Cmd, Resource
 
 __all__ = ["PROFILES", "SlaveProfile", "profile"]
 
@@ -37,19 +39,26 @@ class SlaveProfile:
     daq: Mapping[str, Any] = field(default_factory=dict)  # DaqParameters
     can: Mapping[str, Any] = field(default_factory=dict)  # XcpParameters, XCP on CAN only
     ethernet: Mapping[str, Any] = field(default_factory=dict)  # XcpParameters, XCP on UDP/TCP only
-    t1_ms: int | None = None  # the A2L's T1 (None: the demo's)
+    pgm: Mapping[str, Any] = field(default_factory=dict)  # PgmParameters: programming, every transport
+    sector_sizes: Mapping[str, int] = field(default_factory=dict)  # flash regions in sectors of this size (bytes)
+    timeouts_ms: Mapping[str, int] = field(default_factory=dict)  # the A2L's T1..T7 that differ from the demo's
 
     def parameters(self, base: XcpParameters, transport: str) -> XcpParameters:
         """``base`` (the demo's parameters for ``transport``: "CAN", "UDP" or "TCP") with this profile's changes."""
         on_transport = self.can if transport.upper() == "CAN" else self.ethernet
-        return replace(base, **self.xcp, **on_transport, daq=replace(base.daq, **self.daq))
+        return replace(base, **self.xcp, **on_transport, daq=replace(base.daq, **self.daq),
+                       pgm=replace(base.pgm, **self.pgm))
+
+    def memory_map(self, base: MemoryMap) -> MemoryMap:
+        """``base`` (the demo's chip, one sector a region) with this profile's flash sectors."""
+        return base.with_sector_sizes(dict(self.sector_sizes)) if self.sector_sizes else base
 
     @property
     def changes_a2l(self) -> bool:
         """Whether a master needs this profile's own A2L (anything but the slow pace, chatter, seeds and locks)."""
         quiet = {"response_delay_s", "delayed_every", "service_packets", "seed_length", "protected"}
         return bool(set(self.xcp) - quiet or set(self.can) - quiet or set(self.ethernet) - quiet or self.daq
-                    or self.t1_ms is not None)
+                    or self.pgm or self.sector_sizes or self.timeouts_ms)
 
 
 # The HDS9's CAL RAM: the EPK's copy (16 bytes, as at 0xFC0000 in CAL ROM), then the calibrations.
@@ -57,6 +66,11 @@ _EPK_SEGMENT = AddressRange(0x40000000, 0x40000010)
 _CAL_SEGMENT = AddressRange(0x40000010, 0x40020000)
 # Two lists the slave configured itself: the first RAM words on the 4 ms and the 100 ms event.
 _PREDEFINED = (PredefinedDaqList(0, ((0x40020000, 4), (0x40020004, 4))), PredefinedDaqList(2, ((0x40020008, 4),)))
+# Flash in small sectors, as most microcontrollers have: 64 KiB in code flash, 16 KiB in data flash.
+_SMALL_SECTORS = {"APPLICATIVE": 0x10000, "CALIB": 0x4000, "SHARED": 0x4000}
+# What a small boot loader leaves out: all but the four mandatory programming commands, and checksums.
+_BOOT_LOADER_LACKS = frozenset({Cmd.GET_PGM_PROCESSOR_INFO, Cmd.GET_SECTOR_INFO, Cmd.PROGRAM_NEXT, Cmd.PROGRAM_MAX,
+                                Cmd.BUILD_CHECKSUM})
 
 PROFILES: dict[str, SlaveProfile] = {p.name: p for p in (
     SlaveProfile("demo", "nothing: the demo ECU as docs/demo-ecu.md describes it",
@@ -117,9 +131,23 @@ PROFILES: dict[str, SlaveProfile] = {p.name: p for p in (
     SlaveProfile("slow", "every 16th response leaves 150 ms late, half the A2L's T1 of 300 ms (a slave busy now "
                  "and then; the answers after a late one wait their turn)",
                  "waiting out T1 as the A2L states it; a late answer never taken for the next command's",
-                 xcp={"response_delay_s": 0.15, "delayed_every": 16}, t1_ms=300),
+                 xcp={"response_delay_s": 0.15, "delayed_every": 16}, timeouts_ms={"t1": 300}),
     SlaveProfile("chatty", "an EV_USER or a SERV_TEXT packet before every response",
                  "EV and SERV packets between responses (they are no answers)", xcp={"service_packets": True}),
+    SlaveProfile("boot-minimal", "a small boot loader: of the programming commands only the mandatory PROGRAM_START, "
+                 "PROGRAM_CLEAR, PROGRAM and PROGRAM_RESET, no BUILD_CHECKSUM; flash sectors of 64 KiB (APPLICATIVE) "
+                 "and 16 KiB (CALIB, SHARED) that only its A2L states",
+                 "the A2L's SECTORs without GET_PGM_PROCESSOR_INFO/GET_SECTOR_INFO; one PROGRAM a frame; "
+                 "verification (and cache sync) by UPLOAD", xcp={"without": _BOOT_LOADER_LACKS},
+                 pgm={"master_block_mode": False}, sector_sizes=_SMALL_SECTORS),
+    SlaveProfile("slow-flash", "PROGRAM_CLEAR answers 0.6 s late (T1 300 ms, T4 2 s), the ECU boots 1 s after "
+                 "PROGRAM_RESET answering nothing (T6 400 ms); PROGRAM in master blocks of its own (MAX_BS_PGM 8, "
+                 "MIN_ST_PGM 0.5 ms, MAX_CTO_PGM 32 on Ethernet) while DOWNLOAD has no master block mode",
+                 "T4 for a sector erase, CONNECT tried again (T6 each) until the ECU has booted; PROGRAM_START's "
+                 "MAX_CTO_PGM, MAX_BS_PGM and MIN_ST_PGM, not the other commands'",
+                 xcp={"master_block_mode": False, "max_bs": 1},
+                 pgm={"master_block_mode": True, "max_bs": 8, "min_st_100us": 5, "max_cto": 32, "erase_s": 0.6,
+                      "boot_s": 1.0}, timeouts_ms={"t1": 300, "t4": 2000, "t6": 400}),
 )}
 
 

@@ -19,6 +19,7 @@ from typing import Any
 
 from workbench.sim.ecu import SimulatedEcu
 from workbench.sim.faults import FrameAction
+from workbench.xcp_protocol import Cmd
 
 
 class XcpPort(ABC):
@@ -75,7 +76,7 @@ class XcpPort(ABC):
         """Send a command's answers; a slow slave's (or one the fault plan delays) leave late, and the answers
         after them wait their turn (a slave answers its commands in order: SYNCH after the command it interrupts)."""
         with self._late_lock:
-            late_s = max(self._pace(), self.ecu.faults.on_answer(command)) if packets else 0.0
+            late_s = max(self._pace(), self.ecu.faults.on_answer(command), self._busy(command)) if packets else 0.0
             if self._waiting is not None:
                 self._waiting.append(packets)
             elif late_s:
@@ -97,6 +98,10 @@ class XcpPort(ABC):
             return 0.0
         self._answers += 1
         return params.response_delay_s if self._answers % params.delayed_every == 0 else 0.0
+
+    def _busy(self, command: int) -> float:
+        """How long the ECU works on ``command`` before it answers (a flash erases for a while)."""
+        return self.ecu.params.pgm.erase_s if command == Cmd.PROGRAM_CLEAR else 0.0
 
     def _respond(self, packets: list[bytes]) -> None:
         for packet in packets:

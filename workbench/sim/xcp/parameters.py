@@ -5,11 +5,11 @@ These are the simulator's truth (docs/demo-ecu.md); a test checks the demo A2L a
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from workbench.image import AddressRange, ChecksumType
 from workbench.sim.seedkey import SEED_LENGTH
-from workbench.xcp_protocol import MAX_DAQ_PID, TIME_UNIT_S, CanId, Resource
+from workbench.xcp_protocol import MAX_DAQ_PID, TIME_UNIT_S, CanId, Cmd, Resource
 
 # time unit codes (seconds: TIME_UNIT_S) of GET_DAQ_RESOLUTION_INFO's TIMESTAMP_MODE bits 4..7 and
 # of GET_DAQ_EVENT_INFO: code n counts 10**(n - 9) s (0: 1 ns ... 6: 1 ms ... 9: 1 s)
@@ -130,6 +130,19 @@ class DaqParameters:
 
 
 @dataclass(frozen=True)
+class PgmParameters:
+    """How the slave programs flash where that differs from its other commands: PROGRAM_START's MAX_CTO_PGM,
+    master block mode, MAX_BS_PGM and MIN_ST_PGM (None: as for DOWNLOAD), and how long its flash takes."""
+
+    max_cto: int | None = None  # MAX_CTO_PGM: PROGRAM frames of at most this many bytes (never more than MAX_CTO)
+    master_block_mode: bool | None = None  # PROGRAM + PROGRAM_NEXT blocks
+    max_bs: int | None = None  # MAX_BS_PGM
+    min_st_100us: int | None = None  # MIN_ST_PGM, 100 us units: the pause the master leaves between a block's frames
+    erase_s: float = 0.0  # PROGRAM_CLEAR answers this late (a sector erase takes a while; the A2L's T4 covers it)
+    boot_s: float = 0.0  # after PROGRAM_RESET the ECU boots this long, answering nothing (CONNECT included)
+
+
+@dataclass(frozen=True)
 class XcpParameters:
     can_id_master: CanId = CanId(0x7F0)  # master -> slave
     can_id_slave: CanId = CanId(0x7F1)  # slave -> master, responses and DTOs
@@ -147,6 +160,8 @@ class XcpParameters:
     protected: Resource = Resource.CAL_PAG | Resource.DAQ | Resource.PGM  # locked at CONNECT until UNLOCK
     seed_length: int = SEED_LENGTH  # bytes of a seed (and of its key): more than MAX_CTO - 2 take several packets
     get_id: bool = True  # GET_ID implemented (False: ERR_CMD_UNKNOWN, the EPK is read at ADDR_EPK)
+    without: frozenset[Cmd] = frozenset()  # optional commands the slave does not implement (ERR_CMD_UNKNOWN)
+    pgm: PgmParameters = field(default_factory=PgmParameters)
     segments: tuple[AddressRange, ...] = ()  # calibration segments 0, 1, ... in CAL RAM (none: one, all of it)
     all_segments_mode: bool = True  # SET_CAL_PAGE's mode bit 0x80 (every segment at once)
     response_delay_s: float = 0.0  # responses leave this late (a slow slave; the A2L's T1 says how slow is fine)
@@ -180,9 +195,12 @@ class XcpParameters:
 
     @property
     def max_data_per_frame(self) -> int:
-        """Data bytes of a DOWNLOAD/PROGRAM/…_NEXT frame: whole elements after command, count and alignment."""
+        """Data bytes of a DOWNLOAD/…_NEXT frame: whole elements after command, count and alignment."""
+        return self._per_frame(self.max_cto)
+
+    def _per_frame(self, max_cto: int) -> int:
         ag = self.address_granularity
-        return (self.max_cto - self.data_offset) // ag * ag
+        return (max_cto - self.data_offset) // ag * ag
 
     @property
     def max_data_per_response(self) -> int:
@@ -196,3 +214,24 @@ class XcpParameters:
         255 elements at most; a single frame without master block mode."""
         frames = 1 + self.max_bs if self.master_block_mode else 1
         return min(255 * self.address_granularity, frames * self.max_data_per_frame)
+
+    @property
+    def programming(self) -> PgmParameters:
+        """:attr:`pgm` with every communication parameter stated (those it leaves None are DOWNLOAD's)."""
+        pgm = self.pgm
+        block = self.master_block_mode if pgm.master_block_mode is None else pgm.master_block_mode
+        return replace(pgm, max_cto=min(pgm.max_cto or self.max_cto, self.max_cto), master_block_mode=block,
+                       max_bs=self.max_bs if pgm.max_bs is None else pgm.max_bs,
+                       min_st_100us=self.min_st_100us if pgm.min_st_100us is None else pgm.min_st_100us)
+
+    @property
+    def pgm_data_per_frame(self) -> int:
+        """Data bytes of a PROGRAM/PROGRAM_NEXT frame of MAX_CTO_PGM bytes."""
+        return self._per_frame(self.programming.max_cto)
+
+    @property
+    def pgm_block_bytes(self) -> int:
+        """Largest PROGRAM block: 1 + MAX_BS_PGM frames in the programming's master block mode, else one frame."""
+        pgm = self.programming
+        frames = 1 + pgm.max_bs if pgm.master_block_mode else 1
+        return min(255 * self.address_granularity, frames * self.pgm_data_per_frame)

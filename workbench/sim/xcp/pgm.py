@@ -1,18 +1,23 @@
 """Flash programming: PROGRAM_START … PROGRAM_RESET with flash semantics and master block mode.
 
-* PROGRAM_START halts the application (the flash driver runs) and is refused while DAQ runs;
+* PROGRAM_START halts the application (the flash driver runs) and is refused while DAQ runs; it
+  answers the programming's own MAX_CTO_PGM, master block mode, MAX_BS_PGM and MIN_ST_PGM
+  (:attr:`XcpParameters.programming <workbench.sim.xcp.parameters.XcpParameters.programming>`);
 * PROGRAM_CLEAR erases whole sectors: in absolute mode from the MTA (a range that does not
   start and end on sector boundaries is ERR_OUT_OF_RANGE), in functional mode the sectors
   whose bit is in the range (0x01 calibration = CALIB, 0x02 code = APPLICATIVE, 0x04 NVRAM = SHARED);
+  its answer leaves ``PgmParameters.erase_s`` late (the XCP port holds it back, and what follows);
 * PROGRAM/PROGRAM_NEXT/PROGRAM_MAX write only erased bytes inside one sector
   (ERR_OUT_OF_RANGE outside flash, ERR_WRITE_PROTECTED in flash no sector covers (BOOT),
   ERR_ACCESS_DENIED onto written bytes); a block is checked whole at its first frame;
   PROGRAM with size 0 ends a segment;
-* PROGRAM_RESET answers, then resets the ECU (boot checks the application-valid key).
+* PROGRAM_RESET answers, then resets the ECU (boot checks the application-valid key), which then
+  answers nothing, CONNECT included, for ``PgmParameters.boot_s``.
 """
 
 from __future__ import annotations
 
+import time
 from typing import TYPE_CHECKING
 
 from workbench.sim.memory import MemoryAccessError
@@ -81,9 +86,9 @@ class ProgrammingCommands:
             raise XcpNegative(Err.DAQ_ACTIVE)
         self.active = True
         self.slave.target.halt_application()
-        params = self.slave.params
-        comm_mode = COMM_MODE_PGM_MASTER_BLOCK if params.master_block_mode else 0
-        return bytes([0, comm_mode, params.max_cto, params.max_bs, params.min_st_100us, 0])
+        pgm = self.slave.params.programming
+        comm_mode = COMM_MODE_PGM_MASTER_BLOCK if pgm.master_block_mode else 0
+        return bytes([0, comm_mode, pgm.max_cto, pgm.max_bs, pgm.min_st_100us, 0])
 
     def _program_clear(self, req: bytes) -> bytes:
         need(req, 8)
@@ -114,7 +119,9 @@ class ProgrammingCommands:
         if req[1] == 0:
             return b""  # end of a memory segment
         self._frame_arrived()
-        return self.slave.start_block(req, Cmd.PROGRAM_NEXT, Writer(self._check, self._write))
+        params = self.slave.params
+        return self.slave.start_block(req, Cmd.PROGRAM_NEXT, Writer(self._check, self._write),
+                                      params.pgm_data_per_frame, params.pgm_block_bytes)
 
     def _program_next(self, req: bytes) -> bytes | None:
         self._require_active()
@@ -123,7 +130,7 @@ class ProgrammingCommands:
 
     def _program_max(self, req: bytes) -> bytes:
         self._require_active()
-        data = self.slave.max_frame_data(req)
+        data = self.slave.max_frame_data(req, self.slave.params.programming.max_cto)
         self._frame_arrived()
         self._write(self.slave.mta, data)
         self.slave.mta += len(data)
@@ -131,6 +138,7 @@ class ProgrammingCommands:
 
     def _program_reset(self, req: bytes) -> bytes:
         self.slave.target.reset()
+        self.slave.silent_until = time.monotonic() + self.slave.params.pgm.boot_s
         return b""
 
     def _get_pgm_processor_info(self, req: bytes) -> bytes:

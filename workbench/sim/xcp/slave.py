@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import random
 import struct
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Protocol
@@ -83,6 +84,7 @@ class _Block:
     next_command: Cmd
     remaining: int
     writer: Writer
+    per_frame: int  # data bytes of a _NEXT frame
 
 
 # Commands by the resource that protects them; a resource the current mode lacks answers CMD_UNKNOWN.
@@ -141,6 +143,8 @@ class XcpSlave:
             **self.daq.handlers(),
             **self.pgm.handlers(),
         }
+        for command in params.without:
+            self._handlers.pop(command, None)
         self.reset()
 
     @property
@@ -161,6 +165,7 @@ class XcpSlave:
         self._key = b""  # key bytes UNLOCK has brought so far
         self._key_length = 0  # ... of how many
         self._chatter = 0
+        self.silent_until = 0.0  # time.monotonic() before which the ECU boots and answers nothing
         self.daq.free()
         self.pgm.active = False
 
@@ -173,7 +178,7 @@ class XcpSlave:
 
     def handle(self, cto: bytes) -> list[bytes]:
         """Process one command; returns the packets to transmit (possibly none, see module doc)."""
-        if not cto or (not self.connected and cto[0] != Cmd.CONNECT):
+        if not cto or (not self.connected and cto[0] != Cmd.CONNECT) or time.monotonic() < self.silent_until:
             return []
         command = cto[0]
         block = self._block
@@ -277,13 +282,15 @@ class XcpSlave:
 
     # --- block transfers (DOWNLOAD/PROGRAM and their _NEXT) ---------------------------------
 
-    def start_block(self, req: bytes, next_command: Cmd, writer: Writer) -> bytes | None:
-        """The first frame of a DOWNLOAD/PROGRAM: ``req[1]`` elements in all, the frame's share from
-        :attr:`XcpParameters.data_offset`; more than one frame holds only in master block mode."""
+    def start_block(self, req: bytes, next_command: Cmd, writer: Writer, per_frame: int, max_block: int
+                    ) -> bytes | None:
+        """The first frame of a DOWNLOAD/PROGRAM: ``req[1]`` elements in all, the frame's share (``per_frame`` bytes
+        at most) from :attr:`XcpParameters.data_offset`; more than one frame holds only in master block mode, and
+        ``max_block`` bytes at most."""
         need(req, 2)
         size = self.elements(req[1])
-        per_frame, offset = self.params.max_data_per_frame, self.params.data_offset
-        if size == 0 or size > self.params.max_block_bytes:
+        offset = self.params.data_offset
+        if size == 0 or size > max_block:
             raise XcpNegative(Err.OUT_OF_RANGE)
         self.require_aligned(self.mta)
         first = min(size, per_frame)
@@ -292,7 +299,7 @@ class XcpSlave:
         writer.check(self.mta, size)
         self._write_chunk(writer, req[offset : offset + first])
         if size > first:
-            self._block = _Block(next_command, size - first, writer)
+            self._block = _Block(next_command, size - first, writer, per_frame)
             return None
         return b""
 
@@ -305,7 +312,7 @@ class XcpSlave:
         if req[1] != remaining:
             self._block = None
             raise XcpNegative(Err.SEQUENCE, bytes([remaining]))
-        chunk, offset = min(block.remaining, self.params.max_data_per_frame), self.params.data_offset
+        chunk, offset = min(block.remaining, block.per_frame), self.params.data_offset
         need(req, offset + chunk)
         self._write_chunk(block.writer, req[offset : offset + chunk])
         block.remaining -= chunk
@@ -466,22 +473,24 @@ class XcpSlave:
         return Writer(self.check_writable, self.write)
 
     def _download(self, req: bytes) -> bytes | None:
-        return self.start_block(req, Cmd.DOWNLOAD_NEXT, self._download_writer())
+        return self.start_block(req, Cmd.DOWNLOAD_NEXT, self._download_writer(), self.params.max_data_per_frame,
+                                self.params.max_block_bytes)
 
     def _download_next(self, req: bytes) -> bytes | None:
         return self.continue_block(req, Cmd.DOWNLOAD_NEXT)
 
-    def max_frame_data(self, req: bytes) -> bytes:
-        """The data of a DOWNLOAD_MAX/PROGRAM_MAX: whole elements after the command and its alignment bytes,
-        at the (aligned) MTA."""
-        size = self.params.max_data_per_response  # the same layout as an UPLOAD response
+    def max_frame_data(self, req: bytes, max_cto: int) -> bytes:
+        """The data of a DOWNLOAD_MAX/PROGRAM_MAX (a frame of ``max_cto`` bytes): whole elements after the command and
+        its alignment bytes, at the (aligned) MTA."""
+        ag = self.granularity
+        size = (max_cto - ag) // ag * ag  # the same layout as an UPLOAD response
         need(req, self.granularity + size)
         self.require_aligned(self.mta)
         self.require_mta_in(size)
         return req[self.granularity : self.granularity + size]
 
     def _download_max(self, req: bytes) -> bytes:
-        data = self.max_frame_data(req)
+        data = self.max_frame_data(req, self.params.max_cto)
         self.write(self.mta, data)
         self.mta += len(data)
         return b""
