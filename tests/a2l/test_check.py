@@ -191,3 +191,29 @@ def test_a_malformed_memory_segment_is_a_finding_not_the_end_of_the_check():
     report = check_document(load_a2l_string(text, "m.a2l", validate=False))
     assert {finding.kind for finding in report.problems} >= {"syntax"} and \
         any("CM_GONE" in finding.message for finding in report.problems)
+
+
+def test_an_option_given_twice_is_named_where_asap2_allows_it_once():
+    """Two BIT_MASKs, FORMATs, PHYS_UNITs, MATRIX_DIMs in one object: which one a tool takes is not told. What may
+    repeat (SYSTEM_CONSTANT and ADDR_EPK in MOD_PAR, RESERVED in a RECORD_LAYOUT; IF_DATA and ANNOTATION blocks)
+    passes; loading the file does not refuse it (other tools read such files)."""
+    text = TEXT.replace('/begin MOD_PAR ""', '/begin MOD_PAR "" SYSTEM_CONSTANT "a" "1" SYSTEM_CONSTANT "b" "2" '
+                        'ADDR_EPK 0x1000 ADDR_EPK 0x1004')
+    text = text.replace("FNC_VALUES 1 ULONG ROW_DIR DIRECT", "FNC_VALUES 1 ULONG ROW_DIR DIRECT RESERVED 5 BYTE "
+                        "RESERVED 6 BYTE")
+    text = text.replace('/begin MEASUREMENT ok "" ULONG CM 1 0 0 1 ECU_ADDRESS 0x2000',
+                        '/begin MEASUREMENT ok "" ULONG CM 1 0 0 1 ECU_ADDRESS 0x2000 BIT_MASK 0x1 FORMAT "%4.1"\n'
+                        '      /begin IF_DATA X /end IF_DATA /begin IF_DATA X /end IF_DATA /begin ANNOTATION /end '
+                        'ANNOTATION /begin ANNOTATION /end ANNOTATION\n'
+                        '      BIT_MASK 0x2 PHYS_UNIT "bar" FORMAT "%4.2" PHYS_UNIT "kPa"')
+    text = text.replace('VALUE 0x1000 RL 0 CM 0 1', 'VAL_BLK 0x1000 RL 0 CM 0 1 MATRIX_DIM 2 MATRIX_DIM 3')
+    doc = load_a2l_string(text, "twice.a2l")
+    twice = [(f.kind, f.name, f.line, f.column, f.message) for f in check_document(doc).findings
+             if f.kind == "option-twice"]
+    assert twice == [
+        ("option-twice", "ok", 12, 7, "MEASUREMENT ok: BIT_MASK is given twice (at most once; the first at line 10)"),
+        ("option-twice", "ok", 12, 36, "MEASUREMENT ok: FORMAT is given twice (at most once; the first at line 10)"),
+        ("option-twice", "ok", 12, 50, "MEASUREMENT ok: PHYS_UNIT is given twice (at most once; the first at line 12)"),
+        ("option-twice", "inflash", 18, 78,
+         "CHARACTERISTIC inflash: MATRIX_DIM is given twice (at most once; the first at line 18)"),
+    ]

@@ -1,7 +1,7 @@
 """``check``: syntax, references, names and memory placement of an A2L, each finding located.
 
 Checks: every block against the keyword table (parameters, the words allowed in
-enumerated ones); references (:mod:`workbench.a2l.references`: COMPU_METHOD,
+enumerated ones, an option given twice where ASAP2 allows it once); references (:mod:`workbench.a2l.references`: COMPU_METHOD,
 RECORD_LAYOUT, typedefs, INSTANCE components, FUNCTION, conversion tables, units,
 measurements, axes, groups, memory segments); names defined twice; and
 (:mod:`workbench.a2l.placement`) objects that overlap, objects outside every MEMORY_SEGMENT,
@@ -55,11 +55,11 @@ def check_document(doc: A2lDocument, debug: DebugData | None = None, *, progress
         report.add(Finding("include-not-found", include.name, f"cannot include {include.path}: {why} (the rest is "
                            "checked without it)", holder.name, line, column, "", Severity.ERROR))
     syntax: list[A2lParseError] = []
-    validate_document(doc, syntax)
+    validate_document(doc, syntax, options_once=True)
     for error in syntax:
         name, keyword = _concerned(doc, getattr(error, "block", None))
-        report.add(Finding("syntax", name, error.reason, error.path, error.line, error.column, keyword,
-                           Severity.ERROR))
+        report.add(Finding(getattr(error, "kind", "syntax"), name, error.reason, error.path, error.line, error.column,
+                           keyword, Severity.ERROR))
     report_progress(progress, 1, 4, "checking references")
     try:
         objects = AddressedObjects(doc)

@@ -219,6 +219,12 @@ for _name in ("DEF_CHARACTERISTIC", "FUNCTION_LIST", "IN_MEASUREMENT", "LOC_MEAS
     BLOCKS[_name] = _NAME_LIST
 OPTIONS.update({"VAR_MEASUREMENT": ("ident",), "VAR_SELECTION_CHARACTERISTIC": ("ident",), "AR_PROTOTYPE_OF": ("ident",)})
 
+# Options a block may have more than once (ASAM MCD-2 MC 1.7.1); every other option stands at most once in a block.
+REPEATABLE_OPTIONS: dict[str, frozenset[str]] = {
+    "MOD_PAR": frozenset({"ADDR_EPK", "SYSTEM_CONSTANT"}),
+    "RECORD_LAYOUT": frozenset({"RESERVED"}),
+}
+
 # Top-level keywords outside any block.
 TOP_LEVEL_OPTIONS = {"ASAP2_VERSION": ("int", "int"), "A2ML_VERSION": ("int", "int")}
 TOP_LEVEL_BLOCKS = frozenset({"PROJECT"})

@@ -40,15 +40,18 @@ _ENUM_BYTES = {kind: frozenset(word.encode("ascii") for word in enumeration.word
 
 
 def validate_document(doc: "A2lDocument", errors: list[A2lParseError] | None = None, *,
-                      within: str | None = None) -> None:
+                      within: str | None = None, options_once: bool = False) -> None:
     """Raise :class:`A2lParseError` at the first violation of the keyword table (in file
     order, saying how many more there are), or, when ``errors`` is a list, append every
     violation (one per block) to it.
     An error inside a block has that block's index as ``block``. ``within`` is the block the
     file's top level stands in: None for a whole file (PROJECT), ``"MODULE"`` for a bare
-    fragment of module-level blocks (a file written for ``/include``)."""
+    fragment of module-level blocks (a file written for ``/include``). ``options_once`` also
+    reports an option given twice in a block where ASAP2 allows it once (``check`` does; loading
+    does not refuse such a file, as other tools read it), as an error whose ``kind`` is
+    ``"option-twice"``."""
     found: list[A2lParseError] = []
-    _Validator(doc, found, within).run()
+    _Validator(doc, found, within, options_once).run()
     found.sort(key=lambda error: getattr(error, "offset", 0))
     if errors is not None:
         errors.extend(found)
@@ -61,9 +64,12 @@ def validate_document(doc: "A2lDocument", errors: list[A2lParseError] | None = N
 
 
 class _Validator:
-    def __init__(self, doc: "A2lDocument", errors: list[A2lParseError], within: str | None = None):
+    def __init__(self, doc: "A2lDocument", errors: list[A2lParseError], within: str | None = None,
+                 options_once: bool = False):
         self.doc = doc
         self.within = within
+        self.options_once = options_once
+        self.twice: list[A2lParseError] = []  # the options given twice in the block being checked
         self.errors = errors
         self.data = doc.data
         self.starts = doc.tokens.starts_list
@@ -88,9 +94,12 @@ class _Validator:
             try:
                 self._check_block(block, own, skip_params)
             except A2lParseError as exc:
+                self.twice.append(exc)
+            for exc in self.twice:  # every option given twice, and the block's first other problem
                 exc = self._named(exc, block)
                 exc.block = block
                 self.errors.append(exc)
+            self.twice.clear()
         try:
             self._check_top_level(self._own_tokens(0, len(doc.tokens), child_order[child_offsets[0] : child_offsets[1]]))
         except A2lParseError as exc:
@@ -108,6 +117,8 @@ class _Validator:
         reason = error.reason.removeprefix(f"{keyword}: ")
         named = A2lParseError(f"{keyword} {name.decode('latin-1')}: {reason}", error.path, error.line, error.column)
         named.offset = getattr(error, "offset", 0)
+        if hasattr(error, "kind"):
+            named.kind = error.kind
         return named
 
     def _own_tokens(self, start: int, stop: int, children: list[int]) -> list[int]:
@@ -216,6 +227,8 @@ class _Validator:
 
     def _check_options(self, keyword: str, spec: grammar.BlockSpec, own, position: int, end_token: int) -> None:
         allowed = _allowed_options(keyword)
+        first_of: dict[bytes, int] | None = {} if self.options_once else None  # option -> its first token
+        repeatable = grammar.REPEATABLE_OPTIONS.get(keyword, ())
         while position < len(own):
             token = own[position]
             raw = self.raw(token)
@@ -227,11 +240,20 @@ class _Validator:
                 known = name in grammar.OPTIONS or name in grammar.TOP_LEVEL_OPTIONS
                 what = "keyword" if known else "unknown keyword"
                 raise self.doc.error(f"{what} {name} is not allowed in {keyword}", token)
+            if first_of is not None and first_of.setdefault(raw, token) != token and name not in repeatable:
+                self.twice.append(self._twice(keyword, name, first_of[raw], token))
             position += 1
             if kinds in (("int*",), ("ident*",)):
                 position = self._check_list(name, kinds[0], allowed, own, position, end_token)
                 continue
             position = self._check_params(name, kinds, own, position, end_token)
+
+    def _twice(self, keyword: str, name: str, first: int, token: int) -> A2lParseError:
+        """The error at the second ``name`` of a block, which ASAP2 allows once: which one a tool takes is not told."""
+        line = self.doc.token_position(first)[1]
+        error = self.doc.error(f"{keyword}: {name} is given twice (at most once; the first at line {line})", token)
+        error.kind = "option-twice"
+        return error
 
     def _check_list(self, name: str, kind: str, allowed: dict, own, position: int, end_token: int) -> int:
         """The one or more ``kind`` parameters of option ``name`` from ``position`` (a list of names
