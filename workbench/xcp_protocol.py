@@ -12,13 +12,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import IntEnum, IntFlag
 
-__all__ = ["CAN_ID_EXTENDED_FLAG", "MAX_DAQ_PID", "PID_ERR", "PID_EV", "PID_RES", "PID_SERV", "TIME_UNIT_S", "CanId",
+__all__ = ["CAN_ID_EXTENDED_FLAG", "EV_CMD_PENDING", "MAX_DAQ_PID", "PID_ERR", "PID_EV", "PID_RES", "PID_SERV", "TIME_UNIT_S", "CanId",
            "Cmd", "Err", "IdType", "Resource"]
 
 PID_RES = 0xFF  # positive response
 PID_ERR = 0xFE  # negative response
 PID_EV = 0xFD  # event packet (EV_...)
 PID_SERV = 0xFC  # service request packet (SERV_RESET, SERV_TEXT)
+EV_CMD_PENDING = 0x05  # event code: the slave needs longer for the command; the master restarts its timeout
 MAX_DAQ_PID = 0xFB  # DTO packet ids run from 0x00 to 0xFB
 
 CAN_ID_EXTENDED_FLAG = 0x80000000  # bit 31 of an XCP-on-CAN id (CAN_ID_MASTER/SLAVE, DAQ_LIST_CAN_ID): a 29-bit id

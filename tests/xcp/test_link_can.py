@@ -123,6 +123,28 @@ def test_other_frames_events_and_dtos_are_not_responses(channel):
         slave.close()
 
 
+@pytest.mark.parametrize("daq", [False, True], ids=["caller-reads", "receiver-reads"])
+def test_ev_cmd_pending_restarts_the_wait_for_the_response(channel, daq):
+    """A slave that needs longer than the command's timeout (a long erase) says so with EV_CMD_PENDING: each one
+    starts the wait over (six 0.1 s apart, the answer 0.7 s after the command: with a 0.5 s timeout)."""
+    def busy():
+        for _ in range(6):
+            time.sleep(0.1)
+            slave.send(SLAVE, bytes([0xFD, 0x05]))
+        time.sleep(0.1)
+        slave.send(SLAVE, bytes([0xFF]))
+
+    slave = ScriptedSlave(channel, lambda data: threading.Thread(target=busy, daemon=True).start() or [])
+    try:
+        with Link(settings(channel)) as link:
+            if daq:
+                link.dto_handler = lambda packet, host_ns: None
+            assert link.exchange(bytes([0xD1, 0, 0, 0, 0, 0, 0, 0]), 0.5) == bytes([0xFF])
+            assert list(link.events).count(bytes([0xFD, 0x05])) == 6
+    finally:
+        slave.close()
+
+
 def test_a_doubled_response_is_dropped_before_the_next_command(channel):
     def answer(data):
         response = (SLAVE, False, bytes([0xFF, data[1]]))

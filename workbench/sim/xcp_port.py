@@ -11,6 +11,7 @@ frame, send and receive.
 
 from __future__ import annotations
 
+import math
 import threading
 import time
 from abc import ABC, abstractmethod
@@ -19,7 +20,7 @@ from typing import Any
 
 from workbench.sim.ecu import SimulatedEcu
 from workbench.sim.faults import FrameAction
-from workbench.xcp_protocol import Cmd
+from workbench.xcp_protocol import EV_CMD_PENDING, PID_EV, Cmd
 
 
 class XcpPort(ABC):
@@ -76,7 +77,11 @@ class XcpPort(ABC):
         """Send a command's answers; a slow slave's (or one the fault plan delays) leave late, and the answers
         after them wait their turn (a slave answers its commands in order: SYNCH after the command it interrupts)."""
         with self._late_lock:
-            late_s = max(self._pace(), self.ecu.faults.on_answer(command), self._busy(command)) if packets else 0.0
+            busy_s = self._busy(command) if packets else 0.0
+            late_s = max(self._pace(), self.ecu.faults.on_answer(command), busy_s) if packets else 0.0
+            pending_s = self.ecu.params.pgm.pending_s
+            for n in range(1, math.ceil(busy_s / pending_s) if pending_s else 0):  # "restart your timeout" meanwhile
+                self._later(n * pending_s, self._respond, [bytes((PID_EV, EV_CMD_PENDING))])
             if self._waiting is not None:
                 self._waiting.append(packets)
             elif late_s:

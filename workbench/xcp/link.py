@@ -12,7 +12,8 @@ The master (:mod:`workbench.xcp.master`) sends packets and reads responses throu
 A late response to a command that timed out (or a doubled one) would be taken for the answer to the next
 command; every exchange therefore drops what came before it sends, except for the last frame of a master
 block, whose early error response must not be lost. Event (EV) and service (SERV) packets are logged,
-never taken for responses.
+never taken for responses; an EV_CMD_PENDING (a slave that needs longer than the command's timeout, as a
+long erase) starts the wait for the response over.
 
 A lost ECU is said at once as :class:`~workbench.errors.ConnectionLostError`: a closed TCP connection, a
 socket or bus error, and while DAQ runs with :meth:`Link.watch_dtos` nothing from the ECU for the time
@@ -35,7 +36,7 @@ from workbench.logs import logger
 from workbench.xcp.transport import LinkBroken, open_transport
 from workbench.bus_defaults import BusSpec
 from workbench.xcp_framing import MAX_PACKET
-from workbench.xcp_protocol import PID_ERR, PID_EV, PID_SERV, CanId, Cmd
+from workbench.xcp_protocol import EV_CMD_PENDING, PID_ERR, PID_EV, PID_SERV, CanId, Cmd
 
 if TYPE_CHECKING:
     import can
@@ -89,6 +90,7 @@ class Link:
         self.closed = False
         self.lost: ConnectionLostError | None = None
         self.events: deque[bytes] = deque(maxlen=64)  # the newest EV and SERV packets
+        self._pending = 0  # EV_CMD_PENDINGs received: each restarts the wait for a response
         self._lock = threading.RLock()  # one caller on the wire at a time
         self._arrived = threading.Condition()  # guards the responses and ``lost`` between receiver and caller
         self._responses: deque[bytes] = deque()
@@ -261,10 +263,14 @@ class Link:
 
     def _receive(self, timeout_s: float) -> bytes | None:
         responses = self._responses
+        pending = self._pending  # EV_CMD_PENDINGs so far: one more restarts the wait
         if self._receiving:
             with self._arrived:
-                if not responses and self.lost is None:
-                    self._arrived.wait_for(lambda: responses or self.lost is not None, timeout_s)
+                while not responses and self.lost is None:
+                    if not self._arrived.wait_for(lambda: responses or self.lost is not None
+                                                  or self._pending != pending, timeout_s):
+                        break
+                    pending = self._pending
                 if responses:
                     return responses.popleft()
             self.check()
@@ -273,13 +279,14 @@ class Link:
             return responses.popleft()
         deadline = time.monotonic() + timeout_s
         while True:
-            packets = self._read_wire(timeout_s)
+            packets = self._read_wire(max(0.0, deadline - time.monotonic()))
             if packets is None:
                 return None
             if responses:
                 return responses.popleft()
-            timeout_s = deadline - time.monotonic()  # something else came (another node's frame, a DTO)
-            if timeout_s <= 0:
+            if self._pending != pending:
+                pending, deadline = self._pending, time.monotonic() + timeout_s
+            if deadline <= time.monotonic():  # something else came (another node's frame, a DTO)
                 return None
 
     def _read_wire(self, timeout_s: float) -> list[bytes] | None:
@@ -314,6 +321,10 @@ class Link:
                 self._responses.append(packet)
                 self._arrived.notify()
         elif pid >= PID_SERV:
+            if pid == PID_EV and len(packet) > 1 and packet[1] == EV_CMD_PENDING:
+                with self._arrived:
+                    self._pending += 1
+                    self._arrived.notify()
             self.events.append(packet)
             log.info("%s: %s packet %s", self.describe(), "event" if pid == PID_EV else "service request",
                      packet.hex(" "))

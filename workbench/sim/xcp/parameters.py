@@ -139,6 +139,7 @@ class PgmParameters:
     max_bs: int | None = None  # MAX_BS_PGM
     min_st_100us: int | None = None  # MIN_ST_PGM, 100 us units: the pause the master leaves between a block's frames
     erase_s: float = 0.0  # PROGRAM_CLEAR answers this late (a sector erase takes a while; the A2L's T4 covers it)
+    pending_s: float = 0.0  # while it erases, an EV_CMD_PENDING every pending_s (0: none; T4 must cover the erase)
     boot_s: float = 0.0  # after PROGRAM_RESET the ECU boots this long, answering nothing (CONNECT included)
 
 
