@@ -68,8 +68,8 @@ def test_similar_names_keep_what_tells_them_apart_and_the_tooltip_is_whole(brows
         assert all(text.startswith(name[:6]) and text.endswith("_Pdu.Dlc") for text, name in zip(shown, names))
     assert elide_name("zsRailPressureTmp", metrics, 60).startswith("zs…")
     assert elide_name("xsDC", metrics, 200) == "xsDC"
-    row = next(r for r in range(browser.proxy.rowCount()) if browser.proxy.index(r, 0).data() == names[0])
-    assert browser.proxy.index(row, 0).data(Qt.ToolTipRole).startswith(names[0])
+    row = next(r for r in range(browser.model.rowCount()) if browser.model.index(r, 0).data() == names[0])
+    assert browser.model.index(row, 0).data(Qt.ToolTipRole).startswith(names[0])
 
 
 def test_names_alike_keep_the_part_that_tells_them_apart_among_the_others_of_their_column(browser, qtbot):

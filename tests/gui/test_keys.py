@@ -178,14 +178,14 @@ def test_ctrl_f_down_up_and_enter_reach_and_open_a_variable_and_ctrl_q_closes_th
     assert QApplication.focusWidget() is browser.search
     for key in "xvPRV_DC_F":
         press(key)
-    assert browser.proxy.rowCount() >= 1
+    assert browser.model.rowCount() >= 1
     press(Qt.Key_Down)
     assert QApplication.focusWidget() is browser.table and browser.table.currentIndex().row() == 0
     assert browser.table.selectionModel().isRowSelected(0)
     press(Qt.Key_Up)  # from the first row back to the search
     assert QApplication.focusWidget() is browser.search
     press(Qt.Key_Up)  # to the last row
-    assert browser.table.currentIndex().row() == browser.proxy.rowCount() - 1
+    assert browser.table.currentIndex().row() == browser.model.rowCount() - 1
     name = browser.table.currentIndex().data()
     press(Qt.Key_Return)
     assert name in window.editors and window.editor_tabs.currentWidget() is window.editors[name]

@@ -1,12 +1,12 @@
 """The variable browser's rows: every MEASUREMENT, CHARACTERISTIC and AXIS_PTS of the A2L and every
-CAN2 signal of the DBCs, with type, unit, function groups and description; filtered by a proxy."""
+CAN2 signal of the DBCs, with type, unit, function groups and description; filtered and sorted by the model."""
 
 from __future__ import annotations
 
 import re
 from dataclasses import dataclass
 
-from PySide6.QtCore import QSortFilterProxyModel, Qt
+from PySide6.QtCore import Qt
 from PySide6.QtGui import QColor
 
 from workbench.a2l.model import is_glob, name_pattern
@@ -14,7 +14,7 @@ from workbench.gui import theme
 from workbench.gui.mime import signals_mime
 from workbench.gui.models.rows import RowsModel
 
-__all__ = ["ALL", "Variable", "VariableFilter", "VariableModel", "variables_of_a2l", "variables_of_dbc",
+__all__ = ["ALL", "Variable", "VariableModel", "variables_of_a2l", "variables_of_dbc",
            "variables_of_file"]
 
 ALL = ""  # a filter that lets every row through
@@ -69,22 +69,111 @@ def variables_of_file(file: str, channels) -> list[Variable]:
     return [Variable(f"{file}:{c.name}", "MDF", "recorded", c.unit, (file,), c.comment) for c in channels]
 
 
+_ROLES = frozenset((Qt.DisplayRole, Qt.ForegroundRole, Qt.ToolTipRole, Qt.UserRole))  # the roles the rows answer
+
+
+def _display(row: Variable, column: str) -> str:
+    """The text of ``row`` in ``column`` as the table shows it (and sorts it)."""
+    if column == "kind":
+        return KIND_SHORT.get(row.kind) or KIND_LABELS.get(row.kind, row.kind)
+    if column == "functions":
+        return ", ".join(row.functions)
+    return getattr(row, column)
+
+
 class VariableModel(RowsModel):
-    """Rows: :class:`Variable`; drags carry their names."""
+    """Rows: the :class:`Variable` objects that pass the filters (:meth:`set_filters`: the search, words or a glob with *
+    and ?, and the kind, function and unit chosen; ``ALL``: any), in the order of the column sorted by (:meth:`sort`;
+    the A2L's order, the DBCs' signals after, until a header is clicked); drags carry their names.
+
+    Filtered and sorted here, in one pass over the rows, not by a QSortFilterProxyModel, which asks Python about
+    every row for a filter and twice for every comparison of a sort: on an A2L of 52,000 objects a keystroke in the
+    search took 0.2 s and a sort by name 7.5 s, the window frozen meanwhile."""
 
     COLUMNS = COLUMNS
 
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.all_rows: list[Variable] = []
+        self.search = ""
+        self.kind = ALL
+        self.function = ALL
+        self.unit = ALL
+        self.sorted_by: tuple[int, Qt.SortOrder] = (-1, Qt.AscendingOrder)
+        self._pattern: re.Pattern | None = None
+        self._texts: list[str] = []  # of all_rows: "name description" in lower case, what the words search
+        self._order: list[int] = []  # all_rows' indices in the sorted order
+
+    def set_rows(self, rows) -> None:
+        """Every row there is (those that pass the filters are shown)."""
+        self.all_rows = list(rows)
+        self._texts = [f"{row.name} {row.description}".lower() for row in self.all_rows]
+        self._order = self._sorted()
+        self._show()
+
+    def set_filters(self, *, search: str | None = None, kind: str | None = None, function: str | None = None,
+                    unit: str | None = None) -> None:
+        if search is not None:
+            self.search = search.strip()
+            self._pattern = name_pattern(self.search, ignore_case=True) if is_glob(self.search) else None
+        if kind is not None:
+            self.kind = kind
+        if function is not None:
+            self.function = function
+        if unit is not None:
+            self.unit = unit
+        self._show()
+
+    def sort(self, column: int, order=Qt.AscendingOrder) -> None:
+        """By ``column``'s text, case-insensitively (equal texts in the A2L's order); -1: the A2L's order. The rows
+        shown stay, in another order: the selection stays on its rows."""
+        self.sorted_by = (column, order)
+        self._order = self._sorted()
+        passing = self._passing()
+        rows = [self.all_rows[i] for i in self._order if passing[i]]
+        self.layoutAboutToBeChanged.emit()
+        where = {id(row): number for number, row in enumerate(rows)}
+        before = self.persistentIndexList()
+        after = [self.index(where[id(self.rows[index.row()])], index.column()) for index in before]
+        self.rows = rows
+        self.changePersistentIndexList(before, after)
+        self.layoutChanged.emit()
+
+    def _sorted(self) -> list[int]:
+        column, order = self.sorted_by
+        if column < 0:
+            return list(range(len(self.all_rows)))
+        title, rows = COLUMNS[column], self.all_rows
+        return sorted(range(len(rows)), key=lambda i: _display(rows[i], title).casefold(),
+                      reverse=order == Qt.DescendingOrder)
+
+    def _show(self) -> None:
+        passing = self._passing()
+        super().set_rows([self.all_rows[i] for i in self._order if passing[i]])
+
+    def _passing(self) -> list[bool]:
+        """Whether each of all_rows passes the filters."""
+        rows, kind, function, unit, search = self.all_rows, self.kind, self.function, self.unit, self.search
+        passing = [(not kind or row.kind == kind) and (not function or function in row.functions)
+                   and (not unit or row.unit == unit) for row in rows]
+        if not search:
+            return passing
+        if self._pattern is not None:  # an object's own name stays that object, as on the command line (arr[1])
+            match, lower = self._pattern.fullmatch, search.lower()
+            return [ok and (match(row.name) is not None or row.name.lower() == lower) for ok, row in zip(passing, rows)]
+        words = search.lower().split()
+        if len(words) == 1:
+            (word,) = words
+            return [ok and word in text for ok, text in zip(passing, self._texts)]
+        return [ok and all(word in text for word in words) for ok, text in zip(passing, self._texts)]
+
     def data(self, index, role=Qt.DisplayRole):
-        if not index.isValid():
+        if role not in _ROLES or not index.isValid():  # first: Qt asks a dozen roles a cell (sizing a column: 1,000s)
             return None
         row = self.rows[index.row()]
         column = COLUMNS[index.column()]
         if role == Qt.DisplayRole:
-            if column == "kind":
-                return KIND_SHORT.get(row.kind) or KIND_LABELS.get(row.kind, row.kind)
-            if column == "functions":
-                return ", ".join(row.functions)
-            return getattr(row, column)
+            return _display(row, column)
         if role == Qt.ForegroundRole:
             if column == "kind":
                 return QColor(KIND_COLOURS.get(row.kind, theme.TEXT))
@@ -109,51 +198,3 @@ class VariableModel(RowsModel):
             if name not in names:
                 names.append(name)
         return signals_mime(names)
-
-
-class VariableFilter(QSortFilterProxyModel):
-    """Rows whose name or description matches the search (words, or a glob with * and ?) and whose
-    kind, function and unit are the chosen ones (``ALL``: any)."""
-
-    def __init__(self, parent=None):
-        super().__init__(parent)
-        self.search = ""
-        self.kind = ALL
-        self.function = ALL
-        self.unit = ALL
-        self._pattern: re.Pattern | None = None
-        self.setSortCaseSensitivity(Qt.CaseInsensitive)
-
-    def set_filters(self, *, search: str | None = None, kind: str | None = None, function: str | None = None,
-                    unit: str | None = None) -> None:
-        changing = hasattr(self, "beginFilterChange")  # Qt 6.10 (invalidateFilter is deprecated there)
-        if changing:
-            self.beginFilterChange()
-        if search is not None:
-            self.search = search.strip()
-            self._pattern = name_pattern(self.search, ignore_case=True) if is_glob(self.search) else None
-        if kind is not None:
-            self.kind = kind
-        if function is not None:
-            self.function = function
-        if unit is not None:
-            self.unit = unit
-        if changing:
-            self.endFilterChange(QSortFilterProxyModel.Direction.Rows)
-        else:
-            self.invalidateFilter()
-
-    def filterAcceptsRow(self, source_row, source_parent) -> bool:
-        row: Variable = self.sourceModel().rows[source_row]
-        if self.kind and row.kind != self.kind:
-            return False
-        if self.function and self.function not in row.functions:
-            return False
-        if self.unit and row.unit != self.unit:
-            return False
-        if not self.search:
-            return True
-        if self._pattern is not None:  # an object's own name stays that object, as on the command line (arr[1])
-            return bool(self._pattern.fullmatch(row.name)) or row.name.lower() == self.search.lower()
-        text = f"{row.name} {row.description}".lower()
-        return all(word in text for word in self.search.lower().split())
