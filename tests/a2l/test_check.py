@@ -65,10 +65,14 @@ def test_against_the_elf_addresses_and_symbols():
     text = ('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n'
             '    /begin MEASUREMENT zsScalar "" FLOAT32_IEEE NO_COMPU_METHOD 1 0 0 1 ECU_ADDRESS 0x403004 /end MEASUREMENT\n'
             '    /begin MEASUREMENT gone "" UBYTE NO_COMPU_METHOD 1 0 0 1 ECU_ADDRESS 0x403000 /end MEASUREMENT\n'
+            '    /begin MEASUREMENT vectr "" UWORD NO_COMPU_METHOD 1 0 0 1 ECU_ADDRESS 0x403010 /end MEASUREMENT\n'
             '  /end MODULE\n/end PROJECT\n')
     report = check_document(load_a2l_string(text, "x.a2l"), DebugData(ELF, use_cache=False))
     assert {(f.kind, f.name, f.line) for f in report.findings} == {
-        ("address-mismatch", "zsScalar", 4), ("symbol-not-found", "gone", 5), ("byte-order-mismatch", "MOD_COMMON", 3)}
+        ("address-mismatch", "zsScalar", 4), ("symbol-not-found", "gone", 5), ("symbol-not-found", "vectr", 6),
+        ("byte-order-mismatch", "MOD_COMMON", 3)}
+    assert report.of_kind("symbol-not-found")[1].message == \
+        "MEASUREMENT vectr: not in types_dwarf5.elf; did you mean 'vector'?"  # a renamed variable
     mismatch = report.of_kind("address-mismatch")[0]
     assert "the A2L says 0x403004, types_dwarf5.elf says 0x403000" in mismatch.message
 

@@ -90,3 +90,19 @@ def test_a_cached_update_reads_neither_the_variables_nor_writes_the_cache_again(
         again = update_document(doc, debug)
         assert debug.from_cache and debug._variables is None
     assert again.data == first.data and entry.stat().st_mtime_ns == written
+
+
+def test_the_did_you_mean_of_a_missing_symbol_costs_nothing_while_none_is_missing(tmp_path):
+    """The suggestion for a symbol the ELF lacks (workbench.elf.suggest, its name index) is loaded only when one is."""
+    def modules(a2l: Path) -> set[str]:
+        argv = ["a2l", "update", str(a2l), str(ELF), "-o", str(tmp_path / "out.a2l"), "--cache-dir", str(tmp_path)]
+        run = subprocess.run([sys.executable, "-c", SCRIPT, *argv], capture_output=True, text=True, timeout=60,
+                             check=True)
+        return set(json.loads(run.stdout.splitlines()[-1])[1])
+
+    text = (FIXTURES / "types.a2l").read_text()
+    start = text.index("    /begin MEASUREMENT missing_var")
+    found = tmp_path / "found.a2l"
+    found.write_text(text[:start] + text[text.index("/end MEASUREMENT\n", start) + len("/end MEASUREMENT\n"):])
+    assert "workbench.elf.suggest" not in modules(found)
+    assert "workbench.elf.suggest" in modules(FIXTURES / "types.a2l")  # missing_var: so the line above can fail

@@ -123,6 +123,22 @@ def test_missing_symbols_are_kept_and_reported_by_default(source, debug):
     assert b"missing_var" in result.data
 
 
+def test_a_renamed_variable_is_suggested(debug):
+    """The usual reason a symbol is missing: the variable was renamed. A stranger gets no suggestion."""
+    objects = "".join(f'    /begin MEASUREMENT {name} "" UBYTE NO_COMPU_METHOD 1 0 0 255 ECU_ADDRESS 0x0 /end MEASUREMENT\n'
+                      for name in ("zsScaler", "ZSSCALAR", "outr.b.c", "outr.nothing", "missing_var"))
+    text = f'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n{objects}  /end MODULE\n/end PROJECT\n'
+    result = update_document(load_a2l_string(text, "renamed.a2l"), debug, epk=False)
+    messages = {f.name: f.message for f in result.report.of_kind("symbol-not-found")}
+    assert messages == {
+        "zsScaler": "MEASUREMENT zsScaler: not in types_dwarf5.elf; did you mean 'zsScalar'?",
+        "ZSSCALAR": "MEASUREMENT ZSSCALAR: not in types_dwarf5.elf; did you mean 'zsScalar'?",  # case alone first
+        "outr.b.c": "MEASUREMENT outr.b.c: not in types_dwarf5.elf; did you mean 'outer.b.c'?",  # with its members
+        "outr.nothing": "MEASUREMENT outr.nothing: not in types_dwarf5.elf; did you mean 'outer'?",  # no such member
+        "missing_var": "MEASUREMENT missing_var: not in types_dwarf5.elf",
+    }
+
+
 def test_remove_missing_drops_the_object_and_its_references(source, debug):
     result = update_document(load_a2l(source), debug, mode=UpdateMode.REMOVE_MISSING)
     assert b"missing_var" not in result.data

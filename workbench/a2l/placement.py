@@ -22,6 +22,7 @@ from workbench.a2l.readers import read_mod_common
 from workbench.a2l.reports import finding_at
 from workbench.a2l.values import int_or_none
 from workbench.elf.debugdata import DebugData
+from workbench.elf.suggest import missing_symbol_reason
 from workbench.errors import A2lParseError
 from workbench.findings import Report, Severity
 
@@ -69,7 +70,7 @@ def _placements(doc: A2lDocument, module: Block, objects: AddressedObjects, debu
             symbol = debug.find(target.symbol)
             if symbol is None:
                 report.add(finding_at(doc, target.name_token, "symbol-not-found", target.name,
-                                      f"{keyword} {target.name}: {debug.resolve_error(target.symbol)}",
+                                      f"{keyword} {target.name}: {missing_symbol_reason(debug, target.symbol)}",
                                       keyword, Severity.ERROR))
             else:
                 size = symbol.size

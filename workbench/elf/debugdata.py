@@ -379,6 +379,13 @@ class DebugData:
             return False
         return False
 
+    def variable_names(self) -> list[str]:
+        """The names that designate one variable (DWARF; without it the symbol table's data objects): where
+        :mod:`workbench.elf.suggest` looks for a name like a missing one. (The index need not be loaded for them.)"""
+        if self._has_variables:  # those names, and the paths resolved since: their members left out
+            return [name for name in self._addresses if name.isidentifier()]
+        return [symbol.name for symbol in self.elf.symbol_list if symbol.kind == "object"]
+
     def save(self) -> None:
         """Write the index cache if this run added to it (an ELF without DWARF is not cached)."""
         if self._cache is None or not self._has_variables or self._index_size() == self._stored:

@@ -307,8 +307,10 @@ def _check_types(objects: AddressedObjects, symbols: list, edits: Edits, report:
 
 def _missing(objects: AddressedObjects, row: int, debug: DebugData, mode: UpdateMode, report: UpdateReport,
              removed: dict[str, int], pending: list[tuple]) -> None:
+    from workbench.elf.suggest import missing_symbol_reason  # here: an update that finds every symbol needs none of it
+
     keyword, name, symbol = objects.keyword(row), objects.names[row], objects.symbols[row]
-    why = debug.resolve_error(symbol)
+    why = missing_symbol_reason(debug, symbol)  # "not in app.elf; did you mean 'x'?"
     # a name that fits several variables (statics of two functions or units) is never guessed
     kind = "symbol-ambiguous" if debug.is_ambiguous(symbol) else "symbol-not-found"
     link = f" (SYMBOL_LINK {symbol!r})" if symbol != name else ""
