@@ -21,6 +21,7 @@ class Workspace:
     config: Any = None  # XcpConfig; None: the A2L has none (an A2L for offline work), ``no_xcp`` says why
     no_xcp: str | None = None
     left_out: list[str] = field(default_factory=list)  # the A2L's /includes not found, each where and why
+    file_values: Any = None  # FileValues of the project's s19/hex: the editors' values offline (None: no file)
     dbcs: list = field(default_factory=list)  # DbcFile
     variables: list[Variable] = field(default_factory=list)
 
@@ -71,5 +72,9 @@ def load_workspace(project: Project) -> Workspace:
     except A2lParseError as exc:  # only a connection needs it: said when one is asked for
         workspace.no_xcp = str(exc)
     workspace.dbcs = [load_dbc(path) for path in project.dbcs]
+    if project.s19 is not None:
+        from workbench.gui.file_values import FileValues
+
+        workspace.file_values = FileValues(workspace.model, workspace.config, project.s19)
     workspace.variables = variables_of_a2l(workspace.model) + variables_of_dbc(workspace.dbc_signals())
     return workspace

@@ -7,6 +7,10 @@ said in the editor's status line, with the limit, and the ECU keeps its value. V
 from the reference page (the flashed CAL ROM) are marked. Each write is an undo step: undo writes
 the previous value back.
 
+Before a connection, the editor shows the value the project's s19/hex holds (``offline``, a
+:class:`~workbench.gui.file_values.FileValues`), read-only, its status line naming the file, as CANape shows an
+offline dataset; the ECU's value replaces it once connected.
+
 While nothing can be written (not connected, the connection lost, the reference page active, a read-only
 session) the editor is read-only and greyed, its tooltip and status line say why; a write tried then is
 refused at once ("not written: not connected"). A write under way when the connection is lost ends with
@@ -32,6 +36,7 @@ from workbench.gui.widgets.elided_label import ElidedLabel
 from workbench.gui.widgets.operating_point import OperatingPoint
 from workbench.gui.widgets.scalar_field import ScalarField
 from workbench.gui.widgets.table_field import TableField
+from workbench.gui.worker import run_task
 
 __all__ = ["CalibrationEditor"]
 
@@ -76,11 +81,13 @@ class CalibrationEditor(QWidget):
     error = Signal(object)  # a failed read or write the ECU is to blame for (the window shows a dialog)
     refused = Signal(str)  # a value not written: why (also in the status line)
 
-    def __init__(self, controller, info: CalibrationInfo, parent: QWidget | None = None, hub=None):
+    def __init__(self, controller, info: CalibrationInfo, parent: QWidget | None = None, hub=None, offline=None):
         super().__init__(parent)
         self.controller = controller
         self.info = info
+        self.offline = offline  # FileValues: the value shown before a connection (None: none)
         self.value = None  # the CalValue shown
+        self.value_source = ""  # the file the value shown comes from ("": the ECU, or nothing shown)
         self.reference = None  # the reference page's value (physical), None when unknown
         self.undo_stack = QUndoStack(self)
         self.unwritten = ""  # a write the connection's loss cut off: what and why (until the next write)
@@ -175,13 +182,20 @@ class CalibrationEditor(QWidget):
     # --- reading --------------------------------------------------------------------------------
 
     def reload(self) -> None:
-        """Read the value (and the reference page's) from the ECU."""
+        """Read the value (and the reference page's) from the ECU; before any connection, from the project's file."""
+        if self.controller.session is None:
+            if self.offline is not None and self.value is None:
+                run_task(self.offline.read_value, self.info.name, on_done=self._show_offline,
+                         on_error=lambda exc: self._say(f"⚠ {exc}", theme.BAD))
+            return
         self.controller.call("read_value", self.info.name, on_done=self._show, on_error=self._failed)
         self.controller.call("read", self.info.name, page="reference", on_done=self._show_reference,
                              on_error=lambda _: self._show_reference(None))
 
     def _connected(self, _) -> None:
         self._writing = False  # what was under way on the session before is over with it (a cut-off write is said)
+        if self.value_source:  # the file's value: no undo step or write starts from it; the ECU's replaces it
+            self.value = None
         self._page_changed("working")
 
     def _page_changed(self, _page: str) -> None:
@@ -211,8 +225,12 @@ class CalibrationEditor(QWidget):
         if name == self.info.name:
             self.reload()
 
-    def _show(self, value) -> None:
-        self.value = value
+    def _show_offline(self, value) -> None:
+        if self.controller.session is None and self.value is None:  # the ECU's value, if it came meanwhile, stays
+            self._show(value, self.offline.name)
+
+    def _show(self, value, source: str = "") -> None:
+        self.value, self.value_source = value, source
         if isinstance(self.field, TableField):
             axes = [a.values for a in value.axes]
             x = axes[0] if axes else np.arange(np.shape(value.value)[0])
@@ -270,10 +288,14 @@ class CalibrationEditor(QWidget):
         text, colour = self._message
         if self._writing:
             text, colour = "writing …", theme.MUTED
+        elif self.value_source and self.controller.session is not None:
+            text, colour = f"reading the ECU … (the values of {self.value_source} until then)", theme.MUTED
         elif self.unwritten:
             text, colour = f"⚠ {self.unwritten}; the field shows what the ECU holds", theme.BAD
         elif not text and reason:
             text, colour = f"read-only: {reason}", theme.MUTED
+            if self.value_source:
+                text += f"; the values of {self.value_source}"
         if text != self.status.text():
             self.status.setToolTip("")
         self.status.setText(text)

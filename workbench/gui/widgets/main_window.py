@@ -374,7 +374,7 @@ class MainWindow(QMainWindow):
         except Exception as exc:  # noqa: BLE001
             self.show_error(exc)
             return None
-        editor = CalibrationEditor(self.controller, info, hub=self.hub)
+        editor = CalibrationEditor(self.controller, info, hub=self.hub, offline=self.workspace.file_values)
         editor.error.connect(self.show_error)
         self.undo_group.addStack(editor.undo_stack)
         self.editors[name] = editor
@@ -382,8 +382,7 @@ class MainWindow(QMainWindow):
             self.editor_tabs.removeTab(self.editor_tabs.indexOf(self.editor_placeholder))
         self.editor_tabs.addTab(editor, name)
         self.editor_tabs.setCurrentWidget(editor)
-        if self.controller.is_connected:
-            editor.reload()
+        editor.reload()  # from the ECU, or offline from the project's s19
         return editor
 
     def _close_editor(self, index: int) -> None:
