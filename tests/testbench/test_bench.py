@@ -153,3 +153,18 @@ def test_a_message_another_node_sends_too_is_named_with_a_failure(tmp_path):
                 with pytest.raises(ExpectationFailed, match=r"; another node sends PCM_TO_FLCU_002 too \(\d+ frames "
                                                             r"not the bench's\) \(workbench sim --pcm\?\)$"):
                     ecu.expect("xsDC", within(1000, 2000), for_s=0.1)
+
+
+def test_a_can2_bus_that_cannot_open_is_said_as_every_bus_is(tmp_path):
+    """The bench's CAN2 opens its bus as the master and the simulator do (workbench.bus_defaults.open_bus): one
+    wording, an unknown interface named with the known ones."""
+    from workbench import demo
+    from workbench.can import load_dbc
+    from workbench.testbench.can2 import Can2Port
+    from workbench.testbench.timeline import Timeline
+
+    dbc = load_dbc(demo.dbc_can2())
+    with pytest.raises(InputError, match=r"^CAN2: unknown python-can interface 'nosuch' \(known: .*virtual"):
+        Can2Port({"interface": "nosuch", "channel": "x"}, dbc, Timeline())
+    with pytest.raises(InputError, match=r"^cannot open CAN2 bus \(udp_multicast 239\.74\.163\.9\): Port config must"):
+        Can2Port({"interface": "udp_multicast", "channel": "239.74.163.9", "port": "abc"}, dbc, Timeline())

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from workbench.bus_defaults import open_bus
 from workbench.errors import InputError, UnknownSymbolError
 from workbench.logs import logger
 
@@ -44,10 +45,7 @@ class Can2Port:
         self.database = dbc.database
         self.settings = settings
         self._timeline = timeline
-        try:
-            self.bus = can.Bus(**settings)
-        except (can.CanError, OSError, ValueError, TypeError) as exc:
-            raise InputError(f"cannot open the CAN2 bus {settings.get('interface')} {settings.get('channel')}: {exc}") from None
+        self.bus = open_bus(settings, "CAN2")
         self._by_id = {(m.frame_id, m.is_extended_frame): m for m in self.database.messages}
         self._frames: dict[str, list[float]] = {}  # message -> receive times (bench s)
         self._lock = threading.Lock()
