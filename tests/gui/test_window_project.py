@@ -135,3 +135,26 @@ def test_a_connection_under_way_when_another_project_opens_is_not_taken(qtbot, t
         assert window.controller.session is None  # it held the A2L before: closed, not connected
     finally:
         window.close()
+
+
+def test_a_connection_that_fails_after_another_project_opened_says_nothing(qtbot, tmp_path, project):
+    """Its failure concerns the project before: no dialog about it over the new one (a failure of the project
+    open now still is one)."""
+    from dataclasses import replace
+
+    window = offline_window(qtbot, replace(project, connection=replace(project.connection, interface="nosuch")))
+    try:
+        with qtbot.waitSignal(window.connect_ecu().finished, timeout=15_000):
+            pass
+        assert [box.text() for box in window.errors][-1].startswith("unknown python-can interface 'nosuch'")
+        assert window.status.link.text() == "○ not connected" and window.connect_action.isEnabled()
+        shown = len(window.errors)
+        over = []
+        window.connect_ecu().finished.connect(lambda: over.append(True))  # fails in the pool, said after the switch
+        with qtbot.waitSignal(window.loaded, timeout=15_000):
+            window.open_project_file(_project_b(tmp_path, project.connection))
+        qtbot.waitUntil(lambda: bool(over), timeout=15_000)
+        assert len(window.errors) == shown and window.controller.session is None
+        assert window.status.link.text() == "○ not connected" and window.connect_action.isEnabled()
+    finally:
+        window.close()

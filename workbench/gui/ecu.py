@@ -115,7 +115,8 @@ class EcuController(QObject):
         ``connected`` or ``failed`` follows."""
         self.close()
         self._target = (a2l, connection, accept_epk_mismatch)
-        return run_task(_open, a2l, connection, accept_epk_mismatch, on_done=self._taker(), on_error=self.failed.emit)
+        return run_task(_open, a2l, connection, accept_epk_mismatch, on_done=self._taker(),
+                        on_error=self._refusal(self.failed.emit))
 
     def _taker(self) -> Callable[[Connected], None]:
         """What takes the session being opened now: it is closed instead when the controller was closed (or opened
@@ -129,6 +130,19 @@ class EcuController(QObject):
             self._opened(result)
 
         return take
+
+    def _refusal(self, say: Callable[[BaseException], None]) -> Callable[[BaseException], None]:
+        """What says why the session being opened now failed: nothing once the controller was closed (or opened
+        anew) meanwhile (another project opened while connecting: the failure concerns the project before)."""
+        generation = self._generation
+
+        def refused(exc: BaseException) -> None:
+            if generation != self._generation:
+                log.debug("a connection attempt of an earlier project failed: %s", exc)
+                return
+            say(exc)
+
+        return refused
 
     def _opened(self, result: Connected) -> None:
         self.stop_reconnecting()

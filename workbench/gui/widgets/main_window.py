@@ -77,6 +77,7 @@ class MainWindow(QMainWindow):
         self.plots: list[PlotWindow] = []
         self.editors: dict[str, CalibrationEditor] = {}
         self.epk_dialog: EpkDialog | None = None
+        self._connecting: Task | None = None  # the latest connection attempt
         self.flash_dialog: FlashDialog | None = None
         self.sync_dialog: SyncDialog | None = None
         self.a2l_tools: A2lToolsDialog | None = None
@@ -439,9 +440,16 @@ class MainWindow(QMainWindow):
         self.connect_action.setEnabled(False)
         self.status.link.setText("connecting …")
         a2l = self.workspace.doc if self.workspace is not None else self.project.a2l  # read once, not again
-        task = self.controller.open(a2l, self.project.connection, accept_epk_mismatch)
-        task.failed.connect(lambda _: self.connect_action.setEnabled(True))
+        task = self._connecting = self.controller.open(a2l, self.project.connection, accept_epk_mismatch)
+        task.failed.connect(lambda _: self._not_connected(task))
         return task
+
+    def _not_connected(self, task: Task) -> None:
+        """A connection attempt failed (the controller says why, unless another project opened meanwhile): offline
+        again, unless a later attempt is under way."""
+        if task is self._connecting:
+            self.connect_action.setEnabled(True)
+            self.status.show_disconnected()
 
     def _connected(self, result: Connected) -> None:
         session, info = result.session, result.info
