@@ -35,6 +35,29 @@ def datatype_range(datatype: str) -> tuple[float, float] | None:
     return (0, 2**bits - 1) if encoding == "unsigned" else (-(2 ** (bits - 1)), 2 ** (bits - 1) - 1)
 
 
+# the largest finite value of each float data type
+_FLOAT_MAX = {"FLOAT16_IEEE": 65504.0, "FLOAT32_IEEE": 3.4028234663852886e38, "FLOAT64_IEEE": 1.7976931348623157e308}
+
+
+def c_limits(ctype: "CType", bit_size: int | None = None) -> tuple[int | float, int | float] | None:
+    """The values a C scalar (arrays: their element) can hold, as a2ltool gives them an object it inserts:
+    an enum's lowest and highest enumerator, a bitfield's range by its width, else its data type's range
+    (a float's largest finite values); None for a type without data type."""
+    element = element_type(ctype)
+    datatype = datatype_for(element)
+    if datatype is None:
+        return None
+    if element.kind == "enum" and element.enumerators:
+        values = [value for _, value in element.enumerators]
+        return min(values), max(values)
+    if bit_size:
+        signed = DATATYPES[datatype][1] == "signed"
+        return (-(1 << (bit_size - 1)), (1 << (bit_size - 1)) - 1) if signed else (0, (1 << bit_size) - 1)
+    if datatype in _FLOAT_MAX:
+        return -_FLOAT_MAX[datatype], _FLOAT_MAX[datatype]
+    return datatype_range(datatype)
+
+
 def array_dims(ctype: "CType") -> tuple[int, ...]:
     """All dimensions of a (possibly nested) C array, outermost first; () for a scalar."""
     dims: tuple[int, ...] = ()

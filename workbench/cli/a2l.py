@@ -13,11 +13,13 @@ import gc
 import sys
 
 from workbench.cli.options import add_output_arguments, output_file, print_json, print_report
+from workbench.errors import InputError
 
 _DESCRIPTION = """\
 The A2L tool chain of a build:
   merge   fragments into a master A2L (the master's MOD_PAR, MOD_COMMON and IF_DATA apply)
   update  every address (and with --types data types, sizes, limits) and the EPK from an ELF
+  insert  new MEASUREMENTs/CHARACTERISTICs from the ELF's variables (by name pattern or address range)
   check   syntax, references, duplicate names and memory placement, with file:line:column
   diff    object-level differences of two A2L files
 Outputs keep the input's text: only the changed tokens differ.
@@ -89,6 +91,40 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     _cache_options(update)
     _output_options(update)
     update.set_defaults(func=_as_batch(_update))
+
+    insert = commands.add_parser("insert", help="new MEASUREMENTs/CHARACTERISTICs from the ELF's variables",
+                                 description="Make MEASUREMENTs and CHARACTERISTICs from the ELF's DWARF variables, "
+                                 "with a2ltool's options: each variable, struct member (a.b.c) and array element "
+                                 "(a[2], a._2_ before ASAP2 1.70) whose whole name a --*-regex matches (a struct it "
+                                 "matches brings all its members) or whose address lies in a --*-range [MIN, MAX) "
+                                 "becomes one object: a scalar or bitfield (BIT_MASK), an array as one object with "
+                                 "MATRIX_DIM (a CHARACTERISTIC: VAL_BLK), an enum with a COMPU_METHOD TAB_VERB; "
+                                 "data type, limits and address from DWARF. A name the file has is left alone and "
+                                 "reported; nothing else changes: the new blocks go before /end MODULE. Exit codes: "
+                                 "0 written (warnings allowed: a pattern or range that selects nothing, a name that "
+                                 "exists), 1 an error, 2 bad input (a bad pattern or range, malformed A2L, an ELF "
+                                 "without DWARF).")
+    insert.add_argument("a2l", metavar="IN.a2l")
+    insert.add_argument("elf", metavar="ELF")
+    insert.add_argument("-o", "--output", type=output_file, metavar="OUT.a2l",
+                        help="file to write (atomically; may be IN.a2l itself); required unless --dry-run")
+    for kind in ("measurement", "characteristic"):
+        insert.add_argument(f"--{kind}-regex", action="append", default=[], type=_pattern, metavar="REGEX",
+                            help=f"insert a {kind.upper()} for every variable, member or element whose whole name "
+                                 "it matches (repeatable; ^ or $ in it: searched as written, as a2ltool does)")
+        insert.add_argument(f"--{kind}-range", action="append", default=[], nargs=2, type=_address,
+                            metavar=("MIN", "MAX"), help=f"insert a {kind.upper()} for every variable, member or "
+                            "element whose address lies in [MIN, MAX) (repeatable; 0x hex allowed)")
+        insert.add_argument(f"-{kind[0].upper()}", f"--{kind}", action="append", default=[], metavar="PATH",
+                            dest=f"{kind}_paths", help=f"insert a {kind.upper()} for this symbol path (a.b[2].c; "
+                            "a struct: its members; repeatable)")
+    insert.add_argument("--target-group", metavar="NAME", help="put the new objects into this GROUP (created, ROOT, "
+                        "when the file lacks it)")
+    insert.add_argument("--module", metavar="NAME", help="the MODULE to insert into, when the file has several")
+    insert.add_argument("--dry-run", action="store_true", help="report what would be inserted; write nothing")
+    _cache_options(insert)
+    _output_options(insert)
+    insert.set_defaults(func=_as_batch(_insert))
 
     check = commands.add_parser("check", help="syntax, references, names and memory placement",
                                 description="Report every problem with file:line:column: syntax, undefined "
@@ -209,6 +245,50 @@ def _update(args: argparse.Namespace) -> int:
         return 1
     _print_report(report, args, summary=report.summary(args.output), output=args.output)
     return 0 if report.ok else 1  # written, with errors (changes in included files it could not write)
+
+
+def _pattern(text: str) -> str:
+    """argparse type: a regular expression of --*-regex (a bad one is a usage error naming the option, exit 2)."""
+    import re
+
+    from workbench.a2l.insert import selection_pattern
+
+    try:
+        selection_pattern(text)
+    except re.error as exc:
+        raise argparse.ArgumentTypeError(f"not a regular expression: {text!r} ({exc})") from None
+    return text
+
+
+def _address(text: str) -> int:
+    """argparse type: an address of --*-range (decimal or 0x hex)."""
+    try:
+        value = int(text, 0)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an address: {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"not an address: {text!r}")
+    return value
+
+
+def _insert(args: argparse.Namespace) -> int:
+    from workbench.a2l.insert import Selection, insert_file
+    from workbench.cli.progressbar import ProgressBar
+
+    if args.output is None and not args.dry_run:
+        raise InputError("insert: -o/--output OUT.a2l is required (or --dry-run)")
+    selections = [Selection(tuple(getattr(args, f"{kind}_regex")), tuple(map(tuple, getattr(args, f"{kind}_range"))),
+                            tuple(getattr(args, f"{kind}_paths"))) for kind in ("measurement", "characteristic")]
+    if not any(selections):
+        raise InputError("insert: nothing selected: give --measurement-regex, --characteristic-regex, a --*-range "
+                         "or -M/-C PATH")
+    output = None if args.dry_run else args.output
+    with ProgressBar("inserting", enabled=None if not args.json else False) as progress:
+        report = insert_file(args.a2l, args.elf, output, measurements=selections[0], characteristics=selections[1],
+                             target_group=args.target_group, module=args.module, cache_dir=args.cache_dir,
+                             use_cache=not args.no_cache, progress=progress)
+    _print_report(report, args, summary=report.summary(output), output=output)
+    return 0 if report.ok else 1
 
 
 def _check(args: argparse.Namespace) -> int:

@@ -178,6 +178,17 @@ class DebugData:
         found = self.find(path)
         return None if found is None else (found.address, found.size)
 
+    def variables(self) -> list[Variable]:
+        """The DWARF variables at file scope and in namespaces, in the order the ELF declares them (``insert``)."""
+        if not self._has_variables:
+            return []
+        self._load_index()
+        return list(map(Variable._make, self._variables))
+
+    def type_of(self, variable: Variable) -> CType:
+        """The C type of a variable :meth:`variables` gave."""
+        return self._type(variable.type_offset)
+
     def _lookup(self, path: str) -> ResolvedSymbol | tuple:
         """:meth:`resolve`'s answer, not remembered: the symbol, or why not (see :func:`_failure`). The
         address is remembered for :meth:`addresses`."""

@@ -38,7 +38,7 @@ class EnumConversions:
         name = doc.text(conversion_token)
         edits, findings = [], []
         if name == NO_COMPU_METHOD:
-            name = enum.name or enum.typedef or f"{target.name}_compu_method"
+            name = enum_conversion_name(enum, target.name)
             edits.append(replace_token(doc, conversion_token, name.encode(doc.encoding)))
             findings.append(finding_at(doc, conversion_token, "conversion-updated", target.name,
                                        f"{target.name}: conversion {NO_COMPU_METHOD} -> {name} (enum "
@@ -47,29 +47,50 @@ class EnumConversions:
         if module is None or (module.index, name) in self._added or _named(module, "COMPU_METHOD", name):
             return edits, findings
         self._added.add((module.index, name))
-        title = quote_string(f"Conversion table for enum {name}", doc.encoding)
+        (_, method), *vtab = enum_conversion_blocks(module, name, enum)
         method_anchor = _after_last(module, ("COMPU_METHOD",))
-        edits.append(self._block(method_anchor, f"COMPU_METHOD {name}".encode(doc.encoding), title,
-                                 [b'TAB_VERB "%.4" ""', b"COMPU_TAB_REF " + name.encode(doc.encoding)]))
+        edits.append(self._block(method_anchor, method))
         added = f"COMPU_METHOD {name}"
-        if not _named(module, "COMPU_VTAB", name) and not _named(module, "COMPU_VTAB_RANGE", name):
-            pairs = [b"%d " % value + quote_string(text, doc.encoding) for text, value in enum.enumerators]
+        if vtab:
             anchor = _after_last(module, ("COMPU_VTAB", "COMPU_VTAB_RANGE")) or method_anchor
-            edits.append(self._block(anchor, f"COMPU_VTAB {name}".encode(doc.encoding), title,
-                                     [b"TAB_VERB %d" % len(pairs), *pairs]))
+            edits.append(self._block(anchor, vtab[0][1]))
             added += f" and COMPU_VTAB {name}"
         findings.append(finding_at(doc, conversion_token, "conversion-added", target.name,
                                    f"{target.name}: {added} added ({len(enum.enumerators)} values of enum "
                                    f"{enum.display_name})", target.keyword))
         return edits, findings
 
-    def _block(self, anchor: tuple[int, bytes], head: bytes, title: bytes, lines: list[bytes]) -> Edit:
+    def _block(self, anchor: tuple[int, bytes], lines: list[bytes]) -> Edit:
         offset, indent = anchor
         newline = newline_bytes(self.doc)
-        keyword = head.split(b" ")[0]
-        text = [b"", b"", indent + b"/begin " + head + b" " + title, *(indent + b"  " + line for line in lines),
-                indent + b"/end " + keyword]  # a blank line before it
-        return Edit(offset, offset, newline.join(text))
+        return Edit(offset, offset, newline.join([b"", b"", *indented(lines, indent)]))  # a blank line before it
+
+
+def enum_conversion_name(enum: "CType", object_name: str) -> str:
+    """The COMPU_METHOD (and COMPU_VTAB) name of an enum, as a2ltool names it: its tag, else its typedef,
+    else ``<object>_compu_method``."""
+    return enum.name or enum.typedef or f"{object_name}_compu_method"
+
+
+def enum_conversion_blocks(module: "Block", name: str, enum: "CType") -> list[tuple[str, list[bytes]]]:
+    """The COMPU_METHOD ``name`` (TAB_VERB) and the COMPU_VTAB of ``enum``'s values it refers to, as
+    (keyword, lines): the /begin line, the items, the /end line, not indented. A COMPU_VTAB (or
+    COMPU_VTAB_RANGE) the MODULE has of that name is not made again."""
+    encoding = module.doc.encoding
+    title = quote_string(f"Conversion table for enum {name}", encoding)
+    head = name.encode(encoding) + b" " + title
+    blocks = [("COMPU_METHOD", [b"/begin COMPU_METHOD " + head, b'TAB_VERB "%.4" ""',
+                                b"COMPU_TAB_REF " + name.encode(encoding), b"/end COMPU_METHOD"])]
+    if not _named(module, "COMPU_VTAB", name) and not _named(module, "COMPU_VTAB_RANGE", name):
+        pairs = [b"%d " % value + quote_string(text, encoding) for text, value in enum.enumerators]
+        blocks.append(("COMPU_VTAB", [b"/begin COMPU_VTAB " + head, b"TAB_VERB %d" % len(pairs), *pairs,
+                                      b"/end COMPU_VTAB"]))
+    return blocks
+
+
+def indented(lines: list[bytes], indent: bytes) -> list[bytes]:
+    """A block's lines at ``indent``, its items two blanks further in."""
+    return [indent + lines[0], *(indent + b"  " + line for line in lines[1:-1]), indent + lines[-1]]
 
 
 def _named(module: "Block", keyword: str, name: str) -> bool:

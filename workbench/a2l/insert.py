@@ -1,0 +1,537 @@
+"""``insert``: new MEASUREMENTs and CHARACTERISTICs from the ELF's variables (a2ltool's ``--measurement-regex``,
+``--characteristic-range``, ``--target-group`` ...).
+
+The DWARF variables at file scope and in namespaces are walked with their members and elements, each
+named as a2ltool names it (``outer.arr[2].c``; ``outer.arr._2_.c`` in files older than ASAP2 1.70). What
+selects one for a kind of object:
+
+- a regular expression that matches its whole name (as a2ltool: a pattern that starts with ``^`` or ends
+  with ``$`` is searched as written); a struct or union it matches brings every member, an array of
+  structs every element's members;
+- an address range ``[MIN, MAX)`` that holds its first byte;
+- its symbol path, named alone (a2ltool's ``--measurement``/``--characteristic``; a struct: its members).
+
+A scalar (base type or enum, a bitfield with its BIT_MASK) or an array of scalars becomes one object:
+a MEASUREMENT (MATRIX_DIM for an array), or a CHARACTERISTIC VALUE (an array: a VAL_BLK with MATRIX_DIM)
+whose RECORD_LAYOUT holds ``FNC_VALUES 1 <type> ROW_DIR DIRECT`` (an equal layout of the MODULE is used,
+else one is added, named ``__<type>_Z`` as a2ltool and Vector's tools name it). An array not selected
+whole is walked element by element; pointers and functions become nothing. The data type and limits
+follow the C type (:mod:`workbench.a2l.datatypes`), an enum gets its COMPU_METHOD TAB_VERB and COMPU_VTAB
+(:mod:`workbench.a2l.update.enums`), everything else the identity conversion ``NO_COMPU_METHOD``.
+
+Nothing the file has changes: a name the MODULE has already is reported and left alone (as is a variable
+an object of the kind describes under another name); a variable selected for both kinds gets the
+CHARACTERISTIC named ``CHARACTERISTIC.<name>`` (as a2ltool names it). The new blocks go before
+``/end MODULE`` in the file's indentation and newline style; the target GROUP is created there, or an
+existing one gets the names in its REF_MEASUREMENT/REF_CHARACTERISTIC.
+"""
+
+from __future__ import annotations
+
+import re
+from collections import Counter
+from dataclasses import dataclass, field
+from math import prod
+from pathlib import Path
+from typing import TYPE_CHECKING, Iterable, NamedTuple
+
+from workbench.a2l.addressed import AddressedObjects
+from workbench.a2l.datatypes import array_dims, c_limits, datatype_for, element_type
+from workbench.a2l.document import A2lDocument, Block, load_a2l
+from workbench.a2l.edits import Edit, Edits, indentation_of, newline_bytes, write_source
+from workbench.a2l.reports import finding_at
+from workbench.a2l.update.enums import NO_COMPU_METHOD, enum_conversion_blocks, enum_conversion_name, indented
+from workbench.a2l.values import is_ident, quote_string
+from workbench.elf.debugdata import DebugData, read_beside
+from workbench.errors import InputError, UnknownSymbolError
+from workbench.findings import Finding, Report, Severity
+from workbench.progress import Progress, report as report_progress
+
+if TYPE_CHECKING:
+    from workbench.elf.ctypes_model import CType
+
+__all__ = ["InsertReport", "InsertResult", "Selection", "insert_document", "insert_file", "selection_pattern"]
+
+KINDS = ("MEASUREMENT", "CHARACTERISTIC")
+_SCALARS = ("base", "enum")
+_GROUPS = ("struct", "union")
+_LINE = 100  # names of a REF_MEASUREMENT/REF_CHARACTERISTIC are wrapped at about this many columns
+
+
+def selection_pattern(text: str) -> re.Pattern:
+    """A regular expression that selects variables by their whole name (a2ltool's rule: one that starts with
+    ``^`` or ends with ``$`` is searched as written). Raises ``re.error``."""
+    return re.compile(text if text.startswith("^") or text.endswith("$") else f"^(?:{text})$")
+
+
+@dataclass(frozen=True)
+class Selection:
+    """The variables to insert as one kind of object: by name pattern, address range ``[low, high)`` or path."""
+
+    regexes: tuple[str, ...] = ()
+    ranges: tuple[tuple[int, int], ...] = ()
+    paths: tuple[str, ...] = ()
+
+    def __bool__(self) -> bool:
+        return bool(self.regexes or self.ranges or self.paths)
+
+
+@dataclass
+class InsertReport(Report):
+    """Findings of an insert, and the names inserted by kind (``{"MEASUREMENT": ["outer.a", ...], ...}``)."""
+
+    inserted: dict[str, list[str]] = field(default_factory=lambda: {kind: [] for kind in KINDS})
+
+    def to_dict(self) -> dict:
+        return {**super().to_dict(), "inserted": self.inserted}
+
+    def summary(self, output: str | Path | None) -> str:
+        """The one line the CLI and the GUI say after ``output`` is written (None: a dry run)."""
+        counts = ", ".join(f"{len(names)} {kind}" for kind, names in self.inserted.items() if names) or "nothing"
+        skipped = len(self.of_kind("exists")) + len(self.of_kind("already-described"))
+        tail = f" ({skipped} existed already)" if skipped else ""
+        return (f"would insert {counts}{tail}; nothing written (dry run)" if output is None
+                else f"wrote {output}: {counts} inserted{tail}")
+
+
+@dataclass
+class InsertResult:
+    data: bytes  # the main file with the new blocks (the input's encoding, without BOM)
+    report: InsertReport
+
+
+class _Leaf(NamedTuple):
+    """A variable, member or element that becomes an object."""
+
+    path: str
+    address: int
+    ctype: "CType"
+    bit_size: int | None = None
+    bit_position: int | None = None
+
+
+class _Rules:
+    """One kind's selection, compiled, counting what each pattern and range selected."""
+
+    def __init__(self, kind: str, selection: Selection):
+        self.kind = kind
+        self.patterns: list[tuple[str, re.Pattern]] = []
+        for text in selection.regexes:
+            try:
+                self.patterns.append((text, selection_pattern(text)))
+            except re.error as exc:
+                raise InputError(f"--{kind.lower()}-regex {text!r}: not a regular expression ({exc})") from None
+        for low, high in selection.ranges:
+            if low >= high:
+                raise InputError(f"--{kind.lower()}-range 0x{low:X} 0x{high:X}: the start must lie below the end")
+        self.ranges = list(selection.ranges)
+        self.paths = list(selection.paths)
+        self.matched: Counter[str] = Counter()
+        self.in_range: Counter[tuple[int, int]] = Counter()
+
+    def named(self, path: str) -> bool:
+        found = False
+        for text, pattern in self.patterns:
+            if pattern.search(path):
+                self.matched[text] += 1
+                found = True
+        return found
+
+    def holds(self, address: int) -> bool:
+        found = False
+        for low, high in self.ranges:
+            if low <= address < high:
+                self.in_range[(low, high)] += 1
+                found = True
+        return found
+
+
+def insert_document(doc: A2lDocument, debug: DebugData, *, measurements: Selection = Selection(),
+                    characteristics: Selection = Selection(), target_group: str | None = None,
+                    module: str | None = None, progress: Progress | None = None) -> InsertResult:
+    """``doc`` with the objects ``measurements`` and ``characteristics`` select from ``debug``'s variables
+    (see the module docstring); the document itself is not changed.
+
+    Raises :class:`InputError` for a bad pattern or range, a ``target_group`` that is no A2L name, an ELF
+    without DWARF, and new text that would fall into an ``/include``d file; :class:`A2lParseError` for a
+    MODULE that is not there (``module``: its name, needed when the file has several).
+    """
+    rules = {kind: _Rules(kind, selection) for kind, selection in zip(KINDS, (measurements, characteristics))}
+    if target_group is not None and not is_ident(target_group.encode("latin-1", "replace")):
+        raise InputError(f"--target-group {target_group!r}: not an A2L name")
+    if not debug.has_dwarf:
+        raise InputError(f"{debug.path}: has no DWARF variables (stripped, or built without -g): insert needs "
+                         "their types")
+    block = doc.module(module)
+    inserter = _Inserter(doc, block, debug, rules)
+    inserter.walk_variables(progress)
+    for rule in rules.values():
+        for path in rule.paths:
+            inserter.walk_path(rule.kind, path)
+    inserter.report_unmatched()
+    return inserter.result(target_group)
+
+
+def insert_file(a2l: str | Path, elf: str | Path, output: str | Path | None, *,
+                measurements: Selection = Selection(), characteristics: Selection = Selection(),
+                target_group: str | None = None, module: str | None = None, cache_dir: str | Path | None = None,
+                use_cache: bool = True, progress: Progress | None = None) -> InsertReport:
+    """Read ``a2l`` and ``elf``, insert (see :func:`insert_document`) and write ``output`` atomically (which
+    may be ``a2l``); ``output=None`` writes nothing (a dry run)."""
+    doc, debug_data = read_beside(lambda: load_a2l(a2l, validate=False), elf, cache_dir=cache_dir,
+                                  use_cache=use_cache, progress=progress)
+    with debug_data as debug:
+        result = insert_document(doc, debug, measurements=measurements, characteristics=characteristics,
+                                 target_group=target_group, module=module, progress=progress)
+    if output is not None:
+        write_source(doc.source, result.data, output)
+    return result.report
+
+
+class _Inserter:
+    """Walks the variables, decides each object, and renders the new blocks."""
+
+    def __init__(self, doc: A2lDocument, module: Block, debug: DebugData, rules: dict[str, _Rules]):
+        self.doc, self.module, self.debug, self.rules = doc, module, debug, rules
+        self.report = InsertReport("insert")
+        self.new_arrays, self.symbol_links = _version_features(doc)
+        self.taken: dict[str, tuple[str, str, int | None]] = {}  # object name -> (keyword, symbol, name token)
+        self.described: dict[tuple[str, str], str] = {}  # (keyword, symbol) -> the object that describes it
+        objects = AddressedObjects(doc)
+        for row in range(len(objects)):
+            if int(doc.blocks.parent[objects.blocks[row]]) == module.index:
+                keyword, name, symbol = objects.keyword(row), objects.names[row], objects.symbols[row]
+                self.taken[name] = (keyword, symbol, int(objects.name_tokens[row]))
+                self.described.setdefault((keyword, symbol), name)
+        self.blocks: dict[str, list[list[bytes]]] = {}  # keyword -> the new blocks' lines, in order
+        self.planned: dict[str, tuple[str, str]] = {}  # new object name -> (its keyword, its symbol)
+        self.layouts: dict[str, str] = {}  # data type -> the RECORD_LAYOUT its CHARACTERISTICs use
+        self.conversions: set[str] = {block.name for block in module.children_named("COMPU_METHOD")}
+
+    # -- what to insert ---------------------------------------------------------------------------
+    def walk_variables(self, progress: Progress | None) -> None:
+        variables = [v for v in self.debug.variables() if v.address is not None and v.type_offset is not None]
+        names = Counter(variable.qualified_name for variable in variables)
+        for number, variable in enumerate(variables):
+            if number % 256 == 0:
+                report_progress(progress, number, len(variables), "walking the ELF's variables")
+            path = variable.qualified_name
+            if names[path] > 1:  # statics of several units: which one a name means is never guessed
+                if any(rule.named(path) or rule.holds(variable.address) for rule in self.rules.values()):
+                    self._skip("ambiguous", path, f"{path}: {names[path]} variables have this name (file statics "
+                               "of several units): not inserted; name one with -M/-C and its unit "
+                               "(unit_c.name)", Severity.WARNING)
+                continue
+            self._walk(_Leaf(path, variable.address, self.debug.type_of(variable)), frozenset())
+
+    def walk_path(self, kind: str, path: str) -> None:
+        """``path`` named alone for ``kind`` (a2ltool's -M/-C)."""
+        try:
+            symbol = self.debug.resolve(path)
+        except UnknownSymbolError:
+            self._skip("symbol-not-found", path, f"{kind} {path}: {self.debug.resolve_error(path)}", Severity.WARNING)
+            return
+        if symbol.type is None:
+            self._skip("type-unknown", path, f"{kind} {path}: no DWARF type", Severity.WARNING)
+            return
+        self._walk(_Leaf(path, symbol.address, symbol.type, symbol.bit_size, symbol.bit_position),
+                   frozenset((kind,)), named=True)
+
+    def _walk(self, leaf: _Leaf, inherited: frozenset[str], named: bool = False) -> None:
+        """Insert ``leaf`` (or its members and elements) for the kinds that select it. ``inherited``: the kinds
+        an enclosing struct's name selected."""
+        by_name = frozenset(kind for kind, rule in self.rules.items() if rule.named(leaf.path))
+        by_range = frozenset(kind for kind, rule in self.rules.items() if rule.holds(leaf.address))
+        selected = inherited | by_name | by_range
+        ctype = leaf.ctype
+        element = element_type(ctype)
+        if ctype.kind in _SCALARS or leaf.bit_size or (ctype.kind == "array" and element.kind in _SCALARS):
+            for kind in KINDS:
+                if kind in selected:
+                    self._object(kind, leaf)
+            if not selected and ctype.kind == "array":  # perhaps some of its elements
+                self._elements(leaf, element, inherited)
+            return
+        passed = inherited | by_name
+        if ctype.kind in _GROUPS:
+            for member in ctype.members:
+                if member.offset is not None:
+                    path = f"{leaf.path}.{member.name}" if member.name else leaf.path
+                    self._walk(_Leaf(path, leaf.address + member.offset, member.type, member.bit_size,
+                                     member.bit_position), passed)
+        elif ctype.kind == "array" and element.kind in _GROUPS:
+            self._elements(leaf, element, passed)
+        elif by_name or named:
+            self._skip("not-insertable", leaf.path, f"{leaf.path}: a {ctype.kind} ({ctype.display_name}) is no "
+                       "value to measure or calibrate: not inserted", Severity.INFO)
+
+    def _elements(self, leaf: _Leaf, element: "CType", inherited: frozenset[str]) -> None:
+        dims = array_dims(leaf.ctype)
+        for number in range(prod(dims)):
+            indices, rest = [], number
+            for dim in reversed(dims):
+                indices.append(rest % dim)
+                rest //= dim
+            suffix = "".join(f"[{i}]" if self.new_arrays else f"._{i}_" for i in reversed(indices))
+            self._walk(_Leaf(leaf.path + suffix, leaf.address + number * element.size, element), inherited)
+
+    def _object(self, kind: str, leaf: _Leaf) -> None:
+        name = symbol = leaf.path
+        name = name.replace("::", "__")  # a C++ name, as a2ltool writes it
+        existing = self.described.get((kind, symbol))
+        if existing is not None:
+            self._skip("already-described", name, f"{kind} {existing} describes {symbol} already: not inserted",
+                       Severity.INFO, self.taken[existing][2] if existing in self.taken else None)
+            return
+        owner = self._owner(name)
+        if owner is not None and owner[0] != kind and owner[1] == symbol:
+            name = f"{kind}.{name}"  # the variable is the other kind's object too: a2ltool's name for this one
+            owner = self._owner(name)
+        if owner is not None:
+            link = f" (SYMBOL_LINK {owner[1]})" if owner[1] != name else ""
+            self._skip("exists", name, f"{kind} {name} for {symbol}: the name exists already as {owner[0]} {name}"
+                       f"{link}: not inserted", Severity.WARNING, owner[2])
+            return
+        if not is_ident(name.encode("latin-1", "replace")):
+            self._skip("bad-name", name, f"{kind} {name}: not an A2L name: not inserted", Severity.WARNING)
+            return
+        rendered = self._render(kind, name, leaf)
+        if rendered is None:
+            return
+        lines, what = rendered
+        self.blocks.setdefault(kind, []).append(lines)
+        self.planned[name] = (kind, symbol)
+        self.described[(kind, symbol)] = name
+        self.report.inserted[kind].append(name)
+        self.report.add(Finding("inserted", name, f"{kind} {name} inserted (0x{leaf.address:X}, {what})", block=kind))
+
+    def _owner(self, name: str) -> tuple[str, str, int | None] | None:
+        """(keyword, symbol, name token: None for a new one) of the object called ``name``, if there is one."""
+        if name in self.taken:
+            return self.taken[name]
+        return (*self.planned[name], None) if name in self.planned else None
+
+    # -- the blocks ------------------------------------------------------------------------------
+    def _render(self, kind: str, name: str, leaf: _Leaf) -> tuple[list[bytes], str] | None:
+        """The object's lines (/begin, items, /end: not indented) and its data type, or None when the C type has
+        no A2L form."""
+        element = element_type(leaf.ctype)
+        datatype = datatype_for(element)
+        limits = c_limits(element, leaf.bit_size)
+        if datatype is None or limits is None:
+            self._skip("no-datatype", name, f"{kind} {name}: {element.display_name} ({element.size} bytes) has no "
+                       "ASAP2 data type: not inserted", Severity.WARNING)
+            return None
+        mask = None
+        if leaf.bit_size:
+            position, bits = leaf.bit_position or 0, 8 * element.size
+            if not 0 <= position <= bits - leaf.bit_size:
+                self._skip("bit-mask-unrepresentable", name, f"{kind} {name}: the bitfield of {leaf.bit_size} bits "
+                           f"lies across more than the {bits} bits of its type (a packed struct): no BIT_MASK "
+                           "describes it, not inserted", Severity.WARNING)
+                return None
+            mask = ((1 << leaf.bit_size) - 1) << position
+        encoding = self.doc.encoding
+        conversion = self._conversion(element, name)
+        low, high = (_number(limit) for limit in limits)
+        dims = () if leaf.bit_size else array_dims(leaf.ctype)
+        items: list[str] = []
+        if kind == "MEASUREMENT":
+            head = quote_string(f"measurement for symbol {leaf.path}", encoding)
+            items.append(f"{datatype} {conversion} 0 0 {low} {high}")
+            if mask is not None:
+                items.append(f"BIT_MASK 0x{mask:X}")
+            items.append(f"ECU_ADDRESS 0x{leaf.address:X}")
+        else:
+            head = quote_string(f"characteristic for {leaf.path}", encoding)
+            shape = "VAL_BLK" if dims else "VALUE"
+            items.append(f"{shape} 0x{leaf.address:X} {self._layout(datatype)} 0 {conversion} {low} {high}")
+            if mask is not None:
+                items.append(f"BIT_MASK 0x{mask:X}")
+        if dims:
+            items.append("MATRIX_DIM " + " ".join(map(str, dims if self.new_arrays else _three(dims))))
+        if self.symbol_links:
+            items.append(f"SYMBOL_LINK {quote_string(leaf.path, encoding).decode(encoding)} 0")
+        lines = [f"/begin {kind} {name} ".encode(encoding) + head, *(item.encode(encoding) for item in items),
+                 f"/end {kind}".encode("ascii")]
+        return lines, f"{datatype} [{']['.join(map(str, dims))}]" if dims else datatype
+
+    def _conversion(self, element: "CType", name: str) -> str:
+        if element.kind != "enum" or not element.enumerators:
+            return NO_COMPU_METHOD
+        conversion = enum_conversion_name(element, name)
+        if conversion not in self.conversions:
+            self.conversions.add(conversion)
+            for keyword, lines in enum_conversion_blocks(self.module, conversion, element):
+                self.blocks.setdefault(keyword, []).append(lines)
+            self.report.add(Finding("conversion-added", conversion, f"COMPU_METHOD {conversion} added (TAB_VERB: "
+                                    f"{len(element.enumerators)} values of enum {element.display_name})",
+                                    block="COMPU_METHOD"))
+        return conversion
+
+    def _layout(self, datatype: str) -> str:
+        """The RECORD_LAYOUT of a CHARACTERISTIC of ``datatype``: an equal one of the MODULE, else a new one."""
+        found = self.layouts.get(datatype)
+        if found is not None:
+            return found
+        wanted = ("FNC_VALUES", "1", datatype, "ROW_DIR", "DIRECT")
+        existing = self.module.children_named("RECORD_LAYOUT")
+        found = next((block.name for block in existing if _layout_items(block) == [wanted]), None)
+        if found is None:
+            names = {block.name for block in existing}
+            found = base = f"__{datatype}_Z"
+            number = 1
+            while found in names:
+                number += 1
+                found = f"{base}_{number}"
+            self.blocks.setdefault("RECORD_LAYOUT", []).append(
+                [f"/begin RECORD_LAYOUT {found}".encode("ascii"), " ".join(wanted).encode("ascii"),
+                 b"/end RECORD_LAYOUT"])
+            self.report.add(Finding("record-layout-added", found, f"RECORD_LAYOUT {found} added "
+                                    f"(FNC_VALUES of {datatype})", block="RECORD_LAYOUT"))
+        self.layouts[datatype] = found
+        return found
+
+    # -- reports and the result ------------------------------------------------------------------
+    def _skip(self, kind: str, name: str, message: str, severity: Severity, token: int | None = None) -> None:
+        if token is not None:
+            self.report.add(finding_at(self.doc, token, kind, name, message, severity=severity))
+        else:
+            self.report.add(Finding(kind, name, message, severity=severity))
+
+    def report_unmatched(self) -> None:
+        for rule in self.rules.values():
+            option = rule.kind.lower()
+            for text, _ in rule.patterns:
+                if not rule.matched[text]:
+                    self._skip("regex-matched-nothing", text, f"--{option}-regex {text!r} matches no variable of "
+                               f"{self.debug.path.name}", Severity.WARNING)
+            for low, high in rule.ranges:
+                if not rule.in_range[(low, high)]:
+                    self._skip("range-matched-nothing", f"0x{low:X}-0x{high:X}", f"--{option}-range 0x{low:X} "
+                               f"0x{high:X} holds no variable of {self.debug.path.name}", Severity.WARNING)
+
+    def result(self, target_group: str | None) -> InsertResult:
+        doc, module = self.doc, self.module
+        edits = Edits()
+        names = {kind: self.report.inserted[kind] for kind in KINDS}
+        group = _find(module, "GROUP", target_group) if target_group else None
+        if target_group and any(names.values()):
+            if group is None:
+                self.blocks["GROUP"] = [_group_lines(target_group, names)]
+                self.report.add(Finding("group-created", target_group, f"GROUP {target_group} created (ROOT)",
+                                        block="GROUP"))
+            else:
+                edits.extend(_group_edits(doc, group, names))
+                self.report.add(finding_at(doc, group.name_token, "group-updated", target_group,
+                                           f"GROUP {target_group}: {sum(map(len, names.values()))} reference(s) "
+                                           "added", "GROUP"))
+        order = ("MEASUREMENT", "CHARACTERISTIC", "RECORD_LAYOUT", "COMPU_METHOD", "COMPU_VTAB", "GROUP")
+        blocks = [lines for keyword in order for lines in self.blocks.get(keyword, [])]
+        if blocks:
+            edits.append(_before_end(doc, module, blocks))
+        data = doc.source.data
+        for source, file_edits in edits.by_file(doc.source_map):
+            if source is not doc.source:
+                raise InputError(f"{source.name}: the GROUP {target_group} is in this included file, which insert "
+                                 "does not write: merge the includes first (workbench a2l update --merge-includes)")
+            data = file_edits.apply(source.data)
+        return InsertResult(data, self.report)
+
+
+def _version_features(doc: A2lDocument) -> tuple[bool, bool]:
+    """(array elements as ``[2]``, SYMBOL_LINK allowed) by the file's ASAP2_VERSION (1.70+, 1.60+); a file
+    without one is taken as the current version."""
+    own = doc.own_tokens(-1)
+    for number, token in enumerate(own[:-2]):
+        if doc.raw(token) == b"ASAP2_VERSION":
+            try:
+                version = (int(doc.raw(own[number + 1])), int(doc.raw(own[number + 2])))
+            except ValueError:
+                break
+            return version >= (1, 70), version >= (1, 60)
+    return True, True
+
+
+def _three(dims: tuple[int, ...]) -> tuple[int, ...]:
+    """MATRIX_DIM before ASAP2 1.70 has exactly three dimensions (x y z): padded with 1, or the innermost
+    ones folded into the third."""
+    return (*dims, 1, 1)[:3] if len(dims) <= 3 else (*dims[:2], prod(dims[2:]))
+
+
+def _number(value: int | float) -> str:
+    """A limit as a2ltool writes it: integers exactly, floats shortest (``3.4028234663852886e38``)."""
+    return str(value) if isinstance(value, int) else repr(value).replace("e+", "e")
+
+
+def _layout_items(block: Block) -> list[tuple[str, ...]]:
+    doc = block.doc
+    return [(keyword, *(doc.text(token) for token in params)) for keyword, params in block.layout()[1]]
+
+
+def _find(module: Block, keyword: str, name: str) -> Block | None:
+    return next((block for block in module.children_named(keyword) if block.name == name), None)
+
+
+def _wrapped(names: list[str]) -> list[str]:
+    """Names as lines of about :data:`_LINE` columns."""
+    lines, line = [], ""
+    for name in names:
+        if line and len(line) + 1 + len(name) > _LINE:
+            lines.append(line)
+            line = name
+        else:
+            line = f"{line} {name}" if line else name
+    return [*lines, line] if line else lines
+
+
+def _group_lines(name: str, names: dict[str, list[str]]) -> list[bytes]:
+    lines = [f'/begin GROUP {name} ""', "ROOT"]
+    for kind, listed in names.items():
+        if listed:
+            lines += [f"/begin REF_{kind}", *("  " + line for line in _wrapped(listed)), f"/end REF_{kind}"]
+    return [line.encode("latin-1") for line in lines] + [b"/end GROUP"]
+
+
+def _group_edits(doc: A2lDocument, group: Block, names: dict[str, list[str]]) -> list[Edit]:
+    """The names added to an existing GROUP: into its REF_MEASUREMENT/REF_CHARACTERISTIC, or in a new one."""
+    edits, newline = [], newline_bytes(doc)
+    indent = indentation_of(doc.data, group.span[0]) + b"  "
+    for kind, listed in names.items():
+        if not listed:
+            continue
+        references = group.first(f"REF_{kind}")
+        if references is not None:
+            inner = indentation_of(doc.data, references.span[0]) + b"  "
+            lines = [inner + line.encode(doc.encoding) for line in _wrapped(listed)]
+            edits.append(_at_end_line(doc, references.end_token, lines, newline))
+        else:
+            lines = indented([f"/begin REF_{kind}".encode("ascii"),
+                              *(line.encode(doc.encoding) for line in _wrapped(listed)),
+                              f"/end REF_{kind}".encode("ascii")], indent)
+            edits.append(_at_end_line(doc, group.end_token, lines, newline))
+    return edits
+
+
+def _at_end_line(doc: A2lDocument, end_token: int, lines: list[bytes], newline: bytes) -> Edit:
+    """``lines`` inserted before a block's ``/end``: whole lines before its line when it stands alone there, else
+    on the line (the names after the block's last token)."""
+    start = doc.tokens.starts_list[end_token]
+    line_start = doc.data.rfind(b"\n", 0, start) + 1
+    if doc.data[line_start:start].strip():
+        return Edit(start, start, b" ".join(line.strip() for line in lines) + b" ")
+    return Edit(line_start, line_start, b"".join(line + newline for line in lines))
+
+
+def _before_end(doc: A2lDocument, module: Block, blocks: Iterable[list[bytes]]) -> Edit:
+    """The new blocks before ``/end MODULE``, each after a blank line, at the indentation of the MODULE's blocks."""
+    newline = newline_bytes(doc)
+    children = module.children
+    indent = (indentation_of(doc.data, children[0].span[0]) if children
+              else indentation_of(doc.data, module.span[0]) + b"  ")
+    body = b"".join(newline + b"".join(line + newline for line in indented(lines, indent)) for lines in blocks)
+    start = doc.tokens.starts_list[module.end_token]
+    line_start = doc.data.rfind(b"\n", 0, start) + 1
+    if doc.data[line_start:start].strip():  # /end MODULE shares its line with other text
+        return Edit(start, start, newline + body + indentation_of(doc.data, module.span[0]))
+    return Edit(line_start, line_start, body)
