@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import re
 from collections import Counter
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from math import prod
 from pathlib import Path
 from typing import TYPE_CHECKING, Iterable, NamedTuple
@@ -43,12 +43,13 @@ from workbench.a2l.reports import finding_at
 from workbench.a2l.update.enums import NO_COMPU_METHOD, enum_conversion_blocks, enum_conversion_name, indented
 from workbench.a2l.values import is_ident, quote_string
 from workbench.elf.debugdata import DebugData, read_beside
+from workbench.elf.lookup import Variable
 from workbench.errors import InputError, UnknownSymbolError
 from workbench.findings import Finding, Report, Severity
 from workbench.progress import Progress, report as report_progress
 
 if TYPE_CHECKING:
-    from workbench.elf.ctypes_model import CType
+    from workbench.elf.ctypes_model import CMember, CType
 
 __all__ = ["InsertReport", "InsertResult", "Selection", "insert_document", "insert_file", "selection_pattern"]
 
@@ -108,6 +109,11 @@ class _Leaf(NamedTuple):
     ctype: "CType"
     bit_size: int | None = None
     bit_position: int | None = None
+    spec: str = ""  # Vector's suffix that tells variables of one name apart, for the SYMBOL_LINK
+
+    @property
+    def symbol(self) -> str:
+        return self.path + self.spec
 
 
 class _Rules:
@@ -210,19 +216,24 @@ class _Inserter:
 
     # -- what to insert ---------------------------------------------------------------------------
     def walk_variables(self, progress: Progress | None) -> None:
+        """Every variable with its members and elements. A name several variables have (file statics of several
+        units, statics of several functions) is the first one's, with a SYMBOL_LINK that says which (Vector's
+        ``name{Function:f}{CompileUnit:unit_c}{Namespace:Global}``, as a2ltool writes it)."""
         variables = [v for v in self.debug.variables() if v.address is not None and v.type_offset is not None]
-        names = Counter(variable.qualified_name for variable in variables)
-        for number, variable in enumerate(variables):
+        by_name: dict[str, list] = {}
+        for variable in variables:
+            by_name.setdefault(variable.name, []).append(variable)  # a2ltool's names: without their scopes
+        for number, (name, found) in enumerate(by_name.items()):
             if number % 256 == 0:
-                report_progress(progress, number, len(variables), "walking the ELF's variables")
-            path = variable.qualified_name
-            if names[path] > 1:  # statics of several units: which one a name means is never guessed
-                if any(rule.named(path) or rule.holds(variable.address) for rule in self.rules.values()):
-                    self._skip("ambiguous", path, f"{path}: {names[path]} variables have this name (file statics "
-                               "of several units): not inserted; name one with -M/-C and its unit "
-                               "(unit_c.name)", Severity.WARNING)
-                continue
-            self._walk(_Leaf(path, variable.address, self.debug.type_of(variable)), frozenset())
+                report_progress(progress, number, len(by_name), "walking the ELF's variables")
+            first, *others = found
+            self._walk(_Leaf(name, first.address, self.debug.type_of(first), spec=_vector_spec(first) if others
+                             else ""), frozenset())
+            for other in others:
+                if any(rule.named(name) or rule.holds(other.address) for rule in self.rules.values()):
+                    self._skip("ambiguous", name, f"{name}{_vector_spec(other)}: {len(found)} variables have this "
+                               f"name; the objects are {name}{_vector_spec(first)}'s: not inserted",
+                               Severity.WARNING)
 
     def walk_path(self, kind: str, path: str) -> None:
         """``path`` named alone for ``kind`` (a2ltool's -M/-C)."""
@@ -254,11 +265,11 @@ class _Inserter:
             return
         passed = inherited | by_name
         if ctype.kind in _GROUPS:
-            for member in ctype.members:
+            for member in _members(ctype):
                 if member.offset is not None:
                     path = f"{leaf.path}.{member.name}" if member.name else leaf.path
                     self._walk(_Leaf(path, leaf.address + member.offset, member.type, member.bit_size,
-                                     member.bit_position), passed)
+                                     member.bit_position, leaf.spec), passed)
         elif ctype.kind == "array" and element.kind in _GROUPS:
             self._elements(leaf, element, passed)
         elif by_name or named:
@@ -273,11 +284,11 @@ class _Inserter:
                 indices.append(rest % dim)
                 rest //= dim
             suffix = "".join(f"[{i}]" if self.new_arrays else f"._{i}_" for i in reversed(indices))
-            self._walk(_Leaf(leaf.path + suffix, leaf.address + number * element.size, element), inherited)
+            self._walk(_Leaf(leaf.path + suffix, leaf.address + number * element.size, element, spec=leaf.spec),
+                       inherited)
 
     def _object(self, kind: str, leaf: _Leaf) -> None:
-        name = symbol = leaf.path
-        name = name.replace("::", "__")  # a C++ name, as a2ltool writes it
+        name, symbol = leaf.path.replace("::", "__"), leaf.symbol  # a C++ name's "::" as a2ltool writes it
         existing = self.described.get((kind, symbol))
         if existing is not None:
             self._skip("already-described", name, f"{kind} {existing} describes {symbol} already: not inserted",
@@ -351,7 +362,7 @@ class _Inserter:
         if dims:
             items.append("MATRIX_DIM " + " ".join(map(str, dims if self.new_arrays else _three(dims))))
         if self.symbol_links:
-            items.append(f"SYMBOL_LINK {quote_string(leaf.path, encoding).decode(encoding)} 0")
+            items.append(f"SYMBOL_LINK {quote_string(leaf.symbol, encoding).decode(encoding)} 0")
         lines = [f"/begin {kind} {name} ".encode(encoding) + head, *(item.encode(encoding) for item in items),
                  f"/end {kind}".encode("ascii")]
         return lines, f"{datatype} [{']['.join(map(str, dims))}]" if dims else datatype
@@ -451,6 +462,24 @@ def _version_features(doc: A2lDocument) -> tuple[bool, bool]:
                 break
             return version >= (1, 70), version >= (1, 60)
     return True, True
+
+
+def _members(ctype: "CType") -> list["CMember"]:
+    """A struct's members, those of its base classes first (named as its own: ``derived.baseMember``)."""
+    inherited = [replace(member, offset=None if base.offset is None or member.offset is None
+                         else base.offset + member.offset)
+                 for base in ctype.bases for member in _members(base.type)]
+    return [*inherited, *ctype.members]
+
+
+def _vector_spec(variable: Variable) -> str:
+    """Vector's suffix that names one of several variables of a name: ``{Function:f}{Namespace:inner}...
+    {CompileUnit:unit_c}{Namespace:Global}`` (innermost namespace first, as a2ltool writes it)."""
+    scope = variable.scope[:-1] if variable.function else variable.scope
+    function = f"{{Function:{variable.scope[-1]}}}" if variable.function else ""
+    namespaces = "".join(f"{{Namespace:{name}}}" for name in reversed(scope))
+    unit = f"{{CompileUnit:{variable.unit}}}" if variable.unit else ""
+    return f"{function}{namespaces}{unit}{{Namespace:Global}}"
 
 
 def _three(dims: tuple[int, ...]) -> tuple[int, ...]:

@@ -179,11 +179,14 @@ class DebugData:
         return None if found is None else (found.address, found.size)
 
     def variables(self) -> list[Variable]:
-        """The DWARF variables at file scope and in namespaces, in the order the ELF declares them (``insert``)."""
+        """The DWARF variables at file scope and in namespaces, then the functions' statics, each in the order
+        the ELF declares them (``insert``)."""
         if not self._has_variables:
             return []
         self._load_index()
-        return list(map(Variable._make, self._variables))
+        if self._statics is None:
+            self._statics = self._read_function_statics()
+        return [Variable._make(fields) for fields in (*self._variables, *self._statics)]
 
     def type_of(self, variable: Variable) -> CType:
         """The C type of a variable :meth:`variables` gave."""
