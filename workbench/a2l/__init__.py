@@ -4,7 +4,8 @@
 indexes); ``doc.model()`` its typed, read-only objects (:class:`A2lModel`: ``characteristic(name)``,
 ``measurement(name)`` ..., the frozen classes of :mod:`workbench.a2l.objects`) and
 ``model.conversion(obj)`` their COMPU_METHODs both ways; ``read_xcp_config(doc)`` the XCP settings of its IF_DATA XCP; ``merge_documents``,
-``update_document``, ``check_document`` and ``diff_documents`` (and their ``*_file(s)``
+``update_document``, ``insert_document`` (new objects from the ELF's variables), ``check_document`` and
+``diff_documents`` (and their ``*_file(s)``
 forms, which read and write paths) are the tool chain, each returning its findings as data
 (:class:`~workbench.findings.Report` of :class:`~workbench.findings.Finding`, shared with the
 other packages).
@@ -28,6 +29,7 @@ _EXPORTS = {
     "workbench.a2l.epk": ("ElfEpk", "read_elf_epk"),
     "workbench.a2l.formula": ("Formula", "compile_formula"),
     "workbench.a2l.ifdata": ("IfDataNode", "Word", "read_if_data"),
+    "workbench.a2l.insert": ("InsertReport", "InsertResult", "Selection", "insert_document", "insert_file"),
     "workbench.a2l.merge": ("MergeFailed", "MergeResult", "merge_documents", "merge_files"),
     "workbench.a2l.model": ("A2lModel", "ObjectSummary"),
     "workbench.a2l.objects": ("AxisDescr", "AxisPts", "Blob", "Characteristic", "CompuMethod", "CompuTab", "CompuVtab",
@@ -47,6 +49,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
     from workbench.a2l.epk import ElfEpk, read_elf_epk
     from workbench.a2l.formula import Formula, compile_formula
     from workbench.a2l.ifdata import IfDataNode, Word, read_if_data
+    from workbench.a2l.insert import InsertReport, InsertResult, Selection, insert_document, insert_file
     from workbench.a2l.merge import MergeFailed, MergeResult, merge_documents, merge_files
     from workbench.a2l.model import A2lModel, ObjectSummary
     from workbench.a2l.objects import (

@@ -35,6 +35,7 @@ from math import prod
 from pathlib import Path
 from typing import TYPE_CHECKING, Iterable, NamedTuple
 
+from workbench.a2l import grammar
 from workbench.a2l.addressed import AddressedObjects
 from workbench.a2l.datatypes import array_dims, c_limits, datatype_for, element_type
 from workbench.a2l.document import A2lDocument, Block, load_a2l
@@ -56,6 +57,7 @@ __all__ = ["InsertReport", "InsertResult", "Selection", "insert_document", "inse
 KINDS = ("MEASUREMENT", "CHARACTERISTIC")
 _SCALARS = ("base", "enum")
 _GROUPS = ("struct", "union")
+_KEYWORDS = frozenset((*grammar.BLOCKS, *grammar.OPTIONS, *grammar.TOP_LEVEL_OPTIONS))
 _LINE = 100  # names of a REF_MEASUREMENT/REF_CHARACTERISTIC are wrapped at about this many columns
 
 
@@ -295,8 +297,10 @@ class _Inserter:
                        Severity.INFO, self.taken[existing][2] if existing in self.taken else None)
             return
         owner = self._owner(name)
-        if owner is not None and owner[0] != kind and owner[1] == symbol:
-            name = f"{kind}.{name}"  # the variable is the other kind's object too: a2ltool's name for this one
+        if name in _KEYWORDS or (owner is not None and owner[0] != kind and owner[1] == symbol):
+            # an ASAP2 keyword (a variable called EPK) is no name A2L readers take; the other kind's object of the
+            # variable has the name: a2ltool's name for the second object of a variable, KIND.name
+            name = f"{kind}.{name}"
             owner = self._owner(name)
         if owner is not None:
             link = f" (SYMBOL_LINK {owner[1]})" if owner[1] != name else ""

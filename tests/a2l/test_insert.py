@@ -1,0 +1,186 @@
+"""insert: MEASUREMENTs and CHARACTERISTICs from an ELF's variables, as a2ltool makes them (its option names).
+
+The objects are compared field by field with what the installed a2ltool inserts for the same patterns;
+the result must pass ``check --elf`` and pya2ldb; the input's text stays as it was (only additions).
+"""
+
+import difflib
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from pya2l_oracle import pya2l_import
+
+from workbench.a2l import load_a2l, load_a2l_string
+from workbench.a2l.check import check_file
+from workbench.a2l.insert import Selection, insert_document, insert_file
+from workbench.cli import main
+from workbench.elf.debugdata import DebugData
+from workbench.errors import InputError
+
+A2LTOOL = shutil.which("a2ltool", path=str(Path(sys.executable).parent)) or shutil.which("a2ltool")
+ELF_DIR = Path(__file__).parents[1] / "elf"
+TYPES_ELF = ELF_DIR / "fixtures" / "types_dwarf5.elf"
+WILD_ELF = ELF_DIR / "matrix" / "c-gcc-dwarf5-m64-O0.elf"  # function statics, names two variables share
+EMPTY = ('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n    /begin MOD_COMMON "" BYTE_ORDER MSB_LAST '
+         '/end MOD_COMMON\n  /end MODULE\n/end PROJECT\n')
+# disjoint: a variable that is both kinds is an overlap check reports (as are the members of a union: u)
+MEASURED = r"outer\..*|bits\..*|node\..*|state|zsScalar|matrix|big|EPK|hidden_counter"
+CALIBRATED = r"csConstant|vector|zvLut\..*|expected_size"
+KEYWORDS = {"EPK"}
+FIELDS = ("datatype", "conversion", "lower_limit", "upper_limit", "address", "matrix_dim", "bit_mask", "type",
+          "symbol_link", "long_identifier")
+
+
+def _insert(tmp_path: Path, elf: Path, measured: str, calibrated: str, text: str = EMPTY) -> tuple[Path, object]:
+    source = tmp_path / "in.a2l"
+    source.write_text(text)
+    out = tmp_path / "ours.a2l"
+    report = insert_file(source, elf, out, measurements=Selection((measured,)),
+                         characteristics=Selection((calibrated,)), use_cache=False)
+    return out, report
+
+
+@pytest.fixture(scope="module")
+def inserted(tmp_path_factory) -> tuple[Path, object]:
+    return _insert(tmp_path_factory.mktemp("insert"), TYPES_ELF, MEASURED, CALIBRATED)
+
+
+def _a2ltool(tmp_path: Path, elf: Path, measured: str, calibrated: str) -> Path:
+    source, out = tmp_path / "in.a2l", tmp_path / "theirs.a2l"
+    source.write_text(EMPTY)
+    subprocess.run([A2LTOOL, str(source), "--elffile", str(elf), "--measurement-regex", measured,
+                    "--characteristic-regex", calibrated, "--output", str(out)], check=True, capture_output=True)
+    return out
+
+
+def _fields(model, name: str) -> dict:
+    obj = model.object(name)
+    found = {field: getattr(obj, field, None) for field in FIELDS}
+    if obj.kind == "CHARACTERISTIC":
+        layout = model.record_layout_of(obj)
+        found["layout"] = [(entry.keyword, entry.datatype, entry.mode, entry.addressing) for entry in layout.entries]
+    if obj.conversion != "NO_COMPU_METHOD":
+        found["values"] = model.compu_table(obj.conversion).pairs
+    return found
+
+
+@pytest.mark.skipif(A2LTOOL is None, reason="a2ltool is not installed (pip install -e .[dev])")
+@pytest.mark.parametrize("elf, measured, calibrated", [
+    (TYPES_ELF, MEASURED, CALIBRATED),
+    (WILD_ELF, ".*", "zzz"),  # function statics; the first of two variables of one name, Vector's SYMBOL_LINK
+    (WILD_ELF, "zzz", ".*"),
+], ids=["types", "wild-measurements", "wild-characteristics"])
+def test_the_objects_are_those_a2ltool_inserts(tmp_path, elf, measured, calibrated):
+    ours = load_a2l(_insert(tmp_path, elf, measured, calibrated)[0]).model()
+    theirs = load_a2l(_a2ltool(tmp_path, elf, measured, calibrated)).model()
+    for kind in ("MEASUREMENT", "CHARACTERISTIC"):
+        # a variable named as an ASAP2 keyword (EPK), which pya2ldb refuses as a name, is a2ltool's KIND.EPK
+        names = {f"{kind}.{name}" if name in KEYWORDS else name: name for name in theirs.names(kind)}
+        assert sorted(ours.names(kind)) == sorted(names)
+        for name, their_name in names.items():
+            assert _fields(ours, name) == _fields(theirs, their_name), name
+    assert len(ours.names()) > 20
+
+
+def test_the_objects_have_their_c_types(inserted):
+    model = load_a2l(inserted[0]).model()
+    bits = model.measurement("bits.mid")
+    assert (bits.datatype, bits.bit_mask, bits.lower_limit, bits.upper_limit) == ("ULONG", 0xF8, 0, 31)
+    assert model.measurement("matrix").matrix_dim == (5, 6)
+    assert model.measurement("outer.arr[2].d").address == DebugData(TYPES_ELF, use_cache=False).resolve(
+        "outer.arr[2].d").address
+    state = model.measurement("state")
+    assert (state.conversion, model.compu_table("tState").pairs) == ("tState", ((0, "OFF"), (1, "ON"),
+                                                                                 (200, "BROKEN")))
+    table = model.characteristic("zvLut.Table")
+    assert (table.type, table.matrix_dim, table.record_layout) == ("VAL_BLK", (9,), "__FLOAT32_IEEE_Z")
+    assert model.characteristic("csConstant").record_layout == "__UBYTE_Z"
+    assert "node.next" not in model  # a pointer is no value
+    assert [f.name for f in inserted[1].problems] == []
+
+
+def test_the_result_passes_check_and_pya2ldb(inserted):
+    assert check_file(inserted[0], TYPES_ELF, use_cache=False).problems == []
+    counts = pya2l_import(inserted[0])
+    assert (counts["MEASUREMENT"], counts["CHARACTERISTIC"]) == (len(inserted[1].inserted["MEASUREMENT"]),
+                                                                 len(inserted[1].inserted["CHARACTERISTIC"]))
+
+
+FILE = (
+    "/* kept as it is */\r\nASAP2_VERSION 1 61\r\n/begin PROJECT P \"\"\r\n\t/begin MODULE M \"\"\r\n"
+    "\t\t/begin RECORD_LAYOUT RL_U16 FNC_VALUES 1 UWORD ROW_DIR DIRECT /end RECORD_LAYOUT\r\n"
+    "\t\t/begin MEASUREMENT zsScalar \"mine\" FLOAT32_IEEE NO_COMPU_METHOD 0 0 0 10\r\n"
+    "\t\t\tECU_ADDRESS 0x403000\r\n\t\t/end MEASUREMENT\r\n"
+    "\t\t/begin CHARACTERISTIC MyAxis \"the same variable, another name\" VAL_BLK 0x403140 RL_U16 0 "
+    "NO_COMPU_METHOD 0 1000\r\n\t\t\tMATRIX_DIM 10 1 1\r\n\t\t\tSYMBOL_LINK \"vector\" 0\r\n\t\t/end CHARACTERISTIC\r\n"
+    "\t\t/begin GROUP Calib \"\"\r\n\t\t\t/begin REF_CHARACTERISTIC MyAxis\r\n\t\t\t/end REF_CHARACTERISTIC\r\n"
+    "\t\t/end GROUP\r\n\t/end MODULE\r\n/end PROJECT\r\n")
+
+
+def test_only_additions_in_the_files_style_and_nothing_twice(tmp_path):
+    source, out = tmp_path / "in.a2l", tmp_path / "out.a2l"
+    source.write_bytes(FILE.encode())
+    args = ["a2l", "insert", str(source), str(TYPES_ELF), "-o", str(out), "--measurement-regex", "zsScalar|outer.*",
+            "--characteristic-regex", "vector|csConstant", "--characteristic-range", "0x403010", "0x403018",
+            "--target-group", "Calib", "--no-cache", "--json"]
+    assert main(args) == 0
+    data = out.read_bytes()
+    assert b"\n" not in data.replace(b"\r\n", b"")  # the file's newlines
+    removed = [line for line in difflib.ndiff(FILE.splitlines(), data.decode().splitlines()) if line[:1] in "-?"]
+    assert removed == []
+    doc = load_a2l(out)
+    model = doc.model()
+    assert model.measurement("zsScalar").long_identifier == "mine"  # left alone
+    assert "CHARACTERISTIC.vector" not in model and "vector" not in model  # described by MyAxis already
+    # before 1.70: element names ._2_, MATRIX_DIM of three
+    assert model.measurement("outer.arr._2_.d").matrix_dim == (3, 1, 1)
+    assert model.characteristic("csConstant").record_layout == "__UBYTE_Z"
+    group = model.group("Calib")
+    assert group.ref_characteristics == ("MyAxis", "csConstant")
+    assert "outer.arr._3_.c" in group.ref_measurements and "zsScalar" not in group.ref_measurements
+    assert b"\t\t/begin MEASUREMENT outer.a " in data  # the MODULE's indentation
+    # a second run finds everything there
+    assert main(["a2l", "insert", str(out), *args[3:]]) == 0  # in place
+    assert out.read_bytes() == data
+
+
+def test_a_module_on_one_line_and_a_layout_to_reuse():
+    doc = load_a2l_string('ASAP2_VERSION 1 71 /begin PROJECT P "" /begin MODULE M "" /begin RECORD_LAYOUT '
+                          "Same FNC_VALUES 1 UBYTE ROW_DIR DIRECT /end RECORD_LAYOUT /end MODULE /end PROJECT")
+    with DebugData(TYPES_ELF, use_cache=False) as debug:
+        result = insert_document(doc, debug, characteristics=Selection(paths=("csConstant", "bits")))
+    model = load_a2l_string(result.data.decode()).model()
+    assert model.characteristic("csConstant").record_layout == "Same"
+    assert model.characteristic("bits.high").bit_mask == 0xFFF00
+    assert sorted(result.report.inserted["CHARACTERISTIC"]) == ["bits.after", "bits.high", "bits.low", "bits.mid",
+                                                               "csConstant"]
+
+
+def test_errors_for_people(tmp_path, capsys):
+    source = tmp_path / "in.a2l"
+    source.write_text(EMPTY)
+    out = tmp_path / "out.a2l"
+    base = ["a2l", "insert", str(source), str(TYPES_ELF), "-o", str(out), "--no-cache"]
+    assert main([*base, "--measurement-regex", "zs("]) == 2
+    assert "--measurement-regex" in capsys.readouterr().err
+    assert main([*base, "--characteristic-range", "0x500", "0x400"]) == 2
+    assert "--characteristic-range 0x500 0x400" in capsys.readouterr().err
+    assert main([*base, "--target-group", "no group"]) == 2
+    assert main(base[:4] + ["--measurement-regex", "zsScalar"]) == 2  # no -o, no --dry-run
+    assert main(["a2l", "insert", str(source), str(ELF_DIR / "fixtures" / "types_symtab.elf"), "-o", str(out),
+                 "--measurement-regex", ".*", "--no-cache"]) == 2
+    assert "DWARF" in capsys.readouterr().err
+    assert not out.exists()
+    assert main([*base, "--measurement-regex", "nothing_like_this", "--measurement", "zsScalar", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["inserted"]["MEASUREMENT"] == ["zsScalar"]
+    assert [f["message"] for f in report["findings"] if f["severity"] == "warning"] == [
+        "--measurement-regex 'nothing_like_this' matches no variable of types_dwarf5.elf"]
+    assert main([*base[:4], "--dry-run", "--measurement-regex", "outer.*"]) == 0
+    assert "would insert 12 MEASUREMENT" in capsys.readouterr().err
+    with pytest.raises(InputError, match="measurement-regex"):
+        insert_file(source, TYPES_ELF, None, measurements=Selection(("[",)), use_cache=False)
