@@ -12,8 +12,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import IntEnum, IntFlag
 
-__all__ = ["CAN_ID_EXTENDED_FLAG", "EV_CMD_PENDING", "MAX_DAQ_PID", "PID_ERR", "PID_EV", "PID_RES", "PID_SERV", "TIME_UNIT_S", "CanId",
-           "Cmd", "Err", "IdType", "Resource"]
+__all__ = ["CAN_ID_EXTENDED_FLAG", "EV_CMD_PENDING", "MAX_DAQ_PID", "PID_ERR", "PID_EV", "PID_RES", "PID_SERV",
+           "TIME_UNIT_S", "CanId", "Cmd", "Err", "IdType", "Resource"]
 
 PID_RES = 0xFF  # positive response
 PID_ERR = 0xFE  # negative response
