@@ -94,19 +94,21 @@ class LimitsError(InputError):
 class XcpCommandError(WorkbenchError):
     """The ECU answered an XCP command with a negative response.
 
-    ``name`` defaults to the standard's name of ``code`` (``ERR_OUT_OF_RANGE`` for 0x22).
+    ``name`` defaults to the standard's name of ``code`` (``ERR_OUT_OF_RANGE`` for 0x22); ``payload`` holds the
+    response's bytes after the code (BUILD_CHECKSUM's ERR_OUT_OF_RANGE tells the largest block there).
     """
 
-    def __init__(self, command: str, code: int, name: str = "", context: str = ""):
+    def __init__(self, command: str, code: int, name: str = "", context: str = "", payload: bytes = b""):
         self.command = command
         self.code = code
+        self.payload = payload
         self.name = name or _error_name(code)
         self.context = context  # what the command was for, e.g. "reading xsPRV_KP (0x0..0x3)"
         super().__init__((f"{context}: " if context else "") + f"XCP {command} failed: {self.name} (0x{code:02X})")
 
     def about(self, context: str) -> "XcpCommandError":
         """The same refusal, saying what the command was for."""
-        return XcpCommandError(self.command, self.code, self.name, context)
+        return XcpCommandError(self.command, self.code, self.name, context, self.payload)
 
 
 def placeholder_hint(address: int) -> str:

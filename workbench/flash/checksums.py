@@ -1,7 +1,9 @@
 """Compare ECU memory with expected bytes by BUILD_CHECKSUM, computed locally with the ECU's checksum type.
 
-The ECU names its checksum type in every response; the largest block it accepts is learnt
-from ERR_OUT_OF_RANGE (halving). A response that names no checksum type is a stale one (a
+The ECU names its checksum type in every response; the largest block it accepts starts as the
+caller says (cache sync: the segment's CHECKSUM MAX_BLOCK_SIZE) and is learnt from ERR_OUT_OF_RANGE:
+the size the ECU returns there (ASAM: in the checksum field), or half the block when it returns none.
+ADD_22/24/44 sum words in the ECU's byte order (its CPU's, which BYTE_ORDER states). A response that names no checksum type is a stale one (a
 late answer to an earlier command): SYNCH, then ask again. A mismatch is asked once more
 before it counts, so a stale answer can fail a block only when it repeats. When the ECU
 computes a checksum the workbench does not know (user-defined), or has no BUILD_CHECKSUM at all
@@ -10,6 +12,7 @@ computes a checksum the workbench does not know (user-defined), or has no BUILD_
 
 from __future__ import annotations
 
+import struct
 from dataclasses import dataclass
 
 from workbench.errors import WorkbenchError, XcpCommandError
@@ -57,15 +60,23 @@ class ChecksumVerifier:
             try:
                 same = self._same(address + offset, expected[offset:offset + size])
             except XcpCommandError as exc:
-                if exc.code != Err.OUT_OF_RANGE or size <= _SMALLEST_BLOCK:
+                allowed = self._allowed(exc)
+                if exc.code != Err.OUT_OF_RANGE or (size <= _SMALLEST_BLOCK and not unit <= allowed < size):
                     raise
-                self.max_block = max(_SMALLEST_BLOCK, size // 2)
+                self.max_block = allowed if unit <= allowed < size else max(_SMALLEST_BLOCK, size // 2)
                 log.debug("BUILD_CHECKSUM: %d bytes refused, trying %d", size, self.max_block)
                 continue
             if not same:
                 bad.append(AddressRange(address + offset, address + offset + size))
             offset += size
         return bad
+
+    def _allowed(self, refusal: XcpCommandError) -> int:
+        """Bytes of the largest block an ERR_OUT_OF_RANGE of BUILD_CHECKSUM says the ECU takes (elements in its
+        checksum field, after the alignment word); 0 when it says none."""
+        if len(refusal.payload) < 6:
+            return 0
+        return struct.unpack_from(f"{self.master.order}I", refusal.payload, 2)[0] * self.master.granularity
 
     def _same(self, address: int, expected: bytes) -> bool:
         value = self._checksum(address, len(expected))

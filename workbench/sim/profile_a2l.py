@@ -150,7 +150,8 @@ def _xcp_segments(config: XcpConfig, params: XcpParameters, memory_map: MemoryMa
     base = config.segments[0]
     ranges = _segments(params, memory_map)
     return tuple(replace(base, memory_segment=base.memory_segment if len(ranges) == 1 else f"{base.memory_segment}_{n}",
-                         address=r.start, size=r.size, number=n,
+                         address=r.start, size=r.size, number=n, checksum_type=f"XCP_{params.checksum_type.name}",
+                         checksum_max_block_size=params.max_checksum_block,
                          address_mappings=(XcpAddressMapping(r.start, memory_map.rom_address(r.start), r.size),))
                  for n, r in enumerate(ranges))
 

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 from workbench.errors import InputError
-from workbench.image import AddressRange
+from workbench.image import AddressRange, ChecksumType
 from workbench.sim.memory_map import MemoryMap
 from workbench.sim.xcp.parameters import DEMO_STATIC_LISTS, PredefinedDaqList, XcpParameters
 from workbench.xcp_protocol import Cmd, Resource
@@ -92,8 +92,10 @@ PROFILES: dict[str, SlaveProfile] = {p.name: p for p in (
                  "(ERR_MODE_NOT_VALID)", "switching every segment that holds calibrations, one by one",
                  xcp={"segments": (_EPK_SEGMENT, _CAL_SEGMENT), "all_segments_mode": False}),
     SlaveProfile("motorola", "XCP's own byte order is Motorola (BYTE_ORDER_MSB_FIRST); the data stay Intel "
-                 "(MOD_COMMON)", "multi-byte command and response fields, DTO timestamps and list numbers "
-                 "in the slave's byte order", xcp={"byte_order": ">"}),
+                 "(MOD_COMMON); BUILD_CHECKSUM sums DWORDs (ADD_44) in Motorola order, at most 0xFFFF bytes at once",
+                 "multi-byte command and response fields, DTO timestamps and list numbers in the slave's byte "
+                 "order; a checksum's words too, and blocks no larger than its ERR_OUT_OF_RANGE (or A2L) says",
+                 xcp={"byte_order": ">", "checksum_type": ChecksumType.ADD_44, "max_checksum_block": 0xFFFF}),
     SlaveProfile("granularity-word", "address granularity WORD: transfers count 2-byte elements from even addresses",
                  "ADDRESS_GRANULARITY_WORD: element counts, alignment bytes, reads and writes widened to whole "
                  "elements", xcp={"address_granularity": 2}, daq={"granularity": 2}),

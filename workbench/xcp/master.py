@@ -208,7 +208,7 @@ class XcpMaster:
                     continue
                 if command == Cmd.SYNCH and code == Err.CMD_SYNCH:
                     return response[1:]
-                raise XcpCommandError(command.name, code)
+                raise XcpCommandError(command.name, code, payload=response[2:])
             raise WorkbenchError(f"XCP {command.name}: unexpected packet {response.hex(' ')}")
 
     def _checked(self, command: Cmd, response: bytes | None, timeout_s: float, check: Callable[[bytes], str | None],

@@ -465,7 +465,7 @@ class XcpSlave:
             raise XcpNegative(Err.OUT_OF_RANGE, self.pack("BBI", 0, 0, limit))
         self.require_aligned(self.mta)
         self.require_mta_in(size)
-        value = checksum(self.read(self.mta, size), kind)
+        value = checksum(self.read(self.mta, size), kind, self.order == "<")  # words as its CPU (BYTE_ORDER) reads them
         self.mta += size
         return self.pack("BBBI", int(kind), 0, 0, value)
 
