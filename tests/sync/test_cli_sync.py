@@ -76,9 +76,9 @@ def test_a_bad_object_is_listed_and_nothing_is_written(bus, capsys, tmp_path):
     code, out, err = run(capsys, "cal", "load", "tuned.dcm", *bus)
     assert code == 2
     line = tuned[:tuned.index("FESTWERT xsPRV_KX")].count("\n") + 1  # the line that names the unknown object
+    unknown = "not in the A2L; did you mean xsPRV_KP, xsPRV_KI, xsPRV_KD?"
     assert out.splitlines() == ["xsPRV_KP  not written  other objects were refused",
-                                f"xsPRV_KX  refused  tuned.dcm:{line}: not in the A2L; did you mean xsPRV_KP, xsPRV_KI, "
-                                "xsPRV_KD?",
+                                f"xsPRV_KX  refused  tuned.dcm:{line}: " + unknown,
                                 "tuned.dcm: not applied: 56 unchanged, 1 refused, 1 not written"]
     assert err.startswith(f"error: 1 of 58 objects refused, nothing written: xsPRV_KX: tuned.dcm:{line}: not in the A2L")
     assert err.endswith("; --skip-unknown leaves out the objects the A2L lacks\n")
@@ -90,8 +90,7 @@ def test_a_bad_object_is_listed_and_nothing_is_written(bus, capsys, tmp_path):
     code, out, err = run(capsys, "cal", "load", "tuned.dcm", "--skip-unknown", *bus)
     assert (code, err) == (0, "")
     assert out.splitlines() == ["xsPRV_KP  applied",
-                                f"xsPRV_KX  skipped  tuned.dcm:{line}: not in the A2L; did you mean xsPRV_KP, xsPRV_KI, "
-                                "xsPRV_KD?",
+                                f"xsPRV_KX  skipped  tuned.dcm:{line}: " + unknown,
                                 "tuned.dcm: applied: 1 applied, 56 unchanged, 1 skipped"]
     assert run(capsys, "cal", "get", "xsPRV_KP", *bus)[1] == "xsPRV_KP = 7.0000 %/bar\n"
     (tmp_path / "beyond.dcm").write_text(tuned.replace("WERT 7.0", "WERT 700.0"))  # other refusals still refuse
