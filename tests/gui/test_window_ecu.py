@@ -167,3 +167,20 @@ def test_a_plain_0_1_flag_without_state_texts_steps_in_a_lane_as_a_verbal_signal
     assert set(np.unique(values)) <= {0.0, 1.0}
     drawn = set(np.unique(curve.yData[np.isfinite(curve.yData)]))
     assert drawn and drawn <= {level(flag, 0.0), level(flag, 1.0)}
+
+
+def test_a_page_switch_the_ecu_refuses_leaves_the_buttons_and_status_on_the_page_it_uses(window, qtbot, monkeypatch):
+    from workbench.errors import XcpCommandError
+
+    def refuse(*_):
+        raise XcpCommandError("SET_CAL_PAGE", 0x25)
+
+    monkeypatch.setattr(window.controller.session.master, "set_cal_page", refuse)
+    errors = len(window.errors)
+    window.reference_action.trigger()  # checked at once by the click, as a QActionGroup does
+    qtbot.waitUntil(lambda: len(window.errors) > errors, timeout=WAIT_MS)
+    assert window.errors[-1].text() == ("switching the ECU to the reference page (it stays on the working page): "
+                                        "XCP SET_CAL_PAGE failed: ERR_ACCESS_LOCKED (0x25)")
+    assert window.working_action.isChecked() and not window.reference_action.isChecked()
+    assert "working" in window.status.page.text() and window.controller.page == "working"
+    window.errors.pop().close()  # the one dialog expected

@@ -260,9 +260,10 @@ class EcuController(QObject):
         return self.change("write", name, value, allow_extended_limits=allow_extended_limits, on_done=on_done,
                            on_error=on_error)
 
-    def set_page(self, page: str) -> Task | None:
+    def set_page(self, page: str, on_error: Callable[[BaseException], None] | None = None) -> Task | None:
+        """Switch the ECU to ``page``: ``page_changed`` follows, or ``on_error`` (``failed``) with the page unchanged."""
         def done(_) -> None:
             self.page = page
             self.page_changed.emit(page)
 
-        return self.call("set_page", page, on_done=done)
+        return self.call("set_page", page, on_done=done, on_error=on_error)

@@ -27,7 +27,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from workbench.errors import ConnectionLostError, InputError
+from workbench.errors import ConnectionLostError, InputError, XcpCommandError
 from workbench.gui import theme
 from workbench.gui.a2l_info import calibration_info, measurement_info
 from workbench.gui.acquisition import DaqAcquisition, RecordRequest
@@ -90,7 +90,7 @@ class MainWindow(QMainWindow):
         self.controller.connected.connect(self._connected)
         self.controller.disconnected.connect(self._disconnected)
         self.controller.failed.connect(self.show_error)
-        self.controller.page_changed.connect(self.status.show_page)
+        self.controller.page_changed.connect(self._show_page)
         self.controller.lost.connect(self._lost)
         self.controller.reconnecting.connect(
             lambda attempt: self.status.set_pause(f"reconnecting (attempt {attempt})", self.status.pause[1]
@@ -451,9 +451,27 @@ class MainWindow(QMainWindow):
             self.connect_action.setEnabled(True)
             self.status.show_disconnected()
 
+    def set_page(self, page: str) -> None:
+        """Switch the ECU to ``page`` (the toolbar's page buttons); refused, the buttons show the page the ECU uses."""
+        def refused(exc: BaseException) -> None:
+            now = self.controller.page
+            self._show_page(now)
+            if isinstance(exc, XcpCommandError):
+                exc = exc.about(f"switching the ECU to the {page} page (it stays on the {now} page)")
+            self.show_error(exc)
+
+        if self.controller.set_page(page, on_error=refused) is None:
+            self._show_page(self.controller.page)
+
+    def _show_page(self, page: str) -> None:
+        """The page the ECU uses, in the status bar and on the page buttons (a button's click checks it at once)."""
+        self.status.show_page(page)
+        (self.working_action if page == "working" else self.reference_action).setChecked(True)
+
     def _connected(self, result: Connected) -> None:
         session, info = result.session, result.info
         self.status.show_connected(session, info)
+        self._show_page(self.controller.page)
         enable_ecu_actions(self, session, info)
         self._update_title()
         if session.epk.matches is False and session.read_only:

@@ -71,10 +71,10 @@ def _ecu_actions(window) -> None:
     window.disconnect_action = _action(window, "Disconnect", lambda: window.controller.close(), "disconnect",
                                       "disconnect")
     pages = QActionGroup(window)
-    window.working_action = _action(window, "Working page", lambda: window.controller.set_page("working"),
+    window.working_action = _action(window, "Working page", lambda: window.set_page("working"),
                                    "the ECU and XCP use the working page (CAL RAM, writable)", "working page",
                                    checkable=True)
-    window.reference_action = _action(window, "Reference page", lambda: window.controller.set_page("reference"),
+    window.reference_action = _action(window, "Reference page", lambda: window.set_page("reference"),
                                      "the ECU and XCP use the reference page (CAL ROM, the flashed values)",
                                      "reference page", checkable=True)
     for page in (window.working_action, window.reference_action):
