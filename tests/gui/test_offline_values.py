@@ -49,3 +49,26 @@ def test_connected_the_ecus_value_replaces_the_files(qtbot, demo_ecu, project, c
     assert editor.value.value == 23.0 and editor.field.input.isEnabled()
     assert "FLCU.s19" not in editor.status.text()
     window.close()
+
+
+def brightest(toolbar, action) -> int:
+    """The lightness of the brightest pixel of ``action``'s button as ``toolbar`` draws it (its text: dark theme)."""
+    image = toolbar.grab(toolbar.widgetForAction(action).geometry()).toImage()
+    return max(image.pixelColor(x, y).lightness() for x in range(image.width()) for y in range(image.height()))
+
+
+def test_what_cannot_be_used_now_looks_so(qtbot):
+    """Disabled toolbar buttons were drawn as the enabled ones (the theme gave every state its text colour):
+    offline, Disconnect, Flash and Record looked as usable as Connect."""
+    from PySide6.QtWidgets import QToolBar
+
+    from workbench.gui import theme
+
+    toolbar = QToolBar()
+    qtbot.addWidget(toolbar)
+    toolbar.setStyleSheet(theme.STYLE_SHEET)
+    usable, unusable = toolbar.addAction("Connect"), toolbar.addAction("Disconnect")
+    unusable.setEnabled(False)
+    toolbar.show()
+    qtbot.waitExposed(toolbar)
+    assert brightest(toolbar, unusable) < brightest(toolbar, usable) - 60

@@ -10,7 +10,7 @@ from __future__ import annotations
 from PySide6.QtGui import QColor, QFont, QPalette
 from PySide6.QtWidgets import QApplication
 
-__all__ = ["BAD", "GOOD", "WARN", "MUTED", "ACCENT", "TRACE_COLOURS", "apply", "trace_colour"]
+__all__ = ["ACCENT", "BAD", "DISABLED", "GOOD", "MUTED", "STYLE_SHEET", "TRACE_COLOURS", "WARN", "apply", "trace_colour"]
 
 BACKGROUND = "#15191f"
 PANEL = "#1c2129"
@@ -18,6 +18,7 @@ RAISED = "#252b35"
 BORDER = "#323a46"
 TEXT = "#d6dbe2"
 MUTED = "#8a94a3"
+DISABLED = "#5a6370"  # what cannot be used now: dimmer than MUTED, which is for secondary text that can be read
 ACCENT = "#3d9df3"
 GOOD = "#3fbf72"
 WARN = "#f0b429"
@@ -36,9 +37,11 @@ def trace_colour(index: int) -> str:
     return TRACE_COLOURS[index % len(TRACE_COLOURS)]
 
 
-_STYLE = f"""
+STYLE_SHEET = f"""
 QMainWindow, QDialog {{ background: {BACKGROUND}; }}
 QWidget {{ color: {TEXT}; }}
+QWidget:disabled {{ color: {DISABLED}; }}
+QMenu::item:disabled {{ color: {DISABLED}; }}
 QDockWidget {{ titlebar-close-icon: none; }}
 QDockWidget::title {{ background: {RAISED}; padding: 5px 8px; border-bottom: 1px solid {BORDER};
                       font-weight: 600; }}
@@ -46,6 +49,7 @@ QToolBar {{ background: {PANEL}; border: none; border-bottom: 1px solid {BORDER}
 QToolButton {{ padding: 4px 8px; border-radius: 4px; }}
 QToolButton:hover {{ background: {RAISED}; }}
 QToolButton:checked {{ background: #24466b; }}
+QToolButton:checked:disabled {{ background: {RAISED}; }}
 QStatusBar {{ background: {PANEL}; border-top: 1px solid {BORDER}; }}
 QStatusBar QLabel {{ padding: 0 8px; }}
 QLabel#badge {{ border-radius: 3px; padding: 1px 8px; font-weight: 600; }}
@@ -95,7 +99,7 @@ def apply(app: QApplication) -> None:
     font = QFont("DejaVu Sans", 10)
     font.setStyleHint(QFont.SansSerif)
     app.setFont(font)
-    app.setStyleSheet(_STYLE)
+    app.setStyleSheet(STYLE_SHEET)
     pg.setConfigOptions(background=PLOT_BACKGROUND, foreground=TEXT, antialias=False)
 
 
