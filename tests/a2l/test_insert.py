@@ -184,3 +184,18 @@ def test_errors_for_people(tmp_path, capsys):
     assert "would insert 12 MEASUREMENT" in capsys.readouterr().err
     with pytest.raises(InputError, match="measurement-regex"):
         insert_file(source, TYPES_ELF, None, measurements=Selection(("[",)), use_cache=False)
+
+
+@pytest.mark.parametrize("pattern, names", [
+    (r"outer\.arr\[2\]\..*", ["outer.arr[2].c", "outer.arr[2].d"]),  # the walk skips what the pattern cannot name
+    (r"vector\[[3-4]\]|zv.*\.BP1", ["vector[3]", "vector[4]", "zvLut.BP1"]),  # elements of an array not selected whole
+    ("(?i)ZSSCALAR|HIDDEN_counter", ["zsScalar", "hidden_counter"]),  # global flags stay in front
+    ("^zs", ["zsScalar"]),  # with ^ or $: searched as written (a2ltool's rule)
+    ("b.*s", ["bits"]),  # a struct it names brings its members: not bits.after (its own name does not match)
+])
+def test_patterns_select_whole_names(pattern, names):
+    doc = load_a2l_string(EMPTY)
+    with DebugData(TYPES_ELF, use_cache=False) as debug:
+        result = insert_document(doc, debug, measurements=Selection((pattern,)))
+    expected = ["bits.low", "bits.mid", "bits.high", "bits.after"] if names == ["bits"] else names
+    assert sorted(result.report.inserted["MEASUREMENT"]) == sorted(expected)

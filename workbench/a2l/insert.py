@@ -58,13 +58,18 @@ KINDS = ("MEASUREMENT", "CHARACTERISTIC")
 _SCALARS = ("base", "enum")
 _GROUPS = ("struct", "union")
 _KEYWORDS = frozenset((*grammar.BLOCKS, *grammar.OPTIONS, *grammar.TOP_LEVEL_OPTIONS))
+_GLOBAL_FLAGS = re.compile(r"(?:\(\?[aiLmsux]+\))+")
 _LINE = 100  # names of a REF_MEASUREMENT/REF_CHARACTERISTIC are wrapped at about this many columns
 
 
 def selection_pattern(text: str) -> re.Pattern:
     """A regular expression that selects variables by their whole name (a2ltool's rule: one that starts with
     ``^`` or ends with ``$`` is searched as written). Raises ``re.error``."""
-    return re.compile(text if text.startswith("^") or text.endswith("$") else f"^(?:{text})$")
+    if text.startswith("^") or text.endswith("$"):
+        return re.compile(text)
+    flags = _GLOBAL_FLAGS.match(text)  # (?i) stays in front: Python takes global flags there only
+    head = flags.group() if flags else ""
+    return re.compile(f"{head}^(?:{text[len(head):]})$")
 
 
 @dataclass(frozen=True)
@@ -133,6 +138,10 @@ class _Rules:
             if low >= high:
                 raise InputError(f"--{kind.lower()}-range 0x{low:X} 0x{high:X}: the start must lie below the end")
         self.ranges = list(selection.ranges)
+        # the literal texts each pattern's matches start with (None: any text): a walk skips what none can name
+        prefixes = [_literal_prefixes(pattern) for _, pattern in self.patterns]
+        self._any_name = any(found is None or "" in found for found in prefixes)
+        self._starts = tuple(prefix for found in prefixes if found is not None for prefix in found)
         self.paths = list(selection.paths)
         self.matched: Counter[str] = Counter()
         self.in_range: Counter[tuple[int, int]] = Counter()
@@ -144,6 +153,16 @@ class _Rules:
                 self.matched[text] += 1
                 found = True
         return found
+
+    def may_name(self, path: str) -> bool:
+        """Whether a pattern may match ``path`` or a name that starts with it (a member, an element)."""
+        if self._any_name:
+            return True
+        return path.startswith(self._starts) or any(start.startswith(path) for start in self._starts)
+
+    def may_hold(self, address: int, size: int) -> bool:
+        """Whether a range holds a byte of ``[address, address + size)``."""
+        return any(low < address + max(size, 1) and address < high for low, high in self.ranges)
 
     def holds(self, address: int) -> bool:
         found = False
@@ -202,6 +221,7 @@ class _Inserter:
     def __init__(self, doc: A2lDocument, module: Block, debug: DebugData, rules: dict[str, _Rules]):
         self.doc, self.module, self.debug, self.rules = doc, module, debug, rules
         self.report = InsertReport("insert")
+        self.active = [rule for rule in rules.values() if rule.patterns or rule.ranges]  # what the walk asks
         self.new_arrays, self.symbol_links = _version_features(doc)
         self.taken: dict[str, tuple[str, str, int | None]] = {}  # object name -> (keyword, symbol, name token)
         self.described: dict[tuple[str, str], str] = {}  # (keyword, symbol) -> the object that describes it
@@ -229,6 +249,8 @@ class _Inserter:
             if number % 256 == 0:
                 report_progress(progress, number, len(by_name), "walking the ELF's variables")
             first, *others = found
+            if not any(rule.ranges or rule.may_name(name) for rule in self.active):
+                continue  # known without its type
             self._walk(_Leaf(name, first.address, self.debug.type_of(first), spec=_vector_spec(first) if others
                              else ""), frozenset())
             for other in others:
@@ -253,8 +275,8 @@ class _Inserter:
     def _walk(self, leaf: _Leaf, inherited: frozenset[str], named: bool = False) -> None:
         """Insert ``leaf`` (or its members and elements) for the kinds that select it. ``inherited``: the kinds
         an enclosing struct's name selected."""
-        by_name = frozenset(kind for kind, rule in self.rules.items() if rule.named(leaf.path))
-        by_range = frozenset(kind for kind, rule in self.rules.items() if rule.holds(leaf.address))
+        by_name = frozenset(rule.kind for rule in self.active if rule.named(leaf.path))
+        by_range = frozenset(rule.kind for rule in self.active if rule.holds(leaf.address))
         selected = inherited | by_name | by_range
         ctype = leaf.ctype
         element = element_type(ctype)
@@ -262,10 +284,12 @@ class _Inserter:
             for kind in KINDS:
                 if kind in selected:
                     self._object(kind, leaf)
-            if not selected and ctype.kind == "array":  # perhaps some of its elements
+            if not selected and ctype.kind == "array" and self._may_select(leaf):  # perhaps some of its elements
                 self._elements(leaf, element, inherited)
             return
         passed = inherited | by_name
+        if not (passed or named or self._may_select(leaf)):
+            return  # nothing in it can be selected
         if ctype.kind in _GROUPS:
             for member in _members(ctype):
                 if member.offset is not None:
@@ -277,6 +301,10 @@ class _Inserter:
         elif by_name or named:
             self._skip("not-insertable", leaf.path, f"{leaf.path}: a {ctype.kind} ({ctype.display_name}) is no "
                        "value to measure or calibrate: not inserted", Severity.INFO)
+
+    def _may_select(self, leaf: _Leaf) -> bool:
+        """Whether a pattern may name ``leaf`` or a member or element of it, or a range hold a byte of it."""
+        return any(rule.may_name(leaf.path) or rule.may_hold(leaf.address, leaf.ctype.size) for rule in self.active)
 
     def _elements(self, leaf: _Leaf, element: "CType", inherited: frozenset[str]) -> None:
         dims = array_dims(leaf.ctype)
@@ -484,6 +512,42 @@ def _vector_spec(variable: Variable) -> str:
     namespaces = "".join(f"{{Namespace:{name}}}" for name in reversed(scope))
     unit = f"{{CompileUnit:{variable.unit}}}" if variable.unit else ""
     return f"{function}{namespaces}{unit}{{Namespace:Global}}"
+
+
+def _literal_prefixes(pattern: re.Pattern) -> tuple[str, ...] | None:
+    """The texts one of which starts every string ``pattern`` matches (``^(?:u0[0-9]_a|b)$``: "u0", "b"), from
+    Python's own parse of it; None when it does not say (no ``^`` in front, ``(?i)``, a class first)."""
+    try:
+        from re import _parser as parser  # Python 3.11+
+    except ImportError:  # pragma: no cover - Python 3.10
+        import sre_parse as parser
+    try:
+        parsed = parser.parse(pattern.pattern, pattern.flags)
+    except Exception:  # noqa: BLE001 - another Python's parser: no prefixes, no skipping
+        return None
+    items = list(parsed)
+    if pattern.flags & re.IGNORECASE or not items or str(items[0][0]) != "AT" or str(items[0][1]) != "AT_BEGINNING":
+        return None
+    return _prefixes_of(items[1:])
+
+
+def _prefixes_of(items: list) -> tuple[str, ...]:
+    """The literal starts of a parsed sequence (ending at the first item that is not a literal, a group or an
+    alternation)."""
+    text = ""
+    for op, argument in items:
+        kind = str(op)
+        if kind == "LITERAL":
+            text += chr(argument)
+            continue
+        if kind == "SUBPATTERN":
+            if argument[1] & re.IGNORECASE:  # (?i:...)
+                break
+            return tuple(text + inner for inner in _prefixes_of(list(argument[-1])))
+        if kind == "BRANCH":
+            return tuple(text + inner for branch in argument[1] for inner in _prefixes_of(list(branch)))
+        break
+    return (text,)
 
 
 def _three(dims: tuple[int, ...]) -> tuple[int, ...]:
