@@ -1,7 +1,7 @@
 """The A2L tool chain in the window (Tools menu), as CANape users update the A2L after every build: update an
-A2L from an ELF, check it, merge module fragments into a master — what ``workbench a2l update|check|merge``
-do, with the CLI's options, its summary line and its exit codes' meaning (an update with errors, a check with
-warnings: failed).
+A2L from an ELF, check it, merge module fragments into a master, insert objects for the ELF's variables — what
+``workbench a2l update|check|merge|insert`` do, with the CLI's options, its summary line and its exit codes'
+meaning (an update with errors, a check with warnings: failed).
 
 The job runs in a worker with a progress bar and Cancel (the library stops at its next check point and writes
 nothing); a refusal (a malformed A2L, a missing ELF: one line with file:line:column) is said in the dialog,
@@ -45,11 +45,12 @@ from workbench.gui.widgets.job_buttons import JobButtons
 from workbench.gui.widgets.names import NameDelegate
 from workbench.gui.worker import Task
 
-__all__ = ["A2lOutcome", "A2lToolsDialog", "CHECK", "FindingsModel", "MERGE", "UPDATE", "check_a2l", "merge_a2l",
-           "update_a2l"]
+__all__ = ["A2lOutcome", "A2lToolsDialog", "CHECK", "FindingsModel", "INSERT", "MERGE", "UPDATE", "check_a2l",
+           "insert_a2l", "merge_a2l", "update_a2l"]
 
-UPDATE, CHECK, MERGE = "update", "check", "merge"
-_TITLES = {UPDATE: "Update from ELF", CHECK: "Check", MERGE: "Merge fragments"}
+UPDATE, CHECK, MERGE, INSERT = "update", "check", "merge", "insert"
+_OPERATIONS = (UPDATE, CHECK, MERGE, INSERT)  # the tabs, in order
+_TITLES = {UPDATE: "Update from ELF", CHECK: "Check", MERGE: "Merge fragments", INSERT: "Insert from ELF"}
 _A2L_FILES = "A2L files (*.a2l *.A2L);;All files (*)"
 _ELF_FILES = "ELF files (*.elf *.out *.axf);;All files (*)"
 _SEVERITY_COLOUR = {Severity.ERROR: theme.BAD, Severity.WARNING: theme.WARN, Severity.INFO: theme.MUTED}
@@ -103,6 +104,17 @@ def merge_a2l(master: str, fragments: list[str], output: str, *, policy, progres
         return A2lOutcome(exc.report, str(exc), False)
     merged = len(report.of_kind("merged"))
     return A2lOutcome(report, f"merged {merged} fragment(s) into {output}", report.ok, Path(output))
+
+
+def insert_a2l(a2l: str, elf: str, output: str, *, measurements: str, characteristics: str, group: str,
+               progress=None) -> A2lOutcome:
+    """``workbench a2l insert`` with one pattern per kind (``|`` between names) and ``--target-group``."""
+    from workbench.a2l.insert import Selection, insert_file
+
+    report = insert_file(a2l, elf, output, measurements=Selection((measurements,) if measurements else ()),
+                         characteristics=Selection((characteristics,) if characteristics else ()),
+                         target_group=group or None, progress=progress)
+    return A2lOutcome(report, report.summary(output), report.ok, Path(output))
 
 
 # --- the findings table -----------------------------------------------------------------------------------
@@ -186,7 +198,8 @@ def _choice(items: list[tuple[str, object]], tip: str) -> QComboBox:
 
 
 class A2lToolsDialog(QDialog):
-    """Update, check or merge A2L files; ``operation`` (UPDATE, CHECK, MERGE) is the tab shown first.
+    """Update, check, merge or insert into A2L files; ``operation`` (UPDATE, CHECK, MERGE, INSERT) is the tab shown
+    first.
 
     ``a2l``/``elf``: the files the fields start with (the project's); ``in_use``: the files of the A2L the window
     holds (its main file first, then those it includes), whose rewriting the dialog offers to read again
@@ -208,7 +221,7 @@ class A2lToolsDialog(QDialog):
         self.resize(1080, 620)  # within a 1366 x 768 screen, beside the window's edge
         layout = QVBoxLayout(self)
         self.tabs = QTabBar()
-        for operation_ in (UPDATE, CHECK, MERGE):
+        for operation_ in _OPERATIONS:
             self.tabs.addTab(_TITLES[operation_])
         self.tabs.currentChanged.connect(self._show_fields)
         layout.addWidget(self.tabs)
@@ -270,10 +283,17 @@ class A2lToolsDialog(QDialog):
                                  ConflictPolicy.KEEP_FIRST), ("keep the last (keep-last)", ConflictPolicy.KEEP_LAST),
                                  ("rename the later one NAME_<MODULE> (rename)", ConflictPolicy.RENAME)],
                                 "two different definitions of one name (--on-conflict)")
+        self.measured, self.calibrated, self.group = QLineEdit(), QLineEdit(), QLineEdit()
+        self.measured.setPlaceholderText("a regular expression on whole names, e.g. zs.*|outer\\..* "
+                                         "(--measurement-regex)")
+        self.calibrated.setPlaceholderText("e.g. xs.*|zvLut (--characteristic-regex; a struct: its members)")
+        self.group.setPlaceholderText("optional: a GROUP for the new objects, created if missing (--target-group)")
         self.rows = {  # the operations each row serves
-            "A2L": (self.a2l, (UPDATE, CHECK)), "ELF": (self.elf, (UPDATE, CHECK)),
+            "A2L": (self.a2l, (UPDATE, CHECK, INSERT)), "ELF": (self.elf, (UPDATE, CHECK, INSERT)),
             "master A2L": (self.master, (MERGE,)), "fragments": (fragments, (MERGE,)),
-            "output": (self.output, (UPDATE, MERGE)), "update": (options, (UPDATE,)),
+            "output": (self.output, (UPDATE, MERGE, INSERT)), "update": (options, (UPDATE,)),
+            "MEASUREMENTs for": (self.measured, (INSERT,)), "CHARACTERISTICs for": (self.calibrated, (INSERT,)),
+            "target group": (self.group, (INSERT,)),
             "objects missing in the ELF": (self.missing, (UPDATE,)), "includes": (self.includes, (UPDATE,)),
             "on conflict": (self.conflict, (MERGE,)),
         }
@@ -331,10 +351,10 @@ class A2lToolsDialog(QDialog):
 
     @property
     def operation(self) -> str:
-        return (UPDATE, CHECK, MERGE)[self.tabs.currentIndex()]
+        return _OPERATIONS[self.tabs.currentIndex()]
 
     def set_operation(self, operation: str) -> None:
-        self.tabs.setCurrentIndex((UPDATE, CHECK, MERGE).index(operation))
+        self.tabs.setCurrentIndex(_OPERATIONS.index(operation))
         self._show_fields()
 
     def _show_fields(self, *_) -> None:
@@ -342,7 +362,7 @@ class A2lToolsDialog(QDialog):
             self.form.setRowVisible(widget, self.operation in operations)
         self.elf.edit.setPlaceholderText("optional: symbols and addresses against it" if self.operation == CHECK
                                          else "the ELF the build linked")
-        self.output.edit.setPlaceholderText("the A2L itself (replaced atomically)" if self.operation == UPDATE
+        self.output.edit.setPlaceholderText("the A2L itself (replaced atomically)" if self.operation in (UPDATE, INSERT)
                                             else "the merged A2L to write")
         self.run_button.setText(_TITLES[self.operation].split()[0])  # Update, Check, Merge
 
@@ -371,6 +391,12 @@ class A2lToolsDialog(QDialog):
             return check_a2l, (self.a2l.text(), self.elf.text() or None), {}
         if not self.elf.text():
             return "choose the ELF the build linked"
+        if operation == INSERT:
+            if not self.measured.text().strip() and not self.calibrated.text().strip():
+                return "give a pattern for the MEASUREMENTs or the CHARACTERISTICs to insert"
+            return insert_a2l, (self.a2l.text(), self.elf.text(), self.output.text() or self.a2l.text()), {
+                "measurements": self.measured.text().strip(), "characteristics": self.calibrated.text().strip(),
+                "group": self.group.text().strip()}
         return update_a2l, (self.a2l.text(), self.elf.text(), self.output.text() or self.a2l.text()), {
             "mode": self.missing.currentData(), "types": self.types.isChecked(), "epk": self.epk.isChecked(),
             "includes": self.includes.currentData()}
