@@ -53,3 +53,18 @@ def test_an_a2l_whose_include_is_missing_opens_without_it_and_says_which(qtbot):
     assert {"counter", "map_f32", "curve_f32"} & {row.name for row in window.browser.model.rows}
     assert window.workspace.config is not None  # its IF_DATA XCP is read without the A2ML
     assert "offline" not in window.status.link.text()
+
+
+def test_an_a2l_made_of_instances_says_they_are_not_listed_and_a_load_says_what_it_reads(qtbot):
+    """a2ltool's typedef tests hold INSTANCEs only: the browser looked empty ("0 of 0 objects")."""
+    from workbench.gui.widgets.main_window import MainWindow
+
+    a2l = CORPUS / "a2ltool" / "update_typedef_test1.a2l"
+    window = MainWindow(Project(a2l=a2l))
+    qtbot.addWidget(window)
+    window.show()
+    with qtbot.waitSignal(window.loaded, timeout=WAIT_MS):
+        window.load()
+        assert window.browser.count.text() == "reading update_typedef_test1.a2l …"
+    assert window.browser.count.text() == "0 of 0 objects · 11 INSTANCEs not listed"
+    assert "not read yet" in window.browser.count.toolTip()

@@ -208,14 +208,19 @@ class MainWindow(QMainWindow):
         """Read the project's files (in a worker), then open its windows; ``loaded`` follows."""
         if project is not None:
             self.project = project
-        return run_task(load_workspace, self.project, on_done=self._workspace_loaded, on_error=self.show_error)
+        self.browser.reading(self.project.a2l.name if self.project.a2l else "the demo ECU's A2L")
+        return run_task(load_workspace, self.project, on_done=self._workspace_loaded, on_error=self._not_loaded)
+
+    def _not_loaded(self, exc: BaseException) -> None:
+        self.browser.reading(None)
+        self.show_error(exc)
 
     def _workspace_loaded(self, workspace: Workspace) -> None:
         self.workspace = workspace
         model = workspace.model
         self.hub.set_resolver(lambda name: measurement_info(model, name))
         self.hub.add_signals(workspace.can2_infos())
-        self.browser.set_variables(workspace.variables)
+        self.browser.set_variables(workspace.variables, instances=len(model.names("INSTANCE")))
         self.compare.set_a2l(model)
         self.status.show_offline_only(workspace.no_xcp)
         if workspace.left_out:  # said, not refused: an A2ML include sent without its file holds no object

@@ -30,6 +30,7 @@ class VariableBrowser(QWidget):
     def __init__(self, parent: QWidget | None = None):
         super().__init__(parent)
         self.model = VariableModel(self)  # filters and sorts its rows itself (fast on 50,000 objects)
+        self.instances = 0  # the A2L's INSTANCEs, not listed
         layout = QVBoxLayout(self)
         layout.setContentsMargins(4, 4, 4, 4)
         self.search = QLineEdit()
@@ -78,7 +79,10 @@ class VariableBrowser(QWidget):
         layout.addWidget(self.count)
         self.model.modelReset.connect(self._count)
 
-    def set_variables(self, rows: list[Variable]) -> None:
+    def set_variables(self, rows: list[Variable], instances: int = 0) -> None:
+        """``rows`` listed; ``instances``: the A2L's INSTANCEs, which are not (objects built from typedefs are not
+        read yet): the count says so rather than an A2L made of them looking empty."""
+        self.instances = instances
         self.model.set_rows(rows)
         self._fill(self.kind_box, sorted({r.kind for r in rows}), KIND_LABELS)
         self._fill(self.function_box, sorted({f for r in rows for f in r.functions}))
@@ -92,7 +96,7 @@ class VariableBrowser(QWidget):
         """More rows (a measurement file's channels), the filters kept."""
         known = {row.name for row in self.model.all_rows}
         kind, function, unit = (box.currentData() for box in (self.kind_box, self.function_box, self.unit_box))
-        self.set_variables(self.model.all_rows + [row for row in rows if row.name not in known])
+        self.set_variables(self.model.all_rows + [row for row in rows if row.name not in known], self.instances)
         for box, value in ((self.kind_box, kind), (self.function_box, function), (self.unit_box, unit)):
             box.setCurrentIndex(max(box.findData(value), 0))
 
@@ -139,5 +143,18 @@ class VariableBrowser(QWidget):
                 return row
         return None
 
+    def reading(self, name: str | None) -> None:
+        """The A2L ``name`` is being read (a large one takes seconds): said where the objects will be; None: over."""
+        if name is None:
+            self._count()
+        else:
+            self.count.setText(f"reading {name} …")
+
     def _count(self, *_) -> None:
-        self.count.setText(f"{self.model.rowCount():,} of {len(self.model.all_rows):,} objects")
+        count = f"{self.model.rowCount():,} of {len(self.model.all_rows):,} objects"
+        if self.instances:
+            count += f" · {self.instances:,} INSTANCEs not listed"
+        self.count.setText(count)
+        self.count.setToolTip(f"the A2L's {self.instances:,} INSTANCEs (objects built from TYPEDEF_STRUCTUREs and "
+                              "TYPEDEF_MEASUREMENTs/CHARACTERISTICs) are not read yet: they are neither listed, "
+                              "measured nor calibrated" if self.instances else "")
