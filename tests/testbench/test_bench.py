@@ -10,7 +10,8 @@ import pytest
 from asammdf import MDF
 
 from workbench.errors import InputError, UnknownSymbolError
-from workbench.testbench import Bench, ExpectationFailed, SimulatorUnavailable, at_least, equals, other_than, within
+from workbench.testbench import (Bench, ExpectationFailed, NotJudged, SimulatorUnavailable, at_least, equals,
+                                 other_than, within)
 from workbench.testbench.target import EcuTarget
 
 TIME = r"t=\d+\.\d{3} s"
@@ -118,7 +119,8 @@ def test_a_state_or_name_the_ecu_does_not_have_is_refused_not_judged(target, tmp
 
 def test_an_ecu_lost_during_an_expectation_is_named_as_the_reason(tmp_path):
     """The ECU goes silent during a test: the expectation says the connection was lost and when (it said 'no
-    samples after t=... (is DAQ running?)', the reason only in the teardown's error; user trial 6)."""
+    samples after t=... (is DAQ running?)', the reason only in the teardown's error; user trial 6), and judges
+    nothing: NotJudged, not an AssertionError (the test's requirement was FAILED by a lost ECU; user trial 7)."""
     from workbench import Session
     from workbench.errors import WorkbenchError
     from workbench.sim import serve_demo
@@ -129,7 +131,7 @@ def test_an_ecu_lost_during_an_expectation_is_named_as_the_reason(tmp_path):
             ecu.watch("zsRailPressure")
             ecu.expect("zsRailPressure", at_least(0.0), for_s=0.1)
             sim.power_off()
-            with pytest.raises(ExpectationFailed, match=r"expect zsRailPressure >= 0 bar for 0.5 s: no samples after "
+            with pytest.raises(NotJudged, match=r"expect zsRailPressure >= 0 bar for 0.5 s: no samples after "
                                                         rf"{TIME} \(connection to the ECU lost at .*nothing from the ECU"):
                 ecu.expect("zsRailPressure", at_least(0.0), for_s=0.5)
             with pytest.raises(WorkbenchError, match="the evidence lost.mf4 is incomplete: connection to the ECU lost"):
@@ -168,3 +170,33 @@ def test_a_can2_bus_that_cannot_open_is_said_as_every_bus_is(tmp_path):
         Can2Port({"interface": "nosuch", "channel": "x"}, dbc, Timeline())
     with pytest.raises(InputError, match=r"^cannot open CAN2 bus \(udp_multicast 239\.74\.163\.9\): Port config must"):
         Can2Port({"interface": "udp_multicast", "channel": "239.74.163.9", "port": "abc"}, dbc, Timeline())
+
+
+def test_a_late_edge_says_when_it_came(target, tmp_path):
+    """A deadline missed: the failure says what the signal was and when the edge did come (it said 'no samples',
+    though the value before the stimulus was known, and not how late the ECU was; user trial 7). The RX timeout
+    of 300 ms cannot show within 100 ms of the last frame."""
+    status = "csPCM_TO_FLCU_002_Status"
+    with target.bench(tmp_path / "late.mf4") as ecu:
+        ecu.watch(status)
+        ecu.send("PCM_TO_FLCU_002", period=0.1, TargetRailPressure=25.0)
+        ecu.wait_until(status, "CAN_RX_OK", timeout=2.0)
+        ecu.stop("PCM_TO_FLCU_002")
+        with pytest.raises(ExpectationFailed, match=rf"within 100 ms of {TIME}: not within 100 ms; last "
+                                                    rf"CAN_RX_(OK|NEWDATA_ERR) at {TIME}; it came (\d+) ms after "
+                                                    rf"{TIME}, at {TIME}$") as late:
+            ecu.expect_edge(status, "CAN_RX_TIMEOUT_ERR", within=0.1)
+        assert int(re.search(r"it came (\d+) ms", str(late.value)).group(1)) >= 100
+
+
+def test_stimuli_on_a_can2_bus_without_the_ecu_judge_nothing(target, tmp_path):
+    """CAN2 options that reach no ECU (a dead bus, another channel): the bench sent but heard no other node,
+    and the failure says so instead of failing the requirement (user trial 7)."""
+    with target.bench(tmp_path / "sim.mf4") as simulated:
+        with Bench(simulated.session, dbc=simulated.can2.dbc, can2_bus={"interface": "virtual", "channel": "no-ecu"},
+                   evidence=tmp_path / "dead.mf4") as ecu:
+            ecu.send("PCM_TO_FLCU_001", period=0.1, EnableFLCU=1)
+            with pytest.raises(NotJudged, match=r"0 frame\(s\) between .*; CAN2 is silent: the bench sent there "
+                                                r"but heard no ECU frame since it started \(interface=virtual "
+                                                r"channel=no-ecu;"):
+                ecu.expect_period("FLCU_TO_PCM_002", 0.1, tolerance_s=0.1, for_s=0.3)

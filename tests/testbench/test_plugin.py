@@ -103,6 +103,9 @@ def test_judged(ecu):
                                  "NOT JUDGED R9: test_typo.py::test_typo"])  # judged nothing: no requirement FAILED
     output = result.stdout.str()
     assert "During handling" not in output and "a2l/model.py" not in output and "testbench/bench.py" not in output
+    verdicts = {case.get("name"): [p.get("value") for p in case.iter("property") if p.get("name") == "verdict"]
+                for case in ET.parse(pytester.path / "out" / "junit.xml").iter("testcase")}
+    assert verdicts == {"test_typo": ["error"], "test_judged": []}  # as documented (it never reached JUnit: trial 7)
     html = (pytester.path / "out" / "report.html").read_text()
     assert ('test_typo.py::test_typo</a> <span class="badge error">ERROR</span></td><td><span class="badge error">'
             'NOT JUDGED</span></td></tr>') in html  # R9: one test passed, one judged nothing
@@ -120,6 +123,29 @@ def test_no_ecu_is_one_line_per_test(pytester, free_tcp_port):
     result.stdout.fnmatch_lines(["*ERROR at setup of test_on_the_ecu*",
                                  f"cannot reach the ECU: XCP on TCP (127.0.0.1:{free_tcp_port}): nothing listens at*"])
     assert "session.py" not in result.stdout.str()
+
+
+def test_an_ecu_with_other_software_than_the_a2l_is_not_tested(pytester, tmp_path):
+    """The ECU's EPK differs from the A2L's: every test's setup says so in one line, instead of the tests that only
+    read passing (verdicts on other software) and the writing ones failing with a restore error after them (user
+    trial 7); --accept-epk-mismatch tests it anyway."""
+    from workbench import demo
+
+    a2l = tmp_path / "other.a2l"
+    text = demo.a2l().read_text(encoding="latin-1")
+    a2l.write_text(text.replace('"10300020250301"', '"10300020259999"'), encoding="latin-1")
+    channel = f"plugin-test-{next(_channels)}"
+    pytester.makepyfile(test_flcu=TESTS)
+    with serve_demo({"interface": "virtual", "channel": channel}):
+        refused = pytester.runpytest_inprocess("--a2l", str(a2l), "--interface", "virtual", "--channel", channel,
+                                               "-k", "on_the_ecu", *PLUGIN)
+        accepted = pytester.runpytest_inprocess("--a2l", str(a2l), "--interface", "virtual", "--channel", channel,
+                                                "--accept-epk-mismatch", "-k", "on_the_ecu", *PLUGIN)
+    refused.assert_outcomes(errors=1)
+    refused.stdout.fnmatch_lines(["EPK mismatch: file has '10300020259999', ECU has '10300020250301'; the tests would "
+                                  "judge other software than the A2L describes*--accept-epk-mismatch*"])
+    assert "During handling" not in refused.stdout.str()
+    accepted.assert_outcomes(passed=1)
 
 
 def test_a_run_stopped_within_a_test_verifies_nothing(pytester):

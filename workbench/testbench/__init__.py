@@ -3,7 +3,7 @@
 * :mod:`~workbench.testbench.bench` — :class:`Bench`: stimulate (write, override, send a CAN2 frame, the
   simulator's faults), wait (a time, a condition) and expect (a band for a duration, an edge within a
   deadline, a CAN2 signal, a message's period) on a :class:`~workbench.session.Session`, by name, in
-  physical units; :class:`ExpectationFailed`;
+  physical units; :class:`ExpectationFailed`, :class:`NotJudged` (the ECU lost, CAN2 silent);
 * :mod:`~workbench.testbench.conditions` — :func:`within`, :func:`equals`, :func:`at_least`,
   :func:`at_most`, :func:`other_than`;
 * :mod:`~workbench.testbench.markers` — :func:`requirement` and :data:`needs_simulator`;
@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING
 from workbench.lazy_exports import lazy_exports
 
 _EXPORTS = {
-    "workbench.testbench.bench": ("Bench", "ExpectationFailed", "Step"),
+    "workbench.testbench.bench": ("Bench", "ExpectationFailed", "NotJudged", "Step"),
     "workbench.testbench.conditions": ("Condition", "at_least", "at_most", "equals", "other_than", "within"),
     "workbench.testbench.markers": ("needs_simulator", "requirement"),
     "workbench.testbench.simulator": ("SimulatorUnavailable",),
@@ -31,7 +31,7 @@ _EXPORTS = {
 __all__, __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerly
-    from workbench.testbench.bench import Bench, ExpectationFailed, Step
+    from workbench.testbench.bench import Bench, ExpectationFailed, NotJudged, Step
     from workbench.testbench.conditions import Condition, at_least, at_most, equals, other_than, within
     from workbench.testbench.markers import needs_simulator, requirement
     from workbench.testbench.simulator import SimulatorUnavailable

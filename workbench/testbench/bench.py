@@ -52,15 +52,22 @@ if TYPE_CHECKING:
     from workbench.session import Session
     from workbench.testbench.can2 import Can2Port
 
-__all__ = ["Bench", "ExpectationFailed", "Step"]
+__all__ = ["Bench", "ExpectationFailed", "NotJudged", "Step"]
 
 log = logger("workbench.testbench")
 
 DATA_LATENCY_S = 2.0  # how long past a window the bench waits for its samples before it calls them missing
+LATE_EDGE_S = 1.0  # how long past a missed deadline a failed expect_edge looks for the edge, to say when it came
 
 
 class ExpectationFailed(AssertionError):
     """An expectation or a wait that did not hold: one line naming the signal, what was expected, the value and the time."""
+
+
+class NotJudged(WorkbenchError):
+    """An expectation or a wait the bench could not judge: the ECU was lost before its samples came, or the
+    bench's CAN2 stimuli reached no ECU (it heard no other node on CAN2). The test breaks (pytest's ERROR, its
+    requirements NOT JUDGED), as the ECU was not shown to break the requirement; the line says why."""
 
 
 def _one_line_errors(step):
@@ -168,14 +175,22 @@ class Bench:
         self.last_stimulus, self._stimulus_done = moment, max(done, moment)
         self._add(Step("stimulus", text, moment, done))
 
-    def _fail(self, step: Step, detail: str) -> None:
+    def _fail(self, step: Step, detail: str, *, observed: bool = False) -> None:
+        """Fail ``step``: :class:`ExpectationFailed`, or :class:`NotJudged` when the ECU was lost before a sample
+        broke it (``observed``: one did) or when its CAN2 stimuli reached no ECU."""
         __tracebackhide__ = True  # pytest shows the test's line and this one-line failure, not the bench's
         others = self.can2.competing() if self.can2 is not None else {}
         if others:  # the likely cause of a stimulus without effect: the ECU hears two senders
             detail += "; " + ", ".join(f"another node sends {name} too ({count} frames not the bench's)"
                                        for name, count in sorted(others.items())) + " (workbench sim --pcm?)"
+        silent = self.can2 is not None and self.can2.silent()
+        if silent:
+            detail += (f"; CAN2 is silent: the bench sent there but heard no ECU frame since it started "
+                       f"({self.can2.describe()}; is the ECU on this bus? --can2-interface/--can2-channel)")
         step.passed, step.detail, step.t_end = False, detail, max(step.t_end, step.t_start)
         self._add(step)
+        if silent or (self.evidence.failure is not None and not observed):
+            raise NotJudged(f"{step.text}: {detail}")
         raise ExpectationFailed(f"{step.text}: {detail}")
 
     # --- signals --------------------------------------------------------------------------------
@@ -450,7 +465,8 @@ class Bench:
                 if reference is not None:
                     before = self.timeline.last_before(reference, times[first])
                     against = f" against {_text(before[1]) if before else 'no sample'} of {reference}"
-                self._fail(step, f"{_text(values[first])}{_unit(unit)}{against} at t={times[first]:.3f} s")
+                self._fail(step, f"{_text(values[first])}{_unit(unit)}{against} at t={times[first]:.3f} s",
+                           observed=True)
         horizon = self.timeline.horizon(name)
         if horizon is None or horizon < end:
             lost = self.evidence.failure
@@ -494,10 +510,16 @@ class Bench:
             raise InputError(f"{name} was not sampled before t={reference:.3f} s: watch it before the stimulus "
                              f"(ecu.watch({name!r}))")
         if wanted.test(np.array([before[1]]))[0]:
-            self._fail(step, f"no edge: it was already {_text(before[1])}{_unit(signal.unit)} at t={before[0]:.3f} s")
+            self._fail(step, f"no edge: it was already {_text(before[1])}{_unit(signal.unit)} at t={before[0]:.3f} s",
+                       observed=True)
         hit, last = self._first(name, wanted, reference, done + within)
         if hit is None:
-            self._fail(step, f"not within {within * 1000:g} ms; {_last_seen(last, signal.unit)}{self._lost()}")
+            late = None if self.evidence.failure is not None else self._first(name, wanted, done + within,
+                                                                               done + within + LATE_EDGE_S)[0]
+            when = (f"it came {(late - done) * 1000:.0f} ms after t={done:.3f} s, at t={late:.3f} s"
+                    if late is not None else f"nor in the {LATE_EDGE_S:g} s after")
+            self._fail(step, f"not within {within * 1000:g} ms; {_last_seen(last or before, signal.unit)}; {when}"
+                       f"{self._lost()}", observed=late is not None)
         step.passed, step.detail = True, f"after {max(hit - done, 0.0) * 1000:.0f} ms, at t={hit:.3f} s"
         self._add(step)
         return max(hit - done, 0.0)
@@ -576,7 +598,8 @@ class Bench:
                 problems.append(str(exc))
         if self.can2 is not None:
             self.can2.stop_all()
-        for name, value in reversed(list(self._journal.items())):
+        journal = {} if self.session.read_only else self._journal  # read-only (EPKs differ): nothing was written
+        for name, value in reversed(list(journal.items())):
             try:
                 self.session.write(name, value, allow_extended_limits=True)
                 self.note(f"restore {name} = {_text(value.value)}{_unit(value.unit)}")

@@ -8,6 +8,10 @@ Periodic frames start half a period after a frame the ECU sent (when one is hear
 the ECU reads its mailboxes once per task cycle, so a message that arrives mid-cycle is read once
 per cycle even when the host's scheduling jitters by a few milliseconds, as a real PCM whose cycle
 is not in phase with the ECU's would be most of the time.
+
+python-can's ``udp_multicast`` hands a bus its own frames back (the host's multicast loopback, which
+``workbench sim`` in another process needs): the bench marks what it sends in the frame's ``channel``
+field, which that interface carries, and drops its own frames as other interfaces do.
 """
 
 from __future__ import annotations
@@ -54,6 +58,10 @@ class Can2Port:
         self._tasks: dict[str, Any] = {}  # message -> python-can periodic task
         self._signals: dict[str, dict[str, float]] = {}  # message -> the signal values it is sent with
         self._others: dict[str, int] = {}  # message the bench sends periodically -> frames of it another node sent
+        self._sent: set[str] = set()  # messages the bench sent
+        self._heard_from: set[str] = set()  # messages another node sent (the ECU's, a PCM's)
+        # udp_multicast loops the bench's frames back to it: marked so, they are known as its own
+        self._mark = f"workbench-bench-{id(self):x}" if settings.get("interface") == "udp_multicast" else None
         port = self
 
         class _Listener(can.Listener):
@@ -71,7 +79,7 @@ class Can2Port:
             log.exception("CAN2 frame 0x%X not taken", frame.arbitration_id)
 
     def _take(self, frame: can.Message) -> None:
-        if frame.is_error_frame or frame.is_remote_frame:
+        if frame.is_error_frame or frame.is_remote_frame or (self._mark is not None and frame.channel == self._mark):
             return
         message = self._by_id.get((frame.arbitration_id, frame.is_extended_id))
         if message is None:
@@ -79,9 +87,11 @@ class Can2Port:
         moment = frame.timestamp - self._timeline.epoch
         with self._lock:
             self._frames.setdefault(message.name, []).append(moment)
-            self._last_heard = moment
-            if message.name in self._tasks and getattr(frame, "is_rx", True):  # not the bench's own echo
-                self._others[message.name] = self._others.get(message.name, 0) + 1
+            if getattr(frame, "is_rx", True):  # not the bench's own echo (receive_own_messages)
+                self._last_heard = moment
+                self._heard_from.add(message.name)
+                if message.name in self._tasks:
+                    self._others[message.name] = self._others.get(message.name, 0) + 1
         self._heard.set()
         try:
             decoded = message.decode(bytes(frame.data), decode_choices=False)
@@ -102,6 +112,16 @@ class Can2Port:
         two senders of one message make its values alternate (a PCM simulated elsewhere as well)."""
         with self._lock:
             return dict(self._others)
+
+    def silent(self) -> bool:
+        """True when the bench sent on CAN2 but heard no other node there: no ECU on this bus (a dead or
+        wrong bus, other options than the ECU's), so a stimulus on it reached nothing."""
+        with self._lock:
+            return bool(self._sent) and not self._heard_from
+
+    def describe(self) -> str:
+        shown = {key: value for key, value in self.settings.items() if key != "receive_own_messages"}
+        return " ".join(f"{key}={value}" for key, value in shown.items())
 
     # --- sending --------------------------------------------------------------------------------
 
@@ -130,7 +150,8 @@ class Can2Port:
             if not 0 <= dlc <= 8:
                 raise InputError(f"{name}: a classic CAN frame has a DLC of 0..8, not {dlc}")
             data = bytes(data).ljust(8, b"\0")[:dlc]
-        return can.Message(arbitration_id=message.frame_id, is_extended_id=message.is_extended_frame, data=data)
+        return can.Message(arbitration_id=message.frame_id, is_extended_id=message.is_extended_frame, data=data,
+                           channel=self._mark)
 
     def send(self, name: str, signals: dict[str, float], *, period_s: float | None = None,
              dlc: int | None = None) -> tuple[str, float]:
@@ -140,6 +161,7 @@ class Can2Port:
         how long it waited for the ECU's cycle (s) before the first frame."""
         task = self._tasks.get(name)
         frame = self.frame(name, signals, dlc)
+        self._sent.add(name)
         if task is not None and period_s in (None, task.period):
             task.modify_data(frame)
             return "from its next frame on", 0.0

@@ -93,6 +93,7 @@ def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo):
     if (call.when == "call" and report.failed and call.excinfo is not None
             and not call.excinfo.errisinstance((AssertionError, pytest.fail.Exception))):
         report.user_properties.append(VERDICT_ERROR)
+        item.user_properties.append(VERDICT_ERROR)  # JUnit writes the properties of the teardown's report
 
 
 _ECU_OPTIONS = ("a2l", "interface", "channel", "bitrate", "bus_kwargs", "host", "port", "protocol", "key_function",
@@ -140,7 +141,11 @@ def ecu(request: pytest.FixtureRequest):
     try:  # no ECU (not powered, lost in an earlier test), a restore that failed: one line, no library traceback
         bench = stack.enter_context(target.bench(directory / "evidence" / f"{name}.mf4"))
     except WorkbenchError as exc:
-        pytest.fail(str(exc), pytrace=False)
+        problem = str(exc)  # failed outside the except: pytest would show the error twice, chained
+    else:
+        problem = None
+    if problem is not None:
+        pytest.fail(problem, pytrace=False)
     try:
         if request.node.get_closest_marker(SIMULATOR_MARK) and not bench.sim.available:
             pytest.skip(f"needs the simulated ECU: {bench.sim.control.where}")
@@ -149,10 +154,13 @@ def ecu(request: pytest.FixtureRequest):
         finally:
             _write_record(directory, name, request.node, bench)
     finally:
+        problem = None
         try:
             stack.close()
         except WorkbenchError as exc:
-            pytest.fail(str(exc), pytrace=False)
+            problem = str(exc)
+        if problem is not None:
+            pytest.fail(problem, pytrace=False)
 
 
 def _write_record(directory: Path, name: str, node: pytest.Item, bench) -> None:

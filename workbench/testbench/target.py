@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from workbench.errors import InputError
+from workbench.errors import EpkMismatchError, InputError
 from workbench.testbench.bench import Bench
 from workbench.testbench.simulator import LocalSimulator, NoSimulator, RemoteSimulator, SimulatorControl
 
@@ -112,6 +112,11 @@ class EcuTarget:
             bitrate=bus.pop("bitrate", None), bus_kwargs=bus, host=ethernet.get("host"), port=ethernet.get("port"),
             protocol=ethernet.get("protocol"), key_function=self.key_function,
             accept_epk_mismatch=self.accept_epk_mismatch))
+        if session.epk.matches is False and not self.accept_epk_mismatch:  # verdicts on other software than the A2L's
+            raise EpkMismatchError(session.epk.a2l or "", session.epk.ecu or "",
+                                   "the tests would judge other software than the A2L describes: flash the matching "
+                                   "software, give its A2L (--a2l), or --accept-epk-mismatch to test it anyway")
+        session.require_application()
         return session, self._control(session)
 
     def _control(self, session) -> SimulatorControl:
