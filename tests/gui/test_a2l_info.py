@@ -64,3 +64,18 @@ def test_two_state_signals_are_integer_flags_of_limits_0_1_and_one_bit_fields_no
     assert valve.two_states == () and valve.lane_states == valve.states == ((0.0, "OFF"), (1.0, "ON"))
     assert measurement_info(flags, "CANRX_PCM_TO_FLCU_001_Pdu.TimeOut").lane_states == zero_one
     assert measurement_info(flags, "zsRailPressure").lane_states == ()
+
+
+def test_objects_of_more_than_two_dimensions_are_refused_with_what_to_use_instead():
+    """A VAL_BLK of MATRIX_DIM 2 3 4 crashed its editor (pyqtgraph: shape (2, 3, 4)), a CUBOID showed as a scalar."""
+    from pathlib import Path
+
+    from workbench.a2l import load_a2l
+    from workbench.errors import InputError
+
+    model = load_a2l(Path(__file__).parents[1] / "a2l" / "fixtures" / "model_features.a2l").model()
+    with pytest.raises(InputError, match=r"^kBlock is a VAL_BLK of MATRIX_DIM 2 3 4: .*`workbench cal get kBlock`"):
+        calibration_info(model, "kBlock")
+    with pytest.raises(InputError, match=r"^kCube is a CUBOID: the window's editors show values, curves, maps"):
+        calibration_info(model, "kCube")
+    assert calibration_info(model, "kMap").type == "MAP"

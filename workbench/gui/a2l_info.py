@@ -10,7 +10,7 @@ from workbench.a2l.datatypes import DATATYPES
 from workbench.a2l.model import axis_decimals
 from workbench.a2l.objects import format_parts
 from workbench.calib.rawtypes import extract_bits
-from workbench.errors import WorkbenchError
+from workbench.errors import InputError, WorkbenchError
 from workbench.gui.formatting import format_value
 from workbench.gui.signal_hub import SignalInfo
 
@@ -113,10 +113,21 @@ def axis_inputs(model, obj) -> tuple[str | None, ...]:
     return tuple(inputs)
 
 
+_BEYOND_MAPS = ("CUBOID", "CUBE_4", "CUBE_5")  # the editors show one or two dimensions
+
+
 def calibration_info(model, name: str) -> CalibrationInfo:
-    """:raises UnknownSymbolError: no such CHARACTERISTIC/AXIS_PTS; :raises A2lParseError: a broken reference."""
+    """:raises UnknownSymbolError: no such CHARACTERISTIC/AXIS_PTS; :raises A2lParseError: a broken reference;
+    :raises InputError: an object of more than two dimensions (a CUBOID, a VAL_BLK of MATRIX_DIM 2 3 4), which the
+    editors cannot show (the message says how to read and write it)."""
     kind = model.kind_of(name)
     obj = model.characteristic(name) if kind == "CHARACTERISTIC" else model.axis_pts(name)
+    kind_text = getattr(obj, "type", "AXIS_PTS")
+    if kind_text in _BEYOND_MAPS or sum(size > 1 for size in getattr(obj, "matrix_dim", ()) or ()) > 2:
+        shape = f" of MATRIX_DIM {' '.join(map(str, obj.matrix_dim))}" if kind_text == "VAL_BLK" else ""
+        raise InputError(f"{name} is a {kind_text}{shape}: the window's editors show values, curves, maps and "
+                         f"blocks of up to two dimensions; read it with `workbench cal get {name}` and write it with "
+                         f"`workbench cal set {name} --from FILE.json`")
     conversion = model.conversion(obj)
     decimals = format_parts(obj.format)[1] if obj.format else conversion.decimals
     quantities = tuple((axis.input_quantity or axis.axis_pts_ref or axis.axis, model.unit_of(axis))
