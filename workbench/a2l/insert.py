@@ -33,7 +33,7 @@ from collections import Counter
 from dataclasses import dataclass, field, replace
 from math import prod
 from pathlib import Path
-from typing import TYPE_CHECKING, Iterable, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 from workbench.a2l import grammar
 from workbench.a2l.addressed import AddressedObjects
@@ -231,7 +231,12 @@ class _Inserter:
                 keyword, name, symbol = objects.keyword(row), objects.names[row], objects.symbols[row]
                 self.taken[name] = (keyword, symbol, int(objects.name_tokens[row]))
                 self.described.setdefault((keyword, symbol), name)
-        self.blocks: dict[str, list[list[bytes]]] = {}  # keyword -> the new blocks' lines, in order
+        self.blocks: dict[str, list[bytes]] = {}  # keyword -> the new blocks' text (a blank line first), in order
+        children = module.children
+        self.indent = (indentation_of(doc.data, children[0].span[0]) if children  # the MODULE's blocks'
+                       else indentation_of(doc.data, module.span[0]) + b"  ").decode(doc.encoding)
+        self.newline = newline_bytes(doc).decode("ascii")
+        self.types: dict[tuple, tuple[str, str, int | None] | str] = {}  # see _typed
         self.planned: dict[str, tuple[str, str]] = {}  # new object name -> (its keyword, its symbol)
         self.layouts: dict[str, str] = {}  # data type -> the RECORD_LAYOUT its CHARACTERISTICs use
         self.conversions: set[str] = {block.name for block in module.children_named("COMPU_METHOD")}
@@ -341,8 +346,8 @@ class _Inserter:
         rendered = self._render(kind, name, leaf)
         if rendered is None:
             return
-        lines, what = rendered
-        self.blocks.setdefault(kind, []).append(lines)
+        text, what = rendered
+        self.blocks.setdefault(kind, []).append(text)
         self.planned[name] = (kind, symbol)
         self.described[(kind, symbol)] = name
         self.report.inserted[kind].append(name)
@@ -355,49 +360,58 @@ class _Inserter:
         return (*self.planned[name], None) if name in self.planned else None
 
     # -- the blocks ------------------------------------------------------------------------------
-    def _render(self, kind: str, name: str, leaf: _Leaf) -> tuple[list[bytes], str] | None:
-        """The object's lines (/begin, items, /end: not indented) and its data type, or None when the C type has
-        no A2L form."""
+    def _render(self, kind: str, name: str, leaf: _Leaf) -> tuple[bytes, str] | None:
+        """The object's block (a blank line first, indented) and its data type, or None when the C type has no A2L
+        form (reported)."""
         element = element_type(leaf.ctype)
-        datatype = datatype_for(element)
-        limits = c_limits(element, leaf.bit_size)
-        if datatype is None or limits is None:
-            self._skip("no-datatype", name, f"{kind} {name}: {element.display_name} ({element.size} bytes) has no "
-                       "ASAP2 data type: not inserted", Severity.WARNING)
+        typed = self._typed(element, leaf.bit_size, leaf.bit_position)
+        if typed.__class__ is str:
+            self._skip("no-datatype" if leaf.bit_size is None else "bit-mask-unrepresentable", name,
+                       f"{kind} {name}: {typed}: not inserted", Severity.WARNING)
             return None
-        mask = None
-        if leaf.bit_size:
-            position, bits = leaf.bit_position or 0, 8 * element.size
-            if not 0 <= position <= bits - leaf.bit_size:
-                self._skip("bit-mask-unrepresentable", name, f"{kind} {name}: the bitfield of {leaf.bit_size} bits "
-                           f"lies across more than the {bits} bits of its type (a packed struct): no BIT_MASK "
-                           "describes it, not inserted", Severity.WARNING)
-                return None
-            mask = ((1 << leaf.bit_size) - 1) << position
-        encoding = self.doc.encoding
+        datatype, limits, mask = typed
         conversion = self._conversion(element, name)
-        low, high = (_number(limit) for limit in limits)
         dims = () if leaf.bit_size else array_dims(leaf.ctype)
-        items: list[str] = []
+        n, i = self.newline, self.indent
+        items = f"{n}{i}  BIT_MASK 0x{mask:X}" if mask is not None else ""
         if kind == "MEASUREMENT":
-            head = quote_string(f"measurement for symbol {leaf.path}", encoding)
-            items.append(f"{datatype} {conversion} 0 0 {low} {high}")
-            if mask is not None:
-                items.append(f"BIT_MASK 0x{mask:X}")
-            items.append(f"ECU_ADDRESS 0x{leaf.address:X}")
+            head = f"measurement for symbol {leaf.path}"
+            first = f"{datatype} {conversion} 0 0 {limits}"
+            items += f"{n}{i}  ECU_ADDRESS 0x{leaf.address:X}"
         else:
-            head = quote_string(f"characteristic for {leaf.path}", encoding)
-            shape = "VAL_BLK" if dims else "VALUE"
-            items.append(f"{shape} 0x{leaf.address:X} {self._layout(datatype)} 0 {conversion} {low} {high}")
-            if mask is not None:
-                items.append(f"BIT_MASK 0x{mask:X}")
+            head = f"characteristic for {leaf.path}"
+            first = (f"{'VAL_BLK' if dims else 'VALUE'} 0x{leaf.address:X} {self._layout(datatype)} 0 {conversion} "
+                     f"{limits}")
         if dims:
-            items.append("MATRIX_DIM " + " ".join(map(str, dims if self.new_arrays else _three(dims))))
+            items += f"{n}{i}  MATRIX_DIM " + " ".join(map(str, dims if self.new_arrays else _three(dims)))
         if self.symbol_links:
-            items.append(f"SYMBOL_LINK {quote_string(leaf.symbol, encoding).decode(encoding)} 0")
-        lines = [f"/begin {kind} {name} ".encode(encoding) + head, *(item.encode(encoding) for item in items),
-                 f"/end {kind}".encode("ascii")]
-        return lines, f"{datatype} [{']['.join(map(str, dims))}]" if dims else datatype
+            items += f"{n}{i}  SYMBOL_LINK {_quoted(leaf.symbol)} 0"
+        text = f"{n}{i}/begin {kind} {name} {_quoted(head)}{n}{i}  {first}{items}{n}{i}/end {kind}{n}"
+        return text.encode(self.doc.encoding), f"{datatype} [{']['.join(map(str, dims))}]" if dims else datatype
+
+    def _typed(self, element: "CType", bit_size: int | None, bit_position: int | None):
+        """(data type, limits as text, BIT_MASK or None) of an element type (and bitfield), or why there is none;
+        worked out once per type (a big ELF has few of them)."""
+        key = (id(element), bit_size, bit_position)
+        found = self.types.get(key)
+        if found is not None:
+            return found
+        datatype, limits, mask = datatype_for(element), c_limits(element, bit_size), None
+        if datatype is None or limits is None:
+            found = f"{element.display_name} ({element.size} bytes) has no ASAP2 data type"
+        elif bit_size and not 0 <= (bit_position or 0) <= 8 * element.size - bit_size:
+            found = (f"the bitfield of {bit_size} bits lies across more than the {8 * element.size} bits of its type "
+                     "(a packed struct): no BIT_MASK describes it")
+        else:
+            mask = ((1 << bit_size) - 1) << (bit_position or 0) if bit_size else None
+            found = (datatype, " ".join(map(_number, limits)), mask)
+        self.types[key] = found
+        return found
+
+    def _chunk(self, lines: list[bytes]) -> bytes:
+        """A block's lines (/begin, items, /end) as the MODULE's blocks are written, a blank line first."""
+        newline, indent = self.newline.encode("ascii"), self.indent.encode(self.doc.encoding)
+        return newline + b"".join(line + newline for line in indented(lines, indent))
 
     def _conversion(self, element: "CType", name: str) -> str:
         if element.kind != "enum" or not element.enumerators:
@@ -406,7 +420,7 @@ class _Inserter:
         if conversion not in self.conversions:
             self.conversions.add(conversion)
             for keyword, lines in enum_conversion_blocks(self.module, conversion, element):
-                self.blocks.setdefault(keyword, []).append(lines)
+                self.blocks.setdefault(keyword, []).append(self._chunk(lines))
             self.report.add(Finding("conversion-added", conversion, f"COMPU_METHOD {conversion} added (TAB_VERB: "
                                     f"{len(element.enumerators)} values of enum {element.display_name})",
                                     block="COMPU_METHOD"))
@@ -427,9 +441,9 @@ class _Inserter:
             while found in names:
                 number += 1
                 found = f"{base}_{number}"
-            self.blocks.setdefault("RECORD_LAYOUT", []).append(
+            self.blocks.setdefault("RECORD_LAYOUT", []).append(self._chunk(
                 [f"/begin RECORD_LAYOUT {found}".encode("ascii"), " ".join(wanted).encode("ascii"),
-                 b"/end RECORD_LAYOUT"])
+                 b"/end RECORD_LAYOUT"]))
             self.report.add(Finding("record-layout-added", found, f"RECORD_LAYOUT {found} added "
                                     f"(FNC_VALUES of {datatype})", block="RECORD_LAYOUT"))
         self.layouts[datatype] = found
@@ -461,7 +475,7 @@ class _Inserter:
         group = _find(module, "GROUP", target_group) if target_group else None
         if target_group and any(names.values()):
             if group is None:
-                self.blocks["GROUP"] = [_group_lines(target_group, names)]
+                self.blocks["GROUP"] = [self._chunk(_group_lines(target_group, names))]
                 self.report.add(Finding("group-created", target_group, f"GROUP {target_group} created (ROOT)",
                                         block="GROUP"))
             else:
@@ -470,9 +484,9 @@ class _Inserter:
                                            f"GROUP {target_group}: {sum(map(len, names.values()))} reference(s) "
                                            "added", "GROUP"))
         order = ("MEASUREMENT", "CHARACTERISTIC", "RECORD_LAYOUT", "COMPU_METHOD", "COMPU_VTAB", "GROUP")
-        blocks = [lines for keyword in order for lines in self.blocks.get(keyword, [])]
-        if blocks:
-            edits.append(_before_end(doc, module, blocks))
+        body = b"".join(text for keyword in order for text in self.blocks.get(keyword, []))
+        if body:
+            edits.append(_before_end(doc, module, body))
         data = doc.source.data
         for source, file_edits in edits.by_file(doc.source_map):
             if source is not doc.source:
@@ -620,15 +634,15 @@ def _at_end_line(doc: A2lDocument, end_token: int, lines: list[bytes], newline: 
     return Edit(line_start, line_start, b"".join(line + newline for line in lines))
 
 
-def _before_end(doc: A2lDocument, module: Block, blocks: Iterable[list[bytes]]) -> Edit:
-    """The new blocks before ``/end MODULE``, each after a blank line, at the indentation of the MODULE's blocks."""
-    newline = newline_bytes(doc)
-    children = module.children
-    indent = (indentation_of(doc.data, children[0].span[0]) if children
-              else indentation_of(doc.data, module.span[0]) + b"  ")
-    body = b"".join(newline + b"".join(line + newline for line in indented(lines, indent)) for lines in blocks)
+def _before_end(doc: A2lDocument, module: Block, body: bytes) -> Edit:
+    """The new blocks' text before ``/end MODULE`` (on a line of its own)."""
     start = doc.tokens.starts_list[module.end_token]
     line_start = doc.data.rfind(b"\n", 0, start) + 1
     if doc.data[line_start:start].strip():  # /end MODULE shares its line with other text
-        return Edit(start, start, newline + body + indentation_of(doc.data, module.span[0]))
+        return Edit(start, start, newline_bytes(doc) + body + indentation_of(doc.data, module.span[0]))
     return Edit(line_start, line_start, body)
+
+
+def _quoted(text: str) -> str:
+    """An A2L string of ``text`` (C names need no escapes; others get them)."""
+    return f'"{text}"' if '"' not in text and "\\" not in text else quote_string(text, "utf-8").decode("utf-8")
