@@ -3,8 +3,8 @@
 The ECU names its checksum type in every response; the largest block it accepts starts as the
 caller says (cache sync: the segment's CHECKSUM MAX_BLOCK_SIZE) and is learnt from ERR_OUT_OF_RANGE:
 the size the ECU returns there (ASAM: in the checksum field), or half the block when it returns none.
-ADD_22/24/44 sum words in the ECU's byte order (its CPU's, which BYTE_ORDER states). A response that names no checksum type is a stale one (a
-late answer to an earlier command): SYNCH, then ask again. A mismatch is asked once more
+ADD_22/24/44 sum words in the ECU's byte order (its CPU's, which BYTE_ORDER states). A response that
+names no checksum type is a stale one (a late answer to an earlier command): SYNCH, then ask again. A mismatch is asked once more
 before it counts, so a stale answer can fail a block only when it repeats. When the ECU
 computes a checksum the workbench does not know (user-defined), or has no BUILD_CHECKSUM at all
 (ERR_CMD_UNKNOWN: BUILD_CHECKSUM is optional, small boot loaders leave it out), the bytes are read back.
