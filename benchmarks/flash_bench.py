@@ -6,7 +6,8 @@ compares the bytes per second with the bus limit: the time the frames the progra
 bus, counted exactly (:func:`workbench.sim.can_timing.frame_bits`: stuff bits of these very frames, CRC
 delimiter, ACK, EOF, intermission). Those frames are the ones the protocol cannot do without at the ECU's
 MAX_CTO_PGM and MAX_BS_PGM: per range a SET_MTA and its response, per block of 252 bytes 42 PROGRAM /
-PROGRAM_NEXT frames of 6 data bytes (padded to 8, MAX_DLC_REQUIRED) and one response.
+PROGRAM_NEXT frames of 6 data bytes (padded to 8, MAX_DLC_REQUIRED) and one response, and per range the
+PROGRAM with size 0 that ends the memory segment and its response.
 
 Two figures per case: "programming" (the PROGRAM commands, what the limit describes) and "whole flash"
 (connect, seed & key, PROGRAM_START, clearing the key, erasing, programming, checksums of the erased
@@ -76,6 +77,7 @@ def bus_limit_s(image: MemoryImage, bitrate: int) -> float:
                 count = len(block) if offset == 0 else len(block) - offset
                 bits += _bits(MASTER, bytes([command, count]) + block[offset:offset + PER_FRAME])
             bits += response
+        bits += _bits(MASTER, bytes([Cmd.PROGRAM, 0])) + response  # the end of the memory segment (ASAM)
     return bits / bitrate
 
 

@@ -49,6 +49,12 @@ def test_a_profiles_a2l_is_clean_and_says_what_its_slave_does(name):
                                                                          params.daq.identification_field)
         assert (config.daq.timestamp.size if config.daq.timestamp else 0) == params.daq.timestamp_size
         assert (config.can.max_dlc or 8) == (64 if name == "large-packets" else 8)
+        programming, pgm = params.programming, config.pgm
+        assert pgm.max_cto_pgm == programming.max_cto
+        block_mode = bool(pgm.communication_mode and pgm.communication_mode.master_block_mode)
+        assert block_mode == programming.master_block_mode
+        assert [(s.address, s.length) for s in pgm.sectors] == [(s.range.start, s.range.size)
+                                                                for s in demo.ecu.memory_map.sectors]
     assert not [finding for finding in check_document(demo.a2l).findings if finding.severity == "error"]
 
 

@@ -7,6 +7,7 @@ from mini_ecu import EPK, XcpProbe, make_ecu
 
 from workbench.sim.ecu import EcuState
 from workbench.sim.memory_map import HDS9
+from workbench.sim.xcp.parameters import PgmParameters, XcpParameters
 from workbench.xcp_protocol import Cmd, Err, Resource
 
 CALIB = HDS9.region("CALIB")
@@ -160,3 +161,23 @@ def test_power_loss_at_the_nth_program_frame_keeps_what_was_written():
     assert ecu.read(CALIB.start, 18) == b"AAAAAABBBBBB" + b"\xff" * 6
     assert ecu.read(0x40000000, 4) == bytes(4)  # RAM lost, no CAL ROM copy in boot
     probe.connect()
+
+
+def test_a_page_at_a_time_driver_writes_a_page_when_full_or_at_the_end_of_a_segment():
+    """PgmParameters.page_size: a page's data wait in RAM (UPLOAD reads the flash) until the page is full or a PROGRAM
+    with size 0 ends the memory segment; a reset loses what waits."""
+    ecu = make_ecu(params=XcpParameters(pgm=PgmParameters(page_size=256)))
+    ecu.power_on()
+    probe = XcpProbe(ecu)
+    probe.connect()
+    probe.unlock(Resource.PGM)
+    start(probe)
+    clear(probe, CALIB.start, CALIB.size)
+    data = bytes(range(256)) + b"\x5a" * 44
+    program(probe, CALIB.start, data)
+    assert ecu.read(CALIB.start, 300) == data[:256] + b"\xff" * 44  # the first page is full, the second waits
+    assert probe.ok(Cmd.PROGRAM, 0) == b""
+    assert ecu.read(CALIB.start, 300) == data
+    program(probe, CALIB.start + 300, b"\xa5" * 20)
+    probe.ok(Cmd.PROGRAM_RESET)
+    assert ecu.read(CALIB.start + 300, 20) == b"\xff" * 20  # never ended: lost with the reset

@@ -7,7 +7,8 @@
 3. the application-valid key is cleared: its sector erased (what else the sector holds is
    written back), so from here an interruption leaves the ECU in boot, reachable;
 4. PROGRAM_CLEAR of the sectors the ranges lie in, then PROGRAM of the ranges in master block
-   mode (:class:`~workbench.flash.writer.RangeWriter`), in the sectors' program order;
+   mode (:class:`~workbench.flash.writer.RangeWriter`), in the sectors' program order, each range
+   ended by a PROGRAM with size 0 (a driver that buffers a flash page writes it then);
 5. every erased sector is compared with the image by BUILD_CHECKSUM (the gaps must read
    erased); a sector that differs is erased and written again;
 6. the key is programmed and read back, PROGRAM_RESET, CONNECT again (T6), the EPK checked.

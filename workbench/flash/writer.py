@@ -72,7 +72,8 @@ class RangeWriter:
         self.bytes_sent = 0
 
     def write(self, sector: Sector, address: int, data: bytes) -> None:
-        """Program ``data`` at ``address`` (inside ``sector``, erased), calling ``on_block`` after every block.
+        """Program ``data`` at ``address`` (inside ``sector``, erased), calling ``on_block`` after every block, and end
+        the memory segment (PROGRAM with size 0: a driver that holds a flash page in RAM writes it now).
 
         :raises WrongBytes: the sector holds bytes it must not: erase it and write it again.
         :raises TooManyErrors: more transmission errors than ``max_recoveries``.
@@ -100,6 +101,10 @@ class RangeWriter:
             self.bytes_sent += len(chunk)
             position += len(chunk)
             self.on_block(address + position - len(chunk), len(chunk))
+        try:
+            self.master.program_end()
+        except (XcpCommandError, XcpTimeoutError) as error:
+            self.repair(error, address + len(data), self.master.program_end)
 
     def repair(self, error: Exception, address: int, action: Callable[[], T]) -> T:
         """Count ``error`` as a transmission error at ``address``, resynchronise and return ``action()`` run

@@ -138,10 +138,12 @@ PROFILES: dict[str, SlaveProfile] = {p.name: p for p in (
                  "EV and SERV packets between responses (they are no answers)", xcp={"service_packets": True}),
     SlaveProfile("boot-minimal", "a small boot loader: of the programming commands only the mandatory PROGRAM_START, "
                  "PROGRAM_CLEAR, PROGRAM and PROGRAM_RESET, no BUILD_CHECKSUM; flash sectors of 64 KiB (APPLICATIVE) "
-                 "and 16 KiB (CALIB, SHARED) that only its A2L states",
-                 "the A2L's SECTORs without GET_PGM_PROCESSOR_INFO/GET_SECTOR_INFO; one PROGRAM a frame; "
-                 "verification (and cache sync) by UPLOAD", xcp={"without": _BOOT_LOADER_LACKS},
-                 pgm={"master_block_mode": False}, sector_sizes=_SMALL_SECTORS),
+                 "and 16 KiB (CALIB, SHARED) that only its A2L states, written a 256-byte page at a time (a page's "
+                 "data wait in RAM until it is full or a PROGRAM with size 0 ends the segment)",
+                 "the A2L's SECTORs without GET_PGM_PROCESSOR_INFO/GET_SECTOR_INFO; one PROGRAM a frame; PROGRAM "
+                 "with size 0 after each range; verification (and cache sync) by UPLOAD",
+                 xcp={"without": _BOOT_LOADER_LACKS}, pgm={"master_block_mode": False, "page_size": 256},
+                 sector_sizes=_SMALL_SECTORS),
     SlaveProfile("slow-flash", "PROGRAM_CLEAR answers 0.6 s late, longer than its A2L's T4 (400 ms; T1 300 ms), with "
                  "an EV_CMD_PENDING every 250 ms meanwhile; the ECU boots 1 s after PROGRAM_RESET answering nothing "
                  "(T6 400 ms); PROGRAM in master blocks of its own (MAX_BS_PGM 8, MIN_ST_PGM 0.5 ms, MAX_CTO_PGM 32 "

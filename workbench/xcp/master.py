@@ -588,6 +588,12 @@ class XcpMaster:
             chunk = data[offset:offset + per_frame]
             self.command(Cmd.PROGRAM, bytes((len(chunk) // self.granularity,)) + align + chunk, repeat=False)
 
+    def program_end(self) -> None:
+        """PROGRAM with size 0: the end of a memory segment (ASAM), after each range programmed. A driver that writes
+        flash a page at a time writes the page it holds now, before anything reads it back; one that writes every
+        frame at once has nothing to do. Repeated after a timeout: ending a segment twice does no harm."""
+        self.command(Cmd.PROGRAM, bytes(max(2, self.granularity) - 1), timeout="t5")
+
     def program_reset(self) -> None:
         """PROGRAM_RESET: the slave resets (answering first or not at all); the session ends either way.
 

@@ -141,6 +141,7 @@ class PgmParameters:
     erase_s: float = 0.0  # PROGRAM_CLEAR answers this late (a sector erase takes a while; the A2L's T4 covers it)
     pending_s: float = 0.0  # while it erases, an EV_CMD_PENDING every pending_s (0: none; T4 must cover the erase)
     boot_s: float = 0.0  # after PROGRAM_RESET the ECU boots this long, answering nothing (CONNECT included)
+    page_size: int = 0  # bytes its driver writes at once, holding them in RAM until then (0: every frame at once)
 
 
 @dataclass(frozen=True)

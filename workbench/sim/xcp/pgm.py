@@ -10,7 +10,10 @@
 * PROGRAM/PROGRAM_NEXT/PROGRAM_MAX write only erased bytes inside one sector
   (ERR_OUT_OF_RANGE outside flash, ERR_WRITE_PROTECTED in flash no sector covers (BOOT),
   ERR_ACCESS_DENIED onto written bytes); a block is checked whole at its first frame;
-  PROGRAM with size 0 ends a segment;
+  PROGRAM with size 0 ends a memory segment. A driver that writes flash a page at a time
+  (``PgmParameters.page_size``) holds a page's data in RAM until the page is full, data go to
+  another page, or a PROGRAM with size 0 comes; what it holds is in no UPLOAD nor checksum, and is
+  lost on PROGRAM_START, PROGRAM_CLEAR and resets;
 * PROGRAM_RESET answers, then resets the ECU (boot checks the application-valid key), which then
   answers nothing, CONNECT included, for ``PgmParameters.boot_s``.
 """
@@ -39,6 +42,12 @@ class ProgrammingCommands:
     def __init__(self, slave: XcpSlave):
         self.slave = slave
         self.active = False
+        self._page: tuple[int, bytearray] | None = None  # a page-at-a-time driver's page in RAM: (start, bytes)
+
+    def reset(self) -> None:
+        """Out of programming (power-on, reset): what the driver held in RAM is lost."""
+        self.active = False
+        self._page = None
 
     def handlers(self):
         return {
@@ -76,6 +85,34 @@ class ProgrammingCommands:
 
     def _write(self, address: int, data: bytes) -> None:
         self._check(address, len(data))
+        size = self.slave.params.pgm.page_size
+        if not size:
+            self._program_now(address, data)
+            return
+        while data:
+            page = address - address % size
+            if self._page is not None and self._page[0] != page:
+                self._flush()
+            if self._page is None:
+                self._page = (page, bytearray(self._memory.read(page, size)))
+            count = min(len(data), page + size - address)
+            self._page[1][address - page:address - page + count] = data[:count]
+            address, data = address + count, data[count:]
+            if address == page + size:
+                self._flush()
+
+    def _flush(self) -> None:
+        """Program the page the driver holds: the bytes that differ from flash."""
+        if self._page is None:
+            return
+        page, held = self._page
+        self._page = None
+        flash = self._memory.read(page, len(held))
+        changed = [i for i in range(len(held)) if held[i] != flash[i]]
+        for first, last in _runs(changed):
+            self._program_now(page + first, bytes(held[first:last + 1]))
+
+    def _program_now(self, address: int, data: bytes) -> None:
         try:
             self._memory.program(address, data)
         except MemoryAccessError as exc:
@@ -85,6 +122,7 @@ class ProgrammingCommands:
         if self.slave.daq.running:
             raise XcpNegative(Err.DAQ_ACTIVE)
         self.active = True
+        self._page = None
         self.slave.target.halt_application()
         pgm = self.slave.params.programming
         comm_mode = COMM_MODE_PGM_MASTER_BLOCK if pgm.master_block_mode else 0
@@ -104,6 +142,7 @@ class ProgrammingCommands:
             ranges = [(s.range.start, s.range.size) for s in chosen]
         else:
             raise XcpNegative(Err.MODE_NOT_VALID)
+        self._page = None
         for address, size in ranges:
             if memory_map.protected(address, size):
                 raise XcpNegative(Err.WRITE_PROTECTED)
@@ -116,8 +155,9 @@ class ProgrammingCommands:
     def _program(self, req: bytes) -> bytes | None:
         need(req, 2)
         self._require_active()
-        if req[1] == 0:
-            return b""  # end of a memory segment
+        if req[1] == 0:  # the end of a memory segment
+            self._flush()
+            return b""
         self._frame_arrived()
         params = self.slave.params
         return self.slave.start_block(req, Cmd.PROGRAM_NEXT, Writer(self._check, self._write),
@@ -160,3 +200,14 @@ class ProgrammingCommands:
             raise XcpNegative(Err.MODE_NOT_VALID)
         value = sector.range.start if mode == 0 else sector.range.size
         return self.slave.pack("BBBI", sector.clear_sequence, sector.program_sequence, 0, value)
+
+
+def _runs(indices: list[int]) -> list[tuple[int, int]]:
+    """Ascending ``indices`` as (first, last) of each run of consecutive ones."""
+    runs: list[tuple[int, int]] = []
+    for i in indices:
+        if runs and runs[-1][1] == i - 1:
+            runs[-1] = (runs[-1][0], i)
+        else:
+            runs.append((i, i))
+    return runs

@@ -167,7 +167,7 @@ class XcpSlave:
         self._chatter = 0
         self.silent_until = 0.0  # time.monotonic() before which the ECU boots and answers nothing
         self.daq.free()
-        self.pgm.active = False
+        self.pgm.reset()
 
     @property
     def available(self) -> Resource:
