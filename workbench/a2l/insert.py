@@ -20,8 +20,9 @@ follow the C type (:mod:`workbench.a2l.datatypes`), an enum gets its COMPU_METHO
 (:mod:`workbench.a2l.update.enums`), everything else the identity conversion ``NO_COMPU_METHOD``.
 
 Nothing the file has changes: a name the MODULE has already is reported and left alone (as is a variable
-an object of the kind describes under another name); a variable selected for both kinds gets the
-CHARACTERISTIC named ``CHARACTERISTIC.<name>`` (as a2ltool names it). The new blocks go before
+an object of the kind describes under another name). As a2ltool names them, a variable selected for both
+kinds gets the CHARACTERISTIC named ``CHARACTERISTIC.<name>``, and one named as an ASAP2 keyword (``EPK``,
+a name A2L readers refuse) ``MEASUREMENT.EPK``. The new blocks go before
 ``/end MODULE`` in the file's indentation and newline style; the target GROUP is created there, or an
 existing one gets the names in its REF_MEASUREMENT/REF_CHARACTERISTIC.
 """
@@ -189,6 +190,9 @@ def insert_document(doc: A2lDocument, debug: DebugData, *, measurements: Selecti
     if not debug.has_dwarf:
         raise InputError(f"{debug.path}: has no DWARF variables (stripped, or built without -g): insert needs "
                          "their types")
+    if module is None and len(doc.modules) > 1:
+        raise InputError(f"{doc.name}: {len(doc.modules)} MODULEs ({', '.join(m.name or '?' for m in doc.modules)}): "
+                         "name the one to insert into (--module NAME)")
     block = doc.module(module)
     inserter = _Inserter(doc, block, debug, rules)
     inserter.walk_variables(progress)
@@ -223,7 +227,7 @@ class _Inserter:
         self.report = InsertReport("insert")
         self.active = [rule for rule in rules.values() if rule.patterns or rule.ranges]  # what the walk asks
         self.new_arrays, self.symbol_links = _version_features(doc)
-        self.taken: dict[str, tuple[str, str, int | None]] = {}  # object name -> (keyword, symbol, name token)
+        self.taken: dict[str, tuple[str, str, int]] = {}  # the file's object names -> (keyword, symbol, name token)
         self.described: dict[tuple[str, str], str] = {}  # (keyword, symbol) -> the object that describes it
         objects = AddressedObjects(doc)
         for row in range(len(objects)):
@@ -329,17 +333,24 @@ class _Inserter:
             self._skip("already-described", name, f"{kind} {existing} describes {symbol} already: not inserted",
                        Severity.INFO, self.taken[existing][2] if existing in self.taken else None)
             return
-        owner = self._owner(name)
-        if name in _KEYWORDS or (owner is not None and owner[0] != kind and owner[1] == symbol):
-            # an ASAP2 keyword (a variable called EPK) is no name A2L readers take; the other kind's object of the
-            # variable has the name: a2ltool's name for the second object of a variable, KIND.name
-            name = f"{kind}.{name}"
-            owner = self._owner(name)
-        if owner is not None:
-            link = f" (SYMBOL_LINK {owner[1]})" if owner[1] != name else ""
-            self._skip("exists", name, f"{kind} {name} for {symbol}: the name exists already as {owner[0]} {name}"
-                       f"{link}: not inserted", Severity.WARNING, owner[2])
+        owner = self.taken.get(name)
+        if owner is not None:  # the file's: left alone
+            if owner[1] == symbol:
+                self._skip("exists", name, f"{kind} {name}: {owner[0]} {name} describes {symbol} already: not "
+                           "inserted", Severity.INFO, owner[2])
+            else:
+                self._skip("exists", name, f"{kind} {name} for {symbol}: the name is taken by {owner[0]} {name} "
+                           f"(SYMBOL_LINK {owner[1]}): not inserted", Severity.WARNING, owner[2])
             return
+        planned = self.planned.get(name)
+        if name in _KEYWORDS or planned is not None:
+            # an ASAP2 keyword (a variable called EPK) is no name A2L readers take; a variable selected for both kinds
+            # has the other kind's object by its name: KIND.name, as a2ltool names the second object of a variable
+            name = f"{kind}.{name}"
+            if name in self.taken or name in self.planned:
+                self._skip("exists", name, f"{kind} {name} for {symbol}: the name is taken: not inserted",
+                           Severity.WARNING, self.taken[name][2] if name in self.taken else None)
+                return
         if not is_ident(name.encode("latin-1", "replace")):
             self._skip("bad-name", name, f"{kind} {name}: not an A2L name: not inserted", Severity.WARNING)
             return
@@ -352,12 +363,6 @@ class _Inserter:
         self.described[(kind, symbol)] = name
         self.report.inserted[kind].append(name)
         self.report.add(Finding("inserted", name, f"{kind} {name} inserted (0x{leaf.address:X}, {what})", block=kind))
-
-    def _owner(self, name: str) -> tuple[str, str, int | None] | None:
-        """(keyword, symbol, name token: None for a new one) of the object called ``name``, if there is one."""
-        if name in self.taken:
-            return self.taken[name]
-        return (*self.planned[name], None) if name in self.planned else None
 
     # -- the blocks ------------------------------------------------------------------------------
     def _render(self, kind: str, name: str, leaf: _Leaf) -> tuple[bytes, str] | None:
