@@ -199,3 +199,27 @@ def test_patterns_select_whole_names(pattern, names):
         result = insert_document(doc, debug, measurements=Selection((pattern,)))
     expected = ["bits.low", "bits.mid", "bits.high", "bits.after"] if names == ["bits"] else names
     assert sorted(result.report.inserted["MEASUREMENT"]) == sorted(expected)
+
+
+def test_every_variable_of_the_demo_that_its_a2l_lacks(tmp_path):
+    """The demo's A2L describes most variables (calibrations as CHARACTERISTICs): those are left alone, the rest
+    come in, and the file stays clean against its ELF."""
+    from workbench import demo
+
+    out = tmp_path / "FLCU.a2l"
+    report = insert_file(demo.a2l(), demo.elf(), out, measurements=Selection((".*",)), use_cache=False)
+    assert report.problems == []
+    before = load_a2l(demo.a2l()).model()
+    inserted = report.inserted["MEASUREMENT"]
+    assert inserted and not any(name in before for name in inserted)
+    assert "zsEWMA_ALPHA" in before and "MEASUREMENT.zsEWMA_ALPHA" not in inserted  # a CHARACTERISTIC already
+    assert check_file(out, demo.elf(), use_cache=False).problems == []
+
+
+def test_a_file_of_several_modules_needs_module():
+    doc = load_a2l_string(EMPTY.replace("/end PROJECT", '/begin MODULE N "" /end MODULE /end PROJECT'))
+    with DebugData(TYPES_ELF, use_cache=False) as debug:
+        with pytest.raises(InputError, match="--module"):
+            insert_document(doc, debug, measurements=Selection(("zsScalar",)))
+        result = insert_document(doc, debug, measurements=Selection(("zsScalar",)), module="N")
+    assert load_a2l_string(result.data.decode()).model("N").measurement("zsScalar").address == 0x403000
