@@ -184,3 +184,24 @@ def test_a_page_switch_the_ecu_refuses_leaves_the_buttons_and_status_on_the_page
     assert window.working_action.isChecked() and not window.reference_action.isChecked()
     assert "working" in window.status.page.text() and window.controller.page == "working"
     window.errors.pop().close()  # the one dialog expected
+
+
+def test_a_window_without_plots_is_live_once_connected_and_its_placeholder_tab_has_no_close_button(qtbot, demo_ecu,
+                                                                                                   project):
+    """`workbench gui --a2l MINE.a2l --screenshot` (no plots) waited 30 s for samples nothing measured, then failed."""
+    from PySide6.QtWidgets import QTabBar
+
+    from workbench.gui.widgets.main_window import MainWindow
+
+    project.plots, project.editors = [], []
+    window = MainWindow(project)
+    qtbot.addWidget(window)
+    window.show()
+    with qtbot.waitSignal(window.loaded, timeout=WAIT_MS):
+        window.load()
+    bar = window.editor_tabs.tabBar()
+    assert window.editor_tabs.widget(0) is window.editor_placeholder
+    assert bar.tabButton(0, QTabBar.RightSide) is None and bar.tabButton(0, QTabBar.LeftSide) is None
+    with qtbot.waitSignal(window.live, timeout=WAIT_MS):
+        window.connect_ecu()
+    window.close()

@@ -22,6 +22,8 @@ from PySide6.QtWidgets import (
     QMainWindow,
     QMessageBox,
     QSplitter,
+    QStyle,
+    QTabBar,
     QTabWidget,
     QVBoxLayout,
     QWidget,
@@ -127,7 +129,7 @@ class MainWindow(QMainWindow):
         placeholder.setAlignment(Qt.AlignCenter)
         placeholder.setStyleSheet(f"color: {theme.MUTED};")
         self.editor_placeholder = placeholder
-        self.editor_tabs.addTab(placeholder, "Calibration")
+        self._show_placeholder()
         self.editor_dock = self._dock("Calibration", self.editor_tabs, Qt.RightDockWidgetArea)
         self.fix_panel = FixPanel(self.controller, self.hub)
         self.fix_panel.error.connect(self.show_error)
@@ -399,7 +401,14 @@ class MainWindow(QMainWindow):
             self.editor_tabs.removeTab(index)
             widget.deleteLater()
         if not self.editors and self.editor_tabs.indexOf(self.editor_placeholder) < 0:
-            self.editor_tabs.addTab(self.editor_placeholder, "Calibration")  # what to do, not an empty dock
+            self._show_placeholder()  # what to do, not an empty dock
+
+    def _show_placeholder(self) -> None:
+        """The hint in place of editors, as a tab without a close button (closing it did nothing)."""
+        index = self.editor_tabs.addTab(self.editor_placeholder, "Calibration")
+        bar = self.editor_tabs.tabBar()
+        side = QTabBar.ButtonPosition(bar.style().styleHint(QStyle.SH_TabBar_CloseButtonPosition, None, bar))
+        bar.setTabButton(index, side, None)
 
     def open_measurement_dialog(self) -> None:
         path, _ = QFileDialog.getOpenFileName(self, "Open measurement file", "",
@@ -522,6 +531,7 @@ class MainWindow(QMainWindow):
         self.hub.attach(acquisition, monitor)
         self.status.set_pause(None)
         self.record_action.setEnabled(True)
+        self._check_live()  # no plot to fill (a project of one A2L): live now, a screenshot need not wait for samples
 
     def _not_measurable(self, refused: dict) -> None:
         """Signals the ECU refused to sample: said once, the others are measured (the status bar keeps the count)."""
