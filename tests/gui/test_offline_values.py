@@ -31,7 +31,8 @@ def test_without_a_flash_file_the_offline_editors_stay_empty(qtbot):
     window = offline_window(qtbot, project)
     editor = window.open_editor("xsSWITCH_TANK_THR")
     qtbot.wait(50)
-    assert editor.value is None and editor.status.text() == "read-only: not connected"
+    assert editor.value is None and editor.status.text() == (
+        "read-only: not connected; no values before connecting (the project names no s19/hex to show them from)")
 
 
 def test_connected_the_ecus_value_replaces_the_files(qtbot, demo_ecu, project, channel):

@@ -296,6 +296,8 @@ class CalibrationEditor(QWidget):
             text, colour = f"read-only: {reason}", theme.MUTED
             if self.value_source:
                 text += f"; the values of {self.value_source}"
+            elif self.value is None and self.offline is None and self.controller.session is None:
+                text += "; no values before connecting (the project names no s19/hex to show them from)"
         if text != self.status.text():
             self.status.setToolTip("")
         self.status.setText(text)
