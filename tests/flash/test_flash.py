@@ -29,6 +29,7 @@ from workbench.session import Session
 from workbench.sim import EthernetEndpoint, serve_demo
 from workbench.sim.ecu import EcuState
 from workbench.sim.memory_map import HDS9
+from workbench.sim.profiles import SlaveProfile
 from workbench.xcp_protocol import Cmd, Err, Resource
 
 THRESHOLD = "xsSWITCH_TANK_THR"  # real32, 20.0 in the demo s19
@@ -258,3 +259,29 @@ def test_an_ecu_that_refuses_to_go_on_where_a_block_broke_gets_the_sector_erased
     result = flash_ecu(bench.session, plan)
     assert (result.recoveries, result.rewrites) == (2, 1)
     assert bench.flash_content(CALIB) == plan.sector_content(plan.sectors[0])
+
+
+def test_an_ecu_that_programs_in_functional_mode_only_is_refused_before_anything_is_erased(bench):
+    """GET_PGM_PROCESSOR_INFO without absolute access mode: PROGRAM_CLEAR by address would be refused after the key
+    was cleared; the flash is refused before."""
+    slave = bench.ecu.slave
+    slave.params = replace(slave.params, pgm=replace(slave.params.pgm, functional_only=True))
+    before = bench.whole_flash()
+    with pytest.raises(FlashRefused, match="functional mode only"):
+        flash_ecu(bench.session, plan_flash(calib_image_with(THRESHOLD, 25.5), bench.layout, ["CALIB"]))
+    assert bench.whole_flash() == before and bench.ecu.state is EcuState.APPLICATION
+
+
+def test_an_ecu_that_counts_no_sectors_is_erased_in_the_a2ls():
+    """GET_PGM_PROCESSOR_INFO's MAX_SECTOR 0 tells nothing (it is no flash without sectors): the A2L's 16 KiB sectors
+    are erased, not all CALIB as one."""
+    untold = SlaveProfile("sectors-untold", "MAX_SECTOR 0", "the A2L's sectors", pgm={"counts_sectors": False},
+                          sector_sizes={"APPLICATIVE": 0x10000, "CALIB": 0x4000, "SHARED": 0x4000})
+    where = {"interface": "virtual", "channel": "flash-sectors-untold"}
+    with serve_demo(dict(where), profile=untold, time_scale=None) as simulator, \
+            Session.open(simulator.a2l, **where, timeouts=FAST) as session:
+        plan = plan_flash(calib_image_with(THRESHOLD, 25.5), FlashLayout.from_a2l(session.doc, session.config),
+                          ["CALIB"])
+        result = flash_ecu(session, plan)
+        assert [(s.range.start, s.range.size) for s in result.plan.sectors] == [(0xFC0000, 0x4000), (0xFDC000, 0x4000)]
+        assert result.application_running and not result.notes

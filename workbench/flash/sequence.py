@@ -167,18 +167,30 @@ def _unfinished_before(session: Session, plan: FlashPlan) -> list[str]:
 
 
 def _with_ecu_sectors(master, plan: FlashPlan) -> tuple[FlashPlan, list[str]]:
-    """``plan`` with the ECU's sectors (GET_SECTOR_INFO) when it gives them, and a note when they differ."""
+    """``plan`` with the ECU's sectors (GET_SECTOR_INFO) when it gives them, and a note when they differ.
+
+    :raises FlashRefused: the ECU programs in functional mode only.
+    """
     try:
         processor = master.get_pgm_processor_info()
+    except XcpCommandError as exc:
+        if exc.code not in (Err.CMD_UNKNOWN, Err.OUT_OF_RANGE):
+            raise
+        log.info("the ECU gives no programming information (%s): the A2L's sectors apply", exc)
+        return plan, []
+    if not processor.absolute_mode:
+        raise FlashRefused("the ECU programs in functional mode only; the workbench clears and programs by "
+                           "address (absolute mode); nothing was touched")
+    try:
         sectors = [master.get_sector_info(n) for n in range(processor.max_sectors)]
     except XcpCommandError as exc:
         if exc.code not in (Err.CMD_UNKNOWN, Err.OUT_OF_RANGE):
             raise
         log.info("the ECU gives no sector information (%s): the A2L's sectors apply", exc)
         return plan, []
-    if not processor.absolute_mode:
-        raise FlashRefused("the ECU programs in functional mode only; the workbench clears and programs by "
-                           "address (absolute mode); nothing was touched")
+    if not sectors:  # MAX_SECTOR 0: no sectors told, not none there (all flash would be one erase unit)
+        log.info("the ECU counts no sectors (MAX_SECTOR 0): the A2L's sectors apply")
+        return plan, []
     ecu = tuple(Sector("", s.number, AddressRange(s.address, s.address + s.length), s.clear_sequence,
                        s.program_sequence) for s in sectors)
     layout = plan.layout

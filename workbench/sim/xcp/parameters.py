@@ -142,6 +142,8 @@ class PgmParameters:
     pending_s: float = 0.0  # while it erases, an EV_CMD_PENDING every pending_s (0: none; T4 must cover the erase)
     boot_s: float = 0.0  # after PROGRAM_RESET the ECU boots this long, answering nothing (CONNECT included)
     page_size: int = 0  # bytes its driver writes at once, holding them in RAM until then (0: every frame at once)
+    functional_only: bool = False  # GET_PGM_PROCESSOR_INFO: functional access mode only (absolute CLEAR refused)
+    counts_sectors: bool = True  # GET_PGM_PROCESSOR_INFO's MAX_SECTOR counts them (False: 0, GET_SECTOR_INFO refused)
 
 
 @dataclass(frozen=True)

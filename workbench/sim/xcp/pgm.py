@@ -133,6 +133,8 @@ class ProgrammingCommands:
         self._require_active()
         mode, clear_range = req[1], self.slave.unpack_from("I", req, 4)[0]
         memory_map = self.slave.target.memory_map
+        if mode == CLEAR_ABSOLUTE and self.slave.params.pgm.functional_only:
+            raise XcpNegative(Err.MODE_NOT_VALID)
         if mode == CLEAR_ABSOLUTE:
             ranges = [(self.slave.mta, self.slave.elements(clear_range))]
         elif mode == CLEAR_FUNCTIONAL:
@@ -182,13 +184,19 @@ class ProgrammingCommands:
         return b""
 
     def _get_pgm_processor_info(self, req: bytes) -> bytes:
-        properties = PGM_ABSOLUTE_MODE | PGM_FUNCTIONAL_MODE | PGM_NON_SEQUENTIAL_SUPPORTED
-        return bytes([properties, len(self.slave.target.memory_map.sectors)])
+        pgm = self.slave.params.pgm
+        modes = PGM_FUNCTIONAL_MODE if pgm.functional_only else PGM_ABSOLUTE_MODE | PGM_FUNCTIONAL_MODE
+        return bytes([modes | PGM_NON_SEQUENTIAL_SUPPORTED, len(self._sectors)])
+
+    @property
+    def _sectors(self):
+        """The sectors GET_SECTOR_INFO tells (none from a slave that does not count them)."""
+        return self.slave.target.memory_map.sectors if self.slave.params.pgm.counts_sectors else ()
 
     def _get_sector_info(self, req: bytes) -> bytes:
         need(req, 3)
         mode, number = req[1], req[2]
-        sectors = self.slave.target.memory_map.sectors
+        sectors = self._sectors
         if number >= len(sectors):
             raise XcpNegative(Err.OUT_OF_RANGE)
         sector = sectors[number]
