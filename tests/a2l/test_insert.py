@@ -49,11 +49,11 @@ def inserted(tmp_path_factory) -> tuple[Path, object]:
     return _insert(tmp_path_factory.mktemp("insert"), TYPES_ELF, MEASURED, CALIBRATED)
 
 
-def _a2ltool(tmp_path: Path, elf: Path, measured: str, calibrated: str) -> Path:
+def _a2ltool(tmp_path: Path, elf: Path, *options: str) -> Path:
     source, out = tmp_path / "in.a2l", tmp_path / "theirs.a2l"
     source.write_text(EMPTY)
-    subprocess.run([A2LTOOL, str(source), "--elffile", str(elf), "--measurement-regex", measured,
-                    "--characteristic-regex", calibrated, "--output", str(out)], check=True, capture_output=True)
+    subprocess.run([A2LTOOL, str(source), "--elffile", str(elf), *options, "--output", str(out)], check=True,
+                   capture_output=True)
     return out
 
 
@@ -76,7 +76,23 @@ def _fields(model, name: str) -> dict:
 ], ids=["types", "wild-measurements", "wild-characteristics"])
 def test_the_objects_are_those_a2ltool_inserts(tmp_path, elf, measured, calibrated):
     ours = load_a2l(_insert(tmp_path, elf, measured, calibrated)[0]).model()
-    theirs = load_a2l(_a2ltool(tmp_path, elf, measured, calibrated)).model()
+    theirs = load_a2l(_a2ltool(tmp_path, elf, "--measurement-regex", measured, "--characteristic-regex",
+                               calibrated)).model()
+    _same_objects(ours, theirs)
+
+
+@pytest.mark.skipif(A2LTOOL is None, reason="a2ltool is not installed (pip install -e .[dev])")
+def test_sections_and_ranges_select_as_a2ltools_do(tmp_path):
+    source, out = tmp_path / "in.a2l", tmp_path / "ours.a2l"
+    source.write_text(EMPTY)
+    insert_file(source, TYPES_ELF, out, characteristics=Selection(sections=(".bss",)),
+                measurements=Selection(ranges=((0x403000, 0x403010), (0x402000, 0x402080))), use_cache=False)
+    theirs = _a2ltool(tmp_path, TYPES_ELF, "--characteristic-section", ".bss", "--measurement-range", "0x403000",
+                      "0x403010", "--measurement-range", "0x402000", "0x402080")
+    _same_objects(load_a2l(out).model(), load_a2l(theirs).model())
+
+
+def _same_objects(ours, theirs) -> None:
     for kind in ("MEASUREMENT", "CHARACTERISTIC"):
         # a variable named as an ASAP2 keyword (EPK), which pya2ldb refuses as a name, is a2ltool's KIND.EPK
         names = {f"{kind}.{name}" if name in KEYWORDS else name: name for name in theirs.names(kind)}
@@ -223,3 +239,21 @@ def test_a_file_of_several_modules_needs_module():
             insert_document(doc, debug, measurements=Selection(("zsScalar",)))
         result = insert_document(doc, debug, measurements=Selection(("zsScalar",)), module="N")
     assert load_a2l_string(result.data.decode()).model("N").measurement("zsScalar").address == 0x403000
+
+
+def test_a_member_of_a_variable_an_object_describes_is_not_described_again():
+    described = ('/begin RECORD_LAYOUT RL FNC_VALUES 1 FLOAT32_IEEE ROW_DIR DIRECT /end RECORD_LAYOUT\n'
+                 '/begin AXIS_PTS Axis "" 0x403020 NO_INPUT_QUANTITY RL 0 NO_COMPU_METHOD 9 0 1\n'
+                 '  SYMBOL_LINK "zvLut.BP1" 0 /end AXIS_PTS\n'
+                 '/begin MEASUREMENT Outer "" UBYTE NO_COMPU_METHOD 0 0 0 1 ECU_ADDRESS 0x403080\n'
+                 '  SYMBOL_LINK "outer" 0 /end MEASUREMENT\n')
+    doc = load_a2l_string(EMPTY.replace("  /end MODULE", described + "  /end MODULE"))
+    with DebugData(TYPES_ELF, use_cache=False) as debug:
+        result = insert_document(doc, debug, characteristics=Selection(("zvLut.*",)),
+                                 measurements=Selection((r"outer\.b\..*|zvLut.*",)))
+    assert result.report.inserted == {"MEASUREMENT": ["zvLut.BP1", "zvLut.Table"],
+                                      "CHARACTERISTIC": ["CHARACTERISTIC.zvLut.Table"]}  # both kinds: a2ltool's name
+    assert {f.message for f in result.report.of_kind("already-described")} == {
+        "CHARACTERISTIC zvLut.BP1: AXIS_PTS Axis describes zvLut.BP1 already: not inserted",
+        "MEASUREMENT outer.b.c: it lies in outer, which MEASUREMENT Outer describes: not inserted",
+        "MEASUREMENT outer.b.d: it lies in outer, which MEASUREMENT Outer describes: not inserted"}

@@ -8,7 +8,7 @@ selects one for a kind of object:
 - a regular expression that matches its whole name (as a2ltool: a pattern that starts with ``^`` or ends
   with ``$`` is searched as written); a struct or union it matches brings every member, an array of
   structs every element's members;
-- an address range ``[MIN, MAX)`` that holds its first byte;
+- an address range ``[MIN, MAX)`` that holds its first byte (an ELF section: its addresses);
 - its symbol path, named alone (a2ltool's ``--measurement``/``--characteristic``; a struct: its members).
 
 A scalar (base type or enum, a bitfield with its BIT_MASK) or an array of scalars becomes one object:
@@ -20,7 +20,8 @@ follow the C type (:mod:`workbench.a2l.datatypes`), an enum gets its COMPU_METHO
 (:mod:`workbench.a2l.update.enums`), everything else the identity conversion ``NO_COMPU_METHOD``.
 
 Nothing the file has changes: a name the MODULE has already is reported and left alone (as is a variable
-an object of the kind describes under another name). As a2ltool names them, a variable selected for both
+an object of the kind describes under another name, or a member of a variable one describes whole; an
+AXIS_PTS describes as a calibration). As a2ltool names them, a variable selected for both
 kinds gets the CHARACTERISTIC named ``CHARACTERISTIC.<name>``, and one named as an ASAP2 keyword (``EPK``,
 a name A2L readers refuse) ``MEASUREMENT.EPK``. The new blocks go before
 ``/end MODULE`` in the file's indentation and newline style; the target GROUP is created there, or an
@@ -59,6 +60,8 @@ KINDS = ("MEASUREMENT", "CHARACTERISTIC")
 _SCALARS = ("base", "enum")
 _GROUPS = ("struct", "union")
 _KEYWORDS = frozenset((*grammar.BLOCKS, *grammar.OPTIONS, *grammar.TOP_LEVEL_OPTIONS))
+_KIND_OF = {"AXIS_PTS": "CHARACTERISTIC"}  # the kind of object that describes a variable as a calibration too
+_STEP = re.compile(r"\.|\[")  # where a member or element name starts in a path
 _GLOBAL_FLAGS = re.compile(r"(?:\(\?[aiLmsux]+\))+")
 _LINE = 100  # names of a REF_MEASUREMENT/REF_CHARACTERISTIC are wrapped at about this many columns
 
@@ -75,14 +78,16 @@ def selection_pattern(text: str) -> re.Pattern:
 
 @dataclass(frozen=True)
 class Selection:
-    """The variables to insert as one kind of object: by name pattern, address range ``[low, high)`` or path."""
+    """The variables to insert as one kind of object: by name pattern, address range ``[low, high)``, ELF section
+    (its addresses) or symbol path."""
 
     regexes: tuple[str, ...] = ()
     ranges: tuple[tuple[int, int], ...] = ()
     paths: tuple[str, ...] = ()
+    sections: tuple[str, ...] = ()
 
     def __bool__(self) -> bool:
-        return bool(self.regexes or self.ranges or self.paths)
+        return bool(self.regexes or self.ranges or self.paths or self.sections)
 
 
 @dataclass
@@ -127,7 +132,7 @@ class _Leaf(NamedTuple):
 class _Rules:
     """One kind's selection, compiled, counting what each pattern and range selected."""
 
-    def __init__(self, kind: str, selection: Selection):
+    def __init__(self, kind: str, selection: Selection, debug: DebugData):
         self.kind = kind
         self.patterns: list[tuple[str, re.Pattern]] = []
         for text in selection.regexes:
@@ -135,10 +140,20 @@ class _Rules:
                 self.patterns.append((text, selection_pattern(text)))
             except re.error as exc:
                 raise InputError(f"--{kind.lower()}-regex {text!r}: not a regular expression ({exc})") from None
+        option = f"--{kind.lower()}"
+        self.options: dict[tuple[int, int], str] = {}  # range -> the option that gave it
         for low, high in selection.ranges:
             if low >= high:
-                raise InputError(f"--{kind.lower()}-range 0x{low:X} 0x{high:X}: the start must lie below the end")
-        self.ranges = list(selection.ranges)
+                raise InputError(f"{option}-range 0x{low:X} 0x{high:X}: the start must lie below the end")
+            self.options[(low, high)] = f"{option}-range 0x{low:X} 0x{high:X}"
+        for name in selection.sections:
+            section = debug.elf.sections.get(name)
+            if section is None or not section.allocated:
+                known = ", ".join(n for n, s in debug.elf.sections.items() if s.allocated and s.size)
+                raise InputError(f"{option}-section {name}: {debug.path.name} has no such section in memory "
+                                 f"(it has {known})")
+            self.options.setdefault((section.address, section.address + section.size), f"{option}-section {name}")
+        self.ranges = list(self.options)
         # the literal texts each pattern's matches start with (None: any text): a walk skips what none can name
         prefixes = [_literal_prefixes(pattern) for _, pattern in self.patterns]
         self._any_name = any(found is None or "" in found for found in prefixes)
@@ -184,7 +199,7 @@ def insert_document(doc: A2lDocument, debug: DebugData, *, measurements: Selecti
     without DWARF, and new text that would fall into an ``/include``d file; :class:`A2lParseError` for a
     MODULE that is not there (``module``: its name, needed when the file has several).
     """
-    rules = {kind: _Rules(kind, selection) for kind, selection in zip(KINDS, (measurements, characteristics))}
+    rules = {kind: _Rules(kind, selection, debug) for kind, selection in zip(KINDS, (measurements, characteristics))}
     if target_group is not None and not is_ident(target_group.encode("latin-1", "replace")):
         raise InputError(f"--target-group {target_group!r}: not an A2L name")
     if not debug.has_dwarf:
@@ -228,13 +243,14 @@ class _Inserter:
         self.active = [rule for rule in rules.values() if rule.patterns or rule.ranges]  # what the walk asks
         self.new_arrays, self.symbol_links = _version_features(doc)
         self.taken: dict[str, tuple[str, str, int]] = {}  # the file's object names -> (keyword, symbol, name token)
-        self.described: dict[tuple[str, str], str] = {}  # (keyword, symbol) -> the object that describes it
+        # (kind, symbol) -> the object that describes the variable as that kind (an AXIS_PTS as a calibration)
+        self.described: dict[tuple[str, str], str] = {}
         objects = AddressedObjects(doc)
         for row in range(len(objects)):
             if int(doc.blocks.parent[objects.blocks[row]]) == module.index:
                 keyword, name, symbol = objects.keyword(row), objects.names[row], objects.symbols[row]
                 self.taken[name] = (keyword, symbol, int(objects.name_tokens[row]))
-                self.described.setdefault((keyword, symbol), name)
+                self.described.setdefault((_KIND_OF.get(keyword, keyword), symbol), name)
         self.blocks: dict[str, list[bytes]] = {}  # keyword -> the new blocks' text (a blank line first), in order
         children = module.children
         self.indent = (indentation_of(doc.data, children[0].span[0]) if children  # the MODULE's blocks'
@@ -328,10 +344,15 @@ class _Inserter:
 
     def _object(self, kind: str, leaf: _Leaf) -> None:
         name, symbol = leaf.path.replace("::", "__"), leaf.symbol  # a C++ name's "::" as a2ltool writes it
-        existing = self.described.get((kind, symbol))
+        existing = next(((whole, found) for whole in (*_enclosing(leaf.path, leaf.spec), symbol)
+                         if (found := self.described.get((kind, whole))) is not None), None)
         if existing is not None:
-            self._skip("already-described", name, f"{kind} {existing} describes {symbol} already: not inserted",
-                       Severity.INFO, self.taken[existing][2] if existing in self.taken else None)
+            whole, found = existing
+            keyword = self.taken[found][0] if found in self.taken else kind
+            what = f"{keyword} {found} describes {symbol} already" if whole == symbol else \
+                f"it lies in {whole}, which {keyword} {found} describes"
+            self._skip("already-described", name, f"{kind} {name}: {what}: not inserted", Severity.INFO,
+                       self.taken[found][2] if found in self.taken else None)
             return
         owner = self.taken.get(name)
         if owner is not None:  # the file's: left alone
@@ -468,10 +489,10 @@ class _Inserter:
                 if not rule.matched[text]:
                     self._skip("regex-matched-nothing", text, f"--{option}-regex {text!r} matches no variable of "
                                f"{self.debug.path.name}", Severity.WARNING)
-            for low, high in rule.ranges:
-                if not rule.in_range[(low, high)]:
-                    self._skip("range-matched-nothing", f"0x{low:X}-0x{high:X}", f"--{option}-range 0x{low:X} "
-                               f"0x{high:X} holds no variable of {self.debug.path.name}", Severity.WARNING)
+            for extent, given in rule.options.items():
+                if not rule.in_range[extent]:
+                    self._skip("range-matched-nothing", given.split(" ", 1)[1], f"{given} holds no variable of "
+                               f"{self.debug.path.name}", Severity.WARNING)
 
     def result(self, target_group: str | None) -> InsertResult:
         doc, module = self.doc, self.module
@@ -521,6 +542,12 @@ def _members(ctype: "CType") -> list["CMember"]:
                          else base.offset + member.offset)
                  for base in ctype.bases for member in _members(base.type)]
     return [*inherited, *ctype.members]
+
+
+def _enclosing(path: str, spec: str) -> list[str]:
+    """The symbols of the variable, members and elements that hold ``path`` (``a.b[2].c``: ``a``, ``a.b``,
+    ``a.b[2]``), outermost first, with ``spec`` (Vector's suffix) each."""
+    return [path[:match.start()] + spec for match in _STEP.finditer(path) if match.start()]
 
 
 def _vector_spec(variable: Variable) -> str:

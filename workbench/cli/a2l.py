@@ -96,7 +96,7 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
                                  description="Make MEASUREMENTs and CHARACTERISTICs from the ELF's DWARF variables, "
                                  "with a2ltool's options: each variable, struct member (a.b.c) and array element "
                                  "(a[2], a._2_ before ASAP2 1.70) whose whole name a --*-regex matches (a struct it "
-                                 "matches brings all its members) or whose address lies in a --*-range [MIN, MAX) "
+                                 "matches brings all its members) or whose address lies in a --*-range [MIN, MAX) or a --*-section "
                                  "becomes one object: a scalar or bitfield (BIT_MASK), an array as one object with "
                                  "MATRIX_DIM (a CHARACTERISTIC: VAL_BLK), an enum with a COMPU_METHOD TAB_VERB; "
                                  "data type, limits and address from DWARF. A name the file has is left alone and "
@@ -115,6 +115,9 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
         insert.add_argument(f"--{kind}-range", action="append", default=[], nargs=2, type=_address,
                             metavar=("MIN", "MAX"), help=f"insert a {kind.upper()} for every variable, member or "
                             "element whose address lies in [MIN, MAX) (repeatable; 0x hex allowed)")
+        insert.add_argument(f"--{kind}-section", action="append", default=[], metavar="SECTION",
+                            help=f"insert a {kind.upper()} for every variable in this ELF section (e.g. .cal_ram; "
+                                 "repeatable)")
         insert.add_argument(f"-{kind[0].upper()}", f"--{kind}", action="append", default=[], metavar="PATH",
                             dest=f"{kind}_paths", help=f"insert a {kind.upper()} for this symbol path (a.b[2].c; "
                             "a struct: its members; repeatable)")
@@ -278,10 +281,11 @@ def _insert(args: argparse.Namespace) -> int:
     if args.output is None and not args.dry_run:
         raise InputError("insert: -o/--output OUT.a2l is required (or --dry-run)")
     selections = [Selection(tuple(getattr(args, f"{kind}_regex")), tuple(map(tuple, getattr(args, f"{kind}_range"))),
-                            tuple(getattr(args, f"{kind}_paths"))) for kind in ("measurement", "characteristic")]
+                            tuple(getattr(args, f"{kind}_paths")), tuple(getattr(args, f"{kind}_section")))
+                  for kind in ("measurement", "characteristic")]
     if not any(selections):
-        raise InputError("insert: nothing selected: give --measurement-regex, --characteristic-regex, a --*-range "
-                         "or -M/-C PATH")
+        raise InputError("insert: nothing selected: give --measurement-regex, --characteristic-regex, a --*-range, "
+                         "a --*-section or -M/-C PATH")
     output = None if args.dry_run else args.output
     with ProgressBar("inserting", enabled=None if not args.json else False) as progress:
         report = insert_file(args.a2l, args.elf, output, measurements=selections[0], characteristics=selections[1],
