@@ -40,6 +40,24 @@ def test_a_signal_the_ecu_refuses_to_sample_is_named_and_the_others_are_measured
     assert "zzNowhere" not in state.signals and len(window.errors) == 1
 
 
+def test_a_signal_on_an_event_the_ecu_lacks_is_named_with_its_event(demo_ecu, channel, tmp_path, qtbot):
+    """An A2L of another build names an event the ECU does not have: SET_DAQ_LIST_MODE refused stopped every plot."""
+    text = demo.a2l().read_text(encoding="utf-8")
+    at = text.index("/begin MEASUREMENT")
+    elsewhere = BOGUS.replace("zzNowhere", "zzElsewhere").replace("ECU_ADDRESS 0x12345670", (
+        "ECU_ADDRESS 0x4002004C /begin IF_DATA XCP /begin DAQ_EVENT VARIABLE /begin DEFAULT_EVENT_LIST EVENT 0x0009 "
+        "/end DEFAULT_EVENT_LIST /end DAQ_EVENT /end IF_DATA"))
+    a2l = tmp_path / "elsewhere.a2l"
+    a2l.write_text(text[:at] + elsewhere + text[at:], encoding="utf-8")
+    window = open_window(qtbot, project_on(channel, a2l, ["zsRailPressure", "zzElsewhere"]))
+    qtbot.waitUntil(lambda: bool(window.errors), timeout=WAIT_MS)
+    assert ("zzElsewhere: XCP SET_DAQ_LIST_MODE failed: ERR_OUT_OF_RANGE (0x22) (its DAQ event, event 9: one the ECU "
+            "does not have?)") in window.errors[0].text()
+    state = window.hub.acquisition.state
+    qtbot.waitUntil(lambda: state.running and state.samples > 0, timeout=WAIT_MS)
+    assert state.signals == ("zsRailPressure",)
+
+
 def test_a_slave_without_daq_timestamps_is_said_to_be_timed_by_the_receive_time(channel, tmp_path, qtbot):
     from workbench.sim import serve_demo
 

@@ -6,7 +6,8 @@ their own timer. When the set of signals changes, the running measurement is sto
 one started with the new set (the ECU's DAQ lists are configured for what is displayed, as CANape
 does). Times are the ECU's DAQ timestamps mapped to host time, minus the hub's origin.
 
-A signal the ECU refuses to sample (WRITE_DAQ refused: an address outside what its DAQ may read) does not
+A signal the ECU refuses to sample (WRITE_DAQ refused: an address outside what its DAQ may read; SET_DAQ_LIST_MODE
+refused: an event it does not have, an A2L of another build) does not
 stop the others, as in CANape: the measurement is tried on halves of the signals until the refused ones are
 found, then runs without them; ``refused`` names them with the ECU's answer (the state keeps them, and they are
 not asked for again on this session).
@@ -35,6 +36,7 @@ log = logger(__name__)
 
 __all__ = ["DaqAcquisition", "DaqState", "RecordRequest"]
 
+_SIGNALS_REFUSED = ("WRITE_DAQ", "SET_DAQ_LIST_MODE")  # refusals of a signal's address or event, not of the lists' room
 _READ_TIMEOUT_S = 0.1  # how long one read waits for samples: also how soon a change of signals is taken
 
 
@@ -189,7 +191,7 @@ class DaqAcquisition(QObject):
 
         :raises XcpCommandError: ``exc``, when it is no signal's (a list the ECU has no room for) or none alone fails.
         """
-        if exc.command != "WRITE_DAQ":
+        if exc.command not in _SIGNALS_REFUSED:
             raise exc
         refused: dict[str, str] = {}
 
@@ -199,11 +201,11 @@ class DaqAcquisition(QObject):
                     self.session.measure(list(group)).start().stop()
                     return
                 except XcpCommandError as failed:
-                    if failed.command != "WRITE_DAQ":
+                    if failed.command not in _SIGNALS_REFUSED:
                         raise
                     error = failed
             if len(group) == 1:
-                refused[group[0]] = str(error)
+                refused[group[0]] = self._why_refused(group[0], error)
                 return
             half = len(group) // 2
             find(group[:half], None)
@@ -216,6 +218,13 @@ class DaqAcquisition(QObject):
         self.refused.emit(dict(refused))
         rest = [name for name in names if name not in refused]
         return self.session.measure(rest).start() if rest else None
+
+    def _why_refused(self, name: str, error: XcpCommandError) -> str:
+        """The ECU's answer, with the event it refused for ``name`` (its address is in a WRITE_DAQ refusal already)."""
+        if error.command != "SET_DAQ_LIST_MODE":
+            return str(error)
+        event = self.session.measure([name]).events[name]
+        return f"{error} (its DAQ event, {self.session.event_name(event)}: one the ECU does not have?)"
 
     def _record(self, names: tuple[str, ...], request: RecordRequest) -> None:
         from workbench.record import Recorder
