@@ -9,6 +9,7 @@ import argparse
 import struct
 import xml.etree.ElementTree as ET
 
+import pytest
 from sim_process import start_sim_process
 
 import workbench.testbench.options  # noqa: F401 (kept across pytester's runs, see test_plugin.py)
@@ -110,3 +111,36 @@ def test_a_can2_bus_of_its_own_reaches_the_tests_whole():
     target = target_from_options(Namespace(**options))
     assert target.can2_bus == {"interface": "udp_multicast", "channel": "239.74.163.2", "port": 43221,
                                "receive_own_messages": False}
+
+
+def test_tests_chosen_by_requirement_repeated_and_pytest_options_after_the_double_dash(pytester):
+    """--req picks the tests that verify a requirement or one below it, a misspelt id is bad input (it would run
+    less than asked, and pass); --repeat N runs each N times; what follows -- is pytest's (user trial 7: the
+    command took none of these, and -x, -v or --lf needed plain pytest)."""
+    pytester.makepyfile(test_reqs="""
+from workbench.testbench import requirement
+
+@requirement("REQ_1.1")
+def test_one():
+    pass
+
+@requirement("REQ_1.2", "REQ_2")
+def test_two():
+    pass
+
+@requirement("REQ_11")
+def test_eleven():
+    assert False
+""")
+    run = _run(pytester, "test_reqs.py", "--req", "REQ_1", "--repeat", "2", "--", "-v", "-x")
+    assert run.ret == 0
+    run.stdout.fnmatch_lines(["*test_one?1-2? PASSED*", "*test_one?2-2? PASSED*", "*test_two?2-2? PASSED*",
+                              "*4 passed, 2 deselected*"])
+    run = _run(pytester, "test_reqs.py", "--req", "REQ_2", "--req", "REQ_11", "--", "-x")
+    assert run.ret == 1
+    run.stdout.fnmatch_lines(["*1 failed, 1 passed*"])  # -x: stopped at the first failure
+    run = _run(pytester, "test_reqs.py", "--req", "REQ_3")
+    assert run.ret == pytest.ExitCode.USAGE_ERROR
+    run.stderr.fnmatch_lines(["*--req REQ_3: no test collected verifies it; did you mean *"])
+    parsed = build_parser().parse_args(["test", "test_reqs.py", "--report", "out", "--", "--lf", "-m", "slow"])
+    assert parsed.paths == ["test_reqs.py"] and pytest_arguments(parsed)[-3:] == ["--lf", "-m", "slow"]

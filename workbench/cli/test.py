@@ -20,13 +20,17 @@ find by the same bus options (against a real ECU the tests that need it are skip
 --report DIR writes DIR/junit.xml (a testcase property 'requirement' per requirement id),
 DIR/report.html (traceability, each test's steps, plots of its signals with the expectation bands)
 and each test's MDF4 evidence under DIR/evidence. -n N spreads the tests over N processes
-(pytest-xdist), each test with its own simulated ECU. Exit 0: every test passed; 1: a test failed,
-or broke before it judged (its requirements NOT JUDGED); 2: bad input (options, a path, no tests found).
+(pytest-xdist), each test with its own simulated ECU. --req ID runs the tests that verify a requirement
+(or those below it), --repeat N runs each test N times, and what follows -- goes to pytest as it is
+(-x, -v, --lf, -m MARK, --junitxml PATH ...). Exit 0: every test passed; 1: a test failed, or broke
+before it judged (its requirements NOT JUDGED); 2: bad input (options, a path, no tests found).
 
 examples:
   workbench test --report out/
   workbench test -n 2 --report out/
   workbench test -k tank_ctrl
+  workbench test --req SW_REQ_ID_001 --req SW_REQ_ID_002.2 --repeat 3
+  workbench test my_tests/ --report out/ -- -x -v
   workbench test --interface udp_multicast --channel 239.74.163.2 --bus-kwargs port=43200
   workbench test my_tests/ --a2l project.a2l --interface socketcan --channel can0 --dbc vehicle.dbc
   workbench test --interface udp_multicast --bus-kwargs port=43200 --can2-channel 239.74.163.3 --can2-bus-kwargs port=43201
@@ -45,6 +49,11 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     parser.add_argument("-n", dest="workers", type=positive_int, metavar="N",
                         help="run the tests in N worker processes (pytest-xdist; simulated ECUs only)")
     parser.add_argument("-k", dest="keyword", metavar="EXPR", help="only the tests whose names match EXPR (pytest -k)")
+    parser.add_argument("--req", action="append", metavar="ID",
+                        help="only the tests that verify requirement ID or one below it (SW_REQ_ID_001: "
+                             "SW_REQ_ID_001.1 ...); repeatable")
+    parser.add_argument("--repeat", type=positive_int, metavar="N", help="run each test N times (pytest-repeat's "
+                                                                          "--count; one testcase per run)")
     parser.add_argument("--requirements", metavar="CSV", help="requirements catalogue (id,name,description) to trace "
                                                                "(default for the FLCU suite: its own)")
     parser.add_argument("--dbc", metavar="DBC", help="CAN2 database (default: the demo's)")
@@ -55,7 +64,20 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     parser.add_argument("--sim-control", metavar="HOST:PORT",
                         help="a workbench sim's control channel (default: found by the bus options)")
     add_ecu_arguments(parser, json_output=False)
-    parser.set_defaults(func=run)
+    parser.set_defaults(func=run, pytest_args=[])
+    parse_known_args = parser.parse_known_args
+
+    def parse_with_pytest_args(args=None, namespace=None):
+        """What follows ``--`` is pytest's, as it is (argparse would take it for PATHs, or refuse it after an option)."""
+        extra = []
+        if args is not None and "--" in args:
+            at = args.index("--")
+            args, extra = args[:at], args[at + 1:]
+        namespace, rest = parse_known_args(args, namespace)
+        namespace.pytest_args = extra
+        return namespace, rest
+
+    parser.parse_known_args = parse_with_pytest_args
 
 
 def suite_path() -> Path:
@@ -93,13 +115,17 @@ def pytest_arguments(args: argparse.Namespace) -> list[str]:
     requirements = args.requirements or (str(suite_path() / "requirements.csv") if not args.paths else None)
     if requirements:
         argv += ["--requirements", requirements]
+    for requirement_id in args.req or ():
+        argv += ["--req", requirement_id]
+    if args.repeat:
+        argv += ["-p", "repeat", "--count", str(args.repeat)]  # pytest-repeat, by its entry point's name
     if args.workers:
         if real_ecu:
             raise InputError("-n runs a simulated ECU per worker; a real ECU (bus options) takes one master at a time")
         if importlib.util.find_spec("xdist") is None:
             raise InputError("-n needs pytest-xdist: pip install pytest-xdist")
         argv += ["-p", "xdist", "-n", str(args.workers)]  # its entry point's name
-    return argv
+    return argv + list(args.pytest_args)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -112,7 +138,7 @@ def run(args: argparse.Namespace) -> int:
             raise InputError(f"--report {report}: is a file; name a folder")
     code = int(pytest.main(argv))
     if code == 5:
-        raise InputError("no tests found (check PATH and -k)")
+        raise InputError("no tests found (check PATH, -k and --req)")
     if code == 3:
         raise WorkbenchError("pytest stopped with an internal error (see above)")
     return _PYTEST_EXIT.get(code, 1)

@@ -53,6 +53,8 @@ def pytest_addoption(parser: pytest.Parser) -> None:
                                                                "the bus options)")
     group.addoption("--report", metavar="DIR", help="write DIR/junit.xml, DIR/report.html and the MF4 evidence")
     group.addoption("--requirements", metavar="CSV", help="the requirements (id,name,description) the report traces")
+    group.addoption("--req", action="append", metavar="ID", help="only the tests that verify requirement ID or one "
+                                                                 "below it (SW_REQ_ID_001: SW_REQ_ID_001.1 ...); repeatable")
 
 
 @pytest.hookimpl(tryfirst=True)
@@ -73,11 +75,41 @@ def pytest_configure(config: pytest.Config) -> None:
         _target(config)
 
 
-def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+@pytest.hookimpl(tryfirst=True)  # --req judges the tests collected, before -k takes some away
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     for item in items:
         for mark in item.iter_markers(REQUIREMENT_MARK):
             for requirement_id in mark.args:
                 item.user_properties.append(("requirement", str(requirement_id)))
+    wanted = config.getoption("req")
+    if wanted:
+        _select_requirements(config, items, wanted)
+
+
+def traces(requirement_id: str, wanted: str) -> bool:
+    """``requirement_id`` is ``wanted`` or below it: SW_REQ_ID_001.1 is below SW_REQ_ID_001, SW_REQ_ID_0011 is not."""
+    return requirement_id == wanted or requirement_id.startswith(wanted + ".")
+
+
+def _select_requirements(config: pytest.Config, items: list[pytest.Item], wanted: list[str]) -> None:
+    """Keep the tests that verify a ``--req`` requirement. :raises pytest.UsageError: an id no test verifies (a
+    misspelt id would run less than asked and pass)."""
+    ids = {item: [value for key, value in item.user_properties if key == "requirement"] for item in items}
+    missing = [want for want in wanted if not any(traces(i, want) for each in ids.values() for i in each)]
+    if missing:
+        import difflib
+
+        known = sorted({i for each in ids.values() for i in each})
+        close = difflib.get_close_matches(missing[0], known, n=3)
+        raise pytest.UsageError(f"--req {missing[0]}: no test collected verifies it"
+                                + (f"; did you mean {', '.join(close)}?" if close else
+                                   f" ({len(known)} requirement ids in the tests collected)"))
+    selected = [item for item in items if any(traces(i, want) for i in ids[item] for want in wanted)]
+    kept = set(selected)
+    deselected = [item for item in items if item not in kept]
+    if deselected:
+        config.hook.pytest_deselected(items=deselected)
+        items[:] = selected
 
 
 VERDICT_ERROR = ("verdict", "error")  # a user property of a call that broke before it judged (JUnit shows it too)
