@@ -31,8 +31,8 @@ def test_its_own_frames_are_not_another_node_and_silence_is_told(free_udp_port):
         assert port.competing() == {} and port.silent()  # it sent, nobody else spoke
         other.send(can.Message(arbitration_id=0x110, is_extended_id=False, data=b"\x00"))  # a second PCM
         other.send(can.Message(arbitration_id=0x123, is_extended_id=False, data=b"\x10\x09\x00\x00"))  # the ECU
-        assert _until(lambda: port.competing() == {"PCM_TO_FLCU_001": 1} and not port.silent())
-        assert len(port.frame_times("FLCU_TO_PCM_002")) == 1
+        assert _until(lambda: len(port.frame_times("FLCU_TO_PCM_002")) == 1)  # sent after the PCM's: both came
+        assert port.competing() == {"PCM_TO_FLCU_001": 1} and not port.silent()
     finally:
         port.close()
         other.shutdown()
