@@ -158,6 +158,7 @@ class _Rules:
         prefixes = [_literal_prefixes(pattern) for _, pattern in self.patterns]
         self._any_name = any(found is None or "" in found for found in prefixes)
         self._starts = tuple(prefix for found in prefixes if found is not None for prefix in found)
+        self._longest = max(map(len, self._starts), default=0)
         self.paths = list(selection.paths)
         self.matched: Counter[str] = Counter()
         self.in_range: Counter[tuple[int, int]] = Counter()
@@ -174,7 +175,8 @@ class _Rules:
         """Whether a pattern may match ``path`` or a name that starts with it (a member, an element)."""
         if self._any_name:
             return True
-        return path.startswith(self._starts) or any(start.startswith(path) for start in self._starts)
+        return path.startswith(self._starts) or (len(path) < self._longest
+                                                 and any(start.startswith(path) for start in self._starts))
 
     def may_hold(self, address: int, size: int) -> bool:
         """Whether a range holds a byte of ``[address, address + size)``."""
@@ -270,12 +272,13 @@ class _Inserter:
         by_name: dict[str, list] = {}
         for variable in variables:
             by_name.setdefault(variable.name, []).append(variable)  # a2ltool's names: without their scopes
+        if not any(rule.ranges for rule in self.active):  # what no pattern can name is known without its type
+            by_name = {name: found for name, found in by_name.items()
+                       if any(rule.may_name(name) for rule in self.active)}
         for number, (name, found) in enumerate(by_name.items()):
             if number % 256 == 0:
                 report_progress(progress, number, len(by_name), "walking the ELF's variables")
             first, *others = found
-            if not any(rule.ranges or rule.may_name(name) for rule in self.active):
-                continue  # known without its type
             self._walk(_Leaf(name, first.address, self.debug.type_of(first), spec=_vector_spec(first) if others
                              else ""), frozenset())
             for other in others:
