@@ -11,8 +11,9 @@ from workbench import demo
 from workbench.a2l import load_a2l, read_xcp_config
 from workbench.errors import InputError
 from workbench.flash import DEMO_APP_KEY, AppKey, FlashLayout, FlashRefused, Sector, plan_file, plan_flash
-from workbench.flash.plan import with_sectors
+from workbench.flash.plan import programming_frames, with_sectors
 from workbench.image import AddressRange, MemoryImage, load_image
+from workbench.sim.demo_ecu import build_demo_ecu
 from workbench.sim.memory_map import HDS9
 
 EPK = b"10300020250301\0\0"
@@ -146,10 +147,19 @@ def test_the_ecus_finer_sectors_erase_only_those_the_ranges_touch(layout):
 def test_the_estimate_counts_the_frames_of_block_mode(layout):
     full = image((0xFC0000, EPK), (0xFC0010, bytes(0x20000 - 0x10)))  # one range of 128 KiB
     plan = plan_flash(full, layout, ["CALIB"])
-    frames = -(-0x20000 // 6) + -(-0x20000 // 252) + 2  # data frames, one response a block, SET_MTA
+    frames = -(-0x20000 // 6) + -(-0x20000 // 252) + 4  # data frames, one response a block, SET_MTA, PROGRAM 0
     assert plan.frames(252, 6) == frames
     fastest, slowest = plan.bus_time_s(1_000_000)
     assert fastest == frames * 111 / 1e6 and slowest == frames * 135 / 1e6
+
+
+@pytest.mark.parametrize(("profile", "frames"), [("demo", (252, 6)), ("boot-minimal", (6, 6)), ("slow-flash", (54, 6)),
+                                                 ("no-block-mode", (7, 7)), ("granularity-dword", (172, 4))])
+def test_the_estimate_takes_the_blocks_and_frames_of_the_a2ls_pgm(profile, frames):
+    """PGM's COMMUNICATION_MODE_SUPPORTED (MAX_BS_PGM) and MAX_CTO_PGM, not the protocol layer's; one PROGRAM a
+    response without master block mode (PROGRAM_MAX where the ECU has it); whole elements of the granularity."""
+    doc = build_demo_ecu(slave_profile=profile).a2l
+    assert programming_frames(read_xcp_config(doc).for_transport("CAN")) == frames
 
 
 def test_the_demo_s19_loads_as_the_simulated_ecu_holds_it():

@@ -148,12 +148,10 @@ def _working_page_plan(session, app_key, args: argparse.Namespace):
 
 def _dry_run(session, plan, args: argparse.Namespace) -> int:
     from workbench.flash import check_flash
+    from workbench.flash.plan import programming_frames
 
     plan, notes = check_flash(session, plan, _options(args))  # refused as the flash would be: exit 1, nothing touched
-    pgm = session.config.pgm
-    mode = pgm.communication_mode if pgm is not None and pgm.communication_mode else session.config.communication_mode
-    per_frame = (pgm.max_cto_pgm if pgm is not None and pgm.max_cto_pgm else session.config.max_cto) - 2
-    block = min(255 // per_frame, 1 + mode.max_bs) * per_frame if mode and mode.max_bs else per_frame
+    block, per_frame = programming_frames(session.config)
     bitrate = (session.bus_spec.bitrate if session.bus_spec else None) or (
         session.config.can.baudrate if session.config.can else None)
     estimate = plan.bus_time_s(bitrate, block, per_frame) if bitrate and session.link.is_can else None

@@ -15,12 +15,13 @@ from pathlib import Path
 from dataclasses import dataclass, replace
 from typing import Any
 
+from workbench.a2l import XcpConfig
 from workbench.errors import InputError, epk_text
 from workbench.flash.errors import FlashRefused
 from workbench.flash.layout import DEMO_APP_KEY, AppKey, FlashLayout, FlashRegion, Sector
 from workbench.image import ERASED, AddressRange, MemoryImage, load_image
 
-__all__ = ["FlashPlan", "RegionPlan", "plan_file", "plan_flash", "with_sectors"]
+__all__ = ["FlashPlan", "RegionPlan", "plan_file", "plan_flash", "programming_frames", "with_sectors"]
 
 STANDARD_FRAME_BITS = (111, 135)  # an 8-byte classic CAN frame, 11-bit id: no stuff bits / the most there can be
 
@@ -86,7 +87,7 @@ class FlashPlan:
         """CAN frames the PROGRAM commands take: ``per_frame`` data bytes a frame, one response a block."""
         frames = 0
         for held in self.image.ranges:
-            frames += math.ceil(held.size / per_frame) + math.ceil(held.size / block_size) + 2  # + SET_MTA exchange
+            frames += math.ceil(held.size / per_frame) + math.ceil(held.size / block_size) + 4  # + SET_MTA, PROGRAM 0
         return frames
 
     def bus_time_s(self, bitrate: int, block_size: int = 252, per_frame: int = 6) -> tuple[float, float]:
@@ -164,6 +165,22 @@ def plan_file(path: str | Path, layout: FlashLayout, regions: list[str] | tuple[
     """
     return plan_flash(load_image(path), layout, regions, source=Path(path).name, allow_boot=allow_boot,
                       app_key=app_key)
+
+
+def programming_frames(config: XcpConfig) -> tuple[int, int]:
+    """(bytes a block, bytes a frame) of the programming as the A2L states it (PROGRAM_START may say otherwise at
+    run time): frames of MAX_CTO_PGM, blocks of 1 + MAX_BS_PGM of them where PGM's COMMUNICATION_MODE_SUPPORTED
+    has master block mode (the protocol layer's when there is no PGM block), else one PROGRAM (PROGRAM_MAX where the
+    ECU has it) a response."""
+    pgm, ag = config.pgm, config.address_granularity
+    max_cto = min(pgm.max_cto_pgm or config.max_cto, config.max_cto) if pgm is not None else config.max_cto
+    per_frame = (max_cto - max(2, ag)) // ag * ag
+    mode = pgm.communication_mode if pgm is not None else config.communication_mode
+    if mode is not None and mode.master_block_mode and mode.max_bs:
+        return min(255 * ag // per_frame, 1 + mode.max_bs) * per_frame, per_frame
+    if "PROGRAM_MAX" in config.optional_commands:
+        per_frame = (max_cto - ag) // ag * ag
+    return per_frame, per_frame
 
 
 def with_sectors(plan: FlashPlan, layout: FlashLayout) -> FlashPlan:
