@@ -16,6 +16,7 @@ from workbench.cli import main
 from workbench.elf import ElfSymbols
 from workbench.image import MemoryImage, load_image
 from workbench.session import Session
+from workbench.sim import serve_demo
 from workbench.sim.memory_map import HDS9
 
 
@@ -187,3 +188,21 @@ def test_a_file_that_gives_back_only_part_of_a_sector_is_refused_unless_told(ben
     assert run_cli(bench, str(path), "--region", "CALIB", "--erase-beyond-file") == 0
     assert "erased and not written again (--erase-beyond-file): FDFFF0h-FDFFFFh" in capsys.readouterr().out
     assert bench.ecu.read(0xFDFFF0, 16) == b"\xff" * 16
+
+
+def test_the_cli_flashes_a_boot_loader_of_another_kind_with_the_a2l_it_publishes(tmp_path, capsys):
+    """``workbench sim --profile boot-minimal --write-a2l`` gives the A2L a master needs; ``workbench flash --a2l``
+    with it programs the demo s19 as that boot loader wants (the A2L's small sectors, one PROGRAM a frame, pages
+    ended by PROGRAM 0) and verifies it by UPLOAD (the profile matrix flashes every profile through the library)."""
+    profile = "boot-minimal"
+    where = {"interface": "virtual", "channel": f"cli-flash-{profile}"}
+    with serve_demo(dict(where), profile=profile, time_scale=None) as simulator:
+        a2l = tmp_path / f"{profile}.a2l"
+        a2l.write_bytes(simulator.a2l.source.file_bytes(simulator.a2l.data))
+        code = main(["flash", str(demo.s19()), "-r", "CALIB", "-r", "APPLICATIVE", "--a2l", str(a2l),
+                     "--interface", "virtual", "--channel", where["channel"]])
+        out = capsys.readouterr().out
+        assert code == 0, out
+        assert "verified: read-back of 3 sectors" in out and "the application runs" in out
+        image = load_image(demo.s19())
+        assert all(simulator.ecu.read(address, len(data)) == data for address, data in image.segments)
