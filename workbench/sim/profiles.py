@@ -145,14 +145,14 @@ PROFILES: dict[str, SlaveProfile] = {p.name: p for p in (
                  xcp={"without": _BOOT_LOADER_LACKS}, pgm={"master_block_mode": False, "page_size": 256},
                  sector_sizes=_SMALL_SECTORS),
     SlaveProfile("slow-flash", "PROGRAM_CLEAR answers 0.6 s late, longer than its A2L's T4 (400 ms; T1 300 ms), with "
-                 "an EV_CMD_PENDING every 250 ms meanwhile; the ECU boots 1 s after PROGRAM_RESET answering nothing "
+                 "an EV_CMD_PENDING every 150 ms meanwhile; the ECU boots 1 s after PROGRAM_RESET answering nothing "
                  "(T6 400 ms); PROGRAM in master blocks of its own (MAX_BS_PGM 8, MIN_ST_PGM 0.5 ms, MAX_CTO_PGM 32 "
                  "on Ethernet) while DOWNLOAD has no master block mode",
                  "T4 (not T1) for an erase, restarted by EV_CMD_PENDING; CONNECT tried again (T6 each) until the ECU "
                  "has booted; PROGRAM_START's MAX_CTO_PGM, MAX_BS_PGM and MIN_ST_PGM, not the other commands'",
                  xcp={"master_block_mode": False, "max_bs": 1},
                  pgm={"master_block_mode": True, "max_bs": 8, "min_st_100us": 5, "max_cto": 32, "erase_s": 0.6,
-                      "pending_s": 0.25, "boot_s": 1.0}, timeouts_ms={"t1": 300, "t4": 400, "t6": 400}),
+                      "pending_s": 0.15, "boot_s": 1.0}, timeouts_ms={"t1": 300, "t4": 400, "t6": 400}),
 )}
 
 
