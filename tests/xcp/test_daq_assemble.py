@@ -132,6 +132,35 @@ def test_a_byte_counter_survives_a_host_stall_near_its_wrap_and_counts_a_real_ga
     assert np.allclose(seconds, true_s, atol=1e-9)
 
 
+def test_a_byte_counter_takes_a_burst_after_a_stall_longer_than_its_wrap_for_no_wrap():
+    """A loaded host: the slave (or the master) stalls 300 ms, then what it owes comes in one burst, read at once;
+    the burst's last samples travelled fast again, so the first ones after the stall are no wrap (they were
+    counted as 256 ms on, their samples as lost, and each such error made the next one likelier)."""
+    clock = DaqClock(1, 1e-3)
+    true_s = np.arange(0, 2.0, 0.004)
+    counts = np.rint(true_s * 1e3).astype(np.int64) % 256
+    arrival_s = true_s + 0.0005
+    stalled = (true_s > 0.602) & (true_s < 0.91)
+    arrival_s[stalled] = 0.9102 + np.arange(stalled.sum()) * 1e-6  # the burst, 1 us a sample
+    host_ns = (7_000_000_000 + arrival_s * 1e9).astype(np.int64)
+    reads = np.searchsorted(arrival_s, np.arange(0.05, 2.05, 0.05), side="right")  # read every 50 ms, as a recorder
+    seconds = np.concatenate([clock.times(0, counts[a:b], host_ns[a:b])[0]
+                              for a, b in zip(np.concatenate(([0], reads[:-1])), reads, strict=True) if b > a])
+    assert np.allclose(seconds, true_s, atol=1e-9)
+
+
+def test_a_byte_counter_of_a_slow_slave_clock_keeps_its_wraps_for_an_hour():
+    """A slave crystal 100 ppm slower than the host's: every travel grows 0.1 ms a second; after 37 minutes it had
+    grown by the margin of 224 ms and each sample was taken 256 ms on (a phantom wrap)."""
+    clock = DaqClock(1, 1e-3)
+    host_s = np.arange(0, 3600, 0.1)
+    slave_ticks = np.rint(host_s * (1 - 1e-4) * 1e3).astype(np.int64)
+    host_ns = (9_000_000_000 + (host_s + 0.0005) * 1e9).astype(np.int64)
+    seconds = np.concatenate([clock.times(0, slave_ticks[i:i + 100] % 256, host_ns[i:i + 100])[0]
+                              for i in range(0, len(host_s), 100)])
+    assert np.allclose(seconds, slave_ticks * 1e-3, atol=1e-9)
+
+
 def test_without_timestamps_the_host_clock_is_used():
     clock = DaqClock(0, 1e-5)
     seconds, host = clock.times(0, None, np.array([2_000_000_000, 2_500_000_000]))

@@ -7,6 +7,14 @@ the fastest one so far, so it takes the most wraps that keep its travel time at 
 margin of an eighth of a wrap). A 16-bit counter of 10 µs ticks that wraps every 0.65 s is unwrapped
 for a list sampled once a second, and a 1-byte millisecond counter (a wrap every 256 ms) through a
 stall of the host of up to 220 ms (a count of wraps rounded from arrival gaps erred past 128 ms).
+A stall (of the host, or of a slave that then sends what it owes at once) ends in a burst whose last
+samples travelled fast again: every sample is judged by the fastest travel from it to the end of its
+batch, since the samples after it in the burst count on from it without a wrap; a stall longer than a
+wrap is no wrap then either, when its burst comes in one read (a 1-byte counter had taken every stall
+past 220 ms for a wrap, each one lowering the fastest travel by up to 32 ms, so that a loaded host
+gathered 25 s of phantom wraps in 3 minutes and counted their samples as lost). The fastest travel
+may rise by ``max_drift`` as the slave's time runs on: a slave clock slower than the host's makes
+every travel longer, 224 ms after 37 minutes at 100 ppm, which would have been a phantom wrap.
 
 Host time = slave time + offset, where the offset is the smallest (arrival − slave time) seen:
 the sample that travelled fastest. It may rise slowly (``max_drift``) so that a slave clock
@@ -69,9 +77,11 @@ class DaqClock:
         unwrapped = previous + np.cumsum(steps)  # no wrap beyond what each step shows
         wrap_s = self.modulus * self.resolution_s
         travel = host_s - unwrapped * self.resolution_s  # minus what the missing wraps would add to the slave time
-        missing = np.floor((travel - fastest + wrap_s / 8) / wrap_s).astype(np.int64)
+        settled = np.minimum.accumulate(travel[::-1])[::-1]  # a burst is judged by its fastest sample (see above)
+        missing = np.floor((settled - fastest + wrap_s / 8) / wrap_s).astype(np.int64)
         unwrapped = unwrapped + np.maximum.accumulate(np.maximum(missing, 0)) * self.modulus
-        fastest = min(fastest, float(np.min(host_s - unwrapped * self.resolution_s)))
+        drifted = fastest + self.max_drift * max(int(unwrapped[-1]) - previous, 0) * self.resolution_s
+        fastest = min(drifted, float(np.min(host_s - unwrapped * self.resolution_s)))
         self._last[daq_list] = (int(counts[-1]), int(unwrapped[-1]), fastest)
         return unwrapped
 
