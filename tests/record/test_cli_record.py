@@ -18,7 +18,6 @@ from sim_process import start_sim_process
 
 from workbench import demo
 from workbench.cli import main
-from workbench.record import finalize
 
 CLI = [sys.executable, "-c", "from workbench.cli import entry_point; entry_point()"]
 
@@ -69,7 +68,21 @@ def test_recording_options_out_of_place_are_usage_errors(capsys, tmp_path, optio
     assert (code, out) == (2, "") and message in err and not (tmp_path / "x.mf4").exists()
 
 
-def test_a_killed_recording_leaves_a_readable_file(free_udp_port, tmp_path, read_mdf):
+def test_record_is_measure_record_as_a_command_of_its_own(bus, capsys, tmp_path, read_mdf):
+    path = tmp_path / "run.mf4"
+    code, out, err = run(capsys, "record", str(path), "xsDC", "xsTankCtrlState", "--duration", "0.3", *bus)
+    assert code == 0 and err == "" and out.startswith(f"recorded {path}: ")
+    assert len(channel(read_mdf(path), "Task50ms", "xsDC")) >= 5
+    for argv, message in ((["record"], "name the file to record to"),
+                          (["record", str(tmp_path / "none.mf4")], "nothing to record to"),
+                          (["record", str(path), "--repair", str(path)], "--repair FILE... takes the files"),
+                          (["record", "--repair", str(tmp_path / "gone.mf4")], "gone.mf4: cannot read")):
+        code, out, err = run(capsys, *argv, *bus)
+        assert (code, out) == (2, "") and message in err, argv
+    assert not (tmp_path / "none.mf4").exists()
+
+
+def test_a_killed_recording_leaves_a_readable_file(free_udp_port, tmp_path, read_mdf, capsys):
     """SIGKILL, no chance to finalize: the file where it was asked for holds everything up to the last flush."""
     bus = ["--bus-kwargs", f"port={free_udp_port}"]
     sim, _ = start_sim_process("--pcm", *bus)
@@ -98,8 +111,13 @@ def test_a_killed_recording_leaves_a_readable_file(free_udp_port, tmp_path, read
         assert np.allclose(extracted.get("TargetRailPressure").samples, 25.0)
     finally:
         extracted.close()
-    assert finalize(path) and path.read_bytes()[:8] == b"MDF     "
-    assert len(master(read_mdf(path), "Task4ms")) == len(times)
+    code = main(["record", "--repair", str(path), "--json"])  # for MATLAB's mdfInfo, which refuses unfinalized files
+    (report,) = json.loads(capsys.readouterr().out)
+    assert code == 0 and report["finalized"] and path.read_bytes()[:8] == b"MDF     "
+    assert report["groups"]["Task4ms"] == len(master(read_mdf(path), "Task4ms")) == len(times)
+    assert report["seconds"] >= times[-1]
+    assert main(["record", "--repair", str(path)]) == 0
+    assert capsys.readouterr().out.startswith(f"{path}: was finalized already; ")
 
 
 @pytest.mark.parametrize("signal_number", [signal.SIGINT, signal.SIGTERM], ids=["ctrl-c", "sigterm"])

@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from workbench import __version__
 from workbench.errors import InputError
 from workbench.record import ChannelSpec, GroupSpec, HeaderSpec, MdfStreamWriter, finalize
 
@@ -44,7 +45,8 @@ def check(mdf, records: int, slow: int | None = None) -> None:
 @pytest.mark.parametrize("compress", [True, False])
 def test_records_read_back_exactly_after_every_flush(tmp_path, read_mdf, compress):
     path = tmp_path / "stream.mf4"
-    writer = MdfStreamWriter(path, GROUPS, HeaderSpec("test", properties={"bench": "yes"}), compress=compress)
+    writer = MdfStreamWriter(path, GROUPS, HeaderSpec("test", author="tester", properties={"bench": "yes"}),
+                             compress=compress)
     check(read_mdf(path), 0)  # complete before the first record
     for flush in range(4):
         append(writer, flush * 250, 250)
@@ -61,6 +63,9 @@ def test_records_read_back_exactly_after_every_flush(tmp_path, read_mdf, compres
     assert "<e name=\"bench\">yes</e>" in mdf.header.comment
     assert [group.channel_group.acq_name for group in mdf.groups] == ["fast", "slow"]
     assert writer.file_bytes == path.stat().st_size
+    (history,) = mdf.file_history  # names the writer (a viewer's file info), not asammdf
+    assert "<tool_id>workbench</tool_id>" in history.comment and f"<tool_version>{__version__}<" in history.comment
+    assert "<user_name>tester</user_name>" in history.comment
 
 
 class Killed(Exception):

@@ -25,6 +25,7 @@ GROUPS: list[tuple[str, str]] = [
     ("dbc", "CAN database tools: message table, fix calibrations, driver callbacks"),
     ("info", "show ECU identification, EPK and protection state"),
     ("measure", "read signals by name (polling or DAQ), optionally record MDF4"),
+    ("record", "record signals (DAQ) and the CAN2 bus to MDF4; --repair a killed recording"),
     ("cal", "read/write calibrations by name, fix overrides, datasets"),
     ("flash", "flash the CALIB or APPLICATIVE region from an s19/hex"),
     ("gui", "open the calibration workbench window"),

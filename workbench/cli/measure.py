@@ -27,11 +27,13 @@ Ctrl-C or --duration ends the measurement (exit 0); with --daq the samples and l
 summed up on stderr, and DTOs of no list of ours (another master's DAQ) when any came.
 
 With --record the samples go to an MDF4 file instead (DAQ, ECU time, or the receive time when the
-ECU sends no timestamps, as the file says; raw values with the A2L's conversions): --can2 adds the CAN2 bus's frames decoded with a DBC, --raw-can every frame of that
-bus raw (ASAM MDF bus logging, which asammdf and CANape decode again with a DBC). The file is
-complete after every second of recording, also when the process is killed; Ctrl-C or --duration
-ends it. The CAN2 bus is the XCP bus unless --can2-interface/--can2-channel/--can2-bus-kwargs
-name another (e.g. --can2-channel 239.74.163.3 --can2-bus-kwargs port=43201).
+ECU sends no timestamps, as the file says; raw values with the A2L's conversions): --can2 adds the
+CAN2 bus's frames decoded with a DBC, --raw-can every frame of that bus raw (ASAM MDF bus logging,
+which asammdf and CANape decode again with a DBC). The file is complete after every second of
+recording, also when the process is killed (`workbench record --repair FILE` finalizes it then, for
+MATLAB); Ctrl-C, SIGTERM or --duration end it. The CAN2 bus is the XCP bus unless
+--can2-interface/--can2-channel/--can2-bus-kwargs name another (e.g. --can2-channel 239.74.163.3
+--can2-bus-kwargs port=43201).
 
 examples:
   workbench measure zsRailPressure xsDC                       # polled 10 times a second
@@ -57,15 +59,19 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     parser.add_argument("--raw", action="store_true", help="raw values, as the ECU holds them (no conversion)")
     recording = parser.add_argument_group("recording and CAN2")
     recording.add_argument("--record", metavar="OUT.mf4", help="record by DAQ to this MDF4 file (implies --daq)")
-    recording.add_argument("--can2", metavar="DBC", help="the CAN2 DBC: its signals by name, and with --record its "
-                                                         "frames decoded in the file")
-    recording.add_argument("--raw-can", action="store_true",
-                           help="also log every frame of the CAN2 bus raw (ASAM MDF bus logging)")
-    add_can2_bus_arguments(recording)
-    recording.add_argument("--overwrite", action="store_true",
-                           help="replace an existing OUT.mf4 when the recording ends (it stays until then)")
+    add_recording_arguments(recording, "its signals by name, and with --record its frames decoded in the file")
     add_ecu_arguments(parser)
     parser.set_defaults(func=run)
+
+
+def add_recording_arguments(group, can2_help: str) -> None:
+    """--can2, --raw-can, the CAN2 bus and --overwrite: how ``measure --record`` and ``record`` take them."""
+    group.add_argument("--can2", metavar="DBC", help=f"the CAN2 DBC: {can2_help}")
+    group.add_argument("--raw-can", action="store_true",
+                       help="also log every frame of the CAN2 bus raw (ASAM MDF bus logging)")
+    add_can2_bus_arguments(group)
+    group.add_argument("--overwrite", action="store_true",
+                       help="replace an existing OUT.mf4 when the recording ends (it stays until then)")
 
 
 def run(args: argparse.Namespace) -> int:

@@ -3,7 +3,7 @@
 * :mod:`~workbench.record.recorder` — :class:`Recorder` (non-blocking, a context manager) and
   :func:`record` (for a duration); :class:`RecordingStats`;
 * :mod:`~workbench.record.mdf_stream` — :class:`MdfStreamWriter`: an MDF4 file readable after every flush;
-  :func:`finalize` for a file whose recording was killed;
+  :func:`finalize` for a file whose recording was killed, :func:`contents` what a file holds;
 * :mod:`~workbench.record.daq_channels` — DAQ events as channel groups (A2L names, units, conversions);
 * :mod:`~workbench.record.conversions` — COMPU_METHODs as MDF conversions, checked against asammdf;
 * :mod:`~workbench.record.can_channels` — DBC messages as channel groups, and ASAM bus logging;
@@ -20,12 +20,14 @@ from workbench.lazy_exports import lazy_exports
 
 _EXPORTS = {
     "workbench.record.recorder": ("CAN2_BUS_CHANNEL", "Recorder", "RecordingStats", "record"),
-    "workbench.record.mdf_stream": ("ChannelSpec", "GroupSpec", "HeaderSpec", "MdfStreamWriter", "SourceSpec", "finalize"),
+    "workbench.record.mdf_stream": ("ChannelSpec", "GroupContents", "GroupSpec", "HeaderSpec", "MdfStreamWriter",
+                                    "SourceSpec", "contents", "finalize"),
     "workbench.record.conversions": ("MdfEncoding", "mdf_encoding"),
 }
 __all__, __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerly
     from workbench.record.conversions import MdfEncoding, mdf_encoding
-    from workbench.record.mdf_stream import ChannelSpec, GroupSpec, HeaderSpec, MdfStreamWriter, SourceSpec, finalize
+    from workbench.record.mdf_stream import (ChannelSpec, GroupContents, GroupSpec, HeaderSpec, MdfStreamWriter,
+                                             SourceSpec, contents, finalize)
     from workbench.record.recorder import CAN2_BUS_CHANNEL, Recorder, RecordingStats, record

@@ -44,7 +44,8 @@ from workbench.logs import logger
 
 log = logger(__name__)
 
-__all__ = ["ChannelSpec", "GroupSpec", "HeaderSpec", "MdfStreamWriter", "SourceSpec", "finalize"]
+__all__ = ["ChannelSpec", "GroupContents", "GroupSpec", "HeaderSpec", "MdfStreamWriter", "SourceSpec", "contents",
+           "finalize"]
 
 MDF_VERSION = "4.11"
 COMPRESSION_LEVEL = 1  # zlib: level 1 already shrinks DAQ records 4-10x (transposed), higher costs far more time
@@ -93,13 +94,15 @@ class GroupSpec:
 
 @dataclass(frozen=True)
 class HeaderSpec:
-    """The file header: ``description`` its text, ``properties`` the common properties (name -> text)."""
+    """The file header: ``description`` its text, ``properties`` the common properties (name -> text);
+    ``history`` what the file history's entry says was done (its tool: the workbench)."""
 
     description: str = ""
     author: str = ""
     project: str = ""
     subject: str = ""
     properties: dict[str, str] = field(default_factory=dict)
+    history: str = "created"
 
     def xml(self) -> str:
         """The header comment as MDF4 has it: ``<HDcomment>`` with ``<TX>`` and ``<common_properties>``."""
@@ -110,6 +113,18 @@ class HeaderSpec:
         for name, value in named.items():
             if value:
                 ElementTree.SubElement(common, "e", name=name).text = value
+        return ElementTree.tostring(root, encoding="unicode")
+
+    def history_xml(self) -> str:
+        """The file history entry (FH block comment): what was done, by which tool and user. A viewer's file
+        info (CANape, asammdf, MATLAB's mdfInfo) names the workbench as the tool that wrote the file."""
+        from workbench import __version__
+
+        root = ElementTree.Element("FHcomment")
+        for tag, text in (("TX", self.history), ("tool_id", "workbench"), ("tool_vendor", "workbench"),
+                          ("tool_version", __version__), ("user_name", self.author)):
+            if text:
+                ElementTree.SubElement(root, tag).text = text
         return ElementTree.tostring(root, encoding="unicode")
 
 
@@ -154,10 +169,14 @@ class MdfStreamWriter:
         """asammdf writes every block but the data, to a temporary name first: the file at ``path``
         is complete from its first moment."""
         from asammdf import MDF, Signal, Source
+        from asammdf.blocks.v4_blocks import FileHistory
 
         mdf = MDF(version=MDF_VERSION)
         mdf.header.start_time = _local_time(start_time)
         mdf.header.comment = header.xml()
+        history = FileHistory()
+        history.comment = header.history_xml()
+        mdf.file_history.append(history)  # instead of asammdf's own "created" entry, which names asammdf
         for spec in self.specs:
             source = spec.source
             acq_source = None if source is None else Source(source.name, source.path, source.comment,
@@ -174,7 +193,7 @@ class MdfStreamWriter:
         fd, temporary = tempfile.mkstemp(prefix=f".{self.path.name}.", suffix=".tmp.mf4", dir=self.path.parent)
         os.close(fd)  # asammdf's save() opens it again (and would add ".mf4" to another suffix)
         try:
-            mdf.save(temporary, overwrite=True)
+            mdf.save(temporary, overwrite=True, add_history_block=False)
             mdf.close()
             umask = os.umask(0)
             os.umask(umask)
@@ -331,10 +350,8 @@ def finalize(path: str | Path) -> bool:
     """Mark a recording whose writer was killed as finalized, in place: each channel group's cycle counter
     set to the records its data holds (as asammdf counts them). Returns False when it was finalized already.
 
-    :raises InputError: ``path`` is no MDF4 file asammdf can read.
+    :raises InputError: ``path`` is no MDF4 file asammdf can read. :raises WorkbenchError: it cannot be written.
     """
-    from asammdf import MDF
-
     path = Path(path)
     try:
         with open(path, "rb") as handle:
@@ -343,24 +360,63 @@ def finalize(path: str | Path) -> bool:
         raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
     if head[:8] == _FINALIZED and not struct.unpack_from("<H", head, _UNFINALIZED_FLAGS_AT)[0]:
         return False
-    try:
-        mdf = MDF(path)  # reads an unfinalized file from a copy, counting the records from the data
-    except Exception as exc:  # asammdf's errors have no common base; every one means "not readable"
-        raise InputError(f"{path}: not an MDF4 file asammdf can read ({exc})") from None
+    mdf = _open_mdf(path)  # reads an unfinalized file from a copy, counting the records from the data
     try:
         counters = [(group.channel_group.address + 24 + 8 * group.channel_group.links_nr + 8,
                      group.channel_group.cycles_nr) for group in mdf.groups]
     finally:
         mdf.close()
-    with open(path, "r+b") as handle:
-        for address, cycles in counters:
-            handle.seek(address)
-            handle.write(_U64.pack(cycles))
-        handle.flush()
-        os.fsync(handle.fileno())
-        _mark(handle, finalized=True)
-        os.fsync(handle.fileno())
+    try:
+        with open(path, "r+b") as handle:
+            for address, cycles in counters:
+                handle.seek(address)
+                handle.write(_U64.pack(cycles))
+            handle.flush()
+            os.fsync(handle.fileno())
+            _mark(handle, finalized=True)
+            os.fsync(handle.fileno())
+    except OSError as exc:
+        raise WorkbenchError(f"{path}: cannot finalize it ({exc.strerror or exc})") from None
     return True
+
+
+@dataclass(frozen=True)
+class GroupContents:
+    """What one channel group of a recording holds: ``records`` samples from ``first_s`` to ``last_s`` (s on the
+    file's time axis; None when it holds none)."""
+
+    name: str
+    records: int
+    first_s: float | None
+    last_s: float | None
+
+
+def contents(path: str | Path) -> list[GroupContents]:
+    """What each channel group of an MDF4 file holds, by its acquisition name (a killed recording: up to its last
+    flush). :raises InputError: ``path`` is no MDF4 file asammdf can read."""
+    mdf = _open_mdf(path)
+    try:
+        found = []
+        for index, group in enumerate(mdf.groups):
+            times = mdf.get_master(index)
+            found.append(GroupContents(group.channel_group.acq_name or f"group {index}", len(times),
+                                       float(times[0]) if len(times) else None,
+                                       float(times[-1]) if len(times) else None))
+        return found
+    finally:
+        mdf.close()
+
+
+def _open_mdf(path: str | Path):
+    """asammdf's MDF of ``path``. :raises InputError: it cannot read the file."""
+    from asammdf import MDF
+
+    try:
+        return MDF(path)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    except Exception as exc:  # asammdf's errors have no common base; every one means "not readable"
+        raise InputError(f"{path}: not an MDF4 file asammdf can read ({exc})") from None
 
 
 def _mark(handle, *, finalized: bool) -> None:
