@@ -7,14 +7,18 @@ the fastest one so far, so it takes the most wraps that keep its travel time at 
 margin of an eighth of a wrap). A 16-bit counter of 10 µs ticks that wraps every 0.65 s is unwrapped
 for a list sampled once a second, and a 1-byte millisecond counter (a wrap every 256 ms) through a
 stall of the host of up to 220 ms (a count of wraps rounded from arrival gaps erred past 128 ms).
-A stall (of the host, or of a slave that then sends what it owes at once) ends in a burst whose last
-samples travelled fast again: every sample is judged by the fastest travel from it to the end of its
-batch, since the samples after it in the burst count on from it without a wrap; a stall longer than a
-wrap is no wrap then either, when its burst comes in one read (a 1-byte counter had taken every stall
-past 220 ms for a wrap, each one lowering the fastest travel by up to 32 ms, so that a loaded host
-gathered 25 s of phantom wraps in 3 minutes and counted their samples as lost). The fastest travel
-may rise by ``max_drift`` as the slave's time runs on: a slave clock slower than the host's makes
-every travel longer, 224 ms after 37 minutes at 100 ppm, which would have been a phantom wrap.
+Arrival says little on a loaded host, though: a stalled receiver, or a slave that falls behind and
+sends what it owes late, delivers samples long after they were taken (a simulated ECU at load 8 ran
+up to 0.7 s behind), and a 1-byte counter took every delay past 220 ms for a wrap, each one lowering
+the fastest travel by up to 32 ms: 25 s of phantom wraps in 3 minutes, their samples counted lost.
+So a list's own cycle comes first: a step of one cycle (within a sixteenth of it) is the next sample,
+whenever it arrived; only a step that is no cycle (samples were lost, or the cycle is not known) is
+unwrapped by arrival. That misreads a loss only when it is a whole number of wraps to within a
+sixteenth of a cycle (64 samples of a 4 ms list on a millisecond byte counter). Within a read, a
+burst is judged by its fastest sample (each sample by the fastest travel from it to the end of its
+batch: the samples after it count on from it). The fastest travel may rise by ``max_drift`` as the
+slave's time runs on: a slave clock slower than the host's makes every travel longer, 224 ms after
+37 minutes at 100 ppm, which would have been a phantom wrap.
 
 Host time = slave time + offset, where the offset is the smallest (arrival − slave time) seen:
 the sample that travelled fastest. It may rise slowly (``max_drift``) so that a slave clock
@@ -47,10 +51,12 @@ class DaqClock:
         self._offset_at_s = 0.0
         self._mapped: dict[int, tuple[float, float]] = {}  # list -> (its last sample's s, the offset it had)
 
-    def times(self, daq_list: int, counts: np.ndarray | None, host_ns: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def times(self, daq_list: int, counts: np.ndarray | None, host_ns: np.ndarray, period_s: float | None = None
+              ) -> tuple[np.ndarray, np.ndarray]:
         """(seconds since the measurement's first sample, host time in seconds since the epoch) per sample.
 
         ``counts``: the slave's raw timestamps (None: the slave sends none; host arrival is used).
+        ``period_s``: the list's cycle (its event's, prescaler included; None: not cyclic or not known).
         """
         host_ns = np.asarray(host_ns, dtype=np.int64)
         if self._origin_host_ns is None and len(host_ns):
@@ -58,13 +64,14 @@ class DaqClock:
         if counts is None or not self.modulus:
             seconds = (host_ns - self._origin_host_ns) * 1e-9
             return seconds, host_ns * 1e-9
-        unwrapped = self._unwrap(daq_list, np.asarray(counts, dtype=np.int64), host_ns)
+        unwrapped = self._unwrap(daq_list, np.asarray(counts, dtype=np.int64), host_ns,
+                                 period_s / self.resolution_s if period_s else None)
         if self._origin_count is None and len(unwrapped):
             self._origin_count = int(unwrapped[0])
         seconds = (unwrapped - self._origin_count) * self.resolution_s
         return seconds, self._host(daq_list, seconds, host_ns)
 
-    def _unwrap(self, daq_list: int, counts: np.ndarray, host_ns: np.ndarray) -> np.ndarray:
+    def _unwrap(self, daq_list: int, counts: np.ndarray, host_ns: np.ndarray, period: float | None) -> np.ndarray:
         if not len(counts):
             return counts
         host_s = host_ns * 1e-9
@@ -74,11 +81,16 @@ class DaqClock:
         else:
             previous_raw, previous, fastest = last
         steps = np.mod(np.diff(np.concatenate(([previous_raw], counts))), self.modulus)
-        unwrapped = previous + np.cumsum(steps)  # no wrap beyond what each step shows
+        regular = np.zeros(len(steps), dtype=bool)
+        if period:  # a step of one cycle (within a sixteenth) is the next sample, however late it came
+            wraps = np.maximum(np.rint((period - steps) / self.modulus), 0).astype(np.int64)
+            regular = np.abs(steps + wraps * self.modulus - period) <= max(1.0, period / 16)
+            steps = steps + np.where(regular, wraps, 0) * self.modulus
+        unwrapped = previous + np.cumsum(steps)  # no wrap beyond what each step and the cycle show
         wrap_s = self.modulus * self.resolution_s
         travel = host_s - unwrapped * self.resolution_s  # minus what the missing wraps would add to the slave time
         settled = np.minimum.accumulate(travel[::-1])[::-1]  # a burst is judged by its fastest sample (see above)
-        missing = np.floor((settled - fastest + wrap_s / 8) / wrap_s).astype(np.int64)
+        missing = np.where(regular, 0, np.floor((settled - fastest + wrap_s / 8) / wrap_s).astype(np.int64))
         unwrapped = unwrapped + np.maximum.accumulate(np.maximum(missing, 0)) * self.modulus
         drifted = fastest + self.max_drift * max(int(unwrapped[-1]) - previous, 0) * self.resolution_s
         fastest = min(drifted, float(np.min(host_s - unwrapped * self.resolution_s)))

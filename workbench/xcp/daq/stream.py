@@ -231,7 +231,7 @@ class DaqStream:
         host_ns = np.fromiter((s.host_ns for s in samples), dtype=np.int64, count=len(samples))
         counts = (np.fromiter((s.timestamp for s in samples), dtype=np.int64, count=len(samples))
                   if daq.timestamps else None)
-        time, host_time = self.clock.times(daq.number, counts, host_ns)
+        time, host_time = self.clock.times(daq.number, counts, host_ns, self.event_periods.get(daq.event))
         data = np.frombuffer(b"".join(s.data for s in samples), dtype=np.uint8).reshape(len(samples), daq.sample_size)
         self._count_gaps(daq, time)
         return DaqBatch(daq, time, host_time, data)
