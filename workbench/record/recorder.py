@@ -102,7 +102,7 @@ class RecordingStats:
 
 
 class Recorder:
-    """Record ``signals`` (MEASUREMENTs, by DAQ on each one's A2L event or on ``event``) of ``session``,
+    """Record ``signals`` (MEASUREMENTs or globs of them, by DAQ on each one's A2L event or on ``event``) of ``session``,
     and the CAN frames of the CAN2 bus, to the MDF4 file ``path``. A context manager (``start`` /
     ``stop``); stops by itself when the session closes.
 

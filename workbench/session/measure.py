@@ -54,14 +54,15 @@ class SampleBatch:
 
 
 class DaqMeasurement:
-    """A DAQ measurement of ``names`` (MEASUREMENTs), each on ``event`` or the event the A2L names for it."""
+    """A DAQ measurement of ``names`` (MEASUREMENTs, or globs of them: ``zsRail*``), each on ``event`` or the event
+    the A2L names for it."""
 
     def __init__(self, session: Session, names: Sequence[str], event: str | int | None = None, prescaler: int = 1):
         if not names:
             raise InputError("name at least one signal to measure")
         self.session = session
-        self.names = list(dict.fromkeys(names))
         model = session.model
+        self.names = list(dict.fromkeys(model.expand(names, "MEASUREMENT", what="measurement")))  # globs as the CLI
         self.codecs: dict[str, MeasurementCodec] = {}
         for name in self.names:
             obj = model.object(name)
