@@ -18,6 +18,7 @@ from workbench.image import MemoryImage, load_image
 from workbench.session import Session
 from workbench.sim import serve_demo
 from workbench.sim.memory_map import HDS9
+from workbench.sim.profiles import SlaveProfile
 
 
 THRESHOLD = "xsSWITCH_TANK_THR"
@@ -206,3 +207,18 @@ def test_the_cli_flashes_a_boot_loader_of_another_kind_with_the_a2l_it_publishes
         assert "verified: read-back of 3 sectors" in out and "the application runs" in out
         image = load_image(demo.s19())
         assert all(simulator.ecu.read(address, len(data)) == data for address, data in image.segments)
+
+
+def test_reconnect_waits_as_long_as_told_for_an_ecu_that_boots_slowly(tmp_path, capsys):
+    """An ECU that boots 1 s after PROGRAM_RESET, its A2L's T6 100 ms (three CONNECTs a try): --reconnect 0.2 gives up
+    (the flash is complete, exit 1, said so), the default 5 s waits for it."""
+    booting = SlaveProfile("slow-boot", "boots 1 s", "reconnect", pgm={"boot_s": 1.0}, timeouts_ms={"t6": 100})
+    where = {"interface": "virtual", "channel": "cli-flash-slow-boot"}
+    with serve_demo(dict(where), profile=booting, time_scale=None) as simulator:
+        a2l = tmp_path / "slow-boot.a2l"
+        a2l.write_bytes(simulator.a2l.source.file_bytes(simulator.a2l.data))
+        bus = ["--a2l", str(a2l), "--interface", "virtual", "--channel", where["channel"]]
+        assert main(["flash", str(demo.s19()), "-r", "CALIB", "--reconnect", "0.2", *bus]) == 1
+        error = capsys.readouterr().err
+        assert "complete and verified, but the ECU does not answer CONNECT after PROGRAM_RESET" in error
+        assert main(["flash", str(demo.s19()), "-r", "CALIB", *bus]) == 0

@@ -9,7 +9,7 @@ import threading
 from contextlib import contextmanager
 
 from workbench.cli.ecu_options import add_ecu_arguments, open_session
-from workbench.cli.options import print_json
+from workbench.cli.options import positive_float, print_json
 from workbench.cli.progressbar import ProgressBar
 from workbench.errors import Cancelled, InputError
 
@@ -61,6 +61,9 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     how.add_argument("--verify", choices=("checksum", "readback"), default="checksum",
                      help="checksum (BUILD_CHECKSUM of every erased sector, the default) or readback (and UPLOAD)")
     how.add_argument("--no-verify", action="store_true", help="skip the verification (not recommended)")
+    how.add_argument("--reconnect", type=positive_float, default=5.0, metavar="S",
+                     help="seconds to try CONNECT after PROGRAM_RESET, T6 a try (default 5: an ECU whose boot takes "
+                          "longer, e.g. checking its application first)")
     add_app_key_arguments(how)
     add_ecu_arguments(parser)
     parser.set_defaults(func=run)
@@ -211,7 +214,8 @@ def _options(args: argparse.Namespace):
     from workbench.flash import FlashOptions, Verify
 
     return FlashOptions(verify=Verify.NONE if args.no_verify else Verify(args.verify),
-                        erase_beyond_file=args.erase_beyond_file, accept_epk_mismatch=args.accept_epk_mismatch)
+                        erase_beyond_file=args.erase_beyond_file, accept_epk_mismatch=args.accept_epk_mismatch,
+                        reconnect_s=args.reconnect)
 
 
 @contextmanager
