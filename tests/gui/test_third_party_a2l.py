@@ -68,3 +68,23 @@ def test_an_a2l_made_of_instances_says_they_are_not_listed_and_a_load_says_what_
         assert window.browser.count.text() == "reading update_typedef_test1.a2l …"
     assert window.browser.count.text() == "0 of 0 objects · 11 INSTANCEs not listed"
     assert "not read yet" in window.browser.count.toolTip()
+
+
+def test_without_plots_the_plot_area_says_what_to_do_and_a_drop_there_opens_a_plot(qtbot):
+    """An A2L opened on its own had a blank plot area: nothing said that signals are dropped there."""
+    from PySide6.QtCore import QPointF, Qt
+    from PySide6.QtGui import QDropEvent
+
+    from workbench.gui.mime import signals_mime
+
+    window, loaded = window_on(qtbot, CORPUS / "domohuhn-a2l" / "example-ecu.a2l")
+    assert loaded and not window.plots
+    hint = window.plot_hint
+    assert hint.isVisible() and not window.plot_area.isVisible() and "Drop signals here" in hint.text()
+    mime = signals_mime(["MeasureKMH", "DataMap"])  # kept: the event does not own it
+    hint.dropEvent(QDropEvent(QPointF(10, 10), Qt.CopyAction, mime, Qt.LeftButton, Qt.NoModifier))
+    (plot,) = window.plots
+    assert plot.signals == ["MeasureKMH"]  # a calibration is not plotted
+    assert window.plot_area.isVisible() and not hint.isVisible()
+    plot.close_requested.emit()
+    assert hint.isVisible() and not window.plots

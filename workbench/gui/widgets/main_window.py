@@ -14,7 +14,7 @@ import time
 from pathlib import Path
 
 from PySide6.QtCore import QByteArray, Qt, Signal
-from PySide6.QtGui import QUndoGroup
+from PySide6.QtGui import QKeySequence, QUndoGroup
 from PySide6.QtWidgets import (
     QDockWidget,
     QFileDialog,
@@ -50,8 +50,9 @@ from workbench.gui.widgets.errors import show_error
 from workbench.gui.widgets.fix_panel import FixPanel
 from workbench.gui.widgets.flash_dialog import FlashDialog
 from workbench.gui.widgets.lost_banner import LostBanner
-from workbench.gui.widgets.menus import build_menus, enable_ecu_actions
+from workbench.gui.widgets.menus import KEYS, build_menus, enable_ecu_actions
 from workbench.gui.widgets.numeric_view import NumericView
+from workbench.gui.widgets.plot_hint import PlotHint
 from workbench.gui.widgets.plot_window import PlotWindow
 from workbench.gui.widgets.status_bar import EcuStatusBar
 from workbench.gui.widgets.sync_dialog import SyncChoice, SyncDialog, sync_differences
@@ -115,6 +116,9 @@ class MainWindow(QMainWindow):
         self.lost_banner = LostBanner(self.controller)
         column.addWidget(self.lost_banner)
         column.addWidget(self.plot_area, 1)
+        self.plot_hint = PlotHint(self.hub, lambda names: self.add_plot(PlotSpec("Measurement", names)),
+                                  QKeySequence(KEYS["new plot"]))
+        column.addWidget(self.plot_hint, 1)
         self.setCentralWidget(central)
         self.browser = VariableBrowser()
         self.browser.open_requested.connect(self.open_variable)
@@ -151,6 +155,7 @@ class MainWindow(QMainWindow):
         self.status = EcuStatusBar(self.hub)
         self.setStatusBar(self.status)
         build_menus(self)
+        self._show_plot_hint()
 
     def fit_to_screen(self) -> None:
         """The screen the window opens on, all of it up to 1600 x 1000 and 92 % of a larger one, never more;
@@ -348,6 +353,7 @@ class MainWindow(QMainWindow):
         plot.close_requested.connect(lambda: self._remove_plot(plot))
         self.plot_area.addWidget(plot)
         self.plots.append(plot)
+        self._show_plot_hint()
         return plot
 
     def _remove_plot(self, plot: PlotWindow) -> None:
@@ -356,6 +362,12 @@ class MainWindow(QMainWindow):
         plot.timer.stop()
         plot.setParent(None)
         plot.deleteLater()
+        self._show_plot_hint()
+
+    def _show_plot_hint(self) -> None:
+        """The hint (and drop place) in place of plots while there are none."""
+        self.plot_area.setVisible(bool(self.plots))
+        self.plot_hint.setVisible(not self.plots)
 
     def _check_live(self) -> None:
         if all(p.samples_shown() or not p.signals for p in self.plots):
