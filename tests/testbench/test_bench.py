@@ -200,3 +200,42 @@ def test_stimuli_on_a_can2_bus_without_the_ecu_judge_nothing(target, tmp_path):
                                                 r"but heard no ECU frame since it started \(interface=virtual "
                                                 r"channel=no-ecu;"):
                 ecu.expect_period("FLCU_TO_PCM_002", 0.1, tolerance_s=0.1, for_s=0.3)
+
+
+def test_new_values_of_a_periodic_message_count_from_the_frame_that_carries_them(target, tmp_path):
+    """A deadline after new values of a message sent every 100 ms counts from the frame that carries them, not
+    from the call up to a period before it (a 'within 100 ms' of the ECU's reaction failed when the frame left
+    90 ms after the call; user trial 7): the step is complete when that frame is due, in the message's rhythm."""
+    with target.bench(tmp_path / "rhythm.mf4") as ecu:
+        ecu.watch("csPCM_TO_FLCU_001_EnableFLCU")
+        ecu.send("PCM_TO_FLCU_001", period=0.1, EnableFLCU=0)
+        first = ecu.last_stimulus
+        ecu.wait(0.03)
+        ecu.send("PCM_TO_FLCU_001", EnableFLCU=1)
+        step = ecu.steps[-1]  # begun at the call, 30 ms into the rhythm, complete when the next frame is due: a
+        assert step.t_end >= first + 0.1 - 1e-3 and step.t_start < step.t_end  # (sleep ends no sooner, maybe later)
+        ecu.expect_edge("csPCM_TO_FLCU_001_EnableFLCU", 1, within=0.1 + 0.1)  # the next CANRX step, host slack
+
+
+def test_steps_never_begin_before_a_sample_the_test_saw(target, tmp_path):
+    """DAQ times are the ECU's mapped onto the host's clock, ahead of it for a while when the first samples sat in
+    a loaded host's queue (workbench.xcp.daq.clock): a wait's hit lies ahead of the host's now, and an expect
+    that began at now judged the samples before the hit ('35.5 bar at t=0.111 s' right after 'wait until ... 50
+    bar: at t=0.145 s', against workbench sim; user trial 7). Here a clock 0.3 s ahead: the next steps begin at
+    the hit, not before it."""
+    ahead_s = 0.3
+    with target.bench(tmp_path / "ahead.mf4") as ecu:
+        add = ecu.timeline.add
+
+        def add_ahead(name, epoch_times, values):
+            add(name, epoch_times + ahead_s if name == "xsSystemAbilitation" else epoch_times, values)
+
+        ecu.timeline.add = add_ahead
+        ecu.watch("xsSystemAbilitation")
+        ecu.send("PCM_TO_FLCU_001", period=0.1, EnableFLCU=1)
+        ecu.send("PCM_TO_FLCU_002", period=0.1, TargetRailPressure=25.0)
+        hit = ecu.wait_until("xsSystemAbilitation", "ON", timeout=2.0)
+        ecu.expect("xsSystemAbilitation", "ON", for_s=0.2)  # judged the OFF samples before the hit
+        assert ecu.steps[-1].t_start >= hit
+        ecu.send("PCM_TO_FLCU_001", EnableFLCU=0)
+        assert ecu.last_stimulus >= hit + 0.2  # after what the expect saw

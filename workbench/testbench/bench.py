@@ -134,6 +134,9 @@ class Bench:
         self.steps: list[Step] = []
         self.last_stimulus: float | None = None  # when the latest stimulus began (bench s)
         self._stimulus_done: float | None = None  # ... and when it was complete
+        # the latest sample time a step acted on: DAQ times are the ECU's mapped onto the host's clock, ahead of it
+        # for a while when the first samples queued on a loaded host; the next step does not begin before it
+        self._seen = -np.inf
         self._signals: dict[str, _Signal] = {}
         self._watched: list[str] = []
         self._journal: dict[str, CalValue] = {}  # calibration -> its value before the bench first wrote it
@@ -171,7 +174,8 @@ class Bench:
 
     def _stimulated(self, text: str, t_start: float | None = None) -> None:
         done = self.now()
-        moment = done if t_start is None else min(t_start, done)
+        moment = max(done if t_start is None else min(t_start, done), self._seen)
+        done = max(done, moment)
         self.last_stimulus, self._stimulus_done = moment, max(done, moment)
         self._add(Step("stimulus", text, moment, done))
 
@@ -334,7 +338,8 @@ class Bench:
     @_one_line_errors
     def send(self, message: str, period: float | None = None, *, dlc: int | None = None, **signals: float) -> None:
         """Send a CAN2 frame of ``message`` with ``signals`` (physical; the others keep their values), once or
-        every ``period`` s; a message sent periodically gets new values from its next frame on. ``dlc``
+        every ``period`` s; a message sent periodically gets new values from its next frame on, in its rhythm,
+        and the step returns when that frame is due (an ``expect_edge`` counts from it). ``dlc``
         sends it with another length than the DBC's (a fault; the next send without it is right again). Values outside the DBC range are sent as given."""
         port = self._port()
         self._begin()
@@ -389,6 +394,7 @@ class Bench:
         if hit is None:
             self._fail(step, f"not within {timeout:g} s; {_last_seen(last, signal.unit)}{self._lost()}")
         step.passed, step.t_end, step.detail = True, hit, f"at t={hit:.3f} s"
+        self._seen = max(self._seen, hit)
         self._add(step)
         return hit
 
@@ -403,12 +409,13 @@ class Bench:
         signal = self._sampled(name)
         name = signal.name  # a CAN2 signal by its qualified name, as the timeline keeps it
         wanted = self._condition(signal, condition)
-        start = self.now() if since is None else since
+        start = self._step_start(since)
         end = start + for_s
         step = self._step("expect", f"expect {name} {wanted.describe(signal.unit)} for {for_s:.3g} s", start, signal, wanted)
         step.t_end = end
         values = self._window(step, name, start, end, lambda times, values: (times, ~wanted.test(values)), signal.unit)
         step.passed = True
+        self._seen = max(self._seen, end)
         span = None
         if values.dtype.kind in "fiub":
             span = float(np.min(values)), float(np.max(values))
@@ -429,7 +436,7 @@ class Bench:
         signal = self._sampled(name)
         name = signal.name  # a CAN2 signal by its qualified name, as the timeline keeps it
         reference = self._sampled(reference).name
-        start = self.now() if since is None else since
+        start = self._step_start(since)
         end = start + for_s
         step = Step("expect", f"expect {name} = {reference} ± {tolerance:g}{_unit(signal.unit)} for {for_s:g} s",
                     start, end, name, signal.unit, reference=reference)
@@ -449,6 +456,7 @@ class Bench:
         values = self._window(step, name, start, end, judge, signal.unit, reference)
         largest = float(np.max(differences[0])) if differences else 0.0
         step.passed, step.detail = True, f"{len(values)} samples, at most {largest:.4g}{_unit(signal.unit)} apart"
+        self._seen = max(self._seen, end)
         self._add(step)
         return largest
 
@@ -521,6 +529,7 @@ class Bench:
             self._fail(step, f"not within {within * 1000:g} ms; {_last_seen(last or before, signal.unit)}; {when}"
                        f"{self._lost()}", observed=late is not None)
         step.passed, step.detail = True, f"after {max(hit - done, 0.0) * 1000:.0f} ms, at t={hit:.3f} s"
+        self._seen = max(self._seen, hit)
         self._add(step)
         return max(hit - done, 0.0)
 
@@ -566,6 +575,11 @@ class Bench:
             target = f"{'!= ' if wanted.negate else ''}{wanted.value}"
         band = None if wanted.negate else wanted.band()
         return Step(kind, text, start, start, signal.name, signal.unit, band, target)
+
+    def _step_start(self, since: float | None) -> float:
+        """Where a window begins: ``since``, or now and not before what the steps before it saw (a sample the
+        wait before found, mapped ahead of the host's clock: the window must not judge the samples before it)."""
+        return max(self.now(), self._seen) if since is None else since
 
     def _lost(self) -> str:
         """``; connection to the ECU lost at ...`` when the recording ended so (the reason samples stopped)."""

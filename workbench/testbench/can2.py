@@ -16,6 +16,7 @@ field, which that interface carries, and drops its own frames as other interface
 
 from __future__ import annotations
 
+import math
 import threading
 import time
 from typing import TYPE_CHECKING, Any
@@ -56,6 +57,7 @@ class Can2Port:
         self._heard = threading.Event()
         self._last_heard: float | None = None  # bench time of the latest frame another node sent
         self._tasks: dict[str, Any] = {}  # message -> python-can periodic task
+        self._started: dict[str, float] = {}  # message -> bench time of its task's first frame (its rhythm's origin)
         self._signals: dict[str, dict[str, float]] = {}  # message -> the signal values it is sent with
         self._others: dict[str, int] = {}  # message the bench sends periodically -> frames of it another node sent
         self._sent: set[str] = set()  # messages the bench sent
@@ -156,14 +158,17 @@ class Can2Port:
     def send(self, name: str, signals: dict[str, float], *, period_s: float | None = None,
              dlc: int | None = None) -> tuple[str, float]:
         """One frame now, or every ``period_s`` until :meth:`stop`; a message already sent periodically
-        gets the new values from its next frame on, in the same rhythm. ``dlc`` (another length than the
-        DBC's) holds for this call's frames only. Returns what it did and
+        gets the new values from its next frame on, in the same rhythm (this returns when that frame is due).
+        ``dlc`` (another length than the DBC's) holds for this call's frames only. Returns what it did and
         how long it waited for the ECU's cycle (s) before the first frame."""
         task = self._tasks.get(name)
         frame = self.frame(name, signals, dlc)
         self._sent.add(name)
         if task is not None and period_s in (None, task.period):
             task.modify_data(frame)
+            # the frame due next carries it (a late one of the task's thread may already): the stimulus begins now
+            # and is complete when that frame is due, whence a deadline counts
+            time.sleep(self._until_next_frame(name, task.period))
             return "from its next frame on", 0.0
         if task is not None:
             self.stop(name)
@@ -173,9 +178,16 @@ class Can2Port:
         delay = self._phase_delay(period_s)
         if delay:
             time.sleep(delay)
+        self._started[name] = self._timeline.now()
         self._tasks[name] = self.bus.send_periodic(frame, period_s)
         return (f"every {period_s * 1000:g} ms" + (", half a cycle after the ECU's frames" if delay else ""),
                 delay)
+
+    def _until_next_frame(self, name: str, period_s: float) -> float:
+        """Seconds until the next frame of the periodic ``name``: python-can's tasks keep the rhythm of their
+        first frame (the kernel's for SocketCAN's broadcast manager, a thread's due times elsewhere)."""
+        since = self._timeline.now() - self._started[name]
+        return (math.floor(since / period_s) + 1) * period_s - since
 
     def _phase_delay(self, period_s: float) -> float:
         """Seconds to wait so that the first frame goes half a period after a frame of another node."""

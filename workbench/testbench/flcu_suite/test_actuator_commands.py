@@ -25,8 +25,8 @@ def test_a_tank_valve_follows_its_state_and_closes_on_its_diagnostic_error(ecu, 
     """The valve is commanded open while TankCtrl draws its tank (the fuller one beyond the delta) and its
     driver reports no error; a driver error closes it within one 50 ms step, and it stays closed."""
     ecu.watch(command, state)
-    start_running(ecu)
     set_tanks(ecu, *tanks)
+    start_running(ecu)
     ecu.wait_until(command, "ON", timeout=2 * STEP_50MS_S)
     ecu.expect_follows(command, state, 0, for_s=0.2)
     ecu.sim.actuator_error(valve, fault)

@@ -28,9 +28,8 @@ def test_the_tank_difference_stays_below_the_delta_calibration(ecu):
     """The open tank is left for the other one when the other is fuller by more than the delta (20 bar at
     first, SW_REQ_ID_002.2), not before; the calibration decides: at 10 bar a 12 bar difference switches."""
     ecu.watch(STATE, "xsSystemAbilitation")
-    start_running(ecu)
-    began = ecu.now()
     set_tanks(ecu, 700.0, 700.0 - SWITCH_TANK_BAR - 2.0, manifold_bar=701.5)  # tank 1 fuller beyond the delta
+    began = start_running(ecu)
     ecu.wait_until(STATE, "TANK1_ON", timeout=2 * STEP_50MS_S)
     ecu.override("zfTANK2PRESSURE", 700.0 + SWITCH_TANK_BAR - 5.0)  # 5 bar below the delta: stay
     ecu.expect(STATE, "TANK1_ON", for_s=HELD_S)
