@@ -118,6 +118,10 @@ class SignalHub(QObject):
 
     # --- samples --------------------------------------------------------------------------------
 
+    def refused(self, name: str) -> str:
+        """Why the ECU does not sample ``name`` on this connection ("" when it does, or nothing is measured)."""
+        return self.acquisition.state.refused.get(name, "") if self.acquisition is not None else ""
+
     def buffer(self, name: str) -> RingBuffer:
         found = self._buffers.get(name)
         if found is None:

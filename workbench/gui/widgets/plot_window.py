@@ -379,8 +379,10 @@ class PlotWindow(SignalDropTarget, QWidget):
                 value = buffer.at(at)
             item = self.legend.item(row, column)
             if item is not None:
-                text = self.hub.info(name).format(value)
+                refused = self.hub.refused(name)
+                text = "not measurable" if refused and value is None else self.hub.info(name).format(value)
                 item.setText(text)
+                item.setToolTip(f"not measured: {refused}" if refused else "")
                 longest = max(longest, len(text))
         if longest > self._value_chars:  # a longer value than any before: the value columns widen (rarely)
             self._value_chars = longest
