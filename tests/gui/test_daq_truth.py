@@ -36,7 +36,7 @@ def test_a_signal_the_ecu_refuses_to_sample_is_named_and_the_others_are_measured
     assert "not measured: zzNowhere: sampling 2 bytes" in window.status.daq.toolTip()
     plot = window.plots[0]
     row = plot.signals.index("zzNowhere")  # the legend says it where the value would be
-    qtbot.waitUntil(lambda: plot.legend.item(row, 1).text() == "not measurable", timeout=WAIT_MS)
+    qtbot.waitUntil(lambda: plot.legend.item(row, 1).text() == "no DAQ", timeout=WAIT_MS)
     assert plot.legend.item(row, 1).toolTip().startswith("not measured: sampling 2 bytes at 0x12345670: XCP WRITE_DAQ")
     plot.add_signals(["zsTank1Pressure"])  # another set: the refused one is not asked for again
     qtbot.waitUntil(lambda: state.running and "zsTank1Pressure" in state.signals, timeout=WAIT_MS)

@@ -380,7 +380,7 @@ class PlotWindow(SignalDropTarget, QWidget):
             item = self.legend.item(row, column)
             if item is not None:
                 refused = self.hub.refused(name)
-                text = "not measurable" if refused and value is None else self.hub.info(name).format(value)
+                text = "no DAQ" if refused and value is None else self.hub.info(name).format(value)
                 item.setText(text)
                 item.setToolTip(f"not measured: {refused}" if refused else "")
                 longest = max(longest, len(text))
