@@ -163,7 +163,8 @@ class Recorder:
         self._lock = threading.Lock()
         self._error: BaseException | None = None
         self._stopped = False
-        self._started_at = 0.0
+        self._started_at = 0.0  # time.time() when the file was created: how long CAN frames wait for DAQ
+        self._axis_start = 0.0  # the time axis's start when no DAQ sample fixes it: before the first CAN frame
         self._measuring_since = 0.0  # time.monotonic() when DAQ ran: what a duration counts from
         self._counts = {"samples": 0, "values": 0, "can_frames": 0, "raw_frames": 0, "undecoded": 0}
         self._last_time = 0.0
@@ -185,6 +186,7 @@ class Recorder:
             return self
         session = self.session
         self._messages = CanMessageGroups(self.dbc.database, self.dbc.path) if self.dbc is not None else None
+        self._axis_start = time.time()  # the bus is heard from now: no frame comes before the axis starts
         if self.dbc is not None or self.raw_can:
             self._listen()
         try:
@@ -199,7 +201,7 @@ class Recorder:
             raise
         self._daq_index = {group.event: (index, group) for index, group in enumerate(groups)}
         if self.measurement is None:
-            self._clock.fix(self._started_at)
+            self._clock.fix(self._axis_start)
         self._measuring_since = time.monotonic()  # connecting and configuring DAQ are no part of a duration
         stop = weakref.WeakMethod(self.stop)  # a session that records many times keeps no finished recorder alive
 
@@ -232,7 +234,7 @@ class Recorder:
                 self._writing_path = Path(name)
             self._started_at = time.time()
             return MdfStreamWriter(self._writing_path, specs, self._header(), compress=self.compress,
-                                   start_time=self._started_at)
+                                   start_time=self._axis_start)
         except OSError as exc:
             raise InputError(f"{self._writing_path}: cannot create ({exc.strerror or exc})") from None
 
@@ -319,7 +321,7 @@ class Recorder:
                 stopping = self._stopping.is_set()
                 self._take_daq(0.0 if stopping else POLL_S)
                 if self._clock.origin is None and time.time() - self._started_at > ORIGIN_WAIT_S:
-                    self._clock.fix(self._started_at)  # no DAQ sample yet: CAN frames must not wait longer
+                    self._clock.fix(self._axis_start)  # no DAQ sample yet: CAN frames must not wait longer
                 self._take_frames()
                 now = time.monotonic()
                 if stopping or now >= next_flush or writer.pending_bytes > MAX_PENDING_BYTES:
@@ -365,8 +367,8 @@ class Recorder:
             return
         frames = []
         while self._frames:
-            frame = self._frames.popleft()
-            if not (frame.is_error_frame or frame.is_remote_frame):
+            frame = self._frames.popleft()  # one sent before the recording began may reach the listener late: not ours
+            if not (frame.is_error_frame or frame.is_remote_frame or frame.timestamp < self._axis_start):
                 frames.append(frame)
         if not frames:
             return
