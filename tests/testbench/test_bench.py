@@ -51,7 +51,8 @@ def test_a_failed_expectation_is_one_line_naming_signal_band_value_and_time(targ
         ecu.watch("xsDC", "xsTankCtrlState")
         with pytest.raises(ExpectationFailed) as failed:
             ecu.expect("xsDC", within(50.0, 60.0), for_s=0.2)  # no PCM: the system is off, the duty 0
-        assert re.fullmatch(rf"expect xsDC within \[50, 60\] % for 0.2 s: 0 % at {TIME}", str(failed.value))
+        assert re.fullmatch(rf"expect xsDC within \[50, 60\] % for 0.2 s: 0 % at {TIME}, after 0 % at {TIME}",
+                            str(failed.value))  # the sample before the first one out: a jump, or a drift
         with pytest.raises(ExpectationFailed, match=rf"^wait until xsTankCtrlState = TANK1_ON \(timeout 0.3 s\): "
                                                     rf"not within 0.3 s; last OFF at {TIME}$"):
             ecu.wait_until("xsTankCtrlState", "TANK1_ON", timeout=0.3)
@@ -239,3 +240,15 @@ def test_steps_never_begin_before_a_sample_the_test_saw(target, tmp_path):
         assert ecu.steps[-1].t_start >= hit
         ecu.send("PCM_TO_FLCU_001", EnableFLCU=0)
         assert ecu.last_stimulus >= hit + 0.2  # after what the expect saw
+
+
+def test_a_can2_value_table_is_named_in_steps_and_failures(target, tmp_path):
+    """A CAN2 signal with a value table reads as its texts in a step and a failure ('!= NO_ERROR: NO_ERROR at
+    t=...', which said '!= 0: 0 at t=...' though the test named the text; user trial 7)."""
+    with target.bench(tmp_path / "table.mf4") as ecu:
+        ecu.send("PCM_TO_FLCU_001", period=0.1, EnableFLCU=1)
+        with pytest.raises(ExpectationFailed, match=rf"^expect FLCU_TO_PCM_003.RailPSDiagnosticStatus != NO_ERROR for "
+                                                    rf"0.2 s: NO_ERROR at {TIME}"):
+            ecu.expect("FLCU_TO_PCM_003.RailPSDiagnosticStatus", other_than("NO_ERROR"), for_s=0.2)
+        ecu.wait_until("FLCU_TO_PCM_001.FuelLevelLow", "Normal", timeout=2.0)
+        assert ecu.steps[-1].text == "wait until FLCU_TO_PCM_001.FuelLevelLow = Normal (timeout 2 s)"

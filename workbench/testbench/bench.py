@@ -116,6 +116,14 @@ class _Signal:
     unit: str = ""
     choices: dict[str, float] = field(default_factory=dict)  # CAN: VAL_ text -> physical value
 
+    def show(self, value: Any) -> str:
+        """A value as a failure names it: a CAN2 value table's text (``Low``), else the value and its unit."""
+        if self.choices and isinstance(value, (int, float, np.number)):
+            text = next((text for text, number in self.choices.items() if float(value) == number), None)
+            if text is not None:
+                return text
+        return f"{_text(value)}{_unit(self.unit)}"
+
 
 class Bench:
     """Steps on ``session``: stimulate, wait, expect. A context manager; :meth:`close` restores what it changed.
@@ -270,7 +278,7 @@ class Bench:
                 if value not in signal.choices:
                     raise InputError(f"{signal.name} has no value {value!r} (its DBC values: "
                                      f"{', '.join(signal.choices) or 'none'})")
-                return replace(condition, value=signal.choices[value])
+                return replace(condition, value=signal.choices[value], label=value)
             return condition
         model = self.session.model
         conversion = model.conversion(model.object(signal.name))
@@ -392,7 +400,7 @@ class Bench:
                           start, signal, wanted)
         hit, last = self._first(name, wanted, start, start + timeout)
         if hit is None:
-            self._fail(step, f"not within {timeout:g} s; {_last_seen(last, signal.unit)}{self._lost()}")
+            self._fail(step, f"not within {timeout:g} s; {_last_seen(last, signal)}{self._lost()}")
         step.passed, step.t_end, step.detail = True, hit, f"at t={hit:.3f} s"
         self._seen = max(self._seen, hit)
         self._add(step)
@@ -413,7 +421,7 @@ class Bench:
         end = start + for_s
         step = self._step("expect", f"expect {name} {wanted.describe(signal.unit)} for {for_s:.3g} s", start, signal, wanted)
         step.t_end = end
-        values = self._window(step, name, start, end, lambda times, values: (times, ~wanted.test(values)), signal.unit)
+        values = self._window(step, name, start, end, lambda times, values: (times, ~wanted.test(values)), signal)
         step.passed = True
         self._seen = max(self._seen, end)
         span = None
@@ -453,14 +461,14 @@ class Bench:
                 return times, ~(apart <= tolerance)
             return times, (index < 0) | (values.astype(str) != held.astype(str))
 
-        values = self._window(step, name, start, end, judge, signal.unit, reference)
+        values = self._window(step, name, start, end, judge, signal, reference)
         largest = float(np.max(differences[0])) if differences else 0.0
         step.passed, step.detail = True, f"{len(values)} samples, at most {largest:.4g}{_unit(signal.unit)} apart"
         self._seen = max(self._seen, end)
         self._add(step)
         return largest
 
-    def _window(self, step: Step, name: str, start: float, end: float, judge, unit: str,
+    def _window(self, step: Step, name: str, start: float, end: float, judge, signal: _Signal,
                 reference: str | None = None) -> np.ndarray:
         """The samples of ``name`` in [start, end] once all have come; fails at the first one ``judge`` marks."""
         __tracebackhide__ = True  # pytest shows the test's line and this one-line failure, not the bench's
@@ -473,7 +481,9 @@ class Bench:
                 if reference is not None:
                     before = self.timeline.last_before(reference, times[first])
                     against = f" against {_text(before[1]) if before else 'no sample'} of {reference}"
-                self._fail(step, f"{_text(values[first])}{_unit(unit)}{against} at t={times[first]:.3f} s",
+                prior = self.timeline.last_before(name, float(np.nextafter(times[first], -np.inf)))
+                after = f", after {signal.show(prior[1])} at t={prior[0]:.3f} s" if prior is not None else ""
+                self._fail(step, f"{signal.show(values[first])}{against} at t={times[first]:.3f} s{after}",
                            observed=True)
         horizon = self.timeline.horizon(name)
         if horizon is None or horizon < end:
@@ -518,7 +528,7 @@ class Bench:
             raise InputError(f"{name} was not sampled before t={reference:.3f} s: watch it before the stimulus "
                              f"(ecu.watch({name!r}))")
         if wanted.test(np.array([before[1]]))[0]:
-            self._fail(step, f"no edge: it was already {_text(before[1])}{_unit(signal.unit)} at t={before[0]:.3f} s",
+            self._fail(step, f"no edge: it was already {signal.show(before[1])} at t={before[0]:.3f} s",
                        observed=True)
         hit, last = self._first(name, wanted, reference, done + within)
         if hit is None:
@@ -526,7 +536,7 @@ class Bench:
                                                                                done + within + LATE_EDGE_S)[0]
             when = (f"it came {(late - done) * 1000:.0f} ms after t={done:.3f} s, at t={late:.3f} s"
                     if late is not None else f"nor in the {LATE_EDGE_S:g} s after")
-            self._fail(step, f"not within {within * 1000:g} ms; {_last_seen(last or before, signal.unit)}; {when}"
+            self._fail(step, f"not within {within * 1000:g} ms; {_last_seen(last or before, signal)}; {when}"
                        f"{self._lost()}", observed=late is not None)
         step.passed, step.detail = True, f"after {max(hit - done, 0.0) * 1000:.0f} ms, at t={hit:.3f} s"
         self._seen = max(self._seen, hit)
@@ -655,5 +665,5 @@ def _unit(unit: str) -> str:
     return f" {unit}" if unit else ""
 
 
-def _last_seen(last: tuple | None, unit: str) -> str:
-    return "no samples" if last is None else f"last {_text(last[1])}{_unit(unit)} at t={last[0]:.3f} s"
+def _last_seen(last: tuple | None, signal: _Signal) -> str:
+    return "no samples" if last is None else f"last {signal.show(last[1])} at t={last[0]:.3f} s"

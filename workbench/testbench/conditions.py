@@ -32,6 +32,7 @@ class Condition:
     value: Any = None
     tolerance: float = 0.0
     negate: bool = False
+    label: str | None = None  # the text a numeric value stands for (a CAN2 value table's), as it is shown
 
     @property
     def is_value(self) -> bool:
@@ -70,10 +71,10 @@ class Condition:
         """``within [24, 26] bar``, ``= TANK1_ON``, ``>= 24 bar``, ``!= CAN_RX_TIMEOUT_ERR``."""
         unit = f" {unit}" if unit else ""
         if self.is_value:
-            text = f"{'!=' if self.negate else '='} {_number(self.value)}"
+            text = f"{'!=' if self.negate else '='} {self.label or _number(self.value)}"
             if self.tolerance:
                 text += f" ± {_number(self.tolerance)}"
-            return text + ("" if self.is_text else unit)
+            return text + ("" if self.is_text or self.label else unit)
         if self.low is not None and self.high is not None:
             text = f"within [{_number(self.low)}, {_number(self.high)}]{unit}"
         elif self.low is not None:
