@@ -147,3 +147,18 @@ def test_values_within_their_extended_limits_are_applied_only_when_the_user_choo
     assert session.read("xsSWITCH_TANK_THR") == pytest.approx(900.0)
     assert not window.errors
     window.close()
+
+
+@pytest.mark.parametrize("name", ["inca_style.cdfx", "inca_style.dcm", "canape_style.cdfx"])
+def test_a_set_of_the_flashed_values_equals_the_s19_offline_whatever_digits_its_tool_wrote(name, demo_workspace):
+    """INCA writes a FLOAT32 0.2 as 0.2000000029802322, CANape's CDFX as 0.20000000298023224: the offline comparison
+    (and `workbench cal diff FLCU.s19 FILE`) called xsPRV_KD and zsEWMA_ALPHA changed by 3e-9 where the ECU would
+    hold the same float32."""
+    from pathlib import Path
+
+    from workbench import demo
+    from workbench.gui.parameter_sets import compare_files
+
+    path = Path(__file__).parents[1] / "corpus" / "datasets" / "tools" / name
+    diff = compare_files(demo.s19(), path, demo_workspace.model)
+    assert diff.equal, [o.name for o in diff.objects if o.status != "equal"]

@@ -261,20 +261,12 @@ def diff_sides(args: argparse.Namespace):
         raise InputError("compare the ECU with a file: give 'ecu' as one side only")
     if any(side.lower() == ECU for side in sides):
         return _diff_with_ecu(args)
+    from workbench.sync import file_dataset
+
     model = load_a2l(args.a2l or demo.a2l()).model()
-    a, b = (_file_dataset(model, side) for side in sides)
+    a, b = (file_dataset(model, side) for side in sides)
     diff = diff_datasets(a, b, abs_tol=args.tolerance, rel_tol=args.rel_tolerance, a_label=args.a, b_label=args.b)
     return diff, [str(n) for n in a.notes + b.notes], diff.equal
-
-
-def _file_dataset(model, path: str):
-    from workbench.calib.dataset import load_dataset
-    from workbench.image import load_image
-    from workbench.sync import image_dataset, is_image_file
-
-    if is_image_file(path):
-        return image_dataset(model, load_image(path), source=path)
-    return load_dataset(path)
 
 
 def _diff_with_ecu(args: argparse.Namespace):

@@ -43,21 +43,15 @@ def compare_with_ecu(session, path: Path, progress=None):
 
 
 def compare_files(a: Path, b: Path, model=None):
-    """Two files: parameter sets, or a flash image decoded by name with the A2L ``model``."""
-    from workbench.calib.dataset import diff_datasets
+    """Two files: parameter sets, or a flash image decoded by name with the A2L ``model`` (with a model, as
+    ``cal diff`` compares them: the sets' floats as the A2L's types hold them)."""
+    from workbench.calib.dataset import diff_datasets, load_dataset
+    from workbench.sync import file_dataset
 
-    return diff_datasets(_values(a, model), _values(b, model), a_label=str(a), b_label=str(b))
+    def values(path: Path):
+        return load_dataset(path) if model is None else file_dataset(model, path)
 
-
-def _values(path: Path, model):
-    from workbench.calib.dataset import load_dataset
-    from workbench.sync import image_dataset, is_image_file
-
-    if is_image_file(path):
-        from workbench.image import load_image
-
-        return image_dataset(model, load_image(path), source=str(path))
-    return load_dataset(path)
+    return diff_datasets(values(a), values(b), a_label=str(a), b_label=str(b))
 
 
 def save_working_page(session, path: Path, progress=None) -> str:

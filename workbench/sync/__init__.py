@@ -32,7 +32,7 @@ _EXPORTS = {
     "workbench.sync.areas": ("CalibrationArea", "ImageView", "calibration_areas"),
     "workbench.sync.cache": ("AreaCheck", "ByteDifference", "SyncReport", "sync_compare"),
     "workbench.sync.reference": ("DatasetReference", "ImageReference", "is_image_file", "load_reference"),
-    "workbench.sync.snapshot": ("calibration_image", "image_dataset", "read_dataset"),
+    "workbench.sync.snapshot": ("calibration_image", "file_dataset", "image_dataset", "read_dataset"),
     "workbench.sync.transfer": ("DownloadResult", "sync_download", "sync_upload"),
 }
 __all__, __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
@@ -42,5 +42,5 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
     from workbench.sync.areas import CalibrationArea, ImageView, calibration_areas
     from workbench.sync.cache import AreaCheck, ByteDifference, SyncReport, sync_compare
     from workbench.sync.reference import DatasetReference, ImageReference, is_image_file, load_reference
-    from workbench.sync.snapshot import calibration_image, image_dataset, read_dataset
+    from workbench.sync.snapshot import calibration_image, file_dataset, image_dataset, read_dataset
     from workbench.sync.transfer import DownloadResult, sync_download, sync_upload

@@ -15,11 +15,16 @@ not read, and the result is exactly what flashing the working page would program
 from __future__ import annotations
 
 from collections.abc import Iterable
+from dataclasses import replace
 from datetime import datetime, timezone
+from pathlib import Path
+
+import numpy as np
 
 from workbench.a2l.model import A2lModel
 from workbench.calib.dataset import Dataset, ObjectInfo
-from workbench.errors import InputError
+from workbench.calib.values import CalValue
+from workbench.errors import InputError, WorkbenchError
 from workbench.findings import Finding, Severity
 from workbench.image import MemoryImage
 from workbench.progress import Progress
@@ -28,7 +33,7 @@ from workbench.sync.areas import ImageView, calibration_areas
 from workbench.sync.ecu import EcuReader, on_pages
 from workbench.sync.values import as_typed_value, calibration_names, decode_values, object_layouts
 
-__all__ = ["calibration_image", "image_dataset", "read_dataset"]
+__all__ = ["calibration_image", "file_dataset", "image_dataset", "read_dataset"]
 
 
 def read_dataset(session: Session, names: Iterable[str] | None = None, *, page: str | int | None = "working",
@@ -73,6 +78,44 @@ def image_dataset(model: A2lModel, image: MemoryImage, names: Iterable[str] | No
     dataset = _dataset(model, values, problems, source)
     dataset.source = source
     return dataset
+
+
+def file_dataset(model: A2lModel, path: str | Path) -> Dataset:
+    """The values of a file as ``cal diff`` and the window compare them: an s19/hex read through the A2L
+    (:func:`image_dataset`), or a DCM/CDFX whose floats are taken as the A2L's types hold them
+    (:func:`~workbench.sync.values.as_typed_value`: a FLOAT32 object's 0.019999999552965164, as INCA and CANape write
+    it, is the 0.02 an image reads), so a file and an image differ only where writing would change the ECU.
+
+    :raises InputError: the file is missing or malformed (located).
+    """
+    from workbench.calib.dataset import load_dataset
+    from workbench.image import load_image
+    from workbench.sync.reference import is_image_file
+
+    if is_image_file(path):
+        return image_dataset(model, load_image(path), source=str(path))
+    dataset = load_dataset(path)
+    for name in list(dataset):
+        try:
+            dataset[name] = _as_held(model, dataset[name])
+        except WorkbenchError:  # not in the A2L, or not a calibration it can type: compared as the file holds it
+            continue
+    return dataset
+
+
+def _as_held(model: A2lModel, value: CalValue) -> CalValue:
+    """A file's ``value`` as the ECU would hold it, then as typed: a FLOAT32_IEEE object without conversion stores
+    INCA's 16 decimals 0.2000000029802322 as float32's 0.2 (other objects: :func:`as_typed_value` alone)."""
+    obj = model.object(value.name)
+    if model.datatype_of(obj) == "FLOAT32_IEEE" and model.conversion(obj).conversion_type == "IDENTICAL":
+        value = replace(value, value=_float32(value.value))
+    return as_typed_value(model, value)
+
+
+def _float32(number):
+    if isinstance(number, np.ndarray):
+        return number.astype(np.float32).astype(np.float64) if number.dtype.kind == "f" else number
+    return float(np.float32(number)) if isinstance(number, (float, np.floating)) else number
 
 
 def _dataset(model: A2lModel, values: dict, problems: dict[str, str], origin: str) -> Dataset:
