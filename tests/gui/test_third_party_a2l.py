@@ -88,3 +88,12 @@ def test_without_plots_the_plot_area_says_what_to_do_and_a_drop_there_opens_a_pl
     assert window.plot_area.isVisible() and not hint.isVisible()
     plot.close_requested.emit()
     assert hint.isVisible() and not window.plots
+
+
+def test_an_a2l_of_two_modules_is_refused_saying_what_to_open(qtbot):
+    window, loaded = window_on(qtbot, CORPUS / "domohuhn-a2l" / "xcp-sim.a2l")
+    assert not loaded
+    (box,) = window.errors
+    assert box.text().endswith("xcp-sim.a2l:4:1: expected exactly one MODULE, found 2 (DH.XCP.SIM, DH.XCP.LIGHT); the "
+                               "workbench reads one ECU per A2L: open an A2L of one MODULE (its own file)")
+    assert window.browser.count.text() == "0 of 0 objects"  # not 'reading …' still

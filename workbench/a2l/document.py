@@ -213,7 +213,8 @@ class A2lDocument:
         if name is None:
             if len(modules) != 1:
                 names = f" ({', '.join(module.name or '?' for module in modules)})" if modules else ""
-                raise A2lParseError(f"expected exactly one MODULE, found {len(modules)}{names}", self.name,
+                what = "; the workbench reads one ECU per A2L: open an A2L of one MODULE (its own file)" if modules else ""
+                raise A2lParseError(f"expected exactly one MODULE, found {len(modules)}{names}{what}", self.name,
                                     *self.project.position[1:])
             return modules[0]
         for module in modules:
