@@ -252,3 +252,17 @@ def test_a_can2_value_table_is_named_in_steps_and_failures(target, tmp_path):
             ecu.expect("FLCU_TO_PCM_003.RailPSDiagnosticStatus", other_than("NO_ERROR"), for_s=0.2)
         ecu.wait_until("FLCU_TO_PCM_001.FuelLevelLow", "Normal", timeout=2.0)
         assert ecu.steps[-1].text == "wait until FLCU_TO_PCM_001.FuelLevelLow = Normal (timeout 2 s)"
+
+
+def test_xcp_on_ethernet_without_a_can2_bus_says_which_to_give(tmp_path, free_udp_port):
+    """XCP on Ethernet has no CAN bus to share: a CAN2 step asks for the CAN2 bus options, not for a DBC that was
+    given (user trial 7)."""
+    from workbench import Session, demo
+    from workbench.sim import EthernetEndpoint, serve_demo
+
+    with serve_demo(ethernet=EthernetEndpoint("127.0.0.1", free_udp_port, "udp")), \
+            Session.open(host="127.0.0.1", port=free_udp_port, protocol="udp") as session, \
+            Bench(session, dbc=demo.dbc_can2(), evidence=tmp_path / "eth.mf4") as ecu:
+        with pytest.raises(InputError, match=r"^the bench has no CAN2 bus: XCP runs on XCP on UDP \(127.0.0.1:\d+\); "
+                                             r"give the CAN2 bus \(--can2-interface/--can2-channel"):
+            ecu.send("PCM_TO_FLCU_001", EnableFLCU=1)

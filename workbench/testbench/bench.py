@@ -149,6 +149,7 @@ class Bench:
         self._watched: list[str] = []
         self._journal: dict[str, CalValue] = {}  # calibration -> its value before the bench first wrote it
         self.can2: Can2Port | None = None
+        self._no_can2 = "give the CAN2 database (--dbc; Bench(dbc=...))"
         if dbc is not None:
             from workbench.can import load_dbc
             from workbench.testbench.can2 import Can2Port
@@ -157,6 +158,9 @@ class Bench:
             can2_bus = can2_bus or _session_can_bus(session)
             if can2_bus is not None:
                 self.can2 = Can2Port(can2_bus, dbc, self.timeline)
+            else:  # XCP on Ethernet (or on a bus the caller opened): CAN2 is no bus the session knows
+                self._no_can2 = (f"XCP runs on {session.link.settings.describe()}; give the CAN2 bus "
+                                 "(--can2-interface/--can2-channel/--can2-bus-kwargs; Bench(can2_bus=...))")
         self.sim = SimSteps(simulator or NoSimulator("this ECU is not simulated"), self._begin, self._stimulated, self.now)
         path = Path(evidence) if evidence is not None else Path(tempfile.mkdtemp(prefix="workbench-bench-")) / "evidence.mf4"
         self.evidence = Evidence(session, path, self.timeline, dbc=self.can2.dbc if self.can2 else None,
@@ -368,7 +372,7 @@ class Bench:
 
     def _port(self) -> Can2Port:
         if self.can2 is None:
-            raise InputError("the bench has no CAN2 bus: give a DBC and the CAN2 bus (--dbc, --can2-interface/--can2-channel)")
+            raise InputError(f"the bench has no CAN2 bus: {self._no_can2}")
         return self.can2
 
     @_one_line_errors
