@@ -97,3 +97,20 @@ def test_an_a2l_of_two_modules_is_refused_saying_what_to_open(qtbot):
     assert box.text().endswith("xcp-sim.a2l:4:1: expected exactly one MODULE, found 2 (DH.XCP.SIM, DH.XCP.LIGHT); the "
                                "workbench reads one ECU per A2L: open an A2L of one MODULE (its own file)")
     assert window.browser.count.text() == "0 of 0 objects"  # not 'reading …' still
+
+
+def test_an_a2l_without_a_transport_layer_says_where_the_window_takes_the_ecus_address(qtbot, tmp_path):
+    """XCPlite's A2Ls state no XCP_ON_CAN and no XCP_ON_UDP_IP: the window said 'use --host/--port', a command line's
+    options."""
+    import shutil
+
+    from workbench import demo
+
+    shutil.copy(CORPUS / "xcplite" / "hello_xcp.a2l", tmp_path)
+    shutil.copy(demo.master_a2l().parent / "XCP.aml", tmp_path / "XCP_104.aml")
+    window, loaded = window_on(qtbot, tmp_path / "hello_xcp.a2l")
+    assert loaded and not window.errors
+    window.connect_ecu()
+    qtbot.waitUntil(lambda: bool(window.errors), timeout=WAIT_MS)
+    assert window.errors[0].text().endswith("with the ECU's host and port (--host/--port; in the window: "
+                                            "ECU > Connection…)")

@@ -57,7 +57,8 @@ def link_settings(config: XcpConfig, connection: Connection) -> tuple[LinkSettin
 def _can(config: XcpConfig, connection: Connection) -> tuple[LinkSettings, XcpConfig]:
     can = config.can
     if can is None:
-        raise InputError("the A2L has no XCP_ON_CAN block; use --host/--port for XCP on Ethernet")
+        raise InputError("the A2L has no XCP_ON_CAN block and names no Ethernet address: connect by XCP on Ethernet "
+                         "with the ECU's host and port (--host/--port; in the window: ECU > Connection…)")
     fd = (can.max_dlc or 8) > 8  # the A2L's CAN_FD block: frames of up to MAX_DLC bytes
     bus = None if connection.open_bus else _completed(connection.bus or BusSpec(), can, fd)
     settings = LinkSettings("CAN", bus, can.can_id_master, can.can_id_slave, can.max_dlc_required,
