@@ -318,8 +318,8 @@ class Recorder:
         next_flush = time.monotonic() + self.flush_s
         try:
             while True:
-                stopping = self._stopping.is_set()
-                self._take_daq(0.0 if stopping else POLL_S)
+                stopping = self._stopping.wait(POLL_S)  # what came meanwhile is taken together: few, large batches
+                self._take_daq()
                 if self._clock.origin is None and time.time() - self._started_at > ORIGIN_WAIT_S:
                     self._clock.fix(self._axis_start)  # no DAQ sample yet: CAN frames must not wait longer
                 self._take_frames()
@@ -335,13 +335,11 @@ class Recorder:
             log.log(logging.INFO if lost else logging.ERROR, "recording to %s %s: %s", self.path,
                     "ended" if lost else "failed", exc)
 
-    def _take_daq(self, timeout_s: float) -> None:
+    def _take_daq(self) -> None:
         measurement = self.measurement
         if measurement is None or measurement.stream is None:
-            if timeout_s:
-                self._stopping.wait(timeout_s)
             return
-        for batch in measurement.stream.read(timeout_s):
+        for batch in measurement.stream.read(0.0):
             index, group = self._daq_index[batch.daq_list.event]
             first = self._clock.origin is None
             times = self._clock.daq(batch.time, batch.host_time)
