@@ -13,7 +13,7 @@ from mdf_reading import channel, group_index
 from workbench import demo
 from workbench.a2l.compu import conversion_for
 from workbench.a2l.objects import CompuMethod, CompuTab, CompuVtab, CompuVtabRange
-from workbench.record import Recorder, mdf_encoding
+from workbench.record import Recorder, mdf_encoding, record
 
 # MDF4 cc_type: 1 linear, 2 rational, 3 algebraic, 4 table with interpolation, 5 table, 7 value to text,
 # 8 value range to text
@@ -133,3 +133,29 @@ def test_a_recording_carries_the_conversions_the_session_reads(demo_ecu, edited_
     power = channel(mdf, "Task100ms", "xsPRVDutyCmd")
     assert power.samples.dtype == np.float64 and "physical values" in power.comment
     assert channel(mdf, "Task100ms", "zsRailPressure").unit == "psi"
+
+
+BIT_FIELDS = """
+    /begin MEASUREMENT TRP_HighNibble "" UBYTE CM_Identity 0 0 0 15 BIT_MASK 0xF0 ECU_ADDRESS 0x400200A6 /end MEASUREMENT
+    /begin MEASUREMENT TRP_Bit2 "" UBYTE CM_Identity 0 0 0 1 BIT_MASK 0x04 ECU_ADDRESS 0x400200A6 /end MEASUREMENT
+    /begin MEASUREMENT TRP_Middle "" UWORD CM_Identity 0 0 0 255 BIT_MASK 0x0FF0 ECU_ADDRESS 0x400200A6 /end MEASUREMENT
+    /begin MEASUREMENT TRP_Signed "" SBYTE CM_Identity 0 0 -8 7 BIT_MASK 0xF0 ECU_ADDRESS 0x400200A6 /end MEASUREMENT
+"""
+
+
+def test_bit_fields_are_recorded_in_their_elements_type(demo_ecu, tmp_path, read_mdf):
+    """BIT_MASK fields of the received TargetRailPressure (raw 2500 = 0x09C4, little-endian at 0x400200A6): each
+    value moved down to bit 0, sign-extended for a signed type, stored in the element's own type (a flag of a
+    UBYTE took 8 bytes a sample as int64)."""
+    a2l = tmp_path / "bits.a2l"
+    text = demo.a2l().read_text(encoding="utf-8")
+    a2l.write_text(text.replace("    /begin MEASUREMENT", BIT_FIELDS.strip("\n") + "\n    /begin MEASUREMENT", 1),
+                   encoding="utf-8")
+    expected = {"TRP_HighNibble": (12, "u1"), "TRP_Bit2": (1, "u1"), "TRP_Middle": (0x9C, "<u2"),
+                "TRP_Signed": (-4, "i1")}
+    with demo_ecu.open_session(a2l) as ecu:
+        record(ecu, tmp_path / "bits.mf4", list(expected), event="Task100ms", duration=0.5)
+    mdf = read_mdf(tmp_path / "bits.mf4")
+    for name, (value, dtype) in expected.items():
+        samples = channel(mdf, "Task100ms", name).samples
+        assert samples.dtype == np.dtype(dtype) and samples[-1] == value, name

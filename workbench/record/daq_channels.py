@@ -100,8 +100,9 @@ def _stored(codec: MeasurementCodec, encodings: dict) -> _Stored:
     """How ``codec``'s signal is stored; ``encodings`` caches the conversion checks by (method, raw dtype)."""
     measurement = codec.measurement
     raw_dtype = rawtypes.numpy_dtype(codec.datatype, "MSB_LAST")  # stored little-endian, whatever the ECU's order
-    if measurement.bit_mask is not None or measurement.bit_operation is not None:
+    if measurement.bit_operation is not None:  # shifted as it says, maybe beyond the element's type: int64
         raw_dtype = conversion_input(codec, np.zeros(1, raw_dtype)).dtype
+    # a BIT_MASK alone: the field moved down to bit 0 fits the element's own type (a flag of a UBYTE stays 1 byte)
     key = (codec.conversion.name, raw_dtype.str)
     if key not in encodings:
         encodings[key] = mdf_encoding(codec.conversion, raw_dtype)

@@ -102,8 +102,8 @@ class RecordingStats:
 
 
 class Recorder:
-    """Record ``signals`` (MEASUREMENTs or globs of them, by DAQ on each one's A2L event or on ``event``) of ``session``,
-    and the CAN frames of the CAN2 bus, to the MDF4 file ``path``. A context manager (``start`` /
+    """Record ``signals`` (MEASUREMENTs or globs of them, by DAQ on each one's A2L event or on ``event``) of
+    ``session``, and the CAN frames of the CAN2 bus, to the MDF4 file ``path``. A context manager (``start`` /
     ``stop``); stops by itself when the session closes.
 
     :param event, prescaler: as :meth:`~workbench.session.Session.measure` takes them.
