@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 import struct
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import pytest
 from sim_process import start_sim_process
@@ -144,3 +145,13 @@ def test_eleven():
     run.stderr.fnmatch_lines(["*--req REQ_3: no test collected verifies it; did you mean *"])
     parsed = build_parser().parse_args(["test", "test_reqs.py", "--report", "out", "--", "--lf", "-m", "slow"])
     assert parsed.paths == ["test_reqs.py"] and pytest_arguments(parsed)[-3:] == ["--lf", "-m", "slow"]
+    parsed = build_parser().parse_args(["test", "test_reqs.py", "--interface", "virtual", "--channel", "x"])
+    assert pytest_arguments(parsed)[-2:] == ["-n", "0"]  # one master, whatever -n a project's addopts give
+
+
+def test_the_example_requirement_tests_pass(pytester):
+    """examples/test_requirements.py, the file a test engineer copies, runs as the docs say (a simulated ECU each)."""
+    example = Path(__file__).resolve().parents[2] / "examples" / "test_requirements.py"
+    run = _run(pytester, str(example))
+    assert run.ret == 0
+    run.stdout.fnmatch_lines(["4 verified, 0 failed"])

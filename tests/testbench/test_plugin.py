@@ -70,6 +70,18 @@ def test_bad_ecu_options_are_usage_errors(pytester):
     result.stderr.fnmatch_lines(["*either CAN options*or Ethernet ones*"])
 
 
+def test_worker_processes_on_one_real_ecu_are_refused_from_an_ini_too(pytester):
+    """-n 2 from a project's addopts (this repository has -n auto) ran the tests in two processes against one
+    real ECU: two masters, seed & key and DAQ failing at random (user trial 7). workbench test gives -n 0;
+    plain pytest is told."""
+    pytester.makeini("[pytest]\naddopts = -n 2\n")
+    pytester.makepyfile(test_flcu=TESTS)
+    result = pytester.runpytest_inprocess("--interface", "virtual", "--channel", "nowhere", *PLUGIN)
+    assert result.ret == pytest.ExitCode.USAGE_ERROR
+    result.stderr.fnmatch_lines(["*-n 2 (from the addopts of tox.ini): the tests would share the ECU on "
+                                 "interface=virtual channel=nowhere from 2 processes*give -n 0"])
+
+
 def test_an_ecu_without_simulator_control_skips_what_needs_it(pytester):
     channel = f"plugin-test-{next(_channels)}"
     pytester.makepyfile(test_flcu=TESTS)

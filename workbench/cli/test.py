@@ -119,6 +119,8 @@ def pytest_arguments(args: argparse.Namespace) -> list[str]:
         argv += ["--req", requirement_id]
     if args.repeat:
         argv += ["-p", "repeat", "--count", str(args.repeat)]  # pytest-repeat, by its entry point's name
+    if real_ecu and importlib.util.find_spec("xdist") is not None:
+        argv += ["-n", "0"]  # one master: whatever -n the addopts of a pytest.ini or pyproject.toml near the tests give
     if args.workers:
         if real_ecu:
             raise InputError("-n runs a simulated ECU per worker; a real ECU (bus options) takes one master at a time")

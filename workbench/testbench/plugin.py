@@ -72,7 +72,12 @@ def pytest_configure(config: pytest.Config) -> None:
             config.option.xmlpath = str(directory / "junit.xml")
     config.pluginmanager.register(_Outcomes(config, keep_all=bool(report)), "workbench-testbench-outcomes")
     if any(getattr(config.option, dest, None) for dest in _ECU_OPTIONS):  # bad ECU options: a usage error at once
-        _target(config)
+        target = _target(config)
+        workers = getattr(config.option, "numprocesses", None)  # pytest-xdist's -n, maybe from an ini's addopts
+        if not target.simulated and workers and not hasattr(config, "workerinput"):
+            source = f" (from the addopts of {config.inipath.name})" if config.inipath else ""
+            raise pytest.UsageError(f"-n {workers}{source}: the tests would share {target.describe()} from {workers} "
+                                    "processes, and XCP takes one master at a time: give -n 0")
 
 
 @pytest.hookimpl(tryfirst=True)  # --req judges the tests collected, before -k takes some away
