@@ -43,6 +43,16 @@ def _outcomes(junit) -> dict[str, tuple[str, list[str]]]:
     return outcomes
 
 
+def test_repeat_without_pytest_repeat_says_what_to_install(monkeypatch, capsys):
+    import importlib.util
+
+    find_spec = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *args: None if name == "pytest_repeat" else find_spec(name, *args))
+    assert main(["test", "--repeat", "2"]) == 2
+    assert capsys.readouterr().err.strip() == "error: --repeat needs pytest-repeat: pip install pytest-repeat"
+
+
 def test_bad_input_is_exit_2(capsys, tmp_path):
     assert main(["test", str(tmp_path / "none.py")]) == 2
     assert capsys.readouterr().err.strip() == f"error: {tmp_path / 'none.py'}: no such test file or folder"

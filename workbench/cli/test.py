@@ -118,6 +118,8 @@ def pytest_arguments(args: argparse.Namespace) -> list[str]:
     for requirement_id in args.req or ():
         argv += ["--req", requirement_id]
     if args.repeat:
+        if importlib.util.find_spec("pytest_repeat") is None:
+            raise InputError("--repeat needs pytest-repeat: pip install pytest-repeat")
         argv += ["-p", "repeat", "--count", str(args.repeat)]  # pytest-repeat, by its entry point's name
     if real_ecu and importlib.util.find_spec("xdist") is not None:
         argv += ["-n", "0"]  # one master: whatever -n the addopts of a pytest.ini or pyproject.toml near the tests give
