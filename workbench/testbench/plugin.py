@@ -133,6 +133,41 @@ def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo):
         item.user_properties.append(VERDICT_ERROR)  # JUnit writes the properties of the teardown's report
 
 
+def _broke(report: pytest.TestReport) -> bool:
+    return report.when == "call" and report.failed and VERDICT_ERROR in [tuple(p) for p in report.user_properties]
+
+
+def pytest_report_teststatus(report: pytest.TestReport, config: pytest.Config):
+    """A test that broke before it judged is pytest's ERROR (E), as a setup that broke is, not FAILED."""
+    if _broke(report):
+        return "error", "E", "ERROR"
+    return None
+
+
+def _junit_errors(path: Path) -> None:
+    """JUnit's ``<error>`` for the tests that broke before they judged (pytest writes ``<failure>`` for
+    anything raised in a test's body): a CI server then counts them as errors, not as failures of the ECU."""
+    import xml.etree.ElementTree as ET
+
+    from workbench.fileio import atomic_write_bytes
+
+    tree = ET.parse(path)
+    moved_any = False
+    for suite in tree.iter("testsuite"):
+        moved = 0
+        for case in suite.iter("testcase"):
+            if VERDICT_ERROR in [(p.get("name"), p.get("value")) for p in case.iter("property")]:
+                for failure in case.findall("failure"):
+                    failure.tag = "error"
+                    moved += 1
+        if moved:
+            suite.set("failures", str(int(suite.get("failures", "0")) - moved))
+            suite.set("errors", str(int(suite.get("errors", "0")) + moved))
+            moved_any = True
+    if moved_any:
+        atomic_write_bytes(path, ET.tostring(tree.getroot(), encoding="utf-8", xml_declaration=True))
+
+
 _ECU_OPTIONS = ("a2l", "interface", "channel", "bitrate", "bus_kwargs", "host", "port", "protocol", "key_function",
                 "dbc", "can2_interface", "can2_channel", "can2_bus_kwargs", "sim_s19", "sim_control")
 
@@ -241,17 +276,22 @@ class _Outcomes:
                                                         "requirements": requirements})
         entry["duration"] += report.duration
         if report.when == "call":
-            broke = report.failed and VERDICT_ERROR in [tuple(p) for p in report.user_properties]
-            entry["outcome"], entry["message"] = "error" if broke else report.outcome, _one_line(report)
+            entry["outcome"], entry["message"] = "error" if _broke(report) else report.outcome, _one_line(report)
         elif report.failed and entry["outcome"] != "failed":  # an error in setup or teardown
             entry["outcome"], entry["message"] = "error", _one_line(report)
         elif report.skipped:
             entry["outcome"], entry["message"] = "skipped", _one_line(report)
 
+    @pytest.hookimpl(trylast=True)  # after pytest's junitxml wrote its file
     def pytest_sessionfinish(self, session: pytest.Session) -> None:
         config = self.config
+        if hasattr(config, "workerinput"):
+            return
+        junit = Path(config.option.xmlpath) if getattr(config.option, "xmlpath", None) else None
+        if junit is not None and junit.is_file():
+            _junit_errors(junit)
         directory = config.stash.get(_REPORT_DIR, None)
-        if directory is None or hasattr(config, "workerinput"):
+        if directory is None:
             return
         from workbench.testbench.report import write_report
 
