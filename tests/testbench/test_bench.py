@@ -236,6 +236,7 @@ def test_steps_never_begin_before_a_sample_the_test_saw(target, tmp_path):
         ecu.send("PCM_TO_FLCU_001", period=0.1, EnableFLCU=1)
         ecu.send("PCM_TO_FLCU_002", period=0.1, TargetRailPressure=25.0)
         hit = ecu.wait_until("xsSystemAbilitation", "ON", timeout=2.0)
+        assert ecu.now() >= hit  # a mark for since= comes after what the wait saw
         ecu.expect("xsSystemAbilitation", "ON", for_s=0.2)  # judged the OFF samples before the hit
         assert ecu.steps[-1].t_start >= hit
         ecu.send("PCM_TO_FLCU_001", EnableFLCU=0)

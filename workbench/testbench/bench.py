@@ -170,8 +170,10 @@ class Bench:
     # --- time and the log ---------------------------------------------------------------------
 
     def now(self) -> float:
-        """Seconds since the bench started."""
-        return self.timeline.now()
+        """Seconds since the bench started, and not before the latest sample a step acted on (a DAQ sample's
+        time is the ECU's mapped onto the host's clock, ahead of it for a while after a start on a loaded host):
+        a mark taken here for ``since=``/``after=`` comes after what the test saw."""
+        return max(self.timeline.now(), self._seen)
 
     def _add(self, step: Step) -> Step:
         self.steps.append(step)
@@ -560,10 +562,10 @@ class Bench:
         jitter = 0.9 * period_s if jitter_s is None else jitter_s
         frame_id = port.message(message).frame_id
         self._begin()
-        start = self.now()
+        start = self.timeline.now()  # the host's clock, as the frames' receive times
         step = Step("expect", f"expect {message} (0x{frame_id:X}) every {period_s * 1000:g} ± {tolerance_s * 1000:g} ms "
                     f"(each gap {period_s * 1000:g} ± {jitter * 1000:.0f} ms) for {for_s:g} s", start, start + for_s)
-        time.sleep(max(0.0, start + for_s + period_s / 2 - self.now()))  # the frame closing the window may come late
+        time.sleep(max(0.0, start + for_s + period_s / 2 - self.timeline.now()))  # the frame closing it may come late
         times = port.frame_times(message, start, start + for_s)
         if len(times) < 3:
             self._fail(step, f"{len(times)} frame(s) between t={start:.3f} s and t={start + for_s:.3f} s")
@@ -593,7 +595,7 @@ class Bench:
     def _step_start(self, since: float | None) -> float:
         """Where a window begins: ``since``, or now and not before what the steps before it saw (a sample the
         wait before found, mapped ahead of the host's clock: the window must not judge the samples before it)."""
-        return max(self.now(), self._seen) if since is None else since
+        return self.now() if since is None else since
 
     def _lost(self) -> str:
         """``; connection to the ECU lost at ...`` when the recording ended so (the reason samples stopped)."""

@@ -83,9 +83,8 @@ def start_pcm(ecu, *, enable: int = 1, target_bar: float = 25.0) -> None:
 
 def start_running(ecu, *, target_bar: float = 25.0) -> float:
     """The PCM enables the FLCU; wait until the system runs (enabled, every diagnosis good). Returns when it
-    did (bench s): a mark for the steps after it, which ``ecu.now()`` is not quite (a DAQ sample's time is the
-    ECU's, mapped onto the host's clock). Fix the tank pressures (``set_tanks``) before: set while it runs, the
-    manifold's fix meets the tanks of an ECU that ran for a while (drained) and diagnoses them implausible."""
+    did (bench s). Fix the tank pressures (``set_tanks``) before: set while it runs, the manifold's fix meets
+    the tanks of an ECU that ran for a while (drained) and diagnoses them implausible."""
     ecu.watch("xsSystemAbilitation")
     start_pcm(ecu, target_bar=target_bar)
     return ecu.wait_until("xsSystemAbilitation", "ON", timeout=RX_LATENCY_S + STEP_50MS_S)
