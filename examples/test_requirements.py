@@ -2,7 +2,7 @@
 
 Run: workbench test examples/test_requirements.py --report out/   (a simulated ECU per test)
      workbench test examples/test_requirements.py --interface udp_multicast --bus-kwargs port=43200
-                                                  (against `workbench sim --interface udp_multicast --bus-kwargs port=43200`)
+     (the latter against `workbench sim --interface udp_multicast --bus-kwargs port=43200` in another terminal)
 out/junit.xml for the CI server, out/report.html to read (docs/requirement-tests.md).
 """
 
@@ -25,7 +25,7 @@ def start_pcm(ecu, enable=1, target_bar=25.0):
 @requirement("SW_REQ_ID_002.1")
 def test_valves_close_when_the_pcm_disables_the_system(ecu):
     """EnableFLCU = 0 closes both tank valves: TankCtrl (50 ms) sees it at the next CANRX step (100 ms)."""
-    ecu.watch("xsTankCtrlState", "xsValve1State", "xsValve2State")  # watched before the stimulus: an edge needs a before
+    ecu.watch("xsTankCtrlState", "xsValve1State", "xsValve2State")  # before the stimulus: an edge needs a before
     start_pcm(ecu)
     ecu.wait_until("xsTankCtrlState", other_than("OFF"), timeout=1.0)
     ecu.send("PCM_TO_FLCU_001", EnableFLCU=0)  # from the message's next frame on; a deadline counts from that frame

@@ -68,7 +68,7 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     parse_known_args = parser.parse_known_args
 
     def parse_with_pytest_args(args=None, namespace=None):
-        """What follows ``--`` is pytest's, as it is (argparse would take it for PATHs, or refuse it after an option)."""
+        """What follows ``--`` is pytest's, as it is (argparse would take it for PATHs, or refuse it after one)."""
         extra = []
         if args is not None and "--" in args:
             at = args.index("--")

@@ -53,8 +53,9 @@ def pytest_addoption(parser: pytest.Parser) -> None:
                                                                "the bus options)")
     group.addoption("--report", metavar="DIR", help="write DIR/junit.xml, DIR/report.html and the MF4 evidence")
     group.addoption("--requirements", metavar="CSV", help="the requirements (id,name,description) the report traces")
-    group.addoption("--req", action="append", metavar="ID", help="only the tests that verify requirement ID or one "
-                                                                 "below it (SW_REQ_ID_001: SW_REQ_ID_001.1 ...); repeatable")
+    group.addoption("--req", action="append", metavar="ID",
+                    help="only the tests that verify requirement ID or one below it (SW_REQ_ID_001: SW_REQ_ID_001.1 "
+                         "...); repeatable")
 
 
 @pytest.hookimpl(tryfirst=True)
