@@ -62,6 +62,9 @@ def test_an_existing_file_needs_overwrite(bus, capsys, tmp_path):
 @pytest.mark.parametrize(("options", "message"), [
     (["--raw-can", "--overwrite"], "--raw-can, --overwrite: only with --record"),
     (["--record", "x.mf4", "--raw"], "--raw does not go with --record"),
+    (["--pre-trigger", "1", "--stop-when", "xsDC > 1"], "--stop-when, --pre-trigger: only with --record"),
+    (["--record", "x.mf4", "--pre-trigger", "1"], "--pre-trigger S: only with --start-when"),
+    (["--record", "x.mf4", "--start-when", "xsDC 3"], "trigger condition 'xsDC 3': write NAME OP VALUE"),
 ])
 def test_recording_options_out_of_place_are_usage_errors(capsys, tmp_path, options, message):
     code, out, err = run(capsys, "measure", "xsDC", *options)

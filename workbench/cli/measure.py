@@ -13,7 +13,7 @@ from typing import Any
 
 from workbench.bus_defaults import BusSpec
 from workbench.cli.ecu_options import a2l_document, add_ecu_arguments, can2_dbc, open_session
-from workbench.cli.options import add_can2_bus_arguments, can2_bus_spec, positive_float
+from workbench.cli.options import add_can2_bus_arguments, can2_bus_spec, non_negative_float, positive_float
 from workbench.cli.render import decimals, jsonable, value_text
 
 EPILOG = """\
@@ -72,6 +72,11 @@ def add_recording_arguments(group, can2_help: str) -> None:
     add_can2_bus_arguments(group)
     group.add_argument("--overwrite", action="store_true",
                        help="replace an existing OUT.mf4 when the recording ends (it stays until then)")
+    group.add_argument("--start-when", metavar="COND", help="record from when a recorded signal meets COND "
+                       "('zsRailPressure > 20', 'xsTankCtrlState == TANK2_ON'; OP: > >= < <= == !=)")
+    group.add_argument("--stop-when", metavar="COND", help="end the recording when COND is met (after the start)")
+    group.add_argument("--pre-trigger", type=non_negative_float, default=0.0, metavar="S",
+                       help="with --start-when: keep the S seconds before the start too")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -251,11 +256,16 @@ def _check_recording_options(args: argparse.Namespace) -> None:
     from workbench.errors import InputError
 
     if args.record is None:
-        given = [option for option, value in (("--raw-can", args.raw_can), ("--overwrite", args.overwrite)) if value]
+        given = [option for option, value in (("--raw-can", args.raw_can), ("--overwrite", args.overwrite),
+                                              ("--start-when", args.start_when), ("--stop-when", args.stop_when),
+                                              ("--pre-trigger", args.pre_trigger)) if value]
         if given:
             raise InputError(f"{', '.join(given)}: only with --record OUT.mf4")
     elif args.raw:
         raise InputError("--raw does not go with --record: the file holds the raw values with their conversions")
+    elif args.pre_trigger and not args.start_when:
+        raise InputError("--pre-trigger S: only with --start-when COND (the seconds kept from before the start)")
+    args.trigger = _trigger(args)  # a malformed condition: before connecting
 
 
 def _record(args: argparse.Namespace, session, names: list[str], can2: dict[str, Any]) -> int:
@@ -266,7 +276,7 @@ def _record(args: argparse.Namespace, session, names: list[str], can2: dict[str,
 
     dbc = args.can2 or (can2_dbc(args) if can2 else None)
     recorder = Recorder(session, args.record, names, event=args.event, can2=dbc, can_bus=_can2_bus(args, session),
-                        raw_can=args.raw_can, overwrite=args.overwrite)
+                        raw_can=args.raw_can, overwrite=args.overwrite, trigger=args.trigger)
     with ProgressBar("recording") as progress, recorder:
         try:
             recorder.wait(args.duration, progress)
@@ -277,12 +287,23 @@ def _record(args: argparse.Namespace, session, names: list[str], can2: dict[str,
         print(json.dumps({"path": str(stats.path), "seconds": round(stats.seconds, 6), "samples": stats.samples,
                           "values": stats.values, "lost": stats.lost, "overloads": stats.overloads,
                           "can_frames": stats.can_frames, "raw_frames": stats.raw_frames,
-                          "undecoded": stats.undecoded, "file_bytes": stats.file_bytes}))
+                          "undecoded": stats.undecoded, "file_bytes": stats.file_bytes,
+                          **({"trigger": stats.trigger, "started_s": stats.started_s} if stats.trigger else {})}))
     else:
         measurement = recorder.measurement
         cause, stray = (measurement.loss_cause(), measurement.stray_dtos()) if measurement is not None else ("", "")
         print(f"recorded {stats.describe()}" + (f" ({cause})" if cause else "") + (f"; {stray}" if stray else ""))
     return 0
+
+
+def _trigger(args: argparse.Namespace):
+    """The recording's trigger of --start-when, --stop-when and --pre-trigger (None: none given)."""
+    from workbench.record import Condition, Trigger
+
+    if not (args.start_when or args.stop_when):
+        return None
+    return Trigger(Condition.parse(args.start_when) if args.start_when else None,
+                   Condition.parse(args.stop_when) if args.stop_when else None, args.pre_trigger)
 
 
 def _can2_bus(args: argparse.Namespace, session) -> BusSpec | None:

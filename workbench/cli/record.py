@@ -12,7 +12,9 @@ from workbench.cli.options import positive_float, print_json
 EPILOG = """\
 Records as `workbench measure NAME... --record OUT.mf4` does (see its help): each signal by DAQ on its A2L event
 (or --event), one channel group per event on the ECU's clock, raw values with the A2L's conversions; --can2 adds
-the CAN2 messages decoded with a DBC, --raw-can every frame of the bus. Ctrl-C, SIGTERM or --duration end it.
+the CAN2 messages decoded with a DBC, --raw-can every frame of the bus. Ctrl-C, SIGTERM or --duration end it,
+or --stop-when COND; --start-when COND records from when a recorded signal meets COND, with --pre-trigger S
+the S seconds before too (COND: NAME OP VALUE, OP one of > >= < <= == !=, VALUE a number or a value-table text).
 
 The file is complete after every second of recording. A recording whose process was killed (kill -9, a crash, the
 power) keeps everything up to its last second, in a file marked unfinalized as MDF provides for loggers: asammdf
@@ -22,6 +24,7 @@ finalized first: --repair FILE... does that in place and says what each file hol
 examples:
   workbench record run.mf4 zsRailPressure xsTankCtrlState --can2 dbc/FLCU_CAN2.dbc --duration 60
   workbench record bus.mf4 --raw-can                       # the CAN2 bus alone, every frame
+  workbench record fix.mf4 'zs*' --start-when 'zsRailPressure > 35' --pre-trigger 2 --stop-when 'zsRailPressure < 30'
   workbench record --repair run.mf4                        # after the recording was killed
 """
 

@@ -7,7 +7,8 @@
 * :mod:`~workbench.record.daq_channels` — DAQ events as channel groups (A2L names, units, conversions);
 * :mod:`~workbench.record.conversions` — COMPU_METHODs as MDF conversions, checked against asammdf;
 * :mod:`~workbench.record.can_channels` — DBC messages as channel groups, and ASAM bus logging;
-* :mod:`~workbench.record.timebase` — one time axis for ECU samples and host-stamped frames.
+* :mod:`~workbench.record.timebase` — one time axis for ECU samples and host-stamped frames;
+* :mod:`~workbench.record.trigger` — start and stop conditions, the seconds kept from before the start.
 
 The names are imported on first use: ``import workbench.record`` loads neither asammdf nor python-can.
 """
@@ -23,6 +24,7 @@ _EXPORTS = {
     "workbench.record.mdf_stream": ("ChannelSpec", "GroupContents", "GroupSpec", "HeaderSpec", "MdfStreamWriter",
                                     "SourceSpec", "contents", "finalize"),
     "workbench.record.conversions": ("MdfEncoding", "mdf_encoding"),
+    "workbench.record.trigger": ("Condition", "Trigger"),
 }
 __all__, __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
@@ -31,3 +33,4 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
     from workbench.record.mdf_stream import (ChannelSpec, GroupContents, GroupSpec, HeaderSpec, MdfStreamWriter,
                                              SourceSpec, contents, finalize)
     from workbench.record.recorder import CAN2_BUS_CHANNEL, Recorder, RecordingStats, record
+    from workbench.record.trigger import Condition, Trigger

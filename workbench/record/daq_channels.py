@@ -17,7 +17,7 @@ elements poorly and most tools show them only as a whole.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -80,11 +80,12 @@ class DaqGroup:
             columns += [flat[:, element] for element in range(flat.shape[1])]
         return columns
 
-    def physical(self, batch: DaqBatch) -> dict[str, np.ndarray]:
-        """name -> physical values, shape (samples,) or (samples, *shape), as a DAQ measurement gives them."""
+    def physical(self, batch: DaqBatch, names: Collection[str] | None = None) -> dict[str, np.ndarray]:
+        """name -> physical values, shape (samples,) or (samples, *shape), as a DAQ measurement gives them (of
+        ``names`` only, when given)."""
         return {signal.codec.name: np.asarray(signal.codec.decode_samples(batch.column(signal.codec.name).tobytes(),
                                                                           len(batch)))
-                for signal in self.signals}
+                for signal in self.signals if names is None or signal.codec.name in names}
 
 
 def conversion_input(codec: MeasurementCodec, raw: np.ndarray) -> np.ndarray:

@@ -56,6 +56,7 @@ from workbench.record.can_channels import CanMessageGroups, RawCanGroup
 from workbench.record.daq_channels import DaqGroup
 from workbench.record.mdf_stream import HeaderSpec, MdfStreamWriter, SourceSpec
 from workbench.record.timebase import RecordingClock
+from workbench.record.trigger import Trigger, TriggerGate
 from workbench.session.measure import SampleBatch
 
 if TYPE_CHECKING:
@@ -89,6 +90,8 @@ class RecordingStats:
     raw_frames: int  # frames in the bus log
     undecoded: int  # frames of a DBC message that did not decode (wrong length): in the bus log only
     file_bytes: int
+    started_s: float | None = None  # when a start trigger was met (s on the axis); None: not met (nothing recorded)
+    trigger: str = ""  # the trigger's conditions, as said; "" without one
 
     def describe(self) -> str:
         """One line for people."""
@@ -98,6 +101,9 @@ class RecordingStats:
         if self.raw_frames:
             parts.append(f"{self.raw_frames:,} raw CAN frames")
         size = f"{self.file_bytes / 2**20:.1f} MiB" if self.file_bytes >= 2**20 else f"{self.file_bytes / 1024:.0f} KiB"
+        if self.trigger:
+            parts.append(f"{self.trigger}: " + ("never started" if self.started_s is None
+                                                else f"started at {self.started_s:.3f} s"))
         return f"{self.path}: {self.seconds:.1f} s, " + ", ".join(parts) + f", {size}"
 
 
@@ -119,6 +125,8 @@ class Recorder:
     :param overwrite: replace an existing file when the recording ends (else an existing file is refused).
     :param flush_s: write to disk every ``flush_s`` seconds: what a kill can lose.
     :param compress: DZ blocks (transposed deflate; files about 5x smaller) or plain DT blocks.
+    :param trigger: start and stop conditions on recorded signals and the seconds kept from before the start
+        (:class:`~workbench.record.trigger.Trigger`); the recording ends by itself at the stop condition.
     :param on_samples: called with every DAQ batch in physical units (a
         :class:`~workbench.session.measure.SampleBatch`, ECU time) from the recording thread, e.g.
         for a live plot; it must return quickly. An exception in it is logged and it is not called again.
@@ -130,7 +138,7 @@ class Recorder:
                  event: str | int | None = None, prescaler: int = 1, can2: DbcFile | str | Path | None = None,
                  can_bus: BusSpec | Mapping[str, Any] | can.BusABC | None = None, raw_can: bool = False,
                  overwrite: bool = False,
-                 flush_s: float = 1.0, compress: bool = True,
+                 flush_s: float = 1.0, compress: bool = True, trigger: Trigger | None = None,
                  on_samples: Callable[[SampleBatch], Any] | None = None):
         if not signals and can2 is None and not raw_can:
             raise InputError("nothing to record: name signals, a CAN2 DBC or raw CAN logging")
@@ -142,6 +150,12 @@ class Recorder:
             raise InputError(f"{self.path}: exists; record to another name or overwrite it "
                              "(overwrite=True, --overwrite: replaced when the recording ends)")
         self.measurement = session.measure(signals, event=event, prescaler=prescaler) if signals else None
+        self.trigger = trigger
+        missing = sorted((trigger.names if trigger else set()) - set(self.measurement.names if signals else ()))
+        if missing:
+            raise InputError(f"trigger on {', '.join(missing)}: a condition's signal must be recorded (name it too)")
+        self._gate = TriggerGate(trigger)
+        self._trigger_names = trigger.names if trigger else set()
         self.dbc = load_dbc(can2) if isinstance(can2, (str, Path)) else can2
         self.raw_can = raw_can
         self._can_bus = BusSpec.from_kwargs(can_bus) if isinstance(can_bus, Mapping) else can_bus
@@ -292,6 +306,8 @@ class Recorder:
                       "recorded_with": f"workbench {__version__}"}
         if self.dbc is not None:
             properties["can2_dbc"] = str(self.dbc.path)
+        if self.trigger is not None:
+            properties["trigger"] = self.trigger.describe()
         try:
             author = getpass.getuser()
         except (KeyError, OSError):  # no user name in this environment (a container without passwd entry)
@@ -323,6 +339,7 @@ class Recorder:
                 if self._clock.origin is None and time.time() - self._started_at > ORIGIN_WAIT_S:
                     self._clock.fix(self._axis_start)  # no DAQ sample yet: CAN frames must not wait longer
                 self._take_frames()
+                stopping = stopping or self._gate.done  # the stop condition ends the recording here
                 now = time.monotonic()
                 if stopping or now >= next_flush or writer.pending_bytes > MAX_PENDING_BYTES:
                     writer.flush()
@@ -345,10 +362,10 @@ class Recorder:
             times = self._clock.daq(batch.time, batch.host_time)
             if first:
                 self._writer.set_start_time(self._clock.origin)
-            self._writer.append(index, times, group.columns(batch))
-            self._counts["samples"] += len(batch)
-            self._counts["values"] += len(batch) * len(group.signals)
-            self._last_time = max(self._last_time, float(times[-1]))
+            watched = self._trigger_names.intersection(group.names)
+            if watched and not self._gate.done:
+                self._gate.observe(times, group.physical(batch, watched))
+            self._write(index, times, group.columns(batch), {"samples": 1, "values": len(group.signals)})
             if self.on_samples is not None:
                 self._deliver(group, batch)
 
@@ -372,8 +389,7 @@ class Recorder:
             return
         times = self._clock.host(np.array([frame.timestamp for frame in frames]))
         if self._raw is not None:
-            self._append_frames(self._raw_index, times, [self._raw.records(frames)])
-            self._counts["raw_frames"] += len(frames)
+            self._append_frames(self._raw_index, times, [self._raw.records(frames)], "raw_frames")
         if self._messages is not None:
             self._decode(frames, times)
 
@@ -387,15 +403,21 @@ class Recorder:
             decoded, columns = self._messages.columns(index, [frames[p] for p in positions])
             self._counts["undecoded"] += len(positions) - len(decoded)
             if decoded:
-                self._append_frames(self._message_base + index, times[positions][decoded], columns)
-                self._counts["can_frames"] += len(decoded)
+                self._append_frames(self._message_base + index, times[positions][decoded], columns, "can_frames")
 
-    def _append_frames(self, index: int, times: np.ndarray, columns: list[np.ndarray]) -> None:
+    def _append_frames(self, index: int, times: np.ndarray, columns: list[np.ndarray], counted: str) -> None:
         """Host clocks may step back (a frame queued on another socket): a group's times never fall."""
         rising = np.maximum.accumulate(np.concatenate(([self._last_frame_time.get(index, -np.inf)], times)))[1:]
         self._last_frame_time[index] = float(rising[-1])
-        self._last_time = max(self._last_time, float(rising[-1]))
-        self._writer.append(index, rising, columns)
+        self._write(index, rising, columns, {counted: 1})
+
+    def _write(self, index: int, times: np.ndarray, columns: list, counts: dict[str, int]) -> None:
+        """Records of group ``index`` to the file, through the trigger's gate; ``counts``: what one record counts."""
+        for group, written, values, counted in self._gate.passed(index, times, columns, counts):
+            self._writer.append(group, written, values)
+            for key, per_record in counted.items():
+                self._counts[key] += per_record * len(written)
+            self._last_time = max(self._last_time, float(written[-1]))
 
     # --- stopping -----------------------------------------------------------------------------
 
@@ -483,9 +505,12 @@ class Recorder:
     def stats(self) -> RecordingStats:
         daq = self.measurement.stats if self.measurement is not None else None
         writer = self._writer
+        started = self._gate.started_s
         return RecordingStats(self.path, self._last_time, lost=daq.lost if daq else 0,
                               overloads=daq.overloads if daq else 0,
-                              file_bytes=writer.file_bytes if writer is not None else 0, **self._counts)
+                              file_bytes=writer.file_bytes if writer is not None else 0, **self._counts,
+                              started_s=None if started is None else max(started, 0.0),
+                              trigger=self.trigger.describe() if self.trigger else "")
 
     def __enter__(self) -> Recorder:
         return self.start()
