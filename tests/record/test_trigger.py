@@ -48,12 +48,12 @@ def test_a_recording_starts_and_stops_on_conditions(session, tmp_path, read_mdf)
     path = tmp_path / "triggered.mf4"
     trigger = Trigger(Condition.parse("zsRailPressure > 35"), Condition.parse("zsRailPressure < 30"), pre_s=0.2)
     with Recorder(session, path, ["zsRailPressure", "xsTankCtrlState"], trigger=trigger, raw_can=True) as rec:
-        rec.wait(0.3)
+        rec.wait(0.3)  # durations count from when DAQ ran
         session.write("zfRAILPRESSURE_VALUE", 40.0)
         session.write("zfRAILPRESSURE_EN", 1)
-        rec.wait(0.3)
+        rec.wait(0.8)
         session.write("zfRAILPRESSURE_EN", 0)
-        rec.wait(30)  # returns when the stop condition ended it
+        rec.wait(60)  # returns when the stop condition ended it
         assert not rec.running
     stats = rec.stats
     mdf = read_mdf(path)

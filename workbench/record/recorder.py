@@ -356,7 +356,8 @@ class Recorder:
         measurement = self.measurement
         if measurement is None or measurement.stream is None:
             return
-        for batch in measurement.stream.read(0.0):
+        timed = []
+        for batch in measurement.stream.read(0.0):  # the conditions judged on every list's samples first
             index, group = self._daq_index[batch.daq_list.event]
             first = self._clock.origin is None
             times = self._clock.daq(batch.time, batch.host_time)
@@ -365,6 +366,8 @@ class Recorder:
             watched = self._trigger_names.intersection(group.names)
             if watched and not self._gate.done:
                 self._gate.observe(times, group.physical(batch, watched))
+            timed.append((index, group, batch, times))
+        for index, group, batch, times in timed:
             self._write(index, times, group.columns(batch), {"samples": 1, "values": len(group.signals)})
             if self.on_samples is not None:
                 self._deliver(group, batch)
