@@ -4,6 +4,9 @@ finalize() then marks finalized in place."""
 
 from __future__ import annotations
 
+import os
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -147,3 +150,21 @@ def test_channels_are_placed_by_position_not_by_name(tmp_path, read_mdf):
     mdf = read_mdf(tmp_path / "names.mf4")
     assert np.array_equal(mdf.get_master(0), np.arange(5) * 0.1)
     assert mdf.get("time", 0, 1).samples.tolist() == [7, 8, 9, 10, 11] and mdf.get("time", 0, 2).samples[0] == 0.5
+
+
+def test_the_file_is_unfinalized_from_its_first_moment(tmp_path, monkeypatch):
+    """A reader that opens the new file before the writer's first record (a script polling for it) must take it
+    for unfinalized: asammdf maps a finalized file as it is at opening and follows links into what grew since
+    ('Expected "##DL" block' in a test that polled the recording)."""
+    import workbench.record.mdf_stream as mdf_stream
+
+    seen = []
+    replace = os.replace
+
+    def watching_replace(source, target):
+        seen.append(Path(source).read_bytes()[:8])
+        replace(source, target)
+
+    monkeypatch.setattr(mdf_stream.os, "replace", watching_replace)
+    MdfStreamWriter(tmp_path / "new.mf4", GROUPS).close()
+    assert seen == [b"UnFinMF "]

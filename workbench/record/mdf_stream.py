@@ -161,7 +161,6 @@ class MdfStreamWriter:
         self._hd_time_at = _HD_ADDRESS + 24 + 8 * self._read_u64(_HD_ADDRESS + 16)
         self.file_bytes = self._file.seek(0, os.SEEK_END)  # as of the last flush
         self.closed = False
-        _mark(self._file, finalized=False)
 
     # --- the skeleton -------------------------------------------------------------------------
 
@@ -198,6 +197,8 @@ class MdfStreamWriter:
             umask = os.umask(0)
             os.umask(umask)
             os.chmod(temporary, 0o666 & ~umask)  # a new file's usual mode, not a temporary file's 0o600
+            with open(temporary, "r+b") as handle:  # unfinalized from its first moment at path: a reader that
+                _mark(handle, finalized=False)  # took it for finalized would map it whole, and it grows
             os.replace(temporary, self.path)
         except BaseException:
             Path(temporary).unlink(missing_ok=True)
