@@ -123,6 +123,30 @@ def test_missing_symbols_are_kept_and_reported_by_default(source, debug):
     assert b"missing_var" in result.data
 
 
+def test_many_missing_symbols_get_no_suggestion_from_the_update_but_from_check(debug, tmp_path):
+    """More than MOST_SUGGESTED missing symbols are seldom renames (another build, deleted variables) and would
+    cost the update an index of every name: `a2l check --elf` suggests for the first of them."""
+    from workbench.a2l.check import check_file
+    from workbench.elf.suggest import MOST_SUGGESTED as SUGGESTED_UP_TO
+
+    def text(count):
+        objects = "".join(f'    /begin MEASUREMENT zsScalar{n}x "" UBYTE NO_COMPU_METHOD 1 0 0 255 ECU_ADDRESS 0x0 '
+                          '/end MEASUREMENT\n' for n in range(count))
+        return f'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n{objects}  /end MODULE\n/end PROJECT\n'
+
+    def suggested(result):
+        return [f.message.endswith("did you mean 'zsScalar'?") for f in result.report.of_kind("symbol-not-found")]
+
+    few = update_document(load_a2l_string(text(SUGGESTED_UP_TO)), debug, epk=False)
+    assert suggested(few) == [True] * SUGGESTED_UP_TO
+    many = update_document(load_a2l_string(text(SUGGESTED_UP_TO + 1)), debug, epk=False)
+    assert suggested(many) == [False] * (SUGGESTED_UP_TO + 1)
+    (tmp_path / "many.a2l").write_text(text(SUGGESTED_UP_TO + 1))
+    findings = check_file(tmp_path / "many.a2l", ELF, use_cache=False).findings
+    checked = [f.message.endswith("did you mean 'zsScalar'?") for f in findings if f.kind == "symbol-not-found"]
+    assert checked.count(True) == SUGGESTED_UP_TO, checked
+
+
 def test_a_renamed_variable_is_suggested(debug):
     """The usual reason a symbol is missing: the variable was renamed. A stranger gets no suggestion."""
     objects = "".join(f'    /begin MEASUREMENT {name} "" UBYTE NO_COMPU_METHOD 1 0 0 255 ECU_ADDRESS 0x0 /end MEASUREMENT\n'

@@ -31,3 +31,4 @@ def test_the_narrowed_search_is_as_good_as_difflib_over_every_name():
         best = difflib.get_close_matches(renamed.lower(), folded, 1, 0.75)[0]
         ratio = difflib.SequenceMatcher(None, renamed.lower(), best).ratio()
         assert difflib.SequenceMatcher(None, renamed.lower(), found.lower()).ratio() == ratio, (renamed, found, best)
+

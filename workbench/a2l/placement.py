@@ -22,7 +22,7 @@ from workbench.a2l.readers import read_mod_common
 from workbench.a2l.reports import finding_at
 from workbench.a2l.values import int_or_none
 from workbench.elf.debugdata import DebugData
-from workbench.elf.suggest import missing_symbol_reason
+from workbench.elf.suggest import MOST_SUGGESTED, missing_symbol_reason
 from workbench.errors import A2lParseError
 from workbench.findings import Report, Severity
 
@@ -50,6 +50,7 @@ def _placements(doc: A2lDocument, module: Block, objects: AddressedObjects, debu
     masks = _option_values(doc, "BIT_MASK", _MASKED)
     extensions = _option_values(doc, "ECU_ADDRESS_EXTENSION", ADDRESSED_OBJECTS)
     placed, unplaced, addressed = [], [], 0
+    suggested = 0  # close names given for missing symbols: the first few (a wrong ELF lacks them all)
     parents = doc.blocks.parent
     for row in range(len(objects)):
         target = objects.target(row)
@@ -69,9 +70,11 @@ def _placements(doc: A2lDocument, module: Block, objects: AddressedObjects, debu
         if debug is not None:
             symbol = debug.find(target.symbol)
             if symbol is None:
+                suggested += 1
+                why = missing_symbol_reason(debug, target.symbol) if suggested <= MOST_SUGGESTED \
+                    else debug.resolve_error(target.symbol)
                 report.add(finding_at(doc, target.name_token, "symbol-not-found", target.name,
-                                      f"{keyword} {target.name}: {missing_symbol_reason(debug, target.symbol)}",
-                                      keyword, Severity.ERROR))
+                                      f"{keyword} {target.name}: {why}", keyword, Severity.ERROR))
             else:
                 size = symbol.size
                 expected = symbol.address + target.symbol_offset

@@ -2,7 +2,8 @@
 
 A renamed variable is the usual reason an A2L object's symbol is missing from a new build. An update of
 65,000 objects pays nothing for this while none is missing (nothing here is imported or built), and little
-when a hundred are: the ELF's variable names are indexed by their three-letter pieces (trigrams) when the
+when a few are (:data:`MOST_SUGGESTED`: the wrong ELF, every symbol missing, must not cost a query for each
+of 65,000). The ELF's variable names are indexed by their three-letter pieces (trigrams) when the
 first suggestion is asked for, each missing name narrows the 50,000 names to the few dozen that share the
 most pieces with it (numpy), and difflib ranks only those (a plain difflib over every name per missing
 symbol takes seconds).
@@ -21,12 +22,13 @@ import numpy as np
 if TYPE_CHECKING:
     from workbench.elf.debugdata import DebugData
 
-__all__ = ["NameIndex", "missing_symbol_reason"]
+__all__ = ["MOST_SUGGESTED", "NameIndex", "missing_symbol_reason"]
 
 _HEAD = re.compile(r"[A-Za-z_$][A-Za-z0-9_$]*")  # the variable a member/element path starts with
 _NARROWED = 40  # names difflib ranks per query: those sharing the most trigrams with it
 _CUTOFF = 0.75  # difflib's ratio below which a name is no suggestion (0.6, its default, suggests strangers
 # among 50,000 names that share a unit prefix)
+MOST_SUGGESTED = 20  # missing symbols a report gives a close name for: a few renamed variables get theirs
 _indexes: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # DebugData -> its NameIndex, built on need
 
 
@@ -36,12 +38,13 @@ class NameIndex:
 
     def __init__(self, names: Iterable[str]):
         self.names = list(dict.fromkeys(names))
-        folded = b"\n" + b"\n".join(name.lower().encode("utf-8", "replace") for name in self.names) + b"\n"
-        data = np.frombuffer(folded, np.uint8).astype(np.int64)
-        codes = (data[:-2] << 16) | (data[1:-1] << 8) | data[2:]  # the trigram around each byte but the ends
-        owners = np.cumsum(data == ord("\n"))[1:-1] - 1  # the name each middle byte belongs to
-        inside = data[1:-1] != ord("\n")  # a trigram whose middle is a separator spans two names
-        pairs = np.sort((codes[inside] << 32) | owners[inside])  # (trigram, name) by trigram
+        folded = ("\n" + "\n".join(self.names) + "\n").lower().encode("utf-8", "replace")  # one call, not 50,000
+        data = np.frombuffer(folded, np.uint8)
+        inside = np.flatnonzero(data[1:-1] != ord("\n"))  # a trigram whose middle is a separator spans two names
+        owners = np.cumsum(data == ord("\n"), dtype=np.int64)[inside]  # the name each middle byte belongs to, + 1
+        codes = (data[inside].astype(np.int64) << 48) | (data[inside + 1].astype(np.int64) << 40) \
+            | (data[inside + 2].astype(np.int64) << 32)  # the trigram around each byte but the ends
+        pairs = np.sort(codes | (owners - 1))  # (trigram, name) by trigram
         first = np.ones(len(pairs), dtype=bool)
         first[1:] = pairs[1:] != pairs[:-1]
         pairs = pairs[first]  # once each (np.unique: 20 times slower, and its first call imports numpy.ma)
@@ -59,11 +62,13 @@ class NameIndex:
         ends = np.searchsorted(self._trigrams, wanted, side="right")
         shared = np.bincount(np.concatenate([self._owners[a:b] for a, b in zip(starts.tolist(), ends.tolist())]),
                              minlength=len(self.names))
-        likeness = shared / (len(wanted) + self._sizes)  # Dice's coefficient, halved
-        narrowed = np.argpartition(-likeness, min(_NARROWED, len(self.names) - 1))[:_NARROWED]
+        sharing = np.flatnonzero(shared)  # often a few hundred of 50,000: the rest need no ranking
+        likeness = shared[sharing] / (len(wanted) + self._sizes[sharing])  # Dice's coefficient, halved
+        if len(sharing) > _NARROWED:
+            sharing = sharing[np.argpartition(-likeness, _NARROWED)[:_NARROWED]]
         matcher = difflib.SequenceMatcher(b=name.lower())
         ranked = []
-        for index in narrowed[shared[narrowed] > 0].tolist():
+        for index in sharing.tolist():
             candidate = self.names[index]
             matcher.set_seq1(candidate.lower())
             if matcher.real_quick_ratio() >= cutoff and matcher.quick_ratio() >= cutoff:

@@ -112,9 +112,10 @@ def update_document(doc: A2lDocument, debug: DebugData, *, mode: UpdateMode = Up
     usable = found & (targets >= 0) & (targets <= MAX_ADDRESS)
     has_token = objects.address_token_array >= 0
     removed: dict[str, int] = {}
+    missing = int(np.count_nonzero(addresses == -1))
     for row in np.flatnonzero(~usable | ~has_token).tolist():  # the few objects that need more than a new value
         if addresses[row] == -1:
-            _missing(objects, row, debug, mode, report, removed, pending)
+            _missing(objects, row, debug, mode, report, removed, pending, missing)
         elif not usable[row]:
             target = int(targets[row]) if found[row] else debug.resolve(objects.symbols[row]).address \
                 + objects.symbol_offsets[row]
@@ -306,11 +307,14 @@ def _check_types(objects: AddressedObjects, symbols: list, edits: Edits, report:
 
 
 def _missing(objects: AddressedObjects, row: int, debug: DebugData, mode: UpdateMode, report: UpdateReport,
-             removed: dict[str, int], pending: list[tuple]) -> None:
-    from workbench.elf.suggest import missing_symbol_reason  # here: an update that finds every symbol needs none of it
+             removed: dict[str, int], pending: list[tuple], missing: int) -> None:
+    from workbench.elf.suggest import MOST_SUGGESTED, missing_symbol_reason  # here: an update finding all needs none
 
     keyword, name, symbol = objects.keyword(row), objects.names[row], objects.symbols[row]
-    why = missing_symbol_reason(debug, symbol)  # "not in app.elf; did you mean 'x'?"
+    # a close name ("not in app.elf; did you mean 'x'?") when a few symbols are missing (renamed variables); more
+    # are seldom renames and would cost an index of the ELF's names (~50 ms at 50,000): `a2l check --elf` names
+    # them for the first few
+    why = missing_symbol_reason(debug, symbol) if missing <= MOST_SUGGESTED else debug.resolve_error(symbol)
     # a name that fits several variables (statics of two functions or units) is never guessed
     kind = "symbol-ambiguous" if debug.is_ambiguous(symbol) else "symbol-not-found"
     link = f" (SYMBOL_LINK {symbol!r})" if symbol != name else ""
