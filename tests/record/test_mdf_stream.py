@@ -7,6 +7,8 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from xml.etree import ElementTree
+
 import numpy as np
 import pytest
 
@@ -168,3 +170,14 @@ def test_the_file_is_unfinalized_from_its_first_moment(tmp_path, monkeypatch):
     monkeypatch.setattr(mdf_stream.os, "replace", watching_replace)
     MdfStreamWriter(tmp_path / "new.mf4", GROUPS).close()
     assert seen == [b"UnFinMF "]
+
+
+def test_a_header_property_xml_cannot_hold_is_written_escaped(tmp_path, read_mdf):
+    """An ECU whose EPK holds NUL bytes (flash never programmed, two slaves answering at once): the header's XML
+    was written with them and no reader could parse it."""
+    path = tmp_path / "epk.mf4"
+    writer = MdfStreamWriter(path, GROUPS, HeaderSpec("test", properties={"epk_ecu": "FLCU\x00\x01\x1f end"}))
+    writer.close()
+    comment = read_mdf(path).header.comment
+    assert "FLCU\\x00\\x01\\x1f end" in comment
+    ElementTree.fromstring(comment)  # well-formed: the characters escaped

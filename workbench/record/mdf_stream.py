@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import copy
 import os
+import re
 import struct
 import tempfile
 from collections.abc import Sequence
@@ -92,6 +93,14 @@ class GroupSpec:
     source: SourceSpec | None = None
 
 
+# characters XML 1.0 cannot hold (an ECU's EPK of NUL bytes, say): ElementTree writes them, every reader refuses them
+_XML_FORBIDDEN = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ufffe\uffff]")
+
+
+def _escaped(match: re.Match) -> str:
+    return f"\\x{ord(match.group()):02x}"
+
+
 @dataclass(frozen=True)
 class HeaderSpec:
     """The file header: ``description`` its text, ``properties`` the common properties (name -> text);
@@ -112,7 +121,7 @@ class HeaderSpec:
         named = {"author": self.author, "project": self.project, "subject": self.subject, **self.properties}
         for name, value in named.items():
             if value:
-                ElementTree.SubElement(common, "e", name=name).text = value
+                ElementTree.SubElement(common, "e", name=name).text = _XML_FORBIDDEN.sub(_escaped, value)
         return ElementTree.tostring(root, encoding="unicode")
 
     def history_xml(self) -> str:
