@@ -11,7 +11,6 @@ symbol takes seconds).
 
 from __future__ import annotations
 
-import difflib
 import re
 import weakref
 from collections.abc import Iterable
@@ -28,7 +27,7 @@ _HEAD = re.compile(r"[A-Za-z_$][A-Za-z0-9_$]*")  # the variable a member/element
 _NARROWED = 40  # names difflib ranks per query: those sharing the most trigrams with it
 _CUTOFF = 0.75  # difflib's ratio below which a name is no suggestion (0.6, its default, suggests strangers
 # among 50,000 names that share a unit prefix)
-MOST_SUGGESTED = 20  # missing symbols a report gives a close name for: a few renamed variables get theirs
+MOST_SUGGESTED = 10  # missing symbols a report gives a close name for: a few renamed variables get theirs
 _indexes: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # DebugData -> its NameIndex, built on need
 
 
@@ -57,7 +56,8 @@ class NameIndex:
         if not self.names:
             return []
         query = b"\n" + name.lower().encode("utf-8", "replace") + b"\n"
-        wanted = np.array(sorted({(query[i] << 16) | (query[i + 1] << 8) | query[i + 2] for i in range(len(query) - 2)}))
+        wanted = np.array(sorted({(query[i] << 16) | (query[i + 1] << 8) | query[i + 2]
+                                  for i in range(len(query) - 2)}))
         starts = np.searchsorted(self._trigrams, wanted)
         ends = np.searchsorted(self._trigrams, wanted, side="right")
         shared = np.bincount(np.concatenate([self._owners[a:b] for a, b in zip(starts.tolist(), ends.tolist())]),
@@ -66,6 +66,8 @@ class NameIndex:
         likeness = shared[sharing] / (len(wanted) + self._sizes[sharing])  # Dice's coefficient, halved
         if len(sharing) > _NARROWED:
             sharing = sharing[np.argpartition(-likeness, _NARROWED)[:_NARROWED]]
+        import difflib  # here: an update with many symbols missing asks for no suggestion
+
         matcher = difflib.SequenceMatcher(b=name.lower())
         ranked = []
         for index in sharing.tolist():
