@@ -12,7 +12,7 @@ import functools
 import gc
 import sys
 
-from workbench.cli.options import add_output_arguments, output_file, print_json, print_report
+from workbench.cli.options import add_output_arguments, integer_within, output_file, print_json, print_report
 from workbench.errors import InputError
 
 _DESCRIPTION = """\
@@ -265,13 +265,7 @@ def _pattern(text: str) -> str:
 
 def _address(text: str) -> int:
     """argparse type: an address of --*-range (decimal or 0x hex)."""
-    try:
-        value = int(text, 0)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not an address: {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"not an address: {text!r}")
-    return value
+    return integer_within(text, "an address", 0, None, "an address is 0 or more")
 
 
 def _insert(args: argparse.Namespace) -> int:

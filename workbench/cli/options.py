@@ -108,15 +108,21 @@ def output_file(text: str) -> str:
     return text
 
 
-def positive_int(text: str) -> int:
-    """argparse type: an integer above 0 (anything else is a usage error, exit 2)."""
+def integer_within(text: str, what: str, low: int, high: int | None, rule: str) -> int:
+    """An argparse type's work: ``text`` as an integer (decimal or 0x hex) from ``low`` to ``high`` (None: no
+    limit); else a usage error (exit 2), ``not <what>: 'text'`` or ``<rule>, got <value>``."""
     try:
         value = int(text, 0)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
-    if value <= 0:
-        raise argparse.ArgumentTypeError(f"must be positive, got {value}")
+        raise argparse.ArgumentTypeError(f"not {what}: {text!r}") from None
+    if value < low or high is not None and value > high:
+        raise argparse.ArgumentTypeError(f"{rule}, got {value}")
     return value
+
+
+def positive_int(text: str) -> int:
+    """argparse type: an integer above 0 (anything else is a usage error, exit 2)."""
+    return integer_within(text, "an integer", 1, None, "must be positive")
 
 
 def positive_float(text: str) -> float:
@@ -143,13 +149,7 @@ def non_negative_float(text: str) -> float:
 
 def port_number(text: str) -> int:
     """argparse type: a TCP/UDP port, 0..65535 (0: any free port)."""
-    try:
-        value = int(text, 0)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a port number: {text!r}") from None
-    if not 0 <= value <= 0xFFFF:
-        raise argparse.ArgumentTypeError(f"must be 0..65535, got {value}")
-    return value
+    return integer_within(text, "a port number", 0, 0xFFFF, "must be 0..65535")
 
 
 def add_bus_arguments(parser: argparse.ArgumentParser) -> None:
