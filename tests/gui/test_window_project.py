@@ -142,14 +142,15 @@ def test_a_connection_that_fails_after_another_project_opened_says_nothing(qtbot
     open now still is one)."""
     from dataclasses import replace
 
+    from workbench.gui.worker import Task
+
     window = offline_window(qtbot, replace(project, connection=replace(project.connection, interface="nosuch")))
     try:
-        with qtbot.waitSignal(window.connect_ecu().finished, timeout=15_000):
-            pass
+        first = window.connect_ecu()  # it may fail before a waitSignal on its finished would be connected
+        qtbot.waitUntil(lambda: first not in Task._running and bool(window.errors), timeout=15_000)
         assert [box.text() for box in window.errors][-1].startswith("unknown python-can interface 'nosuch'")
         assert window.status.link.text() == "○ not connected" and window.connect_action.isEnabled()
         shown = len(window.errors)
-        from workbench.gui.worker import Task
 
         attempt = window.connect_ecu()  # fails in the pool, said after the switch (or before: it may fail at once)
         with qtbot.waitSignal(window.loaded, timeout=15_000):
