@@ -110,13 +110,21 @@ class EcuController(QObject):
     def is_connected(self) -> bool:
         return self.session is not None
 
-    def open(self, a2l, connection: Connection, accept_epk_mismatch: bool = False) -> Task:
+    def open(self, a2l, connection: Connection, accept_epk_mismatch: bool = False,
+             on_failed: Callable[[], None] | None = None) -> Task:
         """Connect to the ECU of ``a2l`` (a path or a loaded A2lDocument) as ``connection`` says;
-        ``connected`` or ``failed`` follows."""
+        ``connected`` or ``failed`` follows. ``on_failed()`` runs after any failure of this attempt, said or not
+        (connected before the attempt starts: one that fails at once would otherwise be missed)."""
         self.close()
         self._target = (a2l, connection, accept_epk_mismatch)
-        return run_task(_open, a2l, connection, accept_epk_mismatch, on_done=self._taker(),
-                        on_error=self._refusal(self.failed.emit))
+        refused = self._refusal(self.failed.emit)
+
+        def failed(exc: BaseException) -> None:
+            refused(exc)
+            if on_failed is not None:
+                on_failed()
+
+        return run_task(_open, a2l, connection, accept_epk_mismatch, on_done=self._taker(), on_error=failed)
 
     def _taker(self) -> Callable[[Connected], None]:
         """What takes the session being opened now: it is closed instead when the controller was closed (or opened

@@ -466,8 +466,8 @@ class MainWindow(QMainWindow):
         self.connect_action.setEnabled(False)
         self.status.link.setText("connecting …")
         a2l = self.workspace.doc if self.workspace is not None else self.project.a2l  # read once, not again
-        task = self._connecting = self.controller.open(a2l, self.project.connection, accept_epk_mismatch)
-        task.failed.connect(lambda _: self._not_connected(task))
+        task = self._connecting = self.controller.open(a2l, self.project.connection, accept_epk_mismatch,
+                                                       on_failed=lambda: self._not_connected(task))
         return task
 
     def _not_connected(self, task: Task) -> None:
