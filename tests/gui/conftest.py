@@ -6,6 +6,7 @@ what the tests see is what a user with a small screen sees."""
 
 from __future__ import annotations
 
+import gc
 import os
 import uuid
 
@@ -24,6 +25,20 @@ def pytest_configure(config) -> None:
     xdist worker beside a display's then rendered on offscreen's own 800 x 800 screen (the window did not fit)."""
     if os.environ.get("QT_QPA_PLATFORM") == "offscreen":
         screenshot_screen(SCREEN)
+
+
+@pytest.fixture(autouse=True)
+def garbage_collected_on_the_gui_thread(qapp):
+    """As the application does (workbench.gui.worker.collect_garbage_on_the_gui_thread): a test's DAQ thread
+    collecting a window's Qt objects hung the test and its xdist worker for good."""
+    from workbench.gui.worker import collect_garbage_on_the_gui_thread
+
+    timer = collect_garbage_on_the_gui_thread(qapp)
+    yield
+    timer.stop()
+    timer.deleteLater()
+    gc.enable()
+    gc.collect()  # this thread's: what the test left in cycles
 
 
 @pytest.fixture(scope="session")

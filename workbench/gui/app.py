@@ -25,6 +25,7 @@ from workbench.fileio import atomic_write_text
 from workbench.gui import theme
 from workbench.gui.project import Connection, Project, demo_project
 from workbench.gui.widgets.main_window import MainWindow
+from workbench.gui.worker import collect_garbage_on_the_gui_thread
 from workbench.logs import logger
 
 log = logger(__name__)
@@ -43,6 +44,7 @@ def application() -> QApplication:
         app.setApplicationName("workbench")
         app.setOrganizationName("workbench")
         theme.apply(app)
+        collect_garbage_on_the_gui_thread(app)
     return app
 
 

@@ -10,17 +10,18 @@ Qt delivers in the GUI thread: the window never waits for the ECU, and nothing p
 
 from __future__ import annotations
 
+import gc
 import threading
 from collections.abc import Callable
 from typing import Any
 
-from PySide6.QtCore import QObject, QRunnable, QThreadPool, Signal
+from PySide6.QtCore import QObject, QRunnable, QThreadPool, QTimer, Signal
 
 from workbench.logs import logger
 
 log = logger(__name__)
 
-__all__ = ["QtProgress", "Task", "run_task"]
+__all__ = ["QtProgress", "Task", "collect_garbage_on_the_gui_thread", "run_task"]
 
 
 class QtProgress(QObject):
@@ -103,3 +104,24 @@ def run_task(function: Callable[..., Any], *args, on_done: Callable[[Any], None]
     if on_error is not None:
         task.failed.connect(on_error)
     return task.start()
+
+
+def collect_garbage_on_the_gui_thread(parent: QObject) -> QTimer:
+    """Python's cycle collector runs in whichever thread allocates when its threshold is reached. On a worker (a
+    DAQ thread writing an MDF4 file, say) it destroyed Qt objects of the window's cycles there: Qt's destructor
+    waited for the GIL while the GUI thread, holding it, waited for Qt's lock to delete another, and both hung (a
+    CI run). The automatic collector is switched off and a timer on the GUI thread collects what is due instead;
+    the timer's owner (``parent``) going away, or :meth:`QTimer.stop`, leaves it switched off: call
+    ``gc.enable()`` after stopping it."""
+    gc.disable()
+    timer = QTimer(parent)
+    timer.timeout.connect(_collect_due)
+    timer.start(100)
+    return timer
+
+
+def _collect_due() -> None:
+    """The generation the automatic collector would collect now, if any (its thresholds)."""
+    counts, thresholds = gc.get_count(), gc.get_threshold()
+    if counts[0] > thresholds[0]:
+        gc.collect(2 if counts[2] > thresholds[2] else 1 if counts[1] > thresholds[1] else 0)
