@@ -1,7 +1,8 @@
 """XCP/A2L calibration and measurement workbench.
 
-``from workbench import Session`` is the way in for scripts (see :class:`workbench.session.Session`);
-it is imported on first use, so ``import workbench`` stays light. The core library never imports
+``from workbench import Session`` is the way in for scripts (see :class:`workbench.session.Session`), and
+``ImageCalibration`` for calibrations in an s19/hex without an ECU (:mod:`workbench.sync.offline`); they are
+imported on first use, so ``import workbench`` stays light. The core library never imports
 Qt; the GUI lives in :mod:`workbench.gui` and is loaded only by the ``gui``/``demo`` commands.
 """
 
@@ -28,7 +29,8 @@ __version__ = "0.1.0"
 _ERRORS = ["A2lParseError", "Cancelled", "ConnectionLostError", "ConversionError", "EcuSilentError",
            "EpkMismatchError", "InputError", "LimitsError", "PageError", "PartialWriteError", "UnknownSymbolError",
            "WorkbenchError", "XcpCommandError", "XcpTimeoutError"]
-_lazy, __getattr__, _dir = lazy_exports(__name__, {"workbench.session": ("Session",)})
+_lazy, __getattr__, _dir = lazy_exports(__name__, {"workbench.session": ("Session",),
+                                                    "workbench.sync.offline": ("ImageCalibration",)})
 __all__ = sorted(_ERRORS + _lazy + ["__version__"])
 
 

@@ -16,12 +16,12 @@ import numpy as np
 
 from workbench.calib import rawtypes
 from workbench.calib.memory import ByteEdit, MemoryBytes, Span
-from workbench.errors import ConversionError
+from workbench.errors import ConversionError, InputError
 
 if TYPE_CHECKING:
     from workbench.calib.layout import ResolvedLayout
 
-__all__ = ["cell_edits", "cell_span", "cell_values"]
+__all__ = ["axis_with_points", "cell_edits", "cell_span", "cell_values"]
 
 _AXIS_KINDS = ("CURVE", "MAP", "CUBOID", "CUBE_4", "CUBE_5")
 
@@ -95,3 +95,18 @@ def cell_values(layout: ResolvedLayout, memory: Mapping[Span, bytes], indices: I
 
 def _raw(memory: MemoryBytes, span: Span, field) -> np.ndarray:
     return rawtypes.decode(memory.read(span.address, span.size, span.extension), field.datatype, field.byte_order, 1)
+
+
+def axis_with_points(name: str, axis: Any, points: Mapping[tuple[int, ...], Any]) -> np.ndarray:
+    """The points of the AXIS_PTS ``name`` (``axis``, as held now) with ``points`` (``{(i,): value}``) put in, to be
+    written whole (its order is checked with the others).
+
+    :raises InputError: a point beyond the axis.
+    """
+    axis = np.array(axis, dtype=object)
+    beyond = [index for index in points if index[0] >= len(axis)]
+    if beyond:
+        raise InputError(f"{name} has {len(axis)} points: there is no point {list(beyond[0])}")
+    for (index,), value in points.items():
+        axis[index] = value
+    return axis

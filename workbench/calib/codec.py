@@ -53,7 +53,7 @@ if TYPE_CHECKING:
     from workbench.a2l.objects import AxisPts, Characteristic
     from workbench.calib.layout import Field, ResolvedLayout
 
-__all__ = ["decode", "encode", "read_value", "value_decoder", "value_edits"]
+__all__ = ["decode", "encode", "read_value", "to_raw", "value_decoder", "value_edits"]
 
 _ENCODINGS = {None: "latin-1", "UTF8": "utf-8", "UTF16": "utf-16", "UTF32": "utf-32"}
 
@@ -88,6 +88,18 @@ def value_edits(model: "A2lModel", value: CalValue, read: Callable[[Span], bytes
     layout = object_layout(model, value.name)
     resolved = layout.resolve(read_spans(layout.fixed_part(), read))
     return resolved.encode(value, read_spans(resolved.spans(), read))
+
+
+def to_raw(model: "A2lModel", name: str, value: Any) -> Any:
+    """A physical value of ``name`` as its raw data type holds it (enum texts become their numbers; integers for
+    integer types)."""
+    obj = model.object(name)
+    datatype = model.datatype_of(obj)
+    raw = model.conversion(obj).to_raw(value, datatype)
+    if datatype.startswith("FLOAT"):
+        return raw
+    rounded = np.round(np.asarray(raw, dtype=float)).astype(np.int64)
+    return rounded if rounded.ndim else int(rounded)
 
 
 # -- reading -------------------------------------------------------------------------------------------

@@ -7,6 +7,8 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from workbench.cli.cal_image import (add_image_arguments, open_image, require_output, save_image, values_of,
+                                     written_note)
 from workbench.cli.cal_values import split_cell, typed_value, value_from_file
 from workbench.cli.ecu_options import a2l_document, add_ecu_arguments, can2_dbc, open_session
 from workbench.cli.options import add_can2_bus_arguments, can2_bus_spec, print_json
@@ -28,6 +30,7 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
     get.add_argument("--page", choices=("working", "reference"), help="read this page (default: the one XCP is on)")
     get.add_argument("--raw", action="store_true", help="raw values, as the ECU holds them (no conversion)")
     add_ecu_arguments(get)
+    add_image_arguments(get)
     get.set_defaults(func=_get)
 
     put = commands.add_parser(
@@ -43,12 +46,14 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
                     "once connected). Limits, shape, texts, write access and writable memory are checked before connecting "
                     "(exit 2, nothing sent); once connected, a read-only session (EPK mismatch) or the reference "
                     "page refuses the write before it is sent (exit 1). Only what changes is written, and that "
-                    "is read back and printed.")
+                    "is read back and printed. With --image FILE -o NEW: written into a copy of the s19/hex instead "
+                    "(the same checks; a value whose bytes the file does not hold is refused), no ECU.")
     put.add_argument("name", metavar="NAME")
     put.add_argument("value", metavar="VALUE", nargs="?")
     put.add_argument("--from", dest="source", metavar="FILE", help="the value from a .json or .csv file")
     put.add_argument("--extended-limits", action="store_true", help="allow values up to the EXTENDED_LIMITS")
     add_ecu_arguments(put)
+    add_image_arguments(put, output=True)
     put.set_defaults(func=_set)
 
     listing = commands.add_parser("list", help="list calibrations with their values",
@@ -56,6 +61,7 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
                                               "'xsPRV_*') with type, value, unit and limits, read from the ECU.")
     listing.add_argument("pattern", nargs="?", default="*", metavar="PATTERN")
     add_ecu_arguments(listing)
+    add_image_arguments(listing)
     listing.set_defaults(func=_list)
 
     fix = commands.add_parser(
@@ -108,16 +114,17 @@ def _get(args: argparse.Namespace) -> int:
             wanted[f"{name}[{', '.join(map(str, index))}]"] = (name, index)
         else:
             wanted.update((found, (found, None)) for found in model.expand([text]))
-    with open_session(args, doc, reading=True) as session:
+    page = {"page": args.page} if args.page else {}
+    with values_of(args, doc, reading=True) as session:
         found = {}
         for label, (name, index) in wanted.items():
             kind = model.kind_of(name)
             if args.raw:
-                value = session.read(name, page=args.page, raw=True)
+                value = session.read(name, raw=True, **page)
             elif kind in ("CHARACTERISTIC", "AXIS_PTS"):
-                value = session.read_value(name, page=args.page)
+                value = session.read_value(name, **page)
             else:
-                value = session.read(name, page=args.page)
+                value = session.read(name, **page)
             found[label] = value if index is None else _cell_of(name, getattr(value, "value", value), index)
     if args.json:
         print_json({label: _value_dict(value) for label, value in found.items()})
@@ -172,6 +179,10 @@ def _set(args: argparse.Namespace) -> int:
 
     if args.source is not None and args.value is not None:
         raise InputError("give VALUE or --from FILE, not both")
+    if args.image is not None:
+        require_output(args)
+    elif args.output is not None:
+        raise InputError("-o/--output names the image --image FILE is written to")
     doc, writable = _offline(args)
     model = doc.model()
     name, index = split_cell(model, args.name)
@@ -185,27 +196,50 @@ def _set(args: argparse.Namespace) -> int:
         checked_value(model, name, value, extended=extended, writable=writable)
     else:  # an AXIS_PTS' point: its order against the others is checked by the session, with the points it reads
         checked_cells(model, name, {index: value}, extended=extended, writable=writable)
+    if args.image is not None:
+        return _set_in_image(args, doc, name, index, value)
     with open_session(args, doc) as session:
         if index is not None:
             read_back = session.write_cells(name, {index: value}, allow_extended_limits=extended)[index]
             return _print_cell(args, model, name, index, read_back)
         written = session.write(name, value, allow_extended_limits=extended)
-    if args.json:
-        print_json({args.name: _value_dict(written)})
-        return 0
-    obj = model.object(name)  # shown as cal get shows it
-    print(value_block(args.name, written.value, written.axes, written.unit, decimals(model.format_of(obj)),
-                      note=" (written, read back)", axis_places=_axis_places(model, obj)))
+    _print_written(args, model, name, written, " (written, read back)")
     return 0
 
 
-def _print_cell(args: argparse.Namespace, model, name: str, index: tuple[int, ...], value: Any) -> int:
+def _set_in_image(args: argparse.Namespace, doc, name: str, index: tuple[int, ...] | None, value: Any) -> int:
+    """``cal set --image FILE -o NEW``: the value written into the image, NEW written, shown as online."""
+    image = open_image(args, doc)
+    extended = args.extended_limits
+    if index is not None:
+        written = image.write_cells(name, {index: value}, allow_extended_limits=extended)[index]
+    else:
+        written = image.write(name, value, allow_extended_limits=extended)
+    note = written_note(args, image.modified)
+    save_image(args, image)
+    if index is not None:
+        return _print_cell(args, image.model, name, index, written, note)
+    _print_written(args, image.model, name, written, note)
+    return 0
+
+
+def _print_written(args: argparse.Namespace, model, name: str, written, note: str) -> None:
+    if args.json:
+        print_json({args.name: _value_dict(written)})
+        return
+    obj = model.object(name)  # shown as cal get shows it
+    print(value_block(args.name, written.value, written.axes, written.unit, decimals(model.format_of(obj)),
+                      note=note, axis_places=_axis_places(model, obj)))
+
+
+def _print_cell(args: argparse.Namespace, model, name: str, index: tuple[int, ...], value: Any,
+                note: str = " (written, read back)") -> int:
     label = f"{name}[{', '.join(str(i) for i in index)}]"
     if args.json:
         print_json({label: jsonable(value)})
         return 0
     obj = model.object(name)
-    print(f"{label} = {value_text(value, model.unit_of(obj), decimals(model.format_of(obj)))} (written, read back)")
+    print(f"{label} = {value_text(value, model.unit_of(obj), decimals(model.format_of(obj)))}{note}")
     return 0
 
 
@@ -218,7 +252,7 @@ def _list(args: argparse.Namespace) -> int:
     names = [s.name for s in model.find(args.pattern, kind=("CHARACTERISTIC", "AXIS_PTS"))]
     if not names:  # said before connecting
         raise InputError(f"no calibration matches {args.pattern!r}")
-    with open_session(args, doc, reading=True) as session:
+    with values_of(args, doc, reading=True) as session:
         values = session.read_many(names)
     rows = []
     for name in names:

@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from workbench.cli.cal_image import add_image_arguments, image_dataset_of, load_into_image
 from workbench.cli.ecu_options import add_ecu_arguments, open_session
 from workbench.cli.options import print_json
 from workbench.cli.progressbar import ProgressBar
@@ -36,6 +37,7 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
                       help="the page to read a dataset from (default: working)")
     save.add_argument("--region", metavar="NAME", help="the flash region an image is saved for (e.g. CALIB)")
     add_ecu_arguments(save)
+    add_image_arguments(save)
     save.set_defaults(func=_save)
 
     load = commands.add_parser(
@@ -45,7 +47,9 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
                     "anything is written (in the A2L, writable, within its limits, of its shape, in writable memory); "
                     "one refusal and nothing is written (exit 2), unless --skip-unknown leaves out the names the A2L "
                     "lacks (a dataset of another software version). Then only the objects whose bytes change are "
-                    "written and read back; a failure halfway names the objects that reached the ECU (exit 1).")
+                    "written and read back; a failure halfway names the objects that reached the ECU (exit 1). "
+                    "With --image FILE -o NEW: applied to a copy of the s19/hex instead, checked the same way (an "
+                    "object whose bytes the file lacks is refused too), no ECU.")
     load.add_argument("input", metavar="IN", help="the dataset to apply")
     load.add_argument("--dry-run", action="store_true",
                       help="check and show what would change, write nothing; the exit codes are those of the load "
@@ -55,6 +59,7 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
                       help="leave out (and list as skipped) the objects the A2L does not know, instead of refusing "
                            "the whole dataset")
     add_ecu_arguments(load)
+    add_image_arguments(load, output=True)
     load.set_defaults(func=_load)
 
     sync = commands.add_parser(
@@ -89,26 +94,31 @@ def _progress(args: argparse.Namespace, label: str) -> ProgressBar:
 
 
 def _save(args: argparse.Namespace) -> int:
+    from workbench.calib.dataset import format_of, save_dataset
+    from workbench.sync import read_dataset
     from workbench.sync.reference import is_image_file
 
-    if is_image_file(args.output):
+    if args.image is None and is_image_file(args.output):
         return _save_image(args)
     if args.region:
         raise InputError(f"--region is for an image ({_IMAGES}); {args.output} is saved as a dataset")
-    from workbench.calib.dataset import format_of, save_dataset
-    from workbench.sync import read_dataset
-
     format_of(args.output)  # an unknown extension is refused before the bus is opened
-    with open_session(args, reading=True) as session, _progress(args, f"reading the {args.page} page") as progress:
-        dataset = read_dataset(session, args.names or None, page=args.page, progress=progress)
+    if args.image is not None:
+        dataset, source = image_dataset_of(args), {"image": args.image}
+    else:
+        with open_session(args, reading=True) as session, \
+                _progress(args, f"reading the {args.page} page") as progress:
+            dataset = read_dataset(session, args.names or None, page=args.page, progress=progress)
+        source = {"page": args.page}
     warnings = dataset.notes + save_dataset(dataset, args.output)
     if args.json:
-        print_json({"output": args.output, "objects": len(dataset), "page": args.page,
+        print_json({"output": args.output, "objects": len(dataset), **source,
                     "warnings": [w.to_dict() for w in warnings]})
         return 0
     for warning in warnings:
         print(warning, file=sys.stderr)
-    print(f"wrote {args.output}: {len(dataset)} calibrations of the {args.page} page")
+    where = args.image if args.image is not None else f"the {args.page} page"
+    print(f"wrote {args.output}: {len(dataset)} calibrations of {where}")
     return 0
 
 
@@ -142,6 +152,10 @@ def _load(args: argparse.Namespace) -> int:
     from workbench.calib.dataset import load_dataset
     from workbench.sync import ApplyFailed, ApplyRefused, apply_dataset
 
+    if args.image is not None:
+        return load_into_image(args)
+    if args.output is not None:
+        raise InputError("-o/--output names the image --image FILE is written to")
     dataset = load_dataset(args.input)
     for note in dataset.notes:
         print(note, file=sys.stderr)

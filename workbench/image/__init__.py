@@ -1,7 +1,8 @@
 """Memory images (s19/hex via bincopy), flash regions with the ranges a file fills, XCP checksums."""
 
 from workbench.image.checksum import ChecksumType, checksum
-from workbench.image.image import ERASED, AddressRange, MemoryImage, load_image
+from workbench.image.image import ERASED, AddressRange, MemoryImage, load_image, parse_image
+from workbench.image.records import patched_text
 from workbench.image.regions import Region, region_of, split_by_region
 
 __all__ = [
@@ -12,6 +13,8 @@ __all__ = [
     "Region",
     "checksum",
     "load_image",
+    "parse_image",
+    "patched_text",
     "region_of",
     "split_by_region",
 ]

@@ -149,7 +149,14 @@ def load_image(path: str | Path) -> MemoryImage:
     :raises InputError: the file is missing or malformed; the message names ``path:line``.
     """
     path = Path(path)
-    text = read_input(path, "an S-record or Intel HEX file").decode("ascii", errors="replace")
+    return parse_image(read_input(path, "an S-record or Intel HEX file").decode("ascii", errors="replace"), path)
+
+
+def parse_image(text: str, path: str | Path = "<text>") -> MemoryImage:
+    """The image the S-record or Intel HEX ``text`` describes (``path`` names it in errors).
+
+    :raises InputError: the text is malformed; the message names ``path:line``.
+    """
     first = next((line.strip() for line in text.splitlines() if line.strip()), "")
     if first.startswith("S"):
         add = "add_srec"

@@ -24,11 +24,9 @@ from collections.abc import Iterable, Mapping
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
 from workbench.a2l.objects import AxisPts, Characteristic, Measurement
-from workbench.calib.cells import cell_edits, cell_span, cell_values
-from workbench.calib.codec import value_decoder
+from workbench.calib.cells import axis_with_points, cell_edits, cell_span, cell_values
+from workbench.calib.codec import to_raw, value_decoder
 from workbench.calib.layout import ObjectLayout, ResolvedLayout, object_layout
 from workbench.calib.memory import ByteEdit, Span
 from workbench.calib.signals import MeasurementCodec, measurement_codec
@@ -105,13 +103,7 @@ class ValueAccess:
 
     def to_raw(self: Session, name: str, value: Any) -> Any:
         """A physical value of ``name`` as its raw data type holds it (enum texts become their numbers)."""
-        obj = self.model.object(name)
-        datatype = self.model.datatype_of(obj)
-        raw = self.model.conversion(obj).to_raw(value, datatype)
-        if datatype.startswith("FLOAT"):
-            return raw
-        rounded = np.round(np.asarray(raw, dtype=float)).astype(np.int64)
-        return rounded if rounded.ndim else int(rounded)
+        return to_raw(self.model, name, value)
 
     def read_value(self: Session, name: str, *, page: str | int | None = None) -> CalValue:
         """A calibration object's value with its axes and unit (:class:`~workbench.calib.values.CalValue`)."""
@@ -232,12 +224,7 @@ class ValueAccess:
         """The axis as the session knows it with ``points`` in place, written as :meth:`write` writes it (its order
         and memory checked, only the points that change sent)."""
         layout = static or self._write_layout(name)
-        axis = np.array(layout.decode(self._known_bytes(layout.spans())).value, dtype=object)
-        beyond = [index for index in points if index[0] >= len(axis)]
-        if beyond:
-            raise InputError(f"{name} has {len(axis)} points: there is no point {list(beyond[0])}")
-        for (index,), value in points.items():
-            axis[index] = value
+        axis = axis_with_points(name, layout.decode(self._known_bytes(layout.spans())).value, points)
         written = self.write(name, axis, allow_extended_limits=extended).value
         return {index: written[index[0]] for index in points}
 

@@ -31,6 +31,7 @@ _EXPORTS = {
     "workbench.sync.apply": ("ApplyFailed", "ApplyRefused", "ApplyReport", "ObjectOutcome", "apply_dataset"),
     "workbench.sync.areas": ("CalibrationArea", "ImageView", "calibration_areas"),
     "workbench.sync.cache": ("AreaCheck", "ByteDifference", "SyncReport", "sync_compare"),
+    "workbench.sync.offline": ("ImageCalibration",),
     "workbench.sync.reference": ("DatasetReference", "ImageReference", "is_image_file", "load_reference"),
     "workbench.sync.snapshot": ("calibration_image", "file_dataset", "image_dataset", "read_dataset"),
     "workbench.sync.transfer": ("DownloadResult", "sync_download", "sync_upload"),
@@ -41,6 +42,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
     from workbench.sync.apply import ApplyFailed, ApplyRefused, ApplyReport, ObjectOutcome, apply_dataset
     from workbench.sync.areas import CalibrationArea, ImageView, calibration_areas
     from workbench.sync.cache import AreaCheck, ByteDifference, SyncReport, sync_compare
+    from workbench.sync.offline import ImageCalibration
     from workbench.sync.reference import DatasetReference, ImageReference, is_image_file, load_reference
     from workbench.sync.snapshot import calibration_image, file_dataset, image_dataset, read_dataset
     from workbench.sync.transfer import DownloadResult, sync_download, sync_upload

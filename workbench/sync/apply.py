@@ -21,6 +21,7 @@ the ECU, which one failed (and which of its fields were written), and which were
 from __future__ import annotations
 
 from collections.abc import Mapping
+from contextlib import nullcontext
 from dataclasses import dataclass, field
 
 from workbench.calib.codec import value_edits
@@ -33,6 +34,7 @@ from workbench.errors import InputError, PartialWriteError, WorkbenchError
 from workbench.progress import Progress, report
 from workbench.session import Session
 from workbench.sync.ecu import EcuReader, on_pages
+from workbench.sync.offline import ImageCalibration
 from workbench.sync.store import ByteStore
 from workbench.sync.values import (as_stored, decode_values, label_differences, object_layouts, resolve_all,
                                    without_name)
@@ -140,11 +142,13 @@ class _Planned:
     edits: list[ByteEdit]
 
 
-def apply_dataset(session: Session, dataset: Mapping[str, CalValue], *, dry_run: bool = False,
+def apply_dataset(session: Session | ImageCalibration, dataset: Mapping[str, CalValue], *, dry_run: bool = False,
                   allow_extended_limits: bool = False, skip_unknown: bool = False, progress: Progress | None = None,
                   source: str | None = None) -> ApplyReport:
     """Check every object of ``dataset`` against the A2L and the ECU's working page, then write those that change
     into the working page (XCP on it meanwhile, whichever page the ECU runs, as :func:`sync_download` writes).
+    ``session`` may be an :class:`~workbench.sync.offline.ImageCalibration` instead: the same checks against an
+    s19/hex, where an object whose bytes the file lacks is refused too, and the writes go into the image.
 
     :param dry_run: check and say what would change; write nothing (also on a read-only session).
     :param allow_extended_limits: values up to the EXTENDED_LIMITS pass (the report's ``extended_limits`` names
@@ -157,7 +161,9 @@ def apply_dataset(session: Session, dataset: Mapping[str, CalValue], *, dry_run:
     :raises EpkMismatchError: the session is read-only (not on a dry run).
     """
     result = ApplyReport(source or getattr(dataset, "source", None) or "dataset", dry_run)
-    with session.lock, on_pages(session, "working"):  # a dataset is the working page's, as cal save reads it
+    offline = isinstance(session, ImageCalibration)
+    # a dataset is the working page's, as cal save reads it; an image has one page
+    with session.lock, nullcontext() if offline else on_pages(session, "working"):
         if not dry_run:
             session.require_writable()
         planned, refused, current = _check(session, dataset, allow_extended_limits, progress, result)
@@ -174,7 +180,7 @@ def apply_dataset(session: Session, dataset: Mapping[str, CalValue], *, dry_run:
             raise ApplyRefused(result)
         if not dry_run:
             _write(session, planned, changing, allow_extended_limits, progress, result)
-        if changing:
+        if changing and not offline:
             result.warnings += _not_run(session)
     return result
 
@@ -187,7 +193,8 @@ def _not_run(session: Session) -> list[str]:
             for state in map(session.page, numbers) if state.ecu_page != state.working]
 
 
-def _check(session: Session, dataset: Mapping[str, CalValue], extended: bool, progress: Progress | None,
+def _check(session: Session | ImageCalibration, dataset: Mapping[str, CalValue], extended: bool,
+           progress: Progress | None,
            result: ApplyReport) -> tuple[dict[str, _Planned], dict[str, str], ByteStore]:
     """Every object checked: ``({name: planned edits}, {name: why refused}, the ECU's bytes read)``; the objects
     the EXTENDED_LIMITS decide go to ``result.extended_limits``."""
@@ -203,7 +210,8 @@ def _check(session: Session, dataset: Mapping[str, CalValue], extended: bool, pr
         if violations:
             refused[name] = _located(where(name), "; ".join(without_name(name, str(v)) for v in violations))
             del layouts[name]
-    current = ByteStore(fallback=EcuReader(session, progress, "reading the ECU's values"))
+    offline = isinstance(session, ImageCalibration)
+    current = ByteStore(fallback=session.fetch if offline else EcuReader(session, progress, "reading the ECU's values"))
     resolved, failed = resolve_all(layouts, current.fetch)
     refused.update(failed)
     current.fetch([span for layout in resolved.values() for span in layout.spans()])
@@ -218,6 +226,9 @@ def _check(session: Session, dataset: Mapping[str, CalValue], extended: bool, pr
             continue
         try:
             check_inside(name, ((edit.span, edit.field) for edit in edits), writable)
+            lacking = session.lacking(name, resolved[name].spans() + [e.span for e in edits]) if offline else None
+            if lacking:
+                raise InputError(lacking)
         except InputError as exc:
             refused[name] = without_name(name, str(exc))
             continue
@@ -267,7 +278,7 @@ def _located(where: str, reason: str) -> str:
     return f"{where}: {reason}" if where else reason
 
 
-def _changes(session: Session, dataset: Mapping[str, CalValue], planned: dict[str, _Planned], changing: list[str],
+def _changes(session: Session | ImageCalibration, dataset: Mapping[str, CalValue], planned: dict[str, _Planned], changing: list[str],
              current: ByteStore, result: ApplyReport) -> DatasetDiff:
     """The ECU's values now against the dataset's as the ECU would hold them, for the objects that change;
     label differences (units, axis names) become warnings."""
@@ -276,10 +287,11 @@ def _changes(session: Session, dataset: Mapping[str, CalValue], planned: dict[st
     for name, value in before.items():
         result.warnings += [f"{name}: {text}" for text in label_differences(value, dataset[name])]
     after = {name: as_stored(model, planned[name].value, current) for name in changing}
-    return diff_datasets({name: before[name] for name in changing}, after, a_label="ECU", b_label=result.source)
+    where = session.label if isinstance(session, ImageCalibration) else "ECU"
+    return diff_datasets({name: before[name] for name in changing}, after, a_label=where, b_label=result.source)
 
 
-def _write(session: Session, planned: dict[str, _Planned], changing: list[str], extended: bool,
+def _write(session: Session | ImageCalibration, planned: dict[str, _Planned], changing: list[str], extended: bool,
            progress: Progress | None, result: ApplyReport) -> None:
     """Write the changing objects in order; on a failure mark what reached the ECU and raise ApplyFailed."""
     index = {o.name: i for i, o in enumerate(result.outcomes)}

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from workbench.calib.memory import Span
-from workbench.image import ERASED, MemoryImage
+from workbench.image import ERASED, AddressRange, MemoryImage
 
 if TYPE_CHECKING:
     from workbench.a2l import A2lDocument
@@ -99,13 +99,29 @@ class ImageView:
 
     def read(self, span: Span) -> bytes:
         """The span's bytes (erased flash where the image holds none); a span may cross mappings."""
-        out = bytearray()
+        return b"".join(self.image.read(start, size, ERASED) for start, size in self.pieces(span))
+
+    def write(self, span: Span, data: bytes) -> None:
+        """Put ``data`` (``span.size`` bytes) at the span's place in the image, over what it held."""
+        offset = 0
+        for start, size in self.pieces(span):
+            self.image.add(start, data[offset:offset + size], overwrite=True)
+            offset += size
+
+    def lacking(self, span: Span) -> list[AddressRange]:
+        """The image addresses of the span's bytes the image does not hold (empty: it holds them all)."""
+        held = self.image.ranges
+        return [part for start, size in self.pieces(span) for part in AddressRange(start, start + size).outside(held)]
+
+    def pieces(self, span: Span) -> list[tuple[int, int]]:
+        """``(image address, size)`` of the span's bytes, in order (a span may cross mappings)."""
+        found = []
         address = span.address
         while address < span.end:
             step = self._run(address, span.end, span.extension)
-            out += self.image.read(self.image_address(address, span.extension), step, ERASED)
+            found.append((self.image_address(address, span.extension), step))
             address += step
-        return bytes(out)
+        return found
 
     def fetch(self, spans: list[Span]) -> dict[Span, bytes]:
         return {span: self.read(span) for span in spans}

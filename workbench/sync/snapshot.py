@@ -33,7 +33,7 @@ from workbench.sync.areas import ImageView, calibration_areas
 from workbench.sync.ecu import EcuReader, on_pages
 from workbench.sync.values import as_typed_value, calibration_names, decode_values, object_layouts
 
-__all__ = ["calibration_image", "file_dataset", "image_dataset", "read_dataset"]
+__all__ = ["calibration_image", "dataset_of", "file_dataset", "image_dataset", "read_dataset"]
 
 
 def read_dataset(session: Session, names: Iterable[str] | None = None, *, page: str | int | None = "working",
@@ -59,7 +59,7 @@ def read_dataset(session: Session, names: Iterable[str] | None = None, *, page: 
         name, why = next(iter(problems.items()))
         raise InputError(f"{name}: {why}" if not why.startswith(name) else why)
     where = f"the ECU's {page} page" if page else "the ECU"
-    dataset = _dataset(model, values, problems, f"{where}, EPK {session.epk.ecu or 'not read'}")
+    dataset = dataset_of(model, values, problems, f"{where}, EPK {session.epk.ecu or 'not read'}")
     dataset.source = f"ECU ({page} page)" if page else "ECU"
     return dataset
 
@@ -75,7 +75,7 @@ def image_dataset(model: A2lModel, image: MemoryImage, names: Iterable[str] | No
     layouts, problems = object_layouts(model, calibration_names(model, names))
     values, failed = decode_values(layouts, ImageView(image, areas).fetch)
     problems.update(failed)
-    dataset = _dataset(model, values, problems, source)
+    dataset = dataset_of(model, values, problems, source)
     dataset.source = source
     return dataset
 
@@ -118,7 +118,9 @@ def _float32(number):
     return float(np.float32(number)) if isinstance(number, (float, np.floating)) else number
 
 
-def _dataset(model: A2lModel, values: dict, problems: dict[str, str], origin: str) -> Dataset:
+def dataset_of(model: A2lModel, values: dict, problems: dict[str, str], origin: str) -> Dataset:
+    """A dataset of ``values`` (name -> CalValue, typed as a dataset keeps them), each object not read (``problems``:
+    name -> why) named in its notes; ``origin`` says where the values were read, in its comment."""
     dataset = Dataset()
     stamp = datetime.now(timezone.utc).astimezone().isoformat(timespec="seconds")
     a2l = f" ({model.doc.path.name})" if model.doc.path is not None else ""

@@ -1,0 +1,106 @@
+"""Offline calibration end to end, as a user works in a temporary folder with the demo's A2L and s19: cal get, set,
+list, save and load with --image, the new image flashed into the simulated ECU (udp_multicast on a port of the
+test's own) and read back online; a dataset loaded offline gives the bytes the same dataset loaded online gives."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+
+import pytest
+
+from workbench import demo
+from workbench.cli import main
+from workbench.image import load_image
+from workbench.sim import serve_demo
+
+CALIB = (0xFC0000, 0xFE0000)
+
+
+@pytest.fixture
+def work(tmp_path):
+    cwd = os.getcwd()
+    os.chdir(tmp_path)
+    shutil.copy(demo.s19(), "app.s19")
+    try:
+        yield tmp_path
+    finally:
+        os.chdir(cwd)
+
+
+@pytest.fixture
+def bus(work, free_udp_port):
+    with serve_demo({"interface": "udp_multicast", "port": free_udp_port}):
+        yield ["--bus-kwargs", f"port={free_udp_port}"]
+
+
+def run(capsys, *argv: str) -> tuple[int, str, str]:
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_set_offline_flash_and_read_online(bus, capsys, work):
+    names = ("xsFULL_TANK_PRESS", "zvTankPConv", "xvPRV_DC_FF", "cfRAILPRESSURE_EN")
+    offline, online = run(capsys, "cal", "get", *names, "--image", "app.s19"), run(capsys, "cal", "get", *names, *bus)
+    assert offline == online and offline[0] == 0  # the same codec, the same text
+    code, out, err = run(capsys, "cal", "set", "xsFULL_TANK_PRESS", "650 bar", "--image", "app.s19", "-o", "new.s19")
+    assert (code, out) == (0, "xsFULL_TANK_PRESS = 650.00 bar (written into new.s19)\n")
+    assert "`workbench flash new.s19 --region CALIB` programs them" in err
+    code, out, _ = run(capsys, "cal", "set", "xvPRV_DC_FF[1,2]", "55", "--image", "new.s19", "-o", "new.s19")
+    assert (code, out) == (0, "xvPRV_DC_FF[1, 2] = 55.00 % (written into new.s19)\n")
+    assert run(capsys, "cal", "set", "cfRAILPRESSURE_EN", "ON", "--image", "new.s19", "-o", "new.s19")[0] == 0
+    assert (work / "app.s19").read_bytes() == demo.s19().read_bytes()  # the input untouched
+    code, _, err = run(capsys, "flash", "new.s19", "--region", "CALIB", *bus)
+    assert code == 0, err
+    code, out, _ = run(capsys, "cal", "get", "xsFULL_TANK_PRESS", "xvPRV_DC_FF[1,2]", "cfRAILPRESSURE_EN", *bus)
+    assert out.splitlines() == ["xsFULL_TANK_PRESS = 650.00 bar", "xvPRV_DC_FF[1, 2] = 55.00 %",
+                                "cfRAILPRESSURE_EN = ON"]
+    code, out, _ = run(capsys, "cal", "diff", "ecu", "new.s19", *bus)
+    assert code == 0
+
+
+def test_a_dataset_loaded_offline_gives_the_bytes_it_gives_online(bus, capsys, work):
+    assert run(capsys, "cal", "save", "base.dcm", "--image", "app.s19")[1] == \
+        "wrote base.dcm: 58 calibrations of app.s19\n"
+    text = (work / "base.dcm").read_text(encoding="latin-1")
+    text = re.sub(r"(FESTWERT xsPRV_KP\n(?:.*\n)*?\s*WERT\s+)\S+", r"\g<1>6.25", text)
+    text = re.sub(r"(FESTWERT xsSWITCH_TANK_THR\n(?:.*\n)*?\s*WERT\s+)\S+", r"\g<1>24.5", text)
+    text = re.sub(r"(FESTWERT cfFUELLEVEL_EN\n(?:.*\n)*?\s*TEXT\s+)\S+", r'\g<1>"ON"', text)
+    (work / "tuned.dcm").write_text(text, encoding="latin-1")
+    code, out, _ = run(capsys, "cal", "load", "tuned.dcm", "--image", "app.s19", "--dry-run")
+    assert code == 0 and out.splitlines()[-1] == "tuned.dcm: dry run: 55 unchanged, 3 would change"
+    assert not (work / "off.s19").exists()
+    code, out, _ = run(capsys, "cal", "load", "tuned.dcm", "--image", "app.s19", "-o", "off.s19")
+    assert code == 0 and out.splitlines()[-1] == "tuned.dcm: applied: 3 applied, 55 unchanged"
+    assert run(capsys, "cal", "load", "tuned.dcm", *bus)[0] == 0
+    assert run(capsys, "cal", "save", "ecu.s19", "--region", "CALIB", *bus)[0] == 0
+    offline, online = load_image("off.s19"), load_image("ecu.s19")
+    held = [r for r in offline.ranges if CALIB[0] <= r.start < CALIB[1]]
+    assert held and all(offline.read(r.start, r.size) == online.read(r.start, r.size) for r in held)
+    assert offline.read(0xFC0000, 0x200) != load_image(demo.s19()).read(0xFC0000, 0x200)
+
+
+def test_what_is_refused_and_how(work, capsys, tmp_path):
+    code, out, err = run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "25", "--image", "app.s19")
+    assert (code, out) == (2, "") and err == ("error: --image app.s19 is not changed in place unless you name it: give "
+                                              "-o NEW_FILE (or -o app.s19 to change it)\n")
+    code, _, err = run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "9999", "--image", "app.s19", "-o", "new.s19")
+    assert code == 2 and err == "error: xsSWITCH_TANK_THR: 9999.00 is above the upper limit 800.00 bar\n"
+    code, _, err = run(capsys, "cal", "set", "xsSWITCH_TANK", "1", "--image", "app.s19", "-o", "new.s19")
+    assert code == 2 and "xsSWITCH_TANK" in err and "did you mean" in err
+    code, _, err = run(capsys, "cal", "get", "zsRailPressure", "--image", "app.s19")
+    assert code == 2 and "a flash image holds calibrations only" in err
+    code, _, err = run(capsys, "cal", "get", "xsPRV_KP", "--image", "app.s19", "--page", "reference")
+    assert code == 2 and err.startswith("error: --page is for the ECU")
+    code, _, err = run(capsys, "cal", "get", "xsPRV_KP", "--image", "gone.s19")
+    assert code == 2 and "gone.s19" in err
+    os.chmod("app.s19", 0o444)
+    assert run(capsys, "cal", "get", "xsPRV_KP", "--image", "app.s19")[1] == "xsPRV_KP = 5.0000 %/bar\n"
+    code, _, err = run(capsys, "cal", "set", "xsPRV_KP", "6", "--image", "app.s19", "-o", "app.s19")
+    assert code == 2 and err == "error: app.s19: the file is read-only; not overwritten (save it under another name)\n"
+    assert not list(tmp_path.glob("*.s19"))[1:] and (tmp_path / "app.s19").read_bytes() == demo.s19().read_bytes()
+    code, out, _ = run(capsys, "cal", "list", "xsPRV_K*", "--image", "app.s19", "--json")
+    assert code == 0 and [row["value"] for row in json.loads(out)] == [5.0, 2.0, 0.019999999552965164]
