@@ -191,7 +191,8 @@ class A2lDocument:
         """Where a file without PROJECT was written to be included (``/include``): ``"PROJECT"``
         when its top level holds MODULEs, ``"MODULE"`` when it holds other blocks (MEASUREMENT ...);
         None for a whole file (one with a PROJECT) or one without blocks."""
-        keywords = {self.blocks.keyword[index] for index in self.blocks.children(-1).tolist()}
+        blocks = self.blocks
+        keywords = {blocks.keyword_names[number] for number in np.unique(blocks.keyword_id[blocks.children(-1)]).tolist()}
         if not keywords or "PROJECT" in keywords:
             return None
         return "PROJECT" if keywords == {"MODULE"} else "MODULE"
@@ -372,7 +373,7 @@ class Block:
 
     @property
     def keyword(self) -> str:
-        return self.doc.blocks.keyword[self.index]
+        return self.doc.blocks.keyword_of(self.index)
 
     @property
     def spec(self) -> grammar.BlockSpec | None:
@@ -413,8 +414,7 @@ class Block:
         return [Block(self.doc, i) for i in self.doc.blocks.children(self.index).tolist()]
 
     def children_named(self, keyword: str) -> list["Block"]:
-        keywords = self.doc.blocks.keyword
-        return [Block(self.doc, i) for i in self.doc.blocks.children(self.index).tolist() if keywords[i] == keyword]
+        return [Block(self.doc, i) for i in self.doc.blocks.children_having_keyword(self.index, keyword).tolist()]
 
     def first(self, keyword: str) -> "Block | None":
         found = self.children_named(keyword)

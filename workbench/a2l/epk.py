@@ -114,8 +114,8 @@ def epk_edits(doc: "A2lDocument", epk: ElfEpk, module: "Block") -> tuple[list[Ed
 def _check_option(doc: "A2lDocument", mod_par: "Block", option: str, expected: str, fits) -> None:
     """Raise :class:`A2lParseError` at an ``option`` of MOD_PAR without its value: the update would insert
     another one beside it."""
-    owners, keywords = doc.option_occurrences("MOD_PAR", option)
-    for keyword in keywords[owners == mod_par.index].tolist():
+    word = option.encode("ascii")
+    for keyword in [token for token in mod_par.own_tokens[1:] if doc.raw(token) == word]:  # after its comment
         value = keyword + 1
         if value >= doc.block_end[mod_par.index] or not fits(doc.raw(value)):
             found = doc.raw(min(value, doc.block_end[mod_par.index])).decode(doc.encoding)

@@ -2,7 +2,7 @@
 
 One compiled regex finds the strings and comments (the only places where whitespace
 does not separate tokens); numpy then finds every token's start and end offset. A
-10 MB file becomes two int64 arrays in a few hundred milliseconds; the bytes of a
+10 MB file becomes two int32 arrays in a few hundred milliseconds; the bytes of a
 token are sliced out only when someone asks for them.
 """
 
@@ -178,15 +178,18 @@ def tokenize(data: bytes, source_map: SourceMap) -> Tokens:
     boundary[strings[:, 0]] = True
     boundary[strings[:, 1]] = True
     cuts = np.flatnonzero(boundary)
+    # offsets as int32 where they fit: half the memory of the two largest arrays of a document (a 10 MB
+    # file's peak 22 MiB lower, ~5,000 fewer page faults per update)
+    offset_type = np.int32 if size < 2**31 else np.int64
     head = cuts[:-1] if cuts[-1] == size else cuts
     tail = cuts[1:] if cuts[0] == 0 else cuts
     if len(strings) and (solid[strings[:, 0] - 1].any() or solid[np.minimum(strings[:, 1], size - 1)].any()):
         # a string that touches another token: a solid stretch between two cuts may be followed by another
-        return Tokens(data, head[solid[head]], tail[solid[tail - 1]])
+        return Tokens(data, head[solid[head]].astype(offset_type), tail[solid[tail - 1]].astype(offset_type))
     # solid and blank stretches alternate between the cuts: every other cut starts a token, the next ends it
     first = 0 if solid[0] else 1
-    ends = cuts[first + 1 :: 2]
-    return Tokens(data, cuts[first::2][: len(ends)], ends)
+    ends = cuts[first + 1 :: 2].astype(offset_type)
+    return Tokens(data, cuts[first::2][: len(ends)].astype(offset_type), ends)
 
 
 def _mark(solid: np.ndarray, spans: np.ndarray, value: bool) -> None:

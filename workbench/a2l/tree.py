@@ -44,6 +44,17 @@ class BlockTable:
             self._keywords = [names[number] for number in self.keyword_id.tolist()]
         return self._keywords
 
+    def keyword_of(self, block: int) -> str:
+        """The keyword of one block (without :attr:`keyword`'s list of every block's)."""
+        return self.keyword_names[self.keyword_id[block]]
+
+    def children_having_keyword(self, block: int, keyword: str) -> np.ndarray:
+        """:meth:`children` with this keyword (a MODULE has one child per object: a vectorized pick)."""
+        children = self.children(block)
+        if keyword not in self.keyword_names:
+            return children[:0]
+        return children[self.keyword_id[children] == self.keyword_names.index(keyword)]
+
     def having_keyword(self, keyword: str) -> np.ndarray:
         """Indices of the blocks with this keyword, in document order."""
         if keyword not in self.keyword_names:
