@@ -50,10 +50,11 @@ def write_output(path: str | Path, data: bytes) -> None:
         raise WorkbenchError(f"{path}: cannot write ({exc.strerror or exc})") from None
 
 
-def atomic_write_bytes(path: str | Path, data: bytes) -> None:
+def atomic_write_bytes(path: str | Path, data: bytes, *, durable: bool = True) -> None:
     """Write ``data`` to ``path`` through a temporary file in the same folder and a rename.
 
-    Either the old file or the complete new one exists at every moment; the file's
+    Either the old file or the complete new one exists at every moment (``durable``: also after a power loss,
+    the data reaching the disk before the rename; a cache that can be rebuilt need not wait for that); the file's
     permission bits are kept when it is replaced; a new file gets the usual 0o666 minus the umask
     (not the 0o600 of a temporary file). A symbolic link is written through: its target gets the
     new content (in the target's folder), the link stays, as an editor saving the file keeps it.
@@ -68,8 +69,9 @@ def atomic_write_bytes(path: str | Path, data: bytes) -> None:
     try:
         with os.fdopen(fd, "wb") as handle:
             handle.write(data)
-            handle.flush()
-            os.fsync(handle.fileno())
+            if durable:
+                handle.flush()
+                os.fsync(handle.fileno())
         if path.exists():
             os.chmod(tmp, path.stat().st_mode & 0o7777)
         os.replace(tmp, path)

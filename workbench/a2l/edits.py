@@ -86,14 +86,16 @@ class Edits:
         listed_same = np.flatnonzero(same[:listed]).tolist()
         replacement = np.concatenate([np.frombuffer(b"".join([self.texts[i] for i in listed_same]), np.uint8),
                                       *(replacement for _, _, replacement in self._overwrites)])
-        data = _overwrite(data, starts[same], lengths[same], replacement)
+        overwritten = _overwrite(data, starts[same], lengths[same], replacement)
         rest = order[~same[order]]  # the edits that change the length, in order (all listed ones)
         if not len(rest):
-            return data
+            return bytes(overwritten)
+        # joined from views of the overwritten copy: one copy of the file fewer (a peak 10 MB lower for 10 MB)
+        view = memoryview(overwritten)
         gap_starts = [0, *ends[rest].tolist()]
         gap_ends = [*starts[rest].tolist(), len(data)]
-        pieces: list[bytes] = [b""] * (2 * len(rest) + 1)
-        pieces[0::2] = [data[start:end] for start, end in zip(gap_starts, gap_ends)]
+        pieces: list = [b""] * (2 * len(rest) + 1)
+        pieces[0::2] = [view[start:end] for start, end in zip(gap_starts, gap_ends)]
         pieces[1::2] = [self.texts[i] for i in rest.tolist()]
         return b"".join(pieces)
 
@@ -133,9 +135,10 @@ class Edits:
         self._overwrites = []
 
 
-def _overwrite(data: bytes, starts: np.ndarray, lengths: np.ndarray, replacement: np.ndarray) -> bytes:
+def _overwrite(data: bytes, starts: np.ndarray, lengths: np.ndarray, replacement: np.ndarray) -> bytes | bytearray:
     """``data`` with ``replacement`` written over it, ``lengths[i]`` bytes at ``starts[i]`` each:
-    one vectorized copy instead of a slice per edit (an update rewrites every address)."""
+    one vectorized copy instead of a slice per edit (an update rewrites every address); ``data`` itself when
+    there is nothing to write."""
     if not len(replacement):
         return data
     out = bytearray(data)
@@ -143,7 +146,7 @@ def _overwrite(data: bytes, starts: np.ndarray, lengths: np.ndarray, replacement
     first = np.cumsum(lengths) - lengths
     positions = np.repeat(starts - first, lengths) + np.arange(len(replacement))
     np.frombuffer(out, np.uint8)[positions] = replacement
-    return bytes(out)
+    return out
 
 
 def _in_newline_style(text: bytes, main: "SourceFile", source: "SourceFile") -> bytes:

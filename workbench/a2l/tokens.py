@@ -201,13 +201,14 @@ def _mark(solid: np.ndarray, spans: np.ndarray, value: bool) -> None:
     edges = np.empty(2 * len(spans) + 2, dtype=np.int64)
     edges[0], edges[-1] = 0, len(solid)
     edges[1:-1] = spans.ravel()
-    inside = np.zeros(len(edges) - 1, dtype=bool)
-    inside[1::2] = True
-    mask = np.repeat(inside, np.diff(edges))
+    # True over the spans to set, or over the stretches between the spans to clear (no inverted copy)
+    marked = np.zeros(len(edges) - 1, dtype=bool)
+    marked[(1 if value else 0)::2] = True
+    mask = np.repeat(marked, np.diff(edges))
     if value:
         solid |= mask
     else:
-        solid &= ~mask
+        solid &= mask
 
 
 def opaque_spans(data: bytes, buffer: np.ndarray) -> np.ndarray:
