@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import struct
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass
+from typing import NamedTuple
 
 # tags
 TAG_ARRAY, TAG_CLASS, TAG_ENUM, TAG_LEXICAL_BLOCK, TAG_MEMBER, TAG_POINTER = 0x01, 0x02, 0x04, 0x0B, 0x0D, 0x0F
@@ -51,8 +51,7 @@ class DwarfError(Exception):
     """The DWARF data is malformed or uses a form this reader does not know."""
 
 
-@dataclass(frozen=True)
-class Unit:
+class Unit(NamedTuple):
     offset: int  # of the unit header in .debug_info
     first_die: int
     end: int
@@ -63,8 +62,7 @@ class Unit:
     type_signature: int | None = None  # type units: the signature DW_FORM_ref_sig8 refers to
 
 
-@dataclass(frozen=True)
-class Die:
+class Die(NamedTuple):
     offset: int
     tag: int
     attrs: dict[int, object]
