@@ -169,3 +169,29 @@ def test_a_second_master_that_stops_the_daq_is_named_as_the_likely_cause(sim, ch
         with pytest.raises(ConnectionLostError, match=r"nothing from the ECU for .*; \d+ response\(s\) came that this "
                                                       "master did not ask for: another master on these ids"):
             _read_until_lost(live)
+
+
+@pytest.mark.parametrize("how", ["UDP, the simulator closed", "CAN, the power cut"])
+def test_an_ecu_whose_events_state_no_cycle_is_asked_when_silent_and_found_lost(how, channel, free_udp_port):
+    """XCPlite's events state no cycle (A2L and GET_DAQ_EVENT_INFO; profile sporadic-events): no silence tells a lost
+    ECU, so after PROBE_AFTER_S without a DTO the master asks (GET_STATUS). Before, `workbench measure --daq` on a
+    killed XCPlite (UDP: the master sends nothing while DAQ runs, so no ICMP answer came either) ran to its end and
+    said '0 lost'."""
+    if how.startswith("UDP"):
+        serving = serve_demo(ethernet=EthernetEndpoint("127.0.0.1", free_udp_port, "UDP"), profile="sporadic-events")
+        options = {"host": "127.0.0.1", "port": free_udp_port, "protocol": "udp"}
+    else:
+        serving = serve_demo({"interface": "virtual", "channel": channel}, profile="sporadic-events")
+        options = {"interface": "virtual", "channel": channel}
+    with serving as simulator, Session.open(simulator.a2l, **options, timeouts=FAST) as session:
+        live = session.measure(SIGNALS).start()
+        assert live.stream.silence_limit() is None  # the premise: no event measured states a cycle
+        assert _read_until_lost(live, wanted=5) >= 5
+        if how.startswith("UDP"):
+            simulator.close()
+            expected = "nothing listens"
+        else:
+            simulator.power_off()
+            expected = "GET_STATUS: no response .* none to SYNCH"
+        with pytest.raises(ConnectionLostError, match=expected):
+            _read_until_lost(live)

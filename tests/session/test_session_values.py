@@ -8,7 +8,7 @@ from session_helpers import FAST, edited_a2l
 
 from workbench import EpkMismatchError, Session
 from workbench.calib.values import Axis, CalValue
-from workbench.errors import InputError, LimitsError, PartialWriteError, UnknownSymbolError
+from workbench.errors import InputError, LimitsError, PartialWriteError, UnknownSymbolError, XcpCommandError
 from workbench.xcp_protocol import Cmd, Err
 
 
@@ -115,6 +115,22 @@ def test_a_calibration_outside_writable_memory_is_refused(tmp_path, sim, channel
     with Session.open(a2l, interface="virtual", channel=channel, timeouts=FAST) as ecu:
         with pytest.raises(InputError, match="outside the A2L's writable memory"):
             ecu.write("xsSWITCH_TANK_THR", 21.0)
+
+
+def test_a_calibration_in_an_address_space_no_memory_segment_describes_is_written(tmp_path, sim, channel):
+    """XCPlite's A2L has parameters on a stack frame, behind a pointer and in application memory (address extensions
+    2, 3, 128) that no MEMORY_SEGMENT describes (they describe extension 0): `cal set` refused them as 'outside the
+    A2L's writable memory' before asking the ECU. The demo ECU has no extension 3: it refuses the address."""
+    a2l = edited_a2l(tmp_path, "DATA RAM INTERN 0x40000000 0x20000", "DATA RAM INTERN 0x40000000 0x10")
+    text = a2l.read_text(encoding="utf-8")
+    start = text.index("/* Name                   */ xsSWITCH_TANK_THR")
+    end = text.index("/end CHARACTERISTIC", start)
+    a2l.write_text(text[:end] + "ECU_ADDRESS_EXTENSION 3\n    " + text[end:], encoding="utf-8")
+    with Session.open(a2l, interface="virtual", channel=channel, timeouts=FAST) as ecu:
+        with pytest.raises(XcpCommandError, match="ERR_OUT_OF_RANGE"):  # the ECU's answer, not the A2L's check
+            ecu.write("xsSWITCH_TANK_THR", 21.0)
+        with pytest.raises(InputError, match="outside the A2L's writable memory"):  # extension 0 is described
+            ecu.write("xsEMPTY_TANK_THR", 4.0)
 
 
 def test_an_epk_mismatch_makes_the_session_read_only(tmp_path, sim, channel):

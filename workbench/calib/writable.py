@@ -12,7 +12,9 @@ array. A session runs them before it sends anything; the CLI before it even conn
 
 Writable memory (:func:`writable_spans`): the MEMORY_SEGMENTs of RAM (or EEPROM, registers) holding
 data, and the XCP SEGMENTs (calibration pages). An A2L without MEMORY_SEGMENTs does not tell: then
-nothing is refused for its address. Where an object's size depends on counts in ECU memory, its
+nothing is refused for its address; nor for an address extension none of them is in (MEMORY_SEGMENTs
+describe extension 0; XCPlite's parameters on a stack frame, behind a pointer or in application memory
+have extensions 2, 3, 128 of their own). Where an object's size depends on counts in ECU memory, its
 bytes are checked once they are known (:func:`check_inside`).
 """
 
@@ -54,11 +56,13 @@ def writable_spans(memory_segments: Iterable[MemorySegment], xcp_segments: Itera
 
 
 def check_inside(name: str, spans: Iterable[tuple[Span, str]], writable: list[Span] | None) -> None:
-    """:raises InputError: one of the ``(span, what)`` lies outside ``writable`` (None: nothing is refused)."""
+    """:raises InputError: one of the ``(span, what)`` lies outside ``writable`` (None: nothing is refused; nor
+    is a span in an address extension ``writable`` does not describe)."""
     if writable is None:
         return
+    described = {w.extension for w in writable}
     for span, what in spans:
-        if not any(w.extension == span.extension and w.address <= span.address and span.end <= w.end
+        if span.extension in described and not any(w.extension == span.extension and w.address <= span.address and span.end <= w.end
                    for w in writable):
             raise InputError(f"{name}: {what or 'its bytes'} at {span} lie outside the A2L's writable memory "
                              "(MEMORY_SEGMENTs of calibration RAM); not written")

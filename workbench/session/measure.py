@@ -117,7 +117,7 @@ class DaqMeasurement:
                                 address_granularity=master.granularity)
                 self.stream = DaqStream(master, plan, processor, resolution,
                                         {n: i.period_s * self.prescaler for n, i in info.items()
-                                         if i is not None and i.period_s})
+                                         if i is not None and i.period_s}, lock=session.lock)
                 self.stream.start()
             except BaseException:
                 session.release_daq(self)

@@ -124,7 +124,8 @@ def _daq(config: XcpConfig, params: XcpParameters) -> XcpDaq:
     daq = params.daq
     stamp = (XcpTimestamp(daq.timestamp_size, TIME_UNIT_S[daq.timestamp_unit], daq.timestamp_ticks,
                           daq.timestamp_fixed) if daq.timestamp_size else None)
-    events = tuple(XcpEvent(e.number, e.name, _short_name(config, e.number, e.name), "DAQ", 0xFF, e.period_s or None,
+    events = tuple(XcpEvent(e.number, e.name, _short_name(config, e.number, e.name), "DAQ", 0xFF,
+                            (e.period_s or None) if params.events_cyclic else None,
                             e.priority) for e in params.events)
     return XcpDaq(
         config_type="STATIC" if daq.static else "DYNAMIC",

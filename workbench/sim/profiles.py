@@ -117,6 +117,12 @@ PROFILES: dict[str, SlaveProfile] = {p.name: p for p in (
     SlaveProfile("timestamp-word-fixed", "2-byte DAQ timestamps counting 10 ticks of 1 us, always sent",
                  "TIMESTAMP_SUPPORTED SIZE_WORD, TIMESTAMP_TICKS > 1, TIMESTAMP_FIXED",
                  daq={"timestamp_size": 2, "timestamp_unit": 3, "timestamp_ticks": 10, "timestamp_fixed": True}),
+    SlaveProfile("sporadic-events", "the events state no cycle (A2L EVENT cycle 0, GET_DAQ_EVENT_INFO not cyclic) "
+                 "though they are raised as the tasks run; 4-byte timestamps counting 1 ns (they wrap every 4.3 s): "
+                 "as XCPlite's (docs/slave-profiles.md)",
+                 "no silence to expect from a cyclic event: a lost ECU is found by asking it (GET_STATUS after 1 s "
+                 "without a DTO); TIMESTAMP UNIT_1NS", xcp={"events_cyclic": False},
+                 daq={"timestamp_size": 4, "timestamp_unit": 0, "timestamp_ticks": 1}),
     SlaveProfile("no-timestamp", "no DAQ timestamps at all", "no TIMESTAMP_SUPPORTED: samples timed by their arrival",
                  daq={"timestamp_size": 0}),
     SlaveProfile("no-block-mode", "no slave block mode, no master block mode (GET_COMM_MODE_INFO says MAX_BS 1), "

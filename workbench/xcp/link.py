@@ -178,6 +178,11 @@ class Link:
             self._dto_silence_s = silence_s
             self._last_seen = time.monotonic()
 
+    @property
+    def quiet_s(self) -> float:
+        """Seconds since the ECU's last packet (or since :meth:`watch_dtos` was called, if later)."""
+        return time.monotonic() - self._last_seen
+
     def check(self) -> None:
         """:raises ConnectionLostError: the link is lost (also: DTOs watched and none within the time)."""
         silence = self._dto_silence_s

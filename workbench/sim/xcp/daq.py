@@ -183,7 +183,7 @@ class DaqProcessor:
             raise XcpNegative(Err.OUT_OF_RANGE)
         address, length = self.slave.info.index[f"event:{number}"]
         self.slave.mta = address
-        cycle, unit = event.cycle
+        cycle, unit = event.cycle if self.slave.params.events_cyclic else (0, 0)
         return bytes([EVENT_CONSISTENCY_DAQ | EVENT_PROPERTY_DAQ, UNLIMITED_LISTS, length, cycle, unit, event.priority])
 
     def _get_daq_clock(self, req: bytes) -> bytes:

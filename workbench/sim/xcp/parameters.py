@@ -178,6 +178,7 @@ class XcpParameters:
     asam_mc2_name: str = "FLCU"
     ecu_text: str = "FLCU demo ECU (workbench simulated HDS9)"
     daq: DaqParameters = field(default_factory=DaqParameters)
+    events_cyclic: bool = True  # False: the events state no cycle (A2L and GET_DAQ_EVENT_INFO), raised as they run
     events: tuple[EventChannel, ...] = (
         EventChannel(0, "Task4ms", 0.004),
         EventChannel(1, "Task50ms", 0.050),

@@ -37,6 +37,7 @@ __all__ = ["DaqBatch", "DaqStats", "DaqStream"]
 _START_SELECTED, _STOP_ALL = 1, 0
 _SELECT = 2
 _LOST_CHECK_S = 0.1  # a waiting read() looks this often whether the ECU is lost
+PROBE_AFTER_S = 1.0  # no cyclic event tells when DTOs are due: after this long without any, the ECU is asked
 
 
 @dataclass(frozen=True)
@@ -77,11 +78,14 @@ def _room_for(what: str, advice: str) -> Iterator[None]:
 
 
 class DaqStream:
-    """``event_periods``: event number -> cycle in seconds (for gap detection; None: not cyclic)."""
+    """``event_periods``: event number -> cycle in seconds (for gap detection; None: not cyclic). ``lock``: held
+    by whoever sends commands on the master from other threads (a session's): a probe of the ECU (:meth:`read`)
+    is sent only while no other command is under way."""
 
     def __init__(self, master: XcpMaster, plan: DaqPlan, processor: DaqProcessorInfo, resolution: DaqResolutionInfo,
-                 event_periods: dict[int, float | None] | None = None):
+                 event_periods: dict[int, float | None] | None = None, lock: threading.RLock | None = None):
         self.master = master
+        self.lock = lock or threading.RLock()
         self.plan = plan
         self.processor = processor
         self.resolution = resolution
@@ -91,6 +95,7 @@ class DaqStream:
         self._arrived = threading.Event()
         self._gaps: dict[int, int] = {}  # list -> samples missing from its timestamps
         self._last_time: dict[int, float] = {}
+        self._probe_after: float | None = None  # seconds of silence after which the ECU is asked (no cycle to expect)
         self.running = False
 
     # --- life cycle ---------------------------------------------------------------------------
@@ -120,13 +125,16 @@ class DaqStream:
                                       overload_in_pid=self.processor.overload_indication == "PID")
         master.link.dto_handler = self._on_dto
         master.start_stop_synch(_START_SELECTED)
-        master.link.watch_dtos(self.silence_limit())
+        silence = self.silence_limit()
+        master.link.watch_dtos(silence)
+        self._probe_after = None if silence is not None else max(self.master.timeouts.t1, PROBE_AFTER_S)
         self.running = True
         return self
 
     def silence_limit(self) -> float | None:
         """How long the ECU may stay silent before it counts as lost: 3 periods of the slowest cyclic event
-        measured, at least T1; None when no list samples a cyclic event."""
+        measured, at least T1; None when no list samples a cyclic event (XCPlite's events state no cycle: a
+        silence then says nothing, and :meth:`read` asks the ECU after :data:`PROBE_AFTER_S` of it)."""
         periods = [period for daq in self.plan.lists if (period := self.event_periods.get(daq.event))]
         return max(self.master.timeouts.t1, 3 * max(periods)) if periods else None
 
@@ -224,8 +232,32 @@ class DaqStream:
         return [self._batch(lists[number], found) for number, found in by_list.items()]
 
     def _check_link(self) -> None:
-        if self.running:
-            self.master.link.check()
+        if not self.running:
+            return
+        link = self.master.link
+        link.check()
+        if self._probe_after is not None and link.quiet_s >= self._probe_after:
+            self._probe()
+
+    def _probe(self) -> None:
+        """Ask a silent ECU whether it is there (GET_STATUS): on UDP a host where nothing listens any more says so
+        with the datagram (the link breaks), a dead ECU leaves the command and its SYNCH unanswered
+        (EcuSilentError). Skipped while another thread has a command under way: that one asks as well.
+
+        :raises ConnectionLostError: the ECU is gone.
+        """
+        if not self.lock.acquire(blocking=False):
+            return
+        try:
+            self.master.get_status()
+        except ConnectionLostError:
+            raise
+        except XcpTimeoutError:  # SYNCH was answered: the ECU is there
+            log.info("DAQ: GET_STATUS unanswered, SYNCH answered: the ECU is there, its events are silent")
+        except XcpCommandError as error:  # an answer all the same
+            log.info("DAQ: the ECU answered GET_STATUS with %s", error.name)
+        finally:
+            self.lock.release()
 
     def _batch(self, daq: DaqListPlan, samples: list) -> DaqBatch:
         host_ns = np.fromiter((s.host_ns for s in samples), dtype=np.int64, count=len(samples))
