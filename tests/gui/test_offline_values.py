@@ -1,5 +1,5 @@
 """Before any ECU is connected, the calibration editors show what the project's s19 holds (as CANape shows an offline
-dataset), read-only and saying so; connected, the ECU's values replace them."""
+dataset), saying whose values they are; connected, the ECU's values replace them."""
 
 from __future__ import annotations
 
@@ -19,10 +19,10 @@ def test_offline_editors_show_the_s19s_values_read_only_and_say_whose(qtbot):
     np.testing.assert_array_equal(table.field.model.x_points, TARGET)
     np.testing.assert_array_equal(table.field.model.y_points, MANIFOLD)
     assert scalar.value.value == 20.0 and scalar.field.input.text().strip() == "20.00"
-    for editor in (table, scalar):
-        assert editor.status.text() == "read-only: not connected; the values of FLCU.s19"
+    for editor in (table, scalar):  # editable offline: an edit changes the image (tests/gui/test_offline_image.py)
+        assert editor.status.text() == "offline: the values of FLCU.s19; an edit changes the image (File ▸ Save image)"
         assert editor.value_source == "FLCU.s19"
-    assert not scalar.field.input.isEnabled() and not window.errors
+    assert scalar.field.input.isEnabled() and not window.errors
 
 
 def test_without_a_flash_file_the_offline_editors_stay_empty(qtbot):

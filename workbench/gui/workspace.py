@@ -75,6 +75,6 @@ def load_workspace(project: Project) -> Workspace:
     if project.s19 is not None:
         from workbench.gui.file_values import FileValues
 
-        workspace.file_values = FileValues(workspace.model, workspace.config, project.s19)
+        workspace.file_values = FileValues(workspace.model, project.s19)
     workspace.variables = variables_of_a2l(workspace.model) + variables_of_dbc(workspace.dbc_signals())
     return workspace

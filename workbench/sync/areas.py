@@ -71,10 +71,13 @@ class CalibrationArea:
         return f"{self.name} {self.span}"
 
 
-def calibration_areas(doc: "A2lDocument", config: "XcpConfig", module: str | None = None) -> list[CalibrationArea]:
-    """The A2L's calibration segments: those with an XCP SEGMENT, else its DATA MEMORY_SEGMENTs."""
+def calibration_areas(doc: "A2lDocument", config: "XcpConfig | None", module: str | None = None
+                      ) -> list[CalibrationArea]:
+    """The A2L's calibration segments: those with an XCP SEGMENT, else (or without IF_DATA XCP: ``config`` None) its
+    DATA MEMORY_SEGMENTs."""
+    segments = config.segments if config is not None else ()
     areas = [CalibrationArea(s.memory_segment, Span(s.address, s.size, s.address_extension), s.number,
-                             tuple(s.address_mappings), s.checksum_max_block_size) for s in config.segments]
+                             tuple(s.address_mappings), s.checksum_max_block_size) for s in segments]
     if areas:
         return areas
     return [CalibrationArea(s.name, Span(s.address, s.size)) for s in doc.memory_segments(module)

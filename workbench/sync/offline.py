@@ -50,6 +50,7 @@ if TYPE_CHECKING:
     from workbench.a2l import A2lDocument
     from workbench.a2l.model import A2lModel
     from workbench.calib.dataset import Dataset
+    from workbench.sync.reference import ImageReference
 
 __all__ = ["ImageCalibration"]
 
@@ -66,18 +67,22 @@ class ImageCalibration:
     def __init__(self, doc: A2lDocument, image: MemoryImage, *, text: str | None = None,
                  path: str | Path | None = None, module: str | None = None, accept_epk_mismatch: bool = False):
         from workbench.a2l import read_xcp_config
+        from workbench.errors import A2lParseError
 
         self.doc, self.image, self.module = doc, image, module
         self.accept_epk_mismatch = accept_epk_mismatch
         self.path = Path(path) if path is not None else None
         self._text = text
         self.model: A2lModel = doc.model(module)
-        self.config = read_xcp_config(doc, module)
+        try:
+            self.config = read_xcp_config(doc, module)
+        except A2lParseError:  # no IF_DATA XCP (an A2L for offline work): the DATA MEMORY_SEGMENTs as they stand
+            self.config = None
         self.view = ImageView(image, calibration_areas(doc, self.config, module))
         self.lock = threading.RLock()  # a window's workers read while the user edits
         self._original = ByteStore()  # the file's bytes where something was written since (image addresses)
         self._edited: dict[str, None] = {}  # objects written, in order
-        self._writable = writable_spans(doc.memory_segments(module), self.config.segments)
+        self._writable = writable_spans(doc.memory_segments(module), self.config.segments if self.config else ())
 
     @classmethod
     def open(cls, path: str | Path, a2l: str | Path | A2lDocument | None = None, *, module: str | None = None,
@@ -282,6 +287,10 @@ class ImageCalibration:
 
     def changes(self) -> list[AddressRange]:
         """The image addresses whose bytes differ from the file's, merged, in order."""
+        with self.lock:
+            return self._changes()
+
+    def _changes(self) -> list[AddressRange]:
         found: list[AddressRange] = []
         for span in self._original.spans():
             before, now = self._original.get(span), self.image.read(span.address, span.size)
@@ -298,9 +307,11 @@ class ImageCalibration:
 
     def changed(self) -> list[str]:
         """The objects written whose bytes now differ from the file's, in the order written."""
-        changes = self.changes()
-        if not changes:
-            return []
+        with self.lock:
+            changes = self._changes()
+            return self._changed(changes) if changes else []
+
+    def _changed(self, changes: list[AddressRange]) -> list[str]:
         found = []
         for name in self._edited:
             layout = object_layout(self.model, name)
@@ -309,6 +320,14 @@ class ImageCalibration:
             if any(p.start < c.end and c.start < p.end for p in pieces for c in changes):
                 found.append(name)
         return found
+
+    def reference(self) -> ImageReference:
+        """The image as it is now (a copy), as the cache sync compares it with an ECU (``sync_compare``)."""
+        from workbench.sync.reference import ImageReference
+
+        with self.lock:
+            copy = self.image.crop(0, 1 << 64)
+        return ImageReference(self.path or Path("image"), copy)
 
     @property
     def modified(self) -> bool:

@@ -8,8 +8,10 @@ from the reference page (the flashed CAL ROM) are marked. Each write is an undo 
 the previous value back.
 
 Before a connection, the editor shows the value the project's s19/hex holds (``offline``, a
-:class:`~workbench.gui.file_values.FileValues`), read-only, its status line naming the file, as CANape shows an
-offline dataset; the ECU's value replaces it once connected.
+:class:`~workbench.gui.file_values.FileValues`), its status line naming the file, and edits it there as CANape
+edits an offline dataset: checked as online, written into the image in memory (``offline_written`` tells the
+window, which marks the image modified and saves it with File > Save image); the ECU's value replaces it once
+connected, and the editor is the ECU's from then on (after a disconnect it keeps the ECU's value, read-only).
 
 While nothing can be written (not connected, the connection lost, the reference page active, a read-only
 session) the editor is read-only and greyed, its tooltip and status line say why; a write tried then is
@@ -80,6 +82,7 @@ class CalibrationEditor(QWidget):
     loaded = Signal(object)  # the value read (after every read-back)
     error = Signal(object)  # a failed read or write the ECU is to blame for (the window shows a dialog)
     refused = Signal(str)  # a value not written: why (also in the status line)
+    offline_written = Signal(str)  # a value written into the project's image offline (the object's name)
 
     def __init__(self, controller, info: CalibrationInfo, parent: QWidget | None = None, hub=None, offline=None):
         super().__init__(parent)
@@ -209,12 +212,24 @@ class CalibrationEditor(QWidget):
         if not self.info.writable:
             return "the A2L forbids calibrating it"
         if session is None:
-            return self.controller.offline_reason
+            return "" if self.offline_editable() else self.controller.offline_reason
         if session.read_only:
             return "the ECU's EPK differs from the A2L's"
         if self.controller.page == "reference":
             return READ_ONLY_PAGE
         return ""
+
+    def offline_editable(self) -> bool:
+        """Whether edits go into the project's image: no session (nor one being reconnected), and the value shown
+        is the file's (not the last one an ECU had)."""
+        return (self.offline is not None and self.controller.session is None and self.controller.lost_error is None
+                and (self.value is None or bool(self.value_source)))
+
+    def file_saved(self, name: str) -> None:
+        """The project's image was saved as ``name``: the values shown are that file's."""
+        if self.value_source:
+            self.value_source = name
+        self._update_status()
 
     def _update_writable(self) -> None:
         """Greyed and read-only with the reason in the tooltip while nothing can be written; the status line."""
@@ -270,6 +285,8 @@ class CalibrationEditor(QWidget):
         badge.setVisible(self._modified())
 
     def _modified(self) -> bool:
+        if self.value_source and self.offline is not None:  # offline: differs from the file as opened or saved
+            return self.info.name in self.offline.changed()
         if self.value is None or self.reference is None:
             return False
         current, reference = self.value.value, self.reference
@@ -292,6 +309,8 @@ class CalibrationEditor(QWidget):
             text, colour = f"reading the ECU … (the values of {self.value_source} until then)", theme.MUTED
         elif self.unwritten:
             text, colour = f"⚠ {self.unwritten}; the field shows what the ECU holds", theme.BAD
+        elif not text and self.offline_editable() and self.value_source:
+            text = f"offline: the values of {self.value_source}; an edit changes the image (File ▸ Save image)"
         elif not text and reason:
             text, colour = f"read-only: {reason}", theme.MUTED
             if self.value_source:
@@ -362,6 +381,15 @@ class CalibrationEditor(QWidget):
         self._writing = True
         self._message = ("", theme.MUTED)
         self._update_status()
+        if self.offline_editable():
+            def written(result) -> None:
+                self._show(result, self.offline.name)
+                done(result)
+                self.offline_written.emit(self.info.name)
+
+            run_task(self.offline.write, self.info.name, value, allow_extended_limits=self.field.allow_extended_limits,
+                     on_done=written, on_error=lambda exc: self._not_written(value, exc))
+            return
         self.controller.write(self.info.name, value, allow_extended_limits=self.field.allow_extended_limits,
                               on_done=done, on_error=lambda exc: self._not_written(value, exc))
 

@@ -35,6 +35,7 @@ from workbench.gui.a2l_info import calibration_info, measurement_info
 from workbench.gui.acquisition import DaqAcquisition, RecordRequest
 from workbench.gui.ecu import Connected, EcuController
 from workbench.gui.mime import names_from_mime
+from workbench.gui.offline_image import OfflineImage
 from workbench.gui.parameter_sets import ParameterSets
 from workbench.gui.project import PlotSpec, Project, remember_project, save_project
 from workbench.gui.models.variables import variables_of_file
@@ -152,6 +153,8 @@ class MainWindow(QMainWindow):
         self.parameter_sets.compared.connect(lambda _: self.compare_dock.raise_())
         self.parameter_sets.message.connect(lambda text: self.statusBar().showMessage(text, 15000))
         self.parameter_sets.applied.connect(lambda _: [editor.reload() for editor in self.editors.values()])
+        self.offline_image = OfflineImage(self)  # the project's s19/hex as the editors change it offline
+        self.offline_image.changed.connect(self._update_title)
         self.status = EcuStatusBar(self.hub)
         self.setStatusBar(self.status)
         build_menus(self)
@@ -207,7 +210,9 @@ class MainWindow(QMainWindow):
 
     def _update_title(self) -> None:
         ecu = self.controller.info.identification if self.controller.info else "offline"
-        self.setWindowTitle(f"{self.project.name} — {ecu} — workbench")
+        self.setWindowTitle(f"{self.project.name} — {ecu}{self.offline_image.title()} — workbench")
+        for action in (self.save_image_action, self.save_image_as_action):
+            action.setEnabled(self.offline_image.values is not None)
 
     # --- project --------------------------------------------------------------------------------
 
@@ -396,6 +401,7 @@ class MainWindow(QMainWindow):
             return None
         editor = CalibrationEditor(self.controller, info, hub=self.hub, offline=self.workspace.file_values)
         editor.error.connect(self.show_error)
+        editor.offline_written.connect(self.offline_image.edited)
         self.undo_group.addStack(editor.undo_stack)
         self.editors[name] = editor
         if self.editor_tabs.indexOf(self.editor_placeholder) >= 0:
@@ -673,11 +679,11 @@ class MainWindow(QMainWindow):
         self._start_measuring(check_cache=False)
 
     def check_cache(self) -> Task:
-        """Compare the ECU's calibrations with the project's s19 (thesis figure 39: checksums first, objects
-        after); when they differ, ask whether to download the file's values or upload the ECU's."""
+        """Compare the ECU's calibrations with the project's s19 as edited offline (thesis figure 39: checksums first,
+        objects after); when they differ, ask whether to download the file's values or upload the ECU's."""
         from workbench.sync import sync_compare
 
-        task = Task(sync_compare, self.controller.session, self.project.s19)
+        task = Task(sync_compare, self.controller.session, self.offline_image.reference())  # offline edits too
         task.succeeded.connect(self._cache_compared)
         task.failed.connect(self.show_error)
         return task.start()

@@ -1,0 +1,81 @@
+"""Offline calibration in the window: before any ECU is connected the editors edit the project's s19 in memory
+(checked as online), the window says it is modified, File > Save image writes it (only changed records); a
+connection afterwards compares the ECU with the image as edited and offers to download the changes."""
+
+from __future__ import annotations
+
+import shutil
+
+import pytest
+from gui_helpers import WAIT_MS, offline_window
+
+from workbench import ImageCalibration, demo
+from workbench.gui.project import demo_project
+from workbench.gui.widgets.sync_dialog import SyncChoice
+
+
+def _editor(window, qtbot, name: str):
+    editor = window.open_editor(name)
+    qtbot.waitUntil(lambda: editor.value is not None, timeout=WAIT_MS)
+    return editor
+
+
+def _copy_project(tmp_path, project=None):
+    project = project or demo_project()
+    project.s19 = tmp_path / "app.s19"
+    shutil.copy(demo.s19(), project.s19)
+    return project
+
+
+def test_edits_go_into_the_image_and_save_image_writes_them(qtbot, tmp_path):
+    window = offline_window(qtbot, _copy_project(tmp_path))
+    scalar = _editor(window, qtbot, "xsSWITCH_TANK_THR")
+    assert scalar.field.input.isEnabled() and scalar.status.text() == (
+        "offline: the values of app.s19; an edit changes the image (File ▸ Save image)")
+    assert "modified" not in window.windowTitle() and window.save_image_action.isEnabled()
+    scalar.edit(22.5)
+    qtbot.waitUntil(lambda: scalar.value.value == 22.5, timeout=WAIT_MS)
+    assert window.windowTitle().endswith("— app.s19 modified — workbench") and scalar.modified_badge.isVisible()
+    scalar.edit(9999.0)  # refused as online, in the editor's status line
+    qtbot.waitUntil(lambda: scalar.status.text().startswith("not written:"), timeout=WAIT_MS)
+    assert "800.00" in scalar.status.text() and scalar.value.value == 22.5
+    scalar.undo_stack.undo()
+    qtbot.waitUntil(lambda: scalar.value.value == 20.0, timeout=WAIT_MS)
+    assert "modified" not in window.windowTitle()
+    scalar.undo_stack.redo()
+    qtbot.waitUntil(lambda: scalar.value.value == 22.5, timeout=WAIT_MS)
+    table = _editor(window, qtbot, "xvPRV_DC_FF")
+    cells = table.value.value.copy()
+    cells[0][0] = 1.0
+    table.edit(cells)
+    qtbot.waitUntil(lambda: window.workspace.file_values.changed() == ["xsSWITCH_TANK_THR", "xvPRV_DC_FF"],
+                    timeout=WAIT_MS)
+    with qtbot.waitSignal(window.offline_image.saved, timeout=WAIT_MS):
+        window.save_image_action.trigger()  # in place: the project's own copy
+    saved = ImageCalibration.open(tmp_path / "app.s19")
+    assert saved.read("xsSWITCH_TANK_THR") == 22.5 and saved.read("xvPRV_DC_FF")[0][0] == 1.0
+    assert "modified" not in window.windowTitle() and not scalar.modified_badge.isVisible()
+    assert not window.errors
+
+
+def test_after_connecting_the_offline_changes_are_offered_for_download(qtbot, demo_ecu, project, tmp_path):
+    window = offline_window(qtbot, _copy_project(tmp_path, project))
+    scalar = _editor(window, qtbot, "xsSWITCH_TANK_THR")
+    scalar.edit(23.5)
+    qtbot.waitUntil(lambda: window.offline_image.modified, timeout=WAIT_MS)
+    with qtbot.waitSignal(window.controller.connected, timeout=WAIT_MS):
+        window.connect_ecu()
+    qtbot.waitUntil(lambda: window.sync_dialog is not None and window.sync_dialog.isVisible(), timeout=WAIT_MS)
+    dialog = window.sync_dialog
+    rows = {dialog.table.item(r, 0).text(): (dialog.table.item(r, 1).text(), dialog.table.item(r, 2).text())
+            for r in range(dialog.table.rowCount())}
+    assert rows == {"xsSWITCH_TANK_THR": ("20.00 bar", "23.50 bar")}  # the ECU's, the image's (not saved)
+    dialog.download.click()
+    assert dialog.choice is SyncChoice.DOWNLOAD
+    dialog.accept()
+    session = window.controller.session
+    qtbot.waitUntil(lambda: session.read("xsSWITCH_TANK_THR") == pytest.approx(23.5), timeout=WAIT_MS)
+    qtbot.waitUntil(lambda: scalar.value_source == "" and scalar.value.value == pytest.approx(23.5), timeout=WAIT_MS)
+    assert (tmp_path / "app.s19").read_bytes() == demo.s19().read_bytes()  # nothing saved without asking
+    window.close()
+    assert not window.errors
