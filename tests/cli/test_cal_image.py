@@ -52,12 +52,15 @@ def test_set_offline_flash_and_read_online(bus, capsys, work):
     code, out, _ = run(capsys, "cal", "set", "xvPRV_DC_FF[1,2]", "55", "--image", "new.s19", "-o", "new.s19")
     assert (code, out) == (0, "xvPRV_DC_FF[1, 2] = 55.00 % (written into new.s19)\n")
     assert run(capsys, "cal", "set", "cfRAILPRESSURE_EN", "ON", "--image", "new.s19", "-o", "new.s19")[0] == 0
+    code, out, _ = run(capsys, "cal", "fix", "zfRAILPRESSURE", "30", "--image", "new.s19", "-o", "new.s19")
+    assert code == 0 and out.startswith("zfRAILPRESSURE  ON   override 30.00 bar")
     assert (work / "app.s19").read_bytes() == demo.s19().read_bytes()  # the input untouched
     code, _, err = run(capsys, "flash", "new.s19", "--region", "CALIB", *bus)
     assert code == 0, err
-    code, out, _ = run(capsys, "cal", "get", "xsFULL_TANK_PRESS", "xvPRV_DC_FF[1,2]", "cfRAILPRESSURE_EN", *bus)
+    code, out, _ = run(capsys, "cal", "get", "xsFULL_TANK_PRESS", "xvPRV_DC_FF[1,2]", "cfRAILPRESSURE_EN",
+                       "zfRAILPRESSURE_EN", "zfRAILPRESSURE_VALUE", *bus)
     assert out.splitlines() == ["xsFULL_TANK_PRESS = 650.00 bar", "xvPRV_DC_FF[1, 2] = 55.00 %",
-                                "cfRAILPRESSURE_EN = ON"]
+                                "cfRAILPRESSURE_EN = ON", "zfRAILPRESSURE_EN = ON", "zfRAILPRESSURE_VALUE = 30.00 bar"]
     code, out, _ = run(capsys, "cal", "diff", "ecu", "new.s19", *bus)
     assert code == 0
 

@@ -70,7 +70,8 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
                     "<fix>_EN = 0. cal fix --list: every fixable signal with its live value and override. SIGNAL is "
                     "the fix's stem (cfRAILPRESSURE), its _EN/_VALUE name, or the signal's name. A CAN signal that "
                     "no measurement of the A2L shows is listed with its value on CAN2, found in the DBC by the fix's "
-                    "name (--can2 DBC; the demo's with the demo's A2L), else with why it has none.")
+                    "name (--can2 DBC; the demo's with the demo's A2L), else with why it has none. With --image "
+                    "FILE: the switches and override values an s19/hex starts the ECU with (-o NEW to change them).")
     fix.add_argument("signal", nargs="?", metavar="SIGNAL")
     fix.add_argument("value", nargs="?", metavar="VALUE")
     fix.add_argument("--release", action="store_true", help="give the signal back to the ECU (_EN = 0)")
@@ -79,6 +80,7 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
     can2.add_argument("--can2", metavar="DBC", help="the CAN2 DBC (default: the demo's with the demo's A2L)")
     add_can2_bus_arguments(can2)
     add_ecu_arguments(fix)
+    add_image_arguments(fix, output=True)
     fix.set_defaults(func=_fix)
 
     page = commands.add_parser("page", help="show or switch the calibration page",
@@ -279,6 +281,10 @@ def _fix(args: argparse.Namespace) -> int:
         raise InputError("give SIGNAL (with VALUE or --release) or --list")
     if args.signal and args.release == (args.value is not None):
         raise InputError("give either VALUE (override) or --release, not both or neither")
+    if args.image is not None and not args.list:
+        require_output(args)
+    elif args.output is not None and args.image is None:
+        raise InputError("-o/--output names the image --image FILE is written to")
     doc, value = None, None
     if args.value is not None:  # the override value checked before connecting
         from workbench.calib.fixes import fix_pairs_of, resolve_fix
@@ -289,13 +295,16 @@ def _fix(args: argparse.Namespace) -> int:
         pair = resolve_fix(fix_pairs_of(model), args.signal)
         value = typed_value(args.value, single=True, unit=model.unit_of(model.object(pair.value)))
         checked_value(model, pair.value, value, writable=writable)
-    with open_session(args, doc, reading=args.list) as session:
+    with values_of(args, doc or a2l_document(args), reading=args.list) as session:
         if args.list:
-            states = session.fixes(can2_dbc(args), can2_bus=can2_bus_spec(args, session.bus_spec))
+            states = session.fixes() if args.image else session.fixes(can2_dbc(args),
+                                                                      can2_bus=can2_bus_spec(args, session.bus_spec))
         elif args.release:
             states = [session.release(args.signal)]
         else:
             states = [session.override(args.signal, value)]
+        if args.image is not None and not args.list:
+            save_image(args, session)
     if args.json:
         print_json([{"fix": s.pair.stem, "kind": s.pair.kind, "signal": s.signal, "enable": s.pair.enable,
                      "value": s.pair.value, "live": jsonable(s.live), "live_from": s.live_from,
@@ -315,7 +324,7 @@ def _fix(args: argparse.Namespace) -> int:
                 f" = {value_text(state.measured)}"
         print(f"{state.pair.stem:<{width}}  {flag}  override {value_text(state.override, unit, places):<14} "
               f"live {live:<14} ({state.pair.kind}: {state.signal}{via})")
-    for state in states:
+    for state in states if args.image is None else ():  # an image has no live values at all: no note for each
         if state.no_live:
             print(f"note: {state.pair.stem}: no live value: {state.no_live}", file=sys.stderr)
     return 0

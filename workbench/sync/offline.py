@@ -36,12 +36,14 @@ from typing import TYPE_CHECKING, Any
 from workbench.a2l.objects import AxisPts, Measurement
 from workbench.calib.cells import axis_with_points, cell_edits, cell_span, cell_values
 from workbench.calib.codec import to_raw, value_edits
+from workbench.calib.fixes import FixPair, fix_pairs_of, resolve_fix
 from workbench.calib.layout import object_layout
 from workbench.calib.memory import ByteEdit, Span
 from workbench.calib.values import CalValue
 from workbench.calib.writable import check_inside, checked_cells, checked_value, writable_spans
 from workbench.errors import EpkMismatchError, InputError, epk_text
 from workbench.image import AddressRange, MemoryImage
+from workbench.session.fixes import FixState
 from workbench.sync.areas import ImageView, calibration_areas
 from workbench.sync.store import ByteStore
 from workbench.sync.values import calibration_names, object_layouts, resolve_all, without_name
@@ -282,6 +284,37 @@ class ImageCalibration:
             for start, size in self.view.pieces(edit.span):
                 if start < end and address < start + size:
                     raise InputError(f"{name}: its bytes at {edit.span} hold the EPK at 0x{address:X}: not written")
+
+    # --- fix calibrations ----------------------------------------------------------------------
+
+    def fixes(self) -> list[FixState]:
+        """Every ``_EN``/``_VALUE`` pair of the A2L with its override value and switch as the image holds them (no
+        live value: an image has none)."""
+        pairs = fix_pairs_of(self.model)
+        values = self.read_many([name for pair in pairs for name in (pair.enable, pair.value)])
+        return [self._fix_state(pair, values) for pair in pairs]
+
+    def override(self, signal: str, value: Any) -> FixState:
+        """The image starts with ``signal`` replaced by ``value`` (the _VALUE's units): _VALUE, then _EN = 1, both
+        checked before either is written, as :meth:`Session.override <workbench.session.Session.override>`."""
+        pair = resolve_fix(fix_pairs_of(self.model), signal)
+        with self.lock:
+            for name, written in ((pair.value, value), (pair.enable, 1)):
+                checked_value(self.model, name, written, writable=self._writable)
+            self.write(pair.value, value)
+            self.write(pair.enable, 1)
+            return self._fix_state(pair, self.read_many([pair.enable, pair.value]))
+
+    def release(self, signal: str) -> FixState:
+        """The image starts with ``signal`` computed by the ECU: _EN = 0 (the _VALUE stays for the next time)."""
+        pair = resolve_fix(fix_pairs_of(self.model), signal)
+        with self.lock:
+            self.write(pair.enable, 0)
+            return self._fix_state(pair, self.read_many([pair.enable, pair.value]))
+
+    def _fix_state(self, pair: FixPair, values: Mapping[str, Any]) -> FixState:
+        active = to_raw(self.model, pair.enable, values[pair.enable]) == 1
+        return FixState(pair, None, values[pair.value], active, None, "an image holds no live values")
 
     # --- what changed, saving -------------------------------------------------------------------
 
