@@ -12,14 +12,14 @@ import pytest
 from xcp_helpers import FAST, can_settings, serve
 
 import workbench
-from workbench.errors import WorkbenchError, XcpCommandError, XcpTimeoutError
+from workbench.errors import EcuSilentError, WorkbenchError, XcpCommandError, XcpTimeoutError
 from workbench.image import ChecksumType, checksum
 from workbench.sim.demo_ecu import build_demo_ecu
 from workbench.sim.profiles import SlaveProfile
 from workbench.xcp.link import Link
 from workbench.sim.seedkey import compute_key
 from workbench.xcp.master import Timeouts, XcpMaster
-from workbench.xcp_protocol import Err, IdType, Resource
+from workbench.xcp_protocol import Cmd, Err, IdType, Resource
 
 CAL_RAM = 0x40000000
 THRESHOLD = "xsSWITCH_TANK_THR"
@@ -173,6 +173,21 @@ def test_late_answers_do_not_desynchronise_the_commands(rig, threshold):
     assert struct.unpack("<f", rig.master.read(threshold, 4))[0] == 20.0
     assert len(rig.demo.ecu.faults.fired) == 3
     rig.master.set_mta(CAL_RAM)  # the next commands get their own answers
+    assert rig.master.read(CAL_RAM, 20) == rig.demo.ecu.read(CAL_RAM, 20)
+
+
+def test_a_command_after_an_unanswered_synch_is_not_answered_by_the_late_responses(rig, threshold):
+    """The read's answer comes after its T1 and after the T1 of the SYNCH sent then (SYNCH's answer waits its turn
+    behind it): the ECU is said silent. The next command must not take the read's late answer (5 bytes) for its own:
+    "GET_DAQ_PROCESSOR_INFO: the response has 5 bytes, expected 8" (a full test run at load 10-20). A master that found
+    the ECU silent synchronises first (SYNCH until its ERR_CMD_SYNCH, the late answers before it dropped)."""
+    processor = rig.master.get_daq_processor_info()
+    rig.demo.ecu.faults.delay_answer(Cmd.SHORT_UPLOAD, 2.5 * FAST.t1)
+    with pytest.raises(EcuSilentError, match="SHORT_UPLOAD: no response .* none to SYNCH either"):
+        rig.master.read(threshold, 4)
+    assert rig.master.get_daq_processor_info() == processor  # the late answers arrive during this command
+    assert rig.demo.ecu.faults.fired == [f"answer command 0x{Cmd.SHORT_UPLOAD:02X} {2.5 * FAST.t1} s late"]
+    assert struct.unpack("<f", rig.master.read(threshold, 4))[0] == 20.0
     assert rig.master.read(CAL_RAM, 20) == rig.demo.ecu.read(CAL_RAM, 20)
 
 

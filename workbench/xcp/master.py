@@ -171,6 +171,8 @@ class XcpMaster:
     def _command(self, command: Cmd, payload: bytes, timeout: str | None, repeat: bool,
                  check: Callable[[bytes], str | None] | None = None) -> bytes:
         timeout_s = getattr(self.timeouts, timeout or _TIMEOUT_OF.get(command, "t1"))
+        if self.silent and command not in (Cmd.CONNECT, Cmd.SYNCH):
+            self._settle(command)
         packet = bytes((command,)) + payload
         attempts, busy = 0, 0
         refused: tuple[str, bytes] | None = None  # the last packet ``check`` refused, and why
@@ -253,6 +255,21 @@ class XcpMaster:
         while response is not None and response[:2] != bytes((PID_ERR, Err.CMD_SYNCH)):
             log.debug("XCP %s: a late answer dropped after SYNCH", command.name)
             response = self.link.receive(self.timeouts.t1)
+
+    def _settle(self, command: Cmd) -> None:
+        """Before ``command``, on an ECU found silent (a command and its SYNCH unanswered): the answers to both may
+        still come, and on CAN nothing tells them from the next command's (a late SHORT_UPLOAD taken for
+        GET_DAQ_PROCESSOR_INFO's answer). SYNCH once more and drop everything before its ERR_CMD_SYNCH.
+
+        :raises EcuSilentError: nothing answers that SYNCH (``command`` is not sent: one T1, not two).
+        """
+        response = self.link.exchange(bytes((Cmd.SYNCH,)), self.timeouts.t1)
+        if response is None:
+            raise EcuSilentError(self.link.describe(), command.name, self.timeouts.t1)
+        while response is not None and response[:2] != _LATE_SYNCH:  # (an ERR_CMD_SYNCH later than T1 is skipped)
+            log.debug("XCP %s: a late answer dropped after the SYNCH before it", command.name)
+            response = self.link.receive(self.timeouts.t1)
+        self.silent = False
 
     # --- session ------------------------------------------------------------------------------
 
