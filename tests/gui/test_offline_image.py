@@ -58,7 +58,13 @@ def test_edits_go_into_the_image_and_save_image_writes_them(qtbot, tmp_path):
     assert not window.errors
 
 
-def test_after_connecting_the_offline_changes_are_offered_for_download(qtbot, demo_ecu, project, tmp_path):
+def test_after_connecting_the_offline_changes_are_offered_for_download(qtbot, demo_ecu, project, tmp_path,
+                                                                       monkeypatch):
+    from PySide6.QtWidgets import QMessageBox
+
+    asked = []
+    answers = iter([QMessageBox.Cancel, QMessageBox.Discard])
+    monkeypatch.setattr(QMessageBox, "question", lambda _parent, _title, text, *_: asked.append(text) or next(answers))
     window = offline_window(qtbot, _copy_project(tmp_path, project))
     scalar = _editor(window, qtbot, "xsSWITCH_TANK_THR")
     scalar.edit(23.5)
@@ -77,5 +83,8 @@ def test_after_connecting_the_offline_changes_are_offered_for_download(qtbot, de
     qtbot.waitUntil(lambda: session.read("xsSWITCH_TANK_THR") == pytest.approx(23.5), timeout=WAIT_MS)
     qtbot.waitUntil(lambda: scalar.value_source == "" and scalar.value.value == pytest.approx(23.5), timeout=WAIT_MS)
     assert (tmp_path / "app.s19").read_bytes() == demo.s19().read_bytes()  # nothing saved without asking
-    window.close()
-    assert not window.errors
+    window.close()  # unsaved offline edits: asked first; Cancel keeps the window open
+    assert window.isVisible() and asked == [("app.s19 holds calibrations edited offline that are not saved: "
+                                             "xsSWITCH_TANK_THR.\nSave the image?")]
+    window.close()  # Discard closes it
+    assert not window.isVisible() and len(asked) == 2 and not window.errors

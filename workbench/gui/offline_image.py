@@ -5,7 +5,8 @@ The editors write into the image (:class:`~workbench.gui.file_values.FileValues`
 :class:`~workbench.sync.offline.ImageCalibration`) while no ECU is connected; this object tells the window. Saving
 rewrites only the records of changed bytes, atomically, in a worker; the built-in demo's s19 and a read-only file
 are never written in place (Save image asks for a name then). Once an ECU connects, the cache sync compares it with
-the image as edited (saved or not), so its dialog lists the offline changes and offers to download them.
+the image as edited (saved or not), so its dialog lists the offline changes and offers to download them. Closing the
+window or opening another project with unsaved edits asks first: save, discard or cancel.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from PySide6.QtCore import QObject, Signal
-from PySide6.QtWidgets import QFileDialog
+from PySide6.QtWidgets import QFileDialog, QMessageBox
 
 from workbench.gui.worker import run_task
 
@@ -53,27 +54,56 @@ class OfflineImage(QObject):
         """What the cache sync compares a connected ECU with: the image as edited, or the project's file."""
         return self.values.reference() if self.modified else self.window.project.s19
 
+    def may_close(self) -> bool:
+        """Whether the project may close now: no unsaved edits, or the user saved (here, at once) or discarded them."""
+        if not self.modified:
+            return True
+        changed = self.values.changed()
+        shown = ", ".join(changed[:5]) + (f" and {len(changed) - 5} more" if len(changed) > 5 else "")
+        answer = QMessageBox.question(
+            self.window, "Calibrations edited offline",
+            f"{self.values.name} holds calibrations edited offline that are not saved: {shown}.\nSave the image?",
+            QMessageBox.Save | QMessageBox.Discard | QMessageBox.Cancel, QMessageBox.Save)
+        if answer == QMessageBox.Discard:
+            return True
+        if answer != QMessageBox.Save:
+            return False
+        path = self._target()
+        if path is None:
+            return False
+        try:
+            self._saved(self.values.save(path))
+        except Exception as exc:  # noqa: BLE001 - the window stays open and says why
+            self.window.show_error(exc)
+            return False
+        return True
+
     def save(self) -> None:
         """Write the image over its file; the demo's built-in s19 or a read-only file: asks for a name instead."""
+        path = self._target()
+        if path is not None:
+            self.save_to(path)
+
+    def save_as(self) -> None:
+        path = self._target(ask=True)
+        if path is not None:
+            self.save_to(path)
+
+    def _target(self, ask: bool = False) -> Path | None:
+        """Where the image is saved: its file, or (``ask``, the demo's built-in s19, a read-only file) the name the
+        user chooses; None: no image, or no name chosen."""
         from workbench import demo
 
         values = self.values
         if values is None:
-            return
+            return None
         path = values.path
-        if path.resolve() == demo.s19().resolve() or (path.is_file() and not path.stat().st_mode & 0o200):
-            self.save_as()
-            return
-        self.save_to(path)
-
-    def save_as(self) -> None:
-        values = self.values
-        if values is None:
-            return
-        suggested = values.path.with_name(f"{values.path.stem}-offline{values.path.suffix}")
-        path, _ = QFileDialog.getSaveFileName(self.window, "Save image as", str(suggested), FILES)
-        if path:
-            self.save_to(Path(path))
+        read_only = path.is_file() and not path.stat().st_mode & 0o200
+        if not ask and path.resolve() != demo.s19().resolve() and not read_only:
+            return path
+        suggested = path.with_name(f"{path.stem}-offline{path.suffix}")
+        chosen, _ = QFileDialog.getSaveFileName(self.window, "Save image as", str(suggested), FILES)
+        return Path(chosen) if chosen else None
 
     def save_to(self, path: Path) -> None:
         """Write the image to ``path`` (in a worker); the project's s19 is that file from then on."""

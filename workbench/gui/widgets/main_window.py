@@ -276,6 +276,8 @@ class MainWindow(QMainWindow):
         except Exception as exc:  # noqa: BLE001 - every failure is a dialog
             self.show_error(exc)
             return
+        if not self.offline_image.may_close():
+            return
         remember_project(path)
         self._close_project()
         self.load(project)
@@ -679,8 +681,8 @@ class MainWindow(QMainWindow):
         self._start_measuring(check_cache=False)
 
     def check_cache(self) -> Task:
-        """Compare the ECU's calibrations with the project's s19 as edited offline (thesis figure 39: checksums first,
-        objects after); when they differ, ask whether to download the file's values or upload the ECU's."""
+        """Compare the ECU with the project's s19 as edited offline (thesis figure 39: checksums first, objects after);
+        when they differ, ask whether to download the file's values or upload the ECU's."""
         from workbench.sync import sync_compare
 
         task = Task(sync_compare, self.controller.session, self.offline_image.reference())  # offline edits too
@@ -772,6 +774,9 @@ class MainWindow(QMainWindow):
         self.errors.append(show_error(self, exc))
 
     def closeEvent(self, event) -> None:
+        if not self.offline_image.may_close():
+            event.ignore()
+            return
         self.hub.detach()
         self.controller.close()
         super().closeEvent(event)
