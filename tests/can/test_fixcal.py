@@ -8,10 +8,9 @@ import subprocess
 import sys
 from pathlib import Path
 
-import pya2l.model as model
 import pytest
 from elftools.elf.elffile import ELFFile
-from pya2l import import_a2l
+from pya2l import import_a2l, model
 from pya2l.api.validate import Level, Validator
 
 from workbench import demo
@@ -263,7 +262,7 @@ def _blocks(text: str) -> dict[str, str]:
     """Named A2L blocks (COMPU_METHOD, COMPU_VTAB, RECORD_LAYOUT, CHARACTERISTIC) by name, as written."""
     found = {}
     for match in re.finditer(r"/begin (COMPU_METHOD|COMPU_VTAB|RECORD_LAYOUT|CHARACTERISTIC)\s+(?:/\*[^*]*\*/\s*)?(\w+)"
-                             r".*?/end \1", text, re.S):
+                             r".*?/end \1", text, re.DOTALL):
         found[match.group(2)] = match.group(0)
     return found
 
@@ -279,7 +278,7 @@ def test_a2l_definitions_equal_the_demo_fragments_so_they_merge():
 
 
 def _mod_common(text: str) -> str:
-    return re.search(r"/begin MOD_COMMON.*?/end MOD_COMMON", text, re.S).group(0)
+    return re.search(r"/begin MOD_COMMON.*?/end MOD_COMMON", text, re.DOTALL).group(0)
 
 
 def test_a2l_mod_common_is_the_masters_as_in_every_demo_fragment(tmp_path):
@@ -289,8 +288,30 @@ def test_a2l_mod_common_is_the_masters_as_in_every_demo_fragment(tmp_path):
     assert "MOD_COMMON" not in without_master
     with pytest.raises(InputError, match=r"nope\.a2l: no such file$"):
         fixcal_files(load_dbc(demo.dbc_can2()), "FLCU", master_a2l=tmp_path / "nope.a2l")
-    with pytest.raises(InputError, match=r"FLCU_CAN2\.dbc: not an A2L file \(no /begin PROJECT\)$"):
+    with pytest.raises(InputError, match=r"FLCU_CAN2\.dbc:1:1: no /begin PROJECT in the file$"):
         fixcal_files(load_dbc(demo.dbc_can2()), "FLCU", master_a2l=demo.dbc_can2())
+
+
+def test_a2l_mod_common_is_read_as_a2l_not_as_text(tmp_path):
+    """The master's MOD_COMMON as the A2L reader sees it: a commented-out one and comments inside are not
+    options, a latin-1 file keeps its text, and a malformed master is refused at its line and column."""
+    master = tmp_path / "master.a2l"
+    master.write_bytes("""ASAP2_VERSION 1 71
+/* /begin MOD_COMMON "old" BYTE_ORDER MSB_FIRST /end MOD_COMMON */
+/begin PROJECT P "Prüfstand"
+  /begin MODULE M ""
+    /begin MOD_COMMON "Motorola, Ä"
+      BYTE_ORDER MSB_FIRST   /* big-endian target */
+      ALIGNMENT_LONG 2
+    /end MOD_COMMON
+  /end MODULE
+/end PROJECT
+""".encode("latin-1"))
+    fragment = fixcal_files(load_dbc(demo.dbc_can2()), "FLCU", c=False, master_a2l=master).texts["FLCU_CAN2_fixcal.a2l"]
+    assert _mod_common(fragment).splitlines()[1:-1] == ["      BYTE_ORDER MSB_FIRST", "      ALIGNMENT_LONG 2"]
+    master.write_text(master.read_text(encoding="latin-1").replace("  /end MODULE\n", ""), encoding="latin-1")
+    with pytest.raises(InputError, match=r"master\.a2l:9:1: "):
+        fixcal_files(load_dbc(demo.dbc_can2()), "FLCU", c=False, master_a2l=master)
 
 
 _A2LTOOL = shutil.which("a2ltool", path=str(Path(sys.executable).parent)) or shutil.which("a2ltool")

@@ -18,6 +18,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from workbench.a2l.document import load_a2l
 from workbench.can.dbc_file import DbcFile
 from workbench.can.fixcal import FixCalibration, FixKind, fix_calibrations
 from workbench.can.fixcal_a2l import a2l_fragment, mod_common_lines
@@ -28,7 +29,6 @@ from workbench.fileio import read_input, write_output
 
 __all__ = ["FixcalFiles", "fixcal_files", "read_signal_measurements"]
 
-_PROJECT = re.compile(r"/begin\s+PROJECT\b")
 _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_.\[\]]*")
 _HEADER = ["signal", "measurement"]
 
@@ -68,7 +68,7 @@ def fixcal_files(dbc: DbcFile, node: str, *, c: bool = True, a2l: bool = True,
         value (a sent signal's source, a received signal's published value): the ``_VALUE``'s
         COMPARISON_QUANTITY in the fragment.
     :raises InputError: ``node`` is not in the DBC or has no messages, two signals map to one
-        calibration name, the master A2L cannot be read or is no A2L, or ``measurements`` names a signal
+        calibration name, the master A2L cannot be read or is malformed (file:line:column), or ``measurements`` names a signal
         the node's messages do not have (or one that several have, by its bare name).
     """
     calibrations = tuple(fix_calibrations(messages_of(dbc, None, node), qualified=qualified))
@@ -83,7 +83,7 @@ def fixcal_files(dbc: DbcFile, node: str, *, c: bool = True, a2l: bool = True,
         texts[f"{basename}.h"] = c_header(calibrations, basename, title)
         texts[f"{basename}.c"] = c_source(calibrations, basename, title)
     if a2l:
-        mod_common = mod_common_lines(_read_a2l(master_a2l)) if master_a2l is not None else ()
+        mod_common = mod_common_lines(load_a2l(master_a2l, validate=False)) if master_a2l is not None else ()
         comparison = _comparison_quantities(calibrations, measurements or {}, dbc.path)
         texts[f"{basename}.a2l"] = a2l_fragment(calibrations, basename, title, mod_common, comparison)
     return FixcalFiles(calibrations, texts)
@@ -127,8 +127,3 @@ def read_signal_measurements(path: str | Path) -> dict[str, str]:
     return found
 
 
-def _read_a2l(path: str | Path) -> str:
-    text = read_input(path, "an A2L file").decode("utf-8", errors="replace")
-    if not _PROJECT.search(text):
-        raise InputError(f"{path}: not an A2L file (no /begin PROJECT)")
-    return text
