@@ -5,6 +5,7 @@ connection afterwards compares the ECU with the image as edited and offers to do
 from __future__ import annotations
 
 import shutil
+from dataclasses import replace
 
 import pytest
 from gui_helpers import WAIT_MS, offline_window
@@ -88,3 +89,28 @@ def test_after_connecting_the_offline_changes_are_offered_for_download(qtbot, de
                                              "xsSWITCH_TANK_THR.\nSave the image?")]
     window.close()  # Discard closes it
     assert not window.isVisible() and len(asked) == 2 and not window.errors
+
+
+def test_a_parameter_set_applies_to_the_image_offline(qtbot, tmp_path):
+    from PySide6.QtWidgets import QMessageBox
+
+    from workbench.calib.dataset import save_dataset
+
+    window = offline_window(qtbot, _copy_project(tmp_path))
+    scalar = _editor(window, qtbot, "xsSWITCH_TANK_THR")
+    dataset = ImageCalibration.open(demo.s19()).dataset(["xsSWITCH_TANK_THR", "xsPRV_KP"])
+    dataset["xsSWITCH_TANK_THR"] = replace(dataset["xsSWITCH_TANK_THR"], value=31.0)
+    save_dataset(dataset, tmp_path / "tuned.dcm")
+    sets = window.parameter_sets
+    with qtbot.waitSignal(sets.compared, timeout=WAIT_MS):
+        sets.open(tmp_path / "tuned.dcm")
+    assert window.compare.rows_shown() == ["xsSWITCH_TANK_THR"] and window.compare.apply_button.isVisible()
+    sets.ask_apply()
+    qtbot.waitUntil(lambda: sets.confirm is not None and sets.confirm.isVisible(), timeout=WAIT_MS)
+    assert sets.confirm.text() == "Write 1 changed object(s) of tuned.dcm into app.s19?"
+    with qtbot.waitSignal(sets.applied, timeout=WAIT_MS):
+        sets.confirm.button(QMessageBox.Ok).click()
+    qtbot.waitUntil(lambda: scalar.value.value == 31.0, timeout=WAIT_MS)
+    assert window.windowTitle().endswith("— app.s19 modified — workbench")
+    assert (tmp_path / "app.s19").read_bytes() == demo.s19().read_bytes()
+    window.workspace.file_values.image().write("xsSWITCH_TANK_THR", 20.0)  # back: the window closes unasked

@@ -1,6 +1,7 @@
 """Parameter sets in the window, as CANape keeps them: open a DCM/CDFX and compare it with the ECU (or,
-offline, with the project's s19), save the ECU's working page as one, compare the working page with
-the reference page or two files, and apply one to the ECU. Where the set holds values beyond their limits
+offline, with the project's s19 as edited), save the ECU's working page as one, compare the working page with
+the reference page or two files, and apply one to the ECU (offline: to the project's s19, in memory, as the
+editors edit it; File > Save image writes it). Where the set holds values beyond their limits
 and within their EXTENDED_LIMITS (the report's ``extended_limits``), the question offers that choice
 explicitly, as ``cal load --extended-limits`` does; ticking it checks the set again with them.
 
@@ -54,6 +55,24 @@ def compare_files(a: Path, b: Path, model=None):
     return diff_datasets(values(a), values(b), a_label=str(a), b_label=str(b))
 
 
+def compare_with_image(values, path: Path, progress=None):
+    """The project's image as edited offline (A, a :class:`~workbench.gui.file_values.FileValues`) against the file
+    (B), object by object as the ECU is compared with it: the objects the file holds."""
+    from workbench.calib.dataset import diff_datasets
+    from workbench.sync import file_dataset
+
+    image = values.image()
+    file, held = file_dataset(image.model, path), image.dataset()
+    for name in [name for name in held if name not in file]:
+        del held[name]
+    return diff_datasets(held, file, a_label=values.name, b_label=str(path))
+
+
+def apply_to_image(values, path: Path, dry_run: bool, extended_limits: bool = False, progress=None):
+    """``workbench cal load --image`` in the window: the file applied to the project's image in memory."""
+    return apply_file(values.image(), path, dry_run, extended_limits, progress)
+
+
 def save_working_page(session, path: Path, progress=None) -> str:
     """The working page's calibrations into ``path`` (DCM or CDFX by its extension); what was written."""
     from workbench.calib.dataset import save_dataset
@@ -100,6 +119,23 @@ class ParameterSets(QObject):
     def session(self):
         return self.window.controller.session
 
+    @property
+    def image(self):
+        """The project's image a parameter set is compared with and applied to offline (None: connected, being
+        reconnected, or no image)."""
+        workspace, controller = self.window.workspace, self.window.controller
+        if controller.session is not None or controller.lost_error is not None or workspace is None:
+            return None
+        return workspace.file_values
+
+    def _target(self) -> tuple:
+        """``(apply function, its first argument or None, what it writes into)``: what the set was compared with, the
+        ECU or (offline) the project's image, while it is there."""
+        if self.last is not None and self.last[0] is compare_with_image:
+            image = self.image
+            return apply_to_image, image, image.name if image is not None else "the image"
+        return apply_file, self.session, "the ECU"
+
     # --- commands -------------------------------------------------------------------------------
 
     def open_dialog(self) -> None:
@@ -113,6 +149,8 @@ class ParameterSets(QObject):
         self.extended_limits = False
         if self.session is not None:
             return self._compare(compare_with_ecu, (self.session, self.file), can_apply=True, progress=True)
+        if self.image is not None:
+            return self._compare(compare_with_image, (self.image, self.file), can_apply=True)
         s19 = self.window.project.s19
         if s19 is None:
             return self._compare(compare_files, (self.file, self.file, None))
@@ -184,11 +222,12 @@ class ParameterSets(QObject):
         """A dry run of the parameter set, then the question (what would change, what is refused)."""
         if self.file is None:
             return None
-        if self.session is None:  # said, not ignored: the button stays where the user pressed it
-            self.message.emit(f"{self.file.name} not applied: {self.window.controller.offline_reason}")
+        function, target, _ = self._target()
+        if target is None:  # said, not ignored: the button stays where the user pressed it
+            why = self.window.controller.offline_reason or "compared with the image before connecting: open it again"
+            self.message.emit(f"{self.file.name} not applied: {why}")
             return None
-        return self._run(apply_file, (self.session, self.file, True, self.extended_limits), "checking",
-                         self._confirm)
+        return self._run(function, (target, self.file, True, self.extended_limits), "checking", self._confirm)
 
     def _confirm(self, report) -> None:
         if self.confirm is not None:
@@ -210,8 +249,9 @@ class ParameterSets(QObject):
             box.setStandardButtons(QMessageBox.Close)
         else:
             box.setIcon(QMessageBox.Question)
-            box.setText(f"Write {len(changing)} changed object(s) of {self.file.name} into the ECU?"
-                        if changing else f"The ECU already holds every value of {self.file.name}.")
+            where = self._target()[2]
+            box.setText(f"Write {len(changing)} changed object(s) of {self.file.name} into {where}?" if changing
+                        else f"{where[0].upper()}{where[1:]} already holds every value of {self.file.name}.")
             box.setStandardButtons(QMessageBox.Ok | QMessageBox.Cancel if changing else QMessageBox.Close)
         box.setInformativeText(report.summary())
         box.setDetailedText(report.to_text())
@@ -222,7 +262,8 @@ class ParameterSets(QObject):
         box.show()
 
     def _apply(self) -> Task | None:
-        if self.session is None or self.file is None:
+        function, target, _ = self._target()
+        if target is None or self.file is None:
             return None
 
         def done(report) -> None:
@@ -230,8 +271,7 @@ class ParameterSets(QObject):
             self.applied.emit(report)
             self.compare_again()
 
-        return self._run(apply_file, (self.session, self.file, False, self.extended_limits),
-                         "writing the parameter set", done)
+        return self._run(function, (target, self.file, False, self.extended_limits), "writing the parameter set", done)
 
     def _choose_extended_limits(self, allowed: bool) -> None:
         """Check the set again with (or without) its EXTENDED_LIMITS: a new question follows."""

@@ -187,7 +187,7 @@ class CalibrationEditor(QWidget):
     def reload(self) -> None:
         """Read the value (and the reference page's) from the ECU; before any connection, from the project's file."""
         if self.controller.session is None:
-            if self.offline is not None and self.value is None:
+            if self.offline is not None and (self.value is None or self.value_source):  # the image's, as edited
                 run_task(self.offline.read_value, self.info.name, on_done=self._show_offline,
                          on_error=lambda exc: self._say(f"⚠ {exc}", theme.BAD))
             return
@@ -241,7 +241,7 @@ class CalibrationEditor(QWidget):
             self.reload()
 
     def _show_offline(self, value) -> None:
-        if self.controller.session is None and self.value is None:  # the ECU's value, if it came meanwhile, stays
+        if self.controller.session is None and (self.value is None or self.value_source):  # an ECU's value stays
             self._show(value, self.offline.name)
 
     def _show(self, value, source: str = "") -> None:

@@ -153,6 +153,7 @@ class MainWindow(QMainWindow):
         self.parameter_sets.compared.connect(lambda _: self.compare_dock.raise_())
         self.parameter_sets.message.connect(lambda text: self.statusBar().showMessage(text, 15000))
         self.parameter_sets.applied.connect(lambda _: [editor.reload() for editor in self.editors.values()])
+        self.parameter_sets.applied.connect(lambda _: self._update_title())  # offline: the image is modified
         self.offline_image = OfflineImage(self)  # the project's s19/hex as the editors change it offline
         self.offline_image.changed.connect(self._update_title)
         self.status = EcuStatusBar(self.hub)
