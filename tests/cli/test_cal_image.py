@@ -96,6 +96,8 @@ def test_what_is_refused_and_how(work, capsys, tmp_path):
     assert code == 2 and "xsSWITCH_TANK" in err and "did you mean" in err
     code, _, err = run(capsys, "cal", "get", "zsRailPressure", "--image", "app.s19")
     assert code == 2 and "a flash image holds calibrations only" in err
+    code, out, err = run(capsys, "cal", "get", "xs*", "--image", "app.s19")  # a glob takes the calibrations only
+    assert code == 0 and "xsSWITCH_TANK_THR = 20.00 bar" in out and "xsTankCtrlState" not in out
     code, _, err = run(capsys, "cal", "get", "xsPRV_KP", "--image", "app.s19", "--page", "reference")
     assert code == 2 and err.startswith("error: --page is for the ECU")
     code, _, err = run(capsys, "cal", "get", "xsPRV_KP", "--image", "gone.s19")

@@ -110,12 +110,14 @@ def _get(args: argparse.Namespace) -> int:
     doc = a2l_document(args)
     model = doc.model()
     wanted: dict[str, tuple[str, tuple[int, ...] | None]] = {}  # label -> (name, the cell's index or None)
+    # an image holds calibrations only: a glob takes those (a measurement named is refused, saying why)
+    kind, what = (("CHARACTERISTIC", "AXIS_PTS"), "calibration") if args.image else (None, "object")
     for text in args.names:  # a name the A2L lacks is said before connecting
         name, index = split_cell(model, text)
         if index is not None and name in model:
             wanted[f"{name}[{', '.join(map(str, index))}]"] = (name, index)
         else:
-            wanted.update((found, (found, None)) for found in model.expand([text]))
+            wanted.update((found, (found, None)) for found in model.expand([text], kind, what=what))
     page = {"page": args.page} if args.page else {}
     with values_of(args, doc, reading=True) as session:
         found = {}

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from workbench.cli.options import output_file, print_json
-from workbench.errors import InputError
+from workbench.errors import InputError, epk_text
 
 if TYPE_CHECKING:
     from workbench.a2l import A2lDocument
@@ -41,16 +41,24 @@ def add_image_arguments(parser: argparse.ArgumentParser, *, output: bool = False
                                 "input changes it in place")
 
 
-def open_image(args: argparse.Namespace, doc: A2lDocument | None = None) -> ImageCalibration:
-    """The image of ``--image`` with the A2L of ``--a2l`` (default: the demo's)."""
+def open_image(args: argparse.Namespace, doc: A2lDocument | None = None, *, reading: bool = False
+               ) -> ImageCalibration:
+    """The image of ``--image`` with the A2L of ``--a2l`` (default: the demo's); an EPK other than the A2L's is a
+    warning when ``reading`` or writing anyway (--accept-epk-mismatch), else the write's error says it."""
     from workbench.cli.ecu_options import a2l_document
     from workbench.sync.offline import ImageCalibration
     from workbench.sync.reference import is_image_file
 
     if not is_image_file(args.image):
         raise InputError(f"--image {args.image}: an s19/hex is named {_IMAGES}")
-    return ImageCalibration.open(args.image, doc or a2l_document(args),
-                                 accept_epk_mismatch=getattr(args, "accept_epk_mismatch", False))
+    image = ImageCalibration.open(args.image, doc or a2l_document(args),
+                                  accept_epk_mismatch=getattr(args, "accept_epk_mismatch", False))
+    expected = image.doc.epk(image.module)
+    if image.epk is not None and image.epk != expected and (reading or image.accept_epk_mismatch):
+        then = "written anyway (--accept-epk-mismatch)" if image.accept_epk_mismatch else "read-only"
+        print(f"warning: {args.image} holds the EPK {epk_text(image.epk)}, the A2L {epk_text(expected or '')}: the "
+              f"A2L may not describe this software; {then}", file=sys.stderr)
+    return image
 
 
 def values_of(args: argparse.Namespace, doc: A2lDocument, *, reading: bool = False):
@@ -61,7 +69,7 @@ def values_of(args: argparse.Namespace, doc: A2lDocument, *, reading: bool = Fal
         return open_session(args, doc, reading=reading)
     if getattr(args, "page", None):
         raise InputError("--page is for the ECU: an image holds one set of values (CAL ROM, what the ECU starts with)")
-    return nullcontext(open_image(args, doc))
+    return nullcontext(open_image(args, doc, reading=reading))
 
 
 def require_output(args: argparse.Namespace) -> None:
@@ -104,7 +112,7 @@ def load_into_image(args: argparse.Namespace) -> int:
     dataset = load_dataset(args.input)
     for note in dataset.notes:
         print(note, file=sys.stderr)
-    image = open_image(args)
+    image = open_image(args, reading=args.dry_run)
     try:
         result = apply_dataset(image, dataset, dry_run=args.dry_run, allow_extended_limits=args.extended_limits,
                                skip_unknown=args.skip_unknown, source=args.input)
@@ -130,7 +138,7 @@ def image_dataset_of(args: argparse.Namespace):
                          "cal set/load --image FILE -o NEW")
     if args.page != "working":
         raise InputError("--page is for the ECU: an image holds one set of values")
-    return open_image(args).dataset(args.names or None)
+    return open_image(args, reading=True).dataset(args.names or None)
 
 
 def _show(args: argparse.Namespace, shown) -> None:

@@ -127,7 +127,8 @@ class ImageCalibration:
         if found is not None and found != expected and not self.accept_epk_mismatch:
             error = EpkMismatchError(expected, found)
             error.args = ((f"{self.label} holds the EPK {epk_text(found)}, the A2L {epk_text(expected)}: the A2L "
-                           "does not describe this software; the image is read-only (accept_epk_mismatch to write)"),)
+                           "does not describe this software; the image is read-only (--accept-epk-mismatch, "
+                           "accept_epk_mismatch=True: write anyway)"),)
             raise error
 
     # --- reading ------------------------------------------------------------------------------
