@@ -125,3 +125,14 @@ def test_a_dataset_applies_as_online_and_a_read_only_file_is_not_overwritten(cal
     with pytest.raises(InputError, match="locked.s19: the file is read-only; not overwritten"):
         cal.save(target)
     assert target.read_text() == demo.s19().read_text()
+
+
+def test_no_write_touches_the_epk(cal, monkeypatch):
+    span = object_layout(cal.model, "xsPRV_KP").resolve().span()  # an A2L whose ADDR_EPK lay on a calibration
+    held = cal.view.read(span).decode("latin-1")
+    monkeypatch.setattr(cal.doc, "addr_epk", lambda module=None: span.address)
+    monkeypatch.setattr(cal.doc, "epk", lambda module=None: held)
+    assert cal.epk == held
+    with pytest.raises(InputError, match=r"xsPRV_KP: its bytes at 0x4000[0-9A-F]+\.\.0x4000[0-9A-F]+ hold the EPK"):
+        cal.write("xsPRV_KP", 6.0)
+    assert not cal.modified

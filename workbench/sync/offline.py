@@ -113,13 +113,16 @@ class ImageCalibration:
     @property
     def epk(self) -> str | None:
         """The EPK the image holds at the A2L's ADDR_EPK (None: the A2L names none, or the image lacks it)."""
+        span = self._epk_span()
+        if span is None or self.view.lacking(span):
+            return None
+        return self.view.read(span).decode("latin-1")
+
+    def _epk_span(self) -> Span | None:
+        """Where the A2L says the EPK lies (ADDR_EPK, as long as MOD_PAR's EPK; read through the calibration
+        segments' mapping as every address); None: it names none."""
         expected, address = self.doc.epk(self.module), self.doc.addr_epk(self.module)
-        if expected is None or address is None:
-            return None
-        size = len(expected.encode("latin-1"))
-        if AddressRange(address, address + size).outside(self.image.ranges):
-            return None
-        return self.image.read(address, size).decode("latin-1")
+        return None if expected is None or address is None else Span(address, len(expected.encode("latin-1")))
 
     def require_writable(self) -> None:
         """:raises EpkMismatchError: the image's EPK differs from the A2L's: the A2L does not describe it."""
@@ -277,14 +280,15 @@ class ImageCalibration:
             self._edited[name] = None
 
     def _require_outside_epk(self, name: str, edits: list[ByteEdit]) -> None:
-        epk, address = self.doc.epk(self.module), self.doc.addr_epk(self.module)
-        if epk is None or address is None:
+        span = self._epk_span()
+        if span is None:
             return
-        end = address + len(epk.encode("latin-1"))
+        epk = [AddressRange(start, start + size) for start, size in self.view.pieces(span)]
         for edit in edits:
             for start, size in self.view.pieces(edit.span):
-                if start < end and address < start + size:
-                    raise InputError(f"{name}: its bytes at {edit.span} hold the EPK at 0x{address:X}: not written")
+                if any(start < e.end and e.start < start + size for e in epk):
+                    raise InputError(f"{name}: its bytes at {edit.span} hold the EPK (ADDR_EPK 0x{span.address:X}): "
+                                     "not written")
 
     # --- fix calibrations ----------------------------------------------------------------------
 
