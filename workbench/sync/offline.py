@@ -43,7 +43,6 @@ from workbench.calib.values import CalValue
 from workbench.calib.writable import check_inside, checked_cells, checked_value, writable_spans
 from workbench.errors import EpkMismatchError, InputError, epk_text
 from workbench.image import AddressRange, MemoryImage
-from workbench.session.fixes import FixState
 from workbench.sync.areas import ImageView, calibration_areas
 from workbench.sync.store import ByteStore
 from workbench.sync.values import calibration_names, object_layouts, resolve_all, without_name
@@ -52,6 +51,7 @@ if TYPE_CHECKING:
     from workbench.a2l import A2lDocument
     from workbench.a2l.model import A2lModel
     from workbench.calib.dataset import Dataset
+    from workbench.session.fixes import FixState
     from workbench.sync.reference import ImageReference
 
 __all__ = ["ImageCalibration"]
@@ -318,6 +318,8 @@ class ImageCalibration:
             return self._fix_state(pair, self.read_many([pair.enable, pair.value]))
 
     def _fix_state(self, pair: FixPair, values: Mapping[str, Any]) -> FixState:
+        from workbench.session.fixes import FixState  # the session's: imported only here (the session is heavy)
+
         active = to_raw(self.model, pair.enable, values[pair.enable]) == 1
         return FixState(pair, None, values[pair.value], active, None, "an image holds no live values")
 
