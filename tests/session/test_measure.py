@@ -135,3 +135,21 @@ def test_samples_lost_on_a_bus_too_slow_for_the_plan_say_so(channel):
         assert live.stream.dtos_per_second == pytest.approx(2000.0)
         assert live.loss_cause() == ("the DAQ lists send 2,000 DTOs/s, 200% of the about 1,000 frames/s CAN carries at "
                                      "125 kbit/s: measure fewer signals on the fast events, or on a slower event")
+
+
+def test_the_dtos_are_read_as_the_ecu_reports_them_not_as_its_a2l_says(tmp_path, sim, channel):
+    """XCPlite's A2L says IDENTIFICATION_FIELD_TYPE_RELATIVE_BYTE while its GET_DAQ_PROCESSOR_INFO (and its DTOs) use
+    RELATIVE_WORD_ALIGNED: the slave's word is the one that counts. Here the demo slave sends ABSOLUTE PIDs and its A2L
+    is edited to say RELATIVE_BYTE."""
+    from session_helpers import edited_a2l
+
+    from workbench import Session
+
+    a2l = edited_a2l(tmp_path, "IDENTIFICATION_FIELD_TYPE_ABSOLUTE\n", "IDENTIFICATION_FIELD_TYPE_RELATIVE_BYTE\n")
+    with Session.open(a2l, interface="virtual", channel=channel, timeouts=FAST) as ecu:
+        assert ecu.config.daq.identification_field == "RELATIVE_BYTE"
+        with ecu.measure(["zsRailPressure", "xsDC"]) as live:
+            batches = collect(live, 0.3)
+        assert live.stream.plan.identification_field == "ABSOLUTE"
+        assert {batch.event_name for batch in batches} >= {"Task4ms"} and live.stats.lost == 0
+        assert live.stats.unknown == 0  # every DTO was a sample of the plan's lists
