@@ -439,8 +439,8 @@ def test_measure_takes_globs_and_records_can2_signals_by_name(bus, capsys, tmp_p
     with MDF(tmp_path / "r.mf4") as mdf:
         assert "FuelLevel" in mdf.channels_db and any(name.endswith("zsRailPressure") for name in mdf.channels_db)
     code, _, err = run(capsys, "measure", "xvPRV_DC_FF", "--daq", "--duration", "0.2", *bus)
-    assert (code, err) == (2, "error: xvPRV_DC_FF is a CHARACTERISTIC: DAQ samples only MEASUREMENTs; read a "
-                              "calibration by polling (measure without --daq, or Session.read)\n")
+    assert (code, err) == (2, "error: xvPRV_DC_FF is a CHARACTERISTIC (MAP): DAQ samples MEASUREMENTs and VALUE or "
+                              "VAL_BLK calibrations; read it by polling (measure without --daq, or Session.read)\n")
 
 
 def test_a_udp_multicast_port_given_as_port_is_named(capsys):

@@ -174,8 +174,8 @@ def test_the_can2_bus_may_be_opened_by_the_caller(demo_ecu, session, tmp_path, r
 def test_what_cannot_be_recorded_is_refused_before_anything_starts(session, tmp_path):
     with pytest.raises(InputError, match="nothing to record"):
         Recorder(session, tmp_path / "x.mf4")
-    with pytest.raises(InputError, match="xsSWITCH_TANK_THR is a CHARACTERISTIC"):
-        Recorder(session, tmp_path / "x.mf4", ["xsSWITCH_TANK_THR"])
+    with pytest.raises(InputError, match=r"xvPRV_DC_FF is a CHARACTERISTIC \(MAP\)"):
+        Recorder(session, tmp_path / "x.mf4", ["xvPRV_DC_FF"])
     with pytest.raises(InputError, match=r"no measurement matches 'xsSWITCH_TANK_\*'"):
         Recorder(session, tmp_path / "x.mf4", ["xsSWITCH_TANK_*"])
     with pytest.raises(InputError, match="no such file"):

@@ -67,9 +67,20 @@ def test_one_daq_measurement_at_a_time(ecu):
         assert collect(live, 0.2)
 
 
-def test_calibrations_are_polled_not_sampled(ecu):
-    with pytest.raises(InputError, match="xsSWITCH_TANK_THR is a CHARACTERISTIC"):
-        ecu.measure(["xsSWITCH_TANK_THR"])
+def test_curves_and_maps_are_polled_not_sampled(ecu):
+    with pytest.raises(InputError, match=r"zvRailPConv is a CHARACTERISTIC \(CURVE\): DAQ samples MEASUREMENTs and "
+                                         "VALUE or VAL_BLK calibrations"):
+        ecu.measure(["zvRailPConv"])
+
+
+def test_a_value_calibration_is_sampled_as_a_measurement_would_be(ecu):
+    """As CANape measures a calibration (XCPlite gives its stack parameters a DAQ_EVENT and writes its measured arrays
+    as VAL_BLKs): the value as the ECU holds it, converted, on the event named."""
+    with ecu.measure(["xsSWITCH_TANK_THR", "zsRailPressure"], event="Task50ms") as live:
+        before = np.concatenate([b.values["xsSWITCH_TANK_THR"] for b in collect(live, 0.2)])
+        ecu.write("xsSWITCH_TANK_THR", 21.0)
+        after = np.concatenate([b.values["xsSWITCH_TANK_THR"] for b in collect(live, 0.3)])
+    assert set(before) == {20.0} and after[-1] == 21.0
 
 
 def test_closing_the_session_stops_daq(sim, channel):

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from workbench.a2l.objects import Measurement
+from workbench.a2l.objects import Characteristic, Measurement
 from workbench.a2l.xcp import XcpConfig, read_daq_events
 from workbench.calib.signals import MeasurementCodec, measurement_codec
 from workbench.errors import InputError, WorkbenchError, XcpCommandError
@@ -29,6 +29,7 @@ from workbench.logs import logger
 from workbench.xcp.daq import DaqSignal, DaqStats, DaqStream, plan_daq
 
 if TYPE_CHECKING:
+    from workbench.a2l.model import A2lModel
     from workbench.session.session import Session
 
 log = logger(__name__)
@@ -66,10 +67,12 @@ class DaqMeasurement:
         self.codecs: dict[str, MeasurementCodec] = {}
         for name in self.names:
             obj = model.object(name)
-            if not isinstance(obj, Measurement):
-                raise InputError(f"{name} is a {type(obj).__name__.upper()}: DAQ samples only MEASUREMENTs; "
-                                 "read a calibration by polling (measure without --daq, or Session.read)")
-            self.codecs[name] = measurement_codec(model, obj)
+            signal = obj if isinstance(obj, Measurement) else sampled_characteristic(model, obj)
+            if signal is None:
+                kind = type(obj).__name__.upper() + (f" ({obj.type})" if isinstance(obj, Characteristic) else "")
+                raise InputError(f"{name} is a {kind}: DAQ samples MEASUREMENTs and VALUE or VAL_BLK calibrations; "
+                                 "read it by polling (measure without --daq, or Session.read)")
+            self.codecs[name] = measurement_codec(model, signal)
         self.events = self._events(event)
         self.prescaler = prescaler
         self.stream: DaqStream | None = None
@@ -287,6 +290,23 @@ class EventAccess:
     def release_daq(self: Session, measurement: DaqMeasurement) -> None:
         if self._daq is measurement:
             self._daq = None
+
+
+def sampled_characteristic(model: A2lModel, obj: Any) -> Measurement | None:
+    """A VALUE or VAL_BLK CHARACTERISTIC whose RECORD_LAYOUT is its values alone (FNC_VALUES, DIRECT) as the
+    MEASUREMENT DAQ samples, as CANape measures a calibration (XCPlite gives the parameters on its stacks a
+    DAQ_EVENT and writes its measured arrays as VAL_BLKs); None for anything else (curves and maps carry axes)."""
+    if not isinstance(obj, Characteristic) or obj.type not in ("VALUE", "VAL_BLK"):
+        return None
+    layout = model.record_layout_of(obj)
+    values = layout.fnc_values
+    if values is None or values.addressing not in (None, "DIRECT") or len(layout.entries) != 1:
+        return None
+    return Measurement(obj.name, obj.long_identifier, obj.address, obj.address_extension, datatype=values.datatype,
+                       conversion=obj.conversion, lower_limit=obj.lower_limit, upper_limit=obj.upper_limit,
+                       byte_order=obj.byte_order, bit_mask=obj.bit_mask, matrix_dim=obj.matrix_dim,
+                       array_size=obj.number if obj.type == "VAL_BLK" else None, layout=values.mode,
+                       discrete=obj.discrete, format=obj.format, phys_unit=obj.phys_unit)
 
 
 def event_number(config: XcpConfig, event: str | int) -> int:
