@@ -25,8 +25,8 @@ Between the ECU and files:
   save     the calibrations as a dataset (DCM, CDFX), or the working page as an s19/hex (--region CALIB)
   load     apply a dataset: every object checked first, then only what changes written (--dry-run)
   sync     cache sync: compare with an s19/hex or dataset by checksums, then --upload or --download
-Offline, in an s19/hex instead of the ECU (no bus): get, set, list, save DATASET and load take --image FILE;
-  set and load write -o NEW (only the records of changed bytes rewritten; -o FILE naming the input changes it)
+Offline, in an s19/hex instead of the ECU (no bus): get, set, list, fix, save DATASET and load take --image FILE;
+  set, fix and load write -o NEW (only the records of changed bytes rewritten; naming the input changes it)
 Dataset files (DCM, CDFX; no ECU needed):
   convert  DCM <-> CDFX by the files' extensions, every value exact
   diff     compare two datasets object by object: files, an s19/hex, or 'ecu' (exit 1 when they differ)
