@@ -114,3 +114,18 @@ def test_a_parameter_set_applies_to_the_image_offline(qtbot, tmp_path):
     assert window.windowTitle().endswith("— app.s19 modified — workbench")
     assert (tmp_path / "app.s19").read_bytes() == demo.s19().read_bytes()
     window.workspace.file_values.image().write("xsSWITCH_TANK_THR", 20.0)  # back: the window closes unasked
+
+
+def test_open_image_takes_another_s19_for_the_editors(qtbot, tmp_path):
+    project = demo_project()
+    project.s19 = None
+    window = offline_window(qtbot, project)
+    scalar = window.open_editor("xsSWITCH_TANK_THR")
+    assert scalar.value is None and not window.save_image_action.isEnabled() and window.open_image_action.isEnabled()
+    tuned = ImageCalibration.open(demo.s19())
+    tuned.write("xsSWITCH_TANK_THR", 27.0)
+    tuned.save(tmp_path / "tuned.hex")
+    window.offline_image.open(tmp_path / "tuned.hex")
+    qtbot.waitUntil(lambda: scalar.value is not None, timeout=WAIT_MS)
+    assert scalar.value.value == 27.0 and scalar.value_source == "tuned.hex" and scalar.field.input.isEnabled()
+    assert window.project.s19 == tmp_path / "tuned.hex" and window.save_image_action.isEnabled()

@@ -47,12 +47,39 @@ class OfflineImage(QObject):
         """What the window's title adds: the image's name while it holds unsaved edits."""
         return f" — {self.values.name} modified" if self.modified else ""
 
+    def enable_actions(self) -> None:
+        """File > Open image once the A2L is read; Save image (as) while there is an image."""
+        window = self.window
+        window.open_image_action.setEnabled(window.workspace is not None)
+        for action in (window.save_image_action, window.save_image_as_action):
+            action.setEnabled(self.values is not None)
+
     def edited(self, _name: str = "") -> None:
         self.changed.emit()
 
     def reference(self):
         """What the cache sync compares a connected ECU with: the image as edited, or the project's file."""
         return self.values.reference() if self.modified else self.window.project.s19
+
+    def open_dialog(self) -> None:
+        path, _ = QFileDialog.getOpenFileName(self.window, "Open image", "", FILES)
+        if path:
+            self.open(Path(path))
+
+    def open(self, path: Path) -> None:
+        """Take ``path`` as the project's s19/hex (unsaved edits of the one before asked about first): the editors
+        show and edit its values until an ECU is connected, and a connection compares the ECU with it."""
+        from workbench.gui.file_values import FileValues
+
+        workspace = self.window.workspace
+        if workspace is None or not self.may_close():
+            return
+        self.window.project.s19 = Path(path)
+        workspace.file_values = FileValues(workspace.model, path)
+        for editor in self.window.editors.values():
+            editor.offline = workspace.file_values
+            editor.reload()
+        self.changed.emit()
 
     def may_close(self) -> bool:
         """Whether the project may close now: no unsaved edits, or the user saved (here, at once) or discarded them."""

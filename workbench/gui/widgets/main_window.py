@@ -212,8 +212,7 @@ class MainWindow(QMainWindow):
     def _update_title(self) -> None:
         ecu = self.controller.info.identification if self.controller.info else "offline"
         self.setWindowTitle(f"{self.project.name} — {ecu}{self.offline_image.title()} — workbench")
-        for action in (self.save_image_action, self.save_image_as_action):
-            action.setEnabled(self.offline_image.values is not None)
+        self.offline_image.enable_actions()
 
     # --- project --------------------------------------------------------------------------------
 

@@ -112,13 +112,16 @@ def _file_menu(window, menu) -> None:
                                    QKeySequence.SaveAs)
     window.open_mdf_action = _action(window, "Open measurement file…", window.open_measurement_dialog,
                                     "an MDF file (ours, or any asammdf reads) in a plot with cursors, no ECU needed")
+    window.open_image_action = _action(window, "Open image…", lambda: window.offline_image.open_dialog(),
+                                      "an s19/hex whose calibrations the editors show and edit before connecting "
+                                      "(the project's image from then on)")
     window.save_image_action = _action(window, "Save image", lambda: window.offline_image.save(),
                                       "write the project's s19/hex with the calibrations edited offline (only the "
                                       "records of changed bytes rewritten)")
     window.save_image_as_action = _action(window, "Save image as…", lambda: window.offline_image.save_as(),
                                          "write the s19/hex with the calibrations edited offline under a new name")
-    for item in (window.open_action, window.save_action, window.save_as_action, None, window.save_image_action,
-                 window.save_image_as_action, None, window.open_mdf_action):
+    for item in (window.open_action, window.save_action, window.save_as_action, None, window.open_image_action,
+                 window.save_image_action, window.save_image_as_action, None, window.open_mdf_action):
         menu.addSeparator() if item is None else menu.addAction(item)
     window.recent_menu = menu.addMenu("Recent projects")
     window.recent_menu.aboutToShow.connect(lambda: _fill_recent(window))
