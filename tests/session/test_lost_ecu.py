@@ -192,6 +192,25 @@ def test_an_ecu_whose_events_state_no_cycle_is_asked_when_silent_and_found_lost(
             expected = "nothing listens"
         else:
             simulator.power_off()
-            expected = "GET_STATUS: no response .* none to SYNCH"
+            expected = "nothing from the ECU for .* s while DAQ ran, and it answers neither GET_STATUS nor SYNCH"
         with pytest.raises(ConnectionLostError, match=expected):
             _read_until_lost(live)
+
+
+def test_a_second_master_taking_an_ethernet_ecu_over_is_named_as_the_likely_cause(free_udp_port):
+    """`workbench measure --daq` in one terminal, `workbench cal set` in another, on XCPlite over UDP: the ECU takes the
+    new master and ignores the first (its DTOs go to the new one). The first master has nothing to hear the other by
+    (Ethernet: each master its own address): its probe finds the ECU silent and says who may have taken it."""
+    endpoint = EthernetEndpoint("127.0.0.1", free_udp_port, "UDP")
+    options = {"host": "127.0.0.1", "port": free_udp_port, "protocol": "udp", "timeouts": FAST}
+    with serve_demo(ethernet=endpoint, profile="sporadic-events") as simulator, \
+            Session.open(simulator.a2l, **options) as first:
+        live = first.measure(SIGNALS).start()
+        assert _read_until_lost(live, wanted=5) >= 5
+        with Session.open(simulator.a2l, **options) as second:
+            assert second.read("xsSWITCH_TANK_THR") == 20.0
+            with pytest.raises(ConnectionLostError, match="another master connected to it"):
+                _read_until_lost(live)
+        started = time.monotonic()
+        first.close()  # the link is lost: no stop command waits out T1
+        assert time.monotonic() - started < FAST.t1

@@ -200,6 +200,11 @@ class Link:
         if self.lost is not None:
             raise ConnectionLostError(self.lost.what, self.lost.reason, self.lost.when)
 
+    def give_up(self, reason: str) -> None:
+        """The master found the ECU gone (``reason``, for people): the link is lost from now on, as if the transport
+        had said so (every call raises at once until a CONNECT)."""
+        self._lose(ConnectionLostError(self.describe(), reason))
+
     def _heard_within(self, seconds: float) -> bool:
         """Whether a packet comes within ``seconds``: on a loaded host the receiving threads may merely not
         have run for a while, which is no lost ECU."""

@@ -20,8 +20,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from workbench.errors import (ConnectionLostError, InputError, WorkbenchError, XcpCommandError, XcpTimeoutError,
-                              placeholder_hint)
+from workbench.errors import (ConnectionLostError, EcuSilentError, InputError, WorkbenchError, XcpCommandError,
+                              XcpTimeoutError, placeholder_hint)
 from workbench.logs import logger
 from workbench.xcp.daq.assemble import DtoAssembler
 from workbench.xcp.daq.clock import DaqClock
@@ -248,8 +248,15 @@ class DaqStream:
         """
         if not self.lock.acquire(blocking=False):
             return
+        quiet = self.master.link.quiet_s
         try:
             self.master.get_status()
+        except EcuSilentError:
+            self.master.link.give_up(
+                f"nothing from the ECU for {quiet:.1f} s while DAQ ran, and it answers neither GET_STATUS nor SYNCH: "
+                "it stopped, or another master connected to it (a second workbench, CANape: XCP serves one master "
+                "at a time)")
+            self.master.link.check()
         except ConnectionLostError:
             raise
         except XcpTimeoutError:  # SYNCH was answered: the ECU is there
