@@ -71,7 +71,7 @@ def info_lines(info, state: str) -> list[str]:
     if info.daq is not None:
         daq = info.daq
         resolution = info.daq_resolution
-        stamp = (f"{resolution.timestamp_size}-byte timestamps of {resolution.timestamp_resolution_s * 1e6:g} µs"
+        stamp = (_timestamps(resolution.timestamp_size, resolution.timestamp_resolution_s)
                  if resolution and resolution.timestamp_size else "no timestamps")
         lines.append(f"DAQ           {'dynamic' if daq.dynamic else 'static'}, {daq.max_daq} lists, "
                      f"{daq.identification_field.lower().replace('_', ' ')} ids, {stamp}, max ODT entry "
@@ -90,3 +90,11 @@ def _epk(text: str | None) -> str:
     from workbench.errors import epk_text
 
     return "-" if text is None else epk_text(text)
+
+
+def _timestamps(size: int, tick_s: float) -> str:
+    """'4-byte timestamps of 1 ns (they wrap every 4.3 s)': the tick in the unit that reads best, and the wrap."""
+    tick = f"{tick_s * 1e9:g} ns" if tick_s < 1e-6 else f"{tick_s * 1e6:g} µs" if tick_s < 1e-3 else f"{tick_s * 1e3:g} ms"
+    wrap_s = tick_s * 256**size
+    wrap = f"{wrap_s * 1e3:.3g} ms" if wrap_s < 1 else f"{wrap_s:.3g} s" if wrap_s < 3600 else f"{wrap_s / 3600:.3g} h"
+    return f"{size}-byte timestamps of {tick} (they wrap every {wrap})"
