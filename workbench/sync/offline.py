@@ -199,6 +199,10 @@ class ImageCalibration:
         return None
 
     def _decode(self, layouts) -> tuple[dict[str, CalValue], dict[str, str]]:
+        with self.lock:  # a write under way in another thread (the window's workers) changes the image
+            return self._decode_held(layouts)
+
+    def _decode_held(self, layouts) -> tuple[dict[str, CalValue], dict[str, str]]:
         resolved, problems = resolve_all(layouts, self.fetch)
         for name, layout in list(resolved.items()):
             why = self.lacking(name, list(layouts[name].fixed_part()) + layout.spans())
