@@ -82,13 +82,13 @@ def require_output(args: argparse.Namespace) -> None:
 def save_image(args: argparse.Namespace, image: ImageCalibration) -> None:
     """Write ``-o FILE`` (skipped when it names the input and nothing changed), then say on stderr what to know
     before flashing it."""
-    notes = image.notes()
+    notes = image.notes(args.output)
     same = Path(args.output).resolve() == Path(args.image).resolve()
     if not (same and not image.modified):
         image.save(args.output)
     if not args.json:
         for note in notes:
-            print(f"note: {note.replace('FILE', args.output)}", file=sys.stderr)
+            print(f"note: {note}", file=sys.stderr)
 
 
 def written_note(args: argparse.Namespace, changed: bool) -> str:

@@ -8,7 +8,7 @@ a HEX file. The counterpart of the session's values by name::
     cal = ImageCalibration.open("FLCU.s19", "FLCU.a2l")
     cal.read("xsSWITCH_TANK_THR")                   # 20.0, physical, as Session.read
     cal.write("xsSWITCH_TANK_THR", 22.5)            # checked as online (limits, shape, texts, writable memory)
-    cal.write_cells("zvRAILPRESSURE_LUT", {(3,): 41.0})
+    cal.write_cells("zvRailPConv", {(3,): 41.0})     # one point of a curve
     apply_dataset(cal, load_dataset("tuned.dcm"))   # every object checked first, then written
     cal.changed()                                   # ['xsSWITCH_TANK_THR', ...]: what differs from the file
     cal.save("FLCU_tuned.s19")                      # atomically; only the records of changed bytes rewritten
@@ -378,9 +378,9 @@ class ImageCalibration:
         """Whether the image differs from the file it was loaded from."""
         return bool(self.changes())
 
-    def notes(self) -> list[str]:
-        """What to know before flashing the changed image: the flash regions the changes lie in, the EPK kept, and
-        the checksums that do not follow the changes."""
+    def notes(self, file: str | Path = "FILE") -> list[str]:
+        """What to know before flashing the changed image (saved as ``file``): the flash regions the changes lie in
+        and the command that flashes them, the EPK kept, and the checksums that do not follow the changes."""
         from workbench.flash.layout import FlashLayout
 
         changes = self.changes()
@@ -392,7 +392,7 @@ class ImageCalibration:
         if regions:
             options = " ".join(f"--region {name}" for name in regions)
             epk = f"; its EPK {epk_text(self.epk)} is the original's" if self.epk is not None else ""
-            notes.append(f"the changes lie in {', '.join(regions)}: `workbench flash FILE {options}` programs them "
+            notes.append(f"the changes lie in {', '.join(regions)}: `workbench flash {file} {options}` programs them "
                          f"(verified against the new bytes){epk}")
         notes.append("a checksum the build keeps in the image over the calibration data (one the A2L does not "
                      "describe, checked by some boot loaders) is not computed again")
