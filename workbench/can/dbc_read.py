@@ -632,12 +632,3 @@ def _conversion(scale: int | float, offset: int | float, has_choices: bool, is_f
 
 def _is_integer(value: int | float) -> bool:
     return isinstance(value, int) or value.is_integer()
-
-
-def _multiplexer_ids(mux: str | None, multiplexer: str | None) -> tuple[int, ...] | None:
-    """The multiplexer values of a signal (``m3``: 3) under the message's one multiplexer, as cantools gives them."""
-    if multiplexer is None or mux is None or mux.endswith("M"):
-        return None
-    if not mux.startswith("m"):
-        raise Unreadable(f"multiplexer marker {mux}")
-    return (int(mux[1:]),)
