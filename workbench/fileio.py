@@ -25,12 +25,17 @@ def read_input(path: str | Path, what: str) -> bytes:
     """
     try:
         return Path(path).read_bytes()
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such file") from None
-    except IsADirectoryError:
-        raise InputError(f"{path}: is a folder, not {what}") from None
     except OSError as exc:
-        raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
+        raise unreadable(path, exc, what) from None
+
+
+def unreadable(path: str | Path, exc: OSError, what: str) -> InputError:
+    """The error of an input file the system refused to open or read, in :func:`read_input`'s words."""
+    if isinstance(exc, FileNotFoundError):
+        return InputError(f"{path}: no such file")
+    if isinstance(exc, IsADirectoryError):
+        return InputError(f"{path}: is a folder, not {what}")
+    return InputError(f"{path}: cannot read ({exc.strerror or exc})")
 
 
 def write_output(path: str | Path, data: bytes) -> None:

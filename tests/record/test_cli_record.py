@@ -79,7 +79,7 @@ def test_record_is_measure_record_as_a_command_of_its_own(bus, capsys, tmp_path,
     for argv, message in ((["record"], "name the file to record to"),
                           (["record", str(tmp_path / "none.mf4")], "nothing to record to"),
                           (["record", str(path), "--repair", str(path)], "--repair FILE... takes the files"),
-                          (["record", "--repair", str(tmp_path / "gone.mf4")], "gone.mf4: cannot read")):
+                          (["record", "--repair", str(tmp_path / "gone.mf4")], "gone.mf4: no such file")):
         code, out, err = run(capsys, *argv, *bus)
         assert (code, out) == (2, "") and message in err, argv
     assert not (tmp_path / "none.mf4").exists()

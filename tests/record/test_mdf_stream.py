@@ -139,8 +139,10 @@ def test_finalize_refuses_what_is_no_mdf(tmp_path):
     (tmp_path / "text.mf4").write_text("not a measurement")
     with pytest.raises(InputError, match="text.mf4: not an MDF4 file"):
         finalize(tmp_path / "text.mf4")
-    with pytest.raises(InputError, match="missing.mf4: cannot read"):
+    with pytest.raises(InputError, match="missing.mf4: no such file"):
         finalize(tmp_path / "missing.mf4")
+    with pytest.raises(InputError, match="is a folder, not an MDF4 file$"):
+        finalize(tmp_path)
 
 
 def test_channels_are_placed_by_position_not_by_name(tmp_path, read_mdf):

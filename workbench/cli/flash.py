@@ -20,9 +20,9 @@ EPK differs from the A2L's; a flash of part of the software (CALIB only, APPLICA
 EPK differs from the ECU's, which the part that stays belongs to (--accept-epk-mismatch flashes
 it anyway); data outside the flash regions; BOOT without --allow-boot; a sector to erase that
 holds data outside the file's ranges, which the file would not give back (--erase-beyond-file
-loses it). The
-application-valid key is cleared first and set last, so a flash that breaks off leaves the ECU in
-its boot loader, where the same command finishes it. Ctrl-C stops at the next block the same way.
+loses it). The application-valid key is cleared first and set last, so a flash that breaks off
+leaves the ECU in its boot loader, where the same command finishes it. Ctrl-C stops at the next
+block the same way.
 A flash that finds the key cleared (one did not finish) compares the other regions the file fills
 with the ECU and is refused while one differs (flash it too); `workbench info` shows the key.
 Exit codes: 0 flashed (or --dry-run found nothing to refuse, or --verify-only no difference),

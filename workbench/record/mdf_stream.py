@@ -41,6 +41,7 @@ from xml.etree import ElementTree
 import numpy as np
 
 from workbench.errors import InputError, WorkbenchError
+from workbench.fileio import unreadable
 from workbench.logs import logger
 
 log = logger(__name__)
@@ -367,7 +368,7 @@ def finalize(path: str | Path) -> bool:
         with open(path, "rb") as handle:
             head = handle.read(64)
     except OSError as exc:
-        raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
+        raise unreadable(path, exc, "an MDF4 file") from None
     if head[:8] == _FINALIZED and not struct.unpack_from("<H", head, _UNFINALIZED_FLAGS_AT)[0]:
         return False
     mdf = _open_mdf(path)  # reads an unfinalized file from a copy, counting the records from the data
@@ -424,7 +425,7 @@ def _open_mdf(path: str | Path):
     try:
         return MDF(path)
     except OSError as exc:
-        raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
+        raise unreadable(path, exc, "an MDF4 file") from None
     except Exception as exc:  # asammdf's errors have no common base; every one means "not readable"
         raise InputError(f"{path}: not an MDF4 file asammdf can read ({exc})") from None
 

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from workbench.errors import InputError
-from workbench.fileio import atomic_write_text
+from workbench.fileio import atomic_write_text, unreadable
 from workbench.logs import logger
 from workbench.testbench.svgplot import Band, plot_svg
 
@@ -47,7 +47,7 @@ def read_requirements(path: str | Path) -> list[Requirement]:
         with path.open(encoding="utf-8-sig", newline="") as handle:
             rows = list(csv.DictReader(handle))
     except OSError as exc:
-        raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
+        raise unreadable(path, exc, "a requirements CSV file") from None
     if rows and "id" not in rows[0]:
         raise InputError(f"{path}:1: the header must name the columns id,name,description")
     requirements = []
