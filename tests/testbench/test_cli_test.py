@@ -61,6 +61,10 @@ def test_bad_input_is_exit_2(capsys, tmp_path):
     (tmp_path / "file").write_text("")
     assert main(["test", "--report", str(tmp_path / "file")]) == 2
     assert capsys.readouterr().err.strip() == f"error: --report {tmp_path / 'file'}: is a file; name a folder"
+    report = tmp_path / "out"  # a catalogue that cannot be read is refused before any test runs
+    assert main(["test", "--report", str(report), "--requirements", str(tmp_path / "none.csv")]) == 2
+    assert capsys.readouterr().err.strip() == f"error: {tmp_path / 'none.csv'}: no such file"
+    assert not (report / "junit.xml").exists()
 
 
 def test_a_flash_whose_calibration_breaks_a_requirement_fails_that_requirement(pytester, tmp_path):

@@ -68,6 +68,9 @@ def test_bad_ecu_options_are_usage_errors(pytester):
     result = pytester.runpytest_inprocess("--interface", "virtual", "--host", "127.0.0.1", *PLUGIN)
     assert result.ret == pytest.ExitCode.USAGE_ERROR
     result.stderr.fnmatch_lines(["*either CAN options*or Ethernet ones*"])
+    result = pytester.runpytest_inprocess("--report", "out", "--requirements", "missing.csv", *PLUGIN)
+    assert result.ret == pytest.ExitCode.USAGE_ERROR  # before a test ran, not after all of them
+    result.stderr.fnmatch_lines(["*missing.csv: no such file*"])
 
 
 def test_worker_processes_on_one_real_ecu_are_refused_from_an_ini_too(pytester):

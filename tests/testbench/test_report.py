@@ -50,7 +50,7 @@ def test_traceability_steps_and_plots(tmp_path):
     results = {"test_x.py::test_a": {"outcome": "failed", "duration": 2.5, "message": "expect xsTankCtrlState ...",
                                      "requirements": ["REQ_1", "REQ_2"]},
                "test_x.py::test_b": {"outcome": "passed", "duration": 0.1, "message": "", "requirements": ["REQ_2", "REQ_9"]}}
-    html = write_report(tmp_path, results, requirements=catalogue, ecu="a test ECU").read_text()
+    html = write_report(tmp_path, results, catalogue=read_requirements(catalogue), ecu="a test ECU").read_text()
     trace = html[html.index("<h2>Traceability</h2>"):html.index("<h2>Tests</h2>")]
     rows = re.findall(r"<tr><td>(REQ_\d)</td>.*?</tr>", trace)
     assert rows == ["REQ_1", "REQ_2", "REQ_3", "REQ_9"]  # the catalogue's order, then ids it lacks

@@ -140,6 +140,10 @@ def run(args: argparse.Namespace) -> int:
         report = Path(args.report)
         if report.exists() and not report.is_dir():
             raise InputError(f"--report {report}: is a file; name a folder")
+        if args.requirements:  # as the plugin would refuse it, but in the command's words
+            from workbench.testbench.report import read_requirements
+
+            read_requirements(args.requirements)
     code = int(pytest.main(argv))
     if code == 5:
         raise InputError("no tests found (check PATH, -k and --req)")

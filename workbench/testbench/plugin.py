@@ -27,6 +27,7 @@ __all__ = ["ecu"]
 
 _TARGET = pytest.StashKey()
 _REPORT_DIR = pytest.StashKey()
+_CATALOGUE = pytest.StashKey()  # the --requirements of a --report
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
@@ -69,6 +70,7 @@ def pytest_configure(config: pytest.Config) -> None:
         if directory.exists() and not directory.is_dir():
             raise pytest.UsageError(f"--report {report}: is a file; name a folder")
         config.stash[_REPORT_DIR] = directory
+        config.stash[_CATALOGUE] = _catalogue(config.getoption("requirements"))
         if not config.option.xmlpath:
             config.option.xmlpath = str(directory / "junit.xml")
     config.pluginmanager.register(_Outcomes(config, keep_all=bool(report)), "workbench-testbench-outcomes")
@@ -79,6 +81,19 @@ def pytest_configure(config: pytest.Config) -> None:
             source = f" (from the addopts of {config.inipath.name})" if config.inipath else ""
             raise pytest.UsageError(f"-n {workers}{source}: the tests would share {target.describe()} from {workers} "
                                     "processes, and XCP takes one master at a time: give -n 0")
+
+
+def _catalogue(path: str | None) -> list:
+    """The ``--requirements`` catalogue, read before the tests run. :raises pytest.UsageError: it cannot be read."""
+    if not path:
+        return []
+    from workbench.errors import InputError
+    from workbench.testbench.report import read_requirements
+
+    try:
+        return read_requirements(path)
+    except InputError as exc:
+        raise pytest.UsageError(str(exc)) from None
 
 
 @pytest.hookimpl(tryfirst=True)  # --req judges the tests collected, before -k takes some away
@@ -297,7 +312,7 @@ class _Outcomes:
         from workbench.testbench.report import write_report
 
         target = config.stash.get(_TARGET, None)
-        write_report(directory, self.results, requirements=config.getoption("requirements"),
+        write_report(directory, self.results, catalogue=config.stash.get(_CATALOGUE, []),
                      ecu=target.describe() if target is not None else "")
 
     def pytest_terminal_summary(self, terminalreporter) -> None:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import csv
 import json
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 from html import escape
 from pathlib import Path
@@ -59,12 +60,12 @@ def read_requirements(path: str | Path) -> list[Requirement]:
     return requirements
 
 
-def write_report(directory: str | Path, results: dict[str, dict], *, requirements: str | Path | None = None,
+def write_report(directory: str | Path, results: dict[str, dict], *, catalogue: Sequence[Requirement] = (),
                  ecu: str = "") -> Path:
     """Write ``directory/report.html`` from the outcomes ``results`` (node id -> outcome, duration, message,
-    requirements) and the records the plugin wrote; returns its path."""
+    requirements), the requirements ``catalogue`` (:func:`read_requirements`) and the records the plugin wrote;
+    returns its path."""
     directory = Path(directory)
-    catalogue = read_requirements(requirements) if requirements else []
     records = _records(directory)
     tests = sorted(results.items(), key=lambda item: item[0])
     html = [_HEAD, "<h1>Requirement tests</h1>", _summary(tests, ecu), "<h2>Traceability</h2>",
