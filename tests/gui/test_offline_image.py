@@ -129,3 +129,26 @@ def test_open_image_takes_another_s19_for_the_editors(qtbot, tmp_path):
     qtbot.waitUntil(lambda: scalar.value is not None, timeout=WAIT_MS)
     assert scalar.value.value == 27.0 and scalar.value_source == "tuned.hex" and scalar.field.input.isEnabled()
     assert window.project.s19 == tmp_path / "tuned.hex" and window.save_image_action.isEnabled()
+
+
+def test_the_fix_panel_edits_the_image_offline(qtbot, tmp_path):
+    from PySide6.QtCore import Qt
+
+    from workbench.gui.models.fixes import COLUMNS
+
+    window = offline_window(qtbot, _copy_project(tmp_path))
+    panel = window.fix_panel
+    qtbot.waitUntil(lambda: len(panel.model.rows) > 10 and not panel.model.stale, timeout=WAIT_MS)
+    assert panel.model.read_only == "" and panel.offline_mode()
+    row = [fix.pair.stem for fix in panel.model.rows].index("zfRAILPRESSURE")
+    model = panel.model
+    model.setData(model.index(row, COLUMNS.index("override")), "30", Qt.EditRole)  # off: only _VALUE
+    qtbot.waitUntil(lambda: model.rows[row].override == 30.0, timeout=WAIT_MS)
+    model.setData(model.index(row, COLUMNS.index("on")), Qt.Checked.value, Qt.CheckStateRole)
+    qtbot.waitUntil(lambda: model.rows[row].active, timeout=WAIT_MS)
+    assert window.workspace.file_values.changed() == ["zfRAILPRESSURE_VALUE", "zfRAILPRESSURE_EN"]
+    assert window.windowTitle().endswith("— app.s19 modified — workbench")
+    model.setData(model.index(row, COLUMNS.index("on")), Qt.Unchecked.value, Qt.CheckStateRole)  # release
+    qtbot.waitUntil(lambda: not model.rows[row].active, timeout=WAIT_MS)
+    window.workspace.file_values.image().write("zfRAILPRESSURE_VALUE", 0.0)  # back: the window closes unasked
+    assert not window.errors

@@ -32,6 +32,18 @@ class OfflineImage(QObject):
     def __init__(self, window):
         super().__init__(window)
         self.window = window
+        window.loaded.connect(self._offer_to_fix_panel)
+        window.fix_panel.offline_written.connect(self._fixes_written)
+
+    def _offer_to_fix_panel(self) -> None:
+        """The fix panel lists and edits the image's _EN/_VALUE pairs before a connection, as the editors do."""
+        workspace = self.window.workspace
+        self.window.fix_panel.set_offline(self.values, workspace.model if workspace is not None else None)
+
+    def _fixes_written(self) -> None:
+        for editor in self.window.editors.values():  # an editor of an _EN or _VALUE shows it
+            editor.reload()
+        self.changed.emit()
 
     @property
     def values(self):
@@ -55,6 +67,8 @@ class OfflineImage(QObject):
             action.setEnabled(self.values is not None)
 
     def edited(self, _name: str = "") -> None:
+        """An editor wrote into the image: the title follows, the fix panel shows a pair it changed."""
+        self.window.fix_panel.refresh()
         self.changed.emit()
 
     def reference(self):
@@ -79,6 +93,7 @@ class OfflineImage(QObject):
         for editor in self.window.editors.values():
             editor.offline = workspace.file_values
             editor.reload()
+        self._offer_to_fix_panel()
         self.changed.emit()
 
     def may_close(self) -> bool:

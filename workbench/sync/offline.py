@@ -298,10 +298,12 @@ class ImageCalibration:
 
     def fixes(self) -> list[FixState]:
         """Every ``_EN``/``_VALUE`` pair of the A2L with its override value and switch as the image holds them (no
-        live value: an image has none)."""
+        live value: an image has none); a pair whose bytes the file lacks is left out."""
         pairs = fix_pairs_of(self.model)
-        values = self.read_many([name for pair in pairs for name in (pair.enable, pair.value)])
-        return [self._fix_state(pair, values) for pair in pairs]
+        layouts, problems = object_layouts(self.model, [name for pair in pairs for name in (pair.enable, pair.value)])
+        values, failed = self._decode(layouts)  # one pass; what the file lacks is named in ``failed``
+        return [self._fix_state(pair, {name: values[name].value for name in (pair.enable, pair.value)})
+                for pair in pairs if pair.enable in values and pair.value in values]
 
     def override(self, signal: str, value: Any) -> FixState:
         """The image starts with ``signal`` replaced by ``value`` (the _VALUE's units): _VALUE, then _EN = 1, both

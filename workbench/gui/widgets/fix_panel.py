@@ -4,7 +4,11 @@ session; the table refreshes every second while it is visible. The override is t
 of the window is (Enter writes, Esc restores, leaving writes nothing; a verbal value by its text or
 from the drop-down); a value the session refuses is said below the table, the limit named. Values keep the
 A2L's format all the time; while the ECU is not connected (or lost) they are greyed as not current and
-nothing can be typed (on the reference page neither: XCP may not write it), the tooltip says why."""
+nothing can be typed (on the reference page neither: XCP may not write it), the tooltip says why.
+
+Before any connection, with the project's s19/hex open (:meth:`FixPanel.set_offline`), the panel lists the pairs as
+the image holds them and edits them there, as the calibration editors do (``offline_written`` tells the window);
+the live column is empty then: an image has no live values. Once an ECU connected the rows are its."""
 
 from __future__ import annotations
 
@@ -18,6 +22,7 @@ from workbench.gui.formatting import format_value
 from workbench.gui.models.fixes import COLUMNS, FixModel
 from workbench.gui.widgets.columns import share_columns
 from workbench.gui.widgets.value_input import ValueDelegate
+from workbench.gui.worker import run_task
 
 __all__ = ["FixPanel"]
 
@@ -28,18 +33,22 @@ class FixPanel(QWidget):
     refreshed = Signal()
     error = Signal(object)  # what the ECU is to blame for (a dialog)
     refused = Signal(str)  # a value not written, and why (said in the panel)
+    offline_written = Signal()  # a pair written into the project's image offline
 
     def __init__(self, controller, hub=None, parent: QWidget | None = None):
         super().__init__(parent)
         self.controller = controller
         self.hub = hub
+        self.offline = None  # the project's image (FileValues) edited before a connection; None: none
+        self._ecu_rows = False  # the rows are an ECU's (connected once): never the image's again for this project
         self.a2l = None  # the A2L model of the last session: the values' formats stay when it is closed
         self.model = FixModel(self, value_format=self._format, bus_value=self._bus_value if hub is not None else None)
         self.model.override_requested.connect(self.override)
-        self.model.enable_requested.connect(lambda fix: controller.write(fix.pair.enable, 1, on_error=self._not_written))
+        self.model.enable_requested.connect(lambda fix: self._change("write", fix.pair.enable, 1,
+                                                                     changes=(fix.pair.enable,)))
         self.model.release_requested.connect(self.release)
-        self.model.value_requested.connect(lambda fix, value: controller.write(fix.pair.value, value,
-                                                                               on_error=self._not_written))
+        self.model.value_requested.connect(lambda fix, value: self._change("write", fix.pair.value, value,
+                                                                           changes=(fix.pair.value,)))
         controller.page_changed.connect(self._page_changed)
         layout = QVBoxLayout(self)
         layout.setContentsMargins(4, 4, 4, 4)
@@ -78,7 +87,20 @@ class FixPanel(QWidget):
         controller.written.connect(lambda _: (self.message.setText(""), self.refresh()))
         self.model.set_read_only(controller.offline_reason, stale=True)
 
+    def set_offline(self, values, a2l) -> None:
+        """The project's image (a FileValues, None: none) and its A2L model: before a connection the panel lists and
+        edits the pairs the image holds."""
+        self.offline = values
+        if self.offline_mode():
+            self.a2l = a2l
+            self.refresh()
+
+    def offline_mode(self) -> bool:
+        """Whether the rows are the image's and edits go into it (no ECU connected yet)."""
+        return self.offline is not None and not self._ecu_rows and self.controller.session is None
+
     def _connected(self, result) -> None:
+        self._ecu_rows = True
         self._busy = False  # a request on the session before (closed under it) is not waited for
         self.a2l = result.session.model
         self.message.setText("")
@@ -94,7 +116,7 @@ class FixPanel(QWidget):
         """No rows (another project opens: they were the pairs of the A2L before; a session lists the new ones)."""
         self.timer.stop()
         self._busy = False
-        self.a2l = None
+        self.a2l, self.offline, self._ecu_rows = None, None, False
         self.message.setText("")
         self.model.set_fixes([])
 
@@ -125,8 +147,14 @@ class FixPanel(QWidget):
         return None if last is None else self.hub.info(name).format(last[1])
 
     def refresh(self) -> None:
-        """Read every fix's state (one request in flight at a time)."""
-        if self._busy or not self.controller.is_connected:
+        """Read every fix's state (one request in flight at a time): the ECU's, or offline the image's."""
+        if self._busy:
+            return
+        if self.offline_mode():
+            self._busy = True
+            run_task(lambda: self.offline.image().fixes(), on_done=self._show, on_error=self._failed)
+            return
+        if not self.controller.is_connected:
             return
         self._busy = True
         task = self.controller.call("fixes", on_done=self._show, on_error=self._failed)
@@ -136,7 +164,7 @@ class FixPanel(QWidget):
     def _show(self, fixes) -> None:
         self._busy = False
         self.model.set_fixes(fixes)
-        self.model.set_read_only(self.model.read_only, stale=False)
+        self.model.set_read_only("" if self.offline_mode() else self.model.read_only, stale=False)
         self.refreshed.emit()
 
     def _failed(self, exc) -> None:
@@ -157,8 +185,21 @@ class FixPanel(QWidget):
         self.refresh()
 
     def override(self, fix, value) -> None:
-        self.controller.change("override", fix.pair.stem, value, on_error=self._not_written,
-                               changes=(fix.pair.enable, fix.pair.value))
+        self._change("override", fix.pair.stem, value, changes=(fix.pair.enable, fix.pair.value))
 
     def release(self, fix) -> None:
-        self.controller.change("release", fix.pair.stem, on_error=self._not_written, changes=(fix.pair.enable,))
+        self._change("release", fix.pair.stem, changes=(fix.pair.enable,))
+
+    def _change(self, method: str, *args, changes: tuple[str, ...]) -> None:
+        """``method`` (override, release, write) on the session, or offline on the project's image (whose methods
+        have the same names)."""
+        if not self.offline_mode():
+            self.controller.change(method, *args, on_error=self._not_written, changes=changes)
+            return
+
+        def written(_) -> None:
+            self.message.setText("")
+            self.offline_written.emit()
+            self.refresh()
+
+        run_task(getattr(self.offline.image(), method), *args, on_done=written, on_error=self._not_written)
