@@ -24,9 +24,10 @@ from workbench.errors import InputError
 EPILOG = """\
 XCP on CAN (ids, baud rate and EPK from the A2L) goes on the CAN bus the python-can options name
 (default: udp_multicast 239.74.163.2); the FLCU's CAN2 messages share that bus unless
---can2-channel (or --can2-bus-kwargs, e.g. port=N) puts them on another one. With --host the ECU serves XCP on Ethernet instead
-(UDP unless --protocol tcp; port and packet sizes from the A2L's XCP_ON_UDP_IP/XCP_ON_TCP_IP,
---port 0 takes any free port), and the CAN bus options, if given, carry only the CAN2 messages.
+--can2-channel (or --can2-bus-kwargs, e.g. port=N) puts them on another one. With --host the ECU
+serves XCP on Ethernet instead (UDP unless --protocol tcp; port and packet sizes from the A2L's
+XCP_ON_UDP_IP/XCP_ON_TCP_IP, --port 0 takes any free port), and the CAN bus options, if given,
+carry only the CAN2 messages.
 With --bitrate on a software bus (virtual, udp_multicast) the simulator paces its frames as a
 real CAN bus of that bit rate would; on hardware the bit rate goes to the interface. python-can
 binds udp_multicast's port for every group: two simulators on one host need their own ports
@@ -50,7 +51,7 @@ says, --write-a2l PATH writes the A2L a master needs for it (the demo's A2L othe
 examples:
   workbench sim --pcm
   workbench sim --interface udp_multicast --channel 239.74.163.2 --bus-kwargs port=43200
-  workbench sim --interface virtual --channel demo --time-scale 10
+  workbench sim --pcm --time-scale 10                     # ten simulated seconds each second
   workbench sim --interface socketcan --channel vcan0 --can2-channel vcan1
   workbench sim --host 127.0.0.1 --port 5555 --protocol tcp --pcm
   workbench sim --pcm --fault rail=4.9 --fault OTV1=OPEN_LOAD
