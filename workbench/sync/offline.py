@@ -300,8 +300,8 @@ class ImageCalibration:
         """Every ``_EN``/``_VALUE`` pair of the A2L with its override value and switch as the image holds them (no
         live value: an image has none); a pair whose bytes the file lacks is left out."""
         pairs = fix_pairs_of(self.model)
-        layouts, problems = object_layouts(self.model, [name for pair in pairs for name in (pair.enable, pair.value)])
-        values, failed = self._decode(layouts)  # one pass; what the file lacks is named in ``failed``
+        layouts, _ = object_layouts(self.model, [name for pair in pairs for name in (pair.enable, pair.value)])
+        values, _ = self._decode(layouts)  # one pass; a pair the file lacks has no values
         return [self._fix_state(pair, {name: values[name].value for name in (pair.enable, pair.value)})
                 for pair in pairs if pair.enable in values and pair.value in values]
 
