@@ -158,6 +158,20 @@ def test_can2_alone_starts_the_axis_at_the_recording(session, tmp_path, read_mdf
     assert stats.samples == 0 and stats.can_frames > 20 and 0 <= times[0] < 0.5 and np.all(np.diff(times) > 0)
 
 
+def test_multiplexed_messages_are_named_as_not_decoded(session, tmp_path, read_mdf):
+    """A DBC's multiplexed messages get no group of their own (their signals come and go): the summary says so."""
+    text = demo.dbc_can2().read_text(encoding="utf-8")
+    muxed = ('BO_ 1536 MUXED: 8 PCM\n SG_ Selector M : 0|8@1+ (1,0) [0|255] "" FLCU\n'
+             ' SG_ A m0 : 8|8@1+ (1,0) [0|255] "" FLCU\n SG_ B m1 : 8|8@1+ (1,0) [0|255] "" FLCU\n\n')
+    dbc = tmp_path / "muxed.dbc"
+    dbc.write_text(text.replace("\nCM_ ", f"\n{muxed}CM_ ", 1), encoding="utf-8")
+    stats = record(session, tmp_path / "mux.mf4", can2=dbc, duration=0.3)
+    assert stats.multiplexed == ("MUXED",) and stats.can_frames > 0
+    assert "multiplexed messages not decoded (MUXED; log the raw CAN frames for them)" in stats.describe()
+    groups = {group.channel_group.acq_name for group in read_mdf(tmp_path / "mux.mf4").groups}
+    assert "FLCU_TO_PCM_002" in groups and "MUXED" not in groups
+
+
 def test_the_can2_bus_may_be_opened_by_the_caller(demo_ecu, session, tmp_path, read_mdf):
     """Recorded from the caller's bus (the only one there is), which stays open. The recording runs until 20
     CAN2 frames were decoded (five messages at most, each every 100 ms: three of each at least), not for a fixed

@@ -288,7 +288,8 @@ def _record(args: argparse.Namespace, session, names: list[str], can2: dict[str,
                           "values": stats.values, "lost": stats.lost, "overloads": stats.overloads,
                           "can_frames": stats.can_frames, "raw_frames": stats.raw_frames,
                           "undecoded": stats.undecoded, "file_bytes": stats.file_bytes,
-                          **({"trigger": stats.trigger, "started_s": stats.started_s} if stats.trigger else {})}))
+                          **({"trigger": stats.trigger, "started_s": stats.started_s} if stats.trigger else {}),
+                          **({"multiplexed": list(stats.multiplexed)} if stats.multiplexed else {})}))
     else:
         measurement = recorder.measurement
         cause, stray = (measurement.loss_cause(), measurement.stray_dtos()) if measurement is not None else ("", "")

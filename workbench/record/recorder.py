@@ -92,6 +92,7 @@ class RecordingStats:
     file_bytes: int
     started_s: float | None = None  # when a start trigger was met (s on the axis); None: not met (nothing recorded)
     trigger: str = ""  # the trigger's conditions, as said; "" without one
+    multiplexed: tuple[str, ...] = ()  # the DBC's multiplexed messages: not decoded, in the bus log only
 
     def describe(self) -> str:
         """One line for people."""
@@ -100,6 +101,9 @@ class RecordingStats:
             parts.append(f"{self.can_frames:,} CAN2 frames decoded" + (f", {self.undecoded} not" if self.undecoded else ""))
         if self.raw_frames:
             parts.append(f"{self.raw_frames:,} raw CAN frames")
+        if self.multiplexed:
+            parts.append(f"multiplexed messages not decoded ({', '.join(self.multiplexed)}"
+                         + ("; in the raw CAN frames)" if self.raw_frames else "; log the raw CAN frames for them)"))
         size = f"{self.file_bytes / 2**20:.1f} MiB" if self.file_bytes >= 2**20 else f"{self.file_bytes / 1024:.0f} KiB"
         if self.trigger:
             parts.append(f"{self.trigger}: " + ("never started" if self.started_s is None
@@ -513,7 +517,8 @@ class Recorder:
                               overloads=daq.overloads if daq else 0,
                               file_bytes=writer.file_bytes if writer is not None else 0, **self._counts,
                               started_s=None if started is None else max(started, 0.0),
-                              trigger=self.trigger.describe() if self.trigger else "")
+                              trigger=self.trigger.describe() if self.trigger else "",
+                              multiplexed=tuple(self._messages.multiplexed) if self._messages is not None else ())
 
     def __enter__(self) -> Recorder:
         return self.start()
