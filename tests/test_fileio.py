@@ -81,3 +81,15 @@ def test_write_output_tells_a_wrong_place_from_a_failed_write(tmp_path, monkeypa
     with pytest.raises(WorkbenchError, match=r"out\.a2l: cannot write \(No space left on device\)$") as error:
         write_output(tmp_path / "out.a2l", b"x")
     assert error.value.exit_code == 1
+
+
+def test_write_output_leaves_a_read_only_file_as_it_was(tmp_path):
+    target = tmp_path / "released.a2l"
+    target.write_bytes(b"old")
+    target.chmod(0o444)
+    with pytest.raises(InputError, match=r"released\.a2l: the file is read-only; not overwritten"):
+        write_output(target, b"new")
+    assert target.read_bytes() == b"old"
+    target.chmod(0o644)
+    write_output(target, b"new")
+    assert target.read_bytes() == b"new"

@@ -9,6 +9,7 @@ full disk) is a :class:`~workbench.errors.WorkbenchError` (exit code 1).
 from __future__ import annotations
 
 import os
+import stat
 from pathlib import Path
 
 from workbench.errors import InputError, WorkbenchError
@@ -41,10 +42,15 @@ def unreadable(path: str | Path, exc: OSError, what: str) -> InputError:
 def write_output(path: str | Path, data: bytes) -> None:
     """:func:`atomic_write_bytes`, its failures as one-line errors naming ``path``.
 
-    :raises InputError: ``path`` is a folder, or its folder cannot hold it (missing under a
-        file, not writable): ``path: cannot write (<reason>)``.
+    A file the user made read-only (a version control system's file not checked out, a released A2L) is
+    not replaced, although the rename could: its folder's permission would decide, not the file's.
+
+    :raises InputError: ``path`` is a folder, a read-only file, or its folder cannot hold it (missing
+        under a file, not writable): ``path: cannot write (<reason>)``.
     :raises WorkbenchError: the write failed otherwise (e.g. the disk is full).
     """
+    if _read_only(path):
+        raise InputError(f"{path}: the file is read-only; not overwritten (make it writable, or write another file)")
     try:
         atomic_write_bytes(path, data)
     except IsADirectoryError:
@@ -53,6 +59,15 @@ def write_output(path: str | Path, data: bytes) -> None:
         raise InputError(f"{path}: cannot write ({exc.strerror or exc})") from None
     except OSError as exc:
         raise WorkbenchError(f"{path}: cannot write ({exc.strerror or exc})") from None
+
+
+def _read_only(path: str | Path) -> bool:
+    """Whether ``path`` is an existing file without write permission (its owner's bit: root may write anything)."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:  # none yet (or unreachable: the write says why)
+        return False
+    return stat.S_ISREG(mode) and (not mode & stat.S_IWUSR or not os.access(path, os.W_OK))
 
 
 def atomic_write_bytes(path: str | Path, data: bytes, *, durable: bool = True) -> None:

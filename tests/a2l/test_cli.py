@@ -67,6 +67,18 @@ def test_an_output_that_cannot_be_written_exits_2_with_one_line(capsys, tmp_path
         assert code == 2 and "'-' is not a file" in stderr and not (Path.cwd() / "-").exists()
 
 
+def test_a_read_only_a2l_is_not_updated_in_place(capsys, tmp_path, types_a2l):
+    """A file made read-only (not checked out of a version control system, a released A2L) is left as it was,
+    although its folder would let a rename replace it."""
+    released = tmp_path / "released.a2l"
+    released.write_bytes(types_a2l.read_bytes())
+    released.chmod(0o444)
+    code, _, stderr = run(capsys, "a2l", "update", str(released), str(ELF), "-o", str(released), "--no-cache")
+    assert (code, stderr) == (2, f"error: {released}: the file is read-only; not overwritten (make it writable, "
+                                 "or write another file)\n")
+    assert released.read_bytes() == types_a2l.read_bytes()
+
+
 def test_merge_conflict_exits_1(capsys, tmp_path):
     text = ('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n /begin MODULE M ""\n'
             '  /begin COMPU_METHOD CM "" IDENTICAL "%{}" "" /end COMPU_METHOD\n /end MODULE\n/end PROJECT\n')

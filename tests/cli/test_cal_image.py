@@ -105,7 +105,7 @@ def test_what_is_refused_and_how(work, capsys, tmp_path):
     os.chmod("app.s19", 0o444)
     assert run(capsys, "cal", "get", "xsPRV_KP", "--image", "app.s19")[1] == "xsPRV_KP = 5.0000 %/bar\n"
     code, _, err = run(capsys, "cal", "set", "xsPRV_KP", "6", "--image", "app.s19", "-o", "app.s19")
-    assert code == 2 and err == "error: app.s19: the file is read-only; not overwritten (save it under another name)\n"
+    assert code == 2 and err == "error: app.s19: the file is read-only; not overwritten (make it writable, or write another file)\n"
     assert not list(tmp_path.glob("*.s19"))[1:] and (tmp_path / "app.s19").read_bytes() == demo.s19().read_bytes()
     code, out, _ = run(capsys, "cal", "list", "xsPRV_K*", "--image", "app.s19", "--json")
     assert code == 0 and [row["value"] for row in json.loads(out)] == [5.0, 2.0, 0.019999999552965164]

@@ -27,7 +27,6 @@ so a diff of the two files shows the edits alone; another extension than the inp
 
 from __future__ import annotations
 
-import stat
 import threading
 from collections.abc import Iterable, Mapping
 from pathlib import Path
@@ -414,8 +413,6 @@ class ImageCalibration:
         path = Path(path)
         if not is_image_file(path):
             raise InputError(f"{path}: an image is saved as .s19/.s28/.s37/.srec/.mot/.hex/.ihex")
-        if path.is_file() and not path.stat().st_mode & stat.S_IWUSR:
-            raise InputError(f"{path}: the file is read-only; not overwritten (save it under another name)")
         with self.lock:
             if self._text is not None and _is_hex(path) == _is_hex(self.path or path):
                 text = patched_text(self._text, self.image, self.changes())
