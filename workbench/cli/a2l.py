@@ -132,9 +132,10 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     check = commands.add_parser("check", help="syntax, references, names and memory placement",
                                 description="Report every problem with file:line:column: syntax, undefined "
                                 "COMPU_METHOD/RECORD_LAYOUT/FUNCTION/... references, duplicate names, overlapping "
-                                "objects, objects outside every MEMORY_SEGMENT, calibrations outside CAL RAM; with "
-                                "--elf also symbols missing from the ELF and addresses that differ. Exit 0 only "
-                                "when clean.")
+                                "objects, objects outside every MEMORY_SEGMENT, calibrations outside CAL RAM, a file whose "
+                                "objects are all still at address 0 (not updated from its ELF); with --elf also "
+                                "symbols missing from the ELF, addresses that differ and a MOD_COMMON byte order "
+                                "other than the ELF's. Exit 0 only when clean (no warning).")
     check.add_argument("a2l", metavar="A2L")
     check.add_argument("--elf", metavar="ELF", help="also check every object's symbol and address against this ELF")
     _cache_options(check)
