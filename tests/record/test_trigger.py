@@ -19,7 +19,9 @@ def test_conditions_compare_numbers_and_texts():
     assert state.first(np.array([b"OFF", b"TANK1_ON", b"TANK2_ON"], dtype=object)) == 2
     assert Condition.parse("x < -1.5").first(np.array([0.0, -1.0, -2.0])) == 2
     assert Condition.parse("x != 0").first(np.zeros(3)) is None
-    for text, message in (("zsRailPressure 20", "write NAME OP VALUE"), ("x > high", "compares with a number")):
+    for text, message in (("zsRailPressure 20", "write NAME OP VALUE"), ("x > high", "compares with a number"),
+                          ("x >>> 3", "write NAME OP VALUE"), ("x => 3", "write NAME OP VALUE"),
+                          ("x = 3", "write NAME OP VALUE")):
         with pytest.raises(InputError, match=message):
             Condition.parse(text)
 

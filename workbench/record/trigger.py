@@ -22,7 +22,7 @@ __all__ = ["Condition", "Trigger", "TriggerGate"]
 
 _OPERATORS = {">=": operator.ge, "<=": operator.le, "==": operator.eq, "!=": operator.ne, ">": operator.gt,
               "<": operator.lt}
-_CONDITION = re.compile(r"^\s*(?P<name>\S+?)\s*(?P<op>>=|<=|==|!=|>|<)\s*(?P<value>\S.*?)\s*$")
+_CONDITION = re.compile(r"^\s*(?P<name>[^\s<>=!]+)\s*(?P<op>>=|<=|==|!=|>|<)\s*(?P<value>[^\s<>=!].*?)\s*$")
 
 
 @dataclass(frozen=True)
