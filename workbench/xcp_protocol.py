@@ -171,4 +171,5 @@ class IdType(IntEnum):
 
     ASCII = 0  # the ECU's text
     ASAM_MC2_NAME = 1  # the A2L's file name without path and extension
+    ASAM_MC2_FILE = 4  # the A2L itself, to upload (XCPlite writes its own at run time)
     EPK = 5  # the EPROM identifier (the EPK at ADDR_EPK)

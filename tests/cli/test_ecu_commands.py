@@ -476,3 +476,17 @@ def test_cal_list_of_an_a2l_whose_calibrations_are_all_instances_says_why_it_lis
     code, out, err = run(capsys, "cal", "list", "--a2l", str(a2l), "--host", "127.0.0.1", "--port", "9")
     assert code == 2 and out == ""
     assert "no calibration matches '*' (3 INSTANCE(s) do, e.g. kParameters: objects built from TYPEDEF_STRUCTUREs" in err
+
+
+def test_info_saves_the_a2l_the_ecu_holds(capsys, tmp_path, free_udp_port):
+    """`workbench info --host H --port P --save-a2l ecu.a2l`: XCPlite's own A2L (GET_ID 4), written atomically; the
+    next commands take it with --a2l."""
+    from workbench.sim import EthernetEndpoint
+
+    with serve_demo(ethernet=EthernetEndpoint("127.0.0.1", free_udp_port, "UDP")) as simulator:
+        where = ["--host", "127.0.0.1", "--port", str(free_udp_port)]
+        code, out, err = run(capsys, "info", *where, "--save-a2l", str(tmp_path / "ecu.a2l"))
+        assert (code, err) == (0, "") and f"the ECU's own written to {tmp_path / 'ecu.a2l'}" in out
+        assert (tmp_path / "ecu.a2l").read_bytes() == bytes(simulator.a2l.data)
+        code, out, _ = run(capsys, "cal", "get", "xsSWITCH_TANK_THR", "--a2l", str(tmp_path / "ecu.a2l"), *where)
+        assert (code, out) == (0, "xsSWITCH_TANK_THR = 20.00 bar\n")

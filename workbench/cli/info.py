@@ -13,6 +13,7 @@ examples:
   workbench info                                  # the demo ECU of 'workbench sim' (udp_multicast)
   workbench info --a2l out/FLCU.a2l --interface socketcan --channel can0
   workbench info --host 127.0.0.1 --protocol tcp --json
+  workbench info --host 127.0.0.1 --port 5555 --save-a2l ecu.a2l   # XCPlite: its own A2L (GET_ID 4)
 """
 
 
@@ -22,6 +23,8 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
                                                "packet sizes, DAQ processor and calibration pages, disconnect.",
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
     add_app_key_arguments(parser.add_argument_group("boot"))
+    parser.add_argument("--save-a2l", metavar="PATH",
+                        help="also upload the A2L the ECU holds itself (GET_ID 4: XCPlite's) and write it to PATH")
     add_ecu_arguments(parser)
     parser.set_defaults(func=run)
 
@@ -33,11 +36,17 @@ def run(args: argparse.Namespace) -> int:
     with open_session(args) as session:
         info = session.info()
         key_state = app_key_state(session, key) if key is not None else None
+        if args.save_a2l:
+            from workbench.fileio import atomic_write_bytes
+
+            atomic_write_bytes(args.save_a2l, session.ecu_a2l())
     if args.json:
         print_json({**info.to_dict(), "app_key": key_state.value if key_state else None,
-                    "state": _state(info, key_state, key)})
+                    "state": _state(info, key_state, key), **({"saved_a2l": args.save_a2l} if args.save_a2l else {})})
         return 0
     print("\n".join(info_lines(info, _state(info, key_state, key))))
+    if args.save_a2l:
+        print(f"A2L           the ECU's own written to {args.save_a2l}")
     return 0
 
 

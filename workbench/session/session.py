@@ -45,7 +45,7 @@ from workbench.session.values import ValueAccess
 from workbench.xcp.link import Link
 from workbench.xcp.master import KeyFunction, Timeouts, XcpMaster
 from workbench.xcp.seedkey import load_key_function
-from workbench.xcp_protocol import PID_SERV, CanId, Err, Resource
+from workbench.xcp_protocol import PID_SERV, CanId, Err, IdType, Resource
 
 if TYPE_CHECKING:
     import can
@@ -256,6 +256,21 @@ class Session(ValueAccess, EventAccess, FixAccess):
         """What the ECU says about itself, beside what the A2L says."""
         with self.lock:
             return read_ecu_info(self)
+
+    def ecu_a2l(self) -> bytes:
+        """The A2L the ECU holds itself (GET_ID 4, "ASAM-MC2 file to upload"): XCPlite writes its own at run time
+        and offers it so. Its /include files (XCPlite's XCP_104.aml) are not in it.
+
+        :raises WorkbenchError: the ECU offers none (GET_ID refused, or a length of 0).
+        """
+        with self.lock:
+            try:
+                data = self.master.get_id(IdType.ASAM_MC2_FILE)
+            except XcpCommandError as error:
+                raise WorkbenchError(f"the ECU offers no A2L to upload (GET_ID 4: {error.name})") from None
+        if not data:
+            raise WorkbenchError("the ECU offers no A2L to upload (GET_ID 4 says 0 bytes)")
+        return data
 
     # --- raw memory ---------------------------------------------------------------------------
 

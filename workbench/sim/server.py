@@ -26,6 +26,7 @@ from workbench.sim.ecu import EcuState, SimulatedEcu
 from workbench.sim.eth_port import EthernetEndpoint, EthernetXcpPort
 from workbench.sim.scheduler import US_PER_S
 from workbench.sim.xcp_port import XcpPort
+from workbench.xcp_protocol import IdType
 
 if TYPE_CHECKING:
     from workbench.a2l import A2lDocument
@@ -73,6 +74,8 @@ class Simulator:
             raise ValueError("XCP needs exactly one transport: can1 (XCP on CAN) or ethernet (XCP on UDP/TCP)")
         self.ecu = ecu
         self.a2l = a2l
+        if a2l is not None:  # GET_ID 4 uploads it, as XCPlite's own A2L
+            ecu.slave.files[IdType.ASAM_MC2_FILE] = bytes(a2l.data)
         self.profile = profile
         self.can2_driver = can2_driver
         self.pcm = pcm

@@ -103,6 +103,9 @@ PGM_COMMANDS = frozenset({
 })
 
 
+FILE_SPACE = 0xF0000000  # where a GET_ID file (the A2L of GET_ID 4) is uploaded from: no memory of the ECU's
+
+
 class XcpSlave:
     def __init__(
         self,
@@ -119,6 +122,8 @@ class XcpSlave:
         self.info = info
         self.faults = faults or FaultPlan()
         self._rng = rng or random.Random()
+        self.files: dict[int, bytes] = {}  # GET_ID type -> a file the master uploads from FILE_SPACE (4: the A2L)
+        self._file = b""  # the file GET_ID pointed the MTA at
         self.calpage = CalPageCommands(self)
         self.daq = DaqProcessor(self)
         self.pgm = ProgrammingCommands(self)
@@ -252,6 +257,11 @@ class XcpSlave:
     # --- memory seen by XCP (page switching, write rules) ----------------------------------
 
     def read(self, address: int, size: int) -> bytes:
+        if address >= FILE_SPACE:  # the file GET_ID named; its last element filled with NULs
+            offset = address - FILE_SPACE
+            if offset >= len(self._file):
+                raise XcpNegative(Err.OUT_OF_RANGE)
+            return self._file[offset:offset + size].ljust(size, b"\0")
         try:
             pages = self.target.pages
             return self.target.memory.read(pages.translate(address, size, pages.xcp_pages), size)
@@ -363,6 +373,9 @@ class XcpSlave:
         need(req, 2)
         if req[1] == IdType.EPK:
             address, length = self.params.epk_address, self.params.epk_length
+        elif req[1] in self.files:
+            self._file = self.files[req[1]]
+            address, length = FILE_SPACE, len(self._file)
         elif f"id:{req[1]}" in self.info.index:
             address, length = self.info.index[f"id:{req[1]}"]
         else:
