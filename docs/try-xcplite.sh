@@ -32,8 +32,10 @@ trap 'kill "$slave" 2>/dev/null || true' EXIT
 sleep 1
 
 set -x
-$workbench info --host 127.0.0.1 --port "$port" >/dev/null     # the demo's A2L: XCPlite writes its own now
+# The demo's A2L (EPK mismatch: read-only) is enough to upload XCPlite's own (GET_ID 4), which it writes on CONNECT.
+$workbench info --host 127.0.0.1 --port "$port" --save-a2l "$run/uploaded.a2l" >/dev/null
 a2l=$(ls hello_xcp_*.a2l)
+cmp "$a2l" "$run/uploaded.a2l"                                  # the same bytes as the file it wrote
 E=(--a2l "$a2l" --host 127.0.0.1 --port "$port")
 $workbench info "${E[@]}"
 $workbench measure global_counter counter t1 --duration 0.5 --rate 5 "${E[@]}"
