@@ -81,6 +81,19 @@ def test_every_export_resolves_and_no_submodule_shadows_it(package):
     assert [name for name, value in exported.items() if value is None or isinstance(value, types.ModuleType)] == []
 
 
+# packages whose every module states its public names (calib, session, sync and xcp do too; a2l, elf, image, sim
+# and cli not yet)
+@pytest.mark.parametrize("package", ["workbench.can", "workbench.flash", "workbench.record", "workbench.testbench"])
+def test_every_module_has_an_all_of_names_it_defines(package):
+    found = {}
+    for info in pkgutil.walk_packages(importlib.import_module(package).__path__, f"{package}."):
+        if not info.name.startswith("workbench.testbench.flcu_suite"):  # test modules, run by pytest
+            module = importlib.import_module(info.name)
+            names = getattr(module, "__all__", None)
+            found[info.name] = "no __all__" if names is None else [name for name in names if not hasattr(module, name)]
+    assert {name: problem for name, problem in found.items() if problem} == {}
+
+
 def test_the_lazy_packages_load_no_heavy_library_until_a_name_is_used():
     code = ("import json, sys, workbench, workbench.a2l, workbench.can, workbench.calib.dataset, workbench.flash, "
             "workbench.sync, workbench.record, workbench.cli;"

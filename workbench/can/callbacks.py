@@ -37,6 +37,8 @@ from workbench.can.model import Message, Role
 from workbench.errors import InputError
 from workbench.fileio import read_input, write_output
 
+__all__ = ["END_MARKER", "START_MARKER", "callback_lines", "splice", "write_callbacks"]
+
 START_MARKER = "// <initCbk>"
 END_MARKER = "// </initCbk>"
 _START = re.compile(rb"^[ \t]*//[ \t]*<initCbk>[ \t]*$")

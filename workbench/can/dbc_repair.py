@@ -42,6 +42,8 @@ from workbench.can.dbc_repair_attributes import AttributeRepairs
 from workbench.can.dbc_text import LAYOUT, LAYOUT_PATTERN, NUMBER, STRING, WORD, DbcText, Statement, Token
 from workbench.findings import Finding, Severity
 
+__all__ = ["EXTENDED_ID_FLAG", "PLACEHOLDER_MESSAGE", "Repaired", "repair"]
+
 EXTENDED_ID_FLAG = 0x80000000  # bit 31 of a BO_ id: the message has a 29-bit (extended) id
 PLACEHOLDER_MESSAGE = "VECTOR__INDEPENDENT_SIG_MSG"
 _STANDARD_ID_MAX = 0x7FF

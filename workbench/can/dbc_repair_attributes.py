@@ -26,6 +26,8 @@ from typing import Protocol
 
 from workbench.can.dbc_text import NUMBER, STRING, WORD, Statement, Token
 
+__all__ = ["FRAME_FORMAT", "FRAME_FORMATS", "AttributeRepairs", "Repairs"]
+
 _TYPES = frozenset({"INT", "HEX", "FLOAT", "STRING", "ENUM"})
 _NUMERIC_TYPES = frozenset({"INT", "HEX", "FLOAT"})
 _OBJECT_KINDS = frozenset({"BO_", "SG_", "BU_", "EV_"})

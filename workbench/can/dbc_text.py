@@ -18,6 +18,11 @@ import re
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
+__all__ = [
+    "KEYWORDS", "LAYOUT", "LAYOUT_PATTERN", "NUMBER", "NUMBER_PATTERN", "OTHER", "STRING", "WORD", "DbcText",
+    "Statement", "Token",
+]
+
 # The keywords cantools' DBC tokenizer knows.
 KEYWORDS = frozenset({
     "BA_", "BA_DEF_", "BA_DEF_DEF_", "BA_DEF_DEF_REL_", "BA_DEF_REL_", "BA_DEF_SGTYPE_", "BA_REL_", "BA_SGTYPE_",

@@ -28,6 +28,11 @@ from workbench.can.model import Message, Role, SignalOfMsg
 from workbench.can.naming import FIX_ENABLE_SUFFIX, FIX_VALUE_SUFFIX, fix_enable_name, fix_value_name, tx_enable_name
 from workbench.errors import InputError
 
+__all__ = [
+    "FixCalibration", "FixKind", "collision_remedy", "describe_owners", "fix_calibrations", "fixcal_collisions",
+    "format_number", "raw_range",
+]
+
 _FLOAT32_MAX = 3.4028234663852886e38
 _FLOAT64_MAX = 1.7976931348623157e308
 _RAW_EPSILON = 1e-9  # (limit - offset) / factor of 0.07 / 0.01 is 6.999999...

@@ -38,6 +38,8 @@ from workbench.a2l.document import A2lDocument
 from workbench.can.fixcal import FixCalibration, FixKind, format_number
 from workbench.can.model import SignalOfMsg, step_decimals
 
+__all__ = ["A2L_DATATYPES", "a2l_fragment", "mod_common_lines"]
+
 A2L_DATATYPES = {
     "uint8_T": "UBYTE", "int8_T": "SBYTE", "uint16_T": "UWORD", "int16_T": "SWORD",
     "uint32_T": "ULONG", "int32_T": "SLONG", "uint64_T": "A_UINT64", "int64_T": "A_INT64",

@@ -14,6 +14,8 @@ from collections.abc import Sequence
 
 from workbench.can.fixcal import FixCalibration
 
+__all__ = ["CAL_RAM_DEFINITION", "c_header", "c_literal", "c_source"]
+
 CAL_RAM_DEFINITION = '#define CAL_RAM __attribute__((section(".cal_ram")))'
 _INTEGER_WIDTHS = {"int8_T": 8, "int16_T": 16, "int32_T": 32, "int64_T": 64,
                    "uint8_T": 8, "uint16_T": 16, "uint32_T": 32, "uint64_T": 64}

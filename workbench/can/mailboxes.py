@@ -19,6 +19,8 @@ from collections.abc import Iterable
 from workbench.can.model import Message, Role
 from workbench.can.naming import mailbox_name
 
+__all__ = ["CanMap", "MailboxOrder", "Mailboxes"]
+
 
 class MailboxOrder(str, enum.Enum):
     """In which order a DBC's messages take their mailboxes."""

@@ -19,6 +19,12 @@ role: ``CAN2_MSG_TX_000``, ``CAN2_MSG_RX_000``, ...
 
 from __future__ import annotations
 
+__all__ = [
+    "CAN_NETWORKS", "FIX_ENABLE_SUFFIX", "FIX_VALUE_SUFFIX", "dbc_signal_name", "find_dbc_signal", "fix_enable_name",
+    "fix_stem", "fix_value_name", "mailbox_name", "raw_c_type", "rx_bit_status_name", "rx_signal_name",
+    "rx_status_name", "tx_enable_name",
+]
+
 FIX_ENABLE_SUFFIX = "_EN"
 FIX_VALUE_SUFFIX = "_VALUE"
 

@@ -23,6 +23,8 @@ from workbench.can.model import Message, Role, messages_of
 from workbench.can.naming import CAN_NETWORKS
 from workbench.errors import InputError
 
+__all__ = ["ASSUMED_NETWORK", "CanTable", "build_table", "guess_network", "load_networks", "network_of"]
+
 ASSUMED_NETWORK = "CAN2"  # CAN2 is the vehicle bus in the thesis's layout: where a third-party DBC belongs
 _NETWORK_IN_NAME = re.compile(r"(?<![A-Za-z0-9])(CAN[1-4])(?![0-9])", re.IGNORECASE)
 _ROLE_ORDER = {Role.TX: 0, Role.RX: 1}

@@ -10,6 +10,8 @@ from workbench.can.fixcal import format_number
 from workbench.can.model import Message, SignalOfMsg
 from workbench.can.table import CanTable
 
+__all__ = ["MESSAGE_COLUMNS", "SIGNAL_COLUMNS", "message_cells", "signal_cells", "table_csv", "table_text"]
+
 MESSAGE_COLUMNS = ("MboxId", "Role", "Name", "ID", "NetworkType", "Type", "DLC", "Period", "Timeout",
                    "Enable", "UniqueID")
 SIGNAL_COLUMNS = ("Signal", "BitStart", "Length", "ByteOrder", "ValueType", "Factor", "Offset", "Min", "Max",

@@ -47,6 +47,8 @@ from workbench.can.model import (
 )
 from workbench.findings import Finding, Report, Severity
 
+__all__ = ["bit_positions", "check_dbcs"]
+
 _HINT_NAMES = 3  # collisions named in the fix-calibration hint
 _EXTENDED_FORMATS = ("ExtendedCAN", "ExtendedCAN_FD", "J1939PG")
 _STANDARD_FORMATS = ("StandardCAN", "StandardCAN_FD")
