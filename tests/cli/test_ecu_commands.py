@@ -272,6 +272,9 @@ def test_measure_takes_can2_signals_by_the_names_the_window_plots(bus, capsys):
     assert re.search(r"RailPressure=\d+\.\d\d bar FLCU_TO_PCM_001.FuelLevelLow=(Normal|Low)$", shown[-1]), shown[-1]
     code, out, err = run(capsys, "measure", "Railpressure", *bus)
     assert (code, out) == (2, "") and "'RailPressure'" in err and "'zsRailPressure'" in err
+    # a --can2 that names no file is said, though no NAME is one of its signals
+    code, out, err = run(capsys, "measure", "zsRailPressure", "--can2", "missing.dbc", *bus)
+    assert (code, out, err) == (2, "", "error: missing.dbc: no such file\n")
 
 
 def test_no_ecu_is_one_line_and_exit_1(free_udp_port, capsys):

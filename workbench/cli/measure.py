@@ -138,6 +138,8 @@ def _split_names(args: argparse.Namespace, model) -> tuple[list[str], dict[str, 
     from workbench.errors import UnknownSymbolError
 
     names, can2, databases, shown, elements = [], {}, None, [], {}
+    if args.can2 and not args.record:  # read when named, so that a wrong file is said even if no NAME is its signal
+        databases = _can2_databases(args)
     sampled = "MEASUREMENT" if args.daq or args.record else ("MEASUREMENT", "CHARACTERISTIC", "AXIS_PTS")
     for name in args.names:
         array, index = split_cell(model, name)
