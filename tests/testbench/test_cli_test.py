@@ -6,6 +6,7 @@ another process given only bus options, fault injection included."""
 from __future__ import annotations
 
 import argparse
+import re
 import struct
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -169,3 +170,13 @@ def test_the_example_requirement_tests_pass(pytester):
     run = _run(pytester, str(example))
     assert run.ret == 0
     run.stdout.fnmatch_lines(["4 verified, 0 failed"])
+
+
+def test_the_docs_example_requirement_test_passes_as_written(pytester):
+    """The test docs/requirement-tests.md shows under 'Writing a test', copied into a file, passes."""
+    docs = (Path(__file__).resolve().parents[2] / "docs" / "requirement-tests.md").read_text(encoding="utf-8")
+    (code,) = re.findall(r"^```python\n(.*?)^```", docs, re.MULTILINE | re.DOTALL)
+    pytester.makepyfile(test_from_the_docs=code)
+    run = _run(pytester, "test_from_the_docs.py")
+    assert run.ret == 0
+    run.stdout.fnmatch_lines(["1 verified, 0 failed"])
