@@ -85,3 +85,17 @@ def test_an_unanswered_connect_on_udp_asks_for_the_address_and_protocol(free_udp
             Session.open(host="127.0.0.1", port=free_udp_port, protocol="udp", timeouts=FAST)
     assert str(raised.value).endswith(f"no ECU answers on XCP on UDP (127.0.0.1:{free_udp_port}): is it powered, at "
                                       f"127.0.0.1:{free_udp_port}, serving XCP on UDP (--protocol tcp for TCP)?")
+
+
+def test_an_unanswered_connect_on_tcp_names_another_master(free_tcp_port):
+    """XCPlite on TCP serves one client: a second master's connection is taken (the listen backlog) and waits,
+    its CONNECT unanswered, while `measure` runs in another terminal. 'Is it powered?' misled: it is there."""
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as busy:  # takes connections, serves none of them
+        busy.bind(("127.0.0.1", free_tcp_port))
+        busy.listen(4)
+        with pytest.raises(XcpTimeoutError) as raised:
+            Session.open(host="127.0.0.1", port=free_tcp_port, protocol="tcp", timeouts=FAST)
+    assert str(raised.value).endswith(f"no ECU answers on XCP on TCP (127.0.0.1:{free_tcp_port}): it took the TCP "
+                                      "connection but answers no CONNECT: another master (a second workbench, CANape) "
+                                      "may hold it, an XCP server serves one at a time (XCPlite lets the next wait); "
+                                      "or it speaks no XCP")

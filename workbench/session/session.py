@@ -159,9 +159,10 @@ class Session(ValueAccess, EventAccess, FixAccess):
         settings = self.link.settings
         if self.link.is_can:
             return "is it powered, on this bus, with these ids?"
-        other = "TCP" if settings.transport == "UDP" else "UDP"
-        return (f"is it powered, at {settings.host}:{settings.port}, serving XCP on {settings.transport} "
-                f"(--protocol {other.lower()} for {other})?")
+        if settings.transport == "TCP":  # the connection was taken: something is there, but serves us nothing
+            return ("it took the TCP connection but answers no CONNECT: another master (a second workbench, CANape) "
+                    "may hold it, an XCP server serves one at a time (XCPlite lets the next wait); or it speaks no XCP")
+        return (f"is it powered, at {settings.host}:{settings.port}, serving XCP on UDP (--protocol tcp for TCP)?")
 
     def close(self) -> None:
         """Stop running measurements, DISCONNECT, close the link; safe to call twice, also after errors."""
