@@ -277,6 +277,15 @@ def test_measure_takes_can2_signals_by_the_names_the_window_plots(bus, capsys):
     assert (code, out, err) == (2, "", "error: missing.dbc: no such file\n")
 
 
+def test_options_that_do_nothing_there_are_refused_before_connecting(free_udp_port, capsys):
+    bus = ["--bus-kwargs", f"port={free_udp_port}"]  # no ECU there: a refusal must come before connecting
+    for argv, message in ((["--daq", "--rate", "5"], "--rate HZ: only when polling"),
+                          (["--record", "x.mf4", "--rate", "5"], "--rate HZ: only when polling"),
+                          (["--raw-can"], "--raw-can: only with --record OUT.mf4")):
+        code, out, err = run(capsys, "measure", "zsRailPressure", *argv, *bus)
+        assert (code, out) == (2, "") and err.startswith(f"error: {message}"), argv
+
+
 def test_no_ecu_is_one_line_and_exit_1(free_udp_port, capsys):
     code, out, err = run(capsys, "cal", "get", "xsSWITCH_TANK_THR", "--bus-kwargs", f"port={free_udp_port}")
     assert code == 1 and out == "" and err.count("\n") == 1 and "no ECU answers" in err

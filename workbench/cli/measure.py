@@ -54,7 +54,8 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
                         "Message.Signal)")
     parser.add_argument("--daq", action="store_true", help="sample by DAQ instead of polling")
     parser.add_argument("--event", help="DAQ event (name or number) for every signal (default: each signal's own)")
-    parser.add_argument("--rate", type=positive_float, default=10.0, metavar="HZ", help="polling rate (default 10 Hz)")
+    parser.add_argument("--rate", type=positive_float, metavar="HZ", help="polling rate (default 10 Hz; DAQ samples on "
+                        "the ECU's events instead)")
     parser.add_argument("--duration", type=positive_float, metavar="S", help="stop after S seconds (default: Ctrl-C)")
     parser.add_argument("--raw", action="store_true", help="raw values, as the ECU holds them (no conversion)")
     recording = parser.add_argument_group("recording and CAN2")
@@ -221,7 +222,7 @@ def _deadline(args: argparse.Namespace) -> float:
 
 def _poll(args: argparse.Namespace, session, names: list[str], view, monitor, elements: dict) -> None:
     """Every 1/rate s: the A2L's names read, the CAN2 signals' newest values beside them."""
-    started, deadline, period = time.monotonic(), _deadline(args), 1.0 / args.rate
+    started, deadline, period = time.monotonic(), _deadline(args), 1.0 / (args.rate or 10.0)
     next_at = started
     while time.monotonic() < deadline:
         values = session.read_many(names) if names else {}
@@ -257,6 +258,8 @@ def _sample(args: argparse.Namespace, session, names: list[str], view, monitor, 
 def _check_recording_options(args: argparse.Namespace) -> None:
     from workbench.errors import InputError
 
+    if getattr(args, "rate", None) is not None and (args.daq or args.record):  # `record` has no --rate
+        raise InputError("--rate HZ: only when polling; DAQ samples each signal on its event (--event)")
     if args.record is None:
         given = [option for option, value in (("--raw-can", args.raw_can), ("--overwrite", args.overwrite),
                                               ("--start-when", args.start_when), ("--stop-when", args.stop_when),
