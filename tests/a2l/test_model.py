@@ -246,16 +246,6 @@ def test_a_malformed_number_is_located():
         model.characteristic("d")
 
 
-def test_an_instance_is_named_but_not_read_yet():
-    text = ('/begin PROJECT P "" /begin MODULE M ""\n'
-            '/begin TYPEDEF_MEASUREMENT T "" UBYTE NO_COMPU_METHOD 0 0 0 255 /end TYPEDEF_MEASUREMENT\n'
-            '/begin INSTANCE inst "" T 0x100 /end INSTANCE\n/end MODULE /end PROJECT')
-    model = load_a2l_string(text, "inst.a2l").model()
-    assert model.kind_of("inst") == "INSTANCE"
-    with pytest.raises(A2lParseError, match="inst.a2l:3:8: INSTANCE inst: objects built from typedefs are not"):
-        model.object("inst")
-
-
 def test_objects_are_frozen_values(features):
     axis = features.characteristic("kMap").axes[0]
     assert isinstance(axis, AxisDescr)

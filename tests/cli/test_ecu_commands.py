@@ -476,20 +476,6 @@ def test_measure_takes_one_element_of_an_array(bus, capsys):
     assert code == 2 and err == "error: zsSensVolt[4]: zsSensVolt has shape (4,): [4] is not one of its elements\n"
 
 
-def test_cal_list_of_an_a2l_whose_calibrations_are_all_instances_says_why_it_lists_none(capsys, tmp_path):
-    """XCPlite's cpp_demo keeps every calibration in INSTANCEs of TYPEDEF_STRUCTUREs (not read yet): 'no calibration
-    matches' alone read as a broken A2L. Said before connecting (no ECU here)."""
-    import shutil
-    from pathlib import Path
-
-    root = Path(__file__).parents[2]
-    a2l = Path(shutil.copy(root / "tests" / "corpus" / "a2l" / "xcplite" / "cpp_demo.a2l", tmp_path))
-    shutil.copy(root / "a2l" / "XCP.aml", tmp_path / "XCP_104.aml")  # the AML it includes: ours serves
-    code, out, err = run(capsys, "cal", "list", "--a2l", str(a2l), "--host", "127.0.0.1", "--port", "9")
-    assert code == 2 and out == ""
-    assert "no calibration matches '*' (3 INSTANCE(s) do, e.g. kParameters: objects built from TYPEDEF_STRUCTUREs" in err
-
-
 def test_info_saves_the_a2l_the_ecu_holds(capsys, tmp_path, free_udp_port):
     """`workbench info --host H --port P --save-a2l ecu.a2l`: XCPlite's own A2L (GET_ID 4), written atomically; the
     next commands take it with --a2l."""

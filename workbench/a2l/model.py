@@ -28,9 +28,10 @@ from typing import TYPE_CHECKING, NamedTuple, Union
 
 import numpy as np
 
+from workbench.a2l.instances import TYPEDEF_KINDS, Placed, expand_instance, place, without_indices
 from workbench.a2l.objects import (
     NO_COMPU_METHOD, AxisDescr, AxisPts, Blob, Characteristic, CompuMethod, CompuTab, CompuVtab, CompuVtabRange,
-    Function, Group, Location, Measurement, ModCommon, RecordLayout, Unit, format_parts,
+    Function, Group, Instance, Location, Measurement, ModCommon, RecordLayout, Unit, format_parts,
 )
 from workbench.a2l.readers import READERS, read_mod_common
 from workbench.errors import A2lParseError, InputError, UnknownSymbolError, WorkbenchError
@@ -43,7 +44,8 @@ __all__ = ["A2lModel", "OBJECT_KINDS", "ObjectSummary", "axis_decimals", "closes
 
 OBJECT_KINDS = ("CHARACTERISTIC", "MEASUREMENT", "AXIS_PTS", "BLOB", "INSTANCE")  # the shared "objects" namespace
 _TABLE_KINDS = ("COMPU_TAB", "COMPU_VTAB", "COMPU_VTAB_RANGE")
-_INDEXED = OBJECT_KINDS + _TABLE_KINDS + ("COMPU_METHOD", "RECORD_LAYOUT", "FUNCTION", "GROUP", "UNIT")
+_INDEXED = OBJECT_KINDS + _TABLE_KINDS + TYPEDEF_KINDS + ("COMPU_METHOD", "RECORD_LAYOUT", "FUNCTION", "GROUP", "UNIT")
+_ADDRESSED = OBJECT_KINDS[:4]  # what has an address; an INSTANCE stands for objects of these kinds
 _LISTS = {  # name-list blocks: which kind of owner names which kind of member
     "FUNCTION": ("DEF_CHARACTERISTIC", "REF_CHARACTERISTIC", "IN_MEASUREMENT", "OUT_MEASUREMENT", "LOC_MEASUREMENT"),
     "GROUP": ("REF_CHARACTERISTIC", "REF_MEASUREMENT"),
@@ -92,6 +94,9 @@ class A2lModel:
         self._built: dict[tuple[str, str], object] = {}
         self._conversions: dict[str, "Conversion"] = {}
         self._members: dict[str, tuple[list[str], list[str]]] | None = None
+        self._placed: dict[str, Placed] | None = None  # the objects INSTANCEs stand for, on first need
+        self._placed_names: dict[str, list[str]] = {}  # kind -> those names, in document order
+        self._instance_errors: dict[str, A2lParseError] = {}  # INSTANCE or component (no indices) -> why left out
         self._index()
 
     def __repr__(self) -> str:
@@ -118,33 +123,79 @@ class A2lModel:
             self._blocks[kind] = blocks
         self._object_kind = {name: kind for kind in reversed(OBJECT_KINDS) for name in self._blocks[kind]}
         self._table_kind = {name: kind for kind in reversed(_TABLE_KINDS) for name in self._blocks[kind]}
+        self._typedef_kind = {name: kind for kind in reversed(TYPEDEF_KINDS) for name in self._blocks[kind]}
+
+    def _instances(self) -> dict[str, Placed]:
+        """The objects the INSTANCEs stand for (:mod:`workbench.a2l.instances`), placed on first need; an
+        INSTANCE that cannot be placed is kept with its error (raised when one of its names is asked for)."""
+        if self._placed is None:
+            placed: dict[str, Placed] = {}
+            for name in dict.fromkeys(self._names["INSTANCE"]):  # document order
+                try:
+                    found, left_out = expand_instance(self.doc, self._get("INSTANCE", name), self._typedef_kind,
+                                                      self._get)
+                except A2lParseError as error:
+                    self._instance_errors[name] = error
+                    continue
+                self._instance_errors.update(left_out)
+                for object_name, where in found.items():  # a plain object of the same name wins
+                    if self._object_kind.get(object_name, "INSTANCE") == "INSTANCE":
+                        placed.setdefault(object_name, where)
+            self._placed = placed
+            self._placed_names = {kind: [name for name, where in placed.items() if where.kind == kind]
+                                  for kind in _ADDRESSED}
+        return self._placed
+
+    def _placed_of(self, name: str) -> Placed | None:
+        return self._instances().get(name) if self._blocks["INSTANCE"] else None
+
+    def _of_kind(self, kind: str) -> list[str]:
+        """The names of one object kind, the objects INSTANCEs stand for after the plain ones."""
+        if kind in _ADDRESSED and self._blocks["INSTANCE"]:
+            self._instances()
+            return self._names[kind] + self._placed_names[kind]
+        return self._names[kind]
 
     def names(self, kind: str | None = None) -> list[str]:
         """Names in document order: of one block kind (``"CHARACTERISTIC"``, ``"COMPU_METHOD"`` ...),
         or (None) of every object that has an address (characteristics, measurements, axis points, blobs)."""
         if kind is None:
-            return [name for kind_ in OBJECT_KINDS[:4] for name in self._names[kind_]]
+            return [name for kind_ in _ADDRESSED for name in self._of_kind(kind_)]
         if kind not in self._names:
             raise ValueError(f"unknown kind {kind!r}; expected one of {', '.join(_INDEXED)}")
-        return list(self._names[kind])
+        return list(self._of_kind(kind))
 
     def kind_of(self, name: str) -> str:
-        """The block keyword of an object (CHARACTERISTIC, MEASUREMENT, AXIS_PTS, BLOB, INSTANCE)."""
+        """The block keyword of an object (CHARACTERISTIC, MEASUREMENT, AXIS_PTS, BLOB, INSTANCE); an object an
+        INSTANCE stands for (``inst.member``, or the instance of a measurement typedef itself) is of its kind.
+
+        :raises UnknownSymbolError: no such object.
+        :raises A2lParseError: the name belongs to an INSTANCE that cannot be placed (why, where).
+        """
         kind = self._object_kind.get(name)
+        if kind is None or kind == "INSTANCE":
+            placed = self._placed_of(name)
+            if placed is not None:
+                return placed.kind
         if kind is None:
-            raise self._unknown(name, self._object_kind, "objects")
+            bare = without_indices(name)
+            for left_out, error in self._instance_errors.items():
+                if bare == left_out or bare.startswith(left_out + "."):
+                    raise error
+            raise self._unknown(name, {**self._object_kind, **(self._placed or {})}, "objects")
         return kind
 
     def __contains__(self, name: object) -> bool:
-        return name in self._object_kind
+        return name in self._object_kind or self._placed_of(name) is not None
 
     def __len__(self) -> int:
-        return sum(len(self._blocks[kind]) for kind in OBJECT_KINDS[:4])
+        return len(self.names())
 
     def __iter__(self) -> Iterator[A2lObject]:
-        """Every characteristic, measurement, axis points and blob object, kind by kind in document order."""
-        for kind in OBJECT_KINDS[:4]:
-            for name in self._names[kind]:
+        """Every characteristic, measurement, axis points and blob object (with those INSTANCEs stand for),
+        kind by kind in document order."""
+        for kind in _ADDRESSED:
+            for name in self._of_kind(kind):
                 yield self._get(kind, name)
 
     def __getitem__(self, name: str) -> A2lObject:
@@ -152,24 +203,44 @@ class A2lModel:
 
     # -- lookups ---------------------------------------------------------------------------
     def object(self, name: str) -> A2lObject:
-        """The CHARACTERISTIC, MEASUREMENT, AXIS_PTS or BLOB called ``name``.
+        """The CHARACTERISTIC, MEASUREMENT, AXIS_PTS or BLOB called ``name``, also one an INSTANCE stands for.
 
         :raises UnknownSymbolError: no such object (the closest names suggested).
-        :raises A2lParseError: it is an INSTANCE (typedef-based objects are not read yet) or malformed.
+        :raises InputError: it names an INSTANCE of a structure (its components are the objects).
+        :raises A2lParseError: it is malformed, or its INSTANCE cannot be placed.
         """
         kind = self.kind_of(name)
         if kind == "INSTANCE":
-            block = self.doc.block(self._blocks[kind][name])
-            raise self.doc.error(f"INSTANCE {name}: objects built from typedefs are not supported yet",
-                                 block.keyword_token)
+            if name in self._instance_errors:
+                raise self._instance_errors[name]
+            members = [member for member, where in self._instances().items() if where.instance == name]
+            raise InputError(f"INSTANCE {name} is a structure: name one of its {len(members)} objects ("
+                             + ", ".join(members[:3]) + (" ..." if len(members) > 3 else "") + ")")
         return self._get(kind, name)
+
+    def instance(self, name: str) -> Instance:
+        """The INSTANCE block called ``name`` as read (its typedef, address, OVERWRITEs)."""
+        return self._get("INSTANCE", name)
+
+    def placed(self, name: str) -> Placed | None:
+        """Where an object an INSTANCE stands for comes from (its instance, typedef, path); None for a plain one."""
+        return None if self._object_kind.get(name, "INSTANCE") != "INSTANCE" else self._placed_of(name)
+
+    def instance_errors(self) -> list[A2lParseError]:
+        """Why INSTANCEs, or components of them, could not be placed (their objects are left out of the listings)."""
+        self._instances()
+        return list(self._instance_errors.values())
 
     def characteristic(self, name: str) -> Characteristic:
         return self._get("CHARACTERISTIC", name)
 
     def block(self, name: str) -> "Block":
-        """The block an object is read from (for what the model does not interpret, e.g. its IF_DATA)."""
-        return self.doc.block(self._blocks[self.kind_of(name)][name])
+        """The block an object is read from (for what the model does not interpret, e.g. its IF_DATA); for an object
+        an INSTANCE stands for, the INSTANCE's (whose IF_DATA, e.g. its DAQ events, applies to it)."""
+        row = self._blocks[self.kind_of(name)].get(name)
+        if row is None:
+            row = self._blocks["INSTANCE"][self._instances()[name].instance]
+        return self.doc.block(row)
 
     def measurement(self, name: str) -> Measurement:
         return self._get("MEASUREMENT", name)
@@ -210,9 +281,9 @@ class A2lModel:
 
         :raises ValueError: a malformed regular expression.
         """
-        kinds = OBJECT_KINDS[:4] if kind is None else (kind,) if isinstance(kind, str) else tuple(kind)
+        kinds = _ADDRESSED if kind is None else (kind,) if isinstance(kind, str) else tuple(kind)
         matcher = name_pattern(pattern, regex=regex, ignore_case=ignore_case)
-        return [self._get(kind_, name) for kind_ in kinds for name in self._names.get(kind_, ())
+        return [self._get(kind_, name) for kind_ in kinds if kind_ in self._names for name in self._of_kind(kind_)
                 if matcher.fullmatch(name)]
 
     def expand(self, names: Iterable[str], kind: str | tuple[str, ...] | None = None, *, what: str = "object"
@@ -244,10 +315,13 @@ class A2lModel:
         without building the objects: a listing of a 10 MB file's 65,000 objects costs a fraction of
         a second. Objects whose positional parameters are missing come from the full reader (which
         raises :class:`A2lParseError` at them)."""
-        kinds = OBJECT_KINDS[:4] if kind is None else (kind,) if isinstance(kind, str) else tuple(kind)
+        kinds = _ADDRESSED if kind is None else (kind,) if isinstance(kind, str) else tuple(kind)
         rows: list[ObjectSummary] = []
         for kind_ in kinds:
             rows.extend(self._summaries(kind_))
+            if kind_ in _ADDRESSED and self._blocks["INSTANCE"]:  # few, built as objects
+                rows.extend(self._summary_of(self._get(kind_, name)) for name in self._of_kind(kind_)[
+                    len(self._names[kind_]):])
         return rows
 
     def _summaries(self, kind: str) -> list["ObjectSummary"]:
@@ -346,7 +420,8 @@ class A2lModel:
                 return self._get(known[name], name)
         else:
             known = self._blocks.get(kind, {})
-            if name in known:
+            placed = self._placed_of(name) if kind in _ADDRESSED and name not in known else None
+            if name in known or (placed is not None and placed.kind == kind):
                 return self._get(kind, name)
         token = (referrer.ref_tokens or {}).get(field)
         where = (Location(*self.doc.token_position(token)) if token is not None else referrer.location
@@ -417,10 +492,15 @@ class A2lModel:
         found = self._built.get(key)
         if found is None:
             row = self._blocks[kind].get(name)
-            if row is None:
-                raise self._unknown(name, self._blocks[kind], f"{kind} names")
-            found = self._built[key] = READERS[kind](self.doc, self.doc.block(row), self.mod_common,
-                                                     self._membership)
+            if row is not None:
+                found = READERS[kind](self.doc, self.doc.block(row), self.mod_common, self._membership)
+            else:
+                placed = self._placed_of(name) if kind in _ADDRESSED else None
+                if placed is None or placed.kind != kind:
+                    raise self._unknown(name, self._blocks[kind], f"{kind} names")
+                found = place(self._get(placed.typedef_kind, placed.typedef), name, placed,
+                              self._get("INSTANCE", placed.instance), self._membership(name))
+            self._built[key] = found
         return found
 
     def _membership(self, name: str) -> tuple[tuple[str, ...], tuple[str, ...]]:

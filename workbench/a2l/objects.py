@@ -19,8 +19,8 @@ from typing import Mapping, NamedTuple
 
 __all__ = [
     "Alignments", "AxisDescr", "AxisPts", "Blob", "Characteristic", "CompuMethod", "CompuTab", "CompuVtab",
-    "CompuVtabRange", "Function", "Group", "LayoutEntry", "Location", "Measurement", "ModCommon", "RecordLayout",
-    "Unit", "AXIS_NAMES", "NO_COMPU_METHOD",
+    "CompuVtabRange", "Function", "Group", "Instance", "LayoutEntry", "Location", "Measurement", "ModCommon",
+    "Overwrite", "RecordLayout", "StructureComponent", "TypedefStructure", "Unit", "AXIS_NAMES", "NO_COMPU_METHOD",
 ]
 
 NO_COMPU_METHOD = "NO_COMPU_METHOD"
@@ -431,3 +431,66 @@ class Group:
     sub_groups: tuple[str, ...] = ()
     functions: tuple[str, ...] = ()  # FUNCTION_LIST
     location: Location | None = _meta()
+
+
+@dataclass(frozen=True)
+class Overwrite:
+    """OVERWRITE in an INSTANCE: what one component of this instance has instead of its typedef's.
+    ``name`` is the component's path inside the instance (``"lookup.values"``; the instance's own name may
+    lead it); ``axis_number`` 0 is the object itself, 1 its X axis, 2 its Y axis ..."""
+
+    name: str
+    axis_number: int
+    conversion: str | None = None
+    extended_limits: tuple[float, float] | None = None
+    format: str | None = None
+    input_quantity: str | None = None
+    limits: tuple[float, float] | None = None
+    monotony: str | None = None
+    phys_unit: str | None = None
+    location: Location | None = _meta()
+
+
+@dataclass(frozen=True)
+class StructureComponent:
+    """STRUCTURE_COMPONENT: a member of a TYPEDEF_STRUCTURE, ``offset`` bytes from the structure's start."""
+
+    name: str
+    typedef: str
+    offset: int
+    matrix_dim: tuple[int, ...] = ()
+    address_type: str | None = None
+    layout: str | None = None
+    symbol_type_link: str | None = None
+    location: Location | None = _meta()
+    ref_tokens: Mapping[str, int] | None = _meta()  # typedef, offset -> their tokens
+
+
+@dataclass(frozen=True)
+class TypedefStructure:
+    """TYPEDEF_STRUCTURE: a C struct of ``size`` bytes whose members are typedefs (or structures) themselves."""
+
+    name: str
+    long_identifier: str
+    size: int
+    components: tuple[StructureComponent, ...] = ()
+    address_type: str | None = None
+    symbol_type_link: str | None = None
+    location: Location | None = _meta()
+
+
+@dataclass(frozen=True)
+class Instance(_Addressed):
+    """INSTANCE: an object (or an array of them, MATRIX_DIM) of a typedef at ``address``. The model lists the
+    objects it stands for by their ASAP2 names (``inst.member``, ``inst[2].member``)."""
+
+    kind = "INSTANCE"
+    typedef: str = ""
+    matrix_dim: tuple[int, ...] = ()
+    address_type: str | None = None
+    calibration_access: str | None = None
+    read_write: bool = False
+    layout: str | None = None
+    max_refresh: tuple[int, int] | None = None
+    model_link: str | None = None
+    overwrites: tuple[Overwrite, ...] = ()

@@ -14,7 +14,8 @@ from typing import TYPE_CHECKING, Callable
 from workbench.a2l.byte_order import BYTE_ORDERS
 from workbench.a2l.objects import (
     AXIS_NAMES, Alignments, AxisDescr, AxisPts, Blob, Characteristic, CompuMethod, CompuTab, CompuVtab,
-    CompuVtabRange, Function, Group, LayoutEntry, Location, Measurement, ModCommon, RecordLayout, Unit,
+    CompuVtabRange, Function, Group, Instance, LayoutEntry, Location, Measurement, ModCommon, Overwrite, RecordLayout,
+    StructureComponent, TypedefStructure, Unit,
 )
 from workbench.a2l.values import is_int, is_number, parse_int, parse_number
 
@@ -24,22 +25,30 @@ if TYPE_CHECKING:
 __all__ = ["READERS", "read_mod_common"]
 
 _NONE_WORDS = ("NO_INPUT_QUANTITY", "NO_AXIS_PTS", "NO_COMPU_VTAB")
+_NO_TOKEN = -1  # the address a typedef lacks
 Members = Callable[[str], tuple[tuple[str, ...], tuple[str, ...]]]  # object name -> (functions, groups)
 
 
 class _Fields:
     """One block's positional parameters and options, read with errors located at their tokens."""
 
-    def __init__(self, doc: "A2lDocument", block: "Block", needed: int):
+    def __init__(self, doc: "A2lDocument", block: "Block", needed: int, address_slot: int | None = None):
+        """``address_slot``: where the address parameter is; a TYPEDEF_ block (the object without its address)
+        lacks it, and reads as the object with a hole there (:meth:`address` None)."""
         self.doc = doc
         self.block = block
-        self.args, options = block.layout()
+        args, options = block.layout()
+        self.args = list(args)
         self.options: dict[str, list[int]] = {}
         for keyword, tokens in options:
             self.options.setdefault(keyword, tokens)
         self._children: list[tuple[str, int]] | None = None
-        if len(self.args) < needed:
-            raise doc.error(f"{self.label}: {needed} parameters expected, found {len(self.args)}", block.keyword_token)
+        typedef = address_slot is not None and block.keyword.startswith("TYPEDEF_")
+        if len(self.args) < needed - typedef:
+            raise doc.error(f"{self.label}: {needed - typedef} parameters expected, found {len(self.args)}",
+                            block.keyword_token)
+        if typedef:
+            self.args.insert(address_slot, _NO_TOKEN)
 
     @property
     def label(self) -> str:
@@ -61,6 +70,10 @@ class _Fields:
 
     def float(self, index: int) -> float:
         return self._float(self.args[index])
+
+    def address(self, index: int) -> int | None:
+        """The address parameter; None for a typedef (the INSTANCE gives it)."""
+        return None if self.args[index] == _NO_TOKEN else self.int(index)
 
     def ident(self, index: int) -> str | None:
         """A name parameter; None for the ASAP2 words that mean "none" (NO_INPUT_QUANTITY ...)."""
@@ -221,12 +234,12 @@ def _formula_refs(doc: "A2lDocument", f: _Fields, keyword: str) -> tuple[str, tu
 
 
 def _characteristic(doc: "A2lDocument", block: "Block", common: ModCommon, members: Members) -> Characteristic:
-    f = _Fields(doc, block, 9)
+    f = _Fields(doc, block, 9, address_slot=3)
     name = f.text(0)
     functions, groups = members(name)
     axes = tuple(_axis_descr(doc, child, axis) for child, axis in zip(f.children("AXIS_DESCR"), AXIS_NAMES))
     return Characteristic(
-        name, f.text(1), f.int(3), f.option_int("ECU_ADDRESS_EXTENSION") or 0, f.option_text("DISPLAY_IDENTIFIER"),
+        name, f.text(1), f.address(3), f.option_int("ECU_ADDRESS_EXTENSION") or 0, f.option_text("DISPLAY_IDENTIFIER"),
         f.symbol_link(), tuple(dict.fromkeys(functions + f.names_in("FUNCTION_LIST"))), groups,
         location=f.location,
         ref_tokens=f.ref_tokens(record_layout=f.arg_token(4), conversion=f.arg_token(6),
@@ -245,11 +258,11 @@ def _characteristic(doc: "A2lDocument", block: "Block", common: ModCommon, membe
 
 
 def _axis_pts(doc: "A2lDocument", block: "Block", common: ModCommon, members: Members) -> AxisPts:
-    f = _Fields(doc, block, 10)
+    f = _Fields(doc, block, 10, address_slot=2)
     name = f.text(0)
     functions, groups = members(name)
     return AxisPts(
-        name, f.text(1), f.int(2), f.option_int("ECU_ADDRESS_EXTENSION") or 0, f.option_text("DISPLAY_IDENTIFIER"),
+        name, f.text(1), f.address(2), f.option_int("ECU_ADDRESS_EXTENSION") or 0, f.option_text("DISPLAY_IDENTIFIER"),
         f.symbol_link(), tuple(dict.fromkeys(functions + f.names_in("FUNCTION_LIST"))), groups,
         location=f.location,
         ref_tokens=f.ref_tokens(input_quantity=f.arg_token(3), record_layout=f.arg_token(4),
@@ -265,10 +278,10 @@ def _axis_pts(doc: "A2lDocument", block: "Block", common: ModCommon, members: Me
 
 
 def _blob(doc: "A2lDocument", block: "Block", common: ModCommon, members: Members) -> Blob:
-    f = _Fields(doc, block, 4)
+    f = _Fields(doc, block, 4, address_slot=2)
     name = f.text(0)
     functions, groups = members(name)
-    return Blob(name, f.text(1), f.int(2), f.option_int("ECU_ADDRESS_EXTENSION") or 0,
+    return Blob(name, f.text(1), f.address(2), f.option_int("ECU_ADDRESS_EXTENSION") or 0,
                 f.option_text("DISPLAY_IDENTIFIER"), f.symbol_link(), functions, groups, location=f.location,
                 size=f.int(3), calibration_access=f.option_text("CALIBRATION_ACCESS"),
                 address_type=f.option_text("ADDRESS_TYPE"))
@@ -384,9 +397,48 @@ def _group(doc: "A2lDocument", block: "Block", common: ModCommon, members: Membe
                  f.names_in("SUB_GROUP"), f.names_in("FUNCTION_LIST"), location=f.location)
 
 
+def _instance(doc: "A2lDocument", block: "Block", common: ModCommon, members: Members) -> Instance:
+    f = _Fields(doc, block, 4)
+    name = f.text(0)
+    functions, groups = members(name)
+    max_refresh = f.option("MAX_REFRESH", 2)
+    return Instance(
+        name, f.text(1), f.int(3), f.option_int("ECU_ADDRESS_EXTENSION") or 0, f.option_text("DISPLAY_IDENTIFIER"),
+        f.symbol_link(), functions, groups, location=f.location, ref_tokens=f.ref_tokens(typedef=f.arg_token(2)),
+        typedef=f.text(2), matrix_dim=f.option_ints("MATRIX_DIM") or (), address_type=f.option_text("ADDRESS_TYPE"),
+        calibration_access=f.option_text("CALIBRATION_ACCESS"), read_write=f.has("READ_WRITE"),
+        layout=f.option_text("LAYOUT"), max_refresh=(f._int(max_refresh[0]), f._int(max_refresh[1])) if max_refresh
+        else None, model_link=f.option_text("MODEL_LINK"),
+        overwrites=tuple(_overwrite(doc, child) for child in f.children("OVERWRITE")),
+    )
+
+
+def _overwrite(doc: "A2lDocument", block: "Block") -> Overwrite:
+    f = _Fields(doc, block, 2)
+    return Overwrite(f.text(0), f.int(1), f.option_text("CONVERSION"), f.option_floats("EXTENDED_LIMITS", 2),
+                     f.option_text("FORMAT"), f.option_text("INPUT_QUANTITY"), f.option_floats("LIMITS", 2),
+                     f.option_text("MONOTONY"), f.option_text("PHYS_UNIT"), location=f.location)
+
+
+def _typedef_structure(doc: "A2lDocument", block: "Block", common: ModCommon, members: Members) -> TypedefStructure:
+    f = _Fields(doc, block, 3)
+    components = []
+    for child in f.children("STRUCTURE_COMPONENT"):
+        c = _Fields(doc, child, 3)
+        components.append(StructureComponent(
+            c.text(0), c.text(1), c.int(2), c.option_ints("MATRIX_DIM") or (), c.option_text("ADDRESS_TYPE"),
+            c.option_text("LAYOUT"), c.option_text("SYMBOL_TYPE_LINK"), location=c.location,
+            ref_tokens=c.ref_tokens(typedef=c.arg_token(1), offset=c.arg_token(2))))
+    return TypedefStructure(f.text(0), f.text(1), f.int(2), tuple(components), f.option_text("ADDRESS_TYPE"),
+                            f.option_text("SYMBOL_TYPE_LINK"), location=f.location)
+
+
 READERS = {
     "MEASUREMENT": _measurement, "CHARACTERISTIC": _characteristic, "AXIS_PTS": _axis_pts, "BLOB": _blob,
     "COMPU_METHOD": _compu_method, "COMPU_TAB": _compu_tab, "COMPU_VTAB": _compu_vtab,
     "COMPU_VTAB_RANGE": _compu_vtab_range, "RECORD_LAYOUT": _record_layout, "UNIT": _unit, "FUNCTION": _function,
-    "GROUP": _group,
+    "GROUP": _group, "INSTANCE": _instance, "TYPEDEF_STRUCTURE": _typedef_structure,
+    # a typedef reads as the object it makes, without an address (the INSTANCE places it)
+    "TYPEDEF_MEASUREMENT": _measurement, "TYPEDEF_CHARACTERISTIC": _characteristic, "TYPEDEF_AXIS": _axis_pts,
+    "TYPEDEF_BLOB": _blob,
 }

@@ -255,13 +255,7 @@ def _list(args: argparse.Namespace) -> int:
     model = doc.model()
     names = [s.name for s in model.find(args.pattern, kind=("CHARACTERISTIC", "AXIS_PTS"))]
     if not names:  # said before connecting
-        from workbench.a2l.model import name_pattern
-
-        matcher = name_pattern(args.pattern)  # XCPlite's calibrations are all INSTANCEs
-        typed = [name for name in model.names("INSTANCE") if matcher.fullmatch(name)]
-        raise InputError(f"no calibration matches {args.pattern!r}" + (
-            f" ({len(typed)} INSTANCE(s) do, e.g. {typed[0]}: objects built from TYPEDEF_STRUCTUREs are not read yet)"
-            if typed else ""))
+        raise InputError(f"no calibration matches {args.pattern!r}")
     with values_of(args, doc, reading=True) as session:
         values = session.read_many(names)
     rows = []
