@@ -55,8 +55,8 @@ def test_an_a2l_whose_include_is_missing_opens_without_it_and_says_which(qtbot):
     assert "offline" not in window.status.link.text()
 
 
-def test_an_a2l_made_of_instances_says_they_are_not_listed_and_a_load_says_what_it_reads(qtbot):
-    """a2ltool's typedef tests hold INSTANCEs only: the browser looked empty ("0 of 0 objects")."""
+def test_an_a2l_made_of_instances_lists_their_objects_and_says_what_it_leaves_out(qtbot):
+    """a2ltool's typedef tests hold INSTANCEs only: the browser looked empty ("0 of 0 objects"); pointers are left out."""
     from workbench.gui.widgets.main_window import MainWindow
 
     a2l = CORPUS / "a2ltool" / "update_typedef_test1.a2l"
@@ -66,8 +66,10 @@ def test_an_a2l_made_of_instances_says_they_are_not_listed_and_a_load_says_what_
     with qtbot.waitSignal(window.loaded, timeout=WAIT_MS):
         window.load()
         assert window.browser.count.text() == "reading update_typedef_test1.a2l …"
-    assert window.browser.count.text() == "0 of 0 objects · 11 INSTANCEs not listed"
-    assert "not read yet" in window.browser.count.toolTip()
+    assert window.browser.count.text() == "44 of 44 objects · 9 INSTANCE parts left out"
+    assert "INSTANCE TEST_structptr: reached through a pointer (ADDRESS_TYPE PLONG): not supported" in (
+        window.browser.count.toolTip())
+    assert "TEST_structarr[9].value" in {row.name for row in window.browser.model.all_rows}
 
 
 def test_without_plots_the_plot_area_says_what_to_do_and_a_drop_there_opens_a_plot(qtbot):

@@ -30,7 +30,7 @@ class VariableBrowser(QWidget):
     def __init__(self, parent: QWidget | None = None):
         super().__init__(parent)
         self.model = VariableModel(self)  # filters and sorts its rows itself (fast on 50,000 objects)
-        self.instances = 0  # the A2L's INSTANCEs, not listed
+        self.left_out: list[str] = []  # why parts of the A2L's INSTANCEs are not listed
         layout = QVBoxLayout(self)
         layout.setContentsMargins(4, 4, 4, 4)
         self.search = QLineEdit()
@@ -79,10 +79,10 @@ class VariableBrowser(QWidget):
         layout.addWidget(self.count)
         self.model.modelReset.connect(self._count)
 
-    def set_variables(self, rows: list[Variable], instances: int = 0) -> None:
-        """``rows`` listed; ``instances``: the A2L's INSTANCEs, which are not (objects built from typedefs are not
-        read yet): the count says so rather than an A2L made of them looking empty."""
-        self.instances = instances
+    def set_variables(self, rows: list[Variable], left_out: list[str] | None = None) -> None:
+        """``rows`` listed (with the objects INSTANCEs stand for); ``left_out``: why parts of INSTANCEs could not be
+        placed (a pointer, a missing typedef: one line each), which the count says rather than hiding them."""
+        self.left_out = list(left_out or [])
         self.model.set_rows(rows)
         self._fill(self.kind_box, sorted({r.kind for r in rows}), KIND_LABELS)
         self._fill(self.function_box, sorted({f for r in rows for f in r.functions}))
@@ -96,7 +96,7 @@ class VariableBrowser(QWidget):
         """More rows (a measurement file's channels), the filters kept."""
         known = {row.name for row in self.model.all_rows}
         kind, function, unit = (box.currentData() for box in (self.kind_box, self.function_box, self.unit_box))
-        self.set_variables(self.model.all_rows + [row for row in rows if row.name not in known], self.instances)
+        self.set_variables(self.model.all_rows + [row for row in rows if row.name not in known], self.left_out)
         for box, value in ((self.kind_box, kind), (self.function_box, function), (self.unit_box, unit)):
             box.setCurrentIndex(max(box.findData(value), 0))
 
@@ -152,9 +152,7 @@ class VariableBrowser(QWidget):
 
     def _count(self, *_) -> None:
         count = f"{self.model.rowCount():,} of {len(self.model.all_rows):,} objects"
-        if self.instances:
-            count += f" · {self.instances:,} INSTANCEs not listed"
+        if self.left_out:
+            count += f" · {len(self.left_out):,} INSTANCE parts left out"
         self.count.setText(count)
-        self.count.setToolTip(f"the A2L's {self.instances:,} INSTANCEs (objects built from TYPEDEF_STRUCTUREs and "
-                              "TYPEDEF_MEASUREMENTs/CHARACTERISTICs) are not read yet: they are neither listed, "
-                              "measured nor calibrated" if self.instances else "")
+        self.count.setToolTip("\n".join(self.left_out[:20] + (["…"] if len(self.left_out) > 20 else [])))
