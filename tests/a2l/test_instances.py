@@ -178,23 +178,21 @@ def _located(text: str, needle: str) -> str:
     return f"inst.a2l:{before.count(chr(10)) + 1}:{len(before) - before.rfind(chr(10))}"
 
 
-@pytest.mark.parametrize("change, name, message", [
-    ('"" S_OUTER 0x1000 ECU', "box.sig", "INSTANCE box: typedef 'S_OUTR' is not defined (did you mean S_OUTER"),
-    ("T_RAW 0x30", "box.raw", "INSTANCE box: STRUCTURE_COMPONENT raw: offset 0x40 is beyond the size of "
-                              "TYPEDEF_STRUCTURE S_OUTER (0x40 bytes)"),
-    ("thr T_THR 0", "box.inner[0].thr", "INSTANCE box: STRUCTURE_COMPONENT thr: TYPEDEF_STRUCTURE contains itself: "
-                                        "S_OUTER -> S_INNER -> S_OUTER"),
+@pytest.mark.parametrize("old, new, at, name, message", [
+    ('"" S_OUTER 0x1000 ECU', '"" S_OUTR 0x1000 ECU', "S_OUTR", "box.sig",
+     "INSTANCE box: typedef S_OUTR is not defined (did you mean S_OUTER"),
+    ("T_RAW 0x30", "T_RAW 0x40", "0x40 /end", "box.raw",
+     "INSTANCE box: STRUCTURE_COMPONENT raw: offset 0x40 is beyond the size of TYPEDEF_STRUCTURE S_OUTER (0x40 bytes)"),
+    ("thr T_THR 0", "thr S_OUTER 0", "S_OUTER 0 /end", "box.inner[0].thr",
+     "INSTANCE box: STRUCTURE_COMPONENT thr: TYPEDEF_STRUCTURE contains itself: S_OUTER -> S_INNER -> S_OUTER"),
 ])
-def test_what_cannot_be_placed_is_said_at_its_position(change, name, message):
-    replacement = {'"" S_OUTER 0x1000 ECU': '"" S_OUTR 0x1000 ECU', "T_RAW 0x30": "T_RAW 0x40",
-                   "thr T_THR 0": "thr S_OUTER 0"}[change]
-    text = TEXT.replace(change, replacement, 1)
+def test_what_cannot_be_placed_is_said_at_its_position(old, new, at, name, message):
+    text = TEXT.replace(old, new, 1)
     model = load_a2l_string(text, "inst.a2l").model()
-    where = _located(text, {"S_OUTR": "S_OUTR", "T_RAW 0x40": "0x40 /end", "thr S_OUTER": "S_OUTER 0 /end"}[
-        next(k for k in ("S_OUTR", "T_RAW 0x40", "thr S_OUTER") if k in replacement)])
+    where = _located(text, at)
     with pytest.raises(A2lParseError, match=re.escape(f"{where}: {message}")):
         model.object(name)
-    assert [str(error) for error in model.instance_errors()][0].startswith(f"{where}: {message}")
+    assert str(model.instance_errors()[0]).startswith(f"{where}: {message}")
     assert "single" in model and "mapped.curve" in model  # the other instances are placed
 
 

@@ -54,10 +54,23 @@ def test_an_instances_names_read_and_write_the_plain_objects_bytes(capsys, a2l, 
 
 def test_an_instances_measurements_are_sampled_with_the_plain_ones(capsys, a2l, bus):
     code, out, err = run(capsys, "measure", "sens.rail", "zsRailPressure", "sens.volt[2]", "zsSensVolt[2]",
-                         "--duration", "0.1", "--a2l", a2l, *bus)
+                         "--daq", "--duration", "0.2", "--a2l", a2l, *bus)
     assert code == 0, err
     lines = out.splitlines()
     assert lines
     for line in lines:  # one DAQ sample: the same bytes, the same text
         fields = dict(re.findall(r"(\S+)=(\S+)", line))
         assert fields["sens.rail"] == fields["zsRailPressure"] and fields["sens.volt[2]"] == fields["zsSensVolt[2]"]
+
+
+@pytest.mark.parametrize("suffix", ["dcm", "cdfx"])
+def test_a_dataset_of_an_instances_names_saves_and_loads(capsys, a2l, bus, tmp_path, suffix):
+    path = str(tmp_path / f"tank.{suffix}")
+    code, _, err = run(capsys, "cal", "save", path, "tank.*", "conv.tank", "--a2l", a2l, *bus)
+    assert code == 0, err
+    text = (tmp_path / f"tank.{suffix}").read_text(encoding="utf-8", errors="replace")
+    assert "tank.switch" in text and "conv.tank" in text
+    assert run(capsys, "cal", "set", "tank.switch", "31", "--a2l", a2l, *bus)[0] == 0
+    code, _, err = run(capsys, "cal", "load", path, "--a2l", a2l, *bus)
+    assert code == 0, err
+    assert _values(capsys, a2l, bus, "xsSWITCH_TANK_THR") == {"xsSWITCH_TANK_THR": 20.0}  # the saved value again

@@ -90,7 +90,7 @@ class _Walk:
 
             close = closest_names(typedef, self.typedef_kinds)
             hint = f" (did you mean {', '.join(close)}?)" if close else ""
-            raise self._error(holder, f"typedef {typedef!r} is not defined{hint}", "typedef")
+            raise self._error(holder, f"typedef {typedef} is not defined{hint}", "typedef")  # as a2l check says
         if holder.address_type not in (None, "DIRECT"):
             raise self._error(holder, f"reached through a pointer (ADDRESS_TYPE {holder.address_type}): not "
                               "supported (the pointer's target is known only at run time)")
