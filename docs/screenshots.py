@@ -1,6 +1,7 @@
-"""Take the README's pictures of the window again: the demo, the compare view, an MF4 opened offline.
+"""Take the README's pictures of the window again: the demo, the compare view, an MF4 opened offline, the s19
+edited offline.
 
-    python docs/screenshots.py                              # docs/workbench-{demo,compare,offline}.png, 1600x1000
+    python docs/screenshots.py                              # docs/workbench-{demo,compare,offline,image}.png
     python docs/screenshots.py --size 1366x768 --out /tmp   # the window on a laptop's screen
     python docs/screenshots.py --scene offline              # one of them
 
@@ -10,7 +11,9 @@ demo     the window of ``workbench demo`` (live plots, numeric view, fix calibra
 compare  three calibrations changed on the working page, then Calibration > Compare working <-> reference
          page, the map's differing elements below;
 offline  nine seconds of rail pressure control recorded with the CAN2 bus (workbench.record), then
-         File > Open measurement file with two cursors, no ECU connected.
+         File > Open measurement file with two cursors, no ECU connected;
+image    no ECU: the project's s19 edited in the calibration editors (a scalar and a corner of a map), the
+         window's title saying the image is modified (File > Save image writes it).
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ import threading
 import time
 from pathlib import Path
 
-SCENES = ("demo", "compare", "offline")
+SCENES = ("demo", "compare", "offline", "image")
 DOCS = Path(__file__).resolve().parent
 SETTLE_S = 3.0  # after the last change, before the picture: plots and legends catch up
 CHANGES = (("xsSWITCH_TANK_THR", 27.5), ("xsPRV_KP", 6.0))  # the compare scene's edits (and a map's corner)
@@ -59,7 +62,7 @@ def one(scene: str, path: Path, size: tuple[int, int]) -> int:
     if scene == "demo":
         return run_demo(screenshot=path, settle_s=4.0, screen=size)
     screenshot_screen(size)
-    return (compare_scene if scene == "compare" else offline_scene)(path)
+    return {"compare": compare_scene, "offline": offline_scene, "image": image_scene}[scene](path)
 
 
 def shoot(window, path: Path, outcome: dict) -> None:
@@ -153,6 +156,47 @@ def offline_scene(path: Path) -> int:
 
     window.measurement_opened.connect(opened)
     window.loaded.connect(lambda: window.open_measurement(recording))
+    window.show()
+    window.load()
+    app.exec()
+    return outcome["code"]
+
+
+def image_scene(path: Path) -> int:
+    import shutil
+
+    import numpy as np
+    from PySide6.QtCore import QTimer
+
+    from workbench import demo
+    from workbench.gui.app import application
+    from workbench.gui.project import demo_project
+    from workbench.gui.widgets.main_window import MainWindow
+
+    project = demo_project()
+    project.s19 = Path(tempfile.mkdtemp(prefix="workbench-shots-")) / "FLCU.s19"  # a copy: it may be saved
+    shutil.copy(demo.s19(), project.s19)
+    outcome = {"code": 1}
+    app = application()
+    window = MainWindow(project)
+
+    def loaded() -> None:
+        for live in list(window.plots):  # the project's live plots, empty without an ECU: closed
+            live.close_requested.emit()
+        editors = [window.open_editor(CHANGES[0][0]), window.open_editor("xvPRV_DC_FF")]
+        edit_when_read(*editors)
+
+    def edit_when_read(scalar, table) -> None:  # the editors read the image in a worker
+        if scalar.value is None or table.value is None:
+            QTimer.singleShot(100, lambda: edit_when_read(scalar, table))
+            return
+        scalar.edit(CHANGES[0][1])
+        cells = np.array(table.value.value, dtype=np.float64)
+        cells[2:, 1:3] -= 6.0  # a corner of the map, tuned down (as in the compare scene)
+        table.edit(cells)
+        QTimer.singleShot(int(SETTLE_S * 1000), lambda: shoot(window, path, outcome))
+
+    window.loaded.connect(loaded)
     window.show()
     window.load()
     app.exec()
