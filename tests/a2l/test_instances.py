@@ -19,7 +19,7 @@ XCPLITE = ROOT / "tests" / "corpus" / "a2l" / "xcplite"
 def xcplite(tmp_path_factory) -> Path:
     """XCPlite's A2Ls with the AML they include (ours serves)."""
     root = tmp_path_factory.mktemp("xcplite")
-    for name in ("struct_demo.a2l", "cpp_demo.a2l"):
+    for name in ("struct_demo.a2l", "cpp_demo.a2l", "c_demo.a2l"):
         shutil.copy(XCPLITE / name, root)
     shutil.copy(ROOT / "a2l" / "XCP.aml", root / "XCP_104.aml")
     return root
@@ -94,6 +94,20 @@ def test_xcplite_cpp_demo_calibrations_are_its_instances_components(xcplite):
     assert curve.shape == (11,) and curve.axes[0].fix_axis_points == tuple(float(i) for i in range(11))
     assert model.characteristic("SigGen1.delay_us").long_identifier == "Mainloop delay time in us"  # first wins
     assert model.measurement("SigGen1.value_").address == 0x18  # a plain MEASUREMENT beside the INSTANCE
+
+
+def test_xcplite_c_demo_params_are_calibrations_and_its_copy_measurements(xcplite):
+    model = load_a2l(xcplite / "c_demo.a2l").model()
+    placed = {obj.name: (obj.kind, getattr(obj, "type", None), obj.address, obj.address_extension)
+              for obj in model if model.placed(obj.name)}
+    assert placed == {
+        **{f"params.{member}": ("CHARACTERISTIC", kind, 0x80010000 + offset, 0) for member, kind, offset in (
+            ("test_byte1", "VALUE", 0x8), ("test_byte2", "VALUE", 0x9), ("counter_max", "VALUE", 0x0),
+            ("delay_us", "VALUE", 0x4), ("map", "MAP", 0xA), ("curve", "CURVE", 0x4C))},
+        **{f"params_copy.{member}": ("MEASUREMENT", None, 0x2A270 + offset, 1) for member, offset in (
+            ("test_byte1", 0x8), ("test_byte2", 0x9), ("counter_max", 0x0), ("delay_us", 0x4))},
+    }
+    assert model.characteristic("params.map").shape == (8, 8)
 
 
 TEXT = '''/begin PROJECT P "" /begin MODULE M ""
