@@ -116,6 +116,20 @@ def test_rename_renames_the_definition_and_the_fragments_references():
     assert set(renamed) == {"CM", "x"} and "renamed to x_B" in renamed["x"]
 
 
+def test_rename_refuses_a_name_a_fragment_defines_twice_differently():
+    """Its own references cannot tell the two apart: renaming made both x_B; with an identical third copy left out
+    the merge raised 'overlapping edits' (a hypothesis find). Keep-first/keep-last drop one and stay unambiguous."""
+    body = measurement("x") + measurement("x") + measurement("x", upper=7)
+    with pytest.raises(MergeFailed, match=r"\(choose --on-conflict keep-first or keep-last\)$") as info:
+        run([fragment("B", body)], ConflictPolicy.RENAME)
+    (conflict,) = info.value.report.of_kind("conflict")
+    assert conflict.message.startswith("MEASUREMENT x is defined twice in f0.a2l, differently, also at f0.a2l:5 (")
+    assert conflict.message.endswith("correct the fragment, or merge with --on-conflict keep-first/keep-last")
+    for policy, upper in ((ConflictPolicy.KEEP_FIRST, "255"), (ConflictPolicy.KEEP_LAST, "7")):
+        doc = load_a2l_string(run([fragment("B", body)], policy).data.decode())
+        assert [(b.name, doc.text(b.args[-1])) for b in doc.objects("MEASUREMENT")] == [("x", upper)]
+
+
 def test_rename_follows_references_into_definitions_that_only_looked_identical():
     vtab = '    /begin COMPU_VTAB V "" TAB_VERB 1 0 "{}" /end COMPU_VTAB\n'
     method = '    /begin COMPU_METHOD CM_V "" TAB_VERB "%4.0" "" COMPU_TAB_REF V /end COMPU_METHOD\n'

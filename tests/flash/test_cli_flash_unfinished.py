@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import random
+import re
 
 import pytest
 from flash_images import CALIB, calib_image_with
@@ -79,3 +80,15 @@ def test_info_of_a_healthy_ecu_reads_the_key_as_set(bench, capsys):
     assert cli(bench, "info", "--json") == 0
     report = json.loads(capsys.readouterr().out)
     assert report["app_key"] == "set" and report["state"] == "application running"
+
+
+def test_info_claims_nothing_of_a_key_the_a2ls_flash_has_no_sector_for(killed_calib_flash, capsys, tmp_path):
+    """The demo's key is the default: on another ECU (its A2L without a sector at FE0000h) the bytes there are not
+    read as an unfinished flash."""
+    other = tmp_path / "other.a2l"
+    other.write_text(re.sub(r'/begin SECTOR\s+"SHARED".*?/end SECTOR', "", demo.a2l().read_text(), flags=re.S))
+    assert cli(killed_calib_flash, "info", "--json", "--a2l", str(other)) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["app_key"] is None and "cleared" not in report["state"]
+    assert cli(killed_calib_flash, "info", "--json", "--a2l", str(other), "--app-key", "0xFE0000=3CC3A55A") == 0
+    assert json.loads(capsys.readouterr().out)["app_key"] == "cleared"  # named by the user: read wherever it is

@@ -42,13 +42,15 @@ class MergeResult:
 
 
 class MergeFailed(WorkbenchError):
-    """Conflicting definitions under ``ConflictPolicy.ERROR``; carries the report."""
+    """Conflicting definitions the policy does not resolve (``ConflictPolicy.ERROR``; a name one fragment defines twice
+    under ``RENAME``); carries the report."""
 
-    def __init__(self, report: Report):
+    def __init__(self, report: Report, policy: ConflictPolicy = ConflictPolicy.ERROR):
         self.report = report
         conflicts = report.of_kind("conflict")
+        choices = "keep-first or keep-last" if policy is ConflictPolicy.RENAME else "keep-first, keep-last or rename"
         super().__init__(f"{len(conflicts)} conflicting definition(s): {summarize(conflicts)} "
-                         "(choose --on-conflict keep-first, keep-last or rename)")
+                         f"(choose --on-conflict {choices})")
         self.exit_code = 1
 
 
@@ -119,8 +121,8 @@ def merge_documents(master: A2lDocument, fragments: list[A2lDocument], *, module
         report_progress(progress, number - 1, len(fragments), "merging fragments")
         merger.add(fragment, number)
     report_progress(progress, len(fragments), len(fragments), "merging fragments")
-    if policy is ConflictPolicy.ERROR and report.of_kind("conflict"):
-        raise MergeFailed(report)
+    if report.of_kind("conflict"):  # under any policy: a rename can meet one it cannot make
+        raise MergeFailed(report, policy)
     edits = merger.edits()
     if keep_includes:
         return MergeResult(_master_file_text(master, edits), report)
@@ -258,7 +260,14 @@ class _Merger:
             plan.identical[block.index] = existing
             return
         where = ":".join(map(str, existing.block.position[:2]))
-        if self.policy is ConflictPolicy.ERROR:
+        if self.policy is ConflictPolicy.RENAME and existing.origin == origin and origin:
+            # one fragment's own references cannot tell its two definitions apart: a rename would rename both
+            report.add(finding_at(doc, block.keyword_token, "conflict", name,
+                                  f"{keyword} {name} is defined twice in {_short(doc)}, differently, also at {where} "
+                                  f"({_first_difference(block, mine, theirs)}): a rename cannot tell which of the "
+                                  "fragment's references mean which; correct the fragment, or merge with "
+                                  "--on-conflict keep-first/keep-last", keyword, Severity.ERROR))
+        elif self.policy is ConflictPolicy.ERROR:
             report.add(finding_at(doc, block.keyword_token, "conflict", name,
                                   f"{keyword} {name} differs from the definition at {where} "
                                   f"({_first_difference(block, mine, theirs)})", keyword, Severity.ERROR))
@@ -362,8 +371,11 @@ def _rename_edits(plan: _Plan, start: int, end: int) -> list[Edit]:
 def _keep_symbol_links(plan: _Plan, start: int, end: int) -> list[Edit]:
     """A renamed object without SYMBOL_LINK gets one naming its old name, so update still finds it."""
     doc = plan.doc
+    left_out = {block.index for block in plan.skipped}  # a duplicate left out takes its SYMBOL_LINK with it
     edits = []
     for index, _, _ in plan.children():
+        if index in left_out:
+            continue
         block = Block(doc, index)
         if block.keyword in grammar.ADDRESSED_OBJECTS and block.name in plan.renames and block.option("SYMBOL_LINK") is None:
             anchor = doc.tokens.ends_list[block.args[-1]]

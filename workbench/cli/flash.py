@@ -123,7 +123,8 @@ def add_app_key_arguments(group) -> None:
     key = group.add_mutually_exclusive_group()
     key.add_argument("--app-key", metavar="ADDRESS=HEX",
                      help="the boot's application-valid key as stored in flash (default: the demo ECU's "
-                          "0xFE0000=3CC3A55A, 0x5AA5C33C little-endian)")
+                          "0xFE0000=3CC3A55A, 0x5AA5C33C little-endian; info reads it only where the A2L's "
+                          "flash has a sector for it)")
     key.add_argument("--no-app-key", action="store_true", help="the ECU's boot has no application-valid key")
 
 

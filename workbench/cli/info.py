@@ -35,6 +35,8 @@ def run(args: argparse.Namespace) -> int:
     key = app_key(args)
     with open_session(args) as session:
         info = session.info()
+        if not args.app_key and key is not None and not _has_a_place_for(session, key):
+            key = None  # the demo ECU's key, on an ECU whose flash has no sector there: no claim about it
         key_state = app_key_state(session, key) if key is not None else None
         if args.save_a2l:
             from workbench.fileio import atomic_write_bytes
@@ -48,6 +50,14 @@ def run(args: argparse.Namespace) -> int:
     if args.save_a2l:
         print(f"A2L           the ECU's own written to {args.save_a2l}")
     return 0
+
+
+def _has_a_place_for(session, key) -> bool:
+    """Whether the A2L's flash layout has a sector holding ``key`` (as a flash needs one): another ECU's bytes at
+    the demo's key address would otherwise read as "a flash did not finish"."""
+    from workbench.flash import FlashLayout
+
+    return FlashLayout.from_a2l(session.doc, session.config, session.module).sector_of(key.address) is not None
 
 
 def _state(info, key_state, key) -> str:
