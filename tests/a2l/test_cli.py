@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from workbench.cli import main
+from workbench.errors import A2lParseError
 
 ELF = Path(__file__).parents[1] / "elf" / "fixtures" / "types_dwarf5.elf"
 
@@ -54,6 +55,14 @@ def test_bad_input_exits_2_with_one_line(capsys, tmp_path, types_a2l):
     assert code == 2 and "not a readable ELF file" in stderr and stderr.count("\n") == 1
     code, _, stderr = run(capsys, "a2l", "update", str(types_a2l), str(ELF))
     assert code == 2 and "-o/--output" in stderr
+
+
+def test_debug_may_follow_the_command(tmp_path):
+    """``--debug`` belongs to ``workbench`` itself; given after the command it still shows the traceback."""
+    bad = tmp_path / "bad.a2l"
+    bad.write_text('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n')
+    with pytest.raises(A2lParseError):
+        main(["a2l", "update", str(bad), str(ELF), "-o", str(tmp_path / "o.a2l"), "--debug"])
 
 
 def test_an_output_that_cannot_be_written_exits_2_with_one_line(capsys, tmp_path, types_a2l):

@@ -20,8 +20,8 @@ from workbench.errors import WorkbenchError
 
 # (group, one-line help); the group's commands live in ``workbench.cli.<group>``.
 GROUPS: list[tuple[str, str]] = [
-    ("a2l", "merge, update from ELF, check and diff A2L files"),
-    ("sim", "run the simulated FLCU ECU (XCP slave) on a CAN bus"),
+    ("a2l", "merge, update from ELF, check, diff and insert into A2L files"),
+    ("sim", "run the simulated FLCU ECU (XCP slave) on CAN or Ethernet"),
     ("dbc", "CAN database tools: message table, fix calibrations, driver callbacks"),
     ("info", "show ECU identification, EPK and protection state"),
     ("measure", "read signals by name (polling or DAQ), optionally record MDF4"),
@@ -63,6 +63,15 @@ def _group_named(argv: list[str]) -> str | None:
     return word if word in dict(GROUPS) else None
 
 
+def _debug_first(argv: list[str]) -> list[str]:
+    """``--debug`` anywhere before a ``--`` (``workbench a2l check x.a2l --debug`` as ``workbench --debug a2l ...``):
+    it is the top-level parser's option, which argparse would take only before the group."""
+    end = argv.index("--") if "--" in argv else len(argv)
+    if "--debug" not in argv[:end]:
+        return argv
+    return ["--debug", *[word for at, word in enumerate(argv) if at >= end or word != "--debug"]]
+
+
 def _unavailable(group: str, exc: ImportError):
     def handler(args: argparse.Namespace) -> int:
         raise WorkbenchError(f"'workbench {group}' is unavailable: {exc}")
@@ -76,7 +85,8 @@ _process_may_end_at_once = False  # set by main() when the command run is a batc
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code (0 ok, 1 failed, 2 bad input)."""
     global _process_may_end_at_once
-    parser = build_parser(_group_named(sys.argv[1:] if argv is None else argv))
+    argv = _debug_first(sys.argv[1:] if argv is None else list(argv))
+    parser = build_parser(_group_named(argv))
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # argparse: --help/--version exit 0, usage errors 2

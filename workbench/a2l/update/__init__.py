@@ -32,7 +32,8 @@ from workbench.fileio import write_output
 from workbench.findings import Finding, Report, Severity, summarize
 from workbench.progress import Progress, report as report_progress
 
-__all__ = ["IncludeMode", "UpdateFailed", "UpdateMode", "UpdateReport", "UpdateResult", "update", "update_file"]
+__all__ = ["IncludeMode", "UpdateFailed", "UpdateMode", "UpdateReport", "UpdateResult", "update_document",
+           "update_file"]
 
 @dataclass
 class UpdateReport(Report):
