@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 
+from workbench import demo
 from workbench.calib.dataset import load_dataset
 from workbench.cli import main
 
@@ -45,7 +46,10 @@ def test_diff_of_changed_files_exits_1_with_the_table_and_json(capsys, tmp_path,
                                                     b"WERT 5.5\r\nEND\r\n\r\nFESTWERT xsPRV_KI"))
     code, out, _ = run(capsys, "cal", "diff", inca_dcm, tuned)
     assert code == 1
-    assert ["xsPRV_KP", "changed", "value", "5.0", "%/bar", "5.5", "%/bar", "+0.5", "%/bar"] in [line.split() for line in out.splitlines()]
+    assert ["xsPRV_KP", "changed", "value", "5", "%/bar", "5.5", "%/bar", "+0.5", "%/bar"] in [line.split() for line in out.splitlines()]
+    code, out, _ = run(capsys, "cal", "diff", inca_dcm, tuned, "--a2l", str(demo.a2l()))  # its FORMAT "%8.4"
+    assert ["xsPRV_KP", "changed", "value", "5.0000", "%/bar", "5.5000", "%/bar", "+0.5000", "%/bar"] in \
+        [line.split() for line in out.splitlines()]
     code, out, _ = run(capsys, "cal", "diff", inca_dcm, tuned, "--json")
     data = json.loads(out)
     assert code == 1 and data["counts"]["changed"] == 1 and data["notes"] == []

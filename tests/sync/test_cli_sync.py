@@ -45,8 +45,10 @@ def test_save_change_diff_load_and_diff_again(bus, capsys, tmp_path):
     code, out, _ = run(capsys, "cal", "diff", "base.dcm", "ecu", *bus)
     assert code == 1
     rows = [line.split() for line in out.splitlines()[3:-1]]
-    assert [(row[0], *row[3:]) for row in rows] == [("xsPRV_KP", "5.0", "%/bar", "6.0", "%/bar", "+1.0", "%/bar"),
-                                                     ("xsSWITCH_TANK_THR", "20.0", "bar", "25.0", "bar", "+5.0", "bar")]
+    assert [(row[0], *row[3:]) for row in rows] == [
+        ("xsPRV_KP", "5.0000", "%/bar", "6.0000", "%/bar", "+1.0000", "%/bar"),
+        ("xsSWITCH_TANK_THR", "20.00", "bar", "25.00", "bar", "+5.00", "bar")]  # the A2L's decimals, as cal get
+    assert run(capsys, "cal", "get", "xsSWITCH_TANK_THR", *bus)[1] == "xsSWITCH_TANK_THR = 25.00 bar\n"
     assert out.splitlines()[-1] == "58 objects: 56 equal, 2 changed, 0 shape changed, 0 only in A, 0 only in B"
     code, out, _ = run(capsys, "cal", "diff", "ecu", "base.dcm", "--json", *bus)
     data = json.loads(out)
@@ -162,8 +164,8 @@ def test_sync_report_upload_and_download(bus, capsys, tmp_path):
     assert lines[-2].endswith(" bytes read from the ECU") and "uploaded" not in out  # nothing went to a file
     assert lines[0] == f"file: {demo.s19()}" and lines[2].split() == ["name", "status", "where", "file", "ECU", "ECU",
                                                                       "-", "file"]
-    assert any(line.split()[:9] == ["xsEMPTY_TANK_THR", "changed", "value", "5.0", "bar", "7.5", "bar",
-                                                   "+2.5", "bar"] for line in lines)
+    assert any(line.split()[:9] == ["xsEMPTY_TANK_THR", "changed", "value", "5.00", "bar", "7.50", "bar",
+                                                   "+2.50", "bar"] for line in lines)
 
     shutil.copy(demo.s19(), tmp_path / "mine.s19")
     code, out, _ = run(capsys, "cal", "sync", "--reference", "mine.s19", "--upload", *bus)
@@ -195,8 +197,8 @@ def test_the_saved_image_is_what_flash_takes(bus, capsys, tmp_path):
     code, out, _ = run(capsys, "cal", "diff", "ecu", "tuned.hex", *bus)
     assert code == 0
     code, out, _ = run(capsys, "cal", "diff", "tuned.hex", str(demo.s19()))
-    assert code == 1 and out.splitlines()[3].split() == ["xsFULL_TANK_PRESS", "changed", "value", "650.0", "bar",
-                                                         "700.0", "bar", "+50.0", "bar"]
+    assert code == 1 and out.splitlines()[3].split() == ["xsFULL_TANK_PRESS", "changed", "value", "650.00", "bar",
+                                                         "700.00", "bar", "+50.00", "bar"]
 
 
 @pytest.mark.parametrize("argv, message", [
@@ -238,14 +240,21 @@ def test_diff_and_dry_run_show_values_as_cal_get_does(bus, capsys):
     run(capsys, "cal", "set", "cfTANK1PSDIAGSTATUS_VALUE", "OPEN_LOAD", *bus)
     run(capsys, "cal", "set", "zvTankPConv[3]", "310", *bus)
     assert run(capsys, "cal", "get", "cfTANK1PSDIAGSTATUS_VALUE", *bus)[1] == "cfTANK1PSDIAGSTATUS_VALUE = OPEN_LOAD\n"
-    expected = [["xsSWITCH_TANK_THR", "changed", "value", "20.0", "bar", "22.5", "bar", "+2.5", "bar"],
+    assert run(capsys, "cal", "get", "xsSWITCH_TANK_THR", *bus)[1] == "xsSWITCH_TANK_THR = 22.50 bar\n"
+    expected = [["xsSWITCH_TANK_THR", "changed", "value", "20.00", "bar", "22.50", "bar", "+2.50", "bar"],
                 ["cfTANK1PSDIAGSTATUS_VALUE", "changed", "value", "NO_ERROR", "OPEN_LOAD"],
-                ["zvTankPConv", "changed", "value[3]", "(x", "2.0", "V)", "300.0", "bar", "310.0", "bar", "+10.0", "bar"]]
-    code, out, _ = run(capsys, "cal", "diff", "base.dcm", "ecu", *bus)
+                ["zvTankPConv", "changed", "value[3]", "(x", "2.000", "V)", "300.00", "bar", "310.00", "bar", "+10.00", "bar"]]
+    table = run(capsys, "cal", "get", "zvTankPConv", *bus)[1].splitlines()
+    assert "2.000" in table[1].split() and "310.00" in table[2].split()
+    code, out, _ = run(capsys, "cal", "diff", "base.dcm", "ecu", *bus)  # the A2L's decimals, as cal get
     assert code == 1 and [line.split() for line in out.splitlines()[3:-1]] == expected
     run(capsys, "cal", "save", "tuned.cdfx", *names, *bus)
-    code, out, _ = run(capsys, "cal", "diff", "base.dcm", "tuned.cdfx")  # two files, no ECU, no A2L
+    code, out, _ = run(capsys, "cal", "diff", "base.dcm", "tuned.cdfx", "--a2l", str(demo.a2l()))
     assert code == 1 and [line.split() for line in out.splitlines()[3:-1]] == expected and "'" not in out
+    code, out, _ = run(capsys, "cal", "diff", "base.dcm", "tuned.cdfx")  # two files, no A2L: no FORMAT to follow
+    assert [line.split() for line in out.splitlines()[3:-1]] == [
+        ["xsSWITCH_TANK_THR", "changed", "value", "20", "bar", "22.5", "bar", "+2.5", "bar"], expected[1],
+        ["zvTankPConv", "changed", "value[3]", "(x", "2", "V)", "300", "bar", "310", "bar", "+10", "bar"]]
     code, out, _ = run(capsys, "cal", "load", "base.dcm", "--dry-run", *bus)
     assert code == 0 and ["cfTANK1PSDIAGSTATUS_VALUE", "changed", "value", "OPEN_LOAD", "NO_ERROR"] in \
         [line.split() for line in out.splitlines()]

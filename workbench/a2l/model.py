@@ -40,7 +40,10 @@ if TYPE_CHECKING:
     from workbench.a2l.compu import Conversion
     from workbench.a2l.document import A2lDocument, Block
 
-__all__ = ["A2lModel", "OBJECT_KINDS", "ObjectSummary", "axis_decimals", "closest_names", "is_glob", "name_pattern"]
+_AXIS_LETTERS = "xyz"
+
+__all__ = ["A2lModel", "OBJECT_KINDS", "ObjectSummary", "axis_decimals", "closest_names", "is_glob", "name_pattern",
+           "value_decimals"]
 
 OBJECT_KINDS = ("CHARACTERISTIC", "MEASUREMENT", "AXIS_PTS", "BLOB", "INSTANCE")  # the shared "objects" namespace
 _TABLE_KINDS = ("COMPU_TAB", "COMPU_VTAB", "COMPU_VTAB_RANGE")
@@ -552,6 +555,19 @@ def axis_decimals(model, axis) -> int | None:
         except (WorkbenchError, KeyError):
             shown = None
     return format_parts(shown or model.format_of(axis))[1]
+
+
+def value_decimals(model, name: str, where: str = "value") -> int | None:
+    """The decimals the views show an element of calibration ``name`` with (its FORMAT, else its conversion's), as
+    a :class:`~workbench.calib.dataset.DatasetDiff` names the element: ``value[2, 1]`` the values', ``x[4]`` or
+    ``y`` an axis' points (:func:`axis_decimals`). None: no such object in the A2L, or no format."""
+    try:
+        obj = model.object(name)
+        axis = _AXIS_LETTERS.find(where[:1]) if where[1:2] in ("", "[", ".") else -1
+        axes = getattr(obj, "axes", ())
+        return axis_decimals(model, axes[axis]) if 0 <= axis < len(axes) else format_parts(model.format_of(obj))[1]
+    except (WorkbenchError, KeyError):
+        return None
 
 
 def is_glob(text: str) -> bool:

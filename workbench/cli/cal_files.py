@@ -67,20 +67,24 @@ def _convert(args: argparse.Namespace) -> int:
 
 
 def _diff(args: argparse.Namespace) -> int:
+    from workbench.a2l import load_a2l
+    from workbench.a2l.model import value_decimals
     from workbench.calib.dataset import diff_datasets, load_dataset
 
     if cal_sync.needs_a2l(args):
-        result, notes, equal = cal_sync.diff_sides(args)
+        result, notes, equal, model = cal_sync.diff_sides(args)
     else:
         a, b = load_dataset(args.a), load_dataset(args.b)
         result = diff_datasets(a, b, abs_tol=args.tolerance, rel_tol=args.rel_tolerance, a_label=args.a,
                                b_label=args.b)
         notes, equal = a.notes + b.notes, result.equal
+        model = load_a2l(args.a2l).model() if args.a2l else None  # two files: the A2L's decimals only when one is given
     if args.json:
         print_json({**result.to_dict(), "equal": equal,
                     "notes": [n.to_dict() if hasattr(n, "to_dict") else n for n in notes]})
     else:
         for note in notes:
             print(note, file=sys.stderr)
-        print(result.to_text(show_equal=args.equal))
+        decimals = None if model is None else (lambda name, where: value_decimals(model, name, where))
+        print(result.to_text(show_equal=args.equal, decimals=decimals))
     return 0 if equal else 1

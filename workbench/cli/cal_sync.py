@@ -192,6 +192,7 @@ def _show(result, args: argparse.Namespace) -> None:
 
 
 def _sync(args: argparse.Namespace) -> int:
+    from workbench.a2l.model import value_decimals
     from workbench.sync import ApplyFailed, ApplyRefused, sync_compare, sync_download, sync_upload
 
     if args.output and not args.upload:
@@ -202,7 +203,7 @@ def _sync(args: argparse.Namespace) -> int:
             report = sync_compare(session, reference, progress=progress)
         result: dict = {"report": report.to_dict()}
         if not args.json:
-            print(report.to_text(), flush=True)
+            print(report.to_text(lambda name, where: value_decimals(session.model, name, where)), flush=True)
         if report.equal:
             code = 0
         elif args.upload:
@@ -265,7 +266,8 @@ def needs_a2l(args: argparse.Namespace) -> bool:
 
 
 def diff_sides(args: argparse.Namespace):
-    """``(DatasetDiff, notes, equal)`` of ``cal diff A B`` when a side is ``ecu`` or an image."""
+    """``(DatasetDiff, notes, equal, model)`` of ``cal diff A B`` when a side is ``ecu`` or an image; ``model``: the
+    A2L the sides were read through."""
     from workbench import demo
     from workbench.a2l import load_a2l
     from workbench.calib.dataset import diff_datasets
@@ -280,7 +282,7 @@ def diff_sides(args: argparse.Namespace):
     model = load_a2l(args.a2l or demo.a2l()).model()
     a, b = (file_dataset(model, side) for side in sides)
     diff = diff_datasets(a, b, abs_tol=args.tolerance, rel_tol=args.rel_tolerance, a_label=args.a, b_label=args.b)
-    return diff, [str(n) for n in a.notes + b.notes], diff.equal
+    return diff, [str(n) for n in a.notes + b.notes], diff.equal, model
 
 
 def _diff_with_ecu(args: argparse.Namespace):
@@ -293,4 +295,4 @@ def _diff_with_ecu(args: argparse.Namespace):
         report = sync_compare(session, reference, progress=progress)
     diff = report.with_tolerance(args.tolerance, args.rel_tolerance)
     notes = [f"outside the objects: {d}" for d in report.outside] + report.notes
-    return (diff.reversed() if ecu_first else diff), notes, diff.equal and not report.outside
+    return (diff.reversed() if ecu_first else diff), notes, diff.equal and not report.outside, session.model

@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import math
 import re
 from typing import Any
 
 import numpy as np
 
-from workbench.calib.dataset.numbers import shown_number
+from workbench.calib.dataset.numbers import shown_value as number
 
 _FORMAT = re.compile(r"%\s*(\d+)(?:\.(\d+))?")
 
@@ -17,24 +16,6 @@ def decimals(format_text: str | None) -> int | None:
     """The decimals of an A2L FORMAT ("%8.3" -> 3), None without one."""
     match = _FORMAT.match(format_text or "")
     return int(match.group(2)) if match and match.group(2) is not None else None
-
-
-def number(value: Any, places: int | None = None) -> str:
-    """A number as text: the A2L's decimals when known, else the shortest text that reads back the same."""
-    if isinstance(value, str):
-        return value
-    if isinstance(value, (bool, np.bool_)):
-        return str(int(value))
-    if isinstance(value, (int, np.integer)):
-        return str(int(value))
-    value = float(value)
-    if math.isnan(value) or math.isinf(value):
-        return str(value)
-    if places is not None:
-        return f"{value:.{places}f}"
-    if value == int(value) and abs(value) < 1e16:
-        return str(int(value))
-    return shown_number(value)  # a float32 ECU value as float32 prints it (0.02); JSON keeps it exact
 
 
 def value_text(value: Any, unit: str = "", places: int | None = None) -> str:

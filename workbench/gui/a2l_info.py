@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from workbench.a2l.datatypes import DATATYPES
-from workbench.a2l.model import axis_decimals
+from workbench.a2l.model import axis_decimals, value_decimals
 from workbench.a2l.objects import format_parts
 from workbench.calib.rawtypes import extract_bits
 from workbench.errors import InputError, WorkbenchError
@@ -17,7 +17,6 @@ from workbench.gui.signal_hub import SignalInfo
 __all__ = ["CalibrationInfo", "axis_decimals", "axis_inputs", "calibration_info", "measurement_info", "two_states",
            "value_decimals", "verbal_states"]
 
-_AXES = "xyz"
 
 
 def verbal_states(model, obj) -> tuple[tuple[float, str], ...]:
@@ -63,19 +62,6 @@ def measurement_info(model, name: str) -> SignalInfo | None:
     return SignalInfo(name, "XCP", unit, measurement.long_identifier, measurement.lower_limit,
                       measurement.upper_limit, states, decimals,
                       two_states=() if states else two_states(model, measurement))
-
-
-def value_decimals(model, name: str, where: str = "value") -> int | None:
-    """The decimals the views show an element of calibration ``name`` with (its FORMAT, else its conversion's), as
-    a :class:`~workbench.calib.dataset.DatasetDiff` names the element: ``value[2, 1]`` the values', ``x[4]`` or
-    ``y`` an axis' points (:func:`axis_decimals`). None: no such object in the A2L, or no format."""
-    try:
-        obj = model.object(name)
-        axis = _AXES.find(where[:1]) if where[1:2] in ("", "[", ".") else -1
-        axes = getattr(obj, "axes", ())
-        return axis_decimals(model, axes[axis]) if 0 <= axis < len(axes) else format_parts(model.format_of(obj))[1]
-    except (WorkbenchError, KeyError):
-        return None
 
 
 @dataclass(frozen=True)

@@ -23,6 +23,7 @@ FLOAT32 object); units or axis names the file labels otherwise are noted, not co
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -130,13 +131,13 @@ class SyncReport:
             parts.append(f"{sum(d.span.size for d in self.outside)} bytes outside the objects")
         return f'the data in the ECU differs from "{name}": {", ".join(parts)}'
 
-    def to_text(self) -> str:
-        """The file compared, each segment's checksums, the differing objects (columns ``file`` and ``ECU``),
-        notes, and a summary with the bytes read from the ECU."""
+    def to_text(self, decimals: Callable[[str, str], int | None] | None = None) -> str:
+        """The file compared, each segment's checksums, the differing objects (columns ``file`` and ``ECU``;
+        ``decimals`` as :meth:`DatasetDiff.to_text` takes it), notes, and a summary with the bytes read from the ECU."""
         lines = [f"file: {self.reference.label}"]
         lines += [area.describe() for area in self.areas]
         if not self.diff.equal:  # the table without the A/B header and the count line
-            lines += self.diff.to_text(columns=("file", "ECU")).splitlines()[2:-1]
+            lines += self.diff.to_text(columns=("file", "ECU"), decimals=decimals).splitlines()[2:-1]
         lines += [f"outside the objects: {difference}" for difference in self.outside]
         lines += [f"note: {note}" for note in self.notes]
         lines.append(f"{self.summary()}; {self.bytes_uploaded} bytes read from the ECU")

@@ -14,11 +14,12 @@ only where bare it could not be told apart (empty, blanks at its ends, or lookin
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from workbench.calib.dataset.numbers import format_number, shown_difference, shown_number
+from workbench.calib.dataset.numbers import format_number, shown_difference, shown_value
 from workbench.calib.values import CalValue
 
 __all__ = ["DatasetDiff", "ElementDiff", "ObjectDiff", "diff_datasets"]
@@ -93,20 +94,26 @@ class DatasetDiff:
             } for o in self.objects],
         }
 
-    def to_text(self, *, show_equal: bool = False, columns: tuple[str, str] = ("A", "B")) -> str:
-        """A table, one line per difference, and a summary line; ``columns`` heads the two sides' columns."""
+    def to_text(self, *, show_equal: bool = False, columns: tuple[str, str] = ("A", "B"),
+                decimals: Callable[[str, str], int | None] | None = None) -> str:
+        """A table, one line per difference, and a summary line; ``columns`` heads the two sides' columns;
+        ``decimals(name, where)``: the decimals ``cal get`` shows that element with (the A2L's FORMAT, e.g.
+        :func:`workbench.a2l.model.value_decimals`), None for the shortest text."""
+        places = decimals or (lambda name, where: None)
         a, b = columns
         rows = [("name", "status", "where", a, b, f"{b} - {a}")]
         for o in self.objects:
             if o.status == EQUAL and not show_equal:
                 continue
             if o.status in (ONLY_IN_A, ONLY_IN_B, EQUAL):
-                rows.append((o.name, o.status, "", _describe(o.a), _describe(o.b), ""))
+                shown = places(o.name, "value")
+                rows.append((o.name, o.status, "", _describe(o.a, shown), _describe(o.b, shown), ""))
                 continue
             for d in o.differences:
                 at = zip(_AXIS_LETTERS, d.at, (axis.unit for axis in o.a.axes))
-                where = d.where + (f" ({', '.join(f'{l} {_show(p, unit)}' for l, p, unit in at)})" if d.at else "")
-                rows.append((o.name, o.status, where, *_shown(d)))
+                where = d.where + (f" ({', '.join(f'{l} {_show(p, unit, places(o.name, l))}' for l, p, unit in at)})"
+                                   if d.at else "")
+                rows.append((o.name, o.status, where, *_shown(d, places(o.name, d.where))))
         counts = self.counts()
         objects = f"{len(self.objects)} object{'' if len(self.objects) == 1 else 's'}"
         summary = (f"{objects}: {counts[EQUAL]} equal, {counts[CHANGED]} changed, {counts[SHAPE_CHANGED]} shape changed, "
@@ -204,37 +211,41 @@ def _delta(a, b):
     return float(b) - float(a)
 
 
-def _describe(value: CalValue | None) -> str:
+def _describe(value: CalValue | None, places: int | None = None) -> str:
     if value is None:
         return ""
     if value.kind in ("VALUE", "ASCII"):
-        return _show(value.value, value.unit)
+        return _show(value.value, value.unit, places)
     return f"{value.kind} {' x '.join(map(str, value.shape))}"
 
 
-def _show(value, unit: str = "", *, exact: bool = False) -> str:
-    """A value as ``cal get`` shows it: a number with its unit, a text bare (quoted when bare it would be
-    empty or lose its blanks, or ``exact``); ``exact``: every digit of a number."""
+def _show(value, unit: str = "", places: int | None = None, *, exact: bool = False) -> str:
+    """A value as ``cal get`` shows it: a number with its unit (``places`` decimals when known), a text bare
+    (quoted when bare it would be empty or lose its blanks, or ``exact``); ``exact``: every digit of a number."""
     if isinstance(value, str):
         return value if value and value == value.strip() and not exact else repr(value)
     if isinstance(value, tuple):
         return "(" + ", ".join(map(str, value)) + ")"
     if _is_number(value):
-        return (format_number(value) if exact else shown_number(value)) + (f" {unit}" if unit else "")
+        return (format_number(value) if exact else shown_value(value, places)) + (f" {unit}" if unit else "")
     return str(value)
 
 
-def _shown(difference: ElementDiff) -> tuple[str, str, str]:
-    """A, B and B - A as the table shows them: float32 values in their short text and texts bare, unless
-    that hides the difference (then every digit, texts quoted); B - A in the unit both share."""
+def _shown(difference: ElementDiff, places: int | None = None) -> tuple[str, str, str]:
+    """A, B and B - A as the table shows them: numbers with ``places`` decimals or float32 values in their short
+    text, texts bare, unless that hides the difference (then every digit, texts quoted); B - A in the unit both
+    share, with ``places`` decimals unless they round it to zero."""
     (unit_a, unit_b), delta = difference.units, difference.delta
-    a, b = _show(difference.a, unit_a), _show(difference.b, unit_b)
+    a, b = _show(difference.a, unit_a, places), _show(difference.b, unit_b, places)
     exact = a == b
     if exact:
         a, b = _show(difference.a, unit_a, exact=True), _show(difference.b, unit_b, exact=True)
     if delta is None:
         return a, b, ""
     text = format_number(delta) if exact else shown_difference(difference.a, difference.b)
+    if not exact and isinstance(delta, float) and math.isfinite(delta):  # as the values: cal get's decimals
+        rounded = shown_value(delta, places)
+        text = rounded if float(rounded) != 0 and (places is not None or float(text).is_integer()) else text
     return a, b, _signed(text) + (f" {unit_a}" if unit_a and unit_a == unit_b else "")
 
 

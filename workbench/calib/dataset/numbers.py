@@ -22,7 +22,7 @@ import re
 import numpy as np
 
 __all__ = ["NumberError", "as_typed", "format_number", "parse_number", "shown_difference", "shown_number",
-           "to_array"]
+           "shown_value", "to_array"]
 
 _INT = re.compile(r"[+-]?\d+\Z")
 _HEX = re.compile(r"[+-]?0[xX][0-9a-fA-F]+\Z")
@@ -84,6 +84,23 @@ def shown_number(value) -> str:
     typed as 25.123, it is what a FLOAT32 calibration stores), any other float in the shortest text
     that reads back to it, integers as integers."""
     return format_number(as_typed(value))
+
+
+def shown_value(value, places: int | None = None) -> str:
+    """A value as ``cal get`` and ``cal diff`` show it: a number with ``places`` decimals (the A2L's FORMAT) when
+    known, else a whole float as an integer and any other number as :func:`shown_number`; a text as it is."""
+    if isinstance(value, str):
+        return value
+    if isinstance(value, (bool, np.bool_, int, np.integer)):
+        return str(int(value))
+    value = float(value)
+    if math.isnan(value) or math.isinf(value):
+        return str(value)
+    if places is not None:
+        return f"{value:.{places}f}"
+    if value == int(value) and abs(value) < 1e16:
+        return str(int(value))
+    return shown_number(value)  # a float32 ECU value as float32 prints it (0.02); JSON keeps it exact
 
 
 def as_typed(value):
