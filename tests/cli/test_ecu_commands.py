@@ -286,6 +286,18 @@ def test_options_that_do_nothing_there_are_refused_before_connecting(free_udp_po
         assert (code, out) == (2, "") and err.startswith(f"error: {message}"), argv
 
 
+def test_a_wrong_can2_dbc_is_bad_input_before_connecting(free_udp_port, capsys, tmp_path):
+    bus = ["--bus-kwargs", f"port={free_udp_port}"]  # no ECU there: connecting would be exit 1
+    (tmp_path / "bad.dbc").write_text("BO_ 12 Broken: 8 Vector__XXX\n SG_ x : 0|8@1+ (1,0) [0|1] \"\" Vector__XXX\nBO_ oops\n")
+    for command in (["cal", "fix", "--list"], ["measure", "zsRailPressure"], ["measure", "zsRailPressure", "--record",
+                    str(tmp_path / "m.mf4")], ["record", str(tmp_path / "r.mf4"), "zsRailPressure"]):
+        code, out, err = run(capsys, *command, "--can2", "missing.dbc", *bus)
+        assert (code, out, err) == (2, "", "error: missing.dbc: no such file\n"), command
+        code, out, err = run(capsys, *command, "--can2", str(tmp_path / "bad.dbc"), *bus)
+        assert (code, out) == (2, "") and err.startswith(f"error: {tmp_path / 'bad.dbc'}:") and err.count("\n") == 1, err
+    assert not list(tmp_path.glob("*.mf4"))
+
+
 def test_no_ecu_is_one_line_and_exit_1(free_udp_port, capsys):
     code, out, err = run(capsys, "cal", "get", "xsSWITCH_TANK_THR", "--bus-kwargs", f"port={free_udp_port}")
     assert code == 1 and out == "" and err.count("\n") == 1 and "no ECU answers" in err

@@ -297,10 +297,10 @@ def _fix(args: argparse.Namespace) -> int:
         pair = resolve_fix(fix_pairs_of(model), args.signal)
         value = typed_value(args.value, single=True, unit=model.unit_of(model.object(pair.value)))
         checked_value(model, pair.value, value, writable=writable)
+    dbc = can2_dbc(args)  # a wrong --can2 file: before connecting
     with values_of(args, doc or a2l_document(args), reading=args.list) as session:
         if args.list:
-            states = session.fixes() if args.image else session.fixes(can2_dbc(args),
-                                                                      can2_bus=can2_bus_spec(args, session.bus_spec))
+            states = session.fixes() if args.image else session.fixes(dbc, can2_bus=can2_bus_spec(args, session.bus_spec))
         elif args.release:
             states = [session.release(args.signal)]
         else:

@@ -14,6 +14,7 @@ from workbench.cli.options import add_bus_arguments, add_ethernet_arguments, add
 
 if TYPE_CHECKING:
     from workbench.a2l import A2lDocument
+    from workbench.can import DbcFile
     from workbench.session import Session
 
 
@@ -39,14 +40,18 @@ def a2l_document(args: argparse.Namespace) -> A2lDocument:
     return load_a2l(args.a2l or demo.a2l())
 
 
-def can2_dbc(args: argparse.Namespace) -> str | None:
-    """The CAN2 DBC: ``--can2 DBC``, else the demo's with the demo's A2L (None: no DBC is known)."""
+def can2_dbc(args: argparse.Namespace) -> DbcFile | str | None:
+    """The CAN2 DBC: ``--can2 DBC`` loaded, so call this before connecting (a missing, unreadable or malformed file
+    is bad input said before anything is sent); else the demo's path with the demo's A2L (loaded where a signal
+    needs it); None: no DBC is known."""
     from pathlib import Path
 
     from workbench import demo
 
     if args.can2:
-        return args.can2
+        from workbench.can import load_dbc
+
+        return load_dbc(args.can2)
     if args.a2l is None or Path(args.a2l).resolve() == Path(demo.a2l()).resolve():
         return str(demo.dbc_can2())
     return None

@@ -85,7 +85,8 @@ def run(args: argparse.Namespace) -> int:
         args.daq = True  # an event only means something to DAQ
     _check_recording_options(args)
     doc = a2l_document(args)
-    names, can2, databases, shown, elements = _split_names(args, doc.model())  # unknown names: before connecting
+    dbc = can2_dbc(args) if args.can2 else None  # a wrong --can2 file: before connecting too
+    names, can2, databases, shown, elements = _split_names(args, doc.model(), dbc)  # unknown names: before connecting
     if args.event is not None:
         from workbench.a2l.xcp import read_xcp_config
         from workbench.session.measure import event_number
@@ -93,7 +94,7 @@ def run(args: argparse.Namespace) -> int:
         event_number(read_xcp_config(doc), args.event)  # an event the A2L lacks: before connecting too
     with open_session(args, doc, reading=True) as session, _terminate_as_interrupt():
         if args.record:
-            return _record(args, session, names, can2)
+            return _record(args, session, names, can2, dbc)
         view = _view(args, session, shown, can2, elements)
         monitor = _can2_monitor(args, session, can2, databases) if can2 else None
         try:
@@ -128,19 +129,19 @@ def _interrupt(number, frame) -> None:
     raise KeyboardInterrupt
 
 
-def _split_names(args: argparse.Namespace, model) -> tuple[list[str], dict[str, Any], list, list[str], dict]:
+def _split_names(args: argparse.Namespace, model, dbc) -> tuple[list[str], dict[str, Any], list, list[str], dict]:
     """The A2L's names among NAME... (globs expanded; an array's for NAME[i]), the CAN2 signals (``Message.Signal``
     -> cantools signal) of the DBC (--can2, or the demo's with the demo's A2L) as the window names and plots them,
     the DBC's databases, every name as shown, in the order given, and the elements shown (``NAME[i]`` -> the
-    array's name and the index)."""
+    array's name and the index). ``dbc``: the --can2 DBC, loaded."""
     from workbench.a2l.model import closest_names, is_glob
     from workbench.can.naming import dbc_signal_name, find_dbc_signal
     from workbench.cli.cal_values import split_cell
     from workbench.errors import UnknownSymbolError
 
     names, can2, databases, shown, elements = [], {}, None, [], {}
-    if args.can2 and not args.record:  # read when named, so that a wrong file is said even if no NAME is its signal
-        databases = _can2_databases(args)
+    if dbc is not None and not args.record:  # named: its signals are found even if no NAME is in the A2L
+        databases = [dbc.database]
     sampled = "MEASUREMENT" if args.daq or args.record else ("MEASUREMENT", "CHARACTERISTIC", "AXIS_PTS")
     for name in args.names:
         array, index = split_cell(model, name)
@@ -160,7 +161,7 @@ def _split_names(args: argparse.Namespace, model) -> tuple[list[str], dict[str, 
             shown += matched
             continue
         if databases is None:
-            databases = _can2_databases(args)
+            databases = _can2_databases(args, dbc)
         try:
             message, signal = find_dbc_signal(databases, name)
         except UnknownSymbolError as in_dbc:
@@ -196,12 +197,12 @@ def _picked(values: dict[str, Any], elements: dict[str, tuple[str, tuple[int, ..
     return picked
 
 
-def _can2_databases(args: argparse.Namespace) -> list:
-    """The CAN2 DBC's database (none: an empty list)."""
+def _can2_databases(args: argparse.Namespace, dbc) -> list:
+    """The CAN2 DBC's database: ``dbc`` (--can2, loaded), else the demo's with the demo's A2L (none: an empty list)."""
     from workbench.can import load_dbc
 
-    path = can2_dbc(args)
-    return [load_dbc(path).database] if path else []
+    dbc = dbc if dbc is not None else can2_dbc(args)
+    return [(load_dbc(dbc) if isinstance(dbc, str) else dbc).database] if dbc else []
 
 
 def _can2_monitor(args: argparse.Namespace, session, can2: dict[str, Any], databases: list):
@@ -273,13 +274,13 @@ def _check_recording_options(args: argparse.Namespace) -> None:
     args.trigger = _trigger(args)  # a malformed condition: before connecting
 
 
-def _record(args: argparse.Namespace, session, names: list[str], can2: dict[str, Any]) -> int:
+def _record(args: argparse.Namespace, session, names: list[str], can2: dict[str, Any], dbc) -> int:
     """Record the A2L's ``names`` by DAQ; the CAN2 bus is recorded whole, its signals decoded by the DBC (that of
     --can2, or the demo's when ``can2`` signals were named by it)."""
     from workbench.cli.progressbar import ProgressBar
     from workbench.record import Recorder
 
-    dbc = args.can2 or (can2_dbc(args) if can2 else None)
+    dbc = dbc if dbc is not None else can2_dbc(args) if can2 else None
     recorder = Recorder(session, args.record, names, event=args.event, can2=dbc, can_bus=_can2_bus(args, session),
                         raw_can=args.raw_can, overwrite=args.overwrite, trigger=args.trigger)
     with ProgressBar("recording") as progress, recorder:
