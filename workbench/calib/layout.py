@@ -28,6 +28,14 @@ The rules:
   ``xvPRV_DC_FF[manifold][target]`` hold); **ROW_DIR** in C order: the last index (Y of a MAP)
   varies fastest, ``v[nx][ny]``. pya2ldb and asamint read the two modes so (``"F"``/``"C"``);
   a VAL_BLK's MATRIX_DIM and a measurement's LAYOUT follow the same rule.
+  **Not settled**: other tools store ROW_DIR with X fastest and COLUMN_DIR with Y fastest. Vector's
+  XCPlite writes a C ``float m[4][8]`` as ``MATRIX_DIM 8 4`` and a ``[4][8]`` MAP with an 8-point X
+  axis (all its layouts ROW_DIR; its C++ map macro though puts the outer extent on X), xcp-lite
+  writes ``[[T; X]; Y]`` as ``MATRIX_DIM X Y``, ZF's openxilenv reads ROW_DIR at ``y*nx + x`` and
+  COLUMN_DIR at ``x*ny + y`` (VAL_BLK too). a2ltool and our ``a2l insert``/``update --types`` write
+  the outer C extent first, as read here. The ASAM text was not at hand; README "Memory order of
+  arrays" has the sources. Such an XCPlite array reads here with its elements out of place: compare
+  ``cal get`` with the C source before writing it.
 - AXIS_PTS items with INDEX_DECR hold the points last to first. DEPOSIT DIFFERENCE (of the
   axis, else MOD_COMMON) stores each point as its difference to the previous one (the first to 0).
 - Supported items: FNC_VALUES, AXIS_PTS_*, NO_AXIS_PTS_*, FIX_NO_AXIS_PTS_*, SRC_ADDR_*,
