@@ -120,6 +120,17 @@ def test_fixcal_writes_the_three_files(tmp_path, capsys):
     assert main(["dbc", "fixcal", FLCU, "--node", "FLCU", "--a2l-only", "--c-only"]) == 2
 
 
+def test_fixcal_c_only_refuses_the_options_of_the_a2l_fragment(tmp_path, capsys):
+    """--master and --measurements shape only the A2L fragment: with --c-only they would be ignored silently."""
+    csv_file = str(demo.path("dbc", "FLCU_CAN2_measurements.csv"))
+    for given, named in ((["--master", str(demo.master_a2l())], "--master"), (["--measurements", csv_file],
+                         "--measurements"), (["--master", "x.a2l", "--measurements", "y.csv"], "--master and --measurements")):
+        code = main(["dbc", "fixcal", FLCU, "--node", "FLCU", "--c-only", "-o", str(tmp_path), *given])
+        out, err = capsys.readouterr()
+        assert (code, out, err.count("\n")) == (2, "", 1) and err.startswith(f"error: {named} shape"), err
+    assert not list(tmp_path.iterdir())  # nothing written
+
+
 def test_fixcal_links_each_value_to_the_measurements_the_csv_names(tmp_path, capsys):
     """The demo's CSV makes the generated fragment's calibrations those of a2l/modules/CANRX and CANTX."""
     measurements = demo.path("dbc", "FLCU_CAN2_measurements.csv")

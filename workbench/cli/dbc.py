@@ -92,7 +92,8 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
                              "a signal by its name or as Message.Signal")
     parts = fixcal.add_mutually_exclusive_group()
     parts.add_argument("--a2l-only", action="store_true", help="write only the A2L fragment")
-    parts.add_argument("--c-only", action="store_true", help="write only the C header and source")
+    parts.add_argument("--c-only", action="store_true",
+                       help="write only the C header and source (not with --master or --measurements: A2L only)")
     fixcal.set_defaults(func=_fixcal)
 
     callbacks = commands.add_parser(
@@ -174,7 +175,12 @@ def _fixcal(args: argparse.Namespace) -> int:
     from workbench import demo
     from workbench.can.dbc_file import load_dbc
     from workbench.can.fixcal_output import fixcal_files, read_signal_measurements
+    from workbench.errors import InputError
 
+    unused = [option for option, given in (("--master", args.master), ("--measurements", args.measurements)) if given]
+    if args.c_only and unused:  # both go into the A2L fragment only
+        raise InputError(f"{' and '.join(unused)} shape{'s' if len(unused) == 1 else ''} the A2L fragment, which "
+                         "--c-only does not write: leave out one or the other")
     master = args.master if args.master is not None else demo.master_a2l()
     measurements = read_signal_measurements(args.measurements) if args.measurements else None
     dbc = load_dbc(args.dbc)
