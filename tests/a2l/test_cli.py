@@ -10,6 +10,7 @@ import pytest
 
 from workbench.cli import main
 from workbench.errors import A2lParseError
+from cli_helpers import run
 
 ELF = Path(__file__).parents[1] / "elf" / "fixtures" / "types_dwarf5.elf"
 
@@ -18,11 +19,6 @@ ELF = Path(__file__).parents[1] / "elf" / "fixtures" / "types_dwarf5.elf"
 def types_a2l(fixtures):
     return fixtures / "types.a2l"
 
-
-def run(capsys, *argv):
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def test_update_writes_and_reports(capsys, tmp_path, types_a2l):

@@ -20,7 +20,7 @@ from elftools.elf.elffile import ELFFile
 from workbench import demo
 from workbench.a2l import load_a2l
 from workbench.a2l.merge import load_fragment
-from workbench.cli import main
+from cli_helpers import run
 
 CORPUS = Path(__file__).parents[1] / "corpus" / "a2l"
 A2LTOOL = shutil.which("a2ltool", path=str(Path(sys.executable).parent)) or shutil.which("a2ltool")
@@ -104,11 +104,6 @@ def corpus(tmp_path_factory) -> Path:
     shutil.copy(demo.master_a2l().parent / "XCP.aml", root / "xcplite" / "XCP_104.aml")
     return root
 
-
-def run(capsys, *argv) -> tuple[int, str, str]:
-    code = main([str(arg) for arg in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def check_findings(capsys, path: Path):

@@ -13,15 +13,10 @@ from grammar_samples import HEAD, TAIL
 from workbench import demo
 from workbench.a2l import grammar, load_a2l_string
 from workbench.a2l.addressed import AddressedObjects
-from workbench.cli import main
+from cli_helpers import run
 
 A2LTOOL = shutil.which("a2ltool", path=str(Path(sys.executable).parent)) or shutil.which("a2ltool")
 
-
-def run(capsys, *argv):
-    code = main([str(arg) for arg in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def at(path: Path, word: str, line_with: str = "") -> str:

@@ -12,15 +12,10 @@ import pytest
 
 from workbench import demo
 from workbench.calib.dataset import load_dataset
-from workbench.cli import main
+from cli_helpers import run
 
 CORPUS = Path(__file__).parents[1] / "corpus" / "datasets"
 
-
-def run(capsys, *argv):
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 @pytest.fixture

@@ -12,9 +12,9 @@ import shutil
 import pytest
 
 from workbench import demo
-from workbench.cli import main
 from workbench.image import load_image
 from workbench.sim import serve_demo
+from cli_helpers import run
 
 CALIB = (0xFC0000, 0xFE0000)
 
@@ -35,11 +35,6 @@ def bus(work, free_udp_port):
     with serve_demo({"interface": "udp_multicast", "port": free_udp_port}):
         yield ["--bus-kwargs", f"port={free_udp_port}"]
 
-
-def run(capsys, *argv: str) -> tuple[int, str, str]:
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def test_set_offline_flash_and_read_online(bus, capsys, work):

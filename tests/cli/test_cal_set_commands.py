@@ -12,8 +12,8 @@ import pytest
 from xcp_commands import CommandLog
 
 from workbench import demo
-from workbench.cli import main
 from workbench.sim import serve_demo
+from cli_helpers import run
 
 _channels = itertools.count()
 CONNECTED = ["CONNECT", "GET_COMM_MODE_INFO", "GET_STATUS", "GET_ID", "UPLOAD"]  # UPLOAD: the EPK GET_ID names
@@ -27,11 +27,6 @@ def bus():
             CommandLog(channel) as log:
         yield ["--interface", "virtual", "--channel", channel], log, sim
 
-
-def run(capsys, *argv: str) -> tuple[int, str, str]:
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 @pytest.mark.parametrize("argv, message", [

@@ -11,6 +11,7 @@ import pytest
 
 from workbench.cli import main
 from workbench.sim import serve_demo
+from cli_helpers import run
 
 
 @pytest.fixture
@@ -23,11 +24,6 @@ def sim(free_udp_port):
 def bus(sim, free_udp_port):
     return ["--bus-kwargs", f"port={free_udp_port}"]
 
-
-def run(capsys, *argv: str) -> tuple[int, str, str]:
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def test_info(bus, capsys):

@@ -10,8 +10,8 @@ import re
 import pytest
 from demo_instances import write_demo_instances_a2l
 
-from workbench.cli import main
 from workbench.sim import serve_demo
+from cli_helpers import run
 
 
 @pytest.fixture
@@ -24,11 +24,6 @@ def bus(free_udp_port):
     with serve_demo({"interface": "udp_multicast", "port": free_udp_port}):
         yield ["--bus-kwargs", f"port={free_udp_port}"]
 
-
-def run(capsys, *argv: str) -> tuple[int, str, str]:
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def _values(capsys, a2l, bus, *names) -> dict:

@@ -7,8 +7,8 @@ import json
 
 import pytest
 
-from workbench.cli import main
 from workbench.sim import serve_demo
+from cli_helpers import run
 
 
 @pytest.fixture
@@ -21,11 +21,6 @@ def served(request, free_udp_port, tmp_path):
         a2l.write_bytes(simulator.a2l.source.file_bytes(simulator.a2l.data))
         yield ["--a2l", str(a2l), "--bus-kwargs", f"port={free_udp_port}"]
 
-
-def run(capsys, *argv: str) -> tuple[int, str, str]:
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 @pytest.mark.parametrize("served", ["daq-counted"], indirect=True)

@@ -18,6 +18,7 @@ from sim_process import start_sim_process
 
 from workbench import demo
 from workbench.cli import main
+from cli_helpers import run
 
 CLI = [sys.executable, "-c", "from workbench.cli import entry_point; entry_point()"]
 
@@ -26,11 +27,6 @@ CLI = [sys.executable, "-c", "from workbench.cli import entry_point; entry_point
 def bus(demo_ecu) -> list[str]:
     return demo_ecu.cli_options
 
-
-def run(capsys, *argv: str) -> tuple[int, str, str]:
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def test_record_with_can2_and_the_raw_bus(bus, capsys, tmp_path, read_mdf):

@@ -10,11 +10,11 @@ import shutil
 import pytest
 
 from workbench import demo
-from workbench.cli import main
 from workbench.image import load_image
 from workbench.sim import serve_demo
 
 from sync_helpers import edited_a2l
+from cli_helpers import run
 
 
 @pytest.fixture
@@ -27,11 +27,6 @@ def bus(free_udp_port, tmp_path):
     finally:
         os.chdir(cwd)
 
-
-def run(capsys, *argv: str) -> tuple[int, str, str]:
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def test_save_change_diff_load_and_diff_again(bus, capsys, tmp_path):
