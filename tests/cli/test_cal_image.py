@@ -81,6 +81,22 @@ def test_a_dataset_loaded_offline_gives_the_bytes_it_gives_online(bus, capsys, w
     assert offline.read(0xFC0000, 0x200) != load_image(demo.s19()).read(0xFC0000, 0x200)
 
 
+def test_json_carries_the_notes_stderr_gives(work, capsys):
+    """What the text says on stderr before flashing (the region and command, the checksum not recomputed) is in
+    the --json report as "notes": cal set (a value and a cell), cal fix, cal load."""
+    code, _, err = run(capsys, "cal", "set", "xsFULL_TANK_PRESS", "650", "--image", "app.s19", "-o", "new.s19")
+    said = [line.removeprefix("note: ") for line in err.splitlines()]
+    assert code == 0 and any("`workbench flash new.s19 --region CALIB`" in note for note in said)
+    run(capsys, "cal", "save", "tuned.dcm", "xsFULL_TANK_PRESS", "--image", "new.s19")
+    for argv in (["set", "xsFULL_TANK_PRESS", "640"], ["set", "xvPRV_DC_FF[1,2]", "55"],
+                 ["fix", "zfRAILPRESSURE", "30"]):
+        code, out, err = run(capsys, "cal", *argv, "--image", "app.s19", "-o", "new.s19", "--json")
+        data = json.loads(out)
+        assert (code, err) == (0, "") and (data[0] if argv[0] == "fix" else data)["notes"] == said, argv
+    code, out, _ = run(capsys, "cal", "load", "tuned.dcm", "--image", "app.s19", "-o", "load.s19", "--json")
+    assert code == 0 and json.loads(out)["notes"] == [note.replace("new.s19", "load.s19") for note in said]
+
+
 def test_what_is_refused_and_how(work, capsys, tmp_path):
     code, out, err = run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "25", "--image", "app.s19")
     assert (code, out) == (2, "") and err == ("error: --image app.s19 is not changed in place unless you name it: give "

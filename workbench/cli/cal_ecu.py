@@ -220,16 +220,18 @@ def _set_in_image(args: argparse.Namespace, doc, name: str, index: tuple[int, ..
     else:
         written = image.write(name, value, allow_extended_limits=extended)
     note = written_note(args, image.modified)
-    save_image(args, image)
+    notes = save_image(args, image)
     if index is not None:
-        return _print_cell(args, image.model, name, index, written, note)
-    _print_written(args, image.model, name, written, note)
+        return _print_cell(args, image.model, name, index, written, note, notes)
+    _print_written(args, image.model, name, written, note, notes)
     return 0
 
 
-def _print_written(args: argparse.Namespace, model, name: str, written, note: str) -> None:
+def _print_written(args: argparse.Namespace, model, name: str, written, note: str,
+                   notes: list[str] | None = None) -> None:
+    """``notes``: an image's (``--image``), beside the value in the JSON."""
     if args.json:
-        print_json({args.name: _value_dict(written)})
+        print_json({args.name: _value_dict(written), **({} if notes is None else {"notes": notes})})
         return
     obj = model.object(name)  # shown as cal get shows it
     print(value_block(args.name, written.value, written.axes, written.unit, decimals(model.format_of(obj)),
@@ -237,10 +239,10 @@ def _print_written(args: argparse.Namespace, model, name: str, written, note: st
 
 
 def _print_cell(args: argparse.Namespace, model, name: str, index: tuple[int, ...], value: Any,
-                note: str = " (written, read back)") -> int:
+                note: str = " (written, read back)", notes: list[str] | None = None) -> int:
     label = f"{name}[{', '.join(str(i) for i in index)}]"
     if args.json:
-        print_json({label: jsonable(value)})
+        print_json({label: jsonable(value), **({} if notes is None else {"notes": notes})})
         return 0
     obj = model.object(name)
     print(f"{label} = {value_text(value, model.unit_of(obj), decimals(model.format_of(obj)))}{note}")
@@ -297,21 +299,22 @@ def _fix(args: argparse.Namespace) -> int:
         pair = resolve_fix(fix_pairs_of(model), args.signal)
         value = typed_value(args.value, single=True, unit=model.unit_of(model.object(pair.value)))
         checked_value(model, pair.value, value, writable=writable)
-    dbc = can2_dbc(args)  # a wrong --can2 file: before connecting
+    dbc, notes = can2_dbc(args), None  # a wrong --can2 file: before connecting
     with values_of(args, doc or a2l_document(args), reading=args.list) as session:
         if args.list:
-            states = session.fixes() if args.image else session.fixes(dbc, can2_bus=can2_bus_spec(args, session.bus_spec))
+            bus = None if args.image else can2_bus_spec(args, session.bus_spec)
+            states = session.fixes() if args.image else session.fixes(dbc, can2_bus=bus)
         elif args.release:
             states = [session.release(args.signal)]
         else:
             states = [session.override(args.signal, value)]
         if args.image is not None and not args.list:
-            save_image(args, session)
-    if args.json:
+            notes = save_image(args, session)
+    if args.json:  # written into an image: its notes with the fix
         print_json([{"fix": s.pair.stem, "kind": s.pair.kind, "signal": s.signal, "enable": s.pair.enable,
                      "value": s.pair.value, "live": jsonable(s.live), "live_from": s.live_from,
                      "measured": jsonable(s.measured), "no_live": s.no_live, "override": jsonable(s.override),
-                     "active": s.active} for s in states])
+                     "active": s.active, **({} if notes is None else {"notes": notes})} for s in states])
         return 0
     model = session.model
     width = max(len(s.pair.stem) for s in states)

@@ -79,9 +79,9 @@ def require_output(args: argparse.Namespace) -> None:
                          f"(or -o {args.image} to change it)")
 
 
-def save_image(args: argparse.Namespace, image: ImageCalibration) -> None:
-    """Write ``-o FILE`` (skipped when it names the input and nothing changed), then say on stderr what to know
-    before flashing it."""
+def save_image(args: argparse.Namespace, image: ImageCalibration) -> list[str]:
+    """Write ``-o FILE`` (skipped when it names the input and nothing changed); what to know before flashing it
+    (:meth:`ImageCalibration.notes`), said on stderr unless ``--json``, whose report carries them as ``notes``."""
     notes = image.notes(args.output)
     same = Path(args.output).resolve() == Path(args.image).resolve()
     if not (same and not image.modified):
@@ -89,6 +89,7 @@ def save_image(args: argparse.Namespace, image: ImageCalibration) -> None:
     if not args.json:
         for note in notes:
             print(f"note: {note}", file=sys.stderr)
+    return notes
 
 
 def written_note(args: argparse.Namespace, changed: bool) -> str:
@@ -123,9 +124,8 @@ def load_into_image(args: argparse.Namespace) -> int:
         if any(name not in image.model for name in exc.report.named("refused")):
             raise InputError(f"{exc}; --skip-unknown leaves out the objects the A2L lacks") from None
         raise
-    if not args.dry_run:
-        save_image(args, image)
-    _show(args, {**result.to_dict(), "output": args.output} if args.json else result.to_text())
+    notes = [] if args.dry_run else save_image(args, image)
+    _show(args, {**result.to_dict(), "output": args.output, "notes": notes} if args.json else result.to_text())
     return 0
 
 
