@@ -23,6 +23,11 @@ from workbench.findings import Finding, Severity
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
 
+__all__ = ["A2ML_SUFFIX", "Include", "Spliced", "includes_not_found_from", "left_out", "load_a2l_to_work",
+           "splice_includes"]
+
+A2ML_SUFFIX = ".aml"  # an A2ML file: the syntax of the IF_DATA blocks, which the reader knows without it
+
 
 class Include(NamedTuple):
     """One ``/include`` directive of a file."""
@@ -120,3 +125,35 @@ def includes_not_found_from(doc: "A2lDocument", output: Path) -> list[Finding]:
                                 "folder; write the output beside its input, or the includes inline",
                                 doc.source.name, line, column, "", Severity.WARNING))
     return findings
+
+
+def load_a2l_to_work(path: str | Path) -> A2lDocument:
+    """:func:`~workbench.a2l.document.load_a2l` for work with the ECU (a session, an image, a flash): an ``/include``
+    of an A2ML file (``.aml``, XCPlite's ``XCP_104.aml`` beside the A2L an ECU uploads) that is not there is left
+    out with a warning (logged; :func:`left_out` says it, as ``a2l check`` finds it), for A2ML only describes the
+    syntax of IF_DATA. The document's :attr:`~workbench.a2l.document.A2lDocument.missing_includes` lists it.
+
+    :raises InputError: ``path`` cannot be read; :raises A2lParseError: malformed, or an include of another
+        kind is missing (file:line:column of the directive, as load_a2l says it).
+    """
+    from workbench.a2l.document import A2lDocument
+
+    doc = A2lDocument.from_source(read_source(path), missing_ok=True)
+    for include, holder, why in doc.missing_includes:
+        if include.path.suffix.lower() != A2ML_SUFFIX:
+            raise holder.error(f"cannot include {include.path}: {include.path}: {why}", include.offset)
+    if doc.missing_includes:
+        from workbench.logs import logger
+
+        for line in left_out(doc):
+            logger(__name__).warning("%s", line)
+    return doc
+
+
+def left_out(doc: A2lDocument) -> list[str]:
+    """``file:line:column: /include "NAME" left out: why`` for each include a tolerant load left out."""
+    said = []
+    for include, holder, why in doc.missing_includes:
+        line, column = holder.position(include.offset)
+        said.append(f'{holder.name}:{line}:{column}: /include "{include.name}" left out: {why}')
+    return said

@@ -67,9 +67,9 @@ def _convert(args: argparse.Namespace) -> int:
 
 
 def _diff(args: argparse.Namespace) -> int:
-    from workbench.a2l import load_a2l
     from workbench.a2l.model import value_decimals
     from workbench.calib.dataset import diff_datasets, load_dataset
+    from workbench.cli.ecu_options import a2l_document
 
     if cal_sync.needs_a2l(args):
         result, notes, equal, model = cal_sync.diff_sides(args)
@@ -78,7 +78,7 @@ def _diff(args: argparse.Namespace) -> int:
         result = diff_datasets(a, b, abs_tol=args.tolerance, rel_tol=args.rel_tolerance, a_label=args.a,
                                b_label=args.b)
         notes, equal = a.notes + b.notes, result.equal
-        model = load_a2l(args.a2l).model() if args.a2l else None  # two files: the A2L's decimals only when one is given
+        model = a2l_document(args).model() if args.a2l else None  # two files: the A2L's decimals only when one is given
     if args.json:
         print_json({**result.to_dict(), "equal": equal,
                     "notes": [n.to_dict() if hasattr(n, "to_dict") else n for n in notes]})

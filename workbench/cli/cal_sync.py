@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from workbench.cli.cal_image import add_image_arguments, image_dataset_of, load_into_image
-from workbench.cli.ecu_options import add_ecu_arguments, open_session
+from workbench.cli.ecu_options import a2l_document, add_ecu_arguments, open_session
 from workbench.cli.options import print_json
 from workbench.cli.progressbar import ProgressBar
 from workbench.errors import InputError, epk_text
@@ -268,8 +268,6 @@ def needs_a2l(args: argparse.Namespace) -> bool:
 def diff_sides(args: argparse.Namespace):
     """``(DatasetDiff, notes, equal, model)`` of ``cal diff A B`` when a side is ``ecu`` or an image; ``model``: the
     A2L the sides were read through."""
-    from workbench import demo
-    from workbench.a2l import load_a2l
     from workbench.calib.dataset import diff_datasets
 
     sides = [args.a, args.b]
@@ -279,7 +277,7 @@ def diff_sides(args: argparse.Namespace):
         return _diff_with_ecu(args)
     from workbench.sync import file_dataset
 
-    model = load_a2l(args.a2l or demo.a2l()).model()
+    model = a2l_document(args).model()
     a, b = (file_dataset(model, side) for side in sides)
     diff = diff_datasets(a, b, abs_tol=args.tolerance, rel_tol=args.rel_tolerance, a_label=args.a, b_label=args.b)
     return diff, [str(n) for n in a.notes + b.notes], diff.equal, model

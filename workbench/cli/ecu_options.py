@@ -33,11 +33,17 @@ def add_ecu_arguments(parser: argparse.ArgumentParser, *, json_output: bool = Tr
 
 
 def a2l_document(args: argparse.Namespace) -> A2lDocument:
-    """The A2L of ``--a2l`` (default: the demo's), loaded before connecting so names can be checked first."""
-    from workbench import demo
-    from workbench.a2l import load_a2l
+    """The A2L of ``--a2l`` (default: the demo's), loaded before connecting so names can be checked first; an
+    A2ML include that is not there is a warning on stderr (:func:`~workbench.a2l.includes.load_a2l_to_work`)."""
+    import sys
 
-    return load_a2l(args.a2l or demo.a2l())
+    from workbench import demo
+    from workbench.a2l.includes import left_out, load_a2l_to_work
+
+    doc = load_a2l_to_work(args.a2l or demo.a2l())
+    for line in left_out(doc):
+        print(f"warning: {line}", file=sys.stderr)
+    return doc
 
 
 def can2_dbc(args: argparse.Namespace) -> DbcFile | str | None:
@@ -67,7 +73,7 @@ def open_session(args: argparse.Namespace, a2l: A2lDocument | None = None, *, re
 
     from workbench.session import Session
 
-    session = Session.open(a2l or args.a2l, bus=bus_spec(args), host=args.host, port=args.port,
+    session = Session.open(a2l or a2l_document(args), bus=bus_spec(args), host=args.host, port=args.port,
                            protocol=args.protocol, key_function=args.key_function,
                            accept_epk_mismatch=args.accept_epk_mismatch)
     if session.other_master:

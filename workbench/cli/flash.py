@@ -8,7 +8,7 @@ import sys
 import threading
 from contextlib import contextmanager
 
-from workbench.cli.ecu_options import add_ecu_arguments, open_session
+from workbench.cli.ecu_options import a2l_document, add_ecu_arguments, open_session
 from workbench.cli.options import positive_float, print_json
 from workbench.cli.progressbar import ProgressBar
 from workbench.errors import Cancelled, InputError
@@ -70,20 +70,18 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from workbench import demo
-    from workbench.a2l import load_a2l, read_xcp_config
+    from workbench.a2l import read_xcp_config
     from workbench.flash import FlashLayout, plan_file
 
     _check_usage(args)
-    doc = load_a2l(args.a2l or demo.a2l())
+    doc = a2l_document(args)
     key = app_key(args)
     plan = None
     if not args.from_working_page:  # refusals come before the bus is even opened
         layout = FlashLayout.from_a2l(doc, read_xcp_config(doc))
         regions = args.region or filled_regions(args.file, layout)  # only --verify-only may leave it out
         plan = plan_file(args.file, layout, regions, allow_boot=args.allow_boot or not args.region, app_key=key)
-    args.a2l = doc
-    with open_session(args) as session:
+    with open_session(args, doc) as session:
         if plan is None:
             plan = _working_page_plan(session, key, args)
         if args.dry_run:

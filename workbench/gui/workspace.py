@@ -57,15 +57,14 @@ def load_workspace(project: Project) -> Workspace:
     """
     from workbench import demo
     from workbench.a2l import A2lDocument, read_xcp_config
+    from workbench.a2l.includes import left_out
     from workbench.a2l.source import read_source
     from workbench.can import load_dbc
     from workbench.errors import A2lParseError
 
     workspace = Workspace(project)
     workspace.doc = A2lDocument.from_source(read_source(project.a2l or demo.a2l()), missing_ok=True)
-    for include, holder, why in workspace.doc.missing_includes:
-        line, column = holder.position(include.offset)
-        workspace.left_out.append(f'{holder.name}:{line}:{column}: /include "{include.name}" left out: {why}')
+    workspace.left_out += left_out(workspace.doc)
     workspace.model = workspace.doc.model()
     try:
         workspace.config = read_xcp_config(workspace.doc)

@@ -22,7 +22,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from workbench import demo
-from workbench.a2l import A2lDocument, load_a2l, read_xcp_config
+from workbench.a2l import A2lDocument, read_xcp_config
+from workbench.a2l.includes import load_a2l_to_work
 from workbench.a2l.xcp import XcpConfig, XcpPage, XcpSegment
 from workbench.bus_defaults import BusSpec
 from workbench.errors import (
@@ -118,7 +119,7 @@ class Session(ValueAccess, EventAccess, FixAccess):
         :param timeouts: T1-T7 instead of the A2L's.
         :raises InputError: bad A2L or options; :raises WorkbenchError: the bus or ECU cannot be reached.
         """
-        doc = a2l if isinstance(a2l, A2lDocument) else load_a2l(a2l or demo.a2l())
+        doc = a2l if isinstance(a2l, A2lDocument) else load_a2l_to_work(a2l or demo.a2l())
         spec = _bus_spec(bus, {"interface": interface, "channel": channel, "bitrate": bitrate, **(bus_kwargs or {})})
         opened = bus if bus is not None and not isinstance(bus, BusSpec) else None
         connection = Connection(spec, host, port, protocol, open_bus=opened is not None)

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from workbench import demo
 from workbench.a2l import A2lDocument, XcpConfig, read_xcp_config
-from workbench.a2l import load_a2l
+from workbench.a2l.includes import load_a2l_to_work
 from workbench.can.dbc_file import DbcFile, load_dbc
 from workbench.elf import ElfSymbols
 from workbench.errors import InputError
@@ -156,7 +156,7 @@ def build_demo_ecu(
     """
     files = files or DemoFiles.defaults()
     chosen = profile(slave_profile) if isinstance(slave_profile, str) else slave_profile
-    doc = load_a2l(files.a2l)
+    doc = load_a2l_to_work(files.a2l)
     config = read_xcp_config(doc)
     params = chosen.parameters(xcp_parameters(doc, config, transport), transport)
     memory_map = chosen.memory_map(HDS9)

@@ -93,11 +93,12 @@ class ImageCalibration:
         :raises InputError: either file is missing or malformed (the message names file:line).
         """
         from workbench import demo
-        from workbench.a2l import A2lDocument, load_a2l
+        from workbench.a2l import A2lDocument
+        from workbench.a2l.includes import load_a2l_to_work
         from workbench.fileio import read_input
         from workbench.image import parse_image
 
-        doc = a2l if isinstance(a2l, A2lDocument) else load_a2l(a2l or demo.a2l())
+        doc = a2l if isinstance(a2l, A2lDocument) else load_a2l_to_work(a2l or demo.a2l())
         path = Path(path)
         text = read_input(path, "an S-record or Intel HEX file").decode("ascii", errors="replace")
         return cls(doc, parse_image(text, path), text=text, path=path, module=module,

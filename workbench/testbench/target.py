@@ -60,10 +60,10 @@ class EcuTarget:
     def _load(self) -> None:
         if self._doc is None:
             from workbench import demo
-            from workbench.a2l import load_a2l
+            from workbench.a2l.includes import load_a2l_to_work
             from workbench.can import load_dbc
 
-            self._doc = load_a2l(self.a2l or demo.a2l())
+            self._doc = load_a2l_to_work(self.a2l or demo.a2l())
             self._dbc = load_dbc(self.dbc or demo.dbc_can2())
 
     @contextmanager
