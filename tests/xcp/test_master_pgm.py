@@ -9,7 +9,7 @@ import pytest
 
 from workbench.errors import XcpCommandError
 from workbench.sim.ecu import EcuState
-from workbench.xcp.info import ProgramStartInfo, SectorInfo
+from workbench.xcp.info import ProgramStartInfo, SectorInfo, data_per_frame, program_block_size
 from workbench.xcp_protocol import Cmd, Err
 
 CALIB = 0xFC0000
@@ -34,6 +34,16 @@ def test_program_start_says_how_to_program(rig):
     assert (start.master_block_mode, start.max_cto_pgm, start.max_bs_pgm, start.min_st_pgm_s) == (True, 8, 42, 0.0)
     assert rig.master.program_block_size(start) == 252  # 42 whole frames: 1 + MAX_BS allows 43, 255 bytes 42.5
     assert rig.demo.ecu.state is EcuState.HALTED
+
+
+@pytest.mark.parametrize(("max_cto", "granularity", "max_bs", "use_max", "block"), [
+    (8, 1, 42, False, 252), (8, 1, None, False, 6), (8, 1, None, True, 7), (8, 1, 0, False, 6),
+    (8, 4, 42, False, 172), (8, 4, None, True, 4), (64, 1, 255, False, 248), (8, 2, 200, False, 510)])
+def test_one_rule_for_the_block_size(max_cto, granularity, max_bs, use_max, block):
+    """The master (PROGRAM_START) and the flash plan's estimate (the A2L) share it: whole elements a frame, at most
+    1 + MAX_BS_PGM frames and 255 elements a block; PROGRAM_MAX one byte (element) more than PROGRAM."""
+    assert program_block_size(max_cto, granularity, max_bs=max_bs, use_max=use_max) == block
+    assert block % data_per_frame(max_cto, granularity) == 0 or use_max
 
 
 @pytest.mark.parametrize("master_block_mode, use_max", [(True, False), (False, True), (False, False)])

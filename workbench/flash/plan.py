@@ -20,6 +20,7 @@ from workbench.errors import InputError, epk_text
 from workbench.flash.errors import FlashRefused
 from workbench.flash.layout import DEMO_APP_KEY, AppKey, FlashLayout, FlashRegion, Sector
 from workbench.image import ERASED, AddressRange, MemoryImage, load_image
+from workbench.xcp.info import data_per_frame, program_block_size
 
 __all__ = ["FlashPlan", "RegionPlan", "plan_file", "plan_flash", "programming_frames", "with_sectors"]
 
@@ -174,13 +175,11 @@ def programming_frames(config: XcpConfig) -> tuple[int, int]:
     ECU has it) a response."""
     pgm, ag = config.pgm, config.address_granularity
     max_cto = min(pgm.max_cto_pgm or config.max_cto, config.max_cto) if pgm is not None else config.max_cto
-    per_frame = (max_cto - max(2, ag)) // ag * ag
     mode = pgm.communication_mode if pgm is not None else config.communication_mode
-    if mode is not None and mode.master_block_mode and mode.max_bs:
-        return min(255 * ag // per_frame, 1 + mode.max_bs) * per_frame, per_frame
-    if "PROGRAM_MAX" in config.optional_commands:
-        per_frame = (max_cto - ag) // ag * ag
-    return per_frame, per_frame
+    blocks = mode is not None and mode.master_block_mode and mode.max_bs
+    block = program_block_size(max_cto, ag, max_bs=mode.max_bs if blocks else None,
+                               use_max="PROGRAM_MAX" in config.optional_commands)
+    return block, data_per_frame(max_cto, ag) if blocks else block
 
 
 def with_sectors(plan: FlashPlan, layout: FlashLayout) -> FlashPlan:

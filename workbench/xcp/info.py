@@ -16,7 +16,7 @@ from workbench.xcp_protocol import TIME_UNIT_S, Resource
 __all__ = [
     "CONNECT_RESPONSE_SIZE", "CommModeInfo", "ConnectInfo", "DaqEventInfo", "DaqListInfo", "DaqProcessorInfo", "DaqResolutionInfo",
     "PagProcessorInfo",
-    "PgmProcessorInfo", "ProgramStartInfo", "SectorInfo", "Status",
+    "PgmProcessorInfo", "ProgramStartInfo", "SectorInfo", "Status", "data_per_frame", "program_block_size",
 ]
 
 IDENTIFICATION_FIELDS = ("ABSOLUTE", "RELATIVE_BYTE", "RELATIVE_WORD", "RELATIVE_WORD_ALIGNED")
@@ -238,6 +238,22 @@ class ProgramStartInfo:
     def parse(cls, payload: bytes) -> ProgramStartInfo:
         mode, max_cto, max_bs, min_st, queue = _unpack("xBBBBB", payload, "PROGRAM_START")
         return cls(bool(mode & 0x01), bool(mode & 0x02), bool(mode & 0x40), max_cto, max_bs, min_st * 100e-6, queue)
+
+
+def data_per_frame(max_cto: int, granularity: int) -> int:
+    """Data bytes of a DOWNLOAD/PROGRAM/_NEXT frame: whole elements after command, count and alignment."""
+    return (max_cto - max(2, granularity)) // granularity * granularity
+
+
+def program_block_size(max_cto: int, granularity: int, *, max_bs: int | None = None, use_max: bool = False) -> int:
+    """Bytes programmed per response, in frames of ``max_cto`` (MAX_CTO_PGM): in master block mode (``max_bs``: its
+    MAX_BS_PGM) a block of whole frames, at most 1 + ``max_bs`` of them and 255 elements; else one PROGRAM_MAX
+    (``use_max``: one byte more a frame) or PROGRAM frame. The rule of the master (from PROGRAM_START) and of the
+    flash plan's estimate (from the A2L)."""
+    per_frame = data_per_frame(max_cto, granularity)
+    if max_bs is not None:
+        return min(255 * granularity // per_frame, 1 + max_bs) * per_frame
+    return (max_cto - granularity) // granularity * granularity if use_max else per_frame
 
 
 @dataclass(frozen=True)

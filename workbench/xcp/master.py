@@ -39,7 +39,9 @@ from workbench.xcp.info import (
     ProgramStartInfo,
     SectorInfo,
     Status,
+    data_per_frame,
 )
+from workbench.xcp.info import program_block_size as block_size  # the method of the same name uses it
 from workbench.xcp.link import Link
 from workbench.xcp_protocol import PID_ERR, PID_RES, Cmd, Err, IdType, Resource
 
@@ -463,7 +465,7 @@ class XcpMaster:
 
     def _per_frame(self, max_cto: int) -> int:
         """Data bytes of a DOWNLOAD/PROGRAM/_NEXT frame: whole elements after command, count and alignment."""
-        return self._whole(max_cto - max(2, self.granularity))
+        return data_per_frame(max_cto, self.granularity)
 
     def _download_block(self, block: bytes, command: Cmd, next_command: Cmd, timeout: str | None,
                         separation_s: float, per_frame: int | None = None) -> None:
@@ -571,11 +573,10 @@ class XcpMaster:
 
     def program_block_size(self, start: ProgramStartInfo, *, use_max: bool = False) -> int:
         """Bytes :meth:`program` sends per response: a master block of whole frames (at most 1 + MAX_BS_PGM
-        of them and 255 elements), else one PROGRAM_MAX (``use_max``) or PROGRAM frame."""
-        per_frame = self._per_frame(start.max_cto_pgm)
-        if start.master_block_mode:
-            return min(255 * self.granularity // per_frame, 1 + start.max_bs_pgm) * per_frame
-        return self._whole(start.max_cto_pgm - self.granularity) if use_max else per_frame
+        of them and 255 elements), else one PROGRAM_MAX (``use_max``) or PROGRAM frame
+        (:func:`~workbench.xcp.info.program_block_size`)."""
+        return block_size(start.max_cto_pgm, self.granularity, use_max=use_max,
+                          max_bs=start.max_bs_pgm if start.master_block_mode else None)
 
     def program(self, data: bytes, start: ProgramStartInfo, *, use_max: bool = False) -> None:
         """PROGRAM ``data`` at the MTA (which advances), as :meth:`program_start` allowed: master blocks of
