@@ -253,6 +253,8 @@ def test_diff_and_dry_run_show_values_as_cal_get_does(bus, capsys):
     code, out, _ = run(capsys, "cal", "load", "base.dcm", "--dry-run", *bus)
     assert code == 0 and ["cfTANK1PSDIAGSTATUS_VALUE", "changed", "value", "OPEN_LOAD", "NO_ERROR"] in \
         [line.split() for line in out.splitlines()]
+    assert ["xsSWITCH_TANK_THR", "changed", "value", "22.50", "bar", "20.00", "bar", "-2.50", "bar"] in \
+        [line.split() for line in out.splitlines()]  # the dry run's diff as cal diff shows it
     data = json.loads(run(capsys, "cal", "diff", "base.dcm", "ecu", "--json", *bus)[1])
     first, enum = data["objects"][:2]
     assert first["unit"] == {"a": "bar", "b": "bar"} and first["differences"][0] == {

@@ -67,6 +67,8 @@ def _convert(args: argparse.Namespace) -> int:
 
 
 def _diff(args: argparse.Namespace) -> int:
+    from functools import partial
+
     from workbench.a2l.model import value_decimals
     from workbench.calib.dataset import diff_datasets, load_dataset
     from workbench.cli.ecu_options import a2l_document
@@ -85,6 +87,6 @@ def _diff(args: argparse.Namespace) -> int:
     else:
         for note in notes:
             print(note, file=sys.stderr)
-        decimals = None if model is None else (lambda name, where: value_decimals(model, name, where))
+        decimals = None if model is None else partial(value_decimals, model)
         print(result.to_text(show_equal=args.equal, decimals=decimals))
     return 0 if equal else 1

@@ -103,6 +103,9 @@ def written_note(args: argparse.Namespace, changed: bool) -> str:
 def load_into_image(args: argparse.Namespace) -> int:
     """``cal load DATASET --image FILE -o NEW``: every object checked as against the ECU, then written into the
     image; ``--dry-run`` writes no file."""
+    from functools import partial
+
+    from workbench.a2l.model import value_decimals
     from workbench.calib.dataset import load_dataset
     from workbench.sync import ApplyRefused, apply_dataset
 
@@ -120,12 +123,13 @@ def load_into_image(args: argparse.Namespace) -> int:
         if not result.ok:  # a dry run that lists a refusal fails as the load itself would: exit 2
             raise ApplyRefused(result)
     except ApplyRefused as exc:
-        _show(args, exc.report.to_dict() if args.json else exc.report.to_text())
+        _show(args, exc.report.to_dict() if args.json else exc.report.to_text(partial(value_decimals, image.model)))
         if any(name not in image.model for name in exc.report.named("refused")):
             raise InputError(f"{exc}; --skip-unknown leaves out the objects the A2L lacks") from None
         raise
     notes = [] if args.dry_run else save_image(args, image)
-    _show(args, {**result.to_dict(), "output": args.output, "notes": notes} if args.json else result.to_text())
+    shown = result.to_text(partial(value_decimals, image.model))
+    _show(args, {**result.to_dict(), "output": args.output, "notes": notes} if args.json else shown)
     return 0
 
 

@@ -166,10 +166,10 @@ def _load(args: argparse.Namespace) -> int:
             if not result.ok:  # a dry run that lists a refusal fails as the load itself would: exit 2
                 raise ApplyRefused(result)
         except (ApplyRefused, ApplyFailed) as exc:
-            _show(exc.report, args)
+            _show(exc.report, args, session.model)
             _say_skip_unknown(exc, session)
             raise
-    _show(result, args)
+    _show(result, args, session.model)
     return 0
 
 
@@ -181,17 +181,24 @@ def _say_skip_unknown(exc: Exception, session) -> None:
         raise InputError(f"{exc}; --skip-unknown leaves out the objects the A2L lacks") from None
 
 
-def _show(result, args: argparse.Namespace) -> None:
+def _show(result, args: argparse.Namespace, model) -> None:
+    """``cal load``'s report; a dry run's values with ``model``'s decimals, as cal get shows them."""
+    from functools import partial
+
+    from workbench.a2l.model import value_decimals
+
     if args.json:
         print_json(result.to_dict())
     else:
-        print(result.to_text())
+        print(result.to_text(partial(value_decimals, model)))
 
 
 # --- sync ---------------------------------------------------------------------------------------
 
 
 def _sync(args: argparse.Namespace) -> int:
+    from functools import partial
+
     from workbench.a2l.model import value_decimals
     from workbench.sync import ApplyFailed, ApplyRefused, sync_compare, sync_download, sync_upload
 
@@ -203,7 +210,7 @@ def _sync(args: argparse.Namespace) -> int:
             report = sync_compare(session, reference, progress=progress)
         result: dict = {"report": report.to_dict()}
         if not args.json:
-            print(report.to_text(lambda name, where: value_decimals(session.model, name, where)), flush=True)
+            print(report.to_text(partial(value_decimals, session.model)), flush=True)
         if report.equal:
             code = 0
         elif args.upload:

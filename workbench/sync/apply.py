@@ -20,7 +20,7 @@ the ECU, which one failed (and which of its fields were written), and which were
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from contextlib import nullcontext
 from dataclasses import dataclass, field
 
@@ -90,8 +90,9 @@ class ApplyReport:
         verb = "dry run" if self.dry_run else "applied" if self.ok else "not applied"
         return f"{self.source}: {verb}: {text}"
 
-    def to_text(self) -> str:
-        """One line per object that is not unchanged, the diff of a dry run, the warnings, a summary."""
+    def to_text(self, decimals: Callable[[str, str], int | None] | None = None) -> str:
+        """One line per object that is not unchanged, the diff of a dry run (``decimals`` as
+        :meth:`~workbench.calib.dataset.DatasetDiff.to_text` takes it), the warnings, a summary."""
         lines = []
         shown = [o for o in self.outcomes if o.status != UNCHANGED]
         width = max((len(o.name) for o in shown), default=0)
@@ -100,7 +101,7 @@ class ApplyReport:
             written = f" (reached the ECU: {', '.join(outcome.written)})" if outcome.written else ""
             lines.append(f"{outcome.name:<{width}}  {outcome.status}{reason}{written}")
         if self.dry_run and self.diff is not None and self.diff.objects:
-            lines.append(self.diff.to_text())
+            lines.append(self.diff.to_text(decimals=decimals))
         lines += [f"warning: {text}" for text in self.warnings]
         lines.append(self.summary())
         return "\n".join(lines)
