@@ -41,6 +41,15 @@ def garbage_collected_on_the_gui_thread(qapp):
     gc.collect()  # this thread's: what the test left in cycles
 
 
+@pytest.fixture(autouse=True)
+def unsaved_edits_discarded_when_a_test_closes_its_window(monkeypatch):
+    """A window closed with calibrations edited offline asks (QMessageBox.question, modal): a test that fails before it
+    saves or undoes its edits would wait for an answer for good at its teardown. Tests of the question patch it too."""
+    from PySide6.QtWidgets import QMessageBox
+
+    monkeypatch.setattr(QMessageBox, "question", lambda *_args, **_kwargs: QMessageBox.Discard)
+
+
 @pytest.fixture(scope="session")
 def demo_workspace():
     return load_workspace(demo_project())

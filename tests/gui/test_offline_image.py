@@ -7,6 +7,7 @@ from __future__ import annotations
 import shutil
 from dataclasses import replace
 
+import numpy as np
 import pytest
 from gui_helpers import WAIT_MS, offline_window
 
@@ -151,4 +152,19 @@ def test_the_fix_panel_edits_the_image_offline(qtbot, tmp_path):
     model.setData(model.index(row, COLUMNS.index("on")), Qt.Unchecked.value, Qt.CheckStateRole)  # release
     qtbot.waitUntil(lambda: not model.rows[row].active, timeout=WAIT_MS)
     window.workspace.file_values.image().write("zfRAILPRESSURE_VALUE", 0.0)  # back: the window closes unasked
+    assert not window.errors
+
+
+def test_an_axis_edited_offline_shows_in_the_map_that_shares_it(qtbot, tmp_path):
+    """xvPRV_DC_FF's X axis is the AXIS_PTS xaPRV_FF_TARGET (COM_AXIS): a write of either refreshes the other's editor
+    (the map showed its old breakpoints until reopened)."""
+    window = offline_window(qtbot, _copy_project(tmp_path))
+    table = _editor(window, qtbot, "xvPRV_DC_FF")
+    axis = _editor(window, qtbot, "xaPRV_FF_TARGET")
+    points = np.array(axis.value.value, dtype=np.float64)
+    points[-1] -= 1.0  # the last breakpoint, still ascending
+    axis.edit(points)
+    qtbot.waitUntil(lambda: table.value.axes[0].values[-1] == points[-1], timeout=WAIT_MS)
+    axis.undo_stack.undo()  # the map follows the undo too
+    qtbot.waitUntil(lambda: table.value.axes[0].values[-1] == points[-1] + 1.0, timeout=WAIT_MS)
     assert not window.errors

@@ -82,6 +82,9 @@ class CalibrationInfo:
     axis_decimals: tuple[int | None, ...] = ()  # the decimals of each axis' points, X first
     axis_quantities: tuple[tuple[str, str], ...] = ()  # (input quantity, unit) of each axis, X first
     axis_inputs: tuple[str | None, ...] = ()  # the MEASUREMENT each axis' input is (its operating point), X first
+    # the AXIS_PTS and CURVE_AXIS curves whose bytes the value shows (COM_AXIS, RES_AXIS, CURVE_AXIS): a write of one
+    # changes what the other's editor shows
+    shares: tuple[str, ...] = ()
 
 
 def axis_inputs(model, obj) -> tuple[str | None, ...]:
@@ -124,4 +127,6 @@ def calibration_info(model, name: str) -> CalibrationInfo:
                            (obj.lower_limit, obj.upper_limit), decimals, states,
                            obj.writable, tuple(labels), obj.functions, getattr(obj, "extended_limits", None),
                            tuple(axis_decimals(model, axis) for axis in getattr(obj, "axes", ())), quantities,
-                           axis_inputs(model, obj))
+                           axis_inputs(model, obj),
+                           tuple(ref for axis in getattr(obj, "axes", ()) for ref in (axis.axis_pts_ref, axis.curve_axis_ref)
+                                 if ref))

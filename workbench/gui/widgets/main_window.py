@@ -94,6 +94,7 @@ class MainWindow(EcuWindowActions, QMainWindow):
         self.controller.disconnected.connect(self._disconnected)
         self.controller.failed.connect(self.show_error)
         self.controller.page_changed.connect(self._show_page)
+        self.controller.written.connect(self.refresh_sharing_editors)
         self.controller.lost.connect(self._lost)
         self.controller.reconnecting.connect(
             lambda attempt: self.status.set_pause(f"reconnecting (attempt {attempt})", self.status.pause[1]
@@ -403,6 +404,7 @@ class MainWindow(EcuWindowActions, QMainWindow):
         editor = CalibrationEditor(self.controller, info, hub=self.hub, offline=self.workspace.file_values)
         editor.error.connect(self.show_error)
         editor.offline_written.connect(self.offline_image.edited)
+        editor.offline_written.connect(self.refresh_sharing_editors)
         self.undo_group.addStack(editor.undo_stack)
         self.editors[name] = editor
         if self.editor_tabs.indexOf(self.editor_placeholder) >= 0:
@@ -411,6 +413,14 @@ class MainWindow(EcuWindowActions, QMainWindow):
         self.editor_tabs.setCurrentWidget(editor)
         editor.reload()  # from the ECU, or offline from the project's s19
         return editor
+
+    def refresh_sharing_editors(self, name: str) -> None:
+        """``name`` was written: the open editors whose value shares its bytes (a map and the AXIS_PTS of its axis)
+        read theirs again (the writer's own editor shows what it wrote)."""
+        writer = self.editors.get(name)
+        for editor in self.editors.values():
+            if editor is not writer and (name in editor.info.shares or (writer and editor.info.name in writer.info.shares)):
+                editor.reload()
 
     def _close_editor(self, index: int) -> None:
         widget = self.editor_tabs.widget(index)
