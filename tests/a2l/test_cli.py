@@ -7,10 +7,10 @@ import sys
 from pathlib import Path
 
 import pytest
+from cli_helpers import run
 
 from workbench.cli import main
 from workbench.errors import A2lParseError
-from cli_helpers import run
 
 ELF = Path(__file__).parents[1] / "elf" / "fixtures" / "types_dwarf5.elf"
 

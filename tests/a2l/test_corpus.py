@@ -15,12 +15,12 @@ from collections import Counter
 from pathlib import Path
 
 import pytest
+from cli_helpers import run
 from elftools.elf.elffile import ELFFile
 
 from workbench import demo
 from workbench.a2l import load_a2l
 from workbench.a2l.merge import load_fragment
-from cli_helpers import run
 
 CORPUS = Path(__file__).parents[1] / "corpus" / "a2l"
 A2LTOOL = shutil.which("a2ltool", path=str(Path(sys.executable).parent)) or shutil.which("a2ltool")

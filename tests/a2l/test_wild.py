@@ -8,12 +8,12 @@ import sys
 from pathlib import Path
 
 import pytest
-
+from cli_helpers import run
 from grammar_samples import HEAD, TAIL
+
 from workbench import demo
 from workbench.a2l import grammar, load_a2l_string
 from workbench.a2l.addressed import AddressedObjects
-from cli_helpers import run
 
 A2LTOOL = shutil.which("a2ltool", path=str(Path(sys.executable).parent)) or shutil.which("a2ltool")
 

@@ -9,10 +9,10 @@ import sys
 from pathlib import Path
 
 import pytest
+from cli_helpers import run
 
 from workbench import demo
 from workbench.calib.dataset import load_dataset
-from cli_helpers import run
 
 CORPUS = Path(__file__).parents[1] / "corpus" / "datasets"
 

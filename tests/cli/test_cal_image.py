@@ -10,11 +10,11 @@ import re
 import shutil
 
 import pytest
+from cli_helpers import run
 
 from workbench import demo
 from workbench.image import load_image
 from workbench.sim import serve_demo
-from cli_helpers import run
 
 CALIB = (0xFC0000, 0xFE0000)
 

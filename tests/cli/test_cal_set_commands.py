@@ -9,11 +9,11 @@ import json
 from pathlib import Path
 
 import pytest
+from cli_helpers import run
 from xcp_commands import CommandLog
 
 from workbench import demo
 from workbench.sim import serve_demo
-from cli_helpers import run
 
 _channels = itertools.count()
 CONNECTED = ["CONNECT", "GET_COMM_MODE_INFO", "GET_STATUS", "GET_ID", "UPLOAD"]  # UPLOAD: the EPK GET_ID names

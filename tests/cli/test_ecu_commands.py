@@ -8,10 +8,10 @@ import json
 import re
 
 import pytest
+from cli_helpers import run
 
 from workbench.cli import main
 from workbench.sim import serve_demo
-from cli_helpers import run
 
 
 @pytest.fixture

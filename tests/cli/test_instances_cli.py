@@ -8,10 +8,10 @@ import json
 import re
 
 import pytest
+from cli_helpers import run
 from demo_instances import write_demo_instances_a2l
 
 from workbench.sim import serve_demo
-from cli_helpers import run
 
 
 @pytest.fixture

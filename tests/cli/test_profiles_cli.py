@@ -6,9 +6,9 @@ from __future__ import annotations
 import json
 
 import pytest
+from cli_helpers import run
 
 from workbench.sim import serve_demo
-from cli_helpers import run
 
 
 @pytest.fixture

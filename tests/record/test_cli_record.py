@@ -13,12 +13,12 @@ import time
 
 import numpy as np
 import pytest
+from cli_helpers import run
 from mdf_reading import channel, group_index, master
 from sim_process import start_sim_process
 
 from workbench import demo
 from workbench.cli import main
-from cli_helpers import run
 
 CLI = [sys.executable, "-c", "from workbench.cli import entry_point; entry_point()"]
 

@@ -8,13 +8,12 @@ import os
 import shutil
 
 import pytest
+from cli_helpers import run
+from sync_helpers import edited_a2l
 
 from workbench import demo
 from workbench.image import load_image
 from workbench.sim import serve_demo
-
-from sync_helpers import edited_a2l
-from cli_helpers import run
 
 
 @pytest.fixture
