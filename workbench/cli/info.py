@@ -39,9 +39,9 @@ def run(args: argparse.Namespace) -> int:
             key = None  # the demo ECU's key, on an ECU whose flash has no sector there: no claim about it
         key_state = app_key_state(session, key) if key is not None else None
         if args.save_a2l:
-            from workbench.fileio import atomic_write_bytes
+            from workbench.fileio import write_output
 
-            atomic_write_bytes(args.save_a2l, session.ecu_a2l())
+            write_output(args.save_a2l, session.ecu_a2l())
     if args.json:
         print_json({**info.to_dict(), "app_key": key_state.value if key_state else None,
                     "state": _state(info, key_state, key), **({"saved_a2l": args.save_a2l} if args.save_a2l else {})})
