@@ -22,17 +22,17 @@ if TYPE_CHECKING:
     from workbench.a2l import A2lDocument
     from workbench.sync.offline import ImageCalibration
 
-__all__ = ["add_image_arguments", "image_dataset_of", "load_into_image", "open_image", "require_output", "save_image",
-           "values_of", "written_note"]
+__all__ = ["IMAGES", "add_image_arguments", "image_dataset_of", "load_into_image", "open_image", "require_output",
+           "save_image", "values_of", "written_note"]
 
-_IMAGES = ".s19/.s28/.s37/.srec/.mot/.hex/.ihex"
+IMAGES = ".s19/.s28/.s37/.srec/.mot/.hex/.ihex"  # the image files the cal commands read and write
 
 
 def add_image_arguments(parser: argparse.ArgumentParser, *, output: bool = False) -> None:
     """``--image FILE`` (and, for a command that changes it, ``-o/--output FILE``)."""
     group = parser.add_argument_group("offline: an s19/hex instead of the ECU (no bus is opened)")
     group.add_argument("--image", metavar="FILE",
-                       help=f"the flash file ({_IMAGES}) the build produced, read at the A2L's addresses (its "
+                       help=f"the flash file ({IMAGES}) the build produced, read at the A2L's addresses (its "
                             "calibration segments' ADDRESS_MAPPING: CAL RAM onto CAL ROM)")
     if output:
         group.add_argument("-o", "--output", type=output_file, metavar="FILE",
@@ -50,7 +50,7 @@ def open_image(args: argparse.Namespace, doc: A2lDocument | None = None, *, read
     from workbench.sync.reference import is_image_file
 
     if not is_image_file(args.image):
-        raise InputError(f"--image {args.image}: an s19/hex is named {_IMAGES}")
+        raise InputError(f"--image {args.image}: an s19/hex is named {IMAGES}")
     image = ImageCalibration.open(args.image, doc or a2l_document(args),
                                   accept_epk_mismatch=getattr(args, "accept_epk_mismatch", False))
     expected = image.doc.epk(image.module)

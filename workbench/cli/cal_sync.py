@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from workbench.cli.cal_image import add_image_arguments, image_dataset_of, load_into_image
+from workbench.cli.cal_image import IMAGES, add_image_arguments, image_dataset_of, load_into_image
 from workbench.cli.ecu_options import a2l_document, add_ecu_arguments, open_session
 from workbench.cli.options import print_json
 from workbench.cli.progressbar import ProgressBar
@@ -18,7 +18,6 @@ if TYPE_CHECKING:
     from workbench.sync.reference import Reference
 
 ECU = "ecu"  # the name ``cal diff`` takes for the connected ECU
-_IMAGES = ".s19/.s28/.s37/.srec/.mot/.hex/.ihex"
 _DATASETS = ".dcm/.cdfx"
 
 
@@ -27,11 +26,11 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
     save = commands.add_parser(
         "save", help="save the ECU's calibrations as a dataset, or the working page as an s19/hex",
         description=f"OUT {_DATASETS}: the values of every calibration (or of NAME: names and globs such as "
-                    f"'xsPRV_*') read from the working page (--page reference: CAL ROM). OUT {_IMAGES} with --region "
+                    f"'xsPRV_*') read from the working page (--page reference: CAL ROM). OUT {IMAGES} with --region "
                     "CALIB: the working page as that flash region holds it once flashed (the XCP SEGMENT's "
                     "ADDRESS_MAPPING, the EPK kept), which 'workbench flash OUT --region CALIB' takes. OUT is written "
                     "atomically.")
-    save.add_argument("output", metavar="OUT", help=f"the file to write: a dataset ({_DATASETS}) or an image ({_IMAGES})")
+    save.add_argument("output", metavar="OUT", help=f"the file to write: a dataset ({_DATASETS}) or an image ({IMAGES})")
     save.add_argument("names", nargs="*", metavar="NAME", help="calibrations to save (default: all)")
     save.add_argument("--page", choices=("working", "reference"), default="working",
                       help="the page to read a dataset from (default: working)")
@@ -72,7 +71,7 @@ def add_commands(commands: argparse._SubParsersAction) -> None:
                     "it: one object refused and nothing is written, exit 2). Exit codes: 0 equal (or "
                     "uploaded/downloaded), 1 they differ (no direction given) or the operation failed, 2 bad input.")
     sync.add_argument("file", nargs="?", metavar="FILE",
-                      help=f"the reference: an image ({_IMAGES}) or a dataset ({_DATASETS}); default: the demo's s19 "
+                      help=f"the reference: an image ({IMAGES}) or a dataset ({_DATASETS}); default: the demo's s19 "
                            "with the demo's A2L")
     sync.add_argument("--reference", metavar="FILE", help="the reference, as FILE")
     direction = sync.add_mutually_exclusive_group()
@@ -101,7 +100,7 @@ def _save(args: argparse.Namespace) -> int:
     if args.image is None and is_image_file(args.output):
         return _save_image(args)
     if args.region:
-        raise InputError(f"--region is for an image ({_IMAGES}); {args.output} is saved as a dataset")
+        raise InputError(f"--region is for an image ({IMAGES}); {args.output} is saved as a dataset")
     format_of(args.output)  # an unknown extension is refused before the bus is opened
     if args.image is not None:
         dataset, source = image_dataset_of(args), {"image": args.image}

@@ -133,7 +133,7 @@ class MemoryImage:
     def save(self, path: str | Path) -> None:
         """Write the image atomically; ``.hex``/``.ihex`` gives Intel HEX, anything else S-records."""
         path = Path(path)
-        text = self.to_ihex() if path.suffix.lower() in (".hex", ".ihex") else self.to_srec()
+        text = self.to_ihex() if is_intel_hex(path) else self.to_srec()
         write_output(path, text.encode("ascii"))
 
     def __eq__(self, other: object) -> bool:
@@ -141,6 +141,11 @@ class MemoryImage:
 
     def __repr__(self) -> str:
         return f"MemoryImage({' '.join(map(str, self.ranges)) or 'empty'})"
+
+
+def is_intel_hex(path: str | Path) -> bool:
+    """Whether ``path`` names an Intel HEX file (``.hex``, ``.ihex``); other image files are S-records."""
+    return Path(path).suffix.lower() in (".hex", ".ihex")
 
 
 def load_image(path: str | Path) -> MemoryImage:

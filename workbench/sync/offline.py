@@ -41,7 +41,7 @@ from workbench.calib.memory import ByteEdit, Span
 from workbench.calib.values import CalValue
 from workbench.calib.writable import check_inside, checked_cells, checked_value, writable_spans
 from workbench.errors import EpkMismatchError, InputError, epk_text
-from workbench.image import AddressRange, MemoryImage
+from workbench.image import AddressRange, MemoryImage, is_intel_hex
 from workbench.sync.areas import ImageView, calibration_areas
 from workbench.sync.store import ByteStore
 from workbench.sync.values import calibration_names, object_layouts, resolve_all, without_name
@@ -415,7 +415,7 @@ class ImageCalibration:
         if not is_image_file(path):
             raise InputError(f"{path}: an image is saved as .s19/.s28/.s37/.srec/.mot/.hex/.ihex")
         with self.lock:
-            if self._text is not None and _is_hex(path) == _is_hex(self.path or path):
+            if self._text is not None and is_intel_hex(path) == is_intel_hex(self.path or path):
                 text = patched_text(self._text, self.image, self.changes())
                 write_output(path, text.encode("ascii"))
                 self._text = text
@@ -424,10 +424,6 @@ class ImageCalibration:
                 self._text = None
             self.path, self._original, self._edited = path, ByteStore(), {}
         return path
-
-
-def _is_hex(path: Path) -> bool:
-    return path.suffix.lower() in (".hex", ".ihex")
 
 
 def _unknown(store: ByteStore, start: int, size: int) -> list[tuple[int, int]]:
