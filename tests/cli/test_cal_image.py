@@ -120,3 +120,19 @@ def test_what_is_refused_and_how(work, capsys, tmp_path):
     assert not list(tmp_path.glob("*.s19"))[1:] and (tmp_path / "app.s19").read_bytes() == demo.s19().read_bytes()
     code, out, _ = run(capsys, "cal", "list", "xsPRV_K*", "--image", "app.s19", "--json")
     assert code == 0 and [row["value"] for row in json.loads(out)] == [5.0, 2.0, 0.019999999552965164]
+
+
+def test_a_c_style_format_shows_alike_in_cal_get_cal_diff_and_the_views(work, capsys):
+    """A FORMAT as files in the wild write it ("%8.3lf", not ASAP2's "%8.3") gives its decimals to every face."""
+    from workbench.a2l import load_a2l
+    from workbench.a2l.model import value_decimals
+
+    text = demo.a2l().read_text(encoding="utf-8").replace('IDENTICAL "%8.2" "bar"', 'IDENTICAL "%8.3lf" "bar"', 1)
+    (work / "wild.a2l").write_text(text, encoding="utf-8")
+    wild = ("--a2l", "wild.a2l")
+    assert run(capsys, "cal", "get", "xsFULL_TANK_PRESS", "--image", "app.s19", *wild)[1] == \
+        "xsFULL_TANK_PRESS = 700.000 bar\n"
+    assert run(capsys, "cal", "set", "xsFULL_TANK_PRESS", "650", "--image", "app.s19", "-o", "new.s19", *wild)[0] == 0
+    code, out, _ = run(capsys, "cal", "diff", "app.s19", "new.s19", *wild)
+    assert code == 1 and "700.000 bar" in out and "650.000 bar" in out, out
+    assert value_decimals(load_a2l("wild.a2l").model(), "xsFULL_TANK_PRESS") == 3  # the GUI's editors and compare view

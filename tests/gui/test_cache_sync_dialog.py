@@ -10,7 +10,8 @@ import pytest
 from gui_helpers import WAIT_MS, open_window
 from PySide6.QtCore import Qt
 
-from workbench.cli.render import decimals, value_text
+from workbench.a2l.display_format import format_decimals
+from workbench.cli.render import value_text
 from workbench.gui.widgets.sync_dialog import SyncChoice
 
 
@@ -41,7 +42,7 @@ def test_a_changed_ecu_is_kept_by_enter_and_escape_and_downloaded_only_when_chos
     dialog = _next_dialog(qtbot, window)
     model = window.workspace.model
     obj = model.object("xsSWITCH_TANK_THR")
-    as_cal_get = [value_text(v, model.unit_of(obj), decimals(model.format_of(obj))) for v in (25.7, 20.0)]
+    as_cal_get = [value_text(v, model.unit_of(obj), format_decimals(model.format_of(obj))) for v in (25.7, 20.0)]
     assert _rows(dialog) == {"xsSWITCH_TANK_THR": ("25.70 bar", "20.00 bar")} and list(_rows(dialog)[
         "xsSWITCH_TANK_THR"]) == as_cal_get
     assert dialog.table.isVisible() and not dialog.expert.isVisible()  # one object: listed at once

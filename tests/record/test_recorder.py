@@ -13,7 +13,7 @@ from asammdf.blocks import v4_constants as v4c
 from mdf_reading import channel, group_index, master, texts
 
 from workbench import Session, demo
-from workbench.a2l.objects import format_parts
+from workbench.a2l.display_format import format_parts
 from workbench.errors import InputError
 from workbench.record import Recorder, record
 from workbench.sim import EthernetEndpoint, serve_demo

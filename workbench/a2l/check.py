@@ -5,7 +5,8 @@ enumerated ones, an option given twice where ASAP2 allows it once); references (
 RECORD_LAYOUT, typedefs, INSTANCE components, FUNCTION, conversion tables, units,
 measurements, axes, groups, memory segments); names defined twice; and
 (:mod:`workbench.a2l.placement`) objects that overlap, objects outside every MEMORY_SEGMENT,
-calibrations outside a RAM data segment (CAL RAM). With an ELF, every object's symbol must
+calibrations outside a RAM data segment (CAL RAM); display formats that are not ASAP2's ``"%Length.Layout"``
+(:mod:`workbench.a2l.display_format`). With an ELF, every object's symbol must
 exist and its address must match, and MOD_COMMON's BYTE_ORDER must be the ELF's. An ``/include``
 whose file cannot be read is one finding; the rest is checked without it.
 """
@@ -16,6 +17,7 @@ from pathlib import Path
 
 from workbench.a2l.addressed import AddressedObjects
 from workbench.a2l.byte_order import byte_order_finding
+from workbench.a2l.display_format import check_formats
 from workbench.a2l.document import A2lDocument, Block
 from workbench.a2l.grammar import NAMESPACES
 from workbench.a2l.placement import check_placement
@@ -79,6 +81,7 @@ def check_document(doc: A2lDocument, debug: DebugData | None = None, *, progress
             mismatch = byte_order_finding(doc, module, debug.elf.little_endian, debug.path.name)
             if mismatch is not None:
                 report.add(mismatch)
+    check_formats(doc, report)
     report_progress(progress, 4, 4, "checked")
     report.findings.sort(key=lambda f: (f.file, f.line, f.column))
     return report

@@ -35,8 +35,9 @@ from typing import Any
 import numpy as np
 
 from workbench.a2l.datatypes import DATATYPES, datatype_range
+from workbench.a2l.display_format import format_parts
 from workbench.a2l.formula import Formula, compile_formula
-from workbench.a2l.objects import CompuMethod, CompuTab, CompuVtab, CompuVtabRange, format_parts
+from workbench.a2l.objects import CompuMethod, CompuTab, CompuVtab, CompuVtabRange
 from workbench.errors import A2lParseError, ConversionError
 
 __all__ = ["Conversion", "conversion_for"]

@@ -28,10 +28,11 @@ from typing import TYPE_CHECKING, NamedTuple, Union
 
 import numpy as np
 
+from workbench.a2l.display_format import format_parts
 from workbench.a2l.instances import TYPEDEF_KINDS, Placed, expand_instance, place, without_indices
 from workbench.a2l.objects import (
     NO_COMPU_METHOD, AxisDescr, AxisPts, Blob, Characteristic, CompuMethod, CompuTab, CompuVtab, CompuVtabRange,
-    Function, Group, Instance, Location, Measurement, ModCommon, RecordLayout, Unit, format_parts,
+    Function, Group, Instance, Location, Measurement, ModCommon, RecordLayout, Unit,
 )
 from workbench.a2l.readers import READERS, read_mod_common
 from workbench.errors import A2lParseError, InputError, UnknownSymbolError, WorkbenchError
@@ -460,7 +461,7 @@ class A2lModel:
 
     def format_of(self, obj: "A2lObject | AxisDescr") -> str | None:
         """The display format: the object's FORMAT, else its COMPU_METHOD's (``"%8.3"``: width 8, 3
-        decimals; :func:`workbench.a2l.objects.format_parts` splits it); None for neither."""
+        decimals; :func:`workbench.a2l.display_format.format_parts` reads it); None for neither."""
         if getattr(obj, "format", None):
             return obj.format
         conversion = getattr(obj, "conversion", NO_COMPU_METHOD)

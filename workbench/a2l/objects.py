@@ -17,6 +17,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from typing import Mapping, NamedTuple
 
+from workbench.a2l.display_format import format_parts
+
 __all__ = [
     "Alignments", "AxisDescr", "AxisPts", "Blob", "Characteristic", "CompuMethod", "CompuTab", "CompuVtab",
     "CompuVtabRange", "Function", "Group", "Instance", "LayoutEntry", "Location", "Measurement", "ModCommon",
@@ -112,17 +114,6 @@ class CompuMethod:
     def decimals(self) -> int | None:
         """Decimal places of :attr:`format` (``"%8.3"`` -> 3), None when it has none."""
         return format_parts(self.format)[1]
-
-
-def format_parts(text: str | None) -> tuple[int | None, int | None]:
-    """(width, decimals) of an ASAP2 display format ``"%Length.Layout"``; None where absent or unreadable."""
-    if not text or not text.startswith("%"):
-        return None, None
-    width, _, decimals = text[1:].partition(".")
-    try:
-        return (int(width) if width else None), (int(decimals) if decimals else None)
-    except ValueError:
-        return None, None
 
 
 @dataclass(frozen=True)

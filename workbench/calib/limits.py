@@ -31,7 +31,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from workbench.a2l.objects import AxisPts, Characteristic, format_parts
+from workbench.a2l.display_format import format_parts
+from workbench.a2l.objects import AxisPts, Characteristic
 from workbench.calib.values import CalValue
 from workbench.errors import ConversionError
 

@@ -7,12 +7,13 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from workbench.a2l.display_format import format_decimals
 from workbench.cli.cal_image import (add_image_arguments, open_image, require_output, save_image, values_of,
                                      written_note)
 from workbench.cli.cal_values import split_cell, typed_value, value_from_file
 from workbench.cli.ecu_options import a2l_document, add_ecu_arguments, can2_dbc, open_session
 from workbench.cli.options import add_can2_bus_arguments, can2_bus_spec, print_json
-from workbench.cli.render import decimals, jsonable, value_block, value_text
+from workbench.cli.render import jsonable, value_block, value_text
 from workbench.errors import InputError
 
 if TYPE_CHECKING:
@@ -135,7 +136,7 @@ def _get(args: argparse.Namespace) -> int:
         return 0
     for label, value in found.items():
         obj = model.object(wanted[label][0])
-        places = None if args.raw else decimals(model.format_of(obj))
+        places = None if args.raw else format_decimals(model.format_of(obj))
         if hasattr(value, "axes"):
             print(value_block(label, value.value, value.axes, value.unit, places, axis_places=_axis_places(model, obj)))
         else:
@@ -234,7 +235,7 @@ def _print_written(args: argparse.Namespace, model, name: str, written, note: st
         print_json({args.name: _value_dict(written), **({} if notes is None else {"notes": notes})})
         return
     obj = model.object(name)  # shown as cal get shows it
-    print(value_block(args.name, written.value, written.axes, written.unit, decimals(model.format_of(obj)),
+    print(value_block(args.name, written.value, written.axes, written.unit, format_decimals(model.format_of(obj)),
                       note=note, axis_places=_axis_places(model, obj)))
 
 
@@ -245,7 +246,7 @@ def _print_cell(args: argparse.Namespace, model, name: str, index: tuple[int, ..
         print_json({label: jsonable(value), **({} if notes is None else {"notes": notes})})
         return 0
     obj = model.object(name)
-    print(f"{label} = {value_text(value, model.unit_of(obj), decimals(model.format_of(obj)))}{note}")
+    print(f"{label} = {value_text(value, model.unit_of(obj), format_decimals(model.format_of(obj)))}{note}")
     return 0
 
 
@@ -271,7 +272,7 @@ def _list(args: argparse.Namespace) -> int:
         return 0
     width = max(len(row["name"]) for row in rows)
     for row, name in zip(rows, names):
-        places = decimals(model.format_of(model.object(name)))
+        places = format_decimals(model.format_of(model.object(name)))
         shown = value_text(values[name], row["unit"], places)
         print(f"{row['name']:<{width}}  {row['type']:<8} {shown:<30} [{row['lower']:g} .. {row['upper']:g}]")
     return 0
@@ -320,7 +321,7 @@ def _fix(args: argparse.Namespace) -> int:
     width = max(len(s.pair.stem) for s in states)
     for state in states:  # live and override in the _VALUE's terms: its table, format and unit
         value = model.object(state.pair.value)
-        unit, places = model.unit_of(value), decimals(model.format_of(value))
+        unit, places = model.unit_of(value), format_decimals(model.format_of(value))
         live = "-" if state.live is None else value_text(state.live, unit, places)
         flag = "ON " if state.active else "off"
         via = f", {state.live_from}" if (state.live_from or "").startswith("CAN2") else ""

@@ -11,10 +11,11 @@ import time
 from contextlib import contextmanager
 from typing import Any
 
+from workbench.a2l.display_format import format_decimals
 from workbench.bus_defaults import BusSpec
 from workbench.cli.ecu_options import a2l_document, add_ecu_arguments, can2_dbc, open_session
 from workbench.cli.options import add_can2_bus_arguments, can2_bus_spec, non_negative_float, positive_float
-from workbench.cli.render import decimals, jsonable, value_text
+from workbench.cli.render import jsonable, value_text
 
 EPILOG = """\
 A NAME is an A2L object, or a CAN2 signal of the DBC as the window names it (Message.Signal, or the
@@ -339,7 +340,7 @@ def _view(args: argparse.Namespace, session, order: list[str], can2: dict[str, A
     formats = {name: ("", None) if args.raw else (signal.unit or "", _step_places(signal)) for name, signal in can2.items()}
     objects = {name: model.object(elements[name][0] if name in elements else name) for name in order
                if name not in formats}
-    formats.update({name: ("", None) if args.raw else (model.unit_of(obj), decimals(model.format_of(obj)))
+    formats.update({name: ("", None) if args.raw else (model.unit_of(obj), format_decimals(model.format_of(obj)))
                     for name, obj in objects.items()})
     if args.json:
         return _JsonLines(order)

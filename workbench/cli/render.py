@@ -2,20 +2,11 @@
 
 from __future__ import annotations
 
-import re
 from typing import Any
 
 import numpy as np
 
 from workbench.calib.dataset.numbers import shown_value as number
-
-_FORMAT = re.compile(r"%\s*(\d+)(?:\.(\d+))?")
-
-
-def decimals(format_text: str | None) -> int | None:
-    """The decimals of an A2L FORMAT ("%8.3" -> 3), None without one."""
-    match = _FORMAT.match(format_text or "")
-    return int(match.group(2)) if match and match.group(2) is not None else None
 
 
 def value_text(value: Any, unit: str = "", places: int | None = None) -> str:

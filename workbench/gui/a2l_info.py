@@ -7,8 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from workbench.a2l.datatypes import DATATYPES
+from workbench.a2l.display_format import format_parts
 from workbench.a2l.model import axis_decimals, value_decimals
-from workbench.a2l.objects import format_parts
 from workbench.calib.rawtypes import extract_bits
 from workbench.errors import InputError, WorkbenchError
 from workbench.gui.formatting import format_value

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from workbench.a2l.objects import format_parts
+from workbench.a2l.display_format import format_parts
 from workbench.calib import rawtypes
 from workbench.calib.signals import MeasurementCodec
 from workbench.record.conversions import MdfEncoding, mdf_encoding
