@@ -4,7 +4,7 @@ import pytest
 from PySide6.QtWidgets import QLabel
 
 from workbench.errors import InputError
-from workbench.gui.project import Connection
+from workbench.gui.project import Connection, Project, project_from_dict
 from workbench.gui.widgets.connection_dialog import ConnectionDialog, parse_bus_kwargs
 from workbench.gui.widgets.sync_dialog import SHOWN_AT_ONCE, SyncChoice, SyncDialog, SyncDifference
 
@@ -20,6 +20,23 @@ def test_the_connection_is_prefilled_from_the_a2l_and_the_project(qtbot, demo_wo
     dialog.transport.setCurrentIndex(dialog.transport.findData("tcp"))
     assert (dialog.host.text(), dialog.port.value()) == ("127.0.0.1", 5555)  # the A2L's XCP_ON_TCP_IP
     assert dialog.connection() == Connection(host="127.0.0.1", port=5555, protocol="tcp")
+
+
+def test_the_seed_and_key_is_the_a2ls_unless_given(qtbot, demo_workspace, tmp_path):
+    dialog = ConnectionDialog(Connection(), demo_workspace.config)
+    qtbot.addWidget(dialog)
+    assert dialog.key_function.placeholderText() == "as the A2L says: workbench.sim.seedkey:compute_key"
+    assert dialog.connection().key_function is None
+    dialog.key_function.setText(" keys/SeedNKeyXcp.dll ")
+    given = dialog.connection()
+    assert given.key_function == "keys/SeedNKeyXcp.dll" and given.session_options()["key_function"] == given.key_function
+    dialog.transport.setCurrentIndex(dialog.transport.findData("udp"))
+    assert dialog.connection().key_function == "keys/SeedNKeyXcp.dll"  # for every transport
+    project = Project(path=tmp_path / "bench.wbproj", connection=given)  # kept in the project file
+    assert project_from_dict(project.to_dict(), project.path).connection == given
+    again = ConnectionDialog(given, demo_workspace.config)
+    qtbot.addWidget(again)
+    assert again.key_function.text() == "keys/SeedNKeyXcp.dll"
 
 
 def test_bus_options_that_do_not_parse_keep_the_dialog_open(qtbot, demo_workspace):

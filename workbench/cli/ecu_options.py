@@ -22,7 +22,8 @@ def add_ecu_arguments(parser: argparse.ArgumentParser, *, json_output: bool = Tr
     group = parser.add_argument_group("ECU")
     group.add_argument("--a2l", metavar="A2L", help="the ECU's A2L (default: the built-in demo ECU's)")
     group.add_argument("--key-function", metavar="NAME",
-                       help="seed & key function: module:function, file.py:function or an installed plugin's name "
+                       help="seed & key function: module:function, file.py:function, an installed plugin's name or a "
+                            "key library with ASAM's XCP_ComputeKeyFromSeed (.dll on Windows, .so on Linux) "
                             "(default: the A2L's SEED_AND_KEY_EXTERNAL_FUNCTION)")
     group.add_argument("--accept-epk-mismatch", action="store_true",
                        help="write although the ECU's EPK differs from the A2L's (the session is read-only otherwise)")

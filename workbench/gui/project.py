@@ -56,11 +56,13 @@ class Connection:
     host: str | None = None
     port: int | None = None
     protocol: str | None = None  # "udp" / "tcp"
+    key_function: str | None = None  # seed & key as Session.open takes its name (a key library's path ...)
 
     def session_options(self) -> dict[str, Any]:
         """The keyword arguments of ``Session.open`` for this connection."""
         return {"interface": self.interface, "channel": self.channel, "bitrate": self.bitrate,
-                "bus_kwargs": dict(self.bus_kwargs), "host": self.host, "port": self.port, "protocol": self.protocol}
+                "bus_kwargs": dict(self.bus_kwargs), "host": self.host, "port": self.port, "protocol": self.protocol,
+                "key_function": self.key_function}
 
     def describe(self) -> str:
         if self.host or self.port or self.protocol:

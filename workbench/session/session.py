@@ -113,8 +113,8 @@ class Session(ValueAccess, EventAccess, FixAccess):
             instead (it stays the caller's).
         :param host, port, protocol: XCP on Ethernet ("udp"/"tcp").
         :param key_function: seed & key: a function ``f(seed, resource) -> key`` or its name
-            (``module:function``, ``file.py:function``, an entry point); default: the A2L's
-            SEED_AND_KEY_EXTERNAL_FUNCTION.
+            (``module:function``, ``file.py:function``, an entry point, a key library ``.dll``/``.so``);
+            default: the A2L's SEED_AND_KEY_EXTERNAL_FUNCTION.
         :param accept_epk_mismatch: allow writes although the ECU's EPK differs from the A2L's.
         :param timeouts: T1-T7 instead of the A2L's.
         :raises InputError: bad A2L or options; :raises WorkbenchError: the bus or ECU cannot be reached.
@@ -468,7 +468,7 @@ def _key_function(given: KeyFunction | str | None, config: XcpConfig, doc: A2lDo
     except InputError as exc:
         if given:
             raise
-        log.warning("%s (from the A2L); connecting without seed & key", exc)  # a DLL the A2L names must not stop reads
+        log.warning("%s (from the A2L); connecting without seed & key", exc)  # a key library that cannot load here must not stop reads
         return None, name
 
 

@@ -51,6 +51,10 @@ class ConnectionDialog(QDialog):
             self.transport.addItem(label, key)
         form = QFormLayout()
         form.addRow("transport", self.transport)
+        self.key_function = QLineEdit()
+        self.key_function.setToolTip("module:function, file.py:function, a plugin's name, or a key library with "
+                                     "ASAM's XCP_ComputeKeyFromSeed (SeedNKeyXcp.dll on Windows, a .so on Linux)")
+        form.addRow("seed & key", self.key_function)
         layout.addLayout(form)
         self.pages = QStackedWidget()
         can_page, can_form = QWidget(), QFormLayout()
@@ -106,6 +110,9 @@ class ConnectionDialog(QDialog):
             self.transport.setCurrentIndex(2 if (connection.protocol or "").lower() == "tcp" else 1)
         elif can is None and ethernet is not None:
             self.transport.setCurrentIndex(1 if getattr(config, "udp", None) else 2)
+        named = getattr(config, "seed_and_key_function", None)
+        self.key_function.setPlaceholderText(f"as the A2L says: {named}" if named else "none (the A2L names none)")
+        self.key_function.setText(connection.key_function or "")
         self.interface.setCurrentText(connection.interface or "udp_multicast")
         self.channel.setText("" if connection.channel is None else str(connection.channel))
         self.bitrate.setValue(connection.bitrate or 0)
@@ -115,12 +122,13 @@ class ConnectionDialog(QDialog):
 
     def connection(self) -> Connection:
         """The settings entered. :raises InputError: bus options that do not parse."""
+        key_function = self.key_function.text().strip() or None
         if self.transport.currentData() == "CAN":
             return Connection(interface=self.interface.currentText().strip() or None,
                               channel=self.channel.text().strip() or None, bitrate=self.bitrate.value() or None,
-                              bus_kwargs=parse_bus_kwargs(self.bus_kwargs.text()))
+                              bus_kwargs=parse_bus_kwargs(self.bus_kwargs.text()), key_function=key_function)
         return Connection(host=self.host.text().strip() or None, port=self.port.value() or None,
-                          protocol=self.transport.currentData())
+                          protocol=self.transport.currentData(), key_function=key_function)
 
     def _accept(self) -> None:
         try:
