@@ -45,6 +45,7 @@ class ConnectionDialog(QDialog):
     def __init__(self, connection: Connection, config=None, parent=None):
         super().__init__(parent)
         self.setWindowTitle("Connection")
+        self.setMinimumWidth(520)  # the placeholders say what the A2L gives: let them show whole
         layout = QVBoxLayout(self)
         self.transport = QComboBox()
         for label, key in (("XCP on CAN", "CAN"), ("XCP on UDP", "udp"), ("XCP on TCP", "tcp")):
@@ -54,7 +55,7 @@ class ConnectionDialog(QDialog):
         self.key_function = QLineEdit()
         self.key_function.setToolTip("module:function, file.py:function, a plugin's name, or a key library with "
                                      "ASAM's XCP_ComputeKeyFromSeed (SeedNKeyXcp.dll on Windows, a .so on Linux)")
-        form.addRow("seed & key", self.key_function)
+        form.addRow("seed && key", self.key_function)  # "&&": a single & would mark a shortcut
         layout.addLayout(form)
         self.pages = QStackedWidget()
         can_page, can_form = QWidget(), QFormLayout()
