@@ -28,6 +28,18 @@ GCC = shutil.which("gcc")
 
 _R = "undefined-reference"
 _P = "placeholder-address"  # a file whose every object is at 0: not updated from its ELF
+_N = "not-supported"  # an info: what the workbench leaves out (a pointer), no failed check
+_B = "component-beyond-structure"
+
+
+def _pointers(file: str, first: int, struct_b: int) -> list[tuple]:
+    """The INSTANCEs reached through a pointer in a2ltool's update_typedef_test files (lines of each file)."""
+    return [(_N, name, file, first + line) for name, line in (
+        ("TEST_structarr_ptr", 0), ("TEST_structarr_ptr_arr", 7), ("TEST_structptr", 13), ("TEST_structptr_arr", 19),
+        ("TEST_structptr_arr_ptr", 25), ("TEST_structptr_ptr", 32))] + [(_N, "struct_b", file, struct_b),
+                                                                         (_N, "struct_b", file, struct_b + 6)]
+
+
 # file -> the check findings as (kind, name, file the finding is in, line); a Counter where there are many
 CHECK = {
     "a2ltool/check_test.a2l": [(_P, "Curve_ExternalAxis", "check_test.a2l", 6),
@@ -51,11 +63,16 @@ CHECK = {
                                  (_R, "Curve_ExternalAxis_RecordLayout_Nonxistent", "update_test2.a2l", 21),
                                  (_R, "Axis_0", "update_test2.a2l", 24), (_R, "Axis_1", "update_test2.a2l", 47),
                                  (_R, "UpdateTest_Map_InternalAxis_x", "update_test2.a2l", 229)],
-    "a2ltool/update_typedef_test1.a2l": [],
-    "a2ltool/update_typedef_test2.a2l": [],
-    "a2ltool/update_typedef_test3.a2l": [(_R, "__ULong_Value", "update_typedef_test3.a2l", 309),
+    # StructB's s3 lies at its size, 0x38 (the C struct's function pointer: a2ltool's update moves it)
+    "a2ltool/update_typedef_test1.a2l": [*_pointers("update_typedef_test1.a2l", 33, 196),
+                                         (_B, "StructB", "update_typedef_test1.a2l", 220)],
+    "a2ltool/update_typedef_test2.a2l": [*_pointers("update_typedef_test2.a2l", 33, 201),
+                                         (_B, "StructB", "update_typedef_test2.a2l", 225)],
+    "a2ltool/update_typedef_test3.a2l": [*_pointers("update_typedef_test3.a2l", 98, 261),
+                                         (_B, "StructB", "update_typedef_test3.a2l", 285),
+                                         (_R, "__ULong_Value", "update_typedef_test3.a2l", 309),
                                          (_R, "AccessType", "update_typedef_test3.a2l", 309)],
-    "a2ltool/update_typedef_test4.a2l": [],
+    "a2ltool/update_typedef_test4.a2l": _pointers("update_typedef_test4.a2l", 98, 261),
     "xcplite/hello_xcp.a2l": [],
     "xcplite/c_demo.a2l": [],
     "xcplite/cpp_demo.a2l": [("duplicate-name", "C_delay_us", "cpp_demo.a2l", 108),
@@ -126,7 +143,7 @@ def test_check_says_what_the_file_holds(capsys, corpus, name):
         assert Counter((kind, finding) for kind, finding, *_ in findings) == expected
     else:
         assert [finding[:4] for finding in findings] == expected
-    assert code == (1 if expected else 0)
+    assert code == (1 if any(finding[0] != _N for finding in expected) else 0)
 
 
 @pytest.mark.parametrize("name", WHOLE_FILES)

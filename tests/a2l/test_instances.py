@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from workbench.a2l import load_a2l, load_a2l_string
+from workbench.a2l.check import check_document
 from workbench.errors import A2lParseError, InputError, UnknownSymbolError
 
 ROOT = Path(__file__).parents[2]
@@ -143,6 +144,21 @@ TEXT = '''/begin PROJECT P "" /begin MODULE M ""
 /begin INSTANCE grid "" S_INNER 0x2000 MATRIX_DIM 2 3 /end INSTANCE
 /begin INSTANCE mapped "" S_MAPPED 0x3000 /end INSTANCE
 /begin INSTANCE single "" T_THR 0x4000 /end INSTANCE
+/begin RECORD_LAYOUT RL_STD NO_AXIS_PTS_X 1 UBYTE AXIS_PTS_X 2 UWORD INDEX_INCR DIRECT
+  FNC_VALUES 3 ULONG ROW_DIR DIRECT /end RECORD_LAYOUT
+/begin TYPEDEF_CHARACTERISTIC T_STD "" CURVE RL_STD 0 NO_COMPU_METHOD 0 100
+  /begin AXIS_DESCR STD_AXIS NO_INPUT_QUANTITY NO_COMPU_METHOD 4 0 1000 /end AXIS_DESCR
+/end TYPEDEF_CHARACTERISTIC
+/begin TYPEDEF_CHARACTERISTIC T_MAP "" MAP RL_CURVE 0 NO_COMPU_METHOD 0 100
+  /begin AXIS_DESCR FIX_AXIS NO_INPUT_QUANTITY NO_COMPU_METHOD 3 0 2 FIX_AXIS_PAR_DIST 0 1 3 /end AXIS_DESCR
+  /begin AXIS_DESCR FIX_AXIS NO_INPUT_QUANTITY NO_COMPU_METHOD 2 0 1 FIX_AXIS_PAR_DIST 0 1 2 /end AXIS_DESCR
+/end TYPEDEF_CHARACTERISTIC
+/begin TYPEDEF_STRUCTURE S_CURVES "" 0x50
+  /begin STRUCTURE_COMPONENT axes T_AX 0 MATRIX_DIM 2 /end STRUCTURE_COMPONENT
+  /begin STRUCTURE_COMPONENT curves T_STD 0x10 MATRIX_DIM 2 /end STRUCTURE_COMPONENT
+/end TYPEDEF_STRUCTURE
+/begin INSTANCE curves "" S_CURVES 0x5000 /end INSTANCE
+/begin INSTANCE maps "" T_MAP 0x6000 MATRIX_DIM 2 3 /end INSTANCE
 /begin GROUP G "" /begin REF_CHARACTERISTIC box /end REF_CHARACTERISTIC /end GROUP
 /end MODULE /end PROJECT
 '''
@@ -167,6 +183,20 @@ def test_names_and_addresses_of_nested_structures_and_arrays(model):
     single = model.object("single")  # an INSTANCE of a characteristic typedef is that characteristic
     assert (single.kind, single.address, model.kind_of("single")) == ("CHARACTERISTIC", 0x4000, "CHARACTERISTIC")
     assert model.characteristic("box.inner[0].thr").address_extension == 1
+
+
+def test_arrays_of_curves_maps_and_axes_are_one_object_per_element_their_record_layouts_size_apart(model):
+    # RL_STD at 4 points: a UBYTE count, 4 UWORD points from offset 2, 4 ULONG values from offset 12: 28 bytes
+    assert {name: (model.kind_of(name), model.object(name).address) for name in model.names()
+            if name.startswith("curves")} == {
+        "curves.curves[0]": ("CHARACTERISTIC", 0x5010), "curves.curves[1]": ("CHARACTERISTIC", 0x5010 + 28),
+        "curves.axes[0]": ("AXIS_PTS", 0x5000), "curves.axes[1]": ("AXIS_PTS", 0x5008)}
+    curve = model.characteristic("curves.curves[1]")
+    assert (curve.type, curve.shape, curve.axes[0].attribute) == ("CURVE", (4,), "STD_AXIS")
+    # an INSTANCE of a MAP typedef with MATRIX_DIM 2 3: six 3 x 2 maps of UWORD, 12 bytes each, row-major
+    assert model.characteristic("maps[1][2]").address == 0x6000 + 5 * 12 and len(model.find("maps*")) == 6
+    assert (model.characteristic("maps[0][1]").type, model.characteristic("maps[0][1]").shape) == ("MAP", (3, 2))
+    assert model.typedef_sizes().of("T_STD") == 28 and model.instance_errors() == model.instance_limits() == []
 
 
 def test_overwrite_changes_one_component_in_one_instance(model):
@@ -196,7 +226,7 @@ def _located(text: str, needle: str) -> str:
     ('"" S_OUTER 0x1000 ECU', '"" S_OUTR 0x1000 ECU', "S_OUTR", "box.sig",
      "INSTANCE box: typedef S_OUTR is not defined (did you mean S_OUTER"),
     ("T_RAW 0x30", "T_RAW 0x40", "0x40 /end", "box.raw",
-     "INSTANCE box: STRUCTURE_COMPONENT raw: offset 0x40 is beyond the size of TYPEDEF_STRUCTURE S_OUTER (0x40 bytes)"),
+     "INSTANCE box: STRUCTURE_COMPONENT raw: offset 0x40 + 3 bytes is beyond the size of TYPEDEF_STRUCTURE S_OUTER (0x40 bytes)"),
     ("thr T_THR 0", "thr S_OUTER 0", "S_OUTER 0 /end", "box.inner[0].thr",
      "INSTANCE box: STRUCTURE_COMPONENT thr: TYPEDEF_STRUCTURE contains itself: S_OUTER -> S_INNER -> S_OUTER"),
 ])
@@ -219,3 +249,47 @@ def test_a_pointer_is_refused_and_an_unknown_component_suggests(model):
         broken.object("mapped.curve")
     with pytest.raises(UnknownSymbolError, match="did you mean 'box.inner"):
         model.object("box.iner[0].thr")
+
+
+STRUCTURE_ERRORS = '''/begin PROJECT P "" /begin MODULE M ""
+/begin RECORD_LAYOUT RL_U16 FNC_VALUES 1 UWORD ROW_DIR DIRECT /end RECORD_LAYOUT
+/begin TYPEDEF_CHARACTERISTIC T_THR "" VALUE RL_U16 0 NO_COMPU_METHOD 0 100 /end TYPEDEF_CHARACTERISTIC
+/begin TYPEDEF_STRUCTURE S_A "" 0x10
+  /begin STRUCTURE_COMPONENT x T_THR 0 /end STRUCTURE_COMPONENT
+  /begin STRUCTURE_COMPONENT x T_THR 2 /end STRUCTURE_COMPONENT
+  /begin STRUCTURE_COMPONENT y T_THR 0xF /end STRUCTURE_COMPONENT
+  /begin STRUCTURE_COMPONENT arr T_THR 8 MATRIX_DIM 4 /end STRUCTURE_COMPONENT
+  /begin STRUCTURE_COMPONENT b S_B 4 /end STRUCTURE_COMPONENT
+/end TYPEDEF_STRUCTURE
+/begin TYPEDEF_STRUCTURE S_B "" 0x4
+  /begin STRUCTURE_COMPONENT a S_A 0 /end STRUCTURE_COMPONENT
+  /begin STRUCTURE_COMPONENT z T_THRX 0 /end STRUCTURE_COMPONENT
+/end TYPEDEF_STRUCTURE
+/begin TYPEDEF_STRUCTURE S_OK "" 0x8
+  /begin STRUCTURE_COMPONENT arr T_THR 0 MATRIX_DIM 4 /end STRUCTURE_COMPONENT
+/end TYPEDEF_STRUCTURE
+/begin INSTANCE ptr "" S_OK 0x1000 ADDRESS_TYPE PLONG /end INSTANCE
+/begin INSTANCE fine "" S_OK 0x2000 /end INSTANCE
+/end MODULE /end PROJECT
+'''
+
+
+def test_check_reports_the_errors_of_structures_at_their_place_and_a_pointer_as_not_supported():
+    text = STRUCTURE_ERRORS
+    report = check_document(load_a2l_string(text, "inst.a2l"))
+    found = {(f.kind, f"inst.a2l:{f.line}:{f.column}", f.severity.name) for f in report.findings}
+    assert found == {
+        ("duplicate-component", _located(text, "/begin STRUCTURE_COMPONENT x T_THR 2"), "ERROR"),
+        ("component-beyond-structure", _located(text, "0xF /end"), "ERROR"),  # 0xF + 2 bytes > 0x10
+        ("recursive-structure", _located(text, "S_B 4"), "ERROR"),  # S_A -> S_B -> S_A, said once
+        ("undefined-reference", _located(text, "T_THRX"), "ERROR"),
+        ("not-supported", _located(text, "/begin INSTANCE ptr"), "INFO"),
+    }  # arr: 8 + 4 * 2 bytes end at 0x10, in the structure
+    assert "did you mean T_THR?" in report.of_kind("undefined-reference")[0].message
+    model = load_a2l_string(text, "inst.a2l").model()
+    limit = (f"{_located(text, '/begin INSTANCE ptr')}: INSTANCE ptr: reached through a pointer (ADDRESS_TYPE PLONG): "
+             "not supported by the workbench (the pointer's target is known only at run time)")
+    assert model.instance_errors() == [] and [str(e) for e in model.instance_limits()] == [limit]
+    assert model.characteristic("fine.arr").address == 0x2000  # the rest works
+    pointer_only = text[:text.index("/begin TYPEDEF_STRUCTURE S_A")] + text[text.index("/begin TYPEDEF_STRUCTURE S_OK"):]
+    assert check_document(load_a2l_string(pointer_only, "inst.a2l")).ok  # a limit of ours is no failed check

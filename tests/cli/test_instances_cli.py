@@ -47,6 +47,22 @@ def test_an_instances_names_read_and_write_the_plain_objects_bytes(capsys, a2l, 
     assert code == 0 and [line.split()[0] for line in out.splitlines()] == ["tank.empty", "tank.switch", "tank.kp"]
 
 
+def test_the_elements_of_an_array_of_curves_are_the_curves_one_after_the_other(capsys, a2l, bus, tmp_path):
+    # INSTANCE convs: T_CONV MATRIX_DIM 2; pconv: a structure whose component is T_CONV MATRIX_DIM 2
+    pairs = {"convs[0]": "zvTankPConv", "convs[1]": "zvRailPConv", "pconv.curves[1]": "zvRailPConv"}
+    values = _values(capsys, a2l, bus, *pairs, *pairs.values())
+    assert values["zvTankPConv"] != values["zvRailPConv"]
+    assert all(values[typed] == values[plain] for typed, plain in pairs.items())
+    code, out, err = run(capsys, "cal", "set", "convs[1][3]", "333", "--a2l", a2l, *bus)
+    assert code == 0, err
+    assert _values(capsys, a2l, bus, "zvRailPConv")["zvRailPConv"][3] == 333.0
+    dataset = tmp_path / "convs.dcm"
+    code, _, err = run(capsys, "cal", "save", str(dataset), "pconv.*", "--a2l", a2l, *bus)
+    assert code == 0, err
+    text = dataset.read_text(encoding="latin-1")
+    assert "pconv.curves[0]" in text and "pconv.curves[1]" in text and "333" in text
+
+
 def test_an_instances_measurements_are_sampled_with_the_plain_ones(capsys, a2l, bus):
     code, out, err = run(capsys, "measure", "sens.rail", "zsRailPressure", "sens.volt[2]", "zsSensVolt[2]",
                          "--daq", "--duration", "0.2", "--a2l", a2l, *bus)

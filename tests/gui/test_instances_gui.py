@@ -34,7 +34,8 @@ def editor_on(window, qtbot, name: str):
 
 def test_the_browser_lists_an_instances_objects_and_their_editors_show_the_plain_objects_values(window, qtbot):
     names = {row.name for row in window.browser.model.all_rows}
-    assert {"tank.empty", "tank.switch", "tank.kp", "conv.tank", "sens.rail", "sens.volt"} <= names
+    assert {"tank.empty", "tank.switch", "tank.kp", "conv.tank", "sens.rail", "sens.volt", "convs[0]", "convs[1]",
+            "pconv.curves[1]"} <= names  # an array of curves: one curve per element
     assert "INSTANCE" not in window.browser.count.text()  # nothing left out
     typed, plain = editor_on(window, qtbot, "tank.switch"), editor_on(window, qtbot, "xsSWITCH_TANK_THR")
     assert (typed.value.value, typed.value.unit) == (plain.value.value, plain.value.unit) == (20.0, "bar")
@@ -42,3 +43,5 @@ def test_the_browser_lists_an_instances_objects_and_their_editors_show_the_plain
     assert curve.value.kind == "CURVE" and len(curve.value.value) == 9
     assert list(curve.value.value) == list(plain_curve.value.value)
     assert curve.value.axes == plain_curve.value.axes  # the points, their unit
+    second = editor_on(window, qtbot, "convs[1]")
+    assert list(second.value.value) == list(editor_on(window, qtbot, "zvRailPConv").value.value)

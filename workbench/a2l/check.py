@@ -3,7 +3,9 @@
 Checks: every block against the keyword table (parameters, the words allowed in
 enumerated ones, an option given twice where ASAP2 allows it once); references (:mod:`workbench.a2l.references`: COMPU_METHOD,
 RECORD_LAYOUT, typedefs, INSTANCE components, FUNCTION, conversion tables, units,
-measurements, axes, groups, memory segments); names defined twice; and
+measurements, axes, groups, memory segments); names defined twice; typedef structures
+(:mod:`workbench.a2l.structures`: components beyond their structure, a structure that contains
+itself, a component twice; what the workbench does not support, a pointer, as info); and
 (:mod:`workbench.a2l.placement`) objects that overlap, objects outside every MEMORY_SEGMENT,
 calibrations outside a RAM data segment (CAL RAM); display formats that are not ASAP2's ``"%Length.Layout"``
 (:mod:`workbench.a2l.display_format`). With an ELF, every object's symbol must
@@ -24,6 +26,7 @@ from workbench.a2l.placement import check_placement
 from workbench.a2l.references import check_references
 from workbench.a2l.reports import finding_at
 from workbench.a2l.source import read_source, source_from_text
+from workbench.a2l.structures import check_structures
 from workbench.a2l.values import quote_string
 from workbench.a2l.validate import validate_document
 from workbench.elf.debugdata import DebugData, read_beside
@@ -71,6 +74,10 @@ def check_document(doc: A2lDocument, debug: DebugData | None = None, *, progress
     for module in doc.modules:
         names = _namespaces(doc, module, report)
         check_references(doc, module, names, report)
+        try:
+            check_structures(doc, module, report)
+        except A2lParseError as error:  # a typedef without its parameters
+            _add_syntax(report, error)
         report_progress(progress, 2, 4, "checking memory")
         if objects is not None:
             try:

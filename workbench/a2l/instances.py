@@ -10,9 +10,14 @@ VAL_BLK. OVERWRITE blocks change one component's conversion, limits, format or u
 ``THIS.x`` in a component's axis names its sibling ``x``. The objects take the instance's address extension,
 READ_WRITE, CALIBRATION_ACCESS and IF_DATA (the model hands out the INSTANCE's block for them).
 
-What is refused, with the position: a typedef that does not exist, a component offset beyond its structure's
-size, a structure that contains itself, anything reached through a pointer (ADDRESS_TYPE), an array of curves,
-maps or axes (their size is the record layout's, not known here).
+MATRIX_DIM on a CURVE, MAP, CUBOID ... or an axis typedef makes one object per element (``inst[1]``,
+``inst.curves[0][2]``), each its record layout's size further (at MAX_AXIS_POINTS, as a C struct reserves it).
+
+Two kinds of what cannot be placed, each with its position; only that part is left out: an error in the file
+(:class:`~workbench.errors.A2lParseError`: a typedef that does not exist, a component that reaches beyond its
+structure's size, a structure that contains itself) and what the file may say but the workbench does not
+support (:class:`NotSupported`: anything reached through a pointer, ADDRESS_TYPE, whose target is known only at
+run time; an array of objects whose RECORD_LAYOUT size cannot be told).
 """
 
 from __future__ import annotations
@@ -23,26 +28,41 @@ from collections.abc import Callable, Mapping
 from dataclasses import fields, replace
 from typing import TYPE_CHECKING, NamedTuple
 
+from workbench.a2l.datatypes import DATATYPES
 from workbench.a2l.objects import (
+    Alignments,
     AxisPts,
     Blob,
     Characteristic,
     Instance,
     Measurement,
     Overwrite,
+    RecordLayout,
     StructureComponent,
+    TypedefStructure,
 )
-from workbench.errors import A2lParseError
+from workbench.errors import A2lParseError, UnknownSymbolError
 
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
 
-__all__ = ["LEAF_KINDS", "TYPEDEF_KINDS", "Placed", "expand_instance", "place", "without_indices"]
+__all__ = ["LEAF_KINDS", "TYPEDEF_KINDS", "NotSupported", "Placed", "TypedefSizes", "expand_instance", "place",
+           "without_indices"]
 
 LEAF_KINDS = {"TYPEDEF_MEASUREMENT": "MEASUREMENT", "TYPEDEF_CHARACTERISTIC": "CHARACTERISTIC",
               "TYPEDEF_AXIS": "AXIS_PTS", "TYPEDEF_BLOB": "BLOB"}
 TYPEDEF_KINDS = tuple(LEAF_KINDS) + ("TYPEDEF_STRUCTURE",)
 _ARRAYS = ("VALUE", "VAL_BLK")  # characteristic types MATRIX_DIM on a component turns into one VAL_BLK
+_ONE_ELEMENT = ("NO_AXIS_PTS", "SRC_ADDR", "RIP_ADDR", "SHIFT_OP", "OFFSET", "DIST_OP", "IDENTIFICATION")
+_RESERVED = {"BYTE": 1, "WORD": 2, "LONG": 4}
+_POINTER_SIZES = {"PBYTE": 1, "PWORD": 2, "PLONG": 4, "PLONGLONG": 8}
+
+
+class NotSupported(A2lParseError):
+    """What an A2L may say but the workbench cannot place (a pointer, a record layout of unknown size): not an
+    error in the file; only the objects concerned are left out."""
+
+    instance = ""  # the INSTANCE concerned
 
 
 class Placed(NamedTuple):
@@ -64,21 +84,72 @@ class Placed(NamedTuple):
 Get = Callable[[str, str], object]  # (block kind, name) -> the object the model reads
 
 
-def expand_instance(doc: A2lDocument, instance: Instance, typedef_kinds: Mapping[str, str], get: Get
+class TypedefSizes:
+    """The bytes one object of a typedef takes: a TYPEDEF_STRUCTURE's stated size, a measurement's data type
+    times its shape, a BLOB's size, a characteristic's or axis' RECORD_LAYOUT at MAX_AXIS_POINTS (what a C
+    struct reserves; items aligned as MOD_COMMON or the layout says). None: not known (a layout item whose size
+    depends on more than the layout, e.g. AXIS_RESCALE)."""
+
+    def __init__(self, get: Get, typedef_kinds: Mapping[str, str], alignments: Alignments):
+        self.get, self.typedef_kinds, self.alignments = get, typedef_kinds, alignments
+        self._sizes: dict[str, int | None] = {}
+
+    def of(self, typedef: str) -> int | None:
+        if typedef not in self._sizes:
+            kind = self.typedef_kinds.get(typedef)
+            try:
+                self._sizes[typedef] = None if kind is None else self._size(kind, self.get(kind, typedef))
+            except (A2lParseError, UnknownSymbolError):  # a record layout missing: check names it
+                self._sizes[typedef] = None
+        return self._sizes[typedef]
+
+    def _size(self, kind: str, template) -> int | None:
+        if kind == "TYPEDEF_STRUCTURE" or isinstance(template, Blob):
+            return template.size
+        if isinstance(template, Measurement):
+            return DATATYPES[template.datatype][0] * math.prod(template.shape) if template.datatype in DATATYPES \
+                else None
+        layout: RecordLayout = self.get("RECORD_LAYOUT", template.record_layout)
+        if isinstance(template, AxisPts):
+            points, values = {"X": template.max_axis_points}, 1
+        else:
+            points = {axis.axis: axis.max_axis_points for axis in template.axes}
+            values = math.prod(template.shape) if template.type in ("VAL_BLK", "ASCII", *_LOOKUPS) else 1
+        alignments = layout.alignments_over(self.alignments)
+        offset = 0
+        for entry in sorted((e for e in layout.entries if e.position is not None), key=lambda e: e.position):
+            if entry.keyword == "RESERVED":
+                size, count = _RESERVED.get(entry.datatype), 1
+            else:
+                size = DATATYPES.get(entry.datatype, (None,))[0]
+                count = values if entry.keyword == "FNC_VALUES" else points.get(entry.axis) \
+                    if entry.keyword == "AXIS_PTS" else 1 if entry.keyword in _ONE_ELEMENT else None
+            if size is None or count is None:
+                return None
+            offset += -offset % max(alignments.of(entry.datatype or ""), 1) + size * count
+        return offset
+
+
+_LOOKUPS = ("CURVE", "MAP", "CUBOID", "CUBE_4", "CUBE_5")
+
+
+def expand_instance(doc: A2lDocument, instance: Instance, sizes: TypedefSizes
                     ) -> tuple[dict[str, Placed], dict[str, A2lParseError]]:
     """The objects ``instance`` stands for, by name, in the structure's order; and the components left out, by
-    their name without indices (``inst.arr.ptr``), with why (an error at the reference or offset).
+    their name without indices (``inst.arr.ptr``), with why (an error at the reference or offset, or
+    :class:`NotSupported`).
 
     :raises A2lParseError: the instance itself cannot be placed (see the module's docstring).
     """
-    walk = _Walk(doc, instance, typedef_kinds, get)
+    walk = _Walk(doc, instance, sizes)
     walk.walk(instance.name, instance.typedef, instance, instance.address, instance.matrix_dim, instance.layout, ())
     return walk.found, walk.left_out
 
 
 class _Walk:
-    def __init__(self, doc, instance: Instance, typedef_kinds: Mapping[str, str], get: Get):
-        self.doc, self.instance, self.typedef_kinds, self.get = doc, instance, typedef_kinds, get
+    def __init__(self, doc, instance: Instance, sizes: TypedefSizes):
+        self.doc, self.instance, self.sizes = doc, instance, sizes
+        self.typedef_kinds, self.get = sizes.typedef_kinds, sizes.get
         self.found: dict[str, Placed] = {}
         self.left_out: dict[str, A2lParseError] = {}
 
@@ -93,10 +164,21 @@ class _Walk:
             raise self._error(holder, f"typedef {typedef} is not defined{hint}", "typedef")  # as a2l check says
         if holder.address_type not in (None, "DIRECT"):
             raise self._error(holder, f"reached through a pointer (ADDRESS_TYPE {holder.address_type}): not "
-                              "supported (the pointer's target is known only at run time)")
+                              "supported by the workbench (the pointer's target is known only at run time)",
+                              cls=NotSupported)
         path = name[len(self.instance.name):].lstrip(".")
         if kind != "TYPEDEF_STRUCTURE":
-            self._check_leaf(holder, kind, typedef, dims)
+            if dims and self._one_per_element(kind, typedef):
+                stride = self.sizes.of(typedef)
+                if stride is None:
+                    raise self._error(holder, f"an array (MATRIX_DIM) of typedef {typedef}: the size of its "
+                                      "RECORD_LAYOUT is not supported by the workbench", "typedef", NotSupported)
+                for index in itertools.product(*(range(d) for d in dims)):
+                    element = name + "".join(f"[{i}]" for i in index)
+                    self.found[element] = Placed(self.instance.name, kind, typedef,
+                                                 address + _flat(index, dims) * stride,
+                                                 element[len(self.instance.name):].lstrip("."))
+                return
             self.found[name] = Placed(self.instance.name, kind, typedef, address, path, dims, layout)
             return
         if typedef in chain:
@@ -105,38 +187,50 @@ class _Walk:
         structure = self.get("TYPEDEF_STRUCTURE", typedef)
         if structure.address_type not in (None, "DIRECT"):
             raise self._error(holder, f"TYPEDEF_STRUCTURE {typedef} is reached through a pointer (ADDRESS_TYPE "
-                              f"{structure.address_type}): not supported")
+                              f"{structure.address_type}): not supported by the workbench", cls=NotSupported)
         for index in itertools.product(*(range(d) for d in dims)):
             element = name + "".join(f"[{i}]" for i in index)
             base = address + _flat(index, dims) * structure.size
             for component in structure.components:
                 inner = f"{element}.{component.name}"
                 try:
-                    if structure.size and component.offset >= structure.size:
-                        raise self._error(component, f"offset {component.offset:#x} is beyond the size of "
-                                          f"TYPEDEF_STRUCTURE {typedef} ({structure.size:#x} bytes)", "offset")
+                    beyond = component.typedef not in chain + (typedef,) and component_beyond(structure, component,
+                                                                                              self.sizes)
+                    if beyond:
+                        raise self._error(component, beyond, "offset")
                     self.walk(inner, component.typedef, component, base + component.offset, component.matrix_dim,
                               component.layout, chain + (typedef,))
                 except A2lParseError as error:  # the component is left out, the rest of the instance placed
                     self.left_out.setdefault(without_indices(inner), error)
 
-    def _check_leaf(self, holder, kind: str, typedef: str, dims: tuple[int, ...]) -> None:
-        if not dims or kind in ("TYPEDEF_MEASUREMENT", "TYPEDEF_BLOB"):
-            return
-        if kind == "TYPEDEF_CHARACTERISTIC" and self.get(kind, typedef).type in _ARRAYS:
-            return
-        shown = getattr(self.get(kind, typedef), "type", "AXIS")
-        raise self._error(holder, f"an array (MATRIX_DIM) of {shown} typedef {typedef} is not supported", "typedef")
+    def _one_per_element(self, kind: str, typedef: str) -> bool:
+        """Whether MATRIX_DIM on this leaf makes one object per element (curves, maps, axes), not one array."""
+        return kind == "TYPEDEF_AXIS" or (kind == "TYPEDEF_CHARACTERISTIC"
+                                          and self.get(kind, typedef).type not in _ARRAYS)
 
-    def _error(self, holder, message: str, field: str | None = None) -> A2lParseError:
+    def _error(self, holder, message: str, field: str | None = None, cls=A2lParseError) -> A2lParseError:
         if isinstance(holder, Instance):
             label = f"INSTANCE {holder.name}"
         else:
             label = f"INSTANCE {self.instance.name}: STRUCTURE_COMPONENT {holder.name}"
         token = (holder.ref_tokens or {}).get(field) if field else None
-        if token is None:
-            return A2lParseError(f"{label}: {message}", *(holder.location or (self.doc.name, 0, 0)))
-        return self.doc.error(f"{label}: {message}", token)
+        where = (holder.location or (self.doc.name, 0, 0)) if token is None else self.doc.token_position(token)
+        error = cls(f"{label}: {message}", *where)
+        error.instance = self.instance.name
+        return error
+
+
+def component_beyond(structure: TypedefStructure, component: StructureComponent, sizes: TypedefSizes) -> str | None:
+    """Why ``component`` reaches beyond its structure's size (its offset, plus its size where known), or None."""
+    if not structure.size:
+        return None
+    pointer = component.address_type not in (None, "DIRECT")
+    size = _POINTER_SIZES.get(component.address_type) if pointer else sizes.of(component.typedef)
+    end = component.offset + (size or 1) * math.prod(component.matrix_dim)
+    if component.offset < structure.size and (size is None or end <= structure.size):
+        return None
+    what = f"offset {component.offset:#x}" + (f" + {end - component.offset} bytes" if size else "")
+    return f"{what} is beyond the size of TYPEDEF_STRUCTURE {structure.name} ({structure.size:#x} bytes)"
 
 
 def _flat(index: tuple[int, ...], dims: tuple[int, ...]) -> int:

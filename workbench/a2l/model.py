@@ -29,7 +29,15 @@ from typing import TYPE_CHECKING, NamedTuple, Union
 import numpy as np
 
 from workbench.a2l.display_format import format_parts
-from workbench.a2l.instances import TYPEDEF_KINDS, Placed, expand_instance, place, without_indices
+from workbench.a2l.instances import (
+    TYPEDEF_KINDS,
+    NotSupported,
+    Placed,
+    TypedefSizes,
+    expand_instance,
+    place,
+    without_indices,
+)
 from workbench.a2l.objects import (
     NO_COMPU_METHOD, AxisDescr, AxisPts, Blob, Characteristic, CompuMethod, CompuTab, CompuVtab, CompuVtabRange,
     Function, Group, Instance, Location, Measurement, ModCommon, RecordLayout, Unit,
@@ -101,6 +109,7 @@ class A2lModel:
         self._placed: dict[str, Placed] | None = None  # the objects INSTANCEs stand for, on first need
         self._placed_names: dict[str, list[str]] = {}  # kind -> those names, in document order
         self._instance_errors: dict[str, A2lParseError] = {}  # INSTANCE or component (no indices) -> why left out
+        self._sizes: TypedefSizes | None = None
         self._index()
 
     def __repr__(self) -> str:
@@ -136,8 +145,7 @@ class A2lModel:
             placed: dict[str, Placed] = {}
             for name in dict.fromkeys(self._names["INSTANCE"]):  # document order
                 try:
-                    found, left_out = expand_instance(self.doc, self._get("INSTANCE", name), self._typedef_kind,
-                                                      self._get)
+                    found, left_out = expand_instance(self.doc, self._get("INSTANCE", name), self.typedef_sizes())
                 except A2lParseError as error:
                     self._instance_errors[name] = error
                     continue
@@ -231,9 +239,33 @@ class A2lModel:
         return None if self._object_kind.get(name, "INSTANCE") != "INSTANCE" else self._placed_of(name)
 
     def instance_errors(self) -> list[A2lParseError]:
-        """Why INSTANCEs, or components of them, could not be placed (their objects are left out of the listings)."""
+        """The errors in the file that leave INSTANCEs, or components of them, out of the listings (a typedef that
+        does not exist, a component beyond its structure, a structure that contains itself)."""
         self._instances()
-        return list(self._instance_errors.values())
+        return [error for error in self._instance_errors.values() if not isinstance(error, NotSupported)]
+
+    def instance_limits(self) -> list[NotSupported]:
+        """The INSTANCEs, or components of them, left out because the workbench does not support what they use
+        (a pointer, ADDRESS_TYPE; an array of objects whose record layout's size it cannot tell)."""
+        self._instances()
+        return [error for error in self._instance_errors.values() if isinstance(error, NotSupported)]
+
+    def typedef(self, name: str):
+        """A TYPEDEF_STRUCTURE, or a TYPEDEF_MEASUREMENT, _CHARACTERISTIC, _AXIS, _BLOB read as its object without
+        an address.
+
+        :raises UnknownSymbolError: no typedef of that name.
+        """
+        kind = self._typedef_kind.get(name)
+        if kind is None:
+            raise self._unknown(name, self._typedef_kind, "typedefs")
+        return self._get(kind, name)
+
+    def typedef_sizes(self) -> TypedefSizes:
+        """The bytes an object of each typedef takes (:class:`~workbench.a2l.instances.TypedefSizes`)."""
+        if self._sizes is None:
+            self._sizes = TypedefSizes(self._get, self._typedef_kind, self.mod_common.alignments)
+        return self._sizes
 
     def characteristic(self, name: str) -> Characteristic:
         return self._get("CHARACTERISTIC", name)

@@ -128,6 +128,11 @@ class Resolver:
                 return
             if problem is None:
                 return
+        elif namespace == "typedef":
+            from workbench.a2l.model import closest_names
+
+            close = closest_names(target, self.names.get(namespace, {}))
+            problem += f" (did you mean {', '.join(close)}?)" if close else ""
         report.add(finding_at(self.doc, token, "undefined-reference", target,
                               f"{_label(owner)}: {what} {target} {problem}", owner.keyword, Severity.ERROR))
 

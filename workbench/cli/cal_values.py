@@ -33,10 +33,17 @@ _DECIMAL_COMMA = re.compile(r"[+-]?\d+,\d+")
 _MAP_CORNER = ("y\\x", "y \\ x", "")  # the corner cell of a map printed with its axes (cal get), or left empty
 _CURVE_LABELS = ("x", "value")
 _CELL = re.compile(r"(?P<name>[^\[\]\s]+)(?P<index>(\[\s*\d+\s*(,\s*\d+\s*)*\])+)")
+_LAST_INDEX = re.compile(r"\[\s*\d+\s*(,\s*\d+\s*)*\]\Z")
 
 
 def split_cell(model: A2lModel, text: str) -> tuple[str, tuple[int, ...] | None]:
-    """NAME, or NAME[x,y] / NAME[x][y]: one value of an array (unless the A2L has an object of that very name)."""
+    """NAME, or NAME[x,y] / NAME[x][y]: one value of an array (unless the A2L has an object of that very name);
+    NAME may hold indices itself (an INSTANCE's element: ``convs[1][3]`` is value 3 of the curve ``convs[1]``)."""
+    name, index = text.strip(), ""
+    while name not in model and (last := _LAST_INDEX.search(name)):
+        name, index = name[:last.start()], last.group() + index
+    if index and name in model:
+        return name, tuple(int(number) for number in re.findall(r"\d+", index))
     match = _CELL.fullmatch(text.strip())
     if match is None or text in model:
         return text, None

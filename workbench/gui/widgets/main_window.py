@@ -232,7 +232,8 @@ class MainWindow(EcuWindowActions, QMainWindow):
         model = workspace.model
         self.hub.set_resolver(lambda name: measurement_info(model, name))
         self.hub.add_signals(workspace.can2_infos())
-        self.browser.set_variables(workspace.variables, left_out=[str(error) for error in model.instance_errors()])
+        left_out = model.instance_errors() + model.instance_limits()
+        self.browser.set_variables(workspace.variables, left_out=[str(error) for error in left_out])
         self.compare.set_a2l(model)
         self.status.show_offline_only(workspace.no_xcp)
         if workspace.left_out:  # said, not refused: an A2ML include sent without its file holds no object
