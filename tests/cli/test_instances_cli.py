@@ -53,7 +53,7 @@ def test_the_elements_of_an_array_of_curves_are_the_curves_one_after_the_other(c
     values = _values(capsys, a2l, bus, *pairs, *pairs.values())
     assert values["zvTankPConv"] != values["zvRailPConv"]
     assert all(values[typed] == values[plain] for typed, plain in pairs.items())
-    code, out, err = run(capsys, "cal", "set", "convs[1][3]", "333", "--a2l", a2l, *bus)
+    code, _, err = run(capsys, "cal", "set", "convs[1][3]", "333", "--a2l", a2l, *bus)
     assert code == 0, err
     assert _values(capsys, a2l, bus, "zvRailPConv")["zvRailPConv"][3] == 333.0
     dataset = tmp_path / "convs.dcm"
