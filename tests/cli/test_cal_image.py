@@ -136,3 +136,18 @@ def test_a_c_style_format_shows_alike_in_cal_get_cal_diff_and_the_views(work, ca
     code, out, _ = run(capsys, "cal", "diff", "app.s19", "new.s19", *wild)
     assert code == 1 and "700.000 bar" in out and "650.000 bar" in out, out
     assert value_decimals(load_a2l("wild.a2l").model(), "xsFULL_TANK_PRESS") == 3  # the GUI's editors and compare view
+
+
+def test_every_image_extension_is_read_written_and_named(work, capsys):
+    """One list of image extensions (workbench.image.files): .sx is read and written as .s19 is, and the refusals
+    name it too (the offline image's message once left it out while accepting it)."""
+    from workbench.image import IMAGE_SUFFIXES
+
+    os.rename("app.s19", "app.sx")
+    assert run(capsys, "cal", "get", "xsPRV_KP", "--image", "app.sx")[1] == "xsPRV_KP = 5.0000 %/bar\n"
+    assert run(capsys, "cal", "set", "xsPRV_KP", "6", "--image", "app.sx", "-o", "new.ihex")[0] == 0
+    assert (work / "new.ihex").read_text().startswith(":")  # Intel HEX by its extension
+    for refused in (("cal", "get", "xsPRV_KP", "--image", "app.txt"),
+                    ("cal", "set", "xsPRV_KP", "6", "--image", "app.sx", "-o", "new.txt")):
+        code, _, err = run(capsys, *refused)
+        assert code == 2 and all(suffix in err for suffix in IMAGE_SUFFIXES), err

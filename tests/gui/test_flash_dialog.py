@@ -3,6 +3,8 @@ flash with progress and verify, the working page into CAL ROM, cancel."""
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import pytest
 from gui_helpers import WAIT_MS, open_window, text_room
 from PySide6.QtCore import Qt
@@ -211,3 +213,19 @@ def test_a_cleared_key_with_another_region_differing_offers_to_select_that_regio
     assert dialog.selected_regions() == ["APPLICATIVE", "CALIB"] and dialog.add_regions_button.isHidden()
     _planned(dialog, qtbot)
     dialog.close_button.click()
+
+
+def test_the_browse_filter_offers_every_image_extension(qtbot, monkeypatch):
+    from PySide6.QtWidgets import QFileDialog
+
+    from workbench.a2l import load_a2l, read_xcp_config
+    from workbench.gui.widgets.flash_dialog import FlashDialog
+    from workbench.image import IMAGE_SUFFIXES
+
+    offered = []
+    monkeypatch.setattr(QFileDialog, "getOpenFileName", lambda *args: offered.append(args[-1]) or ("", ""))
+    doc = load_a2l(demo.a2l())
+    dialog = FlashDialog(SimpleNamespace(doc=doc, config=read_xcp_config(doc)))  # what the dialog reads of a session
+    qtbot.addWidget(dialog)
+    dialog._browse()
+    assert offered and all(f"*{suffix}" in offered[0] for suffix in IMAGE_SUFFIXES), offered

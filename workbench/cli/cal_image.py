@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 
 from workbench.cli.options import output_file, print_json
 from workbench.errors import InputError, epk_text
+from workbench.image.files import image_suffixes, is_image_file
 
 if TYPE_CHECKING:
     from workbench.a2l import A2lDocument
@@ -25,7 +26,7 @@ if TYPE_CHECKING:
 __all__ = ["IMAGES", "add_image_arguments", "image_dataset_of", "load_into_image", "open_image", "require_output",
            "save_image", "values_of", "written_note"]
 
-IMAGES = ".s19/.s28/.s37/.srec/.mot/.hex/.ihex"  # the image files the cal commands read and write
+IMAGES = image_suffixes()  # the image files the cal commands read and write: ".s19/.s28/.../.ihex"
 
 
 def add_image_arguments(parser: argparse.ArgumentParser, *, output: bool = False) -> None:
@@ -47,7 +48,6 @@ def open_image(args: argparse.Namespace, doc: A2lDocument | None = None, *, read
     warning when ``reading`` or writing anyway (--accept-epk-mismatch), else the write's error says it."""
     from workbench.cli.ecu_options import a2l_document
     from workbench.sync.offline import ImageCalibration
-    from workbench.sync.reference import is_image_file
 
     if not is_image_file(args.image):
         raise InputError(f"--image {args.image}: an s19/hex is named {IMAGES}")
@@ -135,7 +135,6 @@ def load_into_image(args: argparse.Namespace) -> int:
 
 def image_dataset_of(args: argparse.Namespace):
     """``cal save DATASET --image FILE``: the image's calibrations (or NAMEs) as a dataset."""
-    from workbench.sync.reference import is_image_file
 
     if is_image_file(args.output):
         raise InputError("with --image, save writes a dataset (.dcm/.cdfx): an image is written by "

@@ -94,8 +94,8 @@ def _progress(args: argparse.Namespace, label: str) -> ProgressBar:
 
 def _save(args: argparse.Namespace) -> int:
     from workbench.calib.dataset import format_of, save_dataset
+    from workbench.image.files import is_image_file
     from workbench.sync import read_dataset
-    from workbench.sync.reference import is_image_file
 
     if args.image is None and is_image_file(args.output):
         return _save_image(args)
@@ -266,7 +266,7 @@ def _is_demo_a2l(a2l) -> bool:
 
 def needs_a2l(args: argparse.Namespace) -> bool:
     """Whether ``cal diff`` compares more than two dataset files (the ECU, or an image decoded by the A2L)."""
-    from workbench.sync.reference import is_image_file
+    from workbench.image.files import is_image_file
 
     return any(side.lower() == ECU or is_image_file(side) for side in (args.a, args.b))
 

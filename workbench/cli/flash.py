@@ -12,6 +12,7 @@ from workbench.cli.ecu_options import a2l_document, add_ecu_arguments, open_sess
 from workbench.cli.options import positive_float, print_json
 from workbench.cli.progressbar import ProgressBar
 from workbench.errors import Cancelled, InputError
+from workbench.image.files import image_suffixes
 
 EPILOG = """\
 The plan comes first: per region of the A2L the ranges the file fills ("Partial: FC0000h-FC01C3h
@@ -41,7 +42,7 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
                                    description="Flash regions of an S-record or Intel HEX file into the ECU over XCP, "
                                                "or the working page (CAL RAM) into CAL ROM.",
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("file", nargs="?", metavar="FILE", help="S-record (.s19/.s28/.s37/.srec) or Intel HEX file")
+    parser.add_argument("file", nargs="?", metavar="FILE", help=f"S-record or Intel HEX file ({image_suffixes()})")
     what = parser.add_argument_group("what to flash")
     what.add_argument("--region", "-r", action="append", metavar="NAME",
                       help="flash region of the A2L (CALIB, APPLICATIVE ...); repeat for several")

@@ -17,10 +17,11 @@ from PySide6.QtCore import QObject, Signal
 from PySide6.QtWidgets import QFileDialog, QMessageBox
 
 from workbench.gui.worker import run_task
+from workbench.image.files import image_suffixes
 
-__all__ = ["OfflineImage"]
+__all__ = ["IMAGE_FILES", "OfflineImage"]
 
-FILES = "Flash images (*.s19 *.s28 *.s37 *.srec *.mot *.hex *.ihex);;All files (*)"
+IMAGE_FILES = f"Flash images ({image_suffixes(' ', '*{}')});;All files (*)"  # the file dialogs' filter
 
 
 class OfflineImage(QObject):
@@ -76,7 +77,7 @@ class OfflineImage(QObject):
         return self.values.reference() if self.modified else self.window.project.s19
 
     def open_dialog(self) -> None:
-        path, _ = QFileDialog.getOpenFileName(self.window, "Open image", "", FILES)
+        path, _ = QFileDialog.getOpenFileName(self.window, "Open image", "", IMAGE_FILES)
         if path:
             self.open(Path(path))
 
@@ -144,7 +145,7 @@ class OfflineImage(QObject):
         if not ask and path.resolve() != demo.s19().resolve() and not read_only:
             return path
         suggested = path.with_name(f"{path.stem}-offline{path.suffix}")
-        chosen, _ = QFileDialog.getSaveFileName(self.window, "Save image as", str(suggested), FILES)
+        chosen, _ = QFileDialog.getSaveFileName(self.window, "Save image as", str(suggested), IMAGE_FILES)
         return Path(chosen) if chosen else None
 
     def save_to(self, path: Path) -> None:

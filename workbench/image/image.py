@@ -15,6 +15,7 @@ import bincopy
 
 from workbench.errors import InputError
 from workbench.fileio import read_input, write_output
+from workbench.image.files import is_intel_hex
 
 ERASED = 0xFF
 _PROGRAMMED = re.compile(rb"[^\xff]+")
@@ -141,11 +142,6 @@ class MemoryImage:
 
     def __repr__(self) -> str:
         return f"MemoryImage({' '.join(map(str, self.ranges)) or 'empty'})"
-
-
-def is_intel_hex(path: str | Path) -> bool:
-    """Whether ``path`` names an Intel HEX file (``.hex``, ``.ihex``); other image files are S-records."""
-    return Path(path).suffix.lower() in (".hex", ".ihex")
 
 
 def load_image(path: str | Path) -> MemoryImage:

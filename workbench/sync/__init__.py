@@ -28,21 +28,23 @@ from typing import TYPE_CHECKING
 from workbench.lazy_exports import lazy_exports
 
 _EXPORTS = {
+    "workbench.image.files": ("is_image_file",),
     "workbench.sync.apply": ("ApplyFailed", "ApplyRefused", "ApplyReport", "ObjectOutcome", "apply_dataset"),
     "workbench.sync.areas": ("CalibrationArea", "ImageView", "calibration_areas"),
     "workbench.sync.cache": ("AreaCheck", "ByteDifference", "SyncReport", "sync_compare"),
     "workbench.sync.offline": ("ImageCalibration",),
-    "workbench.sync.reference": ("DatasetReference", "ImageReference", "is_image_file", "load_reference"),
+    "workbench.sync.reference": ("DatasetReference", "ImageReference", "load_reference"),
     "workbench.sync.snapshot": ("calibration_image", "file_dataset", "image_dataset", "read_dataset"),
     "workbench.sync.transfer": ("DownloadResult", "sync_download", "sync_upload"),
 }
 __all__, __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerly
+    from workbench.image.files import is_image_file
     from workbench.sync.apply import ApplyFailed, ApplyRefused, ApplyReport, ObjectOutcome, apply_dataset
     from workbench.sync.areas import CalibrationArea, ImageView, calibration_areas
     from workbench.sync.cache import AreaCheck, ByteDifference, SyncReport, sync_compare
     from workbench.sync.offline import ImageCalibration
-    from workbench.sync.reference import DatasetReference, ImageReference, is_image_file, load_reference
+    from workbench.sync.reference import DatasetReference, ImageReference, load_reference
     from workbench.sync.snapshot import calibration_image, file_dataset, image_dataset, read_dataset
     from workbench.sync.transfer import DownloadResult, sync_download, sync_upload

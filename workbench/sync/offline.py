@@ -409,11 +409,11 @@ class ImageCalibration:
         """
         from workbench.fileio import write_output
         from workbench.image import patched_text
-        from workbench.sync.reference import is_image_file
+        from workbench.image.files import image_suffixes, is_image_file
 
         path = Path(path)
         if not is_image_file(path):
-            raise InputError(f"{path}: an image is saved as .s19/.s28/.s37/.srec/.mot/.hex/.ihex")
+            raise InputError(f"{path}: an image is saved as {image_suffixes()}")
         with self.lock:
             if self._text is not None and is_intel_hex(path) == is_intel_hex(self.path or path):
                 text = patched_text(self._text, self.image, self.changes())

@@ -8,10 +8,9 @@ from pathlib import Path
 from workbench.calib.dataset import Dataset, format_of, load_dataset
 from workbench.errors import InputError
 from workbench.image import MemoryImage, load_image
+from workbench.image.files import image_suffixes, is_image_file
 
-__all__ = ["IMAGE_SUFFIXES", "DatasetReference", "ImageReference", "is_image_file", "load_reference"]
-
-IMAGE_SUFFIXES = (".s19", ".s28", ".s37", ".srec", ".mot", ".sx", ".hex", ".ihex")
+__all__ = ["DatasetReference", "ImageReference", "load_reference"]
 
 
 @dataclass
@@ -40,11 +39,6 @@ class DatasetReference(_FileReference):
 Reference = ImageReference | DatasetReference
 
 
-def is_image_file(path: str | Path) -> bool:
-    """Whether ``path`` names an S-record or Intel HEX file by its extension."""
-    return Path(path).suffix.lower() in IMAGE_SUFFIXES
-
-
 def load_reference(path: str | Path) -> Reference:
     """The image or dataset in ``path``, by its extension.
 
@@ -56,6 +50,6 @@ def load_reference(path: str | Path) -> Reference:
     try:
         format_of(path)
     except InputError:
-        raise InputError(f"{path}: neither an image ({', '.join(IMAGE_SUFFIXES)}) nor a dataset (.dcm, .cdfx) by "
+        raise InputError(f"{path}: neither an image ({image_suffixes(', ')}) nor a dataset (.dcm, .cdfx) by "
                          "its extension") from None
     return DatasetReference(path, load_dataset(path))

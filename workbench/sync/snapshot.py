@@ -90,7 +90,7 @@ def file_dataset(model: A2lModel, path: str | Path) -> Dataset:
     """
     from workbench.calib.dataset import load_dataset
     from workbench.image import load_image
-    from workbench.sync.reference import is_image_file
+    from workbench.image.files import is_image_file
 
     if is_image_file(path):
         return image_dataset(model, load_image(path), source=str(path))

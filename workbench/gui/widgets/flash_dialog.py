@@ -32,6 +32,7 @@ from PySide6.QtWidgets import (
 
 from workbench.errors import Cancelled, WorkbenchError
 from workbench.gui import theme
+from workbench.gui.offline_image import IMAGE_FILES
 from workbench.gui.widgets.job_buttons import JobButtons
 from workbench.gui.worker import Task
 
@@ -188,7 +189,7 @@ class FlashDialog(QDialog):
 
     def _browse(self) -> None:
         path, _ = QFileDialog.getOpenFileName(self, "Flash image", self.path.text(),
-                                              "Flash images (*.s19 *.srec *.mot *.hex);;All files (*)")
+                                              IMAGE_FILES)
         if path:
             self.path.setText(path)
             self.replan()
