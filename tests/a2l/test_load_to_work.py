@@ -39,6 +39,12 @@ def test_any_other_missing_include_stays_an_error(tmp_path):
     with pytest.raises(A2lParseError) as raised:
         load_a2l_to_work(tmp_path / "ecu.a2l")
     assert (raised.value.line, raised.value.column) == (8, 1) and "params.a2l: no such file" in str(raised.value)
+    said = f"cannot include {tmp_path / 'params.a2l'}: no such file"  # the path once, as load_a2l and check say it
+    with pytest.raises(A2lParseError) as strict:
+        load_a2l(tmp_path / "ecu.a2l")
+    assert raised.value.reason == strict.value.reason == said
+    assert [f.message for f in check_file(tmp_path / "ecu.a2l").findings if f.kind == "include-not-found"] == [
+        f"{said} (the rest is checked without it)"]
 
 
 def test_cal_get_and_set_with_an_image_through_xcplites_a2l(tmp_path, capsys, monkeypatch):

@@ -22,6 +22,7 @@ from workbench.a2l.byte_order import byte_order_finding
 from workbench.a2l.display_format import check_formats
 from workbench.a2l.document import A2lDocument, Block
 from workbench.a2l.grammar import NAMESPACES
+from workbench.a2l.includes import cannot_include
 from workbench.a2l.placement import check_placement
 from workbench.a2l.references import check_references
 from workbench.a2l.reports import finding_at
@@ -57,7 +58,7 @@ def check_document(doc: A2lDocument, debug: DebugData | None = None, *, progress
     report = Report("check", fails_on=Severity.WARNING)
     for include, holder, why in doc.missing_includes:  # left out: the rest is checked without it
         line, column = holder.position(include.offset)
-        report.add(Finding("include-not-found", include.name, f"cannot include {include.path}: {why} (the rest is "
+        report.add(Finding("include-not-found", include.name, f"{cannot_include(include.path, why)} (the rest is "
                            "checked without it)", holder.name, line, column, "", Severity.ERROR))
     syntax: list[A2lParseError] = []
     validate_document(doc, syntax, options_once=True)

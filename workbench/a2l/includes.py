@@ -23,8 +23,8 @@ from workbench.findings import Finding, Severity
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
 
-__all__ = ["A2ML_SUFFIX", "Include", "Spliced", "includes_not_found_from", "left_out", "load_a2l_to_work",
-           "splice_includes"]
+__all__ = ["A2ML_SUFFIX", "Include", "Spliced", "cannot_include", "includes_not_found_from", "left_out",
+           "load_a2l_to_work", "splice_includes"]
 
 A2ML_SUFFIX = ".aml"  # an A2ML file: the syntax of the IF_DATA blocks, which the reader knows without it
 
@@ -84,9 +84,10 @@ def splice_includes(source: SourceFile, encoding: str | None = None, _chain: tup
         try:
             included = read_source(target)
         except InputError as exc:
+            why = str(exc).removeprefix(f"{target}: ")
             if missing is None:
-                raise source_map.error(f"cannot include {target}: {exc}", offset) from None
-            missing.append((Include(name, target, offset), source, str(exc).removeprefix(f"{target}: ")))
+                raise source_map.error(cannot_include(target, why), offset) from None
+            missing.append((Include(name, target, offset), source, why))
             included = SourceFile(target, b"", encoding)
         inner = splice_includes(included, encoding, chain, missing=missing)
         includes.append(Include(name, target, offset))
@@ -105,6 +106,11 @@ def splice_includes(source: SourceFile, encoding: str | None = None, _chain: tup
     spliced_tokens = tokenize(buffer, spliced_map)
     begins, ends, _ = find_directives(spliced_tokens, spliced_map)
     return Spliced(buffer, spliced_map, spliced_tokens, includes, count, begins, ends)
+
+
+def cannot_include(target: Path, why: str) -> str:
+    """The one text for an ``/include`` whose file cannot be read (``why``: "no such file" ...), wherever it is said."""
+    return f"cannot include {target}: {why}"
 
 
 def _include_name(source: SourceFile, raw: bytes) -> str:
@@ -141,7 +147,7 @@ def load_a2l_to_work(path: str | Path) -> A2lDocument:
     doc = A2lDocument.from_source(read_source(path), missing_ok=True)
     for include, holder, why in doc.missing_includes:
         if include.path.suffix.lower() != A2ML_SUFFIX:
-            raise holder.error(f"cannot include {include.path}: {include.path}: {why}", include.offset)
+            raise holder.error(cannot_include(include.path, why), include.offset)
     if doc.missing_includes:
         from workbench.logs import logger
 
