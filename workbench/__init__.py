@@ -30,6 +30,7 @@ _ERRORS = ["A2lParseError", "Cancelled", "ConnectionLostError", "ConversionError
            "EpkMismatchError", "InputError", "LimitsError", "PageError", "PartialWriteError", "UnknownSymbolError",
            "WorkbenchError", "XcpCommandError", "XcpTimeoutError"]
 _lazy, __getattr__, _dir = lazy_exports(__name__, {"workbench.session": ("Session",),
+                                                    "workbench.session.detect": ("detect_slaves",),
                                                     "workbench.sync.offline": ("ImageCalibration",)})
 __all__ = sorted(_ERRORS + _lazy + ["__version__"])
 

@@ -13,7 +13,8 @@ from dataclasses import dataclass
 from enum import IntEnum, IntFlag
 
 __all__ = ["CAN_ID_EXTENDED_FLAG", "EV_CMD_PENDING", "MAX_DAQ_PID", "PID_ERR", "PID_EV", "PID_RES", "PID_SERV",
-           "TIME_UNIT_S", "CanId", "Cmd", "Err", "IdType", "Resource"]
+           "SLAVE_ID_ECHO", "SLAVE_ID_INVERSE", "TIME_UNIT_S", "CanCmd", "CanId", "Cmd", "Err", "IdType", "Resource",
+           "SlaveIdMode"]
 
 PID_RES = 0xFF  # positive response
 PID_ERR = 0xFE  # negative response
@@ -132,6 +133,25 @@ class Cmd(IntEnum):
     PROGRAM_NEXT = 0xCA
     PROGRAM_MAX = 0xC9
     PROGRAM_VERIFY = 0xC8
+
+
+class CanCmd(IntEnum):
+    """XCP on CAN's sub-commands of TRANSPORT_LAYER_CMD (the byte after 0xF2)."""
+
+    GET_SLAVE_ID = 0xFF  # 'X' 'C' 'P' mode: asked on CAN_ID_BROADCAST, every slave answers with its CAN_ID_MASTER
+    GET_DAQ_ID = 0xFE  # DAQ list number (WORD): the CAN id its DTOs go on, and whether it is fixed
+    SET_DAQ_ID = 0xFD  # DAQ list number (WORD), CAN id (DWORD)
+
+
+class SlaveIdMode(IntEnum):
+    """GET_SLAVE_ID's mode byte: the answer carries ``XCP`` (:data:`SLAVE_ID_ECHO`) or its bytes inverted."""
+
+    ECHO = 0  # identify by echo
+    INVERSE_ECHO = 1  # confirm by inverse echo
+
+
+SLAVE_ID_ECHO = b"XCP"
+SLAVE_ID_INVERSE = bytes(0xFF - byte for byte in SLAVE_ID_ECHO)  # A7 BC AF
 
 
 class Err(IntEnum):

@@ -24,6 +24,7 @@ GROUPS: list[tuple[str, str]] = [
     ("sim", "run the simulated FLCU ECU (XCP slave) on CAN or Ethernet"),
     ("dbc", "CAN database tools: message table, fix calibrations, driver callbacks"),
     ("info", "show ECU identification, EPK and protection state"),
+    ("scan", "find the XCP on CAN slaves on a bus and their CAN ids (GET_SLAVE_ID)"),
     ("measure", "read signals by name (polling or DAQ), optionally record MDF4"),
     ("record", "record signals (DAQ) and the CAN2 bus to MDF4; --repair a killed recording"),
     ("cal", "read/write calibrations by name, fix overrides, datasets"),

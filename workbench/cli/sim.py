@@ -200,7 +200,8 @@ def _announce(args: argparse.Namespace, simulator, files, faults: list[str], con
     xcp, buses = info["xcp"], info["buses"]
     if xcp["transport"] == "CAN":
         where = [f"  CAN1 (XCP)   {_bus_text(buses['CAN1'])}",
-                 f"  XCP ids      master 0x{xcp['can_id_master']:X} -> ECU, ECU -> master 0x{xcp['can_id_slave']:X}"]
+                 f"  XCP ids      master 0x{xcp['can_id_master']:X} -> ECU, ECU -> master 0x{xcp['can_id_slave']:X}"
+                 + (f", GET_SLAVE_ID on 0x{xcp['can_id_broadcast']:X}" if "can_id_broadcast" in xcp else "")]
         can2 = _bus_text(buses["CAN2"]) if "CAN2" in buses else "shares CAN1"
     else:
         where = [f"  XCP          on {xcp['transport']} at {xcp['host']}:{xcp['port']} "

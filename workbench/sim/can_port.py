@@ -1,5 +1,5 @@
 """The simulated ECU on python-can buses: the buses themselves (:class:`CanBuses`) and XCP on CAN
-(:class:`CanXcpPort`).
+(:class:`CanXcpPort`), with XCP on CAN's own commands (TRANSPORT_LAYER_CMD GET_SLAVE_ID and GET_DAQ_ID).
 
 Buses are given by role, ``CAN1`` (XCP on CAN) and ``CAN2`` (the FLCU messages), as python-can
 settings (opened here, shut down at close) or as open buses (the caller's). Two roles may share
@@ -10,6 +10,8 @@ model when a bit rate is given.
 from __future__ import annotations
 
 import logging
+import struct
+import time
 from collections.abc import Callable, Mapping
 from typing import Any
 
@@ -19,8 +21,9 @@ from workbench.bus_defaults import open_bus
 from workbench.logs import logger
 from workbench.sim.bus import ECHOING_INTERFACES, EchoFilter, Receiver, Transmitter
 from workbench.sim.can_timing import BusClock
-from workbench.sim.ecu import SimulatedEcu
+from workbench.sim.ecu import EcuState, SimulatedEcu
 from workbench.sim.xcp_port import XcpPort
+from workbench.xcp_protocol import PID_ERR, PID_RES, SLAVE_ID_ECHO, SLAVE_ID_INVERSE, CanCmd, Cmd, Err, SlaveIdMode
 
 log = logger(__name__)
 
@@ -29,6 +32,8 @@ MAX_FD_DLC = 64
 FD_LENGTHS = (12, 16, 20, 24, 32, 48, 64)  # CAN FD data lengths beyond 8
 
 BusSpec = can.BusABC | Mapping[str, Any]
+_TRANSPORT_LAYER_CMD = bytes((Cmd.TRANSPORT_LAYER_CMD,))
+_GET_SLAVE_ID = bytes((Cmd.TRANSPORT_LAYER_CMD, CanCmd.GET_SLAVE_ID))
 
 
 class CanBuses:
@@ -105,6 +110,11 @@ class CanBuses:
 class CanXcpPort(XcpPort):
     """XCP on CAN on the ``CAN1`` role of ``buses``: commands on CAN_ID_MASTER, responses and DTOs on CAN_ID_SLAVE.
 
+    GET_SLAVE_ID is answered on CAN_ID_BROADCAST (when the parameters name one) and on CAN_ID_MASTER, connected or
+    not; a request without the ``XCP`` pattern or with another mode goes unanswered, as a slave's CAN driver does.
+    GET_DAQ_ID answers in a session: every DAQ list's DTOs go on CAN_ID_SLAVE (fixed). Without
+    TRANSPORT_LAYER_CMD (:attr:`XcpParameters.without`) the slave is silent on the broadcast id.
+
     With MAX_DLC_REQUIRED the slave pads every frame to MAX_DLC (8; 64 on CAN FD) and ignores master
     frames of another length, as AUTOSAR's CanXcp does. On CAN FD (:attr:`XcpParameters.can_fd`) frames
     carry up to 64 bytes with the bit rate switch; a packet is padded to the next length CAN FD has.
@@ -117,6 +127,7 @@ class CanXcpPort(XcpPort):
         self.buses = buses
         self.master_id = ecu.params.can_id_master
         self.slave_id = ecu.params.can_id_slave
+        self.broadcast_id = ecu.params.can_id_broadcast
         self.max_dlc = MAX_FD_DLC if ecu.params.can_fd else MAX_DLC
         self._short_frame_seen = False
 
@@ -124,7 +135,7 @@ class CanXcpPort(XcpPort):
         """Nothing of its own to open: :class:`CanBuses` opens the bus and hands frames to :meth:`on_frame`."""
 
     def accepts(self, message: can.Message) -> bool:
-        return self.master_id.matches(message)
+        return self.master_id.matches(message) or (self.broadcast_id is not None and self.broadcast_id.matches(message))
 
     def on_frame(self, message: can.Message) -> None:
         if message.is_remote_frame or (self.ecu.params.max_dlc_required and len(message.data) != self.max_dlc):
@@ -134,7 +145,32 @@ class CanXcpPort(XcpPort):
             log.log(level, "XCP frame of %d bytes ignored: the A2L says MAX_DLC_REQUIRED, the master must pad to %d",
                     len(message.data), self.max_dlc)
             return
-        self.on_command(bytes(message.data))
+        cto = bytes(message.data)
+        if not self.master_id.matches(message) and cto[:2] != _GET_SLAVE_ID:
+            return  # on the broadcast id a slave hears GET_SLAVE_ID only
+        self.on_command(cto)
+
+    def _command_answer(self, cto: bytes) -> list[bytes]:
+        params = self.ecu.params
+        if cto[:1] != _TRANSPORT_LAYER_CMD or Cmd.TRANSPORT_LAYER_CMD in params.without:
+            return self.ecu.handle_cto(cto)
+        if self.ecu.state is EcuState.OFF or time.monotonic() < self.ecu.slave.silent_until:
+            return []
+        if cto[:2] == _GET_SLAVE_ID:
+            if cto[2:5] != SLAVE_ID_ECHO or len(cto) < 6 or cto[5] not in tuple(SlaveIdMode):
+                return []
+            echo = SLAVE_ID_INVERSE if cto[5] == SlaveIdMode.INVERSE_ECHO else SLAVE_ID_ECHO
+            return [bytes((PID_RES,)) + echo + struct.pack(params.byte_order + "I", self.master_id.a2l)]
+        if not self.ecu.slave.connected:
+            return []
+        if cto[1:2] != bytes((CanCmd.GET_DAQ_ID,)):
+            return [bytes((PID_ERR, Err.CMD_UNKNOWN))]
+        if len(cto) < 4:
+            return [bytes((PID_ERR, Err.CMD_SYNTAX))]
+        daq = params.daq
+        if struct.unpack_from(params.byte_order + "H", cto, 2)[0] >= (len(daq.static_lists) or daq.max_daq):
+            return [bytes((PID_ERR, Err.OUT_OF_RANGE))]
+        return [struct.pack(params.byte_order + "BBHI", PID_RES, 1, 0, self.slave_id.a2l)]  # 1: the id is fixed
 
     def _frame(self, packet: bytes) -> can.Message:
         fd = self.ecu.params.can_fd
@@ -154,5 +190,6 @@ class CanXcpPort(XcpPort):
 
     def describe(self) -> dict[str, Any]:
         params = self.ecu.params
+        broadcast = {"can_id_broadcast": params.can_id_broadcast.a2l} if params.can_id_broadcast is not None else {}
         return {"transport": "CAN", "can_id_master": params.can_id_master.a2l, "can_id_slave": params.can_id_slave.a2l,
-                "max_cto": params.max_cto, "max_dto": params.max_dto}
+                **broadcast, "max_cto": params.max_cto, "max_dto": params.max_dto}

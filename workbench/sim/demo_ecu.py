@@ -115,6 +115,7 @@ def xcp_parameters(doc: A2lDocument, config: XcpConfig, transport: str = "CAN") 
         ids = {
             "can_id_master": can.can_id_master,
             "can_id_slave": can.can_id_slave,
+            "can_id_broadcast": can.can_id_broadcast,
             "baudrate": can.baudrate or defaults.baudrate,
             "max_dlc_required": can.max_dlc_required,
         }

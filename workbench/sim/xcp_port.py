@@ -70,8 +70,12 @@ class XcpPort(ABC):
             time.sleep(fault.delay_s)
         for _ in range(2 if fault is not None and fault.action is FrameAction.DUPLICATE else 1):
             with self.lock:
-                packets = self.ecu.handle_cto(cto)
+                packets = self._command_answer(cto)
             self._answer(cto[0] if cto else 0, packets)
+
+    def _command_answer(self, cto: bytes) -> list[bytes]:
+        """The ECU's answer to one command (under the lock); a front end answers its transport's own commands."""
+        return self.ecu.handle_cto(cto)
 
     def _answer(self, command: int, packets: list[bytes]) -> None:
         """Send a command's answers; a slow slave's (or one the fault plan delays) leave late, and the answers

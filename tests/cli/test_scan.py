@@ -1,0 +1,56 @@
+"""``workbench scan`` against the simulated demo ECU on an in-process virtual bus: the slaves found, --identify,
+--json, exit 1 with one line when none answers, exit 2 for a broadcast id that is none or an A2L without one."""
+
+from __future__ import annotations
+
+import itertools
+import json
+
+import pytest
+from cli_helpers import run
+from session_helpers import edited_a2l
+
+from workbench.sim import serve_demo
+
+_channels = itertools.count()
+
+
+@pytest.fixture
+def bus():
+    channel = f"scan-{next(_channels)}"
+    with serve_demo({"interface": "virtual", "channel": channel}, time_scale=None):
+        yield ["--interface", "virtual", "--channel", channel]
+
+
+def test_scan_lists_the_slave_and_checks_the_a2l_ids(bus, capsys):
+    code, out, err = run(capsys, "scan", *bus)
+    assert (code, err) == (0, "")
+    assert out.splitlines() == [
+        f"GET_SLAVE_ID (echo and inverse echo) on 0x6F0 (virtual {bus[-1]}): 1 slave answered",
+        "slave 1  commands on 0x7F0, answers on 0x7F1",
+        "A2L         CAN_ID_MASTER 0x7F0, CAN_ID_SLAVE 0x7F1: a slave answers on them",
+    ]
+
+
+def test_scan_identify_json(bus, capsys):
+    code, out, _ = run(capsys, "scan", "--identify", "--json", *bus)
+    data = json.loads(out)
+    assert code == 0 and data["ok"] is True and data["a2l"]["answered"] is True
+    [slave] = data["slaves"]
+    assert (slave["can_id_master"], slave["can_id_slave"], slave["confirmed"]) == (0x7F0, 0x7F1, True)
+    assert slave["epk"] == "10300020250301" and slave["daq_ids"][0]["can_id"] == 0x7F1
+
+
+def test_nobody_answering_is_one_line_and_exit_1(bus, capsys):
+    code, out, err = run(capsys, "scan", "--broadcast-id", "0x80000100", "--wait", "0.05", *bus)
+    assert (code, out) == (1, "")
+    assert err == (f"error: no XCP slave answered GET_SLAVE_ID (echo and inverse echo) on 0x100 (extended) "
+                   f"(virtual {bus[-1]}) within 0.05 s\n")
+
+
+def test_bad_broadcast_ids_are_usage_errors(capsys, tmp_path):
+    code, _, err = run(capsys, "scan", "--broadcast-id", "0x900", "--interface", "virtual")
+    assert code == 2 and "CAN id 0x900 does not fit a standard frame" in err
+    without = edited_a2l(tmp_path, "CAN_ID_BROADCAST 0x6F0\n", "")
+    code, _, err = run(capsys, "scan", "--a2l", without, "--interface", "virtual")
+    assert code == 2 and err.count("\n") == 1 and "XCP_ON_CAN has no CAN_ID_BROADCAST; give the broadcast" in err

@@ -1,0 +1,128 @@
+"""Finding XCP on CAN slaves with GET_SLAVE_ID: simulated slaves of different ids on one python-can bus, a slave
+that does not implement the command, an answer with the wrong pattern, and a CONNECT + GET_ID + GET_DAQ_ID per
+slave found."""
+
+from __future__ import annotations
+
+import itertools
+import sys
+from pathlib import Path
+
+import can
+import pytest
+
+from workbench import detect_slaves
+from workbench.sim.server import Simulator
+from workbench.sim.xcp.parameters import XcpParameters
+from workbench.xcp.detect import (
+    SlaveIdMode,
+    detect_can_slaves,
+    get_slave_id_request,
+    identify_slave,
+    parse_slave_id_answer,
+)
+from workbench.xcp_protocol import CanId, Cmd, Resource
+
+sys.path.insert(0, str(Path(__file__).parents[1] / "sim"))
+from mini_ecu import EPK, make_ecu
+
+BROADCAST = CanId(0x6F0)
+_channels = itertools.count()
+INTEL = XcpParameters(can_id_broadcast=BROADCAST, protected=Resource(0))
+MOTOROLA_EXTENDED = XcpParameters(can_id_master=CanId(0x12345, True), can_id_slave=CanId(0x12346, True),
+                                  can_id_broadcast=BROADCAST, byte_order=">", protected=Resource(0))
+WITHOUT_TRANSPORT_LAYER_CMD = XcpParameters(can_id_master=CanId(0x600), can_id_slave=CanId(0x601),
+                                            can_id_broadcast=BROADCAST, without=frozenset({Cmd.TRANSPORT_LAYER_CMD}))
+
+
+@pytest.fixture
+def channel():
+    return f"detect-{next(_channels)}"
+
+
+def serve(channel: str, params: XcpParameters) -> Simulator:
+    return Simulator(make_ecu(params=params), {"interface": "virtual", "channel": channel}, time_scale=None)
+
+
+def test_two_slaves_on_one_bus_both_answer_with_their_own_ids(channel):
+    with serve(channel, INTEL), serve(channel, MOTOROLA_EXTENDED), can.Bus(interface="virtual", channel=channel) as bus:
+        found = detect_can_slaves(bus, BROADCAST)
+        identities = [identify_slave(bus, slave) for slave in found.slaves]
+    assert [(slave.command_id, slave.response_id, slave.confirmed) for slave in found.slaves] == [
+        (CanId(0x7F0), CanId(0x7F1), True), (CanId(0x12345, True), CanId(0x12346, True), True)]
+    assert found.refused == ()
+    assert [(identity.epk, identity.error) for identity in identities] == [(EPK.decode(), None)] * 2
+    assert [str(ids) for identity in identities for ids in identity.daq_ids] == [
+        "lists 0-15 on 0x7F1 (fixed)", "lists 0-15 on 0x12346 (extended) (fixed)"]
+
+
+def test_a_slave_without_get_slave_id_stays_silent_and_the_others_are_found(channel):
+    with serve(channel, WITHOUT_TRANSPORT_LAYER_CMD), can.Bus(interface="virtual", channel=channel) as bus:
+        assert detect_can_slaves(bus, BROADCAST, wait_s=0.1).slaves == ()
+        with serve(channel, INTEL):
+            found = detect_can_slaves(bus, BROADCAST, wait_s=0.1)
+    assert [slave.command_id for slave in found.slaves] == [CanId(0x7F0)]
+
+
+def test_an_answer_with_the_wrong_pattern_is_refused_and_said(channel):
+    """A node that answers GET_SLAVE_ID with 'XCQ' (and a positive response that is not the inverse echo) is no
+    slave: it is listed as refused, with its id and what was wrong."""
+    with can.Bus(interface="virtual", channel=channel) as impostor, \
+            can.Bus(interface="virtual", channel=channel) as bus:
+        def answer(message: can.Message) -> None:
+            if message.arbitration_id == BROADCAST.id:
+                impostor.send(can.Message(arbitration_id=0x655, is_extended_id=False,
+                                          data=b"\xffXCQ\xf0\x07\x00\x00"))
+
+        notifier = can.Notifier(impostor, [answer], timeout=0.01)
+        try:
+            found = detect_can_slaves(bus, BROADCAST, wait_s=0.3)
+        finally:
+            notifier.stop()
+    assert found.slaves == ()
+    assert found.refused == ((CanId(0x655), "pattern 58 43 51, not 58 43 50"),
+                             (CanId(0x655), "pattern 58 43 51, not A7 BC AF"))
+
+
+def test_the_slave_answers_on_its_command_id_too_and_only_xcp_requests(channel):
+    """GET_SLAVE_ID on CAN_ID_MASTER (as pyxcp sends it) is answered unconnected; a request without 'XCP' or with
+    mode 2 is not; GET_DAQ_ID waits for a session."""
+    with serve(channel, INTEL), can.Bus(interface="virtual", channel=channel) as bus:
+        def ask(data: bytes, can_id: int = 0x7F0) -> bytes | None:
+            bus.send(can.Message(arbitration_id=can_id, is_extended_id=False, data=data.ljust(8, b"\0")))
+            answer = bus.recv(0.5)
+            return bytes(answer.data) if answer is not None else None
+
+        assert ask(get_slave_id_request(SlaveIdMode.INVERSE_ECHO)) == b"\xff\xa7\xbc\xaf\xf0\x07\x00\x00"
+        assert ask(b"\xf2\xffXCP\x02") is None
+        assert ask(b"\xf2\xffXYZ\x00", BROADCAST.id) is None
+        assert ask(b"\xf2\xfe\x00\x00") is None  # GET_DAQ_ID before CONNECT
+
+
+def test_parse_reads_the_identifier_in_the_order_that_makes_one():
+    echo = SlaveIdMode.ECHO
+    assert parse_slave_id_answer(b"\xffXCP\x80\x01\x00\x00", echo) == CanId(0x180)
+    assert parse_slave_id_answer(b"\xffXCP\x00\x00\x07\xf0", echo) == CanId(0x7F0)  # a Motorola slave, Intel assumed
+    assert parse_slave_id_answer(b"\xffXCP\x00\x00\x01\x80", echo, ">") == CanId(0x180)
+    assert parse_slave_id_answer(b"\xffXCP\xff\xff\xff\x7f", echo) == "identifier bytes FF FF FF 7F are no CAN identifier"
+    assert parse_slave_id_answer(b"\xfe\x20", echo) is None
+    assert parse_slave_id_answer(b"\xffXCP", echo) is None
+
+
+def test_detect_slaves_checks_the_a2l_ids_and_needs_a_broadcast_id(channel, tmp_path):
+    from session_helpers import edited_a2l
+
+    from workbench import InputError
+    from workbench.sim import serve_demo
+
+    with serve_demo({"interface": "virtual", "channel": channel}, time_scale=None):
+        detection = detect_slaves(interface="virtual", channel=channel, identify=True)
+        assert detection.a2l_slave == detection.slaves[0] and detection.slaves[0].command_id == CanId(0x7F0)
+        assert detection.identities[0].text == "FLCU demo ECU (workbench simulated HDS9)"
+        wrong = edited_a2l(tmp_path, "CAN_ID_SLAVE 0x7F1\n", "CAN_ID_SLAVE 0x7F2\n")
+        assert detect_slaves(wrong, interface="virtual", channel=channel).a2l_slave is None
+        unknown = detect_slaves(interface="virtual", channel=channel, broadcast_id=0x100, wait_s=0.05)
+        assert unknown.slaves == () and unknown.a2l_ids is None
+    without = edited_a2l(tmp_path, "CAN_ID_BROADCAST 0x6F0\n", "")
+    with pytest.raises(InputError, match="XCP_ON_CAN has no CAN_ID_BROADCAST; give the broadcast identifier"):
+        detect_slaves(without, interface="virtual", channel=channel)
