@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+__all__ = ["a2l", "dbc_can2", "dbc_can3", "elf", "fragment_a2ls", "master_a2l", "path", "root", "s19"]
+
 _PACKAGED = Path(__file__).resolve().parent / "_demo"
 _CHECKOUT = Path(__file__).resolve().parent.parent
 

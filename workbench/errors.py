@@ -11,6 +11,11 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+__all__ = ["A2lParseError", "Cancelled", "ConnectionLostError", "ConversionError", "DatasetParseError",
+           "EcuSilentError", "EpkMismatchError", "InputError", "LimitsError", "LocatedInputError", "PageError",
+           "PartialWriteError", "UnknownSymbolError", "WorkbenchError", "XcpCommandError", "XcpTimeoutError",
+           "epk_text", "placeholder_hint"]
+
 
 class WorkbenchError(Exception):
     """Base of all workbench errors: an operation failed (exit code 1)."""

@@ -14,6 +14,8 @@ from pathlib import Path
 
 from workbench.errors import InputError, WorkbenchError
 
+__all__ = ["atomic_write_bytes", "atomic_write_text", "read_input", "unreadable", "write_output"]
+
 # a write refused because of the place the user named, not because the disk failed
 _WRONG_PLACE = (FileNotFoundError, FileExistsError, NotADirectoryError, PermissionError)
 

@@ -11,6 +11,8 @@ import importlib
 import sys
 from collections.abc import Callable, Mapping
 
+__all__ = ["lazy_exports"]
+
 
 def lazy_exports(package: str, exports: Mapping[str, tuple[str, ...]]
                  ) -> tuple[list[str], Callable[[str], object], Callable[[], list[str]]]:

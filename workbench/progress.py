@@ -11,6 +11,8 @@ from typing import Protocol, runtime_checkable
 
 from workbench.errors import Cancelled
 
+__all__ = ["NullProgress", "Progress", "report"]
+
 
 @runtime_checkable
 class Progress(Protocol):

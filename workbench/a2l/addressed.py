@@ -20,6 +20,8 @@ from workbench.a2l.values import FLOAT_RE, INT_RE, parse_int
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
 
+__all__ = ["KEYWORDS", "AddressedObjects", "Target"]
+
 KEYWORDS = tuple(grammar.ADDRESSED_OBJECTS)
 _POSITIONAL = np.array([len(grammar.BLOCKS[keyword].params) for keyword in KEYWORDS], dtype=np.int64)
 

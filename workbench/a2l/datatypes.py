@@ -7,6 +7,8 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from workbench.elf.ctypes_model import CMember, CType
 
+__all__ = ["DATATYPES", "array_dims", "c_limits", "datatype_for", "datatype_range", "element_type", "member_at"]
+
 # data type -> (size in bytes, encoding)
 DATATYPES: dict[str, tuple[int, str]] = {
     "UBYTE": (1, "unsigned"), "SBYTE": (1, "signed"), "UWORD": (2, "unsigned"), "SWORD": (2, "signed"),

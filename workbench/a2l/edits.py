@@ -22,6 +22,9 @@ if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument, Block
     from workbench.a2l.source import SourceFile, SourceMap
 
+__all__ = ["Edit", "Edits", "apply_edits", "indentation_of", "newline_bytes", "remove_block", "remove_span",
+           "replace_token", "write_source"]
+
 
 class Edit(NamedTuple):
     start: int  # byte offset in the document buffer

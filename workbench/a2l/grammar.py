@@ -17,6 +17,9 @@ from typing import NamedTuple
 
 from workbench.a2l.datatypes import DATATYPES
 
+__all__ = ["ADDRESSED_OBJECTS", "BLOCKS", "ENUMS", "MAX_ADDRESS", "NAMESPACES", "OPTIONS", "REPEATABLE_OPTIONS",
+           "TOP_LEVEL_BLOCKS", "TOP_LEVEL_OPTIONS", "BlockSpec", "Enumeration"]
+
 
 class BlockSpec(NamedTuple):
     params: tuple[str, ...] = ()

@@ -21,6 +21,8 @@ import numpy as np
 from workbench.errors import A2lParseError
 from workbench.fileio import read_input
 
+__all__ = ["Segment", "SourceFile", "SourceMap", "decode_source", "read_source", "source_from_text", "transcoded"]
+
 _UTF8_BOM = codecs.BOM_UTF8
 # UTF-32 first: its little-endian BOM starts with UTF-16's
 _WIDE_BOMS = (

@@ -16,6 +16,8 @@ import numpy as np
 
 from workbench.a2l.source import SourceMap
 
+__all__ = ["Tokens", "opaque_spans", "shown", "tokenize"]
+
 # A string ("..." with \x escapes or "" for a quote), a block comment or a line
 # comment. The trailing '"?' and '\Z' let an unterminated one match so that it can
 # be reported at its start instead of silently swallowing the file.

@@ -16,6 +16,8 @@ from workbench.a2l.grammar import BLOCKS, BlockSpec
 from workbench.a2l.source import SourceMap
 from workbench.a2l.tokens import Tokens, shown
 
+__all__ = ["BlockTable", "find_directives", "first_of_each", "parse_blocks"]
+
 _IDENT_START = np.zeros(256, dtype=bool)
 _IDENT_START[list(b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_")] = True
 

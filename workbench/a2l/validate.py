@@ -26,6 +26,8 @@ from workbench.errors import A2lParseError
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
 
+__all__ = ["validate_document"]
+
 _KIND_NAMES = {"ident": "a name", "str": "a string", "int": "an integer", "float": "a number", "int*": "an integer",
                "ident*": "a name"}
 

@@ -6,6 +6,10 @@ import re
 
 import numpy as np
 
+__all__ = ["FLOAT_RE", "IDENT_RE", "INT_RE", "format_int_like", "format_ints_like", "hex_digits_like", "int_or_none",
+           "int_values", "is_ident", "is_int", "is_number", "is_string", "parse_int", "parse_number", "parse_string",
+           "quote_string"]
+
 INT_RE = re.compile(rb"[+-]?(?:0[xX][0-9a-fA-F]+|[0-9]+)")
 FLOAT_RE = re.compile(rb"[+-]?(?:0[xX][0-9a-fA-F]+|(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|(?i:inf|nan))")
 IDENT_RE = re.compile(rb"[A-Za-z_][A-Za-z0-9_.\[\]]*")

@@ -18,6 +18,8 @@ from workbench.cli import options
 from workbench.cli.options import CommandParser, print_json
 from workbench.errors import WorkbenchError
 
+__all__ = ["GROUPS", "build_parser", "entry_point", "main"]
+
 # (group, one-line help); the group's commands live in ``workbench.cli.<group>``.
 GROUPS: list[tuple[str, str]] = [
     ("a2l", "merge, update from ELF, check, diff and insert into A2L files"),

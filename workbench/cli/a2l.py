@@ -15,6 +15,8 @@ import sys
 from workbench.cli.options import add_output_arguments, integer_within, output_file, print_json, print_report
 from workbench.errors import InputError
 
+__all__ = ["add_subparser"]
+
 _DESCRIPTION = """\
 The A2L tool chain of a build:
   merge   fragments into a master A2L (the master's MOD_PAR, MOD_COMMON and IF_DATA apply)

@@ -11,6 +11,8 @@ import argparse
 
 from workbench.cli import cal_ecu, cal_files, cal_sync
 
+__all__ = ["add_subparser"]
+
 _DESCRIPTION = """\
 Calibrations by name, physical values.
 In the ECU (the common ECU options: --a2l, the CAN bus or --host, --key-function ...):

@@ -19,6 +19,8 @@ from workbench.errors import InputError
 if TYPE_CHECKING:
     from workbench.a2l import A2lDocument
 
+__all__ = ["add_commands"]
+
 
 def add_commands(commands: argparse._SubParsersAction) -> None:
     """Register the ECU commands in the ``cal`` group's sub-commands."""

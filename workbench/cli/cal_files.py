@@ -9,6 +9,8 @@ from workbench.cli import cal_sync
 from workbench.cli.ecu_options import add_ecu_arguments
 from workbench.cli.options import add_output_arguments, non_negative_float, print_json, print_report
 
+__all__ = ["add_commands"]
+
 ENCODINGS = ("utf-8", "utf-8-sig", "cp1252", "latin-1")
 _FORMATS = "DCM (.dcm) or CDFX (.cdfx, .cdf, .xml)"
 

@@ -17,6 +17,8 @@ from workbench.errors import InputError, epk_text
 if TYPE_CHECKING:
     from workbench.sync.reference import Reference
 
+__all__ = ["add_commands", "diff_sides", "needs_a2l"]
+
 ECU = "ecu"  # the name ``cal diff`` takes for the connected ECU
 _DATASETS = ".dcm/.cdfx"
 

@@ -19,6 +19,8 @@ from collections import Counter
 from workbench.cli.options import add_output_arguments, print_json, print_report
 from workbench.findings import Severity
 
+__all__ = ["MAILBOX_ORDERS", "add_subparser"]
+
 _GROUP_DESCRIPTION = """\
 The thesis's CAN library (chapter 6.3) from a DBC, without MATLAB:
   table      the message table with the thesis's Message/SignalOfMsg properties

@@ -7,6 +7,8 @@ import argparse
 from workbench.cli.gui import add_screenshot_arguments, require_gui
 from workbench.cli.options import positive_float
 
+__all__ = ["add_subparser", "run"]
+
 EPILOG = """\
 The demo ECU (the thesis's Fuel Line Control Unit) runs inside this process on a virtual CAN bus of
 its own, with a simulated PCM that enables the FLCU and asks for a rail pressure that changes every

@@ -17,6 +17,8 @@ if TYPE_CHECKING:
     from workbench.can import DbcFile
     from workbench.session import Session
 
+__all__ = ["a2l_document", "add_ecu_arguments", "can2_dbc", "open_session"]
+
 
 def add_ecu_arguments(parser: argparse.ArgumentParser, *, json_output: bool = True) -> None:
     group = parser.add_argument_group("ECU")

@@ -14,6 +14,8 @@ from workbench.cli.progressbar import ProgressBar
 from workbench.errors import Cancelled, InputError
 from workbench.image.files import image_suffixes
 
+__all__ = ["add_app_key_arguments", "add_subparser", "app_key", "filled_regions", "run"]
+
 EPILOG = """\
 The plan comes first: per region of the A2L the ranges the file fills ("Partial: FC0000h-FC01C3h
 FDFFF0h-FDFFFFh"), only those are programmed. Refused before anything is erased: an image whose

@@ -12,6 +12,8 @@ from workbench.cli.options import bus_settings
 from workbench.errors import WorkbenchError
 from workbench.gui.display import display_problem
 
+__all__ = ["add_screenshot_arguments", "add_subparser", "require_gui", "run", "screen_size"]
+
 EPILOG = """\
 examples:
   workbench gui project.toml                      # the project's A2L, DBCs, windows and connection

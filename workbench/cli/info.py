@@ -8,6 +8,8 @@ from workbench.cli.ecu_options import add_ecu_arguments, open_session
 from workbench.cli.flash import add_app_key_arguments, app_key
 from workbench.cli.options import print_json
 
+__all__ = ["add_subparser", "info_lines", "run"]
+
 EPILOG = """\
 examples:
   workbench info                                  # the demo ECU of 'workbench sim' (udp_multicast)

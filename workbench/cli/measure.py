@@ -17,6 +17,8 @@ from workbench.cli.ecu_options import a2l_document, add_ecu_arguments, can2_dbc,
 from workbench.cli.options import add_can2_bus_arguments, can2_bus_spec, non_negative_float, positive_float
 from workbench.cli.render import jsonable, value_text
 
+__all__ = ["add_recording_arguments", "add_subparser", "run"]
+
 EPILOG = """\
 A NAME is an A2L object, or a CAN2 signal of the DBC as the window names it (Message.Signal, or the
 signal's name when one message alone has it; the DBC is --can2, by default the demo's with the demo's

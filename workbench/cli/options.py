@@ -14,6 +14,11 @@ if TYPE_CHECKING:
     from workbench.bus_defaults import BusSpec
     from workbench.findings import Report
 
+__all__ = ["CommandParser", "add_bus_arguments", "add_can2_bus_arguments", "add_can2_bus_kwargs_argument",
+           "add_ethernet_arguments", "add_output_arguments", "bus_settings", "bus_spec", "can2_bus_spec",
+           "integer_within", "json_printed", "non_negative_float", "output_file", "port_number", "positive_float",
+           "positive_int", "print_json", "print_report", "words_before_key_values"]
+
 # the Namespace keys ``can.cli.create_bus_from_namespace`` turns into ``can.Bus`` keyword arguments
 PYTHON_CAN_KEYS = ("channel", "interface", "bitrate", "fd", "data_bitrate", "can_filters", "timing")
 PROTOCOLS = ("udp", "tcp")

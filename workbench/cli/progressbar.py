@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import sys
 
+__all__ = ["ProgressBar"]
+
 
 class ProgressBar:
     """``with ProgressBar("updating") as progress: job(progress=progress)``."""

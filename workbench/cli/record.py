@@ -9,6 +9,8 @@ from workbench.cli.ecu_options import add_ecu_arguments
 from workbench.cli.measure import add_recording_arguments
 from workbench.cli.options import positive_float, print_json
 
+__all__ = ["add_subparser", "run"]
+
 EPILOG = """\
 Records as `workbench measure NAME... --record OUT.mf4` does (see its help): each signal by DAQ on its A2L event
 (or --event), one channel group per event on the ECU's clock, raw values with the A2L's conversions; --can2 adds

@@ -8,6 +8,8 @@ import numpy as np
 
 from workbench.calib.dataset.numbers import shown_value as number
 
+__all__ = ["jsonable", "table_lines", "value_block", "value_text"]
+
 
 def value_text(value: Any, unit: str = "", places: int | None = None) -> str:
     """A scalar with its unit, or an array on one line ([1 2 3]); a map's values ``[x, y]`` a row per Y point, as

@@ -21,6 +21,8 @@ from workbench.cli.options import (
 )
 from workbench.errors import InputError
 
+__all__ = ["add_subparser", "run"]
+
 EPILOG = """\
 XCP on CAN (ids, baud rate and EPK from the A2L) goes on the CAN bus the python-can options name
 (default: udp_multicast 239.74.163.2); the FLCU's CAN2 messages share that bus unless

@@ -10,6 +10,8 @@ from workbench.cli.ecu_options import add_ecu_arguments
 from workbench.cli.options import add_can2_bus_kwargs_argument, bus_settings, positive_int
 from workbench.errors import InputError, WorkbenchError
 
+__all__ = ["add_subparser", "pytest_arguments", "run", "suite_path"]
+
 EPILOG = """\
 Without PATH the FLCU's software requirements (SW_REQ_ID_001-008, the demo application's 29
 sub-requirements) are tested. Without bus options every test gets a fresh simulated demo ECU on a

@@ -19,6 +19,8 @@ from pathlib import Path
 
 from workbench.fileio import atomic_write_bytes
 
+__all__ = ["IndexCache", "default_cache_dir"]
+
 FORMAT = 12  # bump when the cached structures or the way names resolve change
 ENTRIES = 32  # the most entries a cache folder keeps (the ELFs used most recently)
 

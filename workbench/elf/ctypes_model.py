@@ -13,6 +13,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 
+__all__ = ["VOID", "CMember", "CType", "MemberError"]
+
 
 class MemberError(ValueError):
     """A member name that a type does not have, or has twice through two base classes."""

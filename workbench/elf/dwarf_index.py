@@ -24,6 +24,8 @@ from pathlib import PurePosixPath, PureWindowsPath
 from workbench.elf import dwarf
 from workbench.progress import Progress, report
 
+__all__ = ["DwarfIndex"]
+
 _NAMESPACES = frozenset({dwarf.TAG_NAMESPACE})
 _VARIABLES = frozenset({dwarf.TAG_VARIABLE})
 _FUNCTIONS = frozenset({dwarf.TAG_SUBPROGRAM, dwarf.TAG_INLINED_SUBROUTINE})

@@ -31,6 +31,8 @@ from typing import NamedTuple
 
 from workbench.errors import UnknownSymbolError
 
+__all__ = ["AmbiguousSymbolError", "Variable", "VariableTable", "VectorSpec", "scope_splits", "split_vector_spec"]
+
 _IDENTIFIER = re.compile(r"[A-Za-z_$][A-Za-z0-9_$]*")
 _VECTOR_PART = re.compile(r"\{(Function|Namespace|CompileUnit):([^{}]*)\}")
 

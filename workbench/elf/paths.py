@@ -11,6 +11,8 @@ from typing import NamedTuple
 
 from workbench.elf.ctypes_model import CType, MemberError
 
+__all__ = ["PathError", "Step", "split_path", "walk"]
+
 _STEP = re.compile(r"\.([A-Za-z_][A-Za-z0-9_]*)|\[(\d+)\]")
 _OLD_INDEX = re.compile(r"_(\d+)_")
 

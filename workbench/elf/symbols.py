@@ -18,6 +18,8 @@ import numpy as np
 from workbench.elf.headers import PT_LOAD, SHF_ALLOC, SHT_NOBITS, ElfHeaders, read_headers, read_section
 from workbench.errors import InputError, UnknownSymbolError
 
+__all__ = ["ElfSymbols", "Section", "Symbol"]
+
 STT_OBJECT, STT_FUNC = 1, 2
 _KINDS = {STT_OBJECT: "object", STT_FUNC: "function"}
 _STB_LOCAL = 0

@@ -22,6 +22,8 @@ from collections.abc import Iterable
 from workbench.elf.lookup import Variable
 from workbench.elf.symbols import Symbol
 
+__all__ = ["split_qualified", "symtab_variables"]
+
 _GCC_LOCAL = re.compile(r"([A-Za-z_$][\w$]*)\.\d+")  # gcc: a function's static "name.N"
 _CLANG_LOCAL = re.compile(r"([A-Za-z_$][\w$]*)\.([A-Za-z_$][\w$]*)")  # clang: "function.name"
 # demangled names that are not variables of the program: vtables, typeinfo, guard variables ...

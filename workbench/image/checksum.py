@@ -14,6 +14,8 @@ from enum import IntEnum
 import numpy as np
 from crccheck.crc import Crc16Arc
 
+__all__ = ["ChecksumType", "checksum"]
+
 
 class ChecksumType(IntEnum):
     """XCP checksum types (BUILD_CHECKSUM response byte 1)."""

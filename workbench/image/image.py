@@ -17,6 +17,8 @@ from workbench.errors import InputError
 from workbench.fileio import read_input, write_output
 from workbench.image.files import is_intel_hex
 
+__all__ = ["ERASED", "AddressRange", "MemoryImage", "load_image", "parse_image"]
+
 ERASED = 0xFF
 _PROGRAMMED = re.compile(rb"[^\xff]+")
 

@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 from workbench.image.image import AddressRange, MemoryImage
 
+__all__ = ["Region", "region_of", "split_by_region"]
+
 
 @dataclass(frozen=True)
 class Region:

@@ -12,6 +12,8 @@ from workbench.sim.can2 import Can2Driver
 from workbench.sim.flcu.hardware import RxPduInfo
 from workbench.sim.plant import FuelSystemPlant
 
+__all__ = ["Bsw"]
+
 
 class Bsw:
     def __init__(self, plant: FuelSystemPlant, can2: Can2Driver):

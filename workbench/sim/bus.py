@@ -18,6 +18,8 @@ import can
 from workbench.logs import logger
 from workbench.sim.can_timing import BusClock
 
+__all__ = ["ECHOING_INTERFACES", "EchoFilter", "Receiver", "Transmitter"]
+
 log = logger(__name__)
 
 TX_BUFFER_FRAMES = 256  # DTOs the slave can buffer for transmission

@@ -21,6 +21,8 @@ from workbench.can.model import Message, Role, messages_of
 from workbench.errors import UnknownSymbolError
 from workbench.sim.flcu.hardware import RxPduInfo
 
+__all__ = ["Can2Driver"]
+
 NETWORK = "CAN2"
 
 

@@ -25,6 +25,8 @@ from workbench.sim.ecu import EcuState, SimulatedEcu
 from workbench.sim.xcp_port import XcpPort
 from workbench.xcp_protocol import PID_ERR, PID_RES, SLAVE_ID_ECHO, SLAVE_ID_INVERSE, CanCmd, Cmd, Err, SlaveIdMode
 
+__all__ = ["BusSpec", "CanBuses", "CanXcpPort"]
+
 log = logger(__name__)
 
 MAX_DLC = 8  # classic CAN

@@ -16,6 +16,8 @@ from functools import lru_cache
 
 import can
 
+__all__ = ["BusClock", "frame_bits"]
+
 _CRC15_POLY = 0x4599
 _TRAILER_BITS = 1 + 2 + 7 + 3  # CRC delimiter, ACK slot + delimiter, EOF, intermission
 

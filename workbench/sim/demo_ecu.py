@@ -38,6 +38,8 @@ from workbench.sim.scheduler import Scheduler
 from workbench.sim.xcp.parameters import DEMO_STATIC_LISTS, EventChannel, XcpParameters
 from workbench.xcp_protocol import Resource
 
+__all__ = ["DemoEcu", "DemoFiles", "build_demo_ecu", "xcp_parameters"]
+
 ECU_NODE = "FLCU"
 MAX_ETHERNET_DTO = 65507 - HEADER_SIZE  # the largest UDP payload (IPv4) less the LEN/CTR header
 PLANT_STEP_S = 0.001

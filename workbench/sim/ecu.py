@@ -27,6 +27,8 @@ from workbench.sim.xcp.info_rom import InfoRom
 from workbench.sim.xcp.parameters import XcpParameters
 from workbench.sim.xcp.slave import XcpSlave
 
+__all__ = ["ApplicationFactory", "ApplicationMemory", "EcuState", "SimulatedEcu"]
+
 log = logger(__name__)
 
 ApplicationFactory = Callable[[Any, Mapping[str, int], Any], Any]

@@ -34,6 +34,8 @@ from workbench.xcp_framing import CTR_MODULO, FramingError, StreamDecoder, frame
 from workbench.sim.xcp_port import XcpPort
 from workbench.xcp_protocol import Cmd
 
+__all__ = ["EthernetEndpoint", "EthernetXcpPort"]
+
 log = logger(__name__)
 
 PROTOCOLS = ("UDP", "TCP")

@@ -14,6 +14,8 @@ from enum import Enum
 
 from workbench.xcp_protocol import Cmd, Err
 
+__all__ = ["FaultPlan", "FrameAction", "FrameFault"]
+
 
 class FrameAction(Enum):
     DROP = "drop"

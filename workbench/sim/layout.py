@@ -15,6 +15,8 @@ from workbench.elf import ElfSymbols
 from workbench.image import AddressRange
 from workbench.sim.memory_map import MemoryMap
 
+__all__ = ["ApplicationLayout", "InitCopy"]
+
 
 @dataclass(frozen=True)
 class InitCopy:

@@ -15,6 +15,8 @@ from enum import Enum
 
 from workbench.image import ERASED, AddressRange, MemoryImage, Region
 
+__all__ = ["AccessFault", "Area", "EcuMemory", "MemoryAccessError"]
+
 
 _PROGRAMMED = re.compile(rb"[^\xff]+")
 

@@ -12,6 +12,8 @@ from functools import cached_property
 
 from workbench.image import AddressRange, Region
 
+__all__ = ["HDS9", "FlashSector", "MemoryMap"]
+
 
 @dataclass(frozen=True)
 class FlashSector:

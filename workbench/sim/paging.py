@@ -14,6 +14,8 @@ from workbench.image import AddressRange
 from workbench.sim.memory import AccessFault, MemoryAccessError
 from workbench.sim.memory_map import MemoryMap
 
+__all__ = ["PAGES", "REFERENCE_PAGE", "CalPageSwitch"]
+
 WORKING_PAGE = 0
 REFERENCE_PAGE = 1
 PAGES = (WORKING_PAGE, REFERENCE_PAGE)

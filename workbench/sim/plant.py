@@ -36,6 +36,8 @@ from workbench.sim.flcu.hardware import (
     DiagStatus,
 )
 
+__all__ = ["FuelSystemPlant", "PlantParameters"]
+
 SENSOR_VOLT_MIN = 0.5
 SENSOR_VOLT_MAX = 4.5
 SECONDS_PER_HOUR = 3600.0

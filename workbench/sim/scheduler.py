@@ -12,6 +12,8 @@ import itertools
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+__all__ = ["US_PER_S", "PeriodicTask", "Scheduler", "seconds_to_us"]
+
 US_PER_S = 1_000_000
 
 

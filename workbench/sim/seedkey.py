@@ -18,6 +18,8 @@ key ``69 48 8A A8``.
 
 from __future__ import annotations
 
+__all__ = ["SEED_LENGTH", "compute_key"]
+
 SEED_LENGTH = 4
 _MAGIC = 0x464C4355  # "FLCU"
 _RESOURCES = (0x01, 0x04, 0x08, 0x10)

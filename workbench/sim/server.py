@@ -34,6 +34,8 @@ if TYPE_CHECKING:
     from workbench.sim.can_timing import BusClock
     from workbench.sim.pcm import PcmNode
 
+__all__ = ["Simulator"]
+
 log = logger(__name__)
 
 MAX_LAG_S = 0.5  # a clock further behind than this skips ahead instead of catching up

@@ -22,6 +22,8 @@ from workbench.sim.ecu import SimulatedEcu
 from workbench.sim.faults import FrameAction
 from workbench.xcp_protocol import EV_CMD_PENDING, PID_EV, Cmd
 
+__all__ = ["XcpPort"]
+
 
 class XcpPort(ABC):
     """One XCP transport of a :class:`~workbench.sim.ecu.SimulatedEcu`; ``lock`` serialises the ECU."""

@@ -22,6 +22,8 @@ if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument, Block
     from workbench.elf.ctypes_model import CType
 
+__all__ = ["NO_COMPU_METHOD", "EnumConversions", "enum_conversion_blocks", "enum_conversion_name", "indented"]
+
 NO_COMPU_METHOD = "NO_COMPU_METHOD"
 
 

@@ -21,6 +21,8 @@ from typing import TYPE_CHECKING, NamedTuple
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
 
+__all__ = ["AXES", "Correction", "Layout", "RecordLayouts"]
+
 # the objects that name a RECORD_LAYOUT, and the parameter that does (after the name)
 _DEPOSITS = {"CHARACTERISTIC": 4, "AXIS_PTS": 4, "TYPEDEF_CHARACTERISTIC": 3, "TYPEDEF_AXIS": 3}
 # the items that place values of an element type (and the data type after their position)

@@ -17,6 +17,8 @@ from workbench.findings import Finding, Severity
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
 
+__all__ = ["removal_edits"]
+
 _NAME_LISTS = frozenset(name for name, spec in grammar.BLOCKS.items() if spec.items == "ident")
 _REFERENCING_OPTIONS = ("AXIS_PTS_REF", "CURVE_AXIS_REF", "COMPARISON_QUANTITY", "INPUT_QUANTITY")
 

@@ -46,6 +46,8 @@ if TYPE_CHECKING:
     from workbench.elf.ctypes_model import CMember, CType
     from workbench.elf.debugdata import ResolvedSymbol
 
+__all__ = ["TypeChecker"]
+
 
 _AXES = {"CURVE": 1, "MAP": 2, "CUBOID": 3, "CUBE_4": 4, "CUBE_5": 5}
 _ADDRESS_TYPES = {1: "PBYTE", 2: "PWORD", 4: "PLONG", 8: "PLONGLONG"}  # by the size of a pointer

@@ -8,6 +8,8 @@ from workbench.sim.flcu.rt import HALF, HUNDRED, ZERO
 from workbench.sim.flcu.hardware import DOUT_LED, DOUT_OTV1, DOUT_OTV2, PWMOUT_PRV, DiagStatus, Hardware
 from workbench.sim.flcu.variables import Variables
 
+__all__ = ["MEASUREMENTS", "ActuatorCommands", "duty_steps"]
+
 MEASUREMENTS = ("xsOTV1Cmd", "xsOTV2Cmd", "xsLEDCmd", "xsPRVDutyCmd")
 DUTY_STEPS_PER_PERCENT = 100
 

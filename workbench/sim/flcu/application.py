@@ -25,6 +25,8 @@ from workbench.sim.flcu.tank_ctrl import TankCtrl
 from workbench.sim.flcu.utils import Utils
 from workbench.sim.flcu.variables import Memory, Variables
 
+__all__ = ["FlcuApplication"]
+
 
 class FlcuApplication:
     """``API_OS_Init`` and the three OS tasks of the FLCU over ``memory`` and ``hardware``.

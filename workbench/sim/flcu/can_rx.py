@@ -14,6 +14,8 @@ from workbench.can.naming import fix_enable_name, fix_value_name, rx_bit_status_
 from workbench.sim.flcu.hardware import CanRxStatus, Hardware, RxPduInfo
 from workbench.sim.flcu.variables import Variables
 
+__all__ = ["MEASUREMENTS", "CanRx", "message_status"]
+
 BIT_DLC, BIT_TIMEOUT, BIT_NEWDATA, BIT_CHID, BIT_SIG_OUT_OF_RANGE = 0x01, 0x02, 0x04, 0x08, 0x10
 _TARGET_FACTOR = np.float32(0.01)
 _TARGET_MAX = np.float32(50.0)

@@ -14,6 +14,8 @@ from workbench.sim.flcu.hardware import Hardware
 from workbench.sim.flcu.rt import HALF, ZERO
 from workbench.sim.flcu.variables import Variables
 
+__all__ = ["MEASUREMENTS", "CanTx", "raw_u16"]
+
 _U16_MAX = np.float32(65535.0)
 _FACTOR_0_01 = np.float32(0.01)
 MESSAGES = (("FLCU_TO_PCM_001", 4), ("FLCU_TO_PCM_002", 4), ("FLCU_TO_PCM_003", 8))

@@ -5,6 +5,8 @@ from __future__ import annotations
 from workbench.sim.flcu.rt import HUNDRED, TWO, ZERO
 from workbench.sim.flcu.variables import Variables
 
+__all__ = ["MEASUREMENTS", "FuelLevel"]
+
 MEASUREMENTS = ("xsLEDEn", "xsFuelLevel")
 
 

@@ -12,6 +12,9 @@ from dataclasses import dataclass
 from enum import IntEnum
 from typing import Protocol
 
+__all__ = ["ANIN_MANIFOLD", "ANIN_RAIL", "ANIN_TANK1", "ANIN_TANK2", "DOUT_LED", "DOUT_OTV1", "DOUT_OTV2", "PWMOUT_PRV",
+           "CanRxStatus", "DiagStatus", "Hardware", "RxPduInfo", "TankCtrlState"]
+
 # Channels of the FLCU (docs/demo-ecu.md, "Hardware channels")
 ANIN_TANK1 = "ANIN_CH_ID_000"
 ANIN_TANK2 = "ANIN_CH_ID_001"

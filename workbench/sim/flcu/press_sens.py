@@ -8,6 +8,8 @@ from workbench.sim.flcu.hardware import ANIN_MANIFOLD, ANIN_RAIL, ANIN_TANK1, AN
 from workbench.sim.flcu.rt import look1
 from workbench.sim.flcu.variables import Variables
 
+__all__ = ["MEASUREMENTS", "PressSens"]
+
 LUT_POINTS = 9
 # in zsSensVolt order: channel, filter state, LUT, fix calibration prefix, output
 _SENSORS = (

@@ -14,6 +14,8 @@ import numpy as np
 from workbench.sim.flcu.rt import HALF, ZERO, look2, saturate
 from workbench.sim.flcu.variables import Variables
 
+__all__ = ["MEASUREMENTS", "PRVCtrl"]
+
 TS = np.float32(0.05)
 FF_TARGET_POINTS = 6
 FF_MANIFOLD_POINTS = 5

@@ -11,6 +11,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+__all__ = ["HALF", "HUNDRED", "TWO", "ZERO", "look1", "look2", "saturate"]
+
 f32 = np.float32
 ZERO = f32(0.0)
 HALF = f32(0.5)

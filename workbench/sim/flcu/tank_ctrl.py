@@ -10,6 +10,8 @@ from __future__ import annotations
 from workbench.sim.flcu.hardware import TankCtrlState
 from workbench.sim.flcu.variables import Variables
 
+__all__ = ["MEASUREMENTS", "TankCtrl"]
+
 MEASUREMENTS = ("xsTankCtrlState", "xsValve1State", "xsValve2State", "xsTankPressDiff")
 
 

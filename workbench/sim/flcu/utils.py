@@ -6,6 +6,8 @@ from workbench.sim.flcu.hardware import DOUT_LED, DOUT_OTV1, DOUT_OTV2, PWMOUT_P
 from workbench.sim.flcu.rt import ZERO
 from workbench.sim.flcu.variables import Variables
 
+__all__ = ["MEASUREMENTS", "Utils"]
+
 _SENSOR_STATUSES = ("xsTank1PSDiagStatus", "xsTank2PSDiagStatus", "xsManifoldPSDiagStatus", "xsRailPSDiagStatus")
 _ACTUATOR_STATUSES = ("xsOTV1DiagStatus", "xsOTV2DiagStatus", "xsPRVDiagStatus", "xsLEDDiagStatus")
 MEASUREMENTS = (*_SENSOR_STATUSES, *_ACTUATOR_STATUSES, "xsSensorDiag", "xsActuatorDiag", "xsSystemAbilitation")

@@ -16,6 +16,8 @@ import numpy as np
 
 from workbench.errors import UnknownSymbolError
 
+__all__ = ["Memory", "Variables"]
+
 _F32 = struct.Struct("<f")
 _U16 = struct.Struct("<H")
 

@@ -17,6 +17,8 @@ from workbench.xcp_protocol import Cmd, Err
 if TYPE_CHECKING:
     from workbench.sim.xcp.slave import XcpSlave
 
+__all__ = ["CalPageCommands"]
+
 MODE_ECU = 0x01
 MODE_XCP = 0x02
 MODE_ALL = 0x80

@@ -54,6 +54,8 @@ from workbench.xcp_protocol import MAX_DAQ_PID, Cmd, Err
 if TYPE_CHECKING:
     from workbench.sim.xcp.slave import XcpSlave
 
+__all__ = ["DaqList", "DaqProcessor", "OdtEntry"]
+
 MODE_TIMESTAMP = 0x10  # the only SET_DAQ_LIST_MODE bit supported
 NO_BIT_OFFSET = 0xFF
 PROPERTY_DYNAMIC = 0x01

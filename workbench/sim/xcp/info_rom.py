@@ -12,6 +12,8 @@ from workbench.sim.memory_map import MemoryMap
 from workbench.sim.xcp.parameters import XcpParameters
 from workbench.xcp_protocol import IdType
 
+__all__ = ["InfoRom"]
+
 MAX_TEXT = 0xFF
 
 

@@ -11,6 +11,9 @@ from workbench.image import AddressRange, ChecksumType
 from workbench.sim.seedkey import SEED_LENGTH
 from workbench.xcp_protocol import MAX_DAQ_PID, TIME_UNIT_S, CanId, Cmd, Resource
 
+__all__ = ["DEMO_STATIC_LISTS", "IDENTIFICATION_FIELDS", "DaqParameters", "EventChannel", "PgmParameters",
+           "PredefinedDaqList", "StaticDaqList", "XcpParameters"]
+
 # time unit codes (seconds: TIME_UNIT_S) of GET_DAQ_RESOLUTION_INFO's TIMESTAMP_MODE bits 4..7 and
 # of GET_DAQ_EVENT_INFO: code n counts 10**(n - 9) s (0: 1 ns ... 6: 1 ms ... 9: 1 s)
 TIMESTAMP_UNIT_10US = 0x4

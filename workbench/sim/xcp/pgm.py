@@ -30,6 +30,8 @@ from workbench.xcp_protocol import Cmd, Err
 if TYPE_CHECKING:
     from workbench.sim.xcp.slave import XcpSlave
 
+__all__ = ["ProgrammingCommands"]
+
 COMM_MODE_PGM_MASTER_BLOCK = 0x01
 PGM_ABSOLUTE_MODE = 0x01
 PGM_FUNCTIONAL_MODE = 0x02

@@ -11,6 +11,8 @@ from dataclasses import dataclass
 from workbench.sim.memory import AccessFault, MemoryAccessError
 from workbench.xcp_protocol import PID_ERR, Err
 
+__all__ = ["PowerLost", "Writer", "XcpNegative", "memory_error", "need"]
+
 
 class XcpNegative(Exception):
     """A command handler's refusal: becomes the negative response ``FE code *extra``."""

@@ -45,6 +45,8 @@ from workbench.sim.xcp.pgm import ProgrammingCommands
 from workbench.sim.xcp.responses import PowerLost, Writer, XcpNegative, memory_error, need
 from workbench.xcp_protocol import PID_RES, Cmd, Err, IdType, Resource
 
+__all__ = ["SlaveTarget", "XcpSlave"]
+
 log = logger(__name__)
 
 PROTOCOL_LAYER_VERSION = 1
