@@ -77,3 +77,21 @@ def test_cache_sync_lists_many_differences_in_the_expert_view(qtbot):
         QLabel).text()
     dialog.expert.click()
     assert dialog.table.isVisible() and dialog.table.rowCount() == SHOWN_AT_ONCE + 1
+
+
+def test_scan_for_slaves_shows_the_ids_that_answer_against_the_a2ls(qtbot, demo_workspace):
+    """The dialog's scan sends GET_SLAVE_ID on the A2L's CAN_ID_BROADCAST on the bus entered, off the GUI thread."""
+    from workbench.sim import serve_demo
+
+    dialog = ConnectionDialog(Connection("virtual", "dialog-scan"), demo_workspace.config)
+    qtbot.addWidget(dialog)
+    scan = dialog.slave_scan
+    assert scan.button.isEnabled() and "CAN_ID_BROADCAST 6F0h" in scan.button.toolTip()
+    with serve_demo({"interface": "virtual", "channel": "dialog-scan"}, time_scale=None), \
+            qtbot.waitSignal(scan.finished, timeout=10_000):
+        scan.button.click()
+    assert scan.result.text() == "commands 7F0h, answers 7F1h: the A2L's ids"
+    dialog.channel.setText("dialog-scan-nobody")
+    with qtbot.waitSignal(scan.finished, timeout=10_000):
+        scan.button.click()
+    assert scan.result.text() == "no slave answered GET_SLAVE_ID on 6F0h (virtual dialog-scan-nobody)"

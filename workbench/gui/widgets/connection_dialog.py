@@ -21,6 +21,7 @@ from workbench import bus_defaults
 from workbench.errors import InputError
 from workbench.gui import theme
 from workbench.gui.project import Connection
+from workbench.gui.widgets.slave_scan import SlaveScan, id_text
 
 __all__ = ["ConnectionDialog", "parse_bus_kwargs"]
 
@@ -79,6 +80,10 @@ class ConnectionDialog(QDialog):
         self.ids = QLabel()
         self.ids.setStyleSheet(f"color: {theme.MUTED};")
         can_form.addRow("A2L", self.ids)
+        self.slave_scan = None
+        if getattr(config, "can", None) is not None:  # GET_SLAVE_ID on its CAN_ID_BROADCAST: which ids answer
+            self.slave_scan = SlaveScan(config.can, self._bus)
+            can_form.addRow("slaves", self.slave_scan)
         eth_page, eth_form = QWidget(), QFormLayout()
         eth_page.setLayout(eth_form)
         self.host = QLineEdit()
@@ -103,9 +108,8 @@ class ConnectionDialog(QDialog):
     def _prefill(self, connection: Connection, config) -> None:
         can = getattr(config, "can", None)
         if can is not None:
-            master = f"{can.can_id_master.id:X}{'x' if can.can_id_master.extended else 'h'}"
-            slave = f"{can.can_id_slave.id:X}{'x' if can.can_id_slave.extended else 'h'}"
-            self.ids.setText(f"master {master}, slave {slave}, {can.baudrate // 1000} kbit/s")
+            self.ids.setText(f"master {id_text(can.can_id_master)}, slave {id_text(can.can_id_slave)}, "
+                             f"{can.baudrate // 1000} kbit/s")
         ethernet = getattr(config, "udp", None) or getattr(config, "tcp", None)
         if connection.host or connection.port or connection.protocol:
             self.transport.setCurrentIndex(2 if (connection.protocol or "").lower() == "tcp" else 1)
@@ -130,6 +134,12 @@ class ConnectionDialog(QDialog):
                               bus_kwargs=parse_bus_kwargs(self.bus_kwargs.text()), key_function=key_function)
         return Connection(host=self.host.text().strip() or None, port=self.port.value() or None,
                           protocol=self.transport.currentData(), key_function=key_function)
+
+    def _bus(self) -> bus_defaults.BusSpec:
+        """The CAN bus entered. :raises InputError: bus options that do not parse."""
+        options = self.connection().session_options()
+        return bus_defaults.BusSpec.from_kwargs({**{key: options[key] for key in ("interface", "channel", "bitrate")},
+                                                 **options["bus_kwargs"]})
 
     def _accept(self) -> None:
         try:
