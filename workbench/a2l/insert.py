@@ -25,7 +25,8 @@ AXIS_PTS describes as a calibration). As a2ltool names them, a variable selected
 kinds gets the CHARACTERISTIC named ``CHARACTERISTIC.<name>``, and one named as an ASAP2 keyword (``EPK``,
 a name A2L readers refuse) ``MEASUREMENT.EPK``. The new blocks go before
 ``/end MODULE`` in the file's indentation and newline style; the target GROUP is created there, or an
-existing one gets the names in its REF_MEASUREMENT/REF_CHARACTERISTIC.
+existing one gets the names in its REF_MEASUREMENT/REF_CHARACTERISTIC. With ``structures`` a struct selected whole
+is one INSTANCE of a TYPEDEF_STRUCTURE instead (:mod:`workbench.a2l.insert_structures`).
 """
 
 from __future__ import annotations
@@ -182,6 +183,10 @@ class _Rules:
         """Whether a range holds a byte of ``[address, address + size)``."""
         return any(low < address + max(size, 1) and address < high for low, high in self.ranges)
 
+    def holds_whole(self, address: int, size: int) -> bool:
+        """Whether a range holds every byte of ``[address, address + size)``."""
+        return any(low <= address and address + size <= high for low, high in self.ranges)
+
     def holds(self, address: int) -> bool:
         found = False
         for low, high in self.ranges:
@@ -193,9 +198,11 @@ class _Rules:
 
 def insert_document(doc: A2lDocument, debug: DebugData, *, measurements: Selection = Selection(),
                     characteristics: Selection = Selection(), target_group: str | None = None,
-                    module: str | None = None, progress: Progress | None = None) -> InsertResult:
+                    module: str | None = None, structures: bool = False,
+                    progress: Progress | None = None) -> InsertResult:
     """``doc`` with the objects ``measurements`` and ``characteristics`` select from ``debug``'s variables
-    (see the module docstring); the document itself is not changed.
+    (see the module docstring); the document itself is not changed. ``structures``: a struct selected whole is
+    one INSTANCE of a TYPEDEF_STRUCTURE (a2ltool's ``--enable-structures``, :mod:`workbench.a2l.insert_structures`).
 
     Raises :class:`InputError` for a bad pattern or range, a ``target_group`` that is no A2L name, an ELF
     without DWARF, and new text that would fall into an ``/include``d file; :class:`A2lParseError` for a
@@ -212,6 +219,13 @@ def insert_document(doc: A2lDocument, debug: DebugData, *, measurements: Selecti
                          "name the one to insert into (--module NAME)")
     block = doc.module(module)
     inserter = _Inserter(doc, block, debug, rules)
+    if structures:
+        from workbench.a2l.insert_structures import StructureTypedefs
+
+        if not inserter.new_arrays:
+            raise InputError(f"{doc.name}: --structures writes TYPEDEF_STRUCTUREs and INSTANCEs, which ASAP2 has "
+                             "from version 1.70 on; the file's ASAP2_VERSION is older")
+        inserter.structures = StructureTypedefs(inserter)
     inserter.walk_variables(progress)
     for rule in rules.values():
         for path in rule.paths:
@@ -222,15 +236,16 @@ def insert_document(doc: A2lDocument, debug: DebugData, *, measurements: Selecti
 
 def insert_file(a2l: str | Path, elf: str | Path, output: str | Path | None, *,
                 measurements: Selection = Selection(), characteristics: Selection = Selection(),
-                target_group: str | None = None, module: str | None = None, cache_dir: str | Path | None = None,
-                use_cache: bool = True, progress: Progress | None = None) -> InsertReport:
+                target_group: str | None = None, module: str | None = None, structures: bool = False,
+                cache_dir: str | Path | None = None, use_cache: bool = True,
+                progress: Progress | None = None) -> InsertReport:
     """Read ``a2l`` and ``elf``, insert (see :func:`insert_document`) and write ``output`` atomically (which
     may be ``a2l``); ``output=None`` writes nothing (a dry run)."""
     doc, debug_data = read_beside(lambda: load_a2l(a2l, validate=False), elf, cache_dir=cache_dir,
                                   use_cache=use_cache, progress=progress)
     with debug_data as debug:
         result = insert_document(doc, debug, measurements=measurements, characteristics=characteristics,
-                                 target_group=target_group, module=module, progress=progress)
+                                 target_group=target_group, module=module, structures=structures, progress=progress)
     if output is not None:
         write_source(doc.source, result.data, output)
     return result.report
@@ -262,6 +277,7 @@ class _Inserter:
         self.planned: dict[str, tuple[str, str]] = {}  # new object name -> (its keyword, its symbol)
         self.layouts: dict[str, str] = {}  # data type -> the RECORD_LAYOUT its CHARACTERISTICs use
         self.conversions: set[str] = {block.name for block in module.children_named("COMPU_METHOD")}
+        self.structures = None  # StructureTypedefs with --structures
 
     # -- what to insert ---------------------------------------------------------------------------
     def walk_variables(self, progress: Progress | None) -> None:
@@ -318,6 +334,12 @@ class _Inserter:
         passed = inherited | by_name
         if not (passed or named or self._may_select(leaf)):
             return  # nothing in it can be selected
+        whole = passed | frozenset(kind for kind in by_range if self.rules[kind].holds_whole(leaf.address, ctype.size))
+        if self.structures is not None and whole and element.kind in _GROUPS and self.structures.takes(leaf):
+            for kind in KINDS:
+                if kind in whole:
+                    self._object(kind, leaf, "INSTANCE")
+            return
         if ctype.kind in _GROUPS:
             for member in _members(ctype):
                 if member.offset is not None:
@@ -345,7 +367,9 @@ class _Inserter:
             self._walk(_Leaf(leaf.path + suffix, leaf.address + number * element.size, element, spec=leaf.spec),
                        inherited)
 
-    def _object(self, kind: str, leaf: _Leaf) -> None:
+    def _object(self, kind: str, leaf: _Leaf, keyword: str | None = None) -> None:
+        """``leaf`` inserted as an object of ``kind`` (``keyword`` INSTANCE: a struct as one INSTANCE of its
+        TYPEDEF_STRUCTURE, made by :mod:`workbench.a2l.insert_structures`), unless the file describes it."""
         name, symbol = leaf.path.replace("::", "__"), leaf.symbol  # a C++ name's "::" as a2ltool writes it
         existing = next(((whole, found) for whole in (*_enclosing(leaf.path, leaf.spec), symbol)
                          if (found := self.described.get((kind, whole))) is not None), None)
@@ -378,15 +402,18 @@ class _Inserter:
         if not is_ident(name.encode("latin-1", "replace")):
             self._skip("bad-name", name, f"{kind} {name}: not an A2L name: not inserted", Severity.WARNING)
             return
-        rendered = self._render(kind, name, leaf)
+        keyword = keyword or kind
+        rendered = self.structures.instance(kind, name, leaf) if keyword == "INSTANCE" else \
+            self._render(kind, name, leaf)
         if rendered is None:
             return
         text, what = rendered
-        self.blocks.setdefault(kind, []).append(text)
+        self.blocks.setdefault(keyword, []).append(text)
         self.planned[name] = (kind, symbol)
         self.described[(kind, symbol)] = name
         self.report.inserted[kind].append(name)
-        self.report.add(Finding("inserted", name, f"{kind} {name} inserted (0x{leaf.address:X}, {what})", block=kind))
+        self.report.add(Finding("inserted", name, f"{keyword} {name} inserted (0x{leaf.address:X}, {what})",
+                                block=keyword))
 
     # -- the blocks ------------------------------------------------------------------------------
     def _render(self, kind: str, name: str, leaf: _Leaf) -> tuple[bytes, str] | None:
@@ -512,7 +539,8 @@ class _Inserter:
                 self.report.add(finding_at(doc, group.name_token, "group-updated", target_group,
                                            f"GROUP {target_group}: {sum(map(len, names.values()))} reference(s) "
                                            "added", "GROUP"))
-        order = ("MEASUREMENT", "CHARACTERISTIC", "RECORD_LAYOUT", "COMPU_METHOD", "COMPU_VTAB", "GROUP")
+        order = ("MEASUREMENT", "CHARACTERISTIC", "INSTANCE", "TYPEDEF_MEASUREMENT", "TYPEDEF_CHARACTERISTIC",
+                 "TYPEDEF_STRUCTURE", "RECORD_LAYOUT", "COMPU_METHOD", "COMPU_VTAB", "GROUP")
         body = b"".join(text for keyword in order for text in self.blocks.get(keyword, []))
         if body:
             edits.append(_before_end(doc, module, body))

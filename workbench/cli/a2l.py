@@ -126,6 +126,9 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     insert.add_argument("--target-group", metavar="NAME", help="put the new objects into this GROUP (created, ROOT, "
                         "when the file lacks it)")
     insert.add_argument("--module", metavar="NAME", help="the MODULE to insert into, when the file has several")
+    insert.add_argument("-t", "--structures", "--enable-structures", action="store_true",
+                        help="a struct selected whole becomes one INSTANCE of a TYPEDEF_STRUCTURE (typedefs per member "
+                        "type, shared by every variable of its C type), as a2ltool -t writes it (ASAP2 1.70+)")
     insert.add_argument("--dry-run", action="store_true", help="report what would be inserted; write nothing")
     _cache_options(insert)
     _output_options(insert)
@@ -286,7 +289,8 @@ def _insert(args: argparse.Namespace) -> int:
     output = None if args.dry_run else args.output
     with ProgressBar("inserting", enabled=None if not args.json else False) as progress:
         report = insert_file(args.a2l, args.elf, output, measurements=selections[0], characteristics=selections[1],
-                             target_group=args.target_group, module=args.module, cache_dir=args.cache_dir,
+                             target_group=args.target_group, module=args.module, structures=args.structures,
+                             cache_dir=args.cache_dir,
                              use_cache=not args.no_cache, progress=progress)
     _print_report(report, args, summary=report.summary(output), output=output)
     return 0 if report.ok else 1
