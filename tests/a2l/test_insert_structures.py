@@ -5,6 +5,8 @@ passes check and pya2ldb; typedefs are shared by the variables of one C type."""
 from __future__ import annotations
 
 import re
+import shutil
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -98,3 +100,28 @@ def test_structures_need_asap2_1_70(tmp_path, capsys):
     code, _, err = run(capsys, "a2l", "insert", source, TYPES_ELF, "-o", tmp_path / "out.a2l", "--structures",
                        "--measurement-regex", "outer", "--no-cache")
     assert code == 2 and "from version 1.70 on" in err and err.count("\n") == 1
+
+
+ENUMS = """#include <stdint.h>
+typedef enum { A0 = 0, A1 = 1 } tMode;
+enum Color { RED, GREEN };
+typedef struct { tMode mode; enum Color color; enum { X1, X2 } anon; uint8_t arr[2][3]; struct { int16_t q; } in[2]; } tS;
+tS s1; tS s2[3];
+int main(void) { return s1.arr[0][0] + s2[1].mode; }
+"""
+
+
+@pytest.mark.skipif(shutil.which("gcc") is None, reason="gcc is not installed")
+def test_enums_and_anonymous_types_in_structs(tmp_path):
+    (tmp_path / "enums.c").write_text(ENUMS)
+    elf = tmp_path / "enums.elf"
+    subprocess.run([shutil.which("gcc"), "-g", "-O0", "-o", elf, tmp_path / "enums.c"], check=True, timeout=120)
+    plain, typed = _both(tmp_path, elf, EMPTY, measurements=Selection(("s1|s2",)))
+    model = load_a2l(typed).model()
+    # an anonymous enum's COMPU_METHOD is named by the struct's type, once for all its variables (plain: per object)
+    rename = {f"{name}.anon_compu_method": "tS.anon_compu_method" for name in ("s1", "s2[0]", "s2[1]", "s2[2]")}
+    assert _objects(typed) == {name: (*fields[:-1], rename.get(fields[-1], fields[-1]))
+                               for name, fields in _objects(plain).items()}
+    assert [model.conversion(model.measurement(f"s2[2].{member}")).to_physical(1)
+            for member in ("mode", "color", "anon")] == ["A1", "GREEN", "X2"]
+    assert model.typedef("tS_in_type").size == 2 and check_file(typed, elf, use_cache=False).ok

@@ -65,7 +65,7 @@ class StructureTypedefs:
         """The INSTANCE block of ``leaf`` named ``name`` for ``kind`` and what it is (``tRxPduInfo [2]``), its
         typedefs added on the way; None when the struct has no member to describe (reported)."""
         inserter = self.inserter
-        typedef = self._structure(kind, element_type(leaf.ctype), leaf.path)
+        typedef = self._structure(kind, element_type(leaf.ctype), leaf.path, leaf.path)
         if typedef is None:
             inserter._skip("not-insertable", name, f"INSTANCE {name}: {leaf.ctype.display_name} has no member to "
                            f"{'measure' if kind == 'MEASUREMENT' else 'calibrate'}: not inserted", Severity.INFO)
@@ -82,15 +82,18 @@ class StructureTypedefs:
         return self._chunk(lines), what
 
     # -- the typedefs ------------------------------------------------------------------------------
-    def _structure(self, kind: str, ctype: CType, path: str) -> str | None:
-        """The TYPEDEF_STRUCTURE of a struct or union for ``kind`` (one per C type), None without components."""
+    def _structure(self, kind: str, ctype: CType, path: str, label: str) -> str | None:
+        """The TYPEDEF_STRUCTURE of a struct or union for ``kind`` (one per C type), None without components.
+        ``path``: where it was met first (for reports); ``label``: its name when the C type has none (the enclosing
+        type's name and the member's: ``tOuter.inner``), also what an anonymous enum's COMPU_METHOD is named by."""
         key = (id(ctype), kind)
         if key in self.structures:
             return self.structures[key]
         self.structures[key] = None  # a struct holds itself only through a pointer: never reached again here
         lines = []
+        c_name = ctype.name or ctype.typedef
         for member_name, member, offset in _flat_members(ctype):
-            typedef, dims = self._component(kind, member, f"{path}.{member_name}")
+            typedef, dims = self._component(kind, member, f"{path}.{member_name}", f"{c_name or label}.{member_name}")
             if typedef is None:
                 continue
             lines += ["/begin STRUCTURE_COMPONENT", f"  {member_name} {typedef}", f"  {offset}",
@@ -98,26 +101,24 @@ class StructureTypedefs:
                       f"  SYMBOL_TYPE_LINK {_quoted(member_name)}", "/end STRUCTURE_COMPONENT"]
         if not lines:
             return None
-        c_name = ctype.name or ctype.typedef
         body = [f"0x{ctype.size:X}", *lines, *([f"SYMBOL_TYPE_LINK {_quoted(c_name)}"] if c_name else [])]
-        base = _NOT_A_NAME.sub("_", (c_name or f"{path}_type").replace("::", "__")).strip("_") or "Structure"
-        name = self._typedef("TYPEDEF_STRUCTURE", base, body)
+        name = self._typedef("TYPEDEF_STRUCTURE", c_name or f"{label}_type", body)
         self.structures[key] = name
         return name
 
-    def _component(self, kind: str, member, path: str) -> tuple[str | None, tuple[int, ...]]:
+    def _component(self, kind: str, member, path: str, label: str) -> tuple[str | None, tuple[int, ...]]:
         """(typedef, MATRIX_DIM) of one member; (None, ()) for what has no A2L form (a pointer, a function)."""
         ctype = member.type
         element = element_type(ctype)
         if member.bit_size or element.kind in _SCALARS:
-            return self._leaf(kind, element, member.bit_size, member.bit_position, path), \
+            return self._leaf(kind, element, member.bit_size, member.bit_position, path, label), \
                 () if member.bit_size else array_dims(ctype)
         if element.kind in _GROUPS:
-            return self._structure(kind, element, path), array_dims(ctype)
+            return self._structure(kind, element, path, label), array_dims(ctype)
         return None, ()
 
-    def _leaf(self, kind: str, element: CType, bit_size: int | None, bit_position: int | None, path: str
-              ) -> str | None:
+    def _leaf(self, kind: str, element: CType, bit_size: int | None, bit_position: int | None, path: str,
+              label: str) -> str | None:
         """The TYPEDEF_MEASUREMENT or TYPEDEF_CHARACTERISTIC of one scalar type (and bitfield)."""
         inserter = self.inserter
         typed = inserter._typed(element, bit_size, bit_position)
@@ -126,7 +127,7 @@ class StructureTypedefs:
                            f"{kind} {path}: {typed}: left out of its TYPEDEF_STRUCTURE", Severity.WARNING)
             return None
         datatype, limits, mask = typed
-        conversion = inserter._conversion(element, path.replace("::", "__"))
+        conversion = inserter._conversion(element, label.replace("::", "__"))
         if kind == "MEASUREMENT":
             first = f"{datatype} {conversion} 0 0 {limits}"
         else:
@@ -145,6 +146,7 @@ class StructureTypedefs:
         found = self.by_content.get(content)
         if found is not None:
             return found
+        base = _NOT_A_NAME.sub("_", base.replace("::", "__")).strip("_") or keyword
         name, number = base, 1
         while name in self.names:
             number += 1
