@@ -81,10 +81,13 @@ def test_a_test_without_steps_and_a_bad_catalogue(tmp_path):
         read_requirements(bad)
 
 
-def test_a_follows_expectation_shows_the_followed_signal_and_its_window(tmp_path):
-    """expect_follows draws the signal it compared with dashed over the one it judged (same scale), and
-    the window it judged: with a tolerance of 0 there is no band of values to draw, yet the plot shows
-    what was compared."""
+def _points(element: str) -> list[tuple[float, float]]:
+    return [tuple(map(float, point.split(","))) for point in re.search(r'points="([^"]*)"', element)[1].split()]
+
+
+def test_a_follows_expectation_shows_the_followed_signal_and_its_tolerance(tmp_path):
+    """expect_follows draws the signal it compared with dashed over the one it judged (same scale), and that signal
+    ± the tolerance over the window it judged: with a tolerance of 0 a line on it (a band of no height is invisible)."""
     mdf = MDF(version="4.10")
     mdf.header.start_time = datetime.fromtimestamp(EPOCH, timezone.utc)
     t = np.arange(0.0, 1.0, 0.05)
@@ -94,14 +97,26 @@ def test_a_follows_expectation_shows_the_followed_signal_and_its_window(tmp_path
     mdf.save(tmp_path / "evidence" / "f.mf4", overwrite=True)
     mdf.close()
     (tmp_path / "tests").mkdir()
-    step = {**_step("expect", "expect xsPRVDutyCmd = xsDC ± 0 % for 0.5 s", 0.2, 0.7, "xsPRVDutyCmd", passed=True),
-            "reference": "xsDC"}
+    exact = {**_step("expect", "expect xsPRVDutyCmd = xsDC ± 0 % for 0.3 s", 0.2, 0.5, "xsPRVDutyCmd", passed=True),
+             "reference": "xsDC", "tolerance": 0.0}
+    loose = {**_step("expect", "expect xsPRVDutyCmd = xsDC ± 5 % for 0.2 s", 0.6, 0.8, "xsPRVDutyCmd", passed=False),
+             "reference": "xsDC", "tolerance": 5.0}
     record = {"nodeid": "test_f.py::test_f", "epoch": EPOCH, "evidence": [str(tmp_path / "evidence" / "f.mf4")],
-              "steps": [step]}
+              "steps": [exact, loose]}
     (tmp_path / "tests" / "f.json").write_text(json.dumps(record))
-    html = write_report(tmp_path, {"test_f.py::test_f": {"outcome": "passed", "duration": 1.0, "message": "",
+    html = write_report(tmp_path, {"test_f.py::test_f": {"outcome": "failed", "duration": 1.0, "message": "",
                                                         "requirements": []}}).read_text()
     (plot,) = re.findall(r"<svg.*?</svg>", html)
-    assert "<title>xsDC (followed)</title>" in plot and 'stroke-dasharray="5 4"' in plot
-    assert re.search(r'<rect [^>]*fill="#2e7d32"[^>]*><title>expect xsPRVDutyCmd = xsDC', plot)  # the window judged
-    assert plot.count("<polyline") == 2
+    (followed,) = re.findall(r'<polyline [^>]*stroke-dasharray="5 4"><title>xsDC \(followed\)</title>', plot)
+    (line,) = re.findall(r'<polyline [^>]*stroke="#2e7d32" stroke-width="5"[^>]*><title>expect xsPRVDutyCmd = '
+                         r"xsDC ± 0 ", plot)
+    x_of = lambda seconds: 56 + seconds / 0.95 * (760 - 56 - 12)  # noqa: E731 (the plot spans 0 .. the last sample)
+    xs, ys = zip(*_points(line))
+    assert (min(xs), max(xs)) == pytest.approx((x_of(0.2), x_of(0.5)), abs=0.1)  # over the window judged ...
+    assert set(ys) <= {y for _, y in _points(followed)} and len(set(ys)) >= 6  # ... on xsDC's values, step by step
+    (band,) = re.findall(r'<polygon [^>]*fill="#c62828"[^>]*><title>expect xsPRVDutyCmd = xsDC ± 5 ', plot)
+    corners = _points(band)
+    upper, lower = corners[:len(corners) // 2], corners[len(corners) // 2:][::-1]
+    assert [x for x, _ in upper] == [x for x, _ in lower] and min(x for x, _ in upper) == pytest.approx(x_of(0.6), abs=0.1)
+    heights = {round(low - high, 1) for (_, high), (_, low) in zip(upper, lower)}
+    assert len(heights) == 1 and heights.pop() > 2  # xsDC ± 5 %: a band of one height around it, failed: red

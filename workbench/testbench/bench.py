@@ -99,6 +99,7 @@ class Step:
     band: tuple[float, float] | None = None  # the numeric band an expectation drew (inf: open)
     target: str | None = None  # a text value it expected ("TANK1_ON"), or "!= value"
     reference: str | None = None  # the signal an expect_follows compared with
+    tolerance: float | None = None  # ... and how far from it the signal may be (0: exactly; the report draws a line)
     passed: bool | None = None
     detail: str = ""
 
@@ -453,7 +454,7 @@ class Bench:
         start = self._step_start(since)
         end = start + for_s
         step = Step("expect", f"expect {name} = {reference} ± {tolerance:g}{_unit(signal.unit)} for {for_s:g} s",
-                    start, end, name, signal.unit, reference=reference)
+                    start, end, name, signal.unit, reference=reference, tolerance=float(tolerance))
         differences: list[np.ndarray] = []
 
         def judge(times, values):

@@ -195,7 +195,7 @@ def _plots(evidence: list[Path], steps: list[dict], epoch: float) -> list[str]:
     for name in signals:
         t, y, labels, unit = recorded.get(name, (np.empty(0), np.empty(0), None, ""))
         bands = [band for step in steps if step.get("signal") == name
-                 if (band := _band(step, labels)) is not None]
+                 if (band := _band(step, labels, recorded)) is not None]
         unit = unit or next((step.get("unit", "") for step in steps if step.get("signal") == name), "")
         followed = dict.fromkeys(step["reference"] for step in steps if step.get("signal") == name and step.get("reference"))
         overlays = [(*recorded[other][:2], f"{other} (followed)") for other in followed if other in recorded]
@@ -206,13 +206,17 @@ def _plots(evidence: list[Path], steps: list[dict], epoch: float) -> list[str]:
     return plots
 
 
-def _band(step: dict, labels: dict[float, str] | None) -> Band | None:
+def _band(step: dict, labels: dict[float, str] | None, recorded: dict[str, tuple]) -> Band | None:
     label = step["text"] + (f" ({step['detail']})" if step.get("detail") else "")
     if step.get("band") is not None:
         low, high = step["band"]
         return Band(step["t_start"], step["t_end"], low, high, step["passed"], label)
-    if step.get("reference"):  # the window it judged; the followed signal is drawn as a line (an overlay)
-        return Band(step["t_start"], step["t_end"], None, None, step["passed"], label)
+    if step.get("reference"):  # the followed signal ± the tolerance over the window judged (0: a line on it) ...
+        if step.get("tolerance") is not None and step["reference"] in recorded:
+            times, values = recorded[step["reference"]][:2]
+            return Band(step["t_start"], step["t_end"], None, None, step["passed"], label, around=(times, values),
+                        tolerance=step["tolerance"])
+        return Band(step["t_start"], step["t_end"], None, None, step["passed"], label)  # ... else the window
     target = step.get("target")
     if target and labels and not target.startswith("!= "):
         raw = next((value for value, text in labels.items() if text == target), None)

@@ -20,9 +20,11 @@ CHAR_PX = 6.5  # the width of a character at 11 px
 PASS, FAIL, LINE, OVERLAY = "#2e7d32", "#c62828", "#1f4e9a", "#8e24aa"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Band:
-    """An expectation drawn over the signal: [t0, t1] x [low, high] (an open side: None)."""
+    """An expectation drawn over the signal: [t0, t1] x [low, high] (an open side: None); or, with ``around`` (the
+    times and values of another signal), that signal ± ``tolerance`` over [t0, t1], a line on it where the tolerance
+    is too thin to see (an ``expect_follows`` with tolerance 0)."""
 
     t0: float
     t1: float
@@ -30,6 +32,8 @@ class Band:
     high: float | None
     passed: bool | None
     label: str = ""
+    around: tuple[np.ndarray, np.ndarray] | None = None
+    tolerance: float = 0.0
 
 
 def _nice_ticks(low: float, high: float, count: int = 5) -> list[float]:
@@ -89,6 +93,9 @@ def plot_svg(t: np.ndarray, y: np.ndarray, *, title: str, unit: str = "", bands:
              f'<rect x="{left:.0f}" y="{TOP}" width="{plot_w:.0f}" height="{plot_h}" fill="#fff" stroke="#999"/>',
              f'<text x="{left:.0f}" y="14" font-weight="bold">{escape(title)}</text>']
     for band in bands:
+        if band.around is not None:
+            parts.append(_band_around(band, max(band.t0, t0), min(band.t1, t1), plot_w, x_of, y_of, (y0, y1)))
+            continue
         low = y0 if band.low is None or not np.isfinite(band.low) else max(band.low, y0)
         high = y1 if band.high is None or not np.isfinite(band.high) else min(band.high, y1)
         if band.low is not None and band.high is not None and band.low == band.high:
@@ -132,6 +139,29 @@ def plot_svg(t: np.ndarray, y: np.ndarray, *, title: str, unit: str = "", bands:
                          f'stroke-dasharray="5 4"><title>{escape(label)}</title></polyline>')
     parts.append("</svg>")
     return "".join(parts)
+
+
+def _band_around(band: Band, a: float, b: float, columns: int, x_of, y_of, y_range: tuple[float, float]) -> str:
+    """``band.around`` held over [a, b], ± ``band.tolerance``: a filled band, or a line where it is under 2 px high."""
+    times, values = (np.asarray(v, dtype=float) for v in band.around)
+    held = np.searchsorted(times, a, side="right") - 1  # the value the signal holds when the window opens
+    index = np.concatenate([[held] if held >= 0 else [], np.flatnonzero((times > a) & (times <= b))]).astype(int)
+    if not len(index) or b <= a:
+        return ""
+    tt, yy = _reduce(np.append(np.maximum(times[index], a), b), np.append(values[index], values[index[-1]]), columns)
+    colour = FAIL if band.passed is False else PASS
+    title = f"<title>{escape(band.label)}</title>"
+
+    def path(offset: float) -> list[str]:  # held: each value until the next sample's time
+        xs, ys = x_of(tt), y_of(np.clip(yy + offset, *y_range))
+        return [f"{xs[0]:.1f},{ys[0]:.1f}"] + [point for i in range(1, len(xs))
+                                              for point in (f"{xs[i]:.1f},{ys[i - 1]:.1f}", f"{xs[i]:.1f},{ys[i]:.1f}")]
+
+    if abs(float(y_of(0.0) - y_of(2 * band.tolerance))) < 2:
+        return (f'<polyline points="{" ".join(path(0.0))}" fill="none" stroke="{colour}" stroke-width="5" '
+                f'stroke-opacity="0.45" stroke-linejoin="round">{title}</polyline>')
+    return (f'<polygon points="{" ".join(path(band.tolerance) + path(-band.tolerance)[::-1])}" fill="{colour}" '
+            f'fill-opacity="0.18" stroke="{colour}" stroke-dasharray="4 2">{title}</polygon>')
 
 
 def _held_line(t: np.ndarray, y: np.ndarray, t0: float, t1: float, columns: int, x_of, y_of) -> str:
