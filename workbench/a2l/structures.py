@@ -26,6 +26,8 @@ def check_structures(doc: A2lDocument, module: Block, report: Report) -> None:
     from workbench.a2l.instances import component_beyond
     from workbench.a2l.model import A2lModel
 
+    if not {"TYPEDEF_STRUCTURE", "INSTANCE"} & set(doc.blocks.keyword_names):
+        return  # nothing to check: no model built (a large file without typedefs)
     model = A2lModel(doc, module.name)
     names = model.names("TYPEDEF_STRUCTURE")
     if not names and not model.names("INSTANCE"):
