@@ -77,6 +77,12 @@ def test_the_result_passes_check_and_pya2ldb(types):
     report = check_file(typed, TYPES_ELF, use_cache=False)
     assert report.ok, report.findings
     assert pya2l_import(typed)["MEASUREMENT"] == 2  # zsScalar, state: the rest are INSTANCEs
+    moved = typed.with_name("moved.a2l")  # an INSTANCE's address against the ELF's, as any object's
+    text = typed.read_text()
+    address = re.search(r"tOuter (0x[0-9A-F]+)", text)[1]
+    moved.write_text(text.replace(f"tOuter {address}", f"tOuter {int(address, 16) + 4:#X}"))
+    (mismatch,) = check_file(moved, TYPES_ELF, use_cache=False).findings
+    assert (mismatch.kind, mismatch.name) == ("address-mismatch", "outer")
 
 
 def test_the_demo_arrays_of_structs_one_typedef_and_a_struct_the_file_describes_in_part(tmp_path):

@@ -6,8 +6,10 @@ overlap only when their masks share a bit. Each ECU_ADDRESS_EXTENSION is an addr
 of its own (XCPlite, for one, addresses stack and event-relative variables so); the
 MEMORY_SEGMENTs describe extension 0. An object at address 0 is not placed yet (the
 placeholder of a file before its update): it takes part in neither the overlap nor the
-segment check. Without the ELF, a file whose every object is at 0 gets one warning (a build that forgot
-its update; a file that places others has its reasons for one at 0).
+segment check. An INSTANCE is checked against the ELF (its symbol, its address) but not for
+overlaps (the sizes of its objects are its typedefs'). Without the ELF, a file whose every object
+is at 0 gets one warning (a build that forgot its update; a file that places others has its
+reasons for one at 0).
 """
 
 from __future__ import annotations
@@ -55,7 +57,7 @@ def _placements(doc: A2lDocument, module: Block, objects: AddressedObjects, debu
     for row in range(len(objects)):
         target = objects.target(row)
         keyword = target.keyword
-        if keyword == "INSTANCE" or target.address_token is None or parents[target.block] != module.index:
+        if target.address_token is None or parents[target.block] != module.index:
             continue
         try:
             address = doc.int_value(target.address_token)
@@ -82,6 +84,8 @@ def _placements(doc: A2lDocument, module: Block, objects: AddressedObjects, debu
                     report.add(finding_at(doc, target.address_token, "address-mismatch", target.name,
                                           f"{keyword} {target.name}: the A2L says 0x{address:X}, "
                                           f"{debug.path.name} says 0x{expected:X}", keyword, Severity.ERROR))
+        if keyword == "INSTANCE":
+            continue  # its symbol checked; its objects' sizes are its typedefs': not in the overlap check
         addressed += 1
         if address == 0:  # not placed yet: the placeholder before an update (no C object lies at address 0)
             unplaced.append(target)
