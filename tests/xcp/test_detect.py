@@ -126,3 +126,27 @@ def test_detect_slaves_checks_the_a2l_ids_and_needs_a_broadcast_id(channel, tmp_
     without = edited_a2l(tmp_path, "CAN_ID_BROADCAST 0x6F0\n", "")
     with pytest.raises(InputError, match="XCP_ON_CAN has no CAN_ID_BROADCAST; give the broadcast identifier"):
         detect_slaves(without, interface="virtual", channel=channel)
+
+
+def test_daq_lists_with_can_ids_of_their_own_are_said_by_get_daq_id_and_used(channel):
+    """The daq-can-ids profile: GET_DAQ_ID names 0x7F2/0x7F3 for lists 0 and 1, and a measurement by its A2L's
+    DAQ_LIST_CAN_ID gets its DTOs there (a spy on the bus sees them)."""
+    from workbench import Session
+    from workbench.sim import serve_demo
+
+    with serve_demo({"interface": "virtual", "channel": channel}, profile="daq-can-ids", time_scale=1.0) as sim, \
+            can.Bus(interface="virtual", channel=channel) as spy:
+        detection = detect_slaves(sim.a2l, interface="virtual", channel=channel, identify=True)
+        with Session.open(sim.a2l, interface="virtual", channel=channel) as session, \
+                session.measure(["zsRailPressure"]) as live:
+            batches = []
+            for _ in range(20):  # 10 s at most: a DTO on an id the master does not hear never comes
+                batches += live.read(0.5)
+                if batches:
+                    break
+        seen = set()
+        while (message := spy.recv(0)) is not None:
+            seen.add(message.arbitration_id)
+    assert [str(ids) for ids in detection.identities[0].daq_ids] == [
+        "list 0 on 0x7F2 (fixed)", "list 1 on 0x7F3 (fixed)", "lists 2-15 on 0x7F1 (fixed)"]
+    assert batches and 0x7F2 in seen

@@ -23,7 +23,17 @@ from workbench.sim.bus import ECHOING_INTERFACES, EchoFilter, Receiver, Transmit
 from workbench.sim.can_timing import BusClock
 from workbench.sim.ecu import EcuState, SimulatedEcu
 from workbench.sim.xcp_port import XcpPort
-from workbench.xcp_protocol import PID_ERR, PID_RES, SLAVE_ID_ECHO, SLAVE_ID_INVERSE, CanCmd, Cmd, Err, SlaveIdMode
+from workbench.xcp_protocol import (
+    PID_ERR,
+    PID_RES,
+    SLAVE_ID_ECHO,
+    SLAVE_ID_INVERSE,
+    CanCmd,
+    CanId,
+    Cmd,
+    Err,
+    SlaveIdMode,
+)
 
 __all__ = ["BusSpec", "CanBuses", "CanXcpPort"]
 
@@ -114,8 +124,9 @@ class CanXcpPort(XcpPort):
 
     GET_SLAVE_ID is answered on CAN_ID_BROADCAST (when the parameters name one) and on CAN_ID_MASTER, connected or
     not; a request without the ``XCP`` pattern or with another mode goes unanswered, as a slave's CAN driver does.
-    GET_DAQ_ID answers in a session: every DAQ list's DTOs go on CAN_ID_SLAVE (fixed). Without
-    TRANSPORT_LAYER_CMD (:attr:`XcpParameters.without`) the slave is silent on the broadcast id.
+    GET_DAQ_ID answers in a session: a DAQ list's DTOs go on its id of :attr:`XcpParameters.daq_can_ids`
+    (DAQ_LIST_CAN_ID FIXED), the others' on CAN_ID_SLAVE, all fixed. Without TRANSPORT_LAYER_CMD
+    (:attr:`XcpParameters.without`) the slave is silent on the broadcast id.
 
     With MAX_DLC_REQUIRED the slave pads every frame to MAX_DLC (8; 64 on CAN FD) and ignores master
     frames of another length, as AUTOSAR's CanXcp does. On CAN FD (:attr:`XcpParameters.can_fd`) frames
@@ -130,6 +141,7 @@ class CanXcpPort(XcpPort):
         self.master_id = ecu.params.can_id_master
         self.slave_id = ecu.params.can_id_slave
         self.broadcast_id = ecu.params.can_id_broadcast
+        self.daq_ids = dict(ecu.params.daq_can_ids)
         self.max_dlc = MAX_FD_DLC if ecu.params.can_fd else MAX_DLC
         self._short_frame_seen = False
 
@@ -172,15 +184,16 @@ class CanXcpPort(XcpPort):
         daq = params.daq
         if struct.unpack_from(params.byte_order + "H", cto, 2)[0] >= (len(daq.static_lists) or daq.max_daq):
             return [bytes((PID_ERR, Err.OUT_OF_RANGE))]
-        return [struct.pack(params.byte_order + "BBHI", PID_RES, 1, 0, self.slave_id.a2l)]  # 1: the id is fixed
+        can_id = self.daq_ids.get(struct.unpack_from(params.byte_order + "H", cto, 2)[0], self.slave_id)
+        return [struct.pack(params.byte_order + "BBHI", PID_RES, 1, 0, can_id.a2l)]  # 1: the id is fixed
 
-    def _frame(self, packet: bytes) -> can.Message:
+    def _frame(self, packet: bytes, can_id: CanId | None = None) -> can.Message:
         fd = self.ecu.params.can_fd
         if self.ecu.params.max_dlc_required:
             packet = packet.ljust(self.max_dlc, b"\0")
         elif fd and len(packet) > MAX_DLC:
             packet = packet.ljust(next(length for length in FD_LENGTHS if length >= len(packet)), b"\0")
-        slave = self.slave_id
+        slave = can_id or self.slave_id
         return can.Message(arbitration_id=slave.id, is_extended_id=slave.extended, data=packet, is_fd=fd,
                            bitrate_switch=fd)
 
@@ -188,7 +201,12 @@ class CanXcpPort(XcpPort):
         self.buses.transmitter("CAN1").send(self._frame(packet))
 
     def _transmit_dtos(self, packets: list[bytes]) -> bool:
-        return self.buses.transmitter("CAN1").send_dtos([self._frame(packet) for packet in packets])
+        if self.daq_ids:  # DAQ_LIST_CAN_ID: a list's DTOs on its own id
+            daq = self.ecu.slave.daq
+            frames = [self._frame(packet, self.daq_ids.get(daq.list_of(packet))) for packet in packets]
+        else:
+            frames = [self._frame(packet) for packet in packets]
+        return self.buses.transmitter("CAN1").send_dtos(frames)
 
     def describe(self) -> dict[str, Any]:
         params = self.ecu.params

@@ -19,6 +19,7 @@ from workbench.a2l.xcp import (
     XcpAddressMapping,
     XcpCommunicationMode,
     XcpDaq,
+    XcpDaqListCanId,
     XcpEvent,
     XcpProtocolLayer,
     XcpSector,
@@ -91,7 +92,8 @@ def _describe(config: XcpConfig, params: Mapping[str, XcpParameters], memory_map
         can = params["CAN"]
         described = replace(described, can=replace(
             config.can, max_dlc_required=can.max_dlc_required, max_dlc=64 if can.can_fd else None,
-            fd_data_baudrate=CAN_FD_DATA_BAUDRATE if can.can_fd else None, protocol_layer=None, daq=None, pgm=None))
+            fd_data_baudrate=CAN_FD_DATA_BAUDRATE if can.can_fd else None, protocol_layer=None, daq=None, pgm=None,
+            daq_list_can_ids=tuple(XcpDaqListCanId(number, can_id) for number, can_id in can.daq_can_ids)))
     for transport in ("UDP", "TCP"):
         block = getattr(config, transport.lower())
         if block is None or transport not in params:

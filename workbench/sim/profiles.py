@@ -23,7 +23,7 @@ from workbench.errors import InputError
 from workbench.image import AddressRange, ChecksumType
 from workbench.sim.memory_map import MemoryMap
 from workbench.sim.xcp.parameters import DEMO_STATIC_LISTS, PredefinedDaqList, XcpParameters
-from workbench.xcp_protocol import Cmd, Resource
+from workbench.xcp_protocol import CanId, Cmd, Resource
 
 __all__ = ["PROFILES", "SlaveProfile", "profile"]
 
@@ -131,6 +131,10 @@ PROFILES: dict[str, SlaveProfile] = {p.name: p for p in (
     SlaveProfile("large-packets", "CAN FD with 64-byte frames (MAX_CTO = MAX_DTO = 64); on Ethernet the demo's "
                  "MAX_CTO 255 and MAX_DTO 1024", "XCP on CAN FD (CAN_FD MAX_DLC 64), large packets",
                  can={"can_fd": True, "max_cto": 64, "max_dto": 64, "max_dlc_required": False}),
+    SlaveProfile("daq-can-ids", "DAQ lists 0 and 1 send their DTOs on CAN ids of their own, 0x7F2 and 0x7F3 "
+                 "(DAQ_LIST_CAN_ID FIXED); the other lists on CAN_ID_SLAVE; on Ethernet the demo",
+                 "DTOs on ids beside CAN_ID_SLAVE (the A2L's DAQ_LIST_CAN_ID, GET_DAQ_ID)",
+                 can={"daq_can_ids": ((0, CanId(0x7F2)), (1, CanId(0x7F3)))}),
     SlaveProfile("long-seed", "seeds (and keys) of 20 bytes on CAN, 255 on Ethernet: more than one packet carries",
                  "GET_SEED mode 1 for the rest of a seed, a key in several UNLOCKs",
                  can={"seed_length": 20}, ethernet={"seed_length": 255}),

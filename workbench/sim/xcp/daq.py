@@ -374,6 +374,16 @@ class DaqProcessor:
             return bytes([odt, number])
         return bytes([odt]) + (b"\0" if field == "RELATIVE_WORD_ALIGNED" else b"") + self.slave.pack("H", number)
 
+    def list_of(self, dto: bytes) -> int | None:
+        """The number of the DAQ list a DTO of this processor belongs to, read from its identification field."""
+        field = self.params.identification_field
+        if field == "ABSOLUTE":
+            return next((number for number, daq in enumerate(self.lists)
+                         if daq.odts and daq.first_pid <= dto[0] < daq.first_pid + len(daq.odts)), None)
+        if field == "RELATIVE_BYTE":
+            return dto[1]
+        return self.slave.unpack_from("H", dto, 2 if field == "RELATIVE_WORD_ALIGNED" else 1)[0]
+
     def on_event(self, channel: int, timestamp_ticks: int) -> list[list[bytes]]:
         """The DTOs of every running list on ``channel``, sampled now: one list of DTOs per DAQ list."""
         samples = []

@@ -154,6 +154,7 @@ class XcpParameters:
     can_id_master: CanId = CanId(0x7F0)  # master -> slave
     can_id_slave: CanId = CanId(0x7F1)  # slave -> master, responses and DTOs
     can_id_broadcast: CanId | None = None  # CAN_ID_BROADCAST: GET_SLAVE_ID answered there too (None: on can_id_master)
+    daq_can_ids: tuple[tuple[int, CanId], ...] = ()  # (DAQ list, CAN id): DAQ_LIST_CAN_ID FIXED, its DTOs go there
     baudrate: int = 1_000_000
     max_dlc_required: bool = True  # XCP_ON_CAN MAX_DLC_REQUIRED: frames both ways have MAX_DLC (others are ignored)
     can_fd: bool = False  # XCP on CAN FD: frames of up to 64 bytes (MAX_CTO/MAX_DTO up to 64)
