@@ -199,6 +199,17 @@ def test_arrays_of_curves_maps_and_axes_are_one_object_per_element_their_record_
     assert model.typedef_sizes().of("T_STD") == 28 and model.instance_errors() == model.instance_limits() == []
 
 
+def test_an_array_of_curves_whose_layout_size_is_not_known_is_a_limit_not_an_error():
+    text = TEXT.replace("FNC_VALUES 3 ULONG ROW_DIR DIRECT /end RECORD_LAYOUT",
+                        "FNC_VALUES 3 ULONG ROW_DIR DIRECT AXIS_RESCALE_X 4 UWORD 5 INDEX_INCR DIRECT /end RECORD_LAYOUT")
+    model = load_a2l_string(text, "inst.a2l").model()
+    (limit,) = model.instance_limits()
+    assert model.instance_errors() == [] and str(limit).startswith(
+        f"{_located(text, 'T_STD 0x10')}: INSTANCE curves: STRUCTURE_COMPONENT curves: an array (MATRIX_DIM) of "
+        "typedef T_STD: the size of its RECORD_LAYOUT is not supported by the workbench")
+    assert "curves.axes[1]" in model and "curves.curves[0]" not in model  # only that component left out
+
+
 def test_overwrite_changes_one_component_in_one_instance(model):
     changed = model.characteristic("box.inner[1].thr")
     assert (changed.conversion, changed.upper_limit, model.unit_of(changed)) == ("CM_HALF", 50, "kV")
