@@ -187,6 +187,47 @@ def remove_span(doc: "A2lDocument", start: int, end: int) -> Edit:
     return Edit(start, end, b"")
 
 
+def cut_spans(doc: "A2lDocument", spans: Iterable[tuple[int, int]]) -> list[Edit]:
+    """Edits that delete the byte spans ``spans`` of ``doc.data`` (tokens, blocks) so that the text around them
+    reads as if they had never been written.
+
+    Spans only blanks apart are cut as one. A cut that stands alone on its lines takes those whole lines, and
+    the blank lines before it when a blank line (or the end of its file) follows it: a block between blank
+    lines leaves one blank line, never two, and a section's blank line before a block that follows stays. A
+    cut that shares its line with other text takes the blanks that separate it from the text before it (or
+    after it, at the start of the line). Comments are never cut. Spans never reach across an ``/include``.
+    """
+    data, source_map = doc.data, doc.source_map
+    merged: list[list[int]] = []
+    for start, end in sorted(spans):
+        if merged and not data[merged[-1][1]:start].strip() and \
+                source_map.segment_bounds(start) == source_map.segment_bounds(merged[-1][0]):
+            merged[-1][1] = max(merged[-1][1], end)
+        else:
+            merged.append([start, end])
+    edits = []
+    for start, end in merged:
+        low, high = source_map.segment_bounds(start)
+        line_start = max(data.rfind(b"\n", low, start) + 1, low)
+        line_end = data.find(b"\n", end, high)
+        line_end = high if line_end < 0 else line_end + 1
+        before, after = data[line_start:start], data[end:line_end]
+        if not before.strip() and not after.strip():
+            next_end = data.find(b"\n", line_end, high)
+            if line_end >= high or not data[line_end : high if next_end < 0 else next_end].strip():
+                while line_start > low:  # the blank lines before it go with it
+                    previous = max(data.rfind(b"\n", low, line_start - 1) + 1, low)
+                    if data[previous:line_start].strip():
+                        break
+                    line_start = previous
+            edits.append(Edit(line_start, line_end, b""))
+        elif before.strip():
+            edits.append(Edit(start - (len(before) - len(before.rstrip())), end, b""))
+        else:
+            edits.append(Edit(start, end + (len(after) - len(after.lstrip())), b""))
+    return edits
+
+
 def indentation_of(data: bytes, offset: int) -> bytes:
     """The blanks at the start of the line that holds ``offset``."""
     line_start = data.rfind(b"\n", 0, offset) + 1

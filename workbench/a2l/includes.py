@@ -18,12 +18,12 @@ from workbench.a2l.tokens import Tokens, tokenize
 from workbench.a2l.tree import find_directives
 from workbench.a2l.values import parse_string
 from workbench.errors import InputError
-from workbench.findings import Finding, Severity
+from workbench.findings import Finding, Report, Severity
 
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
 
-__all__ = ["A2ML_SUFFIX", "Include", "Spliced", "cannot_include", "includes_not_found_from", "left_out",
+__all__ = ["A2ML_SUFFIX", "Include", "Spliced", "cannot_include", "flatten_file", "includes_not_found_from", "left_out",
            "load_a2l_to_work", "splice_includes"]
 
 A2ML_SUFFIX = ".aml"  # an A2ML file: the syntax of the IF_DATA blocks, which the reader knows without it
@@ -163,3 +163,28 @@ def left_out(doc: A2lDocument) -> list[str]:
         line, column = holder.position(include.offset)
         said.append(f'{holder.name}:{line}:{column}: /include "{include.name}" left out: {why}')
     return said
+
+
+def flatten_file(a2l: str | Path, output: str | Path | None) -> Report:
+    """a2ltool's ``--merge-includes``: ``a2l`` with the text of every ``/include`` (nested ones too) in place
+    of the directive, written to ``output`` atomically (None: a dry run). Included files in another encoding
+    are converted to the main file's; everything else stays as written. One finding per directive.
+
+    :raises InputError: ``a2l`` cannot be read; :raises A2lParseError: it or an included file is malformed or
+        missing (file:line:column of the directive).
+    """
+    from workbench.a2l.document import load_a2l
+    from workbench.a2l.edits import write_source
+
+    doc = load_a2l(a2l, validate=False)
+    report = Report("flatten")
+    for include in doc.includes:
+        line, column = doc.source.position(include.offset)
+        report.add(Finding("include-inlined", include.name, f'/include "{include.name}" written inline',
+                           doc.source.name, line, column))
+    if doc.include_count > len(doc.includes):
+        report.add(Finding("include-inlined", doc.name, f"{doc.include_count - len(doc.includes)} nested /include(s) "
+                           "written inline", doc.source.name, 1, 1))
+    if output is not None:
+        write_source(doc.source, doc.data, output)
+    return report

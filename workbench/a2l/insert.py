@@ -43,6 +43,7 @@ from workbench.a2l.addressed import AddressedObjects
 from workbench.a2l.datatypes import array_dims, c_limits, datatype_for, element_type
 from workbench.a2l.document import A2lDocument, Block, load_a2l
 from workbench.a2l.edits import Edit, Edits, indentation_of, newline_bytes, write_source
+from workbench.a2l.patterns import selection_pattern
 from workbench.a2l.reports import finding_at
 from workbench.a2l.update.enums import NO_COMPU_METHOD, enum_conversion_blocks, enum_conversion_name, indented
 from workbench.a2l.values import is_ident, quote_string
@@ -55,7 +56,7 @@ from workbench.progress import Progress, report as report_progress
 if TYPE_CHECKING:
     from workbench.elf.ctypes_model import CMember, CType
 
-__all__ = ["InsertReport", "InsertResult", "Selection", "insert_document", "insert_file", "selection_pattern"]
+__all__ = ["InsertReport", "InsertResult", "Selection", "insert_document", "insert_file"]
 
 KINDS = ("MEASUREMENT", "CHARACTERISTIC")
 _SCALARS = ("base", "enum")
@@ -63,18 +64,7 @@ _GROUPS = ("struct", "union")
 _KEYWORDS = frozenset((*grammar.BLOCKS, *grammar.OPTIONS, *grammar.TOP_LEVEL_OPTIONS))
 _KIND_OF = {"AXIS_PTS": "CHARACTERISTIC"}  # the kind of object that describes a variable as a calibration too
 _STEP = re.compile(r"\.|\[")  # where a member or element name starts in a path
-_GLOBAL_FLAGS = re.compile(r"(?:\(\?[aiLmsux]+\))+")
 _LINE = 100  # names of a REF_MEASUREMENT/REF_CHARACTERISTIC are wrapped at about this many columns
-
-
-def selection_pattern(text: str) -> re.Pattern:
-    """A regular expression that selects variables by their whole name (a2ltool's rule: one that starts with
-    ``^`` or ends with ``$`` is searched as written). Raises ``re.error``."""
-    if text.startswith("^") or text.endswith("$"):
-        return re.compile(text)
-    flags = _GLOBAL_FLAGS.match(text)  # (?i) stays in front: Python takes global flags there only
-    head = flags.group() if flags else ""
-    return re.compile(f"{head}^(?:{text[len(head):]})$")
 
 
 @dataclass(frozen=True)

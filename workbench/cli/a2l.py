@@ -21,7 +21,11 @@ _DESCRIPTION = """\
 The A2L tool chain of a build:
   merge   fragments into a master A2L (the master's MOD_PAR, MOD_COMMON and IF_DATA apply)
   update  every address (and with --types data types, sizes, limits) and the EPK from an ELF
-  insert  new MEASUREMENTs/CHARACTERISTICs from the ELF's variables (by name pattern or address range)
+  insert  new MEASUREMENTs/CHARACTERISTICs from the ELF's variables (by name pattern or address range;
+          --create: into a new A2L made from the ELF alone)
+  remove  objects by name pattern or address range, with the references to them
+  cleanup what nothing uses: COMPU_METHODs, conversion tables, RECORD_LAYOUTs, UNITs, empty GROUPs/FUNCTIONs
+  flatten the text of every /include written inline
   check   syntax, references, duplicate names and memory placement, with file:line:column
   diff    object-level differences of two A2L files
 Outputs keep the input's text: only the changed tokens differ.
@@ -106,8 +110,12 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
                                  "0 written (warnings allowed: a pattern or range that selects nothing, a name that "
                                  "exists), 1 an error, 2 bad input (a bad pattern or range, malformed A2L, an ELF "
                                  "without DWARF).")
-    insert.add_argument("a2l", metavar="IN.a2l")
+    insert.add_argument("a2l", nargs="?", metavar="IN.a2l", help="the A2L to insert into (not with --create)")
     insert.add_argument("elf", metavar="ELF")
+    insert.add_argument("--create", action="store_true",
+                        help="make a new A2L instead of reading one: ASAP2 1.71, PROJECT and MODULE named after the "
+                             "ELF (--module NAME names them), MOD_COMMON with the ELF's byte order, MOD_PAR with its "
+                             "EPK and ADDR_EPK when it has one")
     insert.add_argument("-o", "--output", type=output_file, metavar="OUT.a2l",
                         help="file to write (atomically; may be IN.a2l itself); required unless --dry-run")
     for kind in ("measurement", "characteristic"):
@@ -125,7 +133,8 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
                             "a struct: its members; repeatable)")
     insert.add_argument("--target-group", metavar="NAME", help="put the new objects into this GROUP (created, ROOT, "
                         "when the file lacks it)")
-    insert.add_argument("--module", metavar="NAME", help="the MODULE to insert into, when the file has several")
+    insert.add_argument("--module", metavar="NAME", help="the MODULE to insert into, when the file has several "
+                        "(--create: the new PROJECT's and MODULE's name)")
     insert.add_argument("-t", "--structures", "--enable-structures", action="store_true",
                         help="a struct selected whole becomes one INSTANCE of a TYPEDEF_STRUCTURE (typedefs per member "
                         "type, shared by every variable of its C type), as a2ltool -t writes it (ASAP2 1.70+)")
@@ -133,6 +142,19 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     _cache_options(insert)
     _output_options(insert)
     insert.set_defaults(func=_as_batch(_insert))
+
+    _add_remove(commands)
+    _add_cleanup(commands)
+    flatten = commands.add_parser("flatten", help="write the text of every /include inline",
+                                  description="a2ltool's --merge-includes: the file with the text of every /include "
+                                  "(nested ones too) in place of the directive, included files in another encoding "
+                                  "converted to the main file's; nothing else changes. Exit codes: 0 written, "
+                                  "2 bad input (malformed A2L, an included file missing).")
+    flatten.add_argument("a2l", metavar="IN.a2l")
+    flatten.add_argument("-o", "--output", required=True, type=output_file, metavar="OUT.a2l",
+                         help="file to write (atomically; may be IN.a2l itself)")
+    _output_options(flatten)
+    flatten.set_defaults(func=_as_batch(_flatten))
 
     check = commands.add_parser("check", help="syntax, references, names and memory placement",
                                 description="Report every problem with file:line:column: syntax, undefined "
@@ -154,6 +176,68 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     diff.add_argument("b", metavar="B.a2l")
     add_output_arguments(diff)
     diff.set_defaults(func=_as_batch(_diff))
+
+
+def _add_remove(commands) -> None:
+    remove = commands.add_parser("remove", help="objects by name pattern or address range, with the references to them",
+                                 description="a2ltool's --remove and --remove-range: take out every MEASUREMENT, "
+                                 "CHARACTERISTIC, AXIS_PTS, BLOB and INSTANCE whose whole name a --regex matches or "
+                                 "whose address lies in a --range [MIN, MAX). Their entries in lists that group "
+                                 "objects (GROUP REF_MEASUREMENT/REF_CHARACTERISTIC, FUNCTION DEF_/REF_CHARACTERISTIC "
+                                 "and IN_/OUT_/LOC_MEASUREMENT, FRAME_MEASUREMENT, TRANSFORMER_IN/OUT_OBJECTS) go with "
+                                 "them, a list left empty too. A kept object that needs a removed one (an AXIS_DESCR's "
+                                 "AXIS_PTS_REF or CURVE_AXIS_REF, the inputs of a VIRTUAL measurement or a "
+                                 "DEPENDENT_/VIRTUAL_CHARACTERISTIC, a MAP_LIST, VAR_MEASUREMENT, "
+                                 "VAR_SELECTION_CHARACTERISTIC) refuses the removal: each is an error at its "
+                                 "file:line:column naming both objects, and nothing is written; so does an optional "
+                                 "reference (INPUT_QUANTITY, COMPARISON_QUANTITY) unless --drop-optional-references. "
+                                 "Only the removed text differs from the input. Exit codes: 0 written (warnings "
+                                 "allowed: a pattern or range that selects nothing), 1 refused (nothing written), "
+                                 "2 bad input (a bad pattern or range, malformed A2L).")
+    remove.add_argument("a2l", metavar="IN.a2l")
+    remove.add_argument("-R", "--regex", action="append", default=[], type=_pattern, metavar="REGEX",
+                        help="remove every object whose whole name it matches (repeatable; ^ or $ in it: searched as "
+                             "written, as a2ltool does)")
+    remove.add_argument("--range", action="append", default=[], nargs=2, type=_address, metavar=("MIN", "MAX"),
+                        help="remove every object whose address lies in [MIN, MAX) (repeatable; 0x hex allowed)")
+    remove.add_argument("--drop-optional-references", action="store_true",
+                        help="an INPUT_QUANTITY that names a removed object becomes NO_INPUT_QUANTITY, a "
+                             "COMPARISON_QUANTITY is dropped (each a warning) instead of refusing the removal")
+    remove.add_argument("-c", "--cleanup", action="store_true",
+                        help="then also remove what nothing uses any more, as `workbench a2l cleanup` does")
+    _pruning_options(remove)
+    remove.set_defaults(func=_as_batch(_remove))
+
+
+def _add_cleanup(commands) -> None:
+    cleanup = commands.add_parser("cleanup", help="remove what nothing uses (a2ltool's --cleanup)",
+                                  description="a2ltool's --cleanup, until nothing more goes: COMPU_METHODs, "
+                                  "COMPU_TABs, COMPU_VTABs, COMPU_VTAB_RANGEs, RECORD_LAYOUTs and UNITs no kept block "
+                                  "refers to; GROUPs without REF_CHARACTERISTIC, REF_MEASUREMENT or SUB_GROUP entries "
+                                  "that no USER_RIGHTS names; FUNCTIONs without DEF_/REF_CHARACTERISTIC, "
+                                  "IN_/OUT_/LOC_MEASUREMENT or SUB_FUNCTION entries that no FUNCTION_LIST names; list "
+                                  "entries that name nothing. Every reference `check` knows counts (a2ltool misses an "
+                                  "OVERWRITE's CONVERSION and takes an AXIS_PTS in a GROUP for a dangling entry); a "
+                                  "CONVERSION that names no COMPU_METHOD is left for `check` (a2ltool writes "
+                                  "NO_COMPU_METHOD). Only the removed text differs from the input. Exit codes: 0 "
+                                  "written, 1 refused (changes in included files, see --update-includes), 2 bad input "
+                                  "(malformed A2L).")
+    cleanup.add_argument("a2l", metavar="IN.a2l")
+    _pruning_options(cleanup)
+    cleanup.set_defaults(func=_as_batch(_cleanup))
+
+
+def _pruning_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("-o", "--output", type=output_file, metavar="OUT.a2l",
+                        help="file to write (atomically; may be IN.a2l itself); required unless --dry-run")
+    parser.add_argument("--dry-run", action="store_true", help="report what would be removed; write nothing")
+    includes = parser.add_mutually_exclusive_group()
+    includes.add_argument("--update-includes", action="store_true",
+                          help="removals in /include'd files are written there, in place (atomically); without this "
+                               "or --merge-includes they refuse the operation")
+    includes.add_argument("--merge-includes", action="store_true",
+                          help="write the text of every /include inline: the output is self-contained")
+    _output_options(parser)
 
 
 def _as_batch(handler):
@@ -260,7 +344,7 @@ def _pattern(text: str) -> str:
     """argparse type: a regular expression of --*-regex (a bad one is a usage error naming the option, exit 2)."""
     import re
 
-    from workbench.a2l.insert import selection_pattern
+    from workbench.a2l.patterns import selection_pattern
 
     try:
         selection_pattern(text)
@@ -278,6 +362,10 @@ def _insert(args: argparse.Namespace) -> int:
     from workbench.a2l.insert import Selection, insert_file
     from workbench.cli.progressbar import ProgressBar
 
+    if args.create and args.a2l is not None:
+        raise InputError(f"insert --create: give the ELF only (the new A2L is -o OUT.a2l), not {args.a2l}")
+    if not args.create and args.a2l is None:
+        raise InputError("insert: give IN.a2l and ELF (or --create ELF for a new A2L)")
     if args.output is None and not args.dry_run:
         raise InputError("insert: -o/--output OUT.a2l is required (or --dry-run)")
     selections = [Selection(tuple(getattr(args, f"{kind}_regex")), tuple(map(tuple, getattr(args, f"{kind}_range"))),
@@ -287,13 +375,63 @@ def _insert(args: argparse.Namespace) -> int:
         raise InputError("insert: nothing selected: give --measurement-regex, --characteristic-regex, a --*-range, "
                          "a --*-section or -M/-C PATH")
     output = None if args.dry_run else args.output
+    options = dict(measurements=selections[0], characteristics=selections[1], target_group=args.target_group,
+                   module=args.module, structures=args.structures, cache_dir=args.cache_dir,
+                   use_cache=not args.no_cache)
     with ProgressBar("inserting", enabled=None if not args.json else False) as progress:
-        report = insert_file(args.a2l, args.elf, output, measurements=selections[0], characteristics=selections[1],
-                             target_group=args.target_group, module=args.module, structures=args.structures,
-                             cache_dir=args.cache_dir,
-                             use_cache=not args.no_cache, progress=progress)
+        if args.create:
+            from workbench.a2l.create import create_file
+
+            report = create_file(args.elf, output, progress=progress, **options)
+        else:
+            report = insert_file(args.a2l, args.elf, output, progress=progress, **options)
     _print_report(report, args, summary=report.summary(output), output=output)
     return 0 if report.ok else 1
+
+
+def _remove(args: argparse.Namespace) -> int:
+    from workbench.a2l.prune import remove_file
+
+    if not args.regex and not args.range:
+        raise InputError("remove: nothing selected: give --regex REGEX or --range MIN MAX")
+    return _prune(args, lambda output, includes: remove_file(
+        args.a2l, output, regexes=tuple(args.regex), ranges=tuple(map(tuple, args.range)), cleanup=args.cleanup,
+        drop_optional=args.drop_optional_references, includes=includes))
+
+
+def _cleanup(args: argparse.Namespace) -> int:
+    from workbench.a2l.prune import cleanup_file
+
+    return _prune(args, lambda output, includes: cleanup_file(args.a2l, output, includes=includes))
+
+
+def _prune(args: argparse.Namespace, run) -> int:
+    from workbench.a2l.prune import PruneFailed
+    from workbench.a2l.reports import IncludeMode
+
+    if args.output is None and not args.dry_run:
+        raise InputError(f"{args.command}: -o/--output OUT.a2l is required (or --dry-run)")
+    includes = (IncludeMode.UPDATE if args.update_includes else IncludeMode.MERGE if args.merge_includes
+                else IncludeMode.KEEP)
+    output = None if args.dry_run else args.output
+    try:
+        report = run(output, includes)
+    except PruneFailed as exc:
+        _print_report(exc.report, args, summary=str(exc))
+        return 1
+    _print_report(report, args, summary=report.summary(output), output=output)
+    return 0
+
+
+def _flatten(args: argparse.Namespace) -> int:
+    from workbench.a2l.includes import flatten_file
+
+    report = flatten_file(args.a2l, args.output)
+    inlined = len(report.of_kind("include-inlined"))
+    _print_report(report, args, summary=f"wrote {args.output}: " + (f"{inlined} /include(s) written inline"
+                                                                     if inlined else "it has no /include"),
+                  output=args.output)
+    return 0
 
 
 def _check(args: argparse.Namespace) -> int:
