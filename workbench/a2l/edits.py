@@ -192,8 +192,9 @@ def cut_spans(doc: "A2lDocument", spans: Iterable[tuple[int, int]]) -> list[Edit
     reads as if they had never been written.
 
     Spans only blanks apart are cut as one. A cut that stands alone on its lines takes those whole lines, and
-    the blank lines before it when a blank line (or the end of its file) follows it: a block between blank
-    lines leaves one blank line, never two, and a section's blank line before a block that follows stays. A
+    the blank lines before it when a blank line, the end of its file or an ``/end`` line follows it: a block
+    between blank lines leaves one blank line, never two, the last block of a MODULE leaves none before
+    ``/end MODULE``, and a section's blank line before a block that follows stays. A
     cut that shares its line with other text takes the blanks that separate it from the text before it (or
     after it, at the start of the line). Comments are never cut. Spans never reach across an ``/include``.
     """
@@ -214,7 +215,8 @@ def cut_spans(doc: "A2lDocument", spans: Iterable[tuple[int, int]]) -> list[Edit
         before, after = data[line_start:start], data[end:line_end]
         if not before.strip() and not after.strip():
             next_end = data.find(b"\n", line_end, high)
-            if line_end >= high or not data[line_end : high if next_end < 0 else next_end].strip():
+            following = data[line_end : high if next_end < 0 else next_end].strip()
+            if not following or following.startswith(b"/end"):
                 while line_start > low:  # the blank lines before it go with it
                     previous = max(data.rfind(b"\n", low, line_start - 1) + 1, low)
                     if data[previous:line_start].strip():
