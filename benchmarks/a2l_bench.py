@@ -1,4 +1,5 @@
-"""Time ``workbench a2l update``/``merge`` against the a2ltool PyPI package (Rust), in the same run.
+"""Time ``workbench a2l update``/``merge``/``remove``/``cleanup`` against the a2ltool PyPI package (Rust), in the
+same run.
 
     python benchmarks/a2l_bench.py [--units 50] [--repeat 5] [--baseline REV] [--skip-merge]
                                    [--library] [--workdir DIR]
@@ -40,6 +41,7 @@ HERE = Path(__file__).resolve().parent
 CHECKOUT = HERE.parent
 A2LTOOL = shutil.which("a2ltool") or str(Path(sys.executable).with_name("a2ltool"))
 _LAUNCH = "from workbench.cli import entry_point; entry_point()"  # what the console script runs
+_REMOVED = "u0[67]_var0[0-4].*"  # the objects ``remove`` takes out: 1,000 of units 6 and 7
 
 
 @dataclass
@@ -211,6 +213,12 @@ def _bench(args, work: Path, a2l: Path, elf: Path, fragments: list[Path], out: P
         jobs.append(("merge (inputs validated)", {
             i.name: ([*i.prefix, "a2l", "merge", str(work / "master.a2l"), *map(str, fragments), "-o",
                       str(out / f"merged-{i.name}")], i.env) for i in ours}))
+    # a2ltool's --remove and --cleanup: 1,000 objects out by name (two units' first 500), then what nothing uses
+    for label, options in (("remove 1,000 objects (regex)", ["remove", "-R", _REMOVED]), ("cleanup", ["cleanup"])):
+        references[label] = [A2LTOOL, str(a2l), *(["-R", _REMOVED] if options[0] == "remove" else ["--cleanup"]),
+                             "-o", str(out / "ref_pruned.a2l")]
+        jobs.append((label, {i.name: ([*i.prefix, "a2l", options[0], str(a2l), *options[1:], "-o",
+                                       str(out / f"pruned-{i.name}")], i.env) for i in ours}))
 
     names = [i.name for i in ours]
     header = f"{'command':36s} {'a2ltool s':>9s} {'cpu s':>6s}"
