@@ -10,11 +10,18 @@ import sys
 from pathlib import Path
 
 import pytest
-from hypothesis import HealthCheck, given, settings, strategies as st
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from workbench import demo
 from workbench.a2l import (
-    IncludeMode, PruneFailed, check_document, cleanup_document, flatten_file, load_a2l, load_a2l_string,
+    IncludeMode,
+    PruneFailed,
+    check_document,
+    cleanup_document,
+    flatten_file,
+    load_a2l,
+    load_a2l_string,
     remove_document,
 )
 from workbench.findings import Severity
@@ -68,7 +75,7 @@ def test_remove_takes_out_what_a2ltool_takes_out(tmp_path, source, options):
 
 @needs_a2ltool
 @pytest.mark.parametrize("source", [DEMO, CORPUS / "a2ltool" / "cleanup_test.a2l",
-                                    CORPUS / "domohuhn-a2l" / "example-ecu.a2l", CORPUS / "a2ltool" / "update_test2.a2l"])
+                                    CORPUS / "a2ltool" / "update_test2.a2l", CORPUS / "domohuhn-a2l" / "example-ecu.a2l"])
 def test_cleanup_takes_out_what_a2ltool_takes_out(tmp_path, source):
     ours = cleanup_document(load_a2l(source, validate=False)).data
     assert _names(source) - _names(ours) == _names(source) - _names(_a2ltool(tmp_path, source, "--cleanup"))
@@ -210,8 +217,8 @@ def test_frames_variants_and_instance_components():
 def test_changes_in_an_included_file(tmp_path):
     (tmp_path / "part.a2l").write_text('/begin MEASUREMENT gone "" UBYTE NO_COMPU_METHOD 0 0 0 1 /end MEASUREMENT\n'
                                        '/begin MEASUREMENT kept "" UBYTE NO_COMPU_METHOD 0 0 0 1 /end MEASUREMENT\n')
-    (tmp_path / "main.a2l").write_text(MODULE.format(body='\n    /include "part.a2l"\n    /begin GROUP g "" '
-                                                     "/begin REF_MEASUREMENT gone kept /end REF_MEASUREMENT /end GROUP"))
+    group = '/begin GROUP g "" /begin REF_MEASUREMENT gone kept /end REF_MEASUREMENT /end GROUP'
+    (tmp_path / "main.a2l").write_text(MODULE.format(body=f'\n    /include "part.a2l"\n    {group}'))
     doc = load_a2l(tmp_path / "main.a2l")
     with pytest.raises(PruneFailed) as refused:
         remove_document(doc, regexes=("gone",))

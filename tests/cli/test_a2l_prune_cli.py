@@ -11,7 +11,6 @@ import sys
 from pathlib import Path
 
 import pytest
-
 from cli_helpers import run
 from pya2l_oracle import pya2l_import
 
@@ -108,7 +107,8 @@ def test_insert_create_makes_the_objects_a2ltool_creates(tmp_path, capsys):
 
     def objects(path):
         module = load_a2l(path).module()
-        return {(block.keyword, block.name, block.text().split("\n", 2)[1].strip()) for block in module.children
-                if block.keyword in ("MEASUREMENT", "CHARACTERISTIC")} | {block.name for block in module.children if block.name}
+        named = {block.name for block in module.children if block.name}
+        return named | {(block.keyword, block.name, block.text().split("\n", 2)[1].strip()) for block in module.children
+                        if block.keyword in ("MEASUREMENT", "CHARACTERISTIC")}
 
     assert objects(tmp_path / "ours.a2l") == objects(tmp_path / "theirs.a2l")

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
+from workbench.a2l.reports import IncludeMode
 from workbench.a2l.source import Segment, SourceFile, SourceMap, read_source, transcoded
 from workbench.a2l.tokens import Tokens, tokenize
 from workbench.a2l.tree import find_directives
@@ -22,9 +23,10 @@ from workbench.findings import Finding, Report, Severity
 
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
+    from workbench.a2l.edits import Edits
 
-__all__ = ["A2ML_SUFFIX", "Include", "Spliced", "cannot_include", "flatten_file", "includes_not_found_from", "left_out",
-           "load_a2l_to_work", "splice_includes"]
+__all__ = ["A2ML_SUFFIX", "Include", "IncludedChange", "Spliced", "cannot_include", "edited_texts", "flatten_file",
+           "includes_not_found_from", "left_out", "load_a2l_to_work", "splice_includes"]
 
 A2ML_SUFFIX = ".aml"  # an A2ML file: the syntax of the IF_DATA blocks, which the reader knows without it
 
@@ -115,6 +117,39 @@ def cannot_include(target: Path, why: str) -> str:
 
 def _include_name(source: SourceFile, raw: bytes) -> str:
     return parse_string(raw, source.encoding) if raw[:1] == b'"' else raw.decode(source.encoding)
+
+
+class IncludedChange(NamedTuple):
+    """An included file that edits change."""
+
+    source: SourceFile
+    count: int  # edits in it
+    data: bytes  # its new bytes, as the file stores them (BOM, encoding)
+    first: tuple[str, int, int]  # file, line and column of its first change
+
+
+def edited_texts(doc: "A2lDocument", edits: "Edits", includes: IncludeMode,
+                 report: Report) -> tuple[bytes, list[IncludedChange]]:
+    """The main file's text with ``edits`` applied, and the included files they change: under
+    ``IncludeMode.MERGE`` the whole buffer (every ``/include`` inline, a finding says so) and none; under
+    ``UPDATE`` each included file that changes is a finding ("include-updated"); under ``KEEP`` the caller says
+    what changes it does not write mean. Raises :class:`InputError` for an edit across an ``/include``."""
+    if includes is IncludeMode.MERGE:
+        if doc.include_count:
+            report.add(Finding("includes-inlined", doc.name, f"{doc.include_count} /include(s) written inline: the "
+                               "output is self-contained", doc.name, 1, 1))
+        return edits.apply(doc.data), []
+    data, changed = doc.source.data, []
+    for source, file_edits in edits.by_file(doc.source_map):
+        if source is doc.source:
+            data = file_edits.apply(source.data)
+            continue
+        first = (source.name, *source.position(min(file_edits.starts)))
+        changed.append(IncludedChange(source, len(file_edits), source.file_bytes(file_edits.apply(source.data)), first))
+        if includes is IncludeMode.UPDATE:
+            report.add(Finding("include-updated", source.name, f"{source.name}: {len(file_edits)} change(s) written "
+                               "into the included file", *first))
+    return data, changed
 
 
 def includes_not_found_from(doc: "A2lDocument", output: Path) -> list[Finding]:

@@ -44,7 +44,7 @@ import numpy as np
 from workbench.a2l.addressed import AddressedObjects
 from workbench.a2l.document import A2lDocument, Block, load_a2l
 from workbench.a2l.edits import Edit, Edits, cut_spans, replace_token, write_source
-from workbench.a2l.includes import includes_not_found_from
+from workbench.a2l.includes import edited_texts, includes_not_found_from
 from workbench.a2l.patterns import selection_pattern
 from workbench.a2l.reports import IncludeMode, findings_at
 from workbench.a2l.usage import ENTRY, Usage
@@ -377,25 +377,12 @@ class _ModulePlan:
 
 def _result(doc: A2lDocument, edits: Edits, report: PruneReport, includes: IncludeMode) -> PruneResult:
     """The main file's new text (all text inline under MERGE), and the included files that change (UPDATE)."""
-    if includes is IncludeMode.MERGE:
-        if doc.include_count:
-            report.add(Finding("includes-inlined", doc.name, f"{doc.include_count} /include(s) written inline: the "
-                               "output is self-contained", doc.name, 1, 1))
-        return PruneResult(edits.apply(doc.data), report)
-    data, included = doc.source.data, {}
-    for source, file_edits in edits.by_file(doc.source_map):
-        if source is doc.source:
-            data = file_edits.apply(source.data)
-            continue
-        file, line, column = source.name, *source.position(min(file_edits.starts))
-        if includes is IncludeMode.UPDATE:
-            included[source.path] = source.file_bytes(file_edits.apply(source.data))
-            report.add(Finding("include-updated", source.name, f"{source.name}: {len(file_edits)} change(s) written "
-                               "into the included file", file, line, column))
-        else:
-            report.add(Finding("include-not-updated", source.name, f"{source.name}: {len(file_edits)} removal(s) "
-                               "fall into this included file: --update-includes writes them there, --merge-includes "
-                               "inline", file, line, column, "", Severity.ERROR))
-    if report.errors:
-        raise PruneFailed(report)
-    return PruneResult(data, report, included)
+    data, changed = edited_texts(doc, edits, includes, report)
+    if includes is IncludeMode.KEEP:
+        for change in changed:
+            report.add(Finding("include-not-updated", change.source.name, f"{change.source.name}: {change.count} "
+                               "removal(s) fall into this included file: --update-includes writes them there, "
+                               "--merge-includes inline", *change.first, "", Severity.ERROR))
+        if changed:
+            raise PruneFailed(report)
+    return PruneResult(data, report, {change.source.path: change.data for change in changed})

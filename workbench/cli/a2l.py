@@ -84,11 +84,7 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
                              "member by member at its RECORD_LAYOUT's positions; an enum becomes a COMPU_METHOD "
                              "TAB_VERB with its COMPU_VTAB)")
     update.add_argument("--no-epk", action="store_true", help="leave MOD_PAR EPK and ADDR_EPK alone")
-    includes = update.add_mutually_exclusive_group()
-    includes.add_argument("--update-includes", action="store_true",
-                          help="also rewrite the included files that change, in place (atomically)")
-    includes.add_argument("--merge-includes", action="store_true",
-                          help="write the text of every /include inline: the output is self-contained")
+    _include_options(update)
     update.add_argument("--validate", action="store_true",
                         help="also check the whole file against the ASAP2 grammar first (as `check` does); "
                              "without it only the structure and the tokens the update touches are checked")
@@ -231,13 +227,17 @@ def _pruning_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", type=output_file, metavar="OUT.a2l",
                         help="file to write (atomically; may be IN.a2l itself); required unless --dry-run")
     parser.add_argument("--dry-run", action="store_true", help="report what would be removed; write nothing")
+    _include_options(parser, "; without it or --merge-includes a removal there refuses the operation")
+    _output_options(parser)
+
+
+def _include_options(parser: argparse.ArgumentParser, without: str = "") -> None:
+    """--update-includes | --merge-includes: what becomes of changes that fall into /include'd files."""
     includes = parser.add_mutually_exclusive_group()
     includes.add_argument("--update-includes", action="store_true",
-                          help="removals in /include'd files are written there, in place (atomically); without this "
-                               "or --merge-includes they refuse the operation")
+                          help=f"also rewrite the included files that change, in place (atomically){without}")
     includes.add_argument("--merge-includes", action="store_true",
                           help="write the text of every /include inline: the output is self-contained")
-    _output_options(parser)
 
 
 def _as_batch(handler):

@@ -22,7 +22,7 @@ from workbench.a2l.document import A2lDocument, load_a2l
 from workbench.a2l.edits import Edit, Edits, indentation_of, newline_bytes, write_source
 from workbench.a2l.epk import epk_edits, read_elf_epk
 from workbench.a2l.grammar import MAX_ADDRESS
-from workbench.a2l.includes import includes_not_found_from
+from workbench.a2l.includes import edited_texts, includes_not_found_from
 from workbench.a2l.reports import IncludeMode, UpdateMode, findings_at
 from workbench.a2l.update.removal import removal_edits
 from workbench.a2l.values import format_ints_like, hex_digits_like, int_or_none, int_values
@@ -175,28 +175,16 @@ def update_file(a2l: str | Path, elf: str | Path, output: str | Path, *, mode: U
 def _result(doc: A2lDocument, edits: Edits, report: UpdateReport, includes: IncludeMode) -> UpdateResult:
     """The new text: one self-contained buffer (MERGE), or the main file with its /include lines kept
     plus the changed included files."""
-    if includes is IncludeMode.MERGE:
-        if doc.include_count:
-            report.add(Finding("includes-inlined", doc.name, f"{doc.include_count} /include(s) written inline: the "
-                               "output is self-contained", doc.name, 1, 1))
-        return UpdateResult(edits.apply(doc.data), report)
-    data, included = doc.source.data, {}
-    for source, file_edits in edits.by_file(doc.source_map):
-        if source is doc.source:
-            data = file_edits.apply(source.data)
-            continue
-        included[source.path] = source.file_bytes(file_edits.apply(source.data))
-        file, line, column = source.name, *source.position(min(file_edits.starts))
-        if includes is IncludeMode.UPDATE:
-            report.add(Finding("include-updated", source.name, f"{source.name}: {len(file_edits)} change(s) written "
-                               "into the included file", file, line, column))
-        else:
+    data, changed = edited_texts(doc, edits, includes, report)
+    if includes is IncludeMode.KEEP:
+        for change in changed:
             # an error: the output's includes keep stale addresses, which must not pass a build
-            report.add(Finding("include-not-updated", source.name, f"{source.name}: {len(file_edits)} change(s) in "
-                               "this included file are not written (the output keeps its /include lines): "
-                               "--update-includes writes them into the included files, --merge-includes inline",
-                               file, line, column, "", Severity.ERROR))
-    return UpdateResult(data, report, included)
+            name = change.source.name
+            report.add(Finding("include-not-updated", name, f"{name}: {change.count} change(s) in this included "
+                               "file are not written (the output keeps its /include lines): --update-includes writes "
+                               "them into the included files, --merge-includes inline", *change.first, "",
+                               Severity.ERROR))
+    return UpdateResult(data, report, {change.source.path: change.data for change in changed})
 
 
 def _insert_address(objects: AddressedObjects, row: int, address: int, edits: Edits, report: UpdateReport,
