@@ -3,6 +3,8 @@ trial: a CALIB-only image of another EPK flashed onto the running application an
 
 from __future__ import annotations
 
+import json
+
 import pytest
 from flash_images import CALIB, application_image, calib_image_with
 
@@ -33,18 +35,30 @@ def test_a_calib_only_flash_of_another_epk_is_refused_before_anything_is_erased(
     before = bench.whole_flash()
     for extra in (["--dry-run"], []):
         assert run_cli(bench, str(path), "-r", "CALIB", "--a2l", new_a2l, *extra) == 1
-        err = capsys.readouterr().err
+        out, err = capsys.readouterr()
         assert err.count("\n") == 1 and err.startswith("error: wrongepk.s19: CALIB only, with EPK '10300020259999', "
                                                        "but the ECU reports EPK '10300020250301' (GET_ID) for the "
                                                        "application that stays on it")
         assert "--accept-epk-mismatch" in err and "(nothing was erased)" in err
+        assert out == ""  # the refusal alone: no plan printed as if it ran
         assert bench.whole_flash() == before
+    assert run_cli(bench, str(path), "-r", "CALIB", "--a2l", new_a2l, "--json") == 1
+    out, err = capsys.readouterr()
+    report = json.loads(out)  # a script reads why, and what would flash anyway
+    assert (report["operation"], report["ok"], report["refused"], report["override"]) == (
+        "flash", False, True, "--accept-epk-mismatch")
+    assert report["error"] == err.removeprefix("error: ").rstrip("\n")
+    assert report["plan"]["image_epk"] == NEW_EPK.decode()
 
     assert run_cli(bench, str(path), "-r", "CALIB", "--a2l", new_a2l, "--accept-epk-mismatch") == 0
     out = capsys.readouterr().out
     assert ("the application kept: EPK '10300020250301' before the flash (GET_ID), MISMATCH accepted "
-            "(--accept-epk-mismatch)") in out
+            "(--accept-epk-mismatch); after it the ECU reports EPK '10300020259999' (the flash writes ADDR_EPK), so "
+            "no later check sees that the application is another build's") in out
     assert bench.ecu.read(CALIB.start, 14) == NEW_EPK and bench.ecu.read(APP_HEADER_EPK, 14) == OLD_EPK
+    # as that said (and flash --help): the ECU now reports the new EPK, so the next CALIB flash needs no flag
+    assert run_cli(bench, str(path), "-r", "CALIB", "--a2l", new_a2l) == 0
+    assert bench.ecu.read(APP_HEADER_EPK, 14) == OLD_EPK
 
 
 def test_a_matching_calib_flash_says_which_application_it_kept(bench, tmp_path, capsys):

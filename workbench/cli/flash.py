@@ -17,15 +17,19 @@ from workbench.image.files import image_suffixes
 __all__ = ["add_app_key_arguments", "add_subparser", "app_key", "filled_regions", "run"]
 
 EPILOG = """\
-The plan comes first: per region of the A2L the ranges the file fills ("Partial: FC0000h-FC01C3h
-FDFFF0h-FDFFFFh"), only those are programmed. Refused before anything is erased: an image whose
-EPK differs from the A2L's; a flash of part of the software (CALIB only, APPLICATIVE only) whose
-EPK differs from the ECU's, which the part that stays belongs to (--accept-epk-mismatch flashes
-it anyway); data outside the flash regions; BOOT without --allow-boot; a sector to erase that
-holds data outside the file's ranges, which the file would not give back (--erase-beyond-file
-loses it). The application-valid key is cleared first and set last, so a flash that breaks off
-leaves the ECU in its boot loader, where the same command finishes it. Ctrl-C stops at the next
-block the same way.
+The plan comes first, once the checks against the ECU passed: per region of the A2L the ranges the
+file fills ("Partial: FC0000h-FC01C3h FDFFF0h-FDFFFFh"), only those are programmed. Refused before
+anything is erased, with the reason alone (--json: the report with "ok": false, the reason and the
+option that flashes anyway): an image whose EPK differs from the A2L's; a flash of part of the
+software (CALIB only, APPLICATIVE only) whose EPK differs from the ECU's, which the part that stays
+belongs to (--accept-epk-mismatch flashes it anyway); data outside the flash regions; BOOT without
+--allow-boot; a sector to erase that holds data outside the file's ranges, which the file would
+not give back (--erase-beyond-file loses it). A mismatch accepted once is not seen again: the ECU
+reports the EPK at ADDR_EPK, which a CALIB flash writes, so a later CALIB flash of that build needs
+no flag although the application is still the other build's (the flash says so); flash
+APPLICATIVE too to make them one software. The application-valid key is cleared first and set
+last, so a flash that breaks off leaves the ECU in its boot loader, where the same command
+finishes it. Ctrl-C stops at the next block the same way.
 A flash that finds the key cleared (one did not finish) compares the other regions the file fills
 with the ECU and is refused while one differs (flash it too); `workbench info` shows the key.
 Exit codes: 0 flashed (or --dry-run found nothing to refuse, or --verify-only no difference),
@@ -74,24 +78,44 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from workbench.a2l import read_xcp_config
+    from workbench.errors import WorkbenchError
     from workbench.flash import FlashLayout, plan_file
 
     _check_usage(args)
-    doc = a2l_document(args)
-    key = app_key(args)
     plan = None
-    if not args.from_working_page:  # refusals come before the bus is even opened
-        layout = FlashLayout.from_a2l(doc, read_xcp_config(doc))
-        regions = args.region or filled_regions(args.file, layout)  # only --verify-only may leave it out
-        plan = plan_file(args.file, layout, regions, allow_boot=args.allow_boot or not args.region, app_key=key)
-    with open_session(args, doc) as session:
-        if plan is None:
-            plan = _working_page_plan(session, key, args)
-        if args.dry_run:
-            return _dry_run(session, plan, args)
-        if args.verify_only:
-            return _verify_only(session, plan, args)
-        return _flash(session, plan, args)
+    try:
+        doc = a2l_document(args)
+        key = app_key(args)
+        if not args.from_working_page:  # refusals come before the bus is even opened
+            layout = FlashLayout.from_a2l(doc, read_xcp_config(doc))
+            regions = args.region or filled_regions(args.file, layout)  # only --verify-only may leave it out
+            plan = plan_file(args.file, layout, regions, allow_boot=args.allow_boot or not args.region, app_key=key)
+        with open_session(args, doc) as session:
+            if plan is None:
+                plan = _working_page_plan(session, key, args)
+            if args.dry_run:
+                return _dry_run(session, plan, args)
+            if args.verify_only:
+                return _verify_only(session, plan, args)
+            return _flash(session, plan, args)
+    except WorkbenchError as exc:  # the line on stderr is main's; --json also gets the report a script reads
+        if args.json:
+            print_json(_failure(args, plan, exc))
+        raise
+
+
+def _failure(args: argparse.Namespace, plan, exc: Exception) -> dict:
+    """The --json report of a flash (dry run, verify) that was refused, failed or cancelled: ``ok`` false, why, the
+    option that would flash anyway (a refusal's), the plan when there was one."""
+    from workbench.errors import Cancelled
+    from workbench.flash import FlashRefused
+
+    refused = isinstance(exc, FlashRefused)
+    code = 130 if isinstance(exc, Cancelled) else getattr(exc, "exit_code", 1)
+    return {"operation": "dry-run" if args.dry_run else "verify-only" if args.verify_only else "flash", "ok": False,
+            "refused": refused, "error": str(exc), "exit_code": code,
+            "override": f"--{exc.override.replace('_', '-')}" if refused and exc.override else None,
+            "regions_too": list(exc.regions) if refused else [], "plan": plan.to_dict() if plan is not None else None}
 
 
 def _check_usage(args: argparse.Namespace) -> None:
@@ -197,13 +221,18 @@ def _flash(session, plan, args: argparse.Namespace) -> int:
     from workbench.flash import flash_ecu
 
     options = _options(args)
-    if not args.json:
-        print(plan.describe(), flush=True)
+
+    def show(checked) -> None:  # once the checks passed: a refusal comes alone, no plan as if it ran
+        if not args.json:
+            print(checked.describe(), flush=True)
+
     with ProgressBar("flashing", enabled=None if not args.json else False) as progress, _cancel_on_interrupt(progress):
         try:
-            result = flash_ecu(session, plan, progress=progress, options=options)
+            result = flash_ecu(session, plan, progress=progress, options=options, checked=show)
         except Cancelled as exc:
             print(f"error: {exc}", file=sys.stderr)
+            if args.json:
+                print_json(_failure(args, plan, exc))
             return 130
     if args.json:
         print_json({"operation": "flash", "ok": True, **result.to_dict()})

@@ -102,17 +102,20 @@ class FlashResult:
 
 
 def flash_ecu(session: Session, plan: FlashPlan, *, progress: Progress | None = None,
-              options: FlashOptions = FlashOptions()) -> FlashResult:
+              options: FlashOptions = FlashOptions(), checked: Callable[[FlashPlan], None] | None = None
+              ) -> FlashResult:
     """Flash ``plan`` into the ECU of ``session`` (connected); see the module for the sequence.
 
     :param progress: gets (bytes done, bytes total, "what: rate, time left"); cancelling it stops at the
         next block (:class:`~workbench.errors.Cancelled`, the ECU reset into a state a new flash finishes).
+    :param checked: called with the plan that will run (the ECU's sectors in it) once every check passed and
+        before anything is written, e.g. to show it: a refused flash shows no plan as if it were running.
     :raises FlashRefused: the ECU's sectors make the plan unsafe, or DAQ runs; nothing was touched.
     :raises FlashError: the flash failed or did not verify; the message says the ECU's state.
     :raises Cancelled: cancelled through ``progress``; the message says the ECU's state.
     """
     with session.lock:
-        return _Flash(session, plan, progress, options).run()
+        return _Flash(session, plan, progress, options, checked).run()
 
 
 def check_flash(session: Session, plan: FlashPlan, options: FlashOptions = FlashOptions()
@@ -239,8 +242,10 @@ class _Meter:
 
 
 class _Flash:
-    def __init__(self, session: Session, plan: FlashPlan, progress: Progress | None, options: FlashOptions):
+    def __init__(self, session: Session, plan: FlashPlan, progress: Progress | None, options: FlashOptions,
+                 checked: Callable[[FlashPlan], None] | None = None):
         self.session = session
+        self.checked = checked
         self.master = session.master
         self.plan = plan
         self.options = options
@@ -260,6 +265,8 @@ class _Flash:
         try:
             self.plan, notes = check_flash(self.session, self.plan, self.options)  # writes nothing
             self.notes += notes
+            if self.checked is not None:
+                self.checked(self.plan)
             start = self._program_start()
             use_max = self.options.use_program_max and "PROGRAM_MAX" in self.session.config.optional_commands
             self.writer = RangeWriter(self.master, start, self.expected, use_max=use_max,

@@ -8,6 +8,11 @@ afterwards proves nothing. What is compared, before anything is erased, is the E
 writes (the image's at ADDR_EPK, else the A2L's) with the ECU's as it reported it before the flash, the
 EPK of the part that stays. A flash of code and the EPK's region together replaces the whole software
 and is not compared.
+
+Once a mismatch was accepted (``--accept-epk-mismatch``) and the flash wrote ADDR_EPK, the ECU reports the
+flashed EPK although the application that stays is another build's: the A2L names one EPK address, so no
+later flash or session can see it, and a later CALIB flash of that build needs no flag. The flash says so
+when it happens (:meth:`EpkPairing.describe`); flashing the application too makes them one software.
 """
 
 from __future__ import annotations
@@ -26,6 +31,7 @@ class EpkPairing:
     kept: str | None  # the ECU's EPK before the flash (None: it could not be read)
     source: str  # how the ECU's was read: "GET_ID" or "ADDR_EPK"
     stays: str  # what the flash leaves on the ECU: "the application", "the calibration data"
+    echoed: bool = False  # the flash writes ADDR_EPK: from then on the ECU reports ``flashed``
 
     @property
     def kept_erased(self) -> bool:
@@ -51,6 +57,9 @@ class EpkPairing:
     def describe(self) -> str:
         kept = epk_text(self.kept) if self.kept is not None else "unknown"
         verdict = "the same" if self.matches else "MISMATCH accepted (--accept-epk-mismatch)"
+        if not self.matches and self.echoed:
+            verdict += (f"; after it the ECU reports EPK {epk_text(self.flashed)} (the flash writes ADDR_EPK), so no "
+                        f"later check sees that {self.stays} is another build's: flash it too to make them one")
         return f"{self.stays} kept: EPK {kept} before the flash ({self.source or 'not read'}), {verdict}"
 
 
@@ -67,7 +76,7 @@ def epk_pairing(plan: FlashPlan, ecu_epk: str | None, source: str) -> EpkPairing
         return None
     flashed = plan.image_epk if epk_flashed else layout.epk
     stays = "the calibration data" if code_flashed else "the application"
-    return EpkPairing(flashed, ecu_epk, source, stays)
+    return EpkPairing(flashed, ecu_epk, source, stays, echoed=epk_flashed)
 
 
 def _clean(text: str) -> str:
