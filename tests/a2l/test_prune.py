@@ -256,3 +256,14 @@ def test_what_remains_checks_clean(names, cleanup):
     assert {name for names in result.report.removed.values() for name in names} >= names
     assert not check_document(load_a2l_string(result.data.decode())).problems
     assert not {name for _, name in _names(result.data)} & names
+
+
+def test_cleanup_leaves_a_name_defined_twice_alone():
+    """Which of two COMPU_METHODs of one name a MEASUREMENT means is not known: neither goes (check reports them)."""
+    text = MODULE.format(body="""
+    /begin COMPU_METHOD CM "" IDENTICAL "%6.2" "" /end COMPU_METHOD
+    /begin COMPU_METHOD CM "" LINEAR "%6.2" "" COEFFS_LINEAR 2 0 /end COMPU_METHOD
+    /begin COMPU_METHOD unused "" IDENTICAL "%6.2" "" /end COMPU_METHOD
+    /begin MEASUREMENT m "" UBYTE CM 0 0 0 1 ECU_ADDRESS 0x100 /end MEASUREMENT""")
+    result = cleanup_document(load_a2l_string(text))
+    assert result.report.removed == {"COMPU_METHOD": ["unused"]} and result.data.decode().count("COMPU_METHOD CM") == 2

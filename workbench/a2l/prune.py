@@ -250,7 +250,9 @@ class _ModulePlan:
         """Remove what nothing kept uses, until nothing more goes."""
         usage, doc, gone = self.usage, self.doc, self.gone
         keywords = {block: doc.blocks.keyword_of(block) for block in usage.children.tolist()}
-        candidates = {block for block, keyword in keywords.items() if keyword in _SUPPORT or keyword in _CONTENT}
+        # a name defined twice (check's error) is left alone: which definition the references mean is not known
+        candidates = {block for block, keyword in keywords.items()
+                      if (keyword in _SUPPORT or keyword in _CONTENT) and block in usage.defined_once}
         keeps: Counter[int] = Counter()  # candidate -> references that keep it
         content: Counter[int] = Counter()  # GROUP/FUNCTION -> entries that name something kept
         by_owner: dict[int, list[int]] = {}

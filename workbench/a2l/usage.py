@@ -35,7 +35,8 @@ class Usage:
     ``holders`` (the block the token stands in: the list block, the block of the option or parameter),
     ``owners`` (the MODULE's child that holds it), ``targets`` (the MODULE's child it names; -1: none);
     lists ``names``, ``namespaces`` and ``wheres`` (the list or option keyword, or ``KEYWORD#index``).
-    ``defined`` maps (namespace, name) to the defining block of the MODULE's children.
+    ``defined`` maps (namespace, name) to the defining block of the MODULE's children (the first of a name defined
+    twice), ``defined_once`` holds the blocks whose name no other block of their namespace has.
     """
 
     def __init__(self, doc: "A2lDocument", module: "Block", namespaces: frozenset[str] | None = None):
@@ -47,10 +48,13 @@ class Usage:
         names = doc.block_names(children)
         keywords = doc.blocks.keyword_names
         self.defined: dict[tuple[str, str], int] = {}
+        twice: set[tuple[str, str]] = set()
         for block, name, number in zip(children.tolist(), names, doc.blocks.keyword_id[children].tolist()):
             namespace = grammar.NAMESPACES.get(keywords[number])
             if namespace is not None and name is not None:
-                self.defined.setdefault((namespace, name), block)
+                if self.defined.setdefault((namespace, name), block) != block:
+                    twice.add((namespace, name))
+        self.defined_once = {block for key, block in self.defined.items() if key not in twice}  # blocks
         self._components: dict[str, dict[str, str]] | None = None
         parts: list[tuple] = []  # (tokens, holders, kind, namespace, where)
         limits = doc.parameter_limits()
