@@ -20,8 +20,8 @@ def test_formats_are_read_leniently(text, parts):
 
 def test_asap2_form_and_the_length_left_out_are_accepted_c_conversions_are_not():
     assert [format_problem(text) for text in ("%8.3", "%.3", "%.0 ")] == [None, None, None]
-    assert format_problem("%6.2lf") == 'FORMAT "%6.2lf" is not ASAP2\'s "%Length.Layout": read as "%6.2" (2 decimals); ' \
-                                       "write it so"
+    assert format_problem("%6.2lf") == ('FORMAT "%6.2lf" is not ASAP2\'s "%Length.Layout": read as "%6.2" '
+                                        "(2 decimals); write it so")
     assert "as many decimals as they need" in format_problem("%8")
 
 
@@ -45,6 +45,7 @@ def test_check_warns_at_each_format_that_is_not_asap2s():
     found = [(f.kind, f.name, f.block, f.line, f.column, f.severity.name) for f in report.findings]
     lines = A2L.splitlines()
     at = [(line, lines[line - 1].index(text) + 1) for line, text in ((3, '"%6.2lf"'), (5, '"%8.3f"'), (7, '"%d"'))]
-    assert found == [("format", "CM", "COMPU_METHOD", *at[0], "WARNING"), ("format", "m", "MEASUREMENT", *at[1], "WARNING"),
+    assert found == [("format", "CM", "COMPU_METHOD", *at[0], "WARNING"),
+                     ("format", "m", "MEASUREMENT", *at[1], "WARNING"),
                      ("format", "c", "AXIS_DESCR", *at[2], "WARNING")]  # an axis names its CHARACTERISTIC
     assert not report.ok

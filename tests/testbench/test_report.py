@@ -117,6 +117,7 @@ def test_a_follows_expectation_shows_the_followed_signal_and_its_tolerance(tmp_p
     (band,) = re.findall(r'<polygon [^>]*fill="#c62828"[^>]*><title>expect xsPRVDutyCmd = xsDC ± 5 ', plot)
     corners = _points(band)
     upper, lower = corners[:len(corners) // 2], corners[len(corners) // 2:][::-1]
-    assert [x for x, _ in upper] == [x for x, _ in lower] and min(x for x, _ in upper) == pytest.approx(x_of(0.6), abs=0.1)
+    assert [x for x, _ in upper] == [x for x, _ in lower]
+    assert min(x for x, _ in upper) == pytest.approx(x_of(0.6), abs=0.1)
     heights = {round(low - high, 1) for (_, high), (_, low) in zip(upper, lower)}
     assert len(heights) == 1 and heights.pop() > 2  # xsDC ± 5 %: a band of one height around it, failed: red
