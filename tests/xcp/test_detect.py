@@ -150,3 +150,17 @@ def test_daq_lists_with_can_ids_of_their_own_are_said_by_get_daq_id_and_used(cha
     assert [str(ids) for ids in detection.identities[0].daq_ids] == [
         "list 0 on 0x7F2 (fixed)", "list 1 on 0x7F3 (fixed)", "lists 2-15 on 0x7F1 (fixed)"]
     assert batches and 0x7F2 in seen
+
+
+@pytest.mark.parametrize("profile", ["large-packets", "motorola"])
+def test_a_can_fd_slave_and_a_motorola_one_are_found_and_identified(channel, profile):
+    """CAN FD (the A2L's CAN_FD block: the requests as FD frames, the session unpadded) and XCP's own byte order
+    Motorola (the answer's identifier and GET_DAQ_ID's in it)."""
+    from workbench.sim import serve_demo
+
+    with serve_demo({"interface": "virtual", "channel": channel}, profile=profile, time_scale=None) as sim:
+        detection = detect_slaves(sim.a2l, interface="virtual", channel=channel, identify=True)
+    [identity] = detection.identities
+    assert detection.a2l_slave is not None and identity.slave.confirmed
+    assert (identity.epk, identity.error, [str(ids) for ids in identity.daq_ids]) == (
+        "10300020250301", None, ["lists 0-15 on 0x7F1 (fixed)"])

@@ -28,9 +28,6 @@ from workbench.xcp_protocol import CanId
 
 __all__ = ["Detection", "detect_slaves"]
 
-_BYTE_ORDERS = {"MSB_LAST": "<", "LITTLE_ENDIAN": "<", "MSB_FIRST": ">", "BIG_ENDIAN": ">"}
-
-
 @dataclass(frozen=True)
 class Detection:
     """A detection (:attr:`found`), each slave's short session when asked for (:attr:`identities`), and the A2L's
@@ -66,31 +63,32 @@ def detect_slaves(a2l: str | Path | A2lDocument | None = None, *, interface: str
                   module: str | None = None) -> Detection:
     """The XCP on CAN slaves that answer GET_SLAVE_ID on the broadcast identifier, as CANape's "detect devices".
 
-    :param a2l: the A2L whose XCP_ON_CAN gives the broadcast id (CAN_ID_BROADCAST), the bit rate and the byte order
-        (MOD_COMMON BYTE_ORDER), and whose CAN_ID_MASTER/SLAVE are held against the answers; default: the demo
-        ECU's when no ``broadcast_id`` is given, else none.
+    :param a2l: the A2L whose XCP_ON_CAN gives the broadcast id (CAN_ID_BROADCAST) and the bit rate, whose
+        PROTOCOL_LAYER gives XCP's byte order, and whose CAN_ID_MASTER/SLAVE are held against the answers;
+        default: the demo ECU's when no ``broadcast_id`` is given, else none.
     :param interface, channel, bitrate, bus_kwargs: python-can's bus options; or ``bus``: a
         :class:`~workbench.bus_defaults.BusSpec` or an open python-can bus (it stays the caller's). Default: the
         bus ``workbench sim`` serves on.
     :param broadcast_id: the broadcast identifier (an A2L number: bit 31 for extended), instead of the A2L's.
     :param wait_s: how long each of the two requests collects answers.
     :param identify: also CONNECT to each slave found, read GET_ID (text, EPK) and GET_DAQ_ID, DISCONNECT.
-    :param byte_order: "<" (Intel) or ">" (Motorola) for the identifier in the answers; default: the A2L's, Intel.
+    :param byte_order: "<" (Intel) or ">" (Motorola) for the identifier in the answers; default: the A2L's
+        PROTOCOL_LAYER BYTE_ORDER, Intel without an A2L.
     :raises InputError: no broadcast id known, bad bus options. :raises WorkbenchError: the bus cannot be used.
     """
     doc = _document(a2l, broadcast_id)
     given = _bus_spec(bus, {"interface": interface, "channel": channel, "bitrate": bitrate, **(bus_kwargs or {})})
     opened = bus if bus is not None and not isinstance(bus, BusSpec) else None
-    spec, a2l_ids, fd = given, None, False
+    spec, a2l_ids, fd = given, None, bool(given and given.fd)  # CAN FD requests on a bus opened for CAN FD
     if doc is not None:
         config = read_xcp_config(doc, module)
         if config.can is None:
             raise InputError(f"{doc.path or 'the A2L'}: IF_DATA XCP has no XCP_ON_CAN block; slaves are detected "
                              "on CAN only")
-        settings, _ = link_settings(config, Connection(given, open_bus=opened is not None))
+        settings, on_can = link_settings(config, Connection(given, open_bus=opened is not None))
         spec, fd, a2l_ids = settings.bus, settings.fd, (settings.can_id_master, settings.can_id_slave)
         broadcast_id = broadcast_id if broadcast_id is not None else config.can.can_id_broadcast
-        byte_order = byte_order or _byte_order(doc, module)
+        byte_order = byte_order or (">" if on_can.byte_order.startswith("MSB_FIRST") else "<")
     if broadcast_id is None:
         raise InputError(f"{doc.path if doc is not None and doc.path else 'the A2L'}: XCP_ON_CAN has no "
                          "CAN_ID_BROADCAST; give the broadcast identifier (--broadcast-id)")
@@ -117,9 +115,3 @@ def _document(a2l: str | Path | A2lDocument | None, broadcast_id: CanId | int | 
 
     return load_a2l_to_work(a2l or demo.a2l())
 
-
-def _byte_order(doc: A2lDocument, module: str | None) -> str | None:
-    """MOD_COMMON's BYTE_ORDER as struct's "<"/">"; None when it says none (the slave's XCP order is then guessed)."""
-    block = doc.mod_common(module)
-    option = block.option("BYTE_ORDER") if block is not None else None
-    return _BYTE_ORDERS.get(doc.raw(option[0]).decode("latin-1")) if option else None

@@ -7,8 +7,9 @@ it takes commands on (CAN_ID_MASTER, a DWORD in the slave's byte order, bit 31 s
 else is sent on the bus: no CONNECT, no sweep over identifiers. :func:`identify_slave` then talks to one slave
 found on the identifiers it named: CONNECT, GET_ID (text, EPK), GET_DAQ_ID per DAQ list, DISCONNECT.
 
-Before CONNECT the master cannot know the slave's byte order: the caller says it (the A2L's BYTE_ORDER, Intel by
-default); a DWORD that is no CAN identifier in that order but is one in the other is read the other way.
+Before CONNECT the master cannot know the slave's byte order: the caller says it (the A2L's PROTOCOL_LAYER
+BYTE_ORDER, Intel by default); a DWORD that is no CAN identifier in that order but is one in the other is read
+the other way.
 """
 
 from __future__ import annotations
@@ -208,7 +209,8 @@ def identify_slave(bus: can.BusABC, slave: DetectedSlave, *, fd: bool = False, t
                    ) -> SlaveIdentity:
     """CONNECT to ``slave`` on the identifiers it named, GET_ID (text and EPK), GET_DAQ_ID for the first
     :data:`MAX_DAQ_ID_LISTS` lists, DISCONNECT. A refusal or silence is kept in the result, never raised."""
-    settings = LinkSettings("CAN", None, slave.command_id, slave.response_id, max_dlc_required=True, fd=fd,
+    # classic CAN: frames padded to 8 bytes, as a slave with MAX_DLC_REQUIRED wants them (and any other takes them)
+    settings = LinkSettings("CAN", None, slave.command_id, slave.response_id, max_dlc_required=not fd, fd=fd,
                             max_dlc=64 if fd else 8)
     notes: list[str] = []
     with Link(settings, bus=bus) as link:
