@@ -164,3 +164,24 @@ def test_a_can_fd_slave_and_a_motorola_one_are_found_and_identified(channel, pro
     assert detection.a2l_slave is not None and identity.slave.confirmed
     assert (identity.epk, identity.error, [str(ids) for ids in identity.daq_ids]) == (
         "10300020250301", None, ["lists 0-15 on 0x7F1 (fixed)"])
+
+
+def test_a_slave_that_does_not_confirm_is_listed_but_never_connected_to(channel):
+    """An answer to the echo but none to the inverse echo: listed unconfirmed, and --identify sends no CONNECT to
+    the id it named (a stray frame must not make the master talk on an id nobody confirmed)."""
+    heard: list[can.Message] = []
+    with can.Bus(interface="virtual", channel=channel) as impostor, \
+            can.Bus(interface="virtual", channel=channel) as bus:
+        def answer(message: can.Message) -> None:
+            heard.append(message)
+            if message.arbitration_id == BROADCAST.id and message.data[5] == SlaveIdMode.ECHO:
+                impostor.send(can.Message(arbitration_id=0x655, is_extended_id=False, data=b"\xffXCP\x54\x06\x00\x00"))
+
+        notifier = can.Notifier(impostor, [answer], timeout=0.01)
+        try:
+            detection = detect_slaves(bus=bus, broadcast_id=BROADCAST, wait_s=0.1, identify=True)
+        finally:
+            notifier.stop()
+    assert [(slave.command_id, slave.response_id, slave.confirmed) for slave in detection.slaves] == [
+        (CanId(0x654), CanId(0x655), False)]
+    assert detection.identities == () and {message.arbitration_id for message in heard} == {BROADCAST.id}

@@ -35,7 +35,8 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     group.add_argument("--wait", metavar="SECONDS", type=positive_float, default=None,
                        help="how long each request collects answers (default: 0.2)")
     group.add_argument("--identify", action="store_true",
-                       help="also connect to each slave found: GET_ID (text, EPK), GET_DAQ_ID, disconnect")
+                       help="also connect to each slave that confirmed its ids: GET_ID (text, EPK), GET_DAQ_ID, "
+                            "disconnect")
     add_bus_arguments(parser)
     add_output_arguments(parser)
     parser.set_defaults(func=run)

@@ -71,7 +71,8 @@ def detect_slaves(a2l: str | Path | A2lDocument | None = None, *, interface: str
         bus ``workbench sim`` serves on.
     :param broadcast_id: the broadcast identifier (an A2L number: bit 31 for extended), instead of the A2L's.
     :param wait_s: how long each of the two requests collects answers.
-    :param identify: also CONNECT to each slave found, read GET_ID (text, EPK) and GET_DAQ_ID, DISCONNECT.
+    :param identify: also CONNECT to each slave that confirmed its ids, read GET_ID (text, EPK) and GET_DAQ_ID,
+        DISCONNECT.
     :param byte_order: "<" (Intel) or ">" (Motorola) for the identifier in the answers; default: the A2L's
         PROTOCOL_LAYER BYTE_ORDER, Intel without an A2L.
     :raises InputError: no broadcast id known, bad bus options. :raises WorkbenchError: the bus cannot be used.
@@ -99,7 +100,9 @@ def detect_slaves(a2l: str | Path | A2lDocument | None = None, *, interface: str
     try:
         found = detect_can_slaves(can_bus, broadcast_id, wait_s=wait_s, byte_order=byte_order or "<", fd=fd,
                                   describe=spec.describe() if opened is None else None)
-        identities = tuple(identify_slave(can_bus, slave, fd=fd) for slave in found.slaves) if identify else ()
+        # CONNECT only where a slave confirmed its ids (the inverse echo): never on an id a stray frame named
+        identities = tuple(identify_slave(can_bus, slave, fd=fd) for slave in found.slaves
+                           if identify and slave.confirmed)
     finally:
         if opened is None:
             can_bus.shutdown()
