@@ -1,9 +1,10 @@
 """XCP/A2L calibration and measurement workbench.
 
-``from workbench import Session`` is the way in for scripts (see :class:`workbench.session.Session`), and
-``ImageCalibration`` for calibrations in an s19/hex without an ECU (:mod:`workbench.sync.offline`); they are
-imported on first use, so ``import workbench`` stays light. The core library never imports
-Qt; the GUI lives in :mod:`workbench.gui` and is loaded only by the ``gui``/``demo`` commands.
+``from workbench import Session`` is the way in for scripts (see :class:`workbench.session.Session`),
+``ImageCalibration`` for calibrations in an s19/hex without an ECU (:mod:`workbench.sync.offline`), and
+``detect_slaves`` for the XCP on CAN slaves on a bus (:mod:`workbench.session.detect`); they are imported on
+first use, so ``import workbench`` stays light. The core library never imports Qt; the GUI lives in
+:mod:`workbench.gui` and is loaded only by the ``gui``/``demo`` commands.
 """
 
 from workbench.errors import (
