@@ -130,3 +130,11 @@ def text_room(view, index) -> tuple[int, int]:
 
     font = index.data(Qt.FontRole) or view.font()
     return text_rect(view, index).width(), QFontMetrics(font).horizontalAdvance(str(index.data() or ""))
+
+
+def run_a2l_tools(dialog, qtbot):
+    """Run the A2L tools dialog's job; its outcome once the dialog is ready for the next."""
+    with qtbot.waitSignal(dialog.done, timeout=WAIT_MS) as done:
+        assert dialog.run() is not None
+    qtbot.waitUntil(lambda: dialog.task is None, timeout=WAIT_MS)
+    return done.args[0]

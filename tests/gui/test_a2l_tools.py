@@ -10,13 +10,14 @@ import threading
 
 import pytest
 from gui_helpers import WAIT_MS, offline_window
+from gui_helpers import run_a2l_tools as _run
 from PySide6.QtCore import Qt
 
 from workbench import demo
 from workbench.a2l.reports import IncludeMode
 from workbench.cli import main
 from workbench.errors import Cancelled, InputError
-from workbench.gui.widgets.a2l_tools_dialog import CHECK, MERGE, UPDATE, A2lToolsDialog
+from workbench.gui.widgets.a2l_tools_dialog import CHECK, MERGE, REMOVE, UPDATE, A2lToolsDialog
 
 
 @pytest.fixture(autouse=True)
@@ -69,14 +70,6 @@ def dialog(qtbot):
     qtbot.addWidget(dialog)
     dialog.show()
     return dialog
-
-
-def _run(dialog, qtbot):
-    """Run the dialog's job; its outcome once the dialog is ready for the next."""
-    with qtbot.waitSignal(dialog.done, timeout=WAIT_MS) as done:
-        assert dialog.run() is not None
-    qtbot.waitUntil(lambda: dialog.task is None, timeout=WAIT_MS)
-    return done.args[0]
 
 
 def _rows(dialog) -> list[tuple[str, ...]]:
@@ -259,8 +252,9 @@ def test_the_tools_menu_opens_the_dialog_on_the_project_and_offers_to_reload_its
     window = _window_on(qtbot, placeholder_a2l)
     try:
         menus = {action.text().replace("&", ""): action.menu() for action in window.menuBar().actions()}
-        assert [a.text() for a in menus["Tools"].actions()] == ["Update A2L from ELF…", "Check A2L…",
-                                                                "Merge A2L fragments…"]
+        assert [a.text() for a in menus["Tools"].actions()] == [
+            "Update A2L from ELF…", "Check A2L…", "Merge A2L fragments…", "", "Insert into A2L from ELF…",
+            "Remove from A2L…", "Clean up A2L…", "Flatten A2L includes…"]
         window.a2l_update_action.trigger()
         dialog = window.a2l_tools
         assert dialog.isVisible() and dialog.operation == UPDATE and not dialog.isModal()
@@ -276,6 +270,8 @@ def test_the_tools_menu_opens_the_dialog_on_the_project_and_offers_to_reload_its
         assert address == 0x40020090  # the updated A2L's, not the placeholder
         window.a2l_check_action.trigger()
         assert window.a2l_tools is dialog and dialog.operation == CHECK
+        window.a2l_remove_action.trigger()
+        assert window.a2l_tools is dialog and dialog.operation == REMOVE
     finally:
         window.close()
 

@@ -26,7 +26,7 @@ if TYPE_CHECKING:
     from workbench.a2l.edits import Edits
 
 __all__ = ["A2ML_SUFFIX", "Include", "IncludedChange", "Spliced", "cannot_include", "edited_texts", "flatten_file",
-           "includes_not_found_from", "left_out", "load_a2l_to_work", "splice_includes"]
+           "flatten_summary", "includes_not_found_from", "left_out", "load_a2l_to_work", "splice_includes"]
 
 A2ML_SUFFIX = ".aml"  # an A2ML file: the syntax of the IF_DATA blocks, which the reader knows without it
 
@@ -223,3 +223,9 @@ def flatten_file(a2l: str | Path, output: str | Path | None) -> Report:
     if output is not None:
         write_source(doc.source, doc.data, output)
     return report
+
+
+def flatten_summary(report: Report, output: str | Path) -> str:
+    """The one line after :func:`flatten_file` wrote ``output`` (the CLI's and the window's)."""
+    inlined = len(report.of_kind("include-inlined"))
+    return f"wrote {output}: " + (f"{inlined} /include(s) written inline" if inlined else "it has no /include")

@@ -424,13 +424,10 @@ def _prune(args: argparse.Namespace, run) -> int:
 
 
 def _flatten(args: argparse.Namespace) -> int:
-    from workbench.a2l.includes import flatten_file
+    from workbench.a2l.includes import flatten_file, flatten_summary
 
     report = flatten_file(args.a2l, args.output)
-    inlined = len(report.of_kind("include-inlined"))
-    _print_report(report, args, summary=f"wrote {args.output}: " + (f"{inlined} /include(s) written inline"
-                                                                     if inlined else "it has no /include"),
-                  output=args.output)
+    _print_report(report, args, summary=flatten_summary(report, args.output), output=args.output)
     return 0
 
 

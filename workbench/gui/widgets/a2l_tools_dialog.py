@@ -1,16 +1,19 @@
 """The A2L tool chain in the window (Tools menu), as CANape users update the A2L after every build: update an
-A2L from an ELF, check it, merge module fragments into a master, insert objects for the ELF's variables — what
-``workbench a2l update|check|merge|insert`` do, with the CLI's options, its summary line and its exit codes'
-meaning (an update with errors, a check with warnings: failed).
+A2L from an ELF, check it, merge module fragments into a master, insert objects for the ELF's variables (into a
+new A2L made from the ELF alone too, struct variables as INSTANCEs), remove objects with the references to them,
+clean up what nothing uses, write /include'd text inline — what ``workbench a2l
+update|check|merge|insert|remove|cleanup|flatten`` do (:mod:`workbench.gui.a2l_jobs`), with the CLI's options
+(--dry-run where it has one), its summary line and its exit codes' meaning (an update with errors, a check with
+warnings, a refused removal: failed).
 
 The job runs in a worker with a progress bar and Cancel (the library stops at its next check point and writes
 nothing); a refusal (a malformed A2L, a missing ELF: one line with file:line:column) is said in the dialog,
 never as a traceback; the findings are listed problems first, the infos (every address updated ...) on
-"show all". An update written over the A2L the window holds says so and offers to read it again."""
+"show all" (a dry run shows them: what would change). A file written over the A2L the window holds says so and
+offers to read it again."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
 
 from PySide6.QtCore import Qt, Signal
@@ -37,84 +40,29 @@ from PySide6.QtWidgets import (
 )
 
 from workbench.errors import Cancelled, WorkbenchError
-from workbench.findings import Report, Severity
+from workbench.findings import Severity
 from workbench.gui import theme
+from workbench.gui.a2l_jobs import (A2lOutcome, check_a2l, cleanup_a2l, flatten_a2l, insert_a2l, merge_a2l, remove_a2l,
+                                    update_a2l)
 from workbench.gui.models.rows import RowsModel
 from workbench.gui.widgets.errors import show_error
 from workbench.gui.widgets.job_buttons import JobButtons
 from workbench.gui.widgets.names import NameDelegate
 from workbench.gui.worker import Task
 
-__all__ = ["A2lOutcome", "A2lToolsDialog", "CHECK", "FindingsModel", "INSERT", "MERGE", "UPDATE", "check_a2l",
-           "insert_a2l", "merge_a2l", "update_a2l"]
+__all__ = ["A2lToolsDialog", "CHECK", "CLEANUP", "FLATTEN", "FindingsModel", "INSERT", "MERGE", "REMOVE", "UPDATE"]
 
 UPDATE, CHECK, MERGE, INSERT = "update", "check", "merge", "insert"
-_OPERATIONS = (UPDATE, CHECK, MERGE, INSERT)  # the tabs, in order
-_TITLES = {UPDATE: "Update from ELF", CHECK: "Check", MERGE: "Merge fragments", INSERT: "Insert from ELF"}
+REMOVE, CLEANUP, FLATTEN = "remove", "cleanup", "flatten"
+_OPERATIONS = (UPDATE, CHECK, MERGE, INSERT, REMOVE, CLEANUP, FLATTEN)  # the tabs, in order
+_TITLES = {UPDATE: "Update from ELF", CHECK: "Check", MERGE: "Merge fragments", INSERT: "Insert from ELF",
+           REMOVE: "Remove objects", CLEANUP: "Clean up", FLATTEN: "Flatten includes"}
+_RUN = {UPDATE: "Update", CHECK: "Check", MERGE: "Merge", INSERT: "Insert", REMOVE: "Remove", CLEANUP: "Clean up",
+        FLATTEN: "Flatten"}  # the Run button's text
+_DRY_RUN = (INSERT, REMOVE, CLEANUP)  # the operations with --dry-run
 _A2L_FILES = "A2L files (*.a2l *.A2L);;All files (*)"
 _ELF_FILES = "ELF files (*.elf *.out *.axf);;All files (*)"
 _SEVERITY_COLOUR = {Severity.ERROR: theme.BAD, Severity.WARNING: theme.WARN, Severity.INFO: theme.MUTED}
-
-
-# --- the jobs (plain Python, run in a worker) -------------------------------------------------------------
-
-@dataclass(frozen=True)
-class A2lOutcome:
-    """One run: its report, the summary line the CLI prints, whether it succeeded (the CLI's exit code 0), the
-    file it wrote (None: nothing written) and the included files it rewrote (an update with --update-includes)."""
-
-    report: Report
-    summary: str
-    ok: bool
-    written: Path | None = None
-    includes_written: tuple[Path, ...] = ()
-
-    def files_written(self) -> list[Path]:
-        return ([self.written] if self.written is not None else []) + list(self.includes_written)
-
-
-def update_a2l(a2l: str, elf: str, output: str, *, mode, types: bool, epk: bool, includes,
-               progress=None) -> A2lOutcome:
-    """``workbench a2l update`` (every address listed: the dialog's "show all"); strict refusals are outcomes."""
-    from workbench.a2l.update import UpdateFailed, update_file
-
-    try:
-        report = update_file(a2l, elf, output, mode=mode, types=types, epk=epk, includes=includes, progress=progress)
-    except UpdateFailed as exc:
-        return A2lOutcome(exc.report, f"{exc}; nothing written", False)
-    includes_written = tuple(Path(f.file) for f in report.of_kind("include-updated"))
-    return A2lOutcome(report, report.summary(output), report.ok, Path(output), includes_written)  # errors or not
-
-
-def check_a2l(a2l: str, elf: str | None, progress=None) -> A2lOutcome:
-    """``workbench a2l check [--elf]``: fails on any problem, a warning included."""
-    from workbench.a2l.check import check_file
-
-    report = check_file(a2l, elf or None, progress=progress)
-    return A2lOutcome(report, f"{a2l}: " + ("clean" if report.ok else f"{len(report.problems)} problem(s)"), report.ok)
-
-
-def merge_a2l(master: str, fragments: list[str], output: str, *, policy, progress=None) -> A2lOutcome:
-    """``workbench a2l merge``; conflicts under the policy "error" are an outcome (nothing written)."""
-    from workbench.a2l.merge import MergeFailed, merge_files
-
-    try:
-        report = merge_files(master, fragments, output, policy=policy, progress=progress)
-    except MergeFailed as exc:
-        return A2lOutcome(exc.report, str(exc), False)
-    merged = len(report.of_kind("merged"))
-    return A2lOutcome(report, f"merged {merged} fragment(s) into {output}", report.ok, Path(output))
-
-
-def insert_a2l(a2l: str, elf: str, output: str, *, measurements: str, characteristics: str, group: str,
-               progress=None) -> A2lOutcome:
-    """``workbench a2l insert`` with one pattern per kind (``|`` between names) and ``--target-group``."""
-    from workbench.a2l.insert import Selection, insert_file
-
-    report = insert_file(a2l, elf, output, measurements=Selection((measurements,) if measurements else ()),
-                         characteristics=Selection((characteristics,) if characteristics else ()),
-                         target_group=group or None, progress=progress)
-    return A2lOutcome(report, report.summary(output), report.ok, Path(output))
 
 
 # --- the findings table -----------------------------------------------------------------------------------
@@ -189,6 +137,31 @@ class _PathField(QWidget):
             self.setText(path)
 
 
+def _boxes(*boxes: QCheckBox) -> QWidget:
+    """Check boxes side by side, as one row of the form."""
+    row = QWidget()
+    layout = QHBoxLayout(row)
+    layout.setContentsMargins(0, 0, 0, 0)
+    for box in boxes:
+        layout.addWidget(box)
+    layout.addStretch(1)
+    return row
+
+
+def _ranges(text: str) -> list[tuple[int, int]] | str:
+    """``MIN MAX`` address pairs (0x hex allowed), ``;`` between pairs; a text: what is wrong."""
+    ranges = []
+    for pair in filter(None, (part.strip() for part in text.split(";"))):
+        try:
+            low, high = (int(value, 0) for value in pair.split())
+        except ValueError:
+            return f"address range {pair!r}: give MIN MAX, e.g. 0xFC0000 0xFE0000 (; between ranges)"
+        if low < 0 or high < 0:
+            return f"address range {pair!r}: an address is 0 or more"
+        ranges.append((low, high))
+    return ranges
+
+
 def _choice(items: list[tuple[str, object]], tip: str) -> QComboBox:
     box = QComboBox()
     for text, value in items:
@@ -198,8 +171,8 @@ def _choice(items: list[tuple[str, object]], tip: str) -> QComboBox:
 
 
 class A2lToolsDialog(QDialog):
-    """Update, check, merge or insert into A2L files; ``operation`` (UPDATE, CHECK, MERGE, INSERT) is the tab shown
-    first.
+    """Update, check, merge, insert into, remove from, clean up or flatten A2L files; ``operation`` (UPDATE, CHECK,
+    MERGE, INSERT, REMOVE, CLEANUP, FLATTEN) is the tab shown first.
 
     ``a2l``/``elf``: the files the fields start with (the project's); ``in_use``: the files of the A2L the window
     holds (its main file first, then those it includes), whose rewriting the dialog offers to read again
@@ -266,9 +239,6 @@ class A2lToolsDialog(QDialog):
         self.types = QCheckBox("data types, sizes and limits (--types)")
         self.epk = QCheckBox("EPK (MOD_PAR EPK and ADDR_EPK)")
         self.epk.setChecked(True)
-        options = QWidget()
-        option_row = QHBoxLayout(options)
-        option_row.setContentsMargins(0, 0, 0, 0)
         self.missing = _choice([("keep (a warning)", UpdateMode.DEFAULT), ("remove (--remove-missing)",
                                 UpdateMode.REMOVE_MISSING), ("refuse: write nothing (--strict)", UpdateMode.STRICT)],
                                "objects whose symbol is not in the ELF")
@@ -276,9 +246,6 @@ class A2lToolsDialog(QDialog):
                                  ("update the included files (--update-includes)", IncludeMode.UPDATE),
                                  ("write them inline (--merge-includes)", IncludeMode.MERGE)],
                                 "what happens to the text of /include'd files")
-        for widget in (self.types, self.epk):
-            option_row.addWidget(widget)
-        option_row.addStretch(1)
         self.conflict = _choice([("fail, write nothing", ConflictPolicy.ERROR), ("keep the first (keep-first)",
                                  ConflictPolicy.KEEP_FIRST), ("keep the last (keep-last)", ConflictPolicy.KEEP_LAST),
                                  ("rename the later one NAME_<MODULE> (rename)", ConflictPolicy.RENAME)],
@@ -288,18 +255,45 @@ class A2lToolsDialog(QDialog):
                                          "(--measurement-regex)")
         self.calibrated.setPlaceholderText("e.g. xs.*|zvLut (--characteristic-regex; a struct: its members)")
         self.group.setPlaceholderText("optional: a GROUP for the new objects, created if missing (--target-group)")
+        self.create = QCheckBox("a new A2L from the ELF alone, no A2L read (--create)")
+        self.create.setToolTip("ASAP2 1.71, PROJECT and MODULE named after the ELF, MOD_COMMON with its byte order, "
+                               "MOD_PAR with its EPK")
+        self.structures = QCheckBox("a struct selected whole: one INSTANCE of a TYPEDEF_STRUCTURE (--structures)")
+        self.structures.setToolTip("typedefs per member type, shared by every variable of its C type (ASAP2 1.70+)")
+        self._removal_fields()
+        self.dry_run = QCheckBox("show what would change, write nothing (--dry-run)")
+        for box in (self.create, self.dry_run):
+            box.toggled.connect(self._show_fields)
         self.rows = {  # the operations each row serves
-            "A2L": (self.a2l, (UPDATE, CHECK, INSERT)), "ELF": (self.elf, (UPDATE, CHECK, INSERT)),
+            "A2L": (self.a2l, (UPDATE, CHECK, INSERT, REMOVE, CLEANUP, FLATTEN)),
+            "ELF": (self.elf, (UPDATE, CHECK, INSERT)),
             "master A2L": (self.master, (MERGE,)), "fragments": (fragments, (MERGE,)),
-            "output": (self.output, (UPDATE, MERGE, INSERT)), "update": (options, (UPDATE,)),
+            "output": (self.output, (UPDATE, MERGE, INSERT, REMOVE, CLEANUP, FLATTEN)),
+            "update": (_boxes(self.types, self.epk), (UPDATE,)),
+            "insert": (_boxes(self.create, self.structures), (INSERT,)),
             "MEASUREMENTs for": (self.measured, (INSERT,)), "CHARACTERISTICs for": (self.calibrated, (INSERT,)),
             "target group": (self.group, (INSERT,)),
-            "objects missing in the ELF": (self.missing, (UPDATE,)), "includes": (self.includes, (UPDATE,)),
-            "on conflict": (self.conflict, (MERGE,)),
+            "remove names": (self.removed, (REMOVE,)), "remove addresses": (self.removed_ranges, (REMOVE,)),
+            "remove": (_boxes(self.cleanup_too, self.drop_optional), (REMOVE,)),
+            "objects missing in the ELF": (self.missing, (UPDATE,)),
+            "includes": (self.includes, (UPDATE, REMOVE, CLEANUP)),
+            "on conflict": (self.conflict, (MERGE,)), "dry run": (self.dry_run, _DRY_RUN),
         }
         for label, (widget, _) in self.rows.items():
             self.form.addRow(label, widget)
         return self.form
+
+    def _removal_fields(self) -> None:
+        """What ``workbench a2l remove`` takes out, and what becomes of the references to it."""
+        self.removed, self.removed_ranges = QLineEdit(), QLineEdit()
+        self.removed.setPlaceholderText("a regular expression on whole names, e.g. zsTank.*Filt|xsOld (--regex)")
+        self.removed_ranges.setPlaceholderText("MIN MAX, e.g. 0x40020034 0x40020040 (; between ranges): the "
+                                               "objects whose address lies in [MIN, MAX) (--range)")
+        self.cleanup_too = QCheckBox("then clean up what nothing uses any more (--cleanup)")
+        self.drop_optional = QCheckBox("drop an INPUT_QUANTITY or COMPARISON_QUANTITY naming a removed object "
+                                       "(--drop-optional-references)")
+        self.drop_optional.setToolTip("without it such a reference refuses the removal, as one a kept object needs "
+                                      "(an AXIS_PTS_REF ...) always does: nothing is written")
 
     def _result_area(self, layout: QVBoxLayout) -> None:
         """Progress, the summary (or refusal), the reload offer, the findings and the current one whole."""
@@ -357,14 +351,24 @@ class A2lToolsDialog(QDialog):
         self.tabs.setCurrentIndex(_OPERATIONS.index(operation))
         self._show_fields()
 
+    def _creating(self) -> bool:
+        return self.operation == INSERT and self.create.isChecked()
+
+    def _dry(self) -> bool:
+        return self.operation in _DRY_RUN and self.dry_run.isChecked()
+
     def _show_fields(self, *_) -> None:
+        operation = self.operation
         for widget, operations in self.rows.values():
-            self.form.setRowVisible(widget, self.operation in operations)
-        self.elf.edit.setPlaceholderText("optional: symbols and addresses against it" if self.operation == CHECK
+            self.form.setRowVisible(widget, operation in operations)
+        self.form.setRowVisible(self.a2l, operation in self.rows["A2L"][1] and not self._creating())
+        self.form.setRowVisible(self.output, operation in self.rows["output"][1] and not self._dry())
+        self.elf.edit.setPlaceholderText("optional: symbols and addresses against it" if operation == CHECK
                                          else "the ELF the build linked")
-        self.output.edit.setPlaceholderText("the A2L itself (replaced atomically)" if self.operation in (UPDATE, INSERT)
-                                            else "the merged A2L to write")
-        self.run_button.setText(_TITLES[self.operation].split()[0])  # Update, Check, Merge
+        self.output.edit.setPlaceholderText("the merged A2L to write" if operation == MERGE else "the new A2L to write"
+                                            if self._creating() else "the A2L itself (replaced atomically)")
+        run = "Create" if self._creating() else _RUN[operation]
+        self.run_button.setText(f"{run} (dry run)" if self._dry() else run)
 
     def fragment_paths(self) -> list[str]:
         return [self.fragments.item(row).text() for row in range(self.fragments.count())]
@@ -385,21 +389,42 @@ class A2lToolsDialog(QDialog):
                 return "choose the master A2L, at least one fragment and the output"
             return merge_a2l, (self.master.text(), self.fragment_paths(), self.output.text()), {
                 "policy": self.conflict.currentData()}
-        if not self.a2l.text():
+        a2l = None if self._creating() else self.a2l.text()
+        if a2l == "":
             return "choose the A2L"
+        if a2l is None and not self.output.text() and not self._dry():
+            return "choose where to write the new A2L (or a dry run)"
+        output = None if self._dry() else self.output.text() or a2l  # no output named: the A2L itself
         if operation == CHECK:
-            return check_a2l, (self.a2l.text(), self.elf.text() or None), {}
+            return check_a2l, (a2l, self.elf.text() or None), {}
+        if operation in (REMOVE, CLEANUP, FLATTEN):
+            return self._pruning_job(a2l, output)
         if not self.elf.text():
             return "choose the ELF the build linked"
         if operation == INSERT:
             if not self.measured.text().strip() and not self.calibrated.text().strip():
                 return "give a pattern for the MEASUREMENTs or the CHARACTERISTICs to insert"
-            return insert_a2l, (self.a2l.text(), self.elf.text(), self.output.text() or self.a2l.text()), {
+            return insert_a2l, (a2l, self.elf.text(), output), {
                 "measurements": self.measured.text().strip(), "characteristics": self.calibrated.text().strip(),
-                "group": self.group.text().strip()}
-        return update_a2l, (self.a2l.text(), self.elf.text(), self.output.text() or self.a2l.text()), {
+                "group": self.group.text().strip(), "structures": self.structures.isChecked()}
+        return update_a2l, (a2l, self.elf.text(), output), {
             "mode": self.missing.currentData(), "types": self.types.isChecked(), "epk": self.epk.isChecked(),
             "includes": self.includes.currentData()}
+
+    def _pruning_job(self, a2l: str, output: str | None) -> tuple | str:
+        """Remove, clean up or flatten ``a2l`` into ``output`` (None: a dry run)."""
+        if self.operation == FLATTEN:
+            return flatten_a2l, (a2l, output), {}
+        if self.operation == CLEANUP:
+            return cleanup_a2l, (a2l, output), {"includes": self.includes.currentData()}
+        pattern, ranges = self.removed.text().strip(), _ranges(self.removed_ranges.text())
+        if isinstance(ranges, str):
+            return ranges
+        if not pattern and not ranges:
+            return "give a pattern for the names or an address range of the objects to remove"
+        return remove_a2l, (a2l, output), {
+            "regexes": (pattern,) if pattern else (), "ranges": tuple(ranges), "cleanup": self.cleanup_too.isChecked(),
+            "drop_optional": self.drop_optional.isChecked(), "includes": self.includes.currentData()}
 
     # --- running --------------------------------------------------------------------------------
 
@@ -432,6 +457,8 @@ class A2lToolsDialog(QDialog):
 
     def _done(self, outcome: A2lOutcome) -> None:
         self.progress.setValue(self.progress.maximum())
+        if outcome.written is None and outcome.ok and self._dry():
+            self.show_all.setChecked(True)  # what would change: the infos
         self._show_result(outcome)
         self.done.emit(outcome)
 

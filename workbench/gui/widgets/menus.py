@@ -10,7 +10,7 @@ from __future__ import annotations
 from PySide6.QtGui import QAction, QActionGroup, QKeySequence
 
 from workbench.gui.project import PlotSpec, recent_projects
-from workbench.gui.widgets.a2l_tools_dialog import CHECK, MERGE, UPDATE
+from workbench.gui.widgets.a2l_tools_dialog import CHECK, CLEANUP, FLATTEN, INSERT, MERGE, REMOVE, UPDATE
 
 __all__ = ["KEYS", "build_menus", "enable_ecu_actions"]
 
@@ -181,14 +181,21 @@ def _view_menu(window, menu) -> None:
 
 
 def _tools_menu(window, menu) -> None:
-    """The A2L tool chain of a build (``workbench a2l update|check|merge``), one dialog for the three."""
-    window.a2l_update_action = _action(window, "Update A2L from ELF…", lambda: window.open_a2l_tools(UPDATE),
-                                      "set every address (and the EPK) of an A2L from the ELF of a build")
-    window.a2l_check_action = _action(window, "Check A2L…", lambda: window.open_a2l_tools(CHECK),
-                                     "syntax, references, names and memory placement, with file:line:column")
-    window.a2l_merge_action = _action(window, "Merge A2L fragments…", lambda: window.open_a2l_tools(MERGE),
-                                     "module fragments into a master A2L")
-    for item in (window.a2l_update_action, window.a2l_check_action, window.a2l_merge_action):
+    """The A2L tool chain of a build (``workbench a2l update|check|merge|insert|remove|cleanup|flatten``), one dialog
+    for all: ``window.a2l_update_action`` ... ``window.a2l_flatten_action``."""
+    for operation, text, tip in (
+            (UPDATE, "Update A2L from ELF…", "set every address (and the EPK) of an A2L from the ELF of a build"),
+            (CHECK, "Check A2L…", "syntax, references, names and memory placement, with file:line:column"),
+            (MERGE, "Merge A2L fragments…", "module fragments into a master A2L"),
+            (INSERT, "Insert into A2L from ELF…", "new MEASUREMENTs/CHARACTERISTICs from the ELF's variables, or a "
+             "new A2L from the ELF alone"),
+            (REMOVE, "Remove from A2L…", "objects by name pattern or address range, with the references to them"),
+            (CLEANUP, "Clean up A2L…", "remove what nothing uses: conversions, record layouts, units, empty groups"),
+            (FLATTEN, "Flatten A2L includes…", "write the text of every /include inline")):
+        if operation == INSERT:
+            menu.addSeparator()  # the build's chain above, the edits below
+        item = _action(window, text, lambda _=False, operation=operation: window.open_a2l_tools(operation), tip)
+        setattr(window, f"a2l_{operation}_action", item)
         menu.addAction(item)
 
 

@@ -1,0 +1,141 @@
+"""The A2L tools dialog's Remove, Clean up and Flatten tabs and the Insert tab's --create/--structures: `workbench
+a2l remove|cleanup|flatten|insert` from the window, the fields filled as a user fills them, on copies of the demo's
+files; the same bytes as the CLI, a refusal's references at file:line:column, a dry run that writes nothing."""
+
+from __future__ import annotations
+
+import shutil
+
+import pytest
+from gui_helpers import run_a2l_tools as _run
+
+from workbench import demo
+from workbench.a2l import load_a2l
+from workbench.cli import main
+from workbench.gui.widgets.a2l_tools_dialog import CLEANUP, FLATTEN, INSERT, REMOVE, A2lToolsDialog
+
+
+@pytest.fixture(autouse=True)
+def own_elf_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("WORKBENCH_CACHE_DIR", str(tmp_path / "cache"))
+
+
+@pytest.fixture
+def source(tmp_path):
+    path = tmp_path / "FLCU.a2l"
+    shutil.copy(demo.a2l(), path)
+    return path
+
+
+def _dialog(qtbot, operation, a2l=None, elf=None):
+    dialog = A2lToolsDialog(operation, a2l, elf)
+    qtbot.addWidget(dialog)
+    dialog.show()
+    return dialog
+
+
+def _shown(dialog) -> list[str]:
+    form = dialog.form
+    return [form.itemAt(row, form.ItemRole.LabelRole).widget().text() for row in range(form.rowCount())
+            if form.isRowVisible(row)]
+
+
+def _rows(dialog) -> list[tuple[str, ...]]:
+    return [tuple(dialog.model.index(row, column).data() for column in range(4))
+            for row in range(dialog.model.rowCount())]
+
+
+def test_each_tab_shows_its_own_fields(qtbot, source):
+    dialog = _dialog(qtbot, REMOVE, source)
+    assert _shown(dialog) == ["A2L", "output", "remove names", "remove addresses", "remove", "includes", "dry run"]
+    dialog.dry_run.setChecked(True)  # nothing written: no output
+    assert "output" not in _shown(dialog) and dialog.run_button.text() == "Remove (dry run)"
+    dialog.set_operation(FLATTEN)  # no --dry-run in `a2l flatten`
+    assert _shown(dialog) == ["A2L", "output"] and dialog.run_button.text() == "Flatten"
+    dialog.set_operation(CLEANUP)
+    assert _shown(dialog) == ["A2L", "includes", "dry run"]
+    dialog.set_operation(INSERT)
+    dialog.create.setChecked(True)  # no A2L read
+    assert _shown(dialog)[:3] == ["ELF", "insert", "MEASUREMENTs for"]
+    assert dialog.run_button.text() == "Create (dry run)"
+
+
+def test_remove_by_pattern_writes_what_the_cli_writes_after_a_dry_run_that_writes_nothing(qtbot, tmp_path, source,
+                                                                                          capsys):
+    cli_out = tmp_path / "cli.a2l"
+    assert main(["a2l", "remove", str(source), "-R", "zsTank.*Filt", "-o", str(cli_out)]) == 0
+    cli_summary = capsys.readouterr().err.strip().splitlines()[-1]
+    before = source.read_bytes()
+    dialog = _dialog(qtbot, REMOVE, source)
+    assert dialog.run() is None and dialog.status.text().startswith("give a pattern")
+    dialog.removed_ranges.setText("0x10")
+    assert dialog.run() is None and dialog.status.text().startswith("address range '0x10': give MIN MAX")
+    dialog.removed_ranges.setText("")
+    dialog.removed.setText("zsTank.*Filt")
+    dialog.dry_run.setChecked(True)
+    outcome = _run(dialog, qtbot)
+    assert outcome.ok and outcome.written is None and source.read_bytes() == before
+    assert dialog.status.text() == "done: would remove 2 MEASUREMENT (2 reference(s) with them); nothing written " \
+                                   "(dry run)"
+    assert {row[2] for row in _rows(dialog)} == {"zsTank1VoltFilt", "zsTank2VoltFilt"}  # shown: what would go
+    dialog.dry_run.setChecked(False)  # no output named: the A2L itself
+    outcome = _run(dialog, qtbot)
+    assert outcome.ok and outcome.written == source and source.read_bytes() == cli_out.read_bytes()
+    assert outcome.summary == cli_summary.replace(str(cli_out), str(source))
+    assert "zsTank1VoltFilt" not in load_a2l(source).model().names("MEASUREMENT")
+
+
+def test_a_removal_a_kept_object_needs_is_refused_with_the_reference_at_its_place(qtbot, tmp_path, source):
+    dialog = _dialog(qtbot, REMOVE, source)
+    dialog.removed.setText("xaPRV_FF_.*")
+    dialog.output.setText(tmp_path / "out.a2l")
+    outcome = _run(dialog, qtbot)
+    assert not outcome.ok and outcome.files_written() == [] and not (tmp_path / "out.a2l").exists()
+    assert dialog.status.text().startswith("failed: remove: 2 problem(s), nothing written: xaPRV_FF_TARGET")
+    line = source.read_text().splitlines().index("        AXIS_PTS_REF xaPRV_FF_TARGET") + 1
+    severity, where, _, message = _rows(dialog)[0]
+    assert (severity, where) == ("error", f"{source}:{line}:22")
+    assert message.startswith("CHARACTERISTIC xvPRV_DC_FF AXIS_DESCR: AXIS_PTS_REF xaPRV_FF_TARGET would name a "
+                              "removed object")
+
+
+def test_cleanup_and_flatten_write_what_the_cli_writes(qtbot, tmp_path, source, capsys):
+    assert main(["a2l", "cleanup", str(source), "-o", str(tmp_path / "cli.a2l")]) == 0
+    capsys.readouterr()
+    dialog = _dialog(qtbot, CLEANUP, source)
+    dialog.output.setText(tmp_path / "gui.a2l")
+    outcome = _run(dialog, qtbot)
+    assert outcome.ok and (tmp_path / "gui.a2l").read_bytes() == (tmp_path / "cli.a2l").read_bytes()
+    assert len(outcome.report.removed["RECORD_LAYOUT"]) == 7 and dialog.status.text().startswith("done: wrote")
+    master = tmp_path / "master" / demo.master_a2l().name  # it includes XCP.aml beside it
+    shutil.copytree(demo.master_a2l().parent, master.parent, ignore=shutil.ignore_patterns("modules"))
+    dialog.set_operation(FLATTEN)
+    dialog.a2l.setText(master)
+    dialog.output.setText("")  # the A2L itself
+    outcome = _run(dialog, qtbot)
+    assert outcome.ok and outcome.written == master
+    assert dialog.status.text() == f"done: wrote {master}: 1 /include(s) written inline"
+    assert '/include "XCP.aml"' not in master.read_text() and "struct Protocol_Layer" in master.read_text()
+
+
+def test_insert_creates_a_new_a2l_from_the_elf_with_structures(qtbot, tmp_path, source):
+    new = tmp_path / "new.a2l"
+    dialog = _dialog(qtbot, INSERT, source, demo.elf())
+    dialog.create.setChecked(True)
+    dialog.calibrated.setText("zv.*")
+    assert dialog.run() is None and dialog.status.text().startswith("choose where to write the new A2L")
+    dialog.output.setText(new)
+    dialog.structures.setChecked(True)
+    outcome = _run(dialog, qtbot)
+    assert outcome.ok and outcome.written == new and dialog.status.text() == f"done: wrote {new}: 2 CHARACTERISTIC " \
+                                                                               "inserted"
+    model = load_a2l(new).model()
+    assert model.names("INSTANCE") == ["zvTankPConv", "zvRailPConv"]
+    assert model.characteristic("zvRailPConv.Table").address > 0  # a member of the INSTANCE, as the ELF places it
+    dialog.create.setChecked(False)  # into the demo A2L, which describes its LUTs already
+    dialog.calibrated.setText("zvRailPConv")
+    dialog.dry_run.setChecked(True)
+    before = source.read_bytes()
+    outcome = _run(dialog, qtbot)
+    assert outcome.ok and outcome.written is None and source.read_bytes() == before
+    assert dialog.status.text().endswith("; nothing written (dry run)")
