@@ -220,6 +220,17 @@ def test_patterns_select_whole_names(pattern, names):
     assert sorted(result.report.inserted["MEASUREMENT"]) == sorted(expected)
 
 
+@pytest.mark.parametrize("version, pattern, name", [("1 71", r"outer\.arr\[2\]\.d", "outer.arr[2].d"),
+                                                    ("1 61", r"outer\.arr\._2_\.d", "outer.arr._2_.d")])
+def test_a_pattern_names_an_element_in_either_naming(version, pattern, name):
+    """The variables none of whose paths a pattern matches are left out before the walk: the paths it tries
+    are named as the file's version names elements."""
+    doc = load_a2l_string(EMPTY.replace("ASAP2_VERSION 1 71", f"ASAP2_VERSION {version}"))
+    with DebugData(TYPES_ELF, use_cache=False) as debug:
+        result = insert_document(doc, debug, measurements=Selection((pattern,)))
+    assert result.report.inserted["MEASUREMENT"] == [name]
+
+
 def test_every_variable_of_the_demo_that_its_a2l_lacks(tmp_path):
     """The demo's A2L describes most variables (calibrations as CHARACTERISTICs): those are left alone, the rest
     come in, and the file stays clean against its ELF."""

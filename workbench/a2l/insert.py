@@ -34,6 +34,7 @@ from __future__ import annotations
 import re
 from collections import Counter
 from dataclasses import dataclass, field, replace
+from itertools import product
 from math import prod
 from pathlib import Path
 from typing import TYPE_CHECKING, NamedTuple
@@ -281,6 +282,14 @@ class _Inserter:
         if not any(rule.ranges for rule in self.active):  # what no pattern can name is known without its type
             by_name = {name: found for name, found in by_name.items()
                        if any(rule.may_name(name) for rule in self.active)}
+            # ... and with it, before the walk: a variable none of whose paths a pattern matches yields nothing
+            # (the walk costs ~6 us a member or element, a match of its path ~0.5: 1,000 of 50,000 variables
+            # whose names start alike, 0.40 -> 0.05 s)
+            patterns = [pattern.search for rule in self.active for _, pattern in rule.patterns]
+            suffixes = _Suffixes(self.new_arrays)
+            by_name = {name: found for name, found in by_name.items()
+                       if any(match(name + suffix) for suffix in suffixes.of(self.debug.type_of(found[0]))
+                              for match in patterns)}
         for number, (name, found) in enumerate(by_name.items()):
             if number % 256 == 0:
                 report_progress(progress, number, len(by_name), "walking the ELF's variables")
@@ -555,6 +564,35 @@ def _version_features(doc: A2lDocument) -> tuple[bool, bool]:
                 break
             return version >= (1, 70), version >= (1, 60)
     return True, True
+
+
+class _Suffixes:
+    """What the walk appends to a variable's name to name its members and elements (``""``, ``.a``, ``.a.b[2]``
+    ...), every one, per C type: a variable none of whose paths a pattern matches needs no walk."""
+
+    def __init__(self, new_arrays: bool):
+        self.new_arrays = new_arrays
+        self._known: dict[int, tuple["CType", list[str]]] = {}  # id(type) -> (the type, kept alive; its suffixes)
+
+    def of(self, ctype: "CType") -> list[str]:
+        known = self._known.get(id(ctype))
+        if known is None:
+            known = self._known[id(ctype)] = (ctype, self._make(ctype))
+        return known[1]
+
+    def _make(self, ctype: "CType") -> list[str]:
+        found = [""]
+        element = element_type(ctype)
+        if ctype.kind == "array":
+            inner = self.of(element) if element.kind in _GROUPS else [""]
+            for indices in product(*map(range, array_dims(ctype))):
+                step = "".join(f"[{i}]" if self.new_arrays else f"._{i}_" for i in indices)
+                found += [step + rest for rest in inner]
+        elif ctype.kind in _GROUPS:
+            for member in _members(ctype):
+                step = f".{member.name}" if member.name else ""
+                found += [step + rest for rest in self.of(member.type)]
+        return found
 
 
 def _members(ctype: "CType") -> list["CMember"]:
