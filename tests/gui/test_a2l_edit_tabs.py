@@ -27,8 +27,8 @@ def source(tmp_path):
     return path
 
 
-def _dialog(qtbot, operation, a2l=None, elf=None):
-    dialog = A2lToolsDialog(operation, a2l, elf)
+def _dialog(qtbot, operation, a2l=None, elf=None, in_use=()):
+    dialog = A2lToolsDialog(operation, a2l, elf, in_use)
     qtbot.addWidget(dialog)
     dialog.show()
     return dialog
@@ -63,10 +63,11 @@ def test_each_tab_shows_its_own_fields(qtbot, source):
 def test_remove_by_pattern_writes_what_the_cli_writes_after_a_dry_run_that_writes_nothing(qtbot, tmp_path, source,
                                                                                           capsys):
     cli_out = tmp_path / "cli.a2l"
-    assert main(["a2l", "remove", str(source), "-R", "zsTank.*Filt", "-o", str(cli_out)]) == 0
+    assert main(["a2l", "remove", str(source), "-R", "zsTank.*Filt", "--range", "0x40020034", "0x40020035", "-o",
+                 str(cli_out)]) == 0
     cli_summary = capsys.readouterr().err.strip().splitlines()[-1]
     before = source.read_bytes()
-    dialog = _dialog(qtbot, REMOVE, source)
+    dialog = _dialog(qtbot, REMOVE, source, in_use=[source])  # the window's A2L
     assert dialog.run() is None and dialog.status.text().startswith("give a pattern")
     dialog.removed_ranges.setText("0x10")
     assert dialog.run() is None and dialog.status.text().startswith("address range '0x10': give MIN MAX")
@@ -78,10 +79,13 @@ def test_remove_by_pattern_writes_what_the_cli_writes_after_a_dry_run_that_write
     assert dialog.status.text() == "done: would remove 2 MEASUREMENT (2 reference(s) with them); nothing written " \
                                    "(dry run)"
     assert {row[2] for row in _rows(dialog)} == {"zsTank1VoltFilt", "zsTank2VoltFilt"}  # shown: what would go
+    assert not dialog.reload_button.isVisibleTo(dialog)
     dialog.dry_run.setChecked(False)  # no output named: the A2L itself
+    dialog.removed_ranges.setText("0x40020034 0x40020035")
     outcome = _run(dialog, qtbot)
     assert outcome.ok and outcome.written == source and source.read_bytes() == cli_out.read_bytes()
     assert outcome.summary == cli_summary.replace(str(cli_out), str(source))
+    assert dialog.reload_button.isVisibleTo(dialog)  # written over the A2L the window holds: read it again?
     assert "zsTank1VoltFilt" not in load_a2l(source).model().names("MEASUREMENT")
 
 

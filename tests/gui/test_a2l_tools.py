@@ -313,3 +313,18 @@ def test_an_update_that_rewrites_a_file_the_projects_a2l_includes_offers_to_relo
         assert _run(dialog, qtbot).ok and not dialog.reload_button.isVisibleTo(dialog)
     finally:
         window.close()
+
+
+def test_a_removal_in_an_included_file_is_refused_unless_the_included_files_are_updated(dialog, qtbot, tmp_path,
+                                                                                        including_a2l):
+    part = including_a2l.parent / "part.a2l"
+    dialog.set_operation(REMOVE)
+    dialog.a2l.setText(including_a2l)
+    dialog.removed.setText("xsOTV1Cmd")
+    before = part.read_bytes()
+    outcome = _run(dialog, qtbot)  # includes kept: the removal would fall into part.a2l
+    assert not outcome.ok and outcome.files_written() == [] and part.read_bytes() == before
+    assert _rows(dialog)[0][:2] == ("error", f"{part}:1:1")
+    dialog.includes.setCurrentIndex(dialog.includes.findData(IncludeMode.UPDATE))  # --update-includes
+    outcome = _run(dialog, qtbot)
+    assert outcome.ok and outcome.includes_written == (part,) and "xsOTV1Cmd" not in part.read_text()

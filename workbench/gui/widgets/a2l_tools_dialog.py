@@ -367,6 +367,8 @@ class A2lToolsDialog(QDialog):
                                          else "the ELF the build linked")
         self.output.edit.setPlaceholderText("the merged A2L to write" if operation == MERGE else "the new A2L to write"
                                             if self._creating() else "the A2L itself (replaced atomically)")
+        self.includes.setItemText(0, "keep /include, changes in them are errors" if operation == UPDATE else
+                                  "keep /include, a removal in them refuses (nothing written)")
         run = "Create" if self._creating() else _RUN[operation]
         self.run_button.setText(f"{run} (dry run)" if self._dry() else run)
 
