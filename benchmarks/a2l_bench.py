@@ -1,5 +1,5 @@
-"""Time ``workbench a2l update``/``merge``/``remove``/``cleanup`` against the a2ltool PyPI package (Rust), in the
-same run.
+"""Time ``workbench a2l update``/``merge``/``remove``/``cleanup``/``insert`` against the a2ltool PyPI package
+(Rust), in the same run.
 
     python benchmarks/a2l_bench.py [--units 50] [--repeat 5] [--baseline REV] [--skip-merge]
                                    [--library] [--workdir DIR]
@@ -42,6 +42,7 @@ CHECKOUT = HERE.parent
 A2LTOOL = shutil.which("a2ltool") or str(Path(sys.executable).with_name("a2ltool"))
 _LAUNCH = "from workbench.cli import entry_point; entry_point()"  # what the console script runs
 _REMOVED = "u0[67]_var0[0-4].*"  # the objects ``remove`` takes out: 1,000 of units 6 and 7
+_INSERTED = "u0[0-9]_var00[0-9][0-9]"  # the variables ``insert`` makes MEASUREMENTs of: 1,000 of units 0-9
 
 
 @dataclass
@@ -219,6 +220,14 @@ def _bench(args, work: Path, a2l: Path, elf: Path, fragments: list[Path], out: P
                              "-o", str(out / "ref_pruned.a2l")]
         jobs.append((label, {i.name: ([*i.prefix, "a2l", options[0], str(a2l), *options[1:], "-o",
                                        str(out / f"pruned-{i.name}")], i.env) for i in ours}))
+    # a2ltool's --measurement-regex: 1,000 variables (ten units' first 100) into the empty master, of the ELF's
+    # 50,000 whose names start alike (ours with the index cache the updates above left)
+    label = "insert 1,000 variables (regex)"
+    references[label] = [A2LTOOL, str(work / "master.a2l"), "-e", str(elf), "--measurement-regex", _INSERTED, "-o",
+                         str(out / "ref_inserted.a2l")]
+    jobs.append((label, {i.name: ([*i.prefix, "a2l", "insert", str(work / "master.a2l"), str(elf),
+                                   "--measurement-regex", _INSERTED, "-o", str(out / f"inserted-{i.name}")], i.env)
+                         for i in ours}))
 
     names = [i.name for i in ours]
     header = f"{'command':36s} {'a2ltool s':>9s} {'cpu s':>6s}"
