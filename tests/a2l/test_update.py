@@ -2,6 +2,7 @@
 
 import codecs
 import difflib
+import re
 from pathlib import Path
 
 import pytest
@@ -10,6 +11,7 @@ from hypothesis import strategies as st
 from pya2l_oracle import pya2l_import
 
 from workbench.a2l import grammar, load_a2l, load_a2l_string
+from workbench.a2l.prune import PruneFailed, remove_document
 from workbench.a2l.reports import UpdateMode
 from workbench.a2l.update import UpdateFailed, update_document, update_file
 from workbench.a2l.values import is_number
@@ -171,6 +173,74 @@ def test_remove_missing_drops_the_object_and_its_references(source, debug):
         [doc.text(t) for t in doc.blocks_named("REF_MEASUREMENT")[0].args] == ["zsScalar", "outer.b.c"]
     assert {f.kind for f in result.report.findings} >= {"removed", "reference-removed"}
     assert b"    /begin MEASUREMENT missing_var" not in result.data and b"\n\n\n" not in result.data
+
+
+def _referencing(source) -> str:
+    """types.a2l where kept objects need others: an AXIS_DESCR's INPUT_QUANTITY, a COM_AXIS's AXIS_PTS_REF,
+    a VIRTUAL measurement's input."""
+    return source.read_text().replace("STD_AXIS NO_INPUT_QUANTITY", "STD_AXIS zsScalar").replace(
+        "    /begin BLOB u", "    /begin CHARACTERISTIC matrix \"\" CURVE 0x0 RL_U8 0 CM 0 255\n"
+        "      /begin AXIS_DESCR COM_AXIS NO_INPUT_QUANTITY CM 9 0 5 AXIS_PTS_REF zvLut.BP1 /end AXIS_DESCR\n"
+        "    /end CHARACTERISTIC\n"
+        "    /begin MEASUREMENT state \"\" UBYTE CM 1 0 0 1 ECU_ADDRESS 0 /begin VIRTUAL outer.b.c /end VIRTUAL"
+        " /end MEASUREMENT\n    /begin BLOB u")
+
+
+def _renamed(text: str, names) -> str:
+    """``text`` with every whole occurrence of ``names`` (definitions and references) renamed NAME_gone: objects
+    the ELF lacks."""
+    for name in names:
+        text = re.sub(rf"(?<![\w.\[]){re.escape(name)}(?![\w.\[])", f"{name}_gone", text)
+    return text
+
+
+def test_remove_missing_refuses_when_a_kept_object_needs_a_missing_one(source, debug):
+    """`remove`'s rules: each reference a kept object needs is an error at its line and column naming both objects,
+    nothing is returned; a2ltool's default drops the AXIS_PTS_REF and leaves the VIRTUAL dangling."""
+    text = _renamed(_referencing(source), ["zsScalar", "zvLut.BP1", "outer.b.c"])
+    with pytest.raises(UpdateFailed, match="3 kept reference") as info:
+        update_document(load_a2l_string(text, "need.a2l"), debug, mode=UpdateMode.REMOVE_MISSING)
+    errors = {(f.line, f.column): f.message for f in info.value.report.errors}
+    lines = text.splitlines()
+    assert all(lines[line - 1][column - 1:].startswith(("zsScalar_gone", "zvLut.BP1_gone", "outer.b.c_gone"))
+               for line, column in errors)
+    assert sorted(errors.values()) == [
+        ("CHARACTERISTIC matrix AXIS_DESCR: AXIS_PTS_REF zvLut.BP1_gone would name a removed object; remove "
+         "CHARACTERISTIC matrix too, or keep zvLut.BP1_gone"),
+        ("CHARACTERISTIC zvLut AXIS_DESCR: its input quantity zsScalar_gone would name a removed object; "
+         "--drop-optional-references drops it"),
+        ("MEASUREMENT state VIRTUAL: VIRTUAL outer.b.c_gone would name a removed object; remove MEASUREMENT "
+         "state too, or keep outer.b.c_gone")]
+    # only the optional reference left: refused, or dropped on request as a2ltool does
+    text = _renamed(_referencing(source), ["zsScalar"])
+    with pytest.raises(UpdateFailed, match="1 kept reference"):
+        update_document(load_a2l_string(text), debug, mode=UpdateMode.REMOVE_MISSING)
+    result = update_document(load_a2l_string(text), debug, mode=UpdateMode.REMOVE_MISSING, drop_optional=True)
+    assert b"STD_AXIS NO_INPUT_QUANTITY" in result.data and b"zsScalar" not in result.data
+    assert [f.message for f in result.report.of_kind("reference-dropped")] == [
+        "CHARACTERISTIC zvLut AXIS_DESCR: INPUT_QUANTITY zsScalar_gone is removed: now NO_INPUT_QUANTITY"]
+    assert result.report.tally["MEASUREMENT"]["removed"] == 2  # and missing_var, out of its GROUP
+
+
+@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(gone=st.sets(st.sampled_from(["zsScalar", "outer.b.c", "csConstant", "zvLut.BP1", "u", "state"])),
+       drop=st.booleans())
+def test_remove_missing_is_remove_after_update(source, debug, gone, drop):
+    """One removal engine: an update with objects missing from the ELF and --remove-missing gives what `remove`
+    of those names gives after a plain update, or refuses with the errors it refuses with."""
+    text = _renamed(_referencing(source), gone)
+    kept = update_document(load_a2l_string(text), debug, epk=False)
+    try:
+        expected = remove_document(load_a2l_string(kept.data.decode()), regexes=(".*_gone|missing_var",),
+                                   drop_optional=drop).data
+    except PruneFailed as exc:
+        with pytest.raises(UpdateFailed) as info:
+            update_document(load_a2l_string(text), debug, epk=False, mode=UpdateMode.REMOVE_MISSING,
+                            drop_optional=drop)
+        assert [f.message for f in info.value.report.errors] == [f.message for f in exc.report.errors]
+        return
+    got = update_document(load_a2l_string(text), debug, epk=False, mode=UpdateMode.REMOVE_MISSING, drop_optional=drop)
+    assert got.data == expected
 
 
 def test_strict_mode_fails_and_writes_nothing(source, tmp_path):

@@ -53,8 +53,8 @@ from workbench.errors import InputError, WorkbenchError
 from workbench.fileio import write_output
 from workbench.findings import Finding, Report, Severity, summarize
 
-__all__ = ["PruneFailed", "PruneReport", "PruneResult", "cleanup_document", "cleanup_file", "remove_document",
-           "remove_file"]
+__all__ = ["PruneFailed", "PruneReport", "PruneResult", "cleanup_document", "cleanup_file", "removal_edits",
+           "remove_document", "remove_file"]
 
 # lists that only group objects: an entry goes with what it names
 _GROUPING = frozenset({"REF_MEASUREMENT", "REF_CHARACTERISTIC", "DEF_CHARACTERISTIC", "IN_MEASUREMENT",
@@ -207,10 +207,15 @@ def _select(doc: A2lDocument, patterns: list, ranges: tuple[tuple[int, int], ...
     return dict(sorted(selected.items()))
 
 
-def _prune(doc: A2lDocument, report: PruneReport, selected: dict[int, tuple[int, str]], cleanup: bool,
-           drop_optional: bool, includes: IncludeMode) -> PruneResult:
-    edits = Edits()
-    pending: list[tuple] = []  # (token, kind, name, message, block, severity)
+def removal_edits(doc: A2lDocument, selected: dict[int, tuple[int, str]], *, drop_optional: bool = False,
+                  cleanup: bool = False) -> tuple[list[Edit], list[tuple]]:
+    """The one removal engine (``remove``, ``cleanup``, ``update --remove-missing``): the edits that take the
+    blocks of ``selected`` (block -> (its name token, why it goes)) out of ``doc`` with what refers to them
+    settled as the module docstring says, and the findings as (token, kind, name, message, keyword, severity)
+    tuples in document order. Errors among them (``still-referenced``: a kept object needs a removed one)
+    mean the edits must not be written."""
+    edits: list[Edit] = []
+    pending: list[tuple] = []
     for module in doc.modules:
         gone = {block: why for block, why in selected.items() if int(doc.blocks.parent[block]) == module.index}
         if not gone and not cleanup:
@@ -222,6 +227,13 @@ def _prune(doc: A2lDocument, report: PruneReport, selected: dict[int, tuple[int,
             plan.clean_up()
         edits.extend(plan.settle(cleanup, drop_optional))
     pending.sort(key=lambda item: item[0])
+    return edits, pending
+
+
+def _prune(doc: A2lDocument, report: PruneReport, selected: dict[int, tuple[int, str]], cleanup: bool,
+           drop_optional: bool, includes: IncludeMode) -> PruneResult:
+    removal, pending = removal_edits(doc, selected, drop_optional=drop_optional, cleanup=cleanup)
+    edits = Edits(removal)
     report.findings[:0] = findings_at(doc, pending)
     for _, kind, name, _, keyword, _ in pending:
         if kind == "removed":

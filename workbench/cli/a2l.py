@@ -77,8 +77,16 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
                         help="file to write (atomically; may be IN.a2l itself)")
     missing = update.add_mutually_exclusive_group()
     missing.add_argument("--remove-missing", action="store_true",
-                         help="drop objects whose symbol is not in the ELF (and their name-list references)")
+                         help="remove objects whose symbol is not in the ELF by `a2l remove`'s rules: their entries "
+                              "in grouping lists go with them; a kept object that needs one (an AXIS_PTS_REF or "
+                              "CURVE_AXIS_REF, a VIRTUAL's or DEPENDENT_/VIRTUAL_CHARACTERISTIC's input, a MAP_LIST "
+                              "...) refuses the update, an error at each reference, nothing written (a2ltool's "
+                              "default drops such references and leaves a COM_AXIS without its axis)")
     missing.add_argument("--strict", action="store_true", help="any symbol missing is an error; nothing is written")
+    update.add_argument("--drop-optional-references", action="store_true",
+                        help="with --remove-missing: an INPUT_QUANTITY that names a removed object becomes "
+                             "NO_INPUT_QUANTITY, a COMPARISON_QUANTITY is dropped (each a warning), as a2ltool "
+                             "does, instead of refusing the update")
     update.add_argument("--types", action="store_true",
                         help="also check and update data types, array sizes, bit masks and limits from DWARF (a struct "
                              "member by member at its RECORD_LAYOUT's positions; an enum becomes a COMPU_METHOD "
@@ -325,6 +333,9 @@ def _update(args: argparse.Namespace) -> int:
     from workbench.cli.progressbar import ProgressBar
 
     mode = UpdateMode.STRICT if args.strict else UpdateMode.REMOVE_MISSING if args.remove_missing else UpdateMode.DEFAULT
+    if args.drop_optional_references and not args.remove_missing:
+        raise InputError("update --drop-optional-references: goes with --remove-missing (only removed objects' "
+                         "references are dropped)")
     includes = (IncludeMode.UPDATE if args.update_includes else IncludeMode.MERGE if args.merge_includes
                 else IncludeMode.KEEP)
     try:
@@ -332,7 +343,8 @@ def _update(args: argparse.Namespace) -> int:
             report = update_file(args.a2l, args.elf, args.output, mode=mode, types=args.types, epk=not args.no_epk,
                                  epk_symbol=args.epk_symbol, includes=includes, cache_dir=args.cache_dir,
                                  use_cache=not args.no_cache, validate=args.validate,
-                                 report_addresses=args.verbose or args.json, progress=progress)
+                                 report_addresses=args.verbose or args.json,
+                                 drop_optional=args.drop_optional_references, progress=progress)
     except UpdateFailed as exc:
         _print_report(exc.report, args, summary=f"{exc}; nothing written")
         return 1

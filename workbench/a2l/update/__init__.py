@@ -2,8 +2,8 @@
 
 The orchestrator takes the addressed objects as columns (:mod:`workbench.a2l.addressed`),
 looks their symbols up in one batch, rewrites the address tokens whose value changes,
-and adds what ``typecheck`` (``--types``), ``removal`` (missing objects) and
-:mod:`workbench.a2l.epk` (MOD_PAR EPK/ADDR_EPK) change. The result is the input's text
+and adds what ``typecheck`` (``--types``), :func:`workbench.a2l.prune.removal_edits` (missing objects, by
+``remove``'s rules) and :mod:`workbench.a2l.epk` (MOD_PAR EPK/ADDR_EPK) change. The result is the input's text
 with only those tokens changed; ``/include`` lines stay, and the changes that fall into
 included files are returned per file (see :class:`IncludeMode`).
 """
@@ -24,7 +24,6 @@ from workbench.a2l.epk import epk_edits, read_elf_epk
 from workbench.a2l.grammar import MAX_ADDRESS
 from workbench.a2l.includes import edited_texts, includes_not_found_from
 from workbench.a2l.reports import IncludeMode, UpdateMode, findings_at
-from workbench.a2l.update.removal import removal_edits
 from workbench.a2l.values import format_ints_like, hex_digits_like, int_or_none, int_values
 from workbench.elf.debugdata import DebugData, read_beside
 from workbench.errors import InputError, WorkbenchError
@@ -65,21 +64,26 @@ class UpdateResult:
 
 
 class UpdateFailed(WorkbenchError):
-    """A strict update met objects it cannot update (not in the ELF, address beyond 32 bits); carries the report."""
+    """A strict update met objects it cannot update (not in the ELF, address beyond 32 bits), or a
+    ``REMOVE_MISSING`` update would remove an object a kept one needs; carries the report."""
 
-    def __init__(self, report: UpdateReport):
+    def __init__(self, report: UpdateReport, problem: str = "object(s) cannot be updated (strict)"):
         self.report = report
         errors = report.errors
-        super().__init__(f"{len(errors)} object(s) cannot be updated (strict): {summarize(errors)}")
+        super().__init__(f"{len(errors)} {problem}: {summarize(errors)}")
 
 
 def update_document(doc: A2lDocument, debug: DebugData, *, mode: UpdateMode = UpdateMode.DEFAULT,
                     types: bool = False, epk: bool = True, epk_symbol: str | None = None,
                     includes: IncludeMode = IncludeMode.KEEP, report_addresses: bool = True,
-                    progress: Progress | None = None) -> UpdateResult:
+                    drop_optional: bool = False, progress: Progress | None = None) -> UpdateResult:
     """Update ``doc`` from ``debug``; the document itself is not changed.
 
     ``mode`` decides about objects whose symbol is not in the ELF (see :class:`UpdateMode`);
+    ``REMOVE_MISSING`` removes them by :func:`~workbench.a2l.prune.remove_document`'s rules: their entries in
+    grouping lists go with them, and a kept object that needs one (an AXIS_PTS_REF, a VIRTUAL's input, a
+    MAP_LIST ...) refuses the update (:class:`UpdateFailed`, an error at each reference), as does an optional
+    reference (INPUT_QUANTITY, COMPARISON_QUANTITY) unless ``drop_optional`` (then NO_INPUT_QUANTITY, dropped);
     ``types`` also checks data types, array sizes, bit masks and limits; ``epk`` sets
     MOD_PAR EPK/ADDR_EPK from the ELF's EPK; ``includes`` whether the result keeps the
     ``/include`` lines (changes in included files go to :attr:`UpdateResult.included`) or
@@ -112,7 +116,7 @@ def update_document(doc: A2lDocument, debug: DebugData, *, mode: UpdateMode = Up
     targets = np.where(found, addresses + np.asarray(objects.symbol_offsets, dtype=np.int64), addresses)
     usable = found & (targets >= 0) & (targets <= MAX_ADDRESS)
     has_token = objects.address_token_array >= 0
-    removed: dict[str, int] = {}
+    removed: dict[int, tuple[int, str]] = {}  # block -> (name token, why): REMOVE_MISSING's objects
     missing = int(np.count_nonzero(addresses == -1))
     for row in np.flatnonzero(~usable | ~has_token).tolist():  # the few objects that need more than a new value
         if addresses[row] == -1:
@@ -133,9 +137,7 @@ def update_document(doc: A2lDocument, debug: DebugData, *, mode: UpdateMode = Up
     if mode is UpdateMode.STRICT and report.errors:
         raise UpdateFailed(report)
     if removed:
-        removal, findings = removal_edits(doc, removed)
-        edits.extend(removal)
-        report.extend(findings)
+        _remove(doc, removed, drop_optional, edits, report)
     if epk:
         _epk(doc, debug, epk_symbol, edits, report)
     for module in doc.modules:  # reported, not changed: which one is right is the project's to say
@@ -149,7 +151,7 @@ def update_file(a2l: str | Path, elf: str | Path, output: str | Path, *, mode: U
                 types: bool = False, epk: bool = True, epk_symbol: str | None = None,
                 includes: IncludeMode = IncludeMode.KEEP, cache_dir: str | Path | None = None,
                 use_cache: bool = True, validate: bool = False, report_addresses: bool = True,
-                progress: Progress | None = None) -> UpdateReport:
+                drop_optional: bool = False, progress: Progress | None = None) -> UpdateReport:
     """Read ``a2l`` and ``elf``, update, and write ``output`` atomically (which may be ``a2l``);
     under ``IncludeMode.UPDATE`` also every included file that changes, in place (atomically).
 
@@ -162,7 +164,7 @@ def update_file(a2l: str | Path, elf: str | Path, output: str | Path, *, mode: U
                                   use_cache=use_cache, progress=progress)
     with debug_data as debug:
         result = update_document(doc, debug, mode=mode, types=types, epk=epk, epk_symbol=epk_symbol, includes=includes,
-                        report_addresses=report_addresses, progress=progress)
+                                 report_addresses=report_addresses, drop_optional=drop_optional, progress=progress)
     write_source(doc.source, result.data, output)
     if includes is IncludeMode.UPDATE:
         for path, data in result.included.items():
@@ -295,8 +297,21 @@ def _check_types(objects: AddressedObjects, symbols: list, edits: Edits, report:
             report.extend(type_findings)
 
 
+def _remove(doc: A2lDocument, removed: dict[int, tuple[int, str]], drop_optional: bool, edits: Edits,
+            report: UpdateReport) -> None:
+    """Take the missing objects out by ``remove``'s rules; a kept object that needs one refuses the update."""
+    from workbench.a2l.prune import removal_edits  # here: a plain update needs none
+
+    removal, pending = removal_edits(doc, removed, drop_optional=drop_optional)
+    edits.extend(removal)
+    report.extend(findings_at(doc, pending))
+    if any(item[5] is Severity.ERROR for item in pending):
+        raise UpdateFailed(report, "kept reference(s) to objects --remove-missing would remove (without it they "
+                           "are kept, each a warning)")
+
+
 def _missing(objects: AddressedObjects, row: int, debug: DebugData, mode: UpdateMode, report: UpdateReport,
-             removed: dict[str, int], pending: list[tuple], missing: int) -> None:
+             removed: dict[int, tuple[int, str]], pending: list[tuple], missing: int) -> None:
     from workbench.elf.suggest import MOST_SUGGESTED, missing_symbol_reason  # here: an update finding all needs none
 
     keyword, name, symbol = objects.keyword(row), objects.names[row], objects.symbols[row]
@@ -311,9 +326,7 @@ def _missing(objects: AddressedObjects, row: int, debug: DebugData, mode: Update
     pending.append((int(objects.name_tokens[row]), kind, name, f"{keyword} {name}{link}: {why}", keyword, severity))
     report.count(keyword, "not-found")
     if mode is UpdateMode.REMOVE_MISSING:
-        removed[name] = int(objects.blocks[row])
-        pending.append((int(objects.name_tokens[row]), "removed", name, f"{keyword} {name} removed", keyword,
-                        Severity.WARNING))
+        removed[int(objects.blocks[row])] = (int(objects.name_tokens[row]), f"not in {debug.path.name}")
         report.count(keyword, "removed")
 
 
