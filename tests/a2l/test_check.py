@@ -221,3 +221,36 @@ def test_an_option_given_twice_is_named_where_asap2_allows_it_once():
         ("option-twice", "inflash", 18, 78,
          "CHARACTERISTIC inflash: MATRIX_DIM is given twice (at most once; the first at line 18)"),
     ]
+
+
+def test_instance_objects_take_part_in_the_memory_checks():
+    """The objects an INSTANCE stands for are placed at its address plus their offsets, each its typedef's size:
+    a CHARACTERISTIC INSTANCE in flash is not in CAL RAM, a structure reaching beyond its segment lies outside it,
+    a component a plain object partly covers overlaps it; the findings stand at the INSTANCE's address."""
+    typedefs = ('    /begin TYPEDEF_CHARACTERISTIC T_cal "" VALUE RL 0 CM 0 1 /end TYPEDEF_CHARACTERISTIC\n'
+                '    /begin TYPEDEF_MEASUREMENT T_u16 "" UWORD CM 1 0 0 1 /end TYPEDEF_MEASUREMENT\n'
+                '    /begin TYPEDEF_STRUCTURE T_pair "" 8\n'
+                '      /begin STRUCTURE_COMPONENT gain T_cal 0 /end STRUCTURE_COMPONENT\n'
+                '      /begin STRUCTURE_COMPONENT raw T_u16 4 MATRIX_DIM 2 /end STRUCTURE_COMPONENT\n'
+                '    /end TYPEDEF_STRUCTURE\n')
+    instances = ('    /begin INSTANCE inflash "" T_cal 0x1010 /end INSTANCE\n'
+                 '    /begin INSTANCE pairs "" T_pair 0x20F0 MATRIX_DIM 3 /end INSTANCE\n'
+                 '    /begin INSTANCE fine "" T_pair 0x2040 /end INSTANCE\n'
+                 '    /begin MEASUREMENT plain "" ULONG CM 1 0 0 1 ECU_ADDRESS 0x2046 /end MEASUREMENT\n')
+    text = TEXT.split("    /begin MEASUREMENT ok")[0] + typedefs + instances + "  /end MODULE\n/end PROJECT\n"
+    report = check_document(load_a2l_string(text, "inst.a2l"))
+    assert [(f.kind, f.name, f.line, f.column) for f in report.findings] == [
+        ("calibration-outside-cal-ram", "inflash", 16, 38),
+        ("outside-memory", "pairs[2].raw", 17, 37),  # 0x2104: past CalRam's 0x100 bytes
+        ("outside-memory", "pairs[2].gain", 17, 37),
+        ("overlap", "plain", 19, 62)]
+    messages = [f.message for f in report.findings]
+    assert messages[0] == ("CHARACTERISTIC inflash of INSTANCE inflash at 0x1010 is in Flash (DATA FLASH), not in a "
+                           "DATA RAM segment (CalRam)")
+    assert messages[1] == ("MEASUREMENT pairs[2].raw of INSTANCE pairs (0x2104, 4 bytes) lies outside every "
+                           "MEMORY_SEGMENT")
+    assert messages[3] == ("MEASUREMENT plain (0x2046, 4 bytes) overlaps MEASUREMENT fine.raw of INSTANCE fine "
+                           "(0x2044, 4 bytes)")  # raw: UWORD[2] at the structure's offset 4
+    # the same objects placed where they belong: clean
+    moved = text.replace("T_cal 0x1010", "T_cal 0x2010").replace("0x20F0 MATRIX_DIM 3", "0x20C0 MATRIX_DIM 3")
+    assert check_document(load_a2l_string(moved.replace("0x2046", "0x2048"), "inst.a2l")).findings == []

@@ -54,7 +54,8 @@ CHECK = {
                                         (_R, "AxisLayout", "from_source_structs.a2l", 118),
                                         (_R, "CurveLayout", "from_source_structs.a2l", 122),
                                         (_R, "__UBYTE_Z", "from_source_structs.a2l", 138),
-                                        (_R, "__SBYTE_Z", "from_source_structs.a2l", 151)],
+                                        (_R, "__SBYTE_Z", "from_source_structs.a2l", 151),
+                                        (_P, "parameter_instance", "from_source_structs.a2l", 156)],  # made from C
     "a2ltool/included.a2l": [(_P, "Measurement_Value", "included.a2l", 3)],
     "a2ltool/merge_inc_test.a2l": [(_P, "Measurement_Value", "included.a2l", 3)],
     "a2ltool/remove_test.a2l": [(_R, "UpdateTest_Map_InternalAxis", "remove_test.a2l", 31)],

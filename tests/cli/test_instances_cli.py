@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import re
+from pathlib import Path
 
 import pytest
 from cli_helpers import run
@@ -85,3 +86,23 @@ def test_a_dataset_of_an_instances_names_saves_and_loads(capsys, a2l, bus, tmp_p
     code, _, err = run(capsys, "cal", "load", path, "--a2l", a2l, *bus)
     assert code == 0, err
     assert _values(capsys, a2l, bus, "xsSWITCH_TANK_THR") == {"xsSWITCH_TANK_THR": 20.0}  # the saved value again
+
+
+def test_check_places_an_instances_objects(capsys, a2l, tmp_path):
+    """`a2l check` puts the objects of an INSTANCE into the overlap, segment and CAL RAM checks: the INSTANCE moved
+    from CAL RAM into the CALIB flash is an error per calibration at its address; where it was, its objects repeat
+    the plain calibrations' bytes (warnings: this variant describes them twice on purpose)."""
+    code, out, _ = run(capsys, "a2l", "check", a2l)
+    assert code == 1 and "error" not in out
+    assert ": warning: CHARACTERISTIC tank.kp of INSTANCE tank occupies the same 4 byte(s) at 0x400000E4 as " \
+           "CHARACTERISTIC xsPRV_KP" in out
+    moved = tmp_path / "moved.a2l"
+    text = Path(a2l).read_text(encoding="latin-1").replace("Tank_T 0x400000D8", "Tank_T 0xFC00D8")
+    moved.write_text(text, encoding="latin-1")
+    line = next(n for n, row in enumerate(text.splitlines(), 1) if "Tank_T 0xFC00D8" in row)
+    code, out, err = run(capsys, "a2l", "check", moved)
+    errors = [row for row in out.splitlines() if ": error: " in row]
+    assert code == 1 and len(errors) == 3 and err.count("\n") == 1
+    assert errors[0].startswith(f"{moved}:{line}:") and errors[0].endswith(
+        "error: CHARACTERISTIC tank.empty of INSTANCE tank at 0xFC00D8 is in CALIB (DATA FLASH), not in a DATA RAM "
+        "segment (CALRAM)")

@@ -6,14 +6,18 @@ overlap only when their masks share a bit. Each ECU_ADDRESS_EXTENSION is an addr
 of its own (XCPlite, for one, addresses stack and event-relative variables so); the
 MEMORY_SEGMENTs describe extension 0. An object at address 0 is not placed yet (the
 placeholder of a file before its update): it takes part in neither the overlap nor the
-segment check. An INSTANCE is checked against the ELF (its symbol, its address) but not for
-overlaps (the sizes of its objects are its typedefs'). Without the ELF, a file whose every object
-is at 0 gets one warning (a build that forgot its update; a file that places others has its
+segment check. An INSTANCE is checked against the ELF (its symbol, its address); the objects it stands for
+(:mod:`workbench.a2l.instances`: ``inst.member``, ``inst[2].x``) take part in the overlap, segment and CAL RAM
+checks, each its typedef's size (times the MATRIX_DIM the instance or component adds; one whose size is not
+known, an instance limit ``check`` reports, is left out), located at the INSTANCE's address; objects of one
+INSTANCE do not overlap each other (a union's members share their bytes by its typedef). Without the ELF, a
+file whose every object is at 0 gets one warning (a build that forgot its update; a file that places others has its
 reasons for one at 0).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from workbench.a2l.addressed import AddressedObjects
@@ -43,6 +47,11 @@ class _Placed:
     token: int
     bit_mask: int | None = None
     extension: int = 0  # ECU_ADDRESS_EXTENSION: objects of different extensions never overlap
+    instance: str = ""  # the INSTANCE an object stands for is part of
+
+    @property
+    def label(self) -> str:
+        return f"{self.keyword} {self.name}" + (f" of INSTANCE {self.instance}" if self.instance else "")
 
 
 def _placements(doc: A2lDocument, module: Block, objects: AddressedObjects, debug: DebugData | None,
@@ -52,6 +61,7 @@ def _placements(doc: A2lDocument, module: Block, objects: AddressedObjects, debu
     masks = _option_values(doc, "BIT_MASK", _MASKED)
     extensions = _option_values(doc, "ECU_ADDRESS_EXTENSION", ADDRESSED_OBJECTS)
     placed, unplaced, addressed = [], [], 0
+    instances: dict[str, tuple[int, int]] = {}  # the placed INSTANCEs: name -> (address token, extension)
     suggested = 0  # close names given for missing symbols: the first few (a wrong ELF lacks them all)
     parents = doc.blocks.parent
     for row in range(len(objects)):
@@ -84,17 +94,20 @@ def _placements(doc: A2lDocument, module: Block, objects: AddressedObjects, debu
                     report.add(finding_at(doc, target.address_token, "address-mismatch", target.name,
                                           f"{keyword} {target.name}: the A2L says 0x{address:X}, "
                                           f"{debug.path.name} says 0x{expected:X}", keyword, Severity.ERROR))
-        if keyword == "INSTANCE":
-            continue  # its symbol checked; its objects' sizes are its typedefs': not in the overlap check
         addressed += 1
         if address == 0:  # not placed yet: the placeholder before an update (no C object lies at address 0)
             unplaced.append(target)
+            continue
+        if keyword == "INSTANCE":  # its objects are placed below, each its typedef's size
+            instances[target.name] = (target.address_token, extensions.get(target.block, 0))
             continue
         if size is None:
             size = _a2l_size(doc, doc.block(target.block), layouts)
         if size:
             placed.append(_Placed(target.name, keyword, address, size, target.address_token, masks.get(target.block),
                                   extensions.get(target.block, 0)))
+    if instances:
+        placed.extend(_instance_objects(doc, module, instances))
     if unplaced and len(unplaced) == addressed and debug is None:  # with the ELF, each has its address mismatch
         first = unplaced[0]
         shown = ", ".join(target.name for target in unplaced[:3])
@@ -104,6 +117,32 @@ def _placements(doc: A2lDocument, module: Block, objects: AddressedObjects, debu
                               f"from its ELF ({shown}): workbench a2l update IN.a2l ELF -o OUT.a2l, or check --elf ELF",
                               first.keyword, Severity.WARNING))
     return placed
+
+
+def _instance_objects(doc: A2lDocument, module: Block, instances: dict[str, tuple[int, int]]) -> list[_Placed]:
+    """The objects the ``instances`` stand for (a component left out is ``check``'s error or limit already)."""
+    model = doc.model(module.name)
+    sizes = model.typedef_sizes()
+    found = []
+    for keyword in ("MEASUREMENT", "CHARACTERISTIC", "AXIS_PTS", "BLOB"):
+        for name in model.names(keyword):
+            where = model.placed(name)
+            if where is None or where.instance not in instances:
+                continue
+            size = sizes.of(where.typedef)
+            if not size:
+                continue  # a record layout whose size depends on more than itself (AXIS_RESCALE ...)
+            mask = None
+            if keyword in _MASKED:
+                try:
+                    mask = model.measurement(name).bit_mask if keyword == "MEASUREMENT" else \
+                        model.characteristic(name).bit_mask
+                except A2lParseError:
+                    continue  # its typedef is malformed: a syntax finding already
+            token, extension = instances[where.instance]
+            found.append(_Placed(name, keyword, where.address, size * math.prod(where.dims), token, mask, extension,
+                                 where.instance))
+    return found
 
 
 def _a2l_size(doc: A2lDocument, block: Block, layouts: dict[str, int]) -> int | None:
@@ -165,20 +204,26 @@ def _overlaps(doc: A2lDocument, placed: list[_Placed], big_endian: bool, report:
             end, reach_end = item.address + item.size, reach.address + reach.size
             if item.address == reach.address and item.size == reach.size:
                 clash = group.add(item)
-                if clash is not None:
+                if clash is not None and not _one_instance(item, clash):
                     report.add(finding_at(doc, item.token, "same-address", item.name,
-                                          f"{item.keyword} {item.name}{_bits(item)} occupies the same {item.size} "
-                                          f"byte(s) at 0x{item.address:X} as {clash.keyword} {clash.name}"
+                                          f"{item.label}{_bits(item)} occupies the same {item.size} "
+                                          f"byte(s) at 0x{item.address:X} as {clash.label}"
                                           f"{_bits(clash)}", item.keyword, Severity.WARNING))
-            elif end > reach_end and _share_bits(item, reach, big_endian):
+            elif end > reach_end and not _one_instance(item, reach) and _share_bits(item, reach, big_endian):
                 report.add(finding_at(doc, item.token, "overlap", item.name,
-                                      f"{item.keyword} {item.name} (0x{item.address:X}, {item.size} bytes) overlaps "
-                                      f"{reach.keyword} {reach.name} (0x{reach.address:X}, {reach.size} bytes)",
+                                      f"{item.label} (0x{item.address:X}, {item.size} bytes) overlaps "
+                                      f"{reach.label} (0x{reach.address:X}, {reach.size} bytes)",
                                       item.keyword, Severity.ERROR))
             if end <= reach_end:
                 continue
         reach = item
         group = _SameBytes(item)
+
+
+def _one_instance(item: _Placed, other: _Placed) -> bool:
+    """Whether both are objects of one INSTANCE: where its components share bytes, its typedef says so (a union;
+    a component beyond its structure is ``check``'s structure error)."""
+    return bool(item.instance) and item.instance == other.instance
 
 
 def _share_bits(item: _Placed, other: _Placed, big_endian: bool) -> bool:
@@ -231,11 +276,11 @@ def _segments(doc: A2lDocument, module: Block, placed: list[_Placed], report: Re
         inside = [s for s in segments if s.contains(item.address, item.size)]
         if not inside:
             report.add(finding_at(doc, item.token, "outside-memory", item.name,
-                                  f"{item.keyword} {item.name} (0x{item.address:X}, {item.size} bytes) lies outside "
+                                  f"{item.label} (0x{item.address:X}, {item.size} bytes) lies outside "
                                   "every MEMORY_SEGMENT", item.keyword, Severity.ERROR))
         elif item.keyword in _CALIBRATIONS and cal_ram and not any(s in cal_ram for s in inside):
             report.add(finding_at(doc, item.token, "calibration-outside-cal-ram", item.name,
-                                  f"{item.keyword} {item.name} at 0x{item.address:X} is in {inside[0].name} "
+                                  f"{item.label} at 0x{item.address:X} is in {inside[0].name} "
                                   f"({inside[0].prg_type} {inside[0].memory_type}), not in a DATA RAM segment "
                                   f"({', '.join(s.name for s in cal_ram)})", item.keyword, Severity.ERROR))
 
