@@ -101,6 +101,19 @@ def test_insert_create_makes_a_file_check_and_pya2ldb_accept(tmp_path, capsys):
     assert code == 2 and "--create" in err
 
 
+@pytest.mark.parametrize("order", ["IN --create ELF", "--create ELF IN", "IN ELF --create"])
+def test_insert_create_with_an_input_a2l_says_what_create_takes(tmp_path, capsys, order):
+    """--create anywhere beside an input A2L: one line saying --create takes the ELF alone (argparse said
+    'unrecognized arguments: ELF' for the first order, and the other two named the wrong file); nothing written."""
+    source, new = _demo(tmp_path), tmp_path / "new.a2l"
+    words = order.replace("IN", str(source)).replace("ELF", str(demo.elf())).split()
+    code, out, err = run(capsys, "a2l", "insert", *words, "-o", new, "-M", "zsRailPressure")
+    files = " ".join(word for word in words if word != "--create")
+    assert (code, out, new.exists()) == (2, "", False)
+    assert err == (f"error: insert --create ELF: --create makes a new A2L from one ELF, written to -o OUT.a2l; 2 files "
+                   f"given ({files}): without --create, insert IN.a2l ELF adds to an existing A2L\n")
+
+
 @pytest.mark.skipif(A2LTOOL is None, reason="a2ltool is not installed (pip install -e .[dev])")
 def test_insert_create_makes_the_objects_a2ltool_creates(tmp_path, capsys):
     options = ["--measurement-regex", "zs.*", "--characteristic-regex", "xs.*", "--target-group", "Demo"]

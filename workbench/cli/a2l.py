@@ -145,7 +145,8 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     insert.add_argument("--dry-run", action="store_true", help="report what would be inserted; write nothing")
     _cache_options(insert)
     _output_options(insert)
-    insert.set_defaults(func=_as_batch(_insert))
+    insert.set_defaults(func=_as_batch(_insert), files_after=[])
+    _take_files_after_create(insert)
 
     _add_remove(commands)
     _add_cleanup(commands)
@@ -370,12 +371,30 @@ def _address(text: str) -> int:
     return integer_within(text, "an address", 0, None, "an address is 0 or more")
 
 
+def _take_files_after_create(insert: argparse.ArgumentParser) -> None:
+    """``insert IN.a2l --create ELF``: argparse takes IN.a2l for the ELF and refuses ELF as 'unrecognized'; the
+    words it could not place are kept for :func:`_insert` to say what --create takes (other extras stay errors)."""
+    parse_known_args = insert.parse_known_args
+
+    def parse(args=None, namespace=None):
+        namespace, rest = parse_known_args(args, namespace)
+        if namespace.create:
+            namespace.files_after = [word for word in rest if not word.startswith("-")]
+            rest = [word for word in rest if word.startswith("-")]
+        return namespace, rest
+
+    insert.parse_known_args = parse
+
+
 def _insert(args: argparse.Namespace) -> int:
     from workbench.a2l.insert import Selection, insert_file
     from workbench.cli.progressbar import ProgressBar
 
-    if args.create and args.a2l is not None:
-        raise InputError(f"insert --create: give the ELF only (the new A2L is -o OUT.a2l), not {args.a2l}")
+    files = [name for name in (args.a2l, args.elf, *args.files_after) if name is not None]
+    if args.create and len(files) > 1:
+        raise InputError(f"insert --create ELF: --create makes a new A2L from one ELF, written to -o OUT.a2l; "
+                         f"{len(files)} files given ({' '.join(files)}): without --create, insert IN.a2l ELF adds "
+                         "to an existing A2L")
     if not args.create and args.a2l is None:
         raise InputError("insert: give IN.a2l and ELF (or --create ELF for a new A2L)")
     if args.output is None and not args.dry_run:
