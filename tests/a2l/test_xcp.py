@@ -149,11 +149,14 @@ def test_demo_master_states_the_ethernet_contract():
         assert (block.protocol, block.port, block.host) == (transport, 5555, "127.0.0.1")
         ethernet = config.for_transport(transport)
         assert (ethernet.max_cto, ethernet.max_dto, ethernet.pgm.max_cto_pgm) == (255, 1024, 255)
-        # everything but the sizes is the common blocks' (a test of the simulator checks the slave says so)
-        assert ethernet.optional_commands == config.optional_commands and ethernet.timeouts == config.timeouts
+        # everything but the sizes and XCP on CAN's TRANSPORT_LAYER_CMD is the common blocks' (a test of the
+        # simulator checks the slave says so)
+        assert ethernet.optional_commands == config.optional_commands - {"TRANSPORT_LAYER_CMD"}
+        assert ethernet.timeouts == config.timeouts
         assert ethernet.pgm.sectors == config.pgm.sectors and ethernet.daq == config.daq
     can = config.for_transport("CAN")
     assert (can.max_cto, can.max_dto, can.pgm.max_cto_pgm) == (8, 8, 8)
+    assert "TRANSPORT_LAYER_CMD" in can.optional_commands  # GET_SLAVE_ID, GET_DAQ_ID: OPTIONAL_TL_SUBCMD
 
 
 def test_missing_if_data_is_an_error():

@@ -7,6 +7,7 @@ neither goes through the workbench's own A2L or ELF code.
 from __future__ import annotations
 
 import re
+import threading
 from collections import Counter
 
 import cantools
@@ -18,8 +19,9 @@ from pya2l.api.validate import Level, Validator
 
 from workbench import demo
 from workbench.can import naming
+from workbench.sim.can_port import CanXcpPort
 from workbench.sim.demo_ecu import build_demo_ecu
-from workbench.xcp_protocol import PID_ERR, Cmd, Err
+from workbench.xcp_protocol import PID_ERR, SLAVE_ID_ECHO, CanCmd, Cmd, Err
 
 MASTER = demo.master_a2l()
 FRAGMENTS = demo.fragment_a2ls()
@@ -327,22 +329,47 @@ def _commands_the_simulator_answers() -> set[str]:
     return answered
 
 
+def _sub_commands_the_can_port_answers() -> set[str]:
+    """The TRANSPORT_LAYER_CMD sub-commands (XCP on CAN's own) the simulated demo ECU's CAN port answers otherwise
+    than ERR_CMD_UNKNOWN, each after a CONNECT of its own (GET_SLAVE_ID with its 'XCP' echo pattern)."""
+    ecu = build_demo_ecu().ecu
+    ecu.power_on()
+    port = CanXcpPort(ecu, threading.Lock(), buses=None)  # the answers only: nothing is sent
+    answered = set()
+    for sub in CanCmd:
+        ecu.handle_cto(bytes((Cmd.CONNECT, 0)))
+        payload = SLAVE_ID_ECHO if sub is CanCmd.GET_SLAVE_ID else b""
+        answer = port._command_answer(bytes((Cmd.TRANSPORT_LAYER_CMD, sub)) + payload.ljust(6, b"\0"))
+        if answer and answer[-1][:2] != bytes((PID_ERR, Err.CMD_UNKNOWN)):
+            answered.add(sub.name)
+    return answered
+
+
 def test_master_xcp_states_the_documented_parameters(a2l):
     xcp = _xcp(a2l, _module(a2l["FLCU_master"]).if_data)
     protocol = xcp["PROTOCOL_LAYER"]
     assert protocol[8:12] == [8, 8, "BYTE_ORDER_MSB_LAST", "ADDRESS_GRANULARITY_BYTE"]  # MAX_CTO, MAX_DTO
     assert protocol[12]["SEED_AND_KEY_EXTERNAL_FUNCTION"] == "workbench.sim.seedkey:compute_key"
-    assert sorted(protocol[12]["OPTIONAL_CMD"]) == sorted(_commands_the_simulator_answers() - MANDATORY_COMMANDS)
+    # TRANSPORT_LAYER_CMD is the CAN port's (the protocol layer answers a bare 0xF2 with ERR_CMD_UNKNOWN), so the
+    # common list (CAN's) names it and the Ethernet transports' lists do not; XCP_ON_CAN names its sub-commands
+    sub_commands = _sub_commands_the_can_port_answers()
+    assert sub_commands >= {"GET_SLAVE_ID", "GET_DAQ_ID"}
+    assert sorted(protocol[12]["OPTIONAL_CMD"]) == sorted(_commands_the_simulator_answers() - MANDATORY_COMMANDS
+                                                          | {"TRANSPORT_LAYER_CMD"})
 
     can = xcp["XCP_ON_CAN"][0][1]
     assert (can["CAN_ID_MASTER"], can["CAN_ID_SLAVE"], can["BAUDRATE"]) == (0x7F0, 0x7F1, 1_000_000)
+    assert sorted(can["OPTIONAL_TL_SUBCMD"]) == sorted(sub_commands)
 
     for transport in ("XCP_ON_UDP_IP", "XCP_ON_TCP_IP"):  # XCP on Ethernet: larger packets, all else as on CAN
         (version, port, address), overrides = xcp[transport]
         assert (version, port, address) == (0x0100, 5555, {"ADDRESS": "127.0.0.1"})
         ethernet_protocol = overrides["PROTOCOL_LAYER"]
         assert ethernet_protocol[8:10] == [255, 1024]  # MAX_CTO, MAX_DTO
-        assert ethernet_protocol[:8] + ethernet_protocol[10:] == protocol[:8] + protocol[10:]
+        assert ethernet_protocol[:8] + ethernet_protocol[10:12] == protocol[:8] + protocol[10:12]
+        assert {**ethernet_protocol[12], "OPTIONAL_CMD": None} == {**protocol[12], "OPTIONAL_CMD": None}
+        assert ethernet_protocol[12]["OPTIONAL_CMD"] == [command for command in protocol[12]["OPTIONAL_CMD"]
+                                                         if command != "TRANSPORT_LAYER_CMD"]
         assert overrides["PGM"][2] == 255 and overrides["PGM"][:2] + overrides["PGM"][3:] == xcp["PGM"][:2] + xcp["PGM"][3:]
         assert set(overrides) == {"PROTOCOL_LAYER", "PGM"}
 

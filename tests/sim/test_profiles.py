@@ -41,7 +41,7 @@ def test_a_profiles_a2l_is_clean_and_says_what_its_slave_does(name):
         assert (config.max_cto, config.max_dto) == (params.max_cto, params.max_dto)
         assert config.byte_order == ("MSB_FIRST" if params.byte_order == ">" else "MSB_LAST")
         assert config.address_granularity == params.address_granularity
-        implemented = {c.name for c in slave.commands} - MANDATORY
+        implemented = {c.name for c in slave.commands | params.transport_commands(transport)} - MANDATORY
         assert config.optional_commands == implemented
         assert config.max_segments == len(params.segments or [0]) == len(config.segments)
         assert config.daq.config_type == ("STATIC" if params.daq.static else "DYNAMIC")

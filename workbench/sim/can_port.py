@@ -166,7 +166,7 @@ class CanXcpPort(XcpPort):
 
     def _command_answer(self, cto: bytes) -> list[bytes]:
         params = self.ecu.params
-        if cto[:1] != _TRANSPORT_LAYER_CMD or Cmd.TRANSPORT_LAYER_CMD in params.without:
+        if cto[:1] != _TRANSPORT_LAYER_CMD or Cmd.TRANSPORT_LAYER_CMD not in params.transport_commands("CAN"):
             return self.ecu.handle_cto(cto)
         if self.ecu.state is EcuState.OFF or time.monotonic() < self.ecu.slave.silent_until:
             return []

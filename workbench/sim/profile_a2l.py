@@ -84,7 +84,7 @@ def _describe(config: XcpConfig, params: Mapping[str, XcpParameters], memory_map
               timeouts_s: Mapping[str, float]) -> XcpConfig:
     common_transport = "CAN" if "CAN" in params else next(iter(params))
     common = params[common_transport]
-    layer = _protocol_layer(config, common, timeouts_s)
+    layer = _protocol_layer(config, common, common_transport, timeouts_s)
     described = replace(config, **vars(layer), daq=_daq(config, common),
                         max_segments=len(_segments(common, memory_map)),
                         segments=_xcp_segments(config, common, memory_map), pgm=_pgm(config, common, memory_map))
@@ -99,21 +99,28 @@ def _describe(config: XcpConfig, params: Mapping[str, XcpParameters], memory_map
         if block is None or transport not in params:
             continue
         own = params[transport]
-        block = replace(block, protocol_layer=replace(layer, max_cto=own.max_cto, max_dto=own.max_dto), daq=None,
-                        pgm=_pgm(config, own, memory_map))
+        block = replace(block, protocol_layer=replace(layer, max_cto=own.max_cto, max_dto=own.max_dto,
+                                                      optional_commands=_commands(own, transport)),
+                        daq=None, pgm=_pgm(config, own, memory_map))
         described = replace(described, **{transport.lower(): block})
     return described
 
 
-def _protocol_layer(config: XcpConfig, params: XcpParameters, timeouts_s: Mapping[str, float]) -> XcpProtocolLayer:
-    commands = XcpSlave(None, params, None).commands - _MANDATORY  # a slave without an ECU: it only lists commands
+def _commands(params: XcpParameters, transport: str) -> frozenset[str]:
+    """OPTIONAL_CMD on ``transport``: what the slave (without an ECU: it only lists them) and the port answer."""
+    commands = XcpSlave(None, params, None).commands | params.transport_commands(transport)
+    return frozenset(command.name for command in commands - _MANDATORY)
+
+
+def _protocol_layer(config: XcpConfig, params: XcpParameters, transport: str,
+                    timeouts_s: Mapping[str, float]) -> XcpProtocolLayer:
     return XcpProtocolLayer(
         protocol_version=config.protocol_version,
         timeouts=replace(config.timeouts, **timeouts_s),
         max_cto=params.max_cto, max_dto=params.max_dto,
         byte_order="MSB_FIRST" if params.byte_order == ">" else "MSB_LAST",
         address_granularity=params.address_granularity,
-        optional_commands=frozenset(command.name for command in commands),
+        optional_commands=_commands(params, transport),
         communication_mode=XcpCommunicationMode(
             slave_block_mode=params.slave_block_mode, master_block_mode=params.master_block_mode,
             max_bs=params.max_bs if params.master_block_mode else None,

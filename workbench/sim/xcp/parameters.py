@@ -234,6 +234,12 @@ class XcpParameters:
                        max_bs=self.max_bs if pgm.max_bs is None else pgm.max_bs,
                        min_st_100us=self.min_st_100us if pgm.min_st_100us is None else pgm.min_st_100us)
 
+    def transport_commands(self, transport: str) -> frozenset[Cmd]:
+        """The commands the ``transport``'s port answers itself, beside the protocol layer's: XCP on CAN's
+        TRANSPORT_LAYER_CMD (GET_SLAVE_ID, GET_DAQ_ID), unless :attr:`without` names it."""
+        own = {"CAN": frozenset({Cmd.TRANSPORT_LAYER_CMD})}.get(transport, frozenset())
+        return own - self.without
+
     @property
     def pgm_data_per_frame(self) -> int:
         """Data bytes of a PROGRAM/PROGRAM_NEXT frame of MAX_CTO_PGM bytes."""
