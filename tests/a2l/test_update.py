@@ -117,6 +117,23 @@ def test_epk_is_inserted_when_mod_par_lacks_it(debug):
     assert b'    /begin MOD_PAR "x"\n      EPK "12000020250101"\n      ADDR_EPK 0x4020C0\n' in result.data
 
 
+@pytest.mark.parametrize("second, expected, kind", [
+    (0x840008, 0x840008, None),  # the ELF holds the EPK there (the application header's copy): left alone
+    (0x840010, 0x840008, "epk-updated"),  # moved to the one place in APPLICATIVE that holds it
+    (0x800010, 0x800010, "epk-address-unknown"),  # BOOT holds no EPK: left, with a warning
+])
+def test_every_addr_epk_stays_where_the_elf_holds_the_epk(second, expected, kind):
+    from workbench import demo
+
+    text = demo.a2l().read_bytes().replace(b"ADDR_EPK 0x840008", f"ADDR_EPK 0x{second:X}".encode())
+    result = update_document(load_a2l_string(text.decode(), "two_epks.a2l"), DebugData(demo.elf(), use_cache=False))
+    doc = load_a2l_string(result.data.decode())
+    assert doc.addr_epks() == (0xFC0000, expected)
+    found = [(f.kind, f.line) for f in result.report.findings if f.name == "ADDR_EPK"]
+    line = text[:text.index(f"ADDR_EPK 0x{second:X}".encode())].count(b"\n") + 1
+    assert found == ([(kind, line)] if kind else [])
+
+
 def test_missing_symbols_are_kept_and_reported_by_default(source, debug):
     result = update_document(load_a2l(source), debug)
     (missing,) = result.report.of_kind("symbol-not-found")

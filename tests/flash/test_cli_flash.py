@@ -86,7 +86,7 @@ def run_cli(bench, *args: str) -> int:
 
 
 @pytest.mark.parametrize("case, message", [
-    ("wrong-epk", "EPK '09000020240101' at FC0000h differs from the A2L's"),
+    ("wrong-epk", "EPK '09000020240101' at FC0000h (CALIB) differs from the A2L's"),
     ("outside", "data outside the flash regions CALIB: FE0000h-FE0003h (in SHARED"),
     ("boot", "BOOT holds the boot loader"),
 ])

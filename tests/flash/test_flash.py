@@ -160,7 +160,8 @@ def test_a_refusal_names_the_flash_option_that_overrides_it_and_a_script_passes_
     with pytest.raises(FlashRefused, match="would also erase FDFFF0h-FDFFFFh") as refused:
         check_flash(bench.session, plan)
     assert refused.value.override == "erase_beyond_file" and refused.value.regions == ()
-    monkeypatch.setattr(bench.session, "epk", replace(bench.session.epk, ecu="10300020259999"))  # another build runs
+    other = tuple(replace(part, ecu="10300020259999") for part in bench.session.epk.parts)
+    monkeypatch.setattr(bench.session, "epk", replace(bench.session.epk, ecu="10300020259999", parts=other))  # another build runs
     with pytest.raises(FlashRefused, match="for the application that stays on it") as refused:
         check_flash(bench.session, plan)
     assert refused.value.override == "accept_epk_mismatch"

@@ -39,7 +39,9 @@ def test_the_layout_is_the_a2ls_memory_segments_and_pgm_sectors(layout):
     assert [(s.name, s.range, s.clear_sequence, s.program_sequence) for s in layout.sectors] == [
         ("APPLICATIVE", AddressRange(0x840000, 0xFC0000), 1, 0), ("CALIB", AddressRange(0xFC0000, 0xFE0000), 2, 1),
         ("SHARED", AddressRange(0xFE0000, 0xFE4000), 0, 2)]
-    assert (layout.epk, layout.addr_epk) == ("10300020250301", 0xFC0000)
+    assert (layout.epk, layout.addr_epk, layout.epk_addresses) == ("10300020250301", 0xFC0000, (0xFC0000, 0x840008))
+    assert [(address, region.name) for address, region in layout.epk_parts] == [
+        (0xFC0000, "CALIB"), (0x840008, "APPLICATIVE")]
 
 
 def test_the_demo_key_is_the_one_the_simulated_boot_checks():
@@ -70,14 +72,18 @@ def test_the_demo_s19_fills_two_regions_and_the_one_not_chosen_is_listed_not_fla
 
 def test_an_image_with_another_epk_is_refused(layout):
     wrong = image((0xFC0000, b"09000020240101\0\0"), (0xFC0010, bytes(16)))
-    with pytest.raises(FlashRefused, match=r"EPK '09000020240101' at FC0000h differs from the A2L's '10300020250301'"):
+    with pytest.raises(FlashRefused, match=r"EPK '09000020240101' at FC0000h \(CALIB\) differs from the A2L's "
+                                           r"'10300020250301'"):
         plan_flash(wrong, layout, ["CALIB"])
+    header = image((0x840000, b"HDS9\1\0\0\0" + b"09000020240101\0\0"))  # the application's own EPK (ADDR_EPK 2)
+    with pytest.raises(FlashRefused, match=r"EPK '09000020240101' at 840008h \(APPLICATIVE\) differs"):
+        plan_flash(header, layout, ["APPLICATIVE"])
     with pytest.raises(FlashRefused, match="EPK"):  # the EPK is checked for any region the file is flashed into
         plan_flash(image((0xFC0000, b"0900"), (0x840000, bytes(8))), layout, ["APPLICATIVE"])
 
 
 def test_an_image_without_the_epk_is_not_checked(layout):
-    plan = plan_flash(image((0x840000, bytes(64))), layout, ["APPLICATIVE"])
+    plan = plan_flash(image((0x840000, bytes(8)), (0x840020, bytes(64))), layout, ["APPLICATIVE"])
     assert plan.image_epk is None
 
 

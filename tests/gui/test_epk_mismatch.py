@@ -48,3 +48,36 @@ def test_disconnect_closes_the_session(window, qtbot):
     with qtbot.waitSignal(window.controller.disconnected, timeout=WAIT_MS):
         window.epk_dialog.disconnect_button.click()
     assert window.controller.session is None and window.connect_action.isEnabled()
+
+
+NEW_EPK = b"10300020259999"
+
+
+@pytest.fixture
+def calib_of_another_build(qtbot, demo_ecu, project, tmp_path):
+    """The window on the A2L of build ...9999 and an ECU that runs build ...0301 with ...9999's CALIB (what an
+    accepted CALIB flash leaves): GET_ID reports ...9999, the application's header still ...0301."""
+    from workbench.image import MemoryImage
+
+    text = demo.a2l().read_bytes()
+    (tmp_path / "new.a2l").write_bytes(text.replace(b"10300020250301", NEW_EPK))
+    demo_ecu.ecu.memory.load_flash(MemoryImage.from_bytes(0xFC0000, NEW_EPK))
+    project.a2l = tmp_path / "new.a2l"
+    window = open_window(qtbot, project)
+    yield window
+    window.close()
+
+
+def test_a_calibration_of_another_build_shows_which_part_differs(calib_of_another_build):
+    window = calib_of_another_build
+    assert window.status.epk.text() == "EPK ✗ APPLICATIVE read-only"
+    assert "APPLICATIVE (840008h): ECU '10300020250301', A2L '10300020259999': MISMATCH" in window.status.epk.toolTip()
+    dialog = window.epk_dialog
+    assert dialog is not None and dialog.isVisible()
+    labels = dialog.findChildren(QLabel)
+    texts = [label.text() for label in labels]
+    assert "<b>APPLICATIVE in the ECU is another build's.</b><br>What would you like to do?" in texts
+    row = texts.index("EPK in APPLICATIVE (840008h)")
+    assert texts[row + 1:row + 3] == ["'10300020259999'", "'10300020250301'"]  # A2L, ECU
+    assert "EPK in CALIB (FC0000h)" in texts
+    assert window.hub.acquisition is None

@@ -241,10 +241,29 @@ class A2lDocument:
         return self.text(token) if token is not None else None
 
     def addr_epk(self, module: str | None = None) -> int | None:
-        """MOD_PAR ADDR_EPK: where the ECU holds its EPK string."""
+        """MOD_PAR's first ADDR_EPK: where the ECU holds its EPK string (GET_ID type 5 reads it)."""
+        addresses = self.addr_epks(module)
+        return addresses[0] if addresses else None
+
+    def addr_epks(self, module: str | None = None) -> tuple[int, ...]:
+        """Every MOD_PAR ADDR_EPK in order (ASAP2 allows several: e.g. one in the calibration data, one in the
+        application's header, so that each part of the software says which build it belongs to)."""
         mod_par = self.mod_par(module)
-        option = mod_par.option("ADDR_EPK") if mod_par is not None else None
-        return self.int_value(option[0]) if option else None
+        if mod_par is None:
+            return ()
+        return tuple(self.int_value(params[0]) for params in mod_par.options("ADDR_EPK") if params)
+
+    def epk_parts(self, module: str | None = None) -> tuple[tuple[int, MemorySegment], ...]:
+        """(ADDR_EPK, the MEMORY_SEGMENT holding it) of each part of the software that keeps its own EPK, when
+        the ADDR_EPKs lie in more than one segment (the application's header, the calibration data); else empty:
+        the one EPK address stands for the whole software."""
+        addresses = self.addr_epks(module)
+        if len(addresses) < 2:
+            return ()
+        segments = self.memory_segments(module)
+        parts = tuple((address, found) for address in addresses
+                      if (found := next((s for s in segments if s.contains(address)), None)) is not None)
+        return parts if len({segment.name for _, segment in parts}) > 1 else ()
 
     def memory_segments(self, module: str | None = None) -> list[MemorySegment]:
         mod_par = self.mod_par(module)

@@ -3,6 +3,10 @@
 The ELF holds the EPK as a string variable (``EPK``/``epk``, or one named by the
 caller) or in a section ``.epk``; the A2L must state both the string and where the
 ECU keeps it, so that a master can compare the two before writing anything.
+
+MOD_PAR may name ADDR_EPK more than once (ASAP2), e.g. the calibration data's EPK and the application
+header's copy of it: the first is the one read from the symbol or section above; each further one
+stays where the ELF holds the EPK string, or moves to the one place in its MEMORY_SEGMENT that does.
 """
 
 from __future__ import annotations
@@ -16,10 +20,10 @@ from workbench.errors import InputError
 from workbench.findings import Finding, Severity
 
 if TYPE_CHECKING:
-    from workbench.a2l.document import A2lDocument, Block
+    from workbench.a2l.document import A2lDocument, Block, MemorySegment
     from workbench.elf.debugdata import DebugData
 
-__all__ = ["ElfEpk", "epk_edits", "read_elf_epk"]
+__all__ = ["ElfEpk", "epk_address_edits", "epk_edits", "read_elf_epk"]
 
 DEFAULT_EPK_SYMBOLS = ("EPK", "epk")
 EPK_SECTIONS = (".epk", "epk")
@@ -109,6 +113,60 @@ def epk_edits(doc: "A2lDocument", epk: ElfEpk, module: "Block") -> tuple[list[Ed
         newline = newline_bytes(doc)
         edits.append(Edit(anchor, anchor, b"".join(newline + indent + line for line in inserts)))
     return edits, findings
+
+
+def epk_address_edits(doc: A2lDocument, debug: DebugData, epk: ElfEpk, module: Block
+                      ) -> tuple[list[Edit], list[Finding]]:
+    """Edits that keep each further ADDR_EPK of MOD_PAR (after the first, which :func:`epk_edits` sets) where
+    the ELF holds the EPK string: unchanged when it does, else moved to the one place in the same MEMORY_SEGMENT
+    that holds it; a warning when there is none or more than one."""
+    mod_par = module.first("MOD_PAR")
+    tokens = [params[0] for params in mod_par.options("ADDR_EPK") if params][1:] if mod_par is not None else []
+    if not tokens:
+        return [], []
+    text = epk.text.encode("ascii")
+    named = {epk.address} | {doc.int_value(token) for token in tokens}
+    edits: list[Edit] = []
+    findings: list[Finding] = []
+    for token in tokens:
+        old = doc.int_value(token)
+        if _holds(debug.elf.read(old, len(text) + 1), text):
+            continue
+        segment = next((s for s in doc.memory_segments(module.name) if s.contains(old)), None)
+        found = [a for a in _occurrences(debug, text, segment) if a not in named] if segment is not None else []
+        if len(found) == 1:
+            named.add(found[0])
+            findings.append(finding_at(doc, token, "epk-updated", "ADDR_EPK",
+                                       f"ADDR_EPK 0x{old:X} -> 0x{found[0]:X} (where {debug.path.name} holds the EPK "
+                                       f"in {segment.name})", "MOD_PAR"))
+            edits.append(replace_token(doc, token, format_int_like(doc.raw(token), found[0])))
+            continue
+        where = f"in {segment.name}" if segment is not None else "in no MEMORY_SEGMENT"
+        why = "nowhere" if not found else "at " + ", ".join(f"0x{a:X}" for a in found)
+        findings.append(finding_at(doc, token, "epk-address-unknown", "ADDR_EPK",
+                                   f"ADDR_EPK 0x{old:X}: {debug.path.name} does not hold the EPK {epk.text!r} there, "
+                                   f"and {why} else {where}: left unchanged", "MOD_PAR", Severity.WARNING))
+    return edits, findings
+
+
+def _holds(raw: bytes | None, text: bytes) -> bool:
+    """``raw`` (the EPK's length + 1 bytes) starts with the EPK string, ended by NUL, padding or the data's end."""
+    return raw is not None and raw.startswith(text) and raw[len(text):] in (b"", b"\0", b"\xff", b" ")
+
+
+def _occurrences(debug: DebugData, text: bytes, segment: MemorySegment) -> list[int]:
+    """Where the ELF's loaded sections inside ``segment`` hold the EPK string."""
+    found = []
+    for section in debug.elf.sections.values():
+        if not (section.loaded and section.allocated and section.size and segment.contains(section.address)):
+            continue
+        data = debug.elf.section_bytes(section.name) or b""
+        at = data.find(text)
+        while at >= 0:
+            if _holds(data[at:at + len(text) + 1], text):
+                found.append(section.address + at)
+            at = data.find(text, at + 1)
+    return found
 
 
 def _check_option(doc: "A2lDocument", mod_par: "Block", option: str, expected: str, fits) -> None:

@@ -24,9 +24,12 @@ option that flashes anyway): an image whose EPK differs from the A2L's; a flash 
 software (CALIB only, APPLICATIVE only) whose EPK differs from the ECU's, which the part that stays
 belongs to (--accept-epk-mismatch flashes it anyway); data outside the flash regions; BOOT without
 --allow-boot; a sector to erase that holds data outside the file's ranges, which the file would
-not give back (--erase-beyond-file loses it). A mismatch accepted once is not seen again: the ECU
-reports the EPK at ADDR_EPK, which a CALIB flash writes, so a later CALIB flash of that build needs
-no flag although the application is still the other build's (the flash says so); flash
+not give back (--erase-beyond-file loses it). The part that stays is read where the A2L says it
+keeps its EPK: with one ADDR_EPK (GET_ID reads it), a mismatch accepted once is not seen again (a
+CALIB flash writes ADDR_EPK, so a later CALIB flash of that build needs no flag although the
+application is still the other build's; the flash says so). An A2L with an ADDR_EPK in each part
+(the demo's: CALIB FC0000h, the application header 840008h) compares that part's own EPK, so an
+accepted mismatch stays visible to the next flash, `workbench info` and the session; flash
 APPLICATIVE too to make them one software. The application-valid key is cleared first and set
 last, so a flash that breaks off leaves the ECU in its boot loader, where the same command
 finishes it. Ctrl-C stops at the next block the same way.

@@ -81,6 +81,7 @@ def info_lines(info, state: str) -> list[str]:
         f"link          {info.link}",
         f"A2L name      {info.a2l_name or '-'}",
         f"EPK           ECU {_epk(info.epk_ecu)}, A2L {_epk(info.epk_a2l)}: {epk}",
+        *(_epk_part(part) for part in info.epk_parts),
         f"state         {state}",
         f"resources     {', '.join(info.resources) or '-'}; locked: {', '.join(info.protected) or 'none'}",
         f"packets       MAX_CTO {info.max_cto}, MAX_DTO {info.max_dto}, {info.byte_order}, "
@@ -105,6 +106,13 @@ def info_lines(info, state: str) -> list[str]:
         lines.append(f"page          segment {page.segment}: ECU on {page.name(page.ecu_page)}, "
                      f"XCP on {page.name(page.xcp_page)}")
     return lines
+
+
+def _epk_part(part: dict) -> str:
+    """``  in CALIB       FC0000h: ECU '…', A2L '…': match`` (a part of the software with its own ADDR_EPK)."""
+    verdict = {True: "match", False: "MISMATCH", None: "not read"}[part["matches"]]
+    return (f"  in {part['segment']:<11} {part['address']:06X}h: ECU {_epk(part['ecu'])}, A2L {_epk(part['a2l'])}: "
+            f"{verdict}")
 
 
 def _epk(text: str | None) -> str:

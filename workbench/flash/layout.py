@@ -91,7 +91,9 @@ class FlashLayout:
     sectors: tuple[Sector, ...]  # empty: every region is erased as one sector
     sectors_from: str = "A2L"  # "A2L", "ECU" (GET_SECTOR_INFO) or "" (none known)
     epk: str | None = None
-    addr_epk: int | None = None
+    addr_epk: int | None = None  # the first ADDR_EPK (GET_ID type 5 reads it)
+    epk_addresses: tuple[int, ...] = ()  # every ADDR_EPK
+    epk_parts: tuple[tuple[int, FlashRegion], ...] = ()  # (ADDR_EPK, its region) of each part with its own EPK
 
     @classmethod
     def from_a2l(cls, doc: A2lDocument, config: XcpConfig | None = None, module: str | None = None) -> FlashLayout:
@@ -107,7 +109,11 @@ class FlashLayout:
                    s.program_sequence)
             for s in (pgm.sectors if pgm is not None else ())
         )
-        return cls(regions, sectors, "A2L" if sectors else "", doc.epk(module), doc.addr_epk(module))
+        addresses = doc.addr_epks(module)
+        by_name = {r.name: r for r in regions if r.selectable}
+        parts = tuple((address, by_name[s.name]) for address, s in doc.epk_parts(module) if s.name in by_name)
+        return cls(regions, sectors, "A2L" if sectors else "", doc.epk(module), addresses[0] if addresses else None,
+                   addresses, parts if len({r for _, r in parts}) > 1 else ())
 
     def with_sectors(self, sectors: tuple[Sector, ...], source: str) -> FlashLayout:
         """The same regions erased in other sectors (the ECU's own, from GET_SECTOR_INFO)."""

@@ -53,7 +53,7 @@ class FlashPlan:
     skipped: tuple[tuple[str, str], ...]  # (region, its data file info) of file data in regions not chosen
     app_key: AppKey | None
     key_sector: Sector | None
-    image_epk: str | None  # the EPK the image holds at ADDR_EPK; None: the image does not cover it
+    image_epk: str | None  # the EPK the image holds at ADDR_EPK (any); None: the image covers none
     unchosen: tuple[tuple[str, MemoryImage], ...] = ()  # (region, its data) of file data in regions not chosen
 
     @property
@@ -212,17 +212,24 @@ def _chosen_regions(layout: FlashLayout, names, allow_boot: bool) -> list[FlashR
 
 
 def _check_epk(image: MemoryImage, layout: FlashLayout, source: str) -> str | None:
+    """The image's EPK at the ADDR_EPK(s) it covers (None: none); refused where it differs from the A2L's."""
     if layout.epk is None or layout.addr_epk is None:
         return None
     expected = layout.epk.encode("latin-1")
-    held = image.crop(layout.addr_epk, layout.addr_epk + len(expected))
-    if not held.size:
-        return None
-    found = image.read(layout.addr_epk, len(expected))
-    text = found.decode("latin-1").rstrip("\0\xff")
-    if held.size != len(expected) or found != expected:
-        raise FlashRefused(f"{source}: the image's EPK {epk_text(found.decode('latin-1'))} at {layout.addr_epk:X}h differs from the "
-                           f"A2L's {epk_text(layout.epk)}: the A2L does not describe this software (nothing was erased)")
+    text = None
+    for address in layout.epk_addresses or (layout.addr_epk,):
+        held = image.crop(address, address + len(expected))
+        if not held.size:
+            continue
+        found = image.read(address, len(expected))
+        if held.size != len(expected) or found != expected:
+            region = layout.region_at(address)
+            where = f"{address:X}h" + (f" ({region.name})" if region is not None and len(layout.epk_addresses) > 1
+                                       else "")
+            raise FlashRefused(f"{source}: the image's EPK {epk_text(found.decode('latin-1'))} at {where} differs "
+                               f"from the A2L's {epk_text(layout.epk)}: the A2L does not describe this software "
+                               f"(nothing was erased)")
+        text = text or found.decode("latin-1").rstrip("\0\xff")
     return text
 
 

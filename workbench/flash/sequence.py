@@ -208,12 +208,18 @@ def _pairing(session: Session, plan: FlashPlan, options: FlashOptions) -> EpkPai
 
     :raises FlashRefused: they differ and neither the options nor the session accept an EPK mismatch.
     """
-    pairing = epk_pairing(plan, session.epk.ecu, session.epk.source)
+    pairing = _ecu_pairing(session, plan)
     accepted = options.accept_epk_mismatch or session.accept_epk_mismatch
     if pairing is not None and not pairing.matches and not accepted:
         raise FlashRefused(pairing.refusal(plan.source, "/".join(r.region.name for r in plan.regions)),
                            override="accept_epk_mismatch")
     return pairing
+
+
+def _ecu_pairing(session: Session, plan: FlashPlan) -> EpkPairing | None:
+    """:func:`epk_pairing` with the ECU's EPKs as the session read them at CONNECT."""
+    check = session.epk
+    return epk_pairing(plan, check.ecu, check.source, {part.address: part.ecu for part in check.parts})
 
 
 class _Meter:
@@ -261,7 +267,7 @@ class _Flash:
 
     def run(self) -> FlashResult:
         began = time.perf_counter()
-        pairing = epk_pairing(self.plan, self.session.epk.ecu, self.session.epk.source)  # the ECU's before
+        pairing = _ecu_pairing(self.session, self.plan)  # the ECU's before
         try:
             self.plan, notes = check_flash(self.session, self.plan, self.options)  # writes nothing
             self.notes += notes
@@ -461,10 +467,19 @@ class _Flash:
         if self.plan.app_key is not None and not running:
             raise FlashError(f"the flash is complete and verified and the key {self.plan.app_key} is set, but the ECU "
                              f"stays in boot after the reset")
-        if self.session.epk.matches is False:
+        if self._flashed_epk_differs():
             raise FlashError(f"the flash is complete and verified, but {self.session.epk.describe()}: flash the region "
                              f"that holds the EPK too")
         return running
+
+    def _flashed_epk_differs(self) -> bool:
+        """After the reconnect: the EPK the flash wrote is not the A2L's. With an EPK in each part, only the parts
+        flashed are judged (one that stays may differ: the flash was refused unless that was accepted)."""
+        check = self.session.epk
+        if not check.parts:
+            return check.matches is False
+        flashed = {r.region.name for r in self.plan.regions}
+        return any(p.matches is False for p in check.parts if p.segment in flashed)
 
     def _abandon(self) -> str:
         """After a failure or a cancel: reset the ECU when it still answers; say in what state it is left."""

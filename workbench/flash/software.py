@@ -9,14 +9,17 @@ writes (the image's at ADDR_EPK, else the A2L's) with the ECU's as it reported i
 EPK of the part that stays. A flash of code and the EPK's region together replaces the whole software
 and is not compared.
 
-Once a mismatch was accepted (``--accept-epk-mismatch``) and the flash wrote ADDR_EPK, the ECU reports the
-flashed EPK although the application that stays is another build's: the A2L names one EPK address, so no
-later flash or session can see it, and a later CALIB flash of that build needs no flag. The flash says so
-when it happens (:meth:`EpkPairing.describe`); flashing the application too makes them one software.
+With one ADDR_EPK, once a mismatch was accepted (``--accept-epk-mismatch``) and the flash wrote ADDR_EPK, the
+ECU reports the flashed EPK although the application that stays is another build's: no later flash or session
+can see it, and the flash says so when it happens (:meth:`EpkPairing.describe`). An A2L that names an EPK address
+in each part (MOD_PAR ADDR_EPK more than once: CALIB's FC0000h and the application header's 840008h) lets the
+flash read the EPK of the part that stays where that part keeps it: the mismatch stays visible to the session
+and to every later flash of part of the software, until the parts are one build again.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 from workbench.errors import epk_text
@@ -32,6 +35,7 @@ class EpkPairing:
     source: str  # how the ECU's was read: "GET_ID" or "ADDR_EPK"
     stays: str  # what the flash leaves on the ECU: "the application", "the calibration data"
     echoed: bool = False  # the flash writes ADDR_EPK: from then on the ECU reports ``flashed``
+    part: bool = False  # ``kept`` was read at the ADDR_EPK of the part that stays, where later checks read it too
 
     @property
     def kept_erased(self) -> bool:
@@ -57,24 +61,42 @@ class EpkPairing:
     def describe(self) -> str:
         kept = epk_text(self.kept) if self.kept is not None else "unknown"
         verdict = "the same" if self.matches else "MISMATCH accepted (--accept-epk-mismatch)"
-        if not self.matches and self.echoed:
+        if not self.matches and self.part:
+            verdict += f"; {self.stays} keeps its EPK there, so the session and later flashes see the mismatch"
+        elif not self.matches and self.echoed:
             verdict += (f"; after it the ECU reports EPK {epk_text(self.flashed)} (the flash writes ADDR_EPK), so no "
                         f"later check sees that {self.stays} is another build's: flash it too to make them one")
         return f"{self.stays} kept: EPK {kept} before the flash ({self.source or 'not read'}), {verdict}"
 
 
-def epk_pairing(plan: FlashPlan, ecu_epk: str | None, source: str) -> EpkPairing | None:
-    """The comparison a flash of ``plan`` needs with the ECU's EPK read before it (``source``: how);
-    None when the A2L states no EPK or the flash replaces the whole software (its code and ADDR_EPK)."""
+def epk_pairing(plan: FlashPlan, ecu_epk: str | None, source: str,
+                ecu_parts: Mapping[int, str | None] | None = None) -> EpkPairing | None:
+    """The comparison a flash of ``plan`` needs with the ECU's EPK read before it (``source``: how); None when
+    the A2L states no EPK or the flash replaces the whole software (its code and every ADDR_EPK).
+
+    :param ecu_parts: the ECU's EPK at each ADDR_EPK (None where it could not be read), used where the A2L
+        names one in more than one region (:attr:`FlashLayout.epk_parts`): the part that stays is compared by its own.
+    """
     layout = plan.layout
     if layout.epk is None:
         return None
-    applications = layout.application_regions()
-    code_flashed = any(r.region in applications for r in plan.regions)
-    epk_flashed = plan.image_epk is not None
+    chosen = {r.region for r in plan.regions}
+    flashed = plan.image_epk or layout.epk
+    parts = layout.epk_parts
+    if parts:
+        kept = [(address, region) for address, region in parts if region not in chosen]
+        if not kept:
+            return None
+        ecu = ecu_parts or {}
+        pairings = [EpkPairing(flashed, ecu.get(address), f"{region.name} at {address:X}h",
+                               "the application" if region.holds_code else "the calibration data", part=True)
+                    for address, region in kept]
+        return next((p for p in pairings if not p.matches), pairings[0])
+    code_flashed = any(region in chosen for region in layout.application_regions())
+    epk_region = layout.region_at(layout.addr_epk) if layout.addr_epk is not None else None
+    epk_flashed = plan.image_epk is not None and (epk_region is None or epk_region in chosen)
     if code_flashed and epk_flashed:
         return None
-    flashed = plan.image_epk if epk_flashed else layout.epk
     stays = "the calibration data" if code_flashed else "the application"
     return EpkPairing(flashed, ecu_epk, source, stays, echoed=epk_flashed)
 

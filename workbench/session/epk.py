@@ -3,10 +3,16 @@
 The ECU's EPK is read with GET_ID type 5 when the slave offers it, else from ADDR_EPK (the
 A2L's address of the EPK string). On a mismatch the session stays read-only unless the caller
 explicitly accepts the risk (thesis figure 37: flash the matching software, or work read-only).
+
+An A2L may name ADDR_EPK more than once (ASAP2), one in each part of the software (the demo: CALIB's FC0000h,
+the application header's 840008h). Then each part's EPK is read where it lies (UPLOAD) and the check fails when
+any part is another build's: a calibration flashed onto another application is seen, although GET_ID reports
+the EPK of the calibration data just flashed.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from workbench.errors import XcpCommandError, epk_text
@@ -16,7 +22,30 @@ from workbench.xcp_protocol import IdType
 
 log = logger(__name__)
 
-__all__ = ["EpkCheck", "check_epk"]
+__all__ = ["EpkCheck", "EpkPart", "check_epk"]
+
+
+@dataclass(frozen=True)
+class EpkPart:
+    """The EPK one part of the software keeps at its own ADDR_EPK."""
+
+    segment: str  # the MEMORY_SEGMENT holding it (CALIB, APPLICATIVE ...)
+    address: int  # its ADDR_EPK
+    a2l: str  # MOD_PAR EPK
+    ecu: str | None  # what the ECU holds there (None: it could not be read)
+
+    @property
+    def matches(self) -> bool | None:
+        return None if self.ecu is None else _clean(self.a2l) == _clean(self.ecu)
+
+    def describe(self) -> str:
+        ecu = "unreadable" if self.ecu is None else epk_text(self.ecu)
+        verdict = {True: "match", False: "MISMATCH", None: "not checked"}[self.matches]
+        return f"{self.segment} ({self.address:X}h): ECU {ecu}, A2L {epk_text(self.a2l)}: {verdict}"
+
+    def to_dict(self) -> dict:
+        return {"segment": self.segment, "address": self.address, "a2l": self.a2l, "ecu": self.ecu,
+                "matches": self.matches}
 
 
 @dataclass(frozen=True)
@@ -24,13 +53,18 @@ class EpkCheck:
     a2l: str | None  # MOD_PAR EPK (None: the A2L states none)
     ecu: str | None  # what the ECU reports (None: it could not be read)
     source: str  # "GET_ID", "ADDR_EPK" or "" (not read)
+    parts: tuple[EpkPart, ...] = ()  # each part's own EPK, when the A2L names ADDR_EPK in several segments
 
     @property
     def matches(self) -> bool | None:
-        """True/False, or None when there is nothing to compare."""
+        """True/False (False also when a part is another build's), or None when there is nothing to compare."""
         if self.a2l is None or self.ecu is None:
             return None
-        return _clean(self.a2l) == _clean(self.ecu)
+        return _clean(self.a2l) == _clean(self.ecu) and not self.mismatched_parts
+
+    @property
+    def mismatched_parts(self) -> tuple[EpkPart, ...]:
+        return tuple(part for part in self.parts if part.matches is False)
 
     def describe(self) -> str:
         if self.a2l is None:
@@ -38,28 +72,38 @@ class EpkCheck:
         if self.ecu is None:
             return f"the ECU's EPK could not be read (A2L: {epk_text(self.a2l)})"
         verdict = "match" if self.matches else "MISMATCH"
-        return f"EPK {verdict}: A2L {epk_text(self.a2l)}, ECU {epk_text(self.ecu)} ({self.source})"
+        text = f"EPK {verdict}: A2L {epk_text(self.a2l)}, ECU {epk_text(self.ecu)} ({self.source})"
+        return text + "".join(f"; {p.segment} ({p.address:X}h) holds {epk_text(p.ecu or '')}"
+                              for p in self.mismatched_parts if _clean(p.ecu or "") != _clean(self.ecu))
 
 
 def _clean(text: str) -> str:
     return text.replace("\0", "").strip()
 
 
-def check_epk(master: XcpMaster, a2l_epk: str | None, addr_epk: int | None) -> EpkCheck:
-    """Read the ECU's EPK (GET_ID 5, else ADDR_EPK) for comparison with ``a2l_epk``."""
+def check_epk(master: XcpMaster, a2l_epk: str | None, addr_epk: int | None,
+              parts: Sequence[tuple[int, str]] = ()) -> EpkCheck:
+    """Read the ECU's EPK (GET_ID 5, else ADDR_EPK) for comparison with ``a2l_epk``, and the EPK of each part
+    (``parts``: its ADDR_EPK and MEMORY_SEGMENT, e.g. from :meth:`A2lDocument.epk_parts`) by UPLOAD."""
     if a2l_epk is None:
         return EpkCheck(None, None, "")
+    size = len(a2l_epk.encode("latin-1"))
+    read = tuple(EpkPart(segment, address, a2l_epk, _read(master, address, size)) for address, segment in parts)
     try:
         text = master.get_id(IdType.EPK)
         if text:
-            return EpkCheck(a2l_epk, text.decode("latin-1"), "GET_ID")
+            return EpkCheck(a2l_epk, text.decode("latin-1"), "GET_ID", read)
     except XcpCommandError as exc:
         log.debug("GET_ID EPK: %s", exc)
     if addr_epk is None:
-        return EpkCheck(a2l_epk, None, "")
+        return EpkCheck(a2l_epk, None, "", read)
+    text = _read(master, addr_epk, size)
+    return EpkCheck(a2l_epk, text, "ADDR_EPK" if text is not None else "", read)
+
+
+def _read(master: XcpMaster, address: int, size: int) -> str | None:
     try:
-        text = master.read(addr_epk, len(a2l_epk.encode("latin-1")))
+        return master.read(address, size).decode("latin-1")
     except XcpCommandError as exc:
-        log.debug("EPK at ADDR_EPK: %s", exc)
-        return EpkCheck(a2l_epk, None, "")
-    return EpkCheck(a2l_epk, text.decode("latin-1"), "ADDR_EPK")
+        log.debug("EPK at %Xh: %s", address, exc)
+        return None

@@ -74,6 +74,7 @@ class EcuInfo:
     daq_resolution: DaqResolutionInfo | None = None
     events: list[DaqEventInfo] = field(default_factory=list)
     pages: list[PageState] = field(default_factory=list)
+    epk_parts: list[dict[str, Any]] = field(default_factory=list)  # EpkPart.to_dict() of each part with its own EPK
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
@@ -122,4 +123,5 @@ def read_ecu_info(session: Session) -> EcuInfo:
         master_block_mode=bool(comm and comm.master_block_mode), max_bs=comm.max_bs if comm else None,
         protocol_version=connect.protocol_version, transport_version=connect.transport_version,
         daq=daq, daq_resolution=resolution, events=events, pages=pages,
+        epk_parts=[part.to_dict() for part in session.epks()],
     )

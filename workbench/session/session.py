@@ -37,7 +37,7 @@ from workbench.errors import (
 from workbench.logs import logger
 from workbench.session.can_listeners import CanListeners, Listening
 from workbench.session.connection import Connection, link_settings, timeouts_of
-from workbench.session.epk import EpkCheck, check_epk
+from workbench.session.epk import EpkCheck, EpkPart, check_epk
 from workbench.session.fixes import FixAccess
 from workbench.session.info import EcuInfo, PageCopy, PageState, read_ecu_info
 from workbench.session.measure import DaqMeasurement, EventAccess
@@ -150,7 +150,8 @@ class Session(ValueAccess, EventAccess, FixAccess):
                                       f"no ECU answers on {self.link.settings.describe()}: {self._unanswered()}") from None
             except ConnectionLostError as exc:  # e.g. nothing listens at the address: it was never there
                 raise WorkbenchError(f"cannot reach the ECU: {exc.what}: {exc.reason}") from None
-            self.epk = check_epk(self.master, self.doc.epk(self.module), self.doc.addr_epk(self.module))
+            parts = [(address, segment.name) for address, segment in self.doc.epk_parts(self.module)]
+            self.epk = check_epk(self.master, self.doc.epk(self.module), self.doc.addr_epk(self.module), parts)
             if self.epk.matches is False:
                 log.warning("%s%s", self.epk.describe(),
                             "" if self.accept_epk_mismatch else "; the session is read-only")
@@ -233,6 +234,11 @@ class Session(ValueAccess, EventAccess, FixAccess):
     def read_only(self) -> bool:
         return self.epk.matches is False and not self.accept_epk_mismatch
 
+    def epks(self) -> tuple[EpkPart, ...]:
+        """The EPK of each part of the software, ECU beside A2L, as read at CONNECT, when the A2L names ADDR_EPK
+        in more than one MEMORY_SEGMENT (empty otherwise: :attr:`epk` is then the whole check)."""
+        return self.epk.parts
+
     def require_application(self) -> None:
         """:raises WorkbenchError: the ECU answers in its boot loader, where no calibration or measurement
         lives (a read there gives whatever the memory holds, the simulator's zeros; writes, pages and DAQ are
@@ -249,7 +255,9 @@ class Session(ValueAccess, EventAccess, FixAccess):
         :raises WorkbenchError: the ECU is in its boot loader (:meth:`require_application`)."""
         self.require_application()
         if self.read_only:
-            raise EpkMismatchError(self.epk.a2l or "", self.epk.ecu or "",
+            part = next(iter(self.epk.mismatched_parts), None)  # GET_ID may report the other part's
+            raise EpkMismatchError(self.epk.a2l or "", (part.ecu if part is not None else self.epk.ecu) or "",
+                                   (f"in {part.segment} ({part.address:X}h); " if part is not None else "") +
                                    "the session is read-only (no writes, no page switches); flash the matching "
                                    "software or open the session with accept_epk_mismatch=True "
                                    "(--accept-epk-mismatch) to write anyway")

@@ -20,7 +20,7 @@ from workbench.a2l.addressed import KEYWORDS, AddressedObjects
 from workbench.a2l.byte_order import byte_order_finding
 from workbench.a2l.document import A2lDocument, load_a2l
 from workbench.a2l.edits import Edit, Edits, indentation_of, newline_bytes, write_source
-from workbench.a2l.epk import epk_edits, read_elf_epk
+from workbench.a2l.epk import epk_address_edits, epk_edits, read_elf_epk
 from workbench.a2l.grammar import MAX_ADDRESS
 from workbench.a2l.includes import edited_texts, includes_not_found_from
 from workbench.a2l.reports import IncludeMode, UpdateMode, findings_at
@@ -348,5 +348,6 @@ def _epk(doc: A2lDocument, debug: DebugData, symbol: str | None, edits: Edits, r
         return
     for module in doc.modules:
         epk_changes, findings = epk_edits(doc, found, module)
-        edits.extend(epk_changes)
-        report.extend(findings)
+        more_changes, more_findings = epk_address_edits(doc, debug, found, module)
+        edits.extend(epk_changes + more_changes)
+        report.extend(findings + more_findings)

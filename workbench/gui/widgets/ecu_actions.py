@@ -80,7 +80,8 @@ class EcuWindowActions:
         self._update_title()
         if session.epk.matches is False and session.read_only:
             self.epk_dialog = EpkDialog(self.workspace.doc.name if self.workspace else "A2L",
-                                        info.identification, session.epk.a2l or "", session.epk.ecu or "", self)
+                                        info.identification, session.epk.a2l or "", session.epk.ecu or "", self,
+                                        session.epks())
             self.epk_dialog.finished.connect(self._epk_chosen)
             self.epk_dialog.open()
             return

@@ -1,14 +1,21 @@
 """The software version check (thesis figure 37): the A2L's EPK differs from the ECU's. The user
-chooses to flash the software that matches the A2L, to work read-only, or to disconnect."""
+chooses to flash the software that matches the A2L, to work read-only, or to disconnect. Where the A2L names
+an EPK address in each part of the software (CALIB, APPLICATIVE), each part's EPK has a row of its own: a
+calibration flashed onto another application shows as the one part that differs."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from enum import Enum
+from typing import TYPE_CHECKING
 
 from PySide6.QtWidgets import QDialog, QDialogButtonBox, QGridLayout, QLabel, QPushButton, QVBoxLayout
 
 from workbench.errors import epk_text
 from workbench.gui import theme
+
+if TYPE_CHECKING:
+    from workbench.session.epk import EpkPart
 
 __all__ = ["EpkChoice", "EpkDialog"]
 
@@ -20,18 +27,23 @@ class EpkChoice(Enum):
 
 
 class EpkDialog(QDialog):
-    def __init__(self, a2l_name: str, ecu_name: str, epk_a2l: str, epk_ecu: str, parent=None):
+    def __init__(self, a2l_name: str, ecu_name: str, epk_a2l: str, epk_ecu: str, parent=None,
+                 parts: Sequence[EpkPart] = ()):
         super().__init__(parent)
         self.setWindowTitle("Software version check")
         self.choice = EpkChoice.DISCONNECT
         layout = QVBoxLayout(self)
-        head = QLabel("<b>The software in the ECU differs from the database.</b><br>What would you like to do?")
+        differing = [part.segment for part in parts if part.matches is False]
+        what = (f"{' and '.join(differing)} in the ECU {'is' if len(differing) == 1 else 'are'} another build's"
+                if differing and len(differing) < len(parts) else "The software in the ECU differs from the database")
+        head = QLabel(f"<b>{what}.</b><br>What would you like to do?")
         layout.addWidget(head)
         grid = QGridLayout()
         for column, text in enumerate(("", "Database (A2L)", "ECU")):
             label = QLabel(f"<span style='color:{theme.MUTED}'>{text}</span>")
             grid.addWidget(label, 0, column)
-        rows = (("name", a2l_name, ecu_name), ("EPK (EPROM identifier)", epk_a2l, epk_ecu))
+        rows = [("name", a2l_name, ecu_name), ("EPK (EPROM identifier)", epk_a2l, epk_ecu)]
+        rows += [(f"EPK in {part.segment} ({part.address:X}h)", part.a2l, part.ecu or "") for part in parts]
         for row, (caption, left, right) in enumerate(rows, 1):
             grid.addWidget(QLabel(caption), row, 0)
             for column, text in ((1, left), (2, right)):
@@ -39,7 +51,8 @@ class EpkDialog(QDialog):
                 value = QLabel(shown or "—")
                 value.setFont(theme.mono_font(11))
                 if caption.startswith("EPK"):
-                    value.setStyleSheet(f"color: {theme.BAD if left != right else theme.GOOD};")
+                    same = left.rstrip("\0 ") == right.rstrip("\0 ")
+                    value.setStyleSheet(f"color: {theme.GOOD if same else theme.BAD};")
                 grid.addWidget(value, row, column)
         layout.addLayout(grid)
         explain = QLabel("Flash the software that matches the A2L, or work read-only: you can measure, but no "

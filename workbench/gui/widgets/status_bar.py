@@ -93,8 +93,10 @@ class EcuStatusBar(QStatusBar):
         if epk.matches is True:
             self._set_badge(self.epk, "EPK ✓", theme.GOOD, f"{epk_text(epk.ecu)}\n{epk.describe()}")
         elif epk.matches is False:
-            self._set_badge(self.epk, "EPK ✗ read-only" if session.read_only else "EPK ✗ writes allowed",
-                            theme.BAD, epk.describe())
+            parts = epk.mismatched_parts
+            which = " ".join(p.segment for p in parts) + " " if parts and len(parts) < len(epk.parts) else ""
+            self._set_badge(self.epk, f"EPK ✗ {which}" + ("read-only" if session.read_only else "writes allowed"),
+                            theme.BAD, "\n".join([epk.describe(), *(p.describe() for p in epk.parts)]))
         else:
             self._set_badge(self.epk, "EPK not checked", theme.MUTED, epk.describe())
         self.show_other_master(session.other_master)
