@@ -134,7 +134,7 @@ def test_an_applicative_only_flash_of_another_epk_is_refused(bench, tmp_path, ne
     assert bench.whole_flash() == before
 
 
-def test_the_whole_software_of_another_epk_flashes(bench, tmp_path, new_a2l, capsys):
+def test_the_whole_software_of_another_epk_flashes(bench, tmp_path, new_a2l, one_epk_a2l, capsys):
     path = tmp_path / "new.s19"
     image = application_image(100)
     image.add(APP_HEADER_EPK, NEW_EPK, overwrite=True)
@@ -143,5 +143,9 @@ def test_the_whole_software_of_another_epk_flashes(bench, tmp_path, new_a2l, cap
     for address, data in calib.segments:
         image.add(address, data)
     image.save(path)
+    # its APPLICATIVE alone would stay with the ECU's CALIB of the other build, though the file covers ADDR_EPK
+    for a2l, source in ((new_a2l, "CALIB at FC0000h"), (one_epk_a2l, "GET_ID")):
+        assert run_cli(bench, str(path), "-r", "APPLICATIVE", "--a2l", a2l) == 1
+        assert f"'10300020250301' ({source}) for the calibration data that stays" in capsys.readouterr().err
     assert run_cli(bench, str(path), "-r", "CALIB", "-r", "APPLICATIVE", "--a2l", new_a2l) == 0
     assert "EPK match: A2L '10300020259999', ECU '10300020259999'" in capsys.readouterr().out
