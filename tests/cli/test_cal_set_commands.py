@@ -16,7 +16,8 @@ from workbench import demo
 from workbench.sim import serve_demo
 
 _channels = itertools.count()
-CONNECTED = ["CONNECT", "GET_COMM_MODE_INFO", "GET_STATUS", "GET_ID", "UPLOAD"]  # UPLOAD: the EPK GET_ID names
+CONNECTED = ["CONNECT", "GET_COMM_MODE_INFO", "GET_STATUS", "GET_ID", "UPLOAD",  # UPLOAD: the EPK GET_ID names
+             *["SET_MTA", "UPLOAD"] * 2]  # the EPK of each part: CALIB's, the application header's
 WRITE = ["GET_SEED", "UNLOCK", "GET_CAL_PAGE", "SET_MTA", "DOWNLOAD", "SHORT_UPLOAD", "DISCONNECT"]
 
 

@@ -88,17 +88,18 @@ def check_epk(master: XcpMaster, a2l_epk: str | None, addr_epk: int | None,
     if a2l_epk is None:
         return EpkCheck(None, None, "")
     size = len(a2l_epk.encode("latin-1"))
-    read = tuple(EpkPart(segment, address, a2l_epk, _read(master, address, size)) for address, segment in parts)
+    text, source = None, ""
     try:
-        text = master.get_id(IdType.EPK)
-        if text:
-            return EpkCheck(a2l_epk, text.decode("latin-1"), "GET_ID", read)
+        reported = master.get_id(IdType.EPK)
+        if reported:
+            text, source = reported.decode("latin-1"), "GET_ID"
     except XcpCommandError as exc:
         log.debug("GET_ID EPK: %s", exc)
-    if addr_epk is None:
-        return EpkCheck(a2l_epk, None, "", read)
-    text = _read(master, addr_epk, size)
-    return EpkCheck(a2l_epk, text, "ADDR_EPK" if text is not None else "", read)
+    if text is None and addr_epk is not None:
+        text = _read(master, addr_epk, size)
+        source = "ADDR_EPK" if text is not None else ""
+    read = tuple(EpkPart(segment, address, a2l_epk, _read(master, address, size)) for address, segment in parts)
+    return EpkCheck(a2l_epk, text, source, read)
 
 
 def _read(master: XcpMaster, address: int, size: int) -> str | None:
