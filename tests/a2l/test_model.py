@@ -152,6 +152,44 @@ def test_measurements(features):
     assert virtual.address is None and virtual.virtual == ("nEngine", "mArray")
 
 
+def test_membership_lists_the_owners_of_a_name_in_document_order_as_the_objects_do(demo):
+    """The reverse index the variable browser lists every object's functions from, without building each FUNCTION."""
+    model = load_a2l_string(
+        '/begin PROJECT P "" /begin MODULE M ""\n'
+        '/begin FUNCTION F1 "" /begin REF_CHARACTERISTIC k /end REF_CHARACTERISTIC\n'
+        '  /begin LOC_MEASUREMENT m /end LOC_MEASUREMENT /end FUNCTION\n'
+        '/begin FUNCTION F2 "" /begin DEF_CHARACTERISTIC k m /end DEF_CHARACTERISTIC\n'
+        '  /begin IN_MEASUREMENT m /end IN_MEASUREMENT /end FUNCTION\n'
+        '/begin GROUP G "" /begin REF_MEASUREMENT m /end REF_MEASUREMENT /end GROUP\n'
+        '/end MODULE /end PROJECT').model()
+    assert model.membership("k") == (("F1", "F2"), ())  # F2's DEF_ list comes before F1's REF_ in _LISTS: not here
+    assert model.membership("m") == (("F1", "F2"), ("G",)) and model.membership("none") == ((), ())
+    listed: dict[str, list[str]] = {}  # what the FUNCTIONs read one by one say
+    for name in demo.names("FUNCTION"):
+        function = demo.function(name)
+        for member in (*function.def_characteristics, *function.ref_characteristics, *function.in_measurements,
+                       *function.out_measurements, *function.loc_measurements):
+            owners = listed.setdefault(member, [])
+            if name not in owners:
+                owners.append(name)
+    assert listed and {member: list(demo.membership(member)[0]) for member in listed} == listed
+
+
+def test_objects_located_one_by_one_count_newlines_until_a_line_table_is_cheaper():
+    """Every object built is located. A window opening objects one by one from a 20 MB file counted the newlines from
+    the file's start for each of the first thousand (seconds); the counting stops once it has read the file twice,
+    and the line table gives the same lines and columns."""
+    blocks = "".join(f'  /begin MEASUREMENT m{i} "" UBYTE NO_COMPU_METHOD 1 0 0 255 /end MEASUREMENT\n'
+                     for i in range(200))
+    model = load_a2l_string(f'/begin PROJECT P ""\n /begin MODULE M ""\n{blocks} /end MODULE\n/end PROJECT').model()
+    source = model.doc.source_map.main
+    assert model.measurement("m199").location[1:] == (202, 3) and source._line_starts is None  # one: counted
+    located = [model.measurement(f"m{i}").location[1:] for i in (198, 197, 196)]
+    assert source._line_starts is not None  # the counting read the file twice: the table from then on
+    assert located + [model.measurement(f"m{i}").location[1:] for i in (0, 100)] == [
+        (201, 3), (200, 3), (199, 3), (3, 3), (103, 3)]
+
+
 def test_record_layouts_keep_every_item_in_position_order(features):
     layout = features.record_layout("RL_items")
     spelled = [(e.spelled, e.position, e.datatype) for e in layout.entries]

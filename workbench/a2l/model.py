@@ -105,7 +105,7 @@ class A2lModel:
         self._blocks: dict[str, dict[str, int]] = {}  # kind -> name -> block index (the first of a duplicate)
         self._built: dict[tuple[str, str], object] = {}
         self._conversions: dict[str, "Conversion"] = {}
-        self._members: dict[str, tuple[list[str], list[str]]] | None = None
+        self._members: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] | None = None
         self._placed: dict[str, Placed] | None = None  # the objects INSTANCEs stand for, on first need
         self._placed_names: dict[str, list[str]] = {}  # kind -> those names, in document order
         self._instance_errors: dict[str, A2lParseError] = {}  # INSTANCE or component (no indices) -> why left out
@@ -529,24 +529,24 @@ class A2lModel:
         if found is None:
             row = self._blocks[kind].get(name)
             if row is not None:
-                found = READERS[kind](self.doc, self.doc.block(row), self.mod_common, self._membership)
+                found = READERS[kind](self.doc, self.doc.block(row), self.mod_common, self.membership)
             else:
                 placed = self._placed_of(name) if kind in _ADDRESSED else None
                 if placed is None or placed.kind != kind:
                     raise self._unknown(name, self._blocks[kind], f"{kind} names")
                 found = place(self._get(placed.typedef_kind, placed.typedef), name, placed,
-                              self._get("INSTANCE", placed.instance), self._membership(name))
+                              self._get("INSTANCE", placed.instance), self.membership(name))
             self._built[key] = found
         return found
 
-    def _membership(self, name: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
-        """(FUNCTIONs, GROUPs) whose lists name ``name``; the reverse index is built once, on first use."""
+    def membership(self, name: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
+        """(FUNCTIONs, GROUPs) whose lists name ``name``, in document order. The reverse index of every list is built
+        on the first call, in one pass: a listing of every object's functions costs that, not a FUNCTION built each."""
         if self._members is None:
             self._members = self._member_index()
-        functions, groups = self._members.get(name, ((), ()))
-        return tuple(functions), tuple(groups)
+        return self._members.get(name, ((), ()))
 
-    def _member_index(self) -> dict[str, tuple[list[str], list[str]]]:
+    def _member_index(self) -> dict[str, tuple[tuple[str, ...], tuple[str, ...]]]:
         doc = self.doc
         table = doc.blocks
         members: dict[str, tuple[list[str], list[str]]] = {}
@@ -555,17 +555,16 @@ class A2lModel:
             if not owners:
                 continue
             owner_names = {row: name for name, row in owners.items()}
-            for list_kind in list_kinds:
-                for row in table.having_keyword(list_kind).tolist():
-                    owner = owner_names.get(int(table.parent[row]))
-                    if owner is None:
-                        continue
-                    tokens = np.arange(table.begin[row] + 2, table.end[row])
-                    for member in doc.texts(tokens):
-                        entry = members.setdefault(member, ([], []))
-                        if owner not in entry[slot]:
-                            entry[slot].append(owner)
-        return members
+            lists = np.sort(np.concatenate([table.having_keyword(list_kind) for list_kind in list_kinds]))
+            for row in lists.tolist():  # the owners' lists in document order: a member's owners in theirs
+                owner = owner_names.get(int(table.parent[row]))
+                if owner is None:
+                    continue
+                for member in doc.texts(np.arange(table.begin[row] + 2, table.end[row])):
+                    entry = members.setdefault(member, ([], []))
+                    if owner not in entry[slot]:
+                        entry[slot].append(owner)
+        return {member: (tuple(functions), tuple(groups)) for member, (functions, groups) in members.items()}
 
     def _system_constants(self) -> dict[str, str]:
         mod_par = self.module.first("MOD_PAR")

@@ -42,7 +42,7 @@ class SourceFile:
     newline: str = "\n"
     file_encoding: str | None = None  # the file's own encoding when ``data`` was converted from it
     _line_starts: np.ndarray | None = field(default=None, repr=False)
-    _counted: int = field(default=0, repr=False)  # offsets located by counting newlines (see positions)
+    _counted: int = field(default=0, repr=False)  # bytes positions() counted newlines in (see there)
 
     @property
     def name(self) -> str:
@@ -68,12 +68,13 @@ class SourceFile:
 
     def positions(self, offsets: list[int]) -> list[tuple[int, int]]:
         """:meth:`position` of many offsets at once (one vectorized search; a few offsets: newlines
-        counted up to them, without the line table of the whole file)."""
+        counted up to them, without the line table of the whole file, until the counting has read the file twice:
+        the table costs about that, and every object a window opens from a 20 MB file is located)."""
         if not offsets:
             return []
         data, encoding = self.data, self.encoding
-        self._counted += len(offsets)
-        if self._line_starts is None and self._counted <= 1000:  # after that many: the table is cheaper
+        if self._line_starts is None and self._counted + max(offsets) <= 2 * len(data):
+            self._counted += max(offsets)
             separator = b"\r" if self.newline == "\r" else b"\n"
             lines, line_starts, line, previous = {}, {}, 1, 0
             for offset in sorted(set(offsets)):

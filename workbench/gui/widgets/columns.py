@@ -24,7 +24,7 @@ _SLACK = 6  # px beyond the texts' own width: the cell's margins
 
 class _Sharer(QObject):
     def __init__(self, view: QAbstractItemView, weights: Sequence[float], fit: Collection[int],
-                 capped: Collection[int], optional: Collection[int]):
+                 capped: Collection[int], optional: Collection[int], measure_on_change: bool):
         super().__init__(view)
         self.view, self.weights = view, tuple(weights)
         self.fit, self.capped, self.optional = set(fit), set(capped), tuple(optional)
@@ -34,7 +34,8 @@ class _Sharer(QObject):
         self._setting = False
         model = view.model()
         for changed in (model.modelReset, model.rowsInserted, model.rowsRemoved, model.layoutChanged):
-            changed.connect(lambda *_: self.texts.clear())
+            if measure_on_change:
+                changed.connect(lambda *_: self.texts.clear())
         header = view.horizontalHeader()
         header.setSectionResizeMode(QHeaderView.Interactive)
         header.setStretchLastSection(True)
@@ -124,11 +125,13 @@ class _Sharer(QObject):
 
 
 def share_columns(view: QAbstractItemView, weights: Sequence[float], *, fit: Collection[int] = (),
-                  capped: Collection[int] = (), optional: Sequence[int] = ()) -> None:
+                  capped: Collection[int] = (), optional: Sequence[int] = (), measure_on_change: bool = True) -> None:
     """``view``'s columns share its width by ``weights`` (one per column) until the user resizes one; ``fit``
     columns are as wide as their header and texts, ``capped`` ones no wider than their texts, ``optional``
-    ones left out (in this order) while narrower than :data:`OPTIONAL_MIN`."""
-    view._column_sharer = _Sharer(view, weights, fit, capped, optional)
+    ones left out (in this order) while narrower than :data:`OPTIONAL_MIN`. The texts are measured again when the
+    rows change, or (``measure_on_change`` False: a list the user filters, whose columns should not jump at each
+    letter typed, nor measure a thousand rows then) only at :func:`refit_columns`."""
+    view._column_sharer = _Sharer(view, weights, fit, capped, optional, measure_on_change)
     view._column_sharer.share()
 
 

@@ -69,8 +69,9 @@ class VariableBrowser(QWidget):
         self.table.verticalHeader().hide()
         self.table.verticalHeader().setDefaultSectionSize(22)
         # name, kind, type, unit, functions, description: the name as wide as it needs while there is room,
-        # kind and unit as their texts, the description what is left (none when that is too little to read)
-        share_columns(self.table, (3, 1, 1, 1, 1, 2), fit=(1, 3), capped=(0,), optional=(5,))
+        # kind and unit as their texts (of all rows: the widths stay while the user filters), the description what
+        # is left (none when that is too little to read)
+        share_columns(self.table, (3, 1, 1, 1, 1, 2), fit=(1, 3), capped=(0,), optional=(5,), measure_on_change=False)
         self.table.doubleClicked.connect(self._open)
         self.table.installEventFilter(self)
         layout.addWidget(self.table, 1)
@@ -106,10 +107,7 @@ class VariableBrowser(QWidget):
         box.addItem("all", ALL)
         for value in values:
             box.addItem((labels or {}).get(value, value), value)
-        box.blockSignals(False)
-        self.model.set_filters(kind=ALL if box is self.kind_box else None,
-                               function=ALL if box is self.function_box else None,
-                               unit=ALL if box is self.unit_box else None)
+        box.blockSignals(False)  # "all": as the model starts its rows
 
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:
         """The keys between the search and the results: Down/Up into the results, Up from the first row back,
@@ -138,10 +136,7 @@ class VariableBrowser(QWidget):
         self.open_requested.emit(index.data(Qt.UserRole))
 
     def variable(self, name: str) -> Variable | None:
-        for row in self.model.all_rows:
-            if row.name == name:
-                return row
-        return None
+        return self.model.variable(name)
 
     def reading(self, name: str | None) -> None:
         """The A2L ``name`` is being read (a large one takes seconds): said where the objects will be; None: over."""
