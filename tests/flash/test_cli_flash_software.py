@@ -92,6 +92,19 @@ def test_a_calib_of_another_build_is_refused_and_once_accepted_the_application_s
     parts = json.loads(capsys.readouterr().out)["epk_parts"]
     assert [(p["segment"], p["address"], p["ecu"], p["matches"]) for p in parts] == [
         ("CALIB", 0xFC0000, NEW_EPK.decode(), False), ("APPLICATIVE", APP_HEADER_EPK, OLD_EPK.decode(), True)]
+    assert main(["cal", "set", "xsSWITCH_TANK_THR", "25", "--a2l", new_a2l, "--interface", "virtual",
+                 "--channel", bench.channel]) == 1  # the session is read-only while a part is another build's
+    assert "in APPLICATIVE (840008h); the session is read-only" in capsys.readouterr().err
+
+    app = tmp_path / "app.s19"  # the application of that build makes them one software again: no flag
+    image = application_image(100)
+    image.add(APP_HEADER_EPK, NEW_EPK, overwrite=True)
+    image.save(app)
+    assert run_cli(bench, str(app), "-r", "APPLICATIVE", "--a2l", new_a2l) == 0
+    assert "the calibration data kept: EPK '10300020259999' before the flash (CALIB at FC0000h), the same" in (
+        capsys.readouterr().out)
+    assert main(["info", "--a2l", new_a2l, "--interface", "virtual", "--channel", bench.channel]) == 0
+    assert "A2L '10300020259999': match\n" in capsys.readouterr().out
 
 
 def test_with_one_addr_epk_an_accepted_calib_hides_the_application_as_before(bench, tmp_path, one_epk_a2l, capsys):
