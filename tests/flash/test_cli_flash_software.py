@@ -85,7 +85,7 @@ def test_a_calib_of_another_build_is_refused_and_once_accepted_the_application_s
 
     assert main(["info", "--a2l", new_a2l, "--interface", "virtual", "--channel", bench.channel]) == 0
     out = capsys.readouterr().out
-    assert "EPK           ECU '10300020259999', A2L '10300020259999': MISMATCH (read-only)" in out
+    assert "EPK           ECU '10300020259999', A2L '10300020259999': MISMATCH (read-only) in APPLICATIVE" in out
     assert "  in CALIB       FC0000h: ECU '10300020259999', A2L '10300020259999': match" in out
     assert "  in APPLICATIVE 840008h: ECU '10300020250301', A2L '10300020259999': MISMATCH" in out
     assert main(["info", "--json", "--interface", "virtual", "--channel", bench.channel]) == 0  # the old A2L

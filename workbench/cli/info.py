@@ -75,7 +75,9 @@ def _state(info, key_state, key) -> str:
 
 
 def info_lines(info, state: str) -> list[str]:
-    epk = ("match" if info.epk_match else "MISMATCH (read-only)" if info.epk_match is False else "not checked")
+    differing = "/".join(p["segment"] for p in info.epk_parts if p["matches"] is False)
+    epk = ("match" if info.epk_match else f"MISMATCH (read-only){f' in {differing}' if differing else ''}"
+           if info.epk_match is False else "not checked")
     lines = [
         f"ECU           {info.identification or '(no identification)'}",
         f"link          {info.link}",
