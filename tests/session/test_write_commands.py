@@ -254,3 +254,17 @@ def test_a_curve_whose_count_lies_in_memory_takes_more_points_and_is_decoded_fro
     again = CalValue("k", "CURVE", np.array([1, 2, 7, 4]), written.axes)
     assert ecu.write("k", again).same_values(again)
     assert master.log == [("write", 0x10E, bytes.fromhex("0007")), ("read", 0x10E, 2)]  # the one value, known
+
+
+def _wrong_key(seed: bytes, resource: int) -> bytes:
+    return bytes(len(seed))
+
+
+def test_a_key_the_ecu_refuses_is_said_where_it_is_refused(sim, channel):
+    """The wrong key's ERR_ACCESS_LOCKED (after which the slave disconnects) is the error, not the next command's
+    timeout: the page check that met it while unlocking CAL/PAG must not swallow it."""
+    with (Session.open(interface="virtual", channel=channel, timeouts=FAST, key_function=_wrong_key) as session,
+          pytest.raises(XcpCommandError) as refused):
+        session.write("xsSWITCH_TANK_THR", 21.0)
+    assert (refused.value.command, refused.value.code) == ("UNLOCK", Err.ACCESS_LOCKED)
+    assert "_wrong_key" in str(refused.value) and "CAL/PAG" in str(refused.value)

@@ -355,6 +355,8 @@ class ValueAccess:
         try:
             return master.get_cal_page(segment, 0x02)
         except XcpCommandError as exc:
+            if exc.command == "UNLOCK":  # the key met on the way was refused and the slave disconnected: say that
+                raise
             log.debug("GET_CAL_PAGE of segment %d: %s", segment, exc)
             return None
 

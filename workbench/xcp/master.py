@@ -363,7 +363,11 @@ class XcpMaster:
         chunk = self.max_cto - 2
         for start in range(0, len(key), chunk):
             remaining = len(key) - start
-            payload = self.command(Cmd.UNLOCK, bytes((remaining,)) + key[start:start + chunk], repeat=False)
+            try:
+                payload = self.command(Cmd.UNLOCK, bytes((remaining,)) + key[start:start + chunk], repeat=False)
+            except XcpCommandError as exc:  # ERR_ACCESS_LOCKED: the key is wrong (and the slave disconnected)
+                raise exc.about(f"the ECU refused the key of {self.key_function_name or 'the seed & key function'} "
+                                f"for {name}") from exc
         self.protected = Resource(payload[0] & 0x1D)
 
     def _seed(self, resource: Resource) -> bytes:
