@@ -179,6 +179,14 @@ def test_a_module_on_one_line_and_a_layout_to_reuse():
                                                                "csConstant"]
 
 
+def test_a_path_named_with_a_typo_gets_the_closest_name():
+    doc = load_a2l_string(EMPTY)
+    with DebugData(TYPES_ELF, use_cache=False) as debug:
+        report = insert_document(doc, debug, measurements=Selection(paths=("zsScalr",))).report
+    assert [f.message for f in report.of_kind("symbol-not-found")] == [
+        f"MEASUREMENT zsScalr: not in {TYPES_ELF.name}; did you mean 'zsScalar'?"]
+
+
 def test_errors_for_people(tmp_path, capsys):
     source = tmp_path / "in.a2l"
     source.write_text(EMPTY)

@@ -131,3 +131,11 @@ def test_enums_and_anonymous_types_in_structs(tmp_path):
     assert [model.conversion(model.measurement(f"s2[2].{member}")).to_physical(1)
             for member in ("mode", "color", "anon")] == ["A1", "GREEN", "X2"]
     assert model.typedef("tS_in_type").size == 2 and check_file(typed, elf, use_cache=False).ok
+
+
+def test_the_summary_counts_an_instance_as_one(tmp_path, capsys):
+    out = tmp_path / "new.a2l"
+    code, _, err = run(capsys, "a2l", "insert", "--create", demo.elf(), "-o", out, "--structures",
+                       "--measurement-regex", "API_CAN_RxPdu|API_DOUT_Value", "--no-cache")
+    assert code == 0 and load_a2l(out).model().instance("API_CAN_RxPdu").typedef == "tRxPduInfo"
+    assert err == f"wrote {out}: 1 MEASUREMENT, 1 INSTANCE inserted\n"  # was '2 MEASUREMENT inserted'

@@ -93,7 +93,13 @@ class InsertReport(Report):
 
     def summary(self, output: str | Path | None) -> str:
         """The one line the CLI and the GUI say after ``output`` is written (None: a dry run)."""
-        counts = ", ".join(f"{len(names)} {kind}" for kind, names in self.inserted.items() if names) or "nothing"
+        # --structures: a struct inserted as one INSTANCE is counted as that, not as a MEASUREMENT/CHARACTERISTIC
+        as_instance = {finding.name for finding in self.of_kind("inserted") if finding.block == "INSTANCE"}
+        plain = {kind: sum(name not in as_instance for name in names) for kind, names in self.inserted.items()}
+        counts = [f"{count} {kind}" for kind, count in plain.items() if count]
+        if as_instance:
+            counts.append(f"{len(as_instance)} INSTANCE")
+        counts = ", ".join(counts) or "nothing"
         skipped = len(self.of_kind("exists")) + len(self.of_kind("already-described"))
         tail = f" ({skipped} existed already)" if skipped else ""
         return (f"would insert {counts}{tail}; nothing written (dry run)" if output is None
@@ -307,7 +313,10 @@ class _Inserter:
         try:
             symbol = self.debug.resolve(path)
         except UnknownSymbolError:
-            self._skip("symbol-not-found", path, f"{kind} {path}: {self.debug.resolve_error(path)}", Severity.WARNING)
+            from workbench.elf.suggest import missing_symbol_reason  # with the closest name: a typo in -M/-C
+
+            self._skip("symbol-not-found", path, f"{kind} {path}: {missing_symbol_reason(self.debug, path)}",
+                       Severity.WARNING)
             return
         if symbol.type is None:
             self._skip("type-unknown", path, f"{kind} {path}: no DWARF type", Severity.WARNING)
