@@ -496,3 +496,13 @@ def test_info_saves_the_a2l_the_ecu_holds(capsys, tmp_path, free_udp_port):
         assert (tmp_path / "ecu.a2l").read_bytes() == bytes(simulator.a2l.data)
         code, out, _ = run(capsys, "cal", "get", "xsSWITCH_TANK_THR", "--a2l", str(tmp_path / "ecu.a2l"), *where)
         assert (code, out) == (0, "xsSWITCH_TANK_THR = 20.00 bar\n")
+
+
+def test_a_daq_list_can_id_the_ecu_refuses_is_one_line(bus, capsys):
+    """--daq-can-id reaches SET_DAQ_ID: the demo's lists have no id of their own to move (ERR_OUT_OF_RANGE)."""
+    code, out, err = run(capsys, "measure", "zsRailPressure", "--daq", "--duration", "0.2", "--daq-can-id", "0=0x7F6",
+                         *bus)
+    assert (code, out) == (1, "")
+    assert err == ("error: moving DAQ list 0's DTOs to CAN id 0x7F6: XCP TRANSPORT_LAYER_CMD SET_DAQ_ID failed: "
+                   "ERR_OUT_OF_RANGE (0x22)\n")
+    assert run(capsys, "measure", "zsRailPressure", "--daq", "--daq-can-id", "0x7F6", *bus)[0] == 2

@@ -2,7 +2,7 @@
 
 ``--a2l`` (default: the demo ECU's merged and updated A2L), python-can's bus options
 (``--interface --channel --bitrate --bus-kwargs ...``), ``--host/--port/--protocol`` for XCP on
-Ethernet, ``--key-function`` and ``--accept-epk-mismatch``.
+Ethernet, ``--key-function``, ``--accept-epk-mismatch`` and ``--daq-can-id``.
 """
 
 from __future__ import annotations
@@ -29,10 +29,24 @@ def add_ecu_arguments(parser: argparse.ArgumentParser, *, json_output: bool = Tr
                             "(default: the A2L's SEED_AND_KEY_EXTERNAL_FUNCTION)")
     group.add_argument("--accept-epk-mismatch", action="store_true",
                        help="write although the ECU's EPK differs from the A2L's (the session is read-only otherwise)")
+    group.add_argument("--daq-can-id", action="append", type=_daq_can_id, metavar="LIST=ID", dest="daq_can_ids",
+                       help="XCP on CAN: DAQ list LIST sends its DTOs on CAN id ID (as the A2L writes it: 0x7F4, bit "
+                            "31 set for an extended id), set with SET_DAQ_ID before it starts; for lists the A2L's "
+                            "DAQ_LIST_CAN_ID calls VARIABLE (default: CAN_ID_SLAVE); repeatable")
     add_bus_arguments(parser)
     add_ethernet_arguments(parser)
     if json_output:
         add_output_arguments(parser)
+
+
+def _daq_can_id(text: str) -> tuple[int, int]:
+    number, separator, can_id = text.partition("=")
+    try:
+        if not separator:
+            raise ValueError
+        return int(number, 0), int(can_id, 0)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: give LIST=ID, e.g. 2=0x7F4") from None
 
 
 def a2l_document(args: argparse.Namespace) -> A2lDocument:
@@ -78,7 +92,8 @@ def open_session(args: argparse.Namespace, a2l: A2lDocument | None = None, *, re
 
     session = Session.open(a2l or a2l_document(args), bus=bus_spec(args), host=args.host, port=args.port,
                            protocol=args.protocol, key_function=args.key_function,
-                           accept_epk_mismatch=args.accept_epk_mismatch)
+                           accept_epk_mismatch=args.accept_epk_mismatch,
+                           daq_can_ids=dict(getattr(args, "daq_can_ids", None) or ()))
     if session.other_master:
         print(f"warning: {session.other_master}", file=sys.stderr)
     if reading and session.epk.matches is False:

@@ -104,6 +104,8 @@ def info_lines(info, state: str) -> list[str]:
             period = f"{event.period_s * 1000:g} ms" if event.period_s else "not cyclic"
             lines.append(f"  event {event.number:<3}  {event.name or '?':<16} {period}, priority {event.priority}, "
                          f"consistency {event.consistency}")
+        if info.daq_can_ids:
+            lines.append(f"DAQ CAN ids   {', '.join(map(str, info.daq_can_ids))}")
     for page in info.pages:
         lines.append(f"page          segment {page.segment}: ECU on {page.name(page.ecu_page)}, "
                      f"XCP on {page.name(page.xcp_page)}")

@@ -5,11 +5,13 @@ XCP on CAN takes one :class:`~workbench.bus_defaults.BusSpec` (python-can's ``in
 takes ``host``, ``port`` and ``protocol`` ("udp"/"tcp"). Without any of them, the A2L decides: its
 XCP_ON_CAN ids on the default bus (udp_multicast on 239.74.163.2, where ``workbench sim`` serves), or its
 XCP_ON_UDP_IP/TCP_IP address when it has no XCP on CAN. The A2L completes the bus: its BAUDRATE for a
-hardware interface given none, CAN FD with its data bit rate where it has a CAN_FD block.
+hardware interface given none, CAN FD with its data bit rate where it has a CAN_FD block. DAQ lists its
+DAQ_LIST_CAN_ID calls VARIABLE are moved to the ids the caller gives (``daq_can_ids``), else to CAN_ID_SLAVE.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 from workbench.a2l.xcp import XcpConfig, XcpOnCan
@@ -17,8 +19,9 @@ from workbench.bus_defaults import BusSpec
 from workbench.errors import InputError
 from workbench.xcp.link import LinkSettings
 from workbench.xcp.master import Timeouts
+from workbench.xcp_protocol import CanId
 
-__all__ = ["Connection", "link_settings", "timeouts_of"]
+__all__ = ["Connection", "assigned_daq_can_ids", "daq_can_ids_of", "link_settings", "timeouts_of"]
 
 
 @dataclass(frozen=True)
@@ -30,6 +33,7 @@ class Connection:
     port: int | None = None
     protocol: str | None = None  # "udp" or "tcp"
     open_bus: bool = False  # XCP on CAN goes on a python-can bus the caller opened (``bus`` is None then)
+    daq_can_ids: tuple[tuple[int, CanId], ...] = ()  # (DAQ list, CAN id) the master sets with SET_DAQ_ID
 
     @property
     def wants_ethernet(self) -> bool:
@@ -49,6 +53,8 @@ def link_settings(config: XcpConfig, connection: Connection) -> tuple[LinkSettin
         raise InputError("give either CAN options (--interface/--channel) or Ethernet ones (--host/--port/--protocol)")
     ethernet = connection.wants_ethernet or (config.can is None and (config.udp or config.tcp) is not None
                                              and connection.bus is None and not connection.open_bus)
+    if ethernet and connection.daq_can_ids:
+        raise InputError("DAQ lists' CAN ids (daq_can_ids, --daq-can-id) are XCP on CAN's; this is XCP on Ethernet")
     if ethernet:
         return _ethernet(config, connection)
     return _can(config, connection)
@@ -63,8 +69,44 @@ def _can(config: XcpConfig, connection: Connection) -> tuple[LinkSettings, XcpCo
     bus = None if connection.open_bus else _completed(connection.bus or BusSpec(), can, fd)
     settings = LinkSettings("CAN", bus, can.can_id_master, can.can_id_slave, can.max_dlc_required,
                             tuple(item.can_id for item in can.daq_list_can_ids if item.can_id is not None),
-                            fd=fd, max_dlc=can.max_dlc if fd else 8)
+                            fd=fd, max_dlc=can.max_dlc if fd else 8,
+                            assigned_daq_can_ids=assigned_daq_can_ids(can, dict(connection.daq_can_ids)))
     return settings, _for_transport(config, "CAN")
+
+
+def daq_can_ids_of(given: Mapping[int, int | CanId]) -> tuple[tuple[int, CanId], ...]:
+    """(DAQ list, CAN id) pairs from a mapping of list numbers to ids: :class:`CanId` or numbers as the A2L writes
+    them (bit 31: extended).
+
+    :raises InputError: a list number or an id out of range.
+    """
+    pairs = []
+    for number, can_id in given.items():
+        if not 0 <= int(number) <= 0xFFFF:
+            raise InputError(f"DAQ list {number}: list numbers are 0..65535")
+        try:
+            pairs.append((int(number), can_id if isinstance(can_id, CanId) else CanId.from_a2l(int(can_id))))
+        except ValueError as exc:
+            raise InputError(f"DAQ list {number}'s CAN id: {exc}") from None
+    return tuple(sorted(pairs))
+
+
+def assigned_daq_can_ids(can: XcpOnCan, given: Mapping[int, CanId]) -> tuple[tuple[int, CanId], ...]:
+    """The DAQ lists the master moves with SET_DAQ_ID, and where: each list the A2L's DAQ_LIST_CAN_ID calls VARIABLE
+    to the id ``given`` for it, else to CAN_ID_SLAVE (where the slave's other DTOs and responses come: no id of
+    another node is taken); a list ``given`` an id the A2L does not mention, there too.
+
+    :raises InputError: an id ``given`` for a list whose DAQ_LIST_CAN_ID is FIXED on another id.
+    """
+    stated = {item.daq_list: item.can_id for item in can.daq_list_can_ids}
+    for number, can_id in given.items():
+        fixed = stated.get(number)
+        if fixed is not None and fixed != can_id:
+            raise InputError(f"DAQ list {number} sends on CAN id {fixed} (the A2L's DAQ_LIST_CAN_ID {number} FIXED): "
+                             f"it cannot be moved to {can_id}")
+    assigned = {number: given.get(number, can.can_id_slave) for number, can_id in stated.items() if can_id is None}
+    assigned.update((number, can_id) for number, can_id in given.items() if number not in stated)
+    return tuple(sorted(assigned.items()))
 
 
 def _completed(bus: BusSpec, can: XcpOnCan, fd: bool) -> BusSpec:

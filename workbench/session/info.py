@@ -6,6 +6,7 @@ from dataclasses import asdict, dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from workbench.errors import WorkbenchError, XcpTimeoutError
+from workbench.xcp.detect import DaqCanIds, read_daq_can_ids
 from workbench.xcp.info import DaqEventInfo, DaqProcessorInfo, DaqResolutionInfo
 from workbench.xcp_protocol import IdType, Resource
 
@@ -75,9 +76,10 @@ class EcuInfo:
     events: list[DaqEventInfo] = field(default_factory=list)
     pages: list[PageState] = field(default_factory=list)
     epk_parts: list[dict[str, Any]] = field(default_factory=list)  # EpkPart.to_dict() of each part with its own EPK
+    daq_can_ids: list[DaqCanIds] = field(default_factory=list)  # XCP on CAN: GET_DAQ_ID of the first lists
 
     def to_dict(self) -> dict[str, Any]:
-        return asdict(self)
+        return {**asdict(self), "daq_can_ids": [ids.to_dict() for ids in self.daq_can_ids]}
 
 
 def _resources(flags: Resource) -> list[str]:
@@ -100,12 +102,15 @@ def read_ecu_info(session: Session) -> EcuInfo:
     connect, comm = master.connect_info, master.comm_mode
     daq = resolution = None
     events: list[DaqEventInfo] = []
+    daq_can_ids: list[DaqCanIds] = []
     if connect.resources & Resource.DAQ and not session.in_boot:
         daq = _optional(master.get_daq_processor_info)
         resolution = _optional(master.get_daq_resolution_info)
         if daq is not None:
             count = daq.max_event_channels or (len(session.config.daq.events) if session.config.daq else 0)
             events = [e for e in (_optional(lambda n=n: master.get_daq_event_info(n)) for n in range(count)) if e]
+            if session.link.is_can:  # a slave without GET_DAQ_ID shows none
+                daq_can_ids = list(read_daq_can_ids(master, []))
     pages = []
     if connect.resources & Resource.CAL_PAG and not session.in_boot:
         segments = _optional(session.calibration_segments, ())  # the A2L's, else the ECU's
@@ -122,6 +127,6 @@ def read_ecu_info(session: Session) -> EcuInfo:
         address_granularity=connect.address_granularity, slave_block_mode=connect.slave_block_mode,
         master_block_mode=bool(comm and comm.master_block_mode), max_bs=comm.max_bs if comm else None,
         protocol_version=connect.protocol_version, transport_version=connect.transport_version,
-        daq=daq, daq_resolution=resolution, events=events, pages=pages,
+        daq=daq, daq_resolution=resolution, events=events, pages=pages, daq_can_ids=daq_can_ids,
         epk_parts=[part.to_dict() for part in session.epks()],
     )

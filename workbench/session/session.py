@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import logging
 import threading
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -36,7 +36,12 @@ from workbench.errors import (
 )
 from workbench.logs import logger
 from workbench.session.can_listeners import CanListeners, Listening
-from workbench.session.connection import Connection, link_settings, timeouts_of
+from workbench.session.connection import (
+    Connection,
+    daq_can_ids_of,
+    link_settings,
+    timeouts_of,
+)
 from workbench.session.epk import EpkCheck, EpkPart, check_epk
 from workbench.session.fixes import FixAccess
 from workbench.session.info import EcuInfo, PageCopy, PageState, read_ecu_info
@@ -104,7 +109,8 @@ class Session(ValueAccess, EventAccess, FixAccess):
              channel: str | int | None = None, bitrate: int | None = None, bus_kwargs: dict[str, Any] | None = None,
              bus=None, host: str | None = None, port: int | None = None, protocol: str | None = None,
              key_function: KeyFunction | str | None = None, accept_epk_mismatch: bool = False,
-             timeouts: Timeouts | None = None, module: str | None = None) -> Session:
+             timeouts: Timeouts | None = None, module: str | None = None,
+             daq_can_ids: Mapping[int, int | CanId] | None = None) -> Session:
         """Connect to the ECU the A2L describes.
 
         :param a2l: the A2L (path or loaded document); default: the built-in demo ECU's.
@@ -117,12 +123,16 @@ class Session(ValueAccess, EventAccess, FixAccess):
             default: the A2L's SEED_AND_KEY_EXTERNAL_FUNCTION.
         :param accept_epk_mismatch: allow writes although the ECU's EPK differs from the A2L's.
         :param timeouts: T1-T7 instead of the A2L's.
+        :param daq_can_ids: XCP on CAN: DAQ list number -> the CAN id its DTOs go on (a :class:`CanId` or the
+            number as the A2L writes it, bit 31 for extended), set with SET_DAQ_ID before the list starts; for the
+            lists the A2L's DAQ_LIST_CAN_ID calls VARIABLE (those not given: CAN_ID_SLAVE) or does not mention.
         :raises InputError: bad A2L or options; :raises WorkbenchError: the bus or ECU cannot be reached.
         """
         doc = a2l if isinstance(a2l, A2lDocument) else load_a2l_to_work(a2l or demo.a2l())
         spec = _bus_spec(bus, {"interface": interface, "channel": channel, "bitrate": bitrate, **(bus_kwargs or {})})
         opened = bus if bus is not None and not isinstance(bus, BusSpec) else None
-        connection = Connection(spec, host, port, protocol, open_bus=opened is not None)
+        connection = Connection(spec, host, port, protocol, open_bus=opened is not None,
+                                daq_can_ids=daq_can_ids_of(daq_can_ids or {}))
         settings, config = link_settings(read_xcp_config(doc, module), connection)
         function, name = _key_function(key_function, config, doc)
         link = Link(settings, bus=opened)

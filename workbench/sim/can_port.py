@@ -1,5 +1,5 @@
 """The simulated ECU on python-can buses: the buses themselves (:class:`CanBuses`) and XCP on CAN
-(:class:`CanXcpPort`), with XCP on CAN's own commands (TRANSPORT_LAYER_CMD GET_SLAVE_ID and GET_DAQ_ID).
+(:class:`CanXcpPort`), with XCP on CAN's own commands (TRANSPORT_LAYER_CMD GET_SLAVE_ID, GET_DAQ_ID, SET_DAQ_ID).
 
 Buses are given by role, ``CAN1`` (XCP on CAN) and ``CAN2`` (the FLCU messages), as python-can
 settings (opened here, shut down at close) or as open buses (the caller's). Two roles may share
@@ -124,9 +124,12 @@ class CanXcpPort(XcpPort):
 
     GET_SLAVE_ID is answered on CAN_ID_BROADCAST (when the parameters name one) and on CAN_ID_MASTER, connected or
     not; a request without the ``XCP`` pattern or with another mode goes unanswered, as a slave's CAN driver does.
-    GET_DAQ_ID answers in a session: a DAQ list's DTOs go on its id of :attr:`XcpParameters.daq_can_ids`
-    (DAQ_LIST_CAN_ID FIXED), the others' on CAN_ID_SLAVE, all fixed. Without TRANSPORT_LAYER_CMD
-    (:attr:`XcpParameters.without`) the slave is silent on the broadcast id.
+    GET_DAQ_ID and SET_DAQ_ID answer in a session: a DAQ list's DTOs go on its id of
+    :attr:`XcpParameters.daq_can_ids` (DAQ_LIST_CAN_ID FIXED), a list of
+    :attr:`XcpParameters.variable_daq_can_ids` (VARIABLE) on the id SET_DAQ_ID last gave it (before: the one
+    stated there), the others' on CAN_ID_SLAVE, fixed. SET_DAQ_ID refuses a fixed list, an id this slave takes
+    commands on and a frame format's impossible id with ERR_OUT_OF_RANGE, a running list with ERR_DAQ_ACTIVE.
+    Without TRANSPORT_LAYER_CMD (:attr:`XcpParameters.without`) the slave is silent on the broadcast id.
 
     With MAX_DLC_REQUIRED the slave pads every frame to MAX_DLC (8; 64 on CAN FD) and ignores master
     frames of another length, as AUTOSAR's CanXcp does. On CAN FD (:attr:`XcpParameters.can_fd`) frames
@@ -141,7 +144,8 @@ class CanXcpPort(XcpPort):
         self.master_id = ecu.params.can_id_master
         self.slave_id = ecu.params.can_id_slave
         self.broadcast_id = ecu.params.can_id_broadcast
-        self.daq_ids = dict(ecu.params.daq_can_ids)
+        self.daq_ids = dict(ecu.params.daq_can_ids) | dict(ecu.params.variable_daq_can_ids)  # where DTOs go now
+        self.variable_lists = frozenset(number for number, _ in ecu.params.variable_daq_can_ids)
         self.max_dlc = MAX_FD_DLC if ecu.params.can_fd else MAX_DLC
         self._short_frame_seen = False
 
@@ -177,15 +181,33 @@ class CanXcpPort(XcpPort):
             return [bytes((PID_RES,)) + echo + struct.pack(params.byte_order + "I", self.master_id.a2l)]
         if not self.ecu.slave.connected:
             return []
-        if cto[1:2] != bytes((CanCmd.GET_DAQ_ID,)):
+        if cto[1:2] not in (bytes((CanCmd.GET_DAQ_ID,)), bytes((CanCmd.SET_DAQ_ID,))):
             return [bytes((PID_ERR, Err.CMD_UNKNOWN))]
-        if len(cto) < 4:
+        setting = cto[1] == CanCmd.SET_DAQ_ID
+        if len(cto) < (8 if setting else 4):
             return [bytes((PID_ERR, Err.CMD_SYNTAX))]
-        daq = params.daq
-        if struct.unpack_from(params.byte_order + "H", cto, 2)[0] >= (len(daq.static_lists) or daq.max_daq):
+        number = struct.unpack_from(params.byte_order + "H", cto, 2)[0]
+        if number >= (len(params.daq.static_lists) or params.daq.max_daq):
             return [bytes((PID_ERR, Err.OUT_OF_RANGE))]
-        can_id = self.daq_ids.get(struct.unpack_from(params.byte_order + "H", cto, 2)[0], self.slave_id)
-        return [struct.pack(params.byte_order + "BBHI", PID_RES, 1, 0, can_id.a2l)]  # 1: the id is fixed
+        if setting:
+            return [self._set_daq_id(number, struct.unpack_from(params.byte_order + "I", cto, 4)[0])]
+        can_id = self.daq_ids.get(number, self.slave_id)
+        fixed = number not in self.variable_lists
+        return [struct.pack(params.byte_order + "BBHI", PID_RES, fixed, 0, can_id.a2l)]
+
+    def _set_daq_id(self, number: int, a2l_id: int) -> bytes:
+        """SET_DAQ_ID's answer; a VARIABLE list's DTOs go on the id from now."""
+        try:
+            can_id = CanId.from_a2l(a2l_id)
+        except ValueError:  # reserved bits set, or above 0x7FF without the extended bit
+            return bytes((PID_ERR, Err.OUT_OF_RANGE))
+        if number not in self.variable_lists or can_id in (self.master_id, self.broadcast_id):
+            return bytes((PID_ERR, Err.OUT_OF_RANGE))
+        lists = self.ecu.slave.daq.lists
+        if number < len(lists) and lists[number].running:
+            return bytes((PID_ERR, Err.DAQ_ACTIVE))
+        self.daq_ids[number] = can_id
+        return bytes((PID_RES,))
 
     def _frame(self, packet: bytes, can_id: CanId | None = None) -> can.Message:
         fd = self.ecu.params.can_fd

@@ -93,7 +93,7 @@ def _describe(config: XcpConfig, params: Mapping[str, XcpParameters], memory_map
         described = replace(described, can=replace(
             config.can, max_dlc_required=can.max_dlc_required, max_dlc=64 if can.can_fd else None,
             fd_data_baudrate=CAN_FD_DATA_BAUDRATE if can.can_fd else None, protocol_layer=None, daq=None, pgm=None,
-            daq_list_can_ids=tuple(XcpDaqListCanId(number, can_id) for number, can_id in can.daq_can_ids)))
+            daq_list_can_ids=_daq_list_can_ids(can)))
     for transport in ("UDP", "TCP"):
         block = getattr(config, transport.lower())
         if block is None or transport not in params:
@@ -104,6 +104,14 @@ def _describe(config: XcpConfig, params: Mapping[str, XcpParameters], memory_map
                         daq=None, pgm=_pgm(config, own, memory_map))
         described = replace(described, **{transport.lower(): block})
     return described
+
+
+def _daq_list_can_ids(can: XcpParameters) -> tuple[XcpDaqListCanId, ...]:
+    """DAQ_LIST_CAN_ID per list with an id of its own: FIXED with it, or VARIABLE (the id it starts on is the
+    slave's business: a master that does not SET_DAQ_ID it hears nothing)."""
+    stated = {number: can_id for number, can_id in can.daq_can_ids} | {number: None for number, _ in
+                                                                         can.variable_daq_can_ids}
+    return tuple(XcpDaqListCanId(number, can_id) for number, can_id in sorted(stated.items()))
 
 
 def _commands(params: XcpParameters, transport: str) -> frozenset[str]:

@@ -135,6 +135,14 @@ PROFILES: dict[str, SlaveProfile] = {p.name: p for p in (
                  "(DAQ_LIST_CAN_ID FIXED); the other lists on CAN_ID_SLAVE; on Ethernet the demo",
                  "DTOs on ids beside CAN_ID_SLAVE (the A2L's DAQ_LIST_CAN_ID, GET_DAQ_ID)",
                  can={"daq_can_ids": ((0, CanId(0x7F2)), (1, CanId(0x7F3)))}),
+    SlaveProfile("daq-can-ids-variable", "DAQ lists 0 and 1 send on CAN ids the master sets with SET_DAQ_ID "
+                 "(DAQ_LIST_CAN_ID VARIABLE; until then on 0x7F4/0x7F5, which the A2L does not state), list 2 on "
+                 "0x7F3 (FIXED: SET_DAQ_ID refused, ERR_OUT_OF_RANGE); the other lists on CAN_ID_SLAVE; on "
+                 "Ethernet the demo",
+                 "SET_DAQ_ID for VARIABLE lists after their setup and before START_STOP, the link listening there; "
+                 "GET_DAQ_ID (fixed or configurable)",
+                 can={"daq_can_ids": ((2, CanId(0x7F3)),),
+                      "variable_daq_can_ids": ((0, CanId(0x7F4)), (1, CanId(0x7F5)))}),
     SlaveProfile("long-seed", "seeds (and keys) of 20 bytes on CAN, 255 on Ethernet: more than one packet carries",
                  "GET_SEED mode 1 for the rest of a seed, a key in several UNLOCKs",
                  can={"seed_length": 20}, ethernet={"seed_length": 255}),

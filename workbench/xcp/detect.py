@@ -41,7 +41,7 @@ if TYPE_CHECKING:
 log = logger(__name__)
 
 __all__ = ["DEFAULT_WAIT_S", "MAX_DAQ_ID_LISTS", "DaqCanIds", "DetectedSlave", "SlaveDetection", "SlaveIdentity",
-           "detect_can_slaves", "get_slave_id_request", "identify_slave", "parse_slave_id_answer"]
+           "detect_can_slaves", "get_slave_id_request", "identify_slave", "parse_slave_id_answer", "read_daq_can_ids"]
 
 DEFAULT_WAIT_S = 0.2  # how long each GET_SLAVE_ID collects answers (a slave answers within T1, mostly at once)
 MAX_DAQ_ID_LISTS = 16  # GET_DAQ_ID is asked for the first lists only (a dynamic slave may have hundreds)
@@ -185,7 +185,7 @@ class DaqCanIds:
 
     def __str__(self) -> str:
         lists = f"list {self.first}" if self.first == self.last else f"lists {self.first}-{self.last}"
-        return f"{lists} on {self.can_id}{' (fixed)' if self.fixed else ''}"
+        return f"{lists} on {self.can_id} ({'fixed' if self.fixed else 'configurable'})"
 
 
 @dataclass(frozen=True)
@@ -222,7 +222,7 @@ def identify_slave(bus: can.BusABC, slave: DetectedSlave, *, fd: bool = False, t
         try:
             text = _identification(master, IdType.ASCII, notes)
             epk = _identification(master, IdType.EPK, notes)
-            daq_ids = _daq_ids(master, notes)
+            daq_ids = read_daq_can_ids(master, notes)
         except WorkbenchError as exc:
             return SlaveIdentity(slave, error=str(exc), notes=tuple(notes))
         finally:
@@ -242,20 +242,19 @@ def _identification(master: XcpMaster, kind: IdType, notes: list[str]) -> str | 
     return value.rstrip(b"\0").decode("latin-1") or None
 
 
-def _daq_ids(master: XcpMaster, notes: list[str]) -> tuple[DaqCanIds, ...]:
-    """GET_DAQ_ID list by list until the slave refuses one; consecutive lists on one id are one entry."""
+def read_daq_can_ids(master: XcpMaster, notes: list[str]) -> tuple[DaqCanIds, ...]:
+    """GET_DAQ_ID for the first :data:`MAX_DAQ_ID_LISTS` lists, until the slave refuses one; consecutive lists on one
+    id are one entry. A refusal (other than the end of the lists) or silence goes to ``notes``, never raised."""
     found: list[DaqCanIds] = []
     for number in range(MAX_DAQ_ID_LISTS):
-        payload = bytes((CanCmd.GET_DAQ_ID,)) + struct.pack(master.order + "H", number)
         try:
-            answer = master.command(Cmd.TRANSPORT_LAYER_CMD, payload, repeat=False)
-            fixed, can_id = answer[0] == 1, CanId.from_a2l(struct.unpack_from(master.order + "I", answer, 3)[0])
+            can_id, fixed = master.get_daq_id(number)
         except (XcpCommandError, XcpTimeoutError) as exc:
             if number == 0 or getattr(exc, "code", None) != Err.OUT_OF_RANGE:
                 notes.append(f"GET_DAQ_ID of list {number}: {exc}")
             break
-        except (struct.error, IndexError, ValueError):
-            notes.append(f"GET_DAQ_ID of list {number}: the response {answer.hex(' ').upper()} names no CAN id")
+        except WorkbenchError as exc:  # an answer that names no CAN id
+            notes.append(str(exc))
             break
         last = found[-1] if found else None
         if last is not None and (last.can_id, last.fixed, last.last) == (can_id, fixed, number - 1):

@@ -56,8 +56,9 @@ class LinkSettings:
 
     CAN: the ``bus`` (opened from it unless the link is handed an open one), the ids of commands
     (``can_id_master``), of responses and DTOs (``can_id_slave``) and of DTOs moved to ids of their own
-    (``daq_can_ids``, DAQ_LIST_CAN_ID); ``fd``: CAN FD frames of up to ``max_dlc`` bytes. Ethernet:
-    ``host`` and ``port``.
+    (``daq_can_ids``, DAQ_LIST_CAN_ID FIXED) and of DAQ lists the master moves to ids of its choice
+    (``assigned_daq_can_ids``: (list, id) pairs, DAQ_LIST_CAN_ID VARIABLE: SET_DAQ_ID before they start);
+    ``fd``: CAN FD frames of up to ``max_dlc`` bytes. Ethernet: ``host`` and ``port``.
     """
 
     transport: str = "CAN"
@@ -70,6 +71,12 @@ class LinkSettings:
     port: int | None = None
     fd: bool = False
     max_dlc: int = 8
+    assigned_daq_can_ids: tuple[tuple[int, CanId], ...] = ()
+
+    @property
+    def dto_can_ids(self) -> tuple[CanId, ...]:
+        """XCP on CAN: every id DTOs come on besides CAN_ID_SLAVE (fixed and assigned), each once."""
+        return tuple(dict.fromkeys((*self.daq_can_ids, *(can_id for _, can_id in self.assigned_daq_can_ids))))
 
     def describe(self) -> str:
         if self.transport == "CAN":

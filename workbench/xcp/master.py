@@ -43,7 +43,7 @@ from workbench.xcp.info import (
 )
 from workbench.xcp.info import program_block_size as block_size  # the method of the same name uses it
 from workbench.xcp.link import Link
-from workbench.xcp_protocol import PID_ERR, PID_RES, Cmd, Err, IdType, Resource
+from workbench.xcp_protocol import PID_ERR, PID_RES, CanCmd, CanId, Cmd, Err, IdType, Resource
 
 log = logger(__name__)
 
@@ -716,3 +716,33 @@ class XcpMaster:
     def start_stop_synch(self, mode: int) -> None:
         """Mode 0 stop all, 1 start selected, 2 stop selected."""
         self.command(Cmd.START_STOP_SYNCH, bytes((mode,)))
+
+    # --- XCP on CAN's DAQ list identifiers (TRANSPORT_LAYER_CMD) ------------------------------
+
+    def get_daq_id(self, daq_list: int) -> tuple[CanId, bool]:
+        """GET_DAQ_ID: the CAN id a DAQ list's DTOs go on, and whether it is fixed (SET_DAQ_ID cannot move it).
+
+        :raises XcpCommandError: the slave refuses (named ``TRANSPORT_LAYER_CMD GET_DAQ_ID``).
+        :raises WorkbenchError: the answer names no CAN id.
+        """
+        answer = self._can_command(CanCmd.GET_DAQ_ID, struct.pack(f"{self.order}H", daq_list))
+        try:
+            return CanId.from_a2l(struct.unpack_from(f"{self.order}I", answer, 3)[0]), answer[0] == 1
+        except (struct.error, ValueError):
+            raise WorkbenchError(f"XCP GET_DAQ_ID of DAQ list {daq_list}: the response {answer.hex(' ').upper()} "
+                                 "names no CAN id") from None
+
+    def set_daq_id(self, daq_list: int, can_id: CanId) -> None:
+        """SET_DAQ_ID: the DAQ list's DTOs go on ``can_id`` from now (a list DAQ_LIST_CAN_ID calls VARIABLE).
+
+        :raises XcpCommandError: the slave refuses (named ``TRANSPORT_LAYER_CMD SET_DAQ_ID``; a fixed list or an
+            id it cannot send on: ERR_OUT_OF_RANGE).
+        """
+        self._can_command(CanCmd.SET_DAQ_ID, struct.pack(f"{self.order}HI", daq_list, can_id.a2l))
+
+    def _can_command(self, sub_command: CanCmd, payload: bytes) -> bytes:
+        try:
+            return self.command(Cmd.TRANSPORT_LAYER_CMD, bytes((sub_command,)) + payload, repeat=False)
+        except XcpCommandError as error:  # named by the sub-command: TRANSPORT_LAYER_CMD alone says too little
+            raise XcpCommandError(f"{error.command} {sub_command.name}", error.code, error.name,
+                                  payload=error.payload) from None

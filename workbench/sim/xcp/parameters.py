@@ -155,6 +155,8 @@ class XcpParameters:
     can_id_slave: CanId = CanId(0x7F1)  # slave -> master, responses and DTOs
     can_id_broadcast: CanId | None = None  # CAN_ID_BROADCAST: GET_SLAVE_ID answered there too (None: on can_id_master)
     daq_can_ids: tuple[tuple[int, CanId], ...] = ()  # (DAQ list, CAN id): DAQ_LIST_CAN_ID FIXED, its DTOs go there
+    # (DAQ list, CAN id until SET_DAQ_ID moves it): DAQ_LIST_CAN_ID VARIABLE (the A2L states no id for them)
+    variable_daq_can_ids: tuple[tuple[int, CanId], ...] = ()
     baudrate: int = 1_000_000
     max_dlc_required: bool = True  # XCP_ON_CAN MAX_DLC_REQUIRED: frames both ways have MAX_DLC (others are ignored)
     can_fd: bool = False  # XCP on CAN FD: frames of up to 64 bytes (MAX_CTO/MAX_DTO up to 64)
@@ -236,7 +238,7 @@ class XcpParameters:
 
     def transport_commands(self, transport: str) -> frozenset[Cmd]:
         """The commands the ``transport``'s port answers itself, beside the protocol layer's: XCP on CAN's
-        TRANSPORT_LAYER_CMD (GET_SLAVE_ID, GET_DAQ_ID), unless :attr:`without` names it."""
+        TRANSPORT_LAYER_CMD (GET_SLAVE_ID, GET_DAQ_ID, SET_DAQ_ID), unless :attr:`without` names it."""
         own = {"CAN": frozenset({Cmd.TRANSPORT_LAYER_CMD})}.get(transport, frozenset())
         return own - self.without
 

@@ -2,7 +2,8 @@
 
 :class:`DaqStream` writes the plan into the slave in the order real slaves demand (FREE_DAQ,
 ALLOC_DAQ, ALLOC_ODT for every list, ALLOC_ODT_ENTRY for every ODT, then SET_DAQ_PTR/WRITE_DAQ,
-SET_DAQ_LIST_MODE, START_STOP_DAQ_LIST select, START_STOP_SYNCH start; a static configuration has no
+SET_DAQ_LIST_MODE, on CAN SET_DAQ_ID for a list the link gives an id of its own, START_STOP_DAQ_LIST select,
+START_STOP_SYNCH start; a static configuration has no
 ALLOC_*: every DAQ list is stopped and the plan's lists are emptied with CLEAR_DAQ_LIST instead, so the
 entries the plan does not fill stay empty and end each ODT and list), feeds the DTOs the link
 receives to a :class:`~workbench.xcp.daq.assemble.DtoAssembler`, and hands out
@@ -157,6 +158,23 @@ class DaqStream:
                                         + placeholder_hint(entry.address)) from None
             master.set_daq_list_mode(daq.number, daq.event, timestamp=daq.timestamps, prescaler=daq.prescaler,
                                      priority=daq.priority)
+        self._assign_can_ids()
+
+    def _assign_can_ids(self) -> None:
+        """XCP on CAN: SET_DAQ_ID for the plan's lists the link assigns an id of their own (DAQ_LIST_CAN_ID VARIABLE),
+        before they start; the link listens there already.
+
+        :raises XcpCommandError: the slave refuses an id (the message names the list and the id).
+        """
+        assigned = dict(self.master.link.settings.assigned_daq_can_ids)
+        for daq in self.plan.lists:
+            can_id = assigned.get(daq.number)
+            if can_id is None:
+                continue
+            try:
+                self.master.set_daq_id(daq.number, can_id)
+            except XcpCommandError as exc:
+                raise exc.about(f"moving DAQ list {daq.number}'s DTOs to CAN id {can_id}") from None
 
     def _allocate(self) -> None:
         """Dynamic lists for the plan: FREE_DAQ, ALLOC_DAQ, every ALLOC_ODT, every ALLOC_ODT_ENTRY.

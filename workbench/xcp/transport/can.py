@@ -1,7 +1,7 @@
 """XCP on CAN for the master (ASAM XCP Part 3), over any python-can bus: classic CAN and CAN FD.
 
 Commands go out on CAN_ID_MASTER; responses, events and DTOs come on CAN_ID_SLAVE and DTOs also on
-the DAQ_LIST_CAN_ID ids. Frames of other ids (other nodes, CAN2 on a shared bus) are passed over.
+the DAQ_LIST_CAN_ID ids (FIXED ones, and those the master assigns to VARIABLE lists with SET_DAQ_ID). Frames of other ids (other nodes, CAN2 on a shared bus) are passed over.
 A frame is as long as its packet, except:
 
 * MAX_DLC_REQUIRED: every frame is padded to MAX_DLC (8 on classic CAN, the A2L's MAX_DLC on CAN FD);
@@ -75,7 +75,7 @@ class CanTransport(Transport):
             raise InputError("XCP on CAN needs a bus: its python-can settings or an open bus")
         self.bus = open_bus(settings.bus.kwargs()) if bus is None else bus
         self._master = settings.can_id_master
-        self._ids = (settings.can_id_slave, *settings.daq_can_ids)  # what the slave sends on
+        self._ids = tuple(dict.fromkeys((settings.can_id_slave, *settings.dto_can_ids)))  # what the slave sends on
         self._incoming = frozenset((can_id.id, can_id.extended) for can_id in self._ids)
         self._fd = settings.fd
         limit = settings.max_dlc if settings.fd else 8  # the frame length of each packet size, looked up per command

@@ -1,0 +1,77 @@
+"""DAQ lists on CAN ids the master chooses: the A2L's DAQ_LIST_CAN_ID VARIABLE, SET_DAQ_ID before the lists start,
+GET_DAQ_ID, against the simulated slave's daq-can-ids-variable profile (lists 0 and 1 VARIABLE, starting on
+0x7F4/0x7F5 the A2L does not state; list 2 FIXED on 0x7F3) on python-can's virtual bus, with a spy on the bus."""
+
+from __future__ import annotations
+
+import itertools
+import time
+
+import can
+import pytest
+
+from workbench import Session
+from workbench.a2l.xcp import XcpDaqListCanId, XcpOnCan
+from workbench.errors import InputError, XcpCommandError
+from workbench.session.connection import assigned_daq_can_ids
+from workbench.sim import serve_demo
+from workbench.xcp_protocol import CanId, Err
+
+_channels = itertools.count()
+PROFILE = "daq-can-ids-variable"
+
+
+@pytest.fixture
+def channel():
+    return f"daq-can-ids-{next(_channels)}"
+
+
+def _measure_both_events(session: Session) -> set[int]:
+    """The events whose samples came within 10 s (list 0: event 0, 4 ms; list 1: event 1)."""
+    events: set[int] = set()
+    with session.measure(["zsRailPressure", "xsDC"]) as live:
+        assert [(daq.number, daq.event) for daq in live.stream.plan.lists] == [(0, 0), (1, 1)]
+        deadline = time.monotonic() + 10.0
+        while time.monotonic() < deadline and events != {0, 1}:
+            events |= {batch.event for batch in live.read(0.2)}
+    return events
+
+
+def test_variable_lists_send_where_set_daq_id_put_them(channel):
+    """List 0 (no id given) is moved to CAN_ID_SLAVE, list 1 to the id given; their DTOs come there and never on the
+    ids they started on; GET_DAQ_ID reads the ids back, configurable, and list 2 fixed."""
+    with serve_demo({"interface": "virtual", "channel": channel}, profile=PROFILE, time_scale=1.0) as sim, \
+            can.Bus(interface="virtual", channel=channel) as spy:
+        with Session.open(sim.a2l, interface="virtual", channel=channel, daq_can_ids={1: 0x7F6}) as session:
+            events = _measure_both_events(session)
+            read_back = [session.master.get_daq_id(number) for number in range(3)]
+        seen: dict[int, int] = {}
+        while (message := spy.recv(0)) is not None:
+            seen[message.arbitration_id] = seen.get(message.arbitration_id, 0) + 1
+    assert events == {0, 1}
+    assert seen.get(0x7F6) and 0x7F4 not in seen and 0x7F5 not in seen
+    assert read_back == [(CanId(0x7F1), False), (CanId(0x7F6), False), (CanId(0x7F3), True)]
+
+
+def test_the_slave_refuses_set_daq_id_for_a_fixed_list_and_a_measurement_says_which(channel):
+    with serve_demo({"interface": "virtual", "channel": channel}, profile=PROFILE, time_scale=None) as sim:
+        with pytest.raises(InputError, match=r"DAQ list 2 sends on CAN id 0x7F3 \(the A2L's DAQ_LIST_CAN_ID 2 FIXED\)"):
+            Session.open(sim.a2l, interface="virtual", channel=channel, daq_can_ids={2: 0x7F7})
+        with Session.open(sim.a2l, interface="virtual", channel=channel) as session:
+            with pytest.raises(XcpCommandError) as fixed:
+                session.master.set_daq_id(2, CanId(0x7F7))
+            with pytest.raises(XcpCommandError) as commands_id:  # the slave's own command id: refused too
+                session.master.set_daq_id(0, CanId(0x7F0))
+    assert (fixed.value.command, fixed.value.code) == ("TRANSPORT_LAYER_CMD SET_DAQ_ID", Err.OUT_OF_RANGE)
+    assert commands_id.value.code == Err.OUT_OF_RANGE
+
+
+def test_which_lists_the_master_moves_and_where():
+    can_block = XcpOnCan(0x100, CanId(0x7F0), CanId(0x7F1), None, None, True, daq_list_can_ids=(
+        XcpDaqListCanId(0, None), XcpDaqListCanId(1, None), XcpDaqListCanId(2, CanId(0x7F3))))
+    assert assigned_daq_can_ids(can_block, {}) == ((0, CanId(0x7F1)), (1, CanId(0x7F1)))
+    extended = CanId(0x1234, extended=True)
+    assert assigned_daq_can_ids(can_block, {1: extended, 2: CanId(0x7F3), 5: CanId(0x7F9)}) == (
+        (0, CanId(0x7F1)), (1, extended), (5, CanId(0x7F9)))
+    with pytest.raises(InputError, match="DAQ list 2 sends on CAN id 0x7F3"):
+        assigned_daq_can_ids(can_block, {2: CanId(0x7F4)})
