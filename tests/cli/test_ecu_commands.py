@@ -499,10 +499,10 @@ def test_info_saves_the_a2l_the_ecu_holds(capsys, tmp_path, free_udp_port):
 
 
 def test_a_daq_list_can_id_the_ecu_refuses_is_one_line(bus, capsys):
-    """--daq-can-id reaches SET_DAQ_ID: the demo's lists have no id of their own to move (ERR_OUT_OF_RANGE)."""
+    """--daq-can-id reaches SET_DAQ_ID, which the demo, whose lists all send on CAN_ID_SLAVE, does not implement."""
     code, out, err = run(capsys, "measure", "zsRailPressure", "--daq", "--duration", "0.2", "--daq-can-id", "0=0x7F6",
                          *bus)
     assert (code, out) == (1, "")
     assert err == ("error: moving DAQ list 0's DTOs to CAN id 0x7F6: XCP TRANSPORT_LAYER_CMD SET_DAQ_ID failed: "
-                   "ERR_OUT_OF_RANGE (0x22)\n")
+                   "ERR_CMD_UNKNOWN (0x20)\n")
     assert run(capsys, "measure", "zsRailPressure", "--daq", "--daq-can-id", "0x7F6", *bus)[0] == 2

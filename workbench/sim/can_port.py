@@ -124,10 +124,10 @@ class CanXcpPort(XcpPort):
 
     GET_SLAVE_ID is answered on CAN_ID_BROADCAST (when the parameters name one) and on CAN_ID_MASTER, connected or
     not; a request without the ``XCP`` pattern or with another mode goes unanswered, as a slave's CAN driver does.
-    GET_DAQ_ID and SET_DAQ_ID answer in a session: a DAQ list's DTOs go on its id of
-    :attr:`XcpParameters.daq_can_ids` (DAQ_LIST_CAN_ID FIXED), a list of
-    :attr:`XcpParameters.variable_daq_can_ids` (VARIABLE) on the id SET_DAQ_ID last gave it (before: the one
-    stated there), the others' on CAN_ID_SLAVE, fixed. SET_DAQ_ID refuses a fixed list, an id this slave takes
+    GET_DAQ_ID answers in a session: a DAQ list's DTOs go on its id of :attr:`XcpParameters.daq_can_ids`
+    (DAQ_LIST_CAN_ID FIXED), a list of :attr:`XcpParameters.variable_daq_can_ids` (VARIABLE) on the id
+    SET_DAQ_ID last gave it (before: the one stated there), the others' on CAN_ID_SLAVE, fixed. SET_DAQ_ID
+    (implemented where a list is VARIABLE; else ERR_CMD_UNKNOWN) refuses a fixed list, an id this slave takes
     commands on and a frame format's impossible id with ERR_OUT_OF_RANGE, a running list with ERR_DAQ_ACTIVE.
     Without TRANSPORT_LAYER_CMD (:attr:`XcpParameters.without`) the slave is silent on the broadcast id.
 
@@ -181,9 +181,9 @@ class CanXcpPort(XcpPort):
             return [bytes((PID_RES,)) + echo + struct.pack(params.byte_order + "I", self.master_id.a2l)]
         if not self.ecu.slave.connected:
             return []
-        if cto[1:2] not in (bytes((CanCmd.GET_DAQ_ID,)), bytes((CanCmd.SET_DAQ_ID,))):
-            return [bytes((PID_ERR, Err.CMD_UNKNOWN))]
         setting = cto[1] == CanCmd.SET_DAQ_ID
+        if cto[1] != CanCmd.GET_DAQ_ID and not (setting and self.variable_lists):
+            return [bytes((PID_ERR, Err.CMD_UNKNOWN))]  # a slave with no VARIABLE list implements no SET_DAQ_ID
         if len(cto) < (8 if setting else 4):
             return [bytes((PID_ERR, Err.CMD_SYNTAX))]
         number = struct.unpack_from(params.byte_order + "H", cto, 2)[0]

@@ -238,7 +238,7 @@ class XcpParameters:
 
     def transport_commands(self, transport: str) -> frozenset[Cmd]:
         """The commands the ``transport``'s port answers itself, beside the protocol layer's: XCP on CAN's
-        TRANSPORT_LAYER_CMD (GET_SLAVE_ID, GET_DAQ_ID, SET_DAQ_ID), unless :attr:`without` names it."""
+        TRANSPORT_LAYER_CMD (GET_SLAVE_ID, GET_DAQ_ID; SET_DAQ_ID with VARIABLE lists), unless :attr:`without` names it."""
         own = {"CAN": frozenset({Cmd.TRANSPORT_LAYER_CMD})}.get(transport, frozenset())
         return own - self.without
 
