@@ -54,3 +54,13 @@ def test_bad_broadcast_ids_are_usage_errors(capsys, tmp_path):
     without = edited_a2l(tmp_path, "CAN_ID_BROADCAST 0x6F0\n", "")
     code, _, err = run(capsys, "scan", "--a2l", without, "--interface", "virtual")
     assert code == 2 and err.count("\n") == 1 and "XCP_ON_CAN has no CAN_ID_BROADCAST; give the broadcast" in err
+
+
+@pytest.mark.parametrize(("interface", "option", "closest"), [
+    ((), "prot=43999", "did you mean port?"),  # the default, udp_multicast: python-can would scan the default port
+    (("--interface", "virtual"), "port=43999", "it takes bitrate"),
+])
+def test_a_bus_option_the_interface_would_ignore_is_refused(capsys, interface, option, closest):
+    code, out, err = run(capsys, "scan", *interface, "--bus-kwargs", option)
+    assert (code, out, err.count("\n")) == (2, "", 1)
+    assert err.startswith(f"error: --bus-kwargs {option}: python-can's ") and closest in err
