@@ -422,3 +422,27 @@ def test_a_count_in_memory_beyond_max_axis_points_is_refused():
         resolved(model, "k", Memory({0x100: b"\xff"}))
     with pytest.raises(WorkbenchError, match="no bytes given"):
         object_layout(model, "k").resolve({})
+
+
+def test_memory_bytes_read_from_the_first_span_by_address_that_holds_the_range():
+    """The index (bisect over the spans' starts and the farthest end so far) answers as a scan of the sorted spans
+    does, for every range over nested, overlapping and separate spans in two extensions; one built from another
+    shares its index (a dataset of every calibration decodes thousands of objects from one read)."""
+    from workbench.calib.memory import MemoryBytes
+
+    spans = [Span(10, 20), Span(12, 4), Span(25, 10), Span(40, 3), Span(10, 5, 1), Span(11, 8, 1), Span(50, 0)]
+    data = {span: bytes((span.address + i + 7 * n) % 256 for i in range(span.size)) for n, span in enumerate(spans)}
+    memory = MemoryBytes(data)
+
+    def scanned(address: int, size: int, extension: int) -> bytes | None:
+        for span in sorted(spans, key=lambda s: (s.extension, s.address)):
+            if span.extension == extension and span.address <= address and address + size <= span.end:
+                return data[span][address - span.address:address - span.address + size]
+        return None
+
+    ranges = [(address, size, extension) for extension in (0, 1, 2) for address in range(5, 56) for size in range(12)]
+    assert [memory.get(*r) for r in ranges] == [scanned(*r) for r in ranges]
+    assert sum(memory.get(*r) is not None for r in ranges) > 200  # (most of them are held)
+    assert MemoryBytes(memory)._spans is memory._spans and MemoryBytes(memory).read(26, 4) == memory.read(26, 4)
+    with pytest.raises(WorkbenchError, match="no bytes given"):
+        memory.read(28, 8)

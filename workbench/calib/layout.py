@@ -247,7 +247,7 @@ class ObjectLayout:
                 spans.extend(axis.reference.fixed_part())
         return list(dict.fromkeys(spans))
 
-    def resolve(self, data: Mapping[Span, bytes] | None = None) -> "ResolvedLayout":
+    def resolve(self, data: Mapping[Span, bytes] | MemoryBytes | None = None) -> "ResolvedLayout":
         """Place every field; ``data`` holds the bytes of :meth:`fixed_part` (may be omitted when that
         is empty).
 
@@ -399,7 +399,7 @@ class ResolvedLayout:
             spans.extend(reference.spans())
         return list(dict.fromkeys(spans))
 
-    def decode(self, data: Mapping[Span, bytes]) -> "CalValue":
+    def decode(self, data: Mapping[Span, bytes] | MemoryBytes) -> "CalValue":
         """The physical value from the bytes of :meth:`spans` (see :mod:`workbench.calib.codec`)."""
         from workbench.calib.codec import decode
 

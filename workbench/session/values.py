@@ -28,7 +28,7 @@ from workbench.a2l.objects import AxisPts, Characteristic, Measurement
 from workbench.calib.cells import axis_with_points, cell_edits, cell_span, cell_values
 from workbench.calib.codec import to_raw, value_decoder
 from workbench.calib.layout import ObjectLayout, ResolvedLayout, object_layout
-from workbench.calib.memory import ByteEdit, Span
+from workbench.calib.memory import ByteEdit, MemoryBytes, Span
 from workbench.calib.signals import MeasurementCodec, measurement_codec
 from workbench.calib.values import CalValue
 from workbench.calib.writable import check_inside, checked_cells, checked_value, writable_spans
@@ -125,8 +125,9 @@ class ValueAccess:
             owners = {name: [codec.span] for name, codec in codecs.items()}
             owners.update({name: layout.spans() for name, layout in resolved.items()})
             data = self._read_spans([span for spans in owners.values() for span in spans], owners)
+        memory = MemoryBytes(data)  # indexed once for all the objects
         return {name: codecs[name].decode(data[codecs[name].span]) if name in codecs
-                else resolved[name].decode(data).value for name in names}
+                else resolved[name].decode(memory).value for name in names}
 
     def _codec(self: Session, name: str) -> MeasurementCodec:
         codec = self._codecs.get(name)

@@ -37,7 +37,7 @@ from workbench.calib.cells import axis_with_points, cell_edits, cell_span, cell_
 from workbench.calib.codec import to_raw, value_edits
 from workbench.calib.fixes import FixPair, fix_pairs_of, resolve_fix
 from workbench.calib.layout import object_layout
-from workbench.calib.memory import ByteEdit, Span
+from workbench.calib.memory import ByteEdit, MemoryBytes, Span
 from workbench.calib.values import CalValue
 from workbench.calib.writable import check_inside, checked_cells, checked_value, writable_spans
 from workbench.errors import EpkMismatchError, InputError, epk_text
@@ -209,7 +209,7 @@ class ImageCalibration:
             if why is not None:
                 problems[name] = without_name(name, why)
                 del resolved[name]
-        data = self.fetch(span for layout in resolved.values() for span in layout.spans())
+        data = MemoryBytes(self.fetch(span for layout in resolved.values() for span in layout.spans()))
         return {name: layout.decode(data) for name, layout in resolved.items()}, problems
 
     # --- writing ------------------------------------------------------------------------------

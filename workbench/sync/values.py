@@ -17,7 +17,7 @@ from workbench.a2l.objects import AxisPts, Characteristic
 from workbench.calib.codec import value_edits
 from workbench.calib.dataset.numbers import as_typed
 from workbench.calib.layout import ObjectLayout, ResolvedLayout, object_layout
-from workbench.calib.memory import Span
+from workbench.calib.memory import MemoryBytes, Span
 from workbench.calib.values import CalValue
 from workbench.errors import InputError, UnknownSymbolError, WorkbenchError
 from workbench.sync.store import ByteStore
@@ -74,7 +74,7 @@ def without_name(name: str, message: str) -> str:
 
 def resolve_all(layouts: Mapping[str, ObjectLayout], fetch: Fetch) -> tuple[dict[str, ResolvedLayout], dict[str, str]]:
     """Every layout placed, with the counts it reads from memory fetched in one batch."""
-    firsts = fetch([span for layout in layouts.values() for span in layout.fixed_part()])
+    firsts = MemoryBytes(fetch([span for layout in layouts.values() for span in layout.fixed_part()]))
     problems: dict[str, str] = {}
     return _each(layouts, lambda layout: layout.resolve(firsts), problems), problems
 
@@ -82,7 +82,7 @@ def resolve_all(layouts: Mapping[str, ObjectLayout], fetch: Fetch) -> tuple[dict
 def decode_values(layouts: Mapping[str, ObjectLayout], fetch: Fetch) -> tuple[dict[str, CalValue], dict[str, str]]:
     """``({name: value}, {name: why not})`` of every layout, its bytes from ``fetch`` (two batches)."""
     resolved, problems = resolve_all(layouts, fetch)
-    data = fetch([span for layout in resolved.values() for span in layout.spans()])
+    data = MemoryBytes(fetch([span for layout in resolved.values() for span in layout.spans()]))
     return _each(resolved, lambda layout: layout.decode(data), problems), problems
 
 
