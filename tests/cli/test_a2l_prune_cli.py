@@ -128,3 +128,15 @@ def test_insert_create_makes_the_objects_a2ltool_creates(tmp_path, capsys):
                         if block.keyword in ("MEASUREMENT", "CHARACTERISTIC")}
 
     assert objects(tmp_path / "ours.a2l") == objects(tmp_path / "theirs.a2l")
+
+
+def test_remove_takes_a2ltools_spelling_of_its_options(tmp_path, capsys):
+    """A build script's ``a2ltool IN -R RE --remove-range MIN MAX -o OUT`` as ``workbench a2l remove``."""
+    source = _demo(tmp_path)
+    outputs = []
+    for regex, address_range in (("-R", "--range"), ("--remove", "--remove-range")):
+        outputs.append(tmp_path / f"{regex}.a2l")
+        code, _, _ = run(capsys, "a2l", "remove", source, regex, "zsTank.*Filt", address_range, "0x40020034",
+                         "0x40020035", "-o", outputs[-1])
+        assert code == 0
+    assert outputs[0].read_bytes() == outputs[1].read_bytes() != source.read_bytes()

@@ -200,11 +200,12 @@ def _add_remove(commands) -> None:
                                  "allowed: a pattern or range that selects nothing), 1 refused (nothing written), "
                                  "2 bad input (a bad pattern or range, malformed A2L).")
     remove.add_argument("a2l", metavar="IN.a2l")
-    remove.add_argument("-R", "--regex", action="append", default=[], type=_pattern, metavar="REGEX",
+    remove.add_argument("-R", "--regex", "--remove", action="append", default=[], type=_pattern, metavar="REGEX",
                         help="remove every object whose whole name it matches (repeatable; ^ or $ in it: searched as "
-                             "written, as a2ltool does)")
-    remove.add_argument("--range", action="append", default=[], nargs=2, type=_address, metavar=("MIN", "MAX"),
-                        help="remove every object whose address lies in [MIN, MAX) (repeatable; 0x hex allowed)")
+                             "written, as a2ltool does; --remove: a2ltool's spelling)")
+    remove.add_argument("--range", "--remove-range", action="append", default=[], nargs=2, type=_address,
+                        metavar=("MIN", "MAX"), help="remove every object whose address lies in [MIN, MAX) "
+                                                     "(repeatable; 0x hex allowed; --remove-range: a2ltool's spelling)")
     remove.add_argument("--drop-optional-references", action="store_true",
                         help="an INPUT_QUANTITY that names a removed object becomes NO_INPUT_QUANTITY, a "
                              "COMPARISON_QUANTITY is dropped (each a warning) instead of refusing the removal")
