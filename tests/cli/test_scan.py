@@ -46,6 +46,10 @@ def test_nobody_answering_is_one_line_and_exit_1(bus, capsys):
     assert (code, out) == (1, "")
     assert err == (f"error: no XCP slave answered GET_SLAVE_ID (echo and inverse echo) on 0x100 (extended) "
                    f"(virtual {bus[-1]}) within 0.05 s\n")
+    code, out, err = run(capsys, "scan", "--broadcast-id", "0x80000100", "--wait", "0.05", "--json", *bus)
+    data = json.loads(out)
+    assert (code, data["ok"], data["exit_code"], data["slaves"]) == (1, False, 1, [])
+    assert f"error: {data['error']}\n" == err  # as every command's --json failure: ok, error, exit_code
 
 
 def test_bad_broadcast_ids_are_usage_errors(capsys, tmp_path):

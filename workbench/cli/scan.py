@@ -60,12 +60,13 @@ def run(args: argparse.Namespace) -> int:
     wait_s = args.wait or DEFAULT_WAIT_S
     detection = detect_slaves(args.a2l, bus=bus_spec(args), broadcast_id=args.broadcast_id, wait_s=wait_s,
                               identify=args.identify)
-    if args.json:
-        print_json({"ok": bool(detection.slaves), **detection.to_dict()})
+    error = None if detection.slaves else f"no XCP slave answered {detection.found.sent()} within {wait_s:g} s"
+    if args.json:  # a failure as every command's --json says one: error and exit_code beside the report
+        print_json({"ok": error is None, **detection.to_dict(), **({"error": error, "exit_code": 1} if error else {})})
     elif detection.slaves or detection.found.refused:
         print("\n".join(detection_lines(detection)))
-    if not detection.slaves:
-        print(f"error: no XCP slave answered {detection.found.sent()} within {wait_s:g} s", file=sys.stderr)
+    if error:
+        print(f"error: {error}", file=sys.stderr)
         return 1
     return 0
 
