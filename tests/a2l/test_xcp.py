@@ -132,6 +132,7 @@ def test_demo_master_states_the_demo_contract():
     config = read_xcp_config(load_a2l(demo.master_a2l()))
     assert (config.can.can_id_master, config.can.can_id_slave) == (CanId(0x7F0), CanId(0x7F1))
     assert config.can.baudrate == 1_000_000 and config.max_cto == config.max_dto == 8
+    assert config.can.optional_tl_subcommands == ("GET_SLAVE_ID", "GET_DAQ_ID")  # no SET_DAQ_ID: no VARIABLE list
     assert config.daq.identification_field == "ABSOLUTE" and config.daq.max_odt_entry_size == 4
     assert config.daq.timestamp.size == 4 and config.daq.timestamp.unit_s == pytest.approx(1e-5)
     assert [(e.number, e.name, e.period_s) for e in config.daq.events] == [

@@ -11,6 +11,7 @@ import can
 import pytest
 
 from workbench import Session
+from workbench.a2l import read_xcp_config
 from workbench.a2l.xcp import XcpDaqListCanId, XcpOnCan
 from workbench.errors import InputError, XcpCommandError
 from workbench.session.connection import assigned_daq_can_ids
@@ -48,6 +49,7 @@ def test_variable_lists_send_where_set_daq_id_put_them(channel):
         seen: dict[int, int] = {}
         while (message := spy.recv(0)) is not None:
             seen[message.arbitration_id] = seen.get(message.arbitration_id, 0) + 1
+    assert read_xcp_config(sim.a2l).can.optional_tl_subcommands == ("GET_SLAVE_ID", "GET_DAQ_ID", "SET_DAQ_ID")
     assert events == {0, 1}
     assert seen.get(0x7F6) and 0x7F4 not in seen and 0x7F5 not in seen
     assert read_back == [(CanId(0x7F1), False), (CanId(0x7F6), False), (CanId(0x7F3), True)]

@@ -197,6 +197,7 @@ class XcpOnCan:
     max_dlc_required: bool
     can_id_broadcast: CanId | None = None
     daq_list_can_ids: tuple[XcpDaqListCanId, ...] = ()
+    optional_tl_subcommands: tuple[str, ...] = ()  # OPTIONAL_TL_SUBCMD: GET_SLAVE_ID, GET_DAQ_ID, SET_DAQ_ID ...
     max_dlc: int | None = None  # CAN FD
     fd_data_baudrate: int | None = None  # CAN FD data phase
     protocol_layer: XcpProtocolLayer | None = None  # this transport's own PROTOCOL_LAYER (overrules the common one)
@@ -521,6 +522,7 @@ def _can(node: IfDataNode | None) -> XcpOnCan | None:
         max_dlc_required=node.has("MAX_DLC_REQUIRED"),
         can_id_broadcast=_can_id(node, "CAN_ID_BROADCAST"),
         daq_list_can_ids=tuple(_daq_list_can_id(item) for item in node.blocks("DAQ_LIST_CAN_ID")),
+        optional_tl_subcommands=tuple(str(v[0]) for v in node.all_after("OPTIONAL_TL_SUBCMD") if v),
         max_dlc=_int_or_none(fd.number_after("MAX_DLC")) if fd is not None else None,
         fd_data_baudrate=_int_or_none(fd.number_after("CAN_FD_DATA_TRANSFER_BAUDRATE")) if fd is not None else None,
         **_overrides(node),

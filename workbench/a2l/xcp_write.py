@@ -189,6 +189,7 @@ def _can(can: XcpOnCan) -> list[str]:
         body.append(f"SAMPLE_POINT {can.sample_point}")
     if can.max_dlc_required:
         body.append("MAX_DLC_REQUIRED")
+    body += [f"OPTIONAL_TL_SUBCMD {name}" for name in can.optional_tl_subcommands]
     for item in can.daq_list_can_ids:
         where = "VARIABLE" if item.can_id is None else f"FIXED {_can_id(item.can_id)}"
         body.append(_line("DAQ_LIST_CAN_ID", [str(item.daq_list), where]))

@@ -181,9 +181,9 @@ class CanXcpPort(XcpPort):
             return [bytes((PID_RES,)) + echo + struct.pack(params.byte_order + "I", self.master_id.a2l)]
         if not self.ecu.slave.connected:
             return []
-        setting = cto[1] == CanCmd.SET_DAQ_ID
-        if cto[1] != CanCmd.GET_DAQ_ID and not (setting and self.variable_lists):
+        if cto[1] not in (CanCmd.GET_DAQ_ID, CanCmd.SET_DAQ_ID) or cto[1] not in params.can_sub_commands:
             return [bytes((PID_ERR, Err.CMD_UNKNOWN))]  # a slave with no VARIABLE list implements no SET_DAQ_ID
+        setting = cto[1] == CanCmd.SET_DAQ_ID
         if len(cto) < (8 if setting else 4):
             return [bytes((PID_ERR, Err.CMD_SYNTAX))]
         number = struct.unpack_from(params.byte_order + "H", cto, 2)[0]

@@ -93,7 +93,8 @@ def _describe(config: XcpConfig, params: Mapping[str, XcpParameters], memory_map
         described = replace(described, can=replace(
             config.can, max_dlc_required=can.max_dlc_required, max_dlc=64 if can.can_fd else None,
             fd_data_baudrate=CAN_FD_DATA_BAUDRATE if can.can_fd else None, protocol_layer=None, daq=None, pgm=None,
-            daq_list_can_ids=_daq_list_can_ids(can)))
+            daq_list_can_ids=_daq_list_can_ids(can),
+            optional_tl_subcommands=tuple(sub.name for sub in sorted(can.can_sub_commands, reverse=True))))
     for transport in ("UDP", "TCP"):
         block = getattr(config, transport.lower())
         if block is None or transport not in params:

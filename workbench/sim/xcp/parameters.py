@@ -9,7 +9,7 @@ from dataclasses import dataclass, field, replace
 
 from workbench.image import AddressRange, ChecksumType
 from workbench.sim.seedkey import SEED_LENGTH
-from workbench.xcp_protocol import MAX_DAQ_PID, TIME_UNIT_S, CanId, Cmd, Resource
+from workbench.xcp_protocol import MAX_DAQ_PID, TIME_UNIT_S, CanCmd, CanId, Cmd, Resource
 
 __all__ = ["DEMO_STATIC_LISTS", "IDENTIFICATION_FIELDS", "DaqParameters", "EventChannel", "PgmParameters",
            "PredefinedDaqList", "StaticDaqList", "XcpParameters"]
@@ -241,6 +241,15 @@ class XcpParameters:
         TRANSPORT_LAYER_CMD (GET_SLAVE_ID, GET_DAQ_ID; SET_DAQ_ID with VARIABLE lists), unless :attr:`without` names it."""
         own = {"CAN": frozenset({Cmd.TRANSPORT_LAYER_CMD})}.get(transport, frozenset())
         return own - self.without
+
+    @property
+    def can_sub_commands(self) -> frozenset[CanCmd]:
+        """XCP on CAN's TRANSPORT_LAYER_CMD sub-commands the CAN port answers (the A2L's OPTIONAL_TL_SUBCMD):
+        GET_SLAVE_ID and GET_DAQ_ID, SET_DAQ_ID where a list is VARIABLE; none without TRANSPORT_LAYER_CMD."""
+        if Cmd.TRANSPORT_LAYER_CMD not in self.transport_commands("CAN"):
+            return frozenset()
+        return frozenset({CanCmd.GET_SLAVE_ID, CanCmd.GET_DAQ_ID} | ({CanCmd.SET_DAQ_ID} if self.variable_daq_can_ids
+                                                                   else set()))
 
     @property
     def pgm_data_per_frame(self) -> int:
