@@ -9,7 +9,14 @@ from dataclasses import dataclass, field, replace
 
 from workbench.image import AddressRange, ChecksumType
 from workbench.sim.seedkey import SEED_LENGTH
-from workbench.xcp_protocol import MAX_DAQ_PID, TIME_UNIT_S, CanCmd, CanId, Cmd, Resource
+from workbench.xcp_protocol import (
+    MAX_DAQ_PID,
+    TIME_UNIT_S,
+    CanCmd,
+    CanId,
+    Cmd,
+    Resource,
+)
 
 __all__ = ["DEMO_STATIC_LISTS", "IDENTIFICATION_FIELDS", "DaqParameters", "EventChannel", "PgmParameters",
            "PredefinedDaqList", "StaticDaqList", "XcpParameters"]
