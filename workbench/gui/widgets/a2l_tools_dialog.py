@@ -60,6 +60,7 @@ _TITLES = {UPDATE: "Update from ELF", CHECK: "Check", MERGE: "Merge fragments", 
 _RUN = {UPDATE: "Update", CHECK: "Check", MERGE: "Merge", INSERT: "Insert", REMOVE: "Remove", CLEANUP: "Clean up",
         FLATTEN: "Flatten"}  # the Run button's text
 _DRY_RUN = (INSERT, REMOVE, CLEANUP)  # the operations with --dry-run
+_FLATTEN_OUTPUT = "the file to write the flattened A2L to (not the A2L itself: its /include lines would be lost)"
 _A2L_FILES = "A2L files (*.a2l *.A2L);;All files (*)"
 _ELF_FILES = "ELF files (*.elf *.out *.axf);;All files (*)"
 _SEVERITY_COLOUR = {Severity.ERROR: theme.BAD, Severity.WARNING: theme.WARN, Severity.INFO: theme.MUTED}
@@ -366,7 +367,8 @@ class A2lToolsDialog(QDialog):
         self.elf.edit.setPlaceholderText("optional: symbols and addresses against it" if operation == CHECK
                                          else "the ELF the build linked")
         self.output.edit.setPlaceholderText("the merged A2L to write" if operation == MERGE else "the new A2L to write"
-                                            if self._creating() else "the A2L itself (replaced atomically)")
+                                            if self._creating() else _FLATTEN_OUTPUT if operation == FLATTEN
+                                            else "the A2L itself (replaced atomically)")
         self.includes.setItemText(0, "keep /include, changes in them are errors" if operation == UPDATE else
                                   "keep /include, a removal in them refuses (nothing written)")
         run = "Create" if self._creating() else _RUN[operation]
@@ -415,8 +417,8 @@ class A2lToolsDialog(QDialog):
 
     def _pruning_job(self, a2l: str, output: str | None) -> tuple | str:
         """Remove, clean up or flatten ``a2l`` into ``output`` (None: a dry run)."""
-        if self.operation == FLATTEN:
-            return flatten_a2l, (a2l, output), {}
+        if self.operation == FLATTEN:  # as the CLI's -o, required: the file itself would lose its /include lines
+            return (flatten_a2l, (a2l, output), {}) if self.output.text() else f"choose {_FLATTEN_OUTPUT}"
         if self.operation == CLEANUP:
             return cleanup_a2l, (a2l, output), {"includes": self.includes.currentData()}
         pattern, ranges = self.removed.text().strip(), _ranges(self.removed_ranges.text())
