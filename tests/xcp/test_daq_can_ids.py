@@ -10,11 +10,16 @@ import time
 import can
 import pytest
 
-from workbench import Session
-from workbench.a2l import read_xcp_config
+from workbench import Session, demo
+from workbench.a2l import load_a2l, read_xcp_config
 from workbench.a2l.xcp import XcpDaqListCanId, XcpOnCan
 from workbench.errors import InputError, XcpCommandError
-from workbench.session.connection import assigned_daq_can_ids
+from workbench.session.connection import (
+    Connection,
+    assigned_daq_can_ids,
+    daq_can_ids_of,
+    link_settings,
+)
 from workbench.sim import serve_demo
 from workbench.xcp_protocol import CanId, Err
 
@@ -77,3 +82,8 @@ def test_which_lists_the_master_moves_and_where():
         (0, CanId(0x7F1)), (1, extended), (5, CanId(0x7F9)))
     with pytest.raises(InputError, match="DAQ list 2 sends on CAN id 0x7F3"):
         assigned_daq_can_ids(can_block, {2: CanId(0x7F4)})
+    config = read_xcp_config(load_a2l(demo.a2l()))
+    with pytest.raises(InputError, match="DAQ lists' CAN ids .* are XCP on CAN's; this is XCP on Ethernet"):
+        link_settings(config, Connection(host="127.0.0.1", daq_can_ids=((0, CanId(0x7F6)),)))
+    with pytest.raises(InputError, match="DAQ list 0's CAN id: CAN id 0x800 does not fit a standard frame"):
+        daq_can_ids_of({0: 0x800})
