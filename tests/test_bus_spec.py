@@ -1,6 +1,9 @@
 """BusSpec: a CAN bus as one value, from python-can keywords to python-can keywords, with the workbench's defaults."""
 
-from workbench.bus_defaults import BusSpec
+import pytest
+
+from workbench.bus_defaults import BusSpec, check_bus_options
+from workbench.errors import InputError
 
 
 def test_the_default_bus_is_where_workbench_sim_serves():
@@ -55,3 +58,13 @@ def test_bus_kwargs_are_read_as_python_can_reads_them():
         "port": 43200, "app_name": "CANape", "fd": True, "bitrate": 500_000}
     with pytest.raises(ValueError, match="'port': expected KEY=VALUE"):
         parse_bus_kwargs(["port"])
+
+
+def test_an_option_the_bus_would_ignore_is_refused_with_the_closest():
+    check_bus_options(None, {"port": 43200, "fd": False, "hop_limit": 2})  # udp_multicast's, by default
+    check_bus_options("vector", {"app_name": "CANape", "anything": 1})  # its options come by **kwargs: not judged
+    with pytest.raises(InputError, match=r"^--bus-kwargs prot=43200: python-can's udp_multicast bus has no option "
+                                         r"'prot' and would ignore it \(did you mean port\? it takes "):
+        check_bus_options("udp_multicast", {"prot": 43200}, "--bus-kwargs ")
+    with pytest.raises(InputError, match="virtual bus has no option 'port'"):
+        check_bus_options("virtual", {"port": 43200})

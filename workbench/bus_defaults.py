@@ -17,7 +17,7 @@ if TYPE_CHECKING:
     import can
 
 __all__ = ["DEFAULT_CHANNELS", "DEFAULT_INTERFACE", "SOFTWARE_INTERFACES", "BusSpec", "bus_beside",
-           "complete_bus_settings", "open_bus", "parse_bus_kwargs"]
+           "check_bus_options", "complete_bus_settings", "open_bus", "parse_bus_kwargs"]
 
 DEFAULT_INTERFACE = "udp_multicast"
 DEFAULT_CHANNELS = {"udp_multicast": "239.74.163.2", "virtual": "workbench"}
@@ -161,3 +161,41 @@ def open_bus(config: Mapping[str, Any], role: str | None = None) -> can.BusABC:
         # refusing the options the user gave
         error = InputError if isinstance(exc, (ValueError, TypeError)) else WorkbenchError
         raise error(f"cannot open {role or 'the CAN'} bus ({where}): {exc}") from exc
+
+
+# python-can interfaces whose bus takes its options by name and ignores any other keyword without a word: a typo
+# there (``prot=43200``) would reach another bus (the default port's: someone else's ECU)
+_OPTIONS_BY_NAME = frozenset({"udp_multicast", "virtual", "socketcan"})
+_BUS_KEYS = frozenset({"bitrate", "fd", "data_bitrate", "can_filters", "timing"})  # can.Bus's own, for every bus
+
+
+def check_bus_options(interface: str | None, options: Mapping[str, Any], said_as: str = "") -> None:
+    """Refuse an option of ``options`` that the bus of ``interface`` (None: the default) would ignore.
+
+    :param said_as: how the user gave the options, in front of ``KEY=VALUE`` (``"--bus-kwargs "``).
+    :raises InputError: naming the key, the closest option and the options the interface takes.
+    """
+    interface = interface or DEFAULT_INTERFACE
+    if interface not in _OPTIONS_BY_NAME:
+        return
+    import difflib
+    import importlib
+    import inspect
+
+    import can
+
+    module, name = can.interfaces.BACKENDS[interface]
+    try:
+        bus_class = getattr(importlib.import_module(module), name)
+    except ImportError:  # socketcan off Linux: opening the bus says so
+        return
+    taken = {name for cls in bus_class.__mro__ if "__init__" in vars(cls)
+             for name, parameter in inspect.signature(cls.__init__).parameters.items()
+             if parameter.kind not in (parameter.VAR_POSITIONAL, parameter.VAR_KEYWORD)} | _BUS_KEYS
+    taken -= {"self", "channel", "interface"}
+    for key, value in options.items():
+        if key not in taken:
+            close = difflib.get_close_matches(key, sorted(taken), n=1)
+            hint = f"did you mean {close[0]}? " if close else ""
+            raise InputError(f"{said_as}{key}={value}: python-can's {interface} bus has no option {key!r} and would "
+                             f"ignore it ({hint}it takes {', '.join(sorted(taken))})")

@@ -47,6 +47,17 @@ def test_bus_options_that_do_not_parse_keep_the_dialog_open(qtbot, demo_workspac
     assert "expected KEY=VALUE" in dialog.error.text() and dialog.result() == 0
 
 
+def test_a_bus_option_the_interface_would_ignore_keeps_the_dialog_open(qtbot, demo_workspace):
+    dialog = ConnectionDialog(Connection(), demo_workspace.config)
+    qtbot.addWidget(dialog)
+    dialog.bus_kwargs.setText("prot=43210")  # udp_multicast would ignore it and take the default port's bus
+    dialog._accept()
+    assert "bus option prot=43210: python-can's udp_multicast bus has no option 'prot'" in dialog.error.text()
+    assert "did you mean port?" in dialog.error.text() and dialog.result() == 0
+    dialog.slave_scan.button.click()  # nothing sent: said where the scan's result goes
+    assert "has no option 'prot'" in dialog.slave_scan.result.text()
+
+
 def test_bus_options_are_python_can_keywords():
     assert parse_bus_kwargs("port=43210, app_name=CANape fd=True x=0.5") == {  # as the CLI's --bus-kwargs
         "port": 43210, "app_name": "CANape", "fd": True, "x": 0.5}

@@ -16,8 +16,8 @@ if TYPE_CHECKING:
 
 __all__ = ["CommandParser", "add_bus_arguments", "add_can2_bus_arguments", "add_can2_bus_kwargs_argument",
            "add_ethernet_arguments", "add_output_arguments", "bus_settings", "bus_spec", "can2_bus_spec",
-           "check_bus_kwargs", "integer_within", "json_printed", "non_negative_float", "output_file", "port_number",
-           "positive_float", "positive_int", "print_json", "print_report", "words_before_key_values"]
+           "integer_within", "json_printed", "non_negative_float", "output_file", "port_number", "positive_float",
+           "positive_int", "print_json", "print_report", "words_before_key_values"]
 
 # the Namespace keys ``can.cli.create_bus_from_namespace`` turns into ``can.Bus`` keyword arguments
 PYTHON_CAN_KEYS = ("channel", "interface", "bitrate", "fd", "data_bitrate", "can_filters", "timing")
@@ -197,48 +197,10 @@ def bus_settings(args: argparse.Namespace) -> dict[str, Any] | None:
     settings = {key: getattr(args, key) for key in PYTHON_CAN_KEYS if key in args}
     settings.update(getattr(args, "bus_kwargs", {}))
     if getattr(args, "bus_kwargs", None):
-        check_bus_kwargs("--bus-kwargs", settings.get("interface"), args.bus_kwargs)
+        from workbench.bus_defaults import check_bus_options
+
+        check_bus_options(settings.get("interface"), args.bus_kwargs, "--bus-kwargs ")
     return settings or None
-
-
-# python-can interfaces whose bus takes its options by name and ignores any other keyword without a word: a typo
-# there (``--bus-kwargs prot=43200``) would reach another bus (the default port's, someone else's ECU)
-_OPTIONS_BY_NAME = frozenset({"udp_multicast", "virtual", "socketcan"})
-
-
-def check_bus_kwargs(option: str, interface: str | None, kwargs: dict[str, Any]) -> None:
-    """Refuse a ``KEY=VALUE`` of ``option`` that ``interface`` (None: the workbench's default) would ignore.
-
-    :raises InputError: naming the key, the closest option and the options the interface takes.
-    """
-    from workbench.bus_defaults import DEFAULT_INTERFACE
-
-    interface = interface or DEFAULT_INTERFACE
-    if interface not in _OPTIONS_BY_NAME:
-        return
-    import difflib
-    import importlib
-    import inspect
-
-    import can
-
-    module, name = can.interfaces.BACKENDS[interface]
-    try:
-        bus_class = getattr(importlib.import_module(module), name)
-    except ImportError:  # socketcan off Linux: opening the bus says so
-        return
-    taken = {name for cls in bus_class.__mro__ if "__init__" in vars(cls)
-             for name, parameter in inspect.signature(cls.__init__).parameters.items()
-             if parameter.kind not in (parameter.VAR_POSITIONAL, parameter.VAR_KEYWORD)} | set(PYTHON_CAN_KEYS)
-    taken -= {"self", "channel", "interface"}
-    for key, value in kwargs.items():
-        if key not in taken:
-            from workbench.errors import InputError
-
-            close = difflib.get_close_matches(key, sorted(taken), n=1)
-            hint = f"did you mean {close[0]}? " if close else ""
-            raise InputError(f"{option} {key}={value}: python-can's {interface} bus has no option {key!r} and would "
-                             f"ignore it ({hint}it takes {', '.join(sorted(taken))})")
 
 
 def add_can2_bus_arguments(group) -> None:
@@ -268,11 +230,12 @@ def _bus_kwarg(text: str) -> tuple[str, Any]:
 def can2_bus_spec(args: argparse.Namespace, xcp_bus: BusSpec | None) -> BusSpec | None:
     """The CAN2 bus ``--can2-interface``, ``--can2-channel`` and ``--can2-bus-kwargs`` name beside the XCP bus
     (:func:`~workbench.bus_defaults.bus_beside`); None: they name none."""
-    from workbench.bus_defaults import bus_beside
+    from workbench.bus_defaults import bus_beside, check_bus_options
 
     kwargs = dict(args.can2_bus_kwargs or ())
     if kwargs:
-        check_bus_kwargs("--can2-bus-kwargs", args.can2_interface or (xcp_bus.interface if xcp_bus else None), kwargs)
+        interface = args.can2_interface or (xcp_bus.interface if xcp_bus else None)
+        check_bus_options(interface, kwargs, "--can2-bus-kwargs ")
     return bus_beside(xcp_bus, args.can2_interface, args.can2_channel, kwargs)
 
 
