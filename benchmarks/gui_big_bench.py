@@ -23,6 +23,9 @@ window, so a step is over when the user sees its result):
   editor     a calibration opened by name until its editor shows the s19's value
   plot       five signals added to a new plot by name
   image      File > Open image of the s19 again, the open editor showing its value
+  compare    Calibration > Open parameter set: a DCM of every calibration (``cal save --image``) compared with the
+             image until the compare view lists them (they are equal: "equal ones too" ticked is timed as well)
+  compare sort  a click on the compare view's object header (twice; a QSortFilterProxyModel)
   gc         a full garbage collection (the window collects on the GUI thread: a long one is a freeze)
   close      the project closed (another one opens: every window bound to the A2L goes)
 ``--profile`` writes a cProfile of the big case's steps; ``--screenshot`` a PNG of the window with the big case
@@ -48,7 +51,7 @@ sys.path.insert(0, str(HERE))
 SEARCH = "u07_var01"
 FUNCTION_SIZE = 50  # objects a FUNCTION names
 STEPS = ("open", "open gui", "open read", "keystroke", "keystroke median", "keystroke gui", "filter", "sort",
-         "scroll", "editor", "plot", "image", "gc", "close")
+         "scroll", "editor", "plot", "image", "compare", "compare sort", "gc", "close")
 
 
 # --- the case ------------------------------------------------------------------------------------
@@ -89,9 +92,25 @@ def prepare_case(workdir: Path, units: int) -> tuple[Path, Path, Path]:
     return a2l, elf, s19
 
 
+def parameter_set(a2l: Path | None, s19: Path | None, out: Path) -> Path:
+    """A DCM of every calibration the image holds (``workbench cal save --image``; the demo's without files)."""
+    if not out.exists():
+        files = ["--image", str(s19), "--a2l", str(a2l)] if a2l else ["--image", str(_demo_s19())]
+        subprocess.run([sys.executable, "-c", "from workbench.cli import entry_point; entry_point()", "cal", "save",
+                        *files, str(out)], check=True, stdout=subprocess.DEVNULL)
+    return out
+
+
+def _demo_s19() -> Path:
+    from workbench import demo
+
+    return demo.s19()
+
+
 # --- one case, in a process of its own -------------------------------------------------------------
 
-def run_case(a2l: str | None, elf: str | None, s19: str | None, profile: str | None, screenshot: str | None) -> dict:
+def run_case(a2l: str | None, elf: str | None, s19: str | None, dcm: str, profile: str | None, screenshot: str | None
+             ) -> dict:
     import gc
 
     from PySide6.QtCore import QEventLoop, QPoint, Qt, QTimer
@@ -238,13 +257,26 @@ def run_case(a2l: str | None, elf: str | None, s19: str | None, profile: str | N
         wait(editor.loaded)
 
     timed("image", open_image)
+
+    def compare():  # Calibration > Open parameter set: every calibration of the DCM against the image
+        window.parameter_sets.open(Path(dcm))
+        wait(window.parameter_sets.compared)
+
+    timed("compare", compare)
+    window.compare.show_equal.setChecked(False)
+    timed("compare", lambda: window.compare.show_equal.setChecked(True))  # every row shown (all equal)
+    compare_header = window.compare.table.horizontalHeader()
+    for _ in range(2):
+        timed("compare sort", lambda: QTest.mouseClick(compare_header.viewport(), Qt.LeftButton, Qt.NoModifier, QPoint(
+            compare_header.sectionViewportPosition(0) + 8, compare_header.height() // 2)))
+    compared = window.compare.proxy.rowCount()
     timed("gc", gc.collect)
     timed("close", window._close_project)
     window.close()
     if profiler:
         profiler.dump_stats(profile)
     rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    return {"times": times, "cpu": cpu, "objects": objects, "found": found, "rss_mib": rss,
+    return {"times": times, "cpu": cpu, "objects": objects, "found": found, "compared": compared, "rss_mib": rss,
             "rss_before_mib": rss_before, "full_collections": collecting["full"], "full_collections_s": collecting["full_s"]}
 
 
@@ -258,7 +290,7 @@ def child(args: list[str], tree: Path = HERE.parent) -> dict:
 
 
 def best(runs: list[dict], values: str = "times") -> dict[str, float]:
-    return {step: min(r[values].get(step, float("nan")) for r in runs) for step in STEPS}
+    return {step: min((r[values].get(step, float("nan")) for r in runs), default=float("nan")) for step in STEPS}
 
 
 def main() -> None:
@@ -271,7 +303,7 @@ def main() -> None:
     parser.add_argument("--profile", help="write a cProfile of the big case's steps (one extra run)")
     parser.add_argument("--screenshot", help="save a PNG of the window with the big case, the search typed")
     parser.add_argument("--tree", type=Path, default=HERE.parent, help=argparse.SUPPRESS)
-    parser.add_argument("--child", nargs=5, help=argparse.SUPPRESS)
+    parser.add_argument("--child", nargs=6, help=argparse.SUPPRESS)
     args = parser.parse_args()
     sys.path.insert(0, str(args.tree))
     if args.child:
@@ -280,6 +312,8 @@ def main() -> None:
         return
     workdir = args.workdir or HERE / "build" / ("a2l" if args.units == 50 else f"a2l-units{args.units}")
     a2l, elf, s19 = map(str, prepare_case(workdir, args.units))
+    dcms = {"big": str(parameter_set(Path(a2l), Path(s19), workdir / "gui.dcm")),
+            "demo": str(parameter_set(None, None, workdir / "demo.dcm"))}
     with tempfile.TemporaryDirectory() as scratch:
         baseline = None
         if args.baseline:
@@ -288,12 +322,12 @@ def main() -> None:
             baseline = unpack_revision(args.baseline, Path(scratch) / "baseline")
         runs: dict[str, list[dict]] = {"demo": [], "big": [], "baseline": []}
         for _ in range(args.rounds):
-            runs["demo"].append(child(["-", "-", "-", "-", "-"]))
-            runs["big"].append(child([a2l, elf, s19, "-", "-"]))
+            runs["demo"].append(child(["-", "-", "-", dcms["demo"], "-", "-"]))
+            runs["big"].append(child([a2l, elf, s19, dcms["big"], "-", "-"]))
             if baseline:
-                runs["baseline"].append(child([a2l, elf, s19, "-", "-"], Path(scratch) / "baseline"))
+                runs["baseline"].append(child([a2l, elf, s19, dcms["big"], "-", "-"], Path(scratch) / "baseline"))
     if args.profile or args.screenshot:
-        child([a2l, elf, s19, args.profile or "-", args.screenshot or "-"])
+        child([a2l, elf, s19, dcms["big"], args.profile or "-", args.screenshot or "-"])
     demo, big, big_cpu = best(runs["demo"]), best(runs["big"]), best(runs["big"], "cpu")
     print(f"the window with {runs['big'][0]['objects']:,} objects ({Path(a2l).stat().st_size / 2**20:.1f} MiB A2L) "
           f"against the demo's {runs['demo'][0]['objects']:,}, best of {args.rounds} "
@@ -314,8 +348,8 @@ def main() -> None:
     for case in ("demo", "big", "baseline") if baseline else ("demo", "big"):
         least = min(runs[case], key=lambda r: r["rss_mib"])
         print(f"  {case}: peak RSS {least['rss_mib']:.0f} MiB ({least['rss_before_mib']:.0f} MiB before the project "
-              f"was read); '{SEARCH}' finds {least['found']:,}; full garbage collections during the steps: "
-              f"{least['full_collections']} taking {least['full_collections_s'] * 1000:.0f} ms")
+              f"was read); '{SEARCH}' finds {least['found']:,}, the compare lists {least['compared']:,}; full garbage "
+              f"collections during the steps: {least['full_collections']} taking {least['full_collections_s'] * 1000:.0f} ms")
 
 
 if __name__ == "__main__":

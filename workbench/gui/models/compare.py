@@ -73,11 +73,31 @@ class CompareModel(RowsModel):
         self.a_label = "A"
         self.b_label = "B"
         self.decimals = no_decimals  # (object, element "value"/"x[2]") -> the A2L's decimals for it
+        self.sorted_by: tuple[int, Qt.SortOrder] = (-1, Qt.AscendingOrder)
+        self._objects: list = []  # the diff's order
 
     def set_diff(self, diff) -> None:
         self.a_label, self.b_label = diff.a_label, diff.b_label
-        self.set_rows(diff.objects)
+        self._objects = list(diff.objects)
+        self.set_rows(self._sorted())
         self.headerDataChanged.emit(Qt.Horizontal, 2, 3)
+
+    def sort(self, column: int, order=Qt.AscendingOrder) -> None:
+        """By ``column``'s text (equal texts in the diff's order); -1: the diff's order. Each row's text is made once:
+        a QSortFilterProxyModel's sort asked ``data`` twice a comparison (7,000 objects: 1.4 s, the window frozen)."""
+        self.sorted_by = (column, order)
+        self.reorder(self._sorted())
+
+    def _sorted(self) -> list:
+        column, order = self.sorted_by
+        if column < 0:
+            return list(self._objects)
+        return sorted(self._objects, key=lambda diff: self._texts(diff)[column], reverse=order == Qt.DescendingOrder)
+
+    def _texts(self, diff) -> tuple[str, str, str, str, str]:
+        places = self.decimals(diff.name, "value")
+        return (diff.name, STATUS_TEXT.get(diff.status, diff.status), describe_value(diff.a, places),
+                describe_value(diff.b, places), _difference(diff, self.decimals))
 
     def headerData(self, section, orientation, role=Qt.DisplayRole):
         if orientation == Qt.Horizontal and role == Qt.ToolTipRole and section in (2, 3):
@@ -90,10 +110,7 @@ class CompareModel(RowsModel):
         diff = self.rows[index.row()]
         column = COLUMNS[index.column()]
         if role == Qt.DisplayRole:
-            places = self.decimals(diff.name, "value")
-            return {"object": diff.name, "status": STATUS_TEXT.get(diff.status, diff.status),
-                    "A": describe_value(diff.a, places), "B": describe_value(diff.b, places),
-                    "difference": _difference(diff, self.decimals)}[column]
+            return self._texts(diff)[index.column()]
         if role == Qt.ForegroundRole and column == "status":
             return QColor(STATUS_COLOUR.get(diff.status, theme.TEXT))
         if role == Qt.TextAlignmentRole and column in ("A", "B"):
@@ -106,7 +123,8 @@ class CompareModel(RowsModel):
 
 
 class CompareFilter(QSortFilterProxyModel):
-    """Only the objects that differ (unless ``show_equal``), whose name contains ``search`` (any case)."""
+    """Only the objects that differ (unless ``show_equal``), whose name contains ``search`` (any case), in the order
+    the :class:`CompareModel` sorts them by (a header click sorts the model, not this proxy)."""
 
     def __init__(self, parent=None):
         super().__init__(parent)
@@ -125,6 +143,9 @@ class CompareFilter(QSortFilterProxyModel):
             self.endFilterChange(QSortFilterProxyModel.Direction.Rows)
         else:
             self.invalidateFilter()
+
+    def sort(self, column: int, order=Qt.AscendingOrder) -> None:
+        self.sourceModel().sort(column, order)
 
     def filterAcceptsRow(self, source_row, source_parent) -> bool:
         diff = self.sourceModel().rows[source_row]

@@ -21,6 +21,16 @@ class RowsModel(QAbstractTableModel):
         self.rows = list(rows)
         self.endResetModel()
 
+    def reorder(self, rows: list) -> None:
+        """The same rows in another order (a sort): the selection and current row stay on theirs."""
+        self.layoutAboutToBeChanged.emit()
+        where = {id(row): number for number, row in enumerate(rows)}
+        before = self.persistentIndexList()
+        after = [self.index(where[id(self.rows[index.row()])], index.column()) for index in before]
+        self.rows = rows
+        self.changePersistentIndexList(before, after)
+        self.layoutChanged.emit()
+
     def rowCount(self, parent=QModelIndex()) -> int:
         return 0 if parent.isValid() else len(self.rows)
 

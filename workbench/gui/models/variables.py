@@ -143,14 +143,7 @@ class VariableModel(RowsModel):
         shown = {id(row) for row in self.rows}
         self._order = self._sorted()
         self._forget()
-        rows = [row for row in map(self.all_rows.__getitem__, self._order) if id(row) in shown]
-        self.layoutAboutToBeChanged.emit()
-        where = {id(row): number for number, row in enumerate(rows)}
-        before = self.persistentIndexList()
-        after = [self.index(where[id(self.rows[index.row()])], index.column()) for index in before]
-        self.rows = rows
-        self.changePersistentIndexList(before, after)
-        self.layoutChanged.emit()
+        self.reorder([row for row in map(self.all_rows.__getitem__, self._order) if id(row) in shown])
 
     def _sorted(self) -> list[int]:
         column, order = self.sorted_by
