@@ -304,3 +304,13 @@ def test_check_reports_the_errors_of_structures_at_their_place_and_a_pointer_as_
     assert model.characteristic("fine.arr").address == 0x2000  # the rest works
     pointer_only = text[:text.index("/begin TYPEDEF_STRUCTURE S_A")] + text[text.index("/begin TYPEDEF_STRUCTURE S_OK"):]
     assert check_document(load_a2l_string(pointer_only, "inst.a2l")).ok  # a limit of ours is no failed check
+
+
+def test_an_instance_named_whole_says_whether_it_is_a_structure_or_an_array(tmp_path):
+    from demo_instances import write_demo_instances_a2l
+
+    model = load_a2l(write_demo_instances_a2l(tmp_path)).model()
+    with pytest.raises(InputError, match=r"^INSTANCE convs is an array: name one of its 2 objects \(convs\[0\], "):
+        model.object("convs")  # T_CONV MATRIX_DIM 2: two curves (was "is a structure")
+    with pytest.raises(InputError, match=r"^INSTANCE pconv is a structure: name one of its 2 objects \(pconv.curves"):
+        model.object("pconv")

@@ -226,7 +226,9 @@ class A2lModel:
             if name in self._instance_errors:
                 raise self._instance_errors[name]
             members = [member for member, where in self._instances().items() if where.instance == name]
-            raise InputError(f"INSTANCE {name} is a structure: name one of its {len(members)} objects ("
+            # an array of a CURVE/MAP/axis typedef is one object per element (convs[0], convs[1]), without members
+            what = "a structure" if any("." in member[len(name):] for member in members) else "an array"
+            raise InputError(f"INSTANCE {name} is {what}: name one of its {len(members)} objects ("
                              + ", ".join(members[:3]) + (" ..." if len(members) > 3 else "") + ")")
         return self._get(kind, name)
 
