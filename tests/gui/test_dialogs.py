@@ -6,7 +6,12 @@ from PySide6.QtWidgets import QLabel
 from workbench.errors import InputError
 from workbench.gui.project import Connection, Project, project_from_dict
 from workbench.gui.widgets.connection_dialog import ConnectionDialog, parse_bus_kwargs
-from workbench.gui.widgets.sync_dialog import SHOWN_AT_ONCE, SyncChoice, SyncDialog, SyncDifference
+from workbench.gui.widgets.sync_dialog import (
+    SHOWN_AT_ONCE,
+    SyncChoice,
+    SyncDialog,
+    SyncDifference,
+)
 
 
 def test_the_connection_is_prefilled_from_the_a2l_and_the_project(qtbot, demo_workspace):
@@ -37,6 +42,21 @@ def test_the_seed_and_key_is_the_a2ls_unless_given(qtbot, demo_workspace, tmp_pa
     again = ConnectionDialog(given, demo_workspace.config)
     qtbot.addWidget(again)
     assert again.key_function.text() == "keys/SeedNKeyXcp.dll"
+
+
+def test_daq_list_can_ids_are_kept_in_the_project_and_given_to_the_session(qtbot, demo_workspace, tmp_path):
+    dialog = ConnectionDialog(Connection(daq_can_ids={"1": 0x7F6}), demo_workspace.config)  # as a project file has it
+    qtbot.addWidget(dialog)
+    assert dialog.daq_can_ids.text() == "1=0x7F6"
+    assert "no VARIABLE list" in dialog.daq_can_ids.placeholderText()  # the demo's lists all send on CAN_ID_SLAVE
+    dialog.daq_can_ids.setText("0=0x7F4, 1=0x80012345")
+    given = dialog.connection()
+    assert given.session_options()["daq_can_ids"] == {0: 0x7F4, 1: 0x80012345}
+    project = Project(path=tmp_path / "bench.wbproj", connection=given)
+    assert project_from_dict(project.to_dict(), project.path).connection == given
+    dialog.daq_can_ids.setText("0x7F4")
+    dialog._accept()
+    assert "give LIST=ID" in dialog.error.text() and dialog.result() == 0
 
 
 def test_bus_options_that_do_not_parse_keep_the_dialog_open(qtbot, demo_workspace):

@@ -10,7 +10,12 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from workbench.cli.options import add_bus_arguments, add_ethernet_arguments, add_output_arguments, bus_spec
+from workbench.cli.options import (
+    add_bus_arguments,
+    add_ethernet_arguments,
+    add_output_arguments,
+    bus_spec,
+)
 
 if TYPE_CHECKING:
     from workbench.a2l import A2lDocument
@@ -40,13 +45,14 @@ def add_ecu_arguments(parser: argparse.ArgumentParser, *, json_output: bool = Tr
 
 
 def _daq_can_id(text: str) -> tuple[int, int]:
-    number, separator, can_id = text.partition("=")
+    from workbench.errors import InputError
+    from workbench.session.connection import parse_daq_can_ids
+
     try:
-        if not separator:
-            raise ValueError
-        return int(number, 0), int(can_id, 0)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r}: give LIST=ID, e.g. 2=0x7F4") from None
+        ((number, can_id),) = parse_daq_can_ids(text).items()
+    except (InputError, ValueError) as exc:
+        raise argparse.ArgumentTypeError(str(exc) if isinstance(exc, InputError) else f"{text!r}: one LIST=ID") from None
+    return number, can_id
 
 
 def a2l_document(args: argparse.Namespace) -> A2lDocument:

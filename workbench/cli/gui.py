@@ -91,5 +91,7 @@ def run(args: argparse.Namespace) -> int:
         interface, channel, bitrate = settings.pop("interface", None), settings.pop("channel", None), settings.pop(
             "bitrate", None)
         project.connection = Connection(interface, channel, bitrate, settings, args.host, args.port, args.protocol)
+    if args.daq_can_ids:
+        project.connection.daq_can_ids = dict(args.daq_can_ids)
     return run_window(project, connect=args.connect or args.screenshot is not None, screenshot=args.screenshot,
                       settle_s=args.settle, live_timeout_s=args.live_timeout, screen=args.size)

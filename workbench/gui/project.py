@@ -57,12 +57,16 @@ class Connection:
     port: int | None = None
     protocol: str | None = None  # "udp" / "tcp"
     key_function: str | None = None  # seed & key as Session.open takes its name (a key library's path ...)
+    daq_can_ids: dict[int, int] = field(default_factory=dict)  # XCP on CAN: DAQ list -> CAN id set with SET_DAQ_ID
+
+    def __post_init__(self) -> None:
+        self.daq_can_ids = {int(number): int(can_id) for number, can_id in self.daq_can_ids.items()}  # JSON: str keys
 
     def session_options(self) -> dict[str, Any]:
         """The keyword arguments of ``Session.open`` for this connection."""
         return {"interface": self.interface, "channel": self.channel, "bitrate": self.bitrate,
                 "bus_kwargs": dict(self.bus_kwargs), "host": self.host, "port": self.port, "protocol": self.protocol,
-                "key_function": self.key_function}
+                "key_function": self.key_function, "daq_can_ids": dict(self.daq_can_ids)}
 
     def describe(self) -> str:
         if self.host or self.port or self.protocol:

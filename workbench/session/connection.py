@@ -21,7 +21,7 @@ from workbench.xcp.link import LinkSettings
 from workbench.xcp.master import Timeouts
 from workbench.xcp_protocol import CanId
 
-__all__ = ["Connection", "assigned_daq_can_ids", "daq_can_ids_of", "link_settings", "timeouts_of"]
+__all__ = ["Connection", "assigned_daq_can_ids", "daq_can_ids_of", "link_settings", "parse_daq_can_ids", "timeouts_of"]
 
 
 @dataclass(frozen=True)
@@ -72,6 +72,24 @@ def _can(config: XcpConfig, connection: Connection) -> tuple[LinkSettings, XcpCo
                             fd=fd, max_dlc=can.max_dlc if fd else 8,
                             assigned_daq_can_ids=assigned_daq_can_ids(can, dict(connection.daq_can_ids)))
     return settings, _for_transport(config, "CAN")
+
+
+def parse_daq_can_ids(text: str) -> dict[int, int]:
+    """``1=0x7F6 2=0x80012345`` (spaces or commas between) -> {1: 0x7F6, 2: 0x80012345}: DAQ list numbers and CAN ids
+    as the A2L writes them (bit 31: extended), as ``--daq-can-id`` and the window's connection take them.
+
+    :raises InputError: an item that is not LIST=ID.
+    """
+    pairs = {}
+    for item in text.replace(",", " ").split():
+        number, separator, can_id = item.partition("=")
+        try:
+            if not separator:
+                raise ValueError
+            pairs[int(number, 0)] = int(can_id, 0)
+        except ValueError:
+            raise InputError(f"DAQ list CAN id {item!r}: give LIST=ID, e.g. 1=0x7F6") from None
+    return pairs
 
 
 def daq_can_ids_of(given: Mapping[int, int | CanId]) -> tuple[tuple[int, CanId], ...]:

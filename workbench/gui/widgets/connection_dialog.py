@@ -22,6 +22,7 @@ from workbench.errors import InputError
 from workbench.gui import theme
 from workbench.gui.project import Connection
 from workbench.gui.widgets.slave_scan import SlaveScan, id_text
+from workbench.session.connection import parse_daq_can_ids
 
 __all__ = ["ConnectionDialog", "parse_bus_kwargs"]
 
@@ -77,6 +78,10 @@ class ConnectionDialog(QDialog):
         can_form.addRow("channel", self.channel)
         can_form.addRow("bit rate", self.bitrate)
         can_form.addRow("bus options", self.bus_kwargs)
+        self.daq_can_ids = QLineEdit()
+        self.daq_can_ids.setToolTip("DAQ list=CAN id: where SET_DAQ_ID moves a list the A2L's DAQ_LIST_CAN_ID calls "
+                                    "VARIABLE (bit 31 set for an extended id); the others VARIABLE: on CAN_ID_SLAVE")
+        can_form.addRow("DAQ list ids", self.daq_can_ids)
         self.ids = QLabel()
         self.ids.setStyleSheet(f"color: {theme.MUTED};")
         can_form.addRow("A2L", self.ids)
@@ -122,6 +127,11 @@ class ConnectionDialog(QDialog):
         self.channel.setText("" if connection.channel is None else str(connection.channel))
         self.bitrate.setValue(connection.bitrate or 0)
         self.bus_kwargs.setText(" ".join(f"{k}={v}" for k, v in connection.bus_kwargs.items()))
+        variable = [item.daq_list for item in getattr(can, "daq_list_can_ids", ()) if item.can_id is None]
+        self.daq_can_ids.setPlaceholderText(
+            f"VARIABLE lists {', '.join(map(str, variable))} on CAN_ID_SLAVE; e.g. {variable[0]}=0x7F6" if variable
+            else "as the A2L says (no VARIABLE list); e.g. 1=0x7F6")
+        self.daq_can_ids.setText(" ".join(f"{number}=0x{can_id:X}" for number, can_id in connection.daq_can_ids.items()))
         self.host.setText(connection.host or (ethernet.host if ethernet is not None else ""))
         self.port.setValue(connection.port or (ethernet.port if ethernet is not None else 0))
 
@@ -132,7 +142,8 @@ class ConnectionDialog(QDialog):
             interface, bus_kwargs = self.interface.currentText().strip() or None, parse_bus_kwargs(self.bus_kwargs.text())
             bus_defaults.check_bus_options(interface, bus_kwargs, "bus option ")  # prot=43200 would go to another bus
             return Connection(interface=interface, channel=self.channel.text().strip() or None,
-                              bitrate=self.bitrate.value() or None, bus_kwargs=bus_kwargs, key_function=key_function)
+                              bitrate=self.bitrate.value() or None, bus_kwargs=bus_kwargs, key_function=key_function,
+                              daq_can_ids=parse_daq_can_ids(self.daq_can_ids.text()))
         return Connection(host=self.host.text().strip() or None, port=self.port.value() or None,
                           protocol=self.transport.currentData(), key_function=key_function)
 
