@@ -6,6 +6,7 @@ the result must pass ``check --elf`` and pya2ldb; the input's text stays as it w
 
 import difflib
 import json
+import re
 import shutil
 import subprocess
 import sys
@@ -185,6 +186,18 @@ def test_a_path_named_with_a_typo_gets_the_closest_name():
         report = insert_document(doc, debug, measurements=Selection(paths=("zsScalr",))).report
     assert [f.message for f in report.of_kind("symbol-not-found")] == [
         f"MEASUREMENT zsScalr: not in {TYPES_ELF.name}; did you mean 'zsScalar'?"]
+
+
+def test_old_arrays_names_elements_as_before_asap2_1_70(tmp_path, capsys):
+    """a2ltool's --old-arrays in a 1.71 file: ``outer.arr._2_.d`` and MATRIX_DIM with three numbers."""
+    source, out = tmp_path / "in.a2l", tmp_path / "out.a2l"
+    source.write_text(EMPTY)
+    assert main(["a2l", "insert", str(source), str(TYPES_ELF), "-o", str(out), "--old-arrays", "--no-cache",
+                 "--measurement-regex", r"outer\.arr.*"]) == 0
+    model = load_a2l(out).model()
+    assert "outer.arr._2_.d" in model.names("MEASUREMENT") and "outer.arr[2].d" not in model.names("MEASUREMENT")
+    assert re.search(r"MATRIX_DIM 3 1 1\b", out.read_text())
+    assert check_file(out, TYPES_ELF).ok
 
 
 def test_errors_for_people(tmp_path, capsys):

@@ -49,14 +49,16 @@ def new_document(debug: DebugData, module: str | None = None, path: str | Path |
 
 def create_file(elf: str | Path, output: str | Path | None, *, measurements: Selection = Selection(),
                 characteristics: Selection = Selection(), target_group: str | None = None,
-                module: str | None = None, structures: bool = False, cache_dir: str | Path | None = None,
-                use_cache: bool = True, progress: Progress | None = None) -> InsertReport:
+                module: str | None = None, structures: bool = False, old_arrays: bool = False,
+                cache_dir: str | Path | None = None, use_cache: bool = True,
+                progress: Progress | None = None) -> InsertReport:
     """Make a new A2L for ``elf`` (:func:`new_document`), insert what the selections name and write ``output``
     atomically (None: a dry run, nothing written)."""
     with DebugData(elf, cache_dir=cache_dir, use_cache=use_cache, progress=progress) as debug:
         doc = new_document(debug, module, output)
         result = insert_document(doc, debug, measurements=measurements, characteristics=characteristics,
-                                 target_group=target_group, structures=structures, progress=progress)
+                                 target_group=target_group, structures=structures, old_arrays=old_arrays,
+                                 progress=progress)
     if output is not None:
         write_source(doc.source, result.data, output)
     return result.report

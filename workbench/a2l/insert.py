@@ -195,11 +195,13 @@ class _Rules:
 
 def insert_document(doc: A2lDocument, debug: DebugData, *, measurements: Selection = Selection(),
                     characteristics: Selection = Selection(), target_group: str | None = None,
-                    module: str | None = None, structures: bool = False,
+                    module: str | None = None, structures: bool = False, old_arrays: bool = False,
                     progress: Progress | None = None) -> InsertResult:
     """``doc`` with the objects ``measurements`` and ``characteristics`` select from ``debug``'s variables
     (see the module docstring); the document itself is not changed. ``structures``: a struct selected whole is
     one INSTANCE of a TYPEDEF_STRUCTURE (a2ltool's ``--enable-structures``, :mod:`workbench.a2l.insert_structures`).
+    ``old_arrays``: elements named ``a._2_`` and MATRIX_DIM with three numbers in an ASAP2 1.70+ file too, as
+    before 1.70 (a2ltool's ``--old-arrays``: for tools that read only those).
 
     Raises :class:`InputError` for a bad pattern or range, a ``target_group`` that is no A2L name, an ELF
     without DWARF, and new text that would fall into an ``/include``d file; :class:`A2lParseError` for a
@@ -216,10 +218,12 @@ def insert_document(doc: A2lDocument, debug: DebugData, *, measurements: Selecti
                          "name the one to insert into (--module NAME)")
     block = doc.module(module)
     inserter = _Inserter(doc, block, debug, rules)
+    version_170 = inserter.new_arrays
+    inserter.new_arrays = version_170 and not old_arrays
     if structures:
         from workbench.a2l.insert_structures import StructureTypedefs
 
-        if not inserter.new_arrays:
+        if not version_170:
             raise InputError(f"{doc.name}: --structures writes TYPEDEF_STRUCTUREs and INSTANCEs, which ASAP2 has "
                              "from version 1.70 on; the file's ASAP2_VERSION is older")
         inserter.structures = StructureTypedefs(inserter)
@@ -234,7 +238,7 @@ def insert_document(doc: A2lDocument, debug: DebugData, *, measurements: Selecti
 def insert_file(a2l: str | Path, elf: str | Path, output: str | Path | None, *,
                 measurements: Selection = Selection(), characteristics: Selection = Selection(),
                 target_group: str | None = None, module: str | None = None, structures: bool = False,
-                cache_dir: str | Path | None = None, use_cache: bool = True,
+                old_arrays: bool = False, cache_dir: str | Path | None = None, use_cache: bool = True,
                 progress: Progress | None = None) -> InsertReport:
     """Read ``a2l`` and ``elf``, insert (see :func:`insert_document`) and write ``output`` atomically (which
     may be ``a2l``); ``output=None`` writes nothing (a dry run)."""
@@ -242,7 +246,8 @@ def insert_file(a2l: str | Path, elf: str | Path, output: str | Path | None, *,
                                   use_cache=use_cache, progress=progress)
     with debug_data as debug:
         result = insert_document(doc, debug, measurements=measurements, characteristics=characteristics,
-                                 target_group=target_group, module=module, structures=structures, progress=progress)
+                                 target_group=target_group, module=module, structures=structures,
+                                 old_arrays=old_arrays, progress=progress)
     if output is not None:
         write_source(doc.source, result.data, output)
     return result.report

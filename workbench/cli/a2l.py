@@ -142,6 +142,9 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     insert.add_argument("-t", "--structures", "--enable-structures", action="store_true",
                         help="a struct selected whole becomes one INSTANCE of a TYPEDEF_STRUCTURE (typedefs per member "
                         "type, shared by every variable of its C type), as a2ltool -t writes it (ASAP2 1.70+)")
+    insert.add_argument("--old-arrays", action="store_true",
+                        help="name array elements a._2_ and write MATRIX_DIM with three numbers as before ASAP2 1.70, "
+                             "in a 1.70+ file too (a2ltool's --old-arrays)")
     insert.add_argument("--dry-run", action="store_true", help="report what would be inserted; write nothing")
     _cache_options(insert)
     _output_options(insert)
@@ -408,7 +411,7 @@ def _insert(args: argparse.Namespace) -> int:
                          "a --*-section or -M/-C PATH")
     output = None if args.dry_run else args.output
     options = dict(measurements=selections[0], characteristics=selections[1], target_group=args.target_group,
-                   module=args.module, structures=args.structures, cache_dir=args.cache_dir,
+                   module=args.module, structures=args.structures, old_arrays=args.old_arrays, cache_dir=args.cache_dir,
                    use_cache=not args.no_cache)
     with ProgressBar("inserting", enabled=None if not args.json else False) as progress:
         if args.create:
