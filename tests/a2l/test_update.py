@@ -149,8 +149,8 @@ def test_many_missing_symbols_get_no_suggestion_from_the_update_but_from_check(d
     from workbench.elf.suggest import MOST_SUGGESTED as SUGGESTED_UP_TO
 
     def text(count):
-        objects = "".join(f'    /begin MEASUREMENT zsScalar{n}x "" UBYTE NO_COMPU_METHOD 1 0 0 255 ECU_ADDRESS 0x0 '
-                          '/end MEASUREMENT\n' for n in range(count))
+        objects = "".join(f'    /begin MEASUREMENT {name} "" UBYTE NO_COMPU_METHOD 1 0 0 255 ECU_ADDRESS 0x0 '
+                          '/end MEASUREMENT\n' for name in [*(f"zsScalar{n}x" for n in range(count)), "zsScalar"])
         return f'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n{objects}  /end MODULE\n/end PROJECT\n'
 
     def suggested(result):
@@ -166,10 +166,23 @@ def test_many_missing_symbols_get_no_suggestion_from_the_update_but_from_check(d
     assert checked.count(True) == SUGGESTED_UP_TO, checked
 
 
+def test_an_elf_holding_none_of_the_objects_is_refused(debug):
+    """Another build's ELF: every object missing; its EPK and no address would be written (exit 2, nothing)."""
+    objects = "".join(f'    /begin MEASUREMENT {name} "" UBYTE NO_COMPU_METHOD 1 0 0 255 ECU_ADDRESS 0x0 /end MEASUREMENT\n'
+                      for name in ("API_Speed", "API_Torque"))
+    text = f'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n{objects}  /end MODULE\n/end PROJECT\n'
+    with pytest.raises(InputError, match=r"^none of the 2 objects of other.a2l is in types_dwarf5.elf \(the first: "
+                                         r"MEASUREMENT API_Speed\): is it the ELF of this A2L's software\?"):
+        update_document(load_a2l_string(text, "other.a2l"), debug)
+    one = text.replace("API_Torque", "zsScalar")  # one found: the other is a warning, as a renamed variable is
+    assert [f.name for f in update_document(load_a2l_string(one), debug).report.of_kind("symbol-not-found")] == [
+        "API_Speed"]
+
+
 def test_a_renamed_variable_is_suggested(debug):
     """The usual reason a symbol is missing: the variable was renamed. A stranger gets no suggestion."""
     objects = "".join(f'    /begin MEASUREMENT {name} "" UBYTE NO_COMPU_METHOD 1 0 0 255 ECU_ADDRESS 0x0 /end MEASUREMENT\n'
-                      for name in ("zsScaler", "ZSSCALAR", "outr.b.c", "outr.nothing", "missing_var"))
+                      for name in ("zsScaler", "ZSSCALAR", "outr.b.c", "outr.nothing", "missing_var", "zsScalar"))
     text = f'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n{objects}  /end MODULE\n/end PROJECT\n'
     result = update_document(load_a2l_string(text, "renamed.a2l"), debug, epk=False)
     messages = {f.name: f.message for f in result.report.of_kind("symbol-not-found")}

@@ -118,6 +118,11 @@ def update_document(doc: A2lDocument, debug: DebugData, *, mode: UpdateMode = Up
     has_token = objects.address_token_array >= 0
     removed: dict[int, tuple[int, str]] = {}  # block -> (name token, why): REMOVE_MISSING's objects
     missing = int(np.count_nonzero(addresses == -1))
+    if missing > 1 and missing == len(addresses):  # another build's ELF: its EPK and no address would be written
+        first = int(np.argmin(objects.name_tokens))
+        raise InputError(f"none of the {missing} objects of {doc.name} is in {debug.path.name} (the first: "
+                         f"{objects.keyword(first)} {objects.names[first]}): is it the ELF of this A2L's software? "
+                         "nothing written")
     for row in np.flatnonzero(~usable | ~has_token).tolist():  # the few objects that need more than a new value
         if addresses[row] == -1:
             _missing(objects, row, debug, mode, report, removed, pending, missing)
