@@ -250,6 +250,7 @@ def test_remove_missing_refuses_when_a_kept_object_needs_a_missing_one(source, d
     assert [f.message for f in result.report.of_kind("reference-dropped")] == [
         "CHARACTERISTIC zvLut AXIS_DESCR: INPUT_QUANTITY zsScalar_gone is removed: now NO_INPUT_QUANTITY"]
     assert result.report.tally["MEASUREMENT"]["removed"] == 2  # and missing_var, out of its GROUP
+    assert "not-found" not in result.report.tally["MEASUREMENT"]  # counted once: "2 removed", not also "2 not-found"
 
 
 @settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])

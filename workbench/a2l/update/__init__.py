@@ -329,10 +329,11 @@ def _missing(objects: AddressedObjects, row: int, debug: DebugData, mode: Update
     link = f" (SYMBOL_LINK {symbol!r})" if symbol != name else ""
     severity = Severity.ERROR if mode is UpdateMode.STRICT else Severity.WARNING
     pending.append((int(objects.name_tokens[row]), kind, name, f"{keyword} {name}{link}: {why}", keyword, severity))
-    report.count(keyword, "not-found")
-    if mode is UpdateMode.REMOVE_MISSING:
+    if mode is UpdateMode.REMOVE_MISSING:  # counted once, as what became of it ("1 removed", not also "1 not-found")
         removed[int(objects.blocks[row])] = (int(objects.name_tokens[row]), f"not in {debug.path.name}")
         report.count(keyword, "removed")
+    else:
+        report.count(keyword, "not-found")
 
 
 def _unaddressable(objects: AddressedObjects, row: int, address: int, mode: UpdateMode, report: UpdateReport,
