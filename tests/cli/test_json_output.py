@@ -40,3 +40,15 @@ def test_dbc_table_json_is_one_write(monkeypatch):
     assert main(["dbc", "table", str(demo.path("dbc", "FLCU_CAN2.dbc")), "--json"]) == 0
     assert out.writes == 1
     assert "FLCU_TO_PCM_003" in [message["Name"] for message in json.loads(out.getvalue())["messages"]]
+
+
+def test_a_usage_error_under_json_is_a_report_too(capsys):
+    """Bad input argparse finds (a missing -o, a bad pattern) gives the {ok, error, exit_code} every other failure
+    gives under --json: a script reading stdout found nothing."""
+    assert main(["a2l", "update", str(demo.a2l()), str(demo.elf()), "--json"]) == 2
+    out, err = capsys.readouterr()
+    assert json.loads(out) == {"ok": False, "error": "workbench a2l update: the following arguments are required: "
+                                                     "-o/--output", "exit_code": 2}
+    assert err.endswith("workbench a2l update: error: the following arguments are required: -o/--output\n")
+    assert main(["a2l", "remove", str(demo.a2l()), "-R", "("]) == 2  # without --json: stdout stays empty
+    assert capsys.readouterr().out == ""

@@ -17,7 +17,7 @@ if TYPE_CHECKING:
 __all__ = ["CommandParser", "add_bus_arguments", "add_can2_bus_arguments", "add_can2_bus_kwargs_argument",
            "add_ethernet_arguments", "add_output_arguments", "bus_settings", "bus_spec", "can2_bus_spec",
            "integer_within", "json_printed", "non_negative_float", "output_file", "port_number", "positive_float",
-           "positive_int", "print_json", "print_report", "words_before_key_values"]
+           "positive_int", "print_json", "print_report", "usage_error", "words_before_key_values"]
 
 # the Namespace keys ``can.cli.create_bus_from_namespace`` turns into ``can.Bus`` keyword arguments
 PYTHON_CAN_KEYS = ("channel", "interface", "bitrate", "fd", "data_bitrate", "can_filters", "timing")
@@ -51,6 +51,12 @@ class CommandParser(argparse.ArgumentParser):
             # any keeps 'port' in the list, where python-can names it: 'Unable to parse bus keyword argument')
             args = words_before_key_values(args)
         return super().parse_known_args(args, namespace)
+
+    def error(self, message: str):
+        """argparse's usage error (usage and the message on stderr, exit 2), remembered for ``--json``'s report."""
+        global usage_error
+        usage_error = f"{self.prog}: {message}"
+        super().error(message)
 
     def format_usage(self) -> str:
         self._add_deferred()
@@ -261,6 +267,7 @@ def add_output_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 json_printed = False  # a report went out as JSON (see :func:`workbench.cli.main`: a failure after it adds none)
+usage_error: str | None = None  # the last usage error argparse reported (main prints it as JSON under --json)
 
 
 def print_json(data: Any) -> None:
