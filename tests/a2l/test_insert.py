@@ -200,6 +200,17 @@ def test_old_arrays_names_elements_as_before_asap2_1_70(tmp_path, capsys):
     assert check_file(out, TYPES_ELF).ok
 
 
+def test_new_blocks_take_the_indentation_most_blocks_of_the_module_have():
+    """The demo's merged A2L starts its MODULE with XCP.aml's A2ML, inlined at column 0; its blocks are at 4."""
+    blocks = "".join(f'    /begin MEASUREMENT m{n} "" UBYTE NO_COMPU_METHOD 0 0 0 255 ECU_ADDRESS 0x0 /end MEASUREMENT\n'
+                     for n in range(3))
+    text = (f'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n/begin A2ML\nblock "IF_DATA" int;\n'
+            f'/end A2ML\n{blocks}  /end MODULE\n/end PROJECT\n')
+    with DebugData(TYPES_ELF, use_cache=False) as debug:
+        result = insert_document(load_a2l_string(text), debug, measurements=Selection(paths=("zsScalar",)))
+    assert "\n    /begin MEASUREMENT zsScalar " in result.data.decode()  # was at column 0, as the A2ML
+
+
 def test_errors_for_people(tmp_path, capsys):
     source = tmp_path / "in.a2l"
     source.write_text(EMPTY)

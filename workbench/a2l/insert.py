@@ -272,7 +272,9 @@ class _Inserter:
                 self.described.setdefault((_KIND_OF.get(keyword, keyword), symbol), name)
         self.blocks: dict[str, list[bytes]] = {}  # keyword -> the new blocks' text (a blank line first), in order
         children = module.children
-        self.indent = (indentation_of(doc.data, children[0].span[0]) if children  # the MODULE's blocks'
+        # the MODULE's blocks' indentation: the one most of them have (the first may be an A2ML /include'd at 0)
+        indents = Counter(indentation_of(doc.data, child.span[0]) for child in children[::len(children) // 256 + 1])
+        self.indent = (indents.most_common(1)[0][0] if indents
                        else indentation_of(doc.data, module.span[0]) + b"  ").decode(doc.encoding)
         self.newline = newline_bytes(doc).decode("ascii")
         self.types: dict[tuple, tuple[str, str, int | None] | str] = {}  # see _typed
