@@ -267,3 +267,14 @@ def test_cleanup_leaves_a_name_defined_twice_alone():
     /begin MEASUREMENT m "" UBYTE CM 0 0 0 1 ECU_ADDRESS 0x100 /end MEASUREMENT""")
     result = cleanup_document(load_a2l_string(text))
     assert result.report.removed == {"COMPU_METHOD": ["unused"]} and result.data.decode().count("COMPU_METHOD CM") == 2
+
+
+def test_a_pattern_that_names_an_instances_object_says_that_whole_instances_go(tmp_path):
+    from demo_instances import write_demo_instances_a2l
+
+    doc = load_a2l(write_demo_instances_a2l(tmp_path))
+    report = remove_document(doc, regexes=(r"tank\.kp", "nothing")).report
+    assert [f.message for f in report.of_kind("regex-matched-nothing")] == [
+        r"--regex 'tank\.kp' matches no MEASUREMENT, CHARACTERISTIC, AXIS_PTS, BLOB or INSTANCE; it matches tank.kp "
+        "of INSTANCE tank: remove takes whole INSTANCEs (-R tank)",  # the pattern as typed, not its repr
+        "--regex 'nothing' matches no MEASUREMENT, CHARACTERISTIC, AXIS_PTS, BLOB or INSTANCE"]

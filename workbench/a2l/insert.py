@@ -44,7 +44,7 @@ from workbench.a2l.addressed import AddressedObjects
 from workbench.a2l.datatypes import array_dims, c_limits, datatype_for, element_type
 from workbench.a2l.document import A2lDocument, Block, load_a2l
 from workbench.a2l.edits import Edit, Edits, indentation_of, newline_bytes, write_source
-from workbench.a2l.patterns import selection_pattern
+from workbench.a2l.patterns import as_typed, selection_pattern
 from workbench.a2l.reports import finding_at
 from workbench.a2l.update.enums import NO_COMPU_METHOD, enum_conversion_blocks, enum_conversion_name, indented
 from workbench.a2l.values import is_ident, quote_string
@@ -532,7 +532,7 @@ class _Inserter:
             option = rule.kind.lower()
             for text, _ in rule.patterns:
                 if not rule.matched[text]:
-                    self._skip("regex-matched-nothing", text, f"--{option}-regex {text!r} matches no variable of "
+                    self._skip("regex-matched-nothing", text, f"--{option}-regex {as_typed(text)} matches no variable of "
                                f"{self.debug.path.name}", Severity.WARNING)
             for extent, given in rule.options.items():
                 if not rule.in_range[extent]:

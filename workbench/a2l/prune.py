@@ -45,7 +45,7 @@ from workbench.a2l.addressed import AddressedObjects
 from workbench.a2l.document import A2lDocument, Block, load_a2l
 from workbench.a2l.edits import Edit, Edits, cut_spans, replace_token, write_source
 from workbench.a2l.includes import edited_texts, includes_not_found_from
-from workbench.a2l.patterns import selection_pattern
+from workbench.a2l.patterns import as_typed, selection_pattern
 from workbench.a2l.reports import IncludeMode, findings_at
 from workbench.a2l.usage import ENTRY, Usage
 from workbench.a2l.values import int_or_none, int_values
@@ -167,6 +167,20 @@ def _write(doc: A2lDocument, result: PruneResult, output: str | Path | None, inc
     return result.report
 
 
+def _member_hint(doc: A2lDocument, pattern) -> str:
+    """When ``pattern`` names objects an INSTANCE stands for: that only whole INSTANCEs go (a2ltool's rule too)."""
+    if not doc.block_indices("INSTANCE"):
+        return ""
+    model = doc.model()
+    for kind in ("CHARACTERISTIC", "MEASUREMENT", "AXIS_PTS", "BLOB"):
+        for name in model.names(kind):
+            placed = model.placed(name) if pattern.search(name) else None
+            if placed is not None:
+                return (f"; it matches {name} of INSTANCE {placed.instance}: remove takes whole INSTANCEs "
+                        f"(-R {placed.instance})")
+    return ""
+
+
 def _select(doc: A2lDocument, patterns: list, ranges: tuple[tuple[int, int], ...],
             report: PruneReport) -> dict[int, tuple[int, str]]:
     """The objects to remove: block -> (name token, why), in document order; a pattern or range that selects
@@ -196,10 +210,11 @@ def _select(doc: A2lDocument, patterns: list, ranges: tuple[tuple[int, int], ...
                 held[(low, high)] += 1
                 selected.setdefault(int(objects.blocks[row]), (int(objects.name_tokens[row]),
                                                                f"at 0x{addresses[index]:X}"))
-    for text, _ in patterns:
+    for text, pattern in patterns:
         if not matched[text]:
-            report.add(Finding("regex-matched-nothing", text, f"--regex {text!r} matches no MEASUREMENT, "
-                               "CHARACTERISTIC, AXIS_PTS, BLOB or INSTANCE", severity=Severity.WARNING))
+            report.add(Finding("regex-matched-nothing", text, f"--regex {as_typed(text)} matches no MEASUREMENT, "
+                               "CHARACTERISTIC, AXIS_PTS, BLOB or INSTANCE" + _member_hint(doc, pattern),
+                               severity=Severity.WARNING))
     for low, high in ranges:
         if not held[(low, high)]:
             report.add(Finding("range-matched-nothing", f"0x{low:X} 0x{high:X}", f"--range 0x{low:X} 0x{high:X} "
