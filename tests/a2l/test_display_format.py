@@ -48,4 +48,6 @@ def test_check_warns_at_each_format_that_is_not_asap2s():
     assert found == [("format", "CM", "COMPU_METHOD", *at[0], "WARNING"),
                      ("format", "m", "MEASUREMENT", *at[1], "WARNING"),
                      ("format", "c", "AXIS_DESCR", *at[2], "WARNING")]  # an axis names its CHARACTERISTIC
+    assert [f.message.partition(" is not")[0] for f in report.findings] == [  # each names its object
+        'COMPU_METHOD CM: format "%6.2lf"', 'MEASUREMENT m: FORMAT "%8.3f"', 'CHARACTERISTIC c AXIS_DESCR: FORMAT "%d"']
     assert not report.ok

@@ -80,9 +80,14 @@ def check_formats(doc: "A2lDocument", report: "Report") -> None:
             continue  # a FORMAT without its string: a syntax finding already
         problem = format_problem(doc.text(token))
         if problem is not None:
+            keyword = doc.blocks.keyword[block]
             found = doc.block(block)
             while found.parent is not None and not found.name:
                 found = found.parent
-            items.append((token, "format", found.name or "", problem, doc.blocks.keyword[block], Severity.WARNING))
+            # named as the other checks name an object: "CHARACTERISTIC c AXIS_DESCR: FORMAT ..."
+            where = f"{found.keyword} {found.name or ''}" + (f" {keyword}" if found.index != block else "")
+            if keyword == "COMPU_METHOD":  # its format is a parameter, not the FORMAT option
+                problem = "format" + problem.removeprefix("FORMAT")
+            items.append((token, "format", found.name or "", f"{where}: {problem}", keyword, Severity.WARNING))
     if items:
         report.findings.extend(findings_at(doc, items))
