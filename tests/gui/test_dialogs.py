@@ -59,6 +59,19 @@ def test_daq_list_can_ids_are_kept_in_the_project_and_given_to_the_session(qtbot
     assert "give LIST=ID" in dialog.error.text() and dialog.result() == 0
 
 
+def test_a_key_library_is_chosen_with_a_file_dialog(qtbot, demo_workspace, monkeypatch, tmp_path):
+    from PySide6.QtWidgets import QFileDialog, QFormLayout
+
+    library = tmp_path / "SeedNKeyXcp.dll"
+    monkeypatch.setattr(QFileDialog, "getOpenFileName", lambda *args: (str(library), ""))
+    dialog = ConnectionDialog(Connection(), demo_workspace.config)
+    qtbot.addWidget(dialog)
+    dialog.key_library.click()
+    assert dialog.connection().key_function == str(library)
+    label = dialog.findChild(QFormLayout).labelForField(dialog.key_library.parentWidget())
+    assert label.text() == "seed && key" and label.buddy() is not None  # shown as "seed & key"
+
+
 def test_bus_options_that_do_not_parse_keep_the_dialog_open(qtbot, demo_workspace):
     dialog = ConnectionDialog(Connection(), demo_workspace.config)
     qtbot.addWidget(dialog)

@@ -8,9 +8,12 @@ from PySide6.QtWidgets import (
     QComboBox,
     QDialog,
     QDialogButtonBox,
+    QFileDialog,
     QFormLayout,
+    QHBoxLayout,
     QLabel,
     QLineEdit,
+    QPushButton,
     QSpinBox,
     QStackedWidget,
     QVBoxLayout,
@@ -57,7 +60,15 @@ class ConnectionDialog(QDialog):
         self.key_function = QLineEdit()
         self.key_function.setToolTip("module:function, file.py:function, a plugin's name, or a key library with "
                                      "ASAM's XCP_ComputeKeyFromSeed (SeedNKeyXcp.dll on Windows, a .so on Linux)")
-        form.addRow("seed && key", self.key_function)  # "&&": a single & would mark a shortcut
+        self.key_library = QPushButton("Library…")
+        self.key_library.setToolTip("choose the supplier's key library (SeedNKeyXcp.dll, a .so), as CANape asks for it")
+        self.key_library.clicked.connect(self._choose_key_library)
+        key_row = QWidget()  # a widget, not a layout: the label's "&&" shows as "&" only with a buddy
+        key_layout = QHBoxLayout(key_row)
+        key_layout.setContentsMargins(0, 0, 0, 0)
+        key_layout.addWidget(self.key_function, 1)
+        key_layout.addWidget(self.key_library)
+        form.addRow("seed && key", key_row)  # "&&": a single & would mark a shortcut
         layout.addLayout(form)
         self.pages = QStackedWidget()
         can_page, can_form = QWidget(), QFormLayout()
@@ -152,6 +163,12 @@ class ConnectionDialog(QDialog):
         options = self.connection().session_options()
         return bus_defaults.BusSpec.from_kwargs({**{key: options[key] for key in ("interface", "channel", "bitrate")},
                                                  **options["bus_kwargs"]})
+
+    def _choose_key_library(self) -> None:
+        path, _ = QFileDialog.getOpenFileName(self, "Seed & key library", self.key_function.text().strip(),
+                                              "Key libraries (*.dll *.so);;All files (*)")
+        if path:
+            self.key_function.setText(path)
 
     def _accept(self) -> None:
         try:
