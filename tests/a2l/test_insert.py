@@ -202,7 +202,8 @@ def test_old_arrays_names_elements_as_before_asap2_1_70(tmp_path, capsys):
 
 def test_new_blocks_take_the_indentation_most_blocks_of_the_module_have():
     """The demo's merged A2L starts its MODULE with XCP.aml's A2ML, inlined at column 0; its blocks are at 4."""
-    blocks = "".join(f'    /begin MEASUREMENT m{n} "" UBYTE NO_COMPU_METHOD 0 0 0 255 ECU_ADDRESS 0x0 /end MEASUREMENT\n'
+    blocks = "".join(f'    /begin MEASUREMENT m{n} "" UBYTE NO_COMPU_METHOD 0 0 0 255 ECU_ADDRESS 0x0 '
+                     '/end MEASUREMENT\n'
                      for n in range(3))
     text = (f'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n/begin A2ML\nblock "IF_DATA" int;\n'
             f'/end A2ML\n{blocks}  /end MODULE\n/end PROJECT\n')

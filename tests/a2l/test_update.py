@@ -168,8 +168,8 @@ def test_many_missing_symbols_get_no_suggestion_from_the_update_but_from_check(d
 
 def test_an_elf_holding_none_of_the_objects_is_refused(debug):
     """Another build's ELF: every object missing; its EPK and no address would be written (exit 2, nothing)."""
-    objects = "".join(f'    /begin MEASUREMENT {name} "" UBYTE NO_COMPU_METHOD 1 0 0 255 ECU_ADDRESS 0x0 /end MEASUREMENT\n'
-                      for name in ("API_Speed", "API_Torque"))
+    objects = "".join(f'    /begin MEASUREMENT {name} "" UBYTE NO_COMPU_METHOD 1 0 0 255 ECU_ADDRESS 0x0 '
+                      '/end MEASUREMENT\n' for name in ("API_Speed", "API_Torque"))
     text = f'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n  /begin MODULE M ""\n{objects}  /end MODULE\n/end PROJECT\n'
     with pytest.raises(InputError, match=r"^none of the 2 objects of other.a2l is in types_dwarf5.elf \(the first: "
                                          r"MEASUREMENT API_Speed\): is it the ELF of this A2L's software\?"):

@@ -532,8 +532,8 @@ class _Inserter:
             option = rule.kind.lower()
             for text, _ in rule.patterns:
                 if not rule.matched[text]:
-                    self._skip("regex-matched-nothing", text, f"--{option}-regex {as_typed(text)} matches no variable of "
-                               f"{self.debug.path.name}", Severity.WARNING)
+                    self._skip("regex-matched-nothing", text, f"--{option}-regex {as_typed(text)} matches no "
+                               f"variable of {self.debug.path.name}", Severity.WARNING)
             for extent, given in rule.options.items():
                 if not rule.in_range[extent]:
                     self._skip("range-matched-nothing", given.split(" ", 1)[1], f"{given} holds no variable of "

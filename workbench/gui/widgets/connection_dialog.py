@@ -150,7 +150,8 @@ class ConnectionDialog(QDialog):
         """The settings entered. :raises InputError: bus options that do not parse."""
         key_function = self.key_function.text().strip() or None
         if self.transport.currentData() == "CAN":
-            interface, bus_kwargs = self.interface.currentText().strip() or None, parse_bus_kwargs(self.bus_kwargs.text())
+            interface = self.interface.currentText().strip() or None
+            bus_kwargs = parse_bus_kwargs(self.bus_kwargs.text())
             bus_defaults.check_bus_options(interface, bus_kwargs, "bus option ")  # prot=43200 would go to another bus
             return Connection(interface=interface, channel=self.channel.text().strip() or None,
                               bitrate=self.bitrate.value() or None, bus_kwargs=bus_kwargs, key_function=key_function,
