@@ -218,9 +218,5 @@ class VariableModel(RowsModel):
         return ["application/x-workbench-names", "text/plain"]
 
     def mimeData(self, indexes):
-        names = []
-        for index in indexes:
-            name = self.rows[index.row()].name
-            if name not in names:
-                names.append(name)
-        return signals_mime(names)
+        """The names of the rows dragged, each once (a cell per column is given), in the order given."""
+        return signals_mime(list(dict.fromkeys(self.rows[index.row()].name for index in indexes)))
