@@ -71,7 +71,7 @@ class StructureTypedefs:
                            f"{'measure' if kind == 'MEASUREMENT' else 'calibrate'}: not inserted", Severity.INFO)
             return None
         dims = array_dims(leaf.ctype)
-        head = f"{'measurement' if kind == 'MEASUREMENT' else 'characteristic'} instance for symbol {leaf.path}"
+        head = f"instance for symbol {leaf.path}"  # as a2ltool writes it (its typedefs say measure or calibrate)
         lines = [f"/begin INSTANCE {name} {_quoted(head)}", f"{typedef} 0x{leaf.address:X}"]
         if dims:
             lines.append("MATRIX_DIM " + " ".join(map(str, dims)))
