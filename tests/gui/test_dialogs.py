@@ -1,7 +1,7 @@
 """Dialogs that need no ECU: connection settings from the A2L's IF_DATA, cache synchronisation."""
 
 import pytest
-from PySide6.QtWidgets import QLabel
+from PySide6.QtWidgets import QDialogButtonBox, QLabel
 
 from workbench.errors import InputError
 from workbench.gui.project import Connection, Project, project_from_dict
@@ -70,6 +70,18 @@ def test_a_key_library_is_chosen_with_a_file_dialog(qtbot, demo_workspace, monke
     assert dialog.connection().key_function == str(library)
     label = dialog.findChild(QFormLayout).labelForField(dialog.key_library.parentWidget())
     assert label.text() == "seed && key" and label.buddy() is not None  # shown as "seed & key"
+
+
+def test_a_long_scan_answer_is_shown_whole(qtbot, demo_workspace):
+    dialog = ConnectionDialog(Connection("udp_multicas"), demo_workspace.config)  # the known interfaces: 4 lines
+    qtbot.addWidget(dialog)
+    dialog.show()
+    result = dialog.slave_scan.result
+    with qtbot.waitSignal(dialog.slave_scan.finished, timeout=10_000):
+        dialog.slave_scan.button.click()
+    assert result.text().startswith("unknown python-can interface 'udp_multicas' (known: ")
+    qtbot.waitUntil(lambda: result.height() >= result.heightForWidth(result.width()) > 2 * result.fontMetrics().height())
+    assert result.geometry().bottom() < dialog.findChild(QDialogButtonBox).geometry().top()  # was cut after 2 lines
 
 
 def test_bus_options_that_do_not_parse_keep_the_dialog_open(qtbot, demo_workspace):

@@ -88,3 +88,9 @@ class SlaveScan(QWidget):
     def _show(self, text: str, color: str) -> None:
         self.result.setStyleSheet(f"color: {color};")
         self.result.setText(text)
+        # a long answer (an error naming the options) wraps; the connection dialog's pages (a QStackedWidget) do not
+        # ask a label's height for its width: ask it here, so that the dialog grows to show it whole
+        self.result.setMinimumHeight(self.result.heightForWidth(max(self.result.width(), 1)))
+        window = self.window()
+        if window is not self and window.isVisible():
+            window.resize(window.width(), max(window.height(), window.sizeHint().height()))
