@@ -122,6 +122,20 @@ def test_what_is_refused_and_how(work, capsys, tmp_path):
     assert code == 0 and [row["value"] for row in json.loads(out)] == [5.0, 2.0, 0.019999999552965164]
 
 
+@pytest.mark.parametrize("argv", [["flash", "app.elf", "--region", "CALIB"],
+                                  ["cal", "get", "xsPRV_KP", "--image", "app.elf"],
+                                  ["cal", "sync", "app.elf"], ["cal", "diff", "app.elf", "app.s19"],
+                                  ["cal", "get", "xsPRV_KP", "--image", "elf.s19"]])
+def test_an_elf_where_an_image_is_expected_says_so(work, capsys, argv):
+    """The build's two outputs are easily swapped: an ELF (by its first bytes, whatever its name) is named as one."""
+    shutil.copy(demo.elf(), "app.elf")
+    shutil.copy(demo.elf(), "elf.s19")
+    code, out, err = run(capsys, *argv)
+    name, hint = ("elf.s19", "") if "elf.s19" in argv else ("app.elf", " (app.s19 is beside it)")
+    assert (code, out) == (2, "")
+    assert err == f"error: {name}: is an ELF file, not a flash image: give the build's s19/hex{hint}\n"
+
+
 def test_a_c_style_format_shows_alike_in_cal_get_cal_diff_and_the_views(work, capsys):
     """A FORMAT as files in the wild write it ("%8.3lf", not ASAP2's "%8.3") gives its decimals to every face."""
     from workbench.a2l import load_a2l

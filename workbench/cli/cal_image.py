@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 
 from workbench.cli.options import output_file, print_json
 from workbench.errors import InputError, epk_text
-from workbench.image.files import image_suffixes, is_image_file
+from workbench.image.files import image_suffixes, is_image_file, refuse_elf
 
 if TYPE_CHECKING:
     from workbench.a2l import A2lDocument
@@ -49,6 +49,7 @@ def open_image(args: argparse.Namespace, doc: A2lDocument | None = None, *, read
     from workbench.cli.ecu_options import a2l_document
     from workbench.sync.offline import ImageCalibration
 
+    refuse_elf(args.image)
     if not is_image_file(args.image):
         raise InputError(f"--image {args.image}: an s19/hex is named {IMAGES}")
     image = ImageCalibration.open(args.image, doc or a2l_document(args),

@@ -15,7 +15,7 @@ import bincopy
 
 from workbench.errors import InputError
 from workbench.fileio import read_input, write_output
-from workbench.image.files import is_intel_hex
+from workbench.image.files import ELF_MAGIC, elf_given, is_intel_hex
 
 __all__ = ["ERASED", "AddressRange", "MemoryImage", "load_image", "parse_image"]
 
@@ -160,6 +160,8 @@ def parse_image(text: str, path: str | Path = "<text>") -> MemoryImage:
 
     :raises InputError: the text is malformed; the message names ``path:line``.
     """
+    if text.startswith(ELF_MAGIC.decode("ascii")):
+        raise elf_given(path)
     first = next((line.strip() for line in text.splitlines() if line.strip()), "")
     if first.startswith("S"):
         add = "add_srec"

@@ -8,7 +8,7 @@ from pathlib import Path
 from workbench.calib.dataset import Dataset, format_of, load_dataset
 from workbench.errors import InputError
 from workbench.image import MemoryImage, load_image
-from workbench.image.files import image_suffixes, is_image_file
+from workbench.image.files import image_suffixes, is_image_file, refuse_elf
 
 __all__ = ["DatasetReference", "ImageReference", "load_reference"]
 
@@ -45,6 +45,7 @@ def load_reference(path: str | Path) -> Reference:
     :raises InputError: the file is missing or malformed (located), or its extension names neither.
     """
     path = Path(path)
+    refuse_elf(path)
     if is_image_file(path):
         return ImageReference(path, load_image(path))
     try:

@@ -90,8 +90,9 @@ def file_dataset(model: A2lModel, path: str | Path) -> Dataset:
     """
     from workbench.calib.dataset import load_dataset
     from workbench.image import load_image
-    from workbench.image.files import is_image_file
+    from workbench.image.files import is_image_file, refuse_elf
 
+    refuse_elf(path)
     if is_image_file(path):
         return image_dataset(model, load_image(path), source=str(path))
     dataset = load_dataset(path)
