@@ -85,12 +85,12 @@ def run_cli(bench, *args: str) -> int:
     return main(["flash", *args, "--interface", "virtual", "--channel", bench.channel])
 
 
-@pytest.mark.parametrize("case, message", [
-    ("wrong-epk", "EPK '09000020240101' at FC0000h (CALIB) differs from the A2L's"),
-    ("outside", "data outside the flash regions CALIB: FE0000h-FE0003h (in SHARED"),
-    ("boot", "BOOT holds the boot loader"),
+@pytest.mark.parametrize("case, message, override", [
+    ("wrong-epk", "EPK '09000020240101' at FC0000h (CALIB) differs from the A2L's", None),
+    ("outside", "data outside the flash regions CALIB: FE0000h-FE0003h (in SHARED", None),
+    ("boot", "BOOT holds the boot loader", "--allow-boot"),
 ])
-def test_refusals_leave_the_ecus_flash_untouched(bench, tmp_path, capsys, case, message):
+def test_refusals_leave_the_ecus_flash_untouched(bench, tmp_path, capsys, case, message, override):
     path = tmp_path / f"{case}.s19"
     image = calib_image_with(THRESHOLD, 29.0)
     region = "CALIB"
@@ -107,6 +107,9 @@ def test_refusals_leave_the_ecus_flash_untouched(bench, tmp_path, capsys, case, 
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1 and err.startswith("error: ")
     assert bench.whole_flash() == before
+    assert run_cli(bench, str(path), "--region", region, "--dry-run", "--json") == 1
+    report = json.loads(capsys.readouterr().out)  # the option the error names is the one the report names
+    assert (report["refused"], report["override"]) == (True, override)
 
 
 @pytest.mark.parametrize("args, message", [

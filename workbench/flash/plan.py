@@ -202,7 +202,7 @@ def _chosen_regions(layout: FlashLayout, names, allow_boot: bool) -> list[FlashR
             raise InputError(f"{region.name} is no region to flash (it is reserved: {region.description or 'RESERVED'})")
         if region.is_boot and not allow_boot:
             raise FlashRefused(f"{region.name} holds the boot loader: a flash that fails there cannot be repaired over "
-                               f"XCP; allow it explicitly (--allow-boot) to flash it anyway")
+                               f"XCP; allow it explicitly (--allow-boot) to flash it anyway", override="allow_boot")
         chosen.append(region)
     chosen.sort(key=lambda r: r.start)
     for a, b in zip(chosen, chosen[1:]):
