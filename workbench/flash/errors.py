@@ -11,8 +11,8 @@ class FlashRefused(WorkbenchError):
     """The plan is unsafe (wrong EPK, data outside the region, BOOT ...): nothing on the ECU was touched.
 
     ``override``: the :class:`~workbench.flash.FlashOptions` field or planning keyword (``"allow_boot"``) that, set
-    True, flashes anyway (the user's explicit choice, e.g. ``"erase_beyond_file"``); None: no option does. ``regions``: the regions to flash too
-    for the flash to go ahead (the message names them).
+    True, flashes anyway (the user's explicit choice, e.g. ``"erase_beyond_file"``); None: no option does.
+    ``regions``: the regions to flash too for the flash to go ahead (the message names them).
     """
 
     def __init__(self, message: str, *, override: str | None = None, regions: tuple[str, ...] = ()):
