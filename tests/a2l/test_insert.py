@@ -299,7 +299,8 @@ def test_a_member_of_a_variable_an_object_describes_is_not_described_again():
         result = insert_document(doc, debug, characteristics=Selection(("zvLut.*",)),
                                  measurements=Selection((r"outer\.b\..*|zvLut.*",)))
     assert result.report.inserted == {"MEASUREMENT": ["zvLut.BP1", "zvLut.Table"],
-                                      "CHARACTERISTIC": ["CHARACTERISTIC.zvLut.Table"]}  # both kinds: a2ltool's name
+                                      "CHARACTERISTIC": ["CHARACTERISTIC.zvLut.Table"],  # both kinds: a2ltool's name
+                                      "INSTANCE": []}
     assert {f.message for f in result.report.of_kind("already-described")} == {
         "CHARACTERISTIC zvLut.BP1: AXIS_PTS Axis describes zvLut.BP1 already: not inserted",
         "MEASUREMENT outer.b.c: it lies in outer, which MEASUREMENT Outer describes: not inserted",

@@ -4,6 +4,7 @@ passes check and pya2ldb; typedefs are shared by the variables of one C type."""
 
 from __future__ import annotations
 
+import json
 import re
 import shutil
 import subprocess
@@ -139,3 +140,8 @@ def test_the_summary_counts_an_instance_as_one(tmp_path, capsys):
                        "--measurement-regex", "API_CAN_RxPdu|API_DOUT_Value", "--no-cache")
     assert code == 0 and load_a2l(out).model().instance("API_CAN_RxPdu").typedef == "tRxPduInfo"
     assert err == f"wrote {out}: 1 MEASUREMENT, 1 INSTANCE inserted\n"  # was '2 MEASUREMENT inserted'
+    code, out, _ = run(capsys, "a2l", "insert", "--create", demo.elf(), "--structures", "--dry-run", "--json",
+                       "--measurement-regex", "API_CAN_RxPdu|API_DOUT_Value", "--no-cache")
+    inserted = json.loads(out)["inserted"]  # under the block written, as the summary counts them
+    assert (code, inserted) == (0, {"MEASUREMENT": ["API_DOUT_Value"], "CHARACTERISTIC": [],
+                                    "INSTANCE": ["API_CAN_RxPdu"]})

@@ -84,22 +84,17 @@ class Selection:
 
 @dataclass
 class InsertReport(Report):
-    """Findings of an insert, and the names inserted by kind (``{"MEASUREMENT": ["outer.a", ...], ...}``)."""
+    """Findings of an insert, and the names inserted by block (``{"MEASUREMENT": ["outer.a", ...], ...}``; with
+    ``--structures`` a struct inserted as one INSTANCE is under ``"INSTANCE"``)."""
 
-    inserted: dict[str, list[str]] = field(default_factory=lambda: {kind: [] for kind in KINDS})
+    inserted: dict[str, list[str]] = field(default_factory=lambda: {keyword: [] for keyword in (*KINDS, "INSTANCE")})
 
     def to_dict(self) -> dict:
         return {**super().to_dict(), "inserted": self.inserted}
 
     def summary(self, output: str | Path | None) -> str:
         """The one line the CLI and the GUI say after ``output`` is written (None: a dry run)."""
-        # --structures: a struct inserted as one INSTANCE is counted as that, not as a MEASUREMENT/CHARACTERISTIC
-        as_instance = {finding.name for finding in self.of_kind("inserted") if finding.block == "INSTANCE"}
-        plain = {kind: sum(name not in as_instance for name in names) for kind, names in self.inserted.items()}
-        counts = [f"{count} {kind}" for kind, count in plain.items() if count]
-        if as_instance:
-            counts.append(f"{len(as_instance)} INSTANCE")
-        counts = ", ".join(counts) or "nothing"
+        counts = ", ".join(f"{len(names)} {keyword}" for keyword, names in self.inserted.items() if names) or "nothing"
         skipped = len(self.of_kind("exists")) + len(self.of_kind("already-described"))
         tail = f" ({skipped} existed already)" if skipped else ""
         return (f"would insert {counts}{tail}; nothing written (dry run)" if output is None
@@ -282,6 +277,7 @@ class _Inserter:
         self.layouts: dict[str, str] = {}  # data type -> the RECORD_LAYOUT its CHARACTERISTICs use
         self.conversions: set[str] = {block.name for block in module.children_named("COMPU_METHOD")}
         self.structures = None  # StructureTypedefs with --structures
+        self.referenced: dict[str, list[str]] = {kind: [] for kind in KINDS}  # what a GROUP refers to, INSTANCEs too
 
     # -- what to insert ---------------------------------------------------------------------------
     def walk_variables(self, progress: Progress | None) -> None:
@@ -426,7 +422,8 @@ class _Inserter:
         self.blocks.setdefault(keyword, []).append(text)
         self.planned[name] = (kind, symbol)
         self.described[(kind, symbol)] = name
-        self.report.inserted[kind].append(name)
+        self.report.inserted[keyword].append(name)
+        self.referenced[kind].append(name)
         self.report.add(Finding("inserted", name, f"{keyword} {name} inserted (0x{leaf.address:X}, {what})",
                                 block=keyword))
 
@@ -540,9 +537,8 @@ class _Inserter:
                                f"{self.debug.path.name}", Severity.WARNING)
 
     def result(self, target_group: str | None) -> InsertResult:
-        doc, module = self.doc, self.module
+        doc, module, names = self.doc, self.module, self.referenced
         edits = Edits()
-        names = {kind: self.report.inserted[kind] for kind in KINDS}
         group = _find(module, "GROUP", target_group) if target_group else None
         if target_group and any(names.values()):
             if group is None:
