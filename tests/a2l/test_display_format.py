@@ -13,6 +13,7 @@ from workbench.a2l.display_format import format_parts, format_problem
     ("%8.3", (8, 3)), ("%.3", (None, 3)), ("%.0 ", (None, 0)),  # ASAP2's, a2ltool's and XCPlite's
     ("%8.3f", (8, 3)), ("%6.2lf", (6, 2)), ("% 8.3", (8, 3)), ("%5d", (5, 0)),  # C's, read for what they say
     ("%8", (8, None)), ("%10.3e", (10, None)), ("%0*x", (None, None)), ("8.3", (None, None)), (None, (None, None)),
+    ("%8.20", (8, 17)), ("%.25lf", (None, 17)),  # beyond a FLOAT64's 17 significant digits: 17 shown
 ])
 def test_formats_are_read_leniently(text, parts):
     assert format_parts(text) == parts
@@ -51,3 +52,15 @@ def test_check_warns_at_each_format_that_is_not_asap2s():
     assert [f.message.partition(" is not")[0] for f in report.findings] == [  # each names its object
         'COMPU_METHOD CM: format "%6.2lf"', 'MEASUREMENT m: FORMAT "%8.3f"', 'CHARACTERISTIC c AXIS_DESCR: FORMAT "%d"']
     assert not report.ok
+
+
+def test_check_warns_at_a_layout_beyond_what_a_value_holds_or_its_length():
+    text = A2L.replace('FORMAT "%8.3f"', 'FORMAT "%8.20"').replace('FORMAT "%8.3"', 'FORMAT "%4.6"')
+    report = check_document(load_a2l_string(text, "wide.a2l"))
+    lines = text.splitlines()
+    found = {f.name: (f.line, f.column, f.message) for f in report.findings if f.block != "AXIS_DESCR"}
+    m_message = ('MEASUREMENT m: FORMAT "%8.20": 20 decimals are more than a FLOAT64 holds (about 17 significant '
+                 "digits): shown with 17")
+    c_message = 'CHARACTERISTIC c: FORMAT "%4.6": 6 decimals are more than its Length of 4 characters: write "%8.6"'
+    assert found["m"] == (5, lines[4].index('"%8.20"') + 1, m_message)
+    assert found["c"] == (6, lines[5].index('"%4.6"') + 1, c_message)

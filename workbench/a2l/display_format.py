@@ -5,6 +5,10 @@ ASAP2 writes ``"%Length.Layout"``: ``"%8.3"`` is 8 characters with 3 decimals. G
 conversions (``"%8.3f"``, ``"%6.2lf"``, ``"%5d"``). Every view (cal get, cal diff, the GUI's editors, recordings)
 reads a format with :func:`format_parts`, which takes those leniently; ``a2l check`` warns about each format that
 is not ASAP2's form (:func:`format_problem`, :func:`check_formats`), at file:line:column, saying how it is shown.
+
+ASAP2 sets no bound on the Layout; the views show at most :data:`MAX_DECIMALS` (a FLOAT64 holds about 17 significant
+digits: more decimals show only noise, ``"%8.20"`` printed 20), and check warns about a Layout beyond that or beyond
+its own Length.
 """
 
 from __future__ import annotations
@@ -16,7 +20,9 @@ if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
     from workbench.findings import Report
 
-__all__ = ["check_formats", "format_decimals", "format_parts", "format_problem"]
+__all__ = ["MAX_DECIMALS", "check_formats", "format_decimals", "format_parts", "format_problem"]
+
+MAX_DECIMALS = 17  # the most decimals a view shows: a FLOAT64's significant digits (ASAP2 sets no bound)
 
 # "%" [Length] ["." Layout] [C length modifier and conversion], blanks around it tolerated
 _LENIENT = re.compile(r"\s*%\s*(\d+)?(?:\.(\d+))?(?:[hlLqjzt]{0,2}([a-zA-Z]))?\s*")
@@ -28,14 +34,14 @@ _INTEGER = "diu"  # whole numbers: no decimals
 def format_parts(text: str | None) -> tuple[int | None, int | None]:
     """(width, decimals) of a display format: ``"%8.3"``, ``"%.3"``, ``"%8.3f"``, ``"%6.2lf"`` -> decimals 3, 3, 3,
     2; ``"%5d"`` -> 0. None where absent or not a number of decimals (``"%8"``, ``"%.3e"``, ``"%x"``, ``"abc"``):
-    such values are shown with as many decimals as they need."""
+    such values are shown with as many decimals as they need. More than :data:`MAX_DECIMALS` read as that many."""
     match = _LENIENT.fullmatch(text or "")
     if match is None:
         return None, None
     width, decimals, conversion = match.groups()
     width_value = int(width) if width else None
     if conversion is None or conversion in _FIXED:
-        return width_value, int(decimals) if decimals else None
+        return width_value, min(int(decimals), MAX_DECIMALS) if decimals else None
     if conversion in _INTEGER:
         return width_value, 0
     return (width_value, None) if conversion in "eEgGaA" else (None, None)
@@ -47,10 +53,18 @@ def format_decimals(text: str | None) -> int | None:
 
 
 def format_problem(text: str) -> str | None:
-    """Why ``text`` is not ASAP2's ``"%Length.Layout"`` and how the views show it; None when it is."""
-    if _ASAP2.fullmatch(text):
-        return None
+    """Why ``text`` is not ASAP2's ``"%Length.Layout"``, or has a Layout beyond :data:`MAX_DECIMALS` or its Length,
+    and how the views show it; None when it is fine."""
     width, decimals = format_parts(text)
+    if _ASAP2.fullmatch(text):
+        layout = int(text.partition(".")[2])
+        if layout > MAX_DECIMALS:
+            return f'FORMAT "{text}": {layout} decimals are more than a FLOAT64 holds (about {MAX_DECIMALS} ' \
+                   f"significant digits): shown with {MAX_DECIMALS}"
+        if width and layout > width:
+            return f'FORMAT "{text}": {layout} decimals are more than its Length of {width} characters: write ' \
+                   f'"%{layout + 2}.{layout}"'
+        return None
     if decimals is None:
         return f'FORMAT "{text}" is not ASAP2\'s "%Length.Layout" (e.g. "%8.3"): its values are shown with as many ' \
                "decimals as they need"
