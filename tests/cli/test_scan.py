@@ -8,7 +8,7 @@ import json
 
 import pytest
 from cli_helpers import run
-from session_helpers import edited_a2l
+from session_helpers import demo_a2l_text, edited_a2l
 
 from workbench.sim import serve_demo
 
@@ -57,7 +57,17 @@ def test_bad_broadcast_ids_are_usage_errors(capsys, tmp_path):
     assert code == 2 and "CAN id 0x900 does not fit a standard frame" in err
     without = edited_a2l(tmp_path, "CAN_ID_BROADCAST 0x6F0\n", "")
     code, _, err = run(capsys, "scan", "--a2l", without, "--interface", "virtual")
-    assert code == 2 and err.count("\n") == 1 and "XCP_ON_CAN has no CAN_ID_BROADCAST; give the broadcast" in err
+    assert code == 2 and err.count("\n") == 1 and err.endswith(
+        "XCP_ON_CAN has no CAN_ID_BROADCAST; give the broadcast identifier: --broadcast-id ID\n")
+    text = demo_a2l_text()
+    module_xcp = text.index("/begin IF_DATA XCP", text.index("/end MOD_PAR"))
+    for begin, end, what in (("/begin XCP_ON_CAN", "/end XCP_ON_CAN", "IF_DATA XCP has no XCP_ON_CAN block"),
+                             (module_xcp, "/end IF_DATA", "the MODULE has no IF_DATA XCP block")):
+        start = begin if isinstance(begin, int) else text.index(begin)
+        block = text[start:text.index(end, start) + len(end)]  # the block left out
+        code, _, err = run(capsys, "scan", "--a2l", edited_a2l(tmp_path, block, ""), "--interface", "virtual")
+        assert code == 2 and err.count("\n") == 1 and what in err
+        assert err.endswith("; to scan without it, give --broadcast-id ID instead of --a2l\n")
 
 
 @pytest.mark.parametrize(("interface", "option", "closest"), [

@@ -13,7 +13,7 @@ from workbench.a2l import A2lDocument
 from workbench.a2l.includes import load_a2l_to_work
 from workbench.a2l.xcp import read_xcp_config
 from workbench.bus_defaults import BusSpec, open_bus
-from workbench.errors import InputError
+from workbench.errors import A2lParseError, InputError
 from workbench.session.connection import Connection, link_settings
 from workbench.session.session import _bus_spec
 from workbench.xcp.detect import (
@@ -27,6 +27,10 @@ from workbench.xcp.detect import (
 from workbench.xcp_protocol import CanId
 
 __all__ = ["Detection", "detect_slaves"]
+
+# the CLI's words (the window's scan always gives the broadcast id, with no A2L to read)
+_WITHOUT_A2L = "; to scan without it, give --broadcast-id ID instead of --a2l"
+
 
 @dataclass(frozen=True)
 class Detection:
@@ -82,17 +86,20 @@ def detect_slaves(a2l: str | Path | A2lDocument | None = None, *, interface: str
     opened = bus if bus is not None and not isinstance(bus, BusSpec) else None
     spec, a2l_ids, fd = given, None, bool(given and given.fd)  # CAN FD requests on a bus opened for CAN FD
     if doc is not None:
-        config = read_xcp_config(doc, module)
+        try:
+            config = read_xcp_config(doc, module)
+        except A2lParseError as exc:  # no IF_DATA XCP (or a malformed one): a bus is scanned without any A2L too
+            raise A2lParseError(f"{exc.reason}{_WITHOUT_A2L}", exc.path, exc.line, exc.column) from None
         if config.can is None:
             raise InputError(f"{doc.path or 'the A2L'}: IF_DATA XCP has no XCP_ON_CAN block; slaves are detected "
-                             "on CAN only")
+                             f"on CAN only{_WITHOUT_A2L}")
         settings, on_can = link_settings(config, Connection(given, open_bus=opened is not None))
         spec, fd, a2l_ids = settings.bus, settings.fd, (settings.can_id_master, settings.can_id_slave)
         broadcast_id = broadcast_id if broadcast_id is not None else config.can.can_id_broadcast
         byte_order = byte_order or (">" if on_can.byte_order.startswith("MSB_FIRST") else "<")
     if broadcast_id is None:
         raise InputError(f"{doc.path if doc is not None and doc.path else 'the A2L'}: XCP_ON_CAN has no "
-                         "CAN_ID_BROADCAST; give the broadcast identifier (--broadcast-id)")
+                         "CAN_ID_BROADCAST; give the broadcast identifier: --broadcast-id ID")
     if not isinstance(broadcast_id, CanId):
         broadcast_id = CanId.from_a2l(broadcast_id)
     spec = spec or BusSpec()
