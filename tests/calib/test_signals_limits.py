@@ -10,6 +10,7 @@ import pytest
 
 from workbench.a2l import load_a2l, load_a2l_string
 from workbench.calib import Axis, CalValue, check_cells, check_limits, measurement_codec, object_layout
+from workbench.calib.cells import index_problem
 from workbench.errors import ConversionError, UnknownSymbolError
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -192,3 +193,13 @@ def test_pya2ldb_puts_the_fields_at_the_same_addresses(tmp_path, demo):
     demo_oracle = pya2l_describe(ROOT / "assets" / "FLCU.a2l", {"layouts": ["zvTankPConv"]})["addresses"]
     curve = object_layout(demo, "zvTankPConv").resolve()
     assert {f.keyword.lower(): curve.address + f.offset for f in curve.fields} == demo_oracle["zvTankPConv"]
+
+
+@pytest.mark.parametrize(("shape", "index", "message"), [
+    ((4,), (3,), None), ((4,), (7,), "c has 4 values: index 7 is beyond (0-3)"),  # a CURVE, a VAL_BLK
+    ((2, 3), (1, 3), "c has 2 x 3 values: y index 3 is beyond (0-2)"),  # a MAP, a VAL_BLK of MATRIX_DIM 2 3
+    ((2, 3, 4), (0, 0), "c has 2 x 3 x 4 values: give 3 indices [x, y, z], not 2"),
+    ((1,), (1,), "c has 1 value: index 1 is beyond (0)"), ((), (0,), "c has one value: name it without an index"),
+])
+def test_an_index_beyond_an_array_says_how_many_values_it_has(shape, index, message):
+    assert index_problem("c", shape, index) == message

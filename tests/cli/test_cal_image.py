@@ -136,6 +136,17 @@ def test_an_elf_where_an_image_is_expected_says_so(work, capsys, argv):
     assert err == f"error: {name}: is an ELF file, not a flash image: give the build's s19/hex{hint}\n"
 
 
+@pytest.mark.parametrize(("cell", "message"), [
+    ("zvTankPConv[9]", "zvTankPConv has 9 values: index 9 is beyond (0-8)"),  # a CURVE
+    ("xvPRV_DC_FF[2,5]", "xvPRV_DC_FF has 6 x 5 values: y index 5 is beyond (0-4)"),  # a MAP, [x, y]
+    ("xvPRV_DC_FF[2]", "xvPRV_DC_FF has 6 x 5 values: give 2 indices [x, y], not 1"),
+    ("xaPRV_FF_TARGET[6]", "xaPRV_FF_TARGET has 6 points: index 6 is beyond (0-5)"),  # an AXIS_PTS
+    ("xsPRV_KP[0]", "xsPRV_KP has one value: name it without an index"),
+])
+def test_a_cell_beyond_the_object_says_how_many_it_has(work, capsys, cell, message):
+    assert run(capsys, "cal", "get", cell, "--image", "app.s19") == (2, "", f"error: {message}\n")
+
+
 def test_a_c_style_format_shows_alike_in_cal_get_cal_diff_and_the_views(work, capsys):
     """A FORMAT as files in the wild write it ("%8.3lf", not ASAP2's "%8.3") gives its decimals to every face."""
     from workbench.a2l import load_a2l

@@ -36,7 +36,7 @@ def bus():
     (["cfENABLEFLCU_VALUE", "Foo"], "cfENABLEFLCU_VALUE: 'Foo' is not one of its values (Disabled, Enabled)"),
     (["xvPRV_DC_FF", "1,2,3"], "xvPRV_DC_FF has shape (6, 5), the value (3,)"),
     (["xvPRV_DC_FF[2,3]", "200"], "xvPRV_DC_FF[2, 3]: 200.00 is above the upper limit 100.00 %"),
-    (["xvPRV_DC_FF[6][0]", "1"], "xvPRV_DC_FF has shape (6, 5): there is no value [6, 0]"),
+    (["xvPRV_DC_FF[6][0]", "1"], "xvPRV_DC_FF has 6 x 5 values: x index 6 is beyond (0-5)"),
     (["xaPRV_FF_TARGET", "0,10,5,30,40,50"], "xaPRV_FF_TARGET: points 1 and 2 (10, 5) break MON_INCREASE"),
     (["zsRailPressure", "1"], "zsRailPressure is a MEASUREMENT: measurements are read, calibrations written"),
 ])
@@ -125,8 +125,8 @@ def test_one_axis_point_is_written_alone_its_order_checked_against_the_ecus_poin
 
 @pytest.mark.parametrize("argv, message", [
     (["xaPRV_FF_TARGET[2]", "60"], "xaPRV_FF_TARGET[2]: 60.00 is above the upper limit 50.00 bar"),
-    (["xaPRV_FF_TARGET[6]", "60"], "xaPRV_FF_TARGET has at most 6 points: there is no point [6]"),
-    (["xaPRV_FF_TARGET[1,1]", "5"], "xaPRV_FF_TARGET has at most 6 points: there is no point [1, 1]"),
+    (["xaPRV_FF_TARGET[6]", "60"], "xaPRV_FF_TARGET has 6 points at most: index 6 is beyond (0-5)"),
+    (["xaPRV_FF_TARGET[1,1]", "5"], "xaPRV_FF_TARGET has 6 points at most: give one index, not 2"),
 ])
 def test_an_axis_point_beyond_its_limits_or_index_sends_nothing(bus, capsys, argv, message):
     options, log, _ = bus

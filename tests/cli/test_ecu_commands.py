@@ -440,7 +440,7 @@ def test_cal_get_takes_a_cell_as_cal_set_does(bus, capsys):
     code, out, _ = run(capsys, "cal", "get", "xvPRV_DC_FF[2][3]", "--json", *bus)
     assert json.loads(out) == {"xvPRV_DC_FF[2, 3]": 42.0}
     code, _, err = run(capsys, "cal", "get", "xvPRV_DC_FF[9,3]", *bus)
-    assert (code, err) == (2, "error: xvPRV_DC_FF has shape (6, 5): [9, 3] is not one of its values\n")
+    assert (code, err) == (2, "error: xvPRV_DC_FF has 6 x 5 values: x index 9 is beyond (0-5)\n")
 
 
 def test_measure_takes_globs_and_records_can2_signals_by_name(bus, capsys, tmp_path):
@@ -481,7 +481,7 @@ def test_measure_takes_one_element_of_an_array(bus, capsys):
     code, out, _ = run(capsys, "measure", "xvPRV_DC_FF[1,2]", "--duration", "0.05", *bus)
     assert code == 0 and re.fullmatch(r"\d+\.\d{4} xvPRV_DC_FF\[1, 2\]=70\.00 %", out.splitlines()[0])
     code, _, err = run(capsys, "measure", "zsSensVolt[4]", *bus)
-    assert code == 2 and err == "error: zsSensVolt[4]: zsSensVolt has shape (4,): [4] is not one of its elements\n"
+    assert code == 2 and err == "error: zsSensVolt has 4 elements: index 4 is beyond (0-3)\n"
 
 
 def test_info_saves_the_a2l_the_ecu_holds(capsys, tmp_path, free_udp_port):

@@ -89,7 +89,7 @@ def test_one_axis_point_by_index_is_checked_among_the_others_and_sent_alone(ecu,
         ecu.write_cells("xaPRV_FF_TARGET", {2: 35.0})  # its order against the points the ECU holds
     with pytest.raises(LimitsError, match=r"xaPRV_FF_TARGET\[2\]: 60.00 is above the upper limit 50.00 bar"):
         ecu.write_cells("xaPRV_FF_TARGET", {2: 60.0})
-    with pytest.raises(LimitsError, match=r"has at most 6 points: there is no point \[6\]"):
+    with pytest.raises(LimitsError, match=r"has 6 points at most: index 6 is beyond \(0-5\)"):
         ecu.write_cells("xaPRV_FF_TARGET", {6: 60.0})
     assert log.take() == [] and ecu.read("xaPRV_FF_TARGET")[2] == 21.0 != points[2]
 
@@ -148,8 +148,8 @@ def test_a_refused_write_sends_nothing(ecu, log, name, value, error, message):
 
 @pytest.mark.parametrize("cells, message", [
     ({(2, 3): 200.0}, r"xvPRV_DC_FF\[2, 3\]: 200.00 is above the upper limit 100.00 %"),
-    ({(6, 0): 1.0}, r"xvPRV_DC_FF has shape \(6, 5\): there is no value \[6, 0\]"),
-    ({(1,): 1.0}, r"there is no value \[1\]"),
+    ({(6, 0): 1.0}, r"xvPRV_DC_FF has 6 x 5 values: x index 6 is beyond \(0-5\)"),
+    ({(1,): 1.0}, r"xvPRV_DC_FF has 6 x 5 values: give 2 indices \[x, y\], not 1"),
     ({(0, 0): "x"}, r"xvPRV_DC_FF\[0, 0\]: 'x' is not a number"),
 ])
 def test_a_refused_cell_sends_nothing(ecu, log, cells, message):

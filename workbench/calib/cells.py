@@ -21,9 +21,29 @@ from workbench.errors import ConversionError, InputError
 if TYPE_CHECKING:
     from workbench.calib.layout import ResolvedLayout
 
-__all__ = ["axis_with_points", "cell_edits", "cell_span", "cell_values"]
+__all__ = ["axis_with_points", "cell_edits", "cell_span", "cell_values", "index_problem"]
 
 _AXIS_KINDS = ("CURVE", "MAP", "CUBOID", "CUBE_4", "CUBE_5")
+_AXIS_LETTERS = "xyzuv"  # a cell is NAME[x, y, ...]: ASAP2's axes X, Y, Z, Z4, Z5
+
+
+def index_problem(name: str, shape: tuple[int, ...], index: tuple[int, ...], noun: str = "values") -> str | None:
+    """Why ``index`` names none of the ``noun`` of ``name`` (an array of ``shape``), one rule for every face that
+    takes ``NAME[x, y]``; None: it names one. ``zvCurve has 9 values: index 12 is beyond (0-8)``,
+    ``xvMap has 6 x 5 values: y index 7 is beyond (0-4)``."""
+    if len(index) == len(shape) and all(0 <= i < n for i, n in zip(index, shape)):
+        return None
+    if not shape:
+        return f"{name} has one value: name it without an index"
+    if shape == (1,):
+        noun = noun.replace("s", "", 1)  # "1 value", "1 point at most"
+    has = f"{name} has {' x '.join(map(str, shape))} {noun}"
+    if len(index) != len(shape):
+        wanted = "one index" if len(shape) == 1 else f"{len(shape)} indices [{', '.join(_AXIS_LETTERS[:len(shape)])}]"
+        return f"{has}: give {wanted}, not {len(index)}"
+    axis, beyond, size = next((axis, i, n) for axis, (i, n) in enumerate(zip(index, shape)) if not 0 <= i < n)
+    which = "index" if len(shape) == 1 else f"{_AXIS_LETTERS[axis]} index"
+    return f"{has}: {which} {beyond} is beyond ({f'0-{size - 1}' if size > 1 else '0' if size else 'none'})"
 
 
 def cell_span(layout: ResolvedLayout, index: tuple[int, ...]) -> Span:
@@ -33,8 +53,9 @@ def cell_span(layout: ResolvedLayout, index: tuple[int, ...]) -> Span:
     """
     field = layout.field("FNC_VALUES")
     shape = layout.shape
-    if len(index) != len(shape) or not all(0 <= i < n for i, n in zip(index, shape)):
-        raise ConversionError(f"{layout.name} has shape {shape}: there is no value {list(index)}")
+    problem = index_problem(layout.name, shape, index)
+    if problem is not None:
+        raise ConversionError(problem)
     static = layout.plan.record_layout.static_address_offsets and layout.kind in _AXIS_KINDS
     stored = tuple(axis.max_points for axis in layout.plan.axes) if static else shape
     order = "F" if field.mode == "COLUMN_DIR" else "C"
@@ -104,9 +125,9 @@ def axis_with_points(name: str, axis: Any, points: Mapping[tuple[int, ...], Any]
     :raises InputError: a point beyond the axis.
     """
     axis = np.array(axis, dtype=object)
-    beyond = [index for index in points if index[0] >= len(axis)]
-    if beyond:
-        raise InputError(f"{name} has {len(axis)} points: there is no point {list(beyond[0])}")
+    problem = next(filter(None, (index_problem(name, axis.shape, index, "points") for index in points)), None)
+    if problem is not None:
+        raise InputError(problem)
     for (index,), value in points.items():
         axis[index] = value
     return axis

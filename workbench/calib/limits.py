@@ -33,6 +33,7 @@ import numpy as np
 
 from workbench.a2l.display_format import format_parts
 from workbench.a2l.objects import AxisPts, Characteristic
+from workbench.calib.cells import index_problem
 from workbench.calib.values import CalValue
 from workbench.errors import ConversionError
 
@@ -121,9 +122,11 @@ def check_cells(model: "A2lModel", name: str, cells: Mapping[tuple[int, ...], An
     shape = shape or (obj.shape if obj.type == "VAL_BLK" else _static_shape(model, obj))
     for index, value in cells.items():
         label = f"[{', '.join(str(i) for i in index)}]"
-        if len(index) != len(shape or obj.axes) or (shape and not all(0 <= i < n for i, n in zip(index, shape))):
-            extent = f"has shape {shape}" if shape else f"has {len(obj.axes)} axes"
-            found.append(LimitViolation(name, "shape", f"{name} {extent}: there is no value {label}", index))
+        # the number of points not fixed in the A2L: the indices counted here, their range where the points are read
+        problem = index_problem(name, shape, index) if shape else None if len(index) == len(obj.axes) else \
+            f"{name} has {len(obj.axes)} axes: give one index for each, not {len(index)}"
+        if problem is not None:
+            found.append(LimitViolation(name, "shape", problem, index))
             continue
         values = np.asarray(value, dtype=object)
         if values.shape != ():
@@ -144,9 +147,9 @@ def check_axis_point(model: "A2lModel", name: str, index: tuple[int, ...], value
     if not isinstance(obj, AxisPts):
         return [LimitViolation(name, "kind", f"{name} is no AXIS_PTS")]
     label = f"[{', '.join(str(i) for i in index)}]"
-    if len(index) != 1 or (obj.max_axis_points and not 0 <= index[0] < obj.max_axis_points):
-        return [LimitViolation(name, "shape", f"{name} has at most {obj.max_axis_points} points: there is no "
-                                              f"point {label}", index)]
+    problem = index_problem(name, (obj.max_axis_points,), index, "points at most")
+    if problem is not None:
+        return [LimitViolation(name, "shape", problem, index)]
     values = np.asarray(value, dtype=object)
     if values.shape != ():
         return [LimitViolation(name, "shape", f"{name}{label}: one value, not {values.shape}", index)]

@@ -132,7 +132,8 @@ def _get(args: argparse.Namespace) -> int:
                 value = session.read_value(name, **page)
             else:
                 value = session.read(name, **page)
-            found[label] = value if index is None else _cell_of(name, getattr(value, "value", value), index)
+            found[label] = value if index is None else _cell_of(name, getattr(value, "value", value), index,
+                                                                 "points" if kind == "AXIS_PTS" else "values")
     if args.json:
         print_json({label: _value_dict(value) for label, value in found.items()})
         return 0
@@ -153,13 +154,15 @@ def _axis_places(model, obj) -> tuple[int | None, ...]:
     return tuple(axis_decimals(model, axis) for axis in getattr(obj, "axes", ()))
 
 
-def _cell_of(name: str, value: Any, index: tuple[int, ...]) -> Any:
-    """One value of an array, indexed as cal set takes it ([x, y] for a map)."""
+def _cell_of(name: str, value: Any, index: tuple[int, ...], noun: str) -> Any:
+    """One value (``noun``: "values", "points") of an array, indexed as cal set takes it ([x, y] for a map)."""
     import numpy as np
 
-    shape = np.shape(value)
-    if len(index) != len(shape) or any(not 0 <= i < n for i, n in zip(index, shape)):
-        raise InputError(f"{name} has shape {shape}: [{', '.join(map(str, index))}] is not one of its values")
+    from workbench.calib.cells import index_problem
+
+    problem = index_problem(name, np.shape(value), index, noun)
+    if problem is not None:
+        raise InputError(problem)
     return np.asarray(value)[index].item()
 
 

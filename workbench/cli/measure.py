@@ -180,14 +180,13 @@ def _split_names(args: argparse.Namespace, model, dbc) -> tuple[list[str], dict[
 
 def _element(model, array: str, index: tuple[int, ...]) -> str:
     """``NAME[i, j]`` as shown. :raises InputError: ``array`` has no element there."""
+    from workbench.calib.cells import index_problem
     from workbench.errors import InputError
 
-    shape = getattr(model.object(array), "shape", ())
-    label = f"{array}[{', '.join(map(str, index))}]"
-    if len(index) != len(shape) or any(not 0 <= i < n for i, n in zip(index, shape)):
-        raise InputError(f"{label}: {array} has shape {shape or '() (no array)'}: [{', '.join(map(str, index))}] is "
-                         "not one of its elements")
-    return label
+    problem = index_problem(array, getattr(model.object(array), "shape", ()), index, "elements")
+    if problem is not None:
+        raise InputError(problem)
+    return f"{array}[{', '.join(map(str, index))}]"
 
 
 def _picked(values: dict[str, Any], elements: dict[str, tuple[str, tuple[int, ...]]], order: list[str]) -> dict:
