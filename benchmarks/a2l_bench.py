@@ -91,6 +91,12 @@ def alternate(commands: dict[str, tuple[list[str], dict | None]], repeat: int) -
     return timings
 
 
+def has_command(implementation: Implementation, command: str) -> bool:
+    """Whether ``workbench a2l COMMAND`` exists in this checkout (a baseline may predate it)."""
+    return subprocess.run([*implementation.prefix, "a2l", command, "--help"], stdout=subprocess.DEVNULL,
+                          stderr=subprocess.DEVNULL, env=implementation.env).returncode == 0
+
+
 def in_process(function, repeat: int) -> tuple[float, float]:
     """Best time of ``function()`` and the tracemalloc peak (MiB) of one extra traced call."""
     best = min(_timed(function) for _ in range(repeat))
@@ -215,11 +221,13 @@ def _bench(args, work: Path, a2l: Path, elf: Path, fragments: list[Path], out: P
             i.name: ([*i.prefix, "a2l", "merge", str(work / "master.a2l"), *map(str, fragments), "-o",
                       str(out / f"merged-{i.name}")], i.env) for i in ours}))
     # a2ltool's --remove and --cleanup: 1,000 objects out by name (two units' first 500), then what nothing uses
+    # (a baseline older than these commands has no row of its own)
     for label, options in (("remove 1,000 objects (regex)", ["remove", "-R", _REMOVED]), ("cleanup", ["cleanup"])):
         references[label] = [A2LTOOL, str(a2l), *(["-R", _REMOVED] if options[0] == "remove" else ["--cleanup"]),
                              "-o", str(out / "ref_pruned.a2l")]
         jobs.append((label, {i.name: ([*i.prefix, "a2l", options[0], str(a2l), *options[1:], "-o",
-                                       str(out / f"pruned-{i.name}")], i.env) for i in ours}))
+                                       str(out / f"pruned-{i.name}")], i.env) for i in ours
+                             if has_command(i, options[0])}))
     # a2ltool's --measurement-regex: 1,000 variables (ten units' first 100) into the empty master, of the ELF's
     # 50,000 whose names start alike (ours with the index cache the updates above left)
     label = "insert 1,000 variables (regex)"
@@ -245,10 +253,10 @@ def _bench(args, work: Path, a2l: Path, elf: Path, fragments: list[Path], out: P
             reference_time, reference_cpu = timings["a2ltool"].wall, timings["a2ltool"].cpu
         line = f"{label:36s} {reference_time:9.3f} {reference_cpu:6.2f}"
         for name in names:
-            timing = timings[name]
-            line += (f" {timing.wall:18.3f} {timing.cpu:6.2f} {timing.peak_mib:4.0f} "
-                     f"{timing.wall / reference_time:8.2f}x")
-        if args.baseline:
+            timing = timings.get(name)
+            line += (f" {'-':>18s} {'-':>6s} {'-':>4s} {'-':>9s}" if timing is None else
+                     f" {timing.wall:18.3f} {timing.cpu:6.2f} {timing.peak_mib:4.0f} {timing.wall / reference_time:8.2f}x")
+        if args.baseline and all(name in timings for name in names):
             line += f" {timings[names[0]].wall / timings[names[1]].wall:15.2f}x"
         print(line)
     print(f"load average after: {load_average()}")
