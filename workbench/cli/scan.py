@@ -23,8 +23,8 @@ then connects to each slave that answered, on the identifiers it named.
 def add_subparser(subparsers, name: str, help_text: str) -> None:
     parser = subparsers.add_parser(
         name, help=help_text, epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter,
-        description="Send XCP on CAN's GET_SLAVE_ID (echo, then inverse echo) on the broadcast identifier and list "
-                    "each slave that answers: the identifier it takes commands on and the one it answers on.")
+        description="Send XCP on CAN's GET_SLAVE_ID (echo, then inverse echo) on the broadcast identifier and\n"
+                    "list each slave that answers: the identifier it takes commands on and the one it answers on.")
     group = parser.add_argument_group("scan")
     group.add_argument("--a2l", metavar="A2L",
                        help="the A2L whose XCP_ON_CAN gives CAN_ID_BROADCAST, BAUDRATE and the ids to check "
