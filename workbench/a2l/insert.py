@@ -55,6 +55,8 @@ from workbench.findings import Finding, Report, Severity
 from workbench.progress import Progress, report as report_progress
 
 if TYPE_CHECKING:
+    from collections.abc import Iterator
+
     from workbench.elf.ctypes_model import CMember, CType
 
 __all__ = ["InsertReport", "InsertResult", "Selection", "insert_document", "insert_file"]
@@ -354,9 +356,8 @@ class _Inserter:
         if ctype.kind in _GROUPS:
             for member in _members(ctype):
                 if member.offset is not None:
-                    path = f"{leaf.path}.{member.name}" if member.name else leaf.path
-                    self._walk(_Leaf(path, leaf.address + member.offset, member.type, member.bit_size,
-                                     member.bit_position, leaf.spec), passed)
+                    self._walk(_Leaf(leaf.path + _member_step(member), leaf.address + member.offset, member.type,
+                                     member.bit_size, member.bit_position, leaf.spec), passed)
         elif ctype.kind == "array" and element.kind in _GROUPS:
             self._elements(leaf, element, passed)
         elif by_name or named:
@@ -368,14 +369,8 @@ class _Inserter:
         return any(rule.may_name(leaf.path) or rule.may_hold(leaf.address, leaf.ctype.size) for rule in self.active)
 
     def _elements(self, leaf: _Leaf, element: "CType", inherited: frozenset[str]) -> None:
-        dims = array_dims(leaf.ctype)
-        for number in range(prod(dims)):
-            indices, rest = [], number
-            for dim in reversed(dims):
-                indices.append(rest % dim)
-                rest //= dim
-            suffix = "".join(f"[{i}]" if self.new_arrays else f"._{i}_" for i in reversed(indices))
-            self._walk(_Leaf(leaf.path + suffix, leaf.address + number * element.size, element, spec=leaf.spec),
+        for number, step in enumerate(_element_steps(array_dims(leaf.ctype), self.new_arrays)):
+            self._walk(_Leaf(leaf.path + step, leaf.address + number * element.size, element, spec=leaf.spec),
                        inherited)
 
     def _object(self, kind: str, leaf: _Leaf, keyword: str | None = None) -> None:
@@ -597,14 +592,25 @@ class _Suffixes:
         element = element_type(ctype)
         if ctype.kind == "array":
             inner = self.of(element) if element.kind in _GROUPS else [""]
-            for indices in product(*map(range, array_dims(ctype))):
-                step = "".join(f"[{i}]" if self.new_arrays else f"._{i}_" for i in indices)
+            for step in _element_steps(array_dims(ctype), self.new_arrays):
                 found += [step + rest for rest in inner]
         elif ctype.kind in _GROUPS:
             for member in _members(ctype):
-                step = f".{member.name}" if member.name else ""
-                found += [step + rest for rest in self.of(member.type)]
+                found += [_member_step(member) + rest for rest in self.of(member.type)]
         return found
+
+
+def _element_steps(dims: tuple[int, ...], new_arrays: bool) -> Iterator[str]:
+    """What names each element of an array of ``dims`` after the array's name, in memory order (the last index
+    fastest): ``[1][2]``, or ``._1_._2_`` before ASAP2 1.70."""
+    for indices in product(*map(range, dims)):
+        yield "".join(f"[{i}]" if new_arrays else f"._{i}_" for i in indices)
+
+
+def _member_step(member: "CMember") -> str:
+    """What names ``member`` after its struct's name (nothing for an anonymous struct or union: its members are
+    the struct's own)."""
+    return f".{member.name}" if member.name else ""
 
 
 def _members(ctype: "CType") -> list["CMember"]:
