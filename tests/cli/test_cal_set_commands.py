@@ -169,3 +169,14 @@ def test_a_fix_override_beyond_its_limits_sends_nothing(bus, capsys):
     code, out, err = run(capsys, "cal", "fix", "zfRAILPRESSURE", "900", *options)
     assert (code, out) == (2, "") and err.startswith("error: zfRAILPRESSURE_VALUE: 900.00 is above the upper limit 50.00 bar")
     assert log.take() == []
+
+
+def test_without_get_id_the_epk_at_addr_epk_is_read_once(capsys):
+    """A slave without GET_ID: the EPK read at ADDR_EPK is also CALIB's part; only the application header's is read
+    beside it."""
+    channel = f"cal-set-{next(_channels)}"
+    with serve_demo({"interface": "virtual", "channel": channel}, profile="no-get-id"), CommandLog(channel) as log:
+        code, _, err = run(capsys, "cal", "get", "xsSWITCH_TANK_THR", "--interface", "virtual", "--channel", channel)
+        assert (code, err) == (0, "")
+        assert log.take() == ["CONNECT", "GET_COMM_MODE_INFO", "GET_STATUS", "GET_ID", *["SET_MTA", "UPLOAD"] * 2,
+                              "SHORT_UPLOAD", "DISCONNECT"]

@@ -98,7 +98,9 @@ def check_epk(master: XcpMaster, a2l_epk: str | None, addr_epk: int | None,
     if text is None and addr_epk is not None:
         text = _read(master, addr_epk, size)
         source = "ADDR_EPK" if text is not None else ""
-    read = tuple(EpkPart(segment, address, a2l_epk, _read(master, address, size)) for address, segment in parts)
+    read_at = {addr_epk: text} if source == "ADDR_EPK" else {}  # without GET_ID, ADDR_EPK's part is read already
+    read = tuple(EpkPart(segment, address, a2l_epk, read_at[address] if address in read_at
+                         else _read(master, address, size)) for address, segment in parts)
     return EpkCheck(a2l_epk, text, source, read)
 
 
