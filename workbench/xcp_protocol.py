@@ -149,6 +149,11 @@ class SlaveIdMode(IntEnum):
     ECHO = 0  # identify by echo
     INVERSE_ECHO = 1  # confirm by inverse echo
 
+    @property
+    def pattern(self) -> bytes:
+        """The three bytes an answer to GET_SLAVE_ID in this mode carries after its PID."""
+        return SLAVE_ID_INVERSE if self is SlaveIdMode.INVERSE_ECHO else SLAVE_ID_ECHO
+
 
 SLAVE_ID_ECHO = b"XCP"
 SLAVE_ID_INVERSE = bytes(0xFF - byte for byte in SLAVE_ID_ECHO)  # A7 BC AF

@@ -27,7 +27,6 @@ from workbench.xcp_protocol import (
     PID_ERR,
     PID_RES,
     SLAVE_ID_ECHO,
-    SLAVE_ID_INVERSE,
     CanCmd,
     CanId,
     Cmd,
@@ -177,8 +176,8 @@ class CanXcpPort(XcpPort):
         if cto[:2] == _GET_SLAVE_ID:
             if cto[2:5] != SLAVE_ID_ECHO or len(cto) < 6 or cto[5] not in tuple(SlaveIdMode):
                 return []
-            echo = SLAVE_ID_INVERSE if cto[5] == SlaveIdMode.INVERSE_ECHO else SLAVE_ID_ECHO
-            return [bytes((PID_RES,)) + echo + struct.pack(params.byte_order + "I", self.master_id.a2l)]
+            answer_id = struct.pack(params.byte_order + "I", self.master_id.a2l)
+            return [bytes((PID_RES,)) + SlaveIdMode(cto[5]).pattern + answer_id]
         if not self.ecu.slave.connected:
             return []
         if cto[1] not in (CanCmd.GET_DAQ_ID, CanCmd.SET_DAQ_ID) or cto[1] not in params.can_sub_commands:

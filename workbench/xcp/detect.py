@@ -26,7 +26,6 @@ from workbench.xcp.master import Timeouts, XcpMaster
 from workbench.xcp_protocol import (
     PID_RES,
     SLAVE_ID_ECHO,
-    SLAVE_ID_INVERSE,
     CanCmd,
     CanId,
     Cmd,
@@ -58,7 +57,7 @@ def parse_slave_id_answer(data: bytes, mode: SlaveIdMode, byte_order: str = "<")
     (a wrong pattern, no CAN identifier); None: the packet is no answer (not a positive response of 8 bytes)."""
     if len(data) < _ANSWER_LENGTH or data[0] != PID_RES:
         return None
-    expected = SLAVE_ID_INVERSE if mode == SlaveIdMode.INVERSE_ECHO else SLAVE_ID_ECHO
+    expected = SlaveIdMode(mode).pattern
     if data[1:4] != expected:
         return f"pattern {data[1:4].hex(' ').upper()}, not {expected.hex(' ').upper()}"
     for order in (byte_order, ">" if byte_order == "<" else "<"):
