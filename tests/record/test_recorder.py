@@ -4,6 +4,9 @@ raw bus log decoded again by asammdf, the time axis shared, the session's close,
 
 from __future__ import annotations
 
+import os
+import signal
+import threading
 import time
 
 import can
@@ -120,6 +123,30 @@ def test_closing_the_session_finalizes_the_recording(demo_ecu, tmp_path, read_md
     assert not recorder.running
     assert read_mdf(tmp_path / "closed.mf4").groups[0].channel_group.cycles_nr == recorder.stats.samples > 50
     assert recorder.stop().samples == recorder.stats.samples  # stopping again changes nothing
+
+
+def test_ctrl_c_during_wait_leaves_the_recording_running_until_it_is_stopped(session, tmp_path, read_mdf):
+    """Ctrl-C (SIGTERM in the CLI) raised while wait() blocks must not make the recording look finished: Python
+    3.11's Thread.join marks a live thread as stopped when an exception interrupts it, and stop() then closed the
+    file while the thread still appended (CI: the summary said 22 samples, the file held 21)."""
+    def interrupt(number, frame):
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGUSR1, interrupt)
+    recorder = Recorder(session, tmp_path / "interrupted.mf4", ["zsRailPressure"]).start()
+    timer = threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGUSR1))
+    try:
+        timer.start()
+        with pytest.raises(KeyboardInterrupt):
+            recorder.wait()
+    finally:
+        timer.cancel()
+        signal.signal(signal.SIGUSR1, previous)
+    assert recorder.running  # it records on until stop()
+    time.sleep(0.2)
+    stats = recorder.stop()
+    assert not recorder.running
+    assert read_mdf(tmp_path / "interrupted.mf4").groups[0].channel_group.cycles_nr == stats.samples > 50
 
 
 def test_a_duration_counts_from_when_daq_runs(session, tmp_path):

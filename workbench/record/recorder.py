@@ -178,6 +178,9 @@ class Recorder:
         self._listening: Listening | None = None
         self._thread: threading.Thread | None = None
         self._stopping = threading.Event()
+        # The thread's end as the main thread waits for it: Python 3.11's Thread.join, interrupted by Ctrl-C,
+        # marks a live thread as stopped (bpo-45274's fix), and stop() then closed the file under it.
+        self._finished = threading.Event()
         self._lock = threading.Lock()
         self._error: BaseException | None = None
         self._stopped = False
@@ -355,6 +358,8 @@ class Recorder:
             lost = isinstance(exc, ConnectionLostError)  # the end of the recording, not a failure of it
             log.log(logging.INFO if lost else logging.ERROR, "recording to %s %s: %s", self.path,
                     "ended" if lost else "failed", exc)
+        finally:
+            self._finished.set()
 
     def _take_daq(self) -> None:
         measurement = self.measurement
@@ -430,7 +435,7 @@ class Recorder:
 
     @property
     def running(self) -> bool:
-        return self._thread is not None and self._thread.is_alive() and not self._stopping.is_set()
+        return self._thread is not None and not self._finished.is_set() and not self._stopping.is_set()
 
     @property
     def failure(self) -> BaseException | None:
@@ -454,7 +459,7 @@ class Recorder:
                     return
             if duration_s is not None and elapsed >= duration_s:
                 return
-            self._thread.join(POLL_S * 2 if duration_s is None else min(POLL_S * 2, duration_s - elapsed))
+            self._finished.wait(POLL_S * 2 if duration_s is None else min(POLL_S * 2, duration_s - elapsed))
         if self._error is not None:
             self.stop()
 
@@ -484,7 +489,7 @@ class Recorder:
             finally:
                 self._close_bus()
                 self._stopping.set()
-                self._thread.join()
+                self._finished.wait()
                 self._finish()
         if self._error is not None:
             error, self._error = self._error, None
