@@ -146,7 +146,7 @@ class DaqAcquisition(QObject):
                 if not isinstance(exc, WorkbenchError):
                     log.exception("DAQ acquisition")
                 self.state.running = False
-                if not self._stop.is_set():
+                if not self._stop.is_set() and not self.session.closed:  # closed under it: the user's doing
                     self.failed.emit(exc)
                 lost = isinstance(exc, ConnectionLostError)  # nothing more to measure on this session
                 if request is not None:  # the Recorder finalized the file with what came
