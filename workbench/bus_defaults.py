@@ -143,8 +143,12 @@ def open_bus(config: Mapping[str, Any], role: str | None = None) -> can.BusABC:
     """A python-can bus from ``Bus(**config)`` keyword arguments, errors as one line naming ``role``
     (the simulator's ``CAN1``; the master's bus is "the CAN bus").
 
-    :raises InputError: an unknown interface (naming the known ones), or options the interface refuses
-        (``--bus-kwargs port=abc``: python-can's ValueError or TypeError).
+    Every bus the workbench opens is opened here (master, simulator, scan, CAN2, flash), so an option the
+    interface would ignore (:func:`check_bus_options`) is refused for each of them, before any frame is sent.
+
+    :raises InputError: an unknown interface (naming the known ones), an option the bus would ignore (naming the
+        closest one), or options the interface refuses (``--bus-kwargs port=abc``: python-can's ValueError or
+        TypeError).
     :raises WorkbenchError: the bus cannot be opened (driver missing, device busy ...).
     """
     import can
@@ -153,6 +157,8 @@ def open_bus(config: Mapping[str, Any], role: str | None = None) -> can.BusABC:
     if interface not in can.interfaces.VALID_INTERFACES:
         raise InputError(f"{role + ': ' if role else ''}unknown python-can interface {interface!r} "
                          f"(known: {', '.join(sorted(can.interfaces.VALID_INTERFACES))})")
+    check_bus_options(interface, {key: value for key, value in config.items() if key not in ("interface", "channel")},
+                      role)
     try:
         return can.Bus(**dict(config))
     except (can.CanError, OSError, ValueError, ImportError, TypeError) as exc:
@@ -167,13 +173,15 @@ def open_bus(config: Mapping[str, Any], role: str | None = None) -> can.BusABC:
 # there (``prot=43200``) would reach another bus (the default port's: someone else's ECU)
 _OPTIONS_BY_NAME = frozenset({"udp_multicast", "virtual", "socketcan"})
 _BUS_KEYS = frozenset({"bitrate", "fd", "data_bitrate", "can_filters", "timing"})  # can.Bus's own, for every bus
+_CAN_BUS_KEYS = frozenset({"config_context", "ignore_config"})  # python-can's Bus() reads these itself
 
 
-def check_bus_options(interface: str | None, options: Mapping[str, Any], said_as: str = "") -> None:
-    """Refuse an option of ``options`` that the bus of ``interface`` (None: the default) would ignore.
+def check_bus_options(interface: str | None, options: Mapping[str, Any], role: str | None = None) -> None:
+    """Refuse an option of ``options`` that the bus of ``interface`` (None: the default) would ignore
+    (:func:`open_bus` asks this of every bus; a dialog may ask it before).
 
-    :param said_as: how the user gave the options, in front of ``KEY=VALUE`` (``"--bus-kwargs "``).
-    :raises InputError: naming the key, the closest option and the options the interface takes.
+    :param role: the bus's name in the message (``CAN2``), as :func:`open_bus` takes it.
+    :raises InputError: one line naming the key, the closest option and the options the interface takes.
     """
     interface = interface or DEFAULT_INTERFACE
     if interface not in _OPTIONS_BY_NAME:
@@ -189,13 +197,17 @@ def check_bus_options(interface: str | None, options: Mapping[str, Any], said_as
         bus_class = getattr(importlib.import_module(module), name)
     except ImportError:  # socketcan off Linux: opening the bus says so
         return
+    from can.typechecking import BitTimingDict, BitTimingFdDict
+
     taken = {name for cls in bus_class.__mro__ if "__init__" in vars(cls)
              for name, parameter in inspect.signature(cls.__init__).parameters.items()
-             if parameter.kind not in (parameter.VAR_POSITIONAL, parameter.VAR_KEYWORD)} | _BUS_KEYS
-    taken -= {"self", "channel", "interface"}
+             if parameter.kind not in (parameter.VAR_POSITIONAL, parameter.VAR_KEYWORD)}
+    taken = (taken | _BUS_KEYS) - {"self", "channel", "interface"}
+    # python-can builds ``timing`` of the bit timing keys (f_clock, brp, tseg1 ...), as of its config file's
+    quiet = _CAN_BUS_KEYS | set(BitTimingDict.__annotations__) | set(BitTimingFdDict.__annotations__)
     for key, value in options.items():
-        if key not in taken:
-            close = difflib.get_close_matches(key, sorted(taken), n=1)
+        if key not in taken | quiet:
+            close = difflib.get_close_matches(key, sorted(taken | quiet), n=1)
             hint = f"did you mean {close[0]}? " if close else ""
-            raise InputError(f"{said_as}{key}={value}: python-can's {interface} bus has no option {key!r} and would "
-                             f"ignore it ({hint}it takes {', '.join(sorted(taken))})")
+            raise InputError(f"{role + ': ' if role else ''}bus option {key}={value}: python-can's {interface} bus has "
+                             f"no option {key!r} and would ignore it ({hint}it takes {', '.join(sorted(taken))})")

@@ -506,3 +506,11 @@ def test_a_daq_list_can_id_the_ecu_refuses_is_one_line(bus, capsys):
     assert err == ("error: moving DAQ list 0's DTOs to CAN id 0x7F6: XCP TRANSPORT_LAYER_CMD SET_DAQ_ID failed: "
                    "ERR_CMD_UNKNOWN (0x20)\n")
     assert run(capsys, "measure", "zsRailPressure", "--daq", "--daq-can-id", "0x7F6", *bus)[0] == 2
+
+
+def test_a_bus_option_the_can2_bus_would_ignore_is_refused_in_one_line(bus, capsys):
+    """Refused where the bus is opened (for a script as for the CLI): prot would leave CAN2 on the default port."""
+    code, out, err = run(capsys, "measure", "RailPressure", "--duration", "1", *bus, "--can2-bus-kwargs", "prot=1")
+    assert (code, out, err.count("\n")) == (2, "", 1), err
+    assert err.startswith("error: bus option prot=1: python-can's udp_multicast bus has no option 'prot' and would "
+                          "ignore it (did you mean port? ")

@@ -77,4 +77,4 @@ def test_bad_broadcast_ids_are_usage_errors(capsys, tmp_path):
 def test_a_bus_option_the_interface_would_ignore_is_refused(capsys, interface, option, closest):
     code, out, err = run(capsys, "scan", *interface, "--bus-kwargs", option)
     assert (code, out, err.count("\n")) == (2, "", 1)
-    assert err.startswith(f"error: --bus-kwargs {option}: python-can's ") and closest in err
+    assert err.startswith(f"error: bus option {option}: python-can's ") and closest in err

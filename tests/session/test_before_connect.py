@@ -12,7 +12,7 @@ from session_helpers import FAST
 
 from workbench import Session
 from workbench.cli import main
-from workbench.errors import XcpTimeoutError
+from workbench.errors import InputError, XcpTimeoutError
 from workbench.session import session as session_module
 from workbench.session.session import other_master
 from workbench.sim import serve_demo
@@ -99,3 +99,12 @@ def test_an_unanswered_connect_on_tcp_names_another_master(free_tcp_port):
                                       "connection but answers no CONNECT: another master (a second workbench, CANape) "
                                       "may hold it, an XCP server serves one at a time (XCPlite lets the next wait); "
                                       "or it speaks no XCP")
+
+
+def test_a_bus_option_the_bus_would_ignore_is_refused_before_a_frame_is_sent(channel):
+    """``import workbench``'s way: a typo python-can ignores (prot for port) reached the default port's bus, another
+    user's simulator perhaps; only the CLI refused it."""
+    with pytest.raises(InputError, match=r"^bus option recieve_own_messages=True: python-can's virtual bus has no "
+                                         r"option 'recieve_own_messages' and would ignore it \(did you mean "
+                                         r"receive_own_messages\? "):
+        Session.open(interface="virtual", channel=channel, bus_kwargs={"recieve_own_messages": True}, timeouts=FAST)

@@ -202,10 +202,6 @@ def bus_settings(args: argparse.Namespace) -> dict[str, Any] | None:
     """
     settings = {key: getattr(args, key) for key in PYTHON_CAN_KEYS if key in args}
     settings.update(getattr(args, "bus_kwargs", {}))
-    if getattr(args, "bus_kwargs", None):
-        from workbench.bus_defaults import check_bus_options
-
-        check_bus_options(settings.get("interface"), args.bus_kwargs, "--bus-kwargs ")
     return settings or None
 
 
@@ -236,13 +232,9 @@ def _bus_kwarg(text: str) -> tuple[str, Any]:
 def can2_bus_spec(args: argparse.Namespace, xcp_bus: BusSpec | None) -> BusSpec | None:
     """The CAN2 bus ``--can2-interface``, ``--can2-channel`` and ``--can2-bus-kwargs`` name beside the XCP bus
     (:func:`~workbench.bus_defaults.bus_beside`); None: they name none."""
-    from workbench.bus_defaults import bus_beside, check_bus_options
+    from workbench.bus_defaults import bus_beside
 
-    kwargs = dict(args.can2_bus_kwargs or ())
-    if kwargs:
-        interface = args.can2_interface or (xcp_bus.interface if xcp_bus else None)
-        check_bus_options(interface, kwargs, "--can2-bus-kwargs ")
-    return bus_beside(xcp_bus, args.can2_interface, args.can2_channel, kwargs)
+    return bus_beside(xcp_bus, args.can2_interface, args.can2_channel, dict(args.can2_bus_kwargs or ()))
 
 
 def bus_spec(args: argparse.Namespace) -> BusSpec | None:
