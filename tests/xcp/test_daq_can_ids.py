@@ -9,11 +9,12 @@ import time
 
 import can
 import pytest
+from session_helpers import FAST
 
 from workbench import Session, demo
 from workbench.a2l import load_a2l, read_xcp_config
 from workbench.a2l.xcp import XcpDaqListCanId, XcpOnCan
-from workbench.errors import InputError, XcpCommandError
+from workbench.errors import ConnectionLostError, InputError, WorkbenchError, XcpCommandError
 from workbench.session.connection import (
     Connection,
     assigned_daq_can_ids,
@@ -21,7 +22,8 @@ from workbench.session.connection import (
     link_settings,
 )
 from workbench.sim import serve_demo
-from workbench.xcp_protocol import CanId, Err
+from workbench.sim.profiles import SlaveProfile
+from workbench.xcp_protocol import CanId, Cmd, Err
 
 _channels = itertools.count()
 PROFILE = "daq-can-ids-variable"
@@ -87,3 +89,43 @@ def test_which_lists_the_master_moves_and_where():
         link_settings(config, Connection(host="127.0.0.1", daq_can_ids=((0, CanId(0x7F6)),)))
     with pytest.raises(InputError, match="DAQ list 0's CAN id: CAN id 0x800 does not fit a standard frame"):
         daq_can_ids_of({0: 0x800})
+
+
+def _read_until_refused(live) -> None:
+    for _ in range(200):  # 40 s at most; the refusal comes after T1 + 3 of the 4 ms event's periods (0.3 s)
+        live.read(0.2)
+
+
+def test_a_daq_silent_from_its_start_says_where_get_daq_id_puts_the_lists(channel):
+    """The daq-can-ids profile sends lists 0 and 1 on 0x7F2/0x7F3; the demo's A2L does not say so, so the master
+    listens on 0x7F1 alone and hears no DTO. The ECU answers, so it is not lost (it was said so): the error names
+    where the lists send and what the A2L should state, and the session goes on."""
+    with serve_demo({"interface": "virtual", "channel": channel}, profile="daq-can-ids", time_scale=1.0), \
+            Session.open(demo.a2l(), interface="virtual", channel=channel, timeouts=FAST) as session:
+        with pytest.raises(WorkbenchError) as refused, session.measure(["zsRailPressure", "xsDC"]) as live:
+            _read_until_refused(live)
+        assert session.read("xsSWITCH_TANK_THR") == 20.0  # still connected
+    assert not isinstance(refused.value, ConnectionLostError)
+    assert str(refused.value) == (
+        "DAQ: no DTO within 300 ms of the start, though the ECU answers: GET_DAQ_ID puts DAQ list 0 on 0x7F2 (fixed), "
+        "list 1 on 0x7F3 (fixed), where this master does not listen (it listens on 0x7F1); the A2L's XCP_ON_CAN "
+        "should say so: DAQ_LIST_CAN_ID 0 FIXED 0x7F2, DAQ_LIST_CAN_ID 1 FIXED 0x7F3")
+
+
+def test_an_ecu_without_get_daq_id_is_said_to_answer_and_one_gone_before_a_dto_is_lost(channel):
+    """No GET_DAQ_ID (no TRANSPORT_LAYER_CMD): the refusal says so; an ECU whose power is cut right after the start
+    answers neither GET_DAQ_ID nor SYNCH: lost, as before."""
+    quiet = SlaveProfile("daq-can-ids-unsaid", "daq-can-ids without TRANSPORT_LAYER_CMD", "", can={
+        "daq_can_ids": ((0, CanId(0x7F2)),), "without": frozenset({Cmd.TRANSPORT_LAYER_CMD})})
+    with serve_demo({"interface": "virtual", "channel": channel}, profile=quiet, time_scale=1.0), \
+            Session.open(demo.a2l(), interface="virtual", channel=channel, timeouts=FAST) as session:
+        with pytest.raises(WorkbenchError, match=r"though the ECU answers: it does not say where its DAQ lists send "
+                                                 r"\(TRANSPORT_LAYER_CMD GET_DAQ_ID: ERR_CMD_UNKNOWN\); this master "
+                                                 r"listens on 0x7F1: "), session.measure(["zsRailPressure"]) as live:
+            _read_until_refused(live)
+    with serve_demo({"interface": "virtual", "channel": channel}, time_scale=1.0) as sim, \
+            Session.open(sim.a2l, interface="virtual", channel=channel, timeouts=FAST) as session:
+        with pytest.raises(ConnectionLostError, match="nothing from the ECU for .* while DAQ runs"), \
+                session.measure(["zsRailPressure"]) as live:
+            sim.power_off()  # before the first DTO, or just after it: lost either way
+            _read_until_refused(live)

@@ -29,7 +29,7 @@ from workbench.xcp.daq.clock import DaqClock
 from workbench.xcp.daq.plan import DaqListPlan, DaqPlan
 from workbench.xcp.info import DaqProcessorInfo, DaqResolutionInfo
 from workbench.xcp.master import XcpMaster
-from workbench.xcp_protocol import Err
+from workbench.xcp_protocol import CanId, Err
 
 log = logger(__name__)
 
@@ -67,6 +67,10 @@ class DaqStats:
     unknown: int  # DTOs of no list of this measurement
 
 
+def _ms(seconds: float) -> str:
+    return f"{seconds * 1000:.0f} ms"
+
+
 @contextmanager
 def _room_for(what: str, advice: str) -> Iterator[None]:
     """An ERR_MEMORY_OVERFLOW of the allocation inside as a sentence: the slave has no room for ``what``."""
@@ -97,6 +101,9 @@ class DaqStream:
         self._gaps: dict[int, int] = {}  # list -> samples missing from its timestamps
         self._last_time: dict[int, float] = {}
         self._probe_after: float | None = None  # seconds of silence after which the ECU is asked (no cycle to expect)
+        self._silence: float | None = None
+        self._first_dto_due: float | None = None  # XCP on CAN: time.monotonic() by which a DTO is due, until one came
+        self._no_dtos: str | None = None  # why DAQ sent nothing this master hears, the ECU answering
         self.running = False
 
     # --- life cycle ---------------------------------------------------------------------------
@@ -124,10 +131,16 @@ class DaqStream:
         first_pids = {daq.number: master.start_stop_daq_list(daq.number, _SELECT) for daq in plan.lists}
         self.assembler = DtoAssembler(plan, first_pids, master.order,
                                       overload_in_pid=self.processor.overload_indication == "PID")
+        silence = self._silence = self.silence_limit()
+        # on CAN a start without any DTO may be lists sending where this master does not listen (GET_DAQ_ID says):
+        # the stream judges that silence itself (:meth:`_silent_from_start`), the link from the first DTO on
+        judged_here = silence is not None and master.link.is_can
+        self._no_dtos = None
+        self._first_dto_due = time.monotonic() + master.timeouts.t1 + silence if judged_here else None  # START: <= T1
         master.link.dto_handler = self._on_dto
         master.start_stop_synch(_START_SELECTED)
-        silence = self.silence_limit()
-        master.link.watch_dtos(silence)
+        if not judged_here:
+            master.link.watch_dtos(silence)
         self._probe_after = None if silence is not None else max(self.master.timeouts.t1, PROBE_AFTER_S)
         self.running = True
         return self
@@ -208,6 +221,9 @@ class DaqStream:
     def _on_dto(self, dto: bytes, host_ns: int) -> None:
         self.assembler.feed(dto, host_ns)
         self._arrived.set()
+        if self._first_dto_due is not None:  # the first DTO: a silence from now on is the link's to judge
+            self._first_dto_due = None
+            self.master.link.watch_dtos(self._silence)
 
     def stop(self) -> None:
         """Stop every list (START_STOP_SYNCH stop all), stop taking DTOs; safe to call twice.
@@ -230,6 +246,8 @@ class DaqStream:
 
         :raises ConnectionLostError: none came and the ECU is lost (:meth:`silence_limit`, a broken link): at
             once when it is lost already, within :data:`_LOST_CHECK_S` when that happens during the wait.
+        :raises WorkbenchError: XCP on CAN: no DTO came since the start though the ECU answers (the message names
+            where GET_DAQ_ID says its lists send, and where this master listens).
         """
         if self.assembler is None:
             return []
@@ -254,8 +272,68 @@ class DaqStream:
             return
         link = self.master.link
         link.check()
+        if self._first_dto_due is not None and time.monotonic() >= self._first_dto_due:
+            self._silent_from_start()
+        if self._no_dtos is not None:
+            raise WorkbenchError(self._no_dtos)
         if self._probe_after is not None and link.quiet_s >= self._probe_after:
             self._probe()
+
+    def _silent_from_start(self) -> None:
+        """XCP on CAN, no DTO since the start for the silence limit: ask the ECU where its lists send (GET_DAQ_ID).
+        Unanswered with its SYNCH, the ECU is lost; answered, the lists send where this master does not listen,
+        or their events do not run (:attr:`_no_dtos` says which). Skipped while another thread has a command under
+        way (asked at the next check).
+
+        :raises ConnectionLostError: the ECU is gone.
+        """
+        if not self.lock.acquire(blocking=False):
+            return
+        link, silence = self.master.link, self._silence
+        try:
+            try:
+                where = self._daq_can_ids()
+            except EcuSilentError:
+                link.give_up(f"nothing from the ECU for {_ms(link.quiet_s)} while DAQ runs (a DTO was due within "
+                             f"{_ms(silence)}), nor an answer to GET_DAQ_ID or SYNCH")
+                link.check()
+            if self._first_dto_due is None:  # a DTO came meanwhile: the receiver was only late
+                return
+            self._first_dto_due = None
+            self._no_dtos = f"DAQ: no DTO within {_ms(silence)} of the start, though the ECU answers: " + where
+        finally:
+            self.lock.release()
+
+    def _daq_can_ids(self) -> str:
+        """Where the plan's lists send (GET_DAQ_ID), against where this master listens, for :meth:`_silent_from_start`.
+
+        :raises EcuSilentError: the ECU answers neither GET_DAQ_ID nor SYNCH.
+        """
+        settings = self.master.link.settings
+        heard = tuple(dict.fromkeys((settings.can_id_slave, *settings.dto_can_ids)))
+        listens = ", ".join(map(str, heard))
+        sends: dict[int, tuple[CanId, bool]] = {}
+        for daq in self.plan.lists:
+            try:
+                sends[daq.number] = self.master.get_daq_id(daq.number)
+            except ConnectionLostError:
+                raise
+            except XcpCommandError as error:  # GET_DAQ_ID is optional
+                return (f"it does not say where its DAQ lists send ({error.command}: {error.name}); this master "
+                        f"listens on {listens}: the A2L's XCP_ON_CAN may miss the ECU's DAQ_LIST_CAN_ID, or its events "
+                        "do not run")
+            except WorkbenchError as error:  # unanswered (SYNCH answered), or an answer naming no id
+                return f"{error}; this master listens on {listens}"
+        elsewhere = {number: found for number, found in sends.items() if found[0] not in heard}
+        if not elsewhere:
+            return (f"GET_DAQ_ID says its lists send on {', '.join(dict.fromkeys(str(i) for i, _ in sends.values()))}"
+                    f", where this master listens: the ECU's events do not run (is its application started?)")
+        lists = ", ".join(f"list {number} on {can_id} ({'fixed' if fixed else 'configurable'})"
+                          for number, (can_id, fixed) in elsewhere.items())
+        statements = ", ".join(f"DAQ_LIST_CAN_ID {number} FIXED 0x{can_id.a2l:X}" if fixed else
+                               f"DAQ_LIST_CAN_ID {number} VARIABLE" for number, (can_id, fixed) in elsewhere.items())
+        return (f"GET_DAQ_ID puts DAQ {lists}, where this master does not listen (it listens on {listens}); the A2L's "
+                f"XCP_ON_CAN should say so: {statements}")
 
     def _probe(self) -> None:
         """Ask a silent ECU whether it is there (GET_STATUS): on UDP a host where nothing listens any more says so
