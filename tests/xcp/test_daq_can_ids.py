@@ -129,3 +129,18 @@ def test_an_ecu_without_get_daq_id_is_said_to_answer_and_one_gone_before_a_dto_i
                 session.measure(["zsRailPressure"]) as live:
             sim.power_off()  # before the first DTO, or just after it: lost either way
             _read_until_refused(live)
+
+
+def test_a_power_cycle_forgets_the_ids_set_and_the_master_sets_them_again(channel):
+    """SET_DAQ_ID's ids are RAM: after a power cycle list 1 is back on 0x7F5 (the simulator kept 0x7F6), and the
+    next measurement of the reconnected session moves it again before its start."""
+    with serve_demo({"interface": "virtual", "channel": channel}, profile=PROFILE, time_scale=1.0) as sim, \
+            Session.open(sim.a2l, interface="virtual", channel=channel, daq_can_ids={1: 0x7F6}) as session:
+        assert _measure_both_events(session) == {0, 1}
+        assert session.master.get_daq_id(1) == (CanId(0x7F6), False)
+        sim.power_off()
+        sim.power_on()
+        session.connect()
+        assert session.master.get_daq_id(1) == (CanId(0x7F5), False)  # as after power-on
+        assert _measure_both_events(session) == {0, 1}
+        assert session.master.get_daq_id(1) == (CanId(0x7F6), False)

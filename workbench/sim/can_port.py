@@ -125,9 +125,10 @@ class CanXcpPort(XcpPort):
     not; a request without the ``XCP`` pattern or with another mode goes unanswered, as a slave's CAN driver does.
     GET_DAQ_ID answers in a session: a DAQ list's DTOs go on its id of :attr:`XcpParameters.daq_can_ids`
     (DAQ_LIST_CAN_ID FIXED), a list of :attr:`XcpParameters.variable_daq_can_ids` (VARIABLE) on the id
-    SET_DAQ_ID last gave it (before: the one stated there), the others' on CAN_ID_SLAVE, fixed. SET_DAQ_ID
-    (implemented where a list is VARIABLE; else ERR_CMD_UNKNOWN) refuses a fixed list, an id this slave takes
-    commands on and a frame format's impossible id with ERR_OUT_OF_RANGE, a running list with ERR_DAQ_ACTIVE.
+    SET_DAQ_ID last gave it since power-on (before: the one stated there; RAM, as a real slave's), the others' on
+    CAN_ID_SLAVE, fixed. SET_DAQ_ID (implemented where a list is VARIABLE; else ERR_CMD_UNKNOWN) refuses a fixed
+    list, an id this slave takes commands on and a frame format's impossible id with ERR_OUT_OF_RANGE, a running list
+    with ERR_DAQ_ACTIVE.
     Without TRANSPORT_LAYER_CMD (:attr:`XcpParameters.without`) the slave is silent on the broadcast id.
 
     With MAX_DLC_REQUIRED the slave pads every frame to MAX_DLC (8; 64 on CAN FD) and ignores master
@@ -143,13 +144,25 @@ class CanXcpPort(XcpPort):
         self.master_id = ecu.params.can_id_master
         self.slave_id = ecu.params.can_id_slave
         self.broadcast_id = ecu.params.can_id_broadcast
-        self.daq_ids = dict(ecu.params.daq_can_ids) | dict(ecu.params.variable_daq_can_ids)  # where DTOs go now
+        self.daq_ids: dict[int, CanId] = {}  # where DTOs go now
         self.variable_lists = frozenset(number for number, _ in ecu.params.variable_daq_can_ids)
+        self._forget_daq_ids()
+        ecu.on_power_on.append(self._forget_daq_ids)
         self.max_dlc = MAX_FD_DLC if ecu.params.can_fd else MAX_DLC
         self._short_frame_seen = False
 
     def start(self) -> None:
         """Nothing of its own to open: :class:`CanBuses` opens the bus and hands frames to :meth:`on_frame`."""
+
+    def close(self) -> None:
+        super().close()
+        if self._forget_daq_ids in self.ecu.on_power_on:
+            self.ecu.on_power_on.remove(self._forget_daq_ids)
+
+    def _forget_daq_ids(self) -> None:
+        """The ids the slave starts with (power-on): SET_DAQ_ID's are RAM, as a real slave's."""
+        params = self.ecu.params
+        self.daq_ids = dict(params.daq_can_ids) | dict(params.variable_daq_can_ids)
 
     def accepts(self, message: can.Message) -> bool:
         return self.master_id.matches(message) or (self.broadcast_id is not None and self.broadcast_id.matches(message))

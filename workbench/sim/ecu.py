@@ -96,6 +96,7 @@ class SimulatedEcu:
         self.state = EcuState.OFF
         self._tasks: list[PeriodicTask] = []
         self._power_on_us = 0
+        self.on_power_on: list[Callable[[], None]] = []  # what a transport keeps in RAM forgets itself (SET_DAQ_ID's)
 
     # --- power ------------------------------------------------------------------------------
 
@@ -106,6 +107,8 @@ class SimulatedEcu:
         self._power_on_us = self.scheduler.now_us
         self.pages.reset()
         self.slave.reset()
+        for forget in self.on_power_on:
+            forget()
         if self._hardware is not None:
             self._hardware.reset()
         if self.memory.read(self.memory_map.app_key_address, len(self.memory_map.app_key)) != self.memory_map.app_key:
