@@ -53,7 +53,7 @@ def test_epk_matches_the_elf(oracle):
     assert doc.addr_epk() == epk["sh_addr"]
     assert doc.epk().encode() == epk.data().rstrip(b"\0")
     header = oracle.elf.get_section_by_name(".app_header")  # AppHeader.Epk: the application's own EPK
-    first, second = doc.addr_epks()
+    first, second = (place.address for place in doc.epk_addresses())
     assert first == epk["sh_addr"] and header["sh_addr"] <= second < header["sh_addr"] + header["sh_size"]
     offset = second - header["sh_addr"]
     assert header.data()[offset:offset + len(doc.epk()) + 1] == doc.epk().encode() + b"\0"

@@ -79,6 +79,18 @@ def test_the_document_entry_points_share_one_model(demo):
     assert "xvPRV_DC_FF" in doc.function("PRVCtrl").def_characteristics
 
 
+def test_every_addr_epk_with_the_part_it_lies_in(demo):
+    first, second = demo.epk_addresses()
+    assert (first.address, first.part, second.address, second.part) == (0xFC0000, "CALIB", 0x840008, "APPLICATIVE")
+    assert demo.addr_epk() == 0xFC0000 and demo.epk_parts() == (first, second)
+    assert demo.doc.token_position(second.token)[1:] == (_line_of(DEMO, "ADDR_EPK 0x840008"), 16)
+    text = DEMO.read_text(encoding="utf-8")
+    outside = load_a2l_string(text.replace("ADDR_EPK 0x840008", "ADDR_EPK 0x30000000")).model()
+    assert [(e.address, e.part) for e in outside.epk_addresses()] == [(0xFC0000, "CALIB"), (0x30000000, "")]
+    assert outside.epk_parts() == ()  # one part with its own EPK: it stands for the whole software
+    assert load_a2l_string(text.replace("ADDR_EPK 0x840008", "ADDR_EPK 0xFC0100")).model().epk_parts() == ()
+
+
 def test_every_demo_object_reads_and_its_summary_agrees(demo):
     objects = list(demo)
     assert len(objects) == len(demo) == len(demo.names()) == 85 + 56 + 2

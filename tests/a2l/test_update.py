@@ -128,7 +128,7 @@ def test_every_addr_epk_stays_where_the_elf_holds_the_epk(second, expected, kind
     text = demo.a2l().read_bytes().replace(b"ADDR_EPK 0x840008", f"ADDR_EPK 0x{second:X}".encode())
     result = update_document(load_a2l_string(text.decode(), "two_epks.a2l"), DebugData(demo.elf(), use_cache=False))
     doc = load_a2l_string(result.data.decode())
-    assert doc.addr_epks() == (0xFC0000, expected)
+    assert [epk.address for epk in doc.epk_addresses()] == [0xFC0000, expected]
     found = [(f.kind, f.line) for f in result.report.findings if f.name == "ADDR_EPK"]
     line = text[:text.index(f"ADDR_EPK 0x{second:X}".encode())].count(b"\n") + 1
     assert found == ([(kind, line)] if kind else [])

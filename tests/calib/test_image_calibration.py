@@ -127,12 +127,32 @@ def test_a_dataset_applies_as_online_and_a_read_only_file_is_not_overwritten(cal
     assert target.read_text() == demo.s19().read_text()
 
 
-def test_no_write_touches_the_epk(cal, monkeypatch):
-    span = object_layout(cal.model, "xsPRV_KP").resolve().span()  # an A2L whose ADDR_EPK lay on a calibration
-    held = cal.view.read(span).decode("latin-1")
-    monkeypatch.setattr(cal.doc, "addr_epk", lambda module=None: span.address)
-    monkeypatch.setattr(cal.doc, "epk", lambda module=None: held)
-    assert cal.epk == held
-    with pytest.raises(InputError, match=r"xsPRV_KP: its bytes at 0x4000[0-9A-F]+\.\.0x4000[0-9A-F]+ hold the EPK"):
-        cal.write("xsPRV_KP", 6.0)
-    assert not cal.modified
+def test_no_write_touches_an_epk(cal, tmp_path):
+    """An A2L whose further ADDR_EPK lies on a calibration, the image holding the EPK there too."""
+    span = object_layout(cal.model, "xsPRV_KP").resolve().span()
+    text = demo.a2l().read_text(encoding="utf-8")
+    (tmp_path / "kp.a2l").write_text(text.replace("ADDR_EPK 0x840008", f"ADDR_EPK 0x840008 ADDR_EPK 0x{span.address:X}"),
+                                     encoding="utf-8")
+    image = load_image(demo.s19())
+    image.add(_image_address(cal, "xsPRV_KP"), b"10300020250301", overwrite=True)
+    image.save(tmp_path / "kp.s19")
+    on_kp = ImageCalibration.open(tmp_path / "kp.s19", tmp_path / "kp.a2l")
+    assert on_kp.epk == "10300020250301"
+    with pytest.raises(InputError, match=r"xsPRV_KP: its bytes at 0x4000[0-9A-F]+\.\.0x4000[0-9A-F]+ hold the EPK "
+                                         rf"\(ADDR_EPK 0x{span.address:X}\)"):
+        on_kp.write("xsPRV_KP", 6.0)
+    assert not on_kp.modified
+
+
+def test_calibration_data_of_another_build_is_read_only_whichever_addr_epk_comes_first(tmp_path):
+    text = demo.a2l().read_text(encoding="utf-8")
+    assert "ADDR_EPK 0xFC0000\n      ADDR_EPK 0x840008" in text
+    (tmp_path / "app_first.a2l").write_text(text.replace("ADDR_EPK 0xFC0000\n      ADDR_EPK 0x840008",
+                                                         "ADDR_EPK 0x840008\n      ADDR_EPK 0xFC0000"), encoding="utf-8")
+    calib = load_image(demo.s19()).crop(0xFC0000, 0xFE0000)  # CAL ROM only: no application header
+    calib.add(0xFC0000, b"99999999999999", overwrite=True)
+    calib.save(tmp_path / "calib.s19")
+    other = ImageCalibration.open(tmp_path / "calib.s19", tmp_path / "app_first.a2l")
+    assert other.epk == "99999999999999"
+    with pytest.raises(EpkMismatchError, match="'99999999999999'"):
+        other.write("xsSWITCH_TANK_THR", 25)

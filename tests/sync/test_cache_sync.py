@@ -159,8 +159,18 @@ def test_an_image_of_other_software_is_refused(ecu, tmp_path):
     image = load_image(demo.s19())
     image.add(CAL_ROM, b"09000020250301", overwrite=True)
     image.save(tmp_path / "other.s19")
-    with pytest.raises(InputError, match="holds EPK '09000020250301', the A2L '10300020250301'"):
+    with pytest.raises(InputError, match=r"holds EPK '09000020250301' in CALIB \(FC0000h\), the A2L '10300020250301'"):
         sync_compare(ecu, tmp_path / "other.s19")
+
+
+def test_calibration_data_of_other_software_is_refused_whichever_addr_epk_comes_first(sim, tmp_path, channel):
+    a2l = edited_a2l(tmp_path, "ADDR_EPK 0xFC0000\n      ADDR_EPK 0x840008", "ADDR_EPK 0x840008\n      ADDR_EPK 0xFC0000")
+    calib = load_image(demo.s19()).crop(CAL_ROM, CAL_ROM + 0x20000)  # CAL ROM only: no application header
+    calib.add(CAL_ROM, b"09000020250301", overwrite=True)
+    calib.save(tmp_path / "calib.s19")
+    with Session.open(a2l, interface="virtual", channel=channel, timeouts=FAST) as ecu:
+        with pytest.raises(InputError, match=r"holds EPK '09000020250301' in CALIB \(FC0000h\), the A2L"):
+            sync_compare(ecu, tmp_path / "calib.s19")
 
 
 def test_a_dump_of_the_working_page_is_compared_as_it_stands(ecu):

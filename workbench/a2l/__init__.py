@@ -28,7 +28,7 @@ _EXPORTS = {
     "workbench.a2l.compu": ("Conversion", "conversion_for"),
     "workbench.a2l.create": ("create_file", "new_document"),
     "workbench.a2l.diff": ("DiffEntry", "FieldChange", "diff_documents", "diff_files"),
-    "workbench.a2l.document": ("A2lDocument", "Block", "MemorySegment", "load_a2l", "load_a2l_string"),
+    "workbench.a2l.document": ("A2lDocument", "Block", "EpkAddress", "MemorySegment", "load_a2l", "load_a2l_string"),
     "workbench.a2l.epk": ("ElfEpk", "read_elf_epk"),
     "workbench.a2l.formula": ("Formula", "compile_formula"),
     "workbench.a2l.ifdata": ("IfDataNode", "Word", "read_if_data"),
@@ -52,7 +52,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
     from workbench.a2l.compu import Conversion, conversion_for
     from workbench.a2l.create import create_file, new_document
     from workbench.a2l.diff import DiffEntry, FieldChange, diff_documents, diff_files
-    from workbench.a2l.document import A2lDocument, Block, MemorySegment, load_a2l, load_a2l_string
+    from workbench.a2l.document import A2lDocument, Block, EpkAddress, MemorySegment, load_a2l, load_a2l_string
     from workbench.a2l.epk import ElfEpk, read_elf_epk
     from workbench.a2l.formula import Formula, compile_formula
     from workbench.a2l.ifdata import IfDataNode, Word, read_if_data

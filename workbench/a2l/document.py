@@ -26,7 +26,7 @@ if TYPE_CHECKING:
     from workbench.a2l.model import A2lModel
     from workbench.a2l.objects import AxisPts, Characteristic, CompuMethod, Function, Measurement, RecordLayout
 
-__all__ = ["A2lDocument", "Block", "MemorySegment", "load_a2l", "load_a2l_string"]
+__all__ = ["A2lDocument", "Block", "EpkAddress", "MemorySegment", "load_a2l", "load_a2l_string"]
 
 
 def load_a2l(path: str | Path, *, validate: bool = True) -> "A2lDocument":
@@ -58,6 +58,19 @@ class MemorySegment(NamedTuple):
 
     def contains(self, address: int, size: int = 1) -> bool:
         return self.address <= address and address + size <= self.address + self.size
+
+
+class EpkAddress(NamedTuple):
+    """One MOD_PAR ADDR_EPK: where a part of the software keeps its EPK string."""
+
+    address: int
+    segment: MemorySegment | None  # the MEMORY_SEGMENT it lies in (None: it lies in none)
+    token: int  # the address's token, for a finding at its place
+
+    @property
+    def part(self) -> str:
+        """The name of its MEMORY_SEGMENT ("" for none)."""
+        return self.segment.name if self.segment is not None else ""
 
 
 class A2lDocument:
@@ -242,28 +255,34 @@ class A2lDocument:
 
     def addr_epk(self, module: str | None = None) -> int | None:
         """MOD_PAR's first ADDR_EPK: where the ECU holds its EPK string (GET_ID type 5 reads it)."""
-        addresses = self.addr_epks(module)
-        return addresses[0] if addresses else None
+        mod_par = self.mod_par(module)  # not through the MEMORY_SEGMENTs: the check reads it where they are malformed
+        params = mod_par.option("ADDR_EPK") if mod_par is not None else None
+        return self.int_value(params[0]) if params else None
 
-    def addr_epks(self, module: str | None = None) -> tuple[int, ...]:
-        """Every MOD_PAR ADDR_EPK in order (ASAP2 allows several: e.g. one in the calibration data, one in the
-        application's header, so that each part of the software says which build it belongs to)."""
+    def epk_addresses(self, module: str | None = None) -> tuple[EpkAddress, ...]:
+        """Every MOD_PAR ADDR_EPK in order, each with the MEMORY_SEGMENT it lies in (ASAP2 allows several: e.g. one
+        in the calibration data, one in the application's header, so that each part of the software says which
+        build it belongs to)."""
         mod_par = self.mod_par(module)
         if mod_par is None:
             return ()
-        return tuple(self.int_value(params[0]) for params in mod_par.options("ADDR_EPK") if params)
-
-    def epk_parts(self, module: str | None = None) -> tuple[tuple[int, MemorySegment], ...]:
-        """(ADDR_EPK, the MEMORY_SEGMENT holding it) of each part of the software that keeps its own EPK, when
-        the ADDR_EPKs lie in more than one segment (the application's header, the calibration data); else empty:
-        the one EPK address stands for the whole software."""
-        addresses = self.addr_epks(module)
-        if len(addresses) < 2:
+        tokens = [params[0] for params in mod_par.options("ADDR_EPK") if params]
+        if not tokens:
             return ()
         segments = self.memory_segments(module)
-        parts = tuple((address, found) for address in addresses
-                      if (found := next((s for s in segments if s.contains(address)), None)) is not None)
-        return parts if len({segment.name for _, segment in parts}) > 1 else ()
+        found = []
+        for token in tokens:
+            address = self.int_value(token)
+            found.append(EpkAddress(address, next((s for s in segments if s.contains(address)), None), token))
+        return tuple(found)
+
+    def epk_parts(self, module: str | None = None) -> tuple[EpkAddress, ...]:
+        """The ADDR_EPK of each part of the software that keeps its own EPK, when the ADDR_EPKs lie in more than
+        one MEMORY_SEGMENT (the application's header, the calibration data); else empty: the one EPK address
+        stands for the whole software."""
+        addresses = self.epk_addresses(module)
+        parts = tuple(epk for epk in addresses if epk.segment is not None)
+        return parts if len({epk.segment.name for epk in parts}) > 1 else ()
 
     def memory_segments(self, module: str | None = None) -> list[MemorySegment]:
         mod_par = self.mod_par(module)

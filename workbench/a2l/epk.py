@@ -120,19 +120,16 @@ def epk_address_edits(doc: A2lDocument, debug: DebugData, epk: ElfEpk, module: B
     """Edits that keep each further ADDR_EPK of MOD_PAR (after the first, which :func:`epk_edits` sets) where
     the ELF holds the EPK string: unchanged when it does, else moved to the one place in the same MEMORY_SEGMENT
     that holds it; a warning when there is none or more than one."""
-    mod_par = module.first("MOD_PAR")
-    tokens = [params[0] for params in mod_par.options("ADDR_EPK") if params][1:] if mod_par is not None else []
-    if not tokens:
+    further = doc.epk_addresses(module.name)[1:]
+    if not further:
         return [], []
     text = epk.text.encode("ascii")
-    named = {epk.address} | {doc.int_value(token) for token in tokens}
+    named = {epk.address} | {place.address for place in further}
     edits: list[Edit] = []
     findings: list[Finding] = []
-    for token in tokens:
-        old = doc.int_value(token)
+    for old, segment, token in further:
         if _holds(debug.elf.read(old, len(text) + 1), text):
             continue
-        segment = next((s for s in doc.memory_segments(module.name) if s.contains(old)), None)
         found = [a for a in _occurrences(debug, text, segment) if a not in named] if segment is not None else []
         if len(found) == 1:
             named.add(found[0])

@@ -47,7 +47,7 @@ from workbench.errors import A2lParseError, InputError, UnknownSymbolError, Work
 
 if TYPE_CHECKING:
     from workbench.a2l.compu import Conversion
-    from workbench.a2l.document import A2lDocument, Block
+    from workbench.a2l.document import A2lDocument, Block, EpkAddress
 
 _AXIS_LETTERS = "xyz"
 
@@ -519,7 +519,16 @@ class A2lModel:
         return self.doc.epk(self.name)
 
     def addr_epk(self) -> int | None:
+        """The first ADDR_EPK (GET_ID type 5's EPK; :meth:`epk_addresses` has every one)."""
         return self.doc.addr_epk(self.name)
+
+    def epk_addresses(self) -> tuple[EpkAddress, ...]:
+        """Every MOD_PAR ADDR_EPK in order with the MEMORY_SEGMENT (the part of the software) it lies in."""
+        return self.doc.epk_addresses(self.name)
+
+    def epk_parts(self) -> tuple[EpkAddress, ...]:
+        """The ADDR_EPKs of the parts that keep an EPK of their own (empty: one EPK for the whole software)."""
+        return self.doc.epk_parts(self.name)
 
     def memory_segments(self):
         return self.doc.memory_segments(self.name)

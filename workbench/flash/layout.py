@@ -109,9 +109,9 @@ class FlashLayout:
                    s.program_sequence)
             for s in (pgm.sectors if pgm is not None else ())
         )
-        addresses = doc.addr_epks(module)
+        addresses = tuple(epk.address for epk in doc.epk_addresses(module))
         by_name = {r.name: r for r in regions if r.selectable}
-        parts = tuple((address, by_name[s.name]) for address, s in doc.epk_parts(module) if s.name in by_name)
+        parts = tuple((epk.address, by_name[epk.part]) for epk in doc.epk_parts(module) if epk.part in by_name)
         return cls(regions, sectors, "A2L" if sectors else "", doc.epk(module), addresses[0] if addresses else None,
                    addresses, parts if len({r for _, r in parts}) > 1 else ())
 

@@ -160,7 +160,7 @@ class Session(ValueAccess, EventAccess, FixAccess):
                                       f"no ECU answers on {self.link.settings.describe()}: {self._unanswered()}") from None
             except ConnectionLostError as exc:  # e.g. nothing listens at the address: it was never there
                 raise WorkbenchError(f"cannot reach the ECU: {exc.what}: {exc.reason}") from None
-            parts = [(address, segment.name) for address, segment in self.doc.epk_parts(self.module)]
+            parts = [(epk.address, epk.part) for epk in self.doc.epk_parts(self.module)]
             self.epk = check_epk(self.master, self.doc.epk(self.module), self.doc.addr_epk(self.module), parts)
             if self.epk.matches is False:
                 log.warning("%s%s", self.epk.describe(),

@@ -14,16 +14,17 @@ the boot copies from CAL ROM where nothing was programmed.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 from workbench.calib.memory import Span
 from workbench.image import ERASED, AddressRange, MemoryImage
 
 if TYPE_CHECKING:
     from workbench.a2l import A2lDocument
+    from workbench.a2l.document import EpkAddress
     from workbench.a2l.xcp import XcpAddressMapping, XcpConfig
 
-__all__ = ["CalibrationArea", "ImageView", "calibration_areas"]
+__all__ = ["CalibrationArea", "ImageEpk", "ImageView", "calibration_areas", "image_epks"]
 
 _CALIBRATION_PRG_TYPES = {"DATA", "OFFLINE_DATA", "CALIBRATION_VARIABLES", "SERAM"}
 
@@ -152,3 +153,31 @@ class ImageView:
                         return min(end, ecu + length) - address
         following = [a.span.address for a in self.areas if a.span.extension == extension and a.span.address > address]
         return min([end] + following) - address
+
+
+class ImageEpk(NamedTuple):
+    """What an image holds at one ADDR_EPK."""
+
+    place: EpkAddress
+    span: Span  # the EPK's bytes at the ECU's addresses (as long as MOD_PAR's EPK)
+    text: str | None  # latin-1; None: the image lacks a byte of it
+
+    @property
+    def label(self) -> str:
+        """Where it lies, for a message: "CALIB (FC0000h)"."""
+        return f"{self.place.part or 'ADDR_EPK'} ({self.place.address:X}h)"
+
+
+def image_epks(view: ImageView, doc: "A2lDocument", module: str | None = None) -> list[ImageEpk]:
+    """The EPK ``view`` holds at each MOD_PAR ADDR_EPK, read through the calibration areas' mapping as every address
+    (an ADDR_EPK naming CAL RAM is read in the s19's CAL ROM); empty when the A2L states no EPK. Every ADDR_EPK counts,
+    whichever comes first: an s19 of the calibration data holds CALIB's only, a whole build's each part's."""
+    expected = doc.epk(module)
+    if expected is None:
+        return []
+    size = len(expected.encode("latin-1"))
+    found = []
+    for place in doc.epk_addresses(module):
+        span = Span(place.address, size)
+        found.append(ImageEpk(place, span, None if view.lacking(span) else view.read(span).decode("latin-1")))
+    return found

@@ -38,7 +38,7 @@ from workbench.errors import InputError, WorkbenchError, epk_text
 from workbench.progress import Progress
 from workbench.session import Session
 from workbench.session.memory import merge_spans
-from workbench.sync.areas import CalibrationArea, ImageView, calibration_areas
+from workbench.sync.areas import CalibrationArea, ImageView, calibration_areas, image_epks
 from workbench.sync.ecu import EcuReader, on_pages
 from workbench.sync.reference import DatasetReference, ImageReference, Reference, load_reference
 from workbench.sync.scan import ChecksumScan, scan_ranges
@@ -221,17 +221,15 @@ def _compare_image(session: Session, reference: ImageReference, areas: list[Cali
 
 
 def _check_epk(session: Session, view: ImageView, reference: ImageReference) -> None:
-    """Refuse an image of other software: its EPK at ADDR_EPK differs from the A2L's."""
-    epk, address = session.doc.epk(session.module), session.doc.addr_epk(session.module)
-    if not epk or address is None:
+    """Refuse an image of other software: its EPK at an ADDR_EPK it holds differs from the A2L's."""
+    epk = session.doc.epk(session.module)
+    if not epk:
         return
-    size = len(epk.encode("latin-1"))
-    if reference.image.crop(view.image_address(address), view.image_address(address) + size).size < size:
-        return  # the image does not hold the EPK
-    held = view.read(Span(address, size)).decode("latin-1").replace("\0", "").strip()
-    if held != epk.replace("\0", "").strip():
-        raise InputError(f"{reference.label} holds EPK {epk_text(held)}, the A2L {epk_text(epk)}: it belongs to other "
-                         "software (flash it, or compare a file of this software)")
+    for found in image_epks(view, session.doc, session.module):
+        if found.text is not None and found.text.replace("\0", "").strip() != epk.replace("\0", "").strip():
+            where = f" in {found.label}" if len(session.doc.epk_addresses(session.module)) > 1 else ""
+            raise InputError(f"{reference.label} holds EPK {epk_text(found.text)}{where}, the A2L {epk_text(epk)}: it "
+                             "belongs to other software (flash it, or compare a file of this software)")
 
 
 def _overlaps(spans: list[Span], leaves: list[Span]) -> bool:

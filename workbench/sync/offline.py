@@ -42,7 +42,7 @@ from workbench.calib.values import CalValue
 from workbench.calib.writable import check_inside, checked_cells, checked_value, writable_spans
 from workbench.errors import EpkMismatchError, InputError, epk_text
 from workbench.image import AddressRange, MemoryImage, is_intel_hex
-from workbench.sync.areas import ImageView, calibration_areas
+from workbench.sync.areas import ImageView, calibration_areas, image_epks
 from workbench.sync.store import ByteStore
 from workbench.sync.values import calibration_names, object_layouts, resolve_all, without_name
 
@@ -112,17 +112,11 @@ class ImageCalibration:
 
     @property
     def epk(self) -> str | None:
-        """The EPK the image holds at the A2L's ADDR_EPK (None: the A2L names none, or the image lacks it)."""
-        span = self._epk_span()
-        if span is None or self.view.lacking(span):
-            return None
-        return self.view.read(span).decode("latin-1")
-
-    def _epk_span(self) -> Span | None:
-        """Where the A2L says the EPK lies (ADDR_EPK, as long as MOD_PAR's EPK; read through the calibration
-        segments' mapping as every address); None: it names none."""
-        expected, address = self.doc.epk(self.module), self.doc.addr_epk(self.module)
-        return None if expected is None or address is None else Span(address, len(expected.encode("latin-1")))
+        """The EPK the image holds at the A2L's ADDR_EPK: where it names several (one per part), the first that
+        differs from the A2L's, else the first the image holds (None: the A2L names none, or the image lacks it)."""
+        held = [found.text for found in image_epks(self.view, self.doc, self.module) if found.text is not None]
+        expected = self.doc.epk(self.module)
+        return next((text for text in held if text != expected), held[0] if held else None)
 
     def require_writable(self) -> None:
         """:raises EpkMismatchError: the image's EPK differs from the A2L's: the A2L does not describe it."""
@@ -284,15 +278,13 @@ class ImageCalibration:
             self._edited[name] = None
 
     def _require_outside_epk(self, name: str, edits: list[ByteEdit]) -> None:
-        span = self._epk_span()
-        if span is None:
-            return
-        epk = [AddressRange(start, start + size) for start, size in self.view.pieces(span)]
-        for edit in edits:
-            for start, size in self.view.pieces(edit.span):
-                if any(start < e.end and e.start < start + size for e in epk):
-                    raise InputError(f"{name}: its bytes at {edit.span} hold the EPK (ADDR_EPK 0x{span.address:X}): "
-                                     "not written")
+        for found in image_epks(self.view, self.doc, self.module):
+            epk = [AddressRange(start, start + size) for start, size in self.view.pieces(found.span)]
+            for edit in edits:
+                for start, size in self.view.pieces(edit.span):
+                    if any(start < e.end and e.start < start + size for e in epk):
+                        raise InputError(f"{name}: its bytes at {edit.span} hold the EPK (ADDR_EPK "
+                                         f"0x{found.place.address:X}): not written")
 
     # --- fix calibrations ----------------------------------------------------------------------
 
