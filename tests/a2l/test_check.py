@@ -254,3 +254,48 @@ def test_instance_objects_take_part_in_the_memory_checks():
     # the same objects placed where they belong: clean
     moved = text.replace("T_cal 0x1010", "T_cal 0x2010").replace("0x20F0 MATRIX_DIM 3", "0x20C0 MATRIX_DIM 3")
     assert check_document(load_a2l_string(moved.replace("0x2046", "0x2048"), "inst.a2l")).findings == []
+
+
+def test_where_an_addr_epk_may_lie():
+    """Each ADDR_EPK in a MEMORY_SEGMENT with room for the EPK, one a segment (a2ltool --check finds none of these)."""
+    text = TEXT.replace('    /end MOD_PAR', '      EPK "BUILD_1"\n      ADDR_EPK 0x1000\n      ADDR_EPK 0x10FC\n'
+                        '      ADDR_EPK 0x1000\n      ADDR_EPK 0x5000\n      ADDR_EPK 0x2000\n    /end MOD_PAR')
+    report = check_document(load_a2l_string(text, "epk.a2l"))
+    found = [(f.severity.name, f.kind, f.line, f.column, f.message) for f in report.findings if f.name == "ADDR_EPK"]
+    assert found == [
+        ("ERROR", "epk-beyond-segment", 9, 16, "ADDR_EPK 0x10FC: the EPK 'BUILD_1' (7 bytes) runs 3 byte(s) beyond "
+         "Flash (which ends at 0x10FF)"),
+        ("WARNING", "epk-same-segment", 9, 16, "ADDR_EPK 0x10FC: lies in Flash, in the same part as the ADDR_EPK at "
+         "line 8: a part of the software keeps one EPK, so one of them is likely stale"),
+        ("WARNING", "epk-same-segment", 10, 16, "ADDR_EPK 0x1000: lies in Flash, the same address as the ADDR_EPK at "
+         "line 8: a part of the software keeps one EPK, so one of them is likely stale"),
+        ("ERROR", "epk-outside-memory", 11, 16, "ADDR_EPK 0x5000: lies outside every MEMORY_SEGMENT: no part of the "
+         "software holds the EPK there, so neither a flash file nor an image can show it"),
+    ]
+    assert str(report.findings[[f.kind for f in report.findings].index("epk-outside-memory")]).startswith(
+        "epk.a2l:11:16: error: ADDR_EPK 0x5000")
+
+
+def test_the_elf_must_hold_the_epk_at_every_addr_epk():
+    text = demo.a2l().read_text(encoding="utf-8")
+    assert text.count("ADDR_EPK 0x840008") == 1
+    line = text[:text.index("ADDR_EPK 0x840008")].count("\n") + 1
+    edited = text.replace("ADDR_EPK 0x840008", "ADDR_EPK 0x840010\n      ADDR_EPK 0x900000\n      ADDR_EPK 0x40030000")
+    with DebugData(demo.elf(), use_cache=False) as debug:
+        report = check_document(load_a2l_string(edited, "FLCU.a2l"), debug)
+        moved = [(f.severity.name, f.kind, f.line, f.message) for f in report.findings if f.name == "ADDR_EPK"]
+        assert moved == [
+            ("ERROR", "epk-differs", line, "ADDR_EPK 0x840010: FLCU.elf holds '250301' there, MOD_PAR's EPK is "
+             "'10300020250301' (an A2L of another build, or an ADDR_EPK not updated: workbench a2l update)"),
+            ("WARNING", "epk-same-segment", line + 1, "ADDR_EPK 0x900000: lies in APPLICATIVE, in the same part as "
+             f"the ADDR_EPK at line {line}: a part of the software keeps one EPK, so one of them is likely stale"),
+            ("ERROR", "epk-differs", line + 1, "ADDR_EPK 0x900000: FLCU.elf puts nothing there (the FLASH stays erased "
+             "when this build is flashed), MOD_PAR's EPK is '10300020250301'"),
+            ("INFO", "epk-not-in-elf", line + 2, "ADDR_EPK 0x40030000: FLCU.elf holds no initial data there (memory it "
+             "does not initialise): the EPK cannot be compared"),
+        ]
+        other = check_document(load_a2l_string(text.replace('EPK "10300020250301"', 'EPK "10300020259999"'),
+                                               "FLCU.a2l"), debug)
+        held = (" FLCU.elf holds '10300020250301' there, MOD_PAR's EPK is '10300020259999' (an A2L of another build, "
+                "or an ADDR_EPK not updated")
+        assert [(f.line, f.message.split(":")[1]) for f in other.findings] == [(line - 1, held), (line, held)]

@@ -112,6 +112,29 @@ def test_check_exit_codes(capsys, tmp_path, types_a2l):
     assert (code, stdout, stderr) == (0, "", f"{out}: clean\n")
 
 
+def test_check_image_holds_the_epk_at_every_addr_epk(capsys, tmp_path):
+    from workbench import demo
+    from workbench.image import load_image
+
+    code, stdout, stderr = run(capsys, "a2l", "check", str(demo.a2l()), "--image", str(demo.s19()))
+    assert (code, stdout) == (0, "")
+    image = load_image(demo.s19())
+    image.add(0x840008, b"10300020259999", overwrite=True)  # the application of another build, its CALIB this one's
+    image.crop(0x840000, 0xFE0000).save(tmp_path / "other_app.s19")
+    code, stdout, stderr = run(capsys, "a2l", "check", str(demo.a2l()), "--image", str(tmp_path / "other_app.s19"),
+                               "--json")
+    found = json.loads(stdout)["findings"]
+    assert code == 1 and [(f["kind"], f["severity"], f["message"]) for f in found] == [
+        ("epk-differs", "error", "ADDR_EPK 0x840008: other_app.s19 holds '10300020259999' there, MOD_PAR's EPK is "
+         "'10300020250301' (an A2L of another build, or an ADDR_EPK not updated: workbench a2l update)")]
+    image.crop(0xFC0000, 0xFE0000).save(tmp_path / "calib.s19")  # CALIB only: the application's EPK not compared
+    code, stdout, stderr = run(capsys, "a2l", "check", str(demo.a2l()), "--image", str(tmp_path / "calib.s19"))
+    assert code == 0 and stdout.endswith(":16: info: ADDR_EPK 0x840008: calib.s19 has no bytes there (or not all 14): "
+                                         "not compared\n")
+    code, stdout, stderr = run(capsys, "a2l", "check", str(demo.a2l()), "--image", str(demo.elf()))
+    assert code == 2 and stdout == "" and stderr.count("\n") == 1 and "is an ELF file, not a flash image" in stderr
+
+
 def test_diff_exit_codes_and_json(capsys, tmp_path, types_a2l):
     out = tmp_path / "out.a2l"
     run(capsys, "a2l", "update", str(types_a2l), str(ELF), "-o", str(out), "--no-cache")

@@ -131,8 +131,8 @@ def test_no_write_touches_an_epk(cal, tmp_path):
     """An A2L whose further ADDR_EPK lies on a calibration, the image holding the EPK there too."""
     span = object_layout(cal.model, "xsPRV_KP").resolve().span()
     text = demo.a2l().read_text(encoding="utf-8")
-    (tmp_path / "kp.a2l").write_text(text.replace("ADDR_EPK 0x840008", f"ADDR_EPK 0x840008 ADDR_EPK 0x{span.address:X}"),
-                                     encoding="utf-8")
+    more = text.replace("ADDR_EPK 0x840008", f"ADDR_EPK 0x840008 ADDR_EPK 0x{span.address:X}")
+    (tmp_path / "kp.a2l").write_text(more, encoding="utf-8")
     image = load_image(demo.s19())
     image.add(_image_address(cal, "xsPRV_KP"), b"10300020250301", overwrite=True)
     image.save(tmp_path / "kp.s19")
@@ -147,8 +147,8 @@ def test_no_write_touches_an_epk(cal, tmp_path):
 def test_calibration_data_of_another_build_is_read_only_whichever_addr_epk_comes_first(tmp_path):
     text = demo.a2l().read_text(encoding="utf-8")
     assert "ADDR_EPK 0xFC0000\n      ADDR_EPK 0x840008" in text
-    (tmp_path / "app_first.a2l").write_text(text.replace("ADDR_EPK 0xFC0000\n      ADDR_EPK 0x840008",
-                                                         "ADDR_EPK 0x840008\n      ADDR_EPK 0xFC0000"), encoding="utf-8")
+    swapped = text.replace("ADDR_EPK 0xFC0000\n      ADDR_EPK 0x840008", "ADDR_EPK 0x840008\n      ADDR_EPK 0xFC0000")
+    (tmp_path / "app_first.a2l").write_text(swapped, encoding="utf-8")
     calib = load_image(demo.s19()).crop(0xFC0000, 0xFE0000)  # CAL ROM only: no application header
     calib.add(0xFC0000, b"99999999999999", overwrite=True)
     calib.save(tmp_path / "calib.s19")

@@ -164,7 +164,8 @@ def test_an_image_of_other_software_is_refused(ecu, tmp_path):
 
 
 def test_calibration_data_of_other_software_is_refused_whichever_addr_epk_comes_first(sim, tmp_path, channel):
-    a2l = edited_a2l(tmp_path, "ADDR_EPK 0xFC0000\n      ADDR_EPK 0x840008", "ADDR_EPK 0x840008\n      ADDR_EPK 0xFC0000")
+    a2l = edited_a2l(tmp_path, "ADDR_EPK 0xFC0000\n      ADDR_EPK 0x840008",
+                     "ADDR_EPK 0x840008\n      ADDR_EPK 0xFC0000")
     calib = load_image(demo.s19()).crop(CAL_ROM, CAL_ROM + 0x20000)  # CAL ROM only: no application header
     calib.add(CAL_ROM, b"09000020250301", overwrite=True)
     calib.save(tmp_path / "calib.s19")

@@ -7,20 +7,24 @@ measurements, axes, groups, memory segments); names defined twice; typedef struc
 (:mod:`workbench.a2l.structures`: components beyond their structure, a structure that contains
 itself, a component twice; what the workbench does not support, a pointer, as info); and
 (:mod:`workbench.a2l.placement`) objects that overlap, objects outside every MEMORY_SEGMENT,
-calibrations outside a RAM data segment (CAL RAM); display formats that are not ASAP2's ``"%Length.Layout"``
+calibrations outside a RAM data segment (CAL RAM); ADDR_EPKs outside a MEMORY_SEGMENT, without room for the EPK or
+two in one segment (:mod:`workbench.a2l.epk_check`); display formats that are not ASAP2's ``"%Length.Layout"``
 (:mod:`workbench.a2l.display_format`). With an ELF, every object's symbol must
-exist and its address must match, and MOD_COMMON's BYTE_ORDER must be the ELF's. An ``/include``
+exist and its address must match, MOD_COMMON's BYTE_ORDER must be the ELF's, and the ELF must hold MOD_PAR's EPK at
+every ADDR_EPK (so must a flash file given, where it has bytes). An ``/include``
 whose file cannot be read is one finding; the rest is checked without it.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from workbench.a2l.addressed import AddressedObjects
 from workbench.a2l.byte_order import byte_order_finding
 from workbench.a2l.display_format import check_formats
 from workbench.a2l.document import A2lDocument, Block
+from workbench.a2l.epk_check import check_epk_addresses
 from workbench.a2l.grammar import NAMESPACES
 from workbench.a2l.includes import cannot_include
 from workbench.a2l.placement import check_placement
@@ -35,26 +39,39 @@ from workbench.errors import A2lParseError
 from workbench.findings import Finding, Report, Severity
 from workbench.progress import Progress, report as report_progress
 
+if TYPE_CHECKING:
+    from workbench.image import MemoryImage
+
 __all__ = ["check_document", "check_file"]
 
 _WRAPPER = "INCLUDED"  # the PROJECT (and MODULE) around a file written for /include
 
-def check_file(a2l: str | Path, elf: str | Path | None = None, *, cache_dir: str | Path | None = None,
-               use_cache: bool = True, progress: Progress | None = None) -> Report:
-    """Load ``a2l`` (syntax errors become findings where the file can still be read) and check it.
+def check_file(a2l: str | Path, elf: str | Path | None = None, *, image: str | Path | None = None,
+               cache_dir: str | Path | None = None, use_cache: bool = True, progress: Progress | None = None) -> Report:
+    """Load ``a2l`` (syntax errors become findings where the file can still be read) and check it; ``image``: a
+    flash file (s19/hex) of the build, which must hold MOD_PAR's EPK at the ADDR_EPKs it has bytes at.
 
     A file without PROJECT, written for ``/include`` (a MODULE, or module-level blocks), is
     checked as if included where it belongs: in a PROJECT (and MODULE) around it.
+
+    :raises InputError: ``image`` cannot be read (or is an ELF).
     """
+    flash = None
+    if image is not None:
+        from workbench.image import load_image
+
+        flash = (Path(image).name, load_image(image))
     if elf is None:
-        return check_document(_load_for_check(Path(a2l)), progress=progress)
+        return check_document(_load_for_check(Path(a2l)), progress=progress, image=flash)
     doc, debug_data = read_beside(lambda: _load_for_check(Path(a2l)), elf, cache_dir=cache_dir, use_cache=use_cache)
     with debug_data as debug:
-        return check_document(doc, debug, progress=progress)
+        return check_document(doc, debug, progress=progress, image=flash)
 
 
-def check_document(doc: A2lDocument, debug: DebugData | None = None, *, progress: Progress | None = None) -> Report:
-    """Every problem of ``doc`` as a finding; the report is ``ok`` (clean) only when there is none."""
+def check_document(doc: A2lDocument, debug: DebugData | None = None, *, progress: Progress | None = None,
+                   image: tuple[str, MemoryImage] | None = None) -> Report:
+    """Every problem of ``doc`` as a finding; the report is ``ok`` (clean) only when there is none. ``image``: (its
+    name, its bytes) of a flash file of the build, compared at every ADDR_EPK."""
     report = Report("check", fails_on=Severity.WARNING)
     for include, holder, why in doc.missing_includes:  # left out: the rest is checked without it
         line, column = holder.position(include.offset)
@@ -85,6 +102,10 @@ def check_document(doc: A2lDocument, debug: DebugData | None = None, *, progress
                 check_placement(doc, module, objects, debug, report)
             except A2lParseError as error:  # a MEMORY_SEGMENT without its parameters: the memory is not known
                 _add_syntax(report, error)
+        try:
+            check_epk_addresses(doc, module, debug, report, image)
+        except A2lParseError as error:  # a MEMORY_SEGMENT (or ADDR_EPK) without its parameters
+            _add_syntax(report, error)
         if debug is not None:
             mismatch = byte_order_finding(doc, module, debug.elf.little_endian, debug.path.name)
             if mismatch is not None:

@@ -23,7 +23,7 @@ if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument, Block, MemorySegment
     from workbench.elf.debugdata import DebugData
 
-__all__ = ["ElfEpk", "epk_address_edits", "epk_edits", "read_elf_epk"]
+__all__ = ["ElfEpk", "epk_address_edits", "epk_edits", "holds_epk", "read_elf_epk"]
 
 DEFAULT_EPK_SYMBOLS = ("EPK", "epk")
 EPK_SECTIONS = (".epk", "epk")
@@ -128,7 +128,7 @@ def epk_address_edits(doc: A2lDocument, debug: DebugData, epk: ElfEpk, module: B
     edits: list[Edit] = []
     findings: list[Finding] = []
     for old, segment, token in further:
-        if _holds(debug.elf.read(old, len(text) + 1), text):
+        if holds_epk(debug.elf.read(old, len(text) + 1), text):
             continue
         found = [a for a in _occurrences(debug, text, segment) if a not in named] if segment is not None else []
         if len(found) == 1:
@@ -146,7 +146,7 @@ def epk_address_edits(doc: A2lDocument, debug: DebugData, epk: ElfEpk, module: B
     return edits, findings
 
 
-def _holds(raw: bytes | None, text: bytes) -> bool:
+def holds_epk(raw: bytes | None, text: bytes) -> bool:
     """``raw`` (the EPK's length + 1 bytes) starts with the EPK string, ended by NUL, padding or the data's end."""
     return raw is not None and raw.startswith(text) and raw[len(text):] in (b"", b"\0", b"\xff", b" ")
 
@@ -160,7 +160,7 @@ def _occurrences(debug: DebugData, text: bytes, segment: MemorySegment) -> list[
         data = debug.elf.section_bytes(section.name) or b""
         at = data.find(text)
         while at >= 0:
-            if _holds(data[at:at + len(text) + 1], text):
+            if holds_epk(data[at:at + len(text) + 1], text):
                 found.append(section.address + at)
             at = data.find(text, at + 1)
     return found

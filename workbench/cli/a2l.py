@@ -170,9 +170,13 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
                                 "objects, objects outside every MEMORY_SEGMENT, calibrations outside CAL RAM, a file whose "
                                 "objects are all still at address 0 (not updated from its ELF); with --elf also "
                                 "symbols missing from the ELF, addresses that differ and a MOD_COMMON byte order "
-                                "other than the ELF's. Exit 0 only when clean (no warning).")
+                                "other than the ELF's. Each MOD_PAR ADDR_EPK must lie in a MEMORY_SEGMENT with room "
+                                "for the EPK (two in one segment: a warning); the ELF (--elf) and the flash file "
+                                "(--image) must hold MOD_PAR's EPK there. Exit 0 only when clean (no warning).")
     check.add_argument("a2l", metavar="A2L")
     check.add_argument("--elf", metavar="ELF", help="also check every object's symbol and address against this ELF")
+    check.add_argument("--image", metavar="FILE.s19", help="a flash file (s19/hex) of the build: it must hold "
+                       "MOD_PAR's EPK at every ADDR_EPK it has bytes at")
     _cache_options(check)
     _output_options(check, verbose=False)  # every finding of a check is a problem
     check.set_defaults(func=_as_batch(_check))
@@ -471,8 +475,8 @@ def _check(args: argparse.Namespace) -> int:
     from workbench.cli.progressbar import ProgressBar
 
     with ProgressBar("checking", enabled=None if not args.json else False) as progress:
-        report = check_file(args.a2l, args.elf, cache_dir=args.cache_dir, use_cache=not args.no_cache,
-                            progress=progress)
+        report = check_file(args.a2l, args.elf, image=args.image, cache_dir=args.cache_dir,
+                            use_cache=not args.no_cache, progress=progress)
     print_report(report, as_json=args.json, verbose=True,
                  summary=f"{args.a2l}: " + ("clean" if report.ok else f"{len(report.problems)} problem(s)"))
     return 0 if report.ok else 1

@@ -1,0 +1,116 @@
+"""Where MOD_PAR's ADDR_EPKs may lie (part of ``check``).
+
+Each ADDR_EPK must lie in a MEMORY_SEGMENT, the EPK string whole inside it: a master reads a part's EPK from a
+flash file or image by its segment, and a flash decides by it which part of the software stays. Two ADDR_EPKs in
+one segment are a warning: a part keeps one EPK, so one of them is likely stale (an address the update did not
+move). With the ELF, the bytes at every ADDR_EPK must be MOD_PAR's EPK (ended by NUL, padding or the section's
+end; a RAM section's initial bytes count at their load address too): an A2L whose EPK the build does not put there
+fails every connect, or passes with another build's addresses. Flash (ROM, EEPROM) the ELF puts nothing at stays
+erased: an error too; RAM it does not initialise (``.bss``) is an info: the EPK cannot be compared there. A flash
+file (s19/hex) given to the check must hold the EPK at every ADDR_EPK it has bytes at (an s19 of the calibration
+data holds CALIB's only: the others are an info).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from workbench.a2l.document import A2lDocument, Block
+from workbench.a2l.epk import holds_epk
+from workbench.a2l.reports import finding_at
+from workbench.elf.debugdata import DebugData
+from workbench.errors import epk_text
+from workbench.findings import Report, Severity
+
+if TYPE_CHECKING:
+    from workbench.image import MemoryImage
+
+__all__ = ["check_epk_addresses"]
+
+_PROGRAMMED = frozenset({"FLASH", "EEPROM", "EPROM", "ROM"})  # what a build's file fills: nothing there stays erased
+
+
+def check_epk_addresses(doc: A2lDocument, module: Block, debug: DebugData | None, report: Report,
+                        image: tuple[str, MemoryImage] | None = None) -> None:
+    """Report the module's ADDR_EPKs that lie outside memory, hold no room for the EPK, share a segment, or (with
+    ``debug``) where the ELF holds another EPK; ``image``: (its name, its bytes) of a flash file that must hold the
+    EPK at every ADDR_EPK it has bytes at.
+
+    :raises A2lParseError: a MEMORY_SEGMENT without its parameters (the caller reports it).
+    """
+    places = doc.epk_addresses(module.name)
+    if not places:
+        return
+    epk = doc.epk(module.name)
+    text = epk.encode("latin-1") if epk else b""
+    has_segments = bool(doc.memory_segments(module.name))
+    first_in: dict[str, int] = {}  # segment name -> the first ADDR_EPK's token there
+
+    def add(place, kind: str, message: str, severity: Severity) -> None:
+        report.add(finding_at(doc, place.token, kind, "ADDR_EPK", f"ADDR_EPK 0x{place.address:X}: {message}",
+                              "MOD_PAR", severity))
+
+    for place in places:
+        segment = place.segment
+        if segment is None:
+            if has_segments:
+                add(place, "epk-outside-memory", "lies outside every MEMORY_SEGMENT: no part of the software holds "
+                    "the EPK there, so neither a flash file nor an image can show it", Severity.ERROR)
+        elif text and not segment.contains(place.address, len(text)):
+            beyond = place.address + len(text) - segment.address - segment.size
+            add(place, "epk-beyond-segment", f"the EPK {epk_text(epk)} ({len(text)} bytes) runs {beyond} byte(s) "
+                f"beyond {segment.name} (which ends at 0x{segment.address + segment.size - 1:X})", Severity.ERROR)
+        if segment is not None:
+            first = first_in.setdefault(segment.name, place.token)
+            if first != place.token:
+                again = "the same address as" if doc.int_value(first) == place.address else "in the same part as"
+                add(place, "epk-same-segment", f"lies in {segment.name}, {again} the ADDR_EPK at line "
+                    f"{doc.token_position(first)[1]}: a part of the software keeps one EPK, so one of them is likely "
+                    "stale", Severity.WARNING)
+        if debug is not None and text:
+            _compare_with_elf(place, text, epk, debug, add)
+        if image is not None and text:
+            _compare_with_image(place, text, epk, *image, add)
+
+
+def _compare_with_elf(place, text: bytes, epk: str, debug: DebugData, add) -> None:
+    raw = _initial_bytes(debug, place.address, len(text) + 1) or _initial_bytes(debug, place.address, len(text))
+    if raw is None:
+        if place.segment is not None and place.segment.memory_type in _PROGRAMMED:
+            add(place, "epk-differs", f"{debug.path.name} puts nothing there (the {place.segment.memory_type} stays "
+                f"erased when this build is flashed), MOD_PAR's EPK is {epk_text(epk)}", Severity.ERROR)
+        else:
+            add(place, "epk-not-in-elf", f"{debug.path.name} holds no initial data there (memory it does not "
+                "initialise): the EPK cannot be compared", Severity.INFO)
+    elif not holds_epk(raw, text):
+        _differs(place, raw, text, epk, debug.path.name, add)
+
+
+def _compare_with_image(place, text: bytes, epk: str, name: str, image: MemoryImage, add) -> None:
+    if image.crop(place.address, place.address + len(text)).size < len(text):
+        add(place, "epk-not-in-image", f"{name} has no bytes there (or not all {len(text)}): not compared",
+            Severity.INFO)
+        return
+    raw = image.read(place.address, len(text) + 1)  # the byte after it: erased (FF) where the file ends
+    if not holds_epk(raw, text):
+        _differs(place, raw, text, epk, name, add)
+
+
+def _differs(place, raw: bytes, text: bytes, epk: str, name: str, add) -> None:
+    held = raw[:len(text)].split(b"\0", 1)[0] or raw[:len(text)]  # the string there, else its bytes
+    add(place, "epk-differs", f"{name} holds {epk_text(held.decode('latin-1'))} there, MOD_PAR's EPK is "
+        f"{epk_text(epk)} (an A2L of another build, or an ADDR_EPK not updated: workbench a2l update)", Severity.ERROR)
+
+
+def _initial_bytes(debug: DebugData, address: int, size: int) -> bytes | None:
+    """The build's bytes at ``address``: where a section lies, else where one is stored (its load address: the flash
+    copy of initialised RAM); None: neither."""
+    found = debug.elf.read(address, size)
+    if found is not None:
+        return found
+    for section in debug.elf.sections.values():
+        start = section.load_address
+        if (section.loaded and section.allocated and start != section.address and start <= address
+                and address + size <= start + section.size):
+            return debug.elf.read(section.address + address - start, size)
+    return None
