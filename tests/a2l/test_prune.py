@@ -19,11 +19,14 @@ from workbench.a2l import (
     PruneFailed,
     check_document,
     cleanup_document,
+    cleanup_file,
     flatten_file,
     load_a2l,
     load_a2l_string,
     remove_document,
+    remove_file,
 )
+from workbench.errors import Cancelled
 from workbench.findings import Severity
 
 A2LTOOL = shutil.which("a2ltool", path=str(Path(sys.executable).parent)) or shutil.which("a2ltool")
@@ -278,3 +281,34 @@ def test_a_pattern_that_names_an_instances_object_says_that_whole_instances_go(t
         r"--regex 'tank\.kp' matches no MEASUREMENT, CHARACTERISTIC, AXIS_PTS, BLOB or INSTANCE; it matches tank.kp "
         "of INSTANCE tank: remove takes whole INSTANCEs (-R tank)",  # the pattern as typed, not its repr
         "--regex 'nothing' matches no MEASUREMENT, CHARACTERISTIC, AXIS_PTS, BLOB or INSTANCE"]
+
+
+class _CancelAt:
+    """A Progress cancelled at the check point labelled ``label`` (Cancel pressed while the job runs there)."""
+
+    def __init__(self, label: str | None):
+        self.at, self.labels, self.cancelled = label, [], False
+
+    def update(self, done: int, total: int, label: str = "") -> None:
+        self.labels.append(label)
+        self.cancelled = label == self.at
+
+
+@pytest.mark.parametrize(("job", "labels"), [
+    (lambda a2l, out, progress: remove_file(a2l, out, regexes=("zsTank.*Filt",), cleanup=True, progress=progress),
+     ["reading FLCU.a2l", "selecting the objects", "settling the references to them", "writing"]),
+    (lambda a2l, out, progress: cleanup_file(a2l, out, progress=progress),
+     ["reading FLCU.a2l", "finding what nothing uses", "writing"]),
+    (lambda a2l, out, progress: flatten_file(a2l, out, progress=progress), ["reading FLCU.a2l", "writing"]),
+], ids=["remove", "cleanup", "flatten"])
+def test_a_cancel_at_any_check_point_stops_the_job_and_nothing_is_written(tmp_path, job, labels):
+    source, output = tmp_path / "FLCU.a2l", tmp_path / "out.a2l"
+    shutil.copy(DEMO, source)
+    for label in labels:
+        progress = _CancelAt(label)
+        with pytest.raises(Cancelled):
+            job(source, output, progress)
+        assert progress.labels == labels[:labels.index(label) + 1] and not output.exists()
+    progress = _CancelAt(None)
+    job(source, output, progress)
+    assert progress.labels == labels and output.exists()

@@ -140,3 +140,18 @@ def test_remove_takes_a2ltools_spelling_of_its_options(tmp_path, capsys):
                          "0x40020035", "-o", outputs[-1])
         assert code == 0
     assert outputs[0].read_bytes() == outputs[1].read_bytes() != source.read_bytes()
+
+
+def test_ctrl_c_during_remove_cleanup_or_flatten_writes_nothing(tmp_path, capsys, monkeypatch):
+    """Ctrl-C while the job runs (here: at its last check point, the progress bar's report before the write)."""
+    from workbench.cli.progressbar import ProgressBar
+
+    def interrupted(self, done, total, label=""):
+        if label == "writing":
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(ProgressBar, "update", interrupted)
+    source, out = _demo(tmp_path), tmp_path / "out.a2l"
+    for command in (["remove", "-R", "zsTank.*Filt"], ["cleanup"], ["flatten"]):
+        code, stdout, stderr = run(capsys, "a2l", command[0], source, *command[1:], "-o", out)
+        assert (code, stdout, stderr, out.exists()) == (130, "", "error: interrupted\n", False)

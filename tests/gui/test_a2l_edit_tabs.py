@@ -5,13 +5,17 @@ files; the same bytes as the CLI, a refusal's references at file:line:column, a 
 from __future__ import annotations
 
 import shutil
+import threading
 
 import pytest
+from gui_helpers import WAIT_MS
 from gui_helpers import run_a2l_tools as _run
+from PySide6.QtCore import Qt
 
 from workbench import demo
 from workbench.a2l import load_a2l
 from workbench.cli import main
+from workbench.errors import Cancelled
 from workbench.gui.widgets.a2l_tools_dialog import CLEANUP, FLATTEN, INSERT, REMOVE, A2lToolsDialog
 
 
@@ -52,12 +56,13 @@ def test_each_tab_shows_its_own_fields(qtbot, source):
     assert "output" not in _shown(dialog) and dialog.run_button.text() == "Remove (dry run)"
     dialog.set_operation(FLATTEN)  # no --dry-run in `a2l flatten`
     assert _shown(dialog) == ["A2L", "output"] and dialog.run_button.text() == "Flatten"
-    dialog.set_operation(CLEANUP)
-    assert _shown(dialog) == ["A2L", "includes", "dry run"]
+    dialog.set_operation(CLEANUP)  # its own dry run, not ticked
+    assert _shown(dialog) == ["A2L", "output", "includes", "dry run"]
     dialog.set_operation(INSERT)
     dialog.create.setChecked(True)  # no A2L read
-    assert _shown(dialog)[:3] == ["ELF", "insert", "MEASUREMENTs for"]
-    assert dialog.run_button.text() == "Create (dry run)"
+    assert _shown(dialog)[:4] == ["ELF", "output", "insert", "MEASUREMENTs for"]
+    dialog.dry_run.setChecked(True)
+    assert dialog.run_button.text() == "Create (dry run)" and "output" not in _shown(dialog)
 
 
 def test_remove_by_pattern_writes_what_the_cli_writes_after_a_dry_run_that_writes_nothing(qtbot, tmp_path, source,
@@ -145,3 +150,42 @@ def test_insert_creates_a_new_a2l_from_the_elf_with_structures(qtbot, tmp_path, 
     outcome = _run(dialog, qtbot)
     assert outcome.ok and outcome.written is None and source.read_bytes() == before
     assert dialog.status.text().endswith("; nothing written (dry run)")
+
+
+def test_each_tab_has_its_own_dry_run(qtbot, tmp_path, source):
+    """A dry run ticked on Remove is not Clean up's: that tab writes unless its own box is ticked."""
+    dialog = _dialog(qtbot, REMOVE, source)
+    dialog.dry_run.setChecked(True)
+    dialog.set_operation(CLEANUP)
+    assert not dialog.dry_run.isChecked() and "output" in _shown(dialog) and dialog.run_button.text() == "Clean up"
+    dialog.output.setText(tmp_path / "out.a2l")
+    assert _run(dialog, qtbot).written == tmp_path / "out.a2l"
+    dialog.set_operation(INSERT)
+    assert not dialog.dry_run.isChecked() and dialog.run_button.text() == "Insert"
+    dialog.set_operation(REMOVE)  # its own still ticked
+    assert dialog.dry_run.isChecked() and dialog.run_button.text() == "Remove (dry run)"
+
+
+@pytest.mark.parametrize(("operation", "at"), [(REMOVE, "settling the references to them"),
+                                                (CLEANUP, "finding what nothing uses"), (FLATTEN, "writing")])
+def test_cancel_stops_remove_cleanup_and_flatten_mid_job_and_nothing_is_written(qtbot, tmp_path, source, operation,
+                                                                                 at):
+    dialog = _dialog(qtbot, operation, source)
+    dialog.removed.setText("zsTank.*Filt")
+    dialog.output.setText(tmp_path / "out.a2l")
+    reached, go_on = threading.Event(), threading.Event()
+
+    def hold(done, total, label):  # in the worker: the job waits at a check point after it read the A2L
+        if label == at:
+            reached.set()
+            go_on.wait(WAIT_MS / 1000)
+
+    dialog.started.connect(lambda task: task.progress.changed.connect(hold, Qt.DirectConnection))
+    with qtbot.waitSignal(dialog.refused, timeout=WAIT_MS) as refused:
+        dialog.run()
+        qtbot.waitUntil(reached.is_set, timeout=WAIT_MS)
+        dialog.cancel_button.click()
+        go_on.set()
+    assert isinstance(refused.args[0], Cancelled) and not (tmp_path / "out.a2l").exists()
+    qtbot.waitUntil(lambda: dialog.task is None, timeout=WAIT_MS)
+    assert dialog.status.text() == "cancelled: nothing written"

@@ -7,6 +7,7 @@ from __future__ import annotations
 import re
 import shutil
 import threading
+from pathlib import Path
 
 import pytest
 from gui_helpers import WAIT_MS, offline_window
@@ -14,7 +15,7 @@ from gui_helpers import run_a2l_tools as _run
 from PySide6.QtCore import Qt
 
 from workbench import demo
-from workbench.a2l.reports import IncludeMode
+from workbench.a2l.reports import IncludeMode, UpdateMode
 from workbench.cli import main
 from workbench.errors import Cancelled, InputError
 from workbench.gui.widgets.a2l_tools_dialog import CHECK, MERGE, REMOVE, UPDATE, A2lToolsDialog
@@ -328,3 +329,30 @@ def test_a_removal_in_an_included_file_is_refused_unless_the_included_files_are_
     dialog.includes.setCurrentIndex(dialog.includes.findData(IncludeMode.UPDATE))  # --update-includes
     outcome = _run(dialog, qtbot)
     assert outcome.ok and outcome.includes_written == (part,) and "xsOTV1Cmd" not in part.read_text()
+
+
+def test_an_update_removing_missing_objects_drops_optional_references_when_asked(dialog, qtbot, tmp_path):
+    """`a2l update --remove-missing --drop-optional-references`: an axis' INPUT_QUANTITY naming an object missing in
+    the ELF refuses the update, unless dropped (NO_INPUT_QUANTITY); the switch goes with 'remove' only, as in the CLI."""
+    fixtures = Path(__file__).parents[1]
+    source = tmp_path / "in.a2l"  # zsScalar missing from the ELF (renamed), zvLut's axis input
+    source.write_text((fixtures / "a2l" / "fixtures" / "types.a2l").read_text()
+                      .replace("MEASUREMENT zsScalar ", "MEASUREMENT zsScalar_gone ")
+                      .replace("REF_MEASUREMENT zsScalar ", "REF_MEASUREMENT zsScalar_gone ")
+                      .replace("STD_AXIS NO_INPUT_QUANTITY", "STD_AXIS zsScalar_gone"))
+    dialog.a2l.setText(source)
+    dialog.elf.setText(fixtures / "elf" / "fixtures" / "types_dwarf5.elf")
+    dialog.output.setText(tmp_path / "out.a2l")
+    dialog.epk.setChecked(False)
+    assert dialog.update_drop_optional.isVisibleTo(dialog) and not dialog.update_drop_optional.isEnabled()
+    dialog.update_drop_optional.setChecked(True)  # not asked without --remove-missing
+    assert dialog._job()[2]["drop_optional"] is False
+    dialog.missing.setCurrentIndex(dialog.missing.findData(UpdateMode.REMOVE_MISSING))
+    dialog.update_drop_optional.setChecked(False)
+    outcome = _run(dialog, qtbot)
+    assert not outcome.ok and outcome.files_written() == [] and "would name a removed object" in _rows(dialog)[0][3]
+    assert dialog.update_drop_optional.isEnabled()
+    dialog.update_drop_optional.setChecked(True)
+    outcome = _run(dialog, qtbot)
+    assert outcome.ok and "STD_AXIS NO_INPUT_QUANTITY" in (tmp_path / "out.a2l").read_text()
+    assert any("INPUT_QUANTITY zsScalar_gone is removed: now NO_INPUT_QUANTITY" in row[3] for row in _rows(dialog))

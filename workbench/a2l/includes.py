@@ -20,6 +20,7 @@ from workbench.a2l.tree import find_directives
 from workbench.a2l.values import parse_string
 from workbench.errors import InputError
 from workbench.findings import Finding, Report, Severity
+from workbench.progress import Progress, report as report_progress
 
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
@@ -200,18 +201,21 @@ def left_out(doc: A2lDocument) -> list[str]:
     return said
 
 
-def flatten_file(a2l: str | Path, output: str | Path | None) -> Report:
+def flatten_file(a2l: str | Path, output: str | Path | None, progress: Progress | None = None) -> Report:
     """a2ltool's ``--merge-includes``: ``a2l`` with the text of every ``/include`` (nested ones too) in place
     of the directive, written to ``output`` atomically (None: a dry run). Included files in another encoding
     are converted to the main file's; everything else stays as written. One finding per directive.
 
     :raises InputError: ``a2l`` cannot be read; :raises A2lParseError: it or an included file is malformed or
-        missing (file:line:column of the directive).
+        missing (file:line:column of the directive); :raises Cancelled: ``progress`` was cancelled (nothing
+        written).
     """
     from workbench.a2l.document import load_a2l
     from workbench.a2l.edits import write_source
 
+    report_progress(progress, 0, 2, f"reading {Path(a2l).name}")
     doc = load_a2l(a2l, validate=False)
+    report_progress(progress, 1, 2, "writing")  # the last check point: nothing is written before it
     report = Report("flatten")
     for include in doc.includes:
         line, column = doc.source.position(include.offset)

@@ -31,6 +31,9 @@ that names no COMPU_METHOD is left for ``check`` to report (a2ltool makes it NO_
 Only the removed text differs from the input (:func:`~workbench.a2l.edits.cut_spans`). Changes that fall
 into ``/include``\\ d files are written there (:attr:`IncludeMode.UPDATE`), inline (``MERGE``), or refused
 (``KEEP``, the default: nothing written).
+
+Both report to a ``progress`` (:mod:`workbench.progress`) between their steps (reading, selecting, settling the
+references, writing); a cancelled one raises :class:`~workbench.errors.Cancelled` there, before anything is written.
 """
 
 from __future__ import annotations
@@ -52,6 +55,7 @@ from workbench.a2l.values import int_or_none, int_values
 from workbench.errors import InputError, WorkbenchError
 from workbench.fileio import write_output
 from workbench.findings import Finding, Report, Severity, summarize
+from workbench.progress import Progress, report as report_progress
 
 __all__ = ["PruneFailed", "PruneReport", "PruneResult", "cleanup_document", "cleanup_file", "removal_edits",
            "remove_document", "remove_file"]
@@ -69,6 +73,7 @@ _CONTENT = {"GROUP": frozenset({"REF_CHARACTERISTIC", "REF_MEASUREMENT", "SUB_GR
             "FUNCTION": frozenset({"DEF_CHARACTERISTIC", "REF_CHARACTERISTIC", "IN_MEASUREMENT", "OUT_MEASUREMENT",
                                    "LOC_MEASUREMENT", "SUB_FUNCTION"})}
 _KEEPS = {"GROUP": "REF_GROUP", "FUNCTION": "FUNCTION_LIST"}
+_STEPS = 4  # the check points: reading, selecting, settling the references, writing
 
 
 @dataclass
@@ -107,7 +112,7 @@ class PruneFailed(WorkbenchError):
 
 def remove_document(doc: A2lDocument, *, regexes: tuple[str, ...] = (), ranges: tuple[tuple[int, int], ...] = (),
                     cleanup: bool = False, drop_optional: bool = False,
-                    includes: IncludeMode = IncludeMode.KEEP) -> PruneResult:
+                    includes: IncludeMode = IncludeMode.KEEP, progress: Progress | None = None) -> PruneResult:
     """``doc`` without the objects ``regexes`` (whole names) and ``ranges`` (``[low, high)`` holding the address)
     select, and with what referred to them settled (see the module docstring); ``cleanup`` then also removes what
     nothing uses. The document itself is not changed.
@@ -115,6 +120,7 @@ def remove_document(doc: A2lDocument, *, regexes: tuple[str, ...] = (), ranges: 
     :raises InputError: a pattern that is no regular expression, a range whose start is not below its end.
     :raises PruneFailed: a kept object would lose a reference it needs (or an optional one, without
         ``drop_optional``), or a change falls into an included file under ``IncludeMode.KEEP``.
+    :raises Cancelled: ``progress`` was cancelled.
     """
     patterns = []
     for text in regexes:
@@ -126,37 +132,47 @@ def remove_document(doc: A2lDocument, *, regexes: tuple[str, ...] = (), ranges: 
         if low >= high:
             raise InputError(f"--range 0x{low:X} 0x{high:X}: the start must lie below the end")
     report = PruneReport("remove")
+    report_progress(progress, 1, _STEPS, "selecting the objects")
     selected = _select(doc, patterns, ranges, report)
-    return _prune(doc, report, selected, cleanup, drop_optional, includes)
+    return _prune(doc, report, selected, cleanup, drop_optional, includes, progress)
 
 
-def cleanup_document(doc: A2lDocument, *, includes: IncludeMode = IncludeMode.KEEP) -> PruneResult:
+def cleanup_document(doc: A2lDocument, *, includes: IncludeMode = IncludeMode.KEEP,
+                     progress: Progress | None = None) -> PruneResult:
     """``doc`` without what nothing uses (see the module docstring); the document itself is not changed.
 
     :raises PruneFailed: a change falls into an included file under ``IncludeMode.KEEP``.
+    :raises Cancelled: ``progress`` was cancelled.
     """
-    return _prune(doc, PruneReport("cleanup"), {}, True, False, includes)
+    return _prune(doc, PruneReport("cleanup"), {}, True, False, includes, progress)
 
 
 def remove_file(a2l: str | Path, output: str | Path | None, *, regexes: tuple[str, ...] = (),
                 ranges: tuple[tuple[int, int], ...] = (), cleanup: bool = False, drop_optional: bool = False,
-                includes: IncludeMode = IncludeMode.KEEP) -> PruneReport:
+                includes: IncludeMode = IncludeMode.KEEP, progress: Progress | None = None) -> PruneReport:
     """Read ``a2l``, remove (see :func:`remove_document`) and write ``output`` atomically (which may be ``a2l``;
-    None: a dry run, nothing written); under ``IncludeMode.UPDATE`` also the included files that change."""
-    doc = load_a2l(a2l, validate=False)
+    None: a dry run, nothing written); under ``IncludeMode.UPDATE`` also the included files that change. A
+    cancelled ``progress`` stops it at its next step, nothing written (:class:`~workbench.errors.Cancelled`)."""
+    doc = _read(a2l, progress)
     result = remove_document(doc, regexes=regexes, ranges=ranges, cleanup=cleanup, drop_optional=drop_optional,
-                             includes=includes)
+                             includes=includes, progress=progress)
     return _write(doc, result, output, includes)
 
 
-def cleanup_file(a2l: str | Path, output: str | Path | None, *,
-                 includes: IncludeMode = IncludeMode.KEEP) -> PruneReport:
+def cleanup_file(a2l: str | Path, output: str | Path | None, *, includes: IncludeMode = IncludeMode.KEEP,
+                 progress: Progress | None = None) -> PruneReport:
     """Read ``a2l``, clean it up (see :func:`cleanup_document`) and write ``output`` as :func:`remove_file` does."""
-    doc = load_a2l(a2l, validate=False)
-    return _write(doc, cleanup_document(doc, includes=includes), output, includes)
+    doc = _read(a2l, progress)
+    return _write(doc, cleanup_document(doc, includes=includes, progress=progress), output, includes)
+
+
+def _read(a2l: str | Path, progress: Progress | None) -> A2lDocument:
+    report_progress(progress, 0, _STEPS, f"reading {Path(a2l).name}")
+    return load_a2l(a2l, validate=False)
 
 
 def _write(doc: A2lDocument, result: PruneResult, output: str | Path | None, includes: IncludeMode) -> PruneReport:
+    """``result`` written to ``output`` (None: a dry run); no check point from here on: written is written."""
     if output is None:
         return result.report
     write_source(doc.source, result.data, output)
@@ -246,7 +262,9 @@ def removal_edits(doc: A2lDocument, selected: dict[int, tuple[int, str]], *, dro
 
 
 def _prune(doc: A2lDocument, report: PruneReport, selected: dict[int, tuple[int, str]], cleanup: bool,
-           drop_optional: bool, includes: IncludeMode) -> PruneResult:
+           drop_optional: bool, includes: IncludeMode, progress: Progress | None) -> PruneResult:
+    report_progress(progress, 2, _STEPS, "finding what nothing uses" if report.operation == "cleanup"
+                    else "settling the references to them")
     removal, pending = removal_edits(doc, selected, drop_optional=drop_optional, cleanup=cleanup)
     edits = Edits(removal)
     report.findings[:0] = findings_at(doc, pending)
@@ -255,6 +273,7 @@ def _prune(doc: A2lDocument, report: PruneReport, selected: dict[int, tuple[int,
             report.removed.setdefault(keyword, []).append(name)
     if report.errors:
         raise PruneFailed(report)
+    report_progress(progress, 3, _STEPS, "writing")  # the last check point: nothing is written before it
     return _result(doc, edits, report, includes)
 
 

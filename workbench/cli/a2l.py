@@ -433,20 +433,22 @@ def _remove(args: argparse.Namespace) -> int:
 
     if not args.regex and not args.range:
         raise InputError("remove: nothing selected: give --regex REGEX or --range MIN MAX")
-    return _prune(args, lambda output, includes: remove_file(
+    return _prune(args, lambda output, includes, progress: remove_file(
         args.a2l, output, regexes=tuple(args.regex), ranges=tuple(map(tuple, args.range)), cleanup=args.cleanup,
-        drop_optional=args.drop_optional_references, includes=includes))
+        drop_optional=args.drop_optional_references, includes=includes, progress=progress))
 
 
 def _cleanup(args: argparse.Namespace) -> int:
     from workbench.a2l.prune import cleanup_file
 
-    return _prune(args, lambda output, includes: cleanup_file(args.a2l, output, includes=includes))
+    return _prune(args, lambda output, includes, progress: cleanup_file(args.a2l, output, includes=includes,
+                                                                         progress=progress))
 
 
 def _prune(args: argparse.Namespace, run) -> int:
     from workbench.a2l.prune import PruneFailed
     from workbench.a2l.reports import IncludeMode
+    from workbench.cli.progressbar import ProgressBar
 
     if args.output is None and not args.dry_run:
         raise InputError(f"{args.command}: -o/--output OUT.a2l is required (or --dry-run)")
@@ -454,7 +456,9 @@ def _prune(args: argparse.Namespace, run) -> int:
                 else IncludeMode.KEEP)
     output = None if args.dry_run else args.output
     try:
-        report = run(output, includes)
+        with ProgressBar("removing" if args.command == "remove" else "cleaning up",
+                         enabled=None if not args.json else False) as progress:
+            report = run(output, includes, progress)
     except PruneFailed as exc:
         _print_report(exc.report, args, summary=str(exc))
         return 1
@@ -464,8 +468,10 @@ def _prune(args: argparse.Namespace, run) -> int:
 
 def _flatten(args: argparse.Namespace) -> int:
     from workbench.a2l.includes import flatten_file, flatten_summary
+    from workbench.cli.progressbar import ProgressBar
 
-    report = flatten_file(args.a2l, args.output)
+    with ProgressBar("flattening", enabled=None if not args.json else False) as progress:
+        report = flatten_file(args.a2l, args.output, progress=progress)
     _print_report(report, args, summary=flatten_summary(report, args.output), output=args.output)
     return 0
 

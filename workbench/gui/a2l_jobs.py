@@ -10,7 +10,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from workbench.findings import Report
-from workbench.progress import report as report_progress
 
 __all__ = ["A2lOutcome", "check_a2l", "cleanup_a2l", "flatten_a2l", "insert_a2l", "merge_a2l", "remove_a2l",
            "update_a2l"]
@@ -40,13 +39,15 @@ def _written(report: Report, output: str | None, ok: bool) -> A2lOutcome:
     return A2lOutcome(report, report.summary(output), ok, Path(output), includes)
 
 
-def update_a2l(a2l: str, elf: str, output: str, *, mode, types: bool, epk: bool, includes,
+def update_a2l(a2l: str, elf: str, output: str, *, mode, types: bool, epk: bool, includes, drop_optional: bool = False,
                progress=None) -> A2lOutcome:
-    """``workbench a2l update`` (every address listed: the dialog's "show all"); strict refusals are outcomes."""
+    """``workbench a2l update`` (every address listed: the dialog's "show all"; ``drop_optional``:
+    ``--drop-optional-references``, with ``UpdateMode.REMOVE_MISSING``); strict refusals are outcomes."""
     from workbench.a2l.update import UpdateFailed, update_file
 
     try:
-        report = update_file(a2l, elf, output, mode=mode, types=types, epk=epk, includes=includes, progress=progress)
+        report = update_file(a2l, elf, output, mode=mode, types=types, epk=epk, includes=includes,
+                             drop_optional=drop_optional, progress=progress)
     except UpdateFailed as exc:
         return A2lOutcome(exc.report, f"{exc}; nothing written", False)
     return _written(report, output, report.ok)  # written, errors or not
@@ -97,20 +98,19 @@ def remove_a2l(a2l: str, output: str | None, *, regexes: tuple[str, ...], ranges
     from workbench.a2l.prune import remove_file
 
     return _pruned(lambda: remove_file(a2l, output, regexes=regexes, ranges=ranges, cleanup=cleanup,
-                                       drop_optional=drop_optional, includes=includes), output, progress)
+                                       drop_optional=drop_optional, includes=includes, progress=progress), output)
 
 
 def cleanup_a2l(a2l: str, output: str | None, *, includes, progress=None) -> A2lOutcome:
     """``workbench a2l cleanup`` (``output`` None: ``--dry-run``)."""
     from workbench.a2l.prune import cleanup_file
 
-    return _pruned(lambda: cleanup_file(a2l, output, includes=includes), output, progress)
+    return _pruned(lambda: cleanup_file(a2l, output, includes=includes, progress=progress), output)
 
 
-def _pruned(run, output: str | None, progress) -> A2lOutcome:
+def _pruned(run, output: str | None) -> A2lOutcome:
     from workbench.a2l.prune import PruneFailed
 
-    report_progress(progress, 0, 1)  # one step, no check point inside: Cancel counts until it starts
     try:
         report = run()
     except PruneFailed as exc:
@@ -122,6 +122,5 @@ def flatten_a2l(a2l: str, output: str, progress=None) -> A2lOutcome:
     """``workbench a2l flatten``: the text of every /include written inline."""
     from workbench.a2l.includes import flatten_file, flatten_summary
 
-    report_progress(progress, 0, 1)
-    report = flatten_file(a2l, output)
+    report = flatten_file(a2l, output, progress=progress)
     return A2lOutcome(report, flatten_summary(report, output), True, Path(output))

@@ -243,6 +243,12 @@ class A2lToolsDialog(QDialog):
         self.missing = _choice([("keep (a warning)", UpdateMode.DEFAULT), ("remove (--remove-missing)",
                                 UpdateMode.REMOVE_MISSING), ("refuse: write nothing (--strict)", UpdateMode.STRICT)],
                                "objects whose symbol is not in the ELF")
+        self.missing.currentIndexChanged.connect(self._show_fields)
+        self.update_drop_optional = QCheckBox("drop an INPUT_QUANTITY or COMPARISON_QUANTITY naming a removed "
+                                              "object (--drop-optional-references)")
+        self.update_drop_optional.setToolTip("with 'remove': the INPUT_QUANTITY becomes NO_INPUT_QUANTITY, the "
+                                             "COMPARISON_QUANTITY goes (each a warning); without it such a reference "
+                                             "refuses the update: nothing is written")
         self.includes = _choice([("keep /include, changes in them are errors", IncludeMode.KEEP),
                                  ("update the included files (--update-includes)", IncludeMode.UPDATE),
                                  ("write them inline (--merge-includes)", IncludeMode.MERGE)],
@@ -262,9 +268,11 @@ class A2lToolsDialog(QDialog):
         self.structures = QCheckBox("a struct selected whole: one INSTANCE of a TYPEDEF_STRUCTURE (--structures)")
         self.structures.setToolTip("typedefs per member type, shared by every variable of its C type (ASAP2 1.70+)")
         self._removal_fields()
+        # one box, ticked per tab: a dry run chosen on one tab is not silently the next tab's
         self.dry_run = QCheckBox("show what would change, write nothing (--dry-run)")
-        for box in (self.create, self.dry_run):
-            box.toggled.connect(self._show_fields)
+        self._dry_runs: set[str] = set()  # the operations whose dry run is ticked
+        self.dry_run.toggled.connect(self._dry_run_toggled)
+        self.create.toggled.connect(self._show_fields)
         self.rows = {  # the operations each row serves
             "A2L": (self.a2l, (UPDATE, CHECK, INSERT, REMOVE, CLEANUP, FLATTEN)),
             "ELF": (self.elf, (UPDATE, CHECK, INSERT)),
@@ -277,6 +285,7 @@ class A2lToolsDialog(QDialog):
             "remove names": (self.removed, (REMOVE,)), "remove addresses": (self.removed_ranges, (REMOVE,)),
             "remove": (_boxes(self.cleanup_too, self.drop_optional), (REMOVE,)),
             "objects missing in the ELF": (self.missing, (UPDATE,)),
+            "removed objects": (_boxes(self.update_drop_optional), (UPDATE,)),  # its box enabled with "remove"
             "includes": (self.includes, (UPDATE, REMOVE, CLEANUP)),
             "on conflict": (self.conflict, (MERGE,)), "dry run": (self.dry_run, _DRY_RUN),
         }
@@ -356,10 +365,23 @@ class A2lToolsDialog(QDialog):
         return self.operation == INSERT and self.create.isChecked()
 
     def _dry(self) -> bool:
-        return self.operation in _DRY_RUN and self.dry_run.isChecked()
+        return self.operation in self._dry_runs
+
+    def _dry_run_toggled(self, on: bool) -> None:
+        (self._dry_runs.add if on else self._dry_runs.discard)(self.operation)
+        self._show_fields()
+
+    def _dropping_optional(self) -> bool | None:
+        """The update's --drop-optional-references; None: not asked (it goes with --remove-missing only)."""
+        from workbench.a2l.reports import UpdateMode
+
+        return self.update_drop_optional.isChecked() if self.missing.currentData() is UpdateMode.REMOVE_MISSING \
+            else None
 
     def _show_fields(self, *_) -> None:
         operation = self.operation
+        self.dry_run.setChecked(self._dry())  # this tab's own (toggled: shows the fields again, the same)
+        self.update_drop_optional.setEnabled(self._dropping_optional() is not None)
         for widget, operations in self.rows.values():
             self.form.setRowVisible(widget, operation in operations)
         self.form.setRowVisible(self.a2l, operation in self.rows["A2L"][1] and not self._creating())
@@ -413,7 +435,8 @@ class A2lToolsDialog(QDialog):
                 "group": self.group.text().strip(), "structures": self.structures.isChecked()}
         return update_a2l, (a2l, self.elf.text(), output), {
             "mode": self.missing.currentData(), "types": self.types.isChecked(), "epk": self.epk.isChecked(),
-            "includes": self.includes.currentData()}
+            "includes": self.includes.currentData(),
+            "drop_optional": bool(self._dropping_optional())}
 
     def _pruning_job(self, a2l: str, output: str | None) -> tuple | str:
         """Remove, clean up or flatten ``a2l`` into ``output`` (None: a dry run)."""
