@@ -168,3 +168,16 @@ def test_an_axis_edited_offline_shows_in_the_map_that_shares_it(qtbot, tmp_path)
     axis.undo_stack.undo()  # the map follows the undo too
     qtbot.waitUntil(lambda: table.value.axes[0].values[-1] == points[-1] + 1.0, timeout=WAIT_MS)
     assert not window.errors
+
+
+def test_an_image_that_cannot_be_read_is_refused_and_the_project_keeps_its_image(qtbot, tmp_path):
+    window = offline_window(qtbot, _copy_project(tmp_path))
+    scalar = _editor(window, qtbot, "xsSWITCH_TANK_THR")
+    bad = tmp_path / "bad.s19"
+    bad.write_text("S1 this is no S-record\n")
+    window.offline_image.open(bad)
+    qtbot.waitUntil(lambda: len(window.errors) == 1, timeout=WAIT_MS)
+    assert window.errors[0].text().startswith(f"{bad}:1: ")  # where bincopy stopped
+    assert window.errors[0].informativeText() == "bad.s19 not opened: the editors keep the values of app.s19"
+    assert window.project.s19 == tmp_path / "app.s19" and window.workspace.file_values.path == tmp_path / "app.s19"
+    assert scalar.value_source == "app.s19" and scalar.field.input.isEnabled()

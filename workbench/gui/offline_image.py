@@ -33,6 +33,7 @@ class OfflineImage(QObject):
     def __init__(self, window):
         super().__init__(window)
         self.window = window
+        self._opening = None  # the FileValues of the image being read by open()
         window.loaded.connect(self._offer_to_fix_panel)
         window.fix_panel.offline_written.connect(self._fixes_written)
 
@@ -83,14 +84,40 @@ class OfflineImage(QObject):
 
     def open(self, path: Path) -> None:
         """Take ``path`` as the project's s19/hex (unsaved edits of the one before asked about first): the editors
-        show and edit its values until an ECU is connected, and a connection compares the ECU with it."""
+        show and edit its values until an ECU is connected, and a connection compares the ECU with it. The file is
+        read first (in a worker): one that cannot be read, or does not fit the A2L, is said in an error dialog and
+        the project keeps the image it had."""
         from workbench.gui.file_values import FileValues
 
         workspace = self.window.workspace
         if workspace is None or not self.may_close():
             return
-        self.window.project.s19 = Path(path)
-        workspace.file_values = FileValues(workspace.model, path)
+        values = self._opening = FileValues(workspace.model, path)
+        run_task(values.image, on_done=lambda _: self._read(workspace, values),
+                 on_error=lambda exc: self._refused(values, exc))
+
+    def _refused(self, values, exc: BaseException) -> None:
+        """Why ``values``' file was not taken (file:line), and which image stays."""
+        from workbench.errors import WorkbenchError
+        from workbench.gui.widgets.errors import show_error
+
+        if values is not self._opening:
+            return
+        self._opening = None
+        box = show_error(self.window, exc, "Open image")
+        if isinstance(exc, WorkbenchError):  # else the box says "unexpected ..." with the traceback
+            kept = self.values
+            box.setInformativeText(f"{values.name} not opened: the editors keep the values of {kept.name}"
+                                   if kept is not None else f"{values.name} not opened")
+        self.window.errors.append(box)
+
+    def _read(self, workspace, values) -> None:
+        """``values``' file read: the project's image now (unless another project or image was opened meanwhile)."""
+        if values is not self._opening or workspace is not self.window.workspace:
+            return
+        self._opening = None
+        self.window.project.s19 = values.path
+        workspace.file_values = values
         for editor in self.window.editors.values():
             editor.offline = workspace.file_values
             editor.reload()
