@@ -333,7 +333,8 @@ def test_a_removal_in_an_included_file_is_refused_unless_the_included_files_are_
 
 def test_an_update_removing_missing_objects_drops_optional_references_when_asked(dialog, qtbot, tmp_path):
     """`a2l update --remove-missing --drop-optional-references`: an axis' INPUT_QUANTITY naming an object missing in
-    the ELF refuses the update, unless dropped (NO_INPUT_QUANTITY); the switch goes with 'remove' only, as in the CLI."""
+    the ELF refuses the update, unless dropped (NO_INPUT_QUANTITY); the switch goes with 'remove' only (the CLI's
+    rule)."""
     fixtures = Path(__file__).parents[1]
     source = tmp_path / "in.a2l"  # zsScalar missing from the ELF (renamed), zvLut's axis input
     source.write_text((fixtures / "a2l" / "fixtures" / "types.a2l").read_text()
