@@ -81,3 +81,18 @@ def test_a_calibration_of_another_build_shows_which_part_differs(calib_of_anothe
     assert texts[row + 1:row + 3] == ["'10300020259999'", "'10300020250301'"]  # A2L, ECU
     assert "EPK in CALIB (FC0000h)" in texts
     assert window.hub.acquisition is None
+
+
+def test_flash_software_selects_the_part_of_another_build(calib_of_another_build):
+    window = calib_of_another_build
+    dialog = window.epk_dialog
+    assert dialog.flash_button.toolTip() == "open the flash dialog with APPLICATIVE selected"
+    dialog.flash_button.click()
+    flash = window.flash_dialog
+    assert flash is not None and flash.isVisible()
+    assert flash.selected_regions() == ["APPLICATIVE"]  # the CALIB that stays is this build's
+
+
+def test_flash_software_selects_the_whole_software_when_every_part_differs(window):
+    window.epk_dialog.flash_button.click()
+    assert window.flash_dialog.selected_regions() == ["APPLICATIVE", "CALIB"]

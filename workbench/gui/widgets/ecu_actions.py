@@ -92,7 +92,9 @@ class EcuWindowActions:
         if choice is EpkChoice.DISCONNECT:
             self.controller.close()
         elif choice is EpkChoice.FLASH:
-            self.open_flash_dialog(regions=["CALIB", "APPLICATIVE"])
+            dialog = self.open_flash_dialog()
+            if dialog is not None:  # the parts of another build, else the whole software
+                dialog.select_regions(self.epk_dialog.differing_parts or dialog.software_regions())
         else:
             self._start_measuring()
 

@@ -1,7 +1,8 @@
 """The software version check (thesis figure 37): the A2L's EPK differs from the ECU's. The user
 chooses to flash the software that matches the A2L, to work read-only, or to disconnect. Where the A2L names
 an EPK address in each part of the software (CALIB, APPLICATIVE), each part's EPK has a row of its own: a
-calibration flashed onto another application shows as the one part that differs."""
+calibration flashed onto another application shows as the one part that differs, and the flash dialog opens with
+that part selected (the others stay: the flash compares the file with the EPK of what stays)."""
 
 from __future__ import annotations
 
@@ -33,7 +34,8 @@ class EpkDialog(QDialog):
         self.setWindowTitle("Software version check")
         self.choice = EpkChoice.DISCONNECT
         layout = QVBoxLayout(self)
-        differing = [part.segment for part in parts if part.matches is False]
+        # the parts of another build: what "Flash software…" selects (none named: the whole software)
+        self.differing_parts = differing = [part.segment for part in parts if part.matches is False]
         what = (f"{' and '.join(differing)} in the ECU {'is' if len(differing) == 1 else 'are'} another build's"
                 if differing and len(differing) < len(parts) else "The software in the ECU differs from the database")
         head = QLabel(f"<b>{what}.</b><br>What would you like to do?")
@@ -62,6 +64,8 @@ class EpkDialog(QDialog):
         layout.addWidget(explain)
         buttons = QDialogButtonBox()
         self.flash_button = QPushButton("Flash software…")
+        self.flash_button.setToolTip("open the flash dialog with " + (" and ".join(differing) if differing and len(
+            differing) < len(parts) else "the whole software") + " selected")
         self.read_only_button = QPushButton("Work read-only")
         self.disconnect_button = QPushButton("Disconnect")
         buttons.addButton(self.flash_button, QDialogButtonBox.AcceptRole)

@@ -173,6 +173,11 @@ class FlashDialog(QDialog):
         return [self.table.item(row, 0).text() for row in range(self.table.rowCount())
                 if self.table.item(row, 0).checkState() == Qt.Checked]
 
+    def software_regions(self) -> list[str]:
+        """The regions a flash of the whole software selects: every one that can be ticked (the boot loader cannot)."""
+        return [self.table.item(row, 0).text() for row in range(self.table.rowCount())
+                if self.table.item(row, 0).flags() & Qt.ItemIsUserCheckable]
+
     def select_regions(self, names) -> None:
         wanted = {n.upper() for n in names}
         self.table.blockSignals(True)
