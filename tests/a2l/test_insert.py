@@ -264,6 +264,24 @@ def test_a_pattern_names_an_element_in_either_naming(version, pattern, name):
     assert result.report.inserted["MEASUREMENT"] == [name]
 
 
+@pytest.mark.parametrize("elf", [TYPES_ELF, WILD_ELF, ELF_DIR / "matrix" / "cpp-gcc-dwarf5-m64-O0.elf"],
+                         ids=["types", "wild", "cpp"])
+def test_the_variables_left_out_before_the_walk_are_those_it_would_leave(elf):
+    """Without a range every variable is walked (a range may hold any of them): the same objects come out of the
+    patterns as when the variables none of their paths match are left out first, and the name alone is matched
+    for a pattern that cannot match past it."""
+    patterns = [".*", r"outer\..*|bits", "^z", "(?i)ZS.*|b.*s", r"vector\[[3-4]\]|zv.*\.BP1", r"\w+_\w+", "[a-m]",
+                r"^\w*(?!\.)", r"s[^.]*", "(big|EPK)"]
+    doc = load_a2l_string(EMPTY)
+    with DebugData(elf, use_cache=False) as debug:
+        for pattern in patterns:
+            chosen = insert_document(doc, debug, measurements=Selection((pattern,)))
+            walked = insert_document(doc, debug, measurements=Selection((pattern,)),
+                                     characteristics=Selection(ranges=((0, 1),)))
+            assert chosen.data == walked.data, pattern
+            assert chosen.report.inserted == walked.report.inserted, pattern
+
+
 def test_every_variable_of_the_demo_that_its_a2l_lacks(tmp_path):
     """The demo's A2L describes most variables (calibrations as CHARACTERISTICs): those are left alone, the rest
     come in, and the file stays clean against its ELF."""

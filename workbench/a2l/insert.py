@@ -44,7 +44,7 @@ from workbench.a2l.addressed import AddressedObjects
 from workbench.a2l.datatypes import array_dims, c_limits, datatype_for, element_type
 from workbench.a2l.document import A2lDocument, Block, load_a2l
 from workbench.a2l.edits import Edit, Edits, indentation_of, newline_bytes, write_source
-from workbench.a2l.patterns import as_typed, selection_pattern
+from workbench.a2l.patterns import as_typed, literal_prefixes, selection_pattern, stops_before
 from workbench.a2l.reports import finding_at
 from workbench.a2l.update.enums import NO_COMPU_METHOD, enum_conversion_blocks, enum_conversion_name, indented
 from workbench.a2l.values import is_ident, quote_string
@@ -55,7 +55,7 @@ from workbench.findings import Finding, Report, Severity
 from workbench.progress import Progress, report as report_progress
 
 if TYPE_CHECKING:
-    from collections.abc import Iterator
+    from collections.abc import Callable, Iterator
 
     from workbench.elf.ctypes_model import CMember, CType
 
@@ -149,11 +149,7 @@ class _Rules:
                                  f"(it has {known})")
             self.options.setdefault((section.address, section.address + section.size), f"{option}-section {name}")
         self.ranges = list(self.options)
-        # the literal texts each pattern's matches start with (None: any text): a walk skips what none can name
-        prefixes = [_literal_prefixes(pattern) for _, pattern in self.patterns]
-        self._any_name = any(found is None or "" in found for found in prefixes)
-        self._starts = tuple(prefix for found in prefixes if found is not None for prefix in found)
-        self._longest = max(map(len, self._starts), default=0)
+        self.names = _Names([pattern for _, pattern in self.patterns])
         self.paths = list(selection.paths)
         self.matched: Counter[str] = Counter()
         self.in_range: Counter[tuple[int, int]] = Counter()
@@ -165,13 +161,6 @@ class _Rules:
                 self.matched[text] += 1
                 found = True
         return found
-
-    def may_name(self, path: str) -> bool:
-        """Whether a pattern may match ``path`` or a name that starts with it (a member, an element)."""
-        if self._any_name:
-            return True
-        return path.startswith(self._starts) or (len(path) < self._longest
-                                                 and any(start.startswith(path) for start in self._starts))
 
     def may_hold(self, address: int, size: int) -> bool:
         """Whether a range holds a byte of ``[address, address + size)``."""
@@ -188,6 +177,41 @@ class _Rules:
                 self.in_range[(low, high)] += 1
                 found = True
         return found
+
+
+class _Names:
+    """What some patterns may match, from the literal texts their matches start with: a walk skips what none can
+    name."""
+
+    def __init__(self, patterns: list[re.Pattern]):
+        prefixes = [literal_prefixes(pattern) for pattern in patterns]
+        self.any = any(found is None or "" in found for found in prefixes)
+        self.starts = tuple(prefix for found in prefixes if found is not None for prefix in found)
+        self.heads = frozenset(start[:end] for start in self.starts for end in range(len(start)))
+        # a pattern that cannot match past a variable's name (into ".member", "[2]") matches the name of every
+        # variable it selects: the name alone is matched
+        stops = [stops_before(pattern, ".[") for pattern in patterns]
+        self.name_searches = [pattern.search for pattern, stop in zip(patterns, stops) if stop]
+        self.path_searches = [pattern.search for pattern, stop in zip(patterns, stops) if not stop]
+
+    def may_name(self, path: str) -> bool:
+        """Whether a pattern may match ``path`` or a name that starts with it (a member, an element)."""
+        return self.any or path.startswith(self.starts) or path in self.heads
+
+    def may_name_any(self, variables: list[Variable]) -> list[Variable]:
+        """The variables whose names :meth:`may_name` (one pass: a big ELF has 50,000)."""
+        if self.any:
+            return variables
+        starts, heads = self.starts, self.heads
+        return [variable for variable in variables if variable.name.startswith(starts) or variable.name in heads]
+
+    def match_one(self, name: str, suffixes: Callable[[], list[str]]) -> bool:
+        """Whether a pattern matches ``name``, or ``name`` followed by one of ``suffixes()`` (what names its members
+        and elements)."""
+        if any(search(name) for search in self.name_searches):
+            return True
+        return bool(self.path_searches) and any(any(map(search, map(name.__add__, suffixes())))
+                                                for search in self.path_searches)
 
 
 def insert_document(doc: A2lDocument, debug: DebugData, *, measurements: Selection = Selection(),
@@ -286,21 +310,22 @@ class _Inserter:
         """Every variable with its members and elements. A name several variables have (file statics of several
         units, statics of several functions) is the first one's, with a SYMBOL_LINK that says which (Vector's
         ``name{Function:f}{CompileUnit:unit_c}{Namespace:Global}``, as a2ltool writes it)."""
-        variables = [v for v in self.debug.variables() if v.address is not None and v.type_offset is not None]
+        variables = self.debug.variables()
+        names = None if any(rule.ranges for rule in self.active) else \
+            _Names([pattern for rule in self.active for _, pattern in rule.patterns])
+        if names is not None:  # what no pattern can name is known without its type
+            variables = names.may_name_any(variables)
         by_name: dict[str, list] = {}
         for variable in variables:
-            by_name.setdefault(variable.name, []).append(variable)  # a2ltool's names: without their scopes
-        if not any(rule.ranges for rule in self.active):  # what no pattern can name is known without its type
-            by_name = {name: found for name, found in by_name.items()
-                       if any(rule.may_name(name) for rule in self.active)}
+            if variable.address is not None and variable.type_offset is not None:
+                by_name.setdefault(variable.name, []).append(variable)  # a2ltool's names: without their scopes
+        if names is not None:
             # ... and with it, before the walk: a variable none of whose paths a pattern matches yields nothing
             # (the walk costs ~6 us a member or element, a match of its path ~0.5: 1,000 of 50,000 variables
             # whose names start alike, 0.40 -> 0.05 s)
-            patterns = [pattern.search for rule in self.active for _, pattern in rule.patterns]
             suffixes = _Suffixes(self.new_arrays)
             by_name = {name: found for name, found in by_name.items()
-                       if any(match(name + suffix) for suffix in suffixes.of(self.debug.type_of(found[0]))
-                              for match in patterns)}
+                       if names.match_one(name, lambda: suffixes.of(self.debug.type_of(found[0])))}
         for number, (name, found) in enumerate(by_name.items()):
             if number % 256 == 0:
                 report_progress(progress, number, len(by_name), "walking the ELF's variables")
@@ -366,7 +391,8 @@ class _Inserter:
 
     def _may_select(self, leaf: _Leaf) -> bool:
         """Whether a pattern may name ``leaf`` or a member or element of it, or a range hold a byte of it."""
-        return any(rule.may_name(leaf.path) or rule.may_hold(leaf.address, leaf.ctype.size) for rule in self.active)
+        return any(rule.names.may_name(leaf.path) or rule.may_hold(leaf.address, leaf.ctype.size)
+                   for rule in self.active)
 
     def _elements(self, leaf: _Leaf, element: "CType", inherited: frozenset[str]) -> None:
         for number, step in enumerate(_element_steps(array_dims(leaf.ctype), self.new_arrays)):
@@ -635,42 +661,6 @@ def _vector_spec(variable: Variable) -> str:
     namespaces = "".join(f"{{Namespace:{name}}}" for name in reversed(scope))
     unit = f"{{CompileUnit:{variable.unit}}}" if variable.unit else ""
     return f"{function}{namespaces}{unit}{{Namespace:Global}}"
-
-
-def _literal_prefixes(pattern: re.Pattern) -> tuple[str, ...] | None:
-    """The texts one of which starts every string ``pattern`` matches (``^(?:u0[0-9]_a|b)$``: "u0", "b"), from
-    Python's own parse of it; None when it does not say (no ``^`` in front, ``(?i)``, a class first)."""
-    try:
-        from re import _parser as parser  # Python 3.11+
-    except ImportError:  # pragma: no cover - Python 3.10
-        import sre_parse as parser
-    try:
-        parsed = parser.parse(pattern.pattern, pattern.flags)
-    except Exception:  # noqa: BLE001 - another Python's parser: no prefixes, no skipping
-        return None
-    items = list(parsed)
-    if pattern.flags & re.IGNORECASE or not items or str(items[0][0]) != "AT" or str(items[0][1]) != "AT_BEGINNING":
-        return None
-    return _prefixes_of(items[1:])
-
-
-def _prefixes_of(items: list) -> tuple[str, ...]:
-    """The literal starts of a parsed sequence (ending at the first item that is not a literal, a group or an
-    alternation)."""
-    text = ""
-    for op, argument in items:
-        kind = str(op)
-        if kind == "LITERAL":
-            text += chr(argument)
-            continue
-        if kind == "SUBPATTERN":
-            if argument[1] & re.IGNORECASE:  # (?i:...)
-                break
-            return tuple(text + inner for inner in _prefixes_of(list(argument[-1])))
-        if kind == "BRANCH":
-            return tuple(text + inner for branch in argument[1] for inner in _prefixes_of(list(branch)))
-        break
-    return (text,)
 
 
 def _three(dims: tuple[int, ...]) -> tuple[int, ...]:
