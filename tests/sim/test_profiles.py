@@ -89,3 +89,63 @@ def test_sim_lists_profiles_and_writes_the_a2l_of_the_one_it_serves(capsys, tmp_
     assert [s.number for s in read_xcp_config(load_a2l(path)).segments] == [0, 1]
     assert main(["sim", "--profile", "vendor-x"]) == 2
     assert "no slave profile 'vendor-x'" in capsys.readouterr().err
+
+
+CAN_EXTRAS = """MAX_BUS_LOAD 500000
+        MEASUREMENT_SPLIT_ALLOWED
+        TRANSPORT_LAYER_INSTANCE "CAN1"
+        /begin CAN_FD
+          MAX_DLC 8
+          CAN_FD_DATA_TRANSFER_BAUDRATE 4000000
+          SAMPLE_POINT 70   /* data phase */
+          BTL_CYCLES 20
+          SJW 4
+          SYNC_EDGE DUAL
+          SECONDARY_SAMPLE_POINT 75
+          TRANSCEIVER_DELAY_COMPENSATION ON
+        /end CAN_FD
+        MAX_DLC_REQUIRED"""
+REWRITTEN_TAGS = {"MAX_DLC_REQUIRED": 0, "OPTIONAL_TL_SUBCMD": 1}
+
+
+def _items(doc, keyword: str) -> tuple[list[str], list[str]]:
+    """The words of the XCP block ``keyword``'s own items, but those a profile rewrites, and of its CAN_FD."""
+    block = next(b for b in doc.module().children_named("IF_DATA") if b.name == "XCP").first(keyword)
+    words, skip = [], 0
+    for token in block.own_tokens:
+        text = doc.text(token)
+        if skip:
+            skip -= 1
+        elif text in REWRITTEN_TAGS:
+            skip = REWRITTEN_TAGS[text]
+        else:
+            words.append(text)
+    fd = block.first("CAN_FD")
+    return words, [doc.text(token) for token in fd.own_tokens] if fd is not None else []
+
+
+@pytest.mark.parametrize("name", ["large-packets", "daq-can-ids-variable", "motorola", "slow"])
+def test_a_profiles_a2l_keeps_every_transport_field_it_does_not_change(tmp_path, name):
+    """A profile writes its XCP_ON_CAN's MAX_DLC_REQUIRED, OPTIONAL_TL_SUBCMD, DAQ_LIST_CAN_ID and CAN FD's MAX_DLC
+    and data bit rate; SAMPLE_RATE, BTL_CYCLES, SJW, SYNC_EDGE (the demo's), MAX_BUS_LOAD, the rest of CAN_FD and an
+    XCP_ON_UDP_IP's own fields stay as the source says (the writer of the whole IF_DATA dropped them)."""
+    from session_helpers import demo_a2l_text
+
+    from workbench.sim.memory_map import HDS9
+    from workbench.sim.profile_a2l import profile_document
+
+    text = demo_a2l_text().replace("        MAX_DLC_REQUIRED\n", f"        {CAN_EXTRAS}\n", 1)
+    text = text.replace('ADDRESS "127.0.0.1"\n', 'ADDRESS "127.0.0.1"\n        MAX_BUS_LOAD 100000000\n', 1)
+    (tmp_path / "FLCU.a2l").write_text(text, encoding="utf-8")
+    source = load_a2l(tmp_path / "FLCU.a2l")
+    chosen, config = profile(name), read_xcp_config(source)
+    described = {t: chosen.parameters(xcp_parameters(source, config, t), t) for t in ("CAN", "UDP", "TCP")}
+    written = profile_document(source, described, chosen.memory_map(HDS9), name)
+    can, fd = _items(written, "XCP_ON_CAN")
+    assert can == _items(source, "XCP_ON_CAN")[0]
+    assert {"SAMPLE_RATE", "BTL_CYCLES", "SJW", "SYNC_EDGE", "MAX_BUS_LOAD", "MEASUREMENT_SPLIT_ALLOWED"} <= set(can)
+    assert _items(written, "XCP_ON_UDP_IP")[0][-2:] == ["MAX_BUS_LOAD", "100000000"]
+    assert fd == ([] if name != "large-packets" else [  # a classic CAN slave's A2L says no CAN FD
+        "MAX_DLC", "64", "CAN_FD_DATA_TRANSFER_BAUDRATE", "2000000", "SAMPLE_POINT", "70", "BTL_CYCLES", "20", "SJW",
+        "4", "SYNC_EDGE", "DUAL", "SECONDARY_SAMPLE_POINT", "75", "TRANSCEIVER_DELAY_COMPENSATION", "ON"])
+    assert read_xcp_config(written).can.max_dlc_required == described["CAN"].max_dlc_required

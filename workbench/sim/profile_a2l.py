@@ -4,7 +4,10 @@ Everything a master reads from the A2L to talk to the slave is derived from the 
 parameters, never written by hand: PROTOCOL_LAYER (byte order, granularity, MAX_CTO/MAX_DTO per
 transport, the commands the slave implements, its block modes, T1), DAQ (configuration type, MIN_DAQ,
 identification field, granularity, timestamps), PAG and the MEMORY_SEGMENTs of the calibration
-segments, PGM and XCP on CAN FD. The rest of the file stays as it is, byte for byte.
+segments, PGM and XCP on CAN's MAX_DLC_REQUIRED, OPTIONAL_TL_SUBCMD, DAQ_LIST_CAN_ID and CAN FD (MAX_DLC and
+data bit rate). Those items are written anew (:data:`_REWRITTEN`); the rest of the file stays as it is, byte for
+byte, the rest of IF_DATA XCP too (XCP_ON_CAN's SAMPLE_RATE, BTL_CYCLES, SJW, SYNC_EDGE, MAX_BUS_LOAD, the rest of
+CAN_FD, what an XCP_ON_UDP_IP adds, blocks of other transports, comments).
 """
 
 from __future__ import annotations
@@ -14,7 +17,8 @@ from dataclasses import replace
 from pathlib import Path
 
 from workbench.a2l import A2lDocument, XcpConfig, load_a2l_string, read_xcp_config
-from workbench.a2l.edits import Edit, Edits
+from workbench.a2l.document import Block
+from workbench.a2l.edits import Edit, Edits, cut_spans, indentation_of
 from workbench.a2l.xcp import (
     XcpAddressMapping,
     XcpCommunicationMode,
@@ -37,6 +41,17 @@ __all__ = ["profile_document"]
 
 _MANDATORY = {Cmd.CONNECT, Cmd.DISCONNECT, Cmd.GET_STATUS, Cmd.SYNCH}
 CAN_FD_DATA_BAUDRATE = 2_000_000
+# What a profile writes anew in IF_DATA XCP, per block: its tags (with the number of values after each) and its
+# child blocks; blocks named in _MERGED are edited item by item like this, the other child blocks replaced whole
+_REWRITTEN: dict[str, tuple[dict[str, int], tuple[str, ...]]] = {
+    "XCP": ({}, ("PROTOCOL_LAYER", "DAQ", "PAG", "PGM", "XCP_ON_CAN", "XCP_ON_UDP_IP", "XCP_ON_TCP_IP")),
+    "XCP_ON_CAN": ({"MAX_DLC_REQUIRED": 0, "OPTIONAL_TL_SUBCMD": 1},
+                   ("DAQ_LIST_CAN_ID", "CAN_FD", "PROTOCOL_LAYER", "DAQ", "PGM")),
+    "CAN_FD": ({"MAX_DLC": 1, "CAN_FD_DATA_TRANSFER_BAUDRATE": 1}, ()),
+    "XCP_ON_UDP_IP": ({}, ("PROTOCOL_LAYER", "DAQ", "PGM")),
+    "XCP_ON_TCP_IP": ({}, ("PROTOCOL_LAYER", "DAQ", "PGM")),
+}
+_MERGED = frozenset({"XCP_ON_CAN", "XCP_ON_UDP_IP", "XCP_ON_TCP_IP", "CAN_FD"})
 
 
 def profile_document(doc: A2lDocument, params: Mapping[str, XcpParameters], memory_map: MemoryMap,
@@ -55,12 +70,99 @@ def profile_document(doc: A2lDocument, params: Mapping[str, XcpParameters], memo
     module = doc.module()
     if_data = next(b for b in module.children_named("IF_DATA") if b.name in ("XCP", "XCPplus"))
     segments = _memory_segments(memory[0], described.segments)
-    edits = Edits([Edit(*if_data.span, _in_place(doc, if_data.span[0], format_if_data_xcp(described))),
+    edits = Edits([*_merge(doc, if_data, _if_data_block(format_if_data_xcp(described)), "XCP"),
                    Edit(*memory[0].block.span, _in_place(doc, memory[0].block.span[0], segments))])
     edits.extend(Edit(*m.block.span, b"") for m in memory[1:])
     data = edits.apply(doc.data)
     path = doc.path.with_name(f"{doc.path.stem}-{name}.a2l") if doc.path else Path(f"FLCU-{name}.a2l")
     return load_a2l_string(data.decode(doc.encoding), path)
+
+
+def _if_data_block(text: str) -> Block:
+    """``/begin IF_DATA XCP ... /end IF_DATA`` as a block of a document of its own (its items and spans)."""
+    doc = load_a2l_string(f'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n/begin MODULE M ""\n{text}\n/end MODULE\n'
+                          "/end PROJECT\n")
+    return next(b for b in doc.module().children_named("IF_DATA") if b.name == "XCP")
+
+
+def _merge(doc: A2lDocument, source: Block, written: Block, rules: str) -> list[Edit]:
+    """Edits that make ``source`` say what ``written`` (the writer's block of the profile) says in the items
+    :data:`_REWRITTEN` names for ``rules``, keeping every other item of ``source`` as it is."""
+    tags, blocks = _REWRITTEN[rules]
+    edits: list[Edit] = []
+    for tag, count in tags.items():
+        edits += _replace_items(doc, source, _tagged(source, tag, count),
+                                [(words, words) for words, _ in _tagged(written, tag, count)])
+    order = [child.keyword for child in written.children]
+    for keyword in blocks:
+        old, new = source.children_named(keyword), written.children_named(keyword)
+        if keyword in _MERGED and len(old) == len(new) == 1:
+            edits += _merge(doc, old[0], new[0], keyword)
+        elif len(old) == len(new) == 1:
+            if _words(old[0]) != _words(new[0]):  # the same said stays as written (comments, layout)
+                edits.append(Edit(*old[0].span, _in_place(doc, old[0].span[0], _reindented(new[0]))))
+        else:  # added, removed, or repeated (DAQ_LIST_CAN_ID): block by block
+            later = order[order.index(keyword) + 1:] if keyword in order else []
+            before = next((child for child in source.children if child.keyword in later), None)
+            edits += _replace_items(doc, source, [(_words(b), b.span) for b in old],
+                                    [(_words(b), _reindented(b)) for b in new], before)
+    return edits
+
+
+def _tagged(block: Block, tag: str, count: int) -> list[tuple[str, tuple[int, int]]]:
+    """``tag`` with the ``count`` values after it, each time ``block`` has it: (their words, their byte span)."""
+    doc, own = block.doc, block.own_tokens
+    return [(" ".join(doc.text(t) for t in own[at:at + count + 1]),
+             (doc.tokens.span(token)[0], doc.tokens.span(own[at + count])[1]))
+            for at, token in enumerate(own) if doc.text(token) == tag and at + count < len(own)]
+
+
+def _replace_items(doc: A2lDocument, block: Block, old: list[tuple[str, tuple[int, int]]],
+                   new: list[tuple[str, str]], before: Block | None = None) -> list[Edit]:
+    """Cut the items of ``old`` (words, span) whose words ``new`` (words, text) lacks, add the texts of those of
+    ``new`` that ``old`` lacks: on the lines after the last of ``old``, else before ``before`` (a child block of
+    ``block``), else before ``block``'s ``/end``."""
+    old_words, new_words = {words for words, _ in old}, {words for words, _ in new}
+    edits = cut_spans(doc, [span for words, span in old if words not in new_words])
+    added = [text for words, text in new if words not in old_words]
+    if added:
+        data, newline, encoding = doc.data, doc.source.newline, doc.encoding
+        if old:
+            line_end = data.find(b"\n", old[-1][1][1])
+            at = len(data) if line_end < 0 else line_end + 1
+        else:
+            anchor = before.span[0] if before is not None else doc.tokens.span(block.end_token)[0]
+            at = data.rfind(b"\n", 0, anchor) + 1
+        indent = (indentation_of(data, old[0][1][0]) if old else _item_indent(block)).decode(encoding)
+        text = "".join(indent + item.replace("\n", newline + indent) + newline for item in added)
+        edits.append(Edit(at, at, text.encode(encoding)))
+    return edits
+
+
+def _item_indent(block: Block) -> bytes:
+    """How the items of ``block`` are indented: as its second item (the first may share the ``/begin`` line), else
+    two spaces more than the block."""
+    doc = block.doc
+    starts = sorted([doc.tokens.span(token)[0] for token in block.own_tokens] + [c.span[0] for c in block.children])
+    on_own_line = [start for start in starts if doc.data.rfind(b"\n", 0, start) > block.span[0]]
+    if on_own_line:
+        return indentation_of(doc.data, on_own_line[0])
+    return indentation_of(doc.data, block.span[0]) + b"  "
+
+
+def _words(block: Block) -> str:
+    """A block's tokens, one space apart: two blocks with the same words say the same, however laid out."""
+    doc = block.doc
+    return " ".join(doc.text(token) for token in range(block.begin_token, block.end_token + 2))
+
+
+def _reindented(block: Block) -> str:
+    """The text of ``block`` with its lines indented relative to its first."""
+    doc = block.doc
+    start, end = block.span
+    indent = indentation_of(doc.data, start).decode(doc.encoding)
+    lines = doc.data[start:end].decode(doc.encoding).split("\n")
+    return "\n".join([lines[0], *(line[len(indent):] if line.startswith(indent) else line for line in lines[1:])])
 
 
 def _in_place(doc: A2lDocument, offset: int, text: str) -> bytes:
