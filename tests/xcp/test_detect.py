@@ -93,10 +93,33 @@ def test_the_slave_answers_on_its_command_id_too_and_only_xcp_requests(channel):
             answer = bus.recv(0.5)
             return bytes(answer.data) if answer is not None else None
 
+        assert ask(get_slave_id_request(SlaveIdMode.ECHO)) == b"\xffXCP\xf0\x07\x00\x00"
         assert ask(get_slave_id_request(SlaveIdMode.INVERSE_ECHO)) == b"\xff\xa7\xbc\xaf\xf0\x07\x00\x00"
         assert ask(b"\xf2\xffXCP\x02") is None
         assert ask(b"\xf2\xffXYZ\x00", BROADCAST.id) is None
         assert ask(b"\xf2\xfe\x00\x00") is None  # GET_DAQ_ID before CONNECT
+
+
+def test_the_slave_confirms_by_inverse_echo_only_after_an_echo(channel):
+    """As ETAS's XCP slave (XcpCan_CmdGetSlaveId): an inverse echo is answered only after an echo, once; a power
+    cycle forgets the echo. The simulator answered every inverse echo."""
+    inverse = get_slave_id_request(SlaveIdMode.INVERSE_ECHO).ljust(8, b"\0")
+    with serve(channel, INTEL) as simulator, can.Bus(interface="virtual", channel=channel) as bus:
+        def answers(*requests: bytes) -> list[bytes | None]:
+            found = []
+            for data in requests:
+                bus.send(can.Message(arbitration_id=BROADCAST.id, is_extended_id=False, data=data))
+                answer = bus.recv(0.3)
+                found.append(bytes(answer.data[:4]) if answer is not None else None)
+            return found
+
+        assert answers(inverse) == [None]
+        assert answers(get_slave_id_request(SlaveIdMode.ECHO).ljust(8, b"\0"), inverse, inverse) == [
+            b"\xffXCP", b"\xff\xa7\xbc\xaf", None]
+        answers(get_slave_id_request(SlaveIdMode.ECHO).ljust(8, b"\0"))
+        simulator.power_off()
+        simulator.power_on()
+        assert answers(inverse) == [None]
 
 
 def test_parse_reads_the_identifier_in_the_order_that_makes_one():

@@ -122,7 +122,9 @@ class CanXcpPort(XcpPort):
     """XCP on CAN on the ``CAN1`` role of ``buses``: commands on CAN_ID_MASTER, responses and DTOs on CAN_ID_SLAVE.
 
     GET_SLAVE_ID is answered on CAN_ID_BROADCAST (when the parameters name one) and on CAN_ID_MASTER, connected or
-    not; a request without the ``XCP`` pattern or with another mode goes unanswered, as a slave's CAN driver does.
+    not; a request without the ``XCP`` pattern or with another mode goes unanswered, as a slave's CAN driver does,
+    and so does an inverse echo (mode 1) without an echo (mode 0) answered before it (the master identifies by echo,
+    then confirms by inverse echo; ETAS's XCP slave answers so).
     GET_DAQ_ID answers in a session: a DAQ list's DTOs go on its id of :attr:`XcpParameters.daq_can_ids`
     (DAQ_LIST_CAN_ID FIXED), a list of :attr:`XcpParameters.variable_daq_can_ids` (VARIABLE) on the id
     SET_DAQ_ID last gave it since power-on (before: the one stated there; RAM, as a real slave's), the others' on
@@ -146,8 +148,9 @@ class CanXcpPort(XcpPort):
         self.broadcast_id = ecu.params.can_id_broadcast
         self.daq_ids: dict[int, CanId] = {}  # where DTOs go now
         self.variable_lists = frozenset(number for number, _ in ecu.params.variable_daq_can_ids)
-        self._forget_daq_ids()
-        ecu.on_power_on.append(self._forget_daq_ids)
+        self._echoed = False  # GET_SLAVE_ID's echo answered, its inverse echo not yet
+        self._power_on()
+        ecu.on_power_on.append(self._power_on)
         self.max_dlc = MAX_FD_DLC if ecu.params.can_fd else MAX_DLC
         self._short_frame_seen = False
 
@@ -156,13 +159,15 @@ class CanXcpPort(XcpPort):
 
     def close(self) -> None:
         super().close()
-        if self._forget_daq_ids in self.ecu.on_power_on:
-            self.ecu.on_power_on.remove(self._forget_daq_ids)
+        if self._power_on in self.ecu.on_power_on:
+            self.ecu.on_power_on.remove(self._power_on)
 
-    def _forget_daq_ids(self) -> None:
-        """The ids the slave starts with (power-on): SET_DAQ_ID's are RAM, as a real slave's."""
+    def _power_on(self) -> None:
+        """What the transport layer keeps in RAM, as at power-on: the DAQ lists' ids stated (SET_DAQ_ID's are
+        forgotten, as a real slave's), no GET_SLAVE_ID echo."""
         params = self.ecu.params
         self.daq_ids = dict(params.daq_can_ids) | dict(params.variable_daq_can_ids)
+        self._echoed = False
 
     def accepts(self, message: can.Message) -> bool:
         return self.master_id.matches(message) or (self.broadcast_id is not None and self.broadcast_id.matches(message))
@@ -189,8 +194,12 @@ class CanXcpPort(XcpPort):
         if cto[:2] == _GET_SLAVE_ID:
             if cto[2:5] != SLAVE_ID_ECHO or len(cto) < 6 or cto[5] not in tuple(SlaveIdMode):
                 return []
+            mode = SlaveIdMode(cto[5])
+            if mode is SlaveIdMode.INVERSE_ECHO and not self._echoed:
+                return []  # confirms only what an echo identified, once (ETAS's slave; the master sends both)
+            self._echoed = mode is SlaveIdMode.ECHO
             answer_id = struct.pack(params.byte_order + "I", self.master_id.a2l)
-            return [bytes((PID_RES,)) + SlaveIdMode(cto[5]).pattern + answer_id]
+            return [bytes((PID_RES,)) + mode.pattern + answer_id]
         if not self.ecu.slave.connected:
             return []
         if cto[1] not in (CanCmd.GET_DAQ_ID, CanCmd.SET_DAQ_ID) or cto[1] not in params.can_sub_commands:
