@@ -45,6 +45,31 @@ def test_filters_by_kind_function_and_unit(browser):
     assert "zsRailPressure" in rows and "xsDC" not in rows and all(not n.startswith("xs") or "Press" in n for n in rows)
 
 
+def test_the_function_filter_finds_a_function_by_typing_any_part_of_its_name(browser, qtbot):
+    """A real ECU's A2L has thousands of FUNCTIONs: typed, in any case, the list narrows to those containing it."""
+    box = browser.function_box
+    field, completer = box.lineEdit(), box.completer()
+    field.selectAll()
+    qtbot.keyClicks(field, "CTRL")
+    qtbot.waitUntil(completer.popup().isVisible)
+    listed = completer.completionModel()
+    assert [listed.index(row, 0).data() for row in range(listed.rowCount())] == ["PRVCtrl", "TankCtrl"]
+    qtbot.keyClick(completer.popup(), Qt.Key_Down)  # the first, taken with Enter
+    qtbot.keyClick(completer.popup(), Qt.Key_Return)
+    assert box.currentData() == "PRVCtrl" and field.text() == "PRVCtrl" and "xsSWITCH_TANK_THR" not in shown(browser)
+    field.selectAll()
+    qtbot.keyClicks(field, "tankc")  # Enter on the only one left
+    qtbot.keyClick(field, Qt.Key_Return)
+    tank_ctrl = shown(browser)
+    assert box.currentData() == "TankCtrl" and "xsSWITCH_TANK_THR" in tank_ctrl
+    field.setText("no such function")  # names none: the field shows the chosen one again when left
+    field.editingFinished.emit()
+    assert field.text() == "TankCtrl" and shown(browser) == tank_ctrl
+    field.setText("ALL")
+    field.editingFinished.emit()
+    assert box.currentIndex() == 0 and len(shown(browser)) > len(tank_ctrl)
+
+
 def test_a_drag_carries_the_selected_names_and_a_double_click_asks_to_open(browser, qtbot):
     browser.search.setText("zsRail*")  # a glob: the whole name
     row = next(r for r in range(browser.model.rowCount()) if browser.model.index(r, 0).data() == "zsRailPressure")

@@ -20,6 +20,7 @@ from workbench.gui import theme
 from workbench.gui.models.variables import ALL, KIND_LABELS, Variable, VariableModel
 from workbench.gui.widgets.columns import refit_columns, share_columns
 from workbench.gui.widgets.names import NameDelegate
+from workbench.gui.widgets.search_combo import SearchCombo
 
 __all__ = ["VariableBrowser"]
 
@@ -41,7 +42,8 @@ class VariableBrowser(QWidget):
         self.search.installEventFilter(self)
         layout.addWidget(self.search)
         filters = QGridLayout()
-        self.kind_box, self.function_box, self.unit_box = QComboBox(), QComboBox(), QComboBox()
+        # a real ECU's A2L has thousands of FUNCTIONs and hundreds of units: found by typing a part of the name
+        self.kind_box, self.function_box, self.unit_box = QComboBox(), SearchCombo(), SearchCombo()
         for column, (label, box, key) in enumerate((("kind", self.kind_box, "kind"),
                                                     ("function", self.function_box, "function"),
                                                     ("unit", self.unit_box, "unit"))):
@@ -50,7 +52,7 @@ class VariableBrowser(QWidget):
             filters.addWidget(caption, 0, column)
             box.setSizeAdjustPolicy(QComboBox.AdjustToMinimumContentsLengthWithIcon)  # a narrow dock: no cut
             box.setMinimumContentsLength(4)
-            box.setToolTip(f"show one {label} only")
+            box.setToolTip(f"show one {label} only" + ("" if box is self.kind_box else ": type any part of its name"))
             filters.addWidget(box, 1, column)
             filters.setColumnStretch(column, 1)
             box.currentIndexChanged.connect(lambda _, b=box, k=key: self.model.set_filters(**{k: b.currentData()}))
@@ -102,11 +104,14 @@ class VariableBrowser(QWidget):
             box.setCurrentIndex(max(box.findData(value), 0))
 
     def _fill(self, box: QComboBox, values: list[str], labels: dict | None = None) -> None:
+        entries = [("all", ALL), *(((labels or {}).get(value, value), value) for value in values)]
+        if isinstance(box, SearchCombo):
+            box.set_entries(entries)
+            return
         box.blockSignals(True)
         box.clear()
-        box.addItem("all", ALL)
-        for value in values:
-            box.addItem((labels or {}).get(value, value), value)
+        for text, value in entries:
+            box.addItem(text, value)
         box.blockSignals(False)  # "all": as the model starts its rows
 
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:
