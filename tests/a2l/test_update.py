@@ -132,6 +132,8 @@ def test_every_addr_epk_stays_where_the_elf_holds_the_epk(second, expected, kind
     found = [(f.kind, f.line) for f in result.report.findings if f.name == "ADDR_EPK"]
     line = text[:text.index(f"ADDR_EPK 0x{second:X}".encode())].count(b"\n") + 1
     assert found == ([(kind, line)] if kind else [])
+    moved = f"; ADDR_EPK 0x{second:X} -> 0x{expected:X} (where FLCU.elf holds the EPK in APPLICATIVE)"
+    assert result.report.summary("out.a2l").endswith(moved) == (kind == "epk-updated")  # said without -v
 
 
 def test_missing_symbols_are_kept_and_reported_by_default(source, debug):

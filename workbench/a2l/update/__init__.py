@@ -48,10 +48,11 @@ class UpdateReport(Report):
 
     def summary(self, output: str | Path) -> str:
         """The one line after ``output`` is written, per block type (``wrote OUT: MEASUREMENT 1 not-found, 6
-        updated``), as the CLI and the GUI say it."""
+        updated``), then MOD_PAR's EPK and ADDR_EPKs changed (``; EPK '…' -> '…'``), as the CLI and the GUI say it."""
         parts = [f"{keyword} " + ", ".join(f"{count} {outcome}" for outcome, count in sorted(tally.items()))
                  for keyword, tally in self.tally.items()]
-        return f"wrote {output}: " + ("; ".join(parts) if parts else "no objects")
+        epk = [f.message for f in self.findings if f.kind in ("epk-updated", "epk-inserted")]  # a new build's, at once
+        return f"wrote {output}: " + "; ".join((parts or ["no objects"]) + epk)
 
 
 @dataclass
