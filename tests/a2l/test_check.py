@@ -7,6 +7,7 @@ from workbench import demo
 from workbench.a2l import load_a2l_string
 from workbench.a2l.check import check_document, check_file
 from workbench.elf.debugdata import DebugData
+from workbench.image import load_image
 
 ELF = Path(__file__).parents[1] / "elf" / "fixtures" / "types_dwarf5.elf"
 
@@ -280,7 +281,8 @@ def test_the_elf_must_hold_the_epk_at_every_addr_epk():
     text = demo.a2l().read_text(encoding="utf-8")
     assert text.count("ADDR_EPK 0x840008") == 1
     line = text[:text.index("ADDR_EPK 0x840008")].count("\n") + 1
-    edited = text.replace("ADDR_EPK 0x840008", "ADDR_EPK 0x840010\n      ADDR_EPK 0x900000\n      ADDR_EPK 0x40030000")
+    edited = text.replace("ADDR_EPK 0x840008", "ADDR_EPK 0x840010\n      ADDR_EPK 0x900000\n      ADDR_EPK 0x40030000\n"
+                          "      ADDR_EPK 0x40000000")  # the last in CAL RAM: compared where CAL ROM holds it
     with DebugData(demo.elf(), use_cache=False) as debug:
         report = check_document(load_a2l_string(edited, "FLCU.a2l"), debug)
         moved = [(f.severity.name, f.kind, f.line, f.message) for f in report.findings if f.name == "ADDR_EPK"]
@@ -294,6 +296,11 @@ def test_the_elf_must_hold_the_epk_at_every_addr_epk():
             ("INFO", "epk-not-in-elf", line + 2, "ADDR_EPK 0x40030000: FLCU.elf holds no initial data there (memory it "
              "does not initialise): the EPK cannot be compared"),
         ]
+        image = ("FLCU.s19", load_image(demo.s19()))
+        in_image = check_document(load_a2l_string(edited, "FLCU.a2l"), image=image)
+        assert [(f.kind, f.line) for f in in_image.findings if f.name == "ADDR_EPK"] == [
+            ("epk-differs", line), ("epk-same-segment", line + 1), ("epk-not-in-image", line + 1),
+            ("epk-not-in-image", line + 2)]
         other = check_document(load_a2l_string(text.replace('EPK "10300020250301"', 'EPK "10300020259999"'),
                                                "FLCU.a2l"), debug)
         held = (" FLCU.elf holds '10300020250301' there, MOD_PAR's EPK is '10300020259999' (an A2L of another build, "

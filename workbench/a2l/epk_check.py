@@ -6,7 +6,9 @@ one segment are a warning: a part keeps one EPK, so one of them is likely stale 
 move). With the ELF, the bytes at every ADDR_EPK must be MOD_PAR's EPK (ended by NUL, padding or the section's
 end; a RAM section's initial bytes count at their load address too): an A2L whose EPK the build does not put there
 fails every connect, or passes with another build's addresses. Flash (ROM, EEPROM) the ELF puts nothing at stays
-erased: an error too; RAM it does not initialise (``.bss``) is an info: the EPK cannot be compared there. A flash
+erased: an error too; RAM it does not initialise (``.bss``) is an info: the EPK cannot be compared there. An ADDR_EPK
+in CAL RAM is compared where its IF_DATA XCP ADDRESS_MAPPING loads it from (CAL ROM), as the sync and the offline
+calibration read it. A flash
 file (s19/hex) given to the check must hold the EPK at every ADDR_EPK it has bytes at (an s19 of the calibration
 data holds CALIB's only: the others are an info).
 """
@@ -19,10 +21,11 @@ from workbench.a2l.document import A2lDocument, Block
 from workbench.a2l.epk import holds_epk
 from workbench.a2l.reports import finding_at
 from workbench.elf.debugdata import DebugData
-from workbench.errors import epk_text
+from workbench.errors import A2lParseError, epk_text
 from workbench.findings import Report, Severity
 
 if TYPE_CHECKING:
+    from workbench.a2l.xcp import XcpAddressMapping
     from workbench.image import MemoryImage
 
 __all__ = ["check_epk_addresses"]
@@ -45,6 +48,7 @@ def check_epk_addresses(doc: A2lDocument, module: Block, debug: DebugData | None
     text = epk.encode("latin-1") if epk else b""
     has_segments = bool(doc.memory_segments(module.name))
     first_in: dict[str, int] = {}  # segment name -> the first ADDR_EPK's token there
+    mappings: list[XcpAddressMapping] | None = None  # read when a file is compared
 
     def add(place, kind: str, message: str, severity: Severity) -> None:
         report.add(finding_at(doc, place.token, kind, "ADDR_EPK", f"ADDR_EPK 0x{place.address:X}: {message}",
@@ -67,33 +71,60 @@ def check_epk_addresses(doc: A2lDocument, module: Block, debug: DebugData | None
                 add(place, "epk-same-segment", f"lies in {segment.name}, {again} the ADDR_EPK at line "
                     f"{doc.token_position(first)[1]}: a part of the software keeps one EPK, so one of them is likely "
                     "stale", Severity.WARNING)
-        if debug is not None and text:
-            _compare_with_elf(place, text, epk, debug, add)
-        if image is not None and text:
-            _compare_with_image(place, text, epk, *image, add)
+        if (debug is not None or image is not None) and text:
+            if mappings is None:
+                mappings = _address_mappings(doc, module)
+            where = _where(place.address, mappings)
+            if debug is not None:
+                _compare_with_elf(place, where, text, epk, debug, add)
+            if image is not None:
+                _compare_with_image(place, where, text, epk, *image, add)
 
 
-def _compare_with_elf(place, text: bytes, epk: str, debug: DebugData, add) -> None:
-    raw = _initial_bytes(debug, place.address, len(text) + 1) or _initial_bytes(debug, place.address, len(text))
-    if raw is None:
-        if place.segment is not None and place.segment.memory_type in _PROGRAMMED:
-            add(place, "epk-differs", f"{debug.path.name} puts nothing there (the {place.segment.memory_type} stays "
-                f"erased when this build is flashed), MOD_PAR's EPK is {epk_text(epk)}", Severity.ERROR)
-        else:
-            add(place, "epk-not-in-elf", f"{debug.path.name} holds no initial data there (memory it does not "
-                "initialise): the EPK cannot be compared", Severity.INFO)
-    elif not holds_epk(raw, text):
-        _differs(place, raw, text, epk, debug.path.name, add)
+def _address_mappings(doc: A2lDocument, module: Block) -> list[XcpAddressMapping]:
+    """The IF_DATA XCP SEGMENTs' ADDRESS_MAPPINGs (CAL RAM onto the CAL ROM it is loaded from); none without XCP."""
+    from workbench.a2l.xcp import read_xcp_config
+
+    try:
+        return [mapping for segment in read_xcp_config(doc, module.name).segments
+                for mapping in segment.address_mappings]
+    except A2lParseError:  # no IF_DATA XCP, or one the check reports elsewhere
+        return []
 
 
-def _compare_with_image(place, text: bytes, epk: str, name: str, image: MemoryImage, add) -> None:
-    if image.crop(place.address, place.address + len(text)).size < len(text):
-        add(place, "epk-not-in-image", f"{name} has no bytes there (or not all {len(text)}): not compared",
-            Severity.INFO)
-        return
-    raw = image.read(place.address, len(text) + 1)  # the byte after it: erased (FF) where the file ends
-    if not holds_epk(raw, text):
-        _differs(place, raw, text, epk, name, add)
+def _where(address: int, mappings: list[XcpAddressMapping]) -> list[int]:
+    """Where a file holds the bytes of ``address``: there, then where an ADDRESS_MAPPING loads it from."""
+    return [address] + [address - m.source + m.destination for m in mappings
+                        if m.source <= address < m.source + m.length]
+
+
+def _mapped(place, at: int) -> str:
+    return "" if at == place.address else f" (at 0x{at:X}, where the ADDRESS_MAPPING loads it from)"
+
+
+def _compare_with_elf(place, where: list[int], text: bytes, epk: str, debug: DebugData, add) -> None:
+    for at in where:
+        raw = _initial_bytes(debug, at, len(text) + 1) or _initial_bytes(debug, at, len(text))
+        if raw is not None:
+            if not holds_epk(raw, text):
+                _differs(place, raw, text, epk, debug.path.name + _mapped(place, at), add)
+            return
+    if place.segment is not None and place.segment.memory_type in _PROGRAMMED:
+        add(place, "epk-differs", f"{debug.path.name} puts nothing there (the {place.segment.memory_type} stays "
+            f"erased when this build is flashed), MOD_PAR's EPK is {epk_text(epk)}", Severity.ERROR)
+    else:
+        add(place, "epk-not-in-elf", f"{debug.path.name} holds no initial data there (memory it does not "
+            "initialise): the EPK cannot be compared", Severity.INFO)
+
+
+def _compare_with_image(place, where: list[int], text: bytes, epk: str, name: str, image: MemoryImage, add) -> None:
+    for at in where:
+        if image.crop(at, at + len(text)).size == len(text):
+            raw = image.read(at, len(text) + 1)  # the byte after it: erased (FF) where the file ends
+            if not holds_epk(raw, text):
+                _differs(place, raw, text, epk, name + _mapped(place, at), add)
+            return
+    add(place, "epk-not-in-image", f"{name} has no bytes there (or not all {len(text)}): not compared", Severity.INFO)
 
 
 def _differs(place, raw: bytes, text: bytes, epk: str, name: str, add) -> None:
