@@ -24,6 +24,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 from PySide6.QtCore import QObject, QTimer, Signal
@@ -177,19 +178,32 @@ class EcuController(QObject):
             return f"the connection to the ECU was lost at {clock(self.lost_error.when)} (reconnecting)"
         return "not connected"
 
-    def call(self, method: str, *args, on_done: Callable[[Any], None] | None = None,
+    def call(self, method: str | Callable[..., Any], *args, on_done: Callable[[Any], None] | None = None,
              on_error: Callable[[BaseException], None] | None = None,
              on_lost: Callable[[BaseException], None] | None = None, **kwargs) -> Task | None:
-        """Run ``session.<method>(*args, **kwargs)`` in the pool; errors go to ``on_error`` or ``failed``
-        (a lost connection to :meth:`connection_lost` instead, and to ``on_lost`` as a session closed meanwhile)."""
+        """:meth:`task`, started (None: no session)."""
+        task = self.task(method, *args, on_done=on_done, on_error=on_error, on_lost=on_lost, **kwargs)
+        return task.start() if task is not None else None
+
+    def task(self, method: str | Callable[..., Any], *args, on_done: Callable[[Any], None] | None = None,
+             on_error: Callable[[BaseException], None] | None = None,
+             on_lost: Callable[[BaseException], None] | None = None, progress: bool = False,
+             **kwargs) -> Task | None:
+        """A task (to start) that runs ``session.<method>(*args, **kwargs)``, or ``method(session, *args, **kwargs)``
+        (a library function of the session, such as :func:`workbench.sync.sync_compare`), in the pool; None without
+        a session. Errors go to ``on_error`` or ``failed``; a lost connection to :meth:`connection_lost` instead;
+        any error of a session closed meanwhile only to ``on_lost``: the user closed it (Disconnect, the window),
+        what that made fail is no error to show."""
         session = self.session
         if session is None:
             return None
         failed = on_error or self.failed.emit
+        function = getattr(session, method) if isinstance(method, str) else partial(method, session)
+        what = method if isinstance(method, str) else method.__name__
 
         def error(exc: BaseException) -> None:
             if self.session is not session:  # closed (or lost) under the call: its failure is no news
-                log.debug("%s on a session closed meanwhile: %s", method, exc)
+                log.debug("%s on a session closed meanwhile: %s", what, exc)
                 if on_lost is not None:
                     on_lost(exc)
             elif isinstance(exc, ConnectionLostError):
@@ -199,7 +213,11 @@ class EcuController(QObject):
             else:
                 failed(exc)
 
-        return run_task(getattr(session, method), *args, on_done=on_done, on_error=error, **kwargs)
+        task = Task(function, *args, progress=progress, **kwargs)
+        if on_done is not None:
+            task.succeeded.connect(on_done)
+        task.failed.connect(error)
+        return task
 
     # --- a lost connection --------------------------------------------------------------------------
 

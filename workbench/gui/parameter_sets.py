@@ -292,9 +292,14 @@ class ParameterSets(QObject):
         return self._run(function, args, "comparing" if progress else None, show)
 
     def _run(self, function, args, label: str | None, on_done, on_error=None) -> Task:
-        task = Task(function, *args, progress=label is not None)
-        task.succeeded.connect(on_done)
-        task.failed.connect(on_error or self.window.show_error)
+        on_error = on_error or self.window.show_error
+        if args and args[0] is not None and args[0] is self.session:  # the ECU's: not a failure once the user closed it
+            task = self.window.controller.task(function, *args[1:], on_done=on_done, on_error=on_error,
+                                               progress=label is not None)
+        else:
+            task = Task(function, *args, progress=label is not None)
+            task.succeeded.connect(on_done)
+            task.failed.connect(on_error)
         if label is not None:
             self.progress = _progress_dialog(self.window, task, label)
         return task.start()

@@ -14,7 +14,7 @@ from PySide6.QtWidgets import QFileDialog, QMessageBox
 
 from workbench.errors import InputError, XcpCommandError
 from workbench.gui.acquisition import DaqAcquisition, RecordRequest
-from workbench.gui.ecu import Connected
+from workbench.gui.ecu import Connected, NotWrittenError
 from workbench.gui.widgets.connection_dialog import ConnectionDialog
 from workbench.gui.widgets.epk_dialog import EpkChoice, EpkDialog
 from workbench.gui.widgets.flash_dialog import FlashDialog
@@ -253,15 +253,20 @@ class EcuWindowActions:
             editor.reload()
         self._start_measuring(check_cache=False)
 
-    def check_cache(self) -> Task:
+    def check_cache(self) -> Task | None:
         """Compare the ECU with the project's s19 as edited offline (thesis figure 39: checksums first, objects after);
-        when they differ, ask whether to download the file's values or upload the ECU's."""
+        when they differ, ask whether to download the file's values or upload the ECU's (not when the session closed
+        meanwhile: nothing to ask of it)."""
         from workbench.sync import sync_compare
 
-        task = Task(sync_compare, self.controller.session, self.offline_image.reference())  # offline edits too
-        task.succeeded.connect(self._cache_compared)
-        task.failed.connect(self.show_error)
-        return task.start()
+        session = self.controller.session
+
+        def compared(report) -> None:
+            if self.controller.session is session:
+                self._cache_compared(report)
+
+        return self.controller.call(sync_compare, self.offline_image.reference(),  # offline edits too
+                                    on_done=compared, on_error=self.show_error)
 
     def _cache_compared(self, report) -> None:
         self.sync_report = report
@@ -282,10 +287,9 @@ class EcuWindowActions:
             self.statusBar().showMessage(f"{report.summary()}: kept the ECU's values, nothing written", 15000)
             return
         if choice is SyncChoice.DOWNLOAD:
-            task = Task(sync_download, self.controller.session, report, progress=True)
-            task.succeeded.connect(lambda _: [editor.reload() for editor in self.editors.values()])
-            task.failed.connect(self.show_error)
-            task.start()
+            if self.controller.call(sync_download, report, progress=True, on_error=self.show_error,
+                                    on_done=lambda _: [editor.reload() for editor in self.editors.values()]) is None:
+                self.show_error(NotWrittenError(f"nothing downloaded: {self.controller.offline_reason}"))
             return
         reference = Path(report.reference.label)
         path, _ = QFileDialog.getSaveFileName(self, "Upload: the ECU's calibrations into",
