@@ -7,22 +7,17 @@ import time
 
 import numpy as np
 import pytest
+from daq_samples import collect_until, samples
 from session_helpers import FAST
 from xcp_commands import CommandLog
 
 from workbench.errors import InputError
 
 
-def collect(live, seconds: float) -> list:
-    batches, deadline = [], time.monotonic() + seconds
-    while time.monotonic() < deadline:
-        batches += live.read(0.05)
-    return batches
-
-
 def test_each_signal_is_sampled_on_its_a2l_event(ecu):
     with ecu.measure(["zsRailPressure", "xsDC", "csPCM_TO_FLCU_002_TargetRailPressure"]) as live:
-        batches = collect(live, 0.8)
+        batches = collect_until(live, lambda got: samples(b for b in got if b.event_name == "Task100ms") > 5
+                                and {b.event_name for b in got} == {"Task4ms", "Task50ms", "Task100ms"})
     by_event = {}
     for batch in batches:
         by_event.setdefault(batch.event_name, []).append(batch)
@@ -37,7 +32,7 @@ def test_each_signal_is_sampled_on_its_a2l_event(ecu):
 
 def test_an_event_named_by_the_user_takes_every_signal(ecu):
     with ecu.measure(["zsRailPressure", "xsDC", "zsSensVolt"], event="Task100ms") as live:
-        batches = collect(live, 0.5)
+        batches = collect_until(live, lambda got: samples(got) > 3)
     assert {b.event_name for b in batches} == {"Task100ms"}
     assert batches[-1].values["zsSensVolt"].shape[1:] == (4,)
     with pytest.raises(InputError, match="no DAQ event 'Task7ms'"):
@@ -64,7 +59,7 @@ def test_one_daq_measurement_at_a_time(ecu):
         with pytest.raises(InputError, match="a DAQ measurement is running"):
             ecu.measure(["xsDC"]).start()
     with ecu.measure(["xsDC"]) as live:  # after the first stopped, a new one may start
-        assert collect(live, 0.2)
+        assert collect_until(live, samples)
 
 
 def test_curves_and_maps_are_polled_not_sampled(ecu):
@@ -77,9 +72,10 @@ def test_a_value_calibration_is_sampled_as_a_measurement_would_be(ecu):
     """As CANape measures a calibration (XCPlite gives its stack parameters a DAQ_EVENT and writes its measured arrays
     as VAL_BLKs): the value as the ECU holds it, converted, on the event named."""
     with ecu.measure(["xsSWITCH_TANK_THR", "zsRailPressure"], event="Task50ms") as live:
-        before = np.concatenate([b.values["xsSWITCH_TANK_THR"] for b in collect(live, 0.2)])
+        before = collect_until(live, lambda got: samples(got) > 2)
         ecu.write("xsSWITCH_TANK_THR", 21.0)
-        after = np.concatenate([b.values["xsSWITCH_TANK_THR"] for b in collect(live, 0.3)])
+        after = collect_until(live, lambda got: any(b.values["xsSWITCH_TANK_THR"][-1] == 21.0 for b in got))
+        before, after = (np.concatenate([b.values["xsSWITCH_TANK_THR"] for b in read]) for read in (before, after))
     assert set(before) == {20.0} and after[-1] == 21.0
 
 
@@ -88,7 +84,7 @@ def test_closing_the_session_stops_daq(sim, channel):
 
     session = Session.open(interface="virtual", channel=channel, timeouts=FAST)
     live = session.measure(["zsRailPressure"]).start()
-    collect(live, 0.1)
+    collect_until(live, samples)
     session.close()
     assert not live.running
     assert not any(daq.running for daq in sim.ecu.slave.daq.lists)
@@ -98,7 +94,7 @@ def test_a_prescaler_the_ecu_does_not_offer_is_refused(ecu):
     with pytest.raises(InputError, match="no prescaler"):
         ecu.measure(["xsDC"], prescaler=2).start()
     with ecu.measure(["xsDC"]) as live:  # nothing was left half configured
-        assert collect(live, 0.2)
+        assert collect_until(live, samples)
 
 
 WAIT_S = 10.0  # a read's timeout that a loaded machine never comes near when nothing waits for it
@@ -109,7 +105,7 @@ def test_a_session_whose_ecu_vanished_says_so_closes_quickly_and_frees_the_bus(s
 
     session = Session.open(interface="virtual", channel=channel, timeouts=FAST)
     live = session.measure(["zsRailPressure"]).start()
-    collect(live, 0.1)
+    collect_until(live, samples)
     sim.power_off()
     with pytest.raises(ConnectionLostError, match="XCP on CAN .*: nothing from the ECU for"):
         session.read("xsDC")  # the DTOs stopped: said by the read that notices it, within max(T1, 3 periods)
@@ -160,7 +156,7 @@ def test_the_dtos_are_read_as_the_ecu_reports_them_not_as_its_a2l_says(tmp_path,
     with Session.open(a2l, interface="virtual", channel=channel, timeouts=FAST) as ecu:
         assert ecu.config.daq.identification_field == "RELATIVE_BYTE"
         with ecu.measure(["zsRailPressure", "xsDC"]) as live:
-            batches = collect(live, 0.3)
+            batches = collect_until(live, lambda got: samples(got) > 20)
         assert live.stream.plan.identification_field == "ABSOLUTE"
         assert {batch.event_name for batch in batches} >= {"Task4ms"} and live.stats.lost == 0
         assert live.stats.unknown == 0  # every DTO was a sample of the plan's lists

@@ -7,6 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from daq_samples import collect_until, samples
 from xcp_helpers import FAST, serve
 
 from workbench.elf import ElfSymbols
@@ -15,13 +16,6 @@ from workbench.sim.demo_ecu import build_demo_ecu
 from workbench.sim.profiles import SlaveProfile
 from workbench.xcp.daq import DaqSignal, DaqStream, plan_daq
 from workbench.xcp_protocol import Cmd
-
-
-def collect(stream, seconds: float):
-    batches, deadline = [], time.monotonic() + seconds
-    while time.monotonic() < deadline:
-        batches += stream.read(0.05)
-    return batches
 
 
 def start_stream(rig, groups):
@@ -38,11 +32,12 @@ def start_stream(rig, groups):
 
 def test_samples_carry_the_ecu_values_and_its_timestamps(rig):
     with start_stream(rig, {0: ["zsRailPressure", "zsSensVolt"], 1: ["xsDC", "xsTankCtrlState"]}) as stream:
-        batches = collect(stream, 1.0)
+        batches = collect_until(stream, lambda got: samples(b for b in got if b.daq_list.event == 0) > 150
+                                and samples(b for b in got if b.daq_list.event == 1) > 2)
     fast = [b for b in batches if b.daq_list.event == 0]
     slow = [b for b in batches if b.daq_list.event == 1]
     times = np.concatenate([b.time for b in fast])
-    assert len(times) > 150  # 4 ms for a second, minus start-up
+    assert len(times) > 150  # 4 ms for a second
     assert np.allclose(np.diff(times), 0.004)  # the ECU's clock, not the host's bursts
     slow_times = np.concatenate([b.time for b in slow])
     assert np.allclose(np.diff(slow_times), 0.05)
@@ -53,9 +48,9 @@ def test_samples_carry_the_ecu_values_and_its_timestamps(rig):
 
 def test_a_dropped_dto_is_a_lost_sample_not_a_wrong_one(rig):
     with start_stream(rig, {1: ["xsDC", "xsPidP", "xsPidI", "xsPidD", "xsPidFF"]}) as stream:
-        collect(stream, 0.2)
+        collect_until(stream, samples)  # sampling
         rig.demo.ecu.faults.drop_frame(2, "tx")
-        batches = collect(stream, 0.5)
+        batches = collect_until(stream, lambda got: stream.stats.lost and samples(got) > 4)
     assert stream.stats.lost == 1
     assert rig.demo.ecu.faults.fired
     times = np.concatenate([b.time for b in batches])
@@ -65,7 +60,7 @@ def test_a_dropped_dto_is_a_lost_sample_not_a_wrong_one(rig):
 def test_stop_and_close_leave_the_ecu_quiet(rig):
     stream = start_stream(rig, {0: ["zsRailPressure"]})
     with stream:
-        collect(stream, 0.1)
+        collect_until(stream, samples)
     assert not rig.master.get_status().daq_running
     received = stream.stats.dtos
     time.sleep(0.1)
@@ -78,7 +73,8 @@ def test_a_slave_whose_max_daq_counts_allocated_lists_takes_what_fits_and_says_w
     with serve(build_demo_ecu(slave_profile=counted), 1.0) as rig:
         assert rig.master.get_daq_processor_info().max_daq == 0
         with start_stream(rig, {0: ["zsRailPressure"], 1: ["xsDC"]}) as stream:
-            assert {b.daq_list.event for b in collect(stream, 0.2)} == {0, 1}
+            batches = collect_until(stream, lambda got: {b.daq_list.event for b in got} == {0, 1})
+            assert {b.daq_list.event for b in batches} == {0, 1}
             assert rig.master.get_daq_processor_info().max_daq == 2
         with pytest.raises(WorkbenchError, match=r"no room for the DAQ lists of 3 event\(s\) \(ALLOC_DAQ: "
                                                  r"ERR_MEMORY_OVERFLOW\); measure fewer events"):
@@ -98,7 +94,7 @@ def test_a_write_daq_answered_after_its_timeout_starts_the_configuration_over(ri
     configured = faults.commands_seen(Cmd.FREE_DAQ)
     with start_stream(rig, {0: ["zsRailPressure", "zsSensVolt"]}) as stream:
         assert faults.commands_seen(Cmd.FREE_DAQ) == configured + 2  # configured twice: the late answer came after T1
-        batches = collect(stream, 0.3)
+        batches = collect_until(stream, lambda got: samples(got) > 20)
     assert faults.fired == [f"answer command 0x{Cmd.WRITE_DAQ:02X} {1.5 * t1} s late"]
     volts = np.concatenate([b.column("zsSensVolt") for b in batches]).view("<f4")
     assert len(volts) > 20 and np.all((volts >= 0) & (volts <= 5)) and stream.stats.lost == 0
