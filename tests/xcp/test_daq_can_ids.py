@@ -9,7 +9,7 @@ import time
 
 import can
 import pytest
-from session_helpers import FAST
+from session_helpers import FAST, edited_a2l
 
 from workbench import Session, demo
 from workbench.a2l import load_a2l, read_xcp_config
@@ -144,3 +144,21 @@ def test_a_power_cycle_forgets_the_ids_set_and_the_master_sets_them_again(channe
         assert session.master.get_daq_id(1) == (CanId(0x7F5), False)  # as after power-on
         assert _measure_both_events(session) == {0, 1}
         assert session.master.get_daq_id(1) == (CanId(0x7F6), False)
+
+
+def test_a_list_silent_beside_others_says_where_get_daq_id_puts_it(channel, tmp_path):
+    """The A2L states list 0's id of the daq-can-ids profile (0x7F2) but not list 1's (0x7F3): list 0's samples come,
+    list 1's never would; the measurement says so instead of leaving xsDC without a value."""
+    a2l = edited_a2l(tmp_path, "        MAX_DLC_REQUIRED\n",
+                     "        MAX_DLC_REQUIRED\n        /begin DAQ_LIST_CAN_ID 0 FIXED 0x7F2 /end DAQ_LIST_CAN_ID\n")
+    with serve_demo({"interface": "virtual", "channel": channel}, profile="daq-can-ids", time_scale=1.0), \
+            Session.open(a2l, interface="virtual", channel=channel, timeouts=FAST) as session:
+        events, deadline = set(), time.monotonic() + 30.0  # said within T1 + 3 periods of the 50 ms event (0.6 s)
+        with pytest.raises(WorkbenchError) as refused, session.measure(["zsRailPressure", "xsDC"]) as live:
+            while time.monotonic() < deadline:
+                events |= {batch.event for batch in live.read(0.2)}
+    assert events == {0}
+    assert str(refused.value) == (
+        "DAQ: no DTO of list 1 within 300 ms of the start, though the others' came: GET_DAQ_ID puts DAQ list 1 on "
+        "0x7F3 (fixed), where this master does not listen (it listens on 0x7F1, 0x7F2); the A2L's XCP_ON_CAN should "
+        "say so: DAQ_LIST_CAN_ID 1 FIXED 0x7F3")

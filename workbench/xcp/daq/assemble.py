@@ -117,6 +117,11 @@ class DtoAssembler:
             state.next_odt = odt + 1
 
     @property
+    def silent_lists(self) -> list[int]:
+        """The lists whose first sample has not begun yet (no DTO of their ODT 0 came)."""
+        return [number for number, state in self._lists.items() if not state.host_ns]
+
+    @property
     def lost(self) -> int:
         """Samples dropped because an ODT was missing or short."""
         return sum(self.lost_by_list.values())

@@ -103,6 +103,7 @@ class DaqStream:
         self._probe_after: float | None = None  # seconds of silence after which the ECU is asked (no cycle to expect)
         self._silence: float | None = None
         self._first_dto_due: float | None = None  # XCP on CAN: time.monotonic() by which a DTO is due, until one came
+        self._lists_due: float | None = None  # ... by which every list's is, until they were looked at
         self._no_dtos: str | None = None  # why DAQ sent nothing this master hears, the ECU answering
         self.running = False
 
@@ -137,6 +138,7 @@ class DaqStream:
         judged_here = silence is not None and master.link.is_can
         self._no_dtos = None
         self._first_dto_due = time.monotonic() + master.timeouts.t1 + silence if judged_here else None  # START: <= T1
+        self._lists_due = self._first_dto_due
         master.link.dto_handler = self._on_dto
         master.start_stop_synch(_START_SELECTED)
         if not judged_here:
@@ -246,11 +248,14 @@ class DaqStream:
 
         :raises ConnectionLostError: none came and the ECU is lost (:meth:`silence_limit`, a broken link): at
             once when it is lost already, within :data:`_LOST_CHECK_S` when that happens during the wait.
-        :raises WorkbenchError: XCP on CAN: no DTO came since the start though the ECU answers (the message names
-            where GET_DAQ_ID says its lists send, and where this master listens).
+        :raises WorkbenchError: XCP on CAN: no DTO came since the start though the ECU answers, or none of a list
+            while others' came, and GET_DAQ_ID puts it where this master does not listen (the message names where
+            the lists send, and where this master listens).
         """
         if self.assembler is None:
             return []
+        if self._lists_due is not None and self._first_dto_due is None and time.monotonic() >= self._lists_due:
+            self._silent_lists()
         samples = self.assembler.take()
         deadline = None if timeout_s is None else time.monotonic() + timeout_s
         while not samples:  # what came before a loss is returned first; then the loss is said at once
@@ -292,48 +297,85 @@ class DaqStream:
         link, silence = self.master.link, self._silence
         try:
             try:
-                where = self._daq_can_ids()
+                sends = self._daq_can_ids([daq.number for daq in self.plan.lists])
             except EcuSilentError:
                 link.give_up(f"nothing from the ECU for {_ms(link.quiet_s)} while DAQ runs (a DTO was due within "
                              f"{_ms(silence)}), nor an answer to GET_DAQ_ID or SYNCH")
                 link.check()
+            except XcpCommandError as error:  # GET_DAQ_ID is optional
+                where = (f"it does not say where its DAQ lists send ({error.command}: {error.name}); this master "
+                         f"listens on {self._listens()}: the A2L's XCP_ON_CAN may miss the ECU's DAQ_LIST_CAN_ID, or "
+                         "its events do not run")
+            except WorkbenchError as error:  # unanswered (SYNCH answered), or an answer naming no id
+                where = f"{error}; this master listens on {self._listens()}"
+            else:
+                where = self._elsewhere(sends) or (
+                    f"GET_DAQ_ID says its lists send on {', '.join(dict.fromkeys(str(i) for i, _ in sends.values()))}, "
+                    "where this master listens: the ECU's events do not run (is its application started?)")
             if self._first_dto_due is None:  # a DTO came meanwhile: the receiver was only late
                 return
-            self._first_dto_due = None
+            self._first_dto_due = self._lists_due = None
             self._no_dtos = f"DAQ: no DTO within {_ms(silence)} of the start, though the ECU answers: " + where
         finally:
             self.lock.release()
 
-    def _daq_can_ids(self) -> str:
-        """Where the plan's lists send (GET_DAQ_ID), against where this master listens, for :meth:`_silent_from_start`.
+    def _silent_lists(self) -> None:
+        """XCP on CAN, DTOs came but none of some list for the silence limit: where GET_DAQ_ID puts that list, if
+        this master does not listen there, is :attr:`_no_dtos`; a list on an id it hears is left to its event
+        (which may not run yet). Asked once; skipped while another thread has a command under way.
 
-        :raises EcuSilentError: the ECU answers neither GET_DAQ_ID nor SYNCH.
+        :raises WorkbenchError: a list sends where this master does not listen (ConnectionLostError: the ECU is gone).
         """
-        settings = self.master.link.settings
-        heard = tuple(dict.fromkeys((settings.can_id_slave, *settings.dto_can_ids)))
-        listens = ", ".join(map(str, heard))
-        sends: dict[int, tuple[CanId, bool]] = {}
-        for daq in self.plan.lists:
+        if not self.lock.acquire(blocking=False):
+            return
+        try:
+            self._lists_due = None
+            silent = self.assembler.silent_lists
+            if not silent:
+                return
             try:
-                sends[daq.number] = self.master.get_daq_id(daq.number)
+                elsewhere = self._elsewhere(self._daq_can_ids(silent))
             except ConnectionLostError:
                 raise
-            except XcpCommandError as error:  # GET_DAQ_ID is optional
-                return (f"it does not say where its DAQ lists send ({error.command}: {error.name}); this master "
-                        f"listens on {listens}: the A2L's XCP_ON_CAN may miss the ECU's DAQ_LIST_CAN_ID, or its events "
-                        "do not run")
-            except WorkbenchError as error:  # unanswered (SYNCH answered), or an answer naming no id
-                return f"{error}; this master listens on {listens}"
+            except WorkbenchError as error:  # no GET_DAQ_ID, or no answer: nothing to tell
+                log.info("DAQ lists %s silent; GET_DAQ_ID: %s", silent, error)
+                return
+            if elsewhere:
+                self._no_dtos = (f"DAQ: no DTO of list {', '.join(map(str, silent))} within {_ms(self._silence)} of "
+                                 f"the start, though the others' came: {elsewhere}")
+        finally:
+            self.lock.release()
+        if self._no_dtos is not None:
+            raise WorkbenchError(self._no_dtos)
+
+    def _daq_can_ids(self, numbers: list[int]) -> dict[int, tuple[CanId, bool]]:
+        """GET_DAQ_ID of the lists ``numbers``: each one's CAN id, and whether it is fixed.
+
+        :raises EcuSilentError: the ECU answers neither GET_DAQ_ID nor SYNCH. :raises XcpCommandError: it refuses
+            GET_DAQ_ID. :raises WorkbenchError: no answer (SYNCH answered), or one that names no id.
+        """
+        return {number: self.master.get_daq_id(number) for number in numbers}
+
+    def _heard_ids(self) -> tuple[CanId, ...]:
+        settings = self.master.link.settings
+        return tuple(dict.fromkeys((settings.can_id_slave, *settings.dto_can_ids)))
+
+    def _listens(self) -> str:
+        return ", ".join(map(str, self._heard_ids()))
+
+    def _elsewhere(self, sends: dict[int, tuple[CanId, bool]]) -> str | None:
+        """The lists of ``sends`` on ids this master does not listen on and what the A2L should state, in a
+        sentence; None: every one sends where it listens."""
+        heard = self._heard_ids()
         elsewhere = {number: found for number, found in sends.items() if found[0] not in heard}
         if not elsewhere:
-            return (f"GET_DAQ_ID says its lists send on {', '.join(dict.fromkeys(str(i) for i, _ in sends.values()))}"
-                    f", where this master listens: the ECU's events do not run (is its application started?)")
+            return None
         lists = ", ".join(f"list {number} on {can_id} ({'fixed' if fixed else 'configurable'})"
                           for number, (can_id, fixed) in elsewhere.items())
         statements = ", ".join(f"DAQ_LIST_CAN_ID {number} FIXED 0x{can_id.a2l:X}" if fixed else
                                f"DAQ_LIST_CAN_ID {number} VARIABLE" for number, (can_id, fixed) in elsewhere.items())
-        return (f"GET_DAQ_ID puts DAQ {lists}, where this master does not listen (it listens on {listens}); the A2L's "
-                f"XCP_ON_CAN should say so: {statements}")
+        return (f"GET_DAQ_ID puts DAQ {lists}, where this master does not listen (it listens on {self._listens()}); "
+                f"the A2L's XCP_ON_CAN should say so: {statements}")
 
     def _probe(self) -> None:
         """Ask a silent ECU whether it is there (GET_STATUS): on UDP a host where nothing listens any more says so
