@@ -268,10 +268,10 @@ def test_a_pattern_names_an_element_in_either_naming(version, pattern, name):
                          ids=["types", "wild", "cpp"])
 def test_the_variables_left_out_before_the_walk_are_those_it_would_leave(elf):
     """Without a range every variable is walked (a range may hold any of them): the same objects come out of the
-    patterns as when the variables none of their paths match are left out first, and the name alone is matched
-    for a pattern that cannot match past it."""
+    patterns as when the variables none of their paths match are left out first: the name alone matched for a
+    pattern that cannot match past it, none of a variable whose paths lack the text a pattern's matches hold."""
     patterns = [".*", r"outer\..*|bits", "^z", "(?i)ZS.*|b.*s", r"vector\[[3-4]\]|zv.*\.BP1", r"\w+_\w+", "[a-m]",
-                r"^\w*(?!\.)", r"s[^.]*", "(big|EPK)"]
+                r"^\w*(?!\.)", r"s[^.]*", "(big|EPK)", ".*ow.*", "[a-z]+e.*"]  # "ow": in bits.low's member name
     doc = load_a2l_string(EMPTY)
     with DebugData(elf, use_cache=False) as debug:
         for pattern in patterns:

@@ -44,7 +44,7 @@ from workbench.a2l.addressed import AddressedObjects
 from workbench.a2l.datatypes import array_dims, c_limits, datatype_for, element_type
 from workbench.a2l.document import A2lDocument, Block, load_a2l
 from workbench.a2l.edits import Edit, Edits, indentation_of, newline_bytes, write_source
-from workbench.a2l.patterns import as_typed, literal_prefixes, selection_pattern, stops_before
+from workbench.a2l.patterns import as_typed, literal_prefixes, required_text, selection_pattern, stops_before
 from workbench.a2l.reports import finding_at
 from workbench.a2l.update.enums import NO_COMPU_METHOD, enum_conversion_blocks, enum_conversion_name, indented
 from workbench.a2l.values import is_ident, quote_string
@@ -55,7 +55,7 @@ from workbench.findings import Finding, Report, Severity
 from workbench.progress import Progress, report as report_progress
 
 if TYPE_CHECKING:
-    from collections.abc import Callable, Iterator
+    from collections.abc import Iterator
 
     from workbench.elf.ctypes_model import CMember, CType
 
@@ -66,6 +66,7 @@ _SCALARS = ("base", "enum")
 _GROUPS = ("struct", "union")
 _KEYWORDS = frozenset((*grammar.BLOCKS, *grammar.OPTIONS, *grammar.TOP_LEVEL_OPTIONS))
 _KIND_OF = {"AXIS_PTS": "CHARACTERISTIC"}  # the kind of object that describes a variable as a calibration too
+_NONE: frozenset[str] = frozenset()
 _STEP = re.compile(r"\.|\[")  # where a member or element name starts in a path
 _LINE = 100  # names of a REF_MEASUREMENT/REF_CHARACTERISTIC are wrapped at about this many columns
 
@@ -180,8 +181,8 @@ class _Rules:
 
 
 class _Names:
-    """What some patterns may match, from the literal texts their matches start with: a walk skips what none can
-    name."""
+    """What some patterns may match, from Python's parse of them (the texts their matches start with, a text each
+    holds, whether they match past a variable's name): the variables and members none can name are skipped."""
 
     def __init__(self, patterns: list[re.Pattern]):
         prefixes = [literal_prefixes(pattern) for pattern in patterns]
@@ -192,7 +193,11 @@ class _Names:
         # variable it selects: the name alone is matched
         stops = [stops_before(pattern, ".[") for pattern in patterns]
         self.name_searches = [pattern.search for pattern, stop in zip(patterns, stops) if stop]
-        self.path_searches = [pattern.search for pattern, stop in zip(patterns, stops) if not stop]
+        # the others, with a text each of their matches holds ("" for none): one a path cannot hold, as its name
+        # and suffix hold neither (a text without "." and "[" lies in one of them), needs no search
+        held = [required_text(pattern) for pattern in patterns]
+        self.path_searches = [(pattern.search, "" if "." in text or "[" in text else text)
+                              for pattern, stop, text in zip(patterns, stops, held) if not stop]
 
     def may_name(self, path: str) -> bool:
         """Whether a pattern may match ``path`` or a name that starts with it (a member, an element)."""
@@ -205,13 +210,18 @@ class _Names:
         starts, heads = self.starts, self.heads
         return [variable for variable in variables if variable.name.startswith(starts) or variable.name in heads]
 
-    def match_one(self, name: str, suffixes: Callable[[], list[str]]) -> bool:
-        """Whether a pattern matches ``name``, or ``name`` followed by one of ``suffixes()`` (what names its members
-        and elements)."""
-        if any(search(name) for search in self.name_searches):
-            return True
-        return bool(self.path_searches) and any(any(map(search, map(name.__add__, suffixes())))
-                                                for search in self.path_searches)
+    def match_one(self, variable: Variable, suffixes: _Suffixes) -> bool:
+        """Whether a pattern matches the name of ``variable`` or the path of one of its members and elements."""
+        name = variable.name
+        for search in self.name_searches:
+            if search(name):
+                return True
+        if self.path_searches:
+            paths, text = suffixes.of_variable(variable)
+            for search, required in self.path_searches:
+                if (required in name or required in text) and any(map(search, map(name.__add__, paths))):
+                    return True
+        return False
 
 
 def insert_document(doc: A2lDocument, debug: DebugData, *, measurements: Selection = Selection(),
@@ -281,6 +291,7 @@ class _Inserter:
         self.doc, self.module, self.debug, self.rules = doc, module, debug, rules
         self.report = InsertReport("insert")
         self.active = [rule for rule in rules.values() if rule.patterns or rule.ranges]  # what the walk asks
+        self.ranged = [rule for rule in self.active if rule.ranges]
         self.new_arrays, self.symbol_links = _version_features(doc)
         self.taken: dict[str, tuple[str, str, int]] = {}  # the file's object names -> (keyword, symbol, name token)
         # (kind, symbol) -> the object that describes the variable as that kind (an AXIS_PTS as a calibration)
@@ -298,6 +309,7 @@ class _Inserter:
         self.indent = (indents.most_common(1)[0][0] if indents
                        else indentation_of(doc.data, module.span[0]) + b"  ").decode(doc.encoding)
         self.newline = newline_bytes(doc).decode("ascii")
+        self.encoding = doc.encoding
         self.types: dict[tuple, tuple[str, str, int | None] | str] = {}  # see _typed
         self.planned: dict[str, tuple[str, str]] = {}  # new object name -> (its keyword, its symbol)
         self.layouts: dict[str, str] = {}  # data type -> the RECORD_LAYOUT its CHARACTERISTICs use
@@ -323,9 +335,8 @@ class _Inserter:
             # ... and with it, before the walk: a variable none of whose paths a pattern matches yields nothing
             # (the walk costs ~6 us a member or element, a match of its path ~0.5: 1,000 of 50,000 variables
             # whose names start alike, 0.40 -> 0.05 s)
-            suffixes = _Suffixes(self.new_arrays)
-            by_name = {name: found for name, found in by_name.items()
-                       if names.match_one(name, lambda: suffixes.of(self.debug.type_of(found[0])))}
+            suffixes = _Suffixes(self.debug, self.new_arrays)
+            by_name = {name: found for name, found in by_name.items() if names.match_one(found[0], suffixes)}
         for number, (name, found) in enumerate(by_name.items()):
             if number % 256 == 0:
                 report_progress(progress, number, len(by_name), "walking the ELF's variables")
@@ -357,8 +368,9 @@ class _Inserter:
     def _walk(self, leaf: _Leaf, inherited: frozenset[str], named: bool = False) -> None:
         """Insert ``leaf`` (or its members and elements) for the kinds that select it. ``inherited``: the kinds
         an enclosing struct's name selected."""
-        by_name = frozenset(rule.kind for rule in self.active if rule.named(leaf.path))
-        by_range = frozenset(rule.kind for rule in self.active if rule.holds(leaf.address))
+        by_name = frozenset([rule.kind for rule in self.active if rule.named(leaf.path)])
+        by_range = frozenset([rule.kind for rule in self.ranged if rule.holds(leaf.address)]) if self.ranged else \
+            _NONE
         selected = inherited | by_name | by_range
         ctype = leaf.ctype
         element = element_type(ctype)
@@ -403,16 +415,15 @@ class _Inserter:
         """``leaf`` inserted as an object of ``kind`` (``keyword`` INSTANCE: a struct as one INSTANCE of its
         TYPEDEF_STRUCTURE, made by :mod:`workbench.a2l.insert_structures`), unless the file describes it."""
         name, symbol = leaf.path.replace("::", "__"), leaf.symbol  # a C++ name's "::" as a2ltool writes it
-        existing = next(((whole, found) for whole in (*_enclosing(leaf.path, leaf.spec), symbol)
-                         if (found := self.described.get((kind, whole))) is not None), None)
-        if existing is not None:
-            whole, found = existing
-            keyword = self.taken[found][0] if found in self.taken else kind
-            what = f"{keyword} {found} describes {symbol} already" if whole == symbol else \
-                f"it lies in {whole}, which {keyword} {found} describes"
-            self._skip("already-described", name, f"{kind} {name}: {what}: not inserted", Severity.INFO,
-                       self.taken[found][2] if found in self.taken else None)
-            return
+        for whole in (*_enclosing(leaf.path, leaf.spec), symbol):
+            found = self.described.get((kind, whole))
+            if found is not None:
+                keyword = self.taken[found][0] if found in self.taken else kind
+                what = f"{keyword} {found} describes {symbol} already" if whole == symbol else \
+                    f"it lies in {whole}, which {keyword} {found} describes"
+                self._skip("already-described", name, f"{kind} {name}: {what}: not inserted", Severity.INFO,
+                           self.taken[found][2] if found in self.taken else None)
+                return
         owner = self.taken.get(name)
         if owner is not None:  # the file's: left alone
             if owner[1] == symbol:
@@ -476,7 +487,7 @@ class _Inserter:
         if self.symbol_links:
             items += f"{n}{i}  SYMBOL_LINK {_quoted(leaf.symbol)} 0"
         text = f"{n}{i}/begin {kind} {name} {_quoted(head)}{n}{i}  {first}{items}{n}{i}/end {kind}{n}"
-        return text.encode(self.doc.encoding), f"{datatype} [{']['.join(map(str, dims))}]" if dims else datatype
+        return text.encode(self.encoding), f"{datatype} [{']['.join(map(str, dims))}]" if dims else datatype
 
     def _typed(self, element: "CType", bit_size: int | None, bit_position: int | None):
         """(data type, limits as text, BIT_MASK or None) of an element type (and bitfield), or why there is none;
@@ -603,26 +614,37 @@ class _Suffixes:
     """What the walk appends to a variable's name to name its members and elements (``""``, ``.a``, ``.a.b[2]``
     ...), every one, per C type: a variable none of whose paths a pattern matches needs no walk."""
 
-    def __init__(self, new_arrays: bool):
-        self.new_arrays = new_arrays
-        self._known: dict[int, tuple["CType", list[str]]] = {}  # id(type) -> (the type, kept alive; its suffixes)
+    def __init__(self, debug: DebugData, new_arrays: bool):
+        self.debug, self.new_arrays = debug, new_arrays
+        # id(type) -> (the type, kept alive; its suffixes; they as one text, a line each)
+        self._known: dict[int, tuple["CType", list[str], str]] = {}
+        self._of_variables: dict[int, tuple[list[str], str]] = {}  # by the variables' DWARF type offset
 
-    def of(self, ctype: "CType") -> list[str]:
+    def of_variable(self, variable: Variable) -> tuple[list[str], str]:
+        """The suffixes of a variable's type, and they as one text."""
+        found = self._of_variables.get(variable.type_offset)
+        if found is None:
+            found = self._of_variables[variable.type_offset] = self.of(self.debug.type_of(variable))
+        return found
+
+    def of(self, ctype: "CType") -> tuple[list[str], str]:
+        """The suffixes of a type, and they as one text (a line each)."""
         known = self._known.get(id(ctype))
         if known is None:
-            known = self._known[id(ctype)] = (ctype, self._make(ctype))
-        return known[1]
+            found = self._make(ctype)
+            known = self._known[id(ctype)] = (ctype, found, "\n".join(found))
+        return known[1:]
 
     def _make(self, ctype: "CType") -> list[str]:
         found = [""]
         element = element_type(ctype)
         if ctype.kind == "array":
-            inner = self.of(element) if element.kind in _GROUPS else [""]
+            inner = self.of(element)[0] if element.kind in _GROUPS else [""]
             for step in _element_steps(array_dims(ctype), self.new_arrays):
                 found += [step + rest for rest in inner]
         elif ctype.kind in _GROUPS:
             for member in _members(ctype):
-                found += [_member_step(member) + rest for rest in self.of(member.type)]
+                found += [_member_step(member) + rest for rest in self.of(member.type)[0]]
         return found
 
 
@@ -650,6 +672,8 @@ def _members(ctype: "CType") -> list["CMember"]:
 def _enclosing(path: str, spec: str) -> list[str]:
     """The symbols of the variable, members and elements that hold ``path`` (``a.b[2].c``: ``a``, ``a.b``,
     ``a.b[2]``), outermost first, with ``spec`` (Vector's suffix) each."""
+    if "." not in path and "[" not in path:  # most: a variable's own name
+        return []
     return [path[:match.start()] + spec for match in _STEP.finditer(path) if match.start()]
 
 

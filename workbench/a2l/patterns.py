@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["as_typed", "literal_prefixes", "selection_pattern", "stops_before"]
+__all__ = ["as_typed", "literal_prefixes", "required_text", "selection_pattern", "stops_before"]
 
 _GLOBAL_FLAGS = re.compile(r"(?:\(\?[aiLmsux]+\))+")
 
@@ -46,14 +46,45 @@ def stops_before(pattern: re.Pattern, chars: str) -> bool:
     return items is not None and not _may_consume(items, chars)
 
 
-def _anchored_items(pattern: re.Pattern) -> list | None:
-    """Python's own parse of a pattern that starts with ``^``, without it; None for others."""
+def required_text(pattern: re.Pattern) -> str:
+    """The longest text that every match of ``pattern`` holds as written (``.*var01.*``: "var01"), from Python's
+    parse of it; "" when it does not say (``(?i)``, alternatives only)."""
+    if pattern.flags & re.IGNORECASE:
+        return ""
+    try:
+        items = list(_parser().parse(pattern.pattern, pattern.flags))
+    except Exception:  # noqa: BLE001 - another Python's parser: it does not tell
+        return ""
+    return max(_literal_runs(items), key=len)
+
+
+def _literal_runs(items: list) -> list[str]:
+    """The runs of literals in a parsed sequence, and in the groups it always matches."""
+    runs, text = [], ""
+    for op, argument in items:
+        kind = str(op)
+        if kind == "LITERAL":
+            text += chr(argument)
+            continue
+        runs.append(text)
+        text = ""
+        if kind == "SUBPATTERN" and not argument[1] & re.IGNORECASE:  # (?i:...) holds its text in any case
+            runs += _literal_runs(list(argument[-1]))
+    return [*runs, text]
+
+
+def _parser():
     try:
         from re import _parser as parser  # Python 3.11+
     except ImportError:  # pragma: no cover - Python 3.10
         import sre_parse as parser
+    return parser
+
+
+def _anchored_items(pattern: re.Pattern) -> list | None:
+    """Python's own parse of a pattern that starts with ``^``, without it; None for others."""
     try:
-        items = list(parser.parse(pattern.pattern, pattern.flags))
+        items = list(_parser().parse(pattern.pattern, pattern.flags))
     except Exception:  # noqa: BLE001 - another Python's parser: it does not tell
         return None
     if not items or str(items[0][0]) != "AT" or str(items[0][1]) != "AT_BEGINNING":
