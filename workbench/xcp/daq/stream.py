@@ -254,7 +254,8 @@ class DaqStream:
         """
         if self.assembler is None:
             return []
-        if self._lists_due is not None and self._first_dto_due is None and time.monotonic() >= self._lists_due:
+        if self._lists_due is not None and self.running and self._first_dto_due is None and \
+                time.monotonic() >= self._lists_due:
             self._silent_lists()
         samples = self.assembler.take()
         deadline = None if timeout_s is None else time.monotonic() + timeout_s
