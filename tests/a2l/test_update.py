@@ -136,6 +136,25 @@ def test_every_addr_epk_stays_where_the_elf_holds_the_epk(second, expected, kind
     assert result.report.summary("out.a2l").endswith(moved) == (kind == "epk-updated")  # said without -v
 
 
+@pytest.mark.parametrize("calib, summary", [
+    (0xFC0000, ""),  # both as the ELF has them
+    (0xFC0004, "; ADDR_EPK 0xFC0004 -> 0xFC0000"),  # CALIB's set from the .epk section, second as it is
+])
+def test_the_elf_s_epk_symbol_sets_the_addr_epk_of_its_own_part_whichever_comes_first(calib, summary):
+    """The application header's ADDR_EPK first: the .epk section (CALIB's) set the first, both then named CALIB's
+    address and the application's part had no EPK address left."""
+    from workbench import demo
+
+    text = demo.a2l().read_text(encoding="utf-8")
+    swapped = text.replace("ADDR_EPK 0xFC0000\n      ADDR_EPK 0x840008", f"ADDR_EPK 0x840008\n      ADDR_EPK 0x{calib:X}")
+    assert swapped != text
+    result = update_document(load_a2l_string(swapped, "swapped.a2l"), DebugData(demo.elf(), use_cache=False))
+    doc = load_a2l_string(result.data.decode())
+    assert [(place.address, place.part) for place in doc.epk_addresses()] == [(0x840008, "APPLICATIVE"),
+                                                                              (0xFC0000, "CALIB")]
+    assert result.report.summary("out.a2l").endswith("AXIS_PTS 2 unchanged" + summary)
+
+
 def test_missing_symbols_are_kept_and_reported_by_default(source, debug):
     result = update_document(load_a2l(source), debug)
     (missing,) = result.report.of_kind("symbol-not-found")

@@ -5,8 +5,9 @@ caller) or in a section ``.epk``; the A2L must state both the string and where t
 ECU keeps it, so that a master can compare the two before writing anything.
 
 MOD_PAR may name ADDR_EPK more than once (ASAP2), e.g. the calibration data's EPK and the application
-header's copy of it: the first is the one read from the symbol or section above; each further one
-stays where the ELF holds the EPK string, or moves to the one place in its MEMORY_SEGMENT that does.
+header's copy of it: the one in the MEMORY_SEGMENT of the symbol or section above (else the first) is set to
+its address; each other one stays where the ELF holds the EPK string, or moves to the one place in its
+MEMORY_SEGMENT that does.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from workbench.errors import InputError
 from workbench.findings import Finding, Severity
 
 if TYPE_CHECKING:
-    from workbench.a2l.document import A2lDocument, Block, MemorySegment
+    from workbench.a2l.document import A2lDocument, Block, EpkAddress, MemorySegment
     from workbench.elf.debugdata import DebugData
 
 __all__ = ["ElfEpk", "epk_address_edits", "epk_edits", "holds_epk", "read_elf_epk"]
@@ -94,9 +95,9 @@ def epk_edits(doc: "A2lDocument", epk: ElfEpk, module: "Block") -> tuple[list[Ed
         inserts.append(b"EPK " + quote_string(epk.text, doc.encoding))
         findings.append(finding_at(doc, mod_par.keyword_token, "epk-inserted", "EPK",
                                    f"EPK {epk.text!r} added (from {epk.source})", "MOD_PAR"))
-    current_address = mod_par.option("ADDR_EPK")
-    if current_address:
-        token = current_address[0]
+    current_address = _set_by_symbol(doc, epk, module)
+    if current_address is not None:
+        token = current_address.token
         old = doc.int_value(token)
         if old != epk.address:
             findings.append(finding_at(doc, token, "epk-updated", "ADDR_EPK",
@@ -117,10 +118,11 @@ def epk_edits(doc: "A2lDocument", epk: ElfEpk, module: "Block") -> tuple[list[Ed
 
 def epk_address_edits(doc: A2lDocument, debug: DebugData, epk: ElfEpk, module: Block
                       ) -> tuple[list[Edit], list[Finding]]:
-    """Edits that keep each further ADDR_EPK of MOD_PAR (after the first, which :func:`epk_edits` sets) where
+    """Edits that keep each further ADDR_EPK of MOD_PAR (all but the one :func:`epk_edits` sets) where
     the ELF holds the EPK string: unchanged when it does, else moved to the one place in the same MEMORY_SEGMENT
     that holds it; a warning when there is none or more than one."""
-    further = doc.epk_addresses(module.name)[1:]
+    chosen = _set_by_symbol(doc, epk, module)
+    further = [place for place in doc.epk_addresses(module.name) if place != chosen]
     if not further:
         return [], []
     text = epk.text.encode("ascii")
@@ -144,6 +146,14 @@ def epk_address_edits(doc: A2lDocument, debug: DebugData, epk: ElfEpk, module: B
                                    f"ADDR_EPK 0x{old:X}: {debug.path.name} does not hold the EPK {epk.text!r} there, "
                                    f"and {why} else {where}: left unchanged", "MOD_PAR", Severity.WARNING))
     return edits, findings
+
+
+def _set_by_symbol(doc: A2lDocument, epk: ElfEpk, module: Block) -> EpkAddress | None:
+    """The ADDR_EPK the ELF's EPK symbol (or section) sets: the one in the same MEMORY_SEGMENT (the part of the
+    software it belongs to, whichever place MOD_PAR gives it), else the first; None: MOD_PAR names none."""
+    places = doc.epk_addresses(module.name)
+    return next((p for p in places if p.segment is not None and p.segment.contains(epk.address)),
+                places[0] if places else None)
 
 
 def holds_epk(raw: bytes | None, text: bytes) -> bool:
