@@ -9,6 +9,7 @@ shows live samples (and ``settle_s`` more seconds have passed), then closes.
 
 from __future__ import annotations
 
+import gc
 import json
 import logging
 import os
@@ -44,6 +45,10 @@ def application() -> QApplication:
         app.setApplicationName("workbench")
         app.setOrganizationName("workbench")
         theme.apply(app)
+        # What is alive now (the modules imported, their classes and tables: ~80,000 objects) lives as long as the
+        # process: moved out of the cycle collector's way, a full collection on the GUI thread takes ~10 ms instead
+        # of ~100. No project is read yet, so nothing of one is kept from being collected once it is closed.
+        gc.freeze()
         collect_garbage_on_the_gui_thread(app)
     return app
 
