@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import threading
+
 from PySide6.QtCore import Qt
 
 WAIT_MS = 15_000
@@ -138,3 +140,17 @@ def run_a2l_tools(dialog, qtbot):
         assert dialog.run() is not None
     qtbot.waitUntil(lambda: dialog.task is None, timeout=WAIT_MS)
     return done.args[0]
+
+
+def hold_a2l_tools_job(dialog, label: str | None = None) -> tuple[threading.Event, threading.Event]:
+    """(reached, go_on): the dialog's job waits in its worker at its progress report labelled ``label`` (None: its
+    first) until ``go_on`` is set, so that a test presses Cancel while it runs there."""
+    reached, go_on = threading.Event(), threading.Event()
+
+    def hold(done: int, total: int, text: str) -> None:
+        if label is None or text == label:
+            reached.set()
+            go_on.wait(WAIT_MS / 1000)
+
+    dialog.started.connect(lambda task: task.progress.changed.connect(hold, Qt.DirectConnection))
+    return reached, go_on

@@ -5,12 +5,10 @@ files; the same bytes as the CLI, a refusal's references at file:line:column, a 
 from __future__ import annotations
 
 import shutil
-import threading
 
 import pytest
-from gui_helpers import WAIT_MS
+from gui_helpers import WAIT_MS, hold_a2l_tools_job
 from gui_helpers import run_a2l_tools as _run
-from PySide6.QtCore import Qt
 
 from workbench import demo
 from workbench.a2l import load_a2l
@@ -173,14 +171,7 @@ def test_cancel_stops_remove_cleanup_and_flatten_mid_job_and_nothing_is_written(
     dialog = _dialog(qtbot, operation, source)
     dialog.removed.setText("zsTank.*Filt")
     dialog.output.setText(tmp_path / "out.a2l")
-    reached, go_on = threading.Event(), threading.Event()
-
-    def hold(done, total, label):  # in the worker: the job waits at a check point after it read the A2L
-        if label == at:
-            reached.set()
-            go_on.wait(WAIT_MS / 1000)
-
-    dialog.started.connect(lambda task: task.progress.changed.connect(hold, Qt.DirectConnection))
+    reached, go_on = hold_a2l_tools_job(dialog, at)  # a check point after the A2L was read
     with qtbot.waitSignal(dialog.refused, timeout=WAIT_MS) as refused:
         dialog.run()
         qtbot.waitUntil(reached.is_set, timeout=WAIT_MS)

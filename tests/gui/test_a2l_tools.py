@@ -6,13 +6,11 @@ from __future__ import annotations
 
 import re
 import shutil
-import threading
 from pathlib import Path
 
 import pytest
-from gui_helpers import WAIT_MS, offline_window
+from gui_helpers import WAIT_MS, hold_a2l_tools_job, offline_window
 from gui_helpers import run_a2l_tools as _run
-from PySide6.QtCore import Qt
 
 from workbench import demo
 from workbench.a2l.reports import IncludeMode, UpdateMode
@@ -212,13 +210,7 @@ def test_cancel_stops_a_running_update_and_nothing_is_written(dialog, qtbot, tmp
     dialog.a2l.setText(placeholder_a2l)
     dialog.elf.setText(demo.elf())
     dialog.output.setText(output)
-    reached, go_on = threading.Event(), threading.Event()
-
-    def hold(*_):  # in the worker: the job waits at its first report until the test has pressed Cancel
-        reached.set()
-        go_on.wait(WAIT_MS / 1000)
-
-    dialog.started.connect(lambda task: task.progress.changed.connect(hold, Qt.DirectConnection))
+    reached, go_on = hold_a2l_tools_job(dialog)  # at its first report until the test has pressed Cancel
     with qtbot.waitSignal(dialog.refused, timeout=WAIT_MS) as refused:
         dialog.run()
         qtbot.waitUntil(reached.is_set, timeout=WAIT_MS)
