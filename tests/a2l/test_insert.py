@@ -323,3 +323,5 @@ def test_a_member_of_a_variable_an_object_describes_is_not_described_again():
         "CHARACTERISTIC zvLut.BP1: AXIS_PTS Axis describes zvLut.BP1 already: not inserted",
         "MEASUREMENT outer.b.c: it lies in outer, which MEASUREMENT Outer describes: not inserted",
         "MEASUREMENT outer.b.d: it lies in outer, which MEASUREMENT Outer describes: not inserted"}
+    assert {(f.name, f.line, f.column) for f in result.report.of_kind("already-described")} == {
+        ("zvLut.BP1", 6, 17), ("outer.b.c", 8, 20), ("outer.b.d", 8, 20)}  # at the describing object's name
