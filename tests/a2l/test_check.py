@@ -306,3 +306,23 @@ def test_the_elf_must_hold_the_epk_at_every_addr_epk():
         held = (" FLCU.elf holds '10300020250301' there, MOD_PAR's EPK is '10300020259999' (an A2L of another build, "
                 "or an ADDR_EPK not updated")
         assert [(f.line, f.message.split(":")[1]) for f in other.findings] == [(line - 1, held), (line, held)]
+
+
+def test_a_calibration_on_the_epk_s_bytes_is_a_warning():
+    """At the ADDR_EPK, or in the CAL RAM its IF_DATA XCP ADDRESS_MAPPING loads CAL ROM to (the demo's 1:1 mirror)."""
+    text = demo.a2l().read_text(encoding="utf-8")
+    for addr_epk in ("0xFC00E0", "0x400000E0"):
+        edited = text.replace("ADDR_EPK 0x840008", f"ADDR_EPK 0x840008 ADDR_EPK {addr_epk}")
+        found = {f.name: f for f in check_document(load_a2l_string(edited, "FLCU.a2l")).findings
+                 if f.kind == "calibration-on-epk"}
+        assert sorted(found) == ["xsPRV_KD", "xsPRV_KI", "xsPRV_KP", "xsSWITCH_TANK_THR"], addr_epk  # 14 bytes
+        thr = found["xsSWITCH_TANK_THR"]
+        assert (thr.severity.name, thr.line, thr.block) == ("WARNING", _line(edited, "@xsSWITCH_TANK_THR@"),
+                                                            "CHARACTERISTIC")
+        assert thr.message == (f"CHARACTERISTIC xsSWITCH_TANK_THR (0x400000E0, 4 bytes) lies on the EPK's bytes "
+                               f"(ADDR_EPK {addr_epk} at line {_line(edited, addr_epk)}, 14 bytes): a write to it "
+                               "would change the identifier of the software")
+
+
+def _line(text: str, part: str) -> int:
+    return text[:text.index(part)].count("\n") + 1

@@ -97,13 +97,14 @@ def check_document(doc: A2lDocument, debug: DebugData | None = None, *, progress
         except A2lParseError as error:  # a typedef without its parameters
             _add_syntax(report, error)
         report_progress(progress, 2, 4, "checking memory")
+        placed = []
         if objects is not None:
             try:
-                check_placement(doc, module, objects, debug, report)
+                placed = check_placement(doc, module, objects, debug, report)
             except A2lParseError as error:  # a MEMORY_SEGMENT without its parameters: the memory is not known
                 _add_syntax(report, error)
         try:
-            check_epk_addresses(doc, module, debug, report, image)
+            check_epk_addresses(doc, module, debug, report, image, placed)
         except A2lParseError as error:  # a MEMORY_SEGMENT (or ADDR_EPK) without its parameters
             _add_syntax(report, error)
         if debug is not None:

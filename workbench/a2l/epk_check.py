@@ -8,13 +8,15 @@ end; a RAM section's initial bytes count at their load address too): an A2L whos
 fails every connect, or passes with another build's addresses. Flash (ROM, EEPROM) the ELF puts nothing at stays
 erased: an error too; RAM it does not initialise (``.bss``) is an info: the EPK cannot be compared there. An ADDR_EPK
 in CAL RAM is compared where its IF_DATA XCP ADDRESS_MAPPING loads it from (CAL ROM), as the sync and the offline
-calibration read it. A flash
-file (s19/hex) given to the check must hold the EPK at every ADDR_EPK it has bytes at (an s19 of the calibration
-data holds CALIB's only: the others are an info).
+calibration read it. A flash file (s19/hex) given to the check must hold the EPK at every ADDR_EPK it has bytes at
+(an s19 of the calibration data holds CALIB's only: the others are an info). A CHARACTERISTIC or AXIS_PTS on the
+EPK's bytes (there, or in the CAL RAM an ADDRESS_MAPPING loads them to) is a warning: writing it would change the
+identifier of the software (the offline calibration refuses such a write).
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 from workbench.a2l.document import A2lDocument, Block
@@ -31,13 +33,15 @@ if TYPE_CHECKING:
 __all__ = ["check_epk_addresses"]
 
 _PROGRAMMED = frozenset({"FLASH", "EEPROM", "EPROM", "ROM"})  # what a build's file fills: nothing there stays erased
+_CALIBRATIONS = ("CHARACTERISTIC", "AXIS_PTS")
 
 
 def check_epk_addresses(doc: A2lDocument, module: Block, debug: DebugData | None, report: Report,
-                        image: tuple[str, MemoryImage] | None = None) -> None:
+                        image: tuple[str, MemoryImage] | None = None, placed: Sequence = ()) -> None:
     """Report the module's ADDR_EPKs that lie outside memory, hold no room for the EPK, share a segment, or (with
     ``debug``) where the ELF holds another EPK; ``image``: (its name, its bytes) of a flash file that must hold the
-    EPK at every ADDR_EPK it has bytes at.
+    EPK at every ADDR_EPK it has bytes at; ``placed``: the objects :func:`~workbench.a2l.placement.check_placement`
+    placed, of which no calibration may lie on the EPK's bytes.
 
     :raises A2lParseError: a MEMORY_SEGMENT without its parameters (the caller reports it).
     """
@@ -71,10 +75,11 @@ def check_epk_addresses(doc: A2lDocument, module: Block, debug: DebugData | None
                 add(place, "epk-same-segment", f"lies in {segment.name}, {again} the ADDR_EPK at line "
                     f"{doc.token_position(first)[1]}: a part of the software keeps one EPK, so one of them is likely "
                     "stale", Severity.WARNING)
-        if (debug is not None or image is not None) and text:
+        if (debug is not None or image is not None or placed) and text:
             if mappings is None:
                 mappings = _address_mappings(doc, module)
             where = _where(place.address, mappings)
+            _calibrations_on(doc, place, where + _loaded_at(place.address, mappings), len(text), placed, report)
             if debug is not None:
                 _compare_with_elf(place, where, text, epk, debug, add)
             if image is not None:
@@ -96,6 +101,24 @@ def _where(address: int, mappings: list[XcpAddressMapping]) -> list[int]:
     """Where a file holds the bytes of ``address``: there, then where an ADDRESS_MAPPING loads it from."""
     return [address] + [address - m.source + m.destination for m in mappings
                         if m.source <= address < m.source + m.length]
+
+
+def _loaded_at(address: int, mappings: list[XcpAddressMapping]) -> list[int]:
+    """The working page's (CAL RAM's) addresses of a flash ``address`` an ADDRESS_MAPPING loads there."""
+    return [address - m.destination + m.source for m in mappings if m.destination <= address < m.destination + m.length]
+
+
+def _calibrations_on(doc: A2lDocument, place, where: list[int], size: int, placed: Sequence, report: Report) -> None:
+    """A calibration on the EPK's bytes (at ADDR_EPK, or where an ADDRESS_MAPPING puts them): writing it changes the
+    identifier that says which build the software is (a view of the EPK as an ASCII CHARACTERISTIC, too)."""
+    line = doc.token_position(place.token)[1]
+    for item in placed:
+        if item.keyword in _CALIBRATIONS and not item.extension and any(
+                at < item.address + item.size and item.address < at + size for at in where):
+            report.add(finding_at(doc, item.token, "calibration-on-epk", item.name,
+                                  f"{item.label} (0x{item.address:X}, {item.size} bytes) lies on the EPK's bytes "
+                                  f"(ADDR_EPK 0x{place.address:X} at line {line}, {size} bytes): a write to it would "
+                                  "change the identifier of the software", item.keyword, Severity.WARNING))
 
 
 def _mapped(place, at: int) -> str:

@@ -286,12 +286,14 @@ def _segments(doc: A2lDocument, module: Block, placed: list[_Placed], report: Re
 
 
 def check_placement(doc: A2lDocument, module: Block, objects: AddressedObjects, debug: DebugData | None,
-                    report: Report) -> None:
+                    report: Report) -> list[_Placed]:
     """Report the module's objects that overlap or lie outside memory (and, with ``debug``, whose
-    symbol is missing or whose address differs from the ELF's)."""
+    symbol is missing or whose address differs from the ELF's); returns the objects placed (name, keyword, address,
+    size, extension, token of the address), for the EPK's check."""
     placed = _placements(doc, module, objects, debug, report)
     # which bits of memory a BIT_MASK covers: by the ELF's byte order (check reports a MOD_COMMON that differs)
     big_endian = (not debug.elf.little_endian if debug is not None else
                   read_mod_common(doc, module.first("MOD_COMMON")).byte_order.startswith("MSB_FIRST"))
     _overlaps(doc, placed, big_endian, report)
     _segments(doc, module, placed, report)
+    return placed
