@@ -146,7 +146,8 @@ def test_the_elf_s_epk_symbol_sets_the_addr_epk_of_its_own_part_whichever_comes_
     from workbench import demo
 
     text = demo.a2l().read_text(encoding="utf-8")
-    swapped = text.replace("ADDR_EPK 0xFC0000\n      ADDR_EPK 0x840008", f"ADDR_EPK 0x840008\n      ADDR_EPK 0x{calib:X}")
+    swapped = text.replace("ADDR_EPK 0xFC0000\n      ADDR_EPK 0x840008",
+                           f"ADDR_EPK 0x840008\n      ADDR_EPK 0x{calib:X}")
     assert swapped != text
     result = update_document(load_a2l_string(swapped, "swapped.a2l"), DebugData(demo.elf(), use_cache=False))
     doc = load_a2l_string(result.data.decode())
