@@ -86,9 +86,12 @@ def test_a_value_may_carry_its_unit_as_cal_get_prints_it(bus, capsys):
         (0, "xsSWITCH_TANK_THR = 25.50 bar (written, read back)\n", "")
     assert run(capsys, "cal", "set", "xvPRV_DC_FF[1,2]", "60 %", *options)[1] == \
         "xvPRV_DC_FF[1, 2] = 60.00 % (written, read back)\n"
+    assert run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "25.6bar", *options)[1] == \
+        "xsSWITCH_TANK_THR = 25.60 bar (written, read back)\n"  # typed without the space
     log.take()
-    assert run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "25.5 V", *options) == \
-        (2, "", "error: xsSWITCH_TANK_THR: '25.5 V' is not a number (a value from 0.00 to 800.00 bar)\n")
+    assert run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "25.5 mbar", *options) == \
+        (2, "", "error: xsSWITCH_TANK_THR: '25.5 mbar' is in mbar, xsSWITCH_TANK_THR in bar (no unit conversion: "
+                "give a value from 0.00 to 800.00 bar)\n")  # another unit is named as such, not "not a number"
     assert log.take() == []
     code, out, err = run(capsys, "cal", "fix", "zfRAILPRESSURE", "30 bar", *options)  # a fix's _VALUE alike
     assert (code, err) == (0, "") and out.startswith("zfRAILPRESSURE  ON   override 30.00 bar")

@@ -25,6 +25,7 @@ the limit (``800.0004 is above the upper limit 800.00 bar``, not ``800 ... 800``
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -47,6 +48,8 @@ _ARRAYS = ("VAL_BLK", *_AXES_OF)
 _TOLERANCE = 1e-7
 _MORE_DECIMALS = 20  # the most decimals a refused value gets beyond its format's to differ from the limit
 _FIXED_BELOW = 1e15  # numbers this large are written %g, not with every digit before the point
+# a number typed with a unit ("20 mbar"): named as a unit the object does not have, not as "not a number"
+_NUMBER_AND_UNIT = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\s*(?P<unit>[^\d\s.,+-]\S*)")
 
 
 @dataclass(frozen=True)
@@ -184,8 +187,11 @@ def _texts(model: "A2lModel", name: str, label: str, values: np.ndarray, source)
     unit = model.unit_of(source)
     decimals = _decimals(model, source)
     lower, upper = (_number(limit, decimals) for limit in (source.lower_limit, source.upper_limit))
-    return [LimitViolation(name, "text", f"{name}{label}: {texts[0]!r} is not a number (a value from {lower} to "
-                                         f"{upper}{' ' + unit if unit else ''})")]
+    span = f"a value from {lower} to {upper}{' ' + unit if unit else ''}"
+    if (typed := _NUMBER_AND_UNIT.fullmatch(texts[0].strip())) and typed["unit"] != unit:
+        return [LimitViolation(name, "text", f"{name}{label}: {texts[0]!r} is in {typed['unit']}, "
+                                             f"{name} in {unit or 'no unit'} (no unit conversion: give {span})")]
+    return [LimitViolation(name, "text", f"{name}{label}: {texts[0]!r} is not a number ({span})")]
 
 
 def _static_shape(model: "A2lModel", obj: Characteristic) -> tuple[int, ...] | None:

@@ -30,6 +30,7 @@ if TYPE_CHECKING:
 __all__ = ["split_cell", "typed_value", "value_from_file"]
 
 _DECIMAL_COMMA = re.compile(r"[+-]?\d+,\d+")
+_NUMBER = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
 _MAP_CORNER = ("y\\x", "y \\ x", "")  # the corner cell of a map printed with its axes (cal get), or left empty
 _CURVE_LABELS = ("x", "value")
 _CELL = re.compile(r"(?P<name>[^\[\]\s]+)(?P<index>(\[\s*\d+\s*(,\s*\d+\s*)*\])+)")
@@ -57,9 +58,8 @@ def typed_value(text: str | None, *, single: bool = False, unit: str = "") -> An
     if text is None:
         raise InputError("give the value to write (or --from FILE)")
     stripped = text.strip()
-    number, space, typed_unit = stripped.rpartition(" ")
-    if single and unit and space and typed_unit == unit:
-        stripped = number.rstrip()
+    if single and unit and stripped.endswith(unit) and _NUMBER.fullmatch(stripped[:-len(unit)].rstrip()):
+        stripped = stripped[:-len(unit)].rstrip()  # "25.5 bar" or "25.5bar"
     if single and _DECIMAL_COMMA.fullmatch(stripped):
         raise InputError(f"{text!r} is not a number: write a decimal point ({stripped.replace(',', '.')})")
     if stripped.startswith("["):
