@@ -14,7 +14,7 @@ from pathlib import Path
 
 from workbench.errors import InputError, WorkbenchError
 
-__all__ = ["atomic_write_bytes", "atomic_write_text", "read_input", "unreadable", "write_output"]
+__all__ = ["atomic_write_bytes", "atomic_write_text", "read_input", "refuse_read_only", "unreadable", "write_output"]
 
 # a write refused because of the place the user named, not because the disk failed
 _WRONG_PLACE = (FileNotFoundError, FileExistsError, NotADirectoryError, PermissionError)
@@ -51,8 +51,7 @@ def write_output(path: str | Path, data: bytes) -> None:
         under a file, not writable): ``path: cannot write (<reason>)``.
     :raises WorkbenchError: the write failed otherwise (e.g. the disk is full).
     """
-    if _read_only(path):
-        raise InputError(f"{path}: the file is read-only; not overwritten (make it writable, or write another file)")
+    refuse_read_only(path)
     try:
         atomic_write_bytes(path, data)
     except IsADirectoryError:
@@ -61,6 +60,12 @@ def write_output(path: str | Path, data: bytes) -> None:
         raise InputError(f"{path}: cannot write ({exc.strerror or exc})") from None
     except OSError as exc:
         raise WorkbenchError(f"{path}: cannot write ({exc.strerror or exc})") from None
+
+
+def refuse_read_only(path: str | Path) -> None:
+    """:raises InputError: ``path`` is a file the user made read-only, which a write must not replace."""
+    if _read_only(path):
+        raise InputError(f"{path}: the file is read-only; not overwritten (make it writable, or write another file)")
 
 
 def _read_only(path: str | Path) -> bool:

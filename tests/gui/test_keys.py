@@ -110,8 +110,8 @@ def test_ctrl_shift_p_opens_a_plot_and_f12_records_what_it_measures_until_f12_ag
     plot.add_signals(["zsRailPressure"])
     acquisition = window.hub.acquisition
     qtbot.waitUntil(lambda: "zsRailPressure" in acquisition.state.signals, timeout=WAIT_MS)
-    path = tmp_path / "keys.mf4"
-    monkeypatch.setattr(QFileDialog, "getSaveFileName", lambda *args, **kwargs: (str(path), ""))
+    path = tmp_path / "keys.mf4"  # typed "keys": the dialog's filter gives the suffix, as a native dialog adds it
+    monkeypatch.setattr(QFileDialog, "getSaveFileName", lambda *args, **kwargs: (str(tmp_path / "keys"), ""))
     with qtbot.waitSignal(acquisition.recording_started, timeout=WAIT_MS):
         press(Qt.Key_F12)
     assert window.record_action.isChecked()

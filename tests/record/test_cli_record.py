@@ -55,6 +55,20 @@ def test_an_existing_file_needs_overwrite(bus, capsys, tmp_path):
     assert code == 0 and path.read_bytes()[:3] == b"MDF"
 
 
+def test_a_protected_file_or_another_format_s_name_is_not_recorded_to(bus, capsys, tmp_path):
+    """--overwrite replaces a recording, not a file the user made read-only (as every written file); an MDF4 file
+    named .csv would be taken for one by the next tool."""
+    released = tmp_path / "released.mf4"
+    released.write_bytes(b"keep me")
+    released.chmod(0o444)
+    code, out, err = run(capsys, "measure", "xsDC", "--record", str(released), "--overwrite", "--duration", "0.2", *bus)
+    assert (code, out) == (2, "") and "released.mf4: the file is read-only; not overwritten" in err
+    assert released.read_bytes() == b"keep me"
+    code, out, err = run(capsys, "record", str(tmp_path / "run.csv"), "xsDC", "--duration", "0.2", *bus)
+    assert (code, out, err) == (2, "", f"error: {tmp_path / 'run.csv'}: a recording is an MDF4 file; name it .mf4\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["released.mf4"]
+
+
 @pytest.mark.parametrize(("options", "message"), [
     (["--raw-can", "--overwrite"], "--raw-can, --overwrite: only with --record"),
     (["--record", "x.mf4", "--raw"], "--raw does not go with --record"),

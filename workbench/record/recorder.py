@@ -50,6 +50,7 @@ from workbench import __version__
 from workbench.bus_defaults import BusSpec
 from workbench.can import DbcFile, load_dbc
 from workbench.errors import ConnectionLostError, InputError, WorkbenchError
+from workbench.fileio import refuse_read_only
 from workbench.logs import logger
 from workbench.progress import Progress
 from workbench.record.can_channels import CanMessageGroups, RawCanGroup
@@ -72,6 +73,7 @@ __all__ = ["CAN2_BUS_CHANNEL", "Recorder", "RecordingStats", "record"]
 CAN2_BUS_CHANNEL = 2  # the CAN2 bus's number in the bus log (CAN_DataFrame.BusChannel)
 POLL_S = 0.05  # how often the recording thread takes what arrived
 ORIGIN_WAIT_S = 1.0  # CAN frames wait this long for the first DAQ sample to fix the time axis
+MDF_SUFFIXES = (".mf4", ".mdf")  # what a recording may be named: MDF4 under another suffix misleads
 MAX_PENDING_BYTES = 16 << 20  # flush early when this much is waiting (a burst, a long flush period)
 TIME_AXIS = "time channels: s since the start time."  # the header's time_axis starts so; the clocks follow
 
@@ -150,9 +152,12 @@ class Recorder:
         self.path = Path(path)
         if self.path.is_dir():
             raise InputError(f"{self.path}: is a folder; name the .mf4 file to record to")
+        if self.path.suffix.lower() not in MDF_SUFFIXES:
+            raise InputError(f"{self.path}: a recording is an MDF4 file; name it .mf4")
         if self.path.exists() and not overwrite:
             raise InputError(f"{self.path}: exists; record to another name or overwrite it "
                              "(overwrite=True, --overwrite: replaced when the recording ends)")
+        refuse_read_only(self.path)  # --overwrite replaces a file, not one the user protected
         self.measurement = session.measure(signals, event=event, prescaler=prescaler) if signals else None
         self.trigger = trigger
         missing = sorted((trigger.names if trigger else set()) - set(self.measurement.names if signals else ()))

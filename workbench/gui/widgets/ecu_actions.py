@@ -191,7 +191,8 @@ class EcuWindowActions:
         if not path:
             self.record_action.setChecked(False)
             return
-        self.start_recording(Path(path))
+        path = Path(path)  # a name typed without a suffix gets the filter's, as native dialogs add it
+        self.start_recording(path if path.suffix else path.with_name(path.name + ".mf4"))
 
     def start_recording(self, path: Path) -> None:
         """Record what the windows measure, and the CAN2 bus decoded with the project's first DBC (XCP on
