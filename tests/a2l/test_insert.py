@@ -266,20 +266,33 @@ def test_a_pattern_names_an_element_in_either_naming(version, pattern, name):
 
 @pytest.mark.parametrize("elf", [TYPES_ELF, WILD_ELF, ELF_DIR / "matrix" / "cpp-gcc-dwarf5-m64-O0.elf"],
                          ids=["types", "wild", "cpp"])
-def test_the_variables_left_out_before_the_walk_are_those_it_would_leave(elf):
-    """Without a range every variable is walked (a range may hold any of them): the same objects come out of the
-    patterns as when the variables none of their paths match are left out first: the name alone matched for a
-    pattern that cannot match past it, none of a variable whose paths lack the text a pattern's matches hold."""
+def test_the_variables_left_out_before_the_walk_are_those_it_would_leave(elf, monkeypatch):
+    """The variables none of whose paths a pattern matches, and of which no range holds a byte, are left out
+    before the walk (by their names, the text each match of a pattern holds, the name alone for a pattern that
+    cannot match past it, the bounds of their addresses): the same objects come out as when every one is walked."""
+    from workbench.a2l import insert
+
     patterns = [".*", r"outer\..*|bits", "^z", "(?i)ZS.*|b.*s", r"vector\[[3-4]\]|zv.*\.BP1", r"\w+_\w+", "[a-m]",
                 r"^\w*(?!\.)", r"s[^.]*", "(big|EPK)", ".*ow.*", "[a-z]+e.*"]  # "ow": in bits.low's member name
     doc = load_a2l_string(EMPTY)
     with DebugData(elf, use_cache=False) as debug:
-        for pattern in patterns:
-            chosen = insert_document(doc, debug, measurements=Selection((pattern,)))
-            walked = insert_document(doc, debug, measurements=Selection((pattern,)),
-                                     characteristics=Selection(ranges=((0, 1),)))
-            assert chosen.data == walked.data, pattern
-            assert chosen.report.inserted == walked.report.inserted, pattern
+        variables = [variable for variable in debug.variables() if variable.address]
+        addresses = sorted({variable.address for variable in variables})
+        ranges = ((addresses[1] + 1, addresses[4] + 2), (addresses[-2] - 1, addresses[-2]))  # parts of variables
+        firsts: dict = {}
+        seconds = [variable for variable in variables if firsts.setdefault(variable.name, variable) is not variable]
+        ranges += tuple((variable.address, variable.address + 1) for variable in seconds[:1])
+        selections = [(Selection((pattern,)), Selection()) for pattern in patterns] + [
+            (Selection(), Selection(ranges=ranges)), (Selection(("z.*",)), Selection(ranges=ranges[:1]))]
+        chosen = [insert_document(doc, debug, measurements=measured, characteristics=calibrated)
+                  for measured, calibrated in selections]
+        monkeypatch.setattr(insert._Names, "may_name_any", lambda self, variables: variables)
+        monkeypatch.setattr(insert._Names, "match_one", lambda self, variable, suffixes: True)
+        for (measured, calibrated), result in zip(selections, chosen):
+            walked = insert_document(doc, debug, measurements=measured, characteristics=calibrated)
+            assert result.data == walked.data, (measured, calibrated)
+            assert result.report.inserted == walked.report.inserted, (measured, calibrated)
+            assert result.report.findings == walked.report.findings, (measured, calibrated)
 
 
 def test_every_variable_of_the_demo_that_its_a2l_lacks(tmp_path):

@@ -318,6 +318,7 @@ class _Inserter:
         self.structures = None  # StructureTypedefs with --structures
         self.referenced: dict[str, list[str]] = {kind: [] for kind in KINDS}  # what a GROUP refers to, INSTANCEs too
         self.at_tokens: list[tuple[int, int]] = []  # (a finding's index in the report, the token it is at)
+        self.bounds: dict[int, list[tuple[int, int]]] = {}  # DWARF type offset -> see _may_hold
 
     # -- what to insert ---------------------------------------------------------------------------
     def walk_variables(self, progress: Progress | None) -> None:
@@ -325,20 +326,19 @@ class _Inserter:
         units, statics of several functions) is the first one's, with a SYMBOL_LINK that says which (Vector's
         ``name{Function:f}{CompileUnit:unit_c}{Namespace:Global}``, as a2ltool writes it)."""
         variables = self.debug.variables()
-        names = None if any(rule.ranges for rule in self.active) else \
-            _Names([pattern for rule in self.active for _, pattern in rule.patterns])
-        if names is not None:  # what no pattern can name is known without its type
+        names = _Names([pattern for rule in self.active for _, pattern in rule.patterns])
+        if not self.ranged:  # what no pattern can name is known without its type (a range may hold anything)
             variables = names.may_name_any(variables)
         by_name: dict[str, list] = {}
         for variable in variables:
             if variable.address is not None and variable.type_offset is not None:
                 by_name.setdefault(variable.name, []).append(variable)  # a2ltool's names: without their scopes
-        if names is not None:
-            # ... and with it, before the walk: a variable none of whose paths a pattern matches yields nothing
-            # (the walk costs ~6 us a member or element, a match of its path ~0.5: 1,000 of 50,000 variables
-            # whose names start alike, 0.40 -> 0.05 s)
-            suffixes = _Suffixes(self.debug, self.new_arrays)
-            by_name = {name: found for name, found in by_name.items() if names.match_one(found[0], suffixes)}
+        # ... and with it, before the walk: a variable none of whose paths a pattern matches, and of which no range
+        # holds a byte, yields nothing (the walk costs ~6 us a member or element, a match of its path ~0.5: 1,000
+        # of 50,000 variables whose names start alike, 0.40 -> 0.05 s)
+        suffixes = _Suffixes(self.debug, self.new_arrays)
+        by_name = {name: found for name, found in by_name.items()
+                   if names.match_one(found[0], suffixes) or self.ranged and any(map(self._may_hold, found))}
         for number, (name, found) in enumerate(by_name.items()):
             if number % 256 == 0:
                 report_progress(progress, number, len(by_name), "walking the ELF's variables")
@@ -402,6 +402,19 @@ class _Inserter:
         elif by_name or named:
             self._skip("not-insertable", leaf.path, f"{leaf.path}: a {ctype.kind} ({ctype.display_name}) is no "
                        "value to measure or calibrate: not inserted", Severity.INFO)
+
+    def _may_hold(self, variable: Variable) -> bool:
+        """Whether a range holds a byte of ``variable`` (:meth:`_Rules.may_hold` as bounds of its address)."""
+        bounds = self.bounds.get(variable.type_offset)
+        if bounds is None:
+            size = max(self.debug.type_of(variable).size, 1)
+            bounds = self.bounds[variable.type_offset] = [(low - size, high) for rule in self.ranged
+                                                          for low, high in rule.ranges]
+        address = variable.address
+        for low, high in bounds:
+            if low < address < high:
+                return True
+        return False
 
     def _may_select(self, leaf: _Leaf) -> bool:
         """Whether a pattern may name ``leaf`` or a member or element of it, or a range hold a byte of it."""
