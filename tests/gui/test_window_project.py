@@ -160,3 +160,29 @@ def test_a_connection_that_fails_after_another_project_opened_says_nothing(qtbot
         assert window.status.link.text() == "○ not connected" and window.connect_action.isEnabled()
     finally:
         window.close()
+
+
+def test_the_project_before_is_freed_when_another_opens(qtbot, tmp_path):
+    """Its A2L model (tens of MB for a real ECU's) goes: every task the window had run kept what its callbacks referred
+    to (an editor reading the s19, and through it the model), and the compare view kept the model for its decimals."""
+    import gc
+    import weakref
+
+    from gui_helpers import WAIT_MS
+    from PySide6.QtCore import QCoreApplication, QEvent, QThreadPool
+
+    from workbench.gui.project import demo_project
+
+    window = offline_window(qtbot)  # the demo's editors read their values from its s19, each in a task
+    try:
+        qtbot.waitUntil(lambda: window.editors["xsSWITCH_TANK_THR"].value is not None, timeout=WAIT_MS)
+        model = weakref.ref(window.workspace.model)
+        with qtbot.waitSignal(window.loaded, timeout=WAIT_MS):
+            window.open_project_file(_project_b(tmp_path, demo_project().connection))
+        QThreadPool.globalInstance().waitForDone(WAIT_MS)
+        qtbot.wait(50)  # the tasks' ends delivered
+        QCoreApplication.sendPostedEvents(None, QEvent.DeferredDelete)  # the closed editors
+        gc.collect()
+        assert model() is None
+    finally:
+        window.close()

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import gc
 import threading
+import weakref
 from collections.abc import Callable
 from typing import Any
 
@@ -62,7 +63,11 @@ class Task(QObject):
         self.progress = QtProgress() if progress else None
         if self.progress is not None:
             self.kwargs["progress"] = self.progress
-        self.finished.connect(lambda: Task._running.discard(self))
+        # kept until its end is delivered in the GUI thread; the connection holds a weak reference: a lambda holding
+        # the task itself made a cycle through Qt, which the collector cannot see, and every task with what its
+        # callbacks refer to (an editor, a closed project's A2L model) stayed alive
+        task = weakref.ref(self)
+        self.finished.connect(lambda: Task._running.discard(task()))
 
     def start(self, pool: QThreadPool | None = None) -> Task:
         Task._running.add(self)
@@ -92,7 +97,10 @@ class _Runnable(QRunnable):
         self.task = task
 
     def run(self) -> None:
-        self.task.run()
+        try:
+            self.task.run()
+        finally:
+            self.task = None  # the pool may keep this wrapper past the run: not the task with it
 
 
 def run_task(function: Callable[..., Any], *args, on_done: Callable[[Any], None] | None = None,

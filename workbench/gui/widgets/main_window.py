@@ -298,6 +298,7 @@ class MainWindow(EcuWindowActions, QMainWindow):
         self.numeric.remove_signals(self.numeric.signals)
         self.fix_panel.clear()
         self.parameter_sets.forget()
+        self.compare.set_a2l(None)  # its decimals held the A2L model until the next project's was read
         self.trace.clear()
         self.browser.set_variables([])
         self.hub.clear()
