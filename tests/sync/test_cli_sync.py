@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import os
 import shutil
+import signal
 
 import pytest
 from cli_helpers import run
@@ -58,6 +59,32 @@ def test_save_change_diff_load_and_diff_again(bus, capsys, tmp_path):
     code, out, _ = run(capsys, "cal", "diff", "base.dcm", "ecu", *bus)
     assert (code, out.splitlines()[-1]) == (0, "58 objects: 58 equal, 0 changed, 0 shape changed, 0 only in A, "
                                                "0 only in B")
+
+
+def test_a_first_ctrl_c_stops_a_load_at_the_next_object_and_names_what_was_written(bus, capsys, tmp_path,
+                                                                                     monkeypatch):
+    from workbench.session import Session
+
+    run(capsys, "cal", "save", "base.dcm", *bus)
+    text = (tmp_path / "base.dcm").read_text()
+    for name, new in (("xsPRV_KP", "7.0"), ("xsPRV_KI", "3.0")):
+        start = text.index(f"FESTWERT {name}\n")
+        value = text.index("  WERT ", start)
+        text = text[:value] + f"  WERT {new}" + text[text.index("\n", value):]
+    (tmp_path / "tuned.dcm").write_text(text)
+    write = Session.write
+
+    def write_then_ctrl_c(self, *args, **kwargs):  # the user presses Ctrl-C while the first object is written
+        result = write(self, *args, **kwargs)
+        signal.raise_signal(signal.SIGINT)
+        return result
+
+    monkeypatch.setattr(Session, "write", write_then_ctrl_c)
+    code, out, err = run(capsys, "cal", "load", "tuned.dcm", *bus)
+    assert code == 130 and "xsPRV_KP  applied" in out and "xsPRV_KI  not written  cancelled before xsPRV_KI" in out
+    assert err.splitlines()[-1] == ("error: cancelled: writing xsPRV_KI at 1/2; objects that reached the ECU: "
+                                    "xsPRV_KP; 1 not written")
+    assert "stopping at the next object (Ctrl-C again to interrupt at once)" in err
 
 
 def test_a_bad_object_is_listed_and_nothing_is_written(bus, capsys, tmp_path):

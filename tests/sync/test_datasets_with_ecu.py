@@ -187,6 +187,26 @@ def test_a_failure_halfway_names_what_reached_the_ecu(sim, ecu):
     assert (ecu.read("xsPRV_KP"), ecu.read("xsPRV_KI"), ecu.read("xsPRV_KD")) == (6.0, 2.0, pytest.approx(0.02))
 
 
+def test_a_cancel_between_objects_names_what_reached_the_ecu(ecu):
+    """Ctrl-C in `cal load` (its first one cancels) or a Cancel button: the objects written stay listed."""
+
+    class CancelAfterFirst:
+        cancelled = False
+
+        def update(self, done, total, label=""):
+            self.cancelled = label.startswith("writing") and done >= 1
+
+    dataset = read_dataset(ecu)
+    for name, value in (("xsPRV_KP", 6.5), ("xsPRV_KI", 3.5), ("xsPRV_KD", 0.25)):
+        dataset[name] = replace(dataset[name], value=value)
+    with pytest.raises(ApplyFailed) as failed:
+        apply_dataset(ecu, dataset, progress=CancelAfterFirst())
+    report = failed.value.report
+    assert report.reached_ecu == ["xsPRV_KP"] and report.named("not written") == ["xsPRV_KI", "xsPRV_KD"]
+    assert str(failed.value).startswith("cancelled: writing xsPRV_KI at 1/3; objects that reached the ECU: xsPRV_KP")
+    assert failed.value.exit_code == 130 and ecu.read("xsPRV_KI") == 2.0
+
+
 def test_a_file_value_compares_as_the_ecu_holds_it(ecu):
     text = "KONSERVIERUNG_FORMAT 2.0\nFESTWERT zsEWMA_ALPHA\n  WERT 0.2\nEND\nFESTWERT xsPRV_KD\n  WERT 0.03\nEND\n"
     dataset = load_dataset_string(text, "dcm", "tuned.dcm")

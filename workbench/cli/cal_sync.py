@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 from workbench.cli.cal_image import IMAGES, add_image_arguments, image_dataset_of, load_into_image
 from workbench.cli.ecu_options import a2l_document, add_ecu_arguments, open_session
 from workbench.cli.options import print_json
-from workbench.cli.progressbar import ProgressBar
+from workbench.cli.progressbar import ProgressBar, cancel_on_interrupt
 from workbench.errors import InputError, epk_text
 
 if TYPE_CHECKING:
@@ -160,7 +160,8 @@ def _load(args: argparse.Namespace) -> int:
     dataset = load_dataset(args.input)
     for note in dataset.notes:
         print(note, file=sys.stderr)
-    with open_session(args) as session, _progress(args, "applying") as progress:
+    with open_session(args) as session, _progress(args, "applying") as progress, \
+            cancel_on_interrupt(progress, "object"):
         try:
             result = apply_dataset(session, dataset, dry_run=args.dry_run, allow_extended_limits=args.extended_limits,
                                    skip_unknown=args.skip_unknown, progress=progress, source=args.input)

@@ -3,14 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import signal
 import sys
-import threading
-from contextlib import contextmanager
 
 from workbench.cli.ecu_options import a2l_document, add_ecu_arguments, open_session
 from workbench.cli.options import positive_float, print_json
-from workbench.cli.progressbar import ProgressBar
+from workbench.cli.progressbar import ProgressBar, cancel_on_interrupt
 from workbench.errors import Cancelled, InputError
 from workbench.image.files import image_suffixes
 
@@ -229,7 +226,7 @@ def _flash(session, plan, args: argparse.Namespace) -> int:
         if not args.json:
             print(checked.describe(), flush=True)
 
-    with ProgressBar("flashing", enabled=None if not args.json else False) as progress, _cancel_on_interrupt(progress):
+    with ProgressBar("flashing", enabled=None if not args.json else False) as progress, cancel_on_interrupt(progress, "block"):
         try:
             result = flash_ecu(session, plan, progress=progress, options=options, checked=show)
         except Cancelled as exc:
@@ -250,23 +247,3 @@ def _options(args: argparse.Namespace):
     return FlashOptions(verify=Verify.NONE if args.no_verify else Verify(args.verify),
                         erase_beyond_file=args.erase_beyond_file, accept_epk_mismatch=args.accept_epk_mismatch,
                         reconnect_s=args.reconnect)
-
-
-@contextmanager
-def _cancel_on_interrupt(progress: ProgressBar):
-    """The first Ctrl-C cancels the flash at its next block (a clean, resumable state); a second one interrupts."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-
-    def cancel(signum, frame):
-        if progress.cancelled:
-            raise KeyboardInterrupt
-        progress.cancelled = True
-        print("\nstopping at the next block (Ctrl-C again to interrupt at once)", file=sys.stderr)
-
-    previous = signal.signal(signal.SIGINT, cancel)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)

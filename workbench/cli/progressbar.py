@@ -3,14 +3,19 @@
 Shown only when stderr is a terminal (and disappears when done), so pipes, CI logs
 and ``--json`` output stay clean. It is never cancelled: in a terminal Ctrl-C interrupts the
 job (the CLI ends with exit code 130, atomic writes leave no half-written file); ``cancelled``
-is for front ends with a Cancel button.
+is for front ends with a Cancel button, and for :func:`cancel_on_interrupt`: a job that writes to the ECU
+step by step (a flash, a dataset) stops at its next step on the first Ctrl-C, and says what it did.
 """
 
 from __future__ import annotations
 
+import signal
 import sys
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
 
-__all__ = ["ProgressBar"]
+__all__ = ["ProgressBar", "cancel_on_interrupt"]
 
 
 class ProgressBar:
@@ -42,3 +47,23 @@ class ProgressBar:
         if self._bar is not None:
             self._bar.update(self._task, completed=done, total=total or None,
                              description=label or self.description)
+
+
+@contextmanager
+def cancel_on_interrupt(progress: ProgressBar, step: str) -> Iterator[None]:
+    """The first Ctrl-C cancels the job at its next ``step`` (a clean state it can say); a second one interrupts."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def cancel(signum, frame):
+        if progress.cancelled:
+            raise KeyboardInterrupt
+        progress.cancelled = True
+        print(f"\nstopping at the next {step} (Ctrl-C again to interrupt at once)", file=sys.stderr)
+
+    previous = signal.signal(signal.SIGINT, cancel)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)

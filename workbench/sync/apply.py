@@ -30,7 +30,7 @@ from workbench.calib.limits import check_limits
 from workbench.calib.memory import ByteEdit, Span
 from workbench.calib.values import CalValue
 from workbench.calib.writable import check_inside
-from workbench.errors import InputError, PartialWriteError, WorkbenchError
+from workbench.errors import Cancelled, InputError, PartialWriteError, WorkbenchError
 from workbench.progress import Progress, report
 from workbench.session import Session
 from workbench.sync.ecu import EcuReader, on_pages
@@ -131,6 +131,8 @@ class ApplyFailed(WorkbenchError):
 
     def __init__(self, report: ApplyReport, cause: Exception):
         self.report = report
+        if isinstance(cause, Cancelled):
+            self.exit_code = 130  # as an interrupted command: the user stopped it (Ctrl-C, Cancel)
         reached = report.reached_ecu
         shown = ", ".join(reached[:5]) + (" ..." if len(reached) > 5 else "") if reached else "none"
         super().__init__(f"{cause}; objects that reached the ECU: {shown}; "
@@ -297,7 +299,12 @@ def _write(session: Session | ImageCalibration, planned: dict[str, _Planned], ch
     """Write the changing objects in order; on a failure mark what reached the ECU and raise ApplyFailed."""
     index = {o.name: i for i, o in enumerate(result.outcomes)}
     for done, name in enumerate(changing):
-        report(progress, done, len(changing), f"writing {name}")
+        try:
+            report(progress, done, len(changing), f"writing {name}")
+        except Cancelled as exc:  # between two objects: those before reached the ECU, and the report says so
+            for rest in changing[done:]:
+                result.outcomes[index[rest]] = ObjectOutcome(rest, NOT_WRITTEN, f"cancelled before {name}")
+            raise ApplyFailed(result, exc) from exc
         try:
             session.write(name, planned[name].value, allow_extended_limits=extended)
         except WorkbenchError as exc:
