@@ -14,7 +14,8 @@ from pathlib import Path
 
 from workbench.errors import InputError, WorkbenchError
 
-__all__ = ["atomic_write_bytes", "atomic_write_text", "read_input", "refuse_read_only", "unreadable", "write_output"]
+__all__ = ["atomic_write_bytes", "atomic_write_text", "read_input", "read_text_input", "refuse_read_only", "unreadable",
+           "write_output"]
 
 # a write refused because of the place the user named, not because the disk failed
 _WRONG_PLACE = (FileNotFoundError, FileExistsError, NotADirectoryError, PermissionError)
@@ -30,6 +31,28 @@ def read_input(path: str | Path, what: str) -> bytes:
         return Path(path).read_bytes()
     except OSError as exc:
         raise unreadable(path, exc, what) from None
+
+
+def read_text_input(path: str | Path, what: str) -> str:
+    """The text of the input file ``path`` (a CSV, a project file): UTF-8 with or without a BOM, UTF-16 with
+    its BOM (a spreadsheet's "Unicode text"), else Windows-1252, which a spreadsheet's CSV export and a
+    Windows editor write ("ANSI": ``°C``, ``µs``, umlauts).
+
+    :raises InputError: as :func:`read_input`, or ``path:line: not text`` (bytes none of them decode).
+    """
+    raw = read_input(path, what)
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        encodings = ("utf-16",)
+    else:
+        encodings = ("utf-8-sig", "cp1252")
+    for encoding in encodings:
+        try:
+            return raw.decode(encoding)
+        except UnicodeDecodeError as exc:
+            failed = exc
+    line = raw[:failed.start].count(b"\n") + 1
+    raise InputError(f"{path}:{line}: not {what} (byte 0x{raw[failed.start]:02X} is not UTF-8, UTF-16 or Windows-1252 "
+                     "text)")
 
 
 def unreadable(path: str | Path, exc: OSError, what: str) -> InputError:

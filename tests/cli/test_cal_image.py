@@ -176,3 +176,17 @@ def test_every_image_extension_is_read_written_and_named(work, capsys):
                     ("cal", "set", "xsPRV_KP", "6", "--image", "app.sx", "-o", "new.txt")):
         code, _, err = run(capsys, *refused)
         assert code == 2 and all(suffix in err for suffix in IMAGE_SUFFIXES), err
+
+
+@pytest.mark.parametrize("encoding", ["utf-16", "cp1252"])
+def test_a_spreadsheet_s_csv_in_its_own_encoding_is_taken(work, capsys, encoding):
+    """Excel writes "Unicode text" as UTF-16 with a BOM and a plain CSV in Windows-1252 (the legend's µ, °)."""
+    (work / "curve.csv").write_bytes("zvRailPConv: x [V] in µ-steps, values [bar] at 20 °C\n"
+                                     "x 0.5 1 1.5 2 2.5 3 3.5 4 4.5\n"
+                                     "value 0 6.25 12.5 18.75 25 31.25 37.5 43.75 49\n".encode(encoding))
+    code, out, err = run(capsys, "cal", "set", "zvRailPConv", "--from", "curve.csv", "--image", "app.s19",
+                         "-o", "new.s19")
+    assert code == 0 and "43.75 49.00" in out
+    (work / "bad.csv").write_bytes(b"0,1\n2,\x81\n")  # undefined in Windows-1252 too
+    assert run(capsys, "cal", "set", "zvRailPConv", "--from", "bad.csv", "--image", "app.s19", "-o", "new.s19") == \
+        (2, "", "error: bad.csv:2: not a value file (byte 0x81 is not UTF-8, UTF-16 or Windows-1252 text)\n")

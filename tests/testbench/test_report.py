@@ -79,6 +79,9 @@ def test_a_test_without_steps_and_a_bad_catalogue(tmp_path):
     bad.write_text("id,name\nX,Y\n,Z\n")
     with pytest.raises(InputError, match=r"bad.csv:3: a requirement without an id"):
         read_requirements(bad)
+    exported = tmp_path / "doors.csv"  # a spreadsheet's CSV export: Windows-1252
+    exported.write_bytes("id,name,description\r\nSW_REQ_1,Druck,unter 5 °C in 300 µs\r\n".encode("cp1252"))
+    assert read_requirements(exported)[0].description == "unter 5 °C in 300 µs"
 
 
 def _points(element: str) -> list[tuple[float, float]]:

@@ -79,9 +79,9 @@ def value_from_file(path: Path, model: A2lModel, name: str, *, cell: bool = Fals
 
     :raises InputError: not .json/.csv, malformed (file:line:column), or a grid of another shape.
     """
-    from workbench.fileio import read_input
+    from workbench.fileio import read_text_input
 
-    data = read_input(path, "a value file").decode("utf-8-sig")
+    data = read_text_input(path, "a value file")
     suffix = path.suffix.lower()
     if suffix == ".json":
         try:

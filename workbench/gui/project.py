@@ -36,7 +36,7 @@ from typing import Any
 
 from workbench import demo
 from workbench.errors import InputError
-from workbench.fileio import atomic_write_text, read_input
+from workbench.fileio import atomic_write_text, read_text_input
 
 __all__ = ["Connection", "PlotSpec", "Project", "demo_project", "load_project", "recent_projects",
            "remember_project", "save_project"]
@@ -142,7 +142,7 @@ def load_project(path: str | Path) -> Project:
     :raises InputError: missing or malformed file, or a value of the wrong kind (named with its key).
     """
     path = Path(path)
-    text = read_input(path, "a project file").decode("utf-8-sig")
+    text = read_text_input(path, "a project file")
     try:
         if path.suffix.lower() == ".toml":
             import tomllib

@@ -10,6 +10,7 @@ It reads what the plugin left in DIR: ``tests/*.json`` (steps, evidence) and the
 from __future__ import annotations
 
 import csv
+import io
 import json
 import time
 from collections.abc import Sequence
@@ -20,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from workbench.errors import InputError
-from workbench.fileio import atomic_write_text, unreadable
+from workbench.fileio import atomic_write_text, read_text_input
 from workbench.logs import logger
 from workbench.testbench.svgplot import Band, plot_svg
 
@@ -44,11 +45,7 @@ def read_requirements(path: str | Path) -> list[Requirement]:
     :raises InputError: the file cannot be read or lacks the ``id`` column (file:line named).
     """
     path = Path(path)
-    try:
-        with path.open(encoding="utf-8-sig", newline="") as handle:
-            rows = list(csv.DictReader(handle))
-    except OSError as exc:
-        raise unreadable(path, exc, "a requirements CSV file") from None
+    rows = list(csv.DictReader(io.StringIO(read_text_input(path, "a requirements CSV file"), newline="")))
     if rows and "id" not in rows[0]:
         raise InputError(f"{path}:1: the header must name the columns id,name,description")
     requirements = []
