@@ -47,7 +47,7 @@ def test_disconnected_editors_and_fix_panel_are_read_only_and_a_write_is_refused
     panel = window.fix_panel
     qtbot.waitUntil(lambda: len(panel.model.rows) > 10 and not panel.model.stale, timeout=WAIT_MS)
     live, override = fix_texts(panel, "live"), fix_texts(panel, "override")
-    assert "0.00" in override and "30.00" not in override
+    assert "0.00 %" in override and "30.00 bar" not in override
 
     window.disconnect_action.trigger()
     field = scalar.field.input

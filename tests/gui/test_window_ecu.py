@@ -94,7 +94,9 @@ def test_a_fix_override_replaces_the_rail_pressure_until_released(window, qtbot)
     # xsLEDEn (the A2L's COMPARISON_QUANTITY) reads OFF: the override's table calls that Normal, as cal fix does
     qtbot.waitUntil(lambda: model.data(low) == "Normal", timeout=WAIT_MS)
     assert "live: xsLEDEn = OFF, which cfFUELLEVELLOW_VALUE calls Normal" in model.data(low, Qt.ToolTipRole)
-    assert model.data(model.index(_fix_row(panel, "zsRailPressure"), FIX_COLUMNS.index("override"))) == "12.50"
+    # in the _VALUE's unit, as cal fix --list prints it (the panel showed "12.50": bar, % or V?)
+    assert model.data(model.index(_fix_row(panel, "zsRailPressure"), FIX_COLUMNS.index("override"))) == "12.50 bar"
+    assert model.data(model.index(_fix_row(panel, "zsRailPressure"), FIX_COLUMNS.index("live"))).endswith(" bar")
     index = model.index(_fix_row(panel, "zsRailPressure"), FIX_COLUMNS.index("on"))
     assert model.data(index, Qt.CheckStateRole) == Qt.Checked
     assert model.setData(index, Qt.Unchecked.value, Qt.CheckStateRole)

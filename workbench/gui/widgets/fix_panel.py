@@ -133,8 +133,13 @@ class FixPanel(QWidget):
         return tuple(conversion.allowed) if getattr(conversion, "verbal", False) else ()
 
     def _format(self, name: str, value) -> str:
-        """A live or override value in the format of ``_VALUE`` ``name`` (its A2L decimals)."""
-        return format_value(value, value_decimals(self.a2l, name) if self.a2l is not None else None)
+        """A live or override value in the format and unit of ``_VALUE`` ``name`` (its A2L decimals), as ``cal fix
+        --list`` prints it ("25.23 bar"); a verbal value by its text alone."""
+        if self.a2l is None:
+            return format_value(value)
+        text = format_value(value, value_decimals(self.a2l, name))
+        unit = self.a2l.unit_of(self.a2l.object(name)) if value is not None and not isinstance(value, str) else ""
+        return f"{text} {unit}" if unit else text
 
     def _bus_value(self, fix) -> str | None:
         """A CAN signal's newest value as the CAN2 monitor decoded it (``Message.Signal`` of the same name)."""
