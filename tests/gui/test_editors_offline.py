@@ -153,3 +153,19 @@ def test_a_write_cut_off_by_a_lost_connection_says_not_written_and_shows_what_th
         assert window.controller.session.read("xsSWITCH_TANK_THR") == pytest.approx(21.0)
         window.close()
     assert not window.errors or pytest.fail(f"error dialogs: {[box.text() for box in window.errors]}")
+
+
+def test_the_numeric_view_greys_its_last_values_while_nothing_is_measured(window, qtbot):
+    """Disconnected, the numeric view showed the last values as live ones (white, no word of it)."""
+    numeric = window.numeric
+    numeric.add_signals(["zsRailPressure"])
+    value = numeric.item(numeric.signals.index("zsRailPressure"), 1)
+    qtbot.waitUntil(lambda: value.text() != "—", timeout=WAIT_MS)
+    assert value.foreground().color() != QColor(theme.MUTED) and value.toolTip() == ""
+    window.disconnect_action.trigger()
+    numeric.refresh()
+    assert value.text() != "—" and value.foreground().color() == QColor(theme.MUTED)
+    assert value.toolTip() == "not current: not connected (the last value measured)"
+    reconnect(window, qtbot)
+    qtbot.waitUntil(lambda: value.foreground().color() != QColor(theme.MUTED), timeout=WAIT_MS)
+    assert not window.errors

@@ -140,6 +140,7 @@ class MainWindow(EcuWindowActions, QMainWindow):
         self.fix_panel.error.connect(self.show_error)
         self.fix_dock = self._dock("Fix calibrations", self.fix_panel, Qt.RightDockWidgetArea)
         self.numeric = NumericView(self.hub)
+        self.numeric.not_current = self._not_measuring
         self.numeric_dock = self._dock("Numeric", self.numeric, Qt.BottomDockWidgetArea)
         self.trace = CanTrace(self.hub)
         self.trace_dock = self._dock("CAN trace", self.trace, Qt.BottomDockWidgetArea)
@@ -188,6 +189,12 @@ class MainWindow(EcuWindowActions, QMainWindow):
         if not space.contains(frame):
             self.move(max(space.left(), min(frame.left(), space.right() + 1 - frame.width())),
                       max(space.top(), min(frame.top(), space.bottom() + 1 - frame.height())))
+
+    def _not_measuring(self) -> str:
+        """Why the samples are not live now ("" while DAQ runs): the status bar's pause, or no measurement."""
+        if self.status.pause is not None:
+            return self.status.pause[0]
+        return "" if self.hub.acquisition is not None else self.controller.offline_reason or "not measuring"
 
     def _dock(self, title: str, widget: QWidget, area) -> QDockWidget:
         dock = QDockWidget(title, self)

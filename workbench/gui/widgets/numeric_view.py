@@ -1,6 +1,10 @@
-"""A numeric view: signals as a table of live values with units (CANape's "numeric window")."""
+"""A numeric view: signals as a table of live values with units (CANape's "numeric window"). While nothing is measured
+(not connected, the connection lost, flashing: ``not_current`` says why) the last values stay, greyed, the reason in
+their tooltips: never shown as live."""
 
 from __future__ import annotations
+
+from collections.abc import Callable
 
 from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtGui import QColor
@@ -23,6 +27,7 @@ class NumericView(SignalDropTarget, QTableWidget):
     def __init__(self, hub: SignalHub, parent=None):
         super().__init__(0, 4, parent)
         self.hub = hub
+        self.not_current: Callable[[], str] = lambda: ""  # why the values are not live now ("": they are)
         self._names: list[str] = []
         self.setHorizontalHeaderLabels(["signal", "value", "unit", "source"])
         self.verticalHeader().hide()
@@ -79,9 +84,14 @@ class NumericView(SignalDropTarget, QTableWidget):
     def refresh(self) -> None:
         if not self.isVisible():
             return
+        why = self.not_current()
+        colour = QColor(theme.MUTED) if why else self.palette().text().color()
         for row, name in enumerate(self._names):
             last = self.hub.buffer(name).last()
-            self.item(row, 1).setText(self.hub.info(name).format(None if last is None else last[1]))
+            item = self.item(row, 1)
+            item.setText(self.hub.info(name).format(None if last is None else last[1]))
+            item.setForeground(colour)
+            item.setToolTip(f"not current: {why} (the last value measured)" if why else "")
 
     def keyPressEvent(self, event) -> None:
         if event.key() in (Qt.Key_Delete, Qt.Key_Backspace):
