@@ -169,3 +169,19 @@ def test_the_numeric_view_greys_its_last_values_while_nothing_is_measured(window
     reconnect(window, qtbot)
     qtbot.waitUntil(lambda: value.foreground().color() != QColor(theme.MUTED), timeout=WAIT_MS)
     assert not window.errors
+
+
+def test_the_fixes_read_before_another_project_opened_are_not_shown_after(demo_ecu, project, qtbot, monkeypatch):
+    """The ECU's answer to a refresh came after the panel was cleared for another project: its 17 rows came back
+    (a flake of test_opening_another_project_leaves_nothing_bound_to_the_a2l_before on a loaded machine)."""
+    window = open_window(qtbot, project)
+    panel = window.fix_panel
+    qtbot.waitUntil(lambda: panel.model.rowCount() > 0 and not panel._busy, timeout=WAIT_MS)
+    fixes = list(panel.model.rows)
+    answers = []
+    monkeypatch.setattr(window.controller, "call", lambda _method, on_done=None, **_: answers.append(on_done) or True)
+    panel.refresh()
+    panel.clear()  # another project opens meanwhile
+    answers[0](fixes)
+    assert panel.model.rowCount() == 0
+    window.close()

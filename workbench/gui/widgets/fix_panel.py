@@ -79,6 +79,7 @@ class FixPanel(QWidget):
         self.message.setStyleSheet(f"color: {theme.BAD};")
         layout.addWidget(self.message)
         self._busy = False
+        self._rows_of = 0  # counts the clears: a state read for the project before is not shown after one
         self.timer = QTimer(self)
         self.timer.setInterval(REFRESH_MS)
         self.timer.timeout.connect(self.refresh)
@@ -116,6 +117,7 @@ class FixPanel(QWidget):
         """No rows (another project opens: they were the pairs of the A2L before; a session lists the new ones)."""
         self.timer.stop()
         self._busy = False
+        self._rows_of += 1
         self.a2l, self.offline, self._ecu_rows = None, None, False
         self.message.setText("")
         self.model.set_fixes([])
@@ -155,14 +157,20 @@ class FixPanel(QWidget):
         """Read every fix's state (one request in flight at a time): the ECU's, or offline the image's."""
         if self._busy:
             return
+        rows_of = self._rows_of
+
+        def show(fixes) -> None:
+            if rows_of == self._rows_of:
+                self._show(fixes)
+
         if self.offline_mode():
             self._busy = True
-            run_task(lambda: self.offline.image().fixes(), on_done=self._show, on_error=self._failed)
+            run_task(lambda: self.offline.image().fixes(), on_done=show, on_error=self._failed)
             return
         if not self.controller.is_connected:
             return
         self._busy = True
-        task = self.controller.call("fixes", on_done=self._show, on_error=self._failed)
+        task = self.controller.call("fixes", on_done=show, on_error=self._failed)
         if task is None:
             self._busy = False
 
