@@ -68,7 +68,7 @@ if TYPE_CHECKING:
 
 log = logger(__name__)
 
-__all__ = ["CAN2_BUS_CHANNEL", "Recorder", "RecordingStats", "record"]
+__all__ = ["CAN2_BUS_CHANNEL", "Recorder", "RecordingStats", "record", "size_text"]
 
 CAN2_BUS_CHANNEL = 2  # the CAN2 bus's number in the bus log (CAN_DataFrame.BusChannel)
 POLL_S = 0.05  # how often the recording thread takes what arrived
@@ -76,6 +76,11 @@ ORIGIN_WAIT_S = 1.0  # CAN frames wait this long for the first DAQ sample to fix
 MDF_SUFFIXES = (".mf4", ".mdf")  # what a recording may be named: MDF4 under another suffix misleads
 MAX_PENDING_BYTES = 16 << 20  # flush early when this much is waiting (a burst, a long flush period)
 TIME_AXIS = "time channels: s since the start time."  # the header's time_axis starts so; the clocks follow
+
+
+def size_text(file_bytes: int) -> str:
+    """A file's size for people: MiB from 1 MiB on, KiB below (a short recording is not "0.0 MiB")."""
+    return f"{file_bytes / 2**20:.1f} MiB" if file_bytes >= 2**20 else f"{file_bytes / 1024:.0f} KiB"
 
 
 @dataclass(frozen=True)
@@ -106,7 +111,7 @@ class RecordingStats:
         if self.multiplexed:
             parts.append(f"multiplexed messages not decoded ({', '.join(self.multiplexed)}"
                          + ("; in the raw CAN frames)" if self.raw_frames else "; log the raw CAN frames for them)"))
-        size = f"{self.file_bytes / 2**20:.1f} MiB" if self.file_bytes >= 2**20 else f"{self.file_bytes / 1024:.0f} KiB"
+        size = size_text(self.file_bytes)
         if self.trigger:
             parts.append(f"{self.trigger}: " + ("never started" if self.started_s is None
                                                 else f"started at {self.started_s:.3f} s"))

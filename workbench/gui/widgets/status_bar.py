@@ -161,10 +161,11 @@ class EcuStatusBar(QStatusBar):
         acquisition = self.hub.acquisition
         state = acquisition.state if acquisition is not None else None
         if state is not None and state.recording is not None:
-            size = state.file_bytes / 2**20
+            from workbench.record.recorder import size_text  # loaded already: it records
+
             name = state.recording.name
             name = name if len(name) <= 24 else "…" + name[-23:]
-            self.recording.setText(f"● REC {name} · {state.recorded_s:.0f} s · {size:.1f} MiB")
+            self.recording.setText(f"● REC {name} · {state.recorded_s:.0f} s · {size_text(state.file_bytes)}")
             self.recording.setToolTip(f"recording to {state.recording}")
         else:
             self.recording.setText("")
