@@ -33,6 +33,9 @@ def _planned(dialog, qtbot):
 def test_a_calib_flash_from_the_s19_programs_its_partial_ranges_and_verifies(window, qtbot):
     dialog = window.open_flash_dialog()
     assert dialog.path.text() == str(demo.s19()) and dialog.selected_regions() == ["CALIB"]
+    # the whole software (the EPK dialog's Flash software): BOOT and SHARED were in it (a table item is checkable
+    # unless told), so that flash was refused ('BOOT holds the boot loader ... --allow-boot')
+    assert dialog.software_regions() == ["APPLICATIVE", "CALIB"]
     info = _planned(dialog, qtbot)
     assert info["CALIB"].startswith("Partial: FC0000h-") and "FDFFF0h-FDFFFFh" in info["CALIB"]
     assert info["APPLICATIVE"].startswith("Partial: 840000h-") and info["APPLICATIVE"].endswith("(not selected)")
