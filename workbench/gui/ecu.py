@@ -37,8 +37,10 @@ from workbench.logs import logger
 
 log = logger(__name__)
 
-__all__ = ["READ_ONLY_PAGE", "Connected", "EcuController", "NotWrittenError", "refusal"]
+__all__ = ["IN_BOOT", "READ_ONLY_PAGE", "Connected", "EcuController", "NotWrittenError", "refusal"]
 
+IN_BOOT = ("the ECU is in its boot loader: no application runs, so there are no calibrations to read or write; "
+           "flash its software first (Flash, on the toolbar and in the ECU menu)")
 READ_ONLY_PAGE = ("the reference page is active and XCP may not write it; switch to the working page first "
                   "(Working page, on the toolbar and in the ECU menu)")
 
@@ -168,6 +170,11 @@ class EcuController(QObject):
         if session is not None:
             session.close()
             self.disconnected.emit()
+
+    @property
+    def in_boot(self) -> bool:
+        """Whether the ECU connected answers in its boot loader (as read at CONNECT, or after a flash)."""
+        return self.session is not None and self.info is not None and bool(self.info.boot)
 
     @property
     def offline_reason(self) -> str:

@@ -32,7 +32,7 @@ from PySide6.QtWidgets import QHBoxLayout, QLabel, QSizePolicy, QToolButton, QVB
 from workbench.errors import LimitsError
 from workbench.gui import theme
 from workbench.gui.a2l_info import CalibrationInfo
-from workbench.gui.ecu import READ_ONLY_PAGE, NotWrittenError, refusal
+from workbench.gui.ecu import IN_BOOT, READ_ONLY_PAGE, NotWrittenError, refusal
 from workbench.gui.formatting import format_value
 from workbench.gui.widgets.elided_label import ElidedLabel
 from workbench.gui.widgets.operating_point import OperatingPoint
@@ -191,6 +191,9 @@ class CalibrationEditor(QWidget):
                 run_task(self.offline.read_value, self.info.name, on_done=self._show_offline,
                          on_error=lambda exc: self._say(f"⚠ {exc}", theme.BAD))
             return
+        if self.controller.in_boot:  # nothing to read (each editor's read was an error dialog): said in its line
+            self._update_writable()
+            return
         self.controller.call("read_value", self.info.name, on_done=self._show, on_error=self._failed)
         self.controller.call("read", self.info.name, page="reference", on_done=self._show_reference,
                              on_error=lambda _: self._show_reference(None))
@@ -213,6 +216,8 @@ class CalibrationEditor(QWidget):
             return "the A2L forbids calibrating it"
         if session is None:
             return "" if self.offline_editable() else self.controller.offline_reason
+        if self.controller.in_boot:
+            return IN_BOOT
         if session.read_only:
             return "the ECU's EPK differs from the A2L's"
         if self.controller.page == "reference":
@@ -305,7 +310,7 @@ class CalibrationEditor(QWidget):
         text, colour = self._message
         if self._writing:
             text, colour = "writing …", theme.MUTED
-        elif self.value_source and self.controller.session is not None:
+        elif self.value_source and self.controller.session is not None and not self.controller.in_boot:
             text, colour = f"reading the ECU … (the values of {self.value_source} until then)", theme.MUTED
         elif self.unwritten:
             text, colour = f"⚠ {self.unwritten}; the field shows what the ECU holds", theme.BAD

@@ -17,7 +17,7 @@ from PySide6.QtWidgets import QAbstractItemView, QLabel, QTableView, QVBoxLayout
 
 from workbench.gui import theme
 from workbench.gui.a2l_info import value_decimals
-from workbench.gui.ecu import READ_ONLY_PAGE, refusal
+from workbench.gui.ecu import IN_BOOT, READ_ONLY_PAGE, refusal
 from workbench.gui.formatting import format_value
 from workbench.gui.models.fixes import COLUMNS, FixModel
 from workbench.gui.widgets.columns import share_columns
@@ -169,6 +169,11 @@ class FixPanel(QWidget):
             return
         if not self.controller.is_connected:
             return
+        if self.controller.in_boot:  # no fixes to read there (a dialog a second): greyed, the tooltip says why
+            self.model.set_read_only(IN_BOOT, stale=True)
+            return
+        if self.model.read_only == IN_BOOT:  # the application runs again (flashed)
+            self.model.set_read_only("", stale=True)
         self._busy = True
         task = self.controller.call("fixes", on_done=show, on_error=self._failed)
         if task is None:
