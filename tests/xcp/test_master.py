@@ -277,7 +277,9 @@ def test_only_a_stale_answer_to_connect_says_what_was_wrong():
     ("ff 1d 81 40 00 40 01 01", 64, None),  # Motorola, CAN FD 64 bytes
     ("ff 1d 80 08 08 00 01", 8, "7 bytes, a CONNECT response has 8"),
     ("ff 1d 80 08 00 04 01 01", 8, "MAX_DTO 1024, more than the 8 bytes the transport carries"),
-    ("ff 1d 80 40 08 00 01 01", 8, "MAX_CTO 64, more than the 8 bytes the transport carries"),
+    ("ff 1d 80 40 08 00 01 01", 8, "MAX_CTO 64, more than the 8 bytes the transport carries (XCP on CAN FD? the "
+                                   "A2L's XCP_ON_CAN has no CAN_FD block)"),  # a CAN FD ECU, a classic CAN A2L
+    ("ff 1d 80 ff 08 00 01 01", 64, "MAX_CTO 255, more than the 64 bytes the transport carries"),
     ("ff 1d 80 08 04 00 01 01", 8, "MAX_DTO 4, below 8"),
     ("ff 1d 86 08 08 00 01 01", 8, "address granularity 3, which is reserved"),
     ("ff 1d 80 08 08 00 00 00", 8, "XCP protocol layer version 0, not 1"),
