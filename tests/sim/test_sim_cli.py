@@ -109,6 +109,21 @@ def test_xcp_on_tcp_end_to_end_in_a_process_of_its_own(free_tcp_port):
     assert out.rstrip().endswith("workbench sim: stopped")
 
 
+def test_a_second_simulator_on_the_same_can_bus_is_refused(capsys, free_udp_port):
+    """Two ECUs on one bus and ids answer every command twice (in two byte orders with two profiles)."""
+    bus = ["--bus-kwargs", f"port={free_udp_port}"]
+    process, _ = start_sim_process(*bus, "--duration", "30")
+    try:
+        assert main(["sim", *bus, "--profile", "motorola", "--duration", "0.1"]) == 2
+    finally:
+        process.kill()
+        process.communicate(timeout=15)
+    assert capsys.readouterr().err == (
+        f"error: another workbench sim (pid {process.pid}) serves on udp_multicast 239.74.163.2 "
+        f"(port={free_udp_port}): two ECUs on the same ids answer every command twice; stop it, or serve on a port "
+        "of its own (--bus-kwargs port=N)\n")
+
+
 def test_xcp_on_udp_json_banner_names_the_port_it_took(capsys):
     assert main(["sim", "--host", "127.0.0.1", "--port", "0", "--json", "--duration", "0.1"]) == 0
     info = json.loads(capsys.readouterr().out)

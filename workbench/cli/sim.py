@@ -119,7 +119,7 @@ def _print_profiles(as_json: bool) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
-    from workbench.sim.control import ControlServer, endpoint_keys
+    from workbench.sim.control import ControlServer, endpoint_keys, serving_elsewhere
     from workbench.sim.demo_ecu import DemoFiles, build_demo_ecu
     from workbench.sim.eth_port import EthernetEndpoint
     from workbench.sim.inject import FlcuFaults
@@ -152,6 +152,12 @@ def run(args: argparse.Namespace) -> int:
                           slave_profile=chosen)
     simulator = serve_demo(bus, ethernet=ethernet, can2=can2, demo=demo,
                            pcm_target_bar=args.pcm_target if args.pcm else None, time_scale=args.time_scale)
+    other = serving_elsewhere(endpoint_keys(simulator.describe()))
+    if other is not None:
+        simulator.close()
+        raise InputError(f"another workbench sim (pid {other[1]}) serves on "
+                         f"{_bus_text(simulator.describe()['buses']['CAN1'])}: two ECUs on the same ids answer every "
+                         "command twice; stop it, or serve on a port of its own (--bus-kwargs port=N)")
     if args.write_a2l:
         _write_a2l(simulator, args.write_a2l)
     stop = threading.Event()

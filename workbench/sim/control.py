@@ -29,7 +29,7 @@ from typing import Any
 from workbench.errors import InputError, WorkbenchError
 from workbench.logs import logger
 
-__all__ = ["CALLS", "ControlClient", "ControlServer", "endpoint_key", "endpoint_keys", "find_control"]
+__all__ = ["CALLS", "ControlClient", "ControlServer", "endpoint_key", "endpoint_keys", "find_control", "serving_elsewhere"]
 
 log = logger(__name__)
 
@@ -206,3 +206,20 @@ def find_control(key: str) -> ControlClient | None:
         return ControlClient(record["host"], int(record["port"]))
     except (WorkbenchError, KeyError, ValueError):
         return None  # a registration left behind by a simulator that was killed
+
+
+def serving_elsewhere(keys: list[str]) -> tuple[str, int] | None:
+    """A running simulator of another process registered under one of the CAN ``keys`` (the same bus, so the same
+    CAN ids): (its key, its pid). Two of them answer every command twice, in two byte orders if their profiles
+    differ; None when there is none (on Ethernet the port's bind already refuses a second one; a virtual bus is
+    a process's own)."""
+    for key in keys:
+        if not key.startswith("can|") or key.startswith("can|virtual|") or (client := find_control(key)) is None:
+            continue
+        try:
+            pid = int(client.hello.get("pid", 0)) if isinstance(client.hello, dict) else 0
+        finally:
+            client.close()
+        if pid and pid != os.getpid():
+            return key, pid
+    return None
