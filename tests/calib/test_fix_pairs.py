@@ -80,3 +80,11 @@ def test_the_live_value_reads_in_the_terms_of_the_override():
     assert live_as_override(model, low, 7) == 7 and live_as_override(model, low, "BROKEN") == "BROKEN"  # no such entry
     assert live_as_override(model, _pair(pairs, "cfENABLEFLCU"), "ON") == "Enabled"
     assert live_as_override(model, _pair(pairs, "zfRAILPRESSURE"), 25.06) == 25.06  # a number: the same quantity
+
+
+def test_a_typo_is_answered_with_names_as_the_a2l_writes_them():
+    from workbench.calib.fixes import resolve_fix
+    from workbench.errors import UnknownSymbolError
+
+    with pytest.raises(UnknownSymbolError, match=r"did you mean zfRAILPRESSURE, zsRailPressure, cfRAILPRESSURE\?"):
+        resolve_fix(fix_pairs_of(load_a2l(ROOT / "assets" / "FLCU.a2l").model()), "zfRAILPRESSUR")

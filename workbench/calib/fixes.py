@@ -61,10 +61,14 @@ class FixPair:
 
     def names(self) -> set[str]:
         """Every name a user may call it by, upper-cased."""
+        return {name.upper() for name in self.spellings()}
+
+    def spellings(self) -> set[str]:
+        """Every name a user may call it by, as the A2L writes it."""
         names = {self.stem, self.enable, self.value, self.stem[2:]}
         if self.measurement:
             names |= {self.measurement, _bare(self.measurement)}
-        return {name.upper() for name in names}
+        return names
 
 
 def _bare(measurement: str) -> str:
@@ -199,7 +203,8 @@ def resolve_fix(pairs: list[FixPair], signal: str) -> FixPair:
         raise InputError(f"{signal!r} has {len(found)} fix calibrations: {choices}; name the one you mean")
     import difflib
 
-    close = difflib.get_close_matches(key, sorted({n for pair in pairs for n in pair.names()}), n=3, cutoff=0.6)
+    spelled = {name.upper(): name for pair in pairs for name in sorted(pair.spellings())}
+    close = [spelled[name] for name in difflib.get_close_matches(key, sorted(spelled), n=3, cutoff=0.6)]
     where = "the A2L's fix calibrations" + (f" (did you mean {', '.join(close)}?)" if close else "")
     raise UnknownSymbolError(signal, where)
 
