@@ -54,6 +54,8 @@ def test_a_refused_value_sends_nothing_not_even_connect(bus, capsys, argv, messa
     (["measure", "zsRailPressure", "zsNOSUCH", "--duration", "0.1"], "unknown symbol 'zsNOSUCH'"),
     (["measure", "zsNOSUCH", "--record", "x.mf4", "--duration", "0.1"], "unknown symbol 'zsNOSUCH'"),
     (["measure", "zsRailPressure", "--event", "Task7ms", "--duration", "0.1"], "no DAQ event 'Task7ms' (the A2L has"),
+    (["measure", "zsRailPressure", "--daq", "--event", "7", "--duration", "0.1"],
+     "no DAQ event '7' (the A2L has 0 Task4ms, 1 Task50ms, 2 Task100ms)"),  # not the ECU's ERR_OUT_OF_RANGE
 ])
 def test_a_name_neither_a2l_nor_dbc_has_sends_nothing(bus, capsys, tmp_path, monkeypatch, command, message):
     """With no ECU a typo would otherwise be 'no ECU answers' after T1."""

@@ -313,13 +313,17 @@ def event_number(config: XcpConfig, event: str | int) -> int:
     """A DAQ event by number, or by the name or short name the A2L's IF_DATA XCP gives it (checked before
     connecting: a name the A2L lacks needs no ECU to be refused).
 
-    :raises InputError: a name the A2L has no event of (its events are listed).
+    :raises InputError: a name or number the A2L has no event of (its events are listed; a number passes when
+        the A2L lists none).
     """
-    if isinstance(event, int) or (isinstance(event, str) and event.isdigit()):
-        return int(event)
     daq = config.daq
-    for known in daq.events if daq else ():
+    events = list(daq.events) if daq else []
+    if isinstance(event, int) or (isinstance(event, str) and event.isdigit()):
+        if not events or int(event) in {known.number for known in events}:
+            return int(event)
+    for known in events:
         if event in (known.name, known.short_name):
             return known.number
-    names = [known.name for known in daq.events] if daq else []
+    names = [f"{known.number} {known.name}" if isinstance(event, int) or event.isdigit() else known.name
+             for known in events]
     raise InputError(f"no DAQ event {event!r} (the A2L has {', '.join(names) or 'none'})")
