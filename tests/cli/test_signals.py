@@ -9,6 +9,8 @@ import signal
 import subprocess
 import sys
 
+import pytest
+
 from workbench.sim import serve_demo
 
 ENTRY = "from workbench.cli import entry_point; entry_point()"
@@ -55,3 +57,20 @@ def test_measure_in_the_background_of_a_script_stops_on_sigint(free_udp_port):
                                               ready="")
         lines, err = stopped_by_sigint(script, pid)
     assert "zsRailPressure=" in seen[0] and lines[-1] == "exit 0", err
+
+
+def test_ctrl_c_while_the_command_line_is_being_read_is_one_line(capsys, monkeypatch):
+    """Ctrl-C at once after Enter falls into the parser's imports (python-can, pandas): no traceback."""
+    import workbench.cli
+    from workbench.cli import main
+
+    def interrupted(group):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(workbench.cli, "build_parser", interrupted)
+    try:
+        code = main(["record", "run.mf4", "zsRailPressure"])
+    except KeyboardInterrupt:  # escaping, it would end the whole test run
+        pytest.fail("Ctrl-C escaped main() as a traceback")
+    assert code == 130
+    assert capsys.readouterr().err == "error: interrupted\n"

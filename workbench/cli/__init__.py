@@ -89,14 +89,19 @@ def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code (0 ok, 1 failed, 2 bad input)."""
     global _process_may_end_at_once
     argv = _debug_first(sys.argv[1:] if argv is None else list(argv))
-    parser = build_parser(_group_named(argv))
-    options.usage_error = None
     try:
+        parser = build_parser(_group_named(argv))
+        options.usage_error = None
         args = parser.parse_args(argv)
     except SystemExit as exc:  # argparse: --help/--version exit 0, usage errors 2
         if exc.code and options.usage_error and "--json" in argv[:argv.index("--") if "--" in argv else None]:
             print_json({"ok": False, "error": options.usage_error, "exit_code": int(exc.code)})  # bad input, too
         return int(exc.code or 0)
+    except KeyboardInterrupt:  # Ctrl-C at once, while the parser imports python-can and the command's modules
+        if argv[:1] == ["--debug"]:
+            raise
+        print("error: interrupted", file=sys.stderr)
+        return 130
     if args.debug:
         import logging
 
