@@ -4,6 +4,8 @@ refer to (an editor, the A2L model of a project closed since)."""
 from __future__ import annotations
 
 import gc
+import threading
+import time
 import weakref
 
 from gui_helpers import WAIT_MS
@@ -34,3 +36,27 @@ def test_a_finished_task_keeps_nothing_its_callbacks_refer_to(qtbot):
     QThreadPool.globalInstance().waitForDone(WAIT_MS)
     gc.collect()
     assert sorted(map(str, results)) == ["1", "refused"] and [ref() for ref in payloads] == [None, None]
+
+
+def test_a_task_and_what_its_callbacks_refer_to_are_freed_in_the_gui_thread(qtbot, monkeypatch):
+    """The pool thread may still hold a task when the GUI thread has delivered its end (it was switched out after the
+    task's ``finished``): the last reference must still go in the GUI thread, not free a Qt object (and an editor its
+    callbacks refer to) in the pool thread."""
+    run = Task.run
+
+    def run_then_switched_out(task):
+        run(task)
+        time.sleep(0.01)  # the GUI thread runs meanwhile: it has taken the task's end
+
+    monkeypatch.setattr(Task, "run", run_then_switched_out)
+    freed_in, results = [], []
+    for _ in range(6):
+        payload = _Payload()
+        task = run_task(_job, False, on_done=lambda result, p=payload: results.append(result))
+        for referent in (task, payload):
+            weakref.finalize(referent, lambda: freed_in.append(threading.current_thread() is threading.main_thread()))
+        del task, payload, referent
+    qtbot.waitUntil(lambda: len(results) == 6 and not Task._running, timeout=WAIT_MS)
+    QThreadPool.globalInstance().waitForDone(WAIT_MS)
+    gc.collect()
+    assert len(freed_in) == 12 and all(freed_in)

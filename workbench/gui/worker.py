@@ -16,7 +16,7 @@ import weakref
 from collections.abc import Callable
 from typing import Any
 
-from PySide6.QtCore import QObject, QRunnable, QThreadPool, QTimer, Signal
+from PySide6.QtCore import QObject, QRunnable, QThreadPool, QTimer, Signal, Slot
 
 from workbench.logs import logger
 
@@ -55,7 +55,8 @@ class Task(QObject):
     failed = Signal(object)
     finished = Signal()
 
-    _running: set[Task] = set()  # keeps a task (and its signals) alive until it finished
+    _running: set[Task] = set()  # keeps a task (and its signals) alive until its pool thread let go of it
+    _releases: _Releases | None = None
 
     def __init__(self, function: Callable[..., Any], *args, progress: bool = False, **kwargs):
         super().__init__()
@@ -63,15 +64,13 @@ class Task(QObject):
         self.progress = QtProgress() if progress else None
         if self.progress is not None:
             self.kwargs["progress"] = self.progress
-        # kept until its end is delivered in the GUI thread; the connection holds a weak reference: a lambda holding
-        # the task itself made a cycle through Qt, which the collector cannot see, and every task with what its
-        # callbacks refer to (an editor, a closed project's A2L model) stayed alive
-        task = weakref.ref(self)
-        self.finished.connect(lambda: Task._running.discard(task()))
 
     def start(self, pool: QThreadPool | None = None) -> Task:
+        """Run it in ``pool`` (Qt's global one); called in the GUI thread."""
+        if Task._releases is None:
+            Task._releases = _Releases()
         Task._running.add(self)
-        (pool or QThreadPool.globalInstance()).start(_Runnable(self))
+        (pool or QThreadPool.globalInstance()).start(_Runnable(self, Task._releases))
         return self
 
     def cancel(self) -> None:
@@ -91,16 +90,37 @@ class Task(QObject):
             self.finished.emit()
 
 
-class _Runnable(QRunnable):
-    def __init__(self, task: Task):
+class _Releases(QObject):
+    """Takes a task out of :attr:`Task._running` in the GUI thread once its pool thread holds it no more, so that the
+    last reference to it goes in the GUI thread: freed in a pool thread (which ``finished`` taking it out let happen
+    when that thread was switched out after emitting it), the task, its progress and whatever its callbacks refer to
+    (an editor, a closed project's A2L model) were Qt objects destroyed outside their thread, the hang
+    :func:`collect_garbage_on_the_gui_thread` tells of."""
+
+    released = Signal(object)  # a weak reference to the task
+
+    def __init__(self):
         super().__init__()
-        self.task = task
+        self.released.connect(self._forget)
+
+    @Slot(object)
+    def _forget(self, task: weakref.ref[Task]) -> None:
+        Task._running.discard(task())
+
+
+class _Runnable(QRunnable):
+    def __init__(self, task: Task, releases: _Releases):
+        super().__init__()
+        self.task, self.releases = task, releases
 
     def run(self) -> None:
+        task, self.task = self.task, None  # the pool may keep this wrapper past the run: not the task with it
+        released = weakref.ref(task)
         try:
-            self.task.run()
+            task.run()
         finally:
-            self.task = None  # the pool may keep this wrapper past the run: not the task with it
+            del task  # posted after the task's own signals, the release comes to the GUI thread after them
+            self.releases.released.emit(released)
 
 
 def run_task(function: Callable[..., Any], *args, on_done: Callable[[Any], None] | None = None,
