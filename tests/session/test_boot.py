@@ -31,7 +31,9 @@ def in_boot(channel):
     lambda ecu: ecu.write("xsSWITCH_TANK_THR", 22.0),  # was: XCP DOWNLOAD failed: ERR_CMD_UNKNOWN
     lambda ecu: ecu.set_page("reference"),
     lambda ecu: ecu.measure(["zsRailPressure"]),      # was: GET_DAQ_PROCESSOR_INFO failed: ERR_CMD_UNKNOWN
-], ids=["read", "read-measurement", "read_value", "read_many", "write", "set_page", "measure"])
+    lambda ecu: ecu.pages(),                           # cal page; was: GET_CAL_PAGE failed: ERR_CMD_UNKNOWN
+    lambda ecu: ecu.on_page("working").__enter__(),    # cal save, cal load (a dataset read and written on it)
+], ids=["read", "read-measurement", "read_value", "read_many", "write", "set_page", "measure", "pages", "on_page"])
 def test_what_needs_the_application_is_refused_before_sending(in_boot, call):
     ecu, log = in_boot
     with pytest.raises(WorkbenchError, match=f"{IN_BOOT}.*workbench flash FILE -r APPLICATIVE -r CALIB"):

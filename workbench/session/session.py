@@ -360,8 +360,11 @@ class Session(ValueAccess, EventAccess, FixAccess):
         return (writable[0] if writable else 0), (locked[0] if locked else 1)
 
     def page(self, segment: int = 0) -> PageState:
-        """The pages the ECU and XCP access now in ``segment``."""
+        """The pages the ECU and XCP access now in ``segment``.
+
+        :raises WorkbenchError: the ECU is in its boot loader, which has no pages (:meth:`require_application`)."""
         with self.lock:
+            self.require_application()
             working, reference = self.page_numbers(segment)
             return PageState(segment, self.master.get_cal_page(segment, 0x01), self.master.get_cal_page(segment, 0x02),
                              working, reference)
@@ -425,9 +428,12 @@ class Session(ValueAccess, EventAccess, FixAccess):
 
     def on_page(self, page: str | int | None, segment: int | Iterable[int] | None = None):
         """A context in which XCP (not the ECU) accesses ``page`` of ``segment`` (a number, several, or None:
-        every calibration segment); ``page`` None: leave the pages as they are."""
+        every calibration segment); ``page`` None: leave the pages as they are.
+
+        :raises WorkbenchError: the ECU is in its boot loader, which has no pages (:meth:`require_application`)."""
         if page is None:
             return _XcpPages(self, {})
+        self.require_application()
         numbers = self.segment_numbers() if segment is None else [segment] if isinstance(segment, int) else segment
         return _XcpPages(self, {number: self._page_number(page, number) for number in numbers})
 
