@@ -112,6 +112,20 @@ def test_a_daq_silent_from_its_start_says_where_get_daq_id_puts_the_lists(channe
         "should say so: DAQ_LIST_CAN_ID 0 FIXED 0x7F2, DAQ_LIST_CAN_ID 1 FIXED 0x7F3")
 
 
+def test_a_link_lost_while_get_daq_id_is_asked_is_said_lost(channel, monkeypatch):
+    """The bus breaks while the silent DAQ's GET_DAQ_ID is under way: the connection is lost (the window offers to
+    reconnect), not 'though the ECU answers'."""
+    with serve_demo({"interface": "virtual", "channel": channel}, profile="daq-can-ids", time_scale=1.0), \
+            Session.open(demo.a2l(), interface="virtual", channel=channel, timeouts=FAST) as session:
+        def bus_broken(daq_list: int):
+            raise ConnectionLostError("XCP on CAN (virtual)", "the bus broke")
+
+        monkeypatch.setattr(session.master, "get_daq_id", bus_broken)
+        with pytest.raises(ConnectionLostError, match="the bus broke"), \
+                session.measure(["zsRailPressure"]) as live:
+            _read_until_refused(live)
+
+
 def test_an_ecu_without_get_daq_id_is_said_to_answer_and_one_gone_before_a_dto_is_lost(channel):
     """No GET_DAQ_ID (no TRANSPORT_LAYER_CMD): the refusal says so; an ECU whose power is cut right after the start
     answers neither GET_DAQ_ID nor SYNCH: lost, as before."""

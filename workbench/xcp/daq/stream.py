@@ -303,6 +303,8 @@ class DaqStream:
                 link.give_up(f"nothing from the ECU for {_ms(link.quiet_s)} while DAQ runs (a DTO was due within "
                              f"{_ms(silence)}), nor an answer to GET_DAQ_ID or SYNCH")
                 link.check()
+            except ConnectionLostError:  # the link broke under the command: no answer to judge
+                raise
             except XcpCommandError as error:  # GET_DAQ_ID is optional
                 where = (f"it does not say where its DAQ lists send ({error.command}: {error.name}); this master "
                          f"listens on {self._listens()}: the A2L's XCP_ON_CAN may miss the ECU's DAQ_LIST_CAN_ID, or "
