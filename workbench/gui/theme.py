@@ -69,6 +69,8 @@ QPushButton:disabled {{ color: {MUTED}; }}
 QTabWidget::pane {{ border: 1px solid {BORDER}; }}
 QTabBar::tab {{ background: {PANEL}; padding: 5px 12px; border: 1px solid {BORDER}; border-bottom: none; }}
 QTabBar::tab:selected {{ background: {RAISED}; color: white; }}
+QTabBar QToolButton {{ padding: 0; border-radius: 0; background: {RAISED}; border: 1px solid {BORDER}; }}
+QTabBar::scroller {{ width: 40px; }}
 QProgressBar {{ background: {RAISED}; border: 1px solid {BORDER}; border-radius: 4px; text-align: center; }}
 QProgressBar::chunk {{ background: {ACCENT}; border-radius: 3px; }}
 QGroupBox {{ border: 1px solid {BORDER}; border-radius: 4px; margin-top: 14px; padding-top: 6px; }}
