@@ -106,6 +106,31 @@ def test_a_cancelled_flash_says_what_state_the_ecu_is_in_and_a_second_flash_fini
     dialog.close_button.click()
 
 
+def test_the_window_does_not_close_while_it_flashes(window, qtbot):
+    """Closing mid-flash blocked the window for seconds (the session closed under the erase) and cut the flash off,
+    the ECU left in its boot loader: the window stays open and says why, as the flash dialog itself does."""
+    import threading
+
+    dialog = window.open_flash_dialog(regions=["CALIB"])
+    _planned(dialog, qtbot)
+    reached, go_on = threading.Event(), threading.Event()
+
+    def hold(task):  # in the flash's own thread, at its first progress report
+        task.progress.changed.connect(lambda *_: (reached.set(), go_on.wait(WAIT_MS / 1000)), Qt.DirectConnection)
+
+    dialog.flash_started.connect(hold)
+    dialog.start()
+    qtbot.waitUntil(reached.is_set, timeout=WAIT_MS)
+    try:
+        assert not window.close() and window.isVisible()
+        assert window.errors and "a flash is under way" in window.errors[-1].text()
+    finally:
+        go_on.set()
+    qtbot.waitUntil(lambda: dialog.task is None, timeout=FLASH_MS)
+    assert dialog.progress_label.text() == "done: verified, the application runs"
+    dialog.close_button.click()
+
+
 # --- the refusals the CLI's options override: shown, and a choice the user makes explicitly ---------------------------
 
 CALIB_START, TRAILER = 0xFC0000, 0xFDFFF0  # the CALT trailer: in CALIB's one sector, beyond the file below
