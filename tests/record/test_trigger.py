@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from mdf_reading import channel, group_index, master
 
-from workbench.errors import InputError
+from workbench.errors import InputError, WorkbenchError
 from workbench.record import Condition, Recorder, Trigger
 from workbench.record.trigger import TriggerGate
 
@@ -78,3 +78,21 @@ def test_a_condition_on_a_signal_not_recorded_is_refused(session, tmp_path):
     with pytest.raises(InputError, match="trigger on zsRailPressure: a condition's signal must be recorded"):
         Recorder(session, tmp_path / "x.mf4", ["xsDC"], trigger=Trigger(Condition.parse("zsRailPressure > 1")))
     assert not (tmp_path / "x.mf4").exists()
+
+
+@pytest.mark.parametrize("condition, message", [
+    ("xsTankCtrlState == OF", r"trigger condition 'xsTankCtrlState == OF': 'OF' is not one of its values \(OFF, "),
+    ("xsDC == high", "trigger condition 'xsDC == high': xsDC has no value table; compare it with a number"),
+    ("xsTankCtrlStat == OFF", "unknown symbol 'xsTankCtrlStat'.*did you mean 'xsTankCtrlState'"),
+])
+def test_a_condition_that_could_never_be_met_is_refused(session, tmp_path, condition, message):
+    """A typo in a text or a name: the recording would have waited for ever (start) or never stopped."""
+    with pytest.raises(WorkbenchError, match=message):  # an InputError or UnknownSymbolError: exit 2
+        Recorder(session, tmp_path / "x.mf4", ["xsDC", "xsTankCtrlState"], trigger=Trigger(Condition.parse(condition)))
+    assert not (tmp_path / "x.mf4").exists()
+
+
+def test_a_text_in_another_case_is_the_table_s(session, tmp_path):
+    recorder = Recorder(session, tmp_path / "x.mf4", ["xsTankCtrlState"],
+                        trigger=Trigger(stop=Condition.parse("xsTankCtrlState != tank2_on")))
+    assert str(recorder.trigger.stop) == "xsTankCtrlState != TANK2_ON"  # compared as the samples read

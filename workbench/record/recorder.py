@@ -57,7 +57,7 @@ from workbench.record.can_channels import CanMessageGroups, RawCanGroup
 from workbench.record.daq_channels import DaqGroup
 from workbench.record.mdf_stream import HeaderSpec, MdfStreamWriter, SourceSpec
 from workbench.record.timebase import RecordingClock
-from workbench.record.trigger import Trigger, TriggerGate
+from workbench.record.trigger import Trigger, TriggerGate, checked_trigger
 from workbench.session.measure import SampleBatch
 
 if TYPE_CHECKING:
@@ -163,6 +163,8 @@ class Recorder:
             raise InputError(f"{self.path}: exists; record to another name or overwrite it "
                              "(overwrite=True, --overwrite: replaced when the recording ends)")
         refuse_read_only(self.path)  # --overwrite replaces a file, not one the user protected
+        if trigger is not None:
+            trigger = checked_trigger(trigger, session.model)
         self.measurement = session.measure(signals, event=event, prescaler=prescaler) if signals else None
         self.trigger = trigger
         missing = sorted((trigger.names if trigger else set()) - set(self.measurement.names if signals else ()))

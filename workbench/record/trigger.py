@@ -12,13 +12,17 @@ from __future__ import annotations
 import operator
 import re
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from workbench.errors import InputError
 
-__all__ = ["Condition", "Trigger", "TriggerGate"]
+if TYPE_CHECKING:
+    from workbench.a2l.model import A2lModel
+
+__all__ = ["Condition", "Trigger", "TriggerGate", "checked_trigger"]
 
 _OPERATORS = {">=": operator.ge, "<=": operator.le, "==": operator.eq, "!=": operator.ne, ">": operator.gt,
               "<": operator.lt}
@@ -81,6 +85,33 @@ class Trigger:
         if self.stop is not None:
             parts.append(f"stop when {self.stop}")
         return ", ".join(parts)
+
+
+def checked_trigger(trigger: Trigger, model: A2lModel) -> Trigger:
+    """``trigger`` with each condition's text as the signal's value table writes it (``off``: ``OFF``).
+
+    :raises UnknownSymbolError: a condition names no object of ``model`` (the closest are suggested).
+    :raises InputError: a text the signal's table lacks, or a text for a signal without one: the condition
+        would never be met, and a recording waiting for it would stay empty (or never stop).
+    """
+    checked = {}
+    for role in ("start", "stop"):
+        condition = getattr(trigger, role)
+        if condition is None:
+            continue
+        found = model.object(condition.name)
+        if not isinstance(condition.value, str):
+            continue
+        conversion = model.conversion(found)
+        if not getattr(conversion, "verbal", False):
+            raise InputError(f"trigger condition '{condition}': {condition.name} has no value table; compare it with "
+                             "a number")
+        text = conversion.text_of(condition.value)
+        if text is None:
+            raise InputError(f"trigger condition '{condition}': {condition.value!r} is not one of its values "
+                             f"({conversion.allowed_shown})")
+        checked[role] = replace(condition, value=text)
+    return replace(trigger, **checked)
 
 
 class TriggerGate:
