@@ -55,6 +55,19 @@ def test_a_project_that_cannot_be_read_is_one_line_and_exit_code_2(tmp_path, cap
     assert error.startswith("error: ") and "bad.toml: not a project file" in error and error.count("\n") == 1
 
 
+def test_an_a2l_given_as_the_project_opens_as_a2l(tmp_path, capsys, monkeypatch):
+    """`workbench gui FLCU.a2l`, as CANape opens a database: it said 'not a project file: Expecting value'."""
+    import workbench.gui.app
+    from workbench import demo
+
+    opened = []
+    monkeypatch.setattr(workbench.gui.app, "run_window", lambda project, **kwargs: opened.append(project) or 0)
+    assert main(["gui", str(demo.a2l())]) == 0
+    assert opened[0].a2l == demo.a2l().resolve()
+    assert main(["gui", str(demo.a2l()), "--a2l", "other.a2l"]) == 2
+    assert "an A2L, and --a2l names another; give one" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize("command", ["demo", "gui"])
 def test_without_the_gui_extra_the_commands_say_what_to_install(command, tmp_path):
     # a process of its own: once loaded, PySide6's import hook cannot be told the package is gone

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from workbench.cli.ecu_options import add_ecu_arguments
 from workbench.cli.options import bus_settings
-from workbench.errors import WorkbenchError
+from workbench.errors import InputError, WorkbenchError
 from workbench.gui.display import display_problem
 
 __all__ = ["add_screenshot_arguments", "add_subparser", "require_gui", "run", "screen_size"]
@@ -27,7 +27,7 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
                                    description="Open the workbench window: variable browser, live plots, calibration "
                                                "editors, fix calibrations, flashing. Needs the gui extra "
                                                "(pip install 'workbench[gui]').")
-    parser.add_argument("project", nargs="?", type=Path, help="a project file (.toml or .json)")
+    parser.add_argument("project", nargs="?", type=Path, help="a project file (.toml or .json), or an A2L (as --a2l)")
     parser.add_argument("--connect", action="store_true", help="connect to the ECU at once")
     add_screenshot_arguments(parser)
     add_ecu_arguments(parser, json_output=False)
@@ -83,6 +83,10 @@ def run(args: argparse.Namespace) -> int:
     from workbench.gui.app import run_window
     from workbench.gui.project import Connection, Project, load_project
 
+    if args.project is not None and args.project.suffix.lower() == ".a2l":  # `workbench gui FLCU.a2l`, as CANape opens one
+        if args.a2l:
+            raise InputError(f"{args.project}: an A2L, and --a2l names another; give one")
+        args.project, args.a2l = None, str(args.project)
     project = load_project(args.project) if args.project else Project()
     if args.a2l:
         project.a2l = Path(args.a2l).resolve()
