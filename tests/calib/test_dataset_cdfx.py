@@ -215,3 +215,15 @@ def test_what_cdf_cannot_hold_is_listed_and_left_out():
     assert [f.message for f in losses(bad)] == [
         "t: a text holds a control character XML cannot hold; left out of the file"]
     assert list(read(write(bad))) == ["u"]
+
+
+def test_a_file_of_the_other_format_is_named_so(tmp_path):
+    """A CDFX saved as .dcm (or the other way round) said "unknown keyword '<?xml'" or "not well-formed XML"."""
+    from workbench.calib.dataset import load_dataset
+
+    (tmp_path / "set.dcm").write_bytes(b"\xef\xbb\xbf<?xml version='1.0'?>\n<MSRSW/>\n")
+    (tmp_path / "set.cdfx").write_text("KONSERVIERUNG_FORMAT 2.0\n\nFESTWERT x\n  WERT 1.0\nEND\n")
+    with pytest.raises(InputError, match=r"set.dcm: XML, not a DCM \(a CDFX file named .dcm\? name it .cdfx\)"):
+        load_dataset(tmp_path / "set.dcm")
+    with pytest.raises(InputError, match=r"set.cdfx: not XML, so not a CDFX \(a DCM file named .cdfx\? name it .dcm\)"):
+        load_dataset(tmp_path / "set.cdfx")

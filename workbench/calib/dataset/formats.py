@@ -66,7 +66,19 @@ def load_dataset(path: str | Path, format: str | None = None) -> Dataset:
     """
     spec = format_of(path, format)
     data = read_input(path, f"a {spec.description} file")
+    _refuse_other_format(path, spec, data)
     return importlib.import_module(spec.reader).read(data, str(path))
+
+
+def _refuse_other_format(path: str | Path, spec: Format, data: bytes) -> None:
+    """:raises InputError: the file holds the other format than its extension says (a CDFX saved as .dcm): said as
+    such, not as the first line the reader cannot take."""
+    start = data.removeprefix(b"\xef\xbb\xbf").lstrip()[:1]
+    xml = start == b"<" or data.startswith((b"\xff\xfe<", b"\xfe\xff\x00<"))
+    if spec.name == "dcm" and xml:
+        raise InputError(f"{path}: XML, not a DCM (a CDFX file named .dcm? name it .cdfx)")
+    if spec.name == "cdfx" and start and not xml and not data.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise InputError(f"{path}: not XML, so not a CDFX (a DCM file named {Path(path).suffix}? name it .dcm)")
 
 
 def load_dataset_string(data: str | bytes, format: str, path: str = "<string>") -> Dataset:
