@@ -509,8 +509,9 @@ def test_a_daq_list_can_id_the_ecu_refuses_is_one_line(bus, capsys):
 
 
 def test_a_bus_option_the_can2_bus_would_ignore_is_refused_in_one_line(bus, capsys):
-    """Refused where the bus is opened (for a script as for the CLI): prot would leave CAN2 on the default port."""
+    """Refused where the bus is opened (for a script as for the CLI): prot would leave CAN2 on the default port. The
+    line names the bus, as the simulator's does: --bus-kwargs and --can2-bus-kwargs both give bus options."""
     code, out, err = run(capsys, "measure", "RailPressure", "--duration", "1", *bus, "--can2-bus-kwargs", "prot=1")
     assert (code, out, err.count("\n")) == (2, "", 1), err
-    assert err.startswith("error: bus option prot=1: python-can's udp_multicast bus has no option 'prot' and would "
+    assert err.startswith("error: CAN2: bus option prot=1: python-can's udp_multicast bus has no option 'prot' and would "
                           "ignore it (did you mean port? ")

@@ -124,7 +124,7 @@ class _BusTap(_Tap):
         self.spec = spec
         self.fd = spec.fd if spec is not None else "FD" in str(getattr(bus, "protocol", ""))
         self._owned = bus is None
-        self.bus = open_bus(spec.kwargs()) if bus is None else bus
+        self.bus = open_bus(spec.kwargs(), "CAN2") if bus is None else bus
         if self._owned:
             widen_udp_receive_buffer(self.bus)  # raw logging of a saturated bus: ride out the listeners' pauses
         self._notifier = can.Notifier(self.bus, [], timeout=_POLL_S)
