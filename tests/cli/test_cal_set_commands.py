@@ -94,6 +94,8 @@ def test_a_value_may_carry_its_unit_as_cal_get_prints_it(bus, capsys):
     assert run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "25.5 mbar", *options) == \
         (2, "", "error: xsSWITCH_TANK_THR: '25.5 mbar' is in mbar, xsSWITCH_TANK_THR in bar (no unit conversion: "
                 "give a value from 0.00 to 800.00 bar)\n")  # another unit is named as such, not "not a number"
+    assert run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "0x10", *options)[2] == \
+        "error: xsSWITCH_TANK_THR: '0x10' is not a number (a value from 0.00 to 800.00 bar)\n"  # not 'is in x10'
     assert log.take() == []
     code, out, err = run(capsys, "cal", "fix", "zfRAILPRESSURE", "30 bar", *options)  # a fix's _VALUE alike
     assert (code, err) == (0, "") and out.startswith("zfRAILPRESSURE  ON   override 30.00 bar")

@@ -48,8 +48,9 @@ _ARRAYS = ("VAL_BLK", *_AXES_OF)
 _TOLERANCE = 1e-7
 _MORE_DECIMALS = 20  # the most decimals a refused value gets beyond its format's to differ from the limit
 _FIXED_BELOW = 1e15  # numbers this large are written %g, not with every digit before the point
-# a number typed with a unit ("20 mbar"): named as a unit the object does not have, not as "not a number"
-_NUMBER_AND_UNIT = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\s*(?P<unit>[^\d\s.,+-]\S*)")
+# a number typed with a unit ("20 mbar"): named as a unit the object does not have, not as "not a number"; a hex
+# number (0x10) is no 0 in "x10"
+_NUMBER_AND_UNIT = re.compile(r"(?![+-]?0[xX])[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\s*(?P<unit>[^\d\s.,+-]\S*)")
 
 
 @dataclass(frozen=True)
