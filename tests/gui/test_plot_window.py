@@ -58,8 +58,13 @@ def test_the_cursor_stops_following_and_shows_each_value_at_its_time(plot):
     plot.cursor.setPos(7.0)
     assert float(plot.legend.item(0, 1).text()) == pytest.approx(25 * (1 - np.exp(-7.0)), abs=0.01)
     assert plot.legend.item(1, 1).text() == "TANK1_ON"  # a verbal value by its name
+    headers = lambda: [plot.legend.horizontalHeaderItem(c).text() for c in (1, 2)]  # noqa: E731
+    assert headers()[0] == "at t"  # the cursor's time (the cursor label's "t = 7.000 s"), not the newest "value"
+    plot.cursor2_button.setChecked(True)
+    assert headers() == ["at t1", "at t2"]  # as the label names the two times
     plot.follow_button.setChecked(True)
     assert plot.following and not plot.cursor_button.isChecked()
+    assert headers()[0] == "value"
 
 
 def test_the_cursors_time_is_clear_of_the_ticks_of_the_axis_beside_it(plot, qtbot):

@@ -171,7 +171,7 @@ class PlotWindow(SignalDropTarget, QWidget):
         splitter.addWidget(self.graphics)
 
         self.legend = QTableWidget(0, 4)
-        self.legend.setHorizontalHeaderLabels(["signal", "value", "at 2nd", "unit"])
+        self.legend.setHorizontalHeaderLabels(["signal", "value", "at t2", "unit"])
         self.legend.verticalHeader().hide()
         self.legend.setSelectionBehavior(QAbstractItemView.SelectRows)
         self.legend.setEditTriggers(QAbstractItemView.NoEditTriggers)
@@ -442,6 +442,7 @@ class PlotWindow(SignalDropTarget, QWidget):
             self.plot.removeItem(self.cursor)
             self.plot.removeItem(self.cursor_label)
             self.lanes.show_cursor(self.cursor, False)
+            self._show_cursor_values()
 
     def set_second_cursor(self, on: bool) -> None:
         if on and not self.cursor_button.isChecked():
@@ -459,6 +460,11 @@ class PlotWindow(SignalDropTarget, QWidget):
         self._show_cursor_values()
 
     def _show_cursor_values(self, *_) -> None:
+        # the value columns named for the time their values are taken at, as the cursors' label names the times
+        cursors = (self.cursor_button.isChecked(), self.cursor2_button.isChecked())
+        first = {(False, False): "value", (True, False): "at t"}.get(cursors, "at t1")
+        if self.legend.horizontalHeaderItem(1).text() != first:
+            self.legend.setHorizontalHeaderLabels(["signal", first, "at t2", "unit"])
         if not self.cursor_button.isChecked():
             return
         t = float(self.cursor.value())
