@@ -226,7 +226,8 @@ def _flash(session, plan, args: argparse.Namespace) -> int:
         if not args.json:
             print(checked.describe(), flush=True)
 
-    with ProgressBar("flashing", enabled=None if not args.json else False) as progress, cancel_on_interrupt(progress, "block"):
+    with ProgressBar("flashing", enabled=None if not args.json else False) as progress, \
+            cancel_on_interrupt(progress, "block"):
         try:
             result = flash_ecu(session, plan, progress=progress, options=options, checked=show)
         except Cancelled as exc:

@@ -83,7 +83,7 @@ def run(args: argparse.Namespace) -> int:
     from workbench.gui.app import run_window
     from workbench.gui.project import Connection, Project, load_project
 
-    if args.project is not None and args.project.suffix.lower() == ".a2l":  # `workbench gui FLCU.a2l`, as CANape opens one
+    if args.project is not None and args.project.suffix.lower() == ".a2l":  # `gui FLCU.a2l`, as CANape opens one
         if args.a2l:
             raise InputError(f"{args.project}: an A2L, and --a2l names another; give one")
         args.project, args.a2l = None, str(args.project)

@@ -29,7 +29,8 @@ from typing import Any
 from workbench.errors import InputError, WorkbenchError
 from workbench.logs import logger
 
-__all__ = ["CALLS", "ControlClient", "ControlServer", "endpoint_key", "endpoint_keys", "find_control", "serving_elsewhere"]
+__all__ = ["CALLS", "ControlClient", "ControlServer", "endpoint_key", "endpoint_keys", "find_control",
+           "serving_elsewhere"]
 
 log = logger(__name__)
 

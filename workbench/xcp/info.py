@@ -73,7 +73,8 @@ class ConnectInfo:
             if size < 8:
                 return f"{name} {size}, below 8"
             if size > max_packet:
-                fd = " (XCP on CAN FD? the A2L's XCP_ON_CAN has no CAN_FD block)" if max_packet == 8 < size <= 64 else ""
+                fd = (" (XCP on CAN FD? the A2L's XCP_ON_CAN has no CAN_FD block)" if max_packet == 8 < size <= 64
+                      else "")
                 return f"{name} {size}, more than the {max_packet} bytes the transport carries{fd}"
         if packet[6] == 0:
             return "XCP protocol layer version 0, not 1"
