@@ -231,3 +231,28 @@ def test_the_time_axis_labels_never_run_together(qtbot, width):
     qtbot.waitUntil(lambda: bool(_tick_texts(time_axis)), timeout=2000)
     labels = sorted((rect.left(), rect.right(), text) for rect, text in _tick_texts(time_axis))
     assert all(right + 4 <= next_left for (_, right, _), (next_left, _, _) in zip(labels, labels[1:])), labels
+
+
+def test_the_lowest_label_of_a_unit_axis_stays_clear_of_the_lanes_below(qtbot, hub):
+    """On a laptop's screen the bar axis' lowest label ('698') was half under the first lane's 'ON'."""
+    from PySide6.QtGui import QImage, QPainter
+
+    plot = PlotWindow(hub, "Tanks", span_s=10.0)
+    qtbot.addWidget(plot)
+    plot.resize(600, 190)  # as 'Tanks and valves' at 1366 x 768
+    plot.show()
+    qtbot.waitExposed(plot)
+    plot.add_signals(["rail", "state"])
+    plot.refresh()
+    axis = plot._axes[0].item
+    lanes_top = plot.lanes.view.sceneBoundingRect().top()
+
+    def label_bottoms():
+        image = QImage(8, 8, QImage.Format_ARGB32)
+        painter = QPainter(image)
+        texts = axis.generateDrawSpecs(painter)[2]
+        painter.end()
+        return [axis.mapRectToScene(rect).bottom() for rect, _, _ in texts]
+
+    qtbot.waitUntil(lambda: len(label_bottoms()) >= 2, timeout=2000)
+    assert max(label_bottoms()) <= lanes_top + 1

@@ -21,6 +21,7 @@ STATE_PX = 13  # between two state texts (the tick font's height and a pixel)
 PAD_PX = 7  # between a lane's edge and its lowest or highest state
 MAX_LANE_PX = 80  # a lane of many states: not all of its texts are written
 ROW = 3  # of the plot's grid: below the view (row 2), above the time axis (moved to row 4)
+ABOVE_PX = 8  # between the view and the lanes: the room of half a tick label (a unit axis' lowest, centred on its tick)
 
 
 class _Lane:
@@ -68,6 +69,7 @@ class DigitalLanes:
             self.plot.layout.addItem(self.axis, ROW, 0)
             self.plot.layout.setAlignment(self.axis, Qt.AlignRight)
             self.plot.layout.addItem(self.view, ROW, 1)
+            self.plot.layout.setRowSpacing(ROW - 1, ABOVE_PX)  # the lowest label was half under the first lane's
         self._lanes.append(_Lane(name, states, curve))
         self.view.addItem(curve)
         self._relayout()
@@ -80,6 +82,7 @@ class DigitalLanes:
         self._lanes.remove(lane)
         self.view.removeItem(lane.curve)
         if not self._lanes:
+            self.plot.layout.setRowSpacing(ROW - 1, 0)
             for item in (self.axis, self.view):
                 self.plot.layout.removeItem(item)
                 if item.scene() is not None:
