@@ -7,7 +7,15 @@ import struct
 from dataclasses import replace
 
 import pytest
-from flash_images import APPLICATIVE, CALIB, FAST, application_image, calib_image_with, calibration_rom_address
+from flash_images import (
+    APPLICATIVE,
+    CALIB,
+    PATIENT,
+    application_image,
+    calib_image_with,
+    calibration_rom_address,
+    open_bench,
+)
 
 from workbench import demo
 from workbench.elf import ElfSymbols
@@ -48,6 +56,14 @@ class Recorder:
     @property
     def cancelled(self) -> bool:
         return self.cancel_at is not None and bool(self.reports) and self.reports[-1][0] >= self.cancel_at
+
+
+@pytest.fixture
+def bench():
+    """On the lockstep wire: a loaded machine makes no answer late for FAST's T1 of 100 ms (conftest's bench, on a
+    virtual bus, is for the CLI's tests, which reach the ECU by its channel)."""
+    with open_bench(lockstep=True) as bench:
+        yield bench
 
 
 def threshold_in_ram(bench) -> float:
@@ -244,7 +260,7 @@ def test_a_wrong_write_is_found_by_verification_and_the_sector_written_again(ben
 def test_flash_over_xcp_on_ethernet_in_packets_of_its_max_cto(request, protocol):
     port = request.getfixturevalue(f"free_{protocol}_port")
     with serve_demo(ethernet=EthernetEndpoint("127.0.0.1", port, protocol), time_scale=None) as simulator, \
-            Session.open(demo.a2l(), host="127.0.0.1", port=port, protocol=protocol, timeouts=FAST) as session:
+            Session.open(demo.a2l(), host="127.0.0.1", port=port, protocol=protocol, timeouts=PATIENT) as session:
         assert session.master.max_cto == 255  # one PROGRAM of 253 bytes a command: no block mode needed
         plan = plan_flash(application_image(50_000), FlashLayout.from_a2l(session.doc, session.config),
                           ["APPLICATIVE"])
@@ -280,7 +296,7 @@ def test_an_ecu_that_counts_no_sectors_is_erased_in_the_a2ls():
                           sector_sizes={"APPLICATIVE": 0x10000, "CALIB": 0x4000, "SHARED": 0x4000})
     where = {"interface": "virtual", "channel": "flash-sectors-untold"}
     with serve_demo(dict(where), profile=untold, time_scale=None) as simulator, \
-            Session.open(simulator.a2l, **where, timeouts=FAST) as session:
+            Session.open(simulator.a2l, **where, timeouts=PATIENT) as session:
         plan = plan_flash(calib_image_with(THRESHOLD, 25.5), FlashLayout.from_a2l(session.doc, session.config),
                           ["CALIB"])
         result = flash_ecu(session, plan)
