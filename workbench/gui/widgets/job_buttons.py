@@ -38,8 +38,9 @@ class JobButtons(QHBoxLayout):
         task.progress.changed.connect(progressed)
         task.succeeded.connect(succeeded)
         task.failed.connect(failed)
-        task.finished.connect(lambda: self.set_busy(False))
-        task.finished.connect(finished)
+        # one slot, not two: the worker posts an event a slot, and the window ran between the two (Run enabled while
+        # the dialog still held the job, a click on it ignored: CI, test_a_refused_update_says_one_line...)
+        task.finished.connect(lambda: (self.set_busy(False), finished()))
         self.set_busy(True)
 
     def set_busy(self, busy: bool) -> None:
