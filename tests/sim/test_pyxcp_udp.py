@@ -60,7 +60,9 @@ def test_pyxcp_against_a_workbench_sim_process(sim_process):
         rows = record_50ms_samples(policy)
         assert {row["xsSWITCH_TANK_THR"] for _, row in rows} == {21.5}
         assert {row["xsFULL_TANK_PRESS"] for _, row in rows} == {700.0}
-        assert rows[-1][1]["zsRailPressure"] > rows[0][1]["zsRailPressure"]  # the PCM's target drives the rail up
+        # the PCM's target drives the rail up to 25 bar; on a loaded machine DAQ may start when it is there already
+        first, last = rows[0][1]["zsRailPressure"], rows[-1][1]["zsRailPressure"]
+        assert last > first or abs(last - 25.0) < 1.5, (first, last)
 
         patched = s19.crop(CALIB.start, CALIB.end)
         patched.add(HDS9.rom_address(threshold), struct.pack("<f", 30.0), overwrite=True)
