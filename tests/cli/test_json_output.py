@@ -52,3 +52,15 @@ def test_a_usage_error_under_json_is_a_report_too(capsys):
     assert err.endswith("workbench a2l update: error: the following arguments are required: -o/--output\n")
     assert main(["a2l", "remove", str(demo.a2l()), "-R", "("]) == 2  # without --json: stdout stays empty
     assert capsys.readouterr().out == ""
+
+
+def test_a_word_no_option_takes_is_refused_by_the_command_that_got_it(capsys):
+    """`cal set ... --raw`: argparse's top-level parser said `workbench: error: unrecognized arguments` with the
+    groups' usage, not which command it was or what that one takes."""
+    assert main(["cal", "set", "xsSWITCH_TANK_THR", "5", "--raw", "--json"]) == 2
+    out, err = capsys.readouterr()
+    assert json.loads(out)["error"] == "workbench cal set: unrecognized arguments: --raw"
+    assert err.startswith("usage: workbench cal set ") and err.endswith(
+        "workbench cal set: error: unrecognized arguments: --raw\n")
+    assert main(["--bogus"]) == 2 and capsys.readouterr().err.endswith("workbench: error: unrecognized arguments: "
+                                                                      "--bogus\n")

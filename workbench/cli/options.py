@@ -50,7 +50,18 @@ class CommandParser(argparse.ArgumentParser):
             # a command's own parser with NAMEs or a VALUE (a group's passes its words on whole; a command without
             # any keeps 'port' in the list, where python-can names it: 'Unable to parse bus keyword argument')
             args = words_before_key_values(args)
-        return super().parse_known_args(args, namespace)
+        namespace, extras = super().parse_known_args(args, namespace)
+        if not any(isinstance(action, argparse._SubParsersAction) for action in self._actions):
+            namespace._command_parser = self  # the command's own: what a word it does not take is reported by
+        return namespace, extras
+
+    def parse_args(self, args=None, namespace=None):
+        """As argparse's, but a word no option takes is refused by the command that got it (``workbench cal set:
+        error: unrecognized arguments: --raw``, with that command's usage), not by ``workbench`` itself."""
+        namespace, extras = self.parse_known_args(args, namespace)
+        if extras:
+            getattr(namespace, "_command_parser", self).error(f"unrecognized arguments: {' '.join(extras)}")
+        return namespace
 
     def error(self, message: str):
         """argparse's usage error (usage and the message on stderr, exit 2), remembered for ``--json``'s report."""
