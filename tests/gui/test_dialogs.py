@@ -4,6 +4,7 @@ import pytest
 from PySide6.QtWidgets import QDialogButtonBox, QLabel
 
 from workbench.errors import InputError
+from workbench.gui import theme
 from workbench.gui.project import Connection, Project, project_from_dict
 from workbench.gui.widgets.connection_dialog import ConnectionDialog, parse_bus_kwargs
 from workbench.gui.widgets.sync_dialog import (
@@ -31,6 +32,11 @@ def test_the_seed_and_key_is_the_a2ls_unless_given(qtbot, demo_workspace, tmp_pa
     dialog = ConnectionDialog(Connection(), demo_workspace.config)
     qtbot.addWidget(dialog)
     assert dialog.key_function.placeholderText() == "as the A2L says: workbench.sim.seedkey:compute_key"
+    dialog.setStyleSheet(theme.STYLE_SHEET)  # as the application draws it: its padding takes room
+    dialog.show()
+    room = dialog.key_function.width() - 2 * (6 + 1)  # the theme's padding and border on each side
+    # whole, not 'as the A2L says: workbench.sim.seedkey:co'
+    assert room >= dialog.key_function.fontMetrics().horizontalAdvance(dialog.key_function.placeholderText())
     assert dialog.connection().key_function is None
     dialog.key_function.setText(" keys/SeedNKeyXcp.dll ")
     given = dialog.connection()

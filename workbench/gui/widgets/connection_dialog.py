@@ -143,6 +143,8 @@ class ConnectionDialog(QDialog):
             f"VARIABLE lists {', '.join(map(str, variable))} on CAN_ID_SLAVE; e.g. {variable[0]}=0x7F6" if variable
             else "as the A2L says (no VARIABLE list); e.g. 1=0x7F6")
         self.daq_can_ids.setText(" ".join(f"{number}=0x{can_id:X}" for number, can_id in connection.daq_can_ids.items()))
+        for edit in (self.key_function, self.bus_kwargs, self.daq_can_ids):  # whole, not '...seedkey:co'
+            _fit_placeholder(edit)
         self.host.setText(connection.host or (ethernet.host if ethernet is not None else ""))
         self.port.setValue(connection.port or (ethernet.port if ethernet is not None else 0))
 
@@ -178,3 +180,11 @@ class ConnectionDialog(QDialog):
             self.error.setText(str(exc))
             return
         self.accept()
+
+
+def _fit_placeholder(edit: QLineEdit, most_px: int = 640) -> None:
+    """``edit`` wide enough for its placeholder (what the A2L gives) up to ``most_px``; the whole in its tooltip."""
+    text = edit.placeholderText()
+    edit.setMinimumWidth(min(most_px, edit.fontMetrics().horizontalAdvance(text) + 24))  # + the frame and margins
+    if not edit.toolTip():
+        edit.setToolTip(text)
