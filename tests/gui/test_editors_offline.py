@@ -155,19 +155,27 @@ def test_a_write_cut_off_by_a_lost_connection_says_not_written_and_shows_what_th
     assert not window.errors or pytest.fail(f"error dialogs: {[box.text() for box in window.errors]}")
 
 
-def test_the_numeric_view_greys_its_last_values_while_nothing_is_measured(window, qtbot):
-    """Disconnected, the numeric view showed the last values as live ones (white, no word of it)."""
+def test_the_numeric_view_and_the_legends_grey_their_last_values_while_nothing_is_measured(window, qtbot):
+    """Disconnected, the numeric view and a plot's legend showed the last values as live ones (white, no word of it)."""
+    from workbench.gui.project import PlotSpec
+
     numeric = window.numeric
     numeric.add_signals(["zsRailPressure"])
-    value = numeric.item(numeric.signals.index("zsRailPressure"), 1)
-    qtbot.waitUntil(lambda: value.text() != "—", timeout=WAIT_MS)
-    assert value.foreground().color() != QColor(theme.MUTED) and value.toolTip() == ""
+    plot = window.add_plot(PlotSpec("Rail", ["zsRailPressure"]))
+    value, legend = numeric.item(numeric.signals.index("zsRailPressure"), 1), plot.legend.item(0, 1)
+    qtbot.waitUntil(lambda: value.text() != "—" and legend.text() != "—", timeout=WAIT_MS)
+    for item in (value, legend):
+        assert item.foreground().color() != QColor(theme.MUTED) and item.toolTip() == ""
     window.disconnect_action.trigger()
     numeric.refresh()
-    assert value.text() != "—" and value.foreground().color() == QColor(theme.MUTED)
-    assert value.toolTip() == "not current: not connected (the last value measured)"
+    plot._update_legend_values(None)
+    for item in (value, legend):
+        assert item.text() != "—" and item.foreground().color() == QColor(theme.MUTED)
+        assert item.toolTip() == "not current: not connected (the last value measured)"
     reconnect(window, qtbot)
-    qtbot.waitUntil(lambda: value.foreground().color() != QColor(theme.MUTED), timeout=WAIT_MS)
+    for item in (value, legend):
+        qtbot.waitUntil(lambda: item.foreground().color() != QColor(theme.MUTED), timeout=WAIT_MS)
+    plot.close_requested.emit()
     assert not window.errors
 
 

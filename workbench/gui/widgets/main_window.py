@@ -364,6 +364,7 @@ class MainWindow(EcuWindowActions, QMainWindow):
 
     def add_plot(self, spec: PlotSpec) -> PlotWindow:
         plot = PlotWindow(self.hub, spec.title, spec.span_s)
+        plot.not_current = self._not_measuring
         plot.add_signals([n for n in spec.signals if self.hub.known(n)])
         plot.samples_arrived.connect(self._check_live)
         plot.close_requested.connect(lambda: self._remove_plot(plot))

@@ -18,6 +18,8 @@ most half the window, until the user drags its edge.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import pyqtgraph as pg
 from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtGui import QColor
@@ -75,6 +77,7 @@ class PlotWindow(SignalDropTarget, QWidget):
                  parent: QWidget | None = None):
         super().__init__(parent)
         self.hub = hub
+        self.not_current: Callable[[], str] = lambda: ""  # why live samples are not coming now ("": they are)
         self.title = title
         self.span_s = span_s
         self.following = True
@@ -370,6 +373,7 @@ class PlotWindow(SignalDropTarget, QWidget):
     def _update_legend_values(self, at: float | None, column: int = 1) -> None:
         """Each signal's value at ``at`` (None: its newest) into the legend's ``column``."""
         longest = 0
+        why = self.not_current() if at is None else ""
         for row, name in enumerate(self._order):
             buffer = self.hub.buffer(name)
             if at is None:
@@ -382,7 +386,12 @@ class PlotWindow(SignalDropTarget, QWidget):
                 refused = self.hub.refused(name)
                 text = "no DAQ" if refused and value is None else self.hub.info(name).format(value)
                 item.setText(text)
-                item.setToolTip(f"not measured: {refused}" if refused else "")
+                # the newest value of a live signal while none comes (the ECU lost, not connected): greyed, as the
+                # numeric view's; a value at a cursor, or a file's, is what it is
+                stale = at is None and value is not None and self.hub.info(name).source != "MDF" and why
+                item.setForeground(QColor(theme.MUTED) if stale else self.legend.palette().text().color())
+                item.setToolTip(f"not measured: {refused}" if refused else
+                                f"not current: {why} (the last value measured)" if stale else "")
                 longest = max(longest, len(text))
         if longest > self._value_chars:  # a longer value than any before: the value columns widen (rarely)
             self._value_chars = longest
