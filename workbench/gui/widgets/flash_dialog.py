@@ -153,7 +153,8 @@ class FlashDialog(QDialog):
                 name.setFlags(name.flags() | Qt.ItemIsUserCheckable)
                 name.setCheckState(Qt.Checked if region.name.upper().startswith("CAL") else Qt.Unchecked)
             else:
-                name.setFlags(name.flags() & ~(Qt.ItemIsEnabled | Qt.ItemIsUserCheckable))  # (a table item is checkable)
+                # not ticked by select_regions() either (a table item is user-checkable unless told)
+                name.setFlags(name.flags() & ~(Qt.ItemIsEnabled | Qt.ItemIsUserCheckable))
                 name.setToolTip("the boot loader is not flashed from here" if region.is_boot else "not a flash target")
             self.table.setItem(row, 0, name)
             for column, text in ((1, f"{region.start:06X}h"), (2, f"{region.end - 1:06X}h"), (3, f"{region.size:X}h"),

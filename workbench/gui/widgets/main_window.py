@@ -528,8 +528,8 @@ class MainWindow(EcuWindowActions, QMainWindow):
         self.errors.append(show_error(self, exc))
 
     def closeEvent(self, event) -> None:
-        if self.flash_dialog is not None and self.flash_dialog.task is not None:  # as the flash dialog itself
-            event.ignore()  # (closing blocked the window while the session closed under the erase, and the flash failed)
+        if self.flash_dialog is not None and self.flash_dialog.task is not None:  # as the flash dialog itself:
+            event.ignore()  # closing blocked the window while the session closed under the erase, and cut the flash
             self.show_error(InputError("a flash is under way: closing now would cut it off and leave the ECU in its "
                                        "boot loader; wait for it to end, or press Cancel flash first"))
             self.flash_dialog.raise_()
