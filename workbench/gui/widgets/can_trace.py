@@ -40,7 +40,8 @@ class CanTrace(QWidget):
         self.table.verticalHeader().setDefaultSectionSize(20)
         self.table.setShowGrid(False)
         self.table.setSelectionBehavior(QAbstractItemView.SelectRows)
-        share_columns(self.table, (1, 0.8, 1.8, 0.5, 2.2, 4))  # time, id, message, dlc, data, decoded
+        # eight data bytes whole on a laptop (XCP frames have nothing decoded: that column gives the room)
+        share_columns(self.table, (1, 0.8, 2, 0.5, 3.5, 2.5))  # time, id, message, dlc, data, decoded
         layout.addWidget(self.table)
         self.timer = QTimer(self)
         self.timer.setInterval(REFRESH_MS)
