@@ -94,7 +94,9 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
     sim.add_argument("--duration", type=positive_float, metavar="S", help="stop by itself after S real seconds")
     sim.add_argument("--fault", action="append", default=[], metavar="FAULT",
                      help="inject a fault from the start (repeatable; see below)")
-    sim.add_argument("--no-control", action="store_true", help="no control channel (fault injection while it runs)")
+    sim.add_argument("--no-control", action="store_true",
+                     help="no control channel (fault injection while it runs; a second workbench sim on this bus "
+                          "then does not see this one and serves too)")
     add_output_arguments(parser)
     parser.set_defaults(func=run)
 
