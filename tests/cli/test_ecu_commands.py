@@ -513,5 +513,5 @@ def test_a_bus_option_the_can2_bus_would_ignore_is_refused_in_one_line(bus, caps
     line names the bus, as the simulator's does: --bus-kwargs and --can2-bus-kwargs both give bus options."""
     code, out, err = run(capsys, "measure", "RailPressure", "--duration", "1", *bus, "--can2-bus-kwargs", "prot=1")
     assert (code, out, err.count("\n")) == (2, "", 1), err
-    assert err.startswith("error: CAN2: bus option prot=1: python-can's udp_multicast bus has no option 'prot' and would "
-                          "ignore it (did you mean port? ")
+    assert err.startswith("error: CAN2: bus option prot=1: python-can's udp_multicast bus has no option 'prot' and "
+                          "would ignore it (did you mean port? ")
