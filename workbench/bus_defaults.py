@@ -172,8 +172,10 @@ def open_bus(config: Mapping[str, Any], role: str | None = None) -> can.BusABC:
 # python-can interfaces whose bus takes its options by name and ignores any other keyword without a word: a typo
 # there (``prot=43200``) would reach another bus (the default port's: someone else's ECU)
 _OPTIONS_BY_NAME = frozenset({"udp_multicast", "virtual", "socketcan"})
-_BUS_KEYS = frozenset({"bitrate", "fd", "data_bitrate", "can_filters", "timing"})  # can.Bus's own, for every bus
-_CAN_BUS_KEYS = frozenset({"config_context", "ignore_config"})  # python-can's Bus() reads these itself
+# python-can's common bus settings (its config file's too), taken for every bus: a software bus's bit rate is the
+# simulator's timing model
+_BUS_KEYS = frozenset({"bitrate", "fd", "data_bitrate", "can_filters", "timing"})
+_BUS_CALL_KEYS = frozenset({"config_context", "ignore_config"})  # can.Bus() takes these itself, no bus class does
 
 
 def check_bus_options(interface: str | None, options: Mapping[str, Any], role: str | None = None) -> None:
@@ -203,8 +205,9 @@ def check_bus_options(interface: str | None, options: Mapping[str, Any], role: s
              for name, parameter in inspect.signature(cls.__init__).parameters.items()
              if parameter.kind not in (parameter.VAR_POSITIONAL, parameter.VAR_KEYWORD)}
     taken = (taken | _BUS_KEYS) - {"self", "channel", "interface"}
-    # python-can builds ``timing`` of the bit timing keys (f_clock, brp, tseg1 ...), as of its config file's
-    quiet = _CAN_BUS_KEYS | set(BitTimingDict.__annotations__) | set(BitTimingFdDict.__annotations__)
+    # can.Bus() builds ``timing`` of the bit timing keys (f_clock, brp, tseg1 ...), as it does of its config file's:
+    # no bus class names them, yet they are taken
+    quiet = _BUS_CALL_KEYS | set(BitTimingDict.__annotations__) | set(BitTimingFdDict.__annotations__)
     for key, value in options.items():
         if key not in taken | quiet:
             close = difflib.get_close_matches(key, sorted(taken | quiet), n=1)
