@@ -149,3 +149,19 @@ def test_a_profiles_a2l_keeps_every_transport_field_it_does_not_change(tmp_path,
         "MAX_DLC", "64", "CAN_FD_DATA_TRANSFER_BAUDRATE", "2000000", "SAMPLE_POINT", "70", "BTL_CYCLES", "20", "SJW",
         "4", "SYNC_EDGE", "DUAL", "SECONDARY_SAMPLE_POINT", "75", "TRANSCEIVER_DELAY_COMPENSATION", "ON"])
     assert read_xcp_config(written).can.max_dlc_required == described["CAN"].max_dlc_required
+
+
+@pytest.mark.parametrize(("name", "kept"), [("daq-can-ids", True), ("segments", False)])
+def test_a_profiles_a2l_keeps_the_calibration_memory_segment_it_does_not_change(name, kept):
+    """daq-can-ids keeps the demo's calibration pages: its MEMORY_SEGMENT stays as written (comments, layout), as
+    the IF_DATA blocks a profile does not change do; 'segments' splits it in two, written anew."""
+    from workbench.sim.memory_map import HDS9
+    from workbench.sim.profile_a2l import profile_document
+
+    source = load_a2l(DemoFiles.defaults().a2l)
+    chosen, config = profile(name), read_xcp_config(source)
+    described = {t: chosen.parameters(xcp_parameters(source, config, t), t) for t in ("CAN", "UDP", "TCP")}
+    written = profile_document(source, described, chosen.memory_map(HDS9), name)
+    calib = next(m for m in source.memory_segments() if m.name == config.segments[0].memory_segment)
+    text = source.data[slice(*calib.block.span)]
+    assert (text in written.data) is kept

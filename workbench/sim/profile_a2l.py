@@ -5,9 +5,9 @@ parameters, never written by hand: PROTOCOL_LAYER (byte order, granularity, MAX_
 transport, the commands the slave implements, its block modes, T1), DAQ (configuration type, MIN_DAQ,
 identification field, granularity, timestamps), PAG and the MEMORY_SEGMENTs of the calibration
 segments, PGM and XCP on CAN's MAX_DLC_REQUIRED, OPTIONAL_TL_SUBCMD, DAQ_LIST_CAN_ID and CAN FD (MAX_DLC and
-data bit rate). Those items are written anew (:data:`_REWRITTEN`); the rest of the file stays as it is, byte for
-byte, the rest of IF_DATA XCP too (XCP_ON_CAN's SAMPLE_RATE, BTL_CYCLES, SJW, SYNC_EDGE, MAX_BUS_LOAD, the rest of
-CAN_FD, what an XCP_ON_UDP_IP adds, blocks of other transports, comments).
+data bit rate). Those items are written anew where they differ (:data:`_REWRITTEN`); the rest of the file stays as
+it is, byte for byte, the rest of IF_DATA XCP too (XCP_ON_CAN's SAMPLE_RATE, BTL_CYCLES, SJW, SYNC_EDGE,
+MAX_BUS_LOAD, the rest of CAN_FD, what an XCP_ON_UDP_IP adds, blocks of other transports, comments).
 """
 
 from __future__ import annotations
@@ -70,19 +70,25 @@ def profile_document(doc: A2lDocument, params: Mapping[str, XcpParameters], memo
     module = doc.module()
     if_data = next(b for b in module.children_named("IF_DATA") if b.name in ("XCP", "XCPplus"))
     segments = _memory_segments(memory[0], described.segments)
-    edits = Edits([*_merge(doc, if_data, _if_data_block(format_if_data_xcp(described)), "XCP"),
-                   Edit(*memory[0].block.span, _in_place(doc, memory[0].block.span[0], segments))])
-    edits.extend(Edit(*m.block.span, b"") for m in memory[1:])
+    edits = Edits(_merge(doc, if_data, _if_data_block(format_if_data_xcp(described)), "XCP"))
+    drawn = _module_document(f'/begin MOD_PAR ""\n{segments}\n/end MOD_PAR').memory_segments()
+    if [_words(m.block) for m in memory] != [_words(m.block) for m in drawn]:  # else kept as written (comments)
+        edits.append(Edit(*memory[0].block.span, _in_place(doc, memory[0].block.span[0], segments)))
+        edits.extend(Edit(*m.block.span, b"") for m in memory[1:])
     data = edits.apply(doc.data)
     path = doc.path.with_name(f"{doc.path.stem}-{name}.a2l") if doc.path else Path(f"FLCU-{name}.a2l")
     return load_a2l_string(data.decode(doc.encoding), path)
 
 
+def _module_document(text: str) -> A2lDocument:
+    """``text`` (blocks of a MODULE) as a document of its own, to read its blocks' items and spans."""
+    return load_a2l_string(f'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n/begin MODULE M ""\n{text}\n/end MODULE\n'
+                           "/end PROJECT\n")
+
+
 def _if_data_block(text: str) -> Block:
     """``/begin IF_DATA XCP ... /end IF_DATA`` as a block of a document of its own (its items and spans)."""
-    doc = load_a2l_string(f'ASAP2_VERSION 1 71\n/begin PROJECT P ""\n/begin MODULE M ""\n{text}\n/end MODULE\n'
-                          "/end PROJECT\n")
-    return next(b for b in doc.module().children_named("IF_DATA") if b.name == "XCP")
+    return next(b for b in _module_document(text).module().children_named("IF_DATA") if b.name == "XCP")
 
 
 def _merge(doc: A2lDocument, source: Block, written: Block, rules: str) -> list[Edit]:
