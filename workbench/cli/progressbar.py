@@ -1,10 +1,10 @@
 """A rich progress bar on stderr that implements :class:`workbench.progress.Progress`.
 
 Shown only when stderr is a terminal (and disappears when done), so pipes, CI logs
-and ``--json`` output stay clean. It is never cancelled: in a terminal Ctrl-C interrupts the
-job (the CLI ends with exit code 130, atomic writes leave no half-written file); ``cancelled``
-is for front ends with a Cancel button, and for :func:`cancel_on_interrupt`: a job that writes to the ECU
-step by step (a flash, a dataset) stops at its next step on the first Ctrl-C, and says what it did.
+and ``--json`` output stay clean. Ctrl-C interrupts the job (the CLI ends with exit code 130,
+atomic writes leave no half-written file), except under :func:`cancel_on_interrupt`: a job that
+writes to the ECU step by step (a flash, a dataset) is cancelled at its next step by the first
+Ctrl-C and says what it did; ``cancelled`` is also for front ends with a Cancel button.
 """
 
 from __future__ import annotations

@@ -48,8 +48,9 @@ class SearchCombo(QComboBox):
         """The lists as wide as the longest entry, up to ``limit`` pixels: the field may be narrow in a dock, and
         FUNCTION names often differ only at their end."""
         metrics = self.fontMetrics()
-        longest = heapq.nlargest(20, (self.itemText(row) for row in range(self.count())), key=len)  # measuring all
-        widest = max(map(metrics.horizontalAdvance, longest), default=0)  # of 2,700 FUNCTIONs took 30 ms
+        # the longest texts measured, not every one (each of 2,700 FUNCTIONs took 30 ms)
+        longest = heapq.nlargest(20, (self.itemText(row) for row in range(self.count())), key=len)
+        widest = max(map(metrics.horizontalAdvance, longest), default=0)
         width = min(widest + 2 * metrics.averageCharWidth() + self.view().verticalScrollBar().sizeHint().width(), limit)
         for view in (self.completer().popup(), self.view()):
             view.setMinimumWidth(width)
