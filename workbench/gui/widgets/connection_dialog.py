@@ -154,7 +154,7 @@ class ConnectionDialog(QDialog):
         if self.transport.currentData() == "CAN":
             interface = self.interface.currentText().strip() or None
             bus_kwargs = parse_bus_kwargs(self.bus_kwargs.text())
-            bus_defaults.check_bus_options(interface, bus_kwargs, "bus option ")  # prot=43200 would go to another bus
+            bus_defaults.check_bus_options(interface, bus_kwargs)  # prot=43200 would go to another bus
             return Connection(interface=interface, channel=self.channel.text().strip() or None,
                               bitrate=self.bitrate.value() or None, bus_kwargs=bus_kwargs, key_function=key_function,
                               daq_can_ids=parse_daq_can_ids(self.daq_can_ids.text()))
