@@ -14,7 +14,7 @@ from pathlib import Path
 __all__ = ["A2lParseError", "Cancelled", "ConnectionLostError", "ConversionError", "DatasetParseError",
            "EcuSilentError", "EpkMismatchError", "InputError", "LimitsError", "LocatedInputError", "PageError",
            "PartialWriteError", "UnknownSymbolError", "WorkbenchError", "XcpCommandError", "XcpTimeoutError",
-           "epk_text", "placeholder_hint"]
+           "epk_text", "placeholder_hint", "same_epk"]
 
 
 class WorkbenchError(Exception):
@@ -191,6 +191,12 @@ class EpkMismatchError(WorkbenchError):
         self.actual = actual
         super().__init__(f"EPK mismatch: file has {epk_text(expected)}, ECU has {epk_text(actual)}"
                          + (f"; {hint}" if hint else ""))
+
+
+def same_epk(one: str, other: str) -> bool:
+    """Whether two EPKs (as read, or as an A2L states them) name one build: NULs and blanks pad an EPK differently
+    in an A2L (blanks) and in a build (a C string's NULs)."""
+    return one.replace("\0", "").strip() == other.replace("\0", "").strip()
 
 
 def epk_text(epk: str) -> str:

@@ -156,3 +156,16 @@ def test_calibration_data_of_another_build_is_read_only_whichever_addr_epk_comes
     assert other.epk == "99999999999999"
     with pytest.raises(EpkMismatchError, match="'99999999999999'"):
         other.write("xsSWITCH_TANK_THR", 25)
+
+
+def test_an_epk_padded_otherwise_is_the_same_epk_offline_as_online(tmp_path):
+    """The A2L pads its EPK with blanks, the build with NULs (a C string in a 16-byte array): the session, the cache
+    sync and the flash take them for one EPK, so the offline calibration writes as well."""
+    text = demo.a2l().read_text(encoding="utf-8").replace('EPK "10300020250301"', 'EPK "10300020250301  "')
+    (tmp_path / "padded.a2l").write_text(text, encoding="utf-8")
+    image = load_image(demo.s19())
+    for address in (0xFC0000, 0x840008):
+        image.add(address, b"10300020250301\0\0", overwrite=True)
+    image.save(tmp_path / "padded.s19")
+    padded = ImageCalibration.open(tmp_path / "padded.s19", tmp_path / "padded.a2l")
+    assert padded.write("xsSWITCH_TANK_THR", 25).value == 25.0

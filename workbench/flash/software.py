@@ -22,7 +22,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from workbench.errors import epk_text
+from workbench.errors import epk_text, same_epk
 from workbench.flash.plan import FlashPlan
 
 __all__ = ["EpkPairing", "epk_pairing"]
@@ -43,7 +43,7 @@ class EpkPairing:
 
     @property
     def matches(self) -> bool:
-        return self.kept is not None and _clean(self.kept) == _clean(self.flashed)
+        return self.kept is not None and same_epk(self.kept, self.flashed)
 
     def refusal(self, source: str, regions: str) -> str:
         """One line: why the flash of ``regions`` from ``source`` is refused (the ECU untouched)."""
@@ -100,6 +100,3 @@ def epk_pairing(plan: FlashPlan, ecu_epk: str | None, source: str,
     stays = "the calibration data" if code_flashed else "the application"
     return EpkPairing(flashed, ecu_epk, source, stays, echoed=epk_flashed)
 
-
-def _clean(text: str) -> str:
-    return text.replace("\0", "").strip()

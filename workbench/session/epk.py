@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from workbench.errors import XcpCommandError, epk_text
+from workbench.errors import XcpCommandError, epk_text, same_epk
 from workbench.logs import logger
 from workbench.xcp.master import XcpMaster
 from workbench.xcp_protocol import IdType
@@ -36,7 +36,7 @@ class EpkPart:
 
     @property
     def matches(self) -> bool | None:
-        return None if self.ecu is None else _clean(self.a2l) == _clean(self.ecu)
+        return None if self.ecu is None else same_epk(self.a2l, self.ecu)
 
     def describe(self) -> str:
         ecu = "unreadable" if self.ecu is None else epk_text(self.ecu)
@@ -60,7 +60,7 @@ class EpkCheck:
         """True/False (False also when a part is another build's), or None when there is nothing to compare."""
         if self.a2l is None or self.ecu is None:
             return None
-        return _clean(self.a2l) == _clean(self.ecu) and not self.mismatched_parts
+        return same_epk(self.a2l, self.ecu) and not self.mismatched_parts
 
     @property
     def mismatched_parts(self) -> tuple[EpkPart, ...]:
@@ -74,11 +74,8 @@ class EpkCheck:
         verdict = "match" if self.matches else "MISMATCH"
         text = f"EPK {verdict}: A2L {epk_text(self.a2l)}, ECU {epk_text(self.ecu)} ({self.source})"
         return text + "".join(f"; {p.segment} ({p.address:X}h) holds {epk_text(p.ecu or '')}"
-                              for p in self.mismatched_parts if _clean(p.ecu or "") != _clean(self.ecu))
+                              for p in self.mismatched_parts if not same_epk(p.ecu or "", self.ecu))
 
-
-def _clean(text: str) -> str:
-    return text.replace("\0", "").strip()
 
 
 def check_epk(master: XcpMaster, a2l_epk: str | None, addr_epk: int | None,

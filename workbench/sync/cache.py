@@ -34,7 +34,7 @@ from workbench.calib.dataset.diff import EQUAL, ObjectDiff
 from workbench.calib.layout import ResolvedLayout
 from workbench.calib.memory import Span
 from workbench.calib.values import CalValue
-from workbench.errors import InputError, WorkbenchError, epk_text
+from workbench.errors import InputError, WorkbenchError, epk_text, same_epk
 from workbench.progress import Progress
 from workbench.session import Session
 from workbench.session.memory import merge_spans
@@ -226,7 +226,7 @@ def _check_epk(session: Session, view: ImageView, reference: ImageReference) -> 
     if not epk:
         return
     for found in image_epks(view, session.doc, session.module):
-        if found.text is not None and found.text.replace("\0", "").strip() != epk.replace("\0", "").strip():
+        if found.text is not None and not same_epk(found.text, epk):
             where = f" in {found.label}" if len(session.doc.epk_addresses(session.module)) > 1 else ""
             raise InputError(f"{reference.label} holds EPK {epk_text(found.text)}{where}, the A2L {epk_text(epk)}: it "
                              "belongs to other software (flash it, or compare a file of this software)")

@@ -40,7 +40,7 @@ from workbench.calib.layout import object_layout
 from workbench.calib.memory import ByteEdit, MemoryBytes, Span
 from workbench.calib.values import CalValue
 from workbench.calib.writable import check_inside, checked_cells, checked_value, writable_spans
-from workbench.errors import EpkMismatchError, InputError, epk_text
+from workbench.errors import EpkMismatchError, InputError, epk_text, same_epk
 from workbench.image import AddressRange, MemoryImage, is_intel_hex
 from workbench.sync.areas import ImageView, calibration_areas, image_epks
 from workbench.sync.store import ByteStore
@@ -116,12 +116,12 @@ class ImageCalibration:
         differs from the A2L's, else the first the image holds (None: the A2L names none, or the image lacks it)."""
         held = [found.text for found in image_epks(self.view, self.doc, self.module) if found.text is not None]
         expected = self.doc.epk(self.module)
-        return next((text for text in held if text != expected), held[0] if held else None)
+        return next((text for text in held if not same_epk(text, expected)), held[0] if held else None)
 
     def require_writable(self) -> None:
         """:raises EpkMismatchError: the image's EPK differs from the A2L's: the A2L does not describe it."""
         expected, found = self.doc.epk(self.module), self.epk
-        if found is not None and found != expected and not self.accept_epk_mismatch:
+        if found is not None and not same_epk(found, expected) and not self.accept_epk_mismatch:
             error = EpkMismatchError(expected, found)
             error.args = ((f"{self.label} holds the EPK {epk_text(found)}, the A2L {epk_text(expected)}: the A2L "
                            "does not describe this software; the image is read-only (--accept-epk-mismatch, "
