@@ -176,3 +176,22 @@ def test_a_list_silent_beside_others_says_where_get_daq_id_puts_it(channel, tmp_
         "DAQ: no DTO of list 1 within 300 ms of the start, though the others' came: GET_DAQ_ID puts DAQ list 1 on "
         "0x7F3 (fixed), where this master does not listen (it listens on 0x7F1, 0x7F2); the A2L's XCP_ON_CAN should "
         "say so: DAQ_LIST_CAN_ID 1 FIXED 0x7F3")
+
+
+def test_an_ecu_gone_when_a_silent_list_is_asked_is_lost_as_when_none_came(channel, tmp_path, monkeypatch):
+    """List 0's DTOs came, list 1 is silent, and the ECU answers neither GET_DAQ_ID nor SYNCH: the link is lost (every
+    command says so at once, the window reconnects), in the words of a DAQ silent from its start."""
+    from workbench.errors import EcuSilentError
+
+    a2l = edited_a2l(tmp_path, "        MAX_DLC_REQUIRED\n",
+                     "        MAX_DLC_REQUIRED\n        /begin DAQ_LIST_CAN_ID 0 FIXED 0x7F2 /end DAQ_LIST_CAN_ID\n")
+    with serve_demo({"interface": "virtual", "channel": channel}, profile="daq-can-ids", time_scale=1.0), \
+            Session.open(a2l, interface="virtual", channel=channel, timeouts=FAST) as session:
+        def gone(daq_list: int):
+            raise EcuSilentError(session.master.link.describe(), "TRANSPORT_LAYER_CMD", 0.1)
+
+        monkeypatch.setattr(session.master, "get_daq_id", gone)
+        with pytest.raises(ConnectionLostError, match="nor an answer to GET_DAQ_ID or SYNCH"), \
+                session.measure(["zsRailPressure", "xsDC"]) as live:
+            _read_until_refused(live)
+        assert session.master.link.lost is not None

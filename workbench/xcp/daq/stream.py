@@ -295,14 +295,12 @@ class DaqStream:
         """
         if not self.lock.acquire(blocking=False):
             return
-        link, silence = self.master.link, self._silence
+        silence = self._silence
         try:
             try:
                 sends = self._daq_can_ids([daq.number for daq in self.plan.lists])
             except EcuSilentError:
-                link.give_up(f"nothing from the ECU for {_ms(link.quiet_s)} while DAQ runs (a DTO was due within "
-                             f"{_ms(silence)}), nor an answer to GET_DAQ_ID or SYNCH")
-                link.check()
+                self._give_up()
             except ConnectionLostError:  # the link broke under the command: no answer to judge
                 raise
             except XcpCommandError as error:  # GET_DAQ_ID is optional
@@ -338,6 +336,8 @@ class DaqStream:
                 return
             try:
                 elsewhere = self._elsewhere(self._daq_can_ids(silent))
+            except EcuSilentError:
+                self._give_up()
             except ConnectionLostError:
                 raise
             except WorkbenchError as error:  # no GET_DAQ_ID, or no answer: nothing to tell
@@ -350,6 +350,17 @@ class DaqStream:
             self.lock.release()
         if self._no_dtos is not None:
             raise WorkbenchError(self._no_dtos)
+
+    def _give_up(self) -> None:
+        """The ECU answers neither GET_DAQ_ID nor SYNCH: the link is lost from now on (every command says so at
+        once), as when the link finds DAQ silent.
+
+        :raises ConnectionLostError: always.
+        """
+        link = self.master.link
+        link.give_up(f"nothing from the ECU for {_ms(link.quiet_s)} while DAQ runs (a DTO was due within "
+                     f"{_ms(self._silence)}), nor an answer to GET_DAQ_ID or SYNCH")
+        link.check()
 
     def _daq_can_ids(self, numbers: list[int]) -> dict[int, tuple[CanId, bool]]:
         """GET_DAQ_ID of the lists ``numbers``: each one's CAN id, and whether it is fixed.
