@@ -208,8 +208,8 @@ class Session(ValueAccess, EventAccess, FixAccess):
         :class:`~workbench.session.can_listeners.Listening` closes or the session does. One bus object and one
         receive thread a bus, whoever listens (see :mod:`workbench.session.can_listeners`).
 
-        :raises InputError: no ``bus`` on a session whose XCP runs on Ethernet. :raises WorkbenchError: the bus
-            cannot be opened.
+        :raises InputError: no ``bus`` on a session whose XCP runs on Ethernet, or options ``bus`` would ignore or
+            refuses (named as ``CAN2``'s). :raises WorkbenchError: the bus cannot be opened.
         """
         return self._can_listeners.add(listener, bus)
 
