@@ -60,3 +60,15 @@ def test_a_task_and_what_its_callbacks_refer_to_are_freed_in_the_gui_thread(qtbo
     QThreadPool.globalInstance().waitForDone(WAIT_MS)
     gc.collect()
     assert len(freed_in) == 12 and all(freed_in)
+
+
+def test_a_finished_slot_runs_though_nobody_holds_the_task(qtbot):
+    """The caller's own ``finished`` slots (a dialog's reset, the job buttons) run after the task's end though only
+    the pool held it: freed at its first ``finished`` slot, the task took the later ones with it (none ran)."""
+    ends = []
+    for _ in range(10):
+        task = Task(_job, False)
+        task.finished.connect(lambda: ends.append("finished"))
+        task.start()
+        del task
+    qtbot.waitUntil(lambda: len(ends) == 10 and not Task._running, timeout=WAIT_MS)
