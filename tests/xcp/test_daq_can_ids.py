@@ -5,10 +5,12 @@ GET_DAQ_ID, against the simulated slave's daq-can-ids-variable profile (lists 0 
 from __future__ import annotations
 
 import itertools
+import threading
 import time
 
 import can
 import pytest
+from daq_samples import collect_until
 from session_helpers import FAST, edited_a2l
 
 from workbench import Session, demo
@@ -110,6 +112,27 @@ def test_a_daq_silent_from_its_start_says_where_get_daq_id_puts_the_lists(channe
         "DAQ: no DTO within 300 ms of the start, though the ECU answers: GET_DAQ_ID puts DAQ list 0 on 0x7F2 (fixed), "
         "list 1 on 0x7F3 (fixed), where this master does not listen (it listens on 0x7F1); the A2L's XCP_ON_CAN "
         "should say so: DAQ_LIST_CAN_ID 0 FIXED 0x7F2, DAQ_LIST_CAN_ID 1 FIXED 0x7F3")
+
+
+def test_events_that_start_late_are_waited_for_when_the_lists_send_where_the_master_listens(channel):
+    """An ECU whose events start only after the first silence (still starting; or a loaded host that heard
+    nothing yet) is measured: GET_DAQ_ID says the lists send where the master listens, so it waits further
+    silences before saying the events do not run (it refused at the first: a CI flake under load)."""
+    asked = threading.Event()
+    with serve_demo({"interface": "virtual", "channel": channel}, time_scale=1.0) as sim, \
+            Session.open(demo.a2l(), interface="virtual", channel=channel, timeouts=FAST) as session:
+        send, get_daq_id = sim.ecu.dto_sink, session.master.get_daq_id
+        sim.ecu.dto_sink = lambda sample: send(sample) if asked.is_set() else None  # events silent until asked
+
+        def get_daq_id_then_events_run(daq_list: int):
+            found = get_daq_id(daq_list)
+            asked.set()
+            return found
+
+        session.master.get_daq_id = get_daq_id_then_events_run
+        with session.measure(["zsRailPressure"]) as live:
+            assert collect_until(live, lambda got: len(got) > 0)
+        assert asked.is_set()
 
 
 def test_a_link_lost_while_get_daq_id_is_asked_is_said_lost(channel, monkeypatch):

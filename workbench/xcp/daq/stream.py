@@ -39,6 +39,7 @@ _START_SELECTED, _STOP_ALL = 1, 0
 _SELECT = 2
 _LOST_CHECK_S = 0.1  # a waiting read() looks this often whether the ECU is lost
 PROBE_AFTER_S = 1.0  # no cyclic event tells when DTOs are due: after this long without any, the ECU is asked
+_START_CHECKS = 3  # silences after the start before an answering ECU that sends no DTO is refused (late events)
 
 
 @dataclass(frozen=True)
@@ -105,6 +106,7 @@ class DaqStream:
         self._first_dto_due: float | None = None  # XCP on CAN: time.monotonic() by which a DTO is due, until one came
         self._lists_due: float | None = None  # ... by which every list's is, until they were looked at
         self._no_dtos: str | None = None  # why DAQ sent nothing this master hears, the ECU answering
+        self._start_checks = 0  # the silences since the start on which the ECU answered that its lists send here
         self.running = False
 
     # --- life cycle ---------------------------------------------------------------------------
@@ -136,7 +138,7 @@ class DaqStream:
         # on CAN a start without any DTO may be lists sending where this master does not listen (GET_DAQ_ID says):
         # the stream judges that silence itself (:meth:`_silent_from_start`), the link from the first DTO on
         judged_here = silence is not None and master.link.is_can
-        self._no_dtos = None
+        self._no_dtos, self._start_checks = None, 0
         self._first_dto_due = time.monotonic() + master.timeouts.t1 + silence if judged_here else None  # START: <= T1
         self._lists_due = self._first_dto_due
         master.link.dto_handler = self._on_dto
@@ -287,15 +289,16 @@ class DaqStream:
 
     def _silent_from_start(self) -> None:
         """XCP on CAN, no DTO since the start for the silence limit: ask the ECU where its lists send (GET_DAQ_ID).
-        Unanswered with its SYNCH, the ECU is lost; answered, the lists send where this master does not listen,
-        or their events do not run (:attr:`_no_dtos` says which). Skipped while another thread has a command under
-        way (asked at the next check).
+        Unanswered with its SYNCH, the ECU is lost; answered, the lists send where this master does not listen
+        (said at once), or their events do not run (said after :data:`_START_CHECKS` silences: events may start
+        late) — :attr:`_no_dtos` says which. Skipped while another thread has a command under way (asked at the
+        next check).
 
         :raises ConnectionLostError: the ECU is gone.
         """
         if not self.lock.acquire(blocking=False):
             return
-        silence = self._silence
+        silence, certain = self._silence, False
         try:
             try:
                 sends = self._daq_can_ids([daq.number for daq in self.plan.lists])
@@ -310,13 +313,21 @@ class DaqStream:
             except WorkbenchError as error:  # unanswered (SYNCH answered), or an answer naming no id
                 where = f"{error}; this master listens on {self._listens()}"
             else:
-                where = self._elsewhere(sends) or (
+                elsewhere = self._elsewhere(sends)
+                certain = elsewhere is not None  # nothing this master hears will come
+                where = elsewhere or (
                     f"GET_DAQ_ID says its lists send on {', '.join(dict.fromkeys(str(i) for i, _ in sends.values()))}, "
                     "where this master listens: the ECU's events do not run (is its application started?)")
             if self._first_dto_due is None:  # a DTO came meanwhile: the receiver was only late
                 return
+            self._start_checks = _START_CHECKS if certain else self._start_checks + 1
+            if self._start_checks < _START_CHECKS:  # an ECU still starting its events, a host too loaded to hear them
+                log.info("DAQ: no DTO yet, %s after the start: %s", _ms(silence * self._start_checks), where)
+                self._first_dto_due = time.monotonic() + silence
+                return
             self._first_dto_due = self._lists_due = None
-            self._no_dtos = f"DAQ: no DTO within {_ms(silence)} of the start, though the ECU answers: " + where
+            waited = silence if certain else silence * _START_CHECKS
+            self._no_dtos = f"DAQ: no DTO within {_ms(waited)} of the start, though the ECU answers: " + where
         finally:
             self.lock.release()
 
