@@ -323,7 +323,7 @@ class DaqStream:
             self._start_checks = _START_CHECKS if certain else self._start_checks + 1
             if self._start_checks < _START_CHECKS:  # an ECU still starting its events, a host too loaded to hear them
                 log.info("DAQ: no DTO yet, %s after the start: %s", _ms(silence * self._start_checks), where)
-                self._first_dto_due = time.monotonic() + silence
+                self._first_dto_due = self._lists_due = time.monotonic() + silence  # the other lists wait alike
                 return
             self._first_dto_due = self._lists_due = None
             waited = silence if certain else silence * _START_CHECKS
