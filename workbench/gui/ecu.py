@@ -32,7 +32,7 @@ from PySide6.QtCore import QObject, QTimer, Signal
 from workbench.errors import ConnectionLostError, InputError, PageError
 from workbench.gui.project import Connection
 from workbench.gui.widgets.status_bar import clock
-from workbench.gui.worker import Task, run_task
+from workbench.gui.worker import Task, new_task, run_task
 from workbench.logs import logger
 
 log = logger(__name__)
@@ -220,11 +220,7 @@ class EcuController(QObject):
             else:
                 failed(exc)
 
-        task = Task(function, *args, progress=progress, **kwargs)
-        if on_done is not None:
-            task.succeeded.connect(on_done)
-        task.failed.connect(error)
-        return task
+        return new_task(function, *args, on_done=on_done, on_error=error, progress=progress, **kwargs)
 
     # --- a lost connection --------------------------------------------------------------------------
 

@@ -22,7 +22,7 @@ from workbench.logs import logger
 
 log = logger(__name__)
 
-__all__ = ["QtProgress", "Task", "collect_garbage_on_the_gui_thread", "run_task"]
+__all__ = ["QtProgress", "Task", "collect_garbage_on_the_gui_thread", "new_task", "run_task"]
 
 
 class QtProgress(QObject):
@@ -123,15 +123,22 @@ class _Runnable(QRunnable):
             self.releases.released.emit(released)
 
 
-def run_task(function: Callable[..., Any], *args, on_done: Callable[[Any], None] | None = None,
+def new_task(function: Callable[..., Any], *args, on_done: Callable[[Any], None] | None = None,
              on_error: Callable[[BaseException], None] | None = None, progress: bool = False, **kwargs) -> Task:
-    """Start ``function(*args, **kwargs)`` in the pool; ``on_done(result)``/``on_error(exc)`` run in the GUI thread."""
+    """A task to start that runs ``function(*args, **kwargs)`` in the pool; ``on_done(result)``/``on_error(exc)``
+    run in the GUI thread."""
     task = Task(function, *args, progress=progress, **kwargs)
     if on_done is not None:
         task.succeeded.connect(on_done)
     if on_error is not None:
         task.failed.connect(on_error)
-    return task.start()
+    return task
+
+
+def run_task(function: Callable[..., Any], *args, on_done: Callable[[Any], None] | None = None,
+             on_error: Callable[[BaseException], None] | None = None, progress: bool = False, **kwargs) -> Task:
+    """:func:`new_task`, started."""
+    return new_task(function, *args, on_done=on_done, on_error=on_error, progress=progress, **kwargs).start()
 
 
 def collect_garbage_on_the_gui_thread(parent: QObject) -> QTimer:
