@@ -45,7 +45,7 @@ from workbench.a2l.datatypes import array_dims, c_limits, datatype_for, element_
 from workbench.a2l.document import A2lDocument, Block, load_a2l
 from workbench.a2l.edits import Edit, Edits, indentation_of, newline_bytes, write_source
 from workbench.a2l.patterns import as_typed, literal_prefixes, required_text, selection_pattern, stops_before
-from workbench.a2l.reports import finding_at, findings_at
+from workbench.a2l.reports import finding_at, findings_at, written_line
 from workbench.a2l.update.enums import NO_COMPU_METHOD, enum_conversion_blocks, enum_conversion_name, indented
 from workbench.a2l.values import is_ident, quote_string
 from workbench.elf.debugdata import DebugData, read_beside
@@ -100,8 +100,7 @@ class InsertReport(Report):
         counts = ", ".join(f"{len(names)} {keyword}" for keyword, names in self.inserted.items() if names) or "nothing"
         skipped = len(self.of_kind("exists")) + len(self.of_kind("already-described"))
         tail = f" ({skipped} existed already)" if skipped else ""
-        return (f"would insert {counts}{tail}; nothing written (dry run)" if output is None
-                else f"wrote {output}: {counts} inserted{tail}")
+        return written_line(output, "insert", "inserted", counts, tail)
 
 
 @dataclass

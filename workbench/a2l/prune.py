@@ -49,7 +49,7 @@ from workbench.a2l.document import A2lDocument, Block, load_a2l
 from workbench.a2l.edits import Edit, Edits, cut_spans, replace_token, write_source
 from workbench.a2l.includes import edited_texts, includes_not_found_from
 from workbench.a2l.patterns import as_typed, selection_pattern
-from workbench.a2l.reports import IncludeMode, findings_at
+from workbench.a2l.reports import IncludeMode, findings_at, written_line
 from workbench.a2l.usage import ENTRY, Usage
 from workbench.a2l.values import int_or_none, int_values
 from workbench.errors import InputError, WorkbenchError
@@ -90,8 +90,7 @@ class PruneReport(Report):
         counts = ", ".join(f"{len(names)} {keyword}" for keyword, names in self.removed.items()) or "nothing"
         dropped = len(self.of_kind("reference-removed"))
         tail = f" ({dropped} reference(s) with them)" if dropped else ""
-        return (f"would remove {counts}{tail}; nothing written (dry run)" if output is None
-                else f"wrote {output}: {counts} removed{tail}")
+        return written_line(output, "remove", "removed", counts, tail)
 
 
 @dataclass

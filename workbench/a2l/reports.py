@@ -14,7 +14,7 @@ from workbench.findings import Finding, Severity
 if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument
 
-__all__ = ["ConflictPolicy", "IncludeMode", "UpdateMode", "finding_at", "findings_at"]
+__all__ = ["ConflictPolicy", "IncludeMode", "UpdateMode", "finding_at", "findings_at", "written_line"]
 
 
 class UpdateMode(enum.Enum):
@@ -55,3 +55,10 @@ def findings_at(doc: "A2lDocument", items: list[tuple]) -> list[Finding]:
     positions = doc.source_map.positions(doc.tokens.starts[[item[0] for item in items]].tolist())
     return [Finding(kind, name, message, file, line, column, block, severity)
             for (_, kind, name, message, block, severity), (file, line, column) in zip(items, positions)]
+
+
+def written_line(output, verb: str, done: str, counts: str, tail: str = "") -> str:
+    """An editing command's one line after ``output`` is written (None: a dry run): ``verb``/``done`` ("remove",
+    "removed") with what ``counts`` says."""
+    return (f"would {verb} {counts}{tail}; nothing written (dry run)" if output is None
+            else f"wrote {output}: {counts} {done}{tail}")
