@@ -165,3 +165,16 @@ def test_a_profiles_a2l_keeps_the_calibration_memory_segment_it_does_not_change(
     calib = next(m for m in source.memory_segments() if m.name == config.segments[0].memory_segment)
     text = source.data[slice(*calib.block.span)]
     assert (text in written.data) is kept
+
+
+def test_get_id_reports_the_calibration_datas_epk_whatever_the_order_of_the_addr_epks(tmp_path):
+    """An A2L naming the application header's ADDR_EPK before CALIB's: GET_ID 5 still reports CALIB's EPK (the one
+    a calibration flash changes), as it did with CALIB's first (it reported the application header's)."""
+    text = DemoFiles.defaults().a2l.read_text(encoding="latin-1")
+    assert text.count("ADDR_EPK 0xFC0000\n      ADDR_EPK 0x840008") == 1
+    swapped = tmp_path / "swapped.a2l"
+    swapped.write_text(text.replace("ADDR_EPK 0xFC0000\n      ADDR_EPK 0x840008",
+                                    "ADDR_EPK 0x840008\n      ADDR_EPK 0xFC0000"), encoding="latin-1")
+    for path in (DemoFiles.defaults().a2l, swapped):
+        doc = load_a2l(path)
+        assert xcp_parameters(doc, read_xcp_config(doc)).epk_address == 0xFC0000

@@ -97,7 +97,7 @@ def xcp_parameters(doc: A2lDocument, config: XcpConfig, transport: str = "CAN") 
     if transport != "CAN" and not (8 <= sizes[0] <= 0xFF and 8 <= sizes[1] <= MAX_ETHERNET_DTO):
         raise InputError(f"{where}: XCP on {transport} needs MAX_CTO 8..255 and MAX_DTO 8..{MAX_ETHERNET_DTO}, "
                          f"the A2L says {sizes[0]}/{sizes[1]}")
-    epk, epk_address = doc.epk(), doc.addr_epk()
+    epk, epk_address = doc.epk(), _get_id_epk_address(doc)
     if epk is None or epk_address is None:
         raise InputError(f"{where}: MOD_PAR needs EPK and ADDR_EPK")
     defaults = XcpParameters()
@@ -133,6 +133,13 @@ def xcp_parameters(doc: A2lDocument, config: XcpConfig, transport: str = "CAN") 
         asam_mc2_name=Path(str(doc.path)).stem if doc.path else defaults.asam_mc2_name,
         events=events,
     )
+
+
+def _get_id_epk_address(doc: A2lDocument) -> int | None:
+    """The ADDR_EPK whose EPK GET_ID 5 reports: the one in the calibration data (a DATA segment) where the A2L names
+    one in each part of the software, whatever their order (the application header's may come first); else the first."""
+    in_data = [epk.address for epk in doc.epk_addresses() if epk.segment is not None and epk.segment.prg_type == "DATA"]
+    return in_data[0] if in_data else doc.addr_epk()
 
 
 def build_demo_ecu(
