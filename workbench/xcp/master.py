@@ -709,6 +709,14 @@ class XcpMaster:
         mode = 0x10 if timestamp else 0x00
         self.command(Cmd.SET_DAQ_LIST_MODE, struct.pack(f"{self.order}BHHBB", mode, daq_list, event, prescaler, priority))
 
+    def get_daq_list_mode(self, daq_list: int) -> tuple[int, int]:
+        """GET_DAQ_LIST_MODE: the list's CURRENT_MODE bits (0x01 SELECTED, 0x10 TIMESTAMP, 0x40 RUNNING), its event."""
+        payload = self.command(Cmd.GET_DAQ_LIST_MODE, struct.pack(f"{self.order}xH", daq_list))
+        if len(payload) < 5:
+            raise WorkbenchError(f"XCP GET_DAQ_LIST_MODE: the response has {len(payload) + 1} bytes, expected 8")
+        mode, event = struct.unpack_from(f"{self.order}BxxH", payload)
+        return mode, event
+
     def start_stop_daq_list(self, daq_list: int, mode: int) -> int:
         """Mode 0 stop, 1 start, 2 select; returns the list's FIRST_PID."""
         return self.command(Cmd.START_STOP_DAQ_LIST, struct.pack(f"{self.order}BH", mode, daq_list))[0]

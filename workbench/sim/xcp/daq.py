@@ -57,6 +57,7 @@ if TYPE_CHECKING:
 __all__ = ["DaqList", "DaqProcessor", "OdtEntry"]
 
 MODE_TIMESTAMP = 0x10  # the only SET_DAQ_LIST_MODE bit supported
+LIST_MODE_SELECTED, LIST_MODE_RUNNING = 0x01, 0x40  # GET_DAQ_LIST_MODE's CURRENT_MODE, beside MODE_TIMESTAMP
 NO_BIT_OFFSET = 0xFF
 PROPERTY_DYNAMIC = 0x01
 PROPERTY_TIMESTAMP = 0x10
@@ -146,6 +147,7 @@ class DaqProcessor:
             Cmd.SET_DAQ_PTR: self._set_daq_ptr,
             Cmd.WRITE_DAQ: self._write_daq,
             Cmd.SET_DAQ_LIST_MODE: self._set_daq_list_mode,
+            Cmd.GET_DAQ_LIST_MODE: self._get_daq_list_mode,
             Cmd.START_STOP_DAQ_LIST: self._start_stop_daq_list,
             Cmd.START_STOP_SYNCH: self._start_stop_synch,
         }
@@ -328,6 +330,15 @@ class DaqProcessor:
             raise XcpNegative(Err.DAQ_CONFIG)  # the first ODT leaves no room for the timestamp
         daq.event, daq.timestamps, daq.priority = event, timestamps, priority
         return b""
+
+    def _get_daq_list_mode(self, req: bytes) -> bytes:
+        """The list's CURRENT_MODE (SELECTED, TIMESTAMP, RUNNING), its event (0 before SET_DAQ_LIST_MODE), prescaler
+        and priority."""
+        need(req, 4)
+        _, daq = self._list(req)
+        mode = ((LIST_MODE_SELECTED if daq.selected else 0) | (MODE_TIMESTAMP if daq.timestamps else 0)
+                | (LIST_MODE_RUNNING if daq.running else 0))
+        return self.slave.pack("BxxHBB", mode, daq.event or 0, 1, daq.priority)
 
     def _start_stop_daq_list(self, req: bytes) -> bytes:
         need(req, 4)

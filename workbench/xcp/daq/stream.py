@@ -18,6 +18,7 @@ import time
 from collections.abc import Hashable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
+from typing import NoReturn
 
 import numpy as np
 
@@ -40,6 +41,7 @@ _SELECT = 2
 _LOST_CHECK_S = 0.1  # a waiting read() looks this often whether the ECU is lost
 PROBE_AFTER_S = 1.0  # no cyclic event tells when DTOs are due: after this long without any, the ECU is asked
 _START_CHECKS = 3  # silences after the start before an answering ECU that sends no DTO is refused (late events)
+_LIST_RUNNING = 0x40  # GET_DAQ_LIST_MODE's CURRENT_MODE bit RUNNING
 
 
 @dataclass(frozen=True)
@@ -103,10 +105,11 @@ class DaqStream:
         self._last_time: dict[int, float] = {}
         self._probe_after: float | None = None  # seconds of silence after which the ECU is asked (no cycle to expect)
         self._silence: float | None = None
-        self._first_dto_due: float | None = None  # XCP on CAN: time.monotonic() by which a DTO is due, until one came
-        self._lists_due: float | None = None  # ... by which every list's is, until they were looked at
+        self._first_dto_due: float | None = None  # time.monotonic() by which a DTO is due, until one came
+        self._lists_due: float | None = None  # XCP on CAN: ... by which every list's is, until they were looked at
         self._no_dtos: str | None = None  # why DAQ sent nothing this master hears, the ECU answering
         self._start_checks = 0  # the silences since the start on which the ECU answered that its lists send here
+        self._due_lock = threading.Lock()  # the first DTO and a verdict on the silence before it take turns
         self.running = False
 
     # --- life cycle ---------------------------------------------------------------------------
@@ -135,9 +138,10 @@ class DaqStream:
         self.assembler = DtoAssembler(plan, first_pids, master.order,
                                       overload_in_pid=self.processor.overload_indication == "PID")
         silence = self._silence = self.silence_limit()
-        # on CAN a start without any DTO may be lists sending where this master does not listen (GET_DAQ_ID says):
-        # the stream judges that silence itself (:meth:`_silent_from_start`), the link from the first DTO on
-        judged_here = silence is not None and master.link.is_can
+        # a start without any DTO may be lists sending where this master does not listen (CAN: GET_DAQ_ID says), lists
+        # the ECU does not run or events that do not run (Ethernet: GET_STATUS, GET_DAQ_LIST_MODE say), with the ECU
+        # answering: the stream judges that silence itself (:meth:`_silent_from_start`), the link from the first DTO on
+        judged_here = silence is not None
         self._no_dtos, self._start_checks = None, 0
         self._first_dto_due = time.monotonic() + master.timeouts.t1 + silence if judged_here else None  # START: <= T1
         self._lists_due = self._first_dto_due
@@ -226,7 +230,8 @@ class DaqStream:
         self.assembler.feed(dto, host_ns)
         self._arrived.set()
         if self._first_dto_due is not None:  # the first DTO: a silence from now on is the link's to judge
-            self._first_dto_due = None
+            with self._due_lock:
+                self._first_dto_due = None
             self.master.link.watch_dtos(self._silence)
 
     def stop(self) -> None:
@@ -250,14 +255,15 @@ class DaqStream:
 
         :raises ConnectionLostError: none came and the ECU is lost (:meth:`silence_limit`, a broken link): at
             once when it is lost already, within :data:`_LOST_CHECK_S` when that happens during the wait.
-        :raises WorkbenchError: XCP on CAN: no DTO came since the start though the ECU answers, or none of a list
+        :raises WorkbenchError: no DTO came since the start though the ECU answers (the message says what it
+            answered: on CAN where GET_DAQ_ID puts the lists, on Ethernet whether they run), or on CAN none of a list
             while others' came, and GET_DAQ_ID puts it where this master does not listen (the message names where
             the lists send, and where this master listens).
         """
         if self.assembler is None:
             return []
-        if self._lists_due is not None and self.running and self._first_dto_due is None and \
-                time.monotonic() >= self._lists_due:
+        if self._lists_due is not None and self.running and self._first_dto_due is None and self.master.link.is_can \
+                and time.monotonic() >= self._lists_due:
             self._silent_lists()
         samples = self.assembler.take()
         deadline = None if timeout_s is None else time.monotonic() + timeout_s
@@ -288,48 +294,90 @@ class DaqStream:
             self._probe()
 
     def _silent_from_start(self) -> None:
-        """XCP on CAN, no DTO since the start for the silence limit: ask the ECU where its lists send (GET_DAQ_ID).
-        Unanswered with its SYNCH, the ECU is lost; answered, the lists send where this master does not listen
-        (said at once), or their events do not run (said after :data:`_START_CHECKS` silences: events may start
-        late) — :attr:`_no_dtos` says which. Skipped while another thread has a command under way (asked at the
-        next check).
+        """No DTO since the start for the silence limit: ask the ECU why (:meth:`_why_silent`). Unanswered with its
+        SYNCH, the ECU is lost; answered, its lists send where this master does not listen or do not run (said at
+        once), or their events do not run (said after :data:`_START_CHECKS` silences: events may start late) —
+        :attr:`_no_dtos` says which. Skipped while another thread has a command under way (asked at the next
+        check). A DTO that comes while the answer is judged wins: the receiver's first DTO and this verdict
+        take turns (:attr:`_due_lock`).
 
         :raises ConnectionLostError: the ECU is gone.
         """
         if not self.lock.acquire(blocking=False):
             return
-        silence, certain = self._silence, False
+        silence = self._silence
         try:
-            try:
-                sends = self._daq_can_ids([daq.number for daq in self.plan.lists])
-            except EcuSilentError:
-                self._give_up()
-            except ConnectionLostError:  # the link broke under the command: no answer to judge
-                raise
-            except XcpCommandError as error:  # GET_DAQ_ID is optional
-                where = (f"it does not say where its DAQ lists send ({error.command}: {error.name}); this master "
-                         f"listens on {self._listens()}: the A2L's XCP_ON_CAN may miss the ECU's DAQ_LIST_CAN_ID, or "
-                         "its events do not run")
-            except WorkbenchError as error:  # unanswered (SYNCH answered), or an answer naming no id
-                where = f"{error}; this master listens on {self._listens()}"
-            else:
-                elsewhere = self._elsewhere(sends)
-                certain = elsewhere is not None  # nothing this master hears will come
-                where = elsewhere or (
-                    f"GET_DAQ_ID says its lists send on {', '.join(dict.fromkeys(str(i) for i, _ in sends.values()))}, "
-                    "where this master listens: the ECU's events do not run (is its application started?)")
-            if self._first_dto_due is None:  # a DTO came meanwhile: the receiver was only late
-                return
-            self._start_checks = _START_CHECKS if certain else self._start_checks + 1
-            if self._start_checks < _START_CHECKS:  # an ECU still starting its events, a host too loaded to hear them
-                log.info("DAQ: no DTO yet, %s after the start: %s", _ms(silence * self._start_checks), where)
-                self._first_dto_due = self._lists_due = time.monotonic() + silence  # the other lists wait alike
-                return
-            self._first_dto_due = self._lists_due = None
+            where, certain = self._why_silent()
+            checks = _START_CHECKS if certain else self._start_checks + 1
             waited = silence if certain else silence * _START_CHECKS
-            self._no_dtos = f"DAQ: no DTO within {_ms(waited)} of the start, though the ECU answers: " + where
+            refusal = f"DAQ: no DTO within {_ms(waited)} of the start, though the ECU answers: {where}"
+            with self._due_lock:
+                if self._first_dto_due is None:  # a DTO came meanwhile: the receiver was only late
+                    return
+                self._start_checks = checks
+                if checks < _START_CHECKS:  # an ECU still starting its events, a host too loaded to hear them
+                    self._first_dto_due = self._lists_due = time.monotonic() + silence  # the other lists wait alike
+                else:
+                    self._first_dto_due = self._lists_due = None
+                    self._no_dtos = refusal
+            if checks < _START_CHECKS:
+                log.info("DAQ: no DTO yet, %s after the start: %s", _ms(silence * checks), where)
         finally:
             self.lock.release()
+
+    def _why_silent(self) -> tuple[str, bool]:
+        """Why no DTO came since the start, as the ECU tells it, and whether that is certain (nothing this master
+        hears will come): on CAN where GET_DAQ_ID puts the lists, on Ethernet whether GET_STATUS and
+        GET_DAQ_LIST_MODE say they run.
+
+        :raises ConnectionLostError: the ECU answers neither the question nor SYNCH, or the link broke under it.
+        """
+        if not self.master.link.is_can:
+            return self._running_lists()
+        try:
+            sends = self._daq_can_ids([daq.number for daq in self.plan.lists])
+        except EcuSilentError:
+            self._give_up("GET_DAQ_ID")
+        except ConnectionLostError:  # the link broke under the command: no answer to judge
+            raise
+        except XcpCommandError as error:  # GET_DAQ_ID is optional
+            return (f"it does not say where its DAQ lists send ({error.command}: {error.name}); this master listens on "
+                    f"{self._listens()}: the A2L's XCP_ON_CAN may miss the ECU's DAQ_LIST_CAN_ID, or its events do not "
+                    "run"), False
+        except WorkbenchError as error:  # unanswered (SYNCH answered), or an answer naming no id
+            return f"{error}; this master listens on {self._listens()}", False
+        elsewhere = self._elsewhere(sends)
+        if elsewhere is not None:
+            return elsewhere, True
+        return (f"GET_DAQ_ID says its lists send on {', '.join(dict.fromkeys(str(i) for i, _ in sends.values()))}, "
+                "where this master listens: the ECU's events do not run (is its application started?)"), False
+
+    def _running_lists(self) -> tuple[str, bool]:
+        """XCP on Ethernet (no GET_DAQ_ID: the ECU answers this master's address): whether GET_STATUS says DAQ runs
+        and GET_DAQ_LIST_MODE (optional) which of the lists do. See :meth:`_why_silent`."""
+        numbers = [daq.number for daq in self.plan.lists]
+        try:
+            if not self.master.get_status().daq_running:
+                return "GET_STATUS says no DAQ list runs: the ECU stopped them (another master, or its application?)", \
+                    True
+            try:
+                modes = {number: self.master.get_daq_list_mode(number)[0] for number in numbers}
+            except XcpCommandError as error:
+                return (f"GET_STATUS says its DAQ runs ({error.command}: {error.name} tells no more): the ECU's events "
+                        "do not run (is its application started?)"), False
+        except EcuSilentError:
+            self._give_up("GET_STATUS")
+        except ConnectionLostError:
+            raise
+        except WorkbenchError as error:  # unanswered (SYNCH answered), or a refusal of GET_STATUS
+            return f"{error}", False
+        stopped = [number for number, mode in modes.items() if not mode & _LIST_RUNNING]
+        if stopped:
+            return (f"GET_DAQ_LIST_MODE says DAQ list{'s' if len(stopped) > 1 else ''} "
+                    f"{', '.join(map(str, stopped))} do{'' if len(stopped) > 1 else 'es'} not run: the ECU stopped "
+                    f"{'them' if len(stopped) > 1 else 'it'} (another master?)"), True
+        return (f"GET_STATUS and GET_DAQ_LIST_MODE say DAQ lists {', '.join(map(str, numbers))} run: the ECU's events "
+                "do not run (is its application started?)"), False
 
     def _silent_lists(self) -> None:
         """XCP on CAN, DTOs came but none of some list for the silence limit: where GET_DAQ_ID puts that list, if
@@ -348,7 +396,7 @@ class DaqStream:
             try:
                 elsewhere = self._elsewhere(self._daq_can_ids(silent))
             except EcuSilentError:
-                self._give_up()
+                self._give_up("GET_DAQ_ID")
             except ConnectionLostError:
                 raise
             except WorkbenchError as error:  # no GET_DAQ_ID, or no answer: nothing to tell
@@ -362,15 +410,15 @@ class DaqStream:
         if self._no_dtos is not None:
             raise WorkbenchError(self._no_dtos)
 
-    def _give_up(self) -> None:
-        """The ECU answers neither GET_DAQ_ID nor SYNCH: the link is lost from now on (every command says so at
-        once), as when the link finds DAQ silent.
+    def _give_up(self, asked: str) -> NoReturn:
+        """The ECU answers neither ``asked`` (the command that asked it why DAQ is silent) nor SYNCH: the link is lost
+        from now on (every command says so at once), as when the link finds DAQ silent.
 
         :raises ConnectionLostError: always.
         """
         link = self.master.link
         link.give_up(f"nothing from the ECU for {_ms(link.quiet_s)} while DAQ runs (a DTO was due within "
-                     f"{_ms(self._silence)}), nor an answer to GET_DAQ_ID or SYNCH")
+                     f"{_ms(self._silence)}), nor an answer to {asked} or SYNCH")
         link.check()
 
     def _daq_can_ids(self, numbers: list[int]) -> dict[int, tuple[CanId, bool]]:
