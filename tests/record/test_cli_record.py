@@ -169,3 +169,13 @@ def _recorded(path) -> int:
         return 0
     with MDF(path) as mdf:
         return mdf.groups[0].channel_group.cycles_nr
+
+
+@pytest.mark.parametrize("option", ["--stop-when", "--start-when"])
+def test_a_condition_on_an_unknown_name_is_refused_with_its_text(bus, capsys, tmp_path, option):
+    """The refusal quotes the condition as typed: start and stop may name different signals."""
+    path = tmp_path / "x.mf4"
+    code, out, err = run(capsys, "record", str(path), "xsDC", option, "unknown==1", "--duration", "0.2", *bus)
+    role = option[2:-5]
+    assert (code, out) == (2, "") and "unknown symbol 'unknown'" in err and f"({role} condition 'unknown==1')" in err
+    assert err.count("\n") == 1 and not path.exists()

@@ -12,12 +12,12 @@ from __future__ import annotations
 import operator
 import re
 from collections import deque
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from workbench.errors import InputError
+from workbench.errors import InputError, UnknownSymbolError
 
 if TYPE_CHECKING:
     from workbench.a2l.model import A2lModel
@@ -36,6 +36,7 @@ class Condition:
     name: str
     op: str
     value: float | str
+    text: str = field(default="", compare=False)  # as the user wrote it: what a refusal quotes
 
     @classmethod
     def parse(cls, text: str) -> Condition:
@@ -50,7 +51,7 @@ class Condition:
         except ValueError:
             if found["op"] not in ("==", "!="):
                 raise InputError(f"trigger condition {text!r}: {found['op']} compares with a number") from None
-        return cls(found["name"], found["op"], value)
+        return cls(found["name"], found["op"], value, text.strip())
 
     def first(self, values: np.ndarray) -> int | None:
         """The first of ``values`` (physical: numbers, or texts of a value table) that meets it; None: none does."""
@@ -59,6 +60,11 @@ class Condition:
             values = np.array([value.decode() if isinstance(value, bytes) else str(value) for value in values.tolist()])
         met = np.flatnonzero(_OPERATORS[self.op](values, self.value))
         return int(met[0]) if len(met) else None
+
+    @property
+    def said(self) -> str:
+        """The condition as the user wrote it (else as :meth:`__str__` writes it)."""
+        return self.text or str(self)
 
     def __str__(self) -> str:
         return f"{self.name} {self.op} {self.value:g}" if isinstance(self.value, float) else \
@@ -99,16 +105,20 @@ def checked_trigger(trigger: Trigger, model: A2lModel) -> Trigger:
         condition = getattr(trigger, role)
         if condition is None:
             continue
-        found = model.object(condition.name)
+        try:
+            found = model.object(condition.name)
+        except UnknownSymbolError as error:  # named with the condition: start and stop may name different signals
+            raise UnknownSymbolError(error.name, f"{error.where} ({role} condition '{condition.said}')",
+                                     error.suggestions) from None
         if not isinstance(condition.value, str):
             continue
         conversion = model.conversion(found)
         if not getattr(conversion, "verbal", False):
-            raise InputError(f"trigger condition '{condition}': {condition.name} has no value table; compare it with "
-                             "a number")
+            raise InputError(f"trigger condition '{condition.said}': {condition.name} has no value table; compare it "
+                             "with a number")
         text = conversion.text_of(condition.value)
         if text is None:
-            raise InputError(f"trigger condition '{condition}': {condition.value!r} is not one of its values "
+            raise InputError(f"trigger condition '{condition.said}': {condition.value!r} is not one of its values "
                              f"({conversion.allowed_shown})")
         checked[role] = replace(condition, value=text)
     return replace(trigger, **checked)
