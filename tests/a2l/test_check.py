@@ -1,6 +1,8 @@
 """check: every finding kind with its position; a clean file has none."""
 
 import re
+
+import pytest
 from pathlib import Path
 
 from workbench import demo
@@ -275,6 +277,24 @@ def test_where_an_addr_epk_may_lie():
     ]
     assert str(report.findings[[f.kind for f in report.findings].index("epk-outside-memory")]).startswith(
         "epk.a2l:11:16: error: ADDR_EPK 0x5000")
+
+
+@pytest.mark.parametrize("mod_par, expected", [
+    ('      EPK "BUILD_1"\n', ("epk-without-address", "EPK", 7, 11, "EPK 'BUILD_1' without ADDR_EPK: a master "
+                                "cannot read the ECU's EPK where it lies to compare it with the A2L's (CANape reads it "
+                                "at ADDR_EPK): add ADDR_EPK (workbench a2l update sets it from the ELF)")),
+    ('      ADDR_EPK 0x1000\n      ADDR_EPK 0x2000\n',
+     ("addr-epk-without-epk", "ADDR_EPK", 7, 16, "ADDR_EPK 0x1000 without MOD_PAR EPK: the bytes there are compared "
+      "with nothing, so an ECU or a file of another build is taken for this A2L's: add EPK \"...\" (workbench a2l "
+      "update inserts it from the ELF)")),
+])
+def test_an_epk_and_its_address_come_together(mod_par, expected):
+    """MOD_PAR's EPK without ADDR_EPK, or ADDR_EPK without EPK: one finding at the one there."""
+    report = check_document(load_a2l_string(TEXT.replace("    /end MOD_PAR", mod_par + "    /end MOD_PAR"), "epk.a2l"))
+    found = [(f.kind, f.name, f.line, f.column, f.message) for f in report.findings if f.block == "MOD_PAR"]
+    assert found == [expected] and not report.ok
+    assert str(report.findings[[f.kind for f in report.findings].index(expected[0])]).startswith(
+        f"epk.a2l:7:{expected[3]}: warning: ")
 
 
 def test_the_elf_must_hold_the_epk_at_every_addr_epk():

@@ -87,6 +87,7 @@ CHECK = {
     "domohuhn-a2l/lights_ecu.a2l": [],
     "domohuhn-a2l/engine_ecu.a2l": [
         (_R, "stdlay", "engine_ecu.a2l", 16),
+        ("epk-without-address", "EPK", "engine_ecu.a2l", 26),  # EPK "sda", no ADDR_EPK
         *(("outside-memory", name, "engine_ecu.a2l", line) for name, line in (
             ("CHAR_INT64", 149), ("CHAR_UINT64", 154), ("CHAR_FLOAT", 159), ("CHAR_INT32", 164), ("CHAR_UINT32", 169),
             ("CHAR_INT16", 174), ("CHAR_UINT16", 179), ("CHAR_INT8", 184), ("CHAR_UINT8", 189), ("CHAR_BOOL", 194),

@@ -1,9 +1,10 @@
 """Where MOD_PAR's ADDR_EPKs may lie (part of ``check``).
 
-Each ADDR_EPK must lie in a MEMORY_SEGMENT, the EPK string whole inside it: a master reads a part's EPK from a
-flash file or image by its segment, and a flash decides by it which part of the software stays. Two ADDR_EPKs in
-one segment are a warning: a part keeps one EPK, so one of them is likely stale (an address the update did not
-move). With the ELF, the bytes at every ADDR_EPK must be MOD_PAR's EPK (ended by NUL, padding or the section's
+MOD_PAR's EPK and ADDR_EPK come together (either alone is a warning: a master compares the EPK it reads at ADDR_EPK
+with MOD_PAR's). Each ADDR_EPK must lie in a MEMORY_SEGMENT, the EPK string whole inside it: a master reads a part's
+EPK from a flash file or image by its segment, and a flash decides by it which part of the software stays. Two
+ADDR_EPKs in one segment are a warning: a part keeps one EPK, so one of them is likely stale (an address the update
+did not move). With the ELF, the bytes at every ADDR_EPK must be MOD_PAR's EPK (ended by NUL, padding or the section's
 end; a RAM section's initial bytes count at their load address too): an A2L whose EPK the build does not put there
 fails every connect, or passes with another build's addresses. Flash (ROM, EEPROM) the ELF puts nothing at stays
 erased: an error too; RAM it does not initialise (``.bss``) is an info: the EPK cannot be compared there. An ADDR_EPK
@@ -46,9 +47,10 @@ def check_epk_addresses(doc: A2lDocument, module: Block, debug: DebugData | None
     :raises A2lParseError: a MEMORY_SEGMENT without its parameters (the caller reports it).
     """
     places = doc.epk_addresses(module.name)
-    if not places:
-        return
     epk = doc.epk(module.name)
+    if not places or epk is None:
+        _without_its_pair(doc, module, places, epk, report)
+        return
     text = epk.encode("latin-1") if epk else b""
     has_segments = bool(doc.memory_segments(module.name))
     first_in: dict[str, int] = {}  # segment name -> the first ADDR_EPK's token there
@@ -84,6 +86,21 @@ def check_epk_addresses(doc: A2lDocument, module: Block, debug: DebugData | None
                 _compare_with_elf(place, where, text, epk, debug, add)
             if image is not None:
                 _compare_with_image(place, where, text, epk, *image, add)
+
+
+def _without_its_pair(doc: A2lDocument, module: Block, places: Sequence, epk: str | None, report: Report) -> None:
+    """MOD_PAR's EPK without ADDR_EPK, or ADDR_EPK without EPK: a master compares the EPK it reads at ADDR_EPK with
+    MOD_PAR's, so either alone identifies nothing."""
+    if epk is not None:
+        report.add(finding_at(doc, doc.epk_token(module.name), "epk-without-address", "EPK",
+                              f"EPK {epk_text(epk)} without ADDR_EPK: a master cannot read the ECU's EPK where it lies "
+                              "to compare it with the A2L's (CANape reads it at ADDR_EPK): add ADDR_EPK (workbench a2l "
+                              "update sets it from the ELF)", "MOD_PAR", Severity.WARNING))
+    elif places:
+        report.add(finding_at(doc, places[0].token, "addr-epk-without-epk", "ADDR_EPK",
+                              f"ADDR_EPK 0x{places[0].address:X} without MOD_PAR EPK: the bytes there are compared "
+                              "with nothing, so an ECU or a file of another build is taken for this A2L's: add EPK "
+                              "\"...\" (workbench a2l update inserts it from the ELF)", "MOD_PAR", Severity.WARNING))
 
 
 def _address_mappings(doc: A2lDocument, module: Block) -> list[XcpAddressMapping]:

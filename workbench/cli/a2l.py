@@ -170,7 +170,8 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
                                 "objects, objects outside every MEMORY_SEGMENT, calibrations outside CAL RAM, a file whose "
                                 "objects are all still at address 0 (not updated from its ELF); with --elf also "
                                 "symbols missing from the ELF, addresses that differ and a MOD_COMMON byte order "
-                                "other than the ELF's. Each MOD_PAR ADDR_EPK must lie in a MEMORY_SEGMENT with room "
+                                "other than the ELF's. MOD_PAR's EPK and ADDR_EPK come as a pair (either alone: a "
+                                "warning); each ADDR_EPK must lie in a MEMORY_SEGMENT with room "
                                 "for the EPK (two in one segment: a warning); the ELF (--elf) and the flash file "
                                 "(--image) must hold MOD_PAR's EPK there. Exit 0 only when clean (no warning).")
     check.add_argument("a2l", metavar="A2L")
