@@ -118,6 +118,27 @@ def test_a_state_or_name_the_ecu_does_not_have_is_refused_not_judged(target, tmp
         assert [step.passed for step in ecu.steps if step.kind == "expect"] == [True, True]
 
 
+def test_a_duration_or_tolerance_no_sample_could_meet_is_refused_not_judged(target, tmp_path):
+    """A negative window, deadline or tolerance is the test's mistake: it failed the requirement as if the ECU
+    broke it ('expect zsRailPressure = 0 ± -1 bar: 0 bar at t=...'; a tolerance on a text passed unread; user
+    trial 10)."""
+    with target.bench(tmp_path / "times.mf4") as ecu:
+        ecu.watch("zsRailPressure", "xsTankCtrlState")
+        refusals = {"for_s=-1.0: give a number above 0": lambda: ecu.expect("zsRailPressure", 0.0, for_s=-1.0),
+                    "timeout=0: give a number above 0": lambda: ecu.wait_until("zsRailPressure", 0.0, timeout=0),
+                    "within=-0.1: give": lambda: ecu.expect_edge("xsTankCtrlState", "OFF", within=-0.1),
+                    "tolerance=-1.0: give a number of 0 or more":
+                        lambda: ecu.expect_follows("zsRailPressure", "zsRailPressure", -1.0, for_s=0.1),
+                    "period_s=0: give": lambda: ecu.expect_period("FLCU_TO_PCM_001", 0, 0.01),
+                    "a tolerance compares numbers": lambda: ecu.expect("xsTankCtrlState", equals("OFF", 1), for_s=0.1),
+                    r"equals\(0.0, tolerance=-1\): a tolerance is 0 or more": lambda: equals(0.0, -1),
+                    r"within\(26, 24\): the low bound is above": lambda: within(26, 24)}
+        for message, step in refusals.items():
+            with pytest.raises(InputError, match=message):
+                step()
+        assert not [step for step in ecu.steps if step.passed is False]
+
+
 def test_an_ecu_lost_during_an_expectation_is_named_as_the_reason(tmp_path):
     """The ECU goes silent during a test: the expectation says the connection was lost and when (it said 'no
     samples after t=... (is DAQ running?)', the reason only in the teardown's error; user trial 6), and judges
@@ -132,9 +153,10 @@ def test_an_ecu_lost_during_an_expectation_is_named_as_the_reason(tmp_path):
             ecu.watch("zsRailPressure")
             ecu.expect("zsRailPressure", at_least(0.0), for_s=0.1)
             sim.power_off()
-            with pytest.raises(NotJudged, match=r"expect zsRailPressure >= 0 bar for 0.5 s: no samples after "
+            with pytest.raises(NotJudged, match=r"expect zsRailPressure >= 0 bar for 60 s: no samples after "
                                                         rf"{TIME} \(connection to the ECU lost at .*nothing from the ECU"):
-                ecu.expect("zsRailPressure", at_least(0.0), for_s=0.5)
+                ecu.expect("zsRailPressure", at_least(0.0), for_s=60.0)
+            assert ecu.timeline.now() < ecu.steps[-1].t_end  # said once lost, not after waiting out the window
             with pytest.raises(WorkbenchError, match="the evidence lost.mf4 is incomplete: connection to the ECU lost"):
                 ecu.close()
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from workbench.errors import InputError
 from workbench.testbench import at_least, at_most, equals, other_than, within
 from workbench.testbench.conditions import as_condition
 
@@ -16,7 +17,7 @@ def test_bands_and_bounds():
     assert at_most(24).test(values).tolist() == [True, True, False, False, False]
     assert within(24, 26).describe("bar") == "within [24, 26] bar" and at_least(0.5).describe("V") == ">= 0.5 V"
     assert within(24, 26).band() == (24.0, 26.0) and at_most(3).band() == (-np.inf, 3.0)
-    with pytest.raises(ValueError, match="low bound is above"):
+    with pytest.raises(InputError, match="low bound is above"):
         within(2, 1)
 
 

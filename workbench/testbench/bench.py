@@ -294,6 +294,9 @@ class Bench:
                 raise InputError(f"{signal.name} is a number{_unit(signal.unit)}, not a text: {condition.value!r} "
                                  "is none of its values")
             return condition
+        if condition.tolerance:
+            raise InputError(f"{signal.name} is verbal ({conversion.allowed_shown}): a tolerance compares numbers, "
+                             "its texts are equal or not")
         if not condition.is_value:
             raise InputError(f"{signal.name} is verbal ({conversion.allowed_shown}): compare it with one of its texts "
                              f"(equals, other_than), not {condition.describe()}")
@@ -389,6 +392,7 @@ class Bench:
 
     @_one_line_errors
     def wait(self, seconds: float) -> None:
+        _check_times("wait()", seconds=(seconds, True))
         self._begin()
         start = self.now()
         time.sleep(seconds)
@@ -399,6 +403,7 @@ class Bench:
         """Wait until ``name`` meets ``condition``; returns the time (bench s) of the first sample that did.
         :raises ExpectationFailed: not within ``timeout`` s."""
         __tracebackhide__ = True  # pytest shows the test's line and this one-line failure, not the bench's
+        _check_times(f"wait_until({name})", timeout=(timeout, False))
         signal = self._sampled(name)
         name = signal.name  # a CAN2 signal by its qualified name, as the timeline keeps it
         wanted = self._condition(signal, condition)
@@ -421,6 +426,7 @@ class Bench:
         default: now), at least one. Returns the (min, max) it took (None for texts).
         :raises ExpectationFailed: at the first sample that did not."""
         __tracebackhide__ = True  # pytest shows the test's line and this one-line failure, not the bench's
+        _check_times(f"expect({name})", for_s=(for_s, False))
         signal = self._sampled(name)
         name = signal.name  # a CAN2 signal by its qualified name, as the timeline keeps it
         wanted = self._condition(signal, condition)
@@ -448,6 +454,7 @@ class Bench:
         and the value it is computed from, a CAN2 signal and the measurement it carries. Returns the largest
         difference (0 for texts)."""
         __tracebackhide__ = True  # pytest shows the test's line and this one-line failure, not the bench's
+        _check_times(f"expect_follows({name})", for_s=(for_s, False), tolerance=(tolerance, True))
         signal = self._sampled(name)
         name = signal.name  # a CAN2 signal by its qualified name, as the timeline keeps it
         reference = self._sampled(reference).name
@@ -510,7 +517,7 @@ class Bench:
             horizon = self.timeline.horizon(name)
             if horizon is not None and horizon >= end:
                 return
-            if not self.timeline.wait_past(name, max(seen, horizon or seen), end + DATA_LATENCY_S):
+            if not self.timeline.wait_past(name, max(seen, horizon or seen), end + DATA_LATENCY_S, self._ended):
                 return
             seen = self.timeline.horizon(name) or seen
 
@@ -521,6 +528,7 @@ class Bench:
         write is complete when the ECU answered it). Returns the latency in s. The signal must be sampled
         before the stimulus: watch it first. :raises ExpectationFailed: no edge, or too late."""
         __tracebackhide__ = True  # pytest shows the test's line and this one-line failure, not the bench's
+        _check_times(f"expect_edge({name})", within=(within, False))
         signal = self._sampled(name)
         name = signal.name  # a CAN2 signal by its qualified name, as the timeline keeps it
         wanted = self._condition(signal, condition)
@@ -559,6 +567,8 @@ class Bench:
         the period, fails a missing frame (a gap of two periods) or a doubled one (no gap), not the host's
         scheduling. Returns the period found."""
         __tracebackhide__ = True  # pytest shows the test's line and this one-line failure, not the bench's
+        _check_times(f"expect_period({message})", period_s=(period_s, False), tolerance_s=(tolerance_s, True),
+                     for_s=(for_s, False), jitter_s=(0.0 if jitter_s is None else jitter_s, True))
         port = self._port()
         jitter = 0.9 * period_s if jitter_s is None else jitter_s
         frame_id = port.message(message).frame_id
@@ -597,6 +607,10 @@ class Bench:
         """Where a window begins: ``since``, or now and not before what the steps before it saw (a sample the
         wait before found, mapped ahead of the host's clock: the window must not judge the samples before it)."""
         return self.now() if since is None else since
+
+    def _ended(self) -> bool:
+        """The recording ended early (the ECU lost): no more samples come, a step waits no longer for them."""
+        return self.evidence.failure is not None
 
     def _lost(self) -> str:
         """``; connection to the ECU lost at ...`` when the recording ended so (the reason samples stopped)."""
@@ -651,6 +665,16 @@ class Bench:
 
     def __exit__(self, *exc_info) -> None:
         self.close()
+
+
+def _check_times(step: str, **given: tuple[float, bool]) -> None:
+    """Each of ``given`` (argument: (seconds or tolerance, 0 allowed)) a number above 0, or 0 or more.
+
+    :raises InputError: one that is not: the test's mistake (``for_s=-1`` would judge no sample, ``tolerance=-1``
+        fail every one), not the ECU's; the test breaks rather than failing its requirement."""
+    for argument, (value, zero) in given.items():
+        if not isinstance(value, (int, float, np.number)) or not (value >= 0 if zero else value > 0):
+            raise InputError(f"{step}: {argument}={value!r}: give a number {'of 0 or more' if zero else 'above 0'}")
 
 
 def _session_can_bus(session: Session) -> dict[str, Any] | None:

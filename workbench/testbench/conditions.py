@@ -19,6 +19,8 @@ from typing import Any
 
 import numpy as np
 
+from workbench.errors import InputError
+
 __all__ = ["Condition", "as_condition", "at_least", "at_most", "equals", "other_than", "within"]
 
 
@@ -85,12 +87,16 @@ class Condition:
 
 
 def within(low: float, high: float) -> Condition:
+    """:raises InputError: ``low`` above ``high`` (the test's mistake, not the ECU's: it would fail every sample)."""
     if low > high:
-        raise ValueError(f"within({low}, {high}): the low bound is above the high one")
+        raise InputError(f"within({low}, {high}): the low bound is above the high one")
     return Condition(low=float(low), high=float(high))
 
 
 def equals(value: Any, tolerance: float = 0.0) -> Condition:
+    """:raises InputError: a negative ``tolerance`` (no sample could pass)."""
+    if not tolerance >= 0:
+        raise InputError(f"equals({value!r}, tolerance={tolerance}): a tolerance is 0 or more")
     return Condition(value=value, tolerance=float(tolerance))
 
 

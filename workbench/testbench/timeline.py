@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import threading
 import time
+from collections.abc import Callable
 
 import numpy as np
 
@@ -94,16 +95,16 @@ class Timeline:
             times, _ = series.arrays()
         return float(times[-1]) if len(times) else None
 
-    def wait_past(self, name: str, moment: float, give_up_at: float) -> bool:
+    def wait_past(self, name: str, moment: float, give_up_at: float, ended: Callable[[], bool] | None = None) -> bool:
         """Block until a sample of ``name`` later than ``moment`` arrived (True) or the bench's clock
-        passed ``give_up_at`` (False)."""
+        passed ``give_up_at`` or ``ended()`` says no more samples will come (False)."""
         with self._changed:
             while True:
                 horizon = self.horizon(name)
                 if horizon is not None and horizon > moment:
                     return True
                 left = give_up_at - self.now()
-                if left <= 0:
+                if left <= 0 or (ended is not None and ended()):
                     return False
                 self._changed.wait(min(left, 0.05))
 
