@@ -202,6 +202,19 @@ def test_sync_report_upload_and_download(bus, capsys, tmp_path):
     assert load_image(tmp_path / "copy.s19") == load_image(demo.s19())
 
 
+def test_a_dataset_uploaded_holds_the_values_cal_save_writes(bus, capsys, tmp_path):
+    """A FLOAT32 value uploaded into a dataset reads as cal save writes it, 0.03, not the 0.029999999329447746 the
+    float32 holds (every upload of a parameter set changed its digits; user trial 10)."""
+    run(capsys, "cal", "save", "gains.dcm", "xsPRV_K*", *bus)
+    run(capsys, "cal", "set", "xsPRV_KD", "0.03", *bus)
+    code, out, _ = run(capsys, "cal", "sync", "gains.dcm", "--upload", *bus)
+    assert code == 0 and out.splitlines()[-1] == "upload: wrote gains.dcm with the ECU's data"
+    run(capsys, "cal", "save", "saved.dcm", "xsPRV_K*", *bus)
+    values = [[line for line in (tmp_path / name).read_text(encoding="utf-8").splitlines() if "WERT" in line]
+              for name in ("gains.dcm", "saved.dcm")]
+    assert values[0] == values[1] and "  WERT 0.03" in values[0]
+
+
 def test_the_saved_image_is_what_flash_takes(bus, capsys, tmp_path):
     code, out, _ = run(capsys, "cal", "save", "cal.s19", "--region", "CALIB", *bus)
     assert (code, out) == (0, "wrote cal.s19: CALIB FC0000h-FC01C3h FDFFF0h-FDFFFFh (468 bytes, EPK "

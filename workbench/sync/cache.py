@@ -43,8 +43,8 @@ from workbench.sync.ecu import EcuReader, on_pages
 from workbench.sync.reference import DatasetReference, ImageReference, Reference, load_reference
 from workbench.sync.scan import ChecksumScan, scan_ranges
 from workbench.sync.store import ByteStore
-from workbench.sync.values import (as_stored, calibration_names, decode_values, label_differences, object_layouts,
-                                   resolve_all)
+from workbench.sync.values import (as_stored, as_typed_value, calibration_names, decode_values, label_differences,
+                                   object_layouts, resolve_all)
 
 __all__ = ["AreaCheck", "ByteDifference", "SyncReport", "sync_compare"]
 
@@ -297,8 +297,12 @@ def _compare_dataset(session: Session, reference: DatasetReference, progress: Pr
         notes += [f"{name}: {text}" for text in label_differences(value, dataset[name])]
     diff = diff_datasets(on_file, {name: ecu_values[name] for name in on_file}, a_label=reference.label, b_label="ECU")
     changed = {o.name for o in diff.objects if o.status != EQUAL}
+    # as a dataset keeps them (0.03, not the 0.029999999329447746 a FLOAT32 holds: an upload writes them as cal save
+    # does); both sides alike, so that with_tolerance compares them as the diff did
     report = SyncReport(reference, diff, bytes_uploaded=reader.bytes_read,
-                        ecu_values={name: value for name, value in ecu_values.items() if name in changed},
-                        reference_values={name: value for name, value in on_file.items() if name in changed})
+                        ecu_values={name: as_typed_value(model, value) for name, value in ecu_values.items()
+                                    if name in changed},
+                        reference_values={name: as_typed_value(model, value) for name, value in on_file.items()
+                                          if name in changed})
     report.notes = [f"{name}: not compared ({why})" for name, why in problems.items()] + notes
     return report
