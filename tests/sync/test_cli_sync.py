@@ -47,7 +47,7 @@ def test_save_change_diff_load_and_diff_again(bus, capsys, tmp_path):
     assert out.splitlines()[-1] == "58 objects: 56 equal, 2 changed, 0 shape changed, 0 only in A, 0 only in B"
     code, out, _ = run(capsys, "cal", "diff", "ecu", "base.dcm", "--json", *bus)
     data = json.loads(out)
-    assert code == 1 and data["a"] == "ECU" and data["counts"]["changed"] == 2
+    assert code == 1 and data["a"] == "ECU" and data["counts"]["changed"] == 2 and data["ok"] is False
     assert [d["delta"] for o in data["objects"] for d in o["differences"]] == [-1.0, -5.0]
 
     code, out, _ = run(capsys, "cal", "load", "base.dcm", "--dry-run", *bus)
@@ -192,7 +192,11 @@ def test_sync_report_upload_and_download(bus, capsys, tmp_path):
     code, out, _ = run(capsys, "cal", "sync", "--reference", "mine.s19", "--upload", *bus)
     assert code == 0 and out.splitlines()[-1] == "upload: wrote mine.s19 with the ECU's data"
     code, out, _ = run(capsys, "cal", "sync", "mine.s19", "--json", *bus)
-    assert code == 0 and json.loads(out)["report"]["equal"] is True
+    assert code == 0 and json.loads(out)["report"]["equal"] is True and json.loads(out)["ok"] is True
+    run(capsys, "cal", "set", "xsEMPTY_TANK_THR", "8", *bus)
+    code, out, _ = run(capsys, "cal", "sync", "mine.s19", "--json", *bus)
+    assert code == 1 and json.loads(out)["ok"] is False  # ok: what the exit code says, as in cal diff and a2l diff
+    assert run(capsys, "cal", "sync", "mine.s19", "--download", *bus)[0] == 0
 
     code, out, _ = run(capsys, "cal", "sync", "--download", *bus)  # the demo's s19 back into the ECU
     assert code == 0 and out.splitlines()[-1].startswith("downloaded 1 object (1 byte); verified: BUILD_CHECKSUM")

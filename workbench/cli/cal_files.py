@@ -84,7 +84,7 @@ def _diff(args: argparse.Namespace) -> int:
         notes, equal = a.notes + b.notes, result.equal
         model = a2l_document(args).model() if args.a2l else None  # two files: the A2L's decimals only when one is given
     if args.json:
-        print_json({**result.to_dict(), "equal": equal,
+        print_json({"ok": equal, **result.to_dict(), "equal": equal,  # ok: what the exit code says, as a2l diff's
                     "notes": [n.to_dict() if hasattr(n, "to_dict") else n for n in notes]})
     else:
         for note in notes:

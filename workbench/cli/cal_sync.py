@@ -235,7 +235,7 @@ def _sync(args: argparse.Namespace) -> int:
         else:
             message, code = "choose --upload (ECU -> file) or --download (file -> ECU)", 1
     if args.json:
-        print_json(result)
+        print_json({"ok": code == 0, **result})  # what the exit code says, as cal diff's and a2l diff's
     elif not report.equal:
         print(message)
     return code
