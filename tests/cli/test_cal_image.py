@@ -9,6 +9,7 @@ import os
 import re
 import shutil
 
+import bincopy
 import pytest
 from cli_helpers import run
 
@@ -190,3 +191,16 @@ def test_a_spreadsheet_s_csv_in_its_own_encoding_is_taken(work, capsys, encoding
     (work / "bad.csv").write_bytes(b"0,1\n2,\x81\n")  # undefined in Windows-1252 too
     assert run(capsys, "cal", "set", "zvRailPConv", "--from", "bad.csv", "--image", "app.s19", "-o", "new.s19") == \
         (2, "", "error: bad.csv:2: not a value file (byte 0x81 is not UTF-8, UTF-16 or Windows-1252 text)\n")
+
+
+def test_an_s0_header_in_another_encoding_is_kept(work, capsys):
+    """A linker's S0 of latin-1 text and binary bytes: the image is edited and the header written back byte for byte
+    (bincopy's default decodes it as UTF-8: a traceback in cal, flash and a2l check)."""
+    header = bincopy.pack_srec("0", 0, 6, "Bü1d".encode("latin-1") + b"\xff\x00")
+    work.joinpath("foreign.s19").write_text(header + "\n" + work.joinpath("app.s19").read_text().split("\n", 1)[1])
+    code, out, err = run(capsys, "cal", "set", "xsSWITCH_TANK_THR", "21", "--image", "foreign.s19", "-o", "new.s19")
+    assert (code, out) == (0, "xsSWITCH_TANK_THR = 21.00 bar (written into new.s19)\n"), err
+    assert work.joinpath("new.s19").read_text().splitlines()[0] == header
+    assert load_image("new.s19").header == "Bü1d".encode("latin-1") + b"\xff\x00"
+    code, out, err = run(capsys, "a2l", "check", demo.a2l(), "--image", "foreign.s19")
+    assert code == 0, err

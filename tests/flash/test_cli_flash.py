@@ -7,7 +7,9 @@ import json
 import random
 import struct
 
+import bincopy
 import pytest
+from cli_helpers import run
 from flash_images import CALIB, application_image, calib_image_with, calibration_rom_address
 from sim_process import start_sim_process
 
@@ -225,3 +227,27 @@ def test_reconnect_waits_as_long_as_told_for_an_ecu_that_boots_slowly(tmp_path, 
         error = capsys.readouterr().err
         assert "complete and verified, but the ECU does not answer CONNECT after PROGRAM_RESET" in error
         assert main(["flash", str(demo.s19()), "-r", "CALIB", *bus]) == 0
+
+
+def test_another_toolchain_s_file_flashes_and_a_damaged_one_is_refused_by_every_command(bench, tmp_path, capsys):
+    """S2 records out of order, one twice (same bytes), CR LF and trailing blanks: flashed as the file says. A
+    damaged record: flash, cal --image and a2l check --image each refuse it in one line naming file:line:column."""
+    records = calib_image_with(THRESHOLD, 27.0).to_srec().splitlines()
+    records = [bincopy.pack_srec("2", *bincopy.unpack_srec(line)[1:]) for line in records if line.startswith("S3")]
+    random.Random(7).shuffle(records)
+    foreign = tmp_path / "foreign.s28"
+    foreign.write_bytes("".join(f"{line}  \r\n" for line in [*records, records[0], "S804000000FB"]).encode())
+    assert run_cli(bench, str(foreign), "--region", "CALIB") == 0, capsys.readouterr().err
+    assert bench.ecu.read(calibration_rom_address(THRESHOLD), 4) == struct.pack("<f", 27.0)
+    lines = foreign.read_text().splitlines()
+    lines[3] = lines[3].rstrip()[:-2] + ("00" if not lines[3].rstrip().endswith("00") else "01")
+    damaged = tmp_path / "damaged.s28"
+    damaged.write_text("\n".join(lines) + "\n")
+    capsys.readouterr()
+    column = len(lines[3]) - 1
+    for argv in (["flash", damaged, "--region", "CALIB", "--interface", "virtual", "--channel", bench.channel],
+                 ["cal", "get", THRESHOLD, "--image", damaged], ["a2l", "check", demo.a2l(), "--image", damaged]):
+        code, out, err = run(capsys, *argv)
+        assert (code, out) == (2, ""), argv
+        assert err.startswith(f"error: {damaged}:4:{column}: checksum 00, the record's bytes give ") and \
+            err.endswith(": the line is damaged\n"), err

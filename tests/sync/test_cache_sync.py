@@ -73,7 +73,7 @@ def test_upload_writes_a_reference_that_then_syncs_clean(sim, ecu, tmp_path):
     assert sync_compare(ecu, reference).equal
     old, new = load_image(demo.s19()), load_image(reference)
     assert new.ranges == old.ranges  # the application and every range the file held are still there
-    assert new.header == old.header == "FLCU.s19" and reference.read_text().startswith("S00B0000464C43552E733139")
+    assert new.header == old.header == b"FLCU.s19" and reference.read_text().startswith("S00B0000464C43552E733139")
     assert new.crop(0x840000, 0xFC0000) == old.crop(0x840000, 0xFC0000)
     address = ecu.model.object("xsPRV_KP").address - CAL_RAM + CAL_ROM
     assert struct.unpack("<f", new.read(address, 4)) == (6.5,)

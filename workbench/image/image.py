@@ -16,6 +16,7 @@ import bincopy
 from workbench.errors import InputError
 from workbench.fileio import read_input, write_output
 from workbench.image.files import ELF_MAGIC, elf_given, is_intel_hex
+from workbench.image.reading import read_image_text
 
 __all__ = ["ERASED", "AddressRange", "MemoryImage", "load_image", "parse_image"]
 
@@ -55,7 +56,7 @@ class MemoryImage:
     """Bytes at addresses, as loaded from an S-record or Intel HEX file, or built in code."""
 
     def __init__(self) -> None:
-        self._bin = bincopy.BinFile()
+        self._bin = bincopy.BinFile(header_encoding=None)  # an S0 header is bytes: latin-1 text, binary data
 
     @classmethod
     def from_bytes(cls, address: int, data: bytes) -> MemoryImage:
@@ -73,15 +74,12 @@ class MemoryImage:
         return image
 
     @property
-    def header(self):
-        """The S-record file's S0 header (text, as bincopy reads it), kept when the image is written again."""
-        try:
-            return self._bin.header
-        except AttributeError:  # bincopy decodes a header it does not have
-            return None
+    def header(self) -> bytes | None:
+        """The S-record file's S0 header (its bytes, as written: any encoding), kept when the image is written again."""
+        return self._bin.header
 
     @header.setter
-    def header(self, value) -> None:
+    def header(self, value: bytes | None) -> None:
         if value is not None:
             self._bin.header = value
 
@@ -149,49 +147,24 @@ class MemoryImage:
 def load_image(path: str | Path) -> MemoryImage:
     """Load an S-record (s19/s28/s37/srec/mot) or Intel HEX file.
 
-    :raises InputError: the file is missing or malformed; the message names ``path:line``.
+    :raises InputError: the file is missing, malformed or cut short; the message names ``path:line``.
     """
     path = Path(path)
     return parse_image(read_input(path, "an S-record or Intel HEX file").decode("ascii", errors="replace"), path)
 
 
 def parse_image(text: str, path: str | Path = "<text>") -> MemoryImage:
-    """The image the S-record or Intel HEX ``text`` describes (``path`` names it in errors).
+    """The image the S-record or Intel HEX ``text`` describes (``path`` names it in errors); what is checked and
+    accepted: :mod:`workbench.image.reading`.
 
-    :raises InputError: the text is malformed; the message names ``path:line``.
+    :raises InputError: the text is malformed, cut short or gives two contents for one address: ``path:line``.
     """
     if text.startswith(ELF_MAGIC.decode("ascii")):
         raise elf_given(path)
-    first = next((line.strip() for line in text.splitlines() if line.strip()), "")
-    if first.startswith("S"):
-        add = "add_srec"
-    elif first.startswith(":"):
-        add = "add_ihex"
-    else:
-        raise InputError(f"{path}:1: neither S-records nor Intel HEX")
+    read = read_image_text(text, path)
     image = MemoryImage()
-    try:
-        getattr(image._bin, add)(text)
-    except (bincopy.Error, ValueError, IndexError) as exc:
-        line, reason = _locate_bad_record(text, add)
-        raise InputError(f"{path}:{line}: {reason or exc}") from exc
+    for address, data in read.pieces:
+        image.add(address, data)
+    image.header = read.header
+    image._bin.execution_start_address = read.start_address
     return image
-
-
-def _locate_bad_record(text: str, add: str) -> tuple[int, str]:
-    """The 1-based line of the first record bincopy rejects (run only after a failure)."""
-    probe = bincopy.BinFile()
-    base = ""  # Intel HEX: the extended address record in force (each call to bincopy starts from address 0)
-    for number, line in enumerate(text.splitlines(), 1):
-        line = line.strip()
-        if not line:
-            continue
-        try:
-            getattr(probe, add)(f"{base}\n{line}")
-        except bincopy.AddDataError:
-            return number, "the record overlaps bytes an earlier record holds"
-        except (bincopy.Error, ValueError, IndexError) as exc:
-            return number, str(exc)
-        if add == "add_ihex" and line[7:9] in ("02", "04"):
-            base = line
-    return 0, ""
