@@ -167,6 +167,43 @@ def test_an_ecu_with_other_software_than_the_a2l_is_not_tested(pytester, tmp_pat
     accepted.assert_outcomes(passed=1)
 
 
+def test_an_ecu_lost_in_a_test_is_one_error_with_what_it_left_undone(pytester, tmp_path):
+    """The ECU lost during a test: the teardown's 'not restored' was a second ERROR of the test (a second JUnit
+    testcase: a CI server counted 3 tests of 2), its text replaced the test's own reason in the report, and the
+    step read FAILED (user trial 10). Now one error, the reason first, what was not undone after it."""
+    channel = f"plugin-test-{next(_channels)}"
+    pytester.makeconftest(f"""
+import pytest
+from workbench.sim import serve_demo
+
+@pytest.fixture
+def sim():
+    with serve_demo({{"interface": "virtual", "channel": "{channel}"}}) as simulator:
+        yield simulator
+""")
+    pytester.makepyfile(test_lost="""
+from workbench.testbench import at_least, requirement
+
+@requirement("R1")
+def test_lost(sim, ecu):
+    ecu.watch("zsRailPressure")
+    ecu.write("xsSWITCH_TANK_THR", 22.0)
+    ecu.write("xsPRV_KP", 6.0)
+    sim.power_off()
+    ecu.expect("zsRailPressure", at_least(0.0), for_s=30.0)
+""")
+    result = pytester.runpytest_inprocess("--interface", "virtual", "--channel", channel, "--report", "out", *PLUGIN)
+    result.assert_outcomes(errors=1)
+    result.stdout.fnmatch_lines(["after test_lost.py::test_lost: xsPRV_KP, xsSWITCH_TANK_THR not restored: "
+                                 "connection to the ECU lost*"])
+    cases = list(ET.parse(pytester.path / "out" / "junit.xml").iter("testcase"))
+    assert len(cases) == 1 and [p.get("value") for p in cases[0].iter("property") if p.get("name") == "teardown"][0] \
+        .startswith("xsPRV_KP, xsSWITCH_TANK_THR not restored: connection to the ECU lost at ")
+    html = (pytester.path / "out" / "report.html").read_text()
+    assert "expect zsRailPressure &gt;= 0 bar for 30 s: no samples after" in html
+    assert "; after the test: xsPRV_KP, xsSWITCH_TANK_THR not restored" in html and ">NOT JUDGED (no samples" in html
+
+
 def test_a_run_stopped_within_a_test_verifies_nothing(pytester):
     """Ctrl-C while a test runs: it has no call report, and its requirement counted as verified ('1 verified,
     0 failed' of a run that stopped; user trial 6). It is INTERRUPTED now."""

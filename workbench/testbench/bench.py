@@ -39,7 +39,7 @@ import numpy as np
 
 from workbench.a2l.objects import Measurement
 from workbench.can.naming import dbc_signal_name, find_dbc_signal
-from workbench.errors import InputError, UnknownSymbolError, WorkbenchError
+from workbench.errors import ConnectionLostError, InputError, UnknownSymbolError, WorkbenchError
 from workbench.logs import logger
 from workbench.testbench.conditions import Condition, as_condition
 from workbench.testbench.evidence import Evidence
@@ -102,6 +102,7 @@ class Step:
     tolerance: float | None = None  # ... and how far from it the signal may be (0: exactly; the report draws a line)
     passed: bool | None = None
     detail: str = ""
+    judged: bool = True  # False: it could not judge (the ECU lost, CAN2 silent): NOT JUDGED, not FAILED
 
     def to_dict(self) -> dict[str, Any]:
         data = asdict(self)
@@ -178,7 +179,8 @@ class Bench:
 
     def _add(self, step: Step) -> Step:
         self.steps.append(step)
-        result = "" if step.passed is None else (" -> ok" if step.passed else " -> FAILED")
+        result = "" if step.passed is None else (" -> ok" if step.passed else " -> FAILED" if step.judged
+                                                 else " -> NOT JUDGED")
         log.info("%7.3f s  %-8s %s%s%s", step.t_start, step.kind, step.text, result,
                  f" ({step.detail})" if step.detail else "")
         return step
@@ -207,8 +209,9 @@ class Bench:
             detail += (f"; CAN2 is silent: the bench sent there but heard no ECU frame since it started "
                        f"({self.can2.describe()}; is the ECU on this bus? --can2-interface/--can2-channel)")
         step.passed, step.detail, step.t_end = False, detail, max(step.t_end, step.t_start)
+        step.judged = not (silent or (self.evidence.failure is not None and not observed))
         self._add(step)
-        if silent or (self.evidence.failure is not None and not observed):
+        if not step.judged:
             raise NotJudged(f"{step.text}: {detail}")
         raise ExpectationFailed(f"{step.text}: {detail}")
 
@@ -644,12 +647,22 @@ class Bench:
         if self.can2 is not None:
             self.can2.stop_all()
         journal = {} if self.session.read_only else self._journal  # read-only (EPKs differ): nothing was written
+        lost: ConnectionLostError | None = None
+        unrestored: list[str] = []  # as the ECU is gone: named together, the loss once
         for name, value in reversed(list(journal.items())):
-            try:
-                self.session.write(name, value, allow_extended_limits=True)
-                self.note(f"restore {name} = {_text(value.value)}{_unit(value.unit)}")
-            except WorkbenchError as exc:
-                problems.append(f"{name} not restored: {exc}")
+            if lost is None:
+                try:
+                    self.session.write(name, value, allow_extended_limits=True)
+                    self.note(f"restore {name} = {_text(value.value)}{_unit(value.unit)}")
+                    continue
+                except ConnectionLostError as exc:
+                    lost = exc
+                except WorkbenchError as exc:
+                    problems.append(f"{name} not restored: {exc}")
+                    continue
+            unrestored.append(name)
+        if unrestored:
+            problems.append(f"{', '.join(unrestored)} not restored: {lost}")
         try:
             self.evidence.stop()
         except WorkbenchError as exc:

@@ -28,6 +28,8 @@ __all__ = ["ecu"]
 _TARGET = pytest.StashKey()
 _REPORT_DIR = pytest.StashKey()
 _CATALOGUE = pytest.StashKey()  # the --requirements of a --report
+_CALL_FAILED = pytest.StashKey()  # the test's body failed or broke: the teardown's problems do not make a second error
+TEARDOWN = "teardown"  # the user property that holds them then (JUnit writes it; the report adds it to the message)
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
@@ -143,6 +145,8 @@ def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo):
     than failed, as pytest tells a failure from an error."""
     outcome = yield
     report = outcome.get_result()
+    if call.when == "call" and report.failed:
+        item.stash[_CALL_FAILED] = True
     if (call.when == "call" and report.failed and call.excinfo is not None
             and not call.excinfo.errisinstance((AssertionError, pytest.fail.Exception))):
         report.user_properties.append(VERDICT_ERROR)
@@ -247,7 +251,12 @@ def ecu(request: pytest.FixtureRequest):
             stack.close()
         except WorkbenchError as exc:
             problem = str(exc)
-        if problem is not None:
+        if problem is not None and request.node.stash.get(_CALL_FAILED, False):
+            # a consequence of what the test already reported (the ECU lost): a second error would be a second
+            # JUnit testcase of the same test (pytest's schema), and its message would replace the test's own
+            request.node.user_properties.append((TEARDOWN, problem))
+            logging.getLogger("workbench.testbench").warning("after the test: %s", problem)
+        elif problem is not None:
             pytest.fail(problem, pytrace=False)
 
 
@@ -295,6 +304,9 @@ class _Outcomes:
             entry["outcome"], entry["message"] = "error" if _broke(report) else report.outcome, _one_line(report)
         elif report.failed and entry["outcome"] != "failed":  # an error in setup or teardown
             entry["outcome"], entry["message"] = "error", _one_line(report)
+        elif report.when == "teardown":  # what the teardown could not undo after a failed test
+            entry["after"] = [str(value) for key, value in report.user_properties if key == TEARDOWN]
+            entry["message"] += "".join(f"; after the test: {after}" for after in entry["after"])
         elif report.skipped:
             entry["outcome"], entry["message"] = "skipped", _one_line(report)
 
@@ -337,6 +349,9 @@ class _Outcomes:
             terminalreporter.write_line(f"FAILED {requirement_id}: {', '.join(nodeids)}", red=True)
         for requirement_id, nodeids in sorted(unjudged.items()):
             terminalreporter.write_line(f"NOT JUDGED {requirement_id}: {', '.join(nodeids)}", red=True)
+        for nodeid, entry in traced.items():
+            for after in entry.get("after", ()):
+                terminalreporter.write_line(f"after {nodeid}: {after}", red=True)
         directory = self.config.stash.get(_REPORT_DIR, None)
         if directory is not None:
             terminalreporter.write_line(f"report: {directory / 'report.html'}")

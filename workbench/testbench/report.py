@@ -171,7 +171,8 @@ def _relative(path: Path, directory: Path) -> str:
 def _steps_table(steps: list[dict]) -> str:
     rows = ['<table class="steps"><tr><th>t [s]</th><th>step</th><th>what</th><th>result</th></tr>']
     for step in steps:
-        result = "" if step["passed"] is None else ("ok" if step["passed"] else "FAILED")
+        result = "" if step["passed"] is None else ("ok" if step["passed"] else "FAILED" if step.get("judged", True)
+                                                    else "NOT JUDGED")
         detail = f" ({step['detail']})" if step.get("detail") else ""
         css = "" if step["passed"] is None else (' class="ok"' if step["passed"] else ' class="failed"')
         rows.append(f"<tr{css}><td>{step['t_start']:.3f}</td><td>{escape(step['kind'])}</td>"
@@ -205,6 +206,8 @@ def _plots(evidence: list[Path], steps: list[dict], epoch: float) -> list[str]:
 
 def _band(step: dict, labels: dict[float, str] | None, recorded: dict[str, tuple]) -> Band | None:
     label = step["text"] + (f" ({step['detail']})" if step.get("detail") else "")
+    if not step.get("judged", True):  # drawn grey: neither passed nor failed
+        step = {**step, "passed": None}
     if step.get("band") is not None:
         low, high = step["band"]
         return Band(step["t_start"], step["t_end"], low, high, step["passed"], label)

@@ -18,6 +18,7 @@ WIDTH, HEIGHT = 760, 190
 LEFT, RIGHT, TOP, BOTTOM = 56, 12, 22, 28  # LEFT grows with the longest label of a verbal signal
 CHAR_PX = 6.5  # the width of a character at 11 px
 PASS, FAIL, LINE, OVERLAY = "#2e7d32", "#c62828", "#1f4e9a", "#8e24aa"
+NOT_JUDGED = "#757575"
 
 
 @dataclass(frozen=True, eq=False)
@@ -30,10 +31,14 @@ class Band:
     t1: float
     low: float | None
     high: float | None
-    passed: bool | None
+    passed: bool | None  # None: not judged (the ECU lost): grey
     label: str = ""
     around: tuple[np.ndarray, np.ndarray] | None = None
     tolerance: float = 0.0
+
+
+def _colour(band: Band) -> str:
+    return PASS if band.passed else FAIL if band.passed is False else NOT_JUDGED
 
 
 def _nice_ticks(low: float, high: float, count: int = 5) -> list[float]:
@@ -100,7 +105,7 @@ def plot_svg(t: np.ndarray, y: np.ndarray, *, title: str, unit: str = "", bands:
         high = y1 if band.high is None or not np.isfinite(band.high) else min(band.high, y1)
         if band.low is not None and band.high is not None and band.low == band.high:
             low, high = band.low - (y1 - y0) * 0.02, band.high + (y1 - y0) * 0.02
-        colour = FAIL if band.passed is False else PASS
+        colour = _colour(band)
         x_a, x_b = float(x_of(max(band.t0, t0))), float(x_of(min(band.t1, t1)))
         y_a, y_b = float(y_of(high)), float(y_of(low))
         parts.append(f'<rect x="{x_a:.1f}" y="{y_a:.1f}" width="{max(x_b - x_a, 1.5):.1f}" height="{max(y_b - y_a, 1.5):.1f}" '
@@ -149,7 +154,7 @@ def _band_around(band: Band, a: float, b: float, columns: int, x_of, y_of, y_ran
     if not len(index) or b <= a:
         return ""
     tt, yy = _reduce(np.append(np.maximum(times[index], a), b), np.append(values[index], values[index[-1]]), columns)
-    colour = FAIL if band.passed is False else PASS
+    colour = _colour(band)
     title = f"<title>{escape(band.label)}</title>"
 
     def path(offset: float) -> list[str]:  # held: each value until the next sample's time
