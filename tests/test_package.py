@@ -124,6 +124,19 @@ def test_every_module_has_an_all_of_names_it_defines():
     assert found == {}
 
 
+def test_a_command_that_names_no_python_can_option_loads_no_python_can():
+    # import can loads asammdf and pandas (0.3-0.5 s): XCP on Ethernet and a flash image need none of it
+    s19 = Path(workbench.__file__).parents[1] / "assets" / "FLCU.s19"
+    code = ("import json, sys; from workbench.cli import build_parser, main;"
+            "ethernet = build_parser('info').parse_args(['info', '--host', '127.0.0.1', '--port', '5555']);"
+            f"code = main(['cal', 'get', 'xsPRV_PWM_PERIOD', '--image', {str(s19)!r}]);"
+            "before = 'can' in sys.modules;"
+            "can = build_parser('info').parse_args(['info', '--inter', 'virtual', '-c', 'x']);"
+            "print(json.dumps([code, ethernet.host, before, can.interface, can.channel, 'can' in sys.modules]))")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert json.loads(run.stdout.splitlines()[-1]) == [0, "127.0.0.1", False, "virtual", "x", True]
+
+
 def test_the_lazy_packages_load_no_heavy_library_until_a_name_is_used():
     code = ("import json, sys, workbench, workbench.a2l, workbench.can, workbench.calib.dataset, workbench.flash, "
             "workbench.sync, workbench.record, workbench.cli;"

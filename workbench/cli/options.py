@@ -25,26 +25,45 @@ PROTOCOLS = ("udp", "tcp")
 
 
 class CommandParser(argparse.ArgumentParser):
-    """A command's parser whose costly options are added when the command runs or shows its help.
+    """A command's parser whose costly options are added when the command runs or shows its help, or only
+    when its command line may hold one of them.
 
-    python-can's bus options need ``import can`` (half a second: it loads asammdf for its MF4
-    logger), which ``workbench --help`` and the commands that talk to no bus should not pay.
+    python-can's bus options need ``import can`` (half a second: it loads asammdf and pandas for its MF4
+    logger), which ``workbench --help``, the commands that talk to no bus, and those that give none of its
+    options (XCP on Ethernet, an image file, the default bus) should not pay.
     """
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
-        self._deferred: list[Callable[[], None]] = []
+        self._deferred: list[tuple[Callable[[], None], bool]] = []
 
-    def defer(self, add_options: Callable[[], None]) -> None:
-        """Run ``add_options`` before this parser parses or formats anything."""
-        self._deferred.append(add_options)
+    def defer(self, add_options: Callable[[], None], *, only_if_named: bool = False) -> None:
+        """Run ``add_options`` before this parser parses or formats anything; ``only_if_named``: before it
+        parses a command line only when that holds an option this parser does not know yet (one of those,
+        an abbreviation of one, or a mistake that argparse then reports with every option in view)."""
+        self._deferred.append((add_options, only_if_named))
 
-    def _add_deferred(self) -> None:
-        while self._deferred:
-            self._deferred.pop(0)()
+    def _add_deferred(self, args: list[str] | None = None) -> None:
+        unknown = args is None or self._names_unknown_option(args)
+        for entry in list(self._deferred):
+            add_options, only_if_named = entry
+            if unknown or not only_if_named:
+                self._deferred.remove(entry)
+                add_options()
+
+    def _names_unknown_option(self, args: list[str]) -> bool:
+        import re
+
+        for word in args:
+            if word == "--":
+                return False
+            if word.startswith("-") and not re.fullmatch(r"-\d+|-\d*\.\d+", word) and \
+                    word.split("=", 1)[0] not in self._option_string_actions:
+                return True
+        return False
 
     def parse_known_args(self, args=None, namespace=None):
-        self._add_deferred()
+        self._add_deferred(args)
         if args is not None and any(option in self._option_string_actions for option in KEY_VALUE_LISTS) and \
                 any(not action.option_strings for action in self._actions):
             # a command's own parser with NAMEs or a VALUE (a group's passes its words on whole; a command without
@@ -182,10 +201,11 @@ def add_bus_arguments(parser: argparse.ArgumentParser) -> None:
     Two of them are checked the workbench's way: ``--bitrate`` must be positive, and an unknown
     ``--interface`` is reported by the library in one line naming the known ones (python-can's
     ``choices`` would print them as a usage error). On a :class:`CommandParser` they are added
-    when the command runs.
+    when its help is shown or its command line names an option it does not know yet: a namespace
+    parsed without them lacks their keys (:func:`bus_settings` reads none then).
     """
     if isinstance(parser, CommandParser):
-        parser.defer(lambda: _add_python_can_arguments(parser))
+        parser.defer(lambda: _add_python_can_arguments(parser), only_if_named=True)
     else:
         _add_python_can_arguments(parser)
 
