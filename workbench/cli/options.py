@@ -30,7 +30,7 @@ class CommandParser(argparse.ArgumentParser):
 
     python-can's bus options need ``import can`` (half a second: it loads asammdf and pandas for its MF4
     logger), which ``workbench --help``, the commands that talk to no bus, and those that give none of its
-    options (XCP on Ethernet, an image file, the default bus) should not pay.
+    options and open no CAN bus (XCP on Ethernet, a flash image) should not pay.
     """
 
     def __init__(self, *args, **kwargs):
