@@ -184,3 +184,20 @@ def test_with_both_files_bad_the_a2l_is_reported_first(capsys, tmp_path, types_a
     bad.write_text('ASAP2_VERSION 1 71\n/begin PROJECT P ""\n')
     code, _, stderr = run(capsys, "a2l", "update", str(bad), str(types_a2l), "-o", str(tmp_path / "o.a2l"))
     assert (code, stderr) == (2, f"error: {bad}:2:1: /begin PROJECT is never closed (missing /end PROJECT)\n")
+
+
+def test_check_image_bytes_outside_every_memory_segment_are_a_warning(capsys, tmp_path):
+    """A file of another ECU, or an A2L that lacks a MEMORY_SEGMENT: the check was clean."""
+    from workbench import demo
+    from workbench.image import load_image
+
+    image = load_image(demo.s19())
+    image.add(0x700000, b"\x01\x02\x03")
+    image.save(tmp_path / "more.s19")
+    code, stdout, stderr = run(capsys, "a2l", "check", str(demo.a2l()), "--image", str(tmp_path / "more.s19"), "--json")
+    found = json.loads(stdout)["findings"]
+    assert code == 1 and [(f["kind"], f["severity"], f["line"], f["message"]) for f in found] == [
+        ("image-outside-memory", "warning", 448, "more.s19 holds 3 bytes in no MEMORY_SEGMENT: 700000h-700002h (the "
+         "segments: BOOT 800000h-83FFFFh, APPLICATIVE 840000h-FBFFFFh, CALIB FC0000h-FDFFFFh, SHARED FE0000h-FE3FFFh, "
+         "CALRAM 40000000h-4001FFFFh, RAM_DATA 40020000h-4007FFFFh): a file of another ECU, or a MEMORY_SEGMENT "
+         "missing")]

@@ -90,6 +90,9 @@ def run_cli(bench, *args: str) -> int:
 @pytest.mark.parametrize("case, message, override", [
     ("wrong-epk", "EPK '09000020240101' at FC0000h (CALIB) differs from the A2L's", None),
     ("outside", "data outside the flash regions CALIB: FE0000h-FE0003h (in SHARED", None),
+    ("nowhere", "data outside the flash regions CALIB: 700000h-700002h (in no flash region) (the A2L's flash regions: "
+                "BOOT 800000h-83FFFFh, APPLICATIVE 840000h-FBFFFFh, CALIB FC0000h-FDFFFFh, SHARED FE0000h-FE3FFFh; "
+                "nothing was erased)", None),
     ("boot", "BOOT holds the boot loader", "--allow-boot"),
 ])
 def test_refusals_leave_the_ecus_flash_untouched(bench, tmp_path, capsys, case, message, override):
@@ -100,6 +103,8 @@ def test_refusals_leave_the_ecus_flash_untouched(bench, tmp_path, capsys, case, 
         image.add(CALIB.start, b"09000020240101", overwrite=True)
     elif case == "outside":
         image.add(HDS9.app_key_address, HDS9.app_key)
+    elif case == "nowhere":  # a file of another ECU, or an A2L that lacks a MEMORY_SEGMENT: the list says which
+        image.add(0x700000, b"\x01\x02\x03")
     else:
         image = MemoryImage.from_bytes(0x800000, bytes(64))
         region = "BOOT"

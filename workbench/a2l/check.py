@@ -11,7 +11,8 @@ calibrations outside a RAM data segment (CAL RAM); ADDR_EPKs outside a MEMORY_SE
 two in one segment (:mod:`workbench.a2l.epk_check`); display formats that are not ASAP2's ``"%Length.Layout"``
 (:mod:`workbench.a2l.display_format`). With an ELF, every object's symbol must
 exist and its address must match, MOD_COMMON's BYTE_ORDER must be the ELF's, and the ELF must hold MOD_PAR's EPK at
-every ADDR_EPK (so must a flash file given, where it has bytes). An ``/include``
+every ADDR_EPK (so must a flash file given, where it has bytes; and the file's every byte must lie in a
+MEMORY_SEGMENT: :mod:`workbench.a2l.image_check`). An ``/include``
 whose file cannot be read is one finding; the rest is checked without it.
 """
 
@@ -26,6 +27,7 @@ from workbench.a2l.display_format import check_formats
 from workbench.a2l.document import A2lDocument, Block
 from workbench.a2l.epk_check import check_epk_addresses
 from workbench.a2l.grammar import NAMESPACES
+from workbench.a2l.image_check import check_image_memory
 from workbench.a2l.includes import cannot_include
 from workbench.a2l.placement import check_placement
 from workbench.a2l.references import check_references
@@ -105,6 +107,8 @@ def check_document(doc: A2lDocument, debug: DebugData | None = None, *, progress
                 _add_syntax(report, error)
         try:
             check_epk_addresses(doc, module, debug, report, image, placed)
+            if image is not None:
+                check_image_memory(doc, module, *image, report)
         except A2lParseError as error:  # a MEMORY_SEGMENT (or ADDR_EPK) without its parameters
             _add_syntax(report, error)
         if debug is not None:

@@ -177,7 +177,7 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, help_text: 
     check.add_argument("a2l", metavar="A2L")
     check.add_argument("--elf", metavar="ELF", help="also check every object's symbol and address against this ELF")
     check.add_argument("--image", metavar="FILE.s19", help="a flash file (s19/hex) of the build: it must hold "
-                       "MOD_PAR's EPK at every ADDR_EPK it has bytes at")
+                       "MOD_PAR's EPK at every ADDR_EPK it has bytes at, and no byte outside the MEMORY_SEGMENTs")
     _cache_options(check)
     _output_options(check, verbose=False)  # every finding of a check is a problem
     check.set_defaults(func=_as_batch(_check))

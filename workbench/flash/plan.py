@@ -145,8 +145,10 @@ def plan_flash(image: MemoryImage, layout: FlashLayout, regions: list[str] | tup
     image_epk = _check_epk(image, layout, source)
     outside, skipped = _outside(image, layout, chosen)
     if outside:
+        regions = ", ".join(f"{region.name} {region.range}" for region in layout.regions)
         raise FlashRefused(f"{source}: data outside the flash regions {'/'.join(r.name for r in chosen)}: "
-                           + "; ".join(outside) + " (nothing was erased)")
+                           + "; ".join(outside) + f" (the A2L's flash regions: {regions or 'none'}; nothing was "
+                           "erased)")
     plans = []
     for region in chosen:
         piece = image.crop(region.start, region.end)
