@@ -132,7 +132,9 @@ def test_a_dry_run_exits_as_the_load_would(bus, capsys, tmp_path):
         assert code == 2 and "zvTankPConv" in out and "refused" in out, argv
         assert err.count("\n") == 1 and err.startswith("error: 1 of 2 objects refused, nothing written: zvTankPConv: ")
     code, out, err = run(capsys, "cal", "load", "beyond.dcm", "--dry-run", "--json", *bus)
-    assert code == 2 and json.loads(out)["counts"]["refused"] == 1
+    report = json.loads(out)  # ok, error and exit_code as every failing command's --json (they lacked the last two)
+    assert code == 2 and report["counts"]["refused"] == 1 and report["ok"] is False and report["exit_code"] == 2
+    assert "error: " + report["error"] + "\n" == err
     assert run(capsys, "cal", "load", "curve.dcm", "--dry-run", *bus)[0] == 0
     assert run(capsys, "cal", "get", "xsSWITCH_TANK_THR", *bus)[1] == "xsSWITCH_TANK_THR = 20.00 bar\n"
 
@@ -165,7 +167,9 @@ def test_sync_download_refuses_what_load_refuses(bus, capsys, tmp_path):
     assert out.splitlines()[-3:] == load[1].splitlines()
     assert run(capsys, "cal", "get", "xsPRV_KP", *bus)[1] == "xsPRV_KP = 5.0000 %/bar\n"  # nothing written
     code, out, _ = run(capsys, "cal", "sync", "--reference", "tuned.dcm", "--download", "--json", *bus)
-    assert code == 2 and json.loads(out)["download"]["counts"]["refused"] == 1
+    report = json.loads(out)
+    assert code == 2 and report["download"]["counts"]["refused"] == 1
+    assert (report["ok"], report["exit_code"], report["error"]) == (False, 2, err.removeprefix("error: ").strip())
     # the compare leaves the unknown name out (a note says so); the download may too
     code, out, err = run(capsys, "cal", "sync", "tuned.dcm", "--download", "--skip-unknown", *bus)
     assert (code, err) == (0, "") and out.splitlines()[-1] == "downloaded 1 object; verified: 1 objects read back " \

@@ -16,15 +16,15 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from workbench.cli.options import output_file, print_json
-from workbench.errors import InputError, epk_text
+from workbench.errors import InputError, WorkbenchError, epk_text
 from workbench.image.files import image_suffixes, is_image_file, refuse_elf
 
 if TYPE_CHECKING:
     from workbench.a2l import A2lDocument
     from workbench.sync.offline import ImageCalibration
 
-__all__ = ["IMAGES", "add_image_arguments", "image_dataset_of", "load_into_image", "open_image", "require_output",
-           "save_image", "values_of", "written_note"]
+__all__ = ["IMAGES", "add_image_arguments", "apply_error", "failure_json", "image_dataset_of", "load_into_image",
+           "open_image", "require_output", "save_image", "values_of", "written_note"]
 
 IMAGES = image_suffixes()  # the image files the cal commands read and write: ".s19/.s28/.../.ihex"
 
@@ -124,14 +124,29 @@ def load_into_image(args: argparse.Namespace) -> int:
         if not result.ok:  # a dry run that lists a refusal fails as the load itself would: exit 2
             raise ApplyRefused(result)
     except ApplyRefused as exc:
-        _show(args, exc.report.to_dict() if args.json else exc.report.to_text(partial(value_decimals, image.model)))
-        if any(name not in image.model for name in exc.report.named("refused")):
-            raise InputError(f"{exc}; --skip-unknown leaves out the objects the A2L lacks") from None
-        raise
+        error = apply_error(exc, image.model)
+        _show(args, {**exc.report.to_dict(), **failure_json(error)} if args.json
+              else exc.report.to_text(partial(value_decimals, image.model)))
+        raise error from None
     notes = [] if args.dry_run else save_image(args, image)
     shown = result.to_text(partial(value_decimals, image.model))
     _show(args, {**result.to_dict(), "output": args.output, "notes": notes} if args.json else shown)
     return 0
+
+
+def apply_error(exc: WorkbenchError, model) -> WorkbenchError:
+    """The error a refused or failed ``apply_dataset`` ends a command with: ``exc``, or, when it refused names
+    ``model`` lacks, an InputError with its message and the option that leaves them out."""
+    from workbench.sync import ApplyRefused
+
+    if isinstance(exc, ApplyRefused) and any(name not in model for name in exc.report.named("refused")):
+        return InputError(f"{exc}; --skip-unknown leaves out the objects the A2L lacks")
+    return exc
+
+
+def failure_json(error: WorkbenchError | None) -> dict:
+    """What ``--json`` adds to a report when ``error`` ends the command, as every failing command gives it."""
+    return {} if error is None else {"ok": False, "error": str(error), "exit_code": error.exit_code}
 
 
 def image_dataset_of(args: argparse.Namespace):

@@ -8,11 +8,12 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from workbench.cli.cal_image import IMAGES, add_image_arguments, image_dataset_of, load_into_image
+from workbench.cli.cal_image import (IMAGES, add_image_arguments, apply_error, failure_json, image_dataset_of,
+                                     load_into_image)
 from workbench.cli.ecu_options import a2l_document, add_ecu_arguments, open_session
 from workbench.cli.options import print_json
 from workbench.cli.progressbar import ProgressBar, cancel_on_interrupt
-from workbench.errors import InputError, epk_text
+from workbench.errors import InputError, WorkbenchError, epk_text
 
 if TYPE_CHECKING:
     from workbench.sync.reference import Reference
@@ -168,29 +169,21 @@ def _load(args: argparse.Namespace) -> int:
             if not result.ok:  # a dry run that lists a refusal fails as the load itself would: exit 2
                 raise ApplyRefused(result)
         except (ApplyRefused, ApplyFailed) as exc:
-            _show(exc.report, args, session.model)
-            _say_skip_unknown(exc, session)
-            raise
+            error = apply_error(exc, session.model)
+            _show(exc.report, args, session.model, error)
+            raise error from None
     _show(result, args, session.model)
     return 0
 
 
-def _say_skip_unknown(exc: Exception, session) -> None:
-    """:raises InputError: ``exc`` refused names the A2L lacks: its message and the option that leaves them out."""
-    from workbench.sync import ApplyRefused
-
-    if isinstance(exc, ApplyRefused) and any(name not in session.model for name in exc.report.named("refused")):
-        raise InputError(f"{exc}; --skip-unknown leaves out the objects the A2L lacks") from None
-
-
-def _show(result, args: argparse.Namespace, model) -> None:
+def _show(result, args: argparse.Namespace, model, error: WorkbenchError | None = None) -> None:
     """``cal load``'s report; a dry run's values with ``model``'s decimals, as cal get shows them."""
     from functools import partial
 
     from workbench.a2l.model import value_decimals
 
     if args.json:
-        print_json(result.to_dict())
+        print_json({**result.to_dict(), **failure_json(error)})
     else:
         print(result.to_text(partial(value_decimals, model)))
 
@@ -224,12 +217,12 @@ def _sync(args: argparse.Namespace) -> int:
                 try:
                     done = sync_download(session, report, skip_unknown=args.skip_unknown, progress=progress)
                 except (ApplyRefused, ApplyFailed) as exc:  # a dataset: checked as cal load checks it
+                    error = apply_error(exc, session.model)
                     if args.json:
-                        print_json({**result, "download": exc.report.to_dict()})
+                        print_json({**failure_json(error), **result, "download": exc.report.to_dict()})
                     else:
                         print(exc.report.to_text())
-                    _say_skip_unknown(exc, session)
-                    raise
+                    raise error from None
             result["download"] = {"objects": done.objects, "bytes": done.bytes, "verified": done.verified}
             message, code = done.describe(), 0
         else:
