@@ -204,3 +204,18 @@ def test_an_s0_header_in_another_encoding_is_kept(work, capsys):
     assert load_image("new.s19").header == "Bü1d".encode("latin-1") + b"\xff\x00"
     code, out, err = run(capsys, "a2l", "check", demo.a2l(), "--image", "foreign.s19")
     assert code == 0, err
+
+
+def test_a_map_whose_shared_axis_a_dataset_moves_says_so(work, capsys):
+    """A map given with other breakpoints than its COM_AXIS holds writes that AXIS_PTS too: said, as it moves the
+    points of every object on that axis (it was written unsaid; user trial 10). Given with the axis, no warning."""
+    run(capsys, "cal", "save", "map.dcm", "xvPRV_DC_FF", "xaPRV_FF_TARGET", "--image", "app.s19")
+    text = open("map.dcm", encoding="utf-8").read()
+    moved = text.replace("ST/X 0.0 10.0", "ST/X 0.0 12.0")  # in the map and in the axis
+    open("moved.dcm", "w", encoding="utf-8").write(moved[:moved.index("STUETZSTELLENVERTEILUNG")])  # the map alone
+    code, out, _ = run(capsys, "cal", "load", "moved.dcm", "--image", "app.s19", "--dry-run")
+    assert code == 0 and ("warning: xvPRV_DC_FF: its X axis is the AXIS_PTS xaPRV_FF_TARGET (COM_AXIS): its points "
+                          "are written too, as the dataset gives them") in out.splitlines()
+    open("both.dcm", "w", encoding="utf-8").write(moved)  # the axis itself given alike: the user chose it
+    code, out, _ = run(capsys, "cal", "load", "both.dcm", "--image", "app.s19", "--dry-run")
+    assert code == 0 and "warning" not in out and "xaPRV_FF_TARGET  would change" in out

@@ -24,6 +24,8 @@ from collections.abc import Callable, Mapping
 from contextlib import nullcontext
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from workbench.calib.codec import value_edits
 from workbench.calib.dataset import DatasetDiff, diff_datasets
 from workbench.calib.limits import check_limits
@@ -290,8 +292,31 @@ def _changes(session: Session | ImageCalibration, dataset: Mapping[str, CalValue
     for name, value in before.items():
         result.warnings += [f"{name}: {text}" for text in label_differences(value, dataset[name])]
     after = {name: as_stored(model, planned[name].value, current) for name in changing}
+    result.warnings += _shared_axes(model, before, after)
     where = session.label if isinstance(session, ImageCalibration) else "ECU"
     return diff_datasets({name: before[name] for name in changing}, after, a_label=where, b_label=result.source)
+
+
+_SHARED_AXES = ("COM_AXIS", "RES_AXIS", "CURVE_AXIS")  # points that live in an object of their own
+
+
+def _shared_axes(model, before: dict[str, CalValue], after: dict[str, CalValue]) -> list[str]:
+    """A CURVE's or MAP's new axis points written into the AXIS_PTS (or CURVE) it takes them from, which the dataset
+    does not give itself: said, with the other objects on that axis, whose points move too (they were written
+    unsaid: a parameter set of one map moved the breakpoints of every map sharing its axis)."""
+    found = []
+    for name, new in after.items():
+        old = before.get(name)
+        for letter, was, now in zip("XYZ45", old.axes if old is not None else (), new.axes):
+            if (was.kind in _SHARED_AXES and was.name and was.name not in after
+                    and not np.array_equal(np.asarray(was.values), np.asarray(now.values))):
+                others = [other for other in model.names("CHARACTERISTIC") if other != name and any(
+                    was.name in (axis.axis_pts_ref, axis.curve_axis_ref) for axis in model.object(other).axes)]
+                holder = "CURVE" if was.kind == "CURVE_AXIS" else "AXIS_PTS"
+                also = f"; they move for {', '.join(others)} too" if others else ""
+                found.append(f"{name}: its {letter} axis is the {holder} {was.name} ({was.kind}): its points are "
+                             f"written too, as the dataset gives them{also}")
+    return found
 
 
 def _write(session: Session | ImageCalibration, planned: dict[str, _Planned], changing: list[str], extended: bool,
