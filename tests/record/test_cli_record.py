@@ -179,3 +179,20 @@ def test_a_condition_on_an_unknown_name_is_refused_with_its_text(bus, capsys, tm
     role = option[2:-5]
     assert (code, out) == (2, "") and "unknown symbol 'unknown'" in err and f"({role} condition 'unknown==1')" in err
     assert err.count("\n") == 1 and not path.exists()
+
+
+def test_a_csv_export_names_each_column_by_the_ecu_and_the_signal(bus, capsys, tmp_path, read_mdf):
+    """asammdf names a channel by its source's path too ('<path>.<name>', what its CSV export writes as the column):
+    the ECU's name, not the transport's description ('XCP on CAN (virtual record-test-0, ids 0x7F0/0x7F1)')."""
+    path = tmp_path / "run.mf4"
+    code, out, err = run(capsys, "record", path, "zsRailPressure", "PRVCtrl_DW.Integrator_DSTATE", "--duration", "0.3",
+                         *bus)
+    assert code == 0, err
+    mdf = read_mdf(path)
+    assert set(mdf.get("PRVCtrl_DW.Integrator_DSTATE").display_names) == {"FLCU.PRVCtrl_DW.Integrator_DSTATE"}
+    source = mdf.groups[group_index(mdf, "Task4ms")].channel_group.acq_source
+    assert (source.name, source.path) == ("FLCU", "FLCU") and source.comment.startswith("XCP on CAN (virtual ")
+    mdf.export("csv", tmp_path / "run.csv", single_time_base=True)
+    columns = (tmp_path / "run.csv").read_text().splitlines()[0]
+    assert columns == ("timestamps,FLCU.HostTime_Task4ms,FLCU.zsRailPressure,FLCU.HostTime_Task50ms,"
+                       "FLCU.PRVCtrl_DW.Integrator_DSTATE")

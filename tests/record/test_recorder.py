@@ -68,7 +68,7 @@ def test_every_sample_is_in_the_file_on_the_ecu_clock(session, tmp_path, read_md
     assert texts(state.samples) == np.concatenate([b.values["xsTankCtrlState"] for b in by_event["Task50ms"]]).tolist()
     assert set(texts(state.samples)) <= {"OFF", "TANK1_ON", "TANK2_ON"} and texts(state.samples)[-1] == "TANK1_ON"
     assert channel(mdf, "Task50ms", "xsTankCtrlState", raw=True).samples.dtype == np.uint8
-    assert mdf.groups[group_index(mdf, "Task50ms")].channel_group.acq_source.path.startswith("XCP on CAN")
+    assert mdf.groups[group_index(mdf, "Task50ms")].channel_group.acq_source.comment.startswith("XCP on CAN")
 
     target = channel(mdf, "PCM_TO_FLCU_002", "TargetRailPressure")  # CAN2, decoded with the DBC
     assert target.unit == "bar" and np.allclose(target.samples, 25.0)

@@ -276,8 +276,8 @@ class Recorder:
         if measurement is None:
             return []
         session = self.session
-        source = SourceSpec(session.doc.module(session.module).name or "ECU", session.link.describe(),
-                            f"A2L {session.doc.name}", kind="ECU",
+        ecu = session.doc.module(session.module).name or "ECU"  # the path too: asammdf names channels 'path.name'
+        source = SourceSpec(ecu, ecu, f"{session.link.describe()}; A2L {session.doc.name}", kind="ECU",
                             bus="CAN" if session.link.settings.transport == "CAN" else "ETHERNET")
         encodings: dict = {}
         groups = []
