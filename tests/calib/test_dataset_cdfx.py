@@ -95,7 +95,7 @@ def test_metadata_history_flags_functions_origin_and_comments():
     assert ds.info["kp"] == ObjectInfo(
         display_name="KP", functions=("PRVCtrl",), comments=("about kp", "second line"),
         history=(HistoryEntry("checked", "2025-03-01", "jm", "one\ntwo", (("CSPR", "P"),)), HistoryEntry("released", "d", "u")),
-        flags=(CsFlag("COMPLETE", "true", "jm"),), category="VALUE", line=5, value_line=6)
+        flags=(CsFlag("COMPLETE", "true", "jm"),), category="VALUE", line=5, value_line=6, value_runs=((6, 1),))
     assert ds.comments == ["Created with CANape 21.0 CDF 2.0 Writer", "between instances"]
     assert ds.functions["PRVCtrl"].version == "1.2" and (ds.a2l_file, ds.data_file) == ("FLCU.a2l", "FLCU.s19")
     assert [(n.name, n.line) for n in ds.notes] == [("SW-CS-COLLECTION", 3)]
@@ -187,6 +187,7 @@ def test_the_writer_follows_the_dtd_order_and_writes_x_fastest():
     back = read(write(ds))
     assert back["m"] == ds["m"] and back.info["m"] == ds.info["m"].__class__(**{**ds.info["m"].__dict__, "line": back.info["m"].line,
                                                                               "value_line": back.info["m"].value_line,
+                                                                              "value_runs": back.info["m"].value_runs,
                                                                               "category": "MAP", "history": (
         HistoryEntry("checked", "2025", "me", "why", (("CSPR", "pr"), ("CSWP", "wp"))),)})
 

@@ -120,7 +120,8 @@ def test_every_keyword_as_written_by_tools():
     assert kp.comment == 'PID "proportional" gain, C:\\temp'  # a backslash before other characters stays
     assert ds.info["xsPRV_KP"] == ObjectInfo(display_name="KP gain", functions=("PRVCtrl", "PressSens"),
                                              comments=("inside the block",), variants=(("Engine", "V6"), ("Market", "EU")),
-                                             category="FESTWERT", line=15, value_line=22)
+                                             category="FESTWERT", line=15, value_line=22,
+                                             value_runs=((22, 1),))
     assert ds["zfRAILPRESSURE_EN"].value == "OFF" and ds.info["zfRAILPRESSURE_EN"].functions == ("PressSens",)
     assert ds["xtVERSION"] == CalValue("xtVERSION", "ASCII", 'a "quoted" word')
 

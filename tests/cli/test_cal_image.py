@@ -219,3 +219,29 @@ def test_a_map_whose_shared_axis_a_dataset_moves_says_so(work, capsys):
     open("both.dcm", "w", encoding="utf-8").write(moved)  # the axis itself given alike: the user chose it
     code, out, _ = run(capsys, "cal", "load", "both.dcm", "--image", "app.s19", "--dry-run")
     assert code == 0 and "warning" not in out and "xaPRV_FF_TARGET  would change" in out
+
+
+@pytest.mark.parametrize("suffix", ["dcm", "cdfx"])
+def test_an_element_beyond_its_limits_is_named_at_its_own_line(work, capsys, suffix):
+    """A cell of a map refused names the line that holds it, not the line where the map's values begin (a 16 x 16
+    map's file:line led 40 lines away from the value; user trial 10)."""
+    run(capsys, "cal", "save", f"maps.{suffix}", "xvPRV_DC_FF", "zvRailPConv", "--image", "app.s19")
+    lines = open(f"maps.{suffix}", encoding="utf-8").read().splitlines(keepends=True)
+    if suffix == "dcm":  # x along a WERT row, a row per y: [3, 3] is the fourth value of the fourth row
+        row = [i for i, line in enumerate(lines) if line.startswith("  WERT 0.0 35.0")][0]
+        lines[row] = "  WERT 0.0 35.0 35.0 135.0 35.0 35.0\n"
+        point = [i for i, line in enumerate(lines) if line.startswith("  WERT 37.5")][0]
+        lines[point] = "  WERT 37.5 53.75 50.0\n"
+    else:  # one <V> a line, x fastest
+        values = [i for i, line in enumerate(lines) if "<V>" in line and "SW-AXIS" not in line]
+        curve = [i for i, line in enumerate(lines) if "<V>43.75</V>" in line][0]
+        map_values = [i for i in values if i < curve][-30:]  # the map comes first; its 30 values before the curve's
+        row = [i for i in map_values if "<V>35.0</V>" in lines[i]][2]  # x 3 of y 3: the third 35.0 of that row
+        lines[row] = lines[row].replace("35.0", "135.0")
+        point = curve
+        lines[point] = lines[point].replace("43.75", "53.75")
+    open(f"bad.{suffix}", "w", encoding="utf-8").writelines(lines)
+    code, out, _ = run(capsys, "cal", "load", f"bad.{suffix}", "--image", "app.s19", "--dry-run")
+    assert code == 2
+    assert f"xvPRV_DC_FF  refused  bad.{suffix}:{row + 1}: 135.00 at [3, 3] is above the upper limit 100.00 %" in out
+    assert f"zvRailPConv  refused  bad.{suffix}:{point + 1}: 53.75 at [7] is above the upper limit 50.00 bar" in out

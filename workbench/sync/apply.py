@@ -204,7 +204,7 @@ def _check(session: Session | ImageCalibration, dataset: Mapping[str, CalValue],
     """Every object checked: ``({name: planned edits}, {name: why refused}, the ECU's bytes read)``; the objects
     the EXTENDED_LIMITS decide go to ``result.extended_limits``."""
     model = session.model
-    where = getattr(dataset, "where", lambda name, start=False: "")  # a dataset read from a file: file:line
+    where = getattr(dataset, "where", lambda name, start=False, index=None: "")  # one read from a file: file:line
     layouts, refused = object_layouts(model, dataset)
     # an object the A2L lacks (or has as no calibration) at the line that names it, as a parse error is located
     refused = {name: _located(where(name, start=True), why) for name, why in refused.items()}
@@ -213,7 +213,8 @@ def _check(session: Session | ImageCalibration, dataset: Mapping[str, CalValue],
         if _extended_decides(model, dataset[name], extended, violations):
             result.extended_limits.append(name)
         if violations:
-            refused[name] = _located(where(name), "; ".join(without_name(name, str(v)) for v in violations))
+            refused[name] = _located(where(name, index=violations[0].index),
+                                     "; ".join(without_name(name, str(v)) for v in violations))
             del layouts[name]
     offline = isinstance(session, ImageCalibration)
     current = ByteStore(fallback=session.fetch if offline else EcuReader(session, progress, "reading the ECU's values"))

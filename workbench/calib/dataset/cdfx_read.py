@@ -27,7 +27,8 @@ from __future__ import annotations
 
 from workbench.calib.dataset.cdfx_values import AXIS_KINDS, AxisCont, Instance, add_instances
 from workbench.calib.dataset.cdfx_xml import children, comments_in, content, file_comments, local_name, parse
-from workbench.calib.dataset.model import CsFlag, Dataset, FunctionInfo, HistoryEntry, InstancePart, member_name
+from workbench.calib.dataset.model import (CsFlag, Dataset, FunctionInfo, HistoryEntry, InstancePart, member_name,
+                                          value_runs)
 from workbench.calib.dataset.numbers import NumberError, parse_number
 from workbench.errors import DatasetParseError
 from workbench.findings import Finding, Severity
@@ -211,7 +212,8 @@ class _Reader:
 
     def contents(self, instance: Instance, name: str, element) -> None:
         if name == "SW-VALUE-CONT":
-            instance.unit, instance.size, instance.values, instance.value_line = self.value_cont(element)
+            instance.unit, instance.size, instance.values, instance.value_line, instance.value_runs = \
+                self.value_cont(element)
         elif name == "SW-AXIS-CONTS":
             instance.axes = [self.axis_cont(self.expect(a, "SW-AXIS-CONT", "SW-AXIS-CONTS")) for _, a in children(element)]
         elif name == "SW-CS-HISTORY":
@@ -219,8 +221,8 @@ class _Reader:
         else:
             instance.flags = tuple(self.flag(self.expect(f, "SW-CS-FLAG", "SW-CS-FLAGS")) for _, f in children(element))
 
-    def value_cont(self, element) -> tuple[str, list[int] | None, list | None, int]:
-        unit, size, values, line = "", None, None, 0
+    def value_cont(self, element) -> tuple[str, list[int] | None, list | None, int, tuple[tuple[int, int], ...]]:
+        unit, size, values, line, runs = "", None, None, 0, ()
         for name, child in children(element):
             if name == "UNIT-DISPLAY-NAME":
                 unit = content(child).strip()
@@ -229,9 +231,10 @@ class _Reader:
             elif name == "SW-VALUES-PHYS":  # its line: that of its first value, where a refusal points
                 first = next((value for _, value in children(child)), child)
                 values, line = self.values(child), first.sourceline or child.sourceline or 0
+                runs = value_runs(value.sourceline or 0 for value in child.iter("{*}V", "{*}VT"))
             else:
                 raise self.unexpected(name, child, "SW-VALUE-CONT", "UNIT-DISPLAY-NAME, SW-ARRAYSIZE, SW-VALUES-PHYS")
-        return unit, size, values, line
+        return unit, size, values, line, runs
 
     def axis_cont(self, element) -> AxisCont:
         axis = AxisCont(element.sourceline or 0)

@@ -71,6 +71,7 @@ class Instance:
     size: list[int] | None = None
     values: list | None = None
     value_line: int = 0
+    value_runs: tuple[tuple[int, int], ...] = ()  # the lines of its V/VT values, as ObjectInfo keeps them
     axes: list[AxisCont] = field(default_factory=list)
     history: tuple[HistoryEntry, ...] = ()
     flags: tuple[CsFlag, ...] = ()
@@ -118,6 +119,7 @@ class _Builder:
         info = ObjectInfo(display_name=instance.display_name, functions=(instance.feature,) if instance.feature else (),
                           comments=instance.comments, history=instance.history, flags=instance.flags,
                           category=instance.category, line=instance.line, value_line=instance.value_line,
+                          value_runs=instance.value_runs,
                           container=instance.container, model_link=instance.model_link)
         self.dataset.add(value, info)
 

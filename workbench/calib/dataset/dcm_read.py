@@ -18,12 +18,12 @@ with the file), MODULKOPF, FUNKTIONEN, VARIANTENKODIERUNG and VAR too.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from workbench.calib.dataset.dcm_lines import Line, Token, decode, split_lines, tokenize
-from workbench.calib.dataset.model import Dataset, FunctionInfo, ObjectInfo
+from workbench.calib.dataset.model import Dataset, FunctionInfo, ObjectInfo, value_runs
 from workbench.calib.dataset.numbers import NumberError, parse_number, scalar, to_array
 from workbench.calib.values import Axis, CalValue
 from workbench.errors import DatasetParseError
@@ -100,6 +100,7 @@ class _Reader:
         self.dataset = Dataset(source=path, format="dcm")
         self.format_line = 0
         self.current = ""  # the object being read, for the notes
+        self.value_lines: list[int] = []  # the line of each of its WERT/TEXT values
 
     def error(self, message: str, line: Line | int, column: int = 0) -> DatasetParseError:
         number = line if isinstance(line, int) else line.number
@@ -255,11 +256,12 @@ class _Reader:
             value_line=_first(block, _VALUES) or _first(block, _X),
         )
         self.current = name
+        self.value_lines = []
         try:
             value = _BUILDERS[OBJECT_KEYWORDS[block.keyword].kind](self, block, texts)
         except NumberError as exc:
             raise self.error(f"{block.keyword} {name}: {exc}", header) from None
-        self.dataset.add(value, info)
+        self.dataset.add(value, replace(info, value_runs=value_runs(self.value_lines)))
 
     def single_lines(self, block: _Block) -> dict[str, Line]:
         single: dict[str, Line] = {}
@@ -298,6 +300,8 @@ class _Reader:
             tokens = self.tokens(line)
             if not tokens:
                 raise self.error(f"{line.keyword} without values", line, line.column)
+            if line.keyword in _VALUES:  # where each value is, for a refusal of one element
+                self.value_lines += [line.number] * len(tokens)
             for token in tokens:
                 if line.keyword in ("TEXT", "ST_TX/X", "ST_TX/Y"):
                     items.append(token.text)

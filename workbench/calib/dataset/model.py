@@ -34,14 +34,17 @@ long identifier; ``ObjectInfo.comments`` the free comment lines.
 
 from __future__ import annotations
 
-from collections.abc import Iterator, MutableMapping
+from collections.abc import Iterable, Iterator, MutableMapping
 from dataclasses import dataclass, field
+
+import numpy as np
 
 from workbench.calib.values import CalValue
 from workbench.errors import InputError
 from workbench.findings import Finding
 
-__all__ = ["CsFlag", "Dataset", "FunctionInfo", "HistoryEntry", "InstancePart", "ObjectInfo", "member_name"]
+__all__ = ["CsFlag", "Dataset", "FunctionInfo", "HistoryEntry", "InstancePart", "ObjectInfo", "member_name",
+           "value_runs"]
 
 
 @dataclass(frozen=True)
@@ -97,8 +100,33 @@ class ObjectInfo:
     category: str = ""  # the object's keyword or category in its file (FESTKENNLINIE, BOOLEAN ...)
     line: int = 0  # where it starts in its file (1-based; 0: not read from a file)
     value_line: int = 0  # where its values start (DCM: the first WERT/TEXT/ST line; CDFX: SW-VALUES-PHYS)
+    value_runs: tuple[tuple[int, int], ...] = ()  # (line, how many values) in file order, X fastest: value_runs()
     container: tuple[InstancePart, ...] = ()  # CDF: the SW-INSTANCEs around it, outermost first
     model_link: str = ""  # CDF 2.1 SW-MODEL-LINK: where the value lives in a simulation model
+
+
+def value_runs(lines: Iterable[int]) -> tuple[tuple[int, int], ...]:
+    """The lines of an object's values in file order as (line, how many values on it) runs."""
+    runs: list[list[int]] = []
+    for line in lines:
+        if runs and runs[-1][0] == line:
+            runs[-1][1] += 1
+        else:
+            runs.append([line, 1])
+    return tuple((line, count) for line, count in runs)
+
+
+def _element_line(info: ObjectInfo, shape: tuple[int, ...], index: tuple[int, ...] | None) -> int:
+    """The line of element ``index`` of a value of ``shape`` (0: not known); both formats write X fastest."""
+    if index is None or not info.value_runs or len(index) != len(shape) or any(
+            not 0 <= i < n for i, n in zip(index, shape)):
+        return 0
+    position = int(np.ravel_multi_index(index, shape, order="F")) if shape else 0
+    for line, count in info.value_runs:
+        if position < count:
+            return line
+        position -= count
+    return 0
 
 
 @dataclass(frozen=True)
@@ -169,11 +197,12 @@ class Dataset(MutableMapping):
         """The :class:`ObjectInfo` of ``name`` (an empty one for an object added without)."""
         return self.info.get(name, ObjectInfo())
 
-    def where(self, name: str, *, start: bool = False) -> str:
-        """``file:line`` of the values of ``name`` as read, with ``start`` of the object's first line (its name)
-        (``file`` alone, or ``""``, where not known)."""
+    def where(self, name: str, *, start: bool = False, index: tuple[int, ...] | None = None) -> str:
+        """``file:line`` of the values of ``name`` as read, with ``start`` of the object's first line (its name),
+        with ``index`` of that element of its value where the file says (``file`` alone, or ``""``, where not known)."""
         info = self.info_of(name)
-        line = info.line if start else info.value_line or info.line
+        line = info.line if start else _element_line(info, np.shape(self.objects[name].value), index) \
+            or info.value_line or info.line
         if not self.source:
             return ""
         return f"{self.source}:{line}" if line else self.source
