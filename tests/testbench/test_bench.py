@@ -64,7 +64,10 @@ def test_a_failed_expectation_is_one_line_naming_signal_band_value_and_time(targ
         assert ecu.evidence.parts[-1].name == "failing.part2.mf4"  # a new signal: a new part
         with pytest.raises(InputError, match="a calibration is written"):
             ecu.expect("xsSWITCH_TANK_THR", 5.0, for_s=0.1)
-        assert [step.passed for step in ecu.steps if step.kind != "note" and step.passed is not None] == [False] * 3
+        with pytest.raises(ExpectationFailed, match=rf"expect zsRailPressure = zsTank1Pressure ± 1 bar for 0.2 s: "
+                                                    rf"[\d.]+ bar against [\d.]+ bar of zsTank1Pressure at {TIME}"):
+            ecu.expect_follows("zsRailPressure", "zsTank1Pressure", 1.0, for_s=0.2)  # the other's unit too
+        assert [step.passed for step in ecu.steps if step.kind != "note" and step.passed is not None] == [False] * 4
 
 
 def test_calibrations_faults_and_sends_are_undone(target, tmp_path):

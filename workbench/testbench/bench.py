@@ -497,7 +497,8 @@ class Bench:
                 against = ""
                 if reference is not None:
                     before = self.timeline.last_before(reference, times[first])
-                    against = f" against {_text(before[1]) if before else 'no sample'} of {reference}"
+                    shown = self.signal(reference).show(before[1]) if before else "no sample"  # in its unit
+                    against = f" against {shown} of {reference}"
                 prior = self.timeline.last_before(name, float(np.nextafter(times[first], -np.inf)))
                 after = f", after {signal.show(prior[1])} at t={prior[0]:.3f} s" if prior is not None else ""
                 self._fail(step, f"{signal.show(values[first])}{against} at t={times[first]:.3f} s{after}",
