@@ -245,3 +245,14 @@ def test_an_element_beyond_its_limits_is_named_at_its_own_line(work, capsys, suf
     assert code == 2
     assert f"xvPRV_DC_FF  refused  bad.{suffix}:{row + 1}: 135.00 at [3, 3] is above the upper limit 100.00 %" in out
     assert f"zvRailPConv  refused  bad.{suffix}:{point + 1}: 53.75 at [7] is above the upper limit 50.00 bar" in out
+
+
+def test_an_image_against_a_parameter_set_compares_the_set_s_objects(work, capsys):
+    """As the ECU is compared with a parameter set (and the window compares the project's image with one): the objects
+    the set holds; an image against a set of one equal object was 'different', 57 objects only in the image."""
+    run(capsys, "cal", "save", "one.dcm", "xsSWITCH_TANK_THR", "--image", "app.s19")
+    for sides in (("app.s19", "one.dcm"), ("one.dcm", "app.s19")):
+        code, out, _ = run(capsys, "cal", "diff", *sides)
+        assert (code, out.splitlines()[-1]) == (0, "1 object: 1 equal, 0 changed, 0 shape changed, 0 only in A, "
+                                                   "0 only in B"), sides
+    assert run(capsys, "cal", "diff", "app.s19", "app.s19")[1].splitlines()[-1].startswith("58 objects: 58 equal")

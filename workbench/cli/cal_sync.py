@@ -279,8 +279,15 @@ def diff_sides(args: argparse.Namespace):
         return _diff_with_ecu(args)
     from workbench.sync import file_dataset
 
+    from workbench.image.files import is_image_file
+
     model = a2l_document(args).model()
     a, b = (file_dataset(model, side) for side in sides)
+    images = [is_image_file(side) for side in sides]
+    if images.count(True) == 1:  # an image against a parameter set: the set's objects, as the ECU is compared with it
+        image, dataset = (a, b) if images[0] else (b, a)
+        for name in [name for name in image if name not in dataset]:
+            del image[name]
     diff = diff_datasets(a, b, abs_tol=args.tolerance, rel_tol=args.rel_tolerance, a_label=args.a, b_label=args.b)
     return diff, [str(n) for n in a.notes + b.notes], diff.equal, model
 
