@@ -12,15 +12,17 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import IntEnum, IntFlag
 
-__all__ = ["CAN_ID_EXTENDED_FLAG", "EV_CMD_PENDING", "MAX_DAQ_PID", "PID_ERR", "PID_EV", "PID_RES", "PID_SERV",
-           "SLAVE_ID_ECHO", "SLAVE_ID_INVERSE", "TIME_UNIT_S", "CanCmd", "CanId", "Cmd", "Err", "IdType", "Resource",
-           "SlaveIdMode"]
+__all__ = ["CAN_ID_EXTENDED_FLAG", "EV_CMD_PENDING", "EV_DAQ_OVERLOAD", "EV_SESSION_TERMINATED", "MAX_DAQ_PID",
+           "PID_ERR", "PID_EV", "PID_RES", "PID_SERV", "SLAVE_ID_ECHO", "SLAVE_ID_INVERSE", "TIME_UNIT_S", "CanCmd",
+           "CanId", "Cmd", "Err", "IdType", "Resource", "SlaveIdMode"]
 
 PID_RES = 0xFF  # positive response
 PID_ERR = 0xFE  # negative response
 PID_EV = 0xFD  # event packet (EV_...)
 PID_SERV = 0xFC  # service request packet (SERV_RESET, SERV_TEXT)
 EV_CMD_PENDING = 0x05  # event code: the slave needs longer for the command; the master restarts its timeout
+EV_DAQ_OVERLOAD = 0x06  # event code: the slave could not send every DTO (OVERLOAD_INDICATION_EVENT)
+EV_SESSION_TERMINATED = 0x07  # event code: the slave ended the session on its own (the master is disconnected)
 MAX_DAQ_PID = 0xFB  # DTO packet ids run from 0x00 to 0xFB
 
 CAN_ID_EXTENDED_FLAG = 0x80000000  # bit 31 of an XCP-on-CAN id (CAN_ID_MASTER/SLAVE, DAQ_LIST_CAN_ID): a 29-bit id

@@ -15,6 +15,7 @@ from workbench import Session, demo
 from workbench.errors import ConnectionLostError, WorkbenchError
 from workbench.sim import EthernetEndpoint, serve_demo
 from workbench.xcp.daq import stream as stream_module
+from workbench.xcp_protocol import EV_DAQ_OVERLOAD
 
 _channels = itertools.count()
 
@@ -92,3 +93,19 @@ def test_on_ethernet_lists_the_ecu_stopped_are_said_at_once(free_udp_port):
     assert str(refused.value) == (
         "DAQ: no DTO within 300 ms of the start, though the ECU answers: GET_STATUS says no DAQ list runs: the ECU "
         "stopped them (another master, or its application?)")
+
+
+def test_events_of_the_slave_while_daq_runs_end_it_or_count_as_overloads():
+    """EV_DAQ_OVERLOAD counts in the measurement's overloads; EV_SESSION_TERMINATED ends it at once, named (it was a
+    silence, said as 'nothing from the ECU' after three periods, and the overload was only logged)."""
+    channel = f"start-silence-{next(_channels)}"
+    with serve_demo({"interface": "virtual", "channel": channel}, time_scale=1.0) as sim, \
+            Session.open(demo.a2l(), interface="virtual", channel=channel, timeouts=FAST) as session:
+        with pytest.raises(ConnectionLostError, match=r"the ECU ended the XCP session \(EV_SESSION_TERMINATED\)"), \
+                session.measure(["zsRailPressure"]) as live:
+            assert collect_until(live, lambda got: len(got) > 0)
+            sim.xcp.send_event(EV_DAQ_OVERLOAD)
+            collect_until(live, lambda got: live.stats.overloads > 0)
+            assert live.stats.overloads == 1
+            sim.end_session()
+            _read_until_refused(live)

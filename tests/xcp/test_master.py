@@ -12,7 +12,7 @@ import pytest
 from xcp_helpers import FAST, can_settings, serve
 
 import workbench
-from workbench.errors import EcuSilentError, WorkbenchError, XcpCommandError, XcpTimeoutError
+from workbench.errors import ConnectionLostError, EcuSilentError, WorkbenchError, XcpCommandError, XcpTimeoutError
 from workbench.image import ChecksumType, checksum
 from workbench.sim.demo_ecu import build_demo_ecu
 from workbench.sim.profiles import SlaveProfile
@@ -111,8 +111,20 @@ def test_a_lost_block_frame_is_repeated_from_set_mta(rig):
     assert rig.demo.ecu.faults.fired
 
 
-def test_busy_is_waited_out(rig, threshold):
-    rig.demo.ecu.faults.reject_command(1, Err.CMD_BUSY)
+@pytest.mark.parametrize("code", [Err.CMD_BUSY, Err.PGM_ACTIVE], ids=["CMD_BUSY", "PGM_ACTIVE"])
+def test_busy_is_waited_out(rig, threshold, code):
+    """ASAM's error matrix: ERR_CMD_BUSY and ERR_PGM_ACTIVE, wait T7 and repeat (ERR_PGM_ACTIVE was an error)."""
+    rig.demo.ecu.faults.reject_command(1, code)
+    assert struct.unpack("<f", rig.master.read(threshold, 4))[0] == 20.0
+    assert rig.demo.ecu.faults.fired == [f"reject command 0x{Cmd.SHORT_UPLOAD:02X} with {code.name}"]
+
+
+def test_an_ecu_that_ends_the_session_is_said_lost_at_once_and_connect_starts_over(rig, threshold):
+    """EV_SESSION_TERMINATED: the next command says so at once (it waited T1 and SYNCH's T1 for a silent ECU)."""
+    rig.simulator.end_session()
+    with pytest.raises(ConnectionLostError, match=r"the ECU ended the XCP session \(EV_SESSION_TERMINATED\)"):
+        rig.master.read(threshold, 4)
+    rig.master.connect()
     assert struct.unpack("<f", rig.master.read(threshold, 4))[0] == 20.0
 
 

@@ -104,11 +104,11 @@ def read_ecu_info(session: Session) -> EcuInfo:
     events: list[DaqEventInfo] = []
     daq_can_ids: list[DaqCanIds] = []
     if connect.resources & Resource.DAQ and not session.in_boot:
-        daq = _optional(master.get_daq_processor_info)
-        resolution = _optional(master.get_daq_resolution_info)
+        daq = _optional(session.daq_processor_info)
+        resolution = _optional(session.daq_resolution_info)
         if daq is not None:
             count = daq.max_event_channels or (len(session.config.daq.events) if session.config.daq else 0)
-            events = [e for e in (_optional(lambda n=n: master.get_daq_event_info(n)) for n in range(count)) if e]
+            events = [e for e in (_optional(lambda n=n: session.event_info(n)) for n in range(count)) if e]
             if session.link.is_can:  # a slave without GET_DAQ_ID shows none
                 daq_can_ids = list(read_daq_can_ids(master, []))
     pages = []

@@ -27,6 +27,8 @@ from workbench.calib.signals import MeasurementCodec, measurement_codec
 from workbench.errors import InputError, WorkbenchError, XcpCommandError
 from workbench.logs import logger
 from workbench.xcp.daq import DaqSignal, DaqStats, DaqStream, plan_daq
+from workbench.xcp.info import DaqEventInfo, DaqProcessorInfo, DaqResolutionInfo
+from workbench.xcp_protocol import Err
 
 if TYPE_CHECKING:
     from workbench.a2l.model import A2lModel
@@ -106,7 +108,7 @@ class DaqMeasurement:
             session.claim_daq(self)
             try:
                 master = session.master
-                processor, resolution = master.get_daq_processor_info(), master.get_daq_resolution_info()
+                processor, resolution = session.daq_processor_info(), session.daq_resolution_info()
                 groups: dict[int, list[DaqSignal]] = {}
                 for name, codec in self.codecs.items():
                     span = codec.span
@@ -270,15 +272,61 @@ class EventAccess:
         cyclic = [event for event in (daq.events if daq else ()) if event.period_s]
         return min(cyclic, key=lambda event: event.period_s).number if cyclic else 0
 
-    def event_info(self: Session, number: int):
-        """GET_DAQ_EVENT_INFO of an event (cached), None when the slave does not offer it."""
+    def event_info(self: Session, number: int) -> DaqEventInfo | None:
+        """GET_DAQ_EVENT_INFO of an event (cached); where the slave does not offer it (or refuses the event), what the
+        A2L's EVENT says; None when neither knows the event."""
         cache = self._event_info
         if number not in cache:
             try:
                 cache[number] = self.master.get_daq_event_info(number)
-            except XcpCommandError:
-                cache[number] = None
+            except XcpCommandError as error:
+                log.debug("GET_DAQ_EVENT_INFO %d: %s; the A2L's EVENT instead", number, error)
+                cache[number] = _a2l_event_info(self.config, number)
         return cache[number]
+
+    def daq_processor_info(self: Session) -> DaqProcessorInfo:
+        """GET_DAQ_PROCESSOR_INFO; from a slave that does not implement it, what the A2L's DAQ block states (see
+        :meth:`daq_resolution_info`)."""
+        daq = self._a2l_daq_for(self.master.get_daq_processor_info)
+        if isinstance(daq, DaqProcessorInfo):
+            return daq
+        return DaqProcessorInfo(
+            dynamic=daq.config_type == "DYNAMIC", prescaler_supported=daq.prescaler_supported,
+            resume_supported=daq.resume_supported, timestamp_supported=bool(daq.timestamp and daq.timestamp.size),
+            pid_off_supported=False, overload_indication=_A2L_OVERLOAD.get(daq.overload_indication, "none"),
+            max_daq=daq.max_daq, max_event_channels=daq.max_event_channels, min_daq=daq.min_daq, optimisation_type=0,
+            address_extension=_A2L_EXTENSION.get(daq.address_extension, "free"),
+            identification_field=daq.identification_field)
+
+    def daq_resolution_info(self: Session) -> DaqResolutionInfo:
+        """GET_DAQ_RESOLUTION_INFO; from a slave that does not implement it (ERR_CMD_UNKNOWN: it is optional), what the
+        A2L's DAQ block states (GRANULARITY_ODT_ENTRY_SIZE_DAQ, MAX_ODT_ENTRY_SIZE_DAQ, TIMESTAMP_SUPPORTED), as ASAM's
+        error matrix says ("use the A2L").
+
+        :raises XcpCommandError: another refusal, or the A2L has no DAQ block to take it from.
+        """
+        daq = self._a2l_daq_for(self.master.get_daq_resolution_info)
+        if isinstance(daq, DaqResolutionInfo):
+            return daq
+        stamp = daq.timestamp
+        if stamp is None or not stamp.size:
+            return DaqResolutionInfo(daq.granularity, daq.max_odt_entry_size, 0, False, 1e-6, 1)
+        return DaqResolutionInfo(daq.granularity, daq.max_odt_entry_size, stamp.size, stamp.fixed, stamp.unit_s,
+                                 max(stamp.ticks, 1))
+
+    def _a2l_daq_for(self: Session, ask: Callable[[], Any]) -> Any:
+        """What ``ask`` (a GET_DAQ_..._INFO) answers, or the A2L's DAQ block where the slave does not implement it.
+
+        :raises XcpCommandError: another refusal, or the A2L has no DAQ block.
+        """
+        try:
+            return ask()
+        except XcpCommandError as error:
+            daq = self.config.daq
+            if error.code != Err.CMD_UNKNOWN or daq is None:
+                raise
+            log.info("%s: ERR_CMD_UNKNOWN; the A2L's DAQ block instead", error.command)
+            return daq
 
     def claim_daq(self: Session, measurement: DaqMeasurement) -> None:
         running = self._daq
@@ -290,6 +338,19 @@ class EventAccess:
     def release_daq(self: Session, measurement: DaqMeasurement) -> None:
         if self._daq is measurement:
             self._daq = None
+
+
+_A2L_OVERLOAD = {"OVERLOAD_INDICATION_PID": "PID", "OVERLOAD_INDICATION_EVENT": "event"}
+_A2L_EXTENSION = {"ADDRESS_EXTENSION_ODT": "per ODT", "ADDRESS_EXTENSION_DAQ": "per DAQ list"}
+
+
+def _a2l_event_info(config: XcpConfig, number: int) -> DaqEventInfo | None:
+    """The A2L's EVENT ``number`` as GET_DAQ_EVENT_INFO would say it (consistency unknown: ODT, the least)."""
+    for event in config.daq.events if config.daq else ():
+        if event.number == number:
+            return DaqEventInfo(number, event.name, event.direction, event.max_daq_lists, event.period_s,
+                                event.priority, "ODT")
+    return None
 
 
 def sampled_characteristic(model: A2lModel, obj: Any) -> Measurement | None:

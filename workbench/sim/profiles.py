@@ -56,7 +56,7 @@ class SlaveProfile:
     @property
     def changes_a2l(self) -> bool:
         """Whether a master needs this profile's own A2L (anything but the slow pace, chatter, seeds and locks)."""
-        quiet = {"response_delay_s", "delayed_every", "service_packets", "seed_length", "protected"}
+        quiet = {"response_delay_s", "delayed_every", "busy_every", "service_packets", "seed_length", "protected"}
         return bool(set(self.xcp) - quiet or set(self.can) - quiet or set(self.ethernet) - quiet or self.daq
                     or self.pgm or self.sector_sizes or self.timeouts_ms)
 
@@ -71,6 +71,10 @@ _SMALL_SECTORS = {"APPLICATIVE": 0x10000, "CALIB": 0x4000, "SHARED": 0x4000}
 # What a small boot loader leaves out: all but the four mandatory programming commands, and checksums.
 _BOOT_LOADER_LACKS = frozenset({Cmd.GET_PGM_PROCESSOR_INFO, Cmd.GET_SECTOR_INFO, Cmd.PROGRAM_NEXT, Cmd.PROGRAM_MAX,
                                 Cmd.BUILD_CHECKSUM})
+
+# What a slave may leave out of the optional commands a master would use (it has the alternatives).
+_FEW_COMMANDS_LACK = frozenset({Cmd.SHORT_UPLOAD, Cmd.GET_COMM_MODE_INFO, Cmd.GET_DAQ_PROCESSOR_INFO,
+                                Cmd.GET_DAQ_RESOLUTION_INFO, Cmd.GET_DAQ_EVENT_INFO})
 
 PROFILES: dict[str, SlaveProfile] = {p.name: p for p in (
     SlaveProfile("demo", "nothing: the demo ECU as docs/demo-ecu.md describes it",
@@ -102,6 +106,18 @@ PROFILES: dict[str, SlaveProfile] = {p.name: p for p in (
     SlaveProfile("granularity-dword", "address granularity DWORD: transfers count 4-byte elements from addresses "
                  "divisible by 4", "ADDRESS_GRANULARITY_DWORD (two alignment bytes in DOWNLOAD, three in UPLOAD)",
                  xcp={"address_granularity": 4}, daq={"granularity": 4}),
+    SlaveProfile("motorola-word", "Motorola byte order (BYTE_ORDER_MSB_FIRST) and address granularity WORD together, "
+                 "as a 16-bit big-endian controller's XCP: counts in 2-byte elements, every field and timestamp "
+                 "MSB first", "both options at once: element counts and alignment bytes in the slave's byte order",
+                 xcp={"byte_order": ">", "address_granularity": 2}, daq={"granularity": 2}),
+    SlaveProfile("few-commands", "optional commands left out: SHORT_UPLOAD, GET_COMM_MODE_INFO (CONNECT says so), "
+                 "GET_DAQ_PROCESSOR_INFO, GET_DAQ_RESOLUTION_INFO, GET_DAQ_EVENT_INFO (ERR_CMD_UNKNOWN; not in "
+                 "OPTIONAL_CMD)", "SET_MTA + UPLOAD for every read; the DAQ processor, resolution and events from the "
+                 "A2L (ASAM: 'use the A2L'); no master block mode without GET_COMM_MODE_INFO",
+                 xcp={"without": _FEW_COMMANDS_LACK}),
+    SlaveProfile("busy", "every 7th command is refused with ERR_CMD_BUSY before it runs (T7 10 ms)",
+                 "ERR_CMD_BUSY: wait T7 and send the command again (ASAM's error matrix), never an error for people",
+                 xcp={"busy_every": 7}, timeouts_ms={"t7": 10}),
     SlaveProfile("no-get-id", "GET_ID is not implemented (ERR_CMD_UNKNOWN)", "the EPK read at ADDR_EPK",
                  xcp={"get_id": False}),
     SlaveProfile("odt-relative-byte", "DTOs name their ODT relative to the list, then the list in a byte",

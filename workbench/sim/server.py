@@ -26,7 +26,7 @@ from workbench.sim.ecu import EcuState, SimulatedEcu
 from workbench.sim.eth_port import EthernetEndpoint, EthernetXcpPort
 from workbench.sim.scheduler import US_PER_S
 from workbench.sim.xcp_port import XcpPort
-from workbench.xcp_protocol import IdType
+from workbench.xcp_protocol import EV_SESSION_TERMINATED, IdType
 
 if TYPE_CHECKING:
     from workbench.a2l import A2lDocument
@@ -217,6 +217,13 @@ class Simulator:
     def power_on(self) -> EcuState:
         with self.lock:
             return self.ecu.power_on()
+
+    def end_session(self) -> None:
+        """The ECU ends the XCP session on its own (a watchdog, its application's request): DAQ stops, the master is
+        disconnected and told so with EV_SESSION_TERMINATED (ASAM XCP), its commands unanswered until CONNECT."""
+        with self.lock:
+            self.ecu.slave.disconnect()
+        self.xcp.send_event(EV_SESSION_TERMINATED)
 
     # --- CAN frames ------------------------------------------------------------------------------
 

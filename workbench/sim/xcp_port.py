@@ -96,6 +96,14 @@ class XcpPort(ABC):
             else:
                 self._respond(packets)
 
+    def send_event(self, code: int) -> None:
+        """Send an EV packet of the ECU's own (EV_SESSION_TERMINATED ...), after any answer still waiting."""
+        with self._late_lock:
+            if self._waiting is not None:
+                self._waiting.append([bytes((PID_EV, code))])
+                return
+        self._respond([bytes((PID_EV, code))])
+
     def _send_waiting(self, _) -> None:
         with self._late_lock:
             waiting, self._waiting = self._waiting or [], None

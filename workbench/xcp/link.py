@@ -13,7 +13,8 @@ A late response to a command that timed out (or a doubled one) would be taken fo
 command; every exchange therefore drops what came before it sends, except for the last frame of a master
 block, whose early error response must not be lost. Event (EV) and service (SERV) packets are logged,
 never taken for responses; an EV_CMD_PENDING (a slave that needs longer than the command's timeout, as a
-long erase) starts the wait for the response over.
+long erase) starts the wait for the response over, EV_DAQ_OVERLOADs are counted, and an EV_SESSION_TERMINATED
+(the slave disconnected this master on its own) makes the link lost at once.
 
 A lost ECU is said at once as :class:`~workbench.errors.ConnectionLostError`: a closed TCP connection, a
 socket or bus error, and while DAQ runs with :meth:`Link.watch_dtos` nothing from the ECU for the time
@@ -36,7 +37,8 @@ from workbench.logs import logger
 from workbench.xcp.transport import LinkBroken, open_transport
 from workbench.bus_defaults import BusSpec
 from workbench.xcp_framing import MAX_PACKET
-from workbench.xcp_protocol import EV_CMD_PENDING, PID_ERR, PID_EV, PID_SERV, CanId, Cmd
+from workbench.xcp_protocol import (EV_CMD_PENDING, EV_DAQ_OVERLOAD, EV_SESSION_TERMINATED, PID_ERR, PID_EV, PID_SERV,
+                                    CanId, Cmd)
 
 if TYPE_CHECKING:
     import can
@@ -98,6 +100,7 @@ class Link:
         self.lost: ConnectionLostError | None = None
         self.events: deque[bytes] = deque(maxlen=64)  # the newest EV and SERV packets
         self._pending = 0  # EV_CMD_PENDINGs received: each restarts the wait for a response
+        self.overload_events = 0  # EV_DAQ_OVERLOADs received (a slave with OVERLOAD_INDICATION_EVENT lost DTOs)
         self._lock = threading.RLock()  # one caller on the wire at a time
         self._arrived = threading.Condition()  # guards the responses and ``lost`` between receiver and caller
         self._responses: deque[bytes] = deque()
@@ -252,6 +255,8 @@ class Link:
                 self._usable()
             if drop_queued:
                 self._drop_responses()
+                if self.lost is not None and packet[0] != _CONNECT:  # an event read just now ended the session
+                    self._usable()
             self._send(packet)
             return self._receive(timeout_s)
 
@@ -301,6 +306,8 @@ class Link:
                 return None
             if responses:
                 return responses.popleft()
+            if self.lost is not None:  # an event said so (EV_SESSION_TERMINATED): no answer will come
+                self.check()
             if self._pending != pending:
                 pending, deadline = self._pending, time.monotonic() + timeout_s
             if deadline <= time.monotonic():  # something else came (another node's frame, a DTO)
@@ -338,10 +345,17 @@ class Link:
                 self._responses.append(packet)
                 self._arrived.notify()
         elif pid >= PID_SERV:
-            if pid == PID_EV and len(packet) > 1 and packet[1] == EV_CMD_PENDING:
+            code = packet[1] if pid == PID_EV and len(packet) > 1 else None
+            if code == EV_CMD_PENDING:
                 with self._arrived:
                     self._pending += 1
                     self._arrived.notify()
+            elif code == EV_DAQ_OVERLOAD:
+                self.overload_events += 1
+            elif code == EV_SESSION_TERMINATED:  # the slave disconnected this master: nothing answers until CONNECT
+                self._lose(ConnectionLostError(self.describe(), "the ECU ended the XCP session "
+                                                                "(EV_SESSION_TERMINATED): it reset, or another master "
+                                                                "took it over"))
             self.events.append(packet)
             log.info("%s: %s packet %s", self.describe(), "event" if pid == PID_EV else "service request",
                      packet.hex(" "))

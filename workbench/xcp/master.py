@@ -50,7 +50,8 @@ log = logger(__name__)
 __all__ = ["KeyFunction", "Timeouts", "XcpMaster"]
 
 KeyFunction = Callable[[bytes, int], bytes]  # (seed, resource bit) -> key
-_BUSY_REPEATS = 20
+_BUSY_REPEATS = 20  # ERR_CMD_BUSY / ERR_PGM_ACTIVE: T7 apart (ASAM: without end; a master that waits for people: ~4 s)
+_WAIT_AND_REPEAT = (Err.CMD_BUSY, Err.PGM_ACTIVE)  # the error matrix's pre-action "wait T7", action "repeat"
 
 
 @dataclass(frozen=True)
@@ -108,6 +109,7 @@ class XcpMaster:
         # grows with every CONNECT, DOWNLOAD/PROGRAM, page switch and page copy, whoever sends them.
         self.memory_changes = 0
         self.xcp_pages: dict[int, int] = {}  # segment -> page XCP accesses, as last set or read (CONNECT clears)
+        self.has_short_upload = True  # False after SHORT_UPLOAD's ERR_CMD_UNKNOWN: SET_MTA + UPLOAD instead
 
     # --- the slave's parameters ---------------------------------------------------------------
 
@@ -206,7 +208,7 @@ class XcpMaster:
                 return response[1:]
             if response[0] == PID_ERR and len(response) > 1:
                 code = response[1]
-                if code == Err.CMD_BUSY and busy < _BUSY_REPEATS:
+                if code in _WAIT_AND_REPEAT and busy < _BUSY_REPEATS:
                     busy += 1
                     time.sleep(self.timeouts.t7)
                     continue
@@ -282,8 +284,14 @@ class XcpMaster:
         self.connect_info = ConnectInfo.parse(self.command(Cmd.CONNECT, bytes((mode,)), timeout=timeout,
                                                            check=self._connect_problem))
         self.comm_mode = None
+        self.has_short_upload = True
         if self.connect_info.optional_comm_mode:
-            self.comm_mode = CommModeInfo.parse(self.command(Cmd.GET_COMM_MODE_INFO))
+            try:
+                self.comm_mode = CommModeInfo.parse(self.command(Cmd.GET_COMM_MODE_INFO))
+            except XcpCommandError as error:  # CONNECT offered it all the same: no master block mode then
+                if error.code != Err.CMD_UNKNOWN:
+                    raise
+                log.info("XCP GET_COMM_MODE_INFO: ERR_CMD_UNKNOWN although CONNECT offers it; no master block mode")
         self.protected = self.get_status().protected
         return self.connect_info
 
@@ -419,8 +427,13 @@ class XcpMaster:
         start, end = self._aligned(address, size)
         if (start, end) != (address, address + size):
             return self.read(start, end - start, extension)[address - start:address - start + size]
-        if size <= self.per_response:
-            return self.short_upload(address, size, extension)
+        if size <= self.per_response and self.has_short_upload:
+            try:
+                return self.short_upload(address, size, extension)
+            except XcpCommandError as error:  # optional: the error matrix's alternative is SET_MTA + UPLOAD
+                if error.code != Err.CMD_UNKNOWN:
+                    raise
+                self.has_short_upload = False
         return self._repeat_from_mta(lambda: self._set_mta_and(address, extension, lambda: self.upload(size)))
 
     def write(self, address: int, data: bytes, extension: int = 0) -> None:
@@ -627,14 +640,21 @@ class XcpMaster:
         """
         self._unlock_for(Cmd.PROGRAM_RESET)
         try:
-            for _ in range(3):
+            unanswered = busy = 0
+            while unanswered < 3:
                 response = self.link.exchange(bytes((Cmd.PROGRAM_RESET,)), self.timeouts.t1)
                 if response is not None:
+                    code = response[1] if len(response) > 1 else 0
+                    if response[0] == PID_ERR and code in _WAIT_AND_REPEAT and busy < _BUSY_REPEATS:
+                        busy += 1
+                        time.sleep(self.timeouts.t7)
+                        continue
                     if response[0] == PID_ERR:
-                        raise XcpCommandError(Cmd.PROGRAM_RESET.name, response[1] if len(response) > 1 else 0)
+                        raise XcpCommandError(Cmd.PROGRAM_RESET.name, code)
                     return
                 if self.link.exchange(bytes((Cmd.SYNCH,)), self.timeouts.t1) is None:
                     return
+                unanswered += 1
                 log.info("XCP PROGRAM_RESET: no response, but the slave answers SYNCH; repeating")
             raise XcpTimeoutError(Cmd.PROGRAM_RESET.name, self.timeouts.t1)
         finally:

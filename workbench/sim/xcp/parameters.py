@@ -184,6 +184,7 @@ class XcpParameters:
     all_segments_mode: bool = True  # SET_CAL_PAGE's mode bit 0x80 (every segment at once)
     response_delay_s: float = 0.0  # responses leave this late (a slow slave; the A2L's T1 says how slow is fine)
     delayed_every: int = 1  # ... every n-th of them (1: all)
+    busy_every: int = 0  # every n-th command is refused with ERR_CMD_BUSY, once, before it runs (0: never busy)
     service_packets: bool = False  # EV and SERV packets between the responses
     checksum_type: ChecksumType = ChecksumType.CRC_32
     max_checksum_block: int = 0x20000  # BUILD_CHECKSUM limit: the SEGMENT CHECKSUM MAX_BLOCK_SIZE of the A2L

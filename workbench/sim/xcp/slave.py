@@ -173,6 +173,7 @@ class XcpSlave:
         self._key = b""  # key bytes UNLOCK has brought so far
         self._key_length = 0  # ... of how many
         self._chatter = 0
+        self._commands = 0  # commands received since power-on (a busy slave refuses every n-th)
         self.silent_until = 0.0  # time.monotonic() before which the ECU boots and answers nothing
         self.daq.free()
         self.pgm.reset()
@@ -196,6 +197,8 @@ class XcpSlave:
             rejected = self.faults.on_command(command)
             if rejected is not None:
                 raise XcpNegative(rejected)
+            if self._busy_now(command, cto):
+                raise XcpNegative(Err.CMD_BUSY)
             handler = self._handlers.get(command)
             if handler is None:
                 raise XcpNegative(Err.CMD_UNKNOWN)
@@ -214,6 +217,19 @@ class XcpSlave:
             return []
         packets = response if isinstance(response, list) else [bytes([PID_RES]) + response]
         return self._service_packets() + packets
+
+    def _busy_now(self, command: int, cto: bytes) -> bool:
+        """A busy slave (:attr:`XcpParameters.busy_every`) refuses every n-th command with ERR_CMD_BUSY before it runs
+        it: the master waits T7 and sends it again. CONNECT and SYNCH are always served, and so are a master block's
+        frames (a block refused in its middle is not modelled)."""
+        every = self.params.busy_every
+        if not every or command in (Cmd.CONNECT, Cmd.SYNCH, Cmd.DOWNLOAD_NEXT, Cmd.PROGRAM_NEXT):
+            return False
+        if command in (Cmd.DOWNLOAD, Cmd.PROGRAM) and len(cto) > 1 and self.elements(cto[1]) > (
+                self.params.max_data_per_frame if command == Cmd.DOWNLOAD else self.params.pgm_data_per_frame):
+            return False  # the first frame of a master block
+        self._commands += 1
+        return self._commands % every == 0
 
     def _service_packets(self) -> list[bytes]:
         """What a chatty slave sends before a response: an EV_USER or a SERV_TEXT, in turns."""
@@ -345,7 +361,8 @@ class XcpSlave:
             self.daq.free()
             self.locked = self.params.protected
         self.connected = True
-        comm_mode = (COMM_MODE_OPTIONAL | (COMM_MODE_SLAVE_BLOCK if self.params.slave_block_mode else 0)
+        optional = COMM_MODE_OPTIONAL if Cmd.GET_COMM_MODE_INFO in self._handlers else 0
+        comm_mode = (optional | (COMM_MODE_SLAVE_BLOCK if self.params.slave_block_mode else 0)
                      | _GRANULARITY_CODES[self.granularity] << 1 | (self.order == ">"))
         return self.pack("BBBHBB", int(self.available), comm_mode, self.params.max_cto, self.params.max_dto,
                          PROTOCOL_LAYER_VERSION, TRANSPORT_LAYER_VERSION)

@@ -109,6 +109,7 @@ class DaqStream:
         self._lists_due: float | None = None  # XCP on CAN: ... by which every list's is, until they were looked at
         self._no_dtos: str | None = None  # why DAQ sent nothing this master hears, the ECU answering
         self._start_checks = 0  # the silences since the start on which the ECU answered that its lists send here
+        self._overload_events = 0
         self._due_lock = threading.Lock()  # the first DTO and a verdict on the silence before it take turns
         self.running = False
 
@@ -135,6 +136,7 @@ class DaqStream:
         if not plan.lists:
             return self
         first_pids = {daq.number: master.start_stop_daq_list(daq.number, _SELECT) for daq in plan.lists}
+        self._overload_events = master.link.overload_events  # EV_DAQ_OVERLOADs count from here
         self.assembler = DtoAssembler(plan, first_pids, master.order,
                                       overload_in_pid=self.processor.overload_indication == "PID")
         silence = self._silence = self.silence_limit()
@@ -504,7 +506,8 @@ class DaqStream:
             return DaqStats(0, 0, 0, 0, 0)
         # a timestamp gap counts every missing sample, broken ones included; without timestamps only broken ones show
         lost = sum(self._gaps.get(number, broken) for number, broken in assembler.lost_by_list.items())
-        return DaqStats(assembler.dtos, assembler.samples, lost, assembler.overloads, assembler.unknown)
+        overloads = assembler.overloads + self.master.link.overload_events - self._overload_events  # PID bits, EVs
+        return DaqStats(assembler.dtos, assembler.samples, lost, overloads, assembler.unknown)
 
     @property
     def dtos_per_second(self) -> float | None:
