@@ -111,6 +111,28 @@ def test_a_lost_block_frame_is_repeated_from_set_mta(rig):
     assert rig.demo.ecu.faults.fired
 
 
+def test_a_master_block_refused_with_err_sequence_is_written_again_from_set_mta(rig):
+    """A DOWNLOAD_NEXT frame lost on its way: the slave refuses the next with ERR_SEQUENCE; the error matrix's SET_MTA
+    and repeat writes the block (it was an error for people)."""
+    before = rig.master.read(CAL_RAM + 0x10, 40)
+    data = bytes(range(1, 41))
+    try:
+        rig.master.get_status()  # the unlock's commands before the block: the fault counts from the write's frames
+        rig.master.unlock(Resource.CAL_PAG)
+        rig.demo.ecu.faults.drop_frame(3, "rx")  # SET_MTA, DOWNLOAD, DOWNLOAD_NEXT (lost)
+        rig.master.write(CAL_RAM + 0x10, data)
+        assert rig.demo.ecu.read(CAL_RAM + 0x10, 40) == data
+        assert [fired.split(" frame")[0] for fired in rig.demo.ecu.faults.fired] == ["drop rx"]
+    finally:
+        rig.master.write(CAL_RAM + 0x10, before)
+
+
+def test_an_unlock_refused_with_err_sequence_starts_over_with_get_seed(rig, threshold):
+    rig.demo.ecu.faults.reject_command(1, Err.SEQUENCE, command=Cmd.UNLOCK)
+    rig.master.write(threshold, struct.pack("<f", 20.0))  # CAL/PAG unlocked at the second GET_SEED
+    assert rig.demo.ecu.faults.fired == [f"reject command 0x{Cmd.UNLOCK:02X} with SEQUENCE"]
+
+
 @pytest.mark.parametrize("code", [Err.CMD_BUSY, Err.PGM_ACTIVE], ids=["CMD_BUSY", "PGM_ACTIVE"])
 def test_busy_is_waited_out(rig, threshold, code):
     """ASAM's error matrix: ERR_CMD_BUSY and ERR_PGM_ACTIVE, wait T7 and repeat (ERR_PGM_ACTIVE was an error)."""

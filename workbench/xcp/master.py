@@ -89,6 +89,7 @@ def resource_of(command: Cmd) -> Resource | None:
 
 _RESOURCE_OF = {command: resource_of(command) for command in Cmd}  # looked up for every command
 _LATE_SYNCH = bytes((PID_ERR, Err.CMD_SYNCH))
+_BLOCK_COMMANDS = (Cmd.DOWNLOAD.name, Cmd.DOWNLOAD_NEXT.name)  # a master block's ERR_SEQUENCE names one of them
 
 
 class XcpMaster:
@@ -350,6 +351,11 @@ class XcpMaster:
                     if attempt or isinstance(error, EcuSilentError):
                         raise
                     log.info("XCP seed & key for %s: a command timed out; starting over with GET_SEED", name)
+                except XcpCommandError as error:  # ERR_SEQUENCE (the error matrix: GET_SEED + UNLOCK again)
+                    if attempt or error.code != Err.SEQUENCE:
+                        raise
+                    log.info("XCP seed & key for %s: %s ERR_SEQUENCE; starting over with GET_SEED", name,
+                             error.command)
         finally:
             self._unlocking = False
         if resource & self.protected:
@@ -459,6 +465,9 @@ class XcpMaster:
         return action()
 
     def _repeat_from_mta(self, action: Callable[[], bytes | None]):
+        """``action`` (SET_MTA and a transfer), repeated twice from SET_MTA after a timeout (SYNCH sent) or a master
+        block the slave refused with ERR_SEQUENCE (a frame of it lost: the answers to the frames after it drained by
+        SYNCH), as ASAM's error matrix says."""
         for attempt in range(3):
             try:
                 return action()
@@ -466,6 +475,11 @@ class XcpMaster:
                 if attempt == 2 or isinstance(error, EcuSilentError):  # SYNCH unanswered too: nothing to repeat to
                     raise
                 log.info("XCP memory transfer timed out; repeating from SET_MTA")
+            except XcpCommandError as error:
+                if attempt == 2 or error.code != Err.SEQUENCE or error.command not in _BLOCK_COMMANDS:
+                    raise
+                log.info("XCP %s: ERR_SEQUENCE, a frame of the block lost; repeating from SET_MTA", error.command)
+                self.resynchronize()
 
     def download(self, data: bytes, *, command: Cmd = Cmd.DOWNLOAD, next_command: Cmd = Cmd.DOWNLOAD_NEXT,
                  timeout: str | None = None, max_bs: int | None = None, min_st_s: float | None = None) -> None:
