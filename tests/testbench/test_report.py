@@ -82,6 +82,10 @@ def test_a_test_without_steps_and_a_bad_catalogue(tmp_path):
     exported = tmp_path / "doors.csv"  # a spreadsheet's CSV export: Windows-1252
     exported.write_bytes("id,name,description\r\nSW_REQ_1,Druck,unter 5 °C in 300 µs\r\n".encode("cp1252"))
     assert read_requirements(exported)[0].description == "unter 5 °C in 300 µs"
+    german = tmp_path / "excel.csv"  # Excel where the decimal separator is a comma saves ';' between the columns
+    german.write_bytes("ID;Name;Description\r\nSW_REQ_1;Raildruck;folgt ±2,5 bar\r\n;;\r\n".encode("cp1252"))
+    assert [(r.id, r.name, r.description) for r in read_requirements(german)] == [
+        ("SW_REQ_1", "Raildruck", "folgt ±2,5 bar")]  # was 'the header must name the columns' (user trial 10)
 
 
 def _points(element: str) -> list[tuple[float, float]]:

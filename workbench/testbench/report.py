@@ -40,20 +40,28 @@ class Requirement:
 
 
 def read_requirements(path: str | Path) -> list[Requirement]:
-    """A requirements catalogue: CSV with the columns ``id,name,description`` (a header line).
+    """A requirements catalogue: CSV with the columns ``id,name,description`` (a header line; ``;`` or tabs between
+    them as a spreadsheet saves them too, in UTF-8 or the Windows code page).
 
     :raises InputError: the file cannot be read or lacks the ``id`` column (file:line named).
     """
     path = Path(path)
-    rows = list(csv.DictReader(io.StringIO(read_text_input(path, "a requirements CSV file"), newline="")))
-    if rows and "id" not in rows[0]:
-        raise InputError(f"{path}:1: the header must name the columns id,name,description")
+    text = read_text_input(path, "a requirements CSV file")
+    header = text.partition("\n")[0]
+    delimiter = max(",;\t", key=header.count)  # a spreadsheet saves ';' where the locale writes decimal commas
+    reader = csv.reader(io.StringIO(text, newline=""), delimiter=delimiter)
+    columns = [column.strip().lower() for column in next(reader, [])]
+    if columns and "id" not in columns:
+        raise InputError(f"{path}:1: the header must name the columns id,name,description (it names "
+                         f"{header.strip()!r})")
     requirements = []
-    for line, row in enumerate(rows, start=2):
-        if not (row.get("id") or "").strip():
-            raise InputError(f"{path}:{line}: a requirement without an id")
-        requirements.append(Requirement(row["id"].strip(), (row.get("name") or "").strip(),
-                                        (row.get("description") or "").strip()))
+    for row in reader:
+        fields = dict(zip(columns, (value.strip() for value in row)))
+        if not any(fields.values()):  # a blank line, or one a spreadsheet left of empty cells
+            continue
+        if not fields.get("id"):
+            raise InputError(f"{path}:{reader.line_num}: a requirement without an id")
+        requirements.append(Requirement(fields["id"], fields.get("name", ""), fields.get("description", "")))
     return requirements
 
 
