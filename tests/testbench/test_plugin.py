@@ -204,6 +204,22 @@ def test_lost(sim, ecu):
     assert "; after the test: xsPRV_KP, xsSWITCH_TANK_THR not restored" in html and ">NOT JUDGED (no samples" in html
 
 
+def test_requirements_of_the_catalogue_no_test_traces_are_named(pytester):
+    """The report said NOT TESTED, the terminal only '1 verified, 0 failed' (exit 0: a CI log that reads as all done;
+    user trial 10)."""
+    pytester.makefile(".csv", catalogue="id;name;description\nR1;one;\nR8;eight;\nR9;nine;\n")
+    pytester.makepyfile(test_few="""
+from workbench.testbench import requirement
+
+@requirement("R1")
+def test_one():
+    pass
+""")
+    result = pytester.runpytest_inprocess("--report", "out", "--requirements", "catalogue.csv", *PLUGIN)
+    assert result.ret == 0
+    result.stdout.fnmatch_lines(["1 verified, 0 failed, 2 of the catalogue not tested", "NOT TESTED: R8, R9"])
+
+
 def test_a_run_stopped_within_a_test_verifies_nothing(pytester):
     """Ctrl-C while a test runs: it has no call report, and its requirement counted as verified ('1 verified,
     0 failed' of a run that stopped; user trial 6). It is INTERRUPTED now."""

@@ -342,13 +342,19 @@ class _Outcomes:
                     verified.add(requirement_id)
         verified -= set(failed) | set(broke)
         unjudged = {key: nodeids for key, nodeids in broke.items() if key not in failed}
+        traced_ids = {requirement_id for entry in traced.values() for requirement_id in entry["requirements"]}
+        untested = [r.id for r in self.config.stash.get(_CATALOGUE, []) if r.id not in traced_ids]  # as the report
         terminalreporter.section("requirements")
         terminalreporter.write_line(f"{len(verified)} verified, {len(failed)} failed"
-                                    + (f", {len(unjudged)} not judged (a test broke)" if unjudged else ""))
+                                    + (f", {len(unjudged)} not judged (a test broke)" if unjudged else "")
+                                    + (f", {len(untested)} of the catalogue not tested" if untested else ""))
         for requirement_id, nodeids in sorted(failed.items()):
             terminalreporter.write_line(f"FAILED {requirement_id}: {', '.join(nodeids)}", red=True)
         for requirement_id, nodeids in sorted(unjudged.items()):
             terminalreporter.write_line(f"NOT JUDGED {requirement_id}: {', '.join(nodeids)}", red=True)
+        if untested:
+            shown = ", ".join(untested[:10]) + (f" and {len(untested) - 10} more" if len(untested) > 10 else "")
+            terminalreporter.write_line(f"NOT TESTED: {shown}", yellow=True)
         for nodeid, entry in traced.items():
             for after in entry.get("after", ()):
                 terminalreporter.write_line(f"after {nodeid}: {after}", red=True)
