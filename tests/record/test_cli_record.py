@@ -196,3 +196,21 @@ def test_a_csv_export_names_each_column_by_the_ecu_and_the_signal(bus, capsys, t
     columns = (tmp_path / "run.csv").read_text().splitlines()[0]
     assert columns == ("timestamps,FLCU.HostTime_Task4ms,FLCU.zsRailPressure,FLCU.HostTime_Task50ms,"
                        "FLCU.PRVCtrl_DW.Integrator_DSTATE")
+
+
+@pytest.mark.parametrize("condition, code, said", [
+    ("zsSensVolt[2] > 3", 0, "stop when zsSensVolt[2] > 3: started at 0.000 s"),  # 4 V at once (the rail's [3] < 3)
+    ("zsSensVolt[3] < 4.5 V", 0, "stop when zsSensVolt[3] < 4.5 V: started at 0.000 s"),
+    ("zsSensVolt[4] > 1", 2, "error: trigger condition 'zsSensVolt[4] > 1': zsSensVolt has 4 elements\n"),
+    ("zsSensVolt[0] > 4 bar", 2, "error: trigger condition 'zsSensVolt[0] > 4 bar': '4 bar' is in bar, zsSensVolt in V "
+                                 "(no unit conversion)\n"),
+])
+def test_a_condition_on_an_array_s_element_in_the_signal_s_unit(bus, capsys, tmp_path, read_mdf, condition, code, said):
+    """As the NAMEs take one element of an array (the array is recorded) and cal set a value with its unit."""
+    path = tmp_path / "x.mf4"
+    status, out, err = run(capsys, "record", path, "zsSensVolt[2]", "--stop-when", condition, "--duration", "5", *bus)
+    assert status == code and said in (out if code == 0 else err), (out, err)
+    if code == 0:
+        assert len(channel(read_mdf(path), "Task4ms", "zsSensVolt[3]")) == 1  # the sample that met it is the last
+    else:
+        assert not path.exists()

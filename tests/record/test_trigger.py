@@ -15,6 +15,7 @@ from workbench.record.trigger import TriggerGate
 
 def test_conditions_compare_numbers_and_texts():
     assert Condition.parse("zsRailPressure>=20") == Condition("zsRailPressure", ">=", 20.0)
+    assert Condition.parse("zsRailPressure > 2.5bar") == Condition("zsRailPressure", ">", 2.5, unit="bar")
     state = Condition.parse("xsTankCtrlState == 'TANK2_ON'")
     assert state.first(np.array([b"OFF", b"TANK1_ON", b"TANK2_ON"], dtype=object)) == 2
     assert Condition.parse("x < -1.5").first(np.array([0.0, -1.0, -2.0])) == 2

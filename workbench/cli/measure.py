@@ -77,7 +77,8 @@ def add_recording_arguments(group, can2_help: str) -> None:
     group.add_argument("--overwrite", action="store_true",
                        help="replace an existing OUT.mf4 when the recording ends (it stays until then)")
     group.add_argument("--start-when", metavar="COND", help="record from when a recorded signal meets COND "
-                       "('zsRailPressure > 20', 'xsTankCtrlState == TANK2_ON'; OP: > >= < <= == !=)")
+                       "('zsRailPressure > 20', '... > 20 bar', 'zsSensVolt[2] < 0.5', 'xsTankCtrlState == "
+                       "TANK2_ON'; OP: > >= < <= == !=)")
     group.add_argument("--stop-when", metavar="COND", help="end the recording when COND is met (after the start)")
     group.add_argument("--pre-trigger", type=non_negative_float, default=0.0, metavar="S",
                        help="with --start-when: keep the S seconds before the start too")

@@ -1,5 +1,6 @@
 """Start and stop triggers of a recording, as CANape's trigger conditions: a condition on a recorded signal
-(``zsRailPressure > 20``, ``xsTankCtrlState == TANK2_ON``), and the seconds kept from before the start.
+(``zsRailPressure > 20``, ``zsRailPressure > 20 bar`` in its own unit, ``zsSensVolt[2] < 0.5`` on an array's
+element, ``xsTankCtrlState == TANK2_ON``), and the seconds kept from before the start.
 
 :class:`TriggerGate` stands between the recording's records and its file: until the start condition is met it
 holds what comes (only the last ``pre_s`` seconds of it: memory stays bounded), from the start it lets everything
@@ -27,16 +28,21 @@ __all__ = ["Condition", "Trigger", "TriggerGate", "checked_trigger"]
 _OPERATORS = {">=": operator.ge, "<=": operator.le, "==": operator.eq, "!=": operator.ne, ">": operator.gt,
               "<": operator.lt}
 _CONDITION = re.compile(r"^\s*(?P<name>[^\s<>=!]+)\s*(?P<op>>=|<=|==|!=|>|<)\s*(?P<value>[^\s<>=!].*?)\s*$")
+_WITH_UNIT = re.compile(r"(?P<number>[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?)\s*(?P<unit>[^\d\s.+-].*)")  # 25 bar, 2.5V
+_ELEMENT = re.compile(r"(?P<name>.+?)(?P<index>(\[\s*\d+\s*\])+)")  # zsSensVolt[2], m[1][0]
 
 
 @dataclass(frozen=True)
 class Condition:
     """``name op value``: a recorded signal compared with a number, or with a text of its value table."""
 
-    name: str
+    name: str  # as written: a signal, or one element of an array signal (zsSensVolt[2])
     op: str
     value: float | str
     text: str = field(default="", compare=False)  # as the user wrote it: what a refusal quotes
+    unit: str = ""  # the unit the number was written with (25 bar), checked against the signal's
+    signal: str = ""  # the recorded signal the condition judges ("": ``name``); an element's array
+    index: tuple[int, ...] = ()  # the element of ``signal`` it judges (() the whole value)
 
     @classmethod
     def parse(cls, text: str) -> Condition:
@@ -46,12 +52,24 @@ class Condition:
             raise InputError(f"trigger condition {text!r}: write NAME OP VALUE, OP one of > >= < <= == != "
                              "(e.g. 'zsRailPressure > 20')")
         value: float | str = found["value"].strip("'\"")
+        unit = ""
         try:
             value = float(value)
         except ValueError:
-            if found["op"] not in ("==", "!="):
+            with_unit = _WITH_UNIT.fullmatch(value)
+            if with_unit is not None:
+                value, unit = float(with_unit["number"]), with_unit["unit"].strip()
+            elif found["op"] not in ("==", "!="):
                 raise InputError(f"trigger condition {text!r}: {found['op']} compares with a number") from None
-        return cls(found["name"], found["op"], value, text.strip())
+        return cls(found["name"], found["op"], value, text.strip(), unit)
+
+    def column(self, values: dict[str, np.ndarray]) -> np.ndarray | None:
+        """Its signal's (or element's) samples among ``values`` (name -> physical values, one row a sample);
+        None: not among them."""
+        found = values.get(self.signal or self.name)
+        if found is None:
+            return None
+        return np.asarray(found)[(slice(None), *self.index)] if self.index else np.asarray(found)
 
     def first(self, values: np.ndarray) -> int | None:
         """The first of ``values`` (physical: numbers, or texts of a value table) that meets it; None: none does."""
@@ -67,7 +85,8 @@ class Condition:
         return self.text or str(self)
 
     def __str__(self) -> str:
-        return f"{self.name} {self.op} {self.value:g}" if isinstance(self.value, float) else \
+        unit = f" {self.unit}" if self.unit else ""
+        return f"{self.name} {self.op} {self.value:g}{unit}" if isinstance(self.value, float) else \
             f"{self.name} {self.op} {self.value}"
 
 
@@ -82,7 +101,8 @@ class Trigger:
 
     @property
     def names(self) -> set[str]:
-        return {condition.name for condition in (self.start, self.stop) if condition is not None}
+        """The recorded signals the conditions judge (an element's array)."""
+        return {condition.signal or condition.name for condition in (self.start, self.stop) if condition is not None}
 
     def describe(self) -> str:
         parts = []
@@ -94,34 +114,64 @@ class Trigger:
 
 
 def checked_trigger(trigger: Trigger, model: A2lModel) -> Trigger:
-    """``trigger`` with each condition's text as the signal's value table writes it (``off``: ``OFF``).
+    """``trigger`` with each condition's signal found (an array's element: ``zsSensVolt[2]``), its unit checked and its
+    text as the signal's value table writes it (``off``: ``OFF``).
 
     :raises UnknownSymbolError: a condition names no object of ``model`` (the closest are suggested).
-    :raises InputError: a text the signal's table lacks, or a text for a signal without one: the condition
-        would never be met, and a recording waiting for it would stay empty (or never stop).
+    :raises InputError: an element the array does not have, a number in another unit than the signal's, a text the
+        signal's table lacks, or a text for a signal without one: the condition would never be met, and a recording
+        waiting for it would stay empty (or never stop).
     """
     checked = {}
     for role in ("start", "stop"):
         condition = getattr(trigger, role)
         if condition is None:
             continue
-        try:
-            found = model.object(condition.name)
-        except UnknownSymbolError as error:  # named with the condition: start and stop may name different signals
-            raise UnknownSymbolError(error.name, f"{error.where} ({role} condition '{condition.said}')",
-                                     error.suggestions) from None
-        if not isinstance(condition.value, str):
-            continue
+        found, index = _signal(model, condition, role)
+        condition = replace(condition, signal=found.name, index=index)
         conversion = model.conversion(found)
-        if not getattr(conversion, "verbal", False):
-            raise InputError(f"trigger condition '{condition.said}': {condition.name} has no value table; compare it "
-                             "with a number")
-        text = conversion.text_of(condition.value)
-        if text is None:
-            raise InputError(f"trigger condition '{condition.said}': {condition.value!r} is not one of its values "
-                             f"({conversion.allowed_shown})")
-        checked[role] = replace(condition, value=text)
+        verbal = getattr(conversion, "verbal", False)
+        if condition.unit and verbal and condition.op in ("==", "!="):  # a text that starts with a digit: '2WD'
+            condition = replace(condition, value=condition.said.split(condition.op, 1)[1].strip().strip("'\""),
+                                unit="")
+        if condition.unit and condition.unit != model.unit_of(found):
+            number = condition.said.split(condition.op, 1)[1].strip()
+            raise InputError(f"trigger condition '{condition.said}': '{number}' is in {condition.unit}, {found.name} "
+                             f"in {model.unit_of(found) or 'no unit'} (no unit conversion)")
+        if isinstance(condition.value, str):
+            if not verbal:
+                raise InputError(f"trigger condition '{condition.said}': {found.name} has no value table; compare it "
+                                 "with a number")
+            text = conversion.text_of(condition.value)
+            if text is None:
+                raise InputError(f"trigger condition '{condition.said}': {condition.value!r} is not one of its values "
+                                 f"({conversion.allowed_shown})")
+            condition = replace(condition, value=text)
+        checked[role] = condition
     return replace(trigger, **checked)
+
+
+def _signal(model: A2lModel, condition: Condition, role: str):
+    """The object a condition judges and the element of it (() for its whole value).
+
+    :raises UnknownSymbolError: no such object (named with the condition: start and stop may name different ones).
+    :raises InputError: an element the array does not have.
+    """
+    element = _ELEMENT.fullmatch(condition.name)
+    name = condition.name if element is None or condition.name in model else element["name"]
+    try:
+        found = model.object(name)
+    except UnknownSymbolError as error:
+        raise UnknownSymbolError(error.name, f"{error.where} ({role} condition '{condition.said}')",
+                                 error.suggestions) from None
+    if name == condition.name:
+        return found, ()
+    index = tuple(int(number) for number in re.findall(r"\d+", element["index"]))
+    shape = tuple(getattr(found, "shape", ()))
+    if len(index) != len(shape) or any(i >= size for i, size in zip(index, shape)):
+        has = "no elements" if not shape else f"{'x'.join(map(str, shape))} elements"
+        raise InputError(f"trigger condition '{condition.said}': {name} has {has}")
+    return found, index
 
 
 class TriggerGate:
@@ -137,13 +187,15 @@ class TriggerGate:
     def observe(self, times: np.ndarray, values: dict[str, np.ndarray]) -> None:
         """Judge the conditions on DAQ samples (``values``: name -> physical values, one per time)."""
         start, stop = self.trigger.start, self.trigger.stop
-        if self.started_s is None and start is not None and start.name in values:
-            index = start.first(values[start.name])
+        started = start.column(values) if self.started_s is None and start is not None else None
+        if started is not None:
+            index = start.first(started)
             if index is not None:
                 self.started_s = float(times[index])
-        if self.started_s is not None and self.stopped_s is None and stop is not None and stop.name in values:
+        stopping = stop.column(values) if self.started_s is not None and self.stopped_s is None and stop else None
+        if stopping is not None:
             after = np.flatnonzero(np.asarray(times) > self.started_s)
-            index = stop.first(np.asarray(values[stop.name])[after]) if len(after) else None
+            index = stop.first(stopping[after]) if len(after) else None
             if index is not None:
                 self.stopped_s = float(times[after[index]])
 
