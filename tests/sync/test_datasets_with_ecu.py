@@ -257,3 +257,22 @@ def test_each_object_is_read_once_and_only_what_changes_is_written(sim, channel,
     assert [(o.name, o.reason) for o in refused.value.report.outcomes if o.status == "refused"] == [
         ("xsPRV_KP", "FNC_VALUES at 0xFC00E4..0xFC00E7 lie outside the A2L's writable memory (MEMORY_SEGMENTs of "
                      "calibration RAM); not written")]
+
+
+def test_a_fix_switch_turned_on_is_written_after_its_value_and_one_turned_off_before(ecu, monkeypatch):
+    """As Session.override and release write them: in the file's order (_EN first) the ECU ran the signal on the
+    old override value between the two writes (user trial 10)."""
+    written = []
+    write = ecu.write
+    monkeypatch.setattr(ecu, "write", lambda name, value, **kw: (written.append(name), write(name, value, **kw))[1])
+    dataset = read_dataset(ecu, ["zfRAILPRESSURE_EN", "zfRAILPRESSURE_VALUE", "cfFUELLEVEL_EN", "cfFUELLEVEL_VALUE"])
+    for name, value in (("zfRAILPRESSURE_EN", "ON"), ("zfRAILPRESSURE_VALUE", 30.0), ("cfFUELLEVEL_EN", "ON"),
+                        ("cfFUELLEVEL_VALUE", 40.0)):
+        dataset[name] = replace(dataset[name], value=value)
+    apply_dataset(ecu, dataset)
+    assert written == ["zfRAILPRESSURE_VALUE", "zfRAILPRESSURE_EN", "cfFUELLEVEL_VALUE", "cfFUELLEVEL_EN"]
+    written.clear()
+    for name, value in (("zfRAILPRESSURE_EN", "OFF"), ("zfRAILPRESSURE_VALUE", 0.0)):
+        dataset[name] = replace(dataset[name], value=value)
+    apply_dataset(ecu, dataset)
+    assert written == ["zfRAILPRESSURE_EN", "zfRAILPRESSURE_VALUE"]

@@ -28,6 +28,7 @@ import numpy as np
 
 from workbench.calib.codec import value_edits
 from workbench.calib.dataset import DatasetDiff, diff_datasets
+from workbench.calib.fixes import fix_pairs_of
 from workbench.calib.limits import check_limits
 from workbench.calib.memory import ByteEdit, Span
 from workbench.calib.values import CalValue
@@ -173,7 +174,7 @@ def apply_dataset(session: Session | ImageCalibration, dataset: Mapping[str, Cal
             session.require_writable()
         planned, refused, current = _check(session, dataset, allow_extended_limits, progress, result)
         skipped = {name: refused.pop(name) for name in list(refused) if skip_unknown and name not in session.model}
-        changing = [name for name, plan in planned.items() if plan.edits]
+        changing = _switches_in_order(session, planned, [name for name, plan in planned.items() if plan.edits])
         result.diff = _changes(session, dataset, planned, changing, current, result)
         pending = WOULD_CHANGE if dry_run else NOT_WRITTEN
         why = "other objects were refused" if refused and not dry_run else ""
@@ -188,6 +189,23 @@ def apply_dataset(session: Session | ImageCalibration, dataset: Mapping[str, Cal
         if changing and not offline:
             result.warnings += _not_run(session)
     return result
+
+
+def _switches_in_order(session: Session | ImageCalibration, planned: dict[str, _Planned], changing: list[str]
+                       ) -> list[str]:
+    """``changing`` with each fix switch (``_EN``) the dataset turns on after its ``_VALUE`` and one it turns off
+    before it, as Session.override and release write them: the ECU never runs the signal on the old override
+    between the two writes (in a file's order, _EN first, a rail pressure fixed at 30 bar ran at the old 0 bar
+    for a task or two)."""
+    pairs = session.fix_pairs() if isinstance(session, Session) else fix_pairs_of(session.model)
+    order = list(changing)
+    for pair in pairs:
+        if pair.enable in order and pair.value in order:
+            obj = session.model.object(pair.enable)
+            on = bool(session.model.conversion(obj).to_raw(planned[pair.enable].value.value))
+            order.remove(pair.enable)
+            order.insert(order.index(pair.value) + (1 if on else 0), pair.enable)
+    return order
 
 
 def _not_run(session: Session) -> list[str]:
