@@ -245,3 +245,44 @@ def test_a_test_run_that_does_not_use_it_loads_nothing_heavy():
             "{'numpy', 'can', 'cantools', 'asammdf', 'pyxcp', 'elftools'})))")
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert json.loads(run.stdout) == []
+
+
+def test_verdicts_are_written_a_line_each_as_the_tests_end(pytester):
+    """--verdict-log: what a window follows while the run goes on (JUnit is written at the end): the tests collected,
+    each start and verdict with its requirements and one-line reason, whether the ECU was lost or not there, the end."""
+    pytester.makepyfile(test_live='''
+from workbench.errors import ConnectionLostError
+from workbench.testbench import requirement
+
+@requirement("R1")
+def test_passes():
+    pass
+
+@requirement("R2", "R3")
+def test_fails():
+    assert 1 + 1 == 3
+
+@requirement("R3")
+def test_loses_the_ecu():
+    raise ConnectionLostError("XCP on CAN", "no DTO for 900 ms")
+
+@requirement("R4")
+def test_without_an_ecu(ecu):
+    pass
+''')
+    channel = f"plugin-test-{next(_channels)}"  # no ECU there
+    result = pytester.runpytest_inprocess("--verdict-log", "live/verdicts.jsonl", "--interface", "virtual", "--channel",
+                                          channel, *PLUGIN)
+    result.assert_outcomes(passed=1, failed=1, errors=2)
+    events = [json.loads(line) for line in (pytester.path / "live" / "verdicts.jsonl").read_text().splitlines()]
+    assert [event["event"] for event in events] == ["collected", *["started", "verdict"] * 4, "finished"]
+    assert events[0]["tests"][1] == {"nodeid": "test_live.py::test_fails", "requirements": ["R2", "R3"]}
+    verdicts = {event["nodeid"].split("::")[1]: event for event in events if event["event"] == "verdict"}
+    assert {name: (v["verdict"], v["ecu"]) for name, v in verdicts.items()} == {
+        "test_passes": ("passed", None), "test_fails": ("failed", None), "test_loses_the_ecu": ("not judged", "lost"),
+        "test_without_an_ecu": ("error", "unreachable")}
+    assert verdicts["test_fails"]["message"] == "assert (1 + 1) == 3"
+    assert verdicts["test_fails"]["requirements"] == ["R2", "R3"]
+    assert verdicts["test_without_an_ecu"]["message"].startswith("Failed: XCP CONNECT: no response within")
+    assert events[-1] == {"event": "finished", "exitstatus": 1}
+    result.stdout.fnmatch_lines(["1 verified, 2 failed, 1 not judged (a test broke)"])

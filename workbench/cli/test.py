@@ -21,10 +21,10 @@ find by the same bus options (against a real ECU the tests that need it are skip
 
 --report DIR writes DIR/junit.xml (a testcase property 'requirement' per requirement id),
 DIR/report.html (traceability, each test's steps, plots of its signals with the expectation bands)
-and each test's MDF4 evidence under DIR/evidence. -n N spreads the tests over N processes
-(pytest-xdist), each test with its own simulated ECU. --req ID runs the tests that verify a requirement
-(or those below it), --repeat N runs each test N times, and what follows -- goes to pytest as it is
-(-x, -v, --lf, -m MARK, --junitxml PATH ...). Exit 0: every test passed; 1: a test failed, or broke
+and each test's MDF4 evidence under DIR/evidence; --verdict-log FILE a JSON line per test as it ends.
+-n N spreads the tests over N processes (pytest-xdist), each test with its own simulated ECU. --req ID
+runs the tests that verify a requirement (or those below it), --repeat N runs each test N times, and
+what follows -- goes to pytest as it is (-x, -v, --lf, -m MARK, --junitxml PATH ...). Exit 0: every test passed; 1: a test failed, or broke
 before it judged (its requirements NOT JUDGED); 2: bad input (options, a path, no tests found).
 
 examples:
@@ -48,6 +48,8 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
                     "each test's signals recorded to MDF4, results traced to requirement ids.")
     parser.add_argument("paths", nargs="*", metavar="PATH", help="test files or folders (default: the FLCU suite)")
     parser.add_argument("--report", metavar="DIR", help="write DIR/junit.xml, DIR/report.html and the MF4 evidence")
+    parser.add_argument("--verdict-log", metavar="FILE", help="write a JSON line per test to FILE as it ends (verdict, "
+                                                              "requirements, failure), for a program following the run")
     parser.add_argument("-n", dest="workers", type=positive_int, metavar="N",
                         help="run the tests in N worker processes (pytest-xdist; simulated ECUs only)")
     parser.add_argument("-k", dest="keyword", metavar="EXPR", help="only the tests whose names match EXPR (pytest -k)")
@@ -105,7 +107,8 @@ def pytest_arguments(args: argparse.Namespace) -> list[str]:
                           ("--port", args.port), ("--protocol", args.protocol), ("--key-function", args.key_function),
                           ("--dbc", args.dbc), ("--can2-interface", args.can2_interface),
                           ("--can2-channel", args.can2_channel), ("--sim-s19", args.sim_s19),
-                          ("--sim-control", args.sim_control), ("--report", args.report), ("-k", args.keyword)):
+                          ("--sim-control", args.sim_control), ("--report", args.report), ("-k", args.keyword),
+                          ("--verdict-log", args.verdict_log)):
         if value is not None:
             argv += [option, str(value)]
     if bus:

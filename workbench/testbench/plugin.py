@@ -5,7 +5,9 @@
   as ``workbench`` takes them), or on a fresh simulated demo ECU per test without bus options; the
   test's signals recorded to MDF4 as its evidence; its calibrations restored after it;
 * ``@requirement("SW_REQ_ID_002.2")`` -> the JUnit testcase property ``requirement`` (one per id);
-* ``--report DIR``: DIR/junit.xml, DIR/report.html (traceability, steps, plots) and the evidence under DIR.
+* ``--report DIR``: DIR/junit.xml, DIR/report.html (traceability, steps, plots) and the evidence under DIR;
+* ``--verdict-log FILE``: a JSON line per test as it ends (:mod:`workbench.testbench.verdicts`), for a window that
+  follows the run.
 
 Costs nothing to a test that does not use it: this module imports only pytest; the fixture imports the
 rest when a test asks for it.
@@ -30,6 +32,7 @@ _REPORT_DIR = pytest.StashKey()
 _CATALOGUE = pytest.StashKey()  # the --requirements of a --report
 _CALL_FAILED = pytest.StashKey()  # the test's body failed or broke: the teardown's problems do not make a second error
 TEARDOWN = "teardown"  # the user property that holds them then (JUnit writes it; the report adds it to the message)
+_ECU_STATE = pytest.StashKey()  # a test's: "lost" (the ECU stopped answering during it), "unreachable" (at its start)
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
@@ -56,6 +59,9 @@ def pytest_addoption(parser: pytest.Parser) -> None:
                                                                "the bus options)")
     group.addoption("--report", metavar="DIR", help="write DIR/junit.xml, DIR/report.html and the MF4 evidence")
     group.addoption("--requirements", metavar="CSV", help="the requirements (id,name,description) the report traces")
+    group.addoption("--verdict-log", metavar="FILE", help="write a JSON line per test to FILE as it ends (its "
+                                                          "verdict, requirements and failure), for a window following "
+                                                          "the run")
     group.addoption("--req", action="append", metavar="ID",
                     help="only the tests that verify requirement ID or one below it (SW_REQ_ID_001: SW_REQ_ID_001.1 "
                          "...); repeatable")
@@ -75,7 +81,13 @@ def pytest_configure(config: pytest.Config) -> None:
         config.stash[_CATALOGUE] = _catalogue(config.getoption("requirements"))
         if not config.option.xmlpath:
             config.option.xmlpath = str(directory / "junit.xml")
-    config.pluginmanager.register(_Outcomes(config, keep_all=bool(report)), "workbench-testbench-outcomes")
+    verdict_log = config.getoption("verdict_log")
+    outcomes = _Outcomes(config, keep_all=bool(report or verdict_log))
+    config.pluginmanager.register(outcomes, "workbench-testbench-outcomes")
+    if verdict_log and not hasattr(config, "workerinput"):
+        from workbench.testbench.verdicts import VerdictLog
+
+        config.pluginmanager.register(_LiveVerdicts(VerdictLog(verdict_log), outcomes), "workbench-testbench-verdicts")
     if any(getattr(config.option, dest, None) for dest in _ECU_OPTIONS):  # bad ECU options: a usage error at once
         target = _target(config)
         workers = getattr(config.option, "numprocesses", None)  # pytest-xdist's -n, maybe from an ini's addopts
@@ -151,6 +163,16 @@ def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo):
             and not call.excinfo.errisinstance((AssertionError, pytest.fail.Exception))):
         report.user_properties.append(VERDICT_ERROR)
         item.user_properties.append(VERDICT_ERROR)  # JUnit writes the properties of the teardown's report
+    if call.excinfo is not None and call.excinfo.errisinstance(_connection_lost()):
+        item.stash[_ECU_STATE] = "lost"
+    if _ECU_STATE in item.stash:  # a report's attribute travels from an xdist worker with it
+        report.workbench_ecu = item.stash[_ECU_STATE]
+
+
+def _connection_lost() -> type:
+    from workbench.errors import ConnectionLostError
+
+    return ConnectionLostError
 
 
 def _broke(report: pytest.TestReport) -> bool:
@@ -227,13 +249,15 @@ def ecu(request: pytest.FixtureRequest):
     target = _target(config)
     directory = _evidence_dir(config)
     name = safe_name(request.node.nodeid)
-    from workbench.errors import WorkbenchError
+    from workbench.errors import ConnectionLostError, WorkbenchError, XcpTimeoutError
 
     stack = ExitStack()
     try:  # no ECU (not powered, lost in an earlier test), a restore that failed: one line, no library traceback
         bench = stack.enter_context(target.bench(directory / "evidence" / f"{name}.mf4"))
     except WorkbenchError as exc:
         problem = str(exc)  # failed outside the except: pytest would show the error twice, chained
+        if isinstance(exc, (XcpTimeoutError, ConnectionLostError)):
+            request.node.stash[_ECU_STATE] = "unreachable"
     else:
         problem = None
     if problem is not None:
@@ -245,6 +269,8 @@ def ecu(request: pytest.FixtureRequest):
             yield bench
         finally:
             _write_record(directory, name, request.node, bench)
+            if bench.evidence.failure is not None:  # its samples stopped: the ECU was lost
+                request.node.stash[_ECU_STATE] = "lost"
     finally:
         problem = None
         try:
@@ -300,10 +326,13 @@ class _Outcomes:
                                                         "message": "the run stopped before this test's end (Ctrl-C)",
                                                         "requirements": requirements})
         entry["duration"] += report.duration
+        if getattr(report, "workbench_ecu", None) and not entry.get("ecu"):
+            entry["ecu"] = report.workbench_ecu
         if report.when == "call":
             entry["outcome"], entry["message"] = "error" if _broke(report) else report.outcome, _one_line(report)
+            entry["when"] = report.when
         elif report.failed and entry["outcome"] != "failed":  # an error in setup or teardown
-            entry["outcome"], entry["message"] = "error", _one_line(report)
+            entry["outcome"], entry["message"], entry["when"] = "error", _one_line(report), report.when
         elif report.when == "teardown":  # what the teardown could not undo after a failed test
             entry["after"] = [str(value) for key, value in report.user_properties if key == TEARDOWN]
             entry["message"] += "".join(f"; after the test: {after}" for after in entry["after"])
@@ -361,3 +390,45 @@ class _Outcomes:
         directory = self.config.stash.get(_REPORT_DIR, None)
         if directory is not None:
             terminalreporter.write_line(f"report: {directory / 'report.html'}")
+
+
+class _LiveVerdicts:
+    """``--verdict-log``: the tests to run, each test's start and verdict as it ends, the run's end (on the controller:
+    xdist forwards the workers' starts, reports and ends)."""
+
+    def __init__(self, log, outcomes: _Outcomes):
+        self.log = log
+        self.outcomes = outcomes
+        self.collected = False
+
+    def pytest_collection_finish(self, session: pytest.Session) -> None:
+        self._collected([(item.nodeid, [v for k, v in item.user_properties if k == "requirement"])
+                         for item in session.items])
+
+    @pytest.hookimpl(optionalhook=True)
+    def pytest_xdist_node_collection_finished(self, node, ids: list[str]) -> None:
+        self._collected([(nodeid, []) for nodeid in ids])  # each worker collects the same tests
+
+    def _collected(self, tests: list[tuple[str, list[str]]]) -> None:
+        if not self.collected:
+            self.collected = True
+            self.log.write("collected", tests=[{"nodeid": nodeid, "requirements": ids} for nodeid, ids in tests])
+
+    def pytest_runtest_logstart(self, nodeid: str, location) -> None:
+        self.log.write("started", nodeid=nodeid)
+
+    def pytest_runtest_logfinish(self, nodeid: str, location) -> None:
+        from workbench.testbench.verdicts import verdict_of
+
+        entry = self.outcomes.results.get(nodeid)
+        if entry is not None:
+            self.log.write("verdict", nodeid=nodeid, verdict=verdict_of(entry), requirements=entry["requirements"],
+                           message=entry["message"], duration=round(entry["duration"], 3), ecu=entry.get("ecu"))
+
+    @pytest.hookimpl(wrapper=True)  # after the report is written: a window may open it at this line
+    def pytest_sessionfinish(self, session: pytest.Session, exitstatus):
+        try:
+            return (yield)
+        finally:
+            self.log.write("finished", exitstatus=int(session.exitstatus))
+            self.log.close()
