@@ -164,6 +164,17 @@ def test_eleven():
     assert pytest_arguments(parsed)[-2:] == ["-n", "0"]  # one master, whatever -n a project's addopts give
 
 
+def test_tests_keep_their_file_in_their_names_beside_an_a2l_from_elsewhere(pytester):
+    """pytest takes every word of its command line that names an existing file or folder for a test path when it
+    chooses its root folder: an --a2l (or --dbc, --requirements) elsewhere made it /, and the tests of test_names.py
+    were '::test_one' in the terminal, JUnit, the report and the window's table. The command gives its options'
+    values as --option=VALUE."""
+    pytester.makepyfile(test_names="def test_one():\n    pass\n")
+    run = _run(pytester, str(pytester.path / "test_names.py"), "--a2l", str(demo.a2l()), "--dbc", str(demo.dbc_can2()),
+               "--", "--collect-only", "-q")
+    run.stdout.fnmatch_lines(["test_names.py::test_one"])
+
+
 def test_the_example_requirement_tests_pass(pytester):
     """examples/test_requirements.py, the file a test engineer copies, runs as the docs say (a simulated ECU each)."""
     example = Path(__file__).resolve().parents[2] / "examples" / "test_requirements.py"

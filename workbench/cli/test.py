@@ -109,8 +109,8 @@ def pytest_arguments(args: argparse.Namespace) -> list[str]:
                           ("--can2-channel", args.can2_channel), ("--sim-s19", args.sim_s19),
                           ("--sim-control", args.sim_control), ("--report", args.report), ("-k", args.keyword),
                           ("--verdict-log", args.verdict_log)):
-        if value is not None:
-            argv += [option, str(value)]
+        if value is not None:  # --option=VALUE: pytest takes a separate word naming a file for a test path (its root)
+            argv += [option, str(value)] if option == "-k" else [f"{option}={value}"]
     if bus:
         argv += ["--bus-kwargs", *(f"{key}={value}" for key, value in bus.items())]
     if args.can2_bus_kwargs:
@@ -119,7 +119,7 @@ def pytest_arguments(args: argparse.Namespace) -> list[str]:
         argv.append("--accept-epk-mismatch")
     requirements = args.requirements or (str(suite_path() / "requirements.csv") if not args.paths else None)
     if requirements:
-        argv += ["--requirements", requirements]
+        argv.append(f"--requirements={requirements}")
     for requirement_id in args.req or ():
         argv += ["--req", requirement_id]
     if args.repeat:
