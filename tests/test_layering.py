@@ -32,7 +32,7 @@ ALLOWED = {
     "flash": {"a2l", "elf", "image", "xcp", "session"},
     "sync": {"a2l", "image", "xcp", "calib", "session", "flash"},
     "testbench": {"a2l", "calib", "can", "record", "session", "sim"},
-    "gui": {"a2l", "elf", "image", "xcp", "calib", "record", "can", "sim", "session", "flash", "sync"},
+    "gui": {"a2l", "elf", "image", "xcp", "calib", "record", "can", "sim", "session", "flash", "sync", "testbench"},
     "cli": {"a2l", "elf", "image", "xcp", "calib", "record", "can", "sim", "gui", "session", "flash", "sync",
             "testbench"},
 }

@@ -55,6 +55,7 @@ from workbench.gui.widgets.numeric_view import NumericView
 from workbench.gui.widgets.plot_hint import PlotHint
 from workbench.gui.widgets.plot_window import PlotWindow
 from workbench.gui.widgets.status_bar import EcuStatusBar
+from workbench.gui.widgets.tests_dialog import RequirementTestsDialog
 from workbench.gui.widgets.sync_dialog import SyncDialog
 from workbench.gui.widgets.variable_browser import VariableBrowser
 from workbench.gui.worker import Task, run_task
@@ -84,6 +85,7 @@ class MainWindow(EcuWindowActions, QMainWindow):
         self.flash_dialog: FlashDialog | None = None
         self.sync_dialog: SyncDialog | None = None
         self.a2l_tools: A2lToolsDialog | None = None
+        self.tests_dialog: RequirementTestsDialog | None = None
         self.copy_confirm: QMessageBox | None = None  # the page copy's question (tests answer it)
         self.sync_report = None  # the last cache sync's workbench.sync.SyncReport
         self.last_recording = None  # the last recording's workbench.record.RecordingStats
@@ -505,6 +507,14 @@ class MainWindow(EcuWindowActions, QMainWindow):
         self.a2l_tools.show()
         self.a2l_tools.raise_()
         return self.a2l_tools
+
+    def open_requirement_tests(self) -> RequirementTestsDialog:
+        """The requirement tests (Tools menu), non-modal; one dialog, which keeps its choices and its last run."""
+        if self.tests_dialog is None:
+            self.tests_dialog = RequirementTestsDialog(self)
+        self.tests_dialog.show()
+        self.tests_dialog.raise_()
+        return self.tests_dialog
 
     def reload_a2l(self) -> Task:
         """Read the project's files again (its A2L was rewritten), the windows kept; the editors are opened again

@@ -182,7 +182,8 @@ def _view_menu(window, menu) -> None:
 
 def _tools_menu(window, menu) -> None:
     """The A2L tool chain of a build (``workbench a2l update|check|merge|insert|remove|cleanup|flatten``), one dialog
-    for all: ``window.a2l_update_action`` ... ``window.a2l_flatten_action``."""
+    for all: ``window.a2l_update_action`` ... ``window.a2l_flatten_action``; then the requirement tests
+    (``workbench test``): ``window.tests_action``."""
     for operation, text, tip in (
             (UPDATE, "Update A2L from ELF…", "set every address (and the EPK) of an A2L from the ELF of a build"),
             (CHECK, "Check A2L…", "syntax, references, names and memory placement, with file:line:column"),
@@ -197,6 +198,11 @@ def _tools_menu(window, menu) -> None:
         item = _action(window, text, lambda _=False, operation=operation: window.open_a2l_tools(operation), tip)
         setattr(window, f"a2l_{operation}_action", item)
         menu.addAction(item)
+    menu.addSeparator()  # the tests of a build's software, as CANape's and INCA's test automation sit by their tools
+    window.tests_action = _action(window, "Requirement tests…", window.open_requirement_tests,
+                                 "run requirement tests (workbench test) on simulated ECUs or the ECU connected, "
+                                 "each test's verdict as it ends, the traced report")
+    menu.addAction(window.tests_action)
 
 
 def _set_keys(item: QAction, keys, tip: str) -> None:
