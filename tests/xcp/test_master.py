@@ -127,6 +127,21 @@ def test_a_master_block_refused_with_err_sequence_is_written_again_from_set_mta(
         rig.master.write(CAL_RAM + 0x10, before)
 
 
+def test_a_master_block_refused_busy_is_written_again_t7_later(rig):
+    """ERR_CMD_BUSY for a block's first DOWNLOAD (its DOWNLOAD_NEXT frames then ERR_SEQUENCE): SYNCH, T7, the block
+    again from SET_MTA (it was 'DOWNLOAD_NEXT failed: ERR_CMD_BUSY')."""
+    before = rig.master.read(CAL_RAM + 0x10, 40)
+    data = bytes(range(1, 41))
+    try:
+        rig.master.unlock(Resource.CAL_PAG)
+        rig.demo.ecu.faults.reject_command(1, Err.CMD_BUSY, command=Cmd.DOWNLOAD)
+        rig.master.write(CAL_RAM + 0x10, data)
+        assert rig.demo.ecu.read(CAL_RAM + 0x10, 40) == data
+        assert rig.demo.ecu.faults.fired == [f"reject command 0x{Cmd.DOWNLOAD:02X} with CMD_BUSY"]
+    finally:
+        rig.master.write(CAL_RAM + 0x10, before)
+
+
 def test_an_unlock_refused_with_err_sequence_starts_over_with_get_seed(rig, threshold):
     rig.demo.ecu.faults.reject_command(1, Err.SEQUENCE, command=Cmd.UNLOCK)
     rig.master.write(threshold, struct.pack("<f", 20.0))  # CAL/PAG unlocked at the second GET_SEED

@@ -115,7 +115,8 @@ PROFILES: dict[str, SlaveProfile] = {p.name: p for p in (
                  "OPTIONAL_CMD)", "SET_MTA + UPLOAD for every read; the DAQ processor, resolution and events from the "
                  "A2L (ASAM: 'use the A2L'); no master block mode without GET_COMM_MODE_INFO",
                  xcp={"without": _FEW_COMMANDS_LACK}),
-    SlaveProfile("busy", "every 7th command is refused with ERR_CMD_BUSY before it runs (T7 10 ms)",
+    SlaveProfile("busy", "every 7th command (a master block's first frame too) is refused with ERR_CMD_BUSY before it "
+                 "runs (T7 10 ms)",
                  "ERR_CMD_BUSY: wait T7 and send the command again (ASAM's error matrix), never an error for people",
                  xcp={"busy_every": 7}, timeouts_ms={"t7": 10}),
     SlaveProfile("no-get-id", "GET_ID is not implemented (ERR_CMD_UNKNOWN)", "the EPK read at ADDR_EPK",

@@ -465,21 +465,32 @@ class XcpMaster:
         return action()
 
     def _repeat_from_mta(self, action: Callable[[], bytes | None]):
-        """``action`` (SET_MTA and a transfer), repeated twice from SET_MTA after a timeout (SYNCH sent) or a master
-        block the slave refused with ERR_SEQUENCE (a frame of it lost: the answers to the frames after it drained by
-        SYNCH), as ASAM's error matrix says."""
-        for attempt in range(3):
+        """``action`` (SET_MTA and a transfer), repeated from SET_MTA as ASAM's error matrix says: twice after a
+        timeout (SYNCH sent) or a master block the slave refused with ERR_SEQUENCE (a frame of it lost), T7 later
+        (as a single command would be) after a block refused busy; the answers to the block's other frames are
+        drained by SYNCH first."""
+        repeats = busy = 0
+        while True:
             try:
                 return action()
             except XcpTimeoutError as error:
-                if attempt == 2 or isinstance(error, EcuSilentError):  # SYNCH unanswered too: nothing to repeat to
+                if repeats == 2 or isinstance(error, EcuSilentError):  # SYNCH unanswered too: nothing to repeat to
                     raise
                 log.info("XCP memory transfer timed out; repeating from SET_MTA")
+                repeats += 1
             except XcpCommandError as error:
-                if attempt == 2 or error.code != Err.SEQUENCE or error.command not in _BLOCK_COMMANDS:
+                if error.command not in _BLOCK_COMMANDS:
                     raise
-                log.info("XCP %s: ERR_SEQUENCE, a frame of the block lost; repeating from SET_MTA", error.command)
-                self.resynchronize()
+                if error.code in _WAIT_AND_REPEAT and busy < _BUSY_REPEATS:
+                    busy += 1
+                    self.resynchronize()
+                    time.sleep(self.timeouts.t7)
+                elif error.code == Err.SEQUENCE and repeats < 2:
+                    repeats += 1
+                    self.resynchronize()
+                else:
+                    raise
+                log.info("XCP %s: %s; repeating the block from SET_MTA", error.command, error.name)
 
     def download(self, data: bytes, *, command: Cmd = Cmd.DOWNLOAD, next_command: Cmd = Cmd.DOWNLOAD_NEXT,
                  timeout: str | None = None, max_bs: int | None = None, min_st_s: float | None = None) -> None:

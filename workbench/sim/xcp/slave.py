@@ -220,14 +220,11 @@ class XcpSlave:
 
     def _busy_now(self, command: int, cto: bytes) -> bool:
         """A busy slave (:attr:`XcpParameters.busy_every`) refuses every n-th command with ERR_CMD_BUSY before it runs
-        it: the master waits T7 and sends it again. CONNECT and SYNCH are always served, and so are a master block's
-        frames (a block refused in its middle is not modelled)."""
+        it (the first frame of a master block too: its other frames then find no block, ERR_SEQUENCE): the master
+        waits T7 and sends it again. CONNECT, SYNCH and the _NEXT frames are always served."""
         every = self.params.busy_every
         if not every or command in (Cmd.CONNECT, Cmd.SYNCH, Cmd.DOWNLOAD_NEXT, Cmd.PROGRAM_NEXT):
             return False
-        if command in (Cmd.DOWNLOAD, Cmd.PROGRAM) and len(cto) > 1 and self.elements(cto[1]) > (
-                self.params.max_data_per_frame if command == Cmd.DOWNLOAD else self.params.pgm_data_per_frame):
-            return False  # the first frame of a master block
         self._commands += 1
         return self._commands % every == 0
 
