@@ -123,8 +123,8 @@ def test_a_state_or_name_the_ecu_does_not_have_is_refused_not_judged(target, tmp
 
 def test_a_duration_or_tolerance_no_sample_could_meet_is_refused_not_judged(target, tmp_path):
     """A negative window, deadline or tolerance is the test's mistake: it failed the requirement as if the ECU
-    broke it ('expect zsRailPressure = 0 ± -1 bar: 0 bar at t=...'; a tolerance on a text passed unread; user
-    trial 10)."""
+    broke it ('expect zsRailPressure = 0 ± -1 bar: 0 bar at t=...'; a tolerance on a text passed unread; a window
+    before the watch failed on 'no samples', a mark in the future on 'no edge'; user trial 10)."""
     with target.bench(tmp_path / "times.mf4") as ecu:
         ecu.watch("zsRailPressure", "xsTankCtrlState")
         refusals = {"for_s=-1.0: give a number above 0": lambda: ecu.expect("zsRailPressure", 0.0, for_s=-1.0),
@@ -135,7 +135,11 @@ def test_a_duration_or_tolerance_no_sample_could_meet_is_refused_not_judged(targ
                     "period_s=0: give": lambda: ecu.expect_period("FLCU_TO_PCM_001", 0, 0.01),
                     "a tolerance compares numbers": lambda: ecu.expect("xsTankCtrlState", equals("OFF", 1), for_s=0.1),
                     r"equals\(0.0, tolerance=-1\): a tolerance is 0 or more": lambda: equals(0.0, -1),
-                    r"within\(26, 24\): the low bound is above": lambda: within(26, 24)}
+                    r"within\(26, 24\): the low bound is above": lambda: within(26, 24),
+                    "the window ends at t=-4.900 s, before zsRailPressure was sampled":
+                        lambda: ecu.expect("zsRailPressure", 0.0, for_s=0.1, since=-5.0),  # it judged no samples
+                    r"after=t=\d+.\d{3} s is later than now": lambda: ecu.expect_edge("xsTankCtrlState", "OFF",
+                                                                                     within=0.1, after=ecu.now() + 5)}
         for message, step in refusals.items():
             with pytest.raises(InputError, match=message):
                 step()

@@ -435,6 +435,7 @@ class Bench:
         wanted = self._condition(signal, condition)
         start = self._step_start(since)
         end = start + for_s
+        self._check_window(f"expect({name})", name, end)
         step = self._step("expect", f"expect {name} {wanted.describe(signal.unit)} for {for_s:.3g} s", start, signal, wanted)
         step.t_end = end
         values = self._window(step, name, start, end, lambda times, values: (times, ~wanted.test(values)), signal)
@@ -463,6 +464,7 @@ class Bench:
         reference = self._sampled(reference).name
         start = self._step_start(since)
         end = start + for_s
+        self._check_window(f"expect_follows({name})", name, end)
         step = Step("expect", f"expect {name} = {reference} ± {tolerance:g}{_unit(signal.unit)} for {for_s:g} s",
                     start, end, name, signal.unit, reference=reference, tolerance=float(tolerance))
         differences: list[np.ndarray] = []
@@ -537,6 +539,9 @@ class Bench:
         name = signal.name  # a CAN2 signal by its qualified name, as the timeline keeps it
         wanted = self._condition(signal, condition)
         reference, done = (after, after) if after is not None else (self.last_stimulus, self._stimulus_done)
+        if after is not None and after > self.now():
+            raise InputError(f"expect_edge({name}): after=t={after:.3f} s is later than now (t={self.now():.3f} s): "
+                             "give a mark taken with ecu.now() when the stimulus began")
         if reference is None:
             raise InputError(f"expect_edge({name}): no stimulus yet to measure from (or give after=)")
         step = self._step("expect", f"expect {name} {wanted.describe(signal.unit)} within {within * 1000:g} ms "
@@ -606,6 +611,14 @@ class Bench:
             target = f"{'!= ' if wanted.negate else ''}{wanted.value}"
         band = None if wanted.negate else wanted.band()
         return Step(kind, text, start, start, signal.name, signal.unit, band, target)
+
+    def _check_window(self, step: str, name: str, end: float) -> None:
+        """:raises InputError: the window ends before ``name`` was sampled (a ``since=`` from before the watch): it
+        would fail on no samples, as if the ECU sent none."""
+        first = self.timeline.sampled_from(name)
+        if first is not None and end < first:
+            raise InputError(f"{step}: the window ends at t={end:.3f} s, before {name} was sampled (from t={first:.3f} "
+                             "s): watch it first, and take since= with ecu.now() after that")
 
     def _step_start(self, since: float | None) -> float:
         """Where a window begins: ``since``, or now and not before what the steps before it saw (a sample the

@@ -86,6 +86,12 @@ class Timeline:
         index = int(np.searchsorted(times, moment, side="right")) - 1
         return (float(times[index]), values[index]) if index >= 0 else None
 
+    def sampled_from(self, name: str) -> float | None:
+        """The time of the first sample of ``name`` since its sampling (re)started (None: none yet)."""
+        with self._changed:
+            series = self._series.get(name)
+            return None if series is None or series.pending_segment else series.segment_start
+
     def horizon(self, name: str) -> float | None:
         """The time of the latest sample of ``name`` (None: none yet)."""
         with self._changed:
