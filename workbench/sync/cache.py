@@ -44,7 +44,7 @@ from workbench.sync.reference import DatasetReference, ImageReference, Reference
 from workbench.sync.scan import ChecksumScan, scan_ranges
 from workbench.sync.store import ByteStore
 from workbench.sync.values import (as_stored, as_typed_value, calibration_names, decode_values, label_differences,
-                                   object_layouts, resolve_all)
+                                   object_layouts, resolve_all, without_name)
 
 __all__ = ["AreaCheck", "ByteDifference", "SyncReport", "sync_compare"]
 
@@ -293,7 +293,7 @@ def _compare_dataset(session: Session, reference: DatasetReference, progress: Pr
             on_file[name] = as_stored(model, dataset[name], in_ecu)
         except InputError as exc:
             on_file[name] = dataset[name]
-            notes.append(f"{name}: the file's value cannot be written as it is ({exc})")
+            notes.append(f"{name}: the file's value cannot be written as it is ({without_name(name, str(exc))})")
         notes += [f"{name}: {text}" for text in label_differences(value, dataset[name])]
     diff = diff_datasets(on_file, {name: ecu_values[name] for name in on_file}, a_label=reference.label, b_label="ECU")
     changed = {o.name for o in diff.objects if o.status != EQUAL}
