@@ -310,8 +310,9 @@ def test_diff_and_dry_run_show_values_as_cal_get_does(bus, capsys):
 
 
 def test_a_file_value_the_ecu_cannot_take_is_a_note_naming_the_object_once(bus, capsys, tmp_path):
-    (tmp_path / "short.dcm").write_text("KONSERVIERUNG_FORMAT 2.0\n\nKENNLINIE zvRailPConv 8\n  ST/X 0.5 1.0 1.5 2.0 2.5 "
-                                        "3.0 3.5 4.0\n  WERT 0.0 6.25 12.5 18.75 25.0 31.25 37.5 43.75\nEND\n")
+    (tmp_path / "short.dcm").write_text("KONSERVIERUNG_FORMAT 2.0\n\nKENNLINIE zvRailPConv 8\n"
+                                        "  ST/X 0.5 1.0 1.5 2.0 2.5 3.0 3.5 4.0\n"
+                                        "  WERT 0.0 6.25 12.5 18.75 25.0 31.25 37.5 43.75\nEND\n")
     code, out, _ = run(capsys, "cal", "sync", "short.dcm", *bus)
     assert code == 1 and ("note: zvRailPConv: the file's value cannot be written as it is (axis X has 9 points, the "
                           "value 8; its number of points is not stored in memory, so it cannot change)") in out
