@@ -256,3 +256,15 @@ def test_an_image_against_a_parameter_set_compares_the_set_s_objects(work, capsy
         assert (code, out.splitlines()[-1]) == (0, "1 object: 1 equal, 0 changed, 0 shape changed, 0 only in A, "
                                                    "0 only in B"), sides
     assert run(capsys, "cal", "diff", "app.s19", "app.s19")[1].splitlines()[-1].startswith("58 objects: 58 equal")
+
+
+def test_an_image_of_another_build_compared_offline_says_so(work, capsys):
+    """As cal get --image says it (and the ECU's compare refuses it): its values are read at this A2L's addresses,
+    which another build may have moved (cal diff said nothing; user trial 10)."""
+    other = bincopy.BinFile("app.s19")
+    other[0xFC0000:0xFC000E] = b"10300020259999"
+    open("other.s19", "w").write(other.as_srec())
+    code, _, err = run(capsys, "cal", "diff", "other.s19", "app.s19")
+    assert code == 0 and err == ("warning: other.s19 holds the EPK '10300020259999' in CALIB (FC0000h), the A2L "
+                                 "'10300020250301': the A2L may not describe this software; its values are read at "
+                                 "the A2L's addresses\n")

@@ -24,12 +24,12 @@ import numpy as np
 from workbench.a2l.model import A2lModel
 from workbench.calib.dataset import Dataset, ObjectInfo
 from workbench.calib.values import CalValue
-from workbench.errors import InputError, WorkbenchError
+from workbench.errors import InputError, WorkbenchError, epk_text, same_epk
 from workbench.findings import Finding, Severity
 from workbench.image import MemoryImage
 from workbench.progress import Progress
 from workbench.session import Session
-from workbench.sync.areas import ImageView, calibration_areas
+from workbench.sync.areas import ImageView, calibration_areas, image_epks
 from workbench.sync.ecu import EcuReader, on_pages
 from workbench.sync.values import as_typed_value, calibration_names, decode_values, object_layouts
 
@@ -73,10 +73,18 @@ def image_dataset(model: A2lModel, image: MemoryImage, names: Iterable[str] | No
     module = model.name or None
     areas = calibration_areas(model.doc, read_xcp_config(model.doc, module), module)
     layouts, problems = object_layouts(model, calibration_names(model, names))
-    values, failed = decode_values(layouts, ImageView(image, areas).fetch)
+    view = ImageView(image, areas)
+    values, failed = decode_values(layouts, view.fetch)
     problems.update(failed)
     dataset = dataset_of(model, values, problems, source)
     dataset.source = source
+    expected = model.doc.epk(module)
+    for found in image_epks(view, model.doc, module):  # as cal get --image says it: read, but perhaps not this build's
+        if found.text is not None and not same_epk(found.text, expected):
+            dataset.notes.append(Finding("epk-mismatch", source, f"{source} holds the EPK {epk_text(found.text)} in "
+                                         f"{found.label}, the A2L {epk_text(expected)}: the A2L may not describe this "
+                                         "software; its values are read at the A2L's addresses",
+                                         severity=Severity.WARNING))
     return dataset
 
 
