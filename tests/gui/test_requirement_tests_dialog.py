@@ -215,8 +215,13 @@ def test_the_ecu_lost_during_a_test_is_one_message_and_the_window_stays_disconne
         pass  # the ECU's power cut during test_long's expectation
     assert _states(dialog) == {"test_long": "NOT JUDGED", "test_after": "ERROR"}
     message = dialog.message.text()
-    assert message.startswith("The ECU stopped answering during test_lost.py::test_long: expect xsDC within")
-    assert "connection to the ECU lost at" in message and "The 1 test after it could not reach it" in message
+    assert message.startswith("The ECU stopped answering during test_lost.py::test_long (connection to the ECU lost at")
+    assert "after the test" not in message and ". The 1 test after it could not reach it" in message
     assert message.endswith("The window stays disconnected: Connect (F9) once the ECU answers again.")
     assert window.controller.session is None and window.connect_action.isEnabled() and not window.errors
-    window.close()
+    assert dialog.sim_radio.isChecked() and not dialog.ecu_radio.isEnabled()
+    with serve_demo(bus):  # the ECU back
+        with qtbot.waitSignal(window.controller.connected, timeout=WAIT_MS):
+            window.connect_ecu()
+        assert dialog.ecu_radio.isChecked()  # the choice made before the window lost its ECU
+        window.close()

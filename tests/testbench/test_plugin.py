@@ -284,5 +284,7 @@ def test_without_an_ecu(ecu):
     assert verdicts["test_fails"]["message"] == "assert (1 + 1) == 3"
     assert verdicts["test_fails"]["requirements"] == ["R2", "R3"]
     assert verdicts["test_without_an_ecu"]["message"].startswith("Failed: XCP CONNECT: no response within")
+    assert verdicts["test_without_an_ecu"]["ecu_error"].startswith("XCP CONNECT: no response within")
+    assert verdicts["test_loses_the_ecu"]["ecu_error"].endswith(": XCP on CAN: no DTO for 900 ms")
     assert events[-1] == {"event": "finished", "exitstatus": 1}
     result.stdout.fnmatch_lines(["1 verified, 2 failed, 1 not judged (a test broke)"])

@@ -32,7 +32,8 @@ _REPORT_DIR = pytest.StashKey()
 _CATALOGUE = pytest.StashKey()  # the --requirements of a --report
 _CALL_FAILED = pytest.StashKey()  # the test's body failed or broke: the teardown's problems do not make a second error
 TEARDOWN = "teardown"  # the user property that holds them then (JUnit writes it; the report adds it to the message)
-_ECU_STATE = pytest.StashKey()  # a test's: "lost" (the ECU stopped answering during it), "unreachable" (at its start)
+_ECU_STATE = pytest.StashKey()  # a test's ("lost": the ECU stopped answering during it, or "unreachable" at its
+# start; the error that said so)
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
@@ -164,7 +165,7 @@ def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo):
         report.user_properties.append(VERDICT_ERROR)
         item.user_properties.append(VERDICT_ERROR)  # JUnit writes the properties of the teardown's report
     if call.excinfo is not None and call.excinfo.errisinstance(_connection_lost()):
-        item.stash[_ECU_STATE] = "lost"
+        item.stash[_ECU_STATE] = ("lost", str(call.excinfo.value))
     if _ECU_STATE in item.stash:  # a report's attribute travels from an xdist worker with it
         report.workbench_ecu = item.stash[_ECU_STATE]
 
@@ -257,7 +258,7 @@ def ecu(request: pytest.FixtureRequest):
     except WorkbenchError as exc:
         problem = str(exc)  # failed outside the except: pytest would show the error twice, chained
         if isinstance(exc, (XcpTimeoutError, ConnectionLostError)):
-            request.node.stash[_ECU_STATE] = "unreachable"
+            request.node.stash[_ECU_STATE] = ("unreachable", problem)
     else:
         problem = None
     if problem is not None:
@@ -270,7 +271,7 @@ def ecu(request: pytest.FixtureRequest):
         finally:
             _write_record(directory, name, request.node, bench)
             if bench.evidence.failure is not None:  # its samples stopped: the ECU was lost
-                request.node.stash[_ECU_STATE] = "lost"
+                request.node.stash[_ECU_STATE] = ("lost", str(bench.evidence.failure))
     finally:
         problem = None
         try:
@@ -327,7 +328,7 @@ class _Outcomes:
                                                         "requirements": requirements})
         entry["duration"] += report.duration
         if getattr(report, "workbench_ecu", None) and not entry.get("ecu"):
-            entry["ecu"] = report.workbench_ecu
+            entry["ecu"], entry["ecu_error"] = report.workbench_ecu
         if report.when == "call":
             entry["outcome"], entry["message"] = "error" if _broke(report) else report.outcome, _one_line(report)
             entry["when"] = report.when
@@ -423,7 +424,8 @@ class _LiveVerdicts:
         entry = self.outcomes.results.get(nodeid)
         if entry is not None:
             self.log.write("verdict", nodeid=nodeid, verdict=verdict_of(entry), requirements=entry["requirements"],
-                           message=entry["message"], duration=round(entry["duration"], 3), ecu=entry.get("ecu"))
+                           message=entry["message"], duration=round(entry["duration"], 3), ecu=entry.get("ecu"),
+                           ecu_error=entry.get("ecu_error"))
 
     @pytest.hookimpl(wrapper=True)  # after the report is written: a window may open it at this line
     def pytest_sessionfinish(self, session: pytest.Session, exitstatus):

@@ -8,9 +8,9 @@ from the process that runs pytest (the controller under pytest-xdist):
   pytest-xdist each test's requirements come with its verdict only);
 * ``{"event": "started", "nodeid": ...}``;
 * ``{"event": "verdict", "nodeid": ..., "verdict": ..., "requirements": [...], "message": ..., "duration": s,
-  "ecu": ...}`` — ``verdict`` one of :data:`VERDICTS`, ``message`` the failure's (or skip's) one line, ``ecu``
-  ``"lost"`` when the ECU stopped answering during the test, ``"unreachable"`` when it did not answer at its start,
-  else null;
+  "ecu": ..., "ecu_error": ...}`` — ``verdict`` one of :data:`VERDICTS`, ``message`` the failure's (or skip's) one
+  line, ``ecu`` ``"lost"`` when the ECU stopped answering during the test, ``"unreachable"`` when it did not answer
+  at its start, else null, and ``ecu_error`` the error that said so (``connection to the ECU lost at ...``);
 * ``{"event": "finished", "exitstatus": N}`` — pytest's exit status (2: interrupted, Ctrl-C).
 
 :class:`VerdictReader` reads the lines written since it last read; :func:`requirement_verdicts` judges each

@@ -32,6 +32,7 @@ from PySide6.QtWidgets import (
     QPushButton,
     QRadioButton,
     QSpinBox,
+    QStyledItemDelegate,
     QTableView,
     QTabWidget,
     QVBoxLayout,
@@ -143,6 +144,12 @@ class VerdictsModel(RowsModel):
         return row["message"]
 
 
+class _ElideMiddle(QStyledItemDelegate):
+    def initStyleOption(self, option, index) -> None:
+        super().initStyleOption(option, index)
+        option.textElideMode = Qt.ElideMiddle
+
+
 def _reason(message: str) -> str:
     """The failure's line as the table shows it: no exception class where the verdict says it, no module path."""
     return _DOTTED_EXCEPTION.sub(r"\1: ", _EXCEPTION_PREFIX.sub("", message))
@@ -161,6 +168,7 @@ class RequirementTestsDialog(QDialog):
         self.last_report: Path | None = None  # the folder of the last run's report
         self.on_ecu = False  # the run uses the window's ECU (released while it runs)
         self.ecu_lost = False
+        self._ecu_wanted = False  # the window's ECU was chosen, and the window disconnected since
         self._started = 0.0
         self._proposed = ""  # the report folder proposed: a new one each run, unless the user chose another
         self._timer = QTimer(self)
@@ -187,7 +195,7 @@ class RequirementTestsDialog(QDialog):
         layout.addLayout(report)
         self._propose_folder()
 
-        self.status = QLabel("")
+        self.status = QLabel("Choose the tests and the ECU, then Run.")
         self.progress = QProgressBar()
         self.progress.setTextVisible(True)
         self.progress.setFormat("%v of %m tests")
@@ -204,12 +212,13 @@ class RequirementTestsDialog(QDialog):
         self.table.setAlternatingRowColors(True)
         self.table.verticalHeader().setVisible(False)
         self.table.setWordWrap(False)
-        self.table.setTextElideMode(Qt.ElideMiddle)  # a long test name keeps its module and its end
+        self.table.setItemDelegateForColumn(2, _ElideMiddle(self.table))  # a test's module and its name's end
         header = self.table.horizontalHeader()
-        for column, mode in enumerate((QHeaderView.ResizeToContents, QHeaderView.Interactive, QHeaderView.Stretch,
+        for column, mode in enumerate((QHeaderView.ResizeToContents, QHeaderView.Interactive, QHeaderView.Interactive,
                                        QHeaderView.ResizeToContents, QHeaderView.Stretch)):
             header.setSectionResizeMode(column, mode)
         header.resizeSection(1, 130)
+        header.resizeSection(2, 330)
         self.output = QPlainTextEdit()
         self.output.setReadOnly(True)
         self.output.setLineWrapMode(QPlainTextEdit.NoWrap)
@@ -334,11 +343,15 @@ class RequirementTestsDialog(QDialog):
             _, describe = connected_ecu_options(self.window_)
         except InputError as exc:
             self.ecu_radio.setEnabled(False)
-            if self.ecu_radio.isChecked():
+            if self.ecu_radio.isChecked():  # chosen again when the window is connected again
+                self._ecu_wanted = True
                 self.sim_radio.setChecked(True)
             self.ecu_note.setText(f"Not available: {exc}.")
             return
         self.ecu_radio.setEnabled(True)
+        if self._ecu_wanted:
+            self.ecu_radio.setChecked(True)
+            self._ecu_wanted = False
         self.ecu_note.setText(f"{describe}. The window disconnects while the tests run (an ECU takes one XCP master "
                               "at a time), waits, and connects again after them.")
 
@@ -485,7 +498,8 @@ class RequirementTestsDialog(QDialog):
         elif kind == "verdict":
             row = self.model.row_of(event["nodeid"])
             row.update(state=event["verdict"], requirements=event["requirements"] or row["requirements"],
-                       message=_reason(event["message"]), duration=event["duration"], ecu=event.get("ecu"))
+                       message=_reason(event["message"]), duration=event["duration"], ecu=event.get("ecu"),
+                       ecu_error=event.get("ecu_error"))
             self.model.changed(event["nodeid"])
             self.progress.setMaximum(max(self.progress.maximum(), len(self.model.rows)))
             self.progress.setValue(sum(1 for r in self.model.rows if r["state"] not in ("pending", "running")))
@@ -493,6 +507,14 @@ class RequirementTestsDialog(QDialog):
                 self.ecu_lost = True
         if kind in ("collected", "started", "verdict"):
             self.status.setText(self._counts(running=True))
+        if kind == "collected":
+            self._fit_test_column()
+
+    def _fit_test_column(self) -> None:
+        """The tests' names whole where they fit in half the table (the reasons take the rest)."""
+        metrics = self.table.fontMetrics()
+        widest = max((metrics.horizontalAdvance(row["nodeid"]) for row in self.model.rows), default=0) + 24
+        self.table.horizontalHeader().resizeSection(2, max(200, min(widest, self.table.viewport().width() // 2)))
 
     def _counts(self, running: bool) -> str:
         states = [row["state"] for row in self.model.rows]
@@ -540,7 +562,7 @@ class RequirementTestsDialog(QDialog):
         if self.ecu_lost:
             at = next(number for number, row in enumerate(rows) if row.get("ecu") == "lost")
             after = sum(1 for row in rows[at + 1:] if row["state"] == "error")
-            text = f"The ECU stopped answering during {rows[at]['nodeid']}: {rows[at]['message']}"
+            text = f"The ECU stopped answering during {rows[at]['nodeid']} ({rows[at]['ecu_error']})"
             if after:
                 text += f". The {after} test{'s' if after > 1 else ''} after it could not reach it"
             if self.on_ecu:
