@@ -177,7 +177,7 @@ def test_an_image_that_cannot_be_read_is_refused_and_the_project_keeps_its_image
     bad.write_text("S1 this is no S-record\n")
     window.offline_image.open(bad)
     qtbot.waitUntil(lambda: len(window.errors) == 1, timeout=WAIT_MS)
-    assert window.errors[0].text().startswith(f"{bad}:1: ")  # where bincopy stopped
+    assert window.errors[0].text() == f"{bad}:1:3: ' ' where a hex digit belongs"  # where the record breaks
     assert window.errors[0].informativeText() == "bad.s19 not opened: the editors keep the values of app.s19"
     assert window.project.s19 == tmp_path / "app.s19" and window.workspace.file_values.path == tmp_path / "app.s19"
     assert scalar.value_source == "app.s19" and scalar.field.input.isEnabled()
