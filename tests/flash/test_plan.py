@@ -120,7 +120,7 @@ def test_overlapping_records_are_refused_with_their_line(tmp_path, layout):
     path = tmp_path / "overlap.s19"
     first = MemoryImage.from_bytes(0xFC0000, EPK).to_srec().splitlines()[0]
     second = MemoryImage.from_bytes(0xFC0008, bytes(16)).to_srec().splitlines()[0]
-    path.write_text(f"{first}\n{second}\n")
+    path.write_text(f"{first}\n{second}\nS9030000FC\n")
     with pytest.raises(InputError, match=r"overlap.s19:2: the record gives 00 00 00 00 at FC0008h, line 1 gave "
                                          r"32 35 30 33: the file holds two contents for one address"):
         plan_file(path, layout, ["CALIB"])

@@ -78,6 +78,7 @@ IHEX = [":020000040001F9", ":0400000001020304F2", ":020000021000EC", ":020004000
     ([S1[0], S1[1], "S5030003F9", S1[2]], "x:3: S5 counts 3 data records, the file has 2 before it: records are "
                                           "missing or doubled"),
     (IHEX[:2], "x:2: the file ends without the end-of-file record (:00000001FF): it is cut short"),
+    (S1[:2], "x:2: the file ends without an end record (S7/S8/S9, or the S5/S6 count before it): it is cut short"),
     ([":0300000001020304F2", IHEX[-1]], "x:1: the record's count says 3 data bytes, the line holds 4: it runs on"),
     ([":03000004000100F8", IHEX[-1]], "x:1: an extended address record (04) holds 2 bytes, this one 3"),
     ([S1[0], "S107000211223344" + "XX", S1[2]], "x:2:17: 'X' where a hex digit belongs"),

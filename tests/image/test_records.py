@@ -35,7 +35,7 @@ def test_intel_hex_with_segment_addresses_is_patched_where_the_record_lies():
 
 
 def test_a_change_no_record_holds_is_refused():
-    text = bincopy.pack_srec("1", 0x100, 2, b"ab") + "\n"
+    text = bincopy.pack_srec("1", 0x100, 2, b"ab") + "\nS9030000FC\n"
     image = parse_image(text)
     image.add(0x200, b"x")
     with pytest.raises(InputError, match="outside the file's records"):

@@ -5,11 +5,10 @@ checked here, each refusal naming ``file:line`` and what was expected there:
 
 * a damaged record: its checksum, its length, a character that is no hex digit (``file:line:column``), a record
   type the format does not have, an Intel HEX address record of another size than 2 bytes;
-* the end: an Intel HEX file ends with its end-of-file record (01), which every writer puts there: a file cut short
-  at a line's end (a copy or a download that broke off) would otherwise read as a whole one, and a flash of it
-  verify against what it holds. An S-record file's S7/S8/S9 record is not required (bincopy writes none without a
-  start address), so such a cut is found there only by an S5/S6 count before it, which must count the data records
-  before it; a record cut short is found in either format;
+* the end: an Intel HEX file ends with its end-of-file record (01), an S-record file with its S7/S8/S9 end record
+  or an S5/S6 count (linkers and srec_cat write the end record, bincopy the count and the end record only with a
+  start address). A file cut short at a line's end (a copy or a download that broke off) would otherwise read as a
+  whole one, and a flash of it verify against what it holds. An S5/S6 count must count the data records before it;
 * the same address twice: a record that repeats bytes an earlier one gave is taken (merge tools and some linkers
   write such), one that gives other bytes is refused naming both lines.
 
@@ -33,6 +32,7 @@ __all__ = ["ImageText", "read_image_text"]
 
 _HEX = frozenset(string.hexdigits)
 _SREC_DATA, _SREC_COUNT, _SREC_END = "123", "56", "789"
+_SREC_TRAILER = _SREC_COUNT + _SREC_END  # what a file ends with: linkers write S7/S8/S9, bincopy S5/S6 without those
 _IHEX_DATA, _IHEX_END, _IHEX_SEGMENT, _IHEX_LINEAR = 0, 1, 2, 4
 _IHEX_START = (3, 5)
 _IHEX_BASE_SHIFT = {_IHEX_SEGMENT: 4, _IHEX_LINEAR: 16}
@@ -81,7 +81,7 @@ class _Reader:
         self.data: list[tuple[int, int, bytes]] = []  # (address, line, bytes)
         self.header: bytes | None = None
         self.start_address: int | None = None
-        self.ended = False  # Intel HEX: the last record read is the end-of-file record
+        self.ended = False  # the last record read is one a whole file ends with
 
     def refuse(self, number: int, record: str, error: Exception) -> NoReturn:
         """:raises InputError: what is wrong with the record bincopy refused (its message if not found here)."""
@@ -118,14 +118,20 @@ class _Reader:
 
     def check_end(self, last: int) -> None:
         """:raises InputError: the file does not end as its format requires (cut short)."""
+        if not self.ended:
+            raise InputError(f"{self.path}:{last}: the file ends without {self.trailer}: it is cut short (a whole "
+                             "file ends with one)")
 
 
 class _SrecReader(_Reader):
+    trailer = "an end record (S7/S8/S9, or the S5/S6 count before it)"
+
     def record(self, number: int, record: str) -> None:
         try:
             kind, address, _size, data = bincopy.unpack_srec(record)
         except (bincopy.Error, ValueError) as error:
             self.refuse(number, record, error)
+        self.ended = kind in _SREC_TRAILER
         if kind in _SREC_DATA:
             self.data.append((address, number, data))
             return
@@ -144,6 +150,7 @@ class _IhexReader(_Reader):
     srec = False
     name = "Intel HEX"
     lead = ":"
+    trailer = "the end-of-file record (:00000001FF)"
 
     def __init__(self, path: object):
         super().__init__(path)
@@ -169,10 +176,6 @@ class _IhexReader(_Reader):
             raise InputError(f"{self.path}:{number}: record type {kind:02X} is none of Intel HEX's (00 data, 01 end, "
                              "02/04 extended address, 03/05 start address)")
 
-    def check_end(self, last: int) -> None:
-        if not self.ended:
-            raise InputError(f"{self.path}:{last}: the file ends without the end-of-file record (:00000001FF): it is "
-                             "cut short (an Intel HEX file ends with one)")
 
 
 def _pieces(records: list[tuple[int, int, bytes]], path: object) -> list[tuple[int, bytes]]:
