@@ -2,15 +2,17 @@
 
 from __future__ import annotations
 
+import struct
 import threading
 import time
 
 import numpy as np
 import pytest
 from daq_samples import collect_until, samples
-from session_helpers import FAST
+from session_helpers import FAST, edited_a2l
 from xcp_commands import CommandLog
 
+from workbench import Session
 from workbench.errors import InputError
 
 
@@ -160,3 +162,24 @@ def test_the_dtos_are_read_as_the_ecu_reports_them_not_as_its_a2l_says(tmp_path,
         assert live.stream.plan.identification_field == "ABSOLUTE"
         assert {batch.event_name for batch in batches} >= {"Task4ms"} and live.stats.lost == 0
         assert live.stats.unknown == 0  # every DTO was a sample of the plan's lists
+
+
+def test_a_signal_longer_than_a_dto_is_split_over_odts_and_measured_whole(sim, channel, tmp_path):
+    """An 8-byte double on classic CAN (MAX_DTO 8: a DTO carries 7 bytes after its PID, the first 3 after its
+    timestamp, an ODT entry 4): its bytes go in entries of two ODTs of one sample, and come back as the double."""
+    before = "    /begin MEASUREMENT\n      /* Name                   */ xsTankCtrlState"
+    double = ('    /begin MEASUREMENT zdDouble "8 bytes in CAL RAM" FLOAT64_IEEE NO_COMPU_METHOD 0 0 -1e12 1e12\n'
+              "      ECU_ADDRESS 0x40000010\n    /end MEASUREMENT\n\n")
+    with Session.open(edited_a2l(tmp_path, before, double + before), interface="virtual", channel=channel,
+                      timeouts=FAST) as session:
+        kept = session.master.read(0x40000010, 8)
+        try:
+            session.master.write(0x40000010, struct.pack("<d", 12345.678))
+            with session.measure(["zdDouble"]) as live:
+                batches = collect_until(live, lambda got: samples(got) > 3)
+                odts = live.stream.plan.lists[0].odts
+                stamped = live.ecu_timestamps
+        finally:
+            session.master.write(0x40000010, kept)
+    assert stamped and len([odt for odt in odts if odt.entries]) == 2
+    assert np.all(np.concatenate([b.values["zdDouble"] for b in batches]) == 12345.678)
