@@ -7,12 +7,16 @@ import time
 
 import numpy as np
 import pytest
+from daq_samples import collect_until
 from session_helpers import FAST
 
 from workbench import Session
+from workbench.a2l import read_xcp_config
 from workbench.a2l.xcp import read_daq_events
-from workbench.errors import InputError
+from workbench.errors import InputError, XcpCommandError
 from workbench.sim import serve_demo
+from workbench.sim.profiles import SlaveProfile
+from workbench.sim.xcp.parameters import DEMO_STATIC_LISTS
 from workbench.xcp_protocol import Cmd
 
 
@@ -78,3 +82,21 @@ def test_closing_the_session_stops_static_daq(static_sim, channel):
     assert static_sim.ecu.slave.daq.lists[1].running
     session.close()
     assert not live.running and not any(daq.running for daq in static_sim.ecu.slave.daq.lists)
+
+
+def test_a_static_slave_without_get_daq_list_info_is_planned_from_the_a2ls_daq_lists(channel):
+    """GET_DAQ_LIST_INFO is optional: the A2L's DAQ_LIST blocks (MAX_ODT, MAX_ODT_ENTRIES, EVENT_FIXED) stand in for it
+    (the measurement failed 'GET_DAQ_LIST_INFO failed: ERR_CMD_UNKNOWN'); an A2L without them says which is missing."""
+    quiet = SlaveProfile("static-no-list-info", "static DAQ without GET_DAQ_LIST_INFO", "",
+                         xcp={"without": frozenset({Cmd.GET_DAQ_LIST_INFO})}, daq={"static_lists": DEMO_STATIC_LISTS})
+    with serve_demo({"interface": "virtual", "channel": channel}, profile=quiet) as sim:
+        assert [daq.max_odt for daq in read_xcp_config(sim.a2l).daq.lists] == [8, 12, 16, 4]
+        with Session.open(sim.a2l, interface="virtual", channel=channel, timeouts=FAST) as session, \
+                session.measure(["zsRailPressure", "xsDC"]) as live:
+            batches = collect_until(live, lambda got: {b.event_name for b in got} == {"Task4ms", "Task50ms"})
+            assert [daq.number for daq in live.stream.plan.lists] == [0, 1]  # the lists fixed to their events
+        assert {b.event_name for b in batches} == {"Task4ms", "Task50ms"}
+        with Session.open(interface="virtual", channel=channel, timeouts=FAST) as session:  # the demo's A2L: none
+            with pytest.raises(XcpCommandError, match=r"DAQ list 0 \(the A2L's DAQ has no DAQ_LIST 0 to tell its "
+                                                      r"ODTs\): XCP GET_DAQ_LIST_INFO failed: ERR_CMD_UNKNOWN"):
+                session.measure(["zsRailPressure"]).start()

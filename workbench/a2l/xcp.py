@@ -18,7 +18,8 @@ if TYPE_CHECKING:
     from workbench.a2l.document import A2lDocument, Block
 
 __all__ = [
-    "XcpAddressMapping", "XcpCommunicationMode", "XcpConfig", "XcpDaq", "XcpDaqEvents", "XcpDaqListCanId", "XcpEvent",
+    "XcpAddressMapping", "XcpCommunicationMode", "XcpConfig", "XcpDaq", "XcpDaqEvents", "XcpDaqList", "XcpDaqListCanId",
+    "XcpEvent",
     "XcpOnCan", "XcpOnIp", "XcpPage", "XcpPgm", "XcpProtocolLayer", "XcpSector", "XcpSegment", "XcpTimeouts",
     "XcpTimestamp", "read_daq_events", "read_xcp_config",
 ]
@@ -98,6 +99,18 @@ class XcpTimestamp:
 
 
 @dataclass(frozen=True)
+class XcpDaqList:
+    """A DAQ block's DAQ_LIST: a static or predefined list as the A2L states it (what GET_DAQ_LIST_INFO says)."""
+
+    number: int
+    direction: str  # DAQ_LIST_TYPE: DAQ, STIM or DAQ_STIM
+    max_odt: int
+    max_odt_entries: int
+    fixed_event: int | None = None  # EVENT_FIXED
+    predefined: bool = False  # a PREDEFINED block: the slave configured it
+
+
+@dataclass(frozen=True)
 class XcpDaq:
     config_type: str  # STATIC or DYNAMIC
     max_daq: int
@@ -113,6 +126,7 @@ class XcpDaq:
     events: tuple[XcpEvent, ...]
     prescaler_supported: bool = False
     resume_supported: bool = False
+    lists: tuple[XcpDaqList, ...] = ()  # DAQ_LIST blocks (a static configuration's lists, predefined ones)
 
     @property
     def pid_size(self) -> int:
@@ -390,7 +404,19 @@ def _daq(node: IfDataNode | None) -> XcpDaq | None:
         events=tuple(_event(event) for event in node.blocks("EVENT")),
         prescaler_supported=node.has("PRESCALER_SUPPORTED"),
         resume_supported=node.has("RESUME_SUPPORTED"),
+        lists=tuple(_daq_list(daq_list) for daq_list in node.blocks("DAQ_LIST")),
     )
+
+
+def _daq_list(node: IfDataNode) -> XcpDaqList:
+    numbers = node.leading_numbers()
+    if not numbers:
+        raise A2lParseError("DAQ_LIST needs its DAQ_LIST_NUMBER", *node.location)
+    fixed = node.number_after("EVENT_FIXED")
+    direction = node.after("DAQ_LIST_TYPE")
+    return XcpDaqList(int(numbers[0]), str(direction[0]) if direction else "DAQ",
+                      int(node.number_after("MAX_ODT") or 0), int(node.number_after("MAX_ODT_ENTRIES") or 0),
+                      int(fixed) if fixed is not None else None, node.block("PREDEFINED") is not None)
 
 
 def _number_after_word(node: IfDataNode, word: str) -> int | float | None:

@@ -15,6 +15,7 @@ from workbench.a2l.xcp import (
     XcpCommunicationMode,
     XcpConfig,
     XcpDaq,
+    XcpDaqList,
     XcpEvent,
     XcpOnCan,
     XcpOnIp,
@@ -135,8 +136,15 @@ def _daq(daq: XcpDaq) -> list[str]:
         body.append(_line("TIMESTAMP_SUPPORTED", [str(stamp.ticks), _TIMESTAMP_SIZE_NAMES[stamp.size],
                                                   _UNIT_NAMES[_unit_code(stamp.unit_s)]]
                           + (["TIMESTAMP_FIXED"] if stamp.fixed else [])))
+    body += [_daq_list(daq_list) for daq_list in daq.lists if not daq_list.predefined]  # PREDEFINED's ODTs: not kept
     body += [_event(event) for event in daq.events]
     return _block("DAQ", body)
+
+
+def _daq_list(daq_list: XcpDaqList) -> str:
+    fixed = [] if daq_list.fixed_event is None else ["EVENT_FIXED", str(daq_list.fixed_event)]
+    return _line("DAQ_LIST", [str(daq_list.number), "DAQ_LIST_TYPE", daq_list.direction, "MAX_ODT",
+                              str(daq_list.max_odt), "MAX_ODT_ENTRIES", str(daq_list.max_odt_entries), *fixed])
 
 
 def _unit_code(seconds: float) -> int:

@@ -27,7 +27,7 @@ from workbench.calib.signals import MeasurementCodec, measurement_codec
 from workbench.errors import InputError, WorkbenchError, XcpCommandError
 from workbench.logs import logger
 from workbench.xcp.daq import DaqSignal, DaqStats, DaqStream, plan_daq
-from workbench.xcp.info import DaqEventInfo, DaqProcessorInfo, DaqResolutionInfo
+from workbench.xcp.info import DaqEventInfo, DaqListInfo, DaqProcessorInfo, DaqResolutionInfo
 from workbench.xcp_protocol import Err
 
 if TYPE_CHECKING:
@@ -115,7 +115,7 @@ class DaqMeasurement:
                     groups.setdefault(self.events[name], []).append(
                         DaqSignal(name, span.address, span.size, span.extension, codec.element_size))
                 info = {number: session.event_info(number) for number in groups}
-                static = None if processor.dynamic else [master.get_daq_list_info(n) for n in range(processor.max_daq)]
+                static = None if processor.dynamic else [session.daq_list_info(n) for n in range(processor.max_daq)]
                 plan = plan_daq(groups, processor, resolution, master.max_dto, first_list=processor.min_daq,
                                 consistency={n: i.consistency for n, i in info.items() if i is not None},
                                 prescaler=self.prescaler, static_lists=static, event_name=session.event_name,
@@ -313,6 +313,26 @@ class EventAccess:
             return DaqResolutionInfo(daq.granularity, daq.max_odt_entry_size, 0, False, 1e-6, 1)
         return DaqResolutionInfo(daq.granularity, daq.max_odt_entry_size, stamp.size, stamp.fixed, stamp.unit_s,
                                  max(stamp.ticks, 1))
+
+    def daq_list_info(self: Session, number: int) -> DaqListInfo:
+        """GET_DAQ_LIST_INFO of a static or predefined list; from a slave that does not implement it, the A2L's DAQ_LIST
+        of that number (see :meth:`daq_resolution_info`).
+
+        :raises XcpCommandError: another refusal, or the A2L states no such DAQ_LIST.
+        """
+        try:
+            return self.master.get_daq_list_info(number)
+        except XcpCommandError as error:
+            stated = {daq_list.number: daq_list for daq_list in (self.config.daq.lists if self.config.daq else ())}
+            if error.code != Err.CMD_UNKNOWN:
+                raise
+            if number not in stated:
+                raise error.about(f"DAQ list {number} (the A2L's DAQ has no DAQ_LIST {number} to tell its ODTs)") \
+                    from None
+            log.info("GET_DAQ_LIST_INFO: ERR_CMD_UNKNOWN; the A2L's DAQ_LIST %d instead", number)
+            known = stated[number]
+            return DaqListInfo(number, known.predefined, known.fixed_event, known.direction, known.max_odt,
+                               known.max_odt_entries)
 
     def _a2l_daq_for(self: Session, ask: Callable[[], Any]) -> Any:
         """What ``ask`` (a GET_DAQ_..._INFO) answers, or the A2L's DAQ block where the slave does not implement it.

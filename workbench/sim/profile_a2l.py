@@ -23,6 +23,7 @@ from workbench.a2l.xcp import (
     XcpAddressMapping,
     XcpCommunicationMode,
     XcpDaq,
+    XcpDaqList,
     XcpDaqListCanId,
     XcpEvent,
     XcpProtocolLayer,
@@ -261,6 +262,8 @@ def _daq(config: XcpConfig, params: XcpParameters) -> XcpDaq:
         identification_field=daq.identification_field, granularity=daq.granularity,
         max_odt_entry_size=daq.max_odt_entry_size, overload_indication="NO_OVERLOAD_INDICATION",
         timestamp=stamp, events=events,
+        lists=tuple(XcpDaqList(number, "DAQ", shape.odts, shape.entries, shape.fixed_event)
+                    for number, shape in enumerate(daq.static_lists)),
     )
 
 
