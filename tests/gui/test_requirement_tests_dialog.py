@@ -121,6 +121,16 @@ def test_a_bad_folder_and_no_test_found_are_one_line_each(qtbot, opened, tmp_pat
     assert dialog.message.text() == "Not run: no tests found (check PATH, -k and --req)"
 
 
+def _on_udp(port: int):
+    """A bus another process reaches (the tests' process), and the demo project connecting there."""
+    from workbench.gui.project import Connection, demo_project
+
+    bus = {"interface": "udp_multicast", "channel": "239.74.163.66", "port": port}
+    project = demo_project()
+    project.connection = Connection(interface="udp_multicast", channel=bus["channel"], bus_kwargs={"port": port})
+    return bus, project
+
+
 ON_THE_ECU = '''
 from workbench.testbench import requirement, within
 
@@ -133,13 +143,9 @@ def test_reads_the_duty_cycle(ecu):
 
 
 def test_on_the_windows_ecu_the_window_lets_go_of_it_and_connects_again(qtbot, tmp_path, free_udp_port, monkeypatch):
-    from workbench.gui.project import Connection, demo_project
     from workbench.sim import serve_demo
 
-    bus = {"interface": "udp_multicast", "channel": "239.74.163.66", "port": free_udp_port}
-    project = demo_project()
-    project.connection = Connection(interface="udp_multicast", channel=bus["channel"],
-                                    bus_kwargs={"port": free_udp_port})
+    bus, project = _on_udp(free_udp_port)
     (tmp_path / "test_ecu.py").write_text(ON_THE_ECU, encoding="utf-8")
     with serve_demo(bus):
         window = open_window(qtbot, project)
@@ -193,13 +199,9 @@ def test_after(ecu):
 
 def test_the_ecu_lost_during_a_test_is_one_message_and_the_window_stays_disconnected(qtbot, tmp_path,
                                                                                       free_udp_port):
-    from workbench.gui.project import Connection, demo_project
     from workbench.sim import serve_demo
 
-    bus = {"interface": "udp_multicast", "channel": "239.74.163.67", "port": free_udp_port}
-    project = demo_project()
-    project.connection = Connection(interface="udp_multicast", channel=bus["channel"],
-                                    bus_kwargs={"port": free_udp_port})
+    bus, project = _on_udp(free_udp_port)
     (tmp_path / "test_lost.py").write_text(LOSES_THE_ECU, encoding="utf-8")
     with serve_demo(bus):
         window = open_window(qtbot, project)

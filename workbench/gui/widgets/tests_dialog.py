@@ -15,8 +15,8 @@ import re
 import time
 from pathlib import Path
 
-from PySide6.QtCore import QEvent, QModelIndex, Qt, QTimer, QUrl, Signal
-from PySide6.QtGui import QColor, QDesktopServices
+from PySide6.QtCore import QEvent, Qt, QTimer, QUrl, Signal
+from PySide6.QtGui import QDesktopServices
 from PySide6.QtWidgets import (
     QButtonGroup,
     QDialog,
@@ -40,23 +40,14 @@ from PySide6.QtWidgets import (
 
 from workbench.errors import InputError
 from workbench.gui import theme
-from workbench.gui.models.rows import RowsModel
+from workbench.gui.models.verdicts import VerdictsModel
+from workbench.gui.widgets.job_buttons import JobButtons
 from workbench.testbench.run import RequirementRun, RunOptions
 from workbench.testbench.verdicts import requirement_verdicts
 
-__all__ = ["RequirementTestsDialog", "VerdictsModel", "connected_ecu_options"]
+__all__ = ["RequirementTestsDialog", "connected_ecu_options"]
 
 POLL_MS = 200  # how often the run's verdicts and output are read
-_SHOWN = {"passed": "PASSED", "failed": "FAILED", "not judged": "NOT JUDGED", "error": "ERROR", "skipped": "SKIPPED",
-          "interrupted": "INTERRUPTED", "running": "running", "pending": "", "cancelled": "CANCELLED"}
-_COLOUR = {"passed": theme.GOOD, "failed": theme.BAD, "not judged": theme.WARN, "error": theme.WARN,
-           "skipped": theme.MUTED, "interrupted": theme.MUTED, "cancelled": theme.MUTED, "running": theme.ACCENT}
-_MEANING = {"passed": "every expectation held", "failed": "an expectation did not hold: the ECU broke the requirement",
-            "not judged": "the test broke before it judged (the ECU lost, CAN2 silent, a mistake in the test): its "
-                          "requirements are neither verified nor failed",
-            "error": "the test could not start or end (no ECU, another EPK, a value it could not restore)",
-            "skipped": "not run here (e.g. it needs the simulated ECU's faults)",
-            "interrupted": "the run stopped during this test", "cancelled": "the run was cancelled before its end"}
 _EXCEPTION_PREFIX = re.compile(r"^(?:[\w.]+\.)?(ExpectationFailed|NotJudged|Failed): ")  # the verdict says it
 _DOTTED_EXCEPTION = re.compile(r"^[a-z_][\w]*(?:\.[\w]+)*\.(\w+): ")  # workbench.errors.X: -> X:
 
@@ -91,57 +82,6 @@ def connected_ecu_options(window) -> tuple[list[str], str]:
     if window.project.dbcs:
         options += ["--dbc", str(window.project.dbcs[0])]
     return options, settings.describe()
-
-
-class VerdictsModel(RowsModel):
-    """The tests of a run, each ``{"nodeid", "state", "requirements", "message", "duration"}`` (state: pending,
-    running, or a verdict)."""
-
-    COLUMNS = ("Verdict", "Requirements", "Test", "Time", "Reason")
-
-    def __init__(self, parent=None):
-        super().__init__(parent)
-        self.by_id: dict[str, dict] = {}
-
-    def clear(self) -> None:
-        self.by_id = {}
-        self.set_rows([])
-
-    def row_of(self, nodeid: str) -> dict:
-        row = self.by_id.get(nodeid)
-        if row is None:
-            row = self.by_id[nodeid] = {"nodeid": nodeid, "state": "pending", "requirements": [], "message": "",
-                                        "duration": None}
-            self.beginInsertRows(QModelIndex(), len(self.rows), len(self.rows))
-            self.rows.append(row)
-            self.endInsertRows()
-        return row
-
-    def changed(self, nodeid: str) -> None:
-        number = self.rows.index(self.by_id[nodeid])
-        self.dataChanged.emit(self.index(number, 0), self.index(number, len(self.COLUMNS) - 1))
-
-    def data(self, index, role=Qt.DisplayRole):
-        if not index.isValid():
-            return None
-        row, column = self.rows[index.row()], index.column()
-        if role == Qt.ForegroundRole and column == 0:
-            colour = _COLOUR.get(row["state"])
-            return QColor(colour) if colour else None
-        if role == Qt.ToolTipRole:
-            return _MEANING.get(row["state"]) if column == 0 else (row["message"] or None) if column == 4 else \
-                self.data(index)
-        if role != Qt.DisplayRole:
-            return None
-        if column == 0:
-            return _SHOWN[row["state"]]
-        if column == 1:
-            return ", ".join(row["requirements"])
-        if column == 2:
-            return row["nodeid"]
-        if column == 3:
-            return f"{row['duration']:.1f} s" if row["duration"] is not None else ""
-        return row["message"]
 
 
 class _ElideMiddle(QStyledItemDelegate):
@@ -233,20 +173,14 @@ class RequirementTestsDialog(QDialog):
         self.message.setVisible(False)
         layout.addWidget(self.message)
 
-        buttons = QHBoxLayout()
+        self.buttons = JobButtons(self, "Run", "Cancel", self.start, self.cancel,
+                                  guarded=[self.tests_box, self.target_box, self.folder])
+        self.run_button, self.cancel_button = self.buttons.run_button, self.buttons.cancel_button
         self.open_report_button = self._button("Open report", self.open_report, enabled=False)
         self.open_folder_button = self._button("Open folder", self.open_folder, enabled=False)
-        buttons.addWidget(self.open_report_button)
-        buttons.addWidget(self.open_folder_button)
-        buttons.addStretch(1)
-        self.run_button = self._button("Run", self.start)
-        self.run_button.setDefault(True)
-        self.cancel_button = self._button("Cancel", self.cancel, enabled=False)
-        self.close_button = self._button("Close", self.reject)
-        for button in (self.run_button, self.cancel_button, self.close_button):
-            buttons.addWidget(button)
-        layout.addLayout(buttons)
-        self.guarded = [self.tests_box, self.target_box, self.folder]
+        self.buttons.insertWidget(0, self.open_report_button)
+        self.buttons.insertWidget(1, self.open_folder_button)
+        layout.addLayout(self.buttons)
         screen = self.window_.screen().availableGeometry() if self.window_.screen() else None
         width, height = 1000, 680  # a big screen gives the table more room
         if screen is not None:
@@ -530,10 +464,7 @@ class RequirementTestsDialog(QDialog):
         cancelled = run.cancelled_at is not None
         report = run.report.is_file()
         code = run.exit_code
-        for row in self.model.rows:
-            if row["state"] in ("pending", "running"):
-                row["state"] = "cancelled" if cancelled or row["state"] == "pending" else "interrupted"
-        self.model.layoutChanged.emit()
+        self.model.end(cancelled)
         elapsed = time.monotonic() - self._started
         if code == 2 and not cancelled and not any(r["state"] not in ("cancelled", "pending") for r in self.model.rows):
             self.model.clear()  # nothing ran: the command's own line says why
@@ -590,11 +521,7 @@ class RequirementTestsDialog(QDialog):
         self.refresh_target()
 
     def _set_busy(self, busy: bool) -> None:
-        self.run_button.setEnabled(not busy)
-        self.cancel_button.setEnabled(busy)
-        self.close_button.setEnabled(not busy)
-        for widget in self.guarded:
-            widget.setEnabled(not busy)
+        self.buttons.set_busy(busy)
         if busy:
             self.open_report_button.setEnabled(False)
             self.open_folder_button.setEnabled(False)
@@ -641,10 +568,7 @@ class RequirementTestsDialog(QDialog):
         run, self.run = self.run, None
         if run is not None:
             run.close()
-            for row in self.model.rows:
-                if row["state"] in ("pending", "running"):
-                    row["state"] = "cancelled"
-            self.model.layoutChanged.emit()
+            self.model.end(cancelled=True)
             self.on_ecu = False
             self._set_busy(False)
 
