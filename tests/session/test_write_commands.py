@@ -4,6 +4,7 @@ one read-back, a map cell only its own bytes, a refused write nothing at all; pa
 from __future__ import annotations
 
 import struct
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -268,3 +269,28 @@ def test_a_key_the_ecu_refuses_is_said_where_it_is_refused(sim, channel):
         session.write("xsSWITCH_TANK_THR", 21.0)
     assert (refused.value.command, refused.value.code) == ("UNLOCK", Err.ACCESS_LOCKED)
     assert "_wrong_key" in str(refused.value) and "CAL/PAG" in str(refused.value)
+
+
+def test_several_values_side_by_side_are_one_download_and_one_read_back(ecu, sim, log):
+    """A sweep's step of three gains (user trial 10: three writes, three SET_MTA, DOWNLOAD and read-back each)."""
+    ecu.write("xsSWITCH_TANK_THR", 21.0)  # unlocked, page known
+    log.take()
+    written = ecu.write_many({"xsPRV_KP": 5.5, "xsPRV_KI": 2.5, "xsPRV_KD": 0.03})
+    assert log.take() == ["SET_MTA", "DOWNLOAD", "DOWNLOAD_NEXT", "SET_MTA", "UPLOAD"]
+    assert {name: value.value for name, value in written.items()} == {
+        "xsPRV_KP": 5.5, "xsPRV_KI": 2.5, "xsPRV_KD": float(np.float32(0.03))}
+    assert ecu.read_many(["xsPRV_KP", "xsPRV_KI", "xsPRV_KD"])["xsPRV_KI"] == 2.5
+    log.take()
+    with pytest.raises(LimitsError, match="xsPRV_KD: 500.0000 is above"):
+        ecu.write_many({"xsPRV_KP": 6.0, "xsPRV_KD": 500.0})  # every value checked before anything is sent
+    assert log.take() == []
+    map_value = ecu.read_value("xvPRV_DC_FF")
+    axis = ecu.read_value("xaPRV_FF_TARGET").value.copy()
+    axis[1] = 12.0
+    points = map_value.axes[0].values.copy()
+    points[1] = 14.0
+    map_value = replace(map_value, axes=(replace(map_value.axes[0], values=points), map_value.axes[1]))
+    log.take()
+    with pytest.raises(InputError, match="give other bytes for"):  # the map's shared axis given twice, two ways
+        ecu.write_many({"xaPRV_FF_TARGET": axis, "xvPRV_DC_FF": map_value})
+    assert "DOWNLOAD" not in log.take()

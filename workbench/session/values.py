@@ -21,6 +21,7 @@ fields reached the ECU.
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
+from dataclasses import replace
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
@@ -180,19 +181,42 @@ class ValueAccess:
         """
         with self.lock:
             self.require_writable()
-            static = self._static_layout(name)
-            target = checked_value(self.model, name, value, extended=allow_extended_limits,
-                                   writable=self.writable_spans(), resolved=static)
-            layout = static or self._write_layout(name)
-            bits = getattr(layout.obj, "bit_mask", None) is not None  # the other bits of a BIT_MASK come from the ECU
-            edits = None if bits else layout.encode(target)  # the conversion's refusals: before anything is sent
-            self._check_pages(name, layout.spans())
-            if bits or layout.kind not in ("VALUE", "ASCII"):  # only the elements that differ
-                edits = layout.encode(target, self._known_bytes(layout.spans()))
-                if not edits:  # nothing differs from what the session knew: make sure
-                    edits = layout.encode(target, self._fresh_bytes(layout.spans()))
+            layout, edits = self._planned(name, value, allow_extended_limits)
             self._apply(name, edits)
             return self._written_value(name, layout)
+
+    def write_many(self: Session, values: Mapping[str, Any], *, allow_extended_limits: bool = False
+                   ) -> dict[str, CalValue]:
+        """Write several calibrations as one step (a sweep's gains, a controller's parameters): every value checked
+        as :meth:`write` checks it before anything is sent, then the bytes that change written with those of the
+        objects beside them in one DOWNLOAD (a struct's members, neighbours in the A2L's memory) and read back
+        at once. Returns what the ECU holds, by name. Three gains side by side take one SET_MTA, DOWNLOAD and
+        read-back instead of three of each.
+
+        :raises InputError: as :meth:`write`, or two of the objects give other bytes for the same address (a map
+            and its shared axis with other points); nothing was sent.
+        :raises WorkbenchError: a write failed; the message names the objects that reached the ECU.
+        """
+        with self.lock:
+            self.require_writable()
+            planned = {name: self._planned(name, value, allow_extended_limits) for name, value in values.items()}
+            self._apply_many([edit for _, edits in planned.values() for edit in edits])
+            return {name: self._written_value(name, layout) for name, (layout, _) in planned.items()}
+
+    def _planned(self: Session, name: str, value: Any, extended: bool) -> tuple[ResolvedLayout, list[ByteEdit]]:
+        """``name`` placed in memory and the edits that write ``value`` there, every check made (nothing sent)."""
+        static = self._static_layout(name)
+        target = checked_value(self.model, name, value, extended=extended, writable=self.writable_spans(),
+                               resolved=static)
+        layout = static or self._write_layout(name)
+        bits = getattr(layout.obj, "bit_mask", None) is not None  # the other bits of a BIT_MASK come from the ECU
+        edits = None if bits else layout.encode(target)  # the conversion's refusals: before anything is sent
+        self._check_pages(name, layout.spans())
+        if bits or layout.kind not in ("VALUE", "ASCII"):  # only the elements that differ
+            edits = layout.encode(target, self._known_bytes(layout.spans()))
+            if not edits:  # nothing differs from what the session knew: make sure
+                edits = layout.encode(target, self._fresh_bytes(layout.spans()))
+        return layout, edits
 
     def write_cells(self: Session, name: str, cells: Mapping[Any, Any], *, allow_extended_limits: bool = False
                     ) -> dict[tuple[int, ...], Any]:
@@ -306,6 +330,46 @@ class ValueAccess:
         if wrong:
             raise WorkbenchError(f"{name}: the ECU holds other bytes than were written to {', '.join(wrong)} "
                                  "(a read-only area, or the ECU overwrote them)")
+
+    def _apply_many(self: Session, edits: list[ByteEdit]) -> None:
+        """The edits of several objects in runs of adjacent bytes (a DOWNLOAD each), read back at once."""
+        for edit in edits:
+            check_inside(edit.name, [(edit.span, edit.field)], self.writable_spans())
+        runs: list[tuple[ByteEdit, list[ByteEdit]]] = []  # (the bytes of a run, the edits in it)
+        for edit in sorted(edits, key=lambda e: (e.extension, e.address)):
+            run = runs[-1] if runs else None
+            if run is not None and run[0].extension == edit.extension and edit.address < run[0].span.end:
+                offset = edit.address - run[0].address  # overlapping: the same bytes, or two objects disagree
+                if run[0].data[offset:offset + len(edit.data)] != edit.data[:len(run[0].data) - offset]:
+                    raise InputError(f"{edit.name} and {run[1][-1].name} give other bytes for {edit.span}: write "
+                                     "them one after the other (Session.write)")
+                edit = replace(edit, address=run[0].span.end, data=edit.data[run[0].span.end - edit.address:])
+            if run is not None and run[0].extension == edit.extension and edit.address == run[0].span.end:
+                runs[-1] = (replace(run[0], data=run[0].data + edit.data), run[1] + [edit])
+            else:
+                runs.append((edit, [edit]))
+        self._known()
+        for index, (run, _) in enumerate(runs):
+            try:
+                self.master.write(run.address, run.data, run.extension)
+            except WorkbenchError as exc:
+                if index == 0:
+                    self._explain_refusal(run.name, run, exc)
+                    raise
+                reached = {e.name for _, inside in runs[:index] for e in inside}
+                missed = {e.name for _, inside in runs[index:] for e in inside}
+                half = sorted(reached & missed)
+                raise WorkbenchError(f"{exc}; reached the ECU: {', '.join(sorted(reached - missed)) or 'none'}"
+                                     + (f", in part: {', '.join(half)}" if half else "")
+                                     + f"; not written: {', '.join(sorted(missed - reached))}") from exc
+        back = self._read_spans([run.span for run, _ in runs])
+        self._known_memory.keep(self.master.memory_changes)  # the changes since were these edits
+        self._known_memory.store(back)
+        wrong = sorted({edit.name for run, inside in runs for edit in inside if back[run.span][
+            edit.address - run.address:edit.span.end - run.address] != edit.data})
+        if wrong:
+            raise WorkbenchError(f"{', '.join(wrong)}: the ECU holds other bytes than were written (a read-only area, "
+                                 "or the ECU overwrote them)")
 
     def _written_value(self: Session, name: str, layout: ResolvedLayout) -> CalValue:
         """The value the ECU holds now: the bytes read back, the rest as the session knows it."""
