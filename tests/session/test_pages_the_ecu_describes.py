@@ -12,6 +12,7 @@ from xcp_commands import CommandLog
 from workbench import PageError, Session
 from workbench.a2l import load_a2l_string, read_xcp_config
 from workbench.sim import serve_demo
+from workbench.sim.profiles import SlaveProfile
 from workbench.xcp_protocol import Cmd, Err
 
 
@@ -76,3 +77,22 @@ def test_a_reference_page_an_earlier_session_switched_to_is_found_before_anythin
                 ecu.write_cells("xvPRV_DC_FF", {(0, 0): 1.0})
             assert log.take() == []
         assert sim.ecu.pages.xcp_pages == [1, 1]
+
+
+def test_a_slave_without_get_cal_page_is_read_by_page_and_put_back_on_its_working_page(channel):
+    """GET_CAL_PAGE is optional: reading by page switches XCP to the reference page and back to the working page (the
+    one it was set to, else the A2L's working page); it failed 'GET_CAL_PAGE failed: ERR_CMD_UNKNOWN'."""
+    quiet = SlaveProfile("no-get-cal-page", "", "", xcp={"without": frozenset({Cmd.GET_CAL_PAGE})})
+    with serve_demo({"interface": "virtual", "channel": channel}, profile=quiet) as sim:
+        with Session.open(sim.a2l, interface="virtual", channel=channel, timeouts=FAST) as ecu:
+            ecu.write("xsSWITCH_TANK_THR", 24.0)
+            try:
+                assert ecu.read("xsSWITCH_TANK_THR", page="reference") == 20.0
+                assert sim.ecu.pages.xcp_pages == [0]
+                assert ecu.read("xsSWITCH_TANK_THR") == 24.0
+                ecu.set_page("reference")
+                assert ecu.read("xsSWITCH_TANK_THR", page="working") == 24.0
+                assert sim.ecu.pages.xcp_pages == [1]  # back where this master had set it
+            finally:
+                ecu.set_page("working")
+                ecu.write("xsSWITCH_TANK_THR", 20.0)

@@ -448,10 +448,15 @@ class _XcpPages:
     def __enter__(self):
         master = self.session.master
         for segment, page in self.pages.items():
-            previous = master.get_cal_page(segment, _XCP_ONLY)
+            try:
+                previous = master.get_cal_page(segment, _XCP_ONLY)
+            except XcpCommandError as error:  # GET_CAL_PAGE is optional: XCP goes back to the working page after
+                if error.code != Err.CMD_UNKNOWN:
+                    raise
+                previous = None
             if previous != page:
                 master.set_cal_page(segment, page, _XCP_ONLY)
-                self.previous[segment] = previous
+                self.previous[segment] = self.session.page_numbers(segment)[0] if previous is None else previous
         return self
 
     def __exit__(self, *exc_info):

@@ -563,8 +563,17 @@ class XcpMaster:
     # --- calibration pages --------------------------------------------------------------------
 
     def get_cal_page(self, segment: int, mode: int = 0x02) -> int:
-        """The page of ``segment`` the ECU (mode 0x01) or XCP (0x02) accesses."""
-        page = self.command(Cmd.GET_CAL_PAGE, bytes((mode, segment)))[2]
+        """The page of ``segment`` the ECU (mode 0x01) or XCP (0x02) accesses; from a slave without GET_CAL_PAGE
+        (ERR_CMD_UNKNOWN: it is optional) XCP's page as this master last set it.
+
+        :raises XcpCommandError: refused, or not implemented and not set since CONNECT.
+        """
+        try:
+            page = self.command(Cmd.GET_CAL_PAGE, bytes((mode, segment)))[2]
+        except XcpCommandError as error:
+            if error.code != Err.CMD_UNKNOWN or mode != 0x02 or segment not in self.xcp_pages:
+                raise
+            return self.xcp_pages[segment]
         if mode == 0x02:
             self.xcp_pages[segment] = page
         return page
