@@ -220,6 +220,22 @@ def test_one():
     result.stdout.fnmatch_lines(["1 verified, 0 failed, 2 of the catalogue not tested", "NOT TESTED: R8, R9"])
 
 
+def test_a_band_written_backwards_is_one_line_at_the_test_s_line(pytester):
+    """As a misspelt name: the test's line and the error, not the condition's code (user trial 10)."""
+    pytester.makepyfile(test_band="""
+from workbench.testbench import requirement, within
+
+@requirement("R1")
+def test_band():
+    within(26, 24)
+""")
+    result = pytester.runpytest_inprocess(*PLUGIN)
+    result.assert_outcomes(errors=1)
+    result.stdout.fnmatch_lines(["E *InputError: within(26, 24): the low bound is above the high one",
+                                 "test_band.py:5: InputError"])
+    assert "def within" not in result.stdout.str()
+
+
 def test_a_run_stopped_within_a_test_verifies_nothing(pytester):
     """Ctrl-C while a test runs: it has no call report, and its requirement counted as verified ('1 verified,
     0 failed' of a run that stopped; user trial 6). It is INTERRUPTED now."""

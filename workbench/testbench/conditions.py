@@ -88,6 +88,7 @@ class Condition:
 
 def within(low: float, high: float) -> Condition:
     """:raises InputError: ``low`` above ``high`` (the test's mistake, not the ECU's: it would fail every sample)."""
+    __tracebackhide__ = True  # pytest shows the test's line and the one-line error, not this function's
     if low > high:
         raise InputError(f"within({low}, {high}): the low bound is above the high one")
     return Condition(low=float(low), high=float(high))
@@ -95,6 +96,7 @@ def within(low: float, high: float) -> Condition:
 
 def equals(value: Any, tolerance: float = 0.0) -> Condition:
     """:raises InputError: a negative ``tolerance`` (no sample could pass)."""
+    __tracebackhide__ = True
     if not tolerance >= 0:
         raise InputError(f"equals({value!r}, tolerance={tolerance}): a tolerance is 0 or more")
     return Condition(value=value, tolerance=float(tolerance))
