@@ -214,3 +214,18 @@ def test_a_condition_on_an_array_s_element_in_the_signal_s_unit(bus, capsys, tmp
         assert len(channel(read_mdf(path), "Task4ms", "zsSensVolt[3]")) == 1  # the sample that met it is the last
     else:
         assert not path.exists()
+
+
+def test_can2_channels_are_named_as_asammdf_names_the_bus_log_s_signals(bus, capsys, tmp_path, read_mdf):
+    """A decoded CAN2 signal reads 'CAN2.<message>.<signal>', as asammdf's extract_bus_logging names the same signal
+    from the raw log (it read '<the DBC file>.<signal>'); the raw log 'CAN2.CAN_DataFrame' (it read '<the bus's
+    options>.CAN_DataFrame')."""
+    path = tmp_path / "run.mf4"
+    code, out, err = run(capsys, "record", path, "xsDC", "--can2", demo.dbc_can2(), "--raw-can", "--duration", "0.5",
+                         *bus)
+    assert code == 0, err
+    mdf = read_mdf(path)
+    assert set(mdf.get("TargetRailPressure").display_names) == {"CAN2.PCM_TO_FLCU_002.TargetRailPressure"}
+    extracted = mdf.extract_bus_logging({"CAN": [(str(demo.dbc_can2()), 0)]})
+    assert "CAN2.PCM_TO_FLCU_002.TargetRailPressure" in extracted.get("TargetRailPressure").display_names
+    assert set(mdf.get("CAN_DataFrame").display_names) == {"CAN2.CAN_DataFrame"}

@@ -45,7 +45,7 @@ class RawCanGroup:
                                for name in self.dtype.names])  # the same bytes, the data as one zero-padded string
         self.spec = GroupSpec(f"CAN{bus_channel}", (ChannelSpec("CAN_DataFrame", self.dtype),),
                               f"CAN bus logging of CAN{bus_channel} ({describe}): every data frame, raw",
-                              SourceSpec(f"CAN{bus_channel}", describe, kind="BUS", bus="CAN"))
+                              SourceSpec(f"CAN{bus_channel}", f"CAN{bus_channel}", describe, kind="BUS", bus="CAN"))
 
     def records(self, frames: Sequence) -> np.ndarray:
         """python-can messages (data frames) -> CAN_DataFrame records (one pass in Python, a bus may be saturated)."""
@@ -64,10 +64,13 @@ class CanMessageGroups:
     def __init__(self, database, dbc_path: str | Path, bus_name: str = "CAN2"):
         self.messages = [message for message in database.messages if not message.is_multiplexed()]
         self.multiplexed = [message.name for message in database.messages if message.is_multiplexed()]
-        source = SourceSpec(bus_name, Path(dbc_path).name, f"decoded with {dbc_path}", kind="BUS", bus="CAN")
+        # the path <bus>.<message>: asammdf names a channel '<path>.<name>', as its extract_bus_logging names the
+        # signal decoded from the raw log ('CAN2.PCM_TO_FLCU_002.TargetRailPressure')
         self.specs = [GroupSpec(message.name, tuple(_channel(signal) for signal in message.signals),
                                 f"{bus_name} 0x{message.frame_id:X} {message.name}"
-                                + (f": {message.comment}" if message.comment else ""), source)
+                                + (f": {message.comment}" if message.comment else ""),
+                                SourceSpec(bus_name, f"{bus_name}.{message.name}", f"decoded with {dbc_path}",
+                                           kind="BUS", bus="CAN"))
                       for message in self.messages]
         self.by_frame = {(message.frame_id, bool(message.is_extended_frame)): index
                          for index, message in enumerate(self.messages)}
