@@ -4,6 +4,8 @@ checks of ``cal load`` (a dry run first; a refused object and nothing is written
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from gui_helpers import WAIT_MS, demo_ecu_on_a_channel_of_its_own, ecu_and_window_fixtures, open_window, text_rect
@@ -111,6 +113,20 @@ def test_a_parameter_set_saved_changed_and_applied_with_the_checks_of_cal_load(w
     with qtbot.waitSignal(sets.compared, timeout=WAIT_MS):
         sets.compare_files(tmp_path / "base.dcm", tmp_path / "bad.dcm")
     assert view.rows_shown() == ["xvPRV_DC_FF", "xsSWITCH_TANK_THR"] and not view.apply_button.isVisible()
+
+    moved = Dataset()  # the map alone, its shared axis's point moved: said before Ok, not only under Details
+    points = tuned.axes[0].values.copy()
+    points[1] += 2.0
+    moved.add(CalValue(tuned.name, tuned.kind, tuned.value, (replace(tuned.axes[0], values=points), tuned.axes[1]),
+                       tuned.unit))
+    save_dataset(moved, tmp_path / "moved.dcm")
+    sets.confirm = None
+    with qtbot.waitSignal(sets.compared, timeout=WAIT_MS):
+        sets.open(tmp_path / "moved.dcm")
+    view.apply_button.click()
+    qtbot.waitUntil(lambda: sets.confirm is not None and sets.confirm.isVisible(), timeout=WAIT_MS)
+    assert "\nwarning: xvPRV_DC_FF: its X axis is the AXIS_PTS xaPRV_FF_TARGET" in sets.confirm.informativeText()
+    sets.confirm.close()
     assert not window.errors
 
 
