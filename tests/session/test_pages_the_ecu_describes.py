@@ -96,3 +96,19 @@ def test_a_slave_without_get_cal_page_is_read_by_page_and_put_back_on_its_workin
             finally:
                 ecu.set_page("working")
                 ecu.write("xsSWITCH_TANK_THR", 20.0)
+
+
+def test_a_slave_without_copy_cal_page_gets_the_copy_by_upload_and_download(channel):
+    """COPY_CAL_PAGE is optional: the segment is read on both pages and what differs written on the working page
+    (it failed 'COPY_CAL_PAGE failed: ERR_CMD_UNKNOWN')."""
+    quiet = SlaveProfile("no-copy-cal-page", "", "", xcp={"without": frozenset({Cmd.COPY_CAL_PAGE})})
+    with serve_demo({"interface": "virtual", "channel": channel}, profile=quiet) as sim:
+        with Session.open(sim.a2l, interface="virtual", channel=channel, timeouts=FAST) as ecu:
+            ecu.write("xsSWITCH_TANK_THR", 24.0)
+            ecu.write("cfTARGETRAILPRESSURE_VALUE", 31.5)
+            ecu.copy_reference_to_working()
+            assert ecu.read("xsSWITCH_TANK_THR") == 20.0
+            assert ecu.read("cfTARGETRAILPRESSURE_VALUE") == ecu.read("cfTARGETRAILPRESSURE_VALUE", page="reference")
+            assert sim.ecu.pages.xcp_pages == [0]
+        with sim.lock:
+            assert sim.ecu.read(0x40000000, 0x20000) == sim.ecu.read(0xFC0000, 0x20000)

@@ -21,6 +21,8 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 from workbench import demo
 from workbench.a2l import A2lDocument, read_xcp_config
 from workbench.a2l.includes import load_a2l_to_work
@@ -410,12 +412,29 @@ class Session(ValueAccess, EventAccess, FixAccess):
 
     def copy_reference_to_working(self, segment: int | None = None) -> None:
         """COPY_CAL_PAGE reference -> working in ``segment`` (None: every calibration segment): the working
-        page starts over from the flashed values (:meth:`page_copies` says what that overwrites)."""
+        page starts over from the flashed values (:meth:`page_copies` says what that overwrites). A slave without
+        COPY_CAL_PAGE (it is optional) gets the copy by UPLOAD and DOWNLOAD: the segment read on both pages, the bytes
+        that differ written on the working page."""
         with self.lock:
             self.require_writable()
             for number in self.segment_numbers() if segment is None else [segment]:
                 working, reference = self.page_numbers(number)
-                self.master.copy_cal_page(number, reference, number, working)
+                try:
+                    self.master.copy_cal_page(number, reference, number, working)
+                except XcpCommandError as error:
+                    if error.code != Err.CMD_UNKNOWN:
+                        raise
+                    log.info("COPY_CAL_PAGE: ERR_CMD_UNKNOWN; segment %d copied by UPLOAD and DOWNLOAD", number)
+                    self._copy_by_transfer(number, reference, working)
+
+    def _copy_by_transfer(self, number: int, reference: int, working: int) -> None:
+        found = self.segment(number)
+        with self.on_page(reference, number):
+            wanted = self.master.read(found.address, found.size)
+        with self.on_page(working, number):
+            now = self.master.read(found.address, found.size)
+            for start, end in _differing_runs(wanted, now):
+                self.master.write(found.address + start, wanted[start:end])
 
     def _page_number(self, page: str | int, segment: int) -> int:
         if isinstance(page, int):
@@ -462,6 +481,18 @@ class _XcpPages:
     def __exit__(self, *exc_info):
         for segment, previous in self.previous.items():
             self.session.master.set_cal_page(segment, previous, _XCP_ONLY)
+
+
+def _differing_runs(wanted: bytes, now: bytes, gap: int = 8) -> list[tuple[int, int]]:
+    """[start, end) runs where ``now`` differs from ``wanted``, runs fewer than ``gap`` bytes apart joined (one DOWNLOAD
+    for close changes)."""
+    differs = np.flatnonzero(np.frombuffer(wanted, np.uint8) != np.frombuffer(now, np.uint8))
+    if not len(differs):
+        return []
+    breaks = np.flatnonzero(np.diff(differs) > gap)
+    starts = np.concatenate(([differs[0]], differs[breaks + 1]))
+    ends = np.concatenate((differs[breaks], [differs[-1]])) + 1
+    return list(zip(starts.tolist(), ends.tolist()))
 
 
 def _segment_of_slave(number: int, address: int, size: int) -> XcpSegment:
