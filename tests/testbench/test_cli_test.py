@@ -66,6 +66,10 @@ def test_bad_input_is_exit_2(capsys, tmp_path):
     assert main(["test", "--report", str(report), "--requirements", str(tmp_path / "none.csv")]) == 2
     assert capsys.readouterr().err.strip() == f"error: {tmp_path / 'none.csv'}: no such file"
     assert not (report / "junit.xml").exists()
+    assert main(["test", "--verdict-log", str(tmp_path)]) == 2  # a folder, not a file: no INTERNALERROR traceback
+    assert capsys.readouterr().err.strip() == f"error: --verdict-log {tmp_path}: is a folder; name a file"
+    assert main(["test", "--verdict-log", str(tmp_path / "file" / "v.jsonl")]) == 2  # below a file
+    assert f"--verdict-log {tmp_path / 'file' / 'v.jsonl'}: cannot be written (" in capsys.readouterr().err
 
 
 def test_a_flash_whose_calibration_breaks_a_requirement_fails_that_requirement(pytester, tmp_path):

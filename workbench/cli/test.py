@@ -149,6 +149,8 @@ def run(args: argparse.Namespace) -> int:
             from workbench.testbench.report import read_requirements
 
             read_requirements(args.requirements)
+    if args.verdict_log and Path(args.verdict_log).is_dir():  # as the plugin would refuse it, in the command's words
+        raise InputError(f"--verdict-log {args.verdict_log}: is a folder; name a file")
     code = int(pytest.main(argv))
     if code == 5:
         raise InputError("no tests found (check PATH, -k and --req)")

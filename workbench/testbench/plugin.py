@@ -86,9 +86,7 @@ def pytest_configure(config: pytest.Config) -> None:
     outcomes = _Outcomes(config, keep_all=bool(report or verdict_log))
     config.pluginmanager.register(outcomes, "workbench-testbench-outcomes")
     if verdict_log and not hasattr(config, "workerinput"):
-        from workbench.testbench.verdicts import VerdictLog
-
-        config.pluginmanager.register(_LiveVerdicts(VerdictLog(verdict_log), outcomes), "workbench-testbench-verdicts")
+        config.pluginmanager.register(_LiveVerdicts(_verdict_log(verdict_log), outcomes), "workbench-testbench-verdicts")
     if any(getattr(config.option, dest, None) for dest in _ECU_OPTIONS):  # bad ECU options: a usage error at once
         target = _target(config)
         workers = getattr(config.option, "numprocesses", None)  # pytest-xdist's -n, maybe from an ini's addopts
@@ -96,6 +94,18 @@ def pytest_configure(config: pytest.Config) -> None:
             source = f" (from the addopts of {config.inipath.name})" if config.inipath else ""
             raise pytest.UsageError(f"-n {workers}{source}: the tests would share {target.describe()} from {workers} "
                                     "processes, and XCP takes one master at a time: give -n 0")
+
+
+def _verdict_log(path: str):
+    """The ``--verdict-log`` file, opened for writing. :raises pytest.UsageError: it cannot be (a folder, no access)."""
+    from workbench.testbench.verdicts import VerdictLog
+
+    if Path(path).is_dir():
+        raise pytest.UsageError(f"--verdict-log {path}: is a folder; name a file")
+    try:
+        return VerdictLog(path)
+    except OSError as exc:
+        raise pytest.UsageError(f"--verdict-log {path}: cannot be written ({exc.strerror or exc}: {exc.filename})") from None
 
 
 def _catalogue(path: str | None) -> list:
