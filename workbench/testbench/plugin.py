@@ -86,7 +86,8 @@ def pytest_configure(config: pytest.Config) -> None:
     outcomes = _Outcomes(config, keep_all=bool(report or verdict_log))
     config.pluginmanager.register(outcomes, "workbench-testbench-outcomes")
     if verdict_log and not hasattr(config, "workerinput"):
-        config.pluginmanager.register(_LiveVerdicts(_verdict_log(verdict_log), outcomes), "workbench-testbench-verdicts")
+        live = _LiveVerdicts(_verdict_log(verdict_log), outcomes)
+        config.pluginmanager.register(live, "workbench-testbench-verdicts")
     if any(getattr(config.option, dest, None) for dest in _ECU_OPTIONS):  # bad ECU options: a usage error at once
         target = _target(config)
         workers = getattr(config.option, "numprocesses", None)  # pytest-xdist's -n, maybe from an ini's addopts
@@ -105,7 +106,8 @@ def _verdict_log(path: str):
     try:
         return VerdictLog(path)
     except OSError as exc:
-        raise pytest.UsageError(f"--verdict-log {path}: cannot be written ({exc.strerror or exc}: {exc.filename})") from None
+        raise pytest.UsageError(f"--verdict-log {path}: cannot be written ({exc.strerror or exc}: "
+                                f"{exc.filename})") from None
 
 
 def _catalogue(path: str | None) -> list:
