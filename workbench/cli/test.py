@@ -24,8 +24,9 @@ DIR/report.html (traceability, each test's steps, plots of its signals with the 
 and each test's MDF4 evidence under DIR/evidence; --verdict-log FILE a JSON line per test as it ends.
 -n N spreads the tests over N processes (pytest-xdist), each test with its own simulated ECU. --req ID
 runs the tests that verify a requirement (or those below it), --repeat N runs each test N times, and
-what follows -- goes to pytest as it is (-x, -v, --lf, -m MARK, --junitxml PATH ...). Exit 0: every test passed; 1: a test failed, or broke
-before it judged (its requirements NOT JUDGED); 2: bad input (options, a path, no tests found).
+what follows -- goes to pytest as it is (-x, -v, --lf, -m MARK, --junitxml PATH ...).
+Exit 0: every test passed; 1: a test failed, or broke before it judged (its requirements NOT JUDGED);
+2: bad input (options, a path, no tests found).
 
 examples:
   workbench test --report out/
