@@ -45,9 +45,10 @@ def test_working_read_only_measures_but_refuses_calibration(window, qtbot):
 
 
 def test_disconnect_closes_the_session(window, qtbot):
-    with qtbot.waitSignal(window.controller.disconnected, timeout=WAIT_MS):
+    with qtbot.waitSignal(window.controller.released, timeout=WAIT_MS):
         window.epk_dialog.disconnect_button.click()
-    assert window.controller.session is None and window.connect_action.isEnabled()
+        assert window.controller.session is None and not window.connect_action.isEnabled()  # until let go of
+    assert window.connect_action.isEnabled()
 
 
 NEW_EPK = b"10300020259999"

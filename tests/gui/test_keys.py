@@ -133,7 +133,7 @@ def test_ctrl_f9_opens_the_flash_dialog_which_flashes_nothing_by_itself(window, 
 
 def test_shift_f9_disconnects_and_f9_connects_again(window, qtbot):
     focus(window.browser.table)
-    with qtbot.waitSignal(window.controller.disconnected, timeout=WAIT_MS):
+    with qtbot.waitSignal(window.controller.released, timeout=WAIT_MS):  # F9 waits for the ECU to be let go of
         press(Qt.Key_F9, SHIFT)
     assert not window.disconnect_action.isEnabled()
     with qtbot.waitSignal(window.controller.connected, timeout=WAIT_MS):

@@ -93,6 +93,7 @@ class DaqAcquisition(QObject):
         self._changed = threading.Event()
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
+        self.after: threading.Event | None = None  # set: the measurement before on the session has stopped
 
     def measure(self, names) -> None:
         """Measure ``names`` from now on (an empty set stops the DAQ lists, the thread waits)."""
@@ -122,15 +123,21 @@ class DaqAcquisition(QObject):
     def recording(self) -> bool:
         return self._recording is not None
 
-    def stop(self, timeout_s: float = 5.0) -> None:
-        """Stop the measurement and wait for the thread (the DAQ lists are stopped on the ECU)."""
+    def stop(self) -> None:
+        """Ask the thread to stop the measurement (the DAQ lists are stopped on the ECU); :meth:`wait` for it
+        (not in the GUI thread: it ends within one read, :data:`_READ_TIMEOUT_S`, or a DAQ command's timeout)."""
         self._stop.set()
         self._changed.set()
-        if self._thread is not None:
-            self._thread.join(timeout_s)
-            self._thread = None
+
+    def wait(self, timeout_s: float = 5.0) -> None:
+        """Wait until the thread asked to :meth:`stop` has ended."""
+        thread = self._thread
+        if thread is not None:
+            thread.join(timeout_s)
 
     def _run(self) -> None:
+        if self.after is not None:  # one DAQ measurement at a time on a session
+            self.after.wait(5.0)
         while not self._stop.is_set():
             self._changed.wait()
             self._changed.clear()

@@ -15,6 +15,12 @@ A :class:`~workbench.errors.ConnectionLostError` from any call (or from the DAQ 
 controller tries to open the session again every few seconds until the ECU answers (``connected``
 follows) or :meth:`EcuController.stop_reconnecting` is called.
 
+Closing a session never waits in the GUI thread: :meth:`EcuController.close` (and a lost connection) says
+``disconnected`` at once, stops what the window runs on the session (``before_close``: the DAQ thread, the CAN
+monitor) and closes the session in a worker (its DAQ stopped, DISCONNECT, the bus and its receive thread freed:
+100-400 ms, seconds for an ECU that stopped answering); ``released`` follows. Opening a session again waits in its
+worker for that release, so the ECU is never asked to CONNECT while the DISCONNECT of the session before is under way.
+
 A change of the ECU's values (:meth:`EcuController.change`: a write, an override) is never lost silently:
 without a session it is refused at once (:class:`NotWrittenError` "not connected"), and one under way when
 the connection is lost or closed ends with a :class:`NotWrittenError` too, through the same ``on_error``.
@@ -22,12 +28,13 @@ the connection is lost or closed ends with a :class:`NotWrittenError` too, throu
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import partial
 from typing import Any
 
-from PySide6.QtCore import QObject, QTimer, Signal
+from PySide6.QtCore import QEventLoop, QObject, QTimer, Signal
 
 from workbench.errors import ConnectionLostError, InputError, PageError
 from workbench.gui.project import Connection
@@ -71,9 +78,17 @@ class Connected:
     info: Any  # workbench.session.info.EcuInfo
 
 
-def _open(a2l, connection: Connection, accept_epk_mismatch: bool) -> Connected:
+# How long a close in a worker waits for the window's DAQ thread, and an open for the close before it: closing
+# stops DAQ and sends DISCONNECT, each bounded by the ECU's timeouts (seconds for one that stopped answering)
+_RELEASE_WAIT_S = 30.0
+
+
+def _open(a2l, connection: Connection, accept_epk_mismatch: bool, released: threading.Event | None = None
+          ) -> Connected:
     from workbench.session import Session
 
+    if released is not None:  # the session before lets go of the ECU and the bus first
+        released.wait(_RELEASE_WAIT_S)
     session = Session.open(a2l, accept_epk_mismatch=accept_epk_mismatch, **connection.session_options())
     try:
         info = session.info()
@@ -83,8 +98,20 @@ def _open(a2l, connection: Connection, accept_epk_mismatch: bool) -> Connected:
     return Connected(session, info)
 
 
+def _close(session, before: threading.Event | None) -> None:
+    """Close ``session`` once ``before`` is set (the window's DAQ thread ended), in a worker."""
+    if before is not None:
+        before.wait(_RELEASE_WAIT_S)
+    session.close()
+
+
 class EcuController(QObject):
-    """Connects, disconnects and calls the session off the GUI thread."""
+    """Connects, disconnects and calls the session off the GUI thread.
+
+    ``before_close()`` runs in the GUI thread whenever a session closes (Disconnect, a lost connection, the window
+    closing), before the session does: what uses the session stops there; the close waits in its worker for the
+    ``threading.Event`` it returns (None: for nothing).
+    """
 
     connected = Signal(object)  # Connected
     disconnected = Signal()
@@ -93,11 +120,17 @@ class EcuController(QObject):
     page_changed = Signal(str)  # "working" / "reference"
     lost = Signal(object)  # the ConnectionLostError that ended the session (after ``disconnected``)
     reconnecting = Signal(int)  # an attempt to open the session again starts (its number)
+    released = Signal()  # the sessions closed have let go of the ECU and the bus (after ``disconnected``)
 
     RECONNECT_MS = 2000
 
-    def __init__(self, parent: QObject | None = None):
+    def __init__(self, parent: QObject | None = None,
+                 before_close: Callable[[], threading.Event | None] | None = None):
         super().__init__(parent)
+        self.before_close = before_close
+        self._closing: set[Task] = set()  # the closes under way in workers
+        self._released = threading.Event()  # set while no close is under way (what an open waits for)
+        self._released.set()
         self.session = None
         self.info = None
         self.lost_error: ConnectionLostError | None = None  # while the connection is lost
@@ -127,7 +160,8 @@ class EcuController(QObject):
             if on_failed is not None:
                 on_failed()
 
-        return run_task(_open, a2l, connection, accept_epk_mismatch, on_done=self._taker(), on_error=failed)
+        return run_task(_open, a2l, connection, accept_epk_mismatch, self._released, on_done=self._taker(),
+                        on_error=failed)
 
     def _taker(self) -> Callable[[Connected], None]:
         """What takes the session being opened now: it is closed instead when the controller was closed (or opened
@@ -136,7 +170,7 @@ class EcuController(QObject):
 
         def take(result: Connected) -> None:
             if generation != self._generation:
-                run_task(result.session.close)
+                self._release(result.session, None)
                 return
             self._opened(result)
 
@@ -162,14 +196,47 @@ class EcuController(QObject):
         self.connected.emit(result)
 
     def close(self) -> None:
-        """Disconnect (stops DAQ, frees the bus); ``disconnected`` follows when there was a session."""
+        """Disconnect: ``disconnected`` at once when there was a session, ``released`` once it has closed in a
+        worker (DAQ stopped, DISCONNECT, the bus freed)."""
         self._generation += 1
         self.stop_reconnecting()
         session, self.session = self.session, None
         self.info = None  # who the ECU was: the window's title says offline (a lost connection keeps it)
         if session is not None:
-            session.close()
+            self._release(session, self.before_close() if self.before_close is not None else None)
             self.disconnected.emit()
+
+    @property
+    def closing(self) -> bool:
+        """Whether a session is still closing in a worker (``released`` follows)."""
+        return bool(self._closing)
+
+    def _release(self, session, before: threading.Event | None) -> None:
+        """Close ``session`` in a worker, after ``before``; ``released`` once no close is under way any more."""
+        self._released.clear()
+        task = new_task(_close, session, before, on_error=lambda error: log.debug("closing the session: %s", error))
+        self._closing.add(task)
+        task.finished.connect(lambda: self._closed(task))  # before it starts: a quick close ends before a later connect
+        task.start()
+
+    def _closed(self, task: Task) -> None:
+        self._closing.discard(task)
+        if not self._closing:
+            self._released.set()
+            self.released.emit()
+
+    def wait_released(self) -> None:
+        """Wait until the sessions closing have closed, the window painting meanwhile (a nested event loop: for the
+        window's last moment, when the ECU must be let go of before the process ends)."""
+        if not self._closing:
+            return
+        loop = QEventLoop()
+        self.released.connect(loop.quit)
+        QTimer.singleShot(int(2 * _RELEASE_WAIT_S * 1000), loop.quit)  # a close that never ends keeps no window
+        try:
+            loop.exec()
+        finally:
+            self.released.disconnect(loop.quit)
 
     @property
     def in_boot(self) -> bool:
@@ -231,7 +298,7 @@ class EcuController(QObject):
         if session is None:
             return
         self.lost_error = exc
-        run_task(session.close, on_error=lambda error: log.debug("closing a lost session: %s", error))
+        self._release(session, self.before_close() if self.before_close is not None else None)
         self.disconnected.emit()
         self.lost.emit(exc)
         self._attempt = 0
@@ -250,7 +317,7 @@ class EcuController(QObject):
             if self.lost_error is not None:
                 self._retry.start(self.RECONNECT_MS)
 
-        run_task(_open, *self._target, on_done=self._taker(), on_error=failed)
+        run_task(_open, *self._target, self._released, on_done=self._taker(), on_error=failed)
 
     def stop_reconnecting(self) -> None:
         """No further attempts (one under way still connects if the ECU answers)."""

@@ -18,6 +18,7 @@ from PySide6.QtCore import QObject, Signal
 
 from workbench.gui.formatting import format_value
 from workbench.gui.ringbuffer import RingBuffer
+from workbench.gui.worker import run_task
 from workbench.logs import logger
 
 log = logger(__name__)
@@ -181,20 +182,43 @@ class SignalHub(QObject):
             self.acquisition.measure(self.xcp_shown())
 
     def attach(self, acquisition, can_monitor=None) -> None:
-        """Start measuring through ``acquisition`` (and listen with ``can_monitor``) what views show."""
-        self.detach()
+        """Start measuring through ``acquisition`` (and listen with ``can_monitor``) what views show; a measurement
+        attached before is stopped, and ``acquisition`` starts once it has."""
+        acquisition.after = self.detach()
         self.acquisition = acquisition
         self.can_monitor = can_monitor
         acquisition.failed.connect(self.failed)
         acquisition.started.connect(self.measuring)
         self._update_measurement()
 
-    def detach(self) -> None:
-        """Stop the measurement and the CAN monitor (the buffers keep their samples)."""
+    def listen(self, can_monitor) -> None:
+        """Take CAN2's samples from ``can_monitor`` too (made in a worker, after the measurement was attached)."""
+        self.can_monitor = can_monitor
+
+    def detach(self) -> threading.Event:
+        """Stop the measurement and the CAN monitor (the buffers keep their samples), without waiting for them in
+        this (the GUI) thread: their threads end in a worker, which sets the event returned once they have."""
         acquisition, self.acquisition = self.acquisition, None
         monitor, self.can_monitor = self.can_monitor, None
+        stopped = threading.Event()
+        if acquisition is None and monitor is None:
+            stopped.set()
+            return stopped
         if acquisition is not None:
             acquisition.stop()
-        if monitor is not None:
-            monitor.close()
-            self.mark_gap(name for name, info in list(self._catalog.items()) if info.source == "CAN2")
+        can2 = [name for name, info in self._catalog.items() if info.source == "CAN2"] if monitor is not None else []
+        run_task(self._stopped, acquisition, monitor, can2, stopped,
+                 on_error=lambda exc: log.debug("stopping the measurement: %s", exc))
+        return stopped
+
+    def _stopped(self, acquisition, monitor, can2: list[str], stopped: threading.Event) -> None:
+        """In a worker: the DAQ thread ended, the CAN monitor's listener taken off its bus (whose receive thread may
+        stop: a join) and its signals' lines broken there; then ``stopped`` is set."""
+        try:
+            if acquisition is not None:
+                acquisition.wait()
+            if monitor is not None:
+                monitor.close()
+                self.mark_gap(can2)
+        finally:
+            stopped.set()

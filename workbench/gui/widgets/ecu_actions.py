@@ -20,9 +20,18 @@ from workbench.gui.widgets.epk_dialog import EpkChoice, EpkDialog
 from workbench.gui.widgets.flash_dialog import FlashDialog
 from workbench.gui.widgets.menus import enable_ecu_actions
 from workbench.gui.widgets.sync_dialog import SyncChoice, SyncDialog, sync_differences
-from workbench.gui.worker import Task
+from workbench.gui.worker import Task, run_task
 
 __all__ = ["EcuWindowActions"]
+
+
+def _can_monitor(session, databases, sink, origin):
+    """A CAN monitor on the session's XCP bus (in a worker), at the bus's bit rate as the A2L completed it."""
+    from workbench.gui.can_monitor import CanMonitor
+
+    spec = session.bus_spec
+    bitrate = (spec.bitrate if spec else None) or (session.config.can.baudrate if session.config.can else None)
+    return CanMonitor(session, databases, sink, origin, bitrate)
 
 
 class EcuWindowActions:
@@ -52,8 +61,9 @@ class EcuWindowActions:
         """A connection attempt failed (the controller says why, unless another project opened meanwhile): offline
         again, unless a later attempt is under way."""
         if task is self._connecting:
-            self.connect_action.setEnabled(True)
-            self.status.show_disconnected()
+            self._connecting = None
+            self.connect_action.setEnabled(not self.controller.closing)
+            self.status.show_disconnected(self.controller.closing)
 
     def set_page(self, page: str) -> None:
         """Switch the ECU to ``page`` (the toolbar's page buttons); refused, the buttons show the page the ECU uses."""
@@ -73,6 +83,7 @@ class EcuWindowActions:
         (self.working_action if page == "working" else self.reference_action).setChecked(True)
 
     def _connected(self, result: Connected) -> None:
+        self._connecting = None
         session, info = result.session, result.info
         self.status.show_connected(session, info)
         self._show_page(self.controller.page)
@@ -107,24 +118,28 @@ class EcuWindowActions:
             return
         if check_cache and self.project.s19 is not None:
             self.check_cache()
-        from workbench.gui.can_monitor import CanMonitor
-
-        monitor = None
-        if session.link.is_can and self.workspace is not None and self.workspace.dbcs:
-            spec = session.bus_spec
-            bitrate = (spec.bitrate if spec else None) or (session.config.can.baudrate if session.config.can else None)
-            try:
-                monitor = CanMonitor(session, [d.database for d in self.workspace.dbcs], self.hub.sink, self.hub.origin,
-                                     bitrate)
-            except Exception as exc:  # noqa: BLE001 - XCP goes on without the CAN2 view
-                self.show_error(exc)
         acquisition = DaqAcquisition(session, self.hub.sink, self.hub.origin, self, gap=self.hub.mark_gap)
         acquisition.recording_stopped.connect(self._recording_stopped)
         acquisition.refused.connect(self._not_measurable)
-        self.hub.attach(acquisition, monitor)
+        self.hub.attach(acquisition)
+        if session.link.is_can and self.workspace is not None and self.workspace.dbcs:
+            self._listen_to_can2(acquisition)
         self.status.set_pause(None)
         self.record_action.setEnabled(True)
         self._check_live()  # no plot to fill (a project of one A2L): live now, a screenshot need not wait for samples
+
+    def _listen_to_can2(self, acquisition: DaqAcquisition) -> None:
+        """The CAN monitor on the bus, made in a worker (it waits for the link's lock, which a command in flight
+        holds, and may open a bus); taken while ``acquisition`` is still the one measuring, else closed again.
+        A failure is said; XCP goes on without the CAN2 view."""
+        def listening(monitor) -> None:
+            if self.hub.acquisition is acquisition:
+                self.hub.listen(monitor)
+            else:
+                run_task(monitor.close)
+
+        self.controller.call(_can_monitor, [d.database for d in self.workspace.dbcs], self.hub.sink, self.hub.origin,
+                             on_done=listening, on_error=self.show_error)
 
     def _not_measurable(self, refused: dict) -> None:
         """Signals the ECU refused to sample: said once, the others are measured (the status bar keeps the count)."""
@@ -133,17 +148,26 @@ class EcuWindowActions:
                                    "measured):\n" + "\n".join(lines)))
 
     def _disconnected(self) -> None:
-        self.hub.detach()
-        self.status.show_disconnected()
+        """No session any more (the controller stopped the measurement, ``before_close``); it closes in a worker:
+        Connect waits for its release."""
+        self.status.show_disconnected(self.controller.closing)
         self.status.set_pause(None)
         enable_ecu_actions(self)
         self._update_title()
+
+    def _released(self) -> None:
+        """The session closed has let go of the ECU: Connect again (unless connected or connecting meanwhile)."""
+        if self.controller.session is not None or self._connecting is not None:
+            return
+        self.connect_action.setEnabled(True)
+        if self.controller.lost_error is None:
+            self.status.show_disconnected()
 
     def _lost(self, exc) -> None:
         """The ECU stopped answering: say what and when; the controller reconnects when it answers again."""
         self.status.show_lost(exc)
         self.status.set_pause("connection lost", exc.when)
-        self.connect_action.setEnabled(True)
+        self.connect_action.setEnabled(not self.controller.closing)
 
     def copy_reference(self) -> None:
         """Say first what the copy overwrites (read in the pool: the ECU may be asked), then ask."""
@@ -223,7 +247,7 @@ class EcuWindowActions:
         session = self.controller.session
         if session is None:
             return None
-        self.flash_dialog = FlashDialog(session, self.project.s19, self)
+        self.flash_dialog = FlashDialog(session, self.project.s19, self, stop_measuring=self.hub.detach)
         if regions:
             self.flash_dialog.select_regions(regions)
         self.flash_dialog.flash_started.connect(self._flash_started)
@@ -231,8 +255,8 @@ class EcuWindowActions:
         return self.flash_dialog
 
     def _flash_started(self, task) -> None:
-        """The ECU flashes with no DAQ running; measuring resumes by itself when the flash is over."""
-        self.hub.detach()
+        """The ECU flashes with no DAQ running (the dialog stopped it: ``stop_measuring``); measuring resumes by
+        itself when the flash is over."""
         self.status.set_pause("flashing")
         task.finished.connect(self._flash_over)
 

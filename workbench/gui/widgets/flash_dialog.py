@@ -9,6 +9,8 @@ text and a check box, unticked, for that option: only ticking it and pressing Fl
 
 from __future__ import annotations
 
+import threading
+from collections.abc import Callable
 from pathlib import Path
 
 from PySide6.QtCore import Qt, Signal
@@ -39,6 +41,7 @@ from workbench.gui.worker import Task
 __all__ = ["FlashDialog"]
 
 WORKING_PAGE = "working page"  # the source that flashes CAL RAM into CAL ROM
+_MEASURING_STOPS_S = 10.0  # how long a flash waits for the window's DAQ to stop (one read, or a command's timeouts)
 
 
 def _layout(session):
@@ -53,25 +56,33 @@ def _plan_file(session, path: str, regions: list[str]):
     return plan_file(path, _layout(session), regions)
 
 
-def _flash(session, source: str, regions: list[str], overrides: frozenset[str] = frozenset(), progress=None):
-    """Flash as ``workbench flash`` does; ``overrides``: the FlashOptions the user ticked (``erase_beyond_file``...)."""
+def _flash(session, source: str, regions: list[str], overrides: frozenset[str] = frozenset(),
+           measuring_stopped: threading.Event | None = None, progress=None):
+    """Flash as ``workbench flash`` does; ``overrides``: the FlashOptions the user ticked (``erase_beyond_file``...);
+    ``measuring_stopped``: waited for first (the flash refuses an ECU whose DAQ runs)."""
     from workbench.flash import FlashOptions, flash_ecu, plan_working_page
 
+    if measuring_stopped is not None:
+        measuring_stopped.wait(_MEASURING_STOPS_S)
     plan = (plan_working_page(session, progress=progress) if source == WORKING_PAGE
             else _plan_file(session, source, regions))
     return flash_ecu(session, plan, progress=progress, options=FlashOptions(**dict.fromkeys(overrides, True)))
 
 
 class FlashDialog(QDialog):
-    """Flash through ``session``; ``flashed(result)`` after a successful flash."""
+    """Flash through ``session``; ``flashed(result)`` after a successful flash. ``stop_measuring()`` runs in the GUI
+    thread as a flash starts: what measures on the session stops (the flash waits in its worker for the
+    ``threading.Event`` it returns)."""
 
     flashed = Signal(object)  # workbench.flash.FlashResult
     flash_failed = Signal(object)
     flash_started = Signal(object)  # the Task, before it runs (to follow its progress)
 
-    def __init__(self, session, s19: Path | None = None, parent=None):
+    def __init__(self, session, s19: Path | None = None, parent=None,
+                 stop_measuring: Callable[[], threading.Event] | None = None):
         super().__init__(parent)
         self.session = session
+        self.stop_measuring = stop_measuring
         self.task: Task | None = None
         self.plan = None
         self.setWindowTitle("Flash")
@@ -241,7 +252,8 @@ class FlashDialog(QDialog):
             self.result.setPlainText("choose a file first")
             return None
         self.flashing = (source, tuple(self.selected_regions()))
-        self.task = Task(_flash, self.session, *self.flashing, self.chosen_overrides(), progress=True)
+        stopped = self.stop_measuring() if self.stop_measuring is not None else None
+        self.task = Task(_flash, self.session, *self.flashing, self.chosen_overrides(), stopped, progress=True)
         self.buttons.follow(self.task, self._progressed, self._done, self._failed, self._finished)
         self.result.setPlainText("flashing …")
         self.flash_started.emit(self.task)

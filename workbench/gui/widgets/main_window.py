@@ -77,11 +77,12 @@ class MainWindow(EcuWindowActions, QMainWindow):
         self.project = project or Project()
         self.workspace: Workspace | None = None
         self.hub = SignalHub(self)
-        self.controller = EcuController(self)
+        self.controller = EcuController(self, before_close=self.hub.detach)
         self.plots: list[PlotWindow] = []
         self.editors: dict[str, CalibrationEditor] = {}
         self.epk_dialog: EpkDialog | None = None
-        self._connecting: Task | None = None  # the latest connection attempt
+        self._connecting: Task | None = None  # the connection attempt under way
+        self._closing = False  # the window waits for the ECU to be let go of before it closes
         self.flash_dialog: FlashDialog | None = None
         self.sync_dialog: SyncDialog | None = None
         self.a2l_tools: A2lToolsDialog | None = None
@@ -94,6 +95,7 @@ class MainWindow(EcuWindowActions, QMainWindow):
         self.fit_to_screen()
         self.controller.connected.connect(self._connected)
         self.controller.disconnected.connect(self._disconnected)
+        self.controller.released.connect(self._released)
         self.controller.failed.connect(self.show_error)
         self.controller.page_changed.connect(self._show_page)
         self.controller.written.connect(self.refresh_sharing_editors)
@@ -544,11 +546,20 @@ class MainWindow(EcuWindowActions, QMainWindow):
                                        "boot loader; wait for it to end, or press Cancel flash first"))
             self.flash_dialog.raise_()
             return
+        if self._closing:  # closed again while the ECU is let go of: the first close ends it
+            event.ignore()
+            return
         if not self.offline_image.may_close():
             event.ignore()
             return
-        self.hub.detach()
+        self._closing = True
+        self._connecting = None  # an attempt under way is closed when it connects, and says nothing to the window
         self.controller.close()
+        if self.controller.closing:  # the ECU let go of (DAQ stopped, DISCONNECT, the bus freed) before the window
+            self.setEnabled(False)   # goes, painting meanwhile; nothing more to click
+            self.controller.wait_released()
+            self.setEnabled(True)
+        self._closing = False
         super().closeEvent(event)
 
 

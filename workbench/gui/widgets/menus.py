@@ -50,7 +50,7 @@ def enable_ecu_actions(window, session=None, info=None) -> None:
     window.save_set_action.setEnabled(connected and not info.boot)
     window.compare_pages_action.setEnabled(connected and not info.boot and bool(info.pages))
     if not connected:
-        window.connect_action.setEnabled(True)
+        window.connect_action.setEnabled(not window.controller.closing)  # once the session before let go of the ECU
         window.record_action.setEnabled(False)
         window.record_action.setChecked(False)
 

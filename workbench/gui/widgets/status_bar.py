@@ -118,8 +118,9 @@ class EcuStatusBar(QStatusBar):
         self.page.setText(f"<span style='color:{colour}'>■</span> {page}")
         self.page.setToolTip(f"the ECU and XCP use the {page} page")
 
-    def show_disconnected(self) -> None:
-        self.link.setText("○ not connected")
+    def show_disconnected(self, closing: bool = False) -> None:
+        """Not connected; ``closing``: the session closes still (DAQ stopped, DISCONNECT, the bus freed)."""
+        self.link.setText("○ disconnecting …" if closing else "○ not connected")
         self.link.setStyleSheet(f"color: {theme.MUTED};")
         self.ecu.setText("")
         self._set_badge(self.epk, "EPK —", theme.MUTED, "")
