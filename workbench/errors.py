@@ -13,8 +13,8 @@ from pathlib import Path
 
 __all__ = ["A2lParseError", "Cancelled", "ConnectionLostError", "ConversionError", "DatasetParseError",
            "EcuSilentError", "EpkMismatchError", "InputError", "LimitsError", "LocatedInputError", "PageError",
-           "PartialWriteError", "UnknownSymbolError", "WorkbenchError", "XcpCommandError", "XcpTimeoutError",
-           "epk_text", "placeholder_hint", "same_epk"]
+           "PartialWriteError", "SeedKeyError", "UnknownSymbolError", "WorkbenchError", "XcpCommandError",
+           "XcpTimeoutError", "epk_text", "placeholder_hint", "same_epk"]
 
 
 class WorkbenchError(Exception):
@@ -130,6 +130,16 @@ def _error_name(code: int) -> str:
         return f"ERR_{Err(code).name}"
     except ValueError:
         return "unknown error"
+
+
+class SeedKeyError(WorkbenchError):
+    """A resource (``resource``: "CAL/PAG", "DAQ", "PGM") the ECU protects with seed & key could not be unlocked
+    on the master's side: no key function is known, or it failed or gave no key (an ECU refusing the key answers
+    UNLOCK with ERR_ACCESS_LOCKED: an :class:`XcpCommandError`)."""
+
+    def __init__(self, message: str, resource: str):
+        super().__init__(message)
+        self.resource = resource
 
 
 class XcpTimeoutError(WorkbenchError, TimeoutError):

@@ -36,7 +36,7 @@ from typing import Any
 
 from PySide6.QtCore import QEventLoop, QObject, QTimer, Signal
 
-from workbench.errors import ConnectionLostError, InputError, PageError
+from workbench.errors import ConnectionLostError, InputError, PageError, WorkbenchError
 from workbench.gui.project import Connection
 from workbench.gui.widgets.status_bar import clock
 from workbench.gui.worker import Task, new_task, run_task
@@ -156,6 +156,8 @@ class EcuController(QObject):
         refused = self._refusal(self.failed.emit)
 
         def failed(exc: BaseException) -> None:
+            if isinstance(exc, ConnectionLostError):  # no session to lose: a failure to say (it went unsaid)
+                exc = WorkbenchError(f"not connected: {exc}")
             refused(exc)
             if on_failed is not None:
                 on_failed()

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from workbench.errors import WorkbenchError, XcpTimeoutError
+from workbench.errors import WorkbenchError, XcpCommandError, XcpTimeoutError
 from workbench.xcp.detect import DaqCanIds, read_daq_can_ids
 from workbench.xcp.info import DaqEventInfo, DaqProcessorInfo, DaqResolutionInfo
 from workbench.xcp_protocol import IdType, Resource
@@ -87,11 +87,17 @@ def _resources(flags: Resource) -> list[str]:
 
 
 def _optional(read, default=None):
-    """What ``read()`` returns, or ``default`` when the ECU refuses (or a resource cannot be unlocked)."""
+    """What ``read()`` returns, or ``default`` when the ECU refuses (or a resource cannot be unlocked here). A key
+    the ECU refused is raised: the slave disconnects after it, and the next command went unanswered (a connect then
+    failed as a lost connection, 'GET_ID: no response', the refusal unsaid)."""
     try:
         return read()
     except XcpTimeoutError:
         raise
+    except XcpCommandError as exc:
+        if exc.command == "UNLOCK":
+            raise
+        return default
     except WorkbenchError:
         return default
 

@@ -25,7 +25,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from workbench.errors import EcuSilentError, WorkbenchError, XcpCommandError, XcpTimeoutError
+from workbench.errors import EcuSilentError, SeedKeyError, WorkbenchError, XcpCommandError, XcpTimeoutError
 from workbench.logs import logger
 from workbench.xcp.info import (
     CommModeInfo,
@@ -334,13 +334,13 @@ class XcpMaster:
     def unlock(self, resource: Resource) -> None:
         """GET_SEED and UNLOCK ``resource`` with the key function.
 
-        :raises WorkbenchError: there is no key function, or it fails.
+        :raises SeedKeyError: there is no key function, or it fails.
         :raises XcpCommandError: the slave rejects the key (ERR_ACCESS_LOCKED).
         """
         name = Resource(resource).name.replace("_", "/")
         if self.key_function is None:
-            raise WorkbenchError(f"the ECU protects {name} with seed & key and no key function is known: the A2L names "
-                                 f"no SEED_AND_KEY_EXTERNAL_FUNCTION; give one as 'module:function'")
+            raise SeedKeyError(f"the ECU protects {name} with seed & key and no key function is known: the A2L names "
+                               f"no SEED_AND_KEY_EXTERNAL_FUNCTION; give one as 'module:function'", name)
         self._unlocking = True
         try:
             for attempt in range(2):  # GET_SEED and UNLOCK are no commands to repeat: after a timeout start over
@@ -370,10 +370,11 @@ class XcpMaster:
         try:
             key = bytes(self.key_function(seed, int(resource)))
         except Exception as exc:  # the plugin is the user's code: report it, don't crash
-            raise WorkbenchError(f"the seed & key function {self.key_function_name or ''} failed for {name}: "
-                                 f"{type(exc).__name__}: {exc}".replace("  ", " ")) from exc
+            raise SeedKeyError(f"the seed & key function {self.key_function_name or ''} failed for {name}: "
+                               f"{type(exc).__name__}: {exc}".replace("  ", " "), name) from exc
         if not key:
-            raise WorkbenchError(f"the seed & key function {self.key_function_name or ''} returned no key for {name}")
+            raise SeedKeyError(f"the seed & key function {self.key_function_name or ''} returned no key for {name}",
+                               name)
         chunk = self.max_cto - 2
         for start in range(0, len(key), chunk):
             remaining = len(key) - start

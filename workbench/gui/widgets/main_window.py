@@ -46,7 +46,7 @@ from workbench.gui.widgets.compare_view import CompareView
 from workbench.gui.widgets.can_trace import CanTrace
 from workbench.gui.widgets.ecu_actions import EcuWindowActions
 from workbench.gui.widgets.epk_dialog import EpkDialog
-from workbench.gui.widgets.errors import show_error
+from workbench.gui.widgets.errors import seed_and_key_failure, seed_and_key_text, show_error
 from workbench.gui.widgets.fix_panel import FixPanel
 from workbench.gui.widgets.flash_dialog import FlashDialog
 from workbench.gui.widgets.lost_banner import LostBanner
@@ -83,6 +83,7 @@ class MainWindow(EcuWindowActions, QMainWindow):
         self.epk_dialog: EpkDialog | None = None
         self._connecting: Task | None = None  # the connection attempt under way
         self._closing = False  # the window waits for the ECU to be let go of before it closes
+        self._seed_and_key: tuple = (None, None)  # (session, dialog) of the seed & key failure said
         self.flash_dialog: FlashDialog | None = None
         self.sync_dialog: SyncDialog | None = None
         self.a2l_tools: A2lToolsDialog | None = None
@@ -537,7 +538,26 @@ class MainWindow(EcuWindowActions, QMainWindow):
         if isinstance(exc, ConnectionLostError):  # not a dialog: the banner and the status bar say it
             self.controller.connection_lost(exc)
             return
+        if seed_and_key_failure(exc):
+            self._seed_and_key_failed(exc)
+            return
         self.errors.append(show_error(self, exc))
+
+    def _seed_and_key_failed(self, exc: BaseException) -> None:
+        """One dialog a connection for seed & key, whichever calls found it (the cache check, an editor, DAQ: a
+        dialog each before): the resources that stay locked and what to do; a later failure adds its line there."""
+        session, box = self._seed_and_key
+        if box is not None and session is self.controller.session:
+            lines = box.informativeText().split("\n")
+            if str(exc) not in lines:
+                box.setInformativeText("\n".join([*lines, str(exc)]))
+                box.setText(seed_and_key_text(box.informativeText()))
+            return
+        box = show_error(self, exc)
+        box.setText(seed_and_key_text(str(exc)))
+        box.setInformativeText(str(exc))
+        self._seed_and_key = (self.controller.session, box)
+        self.errors.append(box)
 
     def closeEvent(self, event) -> None:
         if self.flash_dialog is not None and self.flash_dialog.task is not None:  # as the flash dialog itself:
