@@ -80,6 +80,7 @@ def test_a_parameter_set_saved_changed_and_applied_with_the_checks_of_cal_load(w
         sets.open(tmp_path / "tuned.dcm")
     view = window.compare
     assert view.rows_shown() == ["xvPRV_DC_FF"] and view.apply_button.isVisible()
+    assert view.sides.text() == f"A: ECU working page (CAL RAM)   ·   B: {tmp_path / 'tuned.dcm'}"  # which page
     assert view.elements.rowCount() == 1 and view.elements.index(0, 0).data().startswith("value[1, 2] at (")
     a, b, delta = (view.elements.index(0, column).data() for column in (1, 2, 3))
     assert delta == "+5.00" and float(b) - float(a) == pytest.approx(5.0)  # CM_Percent's %6.2, as the editor

@@ -13,6 +13,7 @@ lists what would change and what is refused; one refusal and nothing is written.
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 from PySide6.QtCore import QObject, Qt, Signal
@@ -37,10 +38,12 @@ def compare_pages(session, progress=None):
 
 
 def compare_with_ecu(session, path: Path, progress=None):
-    """The ECU (A) against the file (B), the file's values as the ECU would hold them."""
+    """The ECU's working page (A: the page the cache sync reads, whichever XCP uses) against the file (B), the
+    file's values as the ECU would hold them."""
     from workbench.sync import load_reference, sync_compare
 
-    return sync_compare(session, load_reference(path), progress=progress).diff.reversed()
+    diff = sync_compare(session, load_reference(path), progress=progress).diff.reversed()
+    return dataclasses.replace(diff, a_label=f"ECU {PAGES[1]}")
 
 
 def compare_files(a: Path, b: Path, model=None):
