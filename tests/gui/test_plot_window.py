@@ -1,6 +1,7 @@
 """The measurement window on synthetic samples (no ECU): curves, axes per unit, cursor, drops."""
 
 import numpy as np
+import pyqtgraph as pg
 import pytest
 from PySide6.QtCore import QPointF, Qt
 from PySide6.QtGui import QColor, QDropEvent
@@ -171,13 +172,18 @@ def test_curves_of_one_unit_are_drawn_at_their_values_on_that_units_axis(qtbot):
         assert rows and abs(sum(rows) / len(rows) - ticks[value]) <= 1.5, (name, rows, ticks[value])
 
 
-def test_verbal_signals_step_in_lanes_of_their_own_labelled_with_their_states(plot, hub):
+def test_verbal_signals_step_in_lanes_of_their_own_labelled_with_their_states(plot, hub, qtbot):
     hub.add_signals([SignalInfo("valve", "XCP", "", states=((0.0, "OFF"), (1.0, "ON")))])
     hub.sink("valve", np.linspace(0.0, 20.0, 201), (np.arange(201) % 40 >= 20).astype(float))
     plot.add_signals(["rail", "state", "valve"])
     plot.refresh()
     assert plot.drawn_axes() == ["bar"] and [axis.unit for axis in plot._axes] == ["bar"]  # no scale for states
     assert plot.lanes.names == ["state", "valve"]
+    lanes = plot.lanes.view
+    titles = [item for item in lanes.childGroup.childItems() if isinstance(item, pg.TextItem)]  # each lane named
+    assert sorted(title.toPlainText() for title in titles) == ["state", "valve"]
+    qtbot.waitUntil(lambda: all(lanes.sceneBoundingRect().adjusted(-1, -1, 1, 1).contains(title.sceneBoundingRect())
+                                for title in titles), timeout=2000)  # once laid out
     level = plot.lanes.level
     assert sorted(plot.lanes.axis._tickLevels[0]) == sorted([  # each state's text where the lane draws it
         (level("state", 0.0), "OFF"), (level("state", 1.0), "TANK1_ON"), (level("valve", 0.0), "OFF"),

@@ -1,6 +1,7 @@
 """Verbal signals (states such as ON/OFF, OFF/TANK1_ON/TANK2_ON) and plain 0/1 flags as step traces in lanes of
 their own below a plot's view, as CANape draws digital signals: each lane is labelled with its states' texts (a
-flag's: 0 and 1) and none is ever drawn on a physical unit's scale.
+flag's: 0 and 1) and named at its top left, in the trace's colour on the plot's background half seen through
+(wherever the view is scrolled to); none is ever drawn on a physical unit's scale.
 
 The lanes share one view box under the plot's view (in the plot's grid, between the view and the time
 axis), linked to its time axis; its y coordinates are pixels: a lane is as tall as its states' texts need.
@@ -11,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import Qt
+from PySide6.QtGui import QColor
 
 from workbench.gui import theme
 
@@ -25,8 +27,11 @@ ABOVE_PX = 8  # between the view and the lanes: the room of half a tick label (a
 
 
 class _Lane:
-    def __init__(self, name: str, states, curve: pg.PlotDataItem):
+    def __init__(self, name: str, states, curve: pg.PlotDataItem, title: str):
         self.name, self.curve = name, curve
+        background = QColor(theme.PLOT_BACKGROUND)
+        background.setAlpha(170)  # the trace under the name still shows (a step there is not hidden)
+        self.title = pg.TextItem(title or name, color=curve.opts["pen"].color(), anchor=(0, 0), fill=background)
         self.states = sorted(states)
         self.low, self.high = self.states[0][0], self.states[-1][0]
         self.height = min(max(LANE_PX, (len(self.states) - 1) * STATE_PX + 2 * PAD_PX), MAX_LANE_PX)
@@ -59,19 +64,23 @@ class DigitalLanes:
         bottom = plot.getAxis("bottom")  # the time axis below the lanes
         plot.layout.removeItem(bottom)
         plot.layout.addItem(bottom, ROW + 1, 1)
+        self.view.sigXRangeChanged.connect(self._place_titles)
 
     @property
     def names(self) -> list[str]:
         return [lane.name for lane in self._lanes]
 
-    def add(self, name: str, states, curve: pg.PlotDataItem) -> None:
+    def add(self, name: str, states, curve: pg.PlotDataItem, title: str = "") -> None:
+        """A lane for ``name`` (``title``: how it is named on the lane, when not by ``name``)."""
         if not self._lanes:
             self.plot.layout.addItem(self.axis, ROW, 0)
             self.plot.layout.setAlignment(self.axis, Qt.AlignRight)
             self.plot.layout.addItem(self.view, ROW, 1)
             self.plot.layout.setRowSpacing(ROW - 1, ABOVE_PX)  # the lowest label was half under the first lane's
-        self._lanes.append(_Lane(name, states, curve))
+        lane = _Lane(name, states, curve, title)
+        self._lanes.append(lane)
         self.view.addItem(curve)
+        self.view.addItem(lane.title, ignoreBounds=True)
         self._relayout()
 
     def remove(self, name: str) -> bool:
@@ -81,6 +90,7 @@ class DigitalLanes:
             return False
         self._lanes.remove(lane)
         self.view.removeItem(lane.curve)
+        self.view.removeItem(lane.title)
         if not self._lanes:
             self.plot.layout.setRowSpacing(ROW - 1, 0)
             for item in (self.axis, self.view):
@@ -135,3 +145,10 @@ class DigitalLanes:
         self.plot.layout.setRowFixedHeight(ROW, total)
         if total:
             self.view.setYRange(0, total, padding=0)
+        self._place_titles()
+
+    def _place_titles(self) -> None:
+        """Each lane's name at its top left, where the time axis starts now."""
+        left = self.view.viewRange()[0][0]
+        for lane in self._lanes:
+            lane.title.setPos(left, lane.bottom + lane.height)

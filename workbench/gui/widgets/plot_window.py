@@ -272,7 +272,7 @@ class PlotWindow(SignalDropTarget, QWidget):
         curve.setDownsampling(auto=True, method="peak")
         curve.setClipToView(True)
         if info.lane_states:
-            self.lanes.add(name, info.lane_states, curve)
+            self.lanes.add(name, info.lane_states, curve, info.label)
         else:
             axis = self._axis_for(info.unit, colour)
             axis.traces.append(name)
