@@ -120,6 +120,7 @@ class _PathField(QWidget):
         row.setContentsMargins(0, 0, 0, 0)
         self.edit = QLineEdit()
         self.edit.setPlaceholderText(placeholder)
+        self.edit.textChanged.connect(self.edit.setToolTip)  # a long path whole, where the field shows part of it
         row.addWidget(self.edit, 1)
         browse = QPushButton("Browse…")
         browse.clicked.connect(self._browse)
@@ -139,13 +140,13 @@ class _PathField(QWidget):
 
 
 def _boxes(*boxes: QCheckBox) -> QWidget:
-    """Check boxes side by side, as one row of the form."""
+    """Check boxes one below the other, as one row of the form (side by side, the Remove tab's two long ones made
+    the dialog 1,168 px wide at least: more than a 1366 x 768 screen has beside the window's edge)."""
     row = QWidget()
-    layout = QHBoxLayout(row)
+    layout = QVBoxLayout(row)
     layout.setContentsMargins(0, 0, 0, 0)
     for box in boxes:
         layout.addWidget(box)
-    layout.addStretch(1)
     return row
 
 

@@ -8,12 +8,14 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from enum import Enum
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from PySide6.QtWidgets import QDialog, QDialogButtonBox, QGridLayout, QLabel, QPushButton, QVBoxLayout
 
 from workbench.errors import epk_text
 from workbench.gui import theme
+from workbench.gui.widgets.elided_label import ElidedLabel
 
 if TYPE_CHECKING:
     from workbench.session.epk import EpkPart
@@ -44,17 +46,22 @@ class EpkDialog(QDialog):
         for column, text in enumerate(("", "Database (A2L)", "ECU")):
             label = QLabel(f"<span style='color:{theme.MUTED}'>{text}</span>")
             grid.addWidget(label, 0, column)
-        rows = [("name", a2l_name, ecu_name), ("EPK (EPROM identifier)", epk_a2l, epk_ecu)]
+        # the A2L by its file's name, the path in the tooltip: a whole path made the dialog ~1,200 px wide
+        for column, (text, tip) in ((1, (Path(a2l_name).name, a2l_name)), (2, (ecu_name, ""))):
+            name = ElidedLabel(minimum=120)
+            name.setText(text or "—", tip if tip != text else "")
+            name.setFont(theme.mono_font(11))
+            grid.addWidget(name, 1, column)
+        grid.addWidget(QLabel("name"), 1, 0)
+        rows = [("EPK (EPROM identifier)", epk_a2l, epk_ecu)]
         rows += [(f"EPK in {part.segment} ({part.address:X}h)", part.a2l, part.ecu or "") for part in parts]
-        for row, (caption, left, right) in enumerate(rows, 1):
+        for row, (caption, left, right) in enumerate(rows, 2):
             grid.addWidget(QLabel(caption), row, 0)
             for column, text in ((1, left), (2, right)):
-                shown = epk_text(text) if caption.startswith("EPK") and text else text  # erased: not "ÿÿÿ"
-                value = QLabel(shown or "—")
+                value = QLabel(epk_text(text) if text else "—")  # erased: not "ÿÿÿ"
                 value.setFont(theme.mono_font(11))
-                if caption.startswith("EPK"):
-                    same = left.rstrip("\0 ") == right.rstrip("\0 ")
-                    value.setStyleSheet(f"color: {theme.GOOD if same else theme.BAD};")
+                same = left.rstrip("\0 ") == right.rstrip("\0 ")
+                value.setStyleSheet(f"color: {theme.GOOD if same else theme.BAD};")
                 grid.addWidget(value, row, column)
         layout.addLayout(grid)
         explain = QLabel("Flash the software that matches the A2L, or work read-only: you can measure, but no "
