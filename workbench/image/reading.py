@@ -205,7 +205,12 @@ def _sorted_pieces(records: list[tuple[int, int, bytes]], path: object) -> list[
     pieces: list[tuple[int, bytes]] = []
     start, joined, spans = 0, bytearray(), []  # the piece being joined, its records' (start, end, line)
     for address, number, data in records:
-        if address > start + len(joined) or not spans:
+        end = start + len(joined)
+        if address == end and spans:  # the common case: the next record
+            joined += data
+            spans.append((address, address + len(data), number))
+            continue
+        if address > end or not spans:
             if spans:
                 pieces.append((start, bytes(joined)))
             start, joined, spans = address, bytearray(data), [(address, address + len(data), number)]
