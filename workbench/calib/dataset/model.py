@@ -201,8 +201,9 @@ class Dataset(MutableMapping):
         """``file:line`` of the values of ``name`` as read, with ``start`` of the object's first line (its name),
         with ``index`` of that element of its value where the file says (``file`` alone, or ``""``, where not known)."""
         info = self.info_of(name)
-        line = info.line if start else _element_line(info, np.shape(self.objects[name].value), index) \
-            or info.value_line or info.line
+        value = self.objects.get(name)
+        shape = np.shape(value.value) if value is not None else ()
+        line = info.line if start else _element_line(info, shape, index) or info.value_line or info.line
         if not self.source:
             return ""
         return f"{self.source}:{line}" if line else self.source
