@@ -4,6 +4,7 @@ traceback), the exit code is 1, and the command ends at once instead of running 
 
 from __future__ import annotations
 
+import json
 import re
 import subprocess
 import sys
@@ -47,6 +48,8 @@ def test_killing_the_simulator_ends_measure_daq_with_one_line(protocol, free_udp
         simulator.kill()
         simulator.communicate(timeout=10)
     assert measure.returncode == 1, err
+    rows = [json.loads(line) for line in out.splitlines()]  # JSON Lines to the end: the failure too (it was indented)
+    assert rows[-1] == {"ok": False, "error": err.splitlines()[-1].removeprefix("error: "), "exit_code": 1}
     lines = err.splitlines()
     assert len(lines) == 2 and re.fullmatch(r"measure: \d+ samples, 0 lost, 0 overload indications", lines[0]), err
     assert LOST.match(lines[1]), err

@@ -111,7 +111,7 @@ def main(argv: list[str] | None = None) -> int:
         parser.print_help(sys.stderr if args.group is None else sys.stdout)
         return 2
     _process_may_end_at_once = getattr(func, "batch", False)
-    options.json_printed = False
+    options.json_printed = options.json_lines = False
     try:
         return int(func(args) or 0)
     except WorkbenchError as exc:

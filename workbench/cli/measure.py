@@ -14,6 +14,7 @@ from typing import Any
 from workbench.a2l.display_format import format_decimals
 from workbench.bus_defaults import BusSpec
 from workbench.cli.ecu_options import a2l_document, add_ecu_arguments, can2_dbc, open_session
+from workbench.cli import options
 from workbench.cli.options import add_can2_bus_arguments, can2_bus_spec, non_negative_float, positive_float
 from workbench.cli.render import jsonable, value_text
 
@@ -345,6 +346,7 @@ def _view(args: argparse.Namespace, session, order: list[str], can2: dict[str, A
     formats.update({name: ("", None) if args.raw else (model.unit_of(obj), format_decimals(model.format_of(obj)))
                     for name, obj in objects.items()})
     if args.json:
+        options.json_lines = True  # a failure's {"ok": false, ...} then comes as one line of the stream
         return _JsonLines(order)
     if sys.stdout.isatty():
         return _LiveTable(order, formats)

@@ -290,6 +290,7 @@ def add_output_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 json_printed = False  # a report went out as JSON (see :func:`workbench.cli.main`: a failure after it adds none)
+json_lines = False  # the command streams JSON Lines (measure --json): what it prints at the end is one line too
 usage_error: str | None = None  # the last usage error argparse reported (main prints it as JSON under --json)
 
 
@@ -301,7 +302,7 @@ def print_json(data: Any) -> None:
     import json  # here: most runs print text
 
     global json_printed
-    sys.stdout.write(json.dumps(data, indent=2, default=str) + "\n")
+    sys.stdout.write(json.dumps(data, indent=None if json_lines else 2, default=str) + "\n")
     json_printed = True
 
 
