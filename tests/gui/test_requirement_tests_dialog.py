@@ -66,7 +66,7 @@ def opened(qtbot, monkeypatch):
 
     window = offline_window(qtbot)
     opened = []
-    monkeypatch.setattr(QDesktopServices, "openUrl", lambda url: opened.append(url.toLocalFile()) or True)
+    monkeypatch.setattr(QDesktopServices, "openUrl", lambda url: opened.append(url.toString()) or True)
     window.tests_action.trigger()
     yield window.tests_dialog, opened
     window.close()
@@ -101,7 +101,11 @@ def test_each_verdict_shows_as_its_test_ends_and_cancel_stops_the_run(qtbot, ope
     assert dialog.run_button.isEnabled() and dialog.open_report_button.isEnabled()
     dialog.open_report_button.click()
     dialog.open_folder_button.click()
-    assert urls == [str(tmp_path / "report" / "report.html"), str(tmp_path / "report")]
+    failed = dialog.model.index(next(n for n, row in enumerate(dialog.model.rows) if row["state"] == "failed"), 2)
+    dialog.table.doubleClicked.emit(failed)  # the failed test in the report
+    report = (tmp_path / "report" / "report.html").as_uri()
+    assert urls == [report, (tmp_path / "report").as_uri(), f"{report}#t-test-mine-py--test-fails"]
+    assert 'id="t-test-mine-py--test-fails"' in (tmp_path / "report" / "report.html").read_text(encoding="utf-8")
 
 
 def test_a_bad_folder_and_no_test_found_are_one_line_each(qtbot, opened, tmp_path):

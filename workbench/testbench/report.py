@@ -24,6 +24,7 @@ from workbench.errors import InputError
 from workbench.fileio import atomic_write_text, read_text_input
 from workbench.logs import logger
 from workbench.testbench.svgplot import Band, plot_svg
+from workbench.testbench.verdicts import report_anchor
 
 __all__ = ["Requirement", "read_requirements", "write_report"]
 
@@ -95,10 +96,6 @@ def _records(directory: Path) -> dict[str, dict]:
     return records
 
 
-def _anchor(nodeid: str) -> str:
-    return "t-" + "".join(c if c.isalnum() else "-" for c in nodeid)
-
-
 def _badge(outcome: str) -> str:
     return f'<span class="badge {escape(outcome)}">{escape(outcome.upper())}</span>'
 
@@ -135,7 +132,7 @@ def _traceability(tests: list, catalogue: list[Requirement]) -> str:
             result = _badge("passed")
         else:
             result = _badge("skipped")
-        links = "<br>".join(f'<a href="#{_anchor(nodeid)}">{escape(nodeid)}</a> {_badge(outcome["outcome"])}'
+        links = "<br>".join(f'<a href="#{report_anchor(nodeid)}">{escape(nodeid)}</a> {_badge(outcome["outcome"])}'
                             for nodeid, outcome in covering)
         known = names.get(requirement_id)
         title = escape(known.name) if known else ""
@@ -150,7 +147,7 @@ def _traceability(tests: list, catalogue: list[Requirement]) -> str:
 
 
 def _test_section(directory: Path, nodeid: str, outcome: dict, record: dict | None) -> str:
-    parts = [f'<section id="{_anchor(nodeid)}"><h3>{escape(nodeid)} {_badge(outcome["outcome"])}</h3>',
+    parts = [f'<section id="{report_anchor(nodeid)}"><h3>{escape(nodeid)} {_badge(outcome["outcome"])}</h3>',
              f"<p>Requirements: {escape(', '.join(outcome.get('requirements', [])) or 'none')}; "
              f"{outcome.get('duration', 0.0):.2f} s</p>"]
     if outcome.get("message"):

@@ -24,7 +24,7 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any, TextIO
 
-__all__ = ["VERDICTS", "VerdictLog", "VerdictReader", "requirement_verdicts", "verdict_of"]
+__all__ = ["VERDICTS", "VerdictLog", "VerdictReader", "report_anchor", "requirement_verdicts", "verdict_of"]
 
 # a test's verdict: judged (passed, failed), broke in its body before it judged ("not judged": a lost ECU, CAN2
 # silent, a mistake in the test), could not start or end ("error": no ECU at its start, another EPK, a restore that
@@ -38,6 +38,11 @@ def verdict_of(entry: Mapping[str, Any]) -> str:
         return "not judged" if entry.get("when") == "call" else "error"
     return entry["outcome"]
 
+
+
+def report_anchor(nodeid: str) -> str:
+    """The anchor of a test's section in report.html (``report.html#ANCHOR`` opens the report there)."""
+    return "t-" + "".join(c if c.isalnum() else "-" for c in nodeid)
 
 
 def requirement_verdicts(tests: Iterable[tuple[str, str, Iterable[str]]]) -> dict[str, tuple[str, list[str]]]:

@@ -43,7 +43,7 @@ from workbench.gui import theme
 from workbench.gui.models.verdicts import VerdictsModel
 from workbench.gui.widgets.job_buttons import JobButtons
 from workbench.testbench.run import RequirementRun, RunOptions
-from workbench.testbench.verdicts import requirement_verdicts
+from workbench.testbench.verdicts import report_anchor, requirement_verdicts
 
 __all__ = ["RequirementTestsDialog", "connected_ecu_options"]
 
@@ -153,6 +153,8 @@ class RequirementTestsDialog(QDialog):
         self.table.verticalHeader().setVisible(False)
         self.table.setWordWrap(False)
         self.table.setItemDelegateForColumn(2, _ElideMiddle(self.table))  # a test's module and its name's end
+        self.table.setToolTip("double-click a test: its steps and plots in the report (once the run ended)")
+        self.table.doubleClicked.connect(lambda index: self.open_report(self.model.rows[index.row()]["nodeid"]))
         header = self.table.horizontalHeader()
         for column, mode in enumerate((QHeaderView.ResizeToContents, QHeaderView.Interactive, QHeaderView.Interactive,
                                        QHeaderView.ResizeToContents, QHeaderView.Stretch)):
@@ -176,7 +178,7 @@ class RequirementTestsDialog(QDialog):
         self.buttons = JobButtons(self, "Run", "Cancel", self.start, self.cancel,
                                   guarded=[self.tests_box, self.target_box, self.folder])
         self.run_button, self.cancel_button = self.buttons.run_button, self.buttons.cancel_button
-        self.open_report_button = self._button("Open report", self.open_report, enabled=False)
+        self.open_report_button = self._button("Open report", lambda: self.open_report(), enabled=False)
         self.open_folder_button = self._button("Open folder", self.open_folder, enabled=False)
         self.buttons.insertWidget(0, self.open_report_button)
         self.buttons.insertWidget(1, self.open_folder_button)
@@ -543,9 +545,14 @@ class RequirementTestsDialog(QDialog):
 
     # --- the report ---------------------------------------------------------------------------------
 
-    def open_report(self) -> None:
-        if self.last_report is not None:
-            QDesktopServices.openUrl(QUrl.fromLocalFile(str(self.last_report / "report.html")))
+    def open_report(self, nodeid: str | None = None) -> None:
+        """The last run's report.html in the browser (at the section of the test ``nodeid``)."""
+        if self.run is not None or self.last_report is None or not (self.last_report / "report.html").is_file():
+            return
+        url = QUrl.fromLocalFile(str(self.last_report / "report.html"))
+        if nodeid:
+            url.setFragment(report_anchor(nodeid))
+        QDesktopServices.openUrl(url)
 
     def open_folder(self) -> None:
         if self.last_report is not None:
