@@ -40,7 +40,8 @@ def test_a_first_dto_while_the_last_silence_is_judged_is_measured(monkeypatch):
 
     def dto_while_judged(seconds: float) -> str:
         stream = live.stream if live is not None else None
-        if stream is not None and not running.is_set() and seconds >= stream_module._START_CHECKS * stream._silence:
+        if stream is not None and not running.is_set() and seconds >= stream_module._START_CHECKS * stream._silence \
+                and stream._start_checks == stream_module._START_CHECKS - 1:  # the third silence (the refusal's)
             running.set()  # the receiver takes the first DTO now, whatever the master's thread is doing
             deadline = time.monotonic() + 10.0
             while stream.assembler.dtos == 0 and time.monotonic() < deadline:
