@@ -43,7 +43,7 @@ def test_workbench_measure_record_ends_with_one_line_when_the_simulator_is_kille
     recording = subprocess.Popen([*CLI, "measure", "zsRailPressure", "xsTankCtrlState", "--record", str(path),
                                   "--duration", "60", *bus], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
-        _wait_for_bytes(path, 20_000)
+        _wait_for_bytes(path, 20_000, recording)
         simulator.kill()
         out, err = recording.communicate(timeout=60)
     finally:
@@ -60,10 +60,12 @@ def test_workbench_measure_record_ends_with_one_line_when_the_simulator_is_kille
     assert len(times) >= 100 and np.allclose(np.diff(times), 0.004, atol=1e-6)
 
 
-def _wait_for_bytes(path, size: int) -> None:
+def _wait_for_bytes(path, size: int, recording: subprocess.Popen) -> None:
     import time
 
     deadline = time.monotonic() + 60
     while not (path.exists() and path.stat().st_size >= size):
+        if recording.poll() is not None:  # it ended before: say why (a flake under load was only "did not grow")
+            raise AssertionError(f"the recording ended (exit {recording.returncode}): {recording.communicate()}")
         assert time.monotonic() < deadline, "the recording did not grow"
         time.sleep(0.1)

@@ -42,7 +42,9 @@ def test_every_sample_is_in_the_file_on_the_ecu_clock(session, tmp_path, read_md
         starts.append(times[0])
         host = channel(mdf, event, f"HostTime_{event}")
         assert host.unit == "s"
-        assert np.allclose(host.samples - times, mdf.header.start_time.timestamp(), atol=0.02)
+        # the host's receive times on the header's clock: DTOs arrive late on a loaded host (0.02 s was too tight
+        # at load 10), a wrong origin or unit is off by far more than a second
+        assert np.allclose(host.samples - times, mdf.header.start_time.timestamp(), atol=1.0)
     assert min(starts) == 0.0  # the header's start time is the ECU's first sample
 
     by_event = {}
