@@ -148,9 +148,11 @@ def test_an_unlock_refused_with_err_sequence_starts_over_with_get_seed(rig, thre
     assert rig.demo.ecu.faults.fired == [f"reject command 0x{Cmd.UNLOCK:02X} with SEQUENCE"]
 
 
-@pytest.mark.parametrize("code", [Err.CMD_BUSY, Err.PGM_ACTIVE], ids=["CMD_BUSY", "PGM_ACTIVE"])
+@pytest.mark.parametrize("code", [Err.CMD_BUSY, Err.PGM_ACTIVE, Err.RESOURCE_TEMPORARY_NOT_ACCESSIBLE],
+                         ids=["CMD_BUSY", "PGM_ACTIVE", "RESOURCE_TEMPORARY_NOT_ACCESSIBLE"])
 def test_busy_is_waited_out(rig, threshold, code):
-    """ASAM's error matrix: ERR_CMD_BUSY and ERR_PGM_ACTIVE, wait T7 and repeat (ERR_PGM_ACTIVE was an error)."""
+    """ASAM's error matrix: ERR_CMD_BUSY and ERR_PGM_ACTIVE, wait T7 and repeat; a resource temporarily not
+    accessible, say so and repeat (the last two were errors at once)."""
     rig.demo.ecu.faults.reject_command(1, code)
     assert struct.unpack("<f", rig.master.read(threshold, 4))[0] == 20.0
     assert rig.demo.ecu.faults.fired == [f"reject command 0x{Cmd.SHORT_UPLOAD:02X} with {code.name}"]

@@ -51,7 +51,9 @@ __all__ = ["KeyFunction", "Timeouts", "XcpMaster"]
 
 KeyFunction = Callable[[bytes, int], bytes]  # (seed, resource bit) -> key
 _BUSY_REPEATS = 20  # ERR_CMD_BUSY / ERR_PGM_ACTIVE: T7 apart (ASAM: without end; a master that waits for people: ~4 s)
-_WAIT_AND_REPEAT = (Err.CMD_BUSY, Err.PGM_ACTIVE)  # the error matrix's pre-action "wait T7", action "repeat"
+# the error matrix's "wait T7, repeat" (and for a resource temporarily not accessible "display the error, repeat": it
+# is logged as a warning, and said if it stays)
+_WAIT_AND_REPEAT = (Err.CMD_BUSY, Err.PGM_ACTIVE, Err.RESOURCE_TEMPORARY_NOT_ACCESSIBLE)
 
 
 @dataclass(frozen=True)
@@ -211,6 +213,9 @@ class XcpMaster:
                 code = response[1]
                 if code in _WAIT_AND_REPEAT and busy < _BUSY_REPEATS:
                     busy += 1
+                    if code == Err.RESOURCE_TEMPORARY_NOT_ACCESSIBLE:
+                        log.warning("XCP %s: the ECU says the resource is temporarily not accessible; trying again",
+                                    command.name)
                     time.sleep(self.timeouts.t7)
                     continue
                 if command == Cmd.SYNCH and code == Err.CMD_SYNCH:
