@@ -37,7 +37,8 @@ def test_recording_the_plotted_signals_while_they_are_drawn(window, qtbot, tmp_p
     qtbot.waitUntil(lambda: len(buffer) > shown + 100, timeout=WAIT_MS)  # the plots are fed by the recording
     qtbot.waitUntil(lambda: acquisition.state.recorded_s > 0.5, timeout=WAIT_MS)
     window.status.refresh()
-    assert re.fullmatch(r"● REC run\.mf4 · \d+ s · \d+ KiB", window.status.recording.text())  # not "0.0 MiB"
+    assert re.fullmatch(r"● REC run\.mf4 · \d+ s · \d+ KiB", window.status.recording.text()), (  # not "0.0 MiB"
+        window.status.link.text(), window.last_recording, [box.text() for box in window.errors])  # ended why
     plot.add_signals(["zsSensVolt"])  # shown meanwhile: measured once the recording ends
     with qtbot.waitSignal(acquisition.recording_stopped, timeout=WAIT_MS):
         window.record_action.trigger()
