@@ -109,7 +109,15 @@ def test_each_verdict_shows_as_its_test_ends_and_cancel_stops_the_run(qtbot, ope
 
 
 def test_a_bad_folder_and_no_test_found_are_one_line_each(qtbot, opened, tmp_path):
+    from PySide6.QtTest import QTest
+
     dialog, _ = opened
+    dialog.req.setFocus()
+    QTest.keyClicks(dialog.req, "SW_REQ_ID_001.1 006.")  # the FLCU suite's catalogue completes the id being typed
+    completer = dialog.req_completer
+    assert completer.completionCount() == 2  # SW_REQ_ID_006.1 and .2
+    assert completer.currentCompletion() == "SW_REQ_ID_001.1 SW_REQ_ID_006.1 "
+    dialog.req.clear()
     dialog.paths.setText(str(tmp_path / "missing"))
     dialog.own_radio.setChecked(True)
     dialog.folder.setText(str(tmp_path / "report"))

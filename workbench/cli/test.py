@@ -87,7 +87,9 @@ def add_subparser(subparsers, name: str, help_text: str) -> None:
 
 def suite_path() -> Path:
     """The shipped FLCU requirement suite."""
-    return Path(__file__).resolve().parent.parent / "testbench" / "flcu_suite"
+    from workbench.testbench.run import FLCU_SUITE
+
+    return FLCU_SUITE
 
 
 def pytest_arguments(args: argparse.Namespace) -> list[str]:

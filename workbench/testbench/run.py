@@ -32,8 +32,9 @@ from typing import Any
 
 from workbench.testbench.verdicts import VerdictReader
 
-__all__ = ["CANCEL_GRACE_S", "RequirementRun", "RunOptions"]
+__all__ = ["CANCEL_GRACE_S", "FLCU_SUITE", "RequirementRun", "RunOptions"]
 
+FLCU_SUITE = Path(__file__).resolve().parent / "flcu_suite"  # the FLCU's requirement tests, shipped with the package
 CANCEL_GRACE_S = 10.0  # how long a cancelled run may take to stop (a test's teardown restores the ECU's values)
 
 

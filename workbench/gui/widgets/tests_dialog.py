@@ -16,9 +16,10 @@ import time
 from pathlib import Path
 
 from PySide6.QtCore import QEvent, Qt, QTimer, QUrl, Signal
-from PySide6.QtGui import QDesktopServices
+from PySide6.QtGui import QDesktopServices, QStandardItem, QStandardItemModel
 from PySide6.QtWidgets import (
     QButtonGroup,
+    QCompleter,
     QDialog,
     QFileDialog,
     QFormLayout,
@@ -42,12 +43,13 @@ from workbench.errors import InputError
 from workbench.gui import theme
 from workbench.gui.models.verdicts import VerdictsModel
 from workbench.gui.widgets.job_buttons import JobButtons
-from workbench.testbench.run import RequirementRun, RunOptions
+from workbench.testbench.run import FLCU_SUITE, RequirementRun, RunOptions
 from workbench.testbench.verdicts import report_anchor, requirement_verdicts
 
 __all__ = ["RequirementTestsDialog", "connected_ecu_options"]
 
 POLL_MS = 200  # how often the run's verdicts and output are read
+_WORDS = re.compile(r"[,;\s]+")  # between the requirement ids typed
 _EXCEPTION_PREFIX = re.compile(r"^(?:[\w.]+\.)?(ExpectationFailed|NotJudged|Failed): ")  # the verdict says it
 _DOTTED_EXCEPTION = re.compile(r"^[a-z_][\w]*(?:\.[\w]+)*\.(\w+): ")  # workbench.errors.X: -> X:
 
@@ -82,6 +84,34 @@ def connected_ecu_options(window) -> tuple[list[str], str]:
     if window.project.dbcs:
         options += ["--dbc", str(window.project.dbcs[0])]
     return options, settings.describe()
+
+
+class _IdCompleter(QCompleter):
+    """Completes the id being typed after the others in the requirement ids' field (the catalogue's, its name in the
+    tooltip)."""
+
+    def __init__(self, field: QLineEdit):
+        super().__init__(field)
+        self.setModel(QStandardItemModel(self))
+        self.setCaseSensitivity(Qt.CaseInsensitive)
+        self.setFilterMode(Qt.MatchContains)
+        field.setCompleter(self)
+
+    def set_catalogue(self, requirements) -> None:
+        model = self.model()
+        model.clear()
+        for requirement in requirements:
+            item = QStandardItem(requirement.id)
+            item.setToolTip(requirement.name or requirement.description)
+            model.appendRow(item)
+
+    def splitPath(self, path: str) -> list[str]:
+        return [_WORDS.split(path)[-1]]
+
+    def pathFromIndex(self, index) -> str:
+        before = self.widget().text()
+        kept = before[:len(before) - len(_WORDS.split(before)[-1])]
+        return kept + index.data() + " "
 
 
 class _ElideMiddle(QStyledItemDelegate):
@@ -226,6 +256,10 @@ class RequirementTestsDialog(QDialog):
         self.req.setPlaceholderText("all, or e.g. SW_REQ_ID_001 SW_REQ_ID_002.2")
         self.req.setToolTip("the tests that verify these requirements or ones below them (--req; SW_REQ_ID_001 takes "
                             "SW_REQ_ID_001.1 …)")
+        self.req_completer = _IdCompleter(self.req)
+        self.suite_radio.toggled.connect(self._read_catalogue)
+        self.catalogue.editingFinished.connect(self._read_catalogue)
+        self._read_catalogue()
         chosen.addWidget(self.req, 3)
         chosen.addWidget(QLabel("Test names (-k)"))
         self.keyword = QLineEdit()
@@ -291,6 +325,17 @@ class RequirementTestsDialog(QDialog):
         self.ecu_note.setText(f"{describe}. The window disconnects while the tests run (an ECU takes one XCP master "
                               "at a time), waits, and connects again after them.")
 
+    def _read_catalogue(self, *_args) -> None:
+        """The requirement ids the field completes: the CSV's given, else the FLCU suite's (when it runs)."""
+        from workbench.testbench.report import read_requirements
+
+        path = self.catalogue.text().strip() or (str(FLCU_SUITE / "requirements.csv") if self.suite_radio.isChecked()
+                                                 else "")
+        try:
+            self.req_completer.set_catalogue(read_requirements(path) if path else [])
+        except InputError:  # said by the run, which reads it too
+            self.req_completer.set_catalogue([])
+
     def _propose_folder(self) -> None:
         project = self.window_.project
         base = project.path.parent if project.path is not None else Path.cwd()
@@ -328,7 +373,7 @@ class RequirementTestsDialog(QDialog):
         """The run the fields describe. :raises InputError: the connected ECU chosen where there is none."""
         ecu = connected_ecu_options(self.window_)[0] if self.ecu_radio.isChecked() else []
         return RunOptions(report=self.folder.text().strip(), paths=self._paths() if self.own_radio.isChecked() else [],
-                          req=[part for part in re.split(r"[,;\s]+", self.req.text()) if part],
+                          req=[part for part in _WORDS.split(self.req.text()) if part],
                           keyword=self.keyword.text().strip(), repeat=self.repeat.value() if self.repeat.value() > 1
                           else 0, workers=self.workers.value() if not ecu and self.workers.value() > 1 else 0,
                           requirements=self.catalogue.text().strip(), ecu=ecu)
