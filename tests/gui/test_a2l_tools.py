@@ -247,7 +247,7 @@ def test_the_tools_menu_opens_the_dialog_on_the_project_and_offers_to_reload_its
         menus = {action.text().replace("&", ""): action.menu() for action in window.menuBar().actions()}
         assert [a.text() for a in menus["Tools"].actions()] == [
             "Update A2L from ELF…", "Check A2L…", "Merge A2L fragments…", "", "Insert into A2L from ELF…",
-            "Remove from A2L…", "Clean up A2L…", "Flatten A2L includes…"]
+            "Remove from A2L…", "Clean up A2L…", "Flatten A2L includes…", "", "Requirement tests…"]
         window.a2l_update_action.trigger()
         dialog = window.a2l_tools
         assert dialog.isVisible() and dialog.operation == UPDATE and not dialog.isModal()
