@@ -239,3 +239,22 @@ def test_the_ecu_lost_during_a_test_is_one_message_and_the_window_stays_disconne
             window.connect_ecu()
         assert dialog.ecu_radio.isChecked()  # the choice made before the window lost its ECU
         window.close()
+
+
+def test_a_close_the_window_refuses_leaves_the_run_going(qtbot, opened, tmp_path):
+    dialog, _ = opened
+    window = dialog.window_
+    (tmp_path / "test_waits.py").write_text("import time\n\ndef test_waits():\n    time.sleep(60)\n", encoding="utf-8")
+    dialog.paths.setText(str(tmp_path / "test_waits.py"))
+    dialog.own_radio.setChecked(True)
+    dialog.folder.setText(str(tmp_path / "report"))
+    dialog.run_button.click()
+    run = dialog.run
+    window.offline_image.may_close = lambda: False  # the user keeps the window (an image with unsaved changes)
+    try:
+        window.close()
+        assert window.isVisible() and dialog.run is run and run.process.poll() is None  # not killed with no word
+    finally:
+        del window.offline_image.may_close
+    window.close()  # closed now: the run ends with it
+    assert dialog.run is None and run.process.poll() is not None

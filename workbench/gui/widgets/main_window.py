@@ -572,6 +572,8 @@ class MainWindow(EcuWindowActions, QMainWindow):
         if not self.offline_image.may_close():
             event.ignore()
             return
+        if self.tests_dialog is not None:  # the window goes: a requirement test run goes with it
+            self.tests_dialog.stop()
         self._closing = True
         self._connecting = None  # an attempt under way is closed when it connects, and says nothing to the window
         self.controller.close()

@@ -15,7 +15,7 @@ import re
 import time
 from pathlib import Path
 
-from PySide6.QtCore import QEvent, Qt, QTimer, QUrl, Signal
+from PySide6.QtCore import Qt, QTimer, QUrl, Signal
 from PySide6.QtGui import QDesktopServices, QStandardItem, QStandardItemModel
 from PySide6.QtWidgets import (
     QButtonGroup,
@@ -148,7 +148,6 @@ class RequirementTestsDialog(QDialog):
         self.refresh_target()
         window.controller.connected.connect(self.refresh_target)
         window.controller.disconnected.connect(self.refresh_target)
-        window.installEventFilter(self)  # the window closing stops a run
 
     # --- building ---------------------------------------------------------------------------------
 
@@ -609,13 +608,9 @@ class RequirementTestsDialog(QDialog):
         if self.run is None:  # Close (and Escape) wait for the run's end: Cancel stops it
             super().reject()
 
-    def eventFilter(self, watched, event) -> bool:
-        if watched is self.window_ and event.type() == QEvent.Close and self.run is not None:
-            self.stop()
-        return False
-
     def stop(self) -> None:
-        """End a run at once (the window closes): its processes are stopped, nothing is reconnected."""
+        """End a run at once (the window closes: its closeEvent, once nothing keeps it open): its processes are
+        stopped, nothing is reconnected."""
         self._timer.stop()
         run, self.run = self.run, None
         if run is not None:
