@@ -258,3 +258,33 @@ def test_a_close_the_window_refuses_leaves_the_run_going(qtbot, opened, tmp_path
         del window.offline_image.may_close
     window.close()  # closed now: the run ends with it
     assert dialog.run is None and run.process.poll() is not None
+
+
+def test_a_run_cancelled_while_the_window_lets_go_of_its_ecu_is_not_started_by_the_next(qtbot, opened, tmp_path,
+                                                                                        monkeypatch):
+    """Run on the window's ECU, Cancel while the session still closes, Run on a simulated ECU: the first run's
+    release, when it comes, starts nothing (it started the second run's process again, the first left running)."""
+    from workbench.gui.widgets import tests_dialog
+
+    dialog, _ = opened
+    controller = dialog.window_.controller
+    monkeypatch.setattr(tests_dialog, "connected_ecu_options", lambda window: (["--a2l", "x.a2l"], "the ECU"))
+    monkeypatch.setattr(type(controller), "closing", property(lambda self: True))  # its session closes in a worker
+    monkeypatch.setattr(dialog.window_, "connect_ecu", lambda *args: None)
+    dialog.refresh_target()
+    dialog.ecu_radio.setChecked(True)
+    dialog.paths.setText(str(tmp_path / "missing.py"))  # each run ends by itself: no test there
+    dialog.own_radio.setChecked(True)
+    dialog.folder.setText(str(tmp_path / "report"))
+    dialog.run_button.click()
+    assert dialog.run is not None and dialog.run.process is None  # waiting for the ECU's release
+    dialog.cancel_button.click()
+    dialog.sim_radio.setChecked(True)
+    dialog.run_button.click()
+    started = dialog.run.process
+    controller.released.emit()  # the first run's release
+    second = dialog.run.process if dialog.run is not None else started
+    if second is not started:
+        started.kill()
+        started.wait()
+    assert second is started

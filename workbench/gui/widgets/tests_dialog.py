@@ -423,8 +423,8 @@ class RequirementTestsDialog(QDialog):
         controller.released.connect(released)
 
     def _launch(self) -> None:
-        if self.run is None:  # cancelled while the window let go of the ECU
-            return
+        if self.run is None or self.run.process is not None:  # cancelled while the window let go of the ECU (and
+            return  # maybe another run started since: the release of the cancelled one comes late)
         self.run.start()
         self._started = time.monotonic()
         where = "the window's ECU" if self.on_ecu else "a simulated ECU per test"
