@@ -10,6 +10,7 @@ from session_helpers import FAST, WRITE, refused_on_the_reference_page
 from xcp_commands import CommandLog
 
 from workbench import PageError, Session
+from workbench.errors import XcpCommandError
 from workbench.a2l import load_a2l_string, read_xcp_config
 from workbench.sim import serve_demo
 from workbench.sim.profiles import SlaveProfile
@@ -81,16 +82,22 @@ def test_a_reference_page_an_earlier_session_switched_to_is_found_before_anythin
 
 def test_a_slave_without_get_cal_page_is_read_by_page_and_put_back_on_its_working_page(channel):
     """GET_CAL_PAGE is optional: reading by page switches XCP to the reference page and back to the working page (the
-    one it was set to, else the A2L's working page); it failed 'GET_CAL_PAGE failed: ERR_CMD_UNKNOWN'."""
+    one it was set to, else the A2L's working page); it failed 'GET_CAL_PAGE failed: ERR_CMD_UNKNOWN'. The pages are
+    told as this master set them, and until then the error says how to make them known."""
     quiet = SlaveProfile("no-get-cal-page", "", "", xcp={"without": frozenset({Cmd.GET_CAL_PAGE})})
     with serve_demo({"interface": "virtual", "channel": channel}, profile=quiet) as sim:
         with Session.open(sim.a2l, interface="virtual", channel=channel, timeouts=FAST) as ecu:
+            with pytest.raises(XcpCommandError, match=r"the ECU does not tell the pages of segment 0 \(no GET_CAL_PAGE\): "
+                                                      r"switching them \(cal page working, or reference\) puts them "
+                                                      r"on a known page"):
+                ecu.page(0)
             ecu.write("xsSWITCH_TANK_THR", 24.0)
             try:
                 assert ecu.read("xsSWITCH_TANK_THR", page="reference") == 20.0
                 assert sim.ecu.pages.xcp_pages == [0]
                 assert ecu.read("xsSWITCH_TANK_THR") == 24.0
                 ecu.set_page("reference")
+                assert (ecu.page(0).ecu_page, ecu.page(0).xcp_page) == (1, 1)  # as this master set them
                 assert ecu.read("xsSWITCH_TANK_THR", page="working") == 24.0
                 assert sim.ecu.pages.xcp_pages == [1]  # back where this master had set it
             finally:

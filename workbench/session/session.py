@@ -368,8 +368,14 @@ class Session(ValueAccess, EventAccess, FixAccess):
         with self.lock:
             self.require_application()
             working, reference = self.page_numbers(segment)
-            return PageState(segment, self.master.get_cal_page(segment, 0x01), self.master.get_cal_page(segment, 0x02),
-                             working, reference)
+            try:
+                return PageState(segment, self.master.get_cal_page(segment, 0x01),
+                                 self.master.get_cal_page(segment, 0x02), working, reference)
+            except XcpCommandError as error:
+                if error.code != Err.CMD_UNKNOWN:
+                    raise
+                raise error.about(f"the ECU does not tell the pages of segment {segment} (no GET_CAL_PAGE): switching "
+                                  "them (cal page working, or reference) puts them on a known page") from None
 
     def pages(self) -> list[PageState]:
         """The pages of every calibration segment."""
@@ -390,6 +396,7 @@ class Session(ValueAccess, EventAccess, FixAccess):
                     self.master.set_cal_page(0, chosen[numbers[0]], _ECU_AND_XCP | _ALL_SEGMENTS)
                     self._all_segments = True
                     self.master.xcp_pages.update(chosen)
+                    self.master.ecu_pages.update(chosen)
                     return
                 except XcpCommandError as error:
                     if error.code not in _NO_ALL_SEGMENTS:

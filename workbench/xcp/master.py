@@ -112,6 +112,7 @@ class XcpMaster:
         # grows with every CONNECT, DOWNLOAD/PROGRAM, page switch and page copy, whoever sends them.
         self.memory_changes = 0
         self.xcp_pages: dict[int, int] = {}  # segment -> page XCP accesses, as last set or read (CONNECT clears)
+        self.ecu_pages: dict[int, int] = {}  # segment -> page the ECU accesses, as last set (CONNECT clears)
         self.has_short_upload = True  # False after SHORT_UPLOAD's ERR_CMD_UNKNOWN: SET_MTA + UPLOAD instead
 
     # --- the slave's parameters ---------------------------------------------------------------
@@ -287,6 +288,7 @@ class XcpMaster:
         """CONNECT (mode 0 normal, 1 user defined), then GET_STATUS and GET_COMM_MODE_INFO when offered."""
         self.memory_changes += 1
         self.xcp_pages.clear()
+        self.ecu_pages.clear()
         self.connect_info = ConnectInfo.parse(self.command(Cmd.CONNECT, bytes((mode,)), timeout=timeout,
                                                            check=self._connect_problem))
         self.comm_mode = None
@@ -570,16 +572,17 @@ class XcpMaster:
 
     def get_cal_page(self, segment: int, mode: int = 0x02) -> int:
         """The page of ``segment`` the ECU (mode 0x01) or XCP (0x02) accesses; from a slave without GET_CAL_PAGE
-        (ERR_CMD_UNKNOWN: it is optional) XCP's page as this master last set it.
+        (ERR_CMD_UNKNOWN: it is optional) the page as this master last set it.
 
         :raises XcpCommandError: refused, or not implemented and not set since CONNECT.
         """
         try:
             page = self.command(Cmd.GET_CAL_PAGE, bytes((mode, segment)))[2]
         except XcpCommandError as error:
-            if error.code != Err.CMD_UNKNOWN or mode != 0x02 or segment not in self.xcp_pages:
+            known = (self.ecu_pages if mode == 0x01 else self.xcp_pages).get(segment)
+            if error.code != Err.CMD_UNKNOWN or known is None:
                 raise
-            return self.xcp_pages[segment]
+            return known
         if mode == 0x02:
             self.xcp_pages[segment] = page
         return page
@@ -587,12 +590,16 @@ class XcpMaster:
     def set_cal_page(self, segment: int, page: int, mode: int = 0x03) -> None:
         """Switch ``segment`` to ``page`` for the ECU (0x01), XCP (0x02) or both (0x03); 0x80: all segments."""
         self.memory_changes += 1
-        self.xcp_pages.pop(segment, None)
-        if mode & 0x80:
-            self.xcp_pages.clear()
+        for pages, bit in ((self.ecu_pages, 0x01), (self.xcp_pages, 0x02)):
+            if mode & bit:
+                pages.pop(segment, None)
+                if mode & 0x80:  # the caller knows which segments "all" are
+                    pages.clear()
         self.command(Cmd.SET_CAL_PAGE, bytes((mode, segment, page)))
-        if mode & 0x02 and not mode & 0x80:
-            self.xcp_pages[segment] = page
+        if not mode & 0x80:
+            for pages, bit in ((self.ecu_pages, 0x01), (self.xcp_pages, 0x02)):
+                if mode & bit:
+                    pages[segment] = page
 
     def copy_cal_page(self, source_segment: int, source_page: int, target_segment: int, target_page: int) -> None:
         self.memory_changes += 1
