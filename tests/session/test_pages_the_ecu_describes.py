@@ -87,9 +87,9 @@ def test_a_slave_without_get_cal_page_is_read_by_page_and_put_back_on_its_workin
     quiet = SlaveProfile("no-get-cal-page", "", "", xcp={"without": frozenset({Cmd.GET_CAL_PAGE})})
     with serve_demo({"interface": "virtual", "channel": channel}, profile=quiet) as sim:
         with Session.open(sim.a2l, interface="virtual", channel=channel, timeouts=FAST) as ecu:
-            with pytest.raises(XcpCommandError, match=r"the ECU does not tell the pages of segment 0 \(no GET_CAL_PAGE\): "
-                                                      r"switching them \(cal page working, or reference\) puts them "
-                                                      r"on a known page"):
+            with pytest.raises(XcpCommandError, match=r"the ECU does not tell the pages of segment 0 \(no "
+                                                      r"GET_CAL_PAGE\): switching them \(cal page working, or "
+                                                      r"reference\) puts them on a known page"):
                 ecu.page(0)
             ecu.write("xsSWITCH_TANK_THR", 24.0)
             try:
