@@ -181,12 +181,21 @@ def test_on_the_windows_ecu_the_window_lets_go_of_it_and_connects_again(qtbot, t
     assert not window.errors
 
 
-def test_the_demo_ecu_on_a_virtual_bus_cannot_be_lent(qtbot, project, demo_ecu):
+def test_the_demo_ecu_on_a_virtual_bus_cannot_be_lent_and_closing_the_window_stops_a_run(qtbot, project, demo_ecu,
+                                                                                          tmp_path):
     window = open_window(qtbot, project)
     dialog = window.open_requirement_tests()
     assert not dialog.ecu_radio.isEnabled()
     assert "virtual bus" in dialog.ecu_note.text() and "only this process reaches" in dialog.ecu_note.text()
-    window.close()
+    (tmp_path / "test_forever.py").write_text("import time\n\ndef test_forever():\n    time.sleep(600)\n")
+    dialog.paths.setText(str(tmp_path / "test_forever.py"))
+    dialog.own_radio.setChecked(True)
+    dialog.folder.setText(str(tmp_path / "report"))
+    dialog.run_button.click()
+    run = dialog.run
+    qtbot.waitUntil(lambda: _states(dialog).get("test_forever") == "running", timeout=RUN_MS)
+    window.close()  # no process of the run outlives the window
+    assert run.process.poll() is not None and dialog.run is None
 
 
 LOSES_THE_ECU = '''
