@@ -98,11 +98,7 @@ def test_a_parameter_set_saved_changed_and_applied_with_the_checks_of_cal_load(w
 
     dataset["xsSWITCH_TANK_THR"] = CalValue("xsSWITCH_TANK_THR", "VALUE", 900.0, unit="bar")
     save_dataset(dataset, tmp_path / "bad.dcm")
-    sets.confirm = None
-    with qtbot.waitSignal(sets.compared, timeout=WAIT_MS):
-        sets.open(tmp_path / "bad.dcm")
-    view.apply_button.click()
-    qtbot.waitUntil(lambda: sets.confirm is not None and sets.confirm.isVisible(), timeout=WAIT_MS)
+    _asked_to_apply(sets, view, qtbot, tmp_path / "bad.dcm")
     assert sets.confirm.text() == "1 object(s) of bad.dcm are refused; nothing is written."
     assert "xsSWITCH_TANK_THR" in sets.confirm.detailedText() and "upper limit 800" in sets.confirm.detailedText()
     assert sets.confirm.button(QMessageBox.Ok) is None
@@ -121,14 +117,19 @@ def test_a_parameter_set_saved_changed_and_applied_with_the_checks_of_cal_load(w
     moved.add(CalValue(tuned.name, tuned.kind, tuned.value, (replace(tuned.axes[0], values=points), tuned.axes[1]),
                        tuned.unit))
     save_dataset(moved, tmp_path / "moved.dcm")
-    sets.confirm = None
-    with qtbot.waitSignal(sets.compared, timeout=WAIT_MS):
-        sets.open(tmp_path / "moved.dcm")
-    view.apply_button.click()
-    qtbot.waitUntil(lambda: sets.confirm is not None and sets.confirm.isVisible(), timeout=WAIT_MS)
+    _asked_to_apply(sets, view, qtbot, tmp_path / "moved.dcm")
     assert "\nwarning: xvPRV_DC_FF: its X axis is the AXIS_PTS xaPRV_FF_TARGET" in sets.confirm.informativeText()
     sets.confirm.close()
     assert not window.errors
+
+
+def _asked_to_apply(sets, view, qtbot, path) -> None:
+    """``path`` opened and compared, Apply pressed: its dry run's question shown."""
+    sets.confirm = None
+    with qtbot.waitSignal(sets.compared, timeout=WAIT_MS):
+        sets.open(path)
+    view.apply_button.click()
+    qtbot.waitUntil(lambda: sets.confirm is not None and sets.confirm.isVisible(), timeout=WAIT_MS)
 
 
 @pytest.fixture

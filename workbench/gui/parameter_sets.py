@@ -256,7 +256,8 @@ class ParameterSets(QObject):
             box.setText(f"Write {len(changing)} changed object(s) of {self.file.name} into {where}?" if changing
                         else f"{where[0].upper()}{where[1:]} already holds every value of {self.file.name}.")
             box.setStandardButtons(QMessageBox.Ok | QMessageBox.Cancel if changing else QMessageBox.Close)
-        # the warnings where they are read before Ok (a shared axis the set moves, the page the ECU runs), not in Details
+        # the warnings where they are read before Ok (a shared axis the set moves, the page the ECU runs), not only
+        # under Details
         box.setInformativeText("\n".join([report.summary()] + [f"warning: {text}" for text in report.warnings]))
         box.setDetailedText(report.to_text())
         box.setModal(False)
