@@ -202,6 +202,8 @@ def test_a_csv_export_names_each_column_by_the_ecu_and_the_signal(bus, capsys, t
     ("zsSensVolt[2] > 3", 0, "stop when zsSensVolt[2] > 3: started at 0.000 s"),  # 4 V at once (the rail's [3] < 3)
     ("zsSensVolt[3] < 4.5 V", 0, "stop when zsSensVolt[3] < 4.5 V: started at 0.000 s"),
     ("zsSensVolt[4] > 1", 2, "error: trigger condition 'zsSensVolt[4] > 1': zsSensVolt has 4 elements\n"),
+    ("zsSensVolt > 3", 2, "error: trigger condition 'zsSensVolt > 3': zsSensVolt has 4 elements: compare one of them "
+                          "(zsSensVolt[0] ... zsSensVolt[3])\n"),  # the whole array was judged as one row of them
     ("zsSensVolt[0] > 4 bar", 2, "error: trigger condition 'zsSensVolt[0] > 4 bar': '4 bar' is in bar, zsSensVolt in V "
                                  "(no unit conversion)\n"),
 ])

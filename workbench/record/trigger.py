@@ -155,7 +155,7 @@ def _signal(model: A2lModel, condition: Condition, role: str):
     """The object a condition judges and the element of it (() for its whole value).
 
     :raises UnknownSymbolError: no such object (named with the condition: start and stop may name different ones).
-    :raises InputError: an element the array does not have.
+    :raises InputError: an element the array does not have, or an array named whole.
     """
     element = _ELEMENT.fullmatch(condition.name)
     name = condition.name if element is None or condition.name in model else element["name"]
@@ -164,10 +164,14 @@ def _signal(model: A2lModel, condition: Condition, role: str):
     except UnknownSymbolError as error:
         raise UnknownSymbolError(error.name, f"{error.where} ({role} condition '{condition.said}')",
                                  error.suggestions) from None
+    shape = tuple(getattr(found, "shape", ()))
     if name == condition.name:
+        if shape:  # judged whole, a row of its elements would count as samples
+            last = "][".join(str(size - 1) for size in shape)
+            raise InputError(f"trigger condition '{condition.said}': {name} has {'x'.join(map(str, shape))} elements: "
+                             f"compare one of them ({name}[{']['.join('0' * len(shape))}] ... {name}[{last}])")
         return found, ()
     index = tuple(int(number) for number in re.findall(r"\d+", element["index"]))
-    shape = tuple(getattr(found, "shape", ()))
     if len(index) != len(shape) or any(i >= size for i, size in zip(index, shape)):
         has = "no elements" if not shape else f"{'x'.join(map(str, shape))} elements"
         raise InputError(f"trigger condition '{condition.said}': {name} has {has}")
