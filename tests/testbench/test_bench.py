@@ -160,6 +160,9 @@ def test_an_ecu_lost_during_an_expectation_is_named_as_the_reason(tmp_path):
             ecu.watch("zsRailPressure")
             ecu.expect("zsRailPressure", at_least(0.0), for_s=0.1)
             sim.power_off()
+            with pytest.raises(NotJudged, match=r"^wait 60 s: connection to the ECU lost at "):
+                ecu.wait(60.0)
+            assert ecu.timeline.now() < 60.0  # a soak's wait ends with the ECU, not minutes later
             with pytest.raises(NotJudged, match=r"expect zsRailPressure >= 0 bar for 60 s: no samples after "
                                                         rf"{TIME} \(connection to the ECU lost at .*nothing from the ECU"):
                 ecu.expect("zsRailPressure", at_least(0.0), for_s=60.0)

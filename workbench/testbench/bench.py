@@ -395,11 +395,20 @@ class Bench:
 
     @_one_line_errors
     def wait(self, seconds: float) -> None:
+        """Let ``seconds`` pass. :raises NotJudged: the ECU is lost meanwhile (said then, not at the wait's end)."""
+        __tracebackhide__ = True  # pytest shows the test's line and this one-line failure, not the bench's
         _check_times("wait()", seconds=(seconds, True))
         self._begin()
         start = self.now()
-        time.sleep(seconds)
-        self._add(Step("wait", f"wait {seconds:g} s", start, self.now()))
+        deadline = time.monotonic() + seconds
+        while (left := deadline - time.monotonic()) > 0 and not self._ended():
+            time.sleep(min(left, 0.05))
+        step = Step("wait", f"wait {seconds:g} s", start, self.now())
+        if self._ended():  # a soak's wait of minutes on an ECU gone: the test breaks now
+            step.passed, step.judged, step.detail = False, False, str(self.evidence.failure)
+            self._add(step)
+            raise NotJudged(f"{step.text}: {step.detail}")
+        self._add(step)
 
     @_one_line_errors
     def wait_until(self, name: str, condition: Any, timeout: float) -> float:
