@@ -168,6 +168,16 @@ def test_eleven():
     assert pytest_arguments(parsed)[-2:] == ["-n", "0"]  # one master, whatever -n a project's addopts give
 
 
+def test_a_test_file_that_does_not_import_is_bad_input_in_one_line(capsys, tmp_path):
+    """pytest says 'Interrupted: 1 error during collection' for a file it cannot import, and exits as Ctrl-C makes
+    it exit: the command said nothing on stderr and exited 130 (the window then said 'stopped'). Bad input: exit 2,
+    the file and line and the error in one line."""
+    broken = tmp_path / "test_broken.py"
+    broken.write_text("def test_x(:\n    pass\n", encoding="utf-8")
+    assert main(["test", str(tmp_path), "--", "-q"]) == 2
+    assert capsys.readouterr().err.strip() == f"error: {broken}:1: cannot be collected: SyntaxError: invalid syntax"
+
+
 def test_tests_keep_their_file_in_their_names_beside_an_a2l_from_elsewhere(pytester):
     """pytest takes every word of its command line that names an existing file or folder for a test path when it
     chooses its root folder: an --a2l (or --dbc, --requirements) elsewhere made it /, and the tests of test_names.py

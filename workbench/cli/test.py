@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
+import re
 from pathlib import Path
 
 from workbench.cli.ecu_options import add_ecu_arguments
@@ -26,7 +27,7 @@ and each test's MDF4 evidence under DIR/evidence; --verdict-log FILE a JSON line
 runs the tests that verify a requirement (or those below it), --repeat N runs each test N times, and
 what follows -- goes to pytest as it is (-x, -v, --lf, -m MARK, --junitxml PATH ...).
 Exit 0: every test passed; 1: a test failed, or broke before it judged (its requirements NOT JUDGED);
-2: bad input (options, a path, no tests found).
+2: bad input (options, a path, no tests found, a test file that does not import).
 
 examples:
   workbench test --report out/
@@ -154,9 +155,39 @@ def run(args: argparse.Namespace) -> int:
             read_requirements(args.requirements)
     if args.verdict_log and Path(args.verdict_log).is_dir():  # as the plugin would refuse it, in the command's words
         raise InputError(f"--verdict-log {args.verdict_log}: is a folder; name a file")
-    code = int(pytest.main(argv))
+    collection = _CollectionErrors()
+    code = int(pytest.main(argv, plugins=[collection]))
+    if collection.errors and code in (1, 2) and "--continue-on-collection-errors" not in argv:
+        # pytest's "Interrupted: 1 error during collection" exits as Ctrl-C does (xdist's as a failed test), no test ran
+        more = len(collection.errors) - 1
+        raise InputError(collection.errors[0] + (f" (and {more} more: see above)" if more else ""))
     if code == 5:
         raise InputError("no tests found (check PATH, -k and --req)")
     if code == 3:
         raise WorkbenchError("pytest stopped with an internal error (see above)")
     return _PYTEST_EXIT.get(code, 1)
+
+
+class _CollectionErrors:
+    """The test files pytest could not import (a syntax error, a missing module), each as one line
+    ``FILE:LINE: cannot be collected: ERROR``."""
+
+    def __init__(self):
+        self.errors: list[str] = []
+        self.root = Path.cwd()
+
+    def pytest_sessionstart(self, session) -> None:
+        self.root = session.config.rootpath
+
+    def pytest_collectreport(self, report) -> None:
+        if not report.failed:
+            return
+        text = report.longreprtext.strip()
+        lines = [line.lstrip("E").strip() for line in text.splitlines() if line.strip()]
+        path = self.root / report.nodeid.split("::")[0] if report.nodeid else None
+        where = str(path) if path is not None else "a test file"
+        if path is not None:  # the line: a syntax error's File "...", line N, an import's "test_x.py:N: in <module>"
+            lines_at = [n for file, n in re.findall(r'File "([^"]+)", line (\d+)', text) if Path(file) == path]
+            lines_at += re.findall(rf"^\S*{re.escape(path.name)}:(\d+): in <module>", text, re.MULTILINE)
+            where += f":{lines_at[-1]}" if lines_at else ""
+        self.errors.append(f"{where}: cannot be collected: {lines[-1] if lines else 'see above'}")
