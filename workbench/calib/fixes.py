@@ -34,7 +34,8 @@ from workbench.errors import InputError, UnknownSymbolError, WorkbenchError
 if TYPE_CHECKING:
     from workbench.a2l.model import A2lModel
 
-__all__ = ["FixPair", "dbc_signal_of", "find_fix_pairs", "fix_pairs_of", "live_as_override", "resolve_fix"]
+__all__ = ["ENABLE", "VALUE", "FixPair", "dbc_signal_of", "find_fix_pairs", "fix_pairs_of", "live_as_override",
+           "resolve_fix"]
 
 ENABLE, VALUE = "_EN", "_VALUE"
 KINDS = {"cf": "CAN signal", "zf": "sensor"}

@@ -28,7 +28,7 @@ import numpy as np
 
 from workbench.calib.codec import value_edits
 from workbench.calib.dataset import DatasetDiff, diff_datasets
-from workbench.calib.fixes import fix_pairs_of
+from workbench.calib.fixes import ENABLE, fix_pairs_of
 from workbench.calib.limits import check_limits
 from workbench.calib.memory import ByteEdit, Span
 from workbench.calib.values import CalValue
@@ -197,6 +197,9 @@ def _switches_in_order(session: Session | ImageCalibration, planned: dict[str, _
     before it, as Session.override and release write them: the ECU never runs the signal on the old override
     between the two writes (in a file's order, _EN first, a rail pressure fixed at 30 bar ran at the old 0 bar
     for a task or two)."""
+    explicit = getattr(session, "fix_mapping", None)
+    if not explicit and not any(name.upper().endswith(ENABLE) for name in changing):
+        return changing  # no switch among them: the A2L's pairs are not looked for (a large A2L's whole list)
     pairs = session.fix_pairs() if isinstance(session, Session) else fix_pairs_of(session.model)
     order = list(changing)
     for pair in pairs:
