@@ -62,6 +62,9 @@ def test_bad_input_is_exit_2(capsys, tmp_path):
     (tmp_path / "file").write_text("")
     assert main(["test", "--report", str(tmp_path / "file")]) == 2
     assert capsys.readouterr().err.strip() == f"error: --report {tmp_path / 'file'}: is a file; name a folder"
+    assert main(["test", "--report", str(tmp_path / "file" / "out")]) == 2  # below a file: no traceback at the end
+    assert capsys.readouterr().err.strip().startswith(f"error: --report {tmp_path / 'file' / 'out'}: cannot be "
+                                                      "created (")
     report = tmp_path / "out"  # a catalogue that cannot be read is refused before any test runs
     assert main(["test", "--report", str(report), "--requirements", str(tmp_path / "none.csv")]) == 2
     assert capsys.readouterr().err.strip() == f"error: {tmp_path / 'none.csv'}: no such file"

@@ -71,6 +71,11 @@ def test_bad_ecu_options_are_usage_errors(pytester):
     result = pytester.runpytest_inprocess("--report", "out", "--requirements", "missing.csv", *PLUGIN)
     assert result.ret == pytest.ExitCode.USAGE_ERROR  # before a test ran, not after all of them
     result.stderr.fnmatch_lines(["*missing.csv: no such file*"])
+    pytester.makefile(".txt", afile="")
+    for option in ("--report", "--verdict-log"):  # below a file: refused before a test ran, not a traceback after
+        result = pytester.runpytest_inprocess(option, "afile.txt/out", *PLUGIN)
+        assert result.ret == pytest.ExitCode.USAGE_ERROR
+        result.stderr.fnmatch_lines([f"*{option} afile.txt/out: cannot be *"])
 
 
 def test_worker_processes_on_one_real_ecu_are_refused_from_an_ini_too(pytester):

@@ -149,6 +149,10 @@ def run(args: argparse.Namespace) -> int:
         report = Path(args.report)
         if report.exists() and not report.is_dir():
             raise InputError(f"--report {report}: is a file; name a folder")
+        try:  # before the tests run: junit.xml and the report would fail at the end, a traceback after them
+            report.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise InputError(f"--report {report}: cannot be created ({exc.strerror or exc})") from None
         if args.requirements:  # as the plugin would refuse it, but in the command's words
             from workbench.testbench.report import read_requirements
 

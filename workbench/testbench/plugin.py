@@ -78,6 +78,10 @@ def pytest_configure(config: pytest.Config) -> None:
         directory = Path(report)
         if directory.exists() and not directory.is_dir():
             raise pytest.UsageError(f"--report {report}: is a file; name a folder")
+        try:  # before the tests run: the report and junit.xml would fail at the session's end
+            directory.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise pytest.UsageError(f"--report {report}: cannot be created ({exc.strerror or exc})") from None
         config.stash[_REPORT_DIR] = directory
         config.stash[_CATALOGUE] = _catalogue(config.getoption("requirements"))
         if not config.option.xmlpath:
