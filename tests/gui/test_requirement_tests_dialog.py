@@ -169,10 +169,13 @@ def test_on_the_windows_ecu_the_window_lets_go_of_it_and_connects_again(qtbot, t
         dialog.own_radio.setChecked(True)
         dialog.folder.setText(str(tmp_path / "report"))
         in_use = []
-        dialog.model.dataChanged.connect(lambda *_: in_use.append(window.controller.session))
+        dialog.model.dataChanged.connect(lambda *_: in_use.append((window.controller.session,
+                                                                     window.status.daq.text())))
         with qtbot.waitSignal(dialog.finished_run, timeout=RUN_MS) as ended:
             dialog.run_button.click()
-        assert dialog.isModal() is False and in_use and set(in_use) == {None}  # released while the test ran
+        assert dialog.isModal() is False and in_use  # released while the test ran, and the window says why
+        assert {session for session, _ in in_use} == {None}
+        assert all(daq.startswith("DAQ paused: the requirement tests use the ECU since ") for _, daq in in_use)
         assert f"port={free_udp_port}" in " ".join(ended.args[0].command)
         assert _states(dialog) == {"test_reads_the_duty_cycle": "PASSED"} and ended.args[0].exit_code == 0
         assert not dialog.message.isVisible()

@@ -427,6 +427,8 @@ class RequirementTestsDialog(QDialog):
             return  # maybe another run started since: the release of the cancelled one comes late)
         self.run.start()
         self._started = time.monotonic()
+        if self.on_ecu:  # the window says why it is not connected
+            self.window_.status.set_pause("the requirement tests use the ECU")
         where = "the window's ECU" if self.on_ecu else "a simulated ECU per test"
         self.status.setText(f"Starting the tests on {where} …")
         self._timer.start()
@@ -561,6 +563,7 @@ class RequirementTestsDialog(QDialog):
             self.status.setText("Cancelled before the tests started.")
         if on_ecu:
             self._hold_window(False)
+            self.window_.status.set_pause(None)
             if not lost:
                 self.window_.connect_ecu()  # the window's own Connect: EPK check, cache sync, measuring
         self.on_ecu = False
