@@ -11,6 +11,8 @@
   elsewhere);
 * :mod:`~workbench.testbench.plugin` — the pytest plugin (the ``ecu`` fixture, the ECU options,
   evidence and report); :mod:`~workbench.testbench.report` — the HTML report;
+* :mod:`~workbench.testbench.run` — :class:`RequirementRun`: ``workbench test`` in a process of its own, its
+  verdicts followed as they come (:mod:`~workbench.testbench.verdicts`), cancelled as Ctrl-C;
 * ``workbench/testbench/flcu_suite/`` — the FLCU's software requirements as tests (``workbench test``).
 
 The names are imported on first use: ``import workbench.testbench`` loads neither pytest nor a bus.
@@ -26,6 +28,7 @@ _EXPORTS = {
     "workbench.testbench.bench": ("Bench", "ExpectationFailed", "NotJudged", "Step"),
     "workbench.testbench.conditions": ("Condition", "at_least", "at_most", "equals", "other_than", "within"),
     "workbench.testbench.markers": ("needs_simulator", "requirement"),
+    "workbench.testbench.run": ("RequirementRun", "RunOptions"),
     "workbench.testbench.simulator": ("SimulatorUnavailable",),
 }
 __all__, __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
@@ -34,4 +37,5 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
     from workbench.testbench.bench import Bench, ExpectationFailed, NotJudged, Step
     from workbench.testbench.conditions import Condition, at_least, at_most, equals, other_than, within
     from workbench.testbench.markers import needs_simulator, requirement
+    from workbench.testbench.run import RequirementRun, RunOptions
     from workbench.testbench.simulator import SimulatorUnavailable
