@@ -133,6 +133,8 @@ def test_a_connection_under_way_when_another_project_opens_is_not_taken(qtbot, t
             window.open_project_file(_project_b(tmp_path, project.connection))
         qtbot.waitUntil(lambda: bool(over), timeout=15_000)
         assert window.controller.session is None  # it held the A2L before: closed, not connected
+        qtbot.waitUntil(window.connect_action.isEnabled, timeout=15_000)  # and Connect offered for the new one
+        assert window.status.link.text() == "○ not connected"
     finally:
         window.close()
 

@@ -302,6 +302,10 @@ class MainWindow(EcuWindowActions, QMainWindow):
         and a question about them; the new project's windows open once its files are read. The A2L tools stay (they
         work on files): their reload offer follows the new project's A2L."""
         self.controller.close()
+        if self._connecting is not None:  # an attempt under way is the project before's (closed if it connects):
+            self._connecting = None      # Connect is offered for the new one (it stayed greyed, 'connecting …')
+            self.connect_action.setEnabled(not self.controller.closing)
+            self.status.show_disconnected(self.controller.closing)
         self.workspace = None  # connecting before the new files are read reads the new project's A2L
         for index in reversed(range(self.editor_tabs.count())):
             self._close_editor(index)
