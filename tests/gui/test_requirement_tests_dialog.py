@@ -107,6 +107,13 @@ def test_each_verdict_shows_as_its_test_ends_and_cancel_stops_the_run(qtbot, ope
     assert urls == [report, (tmp_path / "report").as_uri(), f"{report}#t-test-mine-py--test-fails"]
     assert 'id="t-test-mine-py--test-fails"' in (tmp_path / "report" / "report.html").read_text(encoding="utf-8")
 
+    assert dialog.rerun_button.isEnabled()  # the failed, the not judged and the one that could not start, again
+    with qtbot.waitSignal(dialog.finished_run, timeout=RUN_MS) as ended:
+        dialog.rerun_button.click()
+    assert _states(dialog) == {"test_fails": "FAILED", "test_broke": "NOT JUDGED", "test_cannot_start": "ERROR"}
+    assert ended.args[0].options.paths == [f"{tmp_path / 'tests' / 'test_mine.py'}::{name}"
+                                           for name in ("test_fails", "test_broke", "test_cannot_start")]
+
 
 def test_a_bad_folder_and_no_test_found_are_one_line_each(qtbot, opened, tmp_path):
     from PySide6.QtTest import QTest

@@ -298,6 +298,7 @@ def test_without_an_ecu(ecu):
     events = [json.loads(line) for line in (pytester.path / "live" / "verdicts.jsonl").read_text().splitlines()]
     assert [event["event"] for event in events] == ["collected", *["started", "verdict"] * 4, "finished"]
     assert events[0]["tests"][1] == {"nodeid": "test_live.py::test_fails", "requirements": ["R2", "R3"]}
+    assert events[0]["root"] == str(pytester.path)  # what the node ids are relative to
     verdicts = {event["nodeid"].split("::")[1]: event for event in events if event["event"] == "verdict"}
     assert {name: (v["verdict"], v["ecu"]) for name, v in verdicts.items()} == {
         "test_passes": ("passed", None), "test_fails": ("failed", None), "test_loses_the_ecu": ("not judged", "lost"),

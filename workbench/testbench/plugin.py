@@ -429,7 +429,8 @@ class _LiveVerdicts:
     def _collected(self, tests: list[tuple[str, list[str]]]) -> None:
         if not self.collected:
             self.collected = True
-            self.log.write("collected", tests=[{"nodeid": nodeid, "requirements": ids} for nodeid, ids in tests])
+            self.log.write("collected", root=str(self.outcomes.config.rootpath),  # what the node ids are relative to
+                           tests=[{"nodeid": nodeid, "requirements": ids} for nodeid, ids in tests])
 
     def pytest_runtest_logstart(self, nodeid: str, location) -> None:
         self.log.write("started", nodeid=nodeid)

@@ -4,7 +4,8 @@ JUnit XML and the report are written at the end, this file line by line as tests
 ``workbench test --verdict-log FILE`` (the plugin's ``--verdict-log``) writes one JSON object a line, flushed at once,
 from the process that runs pytest (the controller under pytest-xdist):
 
-* ``{"event": "collected", "tests": [{"nodeid": ..., "requirements": [...]}, ...]}`` — the tests to run (under
+* ``{"event": "collected", "root": ..., "tests": [{"nodeid": ..., "requirements": [...]}, ...]}`` — the tests to
+  run, their node ids relative to the folder ``root`` (``root/test_x.py::test_one`` runs one again; under
   pytest-xdist each test's requirements come with its verdict only);
 * ``{"event": "started", "nodeid": ...}``;
 * ``{"event": "verdict", "nodeid": ..., "verdict": ..., "requirements": [...], "message": ..., "duration": s,

@@ -49,6 +49,7 @@ from workbench.testbench.verdicts import report_anchor, requirement_verdicts
 __all__ = ["RequirementTestsDialog", "connected_ecu_options"]
 
 POLL_MS = 200  # how often the run's verdicts and output are read
+_REPETITION = re.compile(r"\[\d+-\d+\]$|-\d+-\d+(?=\]$)")  # pytest-repeat's test_x[2-5], test_x[param-2-5]
 _WORDS = re.compile(r"[,;\s]+")  # between the requirement ids typed
 _EXCEPTION_PREFIX = re.compile(r"^(?:[\w.]+\.)?(ExpectationFailed|NotJudged|Failed): ")  # the verdict says it
 _DOTTED_EXCEPTION = re.compile(r"^[a-z_][\w]*(?:\.[\w]+)*\.(\w+): ")  # workbench.errors.X: -> X:
@@ -136,6 +137,8 @@ class RequirementTestsDialog(QDialog):
         self.setWindowTitle("Requirement tests")
         self.run: RequirementRun | None = None
         self.last_report: Path | None = None  # the folder of the last run's report
+        self._root: Path | None = None  # the folder the last run's node ids are relative to
+        self._repeated = False  # the last run repeated each test (its node ids end in [2-5])
         self.on_ecu = False  # the run uses the window's ECU (released while it runs)
         self.ecu_lost = False
         self._ecu_wanted = False  # the window's ECU was chosen, and the window disconnected since
@@ -209,8 +212,12 @@ class RequirementTestsDialog(QDialog):
         self.run_button, self.cancel_button = self.buttons.run_button, self.buttons.cancel_button
         self.open_report_button = self._button("Open report", lambda: self.open_report(), enabled=False)
         self.open_folder_button = self._button("Open folder", self.open_folder, enabled=False)
+        self.rerun_button = self._button("Run failed again", lambda: self.start(self._to_rerun()), enabled=False)
+        self.rerun_button.setToolTip("the tests that failed, were not judged or could not start, on the same ECU, "
+                                     "each once")
         self.buttons.insertWidget(0, self.open_report_button)
         self.buttons.insertWidget(1, self.open_folder_button)
+        self.buttons.insertWidget(3, self.rerun_button)  # beside Run, after the stretch
         layout.addLayout(self.buttons)
         screen = self.window_.screen().availableGeometry() if self.window_.screen() else None
         width, height = 1000, 680  # a big screen gives the table more room
@@ -379,8 +386,18 @@ class RequirementTestsDialog(QDialog):
 
     # --- running ------------------------------------------------------------------------------------
 
-    def start(self) -> None:
-        """Run the tests chosen (the window's ECU released first when they run on it)."""
+    def _to_rerun(self) -> list[str]:
+        """The last run's tests that failed, were not judged or could not start, as test paths (each once: a
+        repetition's suffix dropped)."""
+        if self._root is None:
+            return []
+        nodeids = [_REPETITION.sub("", row["nodeid"]) if self._repeated else row["nodeid"] for row in self.model.rows
+                   if row["state"] in ("failed", "not judged", "error")]
+        return [str(self._root / nodeid) for nodeid in dict.fromkeys(nodeids)]
+
+    def start(self, tests: list[str] | None = None) -> None:
+        """Run the tests chosen (``tests``: these test paths instead, each once); the window's ECU released first
+        when they run on it."""
         if self.run is not None:
             return
         if self.folder.text() == self._proposed:
@@ -394,6 +411,10 @@ class RequirementTestsDialog(QDialog):
         except InputError as exc:
             self._say(str(exc), theme.BAD)
             return
+        if tests:
+            options.paths, options.req, options.keyword, options.repeat = tests, [], "", 0
+        self._root, self._repeated = None, options.repeat > 1
+        self.rerun_button.setEnabled(False)
         self.model.clear()
         self.output.clear()
         self._say("", None)
@@ -469,6 +490,7 @@ class RequirementTestsDialog(QDialog):
     def _event(self, event: dict) -> None:
         kind = event.get("event")
         if kind == "collected":
+            self._root = Path(event["root"])
             for test in event["tests"]:
                 self.model.row_of(test["nodeid"])["requirements"] = list(test["requirements"])
             self.progress.setRange(0, len(self.model.rows))
@@ -531,6 +553,7 @@ class RequirementTestsDialog(QDialog):
         self.last_report = Path(run.options.report)
         self.open_report_button.setEnabled(report)
         self.open_folder_button.setEnabled(self.last_report.is_dir())
+        self.rerun_button.setEnabled(bool(self._to_rerun()))
         run.close()
         self._ended(cancelled)
         self.finished_run.emit(run)
