@@ -1,5 +1,6 @@
 """A flash that was killed half-way (user trial: ``timeout -s KILL 6 workbench flash calib_full.s19 -r CALIB``):
-``info`` says so, and a flash of another region does not set the application key over the unfinished one."""
+``info`` says so, and a flash of another region does not set the application key over the unfinished one (its EPK,
+programmed last, is still erased)."""
 
 from __future__ import annotations
 
@@ -62,10 +63,10 @@ def test_the_key_is_not_set_over_the_unfinished_region(killed_calib_flash, capsy
     bench = killed_calib_flash
     before = bench.whole_flash()
     assert cli(bench, "flash", str(demo.s19()), "-r", "APPLICATIVE") == 1
-    assert capsys.readouterr().err == (
-        "error: FLCU.s19: the application key is cleared (a flash did not finish) and CALIB on the ECU differs from the "
-        "file: flash it too (-r APPLICATIVE -r CALIB), so that the key is not set over an unfinished region (nothing "
-        "was erased)\n")
+    assert capsys.readouterr().err == (  # CALIB's EPK is programmed last: the killed flash left it erased
+        "error: FLCU.s19: CALIB's EPK at FC0000h reads erased (14 bytes FF): a flash of CALIB probably broke off, so "
+        "the application key is not set and the ECU stays in its boot loader: flash the whole software (-r "
+        "APPLICATIVE -r CALIB), or CALIB again from a file with its EPK (nothing was erased)\n")
     assert bench.whole_flash() == before
     assert cli(bench, "flash", str(demo.s19()), "-r", "APPLICATIVE", "-r", "CALIB", "--erase-beyond-file") == 0
     out = capsys.readouterr().out

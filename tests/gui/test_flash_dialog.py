@@ -243,6 +243,26 @@ def test_a_cleared_key_with_another_region_differing_offers_to_select_that_regio
     dialog.close_button.click()
 
 
+def test_a_calib_flash_over_a_half_written_application_is_refused_and_offers_applicative(window, qtbot, demo_ecu,
+                                                                                        tmp_path):
+    """What a power cut half-way through APPLICATIVE leaves: the key cleared, the application's EPK (programmed last)
+    erased. A CALIB-only file is refused with the CLI's line (no override); the dialog offers to select APPLICATIVE."""
+    unfinished = MemoryImage()
+    unfinished.add(HDS9.app_key_address, b"\xff" * len(HDS9.app_key))
+    unfinished.add(0x840008, b"\xff" * 14)  # APPLICATIVE's ADDR_EPK
+    demo_ecu.ecu.memory.load_flash(unfinished)
+    dialog = window.open_flash_dialog(regions=["CALIB"])
+    dialog.path.setText(str(_calib_file(tmp_path, 0xFE0000)))
+    dialog.replan()
+    _planned(dialog, qtbot)
+    text = _refused(dialog, qtbot)
+    assert ("APPLICATIVE's EPK at 840008h reads erased (14 bytes FF): a flash of APPLICATIVE probably broke off, so "
+            "the application key is not set and the ECU stays in its boot loader") in text
+    assert all(box.isHidden() for box in dialog.overrides.values())
+    assert dialog.add_regions_button.text() == "Select APPLICATIVE too"
+    dialog.close_button.click()
+
+
 def test_the_browse_filter_offers_every_image_extension(qtbot, monkeypatch):
     from PySide6.QtWidgets import QFileDialog
 

@@ -30,6 +30,7 @@ _EXPORTS = {
     "workbench.flash.working_page": ("plan_working_page",),
     "workbench.flash.software": ("EpkPairing", "epk_pairing"),
     "workbench.flash.keystate": ("KeyState", "app_key_state", "unfinished_regions"),
+    "workbench.flash.parts": ("PartEpk", "read_part_epks"),
 }
 __all__, __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
@@ -38,6 +39,7 @@ if TYPE_CHECKING:
     from workbench.flash.errors import FlashError, FlashRefused
     from workbench.flash.keystate import KeyState, app_key_state, unfinished_regions
     from workbench.flash.layout import DEMO_APP_KEY, AppKey, FlashLayout, FlashRegion, Sector
+    from workbench.flash.parts import PartEpk, read_part_epks
     from workbench.flash.plan import FlashPlan, RegionPlan, plan_file, plan_flash
     from workbench.flash.sequence import FlashOptions, FlashResult, Verify, check_flash, flash_ecu
     from workbench.flash.software import EpkPairing, epk_pairing

@@ -8,10 +8,14 @@
    written back), so from here an interruption leaves the ECU in boot, reachable;
 4. PROGRAM_CLEAR of the sectors the ranges lie in, then PROGRAM of the ranges in master block
    mode (:class:`~workbench.flash.writer.RangeWriter`), in the sectors' program order, each range
-   ended by a PROGRAM with size 0 (a driver that buffers a flash page writes it then);
-5. every erased sector is compared with the image by BUILD_CHECKSUM (the gaps must read
-   erased); a sector that differs is erased and written again;
-6. the key is programmed and read back, PROGRAM_RESET, CONNECT again (T6), the EPK checked.
+   ended by a PROGRAM with size 0 (a driver that buffers a flash page writes it then); the bytes at
+   each part's ADDR_EPK are held back (:mod:`workbench.flash.parts`);
+5. every erased sector is compared with the image by BUILD_CHECKSUM (the gaps, and the EPKs held
+   back, must read erased); a sector that differs is erased and written again;
+6. the EPKs held back are programmed: a part that broke off before keeps its EPK erased;
+7. every part the application needs, flashed or not, is read at its ADDR_EPK: the key is not set
+   over one whose EPK is erased or another build's (the ECU stays in boot);
+8. the key is programmed and read back, PROGRAM_RESET, CONNECT again (T6), the EPK checked.
 
 Any failure or a cancel after PROGRAM_START ends with a PROGRAM_RESET when the ECU still
 answers: with the key cleared the ECU restarts in boot, and a new flash finishes the job.
@@ -30,6 +34,7 @@ from workbench.flash.checksums import ChecksumVerifier
 from workbench.flash.errors import FlashError, FlashRefused
 from workbench.flash.keystate import KeyState, app_key_state, unfinished_regions
 from workbench.flash.layout import Sector
+from workbench.flash.parts import epk_ranges, read_part_epks
 from workbench.flash.plan import FlashPlan, with_sectors
 from workbench.flash.software import EpkPairing, epk_pairing
 from workbench.flash.unlisted import unlisted_data
@@ -132,6 +137,7 @@ def check_flash(session: Session, plan: FlashPlan, options: FlashOptions = Flash
         raise FlashRefused("the ECU offers no programming (CONNECT: no PGM resource); nothing was touched")
     if master.get_status().daq_running:
         raise FlashRefused("a DAQ measurement runs on the ECU: stop it before flashing; nothing was touched")
+    _unfinished_parts_before(session, plan)
     pairing = _pairing(session, plan, options)
     notes = [f"{pairing.describe()}"] if pairing is not None and not pairing.matches else []
     notes += _unfinished_before(session, plan)
@@ -165,8 +171,28 @@ def _unfinished_before(session: Session, plan: FlashPlan) -> list[str]:
                            regions=tuple(unfinished))
     if all(r.name in chosen for r in plan.layout.regions if r.selectable and not r.is_boot):
         return ["the application key was cleared before this flash: an earlier flash did not finish"]
+    if len(read_part_epks(session.master, plan.layout)) > 1:  # a part that broke off has its EPK erased: refused
+        return ["the application key was cleared before this flash: an earlier flash did not finish; the parts it "
+                f"leaves hold their EPK, so it was {'/'.join(chosen)} that broke off"]
     return [f"the application key was cleared before this flash: an earlier flash did not finish, and the ECU does "
             f"not record which region; if it was not {'/'.join(chosen)}, flash that region again too"]
+
+
+def _unfinished_parts_before(session: Session, plan: FlashPlan) -> None:
+    """A part the flash leaves whose EPK is erased (it broke off: flash.parts): refused, so that the key is not set
+    over it. Another build's EPK there is the pairing's to refuse (it may be accepted).
+
+    :raises FlashRefused: nothing was erased.
+    """
+    if plan.app_key is None:
+        return
+    chosen = [r.region.name for r in plan.regions]
+    for part in read_part_epks(session.master, plan.layout):
+        if part.region.name not in chosen and not part.complete:
+            state = "the ECU stays in its boot loader" if app_key_state(session, plan.app_key) is KeyState.CLEARED \
+                else "the key stays as it is"
+            raise FlashRefused(f"{plan.source}: {part.unfinished(chosen, state)} (nothing was erased)",
+                               regions=(part.region.name,))
 
 
 def _with_ecu_sectors(master, plan: FlashPlan) -> tuple[FlashPlan, list[str]]:
@@ -262,6 +288,7 @@ class _Flash:
         self.rewrites = 0
         self.notes: list[str] = []
         self.expected = plan.image  # what the programmed sectors hold when done; the key sector's bytes join it
+        self.held_back = MemoryImage()  # the parts' EPKs: programmed after everything else (flash.parts)
 
     # --- the sequence -----------------------------------------------------------------------------
 
@@ -275,6 +302,7 @@ class _Flash:
                 self.checked(self.plan)
             start = self._program_start()
             use_max = self.options.use_program_max and "PROGRAM_MAX" in self.session.config.optional_commands
+            self._hold_back_epks()
             self.writer = RangeWriter(self.master, start, self.expected, use_max=use_max,
                                       max_recoveries=self.options.max_recoveries, on_block=self._on_block)
             if self.plan.app_key is not None:
@@ -285,7 +313,9 @@ class _Flash:
                 self._program_sector(sector)
             self.meter.seconds = time.perf_counter() - self.meter.since
             verified = self._verify()
+            self._program_epks()
             if self.plan.app_key is not None:
+                self._check_parts()
                 self._set_key()
             self.meter.phase("PROGRAM_RESET")
             self.master.program_reset()
@@ -295,6 +325,9 @@ class _Flash:
             log.warning("interrupted: %s", self._abandon())
             raise
         except FlashRefused:
+            raise
+        except _PartUnfinished:
+            self._abandon()  # PROGRAM_RESET: with the key cleared, into the boot loader
             raise
         except WorkbenchError as exc:
             raise FlashError(f"the flash failed: {exc}; {self._abandon()}") from exc
@@ -345,6 +378,45 @@ class _Flash:
 
     def _read(self, address: int, size: int) -> bytes:
         return self._retrying(address, lambda: self.master.read(address, size))
+
+    # --- the parts' EPKs --------------------------------------------------------------------------
+
+    def _hold_back_epks(self) -> None:
+        ranges = epk_ranges(self.plan.layout, self.master.granularity)
+        for held in ranges:
+            for address, data in self.expected.crop(held.start, held.end).segments:
+                self.held_back.add(address, data)
+        self.expected = _without(self.expected, ranges)
+
+    def _program_epks(self) -> None:
+        """The EPKs held back, once every other byte of their parts is programmed (and verified)."""
+        if not self.held_back.size:
+            return
+        self.expected = _merged(self.expected, self.held_back)
+        self.writer.expected = self.expected
+        for address, data in self.held_back.segments:
+            self.meter.phase(f"programming the EPK at {address:X}h")
+            self._write(next(s for s in self.plan.sectors if s.range.start <= address < s.range.end), address, data)
+
+    def _check_parts(self) -> None:
+        """Every part the application needs holds its EPK (read back now), before the key says it may start.
+
+        :raises FlashError: a part's EPK is erased, or another build's (unless an EPK mismatch is accepted).
+        """
+        chosen = [r.region.name for r in self.plan.regions]
+        accepted = self.options.accept_epk_mismatch or self.session.accept_epk_mismatch
+        for part in read_part_epks(self.master, self.plan.layout):
+            state = "the ECU stays in its boot loader"
+            if not part.complete:
+                without = part.region.name in chosen and not self.held_back.crop(part.address, part.address + 1).size
+                raise _PartUnfinished(f"{self.plan.source}: {part.unfinished(chosen, state, without)}")
+            if not part.same and not accepted:
+                raise _PartUnfinished(f"{self.plan.source}: {part.other_build(self.plan.layout.epk or '')}, so the "
+                                      f"application key is not set and {state}: flash the whole software, or pass "
+                                      f"--accept-epk-mismatch to set it anyway")
+            if not part.same:
+                self.notes.append(f"the key was set although {part.other_build(self.plan.layout.epk or '')} "
+                                  f"(--accept-epk-mismatch)")
 
     # --- the key ------------------------------------------------------------------------------------
 
@@ -505,6 +577,21 @@ class _Flash:
             return ("the ECU was reset" if reset else "the ECU does not answer") + \
                 "; erased sectors are incomplete: flash again to finish"
         return "nothing was erased" + ("; the ECU was reset" if reset else "; the ECU does not answer")
+
+
+class _PartUnfinished(FlashError):
+    """The key is not set: a part's EPK is missing (its message says which and what to do)."""
+
+
+def _without(image: MemoryImage, ranges: list[AddressRange]) -> MemoryImage:
+    """``image`` without the bytes in ``ranges``."""
+    if not ranges:
+        return image
+    rest = MemoryImage()
+    for address, data in image.segments:
+        for piece in AddressRange(address, address + len(data)).outside(ranges):
+            rest.add(piece.start, data[piece.start - address:piece.end - address])
+    return rest
 
 
 def _merged(image: MemoryImage, more: MemoryImage) -> MemoryImage:

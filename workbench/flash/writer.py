@@ -7,7 +7,9 @@ from bytes a doubled frame wrote too far) the writer resynchronises, reads back 
 block and one block beyond it, and
 
 * continues after the last byte found written, when everything up to it is what the image
-  says and nothing stands beyond it: a lost frame, a lost response;
+  says and nothing stands beyond it (beyond the range being written, what the image says may
+  stand: a part's EPK is programmed last, into a gap before programmed bytes): a lost frame,
+  a lost response;
 * else raises :class:`WrongBytes`: a doubled first frame shifts a block (its bytes land
   behind where they belong), so the sector must be erased and written again. So does an ECU
   that refuses to go on where the read-back says (a real flash programs a page once: going on
@@ -92,7 +94,7 @@ class RangeWriter:
                 self._count(error, address + position)
                 if position == resumed_at and isinstance(error, XcpCommandError):
                     raise WrongBytes(address + position, "cannot be programmed where the last one ended") from error
-                resumed = self._resume_at(sector, address, position, len(chunk)) - address
+                resumed = self._resume_at(sector, address, position, len(chunk), address + len(data)) - address
                 if resumed > position:
                     self.on_block(address + position, resumed - position)
                 position = resumed_at = resumed
@@ -126,17 +128,20 @@ class RangeWriter:
             raise TooManyErrors(f"more than {self.max_recoveries} transmission errors; the last at {address:X}h: "
                                 f"{error}") from error
 
-    def _resume_at(self, sector: Sector, address: int, position: int, sent: int) -> int:
-        """Where to go on after a failed block at ``address + position``: after what is found written."""
+    def _resume_at(self, sector: Sector, address: int, position: int, sent: int, range_end: int) -> int:
+        """Where to go on after a failed block at ``address + position`` of the range ending at ``range_end``: after
+        what is found written."""
         self.master.resynchronize()
         start = address + position
         end = min(sector.range.end, start + sent + self.block_size)
         actual = self.master.read(start, end - start)
         expected = self.expected.read(start, end - start, ERASED)
-        written = len(actual.rstrip(bytes((ERASED,))))
+        inside = range_end - start
+        written = len(actual[:inside].rstrip(bytes((ERASED,))))
         written += -written % self.master.granularity  # an element is programmed whole, erased-looking bytes too
-        if actual[:written] != expected[:written]:
-            first = next(i for i in range(written) if actual[i] != expected[i])
+        beyond = next((i for i in range(inside, len(actual)) if actual[i] not in (ERASED, expected[i])), None)
+        if actual[:written] != expected[:written] or beyond is not None:
+            first = next((i for i in range(written) if actual[i] != expected[i]), beyond)
             raise WrongBytes(start + first)
         log.info("flash at %Xh: %d bytes of the failed block are in flash; going on from %Xh", start, written,
                  start + written)
