@@ -29,7 +29,10 @@ application is still the other build's; the flash says so). An A2L with an ADDR_
 accepted mismatch stays visible to the next flash, `workbench info` and the session; flash
 APPLICATIVE too to make them one software. The application-valid key is cleared first and set
 last, so a flash that breaks off leaves the ECU in its boot loader, where the same command
-finishes it. Ctrl-C stops at the next block the same way.
+finishes it. Ctrl-C stops at the next block the same way. Each part's EPK (the bytes at its
+ADDR_EPK) is programmed last within the part, so a part that broke off keeps it erased; the key is
+set only when every part the application needs holds its EPK (read back first), else exit 1 with
+the part, the address, what was found there and what to flash, the ECU left in its boot loader.
 A flash that finds the key cleared (one did not finish) compares the other regions the file fills
 with the ECU and is refused while one differs (flash it too); `workbench info` shows the key.
 Exit codes: 0 flashed (or --dry-run found nothing to refuse, or --verify-only no difference),

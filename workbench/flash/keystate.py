@@ -2,10 +2,11 @@
 
 A flash clears the key first and sets it last, so a key that reads cleared means a flash started
 and did not finish: the boot will not start the application at the next reset (after PROGRAM_START
-the application is stopped already). That is all the ECU itself knows: which region the broken
-flash was writing it does not record. A flash that finds the key cleared compares the other regions
-its file holds with the ECU (:func:`unfinished_regions`), so it does not set the key over a region
-that differs from the file.
+the application is stopped already). Which part the broken flash was writing its EPK tells: a part's
+EPK is programmed last, so the one that broke off reads erased there (:mod:`workbench.flash.parts`,
+read before the key is set). A flash that finds the key cleared also compares the other regions its
+file holds with the ECU (:func:`unfinished_regions`), so it does not set the key over a region that
+differs from the file (with one ADDR_EPK, in CALIB, an APPLICATIVE that broke off shows only so).
 """
 
 from __future__ import annotations
