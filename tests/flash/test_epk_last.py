@@ -9,10 +9,11 @@ from flash_images import APPLICATIVE, CALIB
 
 from workbench import demo
 from workbench.cli import main
-from workbench.flash import FlashError, flash_ecu, plan_flash
-from workbench.image import load_image
+from workbench.flash import FlashError, flash_ecu, plan_flash, read_part_epks
+from workbench.image import MemoryImage, load_image
 from workbench.sim.ecu import EcuState
 from workbench.sim.memory_map import HDS9
+from workbench.xcp_protocol import Cmd, Err
 
 EPK = b"10300020250301"
 CALIB_EPK, APPLICATIVE_EPK = 0xFC0000, 0x840008  # the demo A2L's two ADDR_EPKs
@@ -94,3 +95,14 @@ def test_each_part_s_epk_is_programmed_after_every_other_byte_of_it(bench, monke
         first = next(i for i, a in enumerate(inside) if epk <= a < epk + len(EPK))
         assert 0 < first and all(epk <= a < epk + len(EPK) for a in inside[first:])
     assert programmed[-1] == HDS9.app_key_address
+
+
+def test_a_boot_loader_that_refuses_upload_has_its_epks_compared_by_checksum(bench):
+    bench.ecu.memory.load_flash(MemoryImage.from_bytes(APPLICATIVE_EPK, b"\xff" * len(EPK)))
+    for n in (1, 2):
+        bench.ecu.faults.reject_command(n, Err.CMD_UNKNOWN, Cmd.UPLOAD)
+    calib, application = read_part_epks(bench.session.master, bench.layout)
+    assert bench.ecu.faults.fired == ["reject command 0xF5 with CMD_UNKNOWN"] * 2
+    assert (calib.held, calib.same, calib.complete) == (None, True, True)
+    assert (application.held, application.same, application.complete) == (None, False, False)
+    assert application.found == "not the A2L's EPK (BUILD_CHECKSUM; UPLOAD refused)"
