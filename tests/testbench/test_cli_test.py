@@ -14,7 +14,6 @@ from pathlib import Path
 import pytest
 from sim_process import start_sim_process
 
-import workbench.testbench.options  # noqa: F401 (kept across pytester's runs, see test_plugin.py)
 from workbench import demo
 from workbench.cli import build_parser, main
 from workbench.cli.test import pytest_arguments

@@ -12,8 +12,7 @@ import xml.etree.ElementTree as ET
 
 import pytest
 
-import workbench.testbench.options  # noqa: F401 (imported here, the inner runs of pytester do not import it again:
-from workbench.sim import serve_demo  # it drops the modules a run imported, and two generations would meet)
+from workbench.sim import serve_demo
 
 pytest_plugins = ["pytester"]
 PLUGIN = ("-p", "workbench.testbench.plugin", "-p", "no:cacheprovider")  # also where its entry point is not installed
