@@ -74,7 +74,10 @@ def test_the_key_is_not_set_when_a_part_ends_without_its_epk(bench, tmp_path, ca
     assert bench.ecu.read(HDS9.app_key_address, len(HDS9.app_key)) == b"\xff" * len(HDS9.app_key)
     assert bench.ecu.state is EcuState.BOOT  # reset after the refusal: the boot finds no key
     assert cli(bench, str(calib_file(tmp_path)), "-r", "CALIB") == 0
-    assert "the application runs" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "the application runs" in out
+    assert ("the application key was cleared before this flash: an earlier flash did not finish; the parts this one "
+            "leaves hold their EPK (none of them broke off)") in out
 
 
 def test_a_calib_flash_of_an_intact_ecu_sets_the_key(bench, tmp_path, capsys):
@@ -106,3 +109,16 @@ def test_a_boot_loader_that_refuses_upload_has_its_epks_compared_by_checksum(ben
     assert (calib.held, calib.same, calib.complete) == (None, True, True)
     assert (application.held, application.same, application.complete) == (None, False, False)
     assert application.found == "not the A2L's EPK (BUILD_CHECKSUM; UPLOAD refused)"
+
+
+def test_the_key_is_not_set_over_a_part_of_another_build_the_session_did_not_see(bench):
+    """Read again before the key: the session read the EPKs at CONNECT, another tool flashed APPLICATIVE since."""
+    bench.ecu.memory.load_flash(MemoryImage.from_bytes(APPLICATIVE_EPK, b"10300020259999"))
+    plan = plan_flash(load_image(demo.s19()).crop(CALIB.start, CALIB.end), bench.layout, ["CALIB"], source="cal.s19")
+    with pytest.raises(FlashError) as refused:
+        flash_ecu(bench.session, plan)
+    assert str(refused.value) == (
+        "cal.s19: APPLICATIVE's EPK at 840008h reads '10300020259999', not the A2L's '10300020250301': another build's, "
+        "so the application key is not set and the ECU stays in its boot loader: flash the whole software, or pass "
+        "--accept-epk-mismatch to set it anyway")
+    assert bench.ecu.state is EcuState.BOOT

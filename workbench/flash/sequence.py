@@ -172,8 +172,8 @@ def _unfinished_before(session: Session, plan: FlashPlan) -> list[str]:
     if all(r.name in chosen for r in plan.layout.regions if r.selectable and not r.is_boot):
         return ["the application key was cleared before this flash: an earlier flash did not finish"]
     if len(read_part_epks(session.master, plan.layout)) > 1:  # a part that broke off has its EPK erased: refused
-        return ["the application key was cleared before this flash: an earlier flash did not finish; the parts it "
-                f"leaves hold their EPK, so it was {'/'.join(chosen)} that broke off"]
+        return ["the application key was cleared before this flash: an earlier flash did not finish; the parts this "
+                "one leaves hold their EPK (none of them broke off)"]
     return [f"the application key was cleared before this flash: an earlier flash did not finish, and the ECU does "
             f"not record which region; if it was not {'/'.join(chosen)}, flash that region again too"]
 
@@ -401,12 +401,13 @@ class _Flash:
     def _check_parts(self) -> None:
         """Every part the application needs holds its EPK (read back now), before the key says it may start.
 
-        :raises FlashError: a part's EPK is erased, or another build's (unless an EPK mismatch is accepted).
+        :raises FlashError: a part's EPK is erased, or another build's (unless an EPK mismatch is accepted: the
+            pairing's note says so).
         """
         chosen = [r.region.name for r in self.plan.regions]
         accepted = self.options.accept_epk_mismatch or self.session.accept_epk_mismatch
+        state = "the ECU stays in its boot loader"
         for part in read_part_epks(self.master, self.plan.layout):
-            state = "the ECU stays in its boot loader"
             if not part.complete:
                 without = part.region.name in chosen and not self.held_back.crop(part.address, part.address + 1).size
                 raise _PartUnfinished(f"{self.plan.source}: {part.unfinished(chosen, state, without)}")
@@ -414,9 +415,6 @@ class _Flash:
                 raise _PartUnfinished(f"{self.plan.source}: {part.other_build(self.plan.layout.epk or '')}, so the "
                                       f"application key is not set and {state}: flash the whole software, or pass "
                                       f"--accept-epk-mismatch to set it anyway")
-            if not part.same:
-                self.notes.append(f"the key was set although {part.other_build(self.plan.layout.epk or '')} "
-                                  f"(--accept-epk-mismatch)")
 
     # --- the key ------------------------------------------------------------------------------------
 
