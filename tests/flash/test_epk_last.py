@@ -118,7 +118,7 @@ def test_the_key_is_not_set_over_a_part_of_another_build_the_session_did_not_see
     with pytest.raises(FlashError) as refused:
         flash_ecu(bench.session, plan)
     assert str(refused.value) == (
-        "cal.s19: APPLICATIVE's EPK at 840008h reads '10300020259999', not the A2L's '10300020250301': another build's, "
-        "so the application key is not set and the ECU stays in its boot loader: flash the whole software, or pass "
-        "--accept-epk-mismatch to set it anyway")
+        "cal.s19: APPLICATIVE's EPK at 840008h reads '10300020259999', not the A2L's '10300020250301': another "
+        "build's, so the application key is not set and the ECU stays in its boot loader: flash the whole software, or "
+        "pass --accept-epk-mismatch to set it anyway")
     assert bench.ecu.state is EcuState.BOOT
