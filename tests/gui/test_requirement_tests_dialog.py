@@ -72,9 +72,10 @@ def opened(qtbot, monkeypatch):
     window.close()
 
 
-def test_each_verdict_shows_as_its_test_ends_and_cancel_stops_the_run(qtbot, opened, tmp_path):
+def test_each_verdict_shows_as_its_test_ends_and_cancel_stops_the_run(qtbot, opened, tmp_path, monkeypatch):
     dialog, urls = opened
     (tmp_path / "tests").mkdir()
+    monkeypatch.chdir(tmp_path / "tests")  # the node ids below: see tests/testbench/test_run.py
     (tmp_path / "tests" / "test_mine.py").write_text(TESTS, encoding="utf-8")
     assert not dialog.ecu_radio.isEnabled() and "not connected" in dialog.ecu_note.text()  # offline: no ECU to lend
     dialog.paths.setText(str(tmp_path / "tests"))
@@ -229,8 +230,10 @@ def test_after(ecu):
 
 
 def test_the_ecu_lost_during_a_test_is_one_message_and_the_window_stays_disconnected(qtbot, tmp_path,
-                                                                                      free_udp_port):
+                                                                                      free_udp_port, monkeypatch):
     from workbench.sim import serve_demo
+
+    monkeypatch.chdir(tmp_path)  # the node id in the message: see tests/testbench/test_run.py
 
     bus, project = _on_udp(free_udp_port)
     (tmp_path / "test_lost.py").write_text(LOSES_THE_ECU, encoding="utf-8")

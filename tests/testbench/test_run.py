@@ -8,7 +8,11 @@ import time
 from workbench.testbench import RequirementRun, RunOptions
 
 
-def test_a_script_follows_a_run_verdict_by_verdict(tmp_path):
+def test_a_script_follows_a_run_verdict_by_verdict(tmp_path, monkeypatch):
+    # The run's node ids are relative to pytest's rootdir, which the process's folder takes part in (the folder it
+    # shares with the tests, unless that is /): run from the tests' folder they read 'test_two.py::...' wherever
+    # this suite runs (from a checkout under /tmp they read 'pytest-of-root/pytest-N/.../test_two.py::...').
+    monkeypatch.chdir(tmp_path)
     (tmp_path / "test_two.py").write_text('''
 from workbench.testbench import requirement
 
