@@ -172,10 +172,12 @@ def _recorded(path) -> int:
 
 
 @pytest.mark.parametrize("option", ["--stop-when", "--start-when"])
-def test_a_condition_on_an_unknown_name_is_refused_with_its_text(bus, capsys, tmp_path, option):
-    """The refusal quotes the condition as typed: start and stop may name different signals."""
+def test_a_condition_on_an_unknown_name_is_refused_with_its_text(capsys, tmp_path, option):
+    """The refusal quotes the condition as typed: start and stop may name different signals. It comes before
+    connecting: on a bus where no ECU answers, it was 'no ECU answers' after the CONNECT's timeout."""
     path = tmp_path / "x.mf4"
-    code, out, err = run(capsys, "record", str(path), "xsDC", option, "unknown==1", "--duration", "0.2", *bus)
+    nobody = ["--interface", "virtual", "--channel", f"nobody-{tmp_path.name}"]
+    code, out, err = run(capsys, "record", str(path), "xsDC", option, "unknown==1", "--duration", "0.2", *nobody)
     role = option[2:-5]
     assert (code, out) == (2, "") and "unknown symbol 'unknown'" in err and f"({role} condition 'unknown==1')" in err
     assert err.count("\n") == 1 and not path.exists()

@@ -97,6 +97,10 @@ def run(args: argparse.Namespace) -> int:
         from workbench.session.measure import event_number
 
         event_number(read_xcp_config(doc), args.event)  # an event the A2L lacks: before connecting too
+    if args.record and args.trigger is not None:
+        from workbench.record.trigger import checked_trigger
+
+        checked_trigger(args.trigger, doc.model())  # a signal, element, unit or text the A2L refuses: before too
     with open_session(args, doc, reading=True) as session, _terminate_as_interrupt():
         if args.record:
             return _record(args, session, names, can2, dbc)
