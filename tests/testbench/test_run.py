@@ -26,16 +26,19 @@ def test_fails():
 ''', encoding="utf-8")
     options = RunOptions(report=tmp_path / "out", paths=[str(tmp_path / "test_two.py")], req=["R1", "R2"])
     run = RequirementRun(options).start()
-    events = []
-    deadline = time.monotonic() + 120  # a guard against a hung run, not a measurement
-    while run.poll() is None:
+    try:
+        events = []
+        deadline = time.monotonic() + 120  # a guard against a hung run, not a measurement
+        while run.poll() is None:
+            events += run.events()
+            assert time.monotonic() < deadline
+            time.sleep(0.1)
         events += run.events()
-        assert time.monotonic() < deadline
-        time.sleep(0.1)
-    events += run.events()
-    assert run.exit_code == 1 and run.error() == ""  # a test failed: workbench test's 1, nothing on stderr
-    verdicts = {e["nodeid"]: (e["verdict"], e["requirements"]) for e in events if e["event"] == "verdict"}
-    assert verdicts == {"test_two.py::test_passes": ("passed", ["R1"]), "test_two.py::test_fails": ("failed", ["R2"])}
-    assert events[-1] == {"event": "finished", "exitstatus": 1} and run.report.is_file()
-    assert "1 failed, 1 passed" in run.read_output()
-    run.close()
+        assert run.exit_code == 1 and run.error() == ""  # a test failed: workbench test's 1, nothing on stderr
+        verdicts = {e["nodeid"]: (e["verdict"], e["requirements"]) for e in events if e["event"] == "verdict"}
+        assert verdicts == {"test_two.py::test_passes": ("passed", ["R1"]),
+                            "test_two.py::test_fails": ("failed", ["R2"])}
+        assert events[-1] == {"event": "finished", "exitstatus": 1} and run.report.is_file()
+        assert "1 failed, 1 passed" in run.read_output()
+    finally:
+        run.close()  # a hung run (the deadline) ends with the test, its process too
