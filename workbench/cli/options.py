@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
@@ -52,13 +53,10 @@ class CommandParser(argparse.ArgumentParser):
                 add_options()
 
     def _names_unknown_option(self, args: list[str]) -> bool:
-        import re
-
         for word in args:
             if word == "--":
                 return False
-            if word.startswith("-") and not re.fullmatch(r"-\d+|-\d*\.\d+", word) and \
-                    word.split("=", 1)[0] not in self._option_string_actions:
+            if _is_option(word) and word.split("=", 1)[0] not in self._option_string_actions:
                 return True
         return False
 
@@ -104,16 +102,19 @@ class CommandParser(argparse.ArgumentParser):
 KEY_VALUE_LISTS = ("--bus-kwargs", "--can2-bus-kwargs", "--timing")  # python-can's: nargs="+" of KEY=VALUE
 
 
+def _is_option(word: str) -> bool:
+    """Whether argparse reads ``word`` as an option: it starts with '-' and is no negative number (-5, -.5)."""
+    return word.startswith("-") and not re.fullmatch(r"-\d+|-\d*\.\d+", word)
+
+
 def words_before_key_values(args: list[str]) -> list[str]:
     """``measure --bus-kwargs port=43200 zsRailPressure``: a KEY=VALUE list takes every word after it, and
     python-can's action then refuses the name ('Unable to parse bus keyword argument'). A word without
     ``=`` after such a list is none of its items: it is the command's own (a NAME, a VALUE) and moves in
     front of the options, where argparse takes it. Nothing else moves (``--`` ends the search)."""
-    import re
-
     words, moved, in_list = [], [], False
     for at, word in enumerate(args):
-        option = word.startswith("-") and not re.fullmatch(r"-\d+|-\d*\.\d+", word)  # -5: a value, as argparse reads it
+        option = _is_option(word)
         if word == "--":
             words += args[at:]
             break
